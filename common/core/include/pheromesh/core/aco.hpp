@@ -1,0 +1,61 @@
+// Shao 2020 ACO direction choice (eqs. 9-11) over five headings.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <optional>
+
+#include "pheromesh/core/grid.hpp"
+#include "pheromesh/core/rng.hpp"
+#include "pheromesh/core/shao_params.hpp"
+
+namespace pheromesh::core {
+
+// Eight compass headings, counter-clockwise from east, 45° apart.
+enum class Heading : uint8_t { E = 0, NE, N, NW, W, SW, S, SE };
+Cell step_of(Heading h);                 // unit step, y grows "north"
+Heading rotate(Heading h, int eighths);  // +1 = 45° counter-clockwise
+double heading_angle(Heading h);         // [rad]
+
+// What a UAV knows locally: pheromone values of cells in its neighbourhood
+// (from the tiles it received) and cells it knows to be obstacles.
+struct LocalView {
+  // Target, obstacle and path pheromone at c; nullopt if the UAV has no tile for c.
+  std::function<std::optional<std::array<float, 3>>(Cell)> pheromones;
+  std::function<bool(Cell)> blocked;  // obstacle known at c (or outside the map)
+};
+
+struct Candidate {
+  Heading heading = Heading::E;
+  Cell next{};
+  int turn_eighths = 0;        // -2..2, θ = 45°·|turn|
+  bool accessible = false;     // next is in J_ik
+  double eta = 0.0;            // η_ijk, eqs. (10)-(11)
+  double tau = 0.0;            // mean target pheromone in the sector
+  double eps = 0.0;            // mean obstacle pheromone in the sector
+  double sigma = 0.0;          // mean path pheromone in the sector
+  double attractiveness = 0.0; // max(λTa τ + λTh ε + λTr σ, floor)
+  double probability = 0.0;    // P_ijk, eq. (9), information sub-group
+  double random_probability = 0.0;  // physical costs only (random sub-group)
+};
+
+// η_ij of eq. (11) for a step of squared length d2 (1 or 2).
+double eta_distance(int32_t d2);
+// Turn coefficient of eq. (10) for |turn| = 0, 1, 2 eighths; 0 otherwise.
+double eta_turn(int abs_turn_eighths);
+
+// Evaluates the five candidates from `pos` with current `heading`.
+std::array<Candidate, 5> evaluate_candidates(Cell pos, Heading heading, const LocalView& view,
+                                             const ShaoAcoParams& p);
+
+struct Decision {
+  std::optional<Candidate> chosen;  // nullopt: no accessible candidate (stay)
+  bool random_group = false;
+};
+// One step of Algorithm 1 lines 10-11: draws the sub-group, then the
+// information sub-group takes the most probable candidate (ties broken by
+// the stream) and the random sub-group draws by physical costs only.
+Decision decide(Cell pos, Heading heading, const LocalView& view, const ShaoAcoParams& p, Rng& rng);
+
+}  // namespace pheromesh::core

@@ -1,0 +1,96 @@
+// Shao 2020 semantic pheromone layers (eqs. 1-8) over one region, with a
+// one-cell halo so that diffusion across region borders equals diffusion on
+// the undivided map. Diffusion radius is 1 cell (8-neighbourhood); the halo
+// width is 1 cell; the constructor's geometry guarantees radius <= halo.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "pheromesh/core/grid.hpp"
+#include "pheromesh/core/shao_params.hpp"
+
+namespace pheromesh::core {
+
+enum class Layer : uint8_t { Target = 0, Obstacle = 1, Path = 2, TargetState = 3 };
+inline constexpr int kLayerCount = 4;
+const char* layer_name(Layer l);
+
+// Values of the TargetState layer.
+inline constexpr float kTargetUnknown = 0.0F;  // no target marked here
+inline constexpr float kTargetMarked = 1.0F;   // marked, revisit timer running
+inline constexpr float kTargetDue = 2.0F;      // revisit due: kτ = 1, emitting target pheromone
+
+// Path-pheromone decrease at distance `dist` [cell] from a UAV, Shao 2020 eq. (7).
+double path_decrease(double dist, const ShaoLayerParams& p);
+
+// The border ring of a region: the source values s = v + k·d of the target and
+// obstacle layers (the quantity neighbours diffuse from, eqs. (2) and (4)) for
+// every cell on the region's border, in row-major order over the rect's cells
+// that satisfy x == x0 || x == x0+w-1 || y == y0 || y == y0+h-1.
+struct HaloRing {
+  RegionId region = 0;
+  std::vector<float> target;
+  std::vector<float> obstacle;
+};
+std::size_t ring_size(const Rect& r);
+
+class RegionField {
+ public:
+  RegionField(const MapGeometry& geo, RegionId region, const ShaoLayerParams& params);
+
+  [[nodiscard]] const Rect& rect() const { return rect_; }
+  [[nodiscard]] RegionId region() const { return region_; }
+  // Row-major values over rect() for one layer.
+  [[nodiscard]] std::span<const float> layer(Layer l) const;
+  [[nodiscard]] float value(Layer l, Cell c) const;  // c must be in rect()
+  // Direct write access, for tests and for restoring state.
+  [[nodiscard]] std::span<float> mutable_layer(Layer l);
+
+  // Deposit switches. kε(i)=1 once an obstacle at i is marked (stays on).
+  void set_obstacle_switch(Cell c);
+  // kτ(i)=1 while the target at i is due for a revisit.
+  void set_target_switch(Cell c, bool on);
+  [[nodiscard]] bool obstacle_switch(Cell c) const;
+  [[nodiscard]] bool target_switch(Cell c) const;
+  void set_target_state(Cell c, float state);  // TargetState layer value
+
+  // A UAV is at `uav` after its move: accumulate Δσ^k_ij for every cell of this
+  // region within D0 (eqs. (6)-(7)). Applied at the next step().
+  void add_path_visit(Cell uav);
+
+  // 1) Computes the sources s = v + k·d for target and obstacle layers and
+  //    returns this region's border ring of them (to publish to neighbours).
+  HaloRing begin_step();
+  // 2) Accepts a neighbour's ring (any region whose rect touches ours); cells
+  //    of the ring that fall in our 1-cell halo are stored. Rings from regions
+  //    that are not neighbours are ignored. Missing rings leave the last value
+  //    (initially 0) in the halo.
+  void accept_halo(const Rect& neighbour_rect, const HaloRing& ring);
+  // 3) Applies eqs. (1)-(4) to target and obstacle layers using the halo, and
+  //    eqs. (5), (8) to the path layer with the visits accumulated since the
+  //    last step; clears the visits.
+  void finish_step();
+
+ private:
+  const MapGeometry* geo_;
+  RegionId region_;
+  ShaoLayerParams p_;
+  Rect rect_;
+  std::vector<float> layers_[kLayerCount];
+  std::vector<uint8_t> k_tau_, k_eps_;
+  std::vector<float> path_delta_;
+  // (w+2) x (h+2) padded sources with the halo around them, and the
+  // per-cell 1/|N(j)| weights for the padded area.
+  std::vector<float> src_tau_, src_eps_, inv_n_;
+};
+
+// Reference: one step of eqs. (1)-(4) on a whole undivided map, straight from
+// the equations (used by tests and the benchmark as the baseline). `k` is the
+// switch per cell; `a_evaporates_diffusion` selects eq. (3) (true, obstacle:
+// (1-E) multiplies the neighbour sum too) or eq. (1) (false, target).
+void reference_diffuse(const MapGeometry& geo, std::span<const float> in, std::span<const uint8_t> k, double e,
+                       double g, double d, bool evaporate_neighbour_sum, std::span<float> out);
+
+}  // namespace pheromesh::core

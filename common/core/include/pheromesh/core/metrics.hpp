@@ -1,0 +1,44 @@
+// Run metrics computed by the ground station (and the simulator).
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include "pheromesh/core/world.hpp"
+
+namespace pheromesh::core {
+
+// Coverage of reachable cells: a cell counts once it was within the sensor
+// radius of some UAV at least once.
+class CoverageTracker {
+ public:
+  CoverageTracker(const World& world, const std::vector<Cell>& starts, double sensor_radius);
+  void observe(Cell uav);
+  [[nodiscard]] double coverage() const;  // 0..1
+  [[nodiscard]] int64_t reachable_cells() const { return reachable_count_; }
+  [[nodiscard]] int64_t covered_cells() const { return covered_count_; }
+
+ private:
+  const World* world_;
+  double radius_;
+  std::vector<uint8_t> reachable_, covered_;
+  int64_t reachable_count_ = 0, covered_count_ = 0;
+  std::vector<Cell> disk_offsets_;
+};
+
+// First acquisition tick of each target.
+class AcquisitionTracker {
+ public:
+  explicit AcquisitionTracker(std::size_t targets) : first_(targets) {}
+  // Returns true if this is the first acquisition of the target.
+  bool acquire(int32_t target, uint32_t tick);
+  [[nodiscard]] std::size_t found() const;
+  // Tick of the k-th first acquisition (sorted ascending).
+  [[nodiscard]] std::vector<uint32_t> acquisition_ticks() const;
+
+ private:
+  std::vector<std::optional<uint32_t>> first_;
+};
+
+}  // namespace pheromesh::core
