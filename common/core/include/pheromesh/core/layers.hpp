@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -84,6 +85,9 @@ class RegionField {
   // (w+2) x (h+2) padded sources with the halo around them, and the
   // per-cell 1/|N(j)| weights for the padded area.
   std::vector<float> src_tau_, src_eps_, inv_n_;
+  std::vector<float> weighted_;  // scratch, padded size: source * 1/|N(j)|
+  // Row-major index of c in rect(), or nothing if c is outside it.
+  [[nodiscard]] std::optional<std::size_t> own_index(Cell c) const;
 };
 
 // Reference: one step of eqs. (1)-(4) on a whole undivided map, straight from

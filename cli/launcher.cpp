@@ -1,0 +1,259 @@
+#include "launcher.hpp"
+
+#include <fcntl.h>
+#include <spdlog/spdlog.h>
+#include <sys/prctl.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <csignal>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <thread>
+
+#include "pheromesh/core/scenario.hpp"
+#include "pheromesh/runtime/process.hpp"
+
+namespace pheromesh::cli {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+bool ChildProcess::crashed() const {
+  if (running || pid < 0) return false;
+  if (term_signal != 0) return !killed_on_purpose;
+  return exit_code != 0;
+}
+
+std::string ChildProcess::describe() const {
+  if (running) return "running";
+  if (term_signal != 0) {
+    return std::string("killed by ") + strsignal(term_signal) + (killed_on_purpose ? " (on purpose)" : "");
+  }
+  return "exited with " + std::to_string(exit_code);
+}
+
+std::string executable_dir() {
+  std::error_code ec;
+  const fs::path self = fs::read_symlink("/proc/self/exe", ec);
+  return ec ? std::string(".") : self.parent_path().string();
+}
+
+void Launcher::spawn(const std::string& role, uint32_t index, const std::vector<std::string>& extra_args) {
+  ChildProcess c;
+  c.role = role;
+  c.index = index;
+  c.name = role == "ground" ? "ground" : role + "-" + std::to_string(index);
+  const std::string exe = bin_dir_ + "/pheromesh-" + (role == "uav" ? "uav" : role == "place" ? "place" : "ground");
+  std::vector<std::string> args{exe,
+                                "--scenario", o_.scenario,
+                                "--dds", o_.dds,
+                                "--dds-profile", o_.dds_profile,
+                                "--domain", std::to_string(o_.domain),
+                                "--log-level", o_.log_level};
+  if (o_.uavs > 0) args.insert(args.end(), {"--uavs", std::to_string(o_.uavs)});
+  if (o_.seed > 0) args.insert(args.end(), {"--seed", std::to_string(o_.seed)});
+  if (o_.rate_hz > 0) args.insert(args.end(), {"--rate", std::to_string(o_.rate_hz)});
+  args.insert(args.end(), extra_args.begin(), extra_args.end());
+  const std::string log_path = (fs::path(o_.out_dir) / "logs" / (c.name + ".log")).string();
+
+  const pid_t parent = getpid();
+  const pid_t pid = fork();
+  if (pid < 0) throw std::runtime_error(std::string("fork failed: ") + std::strerror(errno));
+  if (pid == 0) {
+    // Child: own process group (the launcher orders the shutdown), die with
+    // the launcher, output to its log file (the ground station also to ours).
+    setpgid(0, 0);
+    prctl(PR_SET_PDEATHSIG, SIGTERM);
+    if (getppid() != parent) _exit(127);
+    const int fd = open(log_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+    if (fd >= 0) {
+      dup2(fd, STDOUT_FILENO);
+      if (role != "ground") dup2(fd, STDERR_FILENO);
+    }
+    std::vector<char*> argv;
+    for (auto& a : args) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    execv(exe.c_str(), argv.data());
+    dprintf(STDERR_FILENO, "cannot execute %s: %s\n", exe.c_str(), std::strerror(errno));
+    _exit(127);
+  }
+  c.pid = pid;
+  c.running = true;
+  children_.push_back(std::move(c));
+}
+
+void Launcher::reap() {
+  for (auto& c : children_) {
+    if (!c.running) continue;
+    int status = 0;
+    const pid_t r = waitpid(c.pid, &status, WNOHANG);
+    if (r != c.pid) continue;
+    c.running = false;
+    if (WIFEXITED(status)) c.exit_code = WEXITSTATUS(status);
+    if (WIFSIGNALED(status)) c.term_signal = WTERMSIG(status);
+    if (c.crashed()) {
+      spdlog::error("{} (pid {}) {} — see {}/logs/{}.log", c.name, c.pid, c.describe(), o_.out_dir, c.name);
+    } else if (c.killed_on_purpose) {
+      spdlog::info("{} (pid {}) {}", c.name, c.pid, c.describe());
+    }
+  }
+}
+
+bool Launcher::any_running(const std::string& role) const {
+  return std::any_of(children_.begin(), children_.end(), [&](const auto& c) { return c.role == role && c.running; });
+}
+
+ChildProcess* Launcher::find(const std::string& name) {
+  for (auto& c : children_) {
+    if (c.name == name) return &c;
+  }
+  return nullptr;
+}
+
+void Launcher::stop_role(const std::string& role, std::chrono::seconds grace) {
+  for (auto& c : children_) {
+    if (c.role == role && c.running) {
+      c.asked_to_stop = true;
+      kill(c.pid, SIGTERM);
+    }
+  }
+  const auto deadline = Clock::now() + grace;
+  while (any_running(role) && Clock::now() < deadline) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    reap();
+  }
+  for (auto& c : children_) {
+    if (c.role == role && c.running) {
+      spdlog::error("{} did not stop within {} s of SIGTERM; sending SIGKILL", c.name, grace.count());
+      kill(c.pid, SIGKILL);
+    }
+  }
+  while (any_running(role)) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    reap();
+  }
+}
+
+int Launcher::run() {
+  auto scenario = core::load_scenario(o_.scenario);
+  if (!scenario) {
+    spdlog::error("invalid scenario:\n{}", scenario.error().message);
+    return 2;
+  }
+  const core::ScenarioConfig& s = scenario.value();
+  const double rate = o_.rate_hz > 0 ? o_.rate_hz : s.tick_rate_hz;
+  if (o_.duration_s > 0) o_.ticks = static_cast<uint32_t>(std::ceil(o_.duration_s * rate));
+  const uint32_t ticks = o_.ticks > 0 ? o_.ticks : s.ticks;
+  const uint32_t uavs = o_.uavs > 0 ? o_.uavs : s.uavs;
+  const uint32_t regions = s.geometry().region_count();
+  std::vector<KillEvent> kills;
+  if (!o_.kill_spec.empty()) {
+    auto k = parse_kill_spec(o_.kill_spec);
+    if (!k) {
+      spdlog::error("{}", k.error().message);
+      return 2;
+    }
+    kills = std::move(k).value();
+    for (const auto& e : kills) {
+      const uint32_t n = e.role == "uav" ? uavs : regions;
+      if (e.index >= n) {
+        spdlog::error("--kill: {} does not exist (this run has {} {}s)", e.process_name(), n, e.role);
+        return 2;
+      }
+    }
+  }
+  bin_dir_ = executable_dir();
+  for (const char* exe : {"pheromesh-uav", "pheromesh-place", "pheromesh-ground"}) {
+    if (access((bin_dir_ + "/" + exe).c_str(), X_OK) != 0) {
+      spdlog::error("cannot find {} next to pheromesh in {}", exe, bin_dir_);
+      return 3;
+    }
+  }
+  fs::create_directories(fs::path(o_.out_dir) / "logs");
+  fs::remove(fs::path(o_.out_dir) / "metrics.json");
+  spdlog::info("run '{}' ({}): {} place agents, {} uavs, {} ticks at {:.1f} Hz over {} (domain {}, profile {}); logs in {}/logs",
+               s.name, o_.scenario, regions, uavs, ticks, rate, o_.dds, o_.domain, o_.dds_profile, o_.out_dir);
+
+  runtime::install_shutdown_handlers();
+  spawn("ground", 0, {"--out", o_.out_dir, "--progress", std::to_string(o_.progress_s)});
+  for (uint32_t r = 0; r < regions; ++r) spawn("place", r, {"--region", std::to_string(r)});
+  for (uint32_t u = 0; u < uavs; ++u) spawn("uav", u, {"--id", std::to_string(u), "--ticks", std::to_string(ticks)});
+  const auto t0 = Clock::now();
+  // Generous bound on the UAV phase: the run itself, discovery, and slack for
+  // a loaded machine. UAVs still flying then are stopped (and reported).
+  const auto uav_deadline = t0 + std::chrono::milliseconds(static_cast<int64_t>(1000.0 * ticks / rate * 2.0)) +
+                            std::chrono::seconds(45);
+  std::size_t next_kill = 0;
+  bool interrupted = false;
+  while (any_running("uav")) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    reap();
+    const auto now = Clock::now();
+    while (next_kill < kills.size() && now - t0 >= kills[next_kill].at) {
+      const KillEvent& e = kills[next_kill++];
+      ChildProcess* c = find(e.process_name());
+      if (c != nullptr && c->running) {
+        spdlog::warn("fault injection: SIGKILL to {} (pid {}) at {} ms", c->name, c->pid, e.at.count());
+        c->killed_on_purpose = true;
+        kill(c->pid, SIGKILL);
+      } else {
+        spdlog::warn("fault injection: {} is not running at {} ms; nothing to kill", e.process_name(), e.at.count());
+      }
+    }
+    if (runtime::shutdown_requested() && !interrupted) {
+      spdlog::warn("interrupted: stopping the swarm");
+      interrupted = true;
+      stop_role("uav", std::chrono::seconds(10));
+    }
+    if (now > uav_deadline) {
+      spdlog::error("uavs still flying long after the expected end; stopping them");
+      stop_role("uav", std::chrono::seconds(10));
+    }
+  }
+  spdlog::info("all uavs ended; stopping place agents");
+  stop_role("place", std::chrono::seconds(15));
+  stop_role("ground", std::chrono::seconds(15));
+  int exit_code = 0;
+  finish_metrics(exit_code);
+  return interrupted ? 130 : exit_code;
+}
+
+void Launcher::finish_metrics(int& exit_code) {
+  uint32_t killed = 0, crashed = 0;
+  nlohmann::json procs = nlohmann::json::array();
+  for (const auto& c : children_) {
+    killed += c.killed_on_purpose ? 1 : 0;
+    crashed += c.crashed() ? 1 : 0;
+    procs.push_back({{"name", c.name}, {"pid", c.pid}, {"status", c.describe()}, {"crashed", c.crashed()}});
+  }
+  const fs::path path = fs::path(o_.out_dir) / "metrics.json";
+  nlohmann::json m;
+  std::ifstream in(path);
+  if (in) {
+    try {
+      in >> m;
+    } catch (const std::exception& e) {
+      spdlog::error("{} is not valid JSON: {}", path.string(), e.what());
+    }
+  }
+  if (m.is_null()) {
+    spdlog::error("the ground station left no {}", path.string());
+    exit_code = 1;
+    m = nlohmann::json::object();
+  }
+  m["processes_killed"] = killed;
+  m["processes_crashed"] = crashed;
+  m["processes"] = procs;
+  std::ofstream(path) << m.dump(2) << "\n";
+  if (crashed > 0) exit_code = 1;
+  spdlog::info("done: coverage {:.1f}%, targets {}/{}, deposits sent {} applied {} rejected {}, killed {}, crashed {} -> {}",
+               100.0 * m.value("coverage", 0.0), m.value("targets_found", 0), m.value("targets_total", 0),
+               m.value("deposits_sent", 0), m.value("deposits_applied", 0), m.value("deposits_rejected", 0), killed,
+               crashed, path.string());
+}
+
+}  // namespace pheromesh::cli

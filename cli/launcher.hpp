@@ -1,0 +1,71 @@
+// `pheromesh run`: spawns every place agent, UAV and the ground station of a
+// swarm as separate processes on this host, injects faults on a schedule,
+// stops everything in order and leaves OUT/metrics.json.
+#pragma once
+
+#include <sys/types.h>
+
+#include <chrono>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "kill_spec.hpp"
+
+namespace pheromesh::cli {
+
+struct RunOptions {
+  std::string scenario;
+  uint32_t uavs = 0;           // 0: the scenario's
+  uint32_t ticks = 0;          // 0: the scenario's (or from duration)
+  double duration_s = 0;       // alternative to ticks [s]
+  uint64_t seed = 0;           // 0: the scenario's
+  double rate_hz = 0;          // 0: the scenario's
+  std::string out_dir = "out/run";
+  std::string kill_spec;
+  std::string dds;
+  std::string dds_profile = "onehost";
+  uint32_t domain = 0;
+  std::string log_level = "info";
+  double progress_s = 1.0;
+};
+
+struct ChildProcess {
+  std::string name;  // "uav-3", "place-0", "ground"
+  std::string role;  // "uav", "place", "ground"
+  uint32_t index = 0;
+  pid_t pid = -1;
+  bool running = false;
+  bool killed_on_purpose = false;
+  bool asked_to_stop = false;
+  int exit_code = -1;    // if exited
+  int term_signal = 0;   // if signalled
+  [[nodiscard]] bool crashed() const;
+  [[nodiscard]] std::string describe() const;
+};
+
+class Launcher {
+ public:
+  explicit Launcher(RunOptions o) : o_(std::move(o)) {}
+  // Returns the process exit code: 0 if the run completed and no process died
+  // that was not killed on purpose.
+  int run();
+
+ private:
+  void spawn(const std::string& role, uint32_t index, const std::vector<std::string>& extra_args);
+  void reap();
+  void stop_role(const std::string& role, std::chrono::seconds grace);
+  [[nodiscard]] bool any_running(const std::string& role) const;
+  ChildProcess* find(const std::string& name);
+  void finish_metrics(int& exit_code);
+
+  RunOptions o_;
+  std::string bin_dir_;
+  std::vector<ChildProcess> children_;
+};
+
+// Folder of the running executable (its siblings are the other binaries).
+std::string executable_dir();
+
+}  // namespace pheromesh::cli

@@ -1,0 +1,86 @@
+// pheromesh: the front door. `validate` checks a scenario, `run` launches a
+// whole swarm on this host.
+#include <spdlog/sinks/stdout_color_sinks.h>
+#include <spdlog/spdlog.h>
+
+#include <CLI/CLI.hpp>
+#include <cstdio>
+
+#include "launcher.hpp"
+#include "pheromesh/bus/bus.hpp"
+#include "pheromesh/core/scenario.hpp"
+
+namespace {
+
+int validate(const std::string& path) {
+  auto s = pheromesh::core::load_scenario(path);
+  if (!s) {
+    std::fprintf(stderr, "%s\n", s.error().message.c_str());
+    return 2;
+  }
+  const auto geo = s->geometry();
+  std::printf("%s: OK\n  name        %s\n  map         %d x %d cells, tiles %d x %d of %d cells, %u regions (%d x %d)\n"
+              "  obstacles   %zu rectangles\n  targets     %zu\n  uavs        %u\n  run         %u ticks at %.1f Hz, seed %llu\n"
+              "  revisit     every %u ticks\n",
+              path.c_str(), s->name.c_str(), s->width, s->height, geo.tiles_x(), geo.tiles_y(), s->tile_size,
+              geo.region_count(), s->regions_x, s->regions_y, s->obstacles.size(), s->targets.size(), s->uavs, s->ticks,
+              s->tick_rate_hz, static_cast<unsigned long long>(s->seed), s->aco.revisit_period);
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  using namespace pheromesh;
+  CLI::App app{"pheromesh: a UAV swarm coordinating through digital pheromones over DDS.\n\n"
+               "Examples:\n"
+               "  pheromesh validate scenarios/shao2020-50x50.textproto\n"
+               "  pheromesh run scenarios/shao2020-50x50.textproto --ticks 600 --out out/demo\n"
+               "  pheromesh run scenarios/small-test.textproto --uavs 6 --duration 20 --kill \"uav:1@5s,uav:4@8s\"\n",
+               "pheromesh"};
+  app.require_subcommand(1);
+  std::string log_level = "info";
+  app.add_option("--log-level", log_level, "Launcher log level")->capture_default_str();
+
+  std::string validate_path;
+  auto* v = app.add_subcommand("validate", "Check a scenario file; errors name the file, line and field");
+  v->add_option("SCENARIO", validate_path, "Scenario file (protobuf text format)")->required();
+
+  cli::RunOptions ro;
+  ro.dds = bus::default_vendor();
+  if (const char* p = std::getenv("PHEROMESH_DDS_PROFILE"); p != nullptr && *p != '\0') ro.dds_profile = p;
+  auto* r = app.add_subcommand("run", "Run a swarm on this host: one process per place agent and UAV, plus the "
+                                      "ground station; writes OUT/metrics.json and OUT/logs/");
+  r->add_option("SCENARIO", ro.scenario, "Scenario file (protobuf text format)")->required()->check(CLI::ExistingFile);
+  r->add_option("--uavs", ro.uavs, "Number of UAV processes (default: the scenario's swarm.uavs)");
+  auto* ticks = r->add_option("--ticks", ro.ticks, "Ticks each UAV flies (default: the scenario's run.ticks)");
+  r->add_option("--duration", ro.duration_s, "Seconds to fly instead of --ticks [s]")->excludes(ticks);
+  r->add_option("--seed", ro.seed, "Run seed (default: the scenario's run.seed)");
+  r->add_option("--rate", ro.rate_hz, "Tick rate of every process [Hz] (default: the scenario's run.tick_rate_hz)");
+  r->add_option("--out", ro.out_dir, "Output folder (metrics.json, logs/)")->capture_default_str();
+  r->add_option("--kill", ro.kill_spec,
+                "Fault injection: SIGKILL processes at times after the start, e.g. \"uav:3@5s,place:1@2500ms\"");
+  r->add_option("--dds", ro.dds, "DDS vendor for every process [env PHEROMESH_DDS]")
+      ->check(CLI::IsMember(bus::available_vendors()))
+      ->capture_default_str();
+  r->add_option("--dds-profile", ro.dds_profile, "DDS profile: onehost, default or a vendor config file")->capture_default_str();
+  r->add_option("--domain", ro.domain, "DDS domain id (use distinct ids for swarms sharing a host)")
+      ->check(CLI::Range(0, 232))
+      ->capture_default_str();
+  r->add_option("--process-log-level", ro.log_level, "Log level of the spawned processes")->capture_default_str();
+  r->add_option("--progress", ro.progress_s, "Seconds between the ground station's progress lines")->capture_default_str();
+
+  CLI11_PARSE(app, argc, argv);
+  auto logger = spdlog::stderr_color_mt("pheromesh");
+  logger->set_pattern("%H:%M:%S.%e %^%-5l%$ [%n] %v");
+  logger->set_level(spdlog::level::from_str(log_level));
+  spdlog::set_default_logger(logger);
+
+  if (v->parsed()) return validate(validate_path);
+  try {
+    return cli::Launcher(ro).run();
+  } catch (const std::exception& e) {
+    spdlog::critical("fatal: {}", e.what());
+    return 4;
+  }
+}

@@ -1,0 +1,412 @@
+// Shao 2020 semantic pheromone layers (section 4.1, eqs. (1)-(8)) over one
+// region with a one-cell halo, and the whole-map reference step.
+//
+// Exactness contract between reference_diffuse and RegionField: both compute,
+// per cell i and in float,
+//   s_j   = v_j + (k_j ? d : 0)                                 source
+//   nb_i  = sum over the in-map 8-neighbours j of i, in the order
+//           (-1,-1) (0,-1) (1,-1) (-1,0) (1,0) (-1,1) (0,1) (1,1), of
+//           s_j * (1 / |N(j)|)
+//   out_i = combine(s_i, nb_i)                                  eq. (1) or (3)
+// with the same helper functions below. RegionField adds +0 for out-of-map
+// neighbours (source 0, weight 0) where the reference skips them; x + (+0) == x
+// for every x except -0, which compares equal anyway. So the split map and the
+// undivided map give bitwise-equal results as long as the compiler neither
+// reassociates (no -ffast-math) nor fuses a multiply into an add (FMA
+// contraction). Contraction would hit the two sides differently: the
+// reference's `nb += s_j * inv` would fuse, RegionField's precomputed weights
+// would not. GCC contracts by default in C++ whenever the target has FMA
+// (e.g. -march=native), so it is switched off for this file below.
+#include "pheromesh/core/layers.hpp"
+
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+#include <numbers>
+#include <optional>
+
+// After the includes, so only this file's functions are affected.
+#if defined(__clang__)
+#pragma clang fp contract(off)
+#elif defined(__GNUC__)
+#pragma GCC optimize("fp-contract=off")
+#endif
+
+namespace pheromesh::core {
+
+namespace {
+
+// Step coefficients, rounded to float once so both implementations use the same.
+struct StepCoeffs {
+  float d = 0.0F;     // deposit per iteration (dτ or dε)
+  float g = 0.0F;     // G, multiplies the neighbour sum: g(i,t) = G * Σ s_j/|N(j)|, eqs. (2), (4)
+  float self = 0.0F;  // eq. (1): (1-E)(1-G);  eq. (3): (1-G)
+  float evap = 1.0F;  // eq. (3): (1-E), applied to the whole brace; unused for eq. (1)
+};
+
+StepCoeffs make_coeffs(double e, double g, double d, bool evaporate_neighbour_sum) {
+  StepCoeffs c;
+  c.d = static_cast<float>(d);
+  c.g = static_cast<float>(g);
+  c.self = evaporate_neighbour_sum ? static_cast<float>(1.0 - g) : static_cast<float>((1.0 - e) * (1.0 - g));
+  c.evap = static_cast<float>(1.0 - e);
+  return c;
+}
+
+// s = v + k·d, the quantity that stays and diffuses (brackets of eqs. (1)-(4)).
+inline float source(float v, uint8_t k, float d) { return v + (k != 0 ? d : 0.0F); }
+
+// 1/|N(j)|; 0 for a cell with no neighbours (1x1 map), which then never
+// appears in any N(i) anyway.
+inline float inv_count(int32_t n) { return n > 0 ? 1.0F / static_cast<float>(n) : 0.0F; }
+
+template <bool kEvaporateNeighbourSum>
+inline float combine(float s, float nb, const StepCoeffs& c) {
+  if constexpr (kEvaporateNeighbourSum) {
+    return c.evap * (c.self * s + c.g * nb);  // Shao 2020 eq. (3): (1-E){(1-G)[ε+kd] + g}
+  } else {
+    return c.self * s + c.g * nb;  // Shao 2020 eq. (1): (1-E)(1-G)[τ+kd] + g
+  }
+}
+
+// Lanes per block. At -O2 GCC 12 only vectorises loops whose trip count is a
+// known multiple of the vector width ("very cheap" cost model), so the hot
+// loops run in fixed blocks of 8 plus a scalar tail; the fixed inner loops
+// become SIMD code. Each lane is independent, so this does not change any
+// per-cell operation order.
+constexpr std::size_t kBlock = 8;
+
+// s_j / |N(j)| once per padded cell instead of once per (i, j) pair.
+void weigh(const float* __restrict src, const float* __restrict inv_n, float* __restrict weighted, std::size_t n) {
+  std::size_t j = 0;
+  for (; j + kBlock <= n; j += kBlock) {
+    for (std::size_t l = 0; l < kBlock; ++l) weighted[j + l] = src[j + l] * inv_n[j + l];
+  }
+  for (; j < n; ++j) weighted[j] = src[j] * inv_n[j];
+}
+
+// One output row: up/mid/dn are the weighted padded rows above, at and below
+// (pointing at padded column 0), s the own sources of the row, o the output.
+template <bool kEvaporateNeighbourSum>
+void diffuse_row(const float* __restrict up, const float* __restrict mid, const float* __restrict dn,
+                 const float* __restrict s, float* __restrict o, std::size_t w, const StepCoeffs coeffs) {
+  const StepCoeffs c = coeffs;  // a local copy keeps the coefficients in registers
+  std::size_t x = 0;
+  for (; x + kBlock <= w; x += kBlock) {
+    const float* u = up + x;
+    const float* m = mid + x;
+    const float* d = dn + x;
+    for (std::size_t l = 0; l < kBlock; ++l) {
+      // Same neighbour order as reference_diffuse; do not regroup.
+      const float nb = u[l] + u[l + 1] + u[l + 2] + m[l] + m[l + 2] + d[l] + d[l + 1] + d[l + 2];
+      o[x + l] = combine<kEvaporateNeighbourSum>(s[x + l], nb, c);
+    }
+  }
+  for (; x < w; ++x) {
+    const float nb = up[x] + up[x + 1] + up[x + 2] + mid[x] + mid[x + 2] + dn[x] + dn[x + 1] + dn[x + 2];
+    o[x] = combine<kEvaporateNeighbourSum>(s[x], nb, c);
+  }
+}
+
+// Eqs. (1)-(4) over the w x h own cells of a (w+2) x (h+2) padded source
+// buffer. `weighted` is scratch of the padded size. No per-cell branches.
+template <bool kEvaporateNeighbourSum>
+void diffuse_padded(const float* src, const float* inv_n, float* weighted, std::size_t w, std::size_t h,
+                    const StepCoeffs& c, float* out) {
+  const std::size_t pw = w + 2;
+  weigh(src, inv_n, weighted, pw * (h + 2));
+  for (std::size_t y = 0; y < h; ++y) {
+    const float* up = weighted + y * pw;
+    diffuse_row<kEvaporateNeighbourSum>(up, up + pw, up + 2 * pw, src + (y + 1) * pw + 1, out + y * w, w, c);
+  }
+}
+
+// s = v + k·d for one row of n cells.
+void make_sources(const float* __restrict v, const uint8_t* __restrict k, float d, float* __restrict s, std::size_t n) {
+  std::size_t i = 0;
+  for (; i + kBlock <= n; i += kBlock) {
+    for (std::size_t l = 0; l < kBlock; ++l) s[i + l] = source(v[i + l], k[i + l], d);
+  }
+  for (; i < n; ++i) s[i] = source(v[i], k[i], d);
+}
+
+// σ = clamp(σ − Δσ, σmin, σ0), eqs. (5) and (8); clears Δσ.
+void update_path(float* __restrict sigma, float* __restrict delta, std::size_t n, float lo, float hi) {
+  std::size_t i = 0;
+  for (; i + kBlock <= n; i += kBlock) {
+    for (std::size_t l = 0; l < kBlock; ++l) {
+      sigma[i + l] = std::min(std::max(sigma[i + l] - delta[i + l], lo), hi);
+      delta[i + l] = 0.0F;
+    }
+  }
+  for (; i < n; ++i) {
+    sigma[i] = std::min(std::max(sigma[i] - delta[i], lo), hi);
+    delta[i] = 0.0F;
+  }
+}
+
+// Index of cell (x, y) in the border ring of rect r (row-major over the border
+// cells), or nothing if the cell is not on r's border. 64-bit so that a
+// malformed rect from a peer cannot overflow.
+std::optional<std::size_t> border_index(const Rect& r, int64_t x, int64_t y) {
+  const int64_t w = r.w;
+  const int64_t h = r.h;
+  const int64_t dx = x - r.x0;
+  const int64_t dy = y - r.y0;
+  if (w <= 0 || h <= 0 || dx < 0 || dy < 0 || dx >= w || dy >= h) return std::nullopt;
+  const int64_t per_middle_row = w >= 2 ? 2 : 1;  // border cells in a row that is not first or last
+  if (dy == 0) return static_cast<std::size_t>(dx);
+  if (dy == h - 1) return static_cast<std::size_t>(w + (h - 2) * per_middle_row + dx);
+  const int64_t row_start = w + (dy - 1) * per_middle_row;
+  if (dx == 0) return static_cast<std::size_t>(row_start);
+  if (dx == w - 1) return static_cast<std::size_t>(row_start + per_middle_row - 1);
+  return std::nullopt;
+}
+
+inline std::size_t layer_index(Layer l) {
+  const auto i = static_cast<std::size_t>(l);
+  assert(i < static_cast<std::size_t>(kLayerCount));
+  return i;
+}
+
+}  // namespace
+
+const char* layer_name(Layer l) {
+  switch (l) {
+    case Layer::Target:
+      return "target";
+    case Layer::Obstacle:
+      return "obstacle";
+    case Layer::Path:
+      return "path";
+    case Layer::TargetState:
+      return "target_state";
+  }
+  return "unknown";
+}
+
+double path_decrease(double dist, const ShaoLayerParams& p) {
+  // Shao 2020 eq. (7), as printed: the factor depends on (Q / D), not D / Q.
+  if (!(dist <= p.d0)) return 0.0;         // D > D0 (or NaN): out of the UAV's influence
+  if (dist <= 0.0) return 0.9 * p.sigma0;  // D == 0: the UAV's own cell decays fastest
+  const double a = p.q / dist;
+  return std::exp(-0.5 * a * a) / (2.0 * std::sqrt(2.0 * std::numbers::pi)) * p.sigma0;
+}
+
+std::size_t ring_size(const Rect& r) {
+  const int64_t w = r.w;
+  const int64_t h = r.h;
+  if (w <= 0 || h <= 0) return 0;
+  if (h == 1) return static_cast<std::size_t>(w);
+  const int64_t per_middle_row = w >= 2 ? 2 : 1;
+  return static_cast<std::size_t>(2 * w + (h - 2) * per_middle_row);
+}
+
+// ---------------------------------------------------------------------------
+// RegionField
+// ---------------------------------------------------------------------------
+
+RegionField::RegionField(const MapGeometry& geo, RegionId region, const ShaoLayerParams& params)
+    : geo_(&geo), region_(region), p_(params), rect_(geo.region_rect(region)) {
+  assert(region < geo.region_count());
+  const auto cells = static_cast<std::size_t>(rect_.area());
+  layers_[layer_index(Layer::Target)].assign(cells, 0.0F);
+  layers_[layer_index(Layer::Obstacle)].assign(cells, 0.0F);
+  layers_[layer_index(Layer::Path)].assign(cells, static_cast<float>(p_.sigma0));  // path starts at σ0
+  layers_[layer_index(Layer::TargetState)].assign(cells, kTargetUnknown);
+  k_tau_.assign(cells, 0);
+  k_eps_.assign(cells, 0);
+  path_delta_.assign(cells, 0.0F);
+
+  const auto pw = static_cast<std::size_t>(rect_.w) + 2;
+  const auto ph = static_cast<std::size_t>(rect_.h) + 2;
+  src_tau_.assign(pw * ph, 0.0F);
+  src_eps_.assign(pw * ph, 0.0F);
+  weighted_.assign(pw * ph, 0.0F);
+  inv_n_.assign(pw * ph, 0.0F);
+  // 1/|N(j)| from the whole map (a region border is not a map border); 0 for
+  // halo cells outside the map, so they never contribute.
+  for (std::size_t py = 0; py < ph; ++py) {
+    for (std::size_t px = 0; px < pw; ++px) {
+      const Cell c{rect_.x0 - 1 + static_cast<int32_t>(px), rect_.y0 - 1 + static_cast<int32_t>(py)};
+      if (geo.in_map(c)) inv_n_[py * pw + px] = inv_count(geo.neighbour_count(c));
+    }
+  }
+}
+
+std::optional<std::size_t> RegionField::own_index(Cell c) const {
+  if (!rect_.contains(c)) return std::nullopt;
+  return static_cast<std::size_t>(c.y - rect_.y0) * static_cast<std::size_t>(rect_.w) +
+         static_cast<std::size_t>(c.x - rect_.x0);
+}
+
+std::span<const float> RegionField::layer(Layer l) const { return layers_[layer_index(l)]; }
+
+std::span<float> RegionField::mutable_layer(Layer l) { return layers_[layer_index(l)]; }
+
+float RegionField::value(Layer l, Cell c) const {
+  const auto i = own_index(c);
+  assert(i.has_value());
+  return i ? layers_[layer_index(l)][*i] : 0.0F;
+}
+
+// Cells outside rect() are ignored by the setters: they may come from a peer.
+void RegionField::set_obstacle_switch(Cell c) {
+  if (const auto i = own_index(c)) k_eps_[*i] = 1;
+}
+
+void RegionField::set_target_switch(Cell c, bool on) {
+  if (const auto i = own_index(c)) k_tau_[*i] = on ? 1 : 0;
+}
+
+bool RegionField::obstacle_switch(Cell c) const {
+  const auto i = own_index(c);
+  return i && k_eps_[*i] != 0;
+}
+
+bool RegionField::target_switch(Cell c) const {
+  const auto i = own_index(c);
+  return i && k_tau_[*i] != 0;
+}
+
+void RegionField::set_target_state(Cell c, float state) {
+  if (const auto i = own_index(c)) layers_[layer_index(Layer::TargetState)][*i] = state;
+}
+
+void RegionField::add_path_visit(Cell uav) {
+  if (rect_.w <= 0 || rect_.h <= 0 || !(p_.d0 >= 0.0)) return;
+  // Cells within D0 [cell] lie in the square of half-side floor(D0) around the UAV.
+  const auto reach = static_cast<int64_t>(std::floor(std::min(p_.d0, 1.0e9)));
+  const int64_t x_lo = std::max<int64_t>(int64_t{uav.x} - reach, rect_.x0);
+  const int64_t x_hi = std::min<int64_t>(int64_t{uav.x} + reach, int64_t{rect_.x0} + rect_.w - 1);
+  const int64_t y_lo = std::max<int64_t>(int64_t{uav.y} - reach, rect_.y0);
+  const int64_t y_hi = std::min<int64_t>(int64_t{uav.y} + reach, int64_t{rect_.y0} + rect_.h - 1);
+  for (int64_t y = y_lo; y <= y_hi; ++y) {
+    for (int64_t x = x_lo; x <= x_hi; ++x) {
+      const int64_t dx = x - uav.x;
+      const int64_t dy = y - uav.y;
+      const double dist = std::sqrt(static_cast<double>(dx * dx + dy * dy));  // D_ij [cell]
+      const double delta = path_decrease(dist, p_);                          // eq. (7)
+      if (delta == 0.0) continue;
+      const auto i = static_cast<std::size_t>(y - rect_.y0) * static_cast<std::size_t>(rect_.w) +
+                     static_cast<std::size_t>(x - rect_.x0);
+      path_delta_[i] += static_cast<float>(delta);  // eq. (6): sum over UAVs k
+    }
+  }
+}
+
+HaloRing RegionField::begin_step() {
+  const auto w = static_cast<std::size_t>(rect_.w);
+  const auto h = static_cast<std::size_t>(rect_.h);
+  const std::size_t pw = w + 2;
+  const float d_tau = static_cast<float>(p_.d_tau);
+  const float d_eps = static_cast<float>(p_.d_eps);
+  const float* tau = layers_[layer_index(Layer::Target)].data();
+  const float* eps = layers_[layer_index(Layer::Obstacle)].data();
+  // Sources s = v + k·d of eqs. (1)-(4) into the interior of the padded
+  // buffers; the halo keeps what neighbours sent last.
+  for (std::size_t y = 0; y < h; ++y) {
+    float* st = src_tau_.data() + (y + 1) * pw + 1;
+    float* se = src_eps_.data() + (y + 1) * pw + 1;
+    const std::size_t row = y * w;
+    make_sources(tau + row, k_tau_.data() + row, d_tau, st, w);
+    make_sources(eps + row, k_eps_.data() + row, d_eps, se, w);
+  }
+
+  HaloRing ring;
+  ring.region = region_;
+  const std::size_t n = ring_size(rect_);
+  ring.target.reserve(n);
+  ring.obstacle.reserve(n);
+  const auto push = [&](std::size_t x, std::size_t y) {
+    const std::size_t p = (y + 1) * pw + (x + 1);
+    ring.target.push_back(src_tau_[p]);
+    ring.obstacle.push_back(src_eps_[p]);
+  };
+  for (std::size_t y = 0; y < h; ++y) {
+    if (y == 0 || y + 1 == h) {
+      for (std::size_t x = 0; x < w; ++x) push(x, y);
+    } else {
+      push(0, y);
+      if (w > 1) push(w - 1, y);
+    }
+  }
+  assert(ring.target.size() == n);
+  return ring;
+}
+
+void RegionField::accept_halo(const Rect& neighbour_rect, const HaloRing& ring) {
+  const std::size_t n = ring_size(neighbour_rect);
+  if (n == 0 || ring.target.size() != n || ring.obstacle.size() != n) return;  // malformed: ignore
+  const int64_t pw = int64_t{rect_.w} + 2;
+  const int64_t ph = int64_t{rect_.h} + 2;
+  // Walk our own halo (the padded cells outside rect()), not the neighbour's
+  // ring: bounded by our size whatever the peer sent.
+  const auto take = [&](int64_t px, int64_t py) {
+    const int64_t x = int64_t{rect_.x0} - 1 + px;
+    const int64_t y = int64_t{rect_.y0} - 1 + py;
+    if (x < 0 || y < 0 || x >= geo_->width() || y >= geo_->height()) return;  // off the map: stays 0
+    const auto k = border_index(neighbour_rect, x, y);
+    if (!k) return;
+    const auto p = static_cast<std::size_t>(py * pw + px);
+    src_tau_[p] = ring.target[*k];
+    src_eps_[p] = ring.obstacle[*k];
+  };
+  for (int64_t px = 0; px < pw; ++px) {
+    take(px, 0);
+    take(px, ph - 1);
+  }
+  for (int64_t py = 1; py + 1 < ph; ++py) {
+    take(0, py);
+    take(pw - 1, py);
+  }
+}
+
+void RegionField::finish_step() {
+  const auto w = static_cast<std::size_t>(rect_.w);
+  const auto h = static_cast<std::size_t>(rect_.h);
+  diffuse_padded<false>(src_tau_.data(), inv_n_.data(), weighted_.data(), w, h,
+                        make_coeffs(p_.e_tau, p_.g_tau, p_.d_tau, false),
+                        layers_[layer_index(Layer::Target)].data());  // eqs. (1), (2)
+  diffuse_padded<true>(src_eps_.data(), inv_n_.data(), weighted_.data(), w, h,
+                       make_coeffs(p_.e_eps, p_.g_eps, p_.d_eps, true),
+                       layers_[layer_index(Layer::Obstacle)].data());  // eqs. (3), (4)
+
+  // Path: σ(t+1) = σ(t) − Δσ(t), eq. (5), clamped into [σmin, σ0], eq. (8).
+  const float lo = static_cast<float>(p_.sigma_min);
+  const float hi = static_cast<float>(p_.sigma0);
+  update_path(layers_[layer_index(Layer::Path)].data(), path_delta_.data(), w * h, lo, hi);
+}
+
+// ---------------------------------------------------------------------------
+// Reference
+// ---------------------------------------------------------------------------
+
+void reference_diffuse(const MapGeometry& geo, std::span<const float> in, std::span<const uint8_t> k, double e,
+                       double g, double d, bool evaporate_neighbour_sum, std::span<float> out) {
+  const auto cells = static_cast<std::size_t>(geo.map_rect().area());
+  assert(in.size() == cells && k.size() == cells && out.size() == cells);
+  assert(in.data() != out.data());  // out must not alias in
+  if (in.size() != cells || k.size() != cells || out.size() != cells) return;
+  const StepCoeffs c = make_coeffs(e, g, d, evaporate_neighbour_sum);
+  for (int32_t y = 0; y < geo.height(); ++y) {
+    for (int32_t x = 0; x < geo.width(); ++x) {
+      const Cell ci{x, y};
+      // g(i,t) / G = Σ_{j∈N(i)} s_j / |N(j)|, eqs. (2), (4); |N(j)| counted on the spot.
+      float nb = 0.0F;
+      for (int32_t dy = -1; dy <= 1; ++dy) {
+        for (int32_t dx = -1; dx <= 1; ++dx) {
+          const Cell cj{x + dx, y + dy};
+          if ((dx == 0 && dy == 0) || !geo.in_map(cj)) continue;
+          const std::size_t j = geo.index(cj);
+          nb += source(in[j], k[j], c.d) * inv_count(geo.neighbour_count(cj));
+        }
+      }
+      const std::size_t i = geo.index(ci);
+      const float s = source(in[i], k[i], c.d);
+      out[i] = evaporate_neighbour_sum ? combine<true>(s, nb, c) : combine<false>(s, nb, c);
+    }
+  }
+}
+
+}  // namespace pheromesh::core

@@ -1,0 +1,116 @@
+// Semantic checks of samples received from the network. They must accept any
+// field values without crashing: every index is range-checked before use.
+#include "pheromesh/core/messages.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "pheromesh/core/layers.hpp"
+
+namespace pheromesh::core {
+
+namespace {
+
+constexpr float kMaxDepositAmount = 1e6F;
+constexpr uint8_t kHeadingCount = 8;  // aco.hpp Heading
+constexpr uint8_t kRoleCount = 3;     // Role
+
+bool all_finite(const std::vector<float>& v) {
+  return std::all_of(v.begin(), v.end(), [](float x) { return std::isfinite(x); });
+}
+
+std::string cell_text(Cell c) { return "(" + std::to_string(c.x) + ", " + std::to_string(c.y) + ")"; }
+
+}  // namespace
+
+std::optional<std::string> check_deposit(const DepositMsg& d, const MapGeometry& geo, RegionId owner) {
+  if (d.kind >= kDepositKindCount) {
+    return "unknown deposit kind " + std::to_string(d.kind);
+  }
+  if (!std::isfinite(d.amount)) {
+    return std::string("deposit amount is not finite");
+  }
+  if (d.amount < 0.0F || d.amount > kMaxDepositAmount) {
+    return "deposit amount " + std::to_string(d.amount) + " outside [0, 1e6]";
+  }
+  if (!geo.in_map(d.cell)) {
+    return "deposit cell " + cell_text(d.cell) + " outside the map";
+  }
+  if (owner >= geo.region_count()) {
+    return "owner region " + std::to_string(owner) + " does not exist";
+  }
+  if (d.region != owner) {
+    return "deposit for region " + std::to_string(d.region) + " received by region " + std::to_string(owner);
+  }
+  // Marks land on the cell the UAV sensed, which the owner holds; a path
+  // visit is the UAV's own cell, which may lie in a neighbour region within D0.
+  const auto kind = static_cast<DepositKind>(d.kind);
+  if ((kind == DepositKind::TargetMark || kind == DepositKind::ObstacleMark) &&
+      !geo.region_rect(owner).contains(d.cell)) {
+    return "mark cell " + cell_text(d.cell) + " outside region " + std::to_string(owner);
+  }
+  return std::nullopt;
+}
+
+std::optional<std::string> check_tile(const TileMsg& t, const MapGeometry& geo) {
+  if (t.layer >= kLayerCount) {
+    return "unknown layer " + std::to_string(t.layer);
+  }
+  if (!geo.valid_tile(t.tile)) {
+    return "tile (" + std::to_string(t.tile.tx) + ", " + std::to_string(t.tile.ty) + ") outside the map";
+  }
+  if (t.values.size() > kMaxTileCells) {
+    return "tile has " + std::to_string(t.values.size()) + " values, more than " + std::to_string(kMaxTileCells);
+  }
+  const Rect r = geo.tile_rect(t.tile);
+  if (t.width != r.w || t.height != r.h) {
+    return "tile size " + std::to_string(t.width) + "x" + std::to_string(t.height) + " does not match " +
+           std::to_string(r.w) + "x" + std::to_string(r.h);
+  }
+  if (t.values.size() != static_cast<std::size_t>(t.width) * t.height) {
+    return "tile has " + std::to_string(t.values.size()) + " values for " + std::to_string(t.width) + "x" +
+           std::to_string(t.height) + " cells";
+  }
+  if (!all_finite(t.values)) {
+    return std::string("tile value is not finite");
+  }
+  return std::nullopt;
+}
+
+std::optional<std::string> check_uav_state(const UavStateMsg& s, const MapGeometry& geo) {
+  if (!std::isfinite(s.x) || !std::isfinite(s.y) || !std::isfinite(s.vx) || !std::isfinite(s.vy)) {
+    return std::string("UAV state has a non-finite position or velocity");
+  }
+  // Cell centres are integers, so the map spans [-0.5, width - 0.5]; one cell
+  // of margin on each side tolerates rounding by the sender.
+  if (s.x < -1.0 || s.y < -1.0 || s.x > static_cast<double>(geo.width()) || s.y > static_cast<double>(geo.height())) {
+    return "UAV position (" + std::to_string(s.x) + ", " + std::to_string(s.y) + ") outside the map";
+  }
+  if (s.heading >= kHeadingCount) {
+    return "unknown heading " + std::to_string(s.heading);
+  }
+  if (s.role >= kRoleCount) {
+    return "unknown role " + std::to_string(s.role);
+  }
+  return std::nullopt;
+}
+
+std::optional<std::string> check_halo(const HaloMsg& h, const MapGeometry& geo) {
+  if (h.region >= geo.region_count()) {
+    return "halo from unknown region " + std::to_string(h.region);
+  }
+  if (h.target.size() > kMaxRingCells || h.obstacle.size() > kMaxRingCells) {
+    return "halo ring longer than " + std::to_string(kMaxRingCells);
+  }
+  const std::size_t expected = ring_size(geo.region_rect(h.region));
+  if (h.target.size() != expected || h.obstacle.size() != expected) {
+    return "halo ring sizes " + std::to_string(h.target.size()) + "/" + std::to_string(h.obstacle.size()) +
+           " do not match " + std::to_string(expected);
+  }
+  if (!all_finite(h.target) || !all_finite(h.obstacle)) {
+    return std::string("halo value is not finite");
+  }
+  return std::nullopt;
+}
+
+}  // namespace pheromesh::core

@@ -1,0 +1,500 @@
+// Scenario loading: protobuf text format -> validated ScenarioConfig.
+//
+// Two kinds of errors, both as "FILE:LINE:COL: ..." (1-based):
+//  - syntax and unknown fields come from protobuf's own text parser, which
+//    stops at the first one;
+//  - semantic errors are all collected (one line each, sorted by position) and
+//    name the field path, e.g. "field 'map.obstacles[2].w': ...". Positions come
+//    from the parser's ParseInfoTree; an absent field is reported at the field
+//    of the enclosing message (or 1:1 at top level).
+#include "pheromesh/core/scenario.hpp"
+
+#include <google/protobuf/io/tokenizer.h>
+#include <google/protobuf/text_format.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <limits>
+#include <memory>
+#include <optional>
+#include <string>
+#include <system_error>
+#include <utility>
+
+#include "scenario.pb.h"
+
+namespace pheromesh::core {
+namespace {
+
+namespace pb = ::pheromesh::scenario;
+using google::protobuf::Descriptor;
+using google::protobuf::FieldDescriptor;
+using google::protobuf::Message;
+using google::protobuf::TextFormat;
+
+constexpr int32_t kMinMapSide = 4;      // [cell]
+constexpr int32_t kMaxMapSide = 4096;   // [cell]
+constexpr int32_t kMinTileSize = 4;     // [cell]
+constexpr int32_t kMaxTileSize = 32;    // [cell]; 32 x 32 = 1024 cells, one DDS sample
+constexpr int32_t kMaxUavs = 1000;
+constexpr double kMaxTickRateHz = 1000.0;
+constexpr double kMaxSensorRadius = 64.0;  // [cell]
+constexpr int64_t kMaxU32 = std::numeric_limits<uint32_t>::max();
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// 1-based position in the text.
+struct Loc {
+  int line = 1;
+  int col = 1;
+};
+
+std::string format_number(double v) {
+  if (std::isnan(v)) return "nan";
+  if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
+  char buf[64];
+  const auto res = std::to_chars(buf, buf + sizeof buf, v);
+  return {buf, res.ptr};
+}
+std::string format_number(int64_t v) { return std::to_string(v); }
+
+std::string prefix(const std::string& display_name, Loc loc) {
+  return display_name + ":" + std::to_string(loc.line) + ":" + std::to_string(loc.col) + ": ";
+}
+
+// Collects protobuf's parse errors instead of letting it print them.
+class CollectingErrorCollector final : public google::protobuf::io::ErrorCollector {
+ public:
+  explicit CollectingErrorCollector(const std::string& display_name) : display_name_(display_name) {}
+  void AddError(int line, google::protobuf::io::ColumnNumber column, const std::string& message) override {
+    if (line < 0) {
+      errors_.push_back(display_name_ + ": " + message);
+    } else {
+      errors_.push_back(prefix(display_name_, {line + 1, column + 1}) + message);
+    }
+  }
+  [[nodiscard]] const std::vector<std::string>& errors() const { return errors_; }
+
+ private:
+  const std::string& display_name_;
+  std::vector<std::string> errors_;
+};
+
+// A message of the parsed text: its descriptor, its ParseInfoTree (null when
+// the message was absent from the text), where it stood and its field path.
+class Node {
+ public:
+  Node(const Descriptor* desc, const TextFormat::ParseInfoTree* tree, Loc loc, std::string path)
+      : desc_(desc), tree_(tree), loc_(loc), path_(std::move(path)) {}
+
+  [[nodiscard]] Loc loc() const { return loc_; }
+  [[nodiscard]] const std::string& path() const { return path_; }
+
+  // Position of `field` (element `index` if repeated); the message's own
+  // position when the field is absent.
+  [[nodiscard]] Loc loc_of(const char* field, int index = -1) const {
+    const FieldDescriptor* fd = desc_->FindFieldByName(field);
+    if (tree_ == nullptr || fd == nullptr) return loc_;
+    auto p = tree_->GetLocation(fd, fd->is_repeated() ? std::max(index, 0) : -1);
+    // List syntax ("targets: [{...}, {...}]") records one location for the
+    // whole list: fall back to where the list starts.
+    if (p.line < 0 && fd->is_repeated()) p = tree_->GetLocation(fd, 0);
+    if (p.line < 0) return loc_;
+    return {p.line + 1, p.column + 1};
+  }
+
+  [[nodiscard]] std::string path_of(const char* field, int index = -1) const {
+    std::string p = path_.empty() ? std::string(field) : path_ + "." + field;
+    if (index >= 0) p += "[" + std::to_string(index) + "]";
+    return p;
+  }
+
+  [[nodiscard]] Node child(const char* field, int index = -1) const {
+    const FieldDescriptor* fd = desc_->FindFieldByName(field);
+    const TextFormat::ParseInfoTree* nested = nullptr;
+    if (tree_ != nullptr && fd != nullptr) nested = tree_->GetTreeForNested(fd, fd->is_repeated() ? std::max(index, 0) : -1);
+    return {fd != nullptr ? fd->message_type() : nullptr, nested, loc_of(field, index), path_of(field, index)};
+  }
+
+ private:
+  const Descriptor* desc_;
+  const TextFormat::ParseInfoTree* tree_;
+  Loc loc_;
+  std::string path_;
+};
+
+// Collects semantic errors.
+class Validator {
+ public:
+  explicit Validator(const std::string& display_name) : display_name_(display_name) {}
+
+  void fail_at(Loc loc, const std::string& path, const std::string& what) {
+    issues_.push_back({loc, prefix(display_name_, loc) + "field '" + path + "': " + what});
+  }
+  void fail(const Node& n, const char* field, const std::string& what, int index = -1) {
+    fail_at(n.loc_of(field, index), n.path_of(field, index), what);
+  }
+  void fail(const Node& n, const std::string& what) { fail_at(n.loc(), n.path(), what); }
+
+  void required(const Node& n, const char* field) { fail(n, field, "required field is missing"); }
+
+  bool int_between(const Node& n, const char* field, int64_t v, int64_t lo, int64_t hi, const std::string& note = "") {
+    if (v >= lo && v <= hi) return true;
+    fail(n, field, "must be between " + format_number(lo) + " and " + format_number(hi) + " (got " + format_number(v) + ")" +
+                       (note.empty() ? "" : "; " + note));
+    return false;
+  }
+
+  // Interval check that also rejects nan and +-inf. hi = +inf means unbounded.
+  bool real_in(const Node& n, const char* field, double v, double lo, bool lo_open, double hi, bool hi_open) {
+    const bool lo_ok = lo_open ? v > lo : v >= lo;
+    const bool hi_ok = std::isinf(hi) || (hi_open ? v < hi : v <= hi);
+    if (std::isfinite(v) && lo_ok && hi_ok) return true;
+    std::string range;
+    if (std::isinf(hi)) {
+      range = std::string(lo_open ? "> " : ">= ") + format_number(lo);
+    } else {
+      range = std::string("in ") + (lo_open ? "(" : "[") + format_number(lo) + ", " + format_number(hi) + (hi_open ? ")" : "]");
+    }
+    fail(n, field, "must be " + (std::isfinite(v) ? range : "a finite number " + range) + " (got " + format_number(v) + ")");
+    return false;
+  }
+
+  [[nodiscard]] bool empty() const { return issues_.empty(); }
+  [[nodiscard]] std::string joined() {
+    std::stable_sort(issues_.begin(), issues_.end(), [](const Issue& a, const Issue& b) {
+      return a.loc.line != b.loc.line ? a.loc.line < b.loc.line : a.loc.col < b.loc.col;
+    });
+    std::string out;
+    for (const auto& i : issues_) {
+      if (!out.empty()) out += '\n';
+      out += i.text;
+    }
+    return out;
+  }
+
+ private:
+  struct Issue {
+    Loc loc;
+    std::string text;
+  };
+  const std::string& display_name_;
+  std::vector<Issue> issues_;
+};
+
+// Map side lengths once they are known to be valid.
+struct MapSize {
+  int32_t width;
+  int32_t height;
+};
+
+// Checks a rectangle whose four fields are required; returns it if valid.
+std::optional<Rect> check_rect(Validator& v, const Node& n, const pb::Rect& r, std::optional<MapSize> map) {
+  bool ok = true;
+  using Presence = std::pair<bool, const char*>;
+  for (const auto& [has, name] : {Presence{r.has_x(), "x"}, Presence{r.has_y(), "y"}, Presence{r.has_w(), "w"}, Presence{r.has_h(), "h"}}) {
+    if (!has) {
+      v.required(n, name);
+      ok = false;
+    }
+  }
+  if (!ok) return std::nullopt;
+  ok = v.int_between(n, "w", r.w(), 1, kMaxMapSide) && ok;
+  ok = v.int_between(n, "h", r.h(), 1, kMaxMapSide) && ok;
+  if (map) {
+    // Report the corner first, then the extent, so one mistake gives one error.
+    const bool x_ok = v.int_between(n, "x", r.x(), 0, map->width - 1, "the cell must be inside the map");
+    const bool y_ok = v.int_between(n, "y", r.y(), 0, map->height - 1, "the cell must be inside the map");
+    if (x_ok && r.w() >= 1 && int64_t{r.x()} + r.w() > map->width) {
+      v.fail(n, "w", "extends past the map: x + w = " + format_number(int64_t{r.x()} + r.w()) + " > width " + format_number(int64_t{map->width}));
+      ok = false;
+    }
+    if (y_ok && r.h() >= 1 && int64_t{r.y()} + r.h() > map->height) {
+      v.fail(n, "h", "extends past the map: y + h = " + format_number(int64_t{r.y()} + r.h()) + " > height " + format_number(int64_t{map->height}));
+      ok = false;
+    }
+    ok = ok && x_ok && y_ok;
+  } else {
+    ok = false;  // cannot be placed without a valid map
+  }
+  if (!ok) return std::nullopt;
+  return Rect{r.x(), r.y(), r.w(), r.h()};
+}
+
+// Free (non-obstacle) columns of row y inside `area`, as a sorted list of
+// merged obstacle intervals [x_begin, x_end) clipped to the area.
+std::vector<std::pair<int32_t, int32_t>> blocked_intervals(const Rect& area, const std::vector<Rect>& obstacles, int32_t y) {
+  std::vector<std::pair<int32_t, int32_t>> iv;
+  for (const Rect& o : obstacles) {
+    if (y < o.y0 || y >= o.y0 + o.h) continue;
+    const int32_t b = std::max(o.x0, area.x0);
+    const int32_t e = std::min(o.x0 + o.w, area.x0 + area.w);
+    if (b < e) iv.emplace_back(b, e);
+  }
+  std::sort(iv.begin(), iv.end());
+  std::vector<std::pair<int32_t, int32_t>> merged;
+  for (const auto& i : iv) {
+    if (!merged.empty() && i.first <= merged.back().second) {
+      merged.back().second = std::max(merged.back().second, i.second);
+    } else {
+      merged.push_back(i);
+    }
+  }
+  return merged;
+}
+
+int64_t free_in_row(const Rect& area, const std::vector<Rect>& obstacles, int32_t y) {
+  int64_t n_free = area.w;
+  for (const auto& [b, e] : blocked_intervals(area, obstacles, y)) n_free -= e - b;
+  return n_free;
+}
+
+int64_t free_cells(const Rect& area, const std::vector<Rect>& obstacles) {
+  int64_t n = 0;
+  for (int32_t y = area.y0; y < area.y0 + area.h; ++y) n += free_in_row(area, obstacles, y);
+  return n;
+}
+
+ScenarioConfig build(const pb::Scenario& msg, const TextFormat::ParseInfoTree& tree, const std::string& display_name,
+                     Validator& v) {
+  ScenarioConfig cfg;
+  const Node root(pb::Scenario::descriptor(), &tree, Loc{1, 1}, "");
+  cfg.name = msg.has_name() ? msg.name() : std::filesystem::path(display_name).stem().string();
+
+  // --- map -------------------------------------------------------------------
+  const Node mn = root.child("map");
+  const pb::Map& m = msg.map();
+  if (!msg.has_map()) v.required(root, "map");
+  bool size_ok = true;
+  if (!m.has_width()) {
+    if (msg.has_map()) v.required(mn, "width");
+    size_ok = false;
+  } else {
+    size_ok = v.int_between(mn, "width", m.width(), kMinMapSide, kMaxMapSide) && size_ok;
+    cfg.width = m.width();
+  }
+  if (!m.has_height()) {
+    if (msg.has_map()) v.required(mn, "height");
+    size_ok = false;
+  } else {
+    size_ok = v.int_between(mn, "height", m.height(), kMinMapSide, kMaxMapSide) && size_ok;
+    cfg.height = m.height();
+  }
+  const std::optional<MapSize> map = size_ok ? std::optional<MapSize>(MapSize{cfg.width, cfg.height}) : std::nullopt;
+
+  if (m.has_tile_size()) cfg.tile_size = m.tile_size();
+  const bool tile_ok = v.int_between(mn, "tile_size", cfg.tile_size, kMinTileSize, kMaxTileSize,
+                                     "a tile must fit one DDS sample of <= 1024 cells");
+  if (m.has_regions_x()) cfg.regions_x = m.regions_x();
+  if (m.has_regions_y()) cfg.regions_y = m.regions_y();
+  if (map && tile_ok) {
+    const int32_t tiles_x = (cfg.width + cfg.tile_size - 1) / cfg.tile_size;
+    const int32_t tiles_y = (cfg.height + cfg.tile_size - 1) / cfg.tile_size;
+    v.int_between(mn, "regions_x", cfg.regions_x, 1, tiles_x, "at most one region per tile column (tiles across = ceil(width / tile_size))");
+    v.int_between(mn, "regions_y", cfg.regions_y, 1, tiles_y, "at most one region per tile row (tiles down = ceil(height / tile_size))");
+  } else {
+    v.int_between(mn, "regions_x", cfg.regions_x, 1, kMaxMapSide);
+    v.int_between(mn, "regions_y", cfg.regions_y, 1, kMaxMapSide);
+  }
+
+  // Valid obstacles with their index, for the checks that depend on them.
+  std::vector<std::pair<int, Rect>> valid_obstacles;
+  for (int i = 0; i < m.obstacles_size(); ++i) {
+    const pb::Rect& o = m.obstacles(i);
+    cfg.obstacles.push_back(Rect{o.x(), o.y(), o.w(), o.h()});
+    if (auto r = check_rect(v, mn.child("obstacles", i), o, map)) valid_obstacles.emplace_back(i, *r);
+  }
+  std::vector<Rect> obstacle_rects;
+  for (const auto& [i, r] : valid_obstacles) obstacle_rects.push_back(r);
+
+  std::vector<std::pair<int, Cell>> valid_targets;
+  for (int i = 0; i < m.targets_size(); ++i) {
+    const pb::Cell& t = m.targets(i);
+    const Node tn = mn.child("targets", i);
+    cfg.targets.push_back(Cell{t.x(), t.y()});
+    bool ok = true;
+    if (!t.has_x()) {
+      v.required(tn, "x");
+      ok = false;
+    }
+    if (!t.has_y()) {
+      v.required(tn, "y");
+      ok = false;
+    }
+    if (!ok || !map) continue;
+    ok = v.int_between(tn, "x", t.x(), 0, map->width - 1, "the cell must be inside the map") && ok;
+    ok = v.int_between(tn, "y", t.y(), 0, map->height - 1, "the cell must be inside the map") && ok;
+    if (!ok) continue;
+    const Cell c{t.x(), t.y()};
+    for (const auto& [j, r] : valid_obstacles) {
+      if (r.contains(c)) {
+        v.fail(mn, "targets", "lies on obstacle map.obstacles[" + std::to_string(j) + "]", i);
+        ok = false;
+        break;
+      }
+    }
+    for (const auto& [j, other] : valid_targets) {
+      if (other == c) {
+        v.fail(mn, "targets", "same cell as map.targets[" + std::to_string(j) + "]", i);
+        ok = false;
+        break;
+      }
+    }
+    if (ok) valid_targets.emplace_back(i, c);
+  }
+
+  // --- swarm -----------------------------------------------------------------
+  const Node sn = root.child("swarm");
+  const pb::Swarm& s = msg.swarm();
+  int64_t uavs = cfg.uavs;
+  if (s.has_uavs()) uavs = s.uavs();
+  const bool uavs_ok = v.int_between(sn, "uavs", uavs, 1, kMaxUavs);
+  if (uavs_ok) cfg.uavs = static_cast<uint32_t>(uavs);
+  std::optional<Rect> start;
+  const Node an = sn.child("start_area");
+  if (s.has_start_area()) {
+    const pb::Rect& a = s.start_area();
+    cfg.start_area = Rect{a.x(), a.y(), a.w(), a.h()};
+    start = check_rect(v, an, a, map);
+  } else if (map) {
+    cfg.start_area = Rect{0, 0, cfg.width, cfg.height};
+    start = cfg.start_area;
+  }
+  if (start && uavs_ok) {
+    const int64_t n_free = free_cells(*start, obstacle_rects);
+    if (n_free < uavs) {
+      v.fail(an, "has " + format_number(n_free) + " free (non-obstacle) cells, fewer than swarm.uavs = " + format_number(uavs));
+    }
+  }
+
+  // --- run -------------------------------------------------------------------
+  const Node rn = root.child("run");
+  const pb::Run& run = msg.run();
+  if (run.has_ticks() && v.int_between(rn, "ticks", run.ticks(), 1, kMaxU32)) cfg.ticks = static_cast<uint32_t>(run.ticks());
+  if (run.has_tick_rate_hz()) cfg.tick_rate_hz = run.tick_rate_hz();
+  v.real_in(rn, "tick_rate_hz", cfg.tick_rate_hz, 0.0, true, kMaxTickRateHz, false);
+  if (run.has_seed()) cfg.seed = run.seed();
+
+  // --- shao.layers: Shao 2020 eqs. (1)-(8) --------------------------------------
+  const Node shn = root.child("shao");
+  const Node ln = shn.child("layers");
+  const pb::Layers& l = msg.shao().layers();
+  ShaoLayerParams& lp = cfg.layers;
+  if (l.has_e_tau()) lp.e_tau = l.e_tau();
+  if (l.has_g_tau()) lp.g_tau = l.g_tau();
+  if (l.has_d_tau()) lp.d_tau = l.d_tau();
+  if (l.has_e_eps()) lp.e_eps = l.e_eps();
+  if (l.has_g_eps()) lp.g_eps = l.g_eps();
+  if (l.has_d_eps()) lp.d_eps = l.d_eps();
+  if (l.has_sigma0()) lp.sigma0 = l.sigma0();
+  if (l.has_sigma_min()) lp.sigma_min = l.sigma_min();
+  if (l.has_d0()) lp.d0 = l.d0();
+  if (l.has_q()) lp.q = l.q();
+  v.real_in(ln, "e_tau", lp.e_tau, 0.0, false, 1.0, true);
+  v.real_in(ln, "g_tau", lp.g_tau, 0.0, false, 1.0, true);
+  v.real_in(ln, "d_tau", lp.d_tau, 0.0, false, kInf, false);
+  v.real_in(ln, "e_eps", lp.e_eps, 0.0, false, 1.0, true);
+  v.real_in(ln, "g_eps", lp.g_eps, 0.0, false, 1.0, true);
+  v.real_in(ln, "d_eps", lp.d_eps, 0.0, false, kInf, false);
+  // Eq. (8) clamps path pheromone to [σmin, σ0], so the interval must not be empty.
+  const bool sigma_min_ok = v.real_in(ln, "sigma_min", lp.sigma_min, 0.0, true, kInf, false);
+  const bool sigma0_ok = v.real_in(ln, "sigma0", lp.sigma0, 0.0, true, kInf, false);
+  if (sigma_min_ok && sigma0_ok && lp.sigma0 < lp.sigma_min) {
+    v.fail(ln, "sigma0", "must be >= sigma_min = " + format_number(lp.sigma_min) + " (got " + format_number(lp.sigma0) + ")");
+  }
+  v.real_in(ln, "d0", lp.d0, 0.0, true, kInf, false);
+  v.real_in(ln, "q", lp.q, 0.0, true, kInf, false);
+
+  // --- shao.aco: Shao 2020 eqs. (9)-(11), §4.2 ----------------------------------
+  const Node cn = shn.child("aco");
+  const pb::Aco& a = msg.shao().aco();
+  ShaoAcoParams& ap = cfg.aco;
+  if (a.has_alpha()) ap.alpha = a.alpha();
+  if (a.has_beta()) ap.beta = a.beta();
+  if (a.has_lambda_target()) ap.lambda_target = a.lambda_target();
+  if (a.has_lambda_obstacle()) ap.lambda_obstacle = a.lambda_obstacle();
+  if (a.has_lambda_path()) ap.lambda_path = a.lambda_path();
+  if (a.has_sensor_radius()) ap.sensor_radius = a.sensor_radius();
+  if (a.has_random_fraction()) ap.random_fraction = a.random_fraction();
+  v.real_in(cn, "alpha", ap.alpha, 0.0, false, kInf, false);
+  v.real_in(cn, "beta", ap.beta, 0.0, false, kInf, false);
+  v.real_in(cn, "lambda_target", ap.lambda_target, 0.0, false, 1.0, false);
+  v.real_in(cn, "lambda_obstacle", ap.lambda_obstacle, -1.0, false, 0.0, false);
+  v.real_in(cn, "lambda_path", ap.lambda_path, 0.0, false, 1.0, false);
+  v.real_in(cn, "sensor_radius", ap.sensor_radius, 0.0, true, kMaxSensorRadius, false);
+  v.real_in(cn, "random_fraction", ap.random_fraction, 0.0, false, 1.0, false);
+  if (a.has_revisit_period() && v.int_between(cn, "revisit_period", a.revisit_period(), 1, kMaxU32)) {
+    ap.revisit_period = static_cast<uint32_t>(a.revisit_period());
+  }
+  return cfg;
+}
+
+}  // namespace
+
+Result<ScenarioConfig> parse_scenario(std::string_view text, const std::string& display_name) {
+  pb::Scenario msg;
+  TextFormat::ParseInfoTree tree;
+  CollectingErrorCollector collector(display_name);
+  TextFormat::Parser parser;
+  parser.RecordErrorsTo(&collector);
+  parser.WriteLocationsTo(&tree);
+  if (!parser.ParseFromString(std::string(text), &msg)) {
+    std::string out;
+    for (const auto& e : collector.errors()) {
+      if (!out.empty()) out += '\n';
+      out += e;
+    }
+    if (out.empty()) out = display_name + ": cannot parse scenario";
+    return Error{out};
+  }
+  Validator v(display_name);
+  ScenarioConfig cfg = build(msg, tree, display_name, v);
+  if (!v.empty()) return Error{v.joined()};
+  return cfg;
+}
+
+Result<ScenarioConfig> load_scenario(const std::string& path) {
+  const auto fail = [&path](int err) {
+    return Error{path + ": cannot read file: " + std::error_code(err, std::generic_category()).message()};
+  };
+  std::unique_ptr<std::FILE, int (*)(std::FILE*)> f(std::fopen(path.c_str(), "rb"), &std::fclose);
+  if (!f) return fail(errno);
+  std::string text;
+  char buf[8192];
+  std::size_t n = 0;
+  while ((n = std::fread(buf, 1, sizeof buf, f.get())) > 0) text.append(buf, n);
+  if (std::ferror(f.get()) != 0) return fail(errno != 0 ? errno : EIO);
+  auto res = parse_scenario(text, path);
+  if (res) res->source_path = path;
+  return res;
+}
+
+Cell start_cell(const ScenarioConfig& s, uint32_t id) {
+  const Rect& area = s.start_area;
+  const int64_t count = free_cells(area, s.obstacles);
+  if (count <= 0) return {area.x0, area.y0};  // unreachable for a validated scenario
+  const auto uavs = static_cast<uint64_t>(std::max<uint32_t>(s.uavs, 1));
+  // Evenly spaced indices into the free cells: distinct for id < uavs since
+  // validation guarantees count >= uavs; larger ids wrap around.
+  auto k = static_cast<int64_t>((uint64_t{id} * static_cast<uint64_t>(count) / uavs) % static_cast<uint64_t>(count));
+  for (int32_t y = area.y0; y < area.y0 + area.h; ++y) {
+    const int64_t n_free = free_in_row(area, s.obstacles, y);
+    if (k >= n_free) {
+      k -= n_free;
+      continue;
+    }
+    int32_t x = area.x0;
+    for (const auto& [b, e] : blocked_intervals(area, s.obstacles, y)) {
+      if (x + k < b) break;
+      k -= b - x;
+      x = e;
+    }
+    return {static_cast<int32_t>(x + k), y};
+  }
+  return {area.x0, area.y0};
+}
+
+}  // namespace pheromesh::core

@@ -1,0 +1,73 @@
+// What every pheromesh process shares: logging setup, async-signal-safe
+// shutdown, the common DDS flags and a fixed-rate tick clock.
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+#include <atomic>
+#include <chrono>
+#include <cstdint>
+#include <memory>
+#include <string>
+
+#include "pheromesh/bus/bus.hpp"
+#include "pheromesh/core/scenario.hpp"
+
+namespace spdlog {
+class logger;
+}
+
+namespace pheromesh::runtime {
+
+// Flags common to the agent processes.
+struct CommonOptions {
+  std::string scenario;        // path of the scenario file
+  std::string dds;             // vendor
+  std::string dds_profile = "onehost";
+  uint32_t domain = 0;
+  std::string log_level = "info";
+  double rate_hz = 0.0;        // 0: the scenario's tick_rate_hz
+  uint32_t ticks = 0;          // 0: the scenario's ticks
+  uint64_t seed = 0;           // 0: the scenario's seed
+  uint32_t lease_ms = 1000;    // liveliness lease
+  uint32_t uavs = 0;           // 0: the scenario's swarm.uavs
+};
+
+// Loads the scenario and applies the overrides of the common flags (--rate,
+// --ticks, --seed, --uavs), so every process of a run agrees on them.
+core::Result<core::ScenarioConfig> load_scenario(const CommonOptions& o);
+
+// Registers the common flags on `app`, with defaults from the environment
+// (PHEROMESH_DDS, PHEROMESH_DDS_PROFILE, PHEROMESH_DOMAIN) so launchers can
+// set them once.
+void add_common_options(CLI::App& app, CommonOptions& o);
+
+// One named logger per component, level from the flag.
+std::shared_ptr<spdlog::logger> make_logger(const std::string& name, const std::string& level);
+
+// SIGINT/SIGTERM set a flag (the handler does nothing else).
+void install_shutdown_handlers();
+[[nodiscard]] bool shutdown_requested();
+void request_shutdown();  // for tests and internal stops
+
+bus::BusOptions bus_options(const CommonOptions& o, const std::string& process_name);
+
+// Fixed-rate clock: wait_next() sleeps until the next tick boundary (never
+// longer than one period) and returns false as soon as shutdown is requested.
+class TickClock {
+ public:
+  explicit TickClock(double rate_hz);
+  bool wait_next();
+  [[nodiscard]] std::chrono::nanoseconds period() const { return period_; }
+  // Ticks per second measured over the last second.
+  [[nodiscard]] double measured_rate() const { return measured_rate_; }
+
+ private:
+  std::chrono::nanoseconds period_;
+  std::chrono::steady_clock::time_point next_;
+  std::chrono::steady_clock::time_point window_start_;
+  uint32_t window_ticks_ = 0;
+  double measured_rate_ = 0.0;
+};
+
+}  // namespace pheromesh::runtime

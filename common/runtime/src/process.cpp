@@ -1,0 +1,107 @@
+#include "pheromesh/runtime/process.hpp"
+
+#include <spdlog/sinks/stdout_color_sinks.h>
+#include <spdlog/spdlog.h>
+
+#include <csignal>
+#include <cstdlib>
+#include <thread>
+
+namespace pheromesh::runtime {
+namespace {
+
+std::atomic<bool> g_shutdown{false};
+static_assert(std::atomic<bool>::is_always_lock_free);
+
+extern "C" void on_signal(int /*sig*/) { g_shutdown.store(true); }
+
+std::string env_or(const char* name, const std::string& fallback) {
+  const char* v = std::getenv(name);
+  return (v != nullptr && *v != '\0') ? std::string(v) : fallback;
+}
+
+}  // namespace
+
+void add_common_options(CLI::App& app, CommonOptions& o) {
+  o.dds = bus::default_vendor();
+  o.dds_profile = env_or("PHEROMESH_DDS_PROFILE", o.dds_profile);
+  o.domain = static_cast<uint32_t>(std::stoul(env_or("PHEROMESH_DOMAIN", "0")));
+  app.add_option("--scenario", o.scenario, "Scenario file (protobuf text format)")->required()->check(CLI::ExistingFile);
+  app.add_option("--dds", o.dds, "DDS vendor [env PHEROMESH_DDS]")->capture_default_str();
+  app.add_option("--dds-profile", o.dds_profile,
+                 "DDS profile: onehost (loopback, >=100 processes), default (vendor defaults) or a config file "
+                 "[env PHEROMESH_DDS_PROFILE]")
+      ->capture_default_str();
+  app.add_option("--domain", o.domain, "DDS domain id [env PHEROMESH_DOMAIN]")->check(CLI::Range(0, 232))->capture_default_str();
+  app.add_option("--log-level", o.log_level, "trace, debug, info, warn, error, off")
+      ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error", "critical", "off"}))
+      ->capture_default_str();
+  app.add_option("--rate", o.rate_hz, "Tick rate [Hz] (default: the scenario's tick_rate_hz)")->check(CLI::Range(0.0, 1000.0));
+  app.add_option("--ticks", o.ticks, "Ticks to run (default: the scenario's run.ticks)");
+  app.add_option("--seed", o.seed, "Run seed (default: the scenario's run.seed)");
+  app.add_option("--uavs", o.uavs, "Number of UAVs in the swarm (default: the scenario's swarm.uavs)");
+  app.add_option("--lease-ms", o.lease_ms, "Liveliness lease [ms]")->check(CLI::Range(50, 60000))->capture_default_str();
+}
+
+std::shared_ptr<spdlog::logger> make_logger(const std::string& name, const std::string& level) {
+  auto logger = spdlog::stderr_color_mt(name);
+  logger->set_level(spdlog::level::from_str(level));
+  logger->set_pattern("%H:%M:%S.%e %^%-5l%$ [%n] %v");
+  spdlog::set_default_logger(logger);
+  return logger;
+}
+
+void install_shutdown_handlers() {
+  struct sigaction sa {};
+  sa.sa_handler = on_signal;
+  sigemptyset(&sa.sa_mask);
+  sigaction(SIGINT, &sa, nullptr);
+  sigaction(SIGTERM, &sa, nullptr);
+}
+
+bool shutdown_requested() { return g_shutdown.load(); }
+void request_shutdown() { g_shutdown.store(true); }
+
+core::Result<core::ScenarioConfig> load_scenario(const CommonOptions& o) {
+  auto s = core::load_scenario(o.scenario);
+  if (!s) return s;
+  if (o.rate_hz > 0) s->tick_rate_hz = o.rate_hz;
+  if (o.ticks > 0) s->ticks = o.ticks;
+  if (o.seed > 0) s->seed = o.seed;
+  if (o.uavs > 0) s->uavs = o.uavs;
+  return s;
+}
+
+bus::BusOptions bus_options(const CommonOptions& o, const std::string& process_name) {
+  bus::BusOptions b;
+  b.process_name = process_name;
+  b.domain = o.domain;
+  b.profile = o.dds_profile;
+  b.liveliness_lease = std::chrono::milliseconds(o.lease_ms);
+  return b;
+}
+
+TickClock::TickClock(double rate_hz)
+    : period_(std::chrono::nanoseconds(static_cast<int64_t>(1e9 / rate_hz))),
+      next_(std::chrono::steady_clock::now()),
+      window_start_(next_) {}
+
+bool TickClock::wait_next() {
+  next_ += period_;
+  auto now = std::chrono::steady_clock::now();
+  if (next_ < now - period_) next_ = now;  // fell far behind: do not burst
+  // Sleep in slices so a shutdown request is seen within 50 ms.
+  while (!shutdown_requested() && now < next_) {
+    std::this_thread::sleep_for(std::min<std::chrono::nanoseconds>(next_ - now, std::chrono::milliseconds(50)));
+    now = std::chrono::steady_clock::now();
+  }
+  ++window_ticks_;
+  if (now - window_start_ >= std::chrono::seconds(1)) {
+    measured_rate_ = window_ticks_ / std::chrono::duration<double>(now - window_start_).count();
+    window_start_ = now;
+    window_ticks_ = 0;
+  }
+  return !shutdown_requested();
+}
+
+}  // namespace pheromesh::runtime

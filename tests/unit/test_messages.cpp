@@ -1,0 +1,249 @@
+// Semantic checks of received samples: each bad field gives a reason, never a crash.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <optional>
+#include <string>
+
+#include "pheromesh/core/grid.hpp"
+#include "pheromesh/core/layers.hpp"
+#include "pheromesh/core/messages.hpp"
+
+namespace pheromesh::core {
+namespace {
+
+constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
+constexpr float kInf = std::numeric_limits<float>::infinity();
+
+// 23 x 20 cells, tiles of 5 (the last tile column is 3 wide), 2 x 2 regions.
+MapGeometry test_geometry() { return {23, 20, 5, 2, 2}; }
+
+// Expects a reason that contains `word`.
+void expect_reason(const std::optional<std::string>& reason, const std::string& word) {
+  ASSERT_TRUE(reason.has_value()) << "expected a reason containing '" << word << "'";
+  EXPECT_NE(reason->find(word), std::string::npos) << *reason;
+}
+
+DepositMsg good_mark(const MapGeometry& geo, RegionId owner) {
+  const Rect r = geo.region_rect(owner);
+  DepositMsg d;
+  d.region = owner;
+  d.kind = static_cast<uint8_t>(DepositKind::TargetMark);
+  d.cell = Cell{r.x0 + 1, r.y0 + 1};
+  d.amount = 1.0F;
+  return d;
+}
+
+TileMsg good_tile(const MapGeometry& geo, TileCoord t) {
+  const Rect r = geo.tile_rect(t);
+  TileMsg m;
+  m.layer = static_cast<uint8_t>(Layer::Path);
+  m.tile = t;
+  m.region = geo.region_of_tile(t);
+  m.width = static_cast<uint16_t>(r.w);
+  m.height = static_cast<uint16_t>(r.h);
+  m.values.assign(static_cast<std::size_t>(r.area()), 0.5F);
+  return m;
+}
+
+HaloMsg good_halo(const MapGeometry& geo, RegionId region) {
+  HaloMsg h;
+  h.region = region;
+  const std::size_t n = ring_size(geo.region_rect(region));
+  h.target.assign(n, 0.25F);
+  h.obstacle.assign(n, 0.0F);
+  return h;
+}
+
+TEST(CheckDeposit, AcceptsAWellFormedMarkInsideTheOwnersRegion) {
+  const MapGeometry geo = test_geometry();
+  for (RegionId owner = 0; owner < geo.region_count(); ++owner) {
+    EXPECT_FALSE(check_deposit(good_mark(geo, owner), geo, owner).has_value()) << owner;
+  }
+}
+
+TEST(CheckDeposit, RejectsNonFiniteNegativeOrHugeAmounts) {
+  const MapGeometry geo = test_geometry();
+  DepositMsg d = good_mark(geo, 0);
+  d.amount = kNaN;
+  expect_reason(check_deposit(d, geo, 0), "not finite");
+  d.amount = kInf;
+  expect_reason(check_deposit(d, geo, 0), "not finite");
+  d.amount = -kInf;
+  expect_reason(check_deposit(d, geo, 0), "not finite");
+  d.amount = -0.5F;
+  expect_reason(check_deposit(d, geo, 0), "amount");
+  d.amount = 2e6F;
+  expect_reason(check_deposit(d, geo, 0), "amount");
+  d.amount = 0.0F;
+  EXPECT_FALSE(check_deposit(d, geo, 0).has_value());
+}
+
+TEST(CheckDeposit, RejectsAnUnknownKind) {
+  const MapGeometry geo = test_geometry();
+  DepositMsg d = good_mark(geo, 0);
+  d.kind = kDepositKindCount;
+  expect_reason(check_deposit(d, geo, 0), "kind");
+  d.kind = 255;
+  expect_reason(check_deposit(d, geo, 0), "kind");
+}
+
+TEST(CheckDeposit, RejectsACellOutsideTheMap) {
+  const MapGeometry geo = test_geometry();
+  DepositMsg d = good_mark(geo, 0);
+  d.kind = static_cast<uint8_t>(DepositKind::PathVisit);
+  for (const Cell c : {Cell{-1, 0}, Cell{23, 0}, Cell{0, 20}, Cell{std::numeric_limits<int32_t>::min(), 0}}) {
+    d.cell = c;
+    expect_reason(check_deposit(d, geo, 0), "outside the map");
+  }
+}
+
+TEST(CheckDeposit, RejectsADepositAddressedToAnotherRegion) {
+  const MapGeometry geo = test_geometry();
+  DepositMsg d = good_mark(geo, 0);
+  d.region = 1;
+  expect_reason(check_deposit(d, geo, 0), "region");
+  d.region = 9999;
+  expect_reason(check_deposit(d, geo, 0), "region");
+  // An owner that does not exist rejects everything, without touching the geometry.
+  expect_reason(check_deposit(good_mark(geo, 0), geo, 9999), "region");
+}
+
+TEST(CheckDeposit, RejectsMarksOutsideTheOwnersRegionButAcceptsNearbyPathVisits) {
+  const MapGeometry geo = test_geometry();
+  const Rect r0 = geo.region_rect(0);
+  const Cell outside{r0.x0 + r0.w, r0.y0};  // first column of the neighbour region
+  ASSERT_TRUE(geo.in_map(outside));
+  DepositMsg d = good_mark(geo, 0);
+  d.cell = outside;
+  expect_reason(check_deposit(d, geo, 0), "outside region");
+  d.kind = static_cast<uint8_t>(DepositKind::ObstacleMark);
+  expect_reason(check_deposit(d, geo, 0), "outside region");
+  d.kind = static_cast<uint8_t>(DepositKind::PathVisit);
+  EXPECT_FALSE(check_deposit(d, geo, 0).has_value());
+}
+
+TEST(CheckTile, AcceptsWellFormedTilesIncludingTheNarrowLastColumn) {
+  const MapGeometry geo = test_geometry();
+  EXPECT_FALSE(check_tile(good_tile(geo, TileCoord{0, 0}), geo).has_value());
+  const TileMsg edge = good_tile(geo, TileCoord{4, 3});
+  EXPECT_EQ(edge.width, 3);
+  EXPECT_FALSE(check_tile(edge, geo).has_value());
+}
+
+TEST(CheckTile, RejectsATileOutsideTheMap) {
+  const MapGeometry geo = test_geometry();
+  TileMsg t = good_tile(geo, TileCoord{0, 0});
+  for (const TileCoord c : {TileCoord{5, 0}, TileCoord{0, 4}, TileCoord{-1, 0}, TileCoord{0, -7}}) {
+    t.tile = c;
+    expect_reason(check_tile(t, geo), "outside the map");
+  }
+}
+
+TEST(CheckTile, RejectsAnUnknownLayer) {
+  const MapGeometry geo = test_geometry();
+  TileMsg t = good_tile(geo, TileCoord{1, 1});
+  t.layer = kLayerCount;
+  expect_reason(check_tile(t, geo), "layer");
+}
+
+TEST(CheckTile, RejectsOversizedValues) {
+  const MapGeometry geo = test_geometry();
+  TileMsg t = good_tile(geo, TileCoord{1, 1});
+  t.values.assign(kMaxTileCells + 1, 0.0F);
+  expect_reason(check_tile(t, geo), "more than");
+}
+
+TEST(CheckTile, RejectsSizesThatDoNotMatchTheTile) {
+  const MapGeometry geo = test_geometry();
+  TileMsg t = good_tile(geo, TileCoord{4, 0});  // 3 x 5
+  t.width = 5;
+  t.values.assign(25, 0.0F);
+  expect_reason(check_tile(t, geo), "does not match");
+  t = good_tile(geo, TileCoord{4, 0});
+  t.values.pop_back();
+  expect_reason(check_tile(t, geo), "values for");
+}
+
+TEST(CheckTile, RejectsNonFiniteValues) {
+  const MapGeometry geo = test_geometry();
+  TileMsg t = good_tile(geo, TileCoord{2, 2});
+  t.values[7] = kNaN;
+  expect_reason(check_tile(t, geo), "not finite");
+  t.values[7] = -kInf;
+  expect_reason(check_tile(t, geo), "not finite");
+}
+
+TEST(CheckUavState, AcceptsPositionsWithinTheMapMargin) {
+  const MapGeometry geo = test_geometry();
+  UavStateMsg s;
+  s.x = -0.5;
+  s.y = 19.5;
+  s.heading = 7;
+  s.role = static_cast<uint8_t>(Role::Follower);
+  EXPECT_FALSE(check_uav_state(s, geo).has_value());
+  s.x = 23.0;
+  s.y = -1.0;
+  EXPECT_FALSE(check_uav_state(s, geo).has_value());
+}
+
+TEST(CheckUavState, RejectsNonFiniteValuesPositionsOffTheMapAndUnknownEnums) {
+  const MapGeometry geo = test_geometry();
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  UavStateMsg s;
+  s.x = nan;
+  expect_reason(check_uav_state(s, geo), "non-finite");
+  s = UavStateMsg{};
+  s.vy = std::numeric_limits<double>::infinity();
+  expect_reason(check_uav_state(s, geo), "non-finite");
+  s = UavStateMsg{};
+  s.x = 23.01;
+  expect_reason(check_uav_state(s, geo), "outside the map");
+  s = UavStateMsg{};
+  s.y = -1.5;
+  expect_reason(check_uav_state(s, geo), "outside the map");
+  s = UavStateMsg{};
+  s.heading = 8;
+  expect_reason(check_uav_state(s, geo), "heading");
+  s = UavStateMsg{};
+  s.role = 3;
+  expect_reason(check_uav_state(s, geo), "role");
+}
+
+TEST(CheckHalo, AcceptsRingsOfTheRegionsBorderSize) {
+  const MapGeometry geo = test_geometry();
+  for (RegionId r = 0; r < geo.region_count(); ++r) {
+    EXPECT_FALSE(check_halo(good_halo(geo, r), geo).has_value()) << r;
+  }
+}
+
+TEST(CheckHalo, RejectsAnUnknownRegion) {
+  const MapGeometry geo = test_geometry();
+  HaloMsg h = good_halo(geo, 0);
+  h.region = geo.region_count();
+  expect_reason(check_halo(h, geo), "unknown region");
+}
+
+TEST(CheckHalo, RejectsRingsOfTheWrongSizeOrOversizedRings) {
+  const MapGeometry geo = test_geometry();
+  HaloMsg h = good_halo(geo, 1);
+  h.obstacle.pop_back();
+  expect_reason(check_halo(h, geo), "do not match");
+  h = good_halo(geo, 1);
+  h.target.push_back(0.0F);
+  expect_reason(check_halo(h, geo), "do not match");
+  h = good_halo(geo, 1);
+  h.target.assign(kMaxRingCells + 1, 0.0F);
+  expect_reason(check_halo(h, geo), "longer than");
+}
+
+TEST(CheckHalo, RejectsNonFiniteValues) {
+  const MapGeometry geo = test_geometry();
+  HaloMsg h = good_halo(geo, 3);
+  h.obstacle.back() = kInf;
+  expect_reason(check_halo(h, geo), "not finite");
+}
+
+}  // namespace
+}  // namespace pheromesh::core
