@@ -63,7 +63,7 @@ int main(int argc, char** argv) {
   r->add_option("--dds", ro.dds, "DDS vendor for every process [env PHEROMESH_DDS]")
       ->check(CLI::IsMember(bus::available_vendors()))
       ->capture_default_str();
-  r->add_option("--dds-profile", ro.dds_profile, "DDS profile: onehost, default or a vendor config file")->capture_default_str();
+  r->add_option("--dds-profile", ro.dds_profile, "DDS profile: onehost, onehost-unicast, default or a vendor config file")->capture_default_str();
   r->add_option("--domain", ro.domain, "DDS domain id (use distinct ids for swarms sharing a host)")
       ->check(CLI::Range(0, 232))
       ->capture_default_str();

@@ -39,6 +39,7 @@ void GroundApp::poll() {
       continue;
     }
     auto& u = uavs_[s.uav];
+    if (!u.alive && !s.finished) log_->info("uav {} is back at tick {}", s.uav, s.tick);
     u.last = s;
     u.alive = true;
     u.finished = u.finished || s.finished;
@@ -142,6 +143,11 @@ nlohmann::json GroundApp::metrics() const {
   // The launcher owns process accounting and overwrites these two.
   j["processes_killed"] = 0;
   j["processes_crashed"] = 0;
+  nlohmann::json per_uav = nlohmann::json::object();
+  for (const auto& [id, u] : uavs_) {
+    per_uav[std::to_string(id)] = {{"last_tick", u.last.tick}, {"finished", u.finished}, {"deposits_sent", u.last.deposits_sent}};
+  }
+  j["uav_status"] = per_uav;
   nlohmann::json series = nlohmann::json::array();
   for (const auto& [t, c] : coverage_series_) series.push_back({t, c});
   j["coverage_series"] = series;

@@ -13,6 +13,7 @@ namespace pheromesh::bus {
 std::string cyclone_config(const std::string& profile) {
   if (profile == "default" || profile.empty()) return {};
   if (profile == "onehost") return detail::kCycloneOneHostXml;
+  if (profile == "onehost-unicast") return detail::kCycloneOneHostUnicastXml;
   std::ifstream in(profile);
   if (!in) throw std::runtime_error("cannot read DDS profile '" + profile + "': " + std::strerror(errno));
   std::ostringstream ss;

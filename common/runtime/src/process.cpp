@@ -29,7 +29,8 @@ void add_common_options(CLI::App& app, CommonOptions& o) {
   app.add_option("--scenario", o.scenario, "Scenario file (protobuf text format)")->required()->check(CLI::ExistingFile);
   app.add_option("--dds", o.dds, "DDS vendor [env PHEROMESH_DDS]")->capture_default_str();
   app.add_option("--dds-profile", o.dds_profile,
-                 "DDS profile: onehost (loopback, >=100 processes), default (vendor defaults) or a config file "
+                 "DDS profile: onehost (loopback, multicast discovery, >=100 processes), onehost-unicast (loopback, "
+                 "unicast discovery, <=120 processes), default (vendor defaults) or a config file "
                  "[env PHEROMESH_DDS_PROFILE]")
       ->capture_default_str();
   app.add_option("--domain", o.domain, "DDS domain id [env PHEROMESH_DOMAIN]")->check(CLI::Range(0, 232))->capture_default_str();

@@ -26,8 +26,9 @@ namespace pheromesh::bus {
 struct BusOptions {
   std::string process_name;  // for logs, e.g. "uav-3"
   uint32_t domain = 0;       // DDS domain id, 0..232
-  // DDS profile: "onehost" (loopback, >= 100 processes per host), "default"
-  // (vendor defaults) or a path to a vendor configuration file.
+  // DDS profile: "onehost" (loopback, multicast discovery, >= 100 processes
+  // per host), "onehost-unicast" (loopback, unicast discovery, up to 120),
+  // "default" (vendor defaults) or a path to a vendor configuration file.
   std::string profile = "onehost";
   std::chrono::milliseconds liveliness_lease{1000};
 };
