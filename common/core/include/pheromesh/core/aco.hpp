@@ -14,7 +14,9 @@ namespace pheromesh::core {
 
 // Eight compass headings, counter-clockwise from east, 45° apart.
 enum class Heading : uint8_t { E = 0, NE, N, NW, W, SW, S, SE };
-Cell step_of(Heading h);                 // unit step, y grows "north"
+// Unit step. N is +y: with rows drawn downwards (docs/scenario-format.md)
+// "north" points down the screen; the policy only uses relative turns.
+Cell step_of(Heading h);
 Heading rotate(Heading h, int eighths);  // +1 = 45° counter-clockwise
 double heading_angle(Heading h);         // [rad]
 

@@ -1,0 +1,33 @@
+# The two commands of the README. Both install what is missing, then build.
+#   make demo   run the default swarm (Shao 2020 50x50) with the ground station
+#   make test   run the whole test suite (unit + integration)
+BUILD ?= build
+JOBS ?= $(shell nproc)
+DEMO_SCENARIO ?= scenarios/shao2020-50x50.textproto
+DEMO_TICKS ?= 600
+DEMO_OUT ?= out/demo
+
+.PHONY: all deps build demo test bench clean
+
+all: build
+
+deps:
+	./scripts/install-deps.sh
+
+$(BUILD)/CMakeCache.txt:
+	cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=RelWithDebInfo
+
+build: deps $(BUILD)/CMakeCache.txt
+	cmake --build $(BUILD) -j$(JOBS)
+
+demo: build
+	$(BUILD)/bin/pheromesh run $(DEMO_SCENARIO) --ticks $(DEMO_TICKS) --out $(DEMO_OUT)
+
+test: build
+	cd $(BUILD) && ctest --output-on-failure -j2 --timeout 900
+
+bench: build
+	$(BUILD)/bin/pheromesh_bench_layers
+
+clean:
+	rm -rf $(BUILD) out

@@ -1,0 +1,27 @@
+#!/usr/bin/env bash
+# Installs what pheromesh needs from Debian bookworm's packages, and nothing
+# that is already there. Used by both README commands (make demo / make test).
+set -euo pipefail
+
+packages=(
+  build-essential cmake pkg-config
+  cyclonedds-dev cyclonedds-tools        # DDS (C API, idlc, ddsperf)
+  libprotobuf-dev protobuf-compiler      # scenario schema
+  libeigen3-dev libspdlog-dev libfmt-dev libcli11-dev nlohmann-json3-dev
+  libgtest-dev libgmock-dev libbenchmark-dev
+)
+
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "install-deps: everything is installed"
+  exit 0
+fi
+echo "install-deps: installing ${missing[*]}"
+SUDO=""
+[ "$(id -u)" -ne 0 ] && SUDO="sudo"
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -qq
+$SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
