@@ -19,23 +19,8 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   CLI11_PARSE(app, argc, argv);
 
-  auto log = runtime::make_logger("uav-" + std::to_string(cfg.id), cfg.common.log_level);
-  auto scenario = runtime::load_scenario(cfg.common);
-  if (!scenario) {
-    log->error("invalid scenario:\n{}", scenario.error().message);
-    return 2;
-  }
-  runtime::install_shutdown_handlers();
-  auto bus = bus::make_bus(cfg.common.dds, runtime::bus_options(cfg.common, "uav-" + std::to_string(cfg.id)));
-  if (!bus) {
-    log->error("{}", bus.error().message);
-    return 3;
-  }
-  try {
-    agent::UavApp uav(cfg, std::move(scenario).value(), std::move(bus).value());
-    return uav.run();
-  } catch (const std::exception& e) {
-    log->critical("fatal: {}", e.what());
-    return 4;
-  }
+  const std::string name = "uav-" + std::to_string(cfg.id);
+  return runtime::run_process(name, cfg.common, [&](core::ScenarioConfig scenario, std::unique_ptr<bus::Bus> bus) {
+    return agent::UavApp(cfg, std::move(scenario), std::move(bus)).run();
+  });
 }

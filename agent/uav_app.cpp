@@ -73,6 +73,7 @@ UavApp::UavApp(UavConfig cfg, core::ScenarioConfig scenario, std::unique_ptr<bus
 void UavApp::receive() {
   tile_inbox_.clear();
   bus_->take_tiles(tile_inbox_);
+  tile_samples_received_ += tile_inbox_.size();
   for (const auto& t : tile_inbox_) {
     if (auto reason = core::check_tile(t, geo_)) {
       if (++samples_rejected_ <= 3) log_->warn("dropped tile ({},{}) layer {}: {}", t.tile.tx, t.tile.ty, t.layer, *reason);
@@ -170,6 +171,7 @@ void UavApp::publish_state(bool finished) {
   s.heading = static_cast<uint8_t>(heading_);
   s.role = static_cast<uint8_t>(core::Role::Searcher);
   s.deposits_sent = deposits_sent_;
+  s.tile_samples_received = tile_samples_received_;
   s.finished = finished;
   bus_->publish_uav_state(s, geo_.tile_of(pos_));
 }

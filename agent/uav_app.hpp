@@ -77,6 +77,7 @@ class UavApp {
   uint64_t deposits_sent_ = 0;
   uint64_t deposits_undeliverable_ = 0;
   uint64_t samples_rejected_ = 0;
+  uint64_t tile_samples_received_ = 0;
   std::set<std::pair<int32_t, int32_t>> known_obstacles_;
   std::set<std::pair<int32_t, int32_t>> marked_obstacles_;
   std::map<int32_t, uint32_t> target_mark_sent_tick_;  // target index -> tick of last mark sent

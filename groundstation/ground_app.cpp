@@ -144,9 +144,17 @@ nlohmann::json GroundApp::metrics() const {
   j["processes_killed"] = 0;
   j["processes_crashed"] = 0;
   nlohmann::json per_uav = nlohmann::json::object();
+  uint64_t tile_samples = 0, uav_ticks = 0;
   for (const auto& [id, u] : uavs_) {
-    per_uav[std::to_string(id)] = {{"last_tick", u.last.tick}, {"finished", u.finished}, {"deposits_sent", u.last.deposits_sent}};
+    per_uav[std::to_string(id)] = {{"last_tick", u.last.tick},
+                                   {"finished", u.finished},
+                                   {"deposits_sent", u.last.deposits_sent},
+                                   {"tile_samples_received", u.last.tile_samples_received}};
+    tile_samples += u.last.tile_samples_received;
+    uav_ticks += u.last.tick;
   }
+  // Neighbourhood traffic: tile samples a UAV received per tick, on average.
+  j["tile_samples_per_uav_tick"] = uav_ticks > 0 ? static_cast<double>(tile_samples) / static_cast<double>(uav_ticks) : 0.0;
   j["uav_status"] = per_uav;
   nlohmann::json series = nlohmann::json::array();
   for (const auto& [t, c] : coverage_series_) series.push_back({t, c});

@@ -18,23 +18,7 @@ int main(int argc, char** argv) {
   app.add_option("--progress", cfg.progress_period_s, "Seconds between progress lines [s]")->capture_default_str();
   CLI11_PARSE(app, argc, argv);
 
-  auto log = runtime::make_logger("ground", cfg.common.log_level);
-  auto scenario = runtime::load_scenario(cfg.common);
-  if (!scenario) {
-    log->error("invalid scenario:\n{}", scenario.error().message);
-    return 2;
-  }
-  runtime::install_shutdown_handlers();
-  auto bus = bus::make_bus(cfg.common.dds, runtime::bus_options(cfg.common, "ground"));
-  if (!bus) {
-    log->error("{}", bus.error().message);
-    return 3;
-  }
-  try {
-    groundstation::GroundApp ground(cfg, std::move(scenario).value(), std::move(bus).value());
-    return ground.run();
-  } catch (const std::exception& e) {
-    log->critical("fatal: {}", e.what());
-    return 4;
-  }
+  return runtime::run_process("ground", cfg.common, [&](core::ScenarioConfig scenario, std::unique_ptr<bus::Bus> bus) {
+    return groundstation::GroundApp(cfg, std::move(scenario), std::move(bus)).run();
+  });
 }

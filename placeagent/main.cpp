@@ -19,27 +19,13 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   CLI11_PARSE(app, argc, argv);
 
-  auto log = runtime::make_logger("place-" + std::to_string(cfg.region), cfg.common.log_level);
-  auto scenario = runtime::load_scenario(cfg.common);
-  if (!scenario) {
-    log->error("invalid scenario:\n{}", scenario.error().message);
-    return 2;
-  }
-  if (cfg.region >= scenario->geometry().region_count()) {
-    log->error("--region {} does not exist: the scenario has {} regions", cfg.region, scenario->geometry().region_count());
-    return 2;
-  }
-  runtime::install_shutdown_handlers();
-  auto bus = bus::make_bus(cfg.common.dds, runtime::bus_options(cfg.common, "place-" + std::to_string(cfg.region)));
-  if (!bus) {
-    log->error("{}", bus.error().message);
-    return 3;
-  }
-  try {
-    placeagent::PlaceApp place(cfg, std::move(scenario).value(), std::move(bus).value());
-    return place.run();
-  } catch (const std::exception& e) {
-    log->critical("fatal: {}", e.what());
-    return 4;
-  }
+  const std::string name = "place-" + std::to_string(cfg.region);
+  return runtime::run_process(name, cfg.common, [&](core::ScenarioConfig scenario, std::unique_ptr<bus::Bus> bus) {
+    if (cfg.region >= scenario.geometry().region_count()) {
+      spdlog::error("--region {} does not exist: the scenario has {} regions", cfg.region,
+                    scenario.geometry().region_count());
+      return 2;
+    }
+    return placeagent::PlaceApp(cfg, std::move(scenario), std::move(bus)).run();
+  });
 }

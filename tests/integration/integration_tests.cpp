@@ -198,6 +198,24 @@ TEST(Swarm, AProcessThatDiesUnexpectedlyIsReportedAsACrash) {
   EXPECT_EQ(m["processes_killed"], 0);
 }
 
+TEST(Swarm, AUavReceivesTrafficOfItsNeighbourhoodNotOfTheWholeMap) {
+  // Same tile size and swarm on a map with 4x the tiles (and 4x the place
+  // agents): the tile samples a UAV receives per tick must not grow with it.
+  double per_tick[2] = {0, 0};
+  const char* scenarios[2] = {"shao2020-50x50.textproto", "shao2020-100x100.textproto"};
+  for (int i = 0; i < 2; ++i) {
+    const std::string out = out_dir(std::string("traffic-") + std::to_string(i));
+    const Output o = run(pheromesh_run(scenarios[i], out, 27 + i, "--uavs 3 --ticks 120 --rate 20"));
+    ASSERT_EQ(o.exit_code, 0) << o.text;
+    const json m = read_metrics(out);
+    per_tick[i] = m["tile_samples_per_uav_tick"].get<double>();
+    std::printf("%s: %.2f tile samples per UAV per tick, %d place agents\n", scenarios[i], per_tick[i],
+                m["place_agents"].get<int>());
+  }
+  EXPECT_GT(per_tick[0], 0.0);
+  EXPECT_LT(per_tick[1], 1.5 * per_tick[0]);
+}
+
 namespace {
 
 // Starts `count` probe processes with `profile` on `domain` and returns how

@@ -174,7 +174,8 @@ class CycloneBus final : public Bus {
   }
 
   bool publish_uav_state(const core::UavStateMsg& m, TileCoord over) override {
-    const pheromesh_msg_UavState s{m.uav, m.tick, m.x, m.y, m.vx, m.vy, m.heading, m.role, m.deposits_sent, m.finished};
+    const pheromesh_msg_UavState s{m.uav,     m.tick, m.x, m.y, m.vx, m.vy, m.heading, m.role, m.deposits_sent,
+                                    m.tile_samples_received, m.finished};
     // The ground station reads the stable "g" writer (clean liveliness); the
     // neighbours read the writer of the tile the UAV is over.
     const bool ground = write(writer(TopicKind::UavState, uav_topic_, kGroundPartition), &s);
@@ -295,7 +296,8 @@ class CycloneBus final : public Bus {
 
   void take_uav_states(std::vector<core::UavStateMsg>& out) override {
     auto on_state = [&](const pheromesh_msg_UavState& s) {
-      out.push_back({s.uav, s.tick, s.x, s.y, s.vx, s.vy, s.heading, s.role, s.deposits_sent, s.finished});
+      out.push_back({s.uav, s.tick, s.x, s.y, s.vx, s.vy, s.heading, s.role, s.deposits_sent, s.tile_samples_received,
+                     s.finished});
     };
     for (auto& [key, h] : hood_) take_all<pheromesh_msg_UavState>(h.uavs, on_state, ignore_invalid);
     if (ground_uavs_ != 0) {

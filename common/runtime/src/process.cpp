@@ -82,6 +82,27 @@ bus::BusOptions bus_options(const CommonOptions& o, const std::string& process_n
   return b;
 }
 
+int run_process(const std::string& name, const CommonOptions& o, const AppBody& app) {
+  auto log = make_logger(name, o.log_level);
+  auto scenario = load_scenario(o);
+  if (!scenario) {
+    log->error("invalid scenario:\n{}", scenario.error().message);
+    return 2;
+  }
+  install_shutdown_handlers();
+  auto bus = bus::make_bus(o.dds, bus_options(o, name));
+  if (!bus) {
+    log->error("{}", bus.error().message);
+    return 3;
+  }
+  try {
+    return app(std::move(scenario).value(), std::move(bus).value());
+  } catch (const std::exception& e) {
+    log->critical("fatal: {}", e.what());
+    return 4;
+  }
+}
+
 TickClock::TickClock(double rate_hz)
     : period_(std::chrono::nanoseconds(static_cast<int64_t>(1e9 / rate_hz))),
       next_(std::chrono::steady_clock::now()),

@@ -46,6 +46,7 @@ struct UavStateMsg {
   uint8_t heading = 0;
   uint8_t role = 0;
   uint64_t deposits_sent = 0;
+  uint64_t tile_samples_received = 0;
   bool finished = false;  // last state of a UAV that ended its run
 };
 

@@ -7,6 +7,7 @@
 #include <atomic>
 #include <chrono>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 
@@ -51,6 +52,13 @@ void install_shutdown_handlers();
 void request_shutdown();  // for tests and internal stops
 
 bus::BusOptions bus_options(const CommonOptions& o, const std::string& process_name);
+
+// The common body of every process's main() after flag parsing: logger named
+// `name`, scenario (exit 2 if invalid), shutdown handlers, bus (exit 3 if it
+// cannot be created), then `app(scenario, bus)`; an exception escaping the
+// app is logged and gives exit 4.
+using AppBody = std::function<int(core::ScenarioConfig, std::unique_ptr<bus::Bus>)>;
+int run_process(const std::string& name, const CommonOptions& o, const AppBody& app);
 
 // Fixed-rate clock: wait_next() sleeps until the next tick boundary (never
 // longer than one period) and returns false as soon as shutdown is requested.
