@@ -53,7 +53,8 @@ void Launcher::spawn(const std::string& role, uint32_t index, const std::vector<
                                 "--dds", o_.dds,
                                 "--dds-profile", o_.dds_profile,
                                 "--domain", std::to_string(o_.domain),
-                                "--log-level", o_.log_level};
+                                "--log-level", o_.log_level,
+                                "--clock", o_.clock};
   if (o_.uavs > 0) args.insert(args.end(), {"--uavs", std::to_string(o_.uavs)});
   if (o_.seed > 0) args.insert(args.end(), {"--seed", std::to_string(o_.seed)});
   if (o_.rate_hz > 0) args.insert(args.end(), {"--rate", std::to_string(o_.rate_hz)});
@@ -175,18 +176,24 @@ int Launcher::run() {
   }
   fs::create_directories(fs::path(o_.out_dir) / "logs");
   fs::remove(fs::path(o_.out_dir) / "metrics.json");
-  spdlog::info("run '{}' ({}): {} place agents, {} uavs, {} ticks at {:.1f} Hz over {} (domain {}, profile {}); logs in {}/logs",
-               s.name, o_.scenario, regions, uavs, ticks, rate, o_.dds, o_.domain, o_.dds_profile, o_.out_dir);
+  spdlog::info("run '{}' ({}): {} place agents, {} uavs, {} ticks, {} clock{}, over {} (domain {}, profile {}); logs in {}/logs",
+               s.name, o_.scenario, regions, uavs, ticks, o_.clock,
+               o_.clock == "lockstep" ? "" : fmt::format(" at {:.1f} Hz", rate), o_.dds, o_.domain, o_.dds_profile,
+               o_.out_dir);
 
   runtime::install_shutdown_handlers();
-  spawn("ground", 0, {"--out", o_.out_dir, "--progress", std::to_string(o_.progress_s)});
+  spawn("ground", 0,
+        {"--out", o_.out_dir, "--progress", std::to_string(o_.progress_s), "--ticks", std::to_string(ticks),
+         "--expect-uavs", std::to_string(uavs)});
   for (uint32_t r = 0; r < regions; ++r) spawn("place", r, {"--region", std::to_string(r)});
   for (uint32_t u = 0; u < uavs; ++u) spawn("uav", u, {"--id", std::to_string(u), "--ticks", std::to_string(ticks)});
   const auto t0 = Clock::now();
   // Generous bound on the UAV phase: the run itself, discovery, and slack for
   // a loaded machine. UAVs still flying then are stopped (and reported).
-  const auto uav_deadline = t0 + std::chrono::milliseconds(static_cast<int64_t>(1000.0 * ticks / rate * 2.0)) +
-                            std::chrono::seconds(45);
+  // Lockstep runs as fast as the slowest process; allow 0.5 s per tick.
+  const double expected_s = o_.clock == "lockstep" ? 0.5 * ticks : ticks / rate * 2.0;
+  const auto uav_deadline =
+      t0 + std::chrono::milliseconds(static_cast<int64_t>(1000.0 * expected_s)) + std::chrono::seconds(45);
   std::size_t next_kill = 0;
   bool interrupted = false;
   while (any_running("uav")) {

@@ -29,6 +29,7 @@ struct RunOptions {
   uint32_t domain = 0;
   std::string log_level = "info";
   double progress_s = 1.0;
+  std::string clock = "realtime";  // realtime | lockstep
 };
 
 struct ChildProcess {

@@ -7,6 +7,7 @@
 #include <cstdio>
 
 #include "launcher.hpp"
+#include "sim_command.hpp"
 #include "pheromesh/bus/bus.hpp"
 #include "pheromesh/core/scenario.hpp"
 
@@ -36,7 +37,9 @@ int main(int argc, char** argv) {
                "Examples:\n"
                "  pheromesh validate scenarios/shao2020-50x50.textproto\n"
                "  pheromesh run scenarios/shao2020-50x50.textproto --ticks 600 --out out/demo\n"
-               "  pheromesh run scenarios/small-test.textproto --uavs 6 --duration 20 --kill \"uav:1@5s,uav:4@8s\"\n",
+               "  pheromesh run scenarios/small-test.textproto --uavs 6 --duration 20 --kill \"uav:1@5s,uav:4@8s\"\n"
+               "  pheromesh sim scenarios/shao2020-100x100.textproto --seed 7 --out out/sim\n"
+               "  pheromesh run scenarios/small-test.textproto --clock lockstep --ticks 100   # same numbers as sim\n",
                "pheromesh"};
   app.require_subcommand(1);
   std::string log_level = "info";
@@ -67,8 +70,24 @@ int main(int argc, char** argv) {
   r->add_option("--domain", ro.domain, "DDS domain id (use distinct ids for swarms sharing a host)")
       ->check(CLI::Range(0, 232))
       ->capture_default_str();
+  r->add_option("--clock", ro.clock,
+                "realtime (every process on its own clock) or lockstep (numbered ticks conducted by the ground "
+                "station; same numbers as `pheromesh sim`)")
+      ->check(CLI::IsMember({"realtime", "lockstep"}))
+      ->capture_default_str();
   r->add_option("--process-log-level", ro.log_level, "Log level of the spawned processes")->capture_default_str();
   r->add_option("--progress", ro.progress_s, "Seconds between the ground station's progress lines")->capture_default_str();
+
+  cli::SimOptions so;
+  auto* sim = app.add_subcommand("sim", "Run the whole swarm in this process, deterministically (no DDS): the same "
+                                        "core code and lockstep schedule as `run --clock lockstep`, the same "
+                                        "OUT/metrics.json and OUT/final_field.txt");
+  sim->add_option("SCENARIO", so.scenario, "Scenario file (protobuf text format)")->required()->check(CLI::ExistingFile);
+  sim->add_option("--seed", so.seed, "Run seed (default: the scenario's run.seed)");
+  sim->add_option("--ticks", so.ticks, "Ticks to simulate (default: the scenario's run.ticks)");
+  sim->add_option("--uavs", so.uavs, "Number of UAVs (default: the scenario's swarm.uavs)");
+  sim->add_option("--out", so.out_dir, "Output folder")->capture_default_str();
+  sim->add_flag("--quiet", so.quiet, "No progress lines");
 
   CLI11_PARSE(app, argc, argv);
   auto logger = spdlog::stderr_color_mt("pheromesh");
@@ -77,6 +96,7 @@ int main(int argc, char** argv) {
   spdlog::set_default_logger(logger);
 
   if (v->parsed()) return validate(validate_path);
+  if (sim->parsed()) return cli::run_sim(so);
   try {
     return cli::Launcher(ro).run();
   } catch (const std::exception& e) {

@@ -1,18 +1,18 @@
 // pheromesh-ground (headless): subscribes to everything, prints progress,
-// computes the run metrics and writes metrics.json at the end.
+// records the run metrics (core::RunRecorder) and writes OUT/metrics.json and
+// OUT/final_field.txt at the end. With the lockstep clock it is also the
+// conductor that advances the numbered ticks.
 #pragma once
 
 #include <cstdint>
 #include <map>
 #include <memory>
+#include <set>
 #include <string>
 #include <vector>
 
-#include <nlohmann/json.hpp>
-
 #include "pheromesh/bus/bus.hpp"
-#include "pheromesh/core/marks.hpp"
-#include "pheromesh/core/metrics.hpp"
+#include "pheromesh/core/run_metrics.hpp"
 #include "pheromesh/core/scenario.hpp"
 #include "pheromesh/core/world.hpp"
 #include "pheromesh/runtime/process.hpp"
@@ -26,25 +26,24 @@ namespace pheromesh::groundstation {
 struct GroundConfig {
   runtime::CommonOptions common;
   std::string out_dir = ".";
-  uint32_t expect_uavs = 0;      // 0: the scenario's swarm.uavs
+  uint32_t expect_uavs = 0;  // 0: the scenario's swarm.uavs
   double progress_period_s = 1.0;
+  double phase_timeout_s = 60.0;  // lockstep: longest wait for one phase [s]
 };
 
 class GroundApp {
  public:
   GroundApp(GroundConfig cfg, core::ScenarioConfig scenario, std::unique_ptr<bus::Bus> bus);
   int run();
-  [[nodiscard]] nlohmann::json metrics() const;
 
  private:
   void poll();
+  void progress_if_due();
   void print_progress();
-
-  struct UavInfo {
-    core::UavStateMsg last{};
-    bool alive = true;
-    bool finished = false;
-  };
+  // Lockstep conductor: returns false if a phase timed out.
+  bool conduct();
+  bool run_phase(uint32_t tick, core::ClockPhase phase);
+  int finish();
 
   GroundConfig cfg_;
   core::ScenarioConfig scenario_;
@@ -52,21 +51,18 @@ class GroundApp {
   core::World world_;
   std::unique_ptr<bus::Bus> bus_;
   std::shared_ptr<spdlog::logger> log_;
-  core::CoverageTracker coverage_;
-  core::AcquisitionTracker acquisitions_;
-  std::vector<uint32_t> revisit_response_;
-  std::map<uint32_t, UavInfo> uavs_;
-  std::map<core::RegionId, core::HealthMsg> health_;
-  std::map<core::RegionId, bool> region_departed_;
-  uint32_t max_tick_ = 0;
-  uint64_t samples_rejected_ = 0;
-  std::vector<std::pair<uint32_t, double>> coverage_series_;  // (tick, coverage)
+  core::RunRecorder rec_;
+  std::map<std::pair<int, std::pair<int32_t, int32_t>>, core::TileMsg> tiles_latest_;  // (layer, tile)
+  std::map<uint32_t, core::PhaseDoneMsg> done_;  // process key -> latest
+  std::set<uint32_t> departed_uavs_;
+  std::chrono::steady_clock::time_point next_progress_;
   // reusable inboxes
   std::vector<core::UavStateMsg> states_;
   std::vector<core::DetectionMsg> detections_;
   std::vector<core::TargetEventMsg> events_;
   std::vector<core::HealthMsg> healths_;
   std::vector<core::TileMsg> tiles_;
+  std::vector<core::PhaseDoneMsg> dones_;
 };
 
 }  // namespace pheromesh::groundstation

@@ -16,6 +16,7 @@ int main(int argc, char** argv) {
   app.add_option("--out", cfg.out_dir, "Folder for metrics.json")->capture_default_str();
   app.add_option("--expect-uavs", cfg.expect_uavs, "UAVs expected (default: the scenario's swarm.uavs)");
   app.add_option("--progress", cfg.progress_period_s, "Seconds between progress lines [s]")->capture_default_str();
+  app.add_option("--phase-timeout", cfg.phase_timeout_s, "Lockstep: longest wait for one phase [s]")->capture_default_str();
   CLI11_PARSE(app, argc, argv);
 
   return runtime::run_process("ground", cfg.common, [&](core::ScenarioConfig scenario, std::unique_ptr<bus::Bus> bus) {

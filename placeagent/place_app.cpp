@@ -2,20 +2,13 @@
 
 #include <spdlog/spdlog.h>
 
-#include <algorithm>
 #include <chrono>
-#include <numeric>
+#include <set>
+#include <thread>
 
 namespace pheromesh::placeagent {
 
-using core::Cell;
-using core::DepositKind;
-using core::Layer;
-
-uint64_t DepositLedger::rejected() const {
-  return std::accumulate(rejected_by_reason.begin(), rejected_by_reason.end(), uint64_t{0},
-                         [](uint64_t a, const auto& kv) { return a + kv.second; });
-}
+using Clock = std::chrono::steady_clock;
 
 PlaceApp::PlaceApp(PlaceConfig cfg, core::ScenarioConfig scenario, std::unique_ptr<bus::Bus> bus)
     : cfg_(std::move(cfg)),
@@ -23,145 +16,137 @@ PlaceApp::PlaceApp(PlaceConfig cfg, core::ScenarioConfig scenario, std::unique_p
       geo_(scenario_.geometry()),
       bus_(std::move(bus)),
       log_(spdlog::default_logger()),
-      field_(geo_, cfg_.region, scenario_.layers),
-      marks_(scenario_.aco.revisit_period),
-      tiles_(geo_.region_tiles(cfg_.region)),
-      neighbours_(geo_.neighbour_regions(cfg_.region)) {
-  rate_ = scenario_.tick_rate_hz;
-}
+      core_(scenario_, cfg_.region),
+      rate_(scenario_.tick_rate_hz) {}
 
-void PlaceApp::apply_deposits() {
+void PlaceApp::step(uint32_t tick, bool wait_for_halos, bool all_tiles) {
   inbox_.clear();
   bus_->take_deposits(inbox_);
-  // Canonical order: by UAV id, then sequence number (DESIGN.md, "Time").
-  std::sort(inbox_.begin(), inbox_.end(),
-            [](const auto& a, const auto& b) { return a.uav != b.uav ? a.uav < b.uav : a.seq < b.seq; });
-  for (const auto& d : inbox_) {
-    ++ledger_.received;
-    std::optional<std::string> reason = core::check_deposit(d, geo_, cfg_.region);
-    if (!reason) {
-      auto it = last_seq_.find(d.uav);
-      if (it != last_seq_.end() && d.seq <= it->second) reason = "duplicate or out-of-order sequence number";
-    }
-    if (reason) {
-      const uint64_t n = ++ledger_.rejected_by_reason[*reason];
-      if (n <= 3) log_->warn("rejected deposit from uav {} seq {}: {}", d.uav, d.seq, *reason);
-      continue;
-    }
-    last_seq_[d.uav] = d.seq;
-    ++ledger_.applied;
-    switch (static_cast<DepositKind>(d.kind)) {
-      case DepositKind::PathVisit:
-        field_.add_path_visit(d.cell);
-        break;
-      case DepositKind::ObstacleMark:
-        field_.set_obstacle_switch(d.cell);
-        break;
-      case DepositKind::TargetMark:
-        if (auto ev = marks_.mark(d.cell, tick_)) {
-          field_.set_target_switch(d.cell, false);
-          field_.set_target_state(d.cell, core::kTargetMarked);
-          bus_->publish_target_event({cfg_.region, tick_, static_cast<uint8_t>(ev->kind), ev->cell, ev->response_ticks});
-          log_->info("target at ({},{}) {} by uav {}", d.cell.x, d.cell.y,
-                     ev->kind == core::MarkEvent::Kind::FirstMarked ? "marked" : "revisited", d.uav);
-        }
-        break;
-    }
+  events_.clear();
+  rejections_.clear();
+  const core::HaloRing ring = core_.begin_tick(inbox_, tick, events_, &rejections_);
+  for (const auto& r : rejections_) {
+    if (core_.ledger().rejected() <= 20) log_->warn("rejected deposit from {}", r);
   }
-}
-
-void PlaceApp::exchange_halos(const core::HaloRing& own) {
-  bus_->publish_halo({cfg_.region, tick_, own.target, own.obstacle});
-  halo_inbox_.clear();
-  bus_->take_halos(halo_inbox_);
-  std::map<core::RegionId, bool> fresh;
-  for (auto& h : halo_inbox_) {
-    if (auto reason = core::check_halo(h, geo_)) {
-      log_->warn("dropped halo from region {}: {}", h.region, *reason);
-      continue;
-    }
-    core::HaloRing ring{h.region, std::move(h.target), std::move(h.obstacle)};
-    field_.accept_halo(geo_.region_rect(h.region), ring);
-    fresh[h.region] = true;
+  for (const auto& e : events_) {
+    bus_->publish_target_event(e);
+    log_->info("target at ({},{}) {} at tick {}", e.cell.x, e.cell.y,
+               e.kind == 0 ? "marked" : e.kind == 1 ? "due for a revisit" : "revisited", tick);
   }
-  // Realtime clock: a neighbour that sent nothing new this tick leaves its last
-  // ring in the halo; count it so a stalled neighbour is visible in health.
-  for (auto r : neighbours_) {
-    if (!fresh.contains(r)) ++halos_missing_;
-  }
-}
-
-void PlaceApp::publish_tiles(bool force) {
-  for (std::size_t ti = 0; ti < tiles_.size(); ++ti) {
-    const core::Rect tr = geo_.tile_rect(tiles_[ti]);
-    for (int l = 0; l < core::kLayerCount; ++l) {
-      core::TileMsg m;
-      m.layer = static_cast<uint8_t>(l);
-      m.tile = tiles_[ti];
-      m.tick = tick_;
-      m.region = cfg_.region;
-      m.width = static_cast<uint16_t>(tr.w);
-      m.height = static_cast<uint16_t>(tr.h);
-      m.values.reserve(static_cast<std::size_t>(tr.area()));
-      for (int32_t y = tr.y0; y < tr.y0 + tr.h; ++y) {
-        for (int32_t x = tr.x0; x < tr.x0 + tr.w; ++x) m.values.push_back(field_.value(static_cast<Layer>(l), {x, y}));
+  bus_->publish_halo({cfg_.region, tick, ring.target, ring.obstacle});
+  // Neighbour rings. Realtime: whatever arrived (a neighbour that sent
+  // nothing new leaves its last ring in the halo, counted as missing).
+  // Lockstep: exactly the rings of this tick, waited for.
+  std::set<core::RegionId> fresh;
+  const auto deadline = Clock::now() + std::chrono::seconds(30);
+  for (;;) {
+    halo_inbox_.clear();
+    bus_->take_halos(halo_inbox_);
+    for (const auto& h : halo_inbox_) {
+      if (wait_for_halos && h.tick != tick) continue;
+      if (!core_.accept_halo(h)) {
+        log_->warn("dropped malformed halo from region {}", h.region);
+        continue;
       }
-      // Only changed tiles travel; TRANSIENT_LOCAL durability keeps the last
-      // one for late joiners.
-      auto& last = published_[{static_cast<int>(ti), l}];
-      if (!force && last == m.values) continue;
-      last = m.values;
-      bus_->publish_tile(m);
+      fresh.insert(h.region);
     }
+    if (!wait_for_halos || fresh.size() >= core_.neighbours().size()) break;
+    if (Clock::now() > deadline || runtime::shutdown_requested()) {
+      log_->error("tick {}: rings of {} of {} neighbours did not arrive", tick, core_.neighbours().size() - fresh.size(),
+                  core_.neighbours().size());
+      break;
+    }
+    std::this_thread::sleep_for(std::chrono::microseconds(200));
   }
+  halos_missing_ += core_.neighbours().size() - std::min(fresh.size(), core_.neighbours().size());
+  core_.finish_tick();
+  tiles_out_.clear();
+  core_.tiles(tick, !all_tiles, tiles_out_);
+  for (const auto& t : tiles_out_) bus_->publish_tile(t);
 }
 
-void PlaceApp::publish_health(bool finished) {
-  bus_->publish_health({cfg_.region, tick_, static_cast<float>(rate_), ledger_.received, ledger_.applied,
-                        ledger_.rejected(), halos_missing_, finished});
+void PlaceApp::publish_health(uint32_t tick, bool finished) {
+  const auto& l = core_.ledger();
+  bus_->publish_health({cfg_.region, tick, static_cast<float>(rate_), l.received, l.applied, l.rejected(), halos_missing_,
+                        finished});
 }
 
-void PlaceApp::step() {
-  apply_deposits();
-  for (const auto& ev : marks_.advance(tick_)) {
-    field_.set_target_switch(ev.cell, true);  // kτ = 1: revisit signal, Shao 2020 eq. (1)
-    field_.set_target_state(ev.cell, core::kTargetDue);
-    bus_->publish_target_event({cfg_.region, tick_, static_cast<uint8_t>(ev.kind), ev.cell, 0});
-    log_->info("target at ({},{}) due for a revisit", ev.cell.x, ev.cell.y);
-  }
-  const core::HaloRing ring = field_.begin_step();
-  exchange_halos(ring);
-  field_.finish_step();
-  publish_tiles(tick_ == 0);
-  ++tick_;
+void PlaceApp::log_summary(uint32_t tick) {
+  const auto& l = core_.ledger();
+  log_->info("region {} finished at tick {}: deposits received {}, applied {}, rejected {}", cfg_.region, tick,
+             l.received, l.applied, l.rejected());
+  for (const auto& [reason, n] : l.rejected_by_reason) log_->info("  rejected {}: {}", n, reason);
 }
 
-int PlaceApp::run() {
-  bus_->subscribe_deposits(cfg_.region);
-  bus_->subscribe_halos(neighbours_);
-  const core::Rect r = geo_.region_rect(cfg_.region);
-  log_->info("place agent for region {} [{}..{})x[{}..{}) with {} tiles, {} neighbours, {:.1f} Hz over {}", cfg_.region,
-             r.x0, r.x0 + r.w, r.y0, r.y0 + r.h, tiles_.size(), neighbours_.size(), rate_, bus_->vendor());
+int PlaceApp::run_realtime() {
   runtime::TickClock clock(rate_);
-  auto last_health = std::chrono::steady_clock::now();
-  while (!runtime::shutdown_requested() && (cfg_.max_ticks == 0 || tick_ < cfg_.max_ticks)) {
-    step();
-    if (std::chrono::steady_clock::now() - last_health >= std::chrono::milliseconds(500)) {
+  auto last_health = Clock::now();
+  uint32_t tick = 0;
+  while (!runtime::shutdown_requested() && (cfg_.max_ticks == 0 || tick < cfg_.max_ticks)) {
+    step(tick, false, tick == 0);
+    ++tick;
+    if (Clock::now() - last_health >= std::chrono::milliseconds(500)) {
       rate_ = clock.measured_rate() > 0 ? clock.measured_rate() : rate_;
-      publish_health(false);
-      last_health = std::chrono::steady_clock::now();
+      publish_health(tick, false);
+      last_health = Clock::now();
     }
     if (!clock.wait_next()) break;
   }
   // Drain: deposits that arrived after the last tick are still applied (or
-  // rejected) and counted, then the final health is published and flushed.
-  step();
-  publish_health(true);
+  // rejected) and counted before the final health.
+  step(tick, false, false);
+  publish_health(tick, true);
   bus_->flush(std::chrono::seconds(3));
-  log_->info("region {} finished at tick {}: deposits received {}, applied {}, rejected {}", cfg_.region, tick_,
-             ledger_.received, ledger_.applied, ledger_.rejected());
-  for (const auto& [reason, n] : ledger_.rejected_by_reason) log_->info("  rejected {}: {}", n, reason);
+  log_summary(tick);
   return 0;
+}
+
+int PlaceApp::run_lockstep() {
+  bus_->subscribe_clock();
+  std::vector<core::ClockMsg> cmds;
+  int64_t done_tick = -1;
+  bool stop = false;
+  while (!stop && !runtime::shutdown_requested()) {
+    cmds.clear();
+    bus_->take_clock(cmds);
+    for (const auto& c : cmds) {
+      if (c.phase == static_cast<uint8_t>(core::ClockPhase::Stop)) {
+        stop = true;
+      } else if (c.phase == static_cast<uint8_t>(core::ClockPhase::Place) && static_cast<int64_t>(c.tick) > done_tick) {
+        // Every tile, every tick: a UAV waits for tiles of exactly this tick.
+        step(c.tick, true, true);
+        publish_health(c.tick, false);
+        bus_->flush(std::chrono::seconds(10));
+        bus_->publish_phase_done({core::process_key(core::kRolePlace, cfg_.region), c.tick, c.phase});
+        bus_->flush(std::chrono::seconds(10));
+        done_tick = c.tick;
+      }
+    }
+    if (cmds.empty()) std::this_thread::sleep_for(std::chrono::microseconds(200));
+  }
+  // Wait for SIGTERM from the launcher; deposits arriving now (none in a
+  // clean run) are counted, not applied to the field, so the final field
+  // stays that of the last conducted tick.
+  while (!runtime::shutdown_requested()) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  inbox_.clear();
+  bus_->take_deposits(inbox_);
+  if (!inbox_.empty()) log_->warn("{} deposits arrived after the last tick; rejected", inbox_.size());
+  core_.reject(inbox_, "arrived after the last lockstep tick");
+  const auto final_tick = static_cast<uint32_t>(std::max<int64_t>(done_tick, 0));
+  publish_health(final_tick, true);
+  bus_->flush(std::chrono::seconds(3));
+  log_summary(final_tick);
+  return 0;
+}
+
+int PlaceApp::run() {
+  bus_->subscribe_deposits(cfg_.region);
+  bus_->subscribe_halos(core_.neighbours());
+  const core::Rect r = geo_.region_rect(cfg_.region);
+  log_->info("place agent for region {} [{}..{})x[{}..{}) with {} tiles, {} neighbours, {} clock{} over {}", cfg_.region,
+             r.x0, r.x0 + r.w, r.y0, r.y0 + r.h, core_.owned_tiles().size(), core_.neighbours().size(), cfg_.common.clock,
+             cfg_.common.lockstep() ? "" : fmt::format(" at {:.1f} Hz", rate_), bus_->vendor());
+  return cfg_.common.lockstep() ? run_lockstep() : run_realtime();
 }
 
 }  // namespace pheromesh::placeagent

@@ -256,6 +256,37 @@ TEST(Discovery, UnicastOneHostProfileGoesBeyondTheDefaultTenProcesses) {
   EXPECT_EQ(discover_all("onehost-unicast", 16, 26, "discovery-unicast"), 16);
 }
 
+namespace {
+
+void expect_lockstep_matches_sim(const std::string& scenario, const std::string& args, int domain, const std::string& tag) {
+  const std::string run_out = out_dir(tag + "-lockstep");
+  const std::string sim_out = out_dir(tag + "-sim");
+  const Output r = run(pheromesh_run(scenario, run_out, domain, "--clock lockstep " + args));
+  ASSERT_EQ(r.exit_code, 0) << r.text;
+  const Output s = run(kBin + "/pheromesh sim " + kSrc + "/scenarios/" + scenario + " --quiet --out " + sim_out + " " + args);
+  ASSERT_EQ(s.exit_code, 0) << s.text;
+  const json a = read_metrics(run_out);
+  const json b = read_metrics(sim_out);
+  for (const char* key : {"ticks", "uavs", "coverage", "covered_cells", "targets_found", "acquisition_ticks",
+                          "revisit_response_ticks", "deposits_sent", "deposits_applied", "deposits_rejected"}) {
+    EXPECT_EQ(a[key], b[key]) << key;
+  }
+  const std::string field_run = slurp(run_out + "/final_field.txt");
+  EXPECT_GT(field_run.size(), 1000U);
+  EXPECT_TRUE(field_run == slurp(sim_out + "/final_field.txt")) << "final pheromone fields differ";
+  EXPECT_EQ(field_run.find("nan"), std::string::npos);
+}
+
+}  // namespace
+
+TEST(Lockstep, RunOverDdsGivesTheSimulatorsNumbersOnTheSmallScenario) {
+  expect_lockstep_matches_sim("small-test.textproto", "--ticks 100", 29, "lockstep-small");
+}
+
+TEST(Lockstep, RunOverDdsGivesTheSimulatorsNumbersOnTheShaoScenario) {
+  expect_lockstep_matches_sim("shao2020-50x50.textproto", "--uavs 5 --ticks 150 --seed 4", 30, "lockstep-shao");
+}
+
 TEST(BadInput, MalformedSamplesAreRejectedAndCountedAndNothingCrashes) {
   const std::string out = out_dir("hostile");
   const int domain = 25;

@@ -41,6 +41,7 @@ std::string tile_partition(TileCoord t) { return "t." + std::to_string(t.tx) + "
 std::string region_partition(core::RegionId r) { return "r." + std::to_string(r); }
 std::string halo_partition(core::RegionId r) { return "h." + std::to_string(r); }
 constexpr const char* kGroundPartition = "g";
+constexpr const char* kClockPartition = "c";
 
 struct QosDeleter {
   void operator()(dds_qos_t* q) const { dds_delete_qos(q); }
@@ -49,7 +50,7 @@ using QosPtr = std::unique_ptr<dds_qos_t, QosDeleter>;
 
 // The QoS of each pheromesh topic, described once and used by writers and
 // readers alike (reader history may be deeper: see make_reader).
-enum class TopicKind { Tile, Deposit, UavState, Detection, TargetEvent, Health, Halo };
+enum class TopicKind { Tile, Deposit, UavState, Detection, TargetEvent, Health, Halo, Clock, PhaseDone };
 
 QosPtr topic_qos(TopicKind k, std::chrono::milliseconds lease, bool reader) {
   QosPtr q(dds_create_qos());
@@ -58,6 +59,8 @@ QosPtr topic_qos(TopicKind k, std::chrono::milliseconds lease, bool reader) {
   switch (k) {
     case TopicKind::Tile:
     case TopicKind::Health:
+    case TopicKind::Clock:
+    case TopicKind::PhaseDone:
       // Latest value per key, also for late joiners.
       dds_qset_durability(q.get(), DDS_DURABILITY_TRANSIENT_LOCAL);
       dds_qset_history(q.get(), DDS_HISTORY_KEEP_LAST, 1);
@@ -144,6 +147,8 @@ class CycloneBus final : public Bus {
     event_topic_ = PHM_DDS(dds_create_topic(participant_, &pheromesh_msg_TargetEvent_desc, "pheromesh_target_event", nullptr, nullptr));
     health_topic_ = PHM_DDS(dds_create_topic(participant_, &pheromesh_msg_PlaceHealth_desc, "pheromesh_place_health", nullptr, nullptr));
     halo_topic_ = PHM_DDS(dds_create_topic(participant_, &pheromesh_msg_Halo_desc, "pheromesh_halo", nullptr, nullptr));
+    clock_topic_ = PHM_DDS(dds_create_topic(participant_, &pheromesh_msg_ClockCommand_desc, "pheromesh_clock", nullptr, nullptr));
+    done_topic_ = PHM_DDS(dds_create_topic(participant_, &pheromesh_msg_PhaseDone_desc, "pheromesh_phase_done", nullptr, nullptr));
   }
 
   ~CycloneBus() override {
@@ -212,6 +217,36 @@ class CycloneBus final : public Bus {
     set_seq(s.target, m.target);
     set_seq(s.obstacle, m.obstacle);
     return write(writer(TopicKind::Halo, halo_topic_, halo_partition(m.region)), &s);
+  }
+
+  // ------------------------------------------------------------ lockstep
+  bool publish_clock(const core::ClockMsg& m) override {
+    const pheromesh_msg_ClockCommand s{0, m.tick, m.phase};
+    return write(writer(TopicKind::Clock, clock_topic_, kClockPartition), &s);
+  }
+
+  bool publish_phase_done(const core::PhaseDoneMsg& m) override {
+    const pheromesh_msg_PhaseDone s{m.process, m.tick, m.phase};
+    return write(writer(TopicKind::PhaseDone, done_topic_, kClockPartition), &s);
+  }
+
+  void subscribe_clock() override { clock_reader_ = make_reader(TopicKind::Clock, clock_topic_, {kClockPartition}); }
+
+  void subscribe_phase_done() override {
+    done_reader_ = make_reader(TopicKind::PhaseDone, done_topic_, {kClockPartition});
+  }
+
+  void take_clock(std::vector<core::ClockMsg>& out) override {
+    if (clock_reader_ == 0) return;
+    take_all<pheromesh_msg_ClockCommand>(
+        clock_reader_, [&](const pheromesh_msg_ClockCommand& s) { out.push_back({s.tick, s.phase}); }, ignore_invalid);
+  }
+
+  void take_phase_done(std::vector<core::PhaseDoneMsg>& out) override {
+    if (done_reader_ == 0) return;
+    take_all<pheromesh_msg_PhaseDone>(
+        done_reader_, [&](const pheromesh_msg_PhaseDone& s) { out.push_back({s.process, s.tick, s.phase}); },
+        ignore_invalid);
   }
 
   // -------------------------------------------------------------- subscribe
@@ -442,12 +477,12 @@ class CycloneBus final : public Bus {
   dds_entity_t domain_ = 0;
   dds_entity_t participant_ = 0;
   dds_entity_t tile_topic_ = 0, deposit_topic_ = 0, uav_topic_ = 0, detection_topic_ = 0, event_topic_ = 0,
-               health_topic_ = 0, halo_topic_ = 0;
+               health_topic_ = 0, halo_topic_ = 0, clock_topic_ = 0, done_topic_ = 0;
   std::map<std::pair<int, std::string>, WriterEntry> writers_;
   std::string uav_tile_partition_;
   std::map<std::pair<int32_t, int32_t>, HoodReaders> hood_;
   dds_entity_t deposit_reader_ = 0, halo_reader_ = 0, ground_tiles_ = 0, ground_uavs_ = 0, detection_reader_ = 0,
-               event_reader_ = 0, health_reader_ = 0;
+               event_reader_ = 0, health_reader_ = 0, clock_reader_ = 0, done_reader_ = 0;
   std::vector<uint32_t> departed_uavs_;
   std::vector<core::RegionId> departed_regions_;
   BusStats stats_;

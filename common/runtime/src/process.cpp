@@ -40,6 +40,12 @@ void add_common_options(CLI::App& app, CommonOptions& o) {
   app.add_option("--rate", o.rate_hz, "Tick rate [Hz] (default: the scenario's tick_rate_hz)")->check(CLI::Range(0.0, 1000.0));
   app.add_option("--ticks", o.ticks, "Ticks to run (default: the scenario's run.ticks)");
   app.add_option("--seed", o.seed, "Run seed (default: the scenario's run.seed)");
+  o.clock = env_or("PHEROMESH_CLOCK", o.clock);
+  app.add_option("--clock", o.clock,
+                 "realtime: every process ticks on its own clock; lockstep: the ground station conducts numbered "
+                 "ticks (UAV phase, then place phase) [env PHEROMESH_CLOCK]")
+      ->check(CLI::IsMember({"realtime", "lockstep"}))
+      ->capture_default_str();
   app.add_option("--uavs", o.uavs, "Number of UAVs in the swarm (default: the scenario's swarm.uavs)");
   app.add_option("--lease-ms", o.lease_ms, "Liveliness lease [ms]")->check(CLI::Range(50, 60000))->capture_default_str();
 }

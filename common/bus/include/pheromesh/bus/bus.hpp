@@ -59,6 +59,14 @@ class Bus {
   virtual bool publish_health(const core::HealthMsg& m) = 0;
   virtual bool publish_halo(const core::HaloMsg& m) = 0;
 
+  // --- lockstep clock
+  virtual bool publish_clock(const core::ClockMsg& m) = 0;       // conductor
+  virtual bool publish_phase_done(const core::PhaseDoneMsg& m) = 0;
+  virtual void subscribe_clock() = 0;                             // UAVs and place agents
+  virtual void subscribe_phase_done() = 0;                        // conductor
+  virtual void take_clock(std::vector<core::ClockMsg>& out) = 0;
+  virtual void take_phase_done(std::vector<core::PhaseDoneMsg>& out) = 0;
+
   // --- subscribing (call once per kind; set_neighbourhood as often as needed)
   virtual void subscribe_deposits(core::RegionId own) = 0;
   virtual void subscribe_halos(std::span<const core::RegionId> neighbours) = 0;

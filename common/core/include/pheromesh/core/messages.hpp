@@ -83,6 +83,21 @@ struct HaloMsg {
   std::vector<float> obstacle;
 };
 
+// Lockstep clock (DESIGN.md, "Time").
+enum class ClockPhase : uint8_t { Uav = 0, Place = 1, Stop = 2 };
+struct ClockMsg {
+  uint32_t tick = 0;
+  uint8_t phase = 0;  // ClockPhase
+};
+inline constexpr uint32_t kRoleUav = 1;
+inline constexpr uint32_t kRolePlace = 2;
+inline constexpr uint32_t process_key(uint32_t role, uint32_t id) { return role << 24U | (id & 0xFFFFFFU); }
+struct PhaseDoneMsg {
+  uint32_t process = 0;  // process_key(role, id)
+  uint32_t tick = 0;
+  uint8_t phase = 0;
+};
+
 // Semantic checks of received samples (the bus checks structure). Each returns
 // a short reason, or nullopt if the sample is acceptable.
 std::optional<std::string> check_deposit(const DepositMsg& d, const MapGeometry& geo, RegionId owner);

@@ -32,6 +32,8 @@ struct CommonOptions {
   uint64_t seed = 0;           // 0: the scenario's seed
   uint32_t lease_ms = 1000;    // liveliness lease
   uint32_t uavs = 0;           // 0: the scenario's swarm.uavs
+  std::string clock = "realtime";  // realtime | lockstep
+  [[nodiscard]] bool lockstep() const { return clock == "lockstep"; }
 };
 
 // Loads the scenario and applies the overrides of the common flags (--rate,

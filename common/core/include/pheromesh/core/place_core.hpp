@@ -1,0 +1,72 @@
+// One place agent's logic without any transport: deposit checking and
+// accounting, the Shao 2020 layers of its region, target marks and revisit
+// timers, the halo exchange and the tiles it publishes. The pheromesh-place
+// process and the in-process simulator both drive this class.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "pheromesh/core/layers.hpp"
+#include "pheromesh/core/marks.hpp"
+#include "pheromesh/core/messages.hpp"
+#include "pheromesh/core/scenario.hpp"
+
+namespace pheromesh::core {
+
+// Accounting of deposits, with the reason of every rejection.
+struct DepositLedger {
+  uint64_t received = 0;
+  uint64_t applied = 0;
+  std::map<std::string, uint64_t> rejected_by_reason;
+  [[nodiscard]] uint64_t rejected() const;
+};
+
+class PlaceCore {
+ public:
+  PlaceCore(const ScenarioConfig& scenario, RegionId region);
+  // The field keeps a pointer to geo_: pinned in memory.
+  PlaceCore(const PlaceCore&) = delete;
+  PlaceCore& operator=(const PlaceCore&) = delete;
+
+  // Phase 1 of a tick: applies `deposits` in the canonical order (UAV id, then
+  // sequence number; the vector is sorted in place), advances the revisit
+  // timers to `tick`, computes the diffusion sources. Returns this region's
+  // halo ring for the neighbours; `events` receives target events and
+  // `rejections` (if given) one line per rejected deposit.
+  HaloRing begin_tick(std::vector<DepositMsg>& deposits, uint32_t tick, std::vector<TargetEventMsg>& events,
+                      std::vector<std::string>* rejections = nullptr);
+  // Deposits that can no longer be applied (they arrived after the last
+  // lockstep tick): counted as rejected with `reason`.
+  void reject(const std::vector<DepositMsg>& deposits, const std::string& reason);
+  // A neighbour's ring (checked; false if malformed and ignored).
+  bool accept_halo(const HaloMsg& h);
+  // Phase 2: the layer update (Shao 2020 eqs. (1)-(8)).
+  void finish_tick();
+
+  // Tiles of this region at `tick`: every tile and layer, or only those that
+  // changed since the last call with changed_only.
+  void tiles(uint32_t tick, bool changed_only, std::vector<TileMsg>& out);
+
+  [[nodiscard]] const DepositLedger& ledger() const { return ledger_; }
+  [[nodiscard]] const RegionField& field() const { return field_; }
+  [[nodiscard]] RegionId region() const { return region_; }
+  [[nodiscard]] const std::vector<RegionId>& neighbours() const { return neighbours_; }
+  [[nodiscard]] const std::vector<TileCoord>& owned_tiles() const { return tiles_; }
+
+ private:
+  MapGeometry geo_;
+  RegionId region_;
+  RegionField field_;
+  TargetMarks marks_;
+  std::vector<TileCoord> tiles_;
+  std::vector<RegionId> neighbours_;
+  std::map<uint32_t, uint32_t> last_seq_;  // per UAV: highest applied deposit seq
+  std::map<std::pair<std::size_t, int>, std::vector<float>> published_;  // (tile, layer) -> values last sent
+  DepositLedger ledger_;
+};
+
+}  // namespace pheromesh::core

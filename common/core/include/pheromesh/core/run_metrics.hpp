@@ -1,0 +1,74 @@
+// Everything a run is judged by, recorded from the messages the swarm
+// produces. The ground station and the in-process simulator both feed one of
+// these, so `pheromesh run` and `pheromesh sim` report the same quantities
+// computed the same way.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "pheromesh/core/messages.hpp"
+#include "pheromesh/core/marks.hpp"
+#include "pheromesh/core/metrics.hpp"
+#include "pheromesh/core/scenario.hpp"
+#include "pheromesh/core/world.hpp"
+
+namespace pheromesh::core {
+
+struct UavStatus {
+  UavStateMsg last{};
+  bool alive = true;
+  bool finished = false;
+};
+
+class RunRecorder {
+ public:
+  RunRecorder(const ScenarioConfig& scenario, const World& world);
+
+  // Each returns false if the sample was malformed and ignored (counted).
+  bool on_uav_state(const UavStateMsg& s);
+  bool on_detection(const DetectionMsg& d);  // true also for repeats; see first_acquisition
+  void on_target_event(const TargetEventMsg& e);
+  void on_health(const HealthMsg& h);
+  void on_uav_departed(uint32_t uav);
+  void on_region_departed(RegionId r);
+  void count_rejected_sample() { ++samples_rejected_; }
+  // Appends (max tick, coverage) to the coverage series.
+  void sample_coverage();
+
+  // The last detection was a target's first acquisition.
+  [[nodiscard]] bool first_acquisition() const { return last_was_first_; }
+
+  [[nodiscard]] const ScenarioConfig& scenario() const { return *scenario_; }
+  [[nodiscard]] uint32_t max_tick() const { return max_tick_; }
+  [[nodiscard]] const std::map<uint32_t, UavStatus>& uavs() const { return uavs_; }
+  [[nodiscard]] const std::map<RegionId, HealthMsg>& health() const { return health_; }
+  [[nodiscard]] bool region_departed(RegionId r) const { return departed_regions_.contains(r); }
+  [[nodiscard]] const CoverageTracker& coverage() const { return coverage_; }
+  [[nodiscard]] const AcquisitionTracker& acquisitions() const { return acquisitions_; }
+  // Revisit response times ordered by (tick, region, y, x): independent of
+  // the order events arrived in.
+  [[nodiscard]] std::vector<uint32_t> revisit_response_ticks() const;
+  [[nodiscard]] const std::vector<std::pair<uint32_t, double>>& coverage_series() const { return coverage_series_; }
+  [[nodiscard]] uint64_t samples_rejected() const { return samples_rejected_; }
+  [[nodiscard]] uint64_t deposits_sent() const;
+
+ private:
+  const ScenarioConfig* scenario_;
+  const World* world_;
+  MapGeometry geo_;
+  CoverageTracker coverage_;
+  AcquisitionTracker acquisitions_;
+  std::vector<TargetEventMsg> revisits_;
+  std::map<uint32_t, UavStatus> uavs_;
+  std::map<RegionId, HealthMsg> health_;
+  std::map<RegionId, bool> departed_regions_;
+  std::vector<std::pair<uint32_t, double>> coverage_series_;
+  uint32_t max_tick_ = 0;
+  uint64_t samples_rejected_ = 0;
+  bool last_was_first_ = false;
+};
+
+}  // namespace pheromesh::core

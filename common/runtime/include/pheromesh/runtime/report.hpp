@@ -1,0 +1,31 @@
+// metrics.json and the final-field dump, written the same way by the ground
+// station and the simulator.
+#pragma once
+
+#include <nlohmann/json.hpp>
+
+#include <functional>
+#include <string>
+
+#include "pheromesh/core/run_metrics.hpp"
+
+namespace pheromesh::runtime {
+
+struct RunInfo {
+  std::string transport;  // "cyclone", "sim", ...
+  std::string clock;      // "realtime", "lockstep", "sim"
+  uint32_t uavs_expected = 0;
+};
+
+nlohmann::json metrics_json(const core::RunRecorder& r, const RunInfo& info);
+
+// The final pheromone field, every layer, in a text form that round-trips
+// floats exactly ("%.9g"): `layer NAME` then one line per row. `value` may
+// return NaN for cells it does not know.
+using FieldReader = std::function<float(int layer, core::Cell c)>;
+bool write_field(const std::string& path, const core::MapGeometry& geo, const FieldReader& value);
+
+// Writes `j` to DIR/metrics.json; false (and a message in `error`) on failure.
+bool write_json(const std::string& dir, const std::string& file, const nlohmann::json& j, std::string& error);
+
+}  // namespace pheromesh::runtime

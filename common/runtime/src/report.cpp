@@ -1,0 +1,94 @@
+#include "pheromesh/runtime/report.hpp"
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+#include "pheromesh/core/layers.hpp"
+
+namespace pheromesh::runtime {
+
+nlohmann::json metrics_json(const core::RunRecorder& r, const RunInfo& info) {
+  const auto& s = r.scenario();
+  uint64_t applied = 0, rejected = 0, received = 0;
+  uint32_t finished_places = 0;
+  for (const auto& [region, h] : r.health()) {
+    applied += h.deposits_applied;
+    rejected += h.deposits_rejected;
+    received += h.deposits_received;
+    finished_places += h.finished ? 1 : 0;
+  }
+  nlohmann::json j;
+  j["scenario"] = s.name;
+  j["scenario_file"] = s.source_path;
+  j["seed"] = s.seed;
+  j["dds"] = info.transport;
+  j["clock"] = info.clock;
+  j["ticks"] = r.max_tick();
+  j["uavs"] = r.uavs().size();
+  j["uavs_expected"] = info.uavs_expected;
+  j["place_agents"] = r.health().size();
+  j["place_agents_finished"] = finished_places;
+  j["coverage"] = r.coverage().coverage();
+  j["reachable_cells"] = r.coverage().reachable_cells();
+  j["covered_cells"] = r.coverage().covered_cells();
+  j["targets_total"] = s.targets.size();
+  j["targets_found"] = r.acquisitions().found();
+  j["acquisition_ticks"] = r.acquisitions().acquisition_ticks();
+  j["revisit_response_ticks"] = r.revisit_response_ticks();
+  j["deposits_sent"] = r.deposits_sent();
+  j["deposits_received"] = received;
+  j["deposits_applied"] = applied;
+  j["deposits_rejected"] = rejected;
+  j["samples_rejected_by_ground"] = r.samples_rejected();
+  // The launcher owns process accounting and overwrites these two.
+  j["processes_killed"] = 0;
+  j["processes_crashed"] = 0;
+  nlohmann::json per_uav = nlohmann::json::object();
+  uint64_t tile_samples = 0, uav_ticks = 0;
+  for (const auto& [id, u] : r.uavs()) {
+    per_uav[std::to_string(id)] = {{"last_tick", u.last.tick},
+                                   {"finished", u.finished},
+                                   {"deposits_sent", u.last.deposits_sent},
+                                   {"tile_samples_received", u.last.tile_samples_received}};
+    tile_samples += u.last.tile_samples_received;
+    uav_ticks += u.last.tick;
+  }
+  j["uav_status"] = per_uav;
+  // Neighbourhood traffic: tile samples a UAV received per tick, on average.
+  j["tile_samples_per_uav_tick"] =
+      uav_ticks > 0 ? static_cast<double>(tile_samples) / static_cast<double>(uav_ticks) : 0.0;
+  nlohmann::json series = nlohmann::json::array();
+  for (const auto& [t, c] : r.coverage_series()) series.push_back({t, c});
+  j["coverage_series"] = series;
+  return j;
+}
+
+bool write_field(const std::string& path, const core::MapGeometry& geo, const FieldReader& value) {
+  FILE* f = std::fopen(path.c_str(), "w");
+  if (f == nullptr) return false;
+  std::fprintf(f, "# pheromesh final field %d x %d\n", geo.width(), geo.height());
+  for (int l = 0; l < core::kLayerCount; ++l) {
+    std::fprintf(f, "layer %s\n", core::layer_name(static_cast<core::Layer>(l)));
+    for (int32_t y = 0; y < geo.height(); ++y) {
+      for (int32_t x = 0; x < geo.width(); ++x) std::fprintf(f, x == 0 ? "%.9g" : " %.9g", static_cast<double>(value(l, {x, y})));
+      std::fputc('\n', f);
+    }
+  }
+  return std::fclose(f) == 0;
+}
+
+bool write_json(const std::string& dir, const std::string& file, const nlohmann::json& j, std::string& error) {
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  const std::string path = (std::filesystem::path(dir) / file).string();
+  std::ofstream out(path);
+  out << j.dump(2) << "\n";
+  if (!out) {
+    error = "cannot write " + path;
+    return false;
+  }
+  return true;
+}
+
+}  // namespace pheromesh::runtime
