@@ -7,6 +7,7 @@
 #include <cstdio>
 
 #include "launcher.hpp"
+#include "experiment_command.hpp"
 #include "sim_command.hpp"
 #include "pheromesh/bus/bus.hpp"
 #include "pheromesh/core/scenario.hpp"
@@ -89,6 +90,14 @@ int main(int argc, char** argv) {
   sim->add_option("--out", so.out_dir, "Output folder")->capture_default_str();
   sim->add_flag("--quiet", so.quiet, "No progress lines");
 
+  cli::ExperimentOptions eo;
+  auto* ex = app.add_subcommand("experiment", "Run one of the papers' experiments as Monte Carlo with the simulator and "
+                                              "write a report (Markdown + CSV + SVG) with our numbers beside the paper's");
+  ex->add_option("NAME", eo.name, "Experiment (see --list)");
+  ex->add_flag("--list", eo.list, "List the experiments");
+  ex->add_option("--runs", eo.runs, "Monte Carlo runs (default: the paper's count)");
+  ex->add_option("--out", eo.out_dir, "Output folder (default out/experiments/NAME)");
+
   CLI11_PARSE(app, argc, argv);
   auto logger = spdlog::stderr_color_mt("pheromesh");
   logger->set_pattern("%H:%M:%S.%e %^%-5l%$ [%n] %v");
@@ -97,6 +106,7 @@ int main(int argc, char** argv) {
 
   if (v->parsed()) return validate(validate_path);
   if (sim->parsed()) return cli::run_sim(so);
+  if (ex->parsed()) return cli::run_experiment_command(eo);
   try {
     return cli::Launcher(ro).run();
   } catch (const std::exception& e) {

@@ -57,11 +57,16 @@ void RunRecorder::on_region_departed(RegionId r) { departed_regions_[r] = true; 
 
 void RunRecorder::sample_coverage() { coverage_series_.emplace_back(max_tick_, coverage_.coverage()); }
 
-std::vector<uint32_t> RunRecorder::revisit_response_ticks() const {
+std::vector<TargetEventMsg> RunRecorder::revisit_events() const {
   std::vector<TargetEventMsg> sorted = revisits_;
   std::sort(sorted.begin(), sorted.end(), [](const auto& a, const auto& b) {
     return std::tie(a.tick, a.region, a.cell.y, a.cell.x) < std::tie(b.tick, b.region, b.cell.y, b.cell.x);
   });
+  return sorted;
+}
+
+std::vector<uint32_t> RunRecorder::revisit_response_ticks() const {
+  const std::vector<TargetEventMsg> sorted = revisit_events();
   std::vector<uint32_t> out;
   out.reserve(sorted.size());
   for (const auto& e : sorted) out.push_back(e.response_ticks);

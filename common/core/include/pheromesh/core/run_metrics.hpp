@@ -51,6 +51,8 @@ class RunRecorder {
   // Revisit response times ordered by (tick, region, y, x): independent of
   // the order events arrived in.
   [[nodiscard]] std::vector<uint32_t> revisit_response_ticks() const;
+  // The revisit events themselves, in the same order.
+  [[nodiscard]] std::vector<TargetEventMsg> revisit_events() const;
   [[nodiscard]] const std::vector<std::pair<uint32_t, double>>& coverage_series() const { return coverage_series_; }
   [[nodiscard]] uint64_t samples_rejected() const { return samples_rejected_; }
   [[nodiscard]] uint64_t deposits_sent() const;

@@ -1,0 +1,17 @@
+#pragma once
+#include <cstdint>
+#include <string>
+
+namespace pheromesh::cli {
+
+struct ExperimentOptions {
+  std::string name;
+  uint32_t runs = 0;  // 0: the paper's run count
+  std::string out_dir;  // default out/experiments/NAME
+  bool list = false;
+};
+
+// `pheromesh experiment`: list, or run one experiment and write its report.
+int run_experiment_command(const ExperimentOptions& o);
+
+}  // namespace pheromesh::cli

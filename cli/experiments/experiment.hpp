@@ -1,0 +1,66 @@
+// `pheromesh experiment`: the papers' experiments run as Monte Carlo, with our
+// numbers beside the paper's. Each experiment returns a Report; the runner
+// writes it as Markdown + CSV + SVG plots.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace pheromesh::cli::experiments {
+
+// Called as runs complete, for the progress bar.
+using Progress = std::function<void(uint32_t done, uint32_t total)>;
+
+struct Row {
+  std::string metric;          // "iterations to acquire target 1"
+  std::optional<double> paper;  // the paper's number, if it gives one
+  std::vector<double> ours;    // one sample per run (a single value for deterministic rows)
+  std::string unit;            // "tick", "s", "km", ...
+  std::string note;            // why we differ, where the number comes from, ...
+};
+
+struct Series {
+  std::string name;
+  std::vector<std::pair<double, double>> points;  // (x, y)
+};
+
+struct Plot {
+  std::string file;  // "fig4a.svg"
+  std::string title, x_label, y_label;
+  std::vector<Series> series;
+};
+
+struct Report {
+  std::string title;     // "Shao 2020 Fig. 4a — target acquisition, 50x50"
+  std::string source;    // where in the paper
+  std::string setup;     // what we ran (scenario, runs, seeds)
+  std::vector<Row> rows;
+  std::vector<Plot> plots;
+  std::vector<std::string> csv_header;               // raw per-run data
+  std::vector<std::vector<std::string>> csv_rows;
+  std::vector<std::string> notes;                    // choices and differences, one paragraph each
+};
+
+struct Experiment {
+  std::string name;         // "shao-fig4a"
+  std::string description;  // one line
+  uint32_t paper_runs = 1;  // run count the paper used (the default)
+  std::function<Report(uint32_t runs, const Progress& progress)> run;
+};
+
+// Every experiment, by family.
+std::vector<Experiment> shao_experiments();
+std::vector<Experiment> all_experiments();
+
+// Writes OUT/report.md, OUT/results.csv and the plots. Returns false with a
+// message on I/O failure.
+bool write_report(const Report& r, const std::string& out_dir, double wall_seconds, std::string& error);
+
+// mean and sample standard deviation
+double mean(const std::vector<double>& v);
+double stddev(const std::vector<double>& v);
+
+}  // namespace pheromesh::cli::experiments

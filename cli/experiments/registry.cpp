@@ -1,0 +1,13 @@
+#include "experiment.hpp"
+
+namespace pheromesh::cli::experiments {
+
+std::vector<Experiment> all_experiments() {
+  std::vector<Experiment> all;
+  for (auto family : {shao_experiments}) {
+    for (auto& e : family()) all.push_back(std::move(e));
+  }
+  return all;
+}
+
+}  // namespace pheromesh::cli::experiments
