@@ -5,6 +5,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <array>
 #include <chrono>
 #include <cstdio>
@@ -285,6 +286,23 @@ TEST(Lockstep, RunOverDdsGivesTheSimulatorsNumbersOnTheSmallScenario) {
 
 TEST(Lockstep, RunOverDdsGivesTheSimulatorsNumbersOnTheShaoScenario) {
   expect_lockstep_matches_sim("shao2020-50x50.textproto", "--uavs 5 --ticks 150 --seed 4", 30, "lockstep-shao");
+}
+
+TEST(Experiment, ListNamesEveryExperimentAndARunWritesAReportBesideThePapersNumbers) {
+  const Output l = run(kBin + "/pheromesh experiment --list");
+  ASSERT_EQ(l.exit_code, 0) << l.text;
+  EXPECT_NE(l.text.find("shao-50x50"), std::string::npos) << l.text;
+  const std::string out = out_dir("experiment");
+  const Output e = run(kBin + "/pheromesh experiment shao-50x50 --runs 2 --out " + out);
+  ASSERT_EQ(e.exit_code, 0) << e.text;
+  const std::string md = slurp(out + "/report.md");
+  EXPECT_NE(md.find("| iterations to acquire target 1 [iteration] | 35.83 |"), std::string::npos) << md;
+  EXPECT_NE(slurp(out + "/fig4a.svg").find("<polyline"), std::string::npos);
+  const std::string csv = slurp(out + "/results.csv");
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 3);  // header + 2 runs
+  const Output bad = run(kBin + "/pheromesh experiment no-such-thing");
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.text.find("--list"), std::string::npos);
 }
 
 TEST(BadInput, MalformedSamplesAreRejectedAndCountedAndNothingCrashes) {

@@ -10,19 +10,11 @@
 
 #include <Eigen/LU>
 
+#include "pheromesh/core/angles.hpp"
+
 namespace pheromesh::core {
 
 namespace {
-
-constexpr double kTwoPi = 2.0 * std::numbers::pi;
-
-double wrap_two_pi(double a) {
-  double w = std::fmod(a, kTwoPi);
-  if (w < 0.0) {
-    w += kTwoPi;
-  }
-  return w >= kTwoPi ? 0.0 : w;
-}
 
 // sinc(x) = sin x / x and its derivative, stable near 0 (Taylor terms).
 double sinc(double x) { return std::abs(x) < 1e-4 ? 1.0 - x * x / 6.0 : std::sin(x) / x; }

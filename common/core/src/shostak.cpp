@@ -7,19 +7,11 @@
 #include <limits>
 #include <numbers>
 
+#include "pheromesh/core/angles.hpp"
+
 namespace pheromesh::core {
 
 namespace {
-
-constexpr double kTwoPi = 2.0 * std::numbers::pi;
-
-double wrap_two_pi(double a) {
-  double w = std::fmod(a, kTwoPi);
-  if (w < 0.0) {
-    w += kTwoPi;
-  }
-  return w >= kTwoPi ? 0.0 : w;  // fmod of a value just below 0 can round up to 2π
-}
 
 // Standard normal by Box-Muller (Rng has no distributions, by design).
 double standard_normal(Rng& rng) {
