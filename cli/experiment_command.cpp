@@ -27,8 +27,8 @@ void draw_progress(const std::string& name, uint32_t done, uint32_t total, doubl
 int run_experiment_command(const ExperimentOptions& o) {
   const auto all = experiments::all_experiments();
   if (o.list || o.name.empty()) {
-    std::printf("%-18s %-6s %s\n", "NAME", "RUNS", "WHAT");
-    for (const auto& e : all) std::printf("%-18s %-6u %s\n", e.name.c_str(), e.paper_runs, e.description.c_str());
+    std::printf("%-22s %-6s %s\n", "NAME", "RUNS", "WHAT");
+    for (const auto& e : all) std::printf("%-22s %-6u %s\n", e.name.c_str(), e.paper_runs, e.description.c_str());
     if (!o.list) {
       std::fprintf(stderr, "\nname an experiment: pheromesh experiment NAME [--runs N] [--out DIR]\n");
       return 2;

@@ -53,6 +53,9 @@ struct Experiment {
 
 // Every experiment, by family.
 std::vector<Experiment> shao_experiments();
+std::vector<Experiment> duan_experiments();
+std::vector<Experiment> ravankar_experiments();
+std::vector<Experiment> shostak_experiments();
 std::vector<Experiment> all_experiments();
 
 // Writes OUT/report.md, OUT/results.csv and the plots. Returns false with a
