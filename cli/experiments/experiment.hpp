@@ -54,6 +54,7 @@ struct Experiment {
 // Every experiment, by family.
 std::vector<Experiment> shao_experiments();
 std::vector<Experiment> duan_experiments();
+std::vector<Experiment> liu_experiments();
 std::vector<Experiment> ravankar_experiments();
 std::vector<Experiment> shostak_experiments();
 std::vector<Experiment> all_experiments();
