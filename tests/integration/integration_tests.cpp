@@ -189,7 +189,12 @@ TEST(Swarm, AProcessThatDiesUnexpectedlyIsReportedAsACrash) {
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
   }
   ASSERT_GT(victim, 0);
-  std::this_thread::sleep_for(std::chrono::seconds(1));
+  // Kill it mid-flight: once it has started flying and a few ticks passed.
+  const auto flying_deadline = Clock::now() + std::chrono::seconds(30);
+  while (slurp(out + "/logs/uav-2.log").find("starts at") == std::string::npos && Clock::now() < flying_deadline) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  ASSERT_NE(slurp(out + "/logs/uav-2.log").find("starts at"), std::string::npos);
   ASSERT_EQ(kill(victim, SIGKILL), 0);
   const int rc = wait_exit(launcher.pid, std::chrono::seconds(90));
   EXPECT_EQ(rc, 1) << slurp(launcher.out_path);

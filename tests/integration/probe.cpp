@@ -87,8 +87,6 @@ int hostile(bus::Bus& b, uint32_t region, uint32_t map_width) {
   std::printf("hostile deposits %d valid 1 tiles %d oversized_written %d refused %llu\n", sent, tiles,
               oversized_written ? 1 : 0, static_cast<unsigned long long>(b.stats().writes_refused));
   std::fflush(stdout);
-  // Stay a little so reliable delivery completes before the participant goes.
-  std::this_thread::sleep_for(std::chrono::milliseconds(500));
   return 0;
 }
 

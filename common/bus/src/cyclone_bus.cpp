@@ -286,7 +286,7 @@ class CycloneBus final : public Bus {
     ground_tiles_ = make_reader(TopicKind::Tile, tile_topic_, {"t.*"});
     QosPtr q = topic_qos(TopicKind::UavState, opt_.liveliness_lease, true);
     dds_qset_history(q.get(), DDS_HISTORY_KEEP_ALL, 0);
-    ground_uavs_ = make_reader_qos(TopicKind::UavState, uav_topic_, {kGroundPartition}, q.get());
+    ground_uavs_ = make_reader_qos(uav_topic_, {kGroundPartition}, q.get());
     detection_reader_ = make_reader(TopicKind::Detection, detection_topic_, {kGroundPartition});
     event_reader_ = make_reader(TopicKind::TargetEvent, event_topic_, {kGroundPartition});
     health_reader_ = make_reader(TopicKind::Health, health_topic_, {kGroundPartition});
@@ -467,8 +467,7 @@ class CycloneBus final : public Bus {
     return make_reader_on(make_subscriber(partitions), k, topic);
   }
 
-  dds_entity_t make_reader_qos(TopicKind /*k*/, dds_entity_t topic, const std::vector<std::string>& partitions,
-                               const dds_qos_t* q) {
+  dds_entity_t make_reader_qos(dds_entity_t topic, const std::vector<std::string>& partitions, const dds_qos_t* q) {
     return PHM_DDS(dds_create_reader(make_subscriber(partitions), topic, q, nullptr));
   }
 
