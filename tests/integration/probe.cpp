@@ -77,16 +77,23 @@ int hostile(bus::Bus& b, uint32_t region, uint32_t map_width) {
   deposit(6, 0, {1, 1}, 1.0F, region);                                        // a valid one ...
   deposit(6, 0, {1, 1}, 1.0F, region);                                        // ... replayed
   // Tiles: declared 2 x 2 but 9 values; a tile outside the map; NaN values.
+  // Each on an instance (layer, tx, ty) no place agent writes, so a place
+  // agent's next tile cannot replace it in a KEEP_LAST(1) reader before it is
+  // read.
   int tiles = 0;
-  tiles += b.publish_tile({0, {0, 0}, 1, region, 2, 2, std::vector<float>(9, 1.0F)}) ? 1 : 0;
+  tiles += b.publish_tile({200, {0, 0}, 1, region, 2, 2, std::vector<float>(9, 1.0F)}) ? 1 : 0;
   tiles += b.publish_tile({0, {4000, 4000}, 1, region, 1, 1, {1.0F}}) ? 1 : 0;
-  tiles += b.publish_tile({1, {0, 0}, 1, region, 1, 1, {std::numeric_limits<float>::quiet_NaN()}}) ? 1 : 0;
+  tiles += b.publish_tile({201, {0, 0}, 1, region, 1, 1, {std::numeric_limits<float>::quiet_NaN()}}) ? 1 : 0;
   // Over the IDL bound: the bus must refuse to write it.
   const bool oversized_written = b.publish_tile({0, {0, 1}, 1, region, 40, 40, std::vector<float>(1600, 0.0F)});
   b.flush(std::chrono::seconds(5));
   std::printf("hostile deposits %d valid 1 tiles %d oversized_written %d refused %llu\n", sent, tiles,
               oversized_written ? 1 : 0, static_cast<unsigned long long>(b.stats().writes_refused));
   std::fflush(stdout);
+  // Acknowledged samples are in the readers' caches, but deleting our writers
+  // at exit disposes their instances, which can replace a sample the ground
+  // station has not taken yet (it polls every 20 ms). Stay a moment.
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));
   return 0;
 }
 
