@@ -101,6 +101,11 @@ std::string pheromesh_run(const std::string& scenario, const std::string& out, i
          std::to_string(domain) + " --progress 0.5 " + extra;
 }
 
+// `pheromesh run` in the background; its output goes to OUT.txt beside OUT.
+Background start_run(const std::string& scenario, const std::string& out, int domain, const std::string& extra) {
+  return start({"/bin/sh", "-c", pheromesh_run(scenario, out, domain, extra) + " 2>&1"}, out + ".txt");
+}
+
 // Coverage recorded at the last progress line at or before `tick`.
 double coverage_at(const json& m, uint32_t tick) {
   double c = 0;
@@ -168,9 +173,7 @@ TEST(Swarm, KillingAThirdOfTheUavsCausesNoCrashAndCoverageKeepsRising) {
 TEST(Swarm, AProcessThatDiesUnexpectedlyIsReportedAsACrash) {
   const std::string out = out_dir("swarm-crash");
   const int domain = 23;
-  const Background launcher = start(
-      {"/bin/sh", "-c", pheromesh_run("small-test.textproto", out, domain, "--uavs 3 --ticks 150 --rate 25") + " 2>&1"},
-      out + "/../swarm-crash.txt");
+  const Background launcher = start_run("small-test.textproto", out, domain, "--uavs 3 --ticks 150 --rate 25");
   // Find uav-2 of this run (its command line carries our domain) and kill it
   // from outside the launcher.
   pid_t victim = -1;
@@ -313,9 +316,7 @@ TEST(Experiment, ListNamesEveryExperimentAndARunWritesAReportBesideThePapersNumb
 TEST(BadInput, MalformedSamplesAreRejectedAndCountedAndNothingCrashes) {
   const std::string out = out_dir("hostile");
   const int domain = 25;
-  const Background swarm = start(
-      {"/bin/sh", "-c", pheromesh_run("small-test.textproto", out, domain, "--uavs 2 --ticks 150 --rate 25") + " 2>&1"},
-      out + "/../hostile-run.txt");
+  const Background swarm = start_run("small-test.textproto", out, domain, "--uavs 2 --ticks 150 --rate 25");
   const Output h = run(kBin + "/pheromesh-test-probe --domain " + std::to_string(domain) + " hostile --region 0 --map-width 30");
   ASSERT_EQ(h.exit_code, 0) << h.text;
   // 6 deposits written (5 malformed or replayed, 1 valid), 3 malformed tiles
