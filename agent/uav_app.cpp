@@ -16,14 +16,15 @@ UavApp::UavApp(UavConfig cfg, core::ScenarioConfig scenario, std::unique_ptr<bus
       world_(geo_, scenario_.obstacles, scenario_.targets),
       bus_(std::move(bus)),
       log_(spdlog::default_logger()),
-      core_(scenario_, world_, cfg_.id) {}
+      core_(scenario_, world_, cfg_.id, cfg_.common.lockstep()),
+      layers_(static_cast<int>(core::policy_traits(scenario_).layers.size())) {}
 
 void UavApp::receive() {
   tile_inbox_.clear();
   bus_->take_tiles(tile_inbox_);
   tile_samples_received_ += tile_inbox_.size();
   for (const auto& t : tile_inbox_) {
-    if (auto reason = core::check_tile(t, geo_)) {
+    if (auto reason = core::check_tile(t, geo_, layers_)) {
       if (++samples_rejected_ <= 3) log_->warn("dropped tile ({},{}) layer {}: {}", t.tile.tx, t.tile.ty, t.layer, *reason);
       continue;
     }
@@ -38,9 +39,18 @@ void UavApp::receive() {
     }
     core_.receive_neighbour(s);
   }
+  broadcast_inbox_.clear();
+  bus_->take_broadcasts(broadcast_inbox_);
+  for (const auto& b : broadcast_inbox_) {
+    if (auto reason = core::check_broadcast(b)) {
+      if (++samples_rejected_ <= 3) log_->warn("dropped broadcast of uav {}: {}", b.uav, *reason);
+      continue;
+    }
+    core_.receive_broadcast(b);
+  }
 }
 
-void UavApp::wait_for_tiles(uint32_t tick) {
+void UavApp::wait_for_tick(uint32_t tick, const core::ClockMsg& announced) {
   const auto deadline = Clock::now() + std::chrono::seconds(30);
   for (;;) {
     receive();
@@ -49,9 +59,11 @@ void UavApp::wait_for_tiles(uint32_t tick) {
       const auto oldest = core_.tiles().oldest_tick(t);
       missing += (!oldest || *oldest < tick) ? 1 : 0;
     }
-    if (missing == 0) return;
+    const bool peers = core_.holds_tick(tick, announced.occupancy, announced.broadcasts);
+    if (missing == 0 && peers) return;
     if (Clock::now() > deadline || runtime::shutdown_requested()) {
-      log_->error("tick {}: {} neighbourhood tiles did not arrive; deciding without them", tick, missing);
+      log_->error("tick {}: {} neighbourhood tiles{} did not arrive; deciding without them", tick, missing,
+                  peers ? "" : " and some neighbour states or broadcasts");
       return;
     }
     std::this_thread::sleep_for(std::chrono::microseconds(200));
@@ -71,13 +83,14 @@ void UavApp::step(uint32_t tick, bool finished) {
       }
     }
     for (const auto& d : out_.detections) bus_->publish_detection(d);
+    if (out_.broadcast) bus_->publish_broadcast(*out_.broadcast);
     bus_->set_neighbourhood(core_.neighbourhood());
   }
-  core::UavStateMsg s = out_.state;
+  core::UavStateMsg s = core_.last_state();
   s.deposits_sent = deposits_sent_;
   s.tile_samples_received = tile_samples_received_;
   s.finished = finished;
-  bus_->publish_uav_state(s, geo_.tile_of(core_.cell()));
+  bus_->publish_uav_state(s, geo_.tile_of(core::state_cell(s)));
 }
 
 void UavApp::wait_for_place_agents() {
@@ -122,7 +135,7 @@ int UavApp::run_lockstep(uint32_t ticks) {
       // UAV phase of tick k: read the tiles of place tick k-1, decide, move,
       // deposit; acknowledged deposits are in the place agents' queues before
       // we report done.
-      if (c.tick > 0) wait_for_tiles(c.tick - 1);
+      if (c.tick > 0) wait_for_tick(c.tick - 1, c);
       step(c.tick, false);
       bus_->flush(std::chrono::seconds(10));
       bus_->publish_phase_done({core::process_key(core::kRoleUav, cfg_.id), c.tick, c.phase});
@@ -138,9 +151,10 @@ int UavApp::run_lockstep(uint32_t ticks) {
 int UavApp::run() {
   const uint32_t ticks = scenario_.ticks;
   bus_->set_neighbourhood(core_.neighbourhood());
+  bus_->subscribe_broadcasts();
   wait_for_place_agents();
-  log_->info("uav {} starts at ({},{}) heading {} for {} ticks, {} clock, over {}", cfg_.id, core_.cell().x,
-             core_.cell().y, static_cast<int>(core_.heading()), ticks, cfg_.common.clock, bus_->vendor());
+  log_->info("uav {} ({}) starts at ({},{}) for {} ticks, {} clock, over {}", cfg_.id, core::policy_name(scenario_.policy),
+             core_.cell().x, core_.cell().y, ticks, cfg_.common.clock, bus_->vendor());
   const int last = cfg_.common.lockstep() ? run_lockstep(ticks) : run_realtime(ticks);
   step(static_cast<uint32_t>(last), true);
   const bool acked = bus_->flush(std::chrono::seconds(5));

@@ -35,8 +35,9 @@ class UavApp {
   void wait_for_place_agents();
   void receive();
   // Lockstep: wait (bounded) until every neighbourhood tile of place tick
-  // `tick` has arrived.
-  void wait_for_tiles(uint32_t tick);
+  // `tick` has arrived, and what the clock announced of UAV tick `tick` (the
+  // states of the UAVs over those tiles, the broadcasts).
+  void wait_for_tick(uint32_t tick, const core::ClockMsg& announced);
   void step(uint32_t tick, bool finished);
   int run_realtime(uint32_t ticks);
   int run_lockstep(uint32_t ticks);
@@ -55,6 +56,8 @@ class UavApp {
   uint64_t tile_samples_received_ = 0;
   std::vector<core::TileMsg> tile_inbox_;
   std::vector<core::UavStateMsg> state_inbox_;
+  std::vector<core::BroadcastMsg> broadcast_inbox_;
+  int layers_ = 0;
 };
 
 }  // namespace pheromesh::agent

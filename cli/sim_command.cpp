@@ -7,6 +7,7 @@
 #include <filesystem>
 
 #include "pheromesh/core/scenario.hpp"
+#include "pheromesh/core/policy.hpp"
 #include "pheromesh/core/simulator.hpp"
 #include "pheromesh/runtime/report.hpp"
 
@@ -47,7 +48,7 @@ int run_sim(const SimOptions& o) {
     return 5;
   }
   const std::string field = (std::filesystem::path(o.out_dir) / "final_field.txt").string();
-  if (!runtime::write_field(field, geo, [&](int layer, core::Cell c) { return sim.field_value(layer, c); })) {
+  if (!runtime::write_field(field, geo, core::policy_traits(sim.scenario()).layers, [&](int layer, core::Cell c) { return sim.field_value(layer, c); })) {
     spdlog::error("cannot write {}", field);
     return 5;
   }

@@ -8,6 +8,8 @@
 #include <limits>
 #include <thread>
 
+#include "pheromesh/core/policy.hpp"
+#include "pheromesh/core/uav_core.hpp"
 #include "pheromesh/runtime/report.hpp"
 
 namespace pheromesh::groundstation {
@@ -21,9 +23,19 @@ GroundApp::GroundApp(GroundConfig cfg, core::ScenarioConfig scenario, std::uniqu
       world_(geo_, scenario_.obstacles, scenario_.targets),
       bus_(std::move(bus)),
       log_(spdlog::default_logger()),
-      rec_(scenario_, world_) {
+      rec_(scenario_, world_),
+      layers_(static_cast<int>(core::policy_traits(scenario_).layers.size())) {
   if (cfg_.expect_uavs == 0) cfg_.expect_uavs = scenario_.uavs;
 }
+
+namespace {
+// Ticks of lockstep bookkeeping kept by the ground station.
+constexpr uint32_t kKeepTicks = 4;
+template <typename M>
+void keep_recent(M& by_tick) {
+  while (by_tick.size() > kKeepTicks) by_tick.erase(by_tick.begin());
+}
+}  // namespace
 
 void GroundApp::poll() {
   states_.clear();
@@ -36,6 +48,20 @@ void GroundApp::poll() {
     }
     if (was_departed && !s.finished) log_->info("uav {} is back at tick {}", s.uav, s.tick);
     departed_uavs_.erase(s.uav);
+    if (!s.finished) {
+      positions_[s.tick][s.uav] = geo_.tile_of(core::state_cell(s));
+      keep_recent(positions_);
+    }
+  }
+  broadcasts_.clear();
+  bus_->take_broadcasts(broadcasts_);
+  for (const auto& b : broadcasts_) {
+    if (core::check_broadcast(b)) {
+      rec_.count_rejected_sample();
+      continue;
+    }
+    broadcasters_[b.tick].insert(b.uav);
+    keep_recent(broadcasters_);
   }
   std::vector<uint32_t> gone;
   bus_->take_departed_uavs(gone);
@@ -65,7 +91,7 @@ void GroundApp::poll() {
   tiles_.clear();
   bus_->take_tiles(tiles_);
   for (auto& t : tiles_) {
-    if (auto reason = core::check_tile(t, geo_)) {
+    if (auto reason = core::check_tile(t, geo_, layers_)) {
       rec_.count_rejected_sample();
       if (rec_.samples_rejected() <= 3) log_->warn("dropped tile ({},{}): {}", t.tile.tx, t.tile.ty, *reason);
       continue;
@@ -106,8 +132,27 @@ void GroundApp::progress_if_due() {
   next_progress_ += std::chrono::milliseconds(static_cast<int64_t>(cfg_.progress_period_s * 1000));
 }
 
+core::ClockMsg GroundApp::announce(uint32_t tick, core::ClockPhase phase) const {
+  core::ClockMsg m;
+  m.tick = tick;
+  m.phase = static_cast<uint8_t>(phase);
+  if (phase != core::ClockPhase::Uav || tick == 0) return m;
+  // Every UAV's state of tick-1 is here: each UAV flushed it before it
+  // reported the phase done.
+  if (auto it = positions_.find(tick - 1); it != positions_.end()) {
+    std::map<std::pair<int32_t, int32_t>, uint32_t> count;
+    for (const auto& [uav, t] : it->second) ++count[{t.tx, t.ty}];
+    for (const auto& [t, n] : count) m.occupancy.push_back({{t.first, t.second}, n});
+  }
+  if (auto it = broadcasters_.find(tick - 1); it != broadcasters_.end()) {
+    m.broadcasts = static_cast<uint32_t>(it->second.size());
+  }
+  return m;
+}
+
 bool GroundApp::run_phase(uint32_t tick, core::ClockPhase phase) {
-  bus_->publish_clock({tick, static_cast<uint8_t>(phase)});
+  poll();
+  bus_->publish_clock(announce(tick, phase));
   const bool uav_phase = phase == core::ClockPhase::Uav;
   const uint32_t role = uav_phase ? core::kRoleUav : core::kRolePlace;
   const uint32_t count = uav_phase ? cfg_.expect_uavs : geo_.region_count();
@@ -141,7 +186,7 @@ bool GroundApp::conduct() {
     ok = run_phase(k, core::ClockPhase::Uav) && run_phase(k, core::ClockPhase::Place);
     progress_if_due();
   }
-  bus_->publish_clock({ticks, static_cast<uint8_t>(core::ClockPhase::Stop)});
+  bus_->publish_clock(announce(ticks, core::ClockPhase::Stop));
   bus_->flush(std::chrono::seconds(5));
   return ok;
 }
@@ -161,6 +206,14 @@ int GroundApp::finish() {
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
   print_progress();
+  const auto field_value = [&](int layer, core::Cell c) {
+    const core::TileCoord t = geo_.tile_of(c);
+    auto it = tiles_latest_.find({layer, {t.tx, t.ty}});
+    if (it == tiles_latest_.end()) return std::numeric_limits<float>::quiet_NaN();
+    const core::Rect r = geo_.tile_rect(t);
+    return it->second.values[static_cast<std::size_t>((c.y - r.y0) * r.w + (c.x - r.x0))];
+  };
+  rec_.set_field_summary(core::field_summary(scenario_, field_value));
   std::string error;
   const runtime::RunInfo info{bus_->vendor(), cfg_.common.clock, cfg_.expect_uavs};
   if (!runtime::write_json(cfg_.out_dir, "metrics.json", runtime::metrics_json(rec_, info), error)) {
@@ -168,13 +221,7 @@ int GroundApp::finish() {
     return 5;
   }
   const std::string field_path = (std::filesystem::path(cfg_.out_dir) / "final_field.txt").string();
-  const bool field_ok = runtime::write_field(field_path, geo_, [&](int layer, core::Cell c) {
-    const core::TileCoord t = geo_.tile_of(c);
-    auto it = tiles_latest_.find({layer, {t.tx, t.ty}});
-    if (it == tiles_latest_.end()) return std::numeric_limits<float>::quiet_NaN();
-    const core::Rect r = geo_.tile_rect(t);
-    return it->second.values[static_cast<std::size_t>((c.y - r.y0) * r.w + (c.x - r.x0))];
-  });
+  const bool field_ok = runtime::write_field(field_path, geo_, core::policy_traits(scenario_).layers, field_value);
   if (!field_ok) log_->error("cannot write {}", field_path);
   log_->info("wrote {}/metrics.json and final_field.txt", cfg_.out_dir);
   return 0;
@@ -182,6 +229,7 @@ int GroundApp::finish() {
 
 int GroundApp::run() {
   bus_->subscribe_ground();
+  bus_->subscribe_broadcasts();
   log_->info("ground station on domain {} over {} ({} clock): expecting {} uavs and {} place agents",
              cfg_.common.domain, bus_->vendor(), cfg_.common.clock, cfg_.expect_uavs, geo_.region_count());
   next_progress_ = Clock::now();

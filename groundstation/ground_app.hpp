@@ -43,6 +43,8 @@ class GroundApp {
   // Lockstep conductor: returns false if a phase timed out.
   bool conduct();
   bool run_phase(uint32_t tick, core::ClockPhase phase);
+  // What UAV phase `tick` produced: the UAVs over each tile, the broadcasts.
+  [[nodiscard]] core::ClockMsg announce(uint32_t tick, core::ClockPhase phase) const;
   int finish();
 
   GroundConfig cfg_;
@@ -63,6 +65,12 @@ class GroundApp {
   std::vector<core::HealthMsg> healths_;
   std::vector<core::TileMsg> tiles_;
   std::vector<core::PhaseDoneMsg> dones_;
+  std::vector<core::BroadcastMsg> broadcasts_;
+  int layers_ = 0;
+  // Lockstep bookkeeping of the last few UAV ticks: tick -> uav -> tile, and
+  // tick -> UAVs that broadcast.
+  std::map<uint32_t, std::map<uint32_t, core::TileCoord>> positions_;
+  std::map<uint32_t, std::set<uint32_t>> broadcasters_;
 };
 
 }  // namespace pheromesh::groundstation

@@ -59,7 +59,7 @@ HaloMsg good_halo(const MapGeometry& geo, RegionId region) {
 TEST(CheckDeposit, AcceptsAWellFormedMarkInsideTheOwnersRegion) {
   const MapGeometry geo = test_geometry();
   for (RegionId owner = 0; owner < geo.region_count(); ++owner) {
-    EXPECT_FALSE(check_deposit(good_mark(geo, owner), geo, owner).has_value()) << owner;
+    EXPECT_FALSE(check_deposit(good_mark(geo, owner), geo, owner, kLayerCount).has_value()) << owner;
   }
 }
 
@@ -67,26 +67,26 @@ TEST(CheckDeposit, RejectsNonFiniteNegativeOrHugeAmounts) {
   const MapGeometry geo = test_geometry();
   DepositMsg d = good_mark(geo, 0);
   d.amount = kNaN;
-  expect_reason(check_deposit(d, geo, 0), "not finite");
+  expect_reason(check_deposit(d, geo, 0, kLayerCount), "not finite");
   d.amount = kInf;
-  expect_reason(check_deposit(d, geo, 0), "not finite");
+  expect_reason(check_deposit(d, geo, 0, kLayerCount), "not finite");
   d.amount = -kInf;
-  expect_reason(check_deposit(d, geo, 0), "not finite");
+  expect_reason(check_deposit(d, geo, 0, kLayerCount), "not finite");
   d.amount = -0.5F;
-  expect_reason(check_deposit(d, geo, 0), "amount");
+  expect_reason(check_deposit(d, geo, 0, kLayerCount), "amount");
   d.amount = 2e6F;
-  expect_reason(check_deposit(d, geo, 0), "amount");
+  expect_reason(check_deposit(d, geo, 0, kLayerCount), "amount");
   d.amount = 0.0F;
-  EXPECT_FALSE(check_deposit(d, geo, 0).has_value());
+  EXPECT_FALSE(check_deposit(d, geo, 0, kLayerCount).has_value());
 }
 
 TEST(CheckDeposit, RejectsAnUnknownKind) {
   const MapGeometry geo = test_geometry();
   DepositMsg d = good_mark(geo, 0);
   d.kind = kDepositKindCount;
-  expect_reason(check_deposit(d, geo, 0), "kind");
+  expect_reason(check_deposit(d, geo, 0, kLayerCount), "kind");
   d.kind = 255;
-  expect_reason(check_deposit(d, geo, 0), "kind");
+  expect_reason(check_deposit(d, geo, 0, kLayerCount), "kind");
 }
 
 TEST(CheckDeposit, RejectsACellOutsideTheMap) {
@@ -95,7 +95,7 @@ TEST(CheckDeposit, RejectsACellOutsideTheMap) {
   d.kind = static_cast<uint8_t>(DepositKind::PathVisit);
   for (const Cell c : {Cell{-1, 0}, Cell{23, 0}, Cell{0, 20}, Cell{std::numeric_limits<int32_t>::min(), 0}}) {
     d.cell = c;
-    expect_reason(check_deposit(d, geo, 0), "outside the map");
+    expect_reason(check_deposit(d, geo, 0, kLayerCount), "outside the map");
   }
 }
 
@@ -103,11 +103,11 @@ TEST(CheckDeposit, RejectsADepositAddressedToAnotherRegion) {
   const MapGeometry geo = test_geometry();
   DepositMsg d = good_mark(geo, 0);
   d.region = 1;
-  expect_reason(check_deposit(d, geo, 0), "region");
+  expect_reason(check_deposit(d, geo, 0, kLayerCount), "region");
   d.region = 9999;
-  expect_reason(check_deposit(d, geo, 0), "region");
+  expect_reason(check_deposit(d, geo, 0, kLayerCount), "region");
   // An owner that does not exist rejects everything, without touching the geometry.
-  expect_reason(check_deposit(good_mark(geo, 0), geo, 9999), "region");
+  expect_reason(check_deposit(good_mark(geo, 0), geo, 9999, kLayerCount), "region");
 }
 
 TEST(CheckDeposit, RejectsMarksOutsideTheOwnersRegionButAcceptsNearbyPathVisits) {
@@ -117,19 +117,19 @@ TEST(CheckDeposit, RejectsMarksOutsideTheOwnersRegionButAcceptsNearbyPathVisits)
   ASSERT_TRUE(geo.in_map(outside));
   DepositMsg d = good_mark(geo, 0);
   d.cell = outside;
-  expect_reason(check_deposit(d, geo, 0), "outside region");
+  expect_reason(check_deposit(d, geo, 0, kLayerCount), "outside region");
   d.kind = static_cast<uint8_t>(DepositKind::ObstacleMark);
-  expect_reason(check_deposit(d, geo, 0), "outside region");
+  expect_reason(check_deposit(d, geo, 0, kLayerCount), "outside region");
   d.kind = static_cast<uint8_t>(DepositKind::PathVisit);
-  EXPECT_FALSE(check_deposit(d, geo, 0).has_value());
+  EXPECT_FALSE(check_deposit(d, geo, 0, kLayerCount).has_value());
 }
 
 TEST(CheckTile, AcceptsWellFormedTilesIncludingTheNarrowLastColumn) {
   const MapGeometry geo = test_geometry();
-  EXPECT_FALSE(check_tile(good_tile(geo, TileCoord{0, 0}), geo).has_value());
+  EXPECT_FALSE(check_tile(good_tile(geo, TileCoord{0, 0}), geo, kLayerCount).has_value());
   const TileMsg edge = good_tile(geo, TileCoord{4, 3});
   EXPECT_EQ(edge.width, 3);
-  EXPECT_FALSE(check_tile(edge, geo).has_value());
+  EXPECT_FALSE(check_tile(edge, geo, kLayerCount).has_value());
 }
 
 TEST(CheckTile, RejectsATileOutsideTheMap) {
@@ -137,7 +137,7 @@ TEST(CheckTile, RejectsATileOutsideTheMap) {
   TileMsg t = good_tile(geo, TileCoord{0, 0});
   for (const TileCoord c : {TileCoord{5, 0}, TileCoord{0, 4}, TileCoord{-1, 0}, TileCoord{0, -7}}) {
     t.tile = c;
-    expect_reason(check_tile(t, geo), "outside the map");
+    expect_reason(check_tile(t, geo, kLayerCount), "outside the map");
   }
 }
 
@@ -145,14 +145,14 @@ TEST(CheckTile, RejectsAnUnknownLayer) {
   const MapGeometry geo = test_geometry();
   TileMsg t = good_tile(geo, TileCoord{1, 1});
   t.layer = kLayerCount;
-  expect_reason(check_tile(t, geo), "layer");
+  expect_reason(check_tile(t, geo, kLayerCount), "layer");
 }
 
 TEST(CheckTile, RejectsOversizedValues) {
   const MapGeometry geo = test_geometry();
   TileMsg t = good_tile(geo, TileCoord{1, 1});
   t.values.assign(kMaxTileCells + 1, 0.0F);
-  expect_reason(check_tile(t, geo), "more than");
+  expect_reason(check_tile(t, geo, kLayerCount), "more than");
 }
 
 TEST(CheckTile, RejectsSizesThatDoNotMatchTheTile) {
@@ -160,19 +160,19 @@ TEST(CheckTile, RejectsSizesThatDoNotMatchTheTile) {
   TileMsg t = good_tile(geo, TileCoord{4, 0});  // 3 x 5
   t.width = 5;
   t.values.assign(25, 0.0F);
-  expect_reason(check_tile(t, geo), "does not match");
+  expect_reason(check_tile(t, geo, kLayerCount), "does not match");
   t = good_tile(geo, TileCoord{4, 0});
   t.values.pop_back();
-  expect_reason(check_tile(t, geo), "values for");
+  expect_reason(check_tile(t, geo, kLayerCount), "values for");
 }
 
 TEST(CheckTile, RejectsNonFiniteValues) {
   const MapGeometry geo = test_geometry();
   TileMsg t = good_tile(geo, TileCoord{2, 2});
   t.values[7] = kNaN;
-  expect_reason(check_tile(t, geo), "not finite");
+  expect_reason(check_tile(t, geo, kLayerCount), "not finite");
   t.values[7] = -kInf;
-  expect_reason(check_tile(t, geo), "not finite");
+  expect_reason(check_tile(t, geo, kLayerCount), "not finite");
 }
 
 TEST(CheckUavState, AcceptsPositionsWithinTheMapMargin) {

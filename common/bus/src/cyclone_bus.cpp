@@ -42,6 +42,10 @@ std::string region_partition(core::RegionId r) { return "r." + std::to_string(r)
 std::string halo_partition(core::RegionId r) { return "h." + std::to_string(r); }
 constexpr const char* kGroundPartition = "g";
 constexpr const char* kClockPartition = "c";
+constexpr const char* kBroadcastPartition = "b";
+// A UAV keeps the neighbour-state writer of a tile it left for this many
+// further states, so UAVs that subscribe to that tile late still get them.
+constexpr int kKeepLeftTileWriter = 3;
 
 struct QosDeleter {
   void operator()(dds_qos_t* q) const { dds_delete_qos(q); }
@@ -50,7 +54,7 @@ using QosPtr = std::unique_ptr<dds_qos_t, QosDeleter>;
 
 // The QoS of each pheromesh topic, described once and used by writers and
 // readers alike (reader history may be deeper: see make_reader).
-enum class TopicKind { Tile, Deposit, UavState, Detection, TargetEvent, Health, Halo, Clock, PhaseDone };
+enum class TopicKind { Tile, Deposit, UavState, UavNeighbour, Detection, TargetEvent, Health, Halo, Clock, PhaseDone, Broadcast };
 
 QosPtr topic_qos(TopicKind k, std::chrono::milliseconds lease, bool reader) {
   QosPtr q(dds_create_qos());
@@ -70,8 +74,25 @@ QosPtr topic_qos(TopicKind k, std::chrono::milliseconds lease, bool reader) {
       break;
     case TopicKind::UavState:
       // Writers keep a little history so the ground station (KEEP_ALL)
-      // receives every position; neighbours keep only the latest.
+      // receives every position.
       dds_qset_history(q.get(), DDS_HISTORY_KEEP_LAST, reader ? 1 : 64);
+      break;
+    case TopicKind::UavNeighbour:
+      // UAV states for the UAVs nearby, in the partition of the tile the UAV
+      // is over. A UAV that just subscribed to a tile still gets the last two
+      // states written there (lockstep needs the previous tick's even when
+      // the next one is already out).
+      dds_qset_durability(q.get(), DDS_DURABILITY_TRANSIENT_LOCAL);
+      dds_qset_history(q.get(), DDS_HISTORY_KEEP_LAST, reader ? 4 : 2);
+      break;
+    case TopicKind::Broadcast:
+      // Every broadcast matters; a few ticks of them for late joiners.
+      dds_qset_durability(q.get(), DDS_DURABILITY_TRANSIENT_LOCAL);
+      if (reader) {
+        dds_qset_history(q.get(), DDS_HISTORY_KEEP_ALL, 0);
+      } else {
+        dds_qset_history(q.get(), DDS_HISTORY_KEEP_LAST, 8);
+      }
       break;
     case TopicKind::Deposit:
     case TopicKind::Detection:
@@ -149,6 +170,7 @@ class CycloneBus final : public Bus {
     halo_topic_ = PHM_DDS(dds_create_topic(participant_, &pheromesh_msg_Halo_desc, "pheromesh_halo", nullptr, nullptr));
     clock_topic_ = PHM_DDS(dds_create_topic(participant_, &pheromesh_msg_ClockCommand_desc, "pheromesh_clock", nullptr, nullptr));
     done_topic_ = PHM_DDS(dds_create_topic(participant_, &pheromesh_msg_PhaseDone_desc, "pheromesh_phase_done", nullptr, nullptr));
+    broadcast_topic_ = PHM_DDS(dds_create_topic(participant_, &pheromesh_msg_Broadcast_desc, "pheromesh_broadcast", nullptr, nullptr));
   }
 
   ~CycloneBus() override {
@@ -174,7 +196,8 @@ class CycloneBus final : public Bus {
   }
 
   bool publish_deposit(const core::DepositMsg& m) override {
-    const pheromesh_msg_Deposit s{m.uav, m.seq, m.tick, m.region, m.kind, m.cell.x, m.cell.y, m.amount};
+    const pheromesh_msg_Deposit s{m.uav,    m.seq,    m.tick,  m.region, m.kind,
+                                  m.layer,  m.cell.x, m.cell.y, m.amount, {m.spread[0], m.spread[1], m.spread[2]}};
     return write(writer(TopicKind::Deposit, deposit_topic_, region_partition(m.region)), &s);
   }
 
@@ -185,11 +208,53 @@ class CycloneBus final : public Bus {
     // neighbours read the writer of the tile the UAV is over.
     const bool ground = write(writer(TopicKind::UavState, uav_topic_, kGroundPartition), &s);
     const std::string part = tile_partition(over);
-    if (part != uav_tile_partition_) {
-      if (!uav_tile_partition_.empty()) drop_writer(TopicKind::UavState, uav_tile_partition_);
-      uav_tile_partition_ = part;
+    // Writers of tiles left behind are deleted a few states later.
+    for (auto it = left_tiles_.begin(); it != left_tiles_.end();) {
+      if (it->first != part && ++it->second > kKeepLeftTileWriter) {
+        drop_writer(TopicKind::UavNeighbour, it->first);
+        it = left_tiles_.erase(it);
+      } else {
+        ++it;
+      }
     }
-    return write(writer(TopicKind::UavState, uav_topic_, part), &s) && ground;
+    left_tiles_[part] = 0;
+    return write(writer(TopicKind::UavNeighbour, uav_topic_, part), &s) && ground;
+  }
+
+  bool publish_broadcast(const core::BroadcastMsg& m) override {
+    if (m.values.size() > core::kMaxBroadcastValues) return refuse("broadcast values", m.values.size());
+    pheromesh_msg_Broadcast s{};
+    s.uav = m.uav;
+    s.tick = m.tick;
+    s.kind = m.kind;
+    s.values._buffer = const_cast<double*>(m.values.data());  // NOLINT: written, never freed (_release = false)
+    s.values._length = static_cast<uint32_t>(m.values.size());
+    s.values._maximum = static_cast<uint32_t>(m.values.size());
+    s.values._release = false;
+    return write(writer(TopicKind::Broadcast, broadcast_topic_, kBroadcastPartition), &s);
+  }
+
+  void subscribe_broadcasts() override {
+    broadcast_reader_ = make_reader(TopicKind::Broadcast, broadcast_topic_, {kBroadcastPartition});
+  }
+
+  void take_broadcasts(std::vector<core::BroadcastMsg>& out) override {
+    if (broadcast_reader_ == 0) return;
+    take_all<pheromesh_msg_Broadcast>(
+        broadcast_reader_,
+        [&](const pheromesh_msg_Broadcast& s) {
+          if (s.values._length > core::kMaxBroadcastValues || (s.values._length > 0 && s.values._buffer == nullptr)) {
+            ++stats_.samples_dropped;
+            return;
+          }
+          core::BroadcastMsg b;
+          b.uav = s.uav;
+          b.tick = s.tick;
+          b.kind = s.kind;
+          b.values.assign(s.values._buffer, s.values._buffer + s.values._length);
+          out.push_back(std::move(b));
+        },
+        ignore_invalid);
   }
 
   bool publish_detection(const core::DetectionMsg& m) override {
@@ -221,7 +286,21 @@ class CycloneBus final : public Bus {
 
   // ------------------------------------------------------------ lockstep
   bool publish_clock(const core::ClockMsg& m) override {
-    const pheromesh_msg_ClockCommand s{0, m.tick, m.phase};
+    if (m.occupancy.size() > core::kMaxOccupancy) return refuse("clock occupancy", m.occupancy.size());
+    std::vector<pheromesh_msg_TileCount> occ;
+    occ.reserve(m.occupancy.size());
+    for (const auto& t : m.occupancy) {
+      occ.push_back({static_cast<uint16_t>(t.tile.tx), static_cast<uint16_t>(t.tile.ty),
+                     static_cast<uint16_t>(std::min<uint32_t>(t.count, UINT16_MAX))});
+    }
+    pheromesh_msg_ClockCommand s{};
+    s.tick = m.tick;
+    s.phase = m.phase;
+    s.broadcasts = m.broadcasts;
+    s.occupancy._buffer = occ.data();
+    s.occupancy._length = static_cast<uint32_t>(occ.size());
+    s.occupancy._maximum = static_cast<uint32_t>(occ.size());
+    s.occupancy._release = false;
     return write(writer(TopicKind::Clock, clock_topic_, kClockPartition), &s);
   }
 
@@ -239,7 +318,23 @@ class CycloneBus final : public Bus {
   void take_clock(std::vector<core::ClockMsg>& out) override {
     if (clock_reader_ == 0) return;
     take_all<pheromesh_msg_ClockCommand>(
-        clock_reader_, [&](const pheromesh_msg_ClockCommand& s) { out.push_back({s.tick, s.phase}); }, ignore_invalid);
+        clock_reader_,
+        [&](const pheromesh_msg_ClockCommand& s) {
+          if (s.occupancy._length > core::kMaxOccupancy || (s.occupancy._length > 0 && s.occupancy._buffer == nullptr)) {
+            ++stats_.samples_dropped;
+            return;
+          }
+          core::ClockMsg c;
+          c.tick = s.tick;
+          c.phase = s.phase;
+          c.broadcasts = s.broadcasts;
+          for (uint32_t i = 0; i < s.occupancy._length; ++i) {
+            const auto& t = s.occupancy._buffer[i];
+            c.occupancy.push_back({{t.tx, t.ty}, t.count});
+          }
+          out.push_back(std::move(c));
+        },
+        ignore_invalid);
   }
 
   void take_phase_done(std::vector<core::PhaseDoneMsg>& out) override {
@@ -277,7 +372,7 @@ class CycloneBus final : public Bus {
       HoodReaders h;
       h.subscriber = make_subscriber({part});
       h.tiles = make_reader_on(h.subscriber, TopicKind::Tile, tile_topic_);
-      h.uavs = make_reader_on(h.subscriber, TopicKind::UavState, uav_topic_);
+      h.uavs = make_reader_on(h.subscriber, TopicKind::UavNeighbour, uav_topic_);
       hood_.emplace(key, h);
     }
   }
@@ -298,7 +393,8 @@ class CycloneBus final : public Bus {
     take_all<pheromesh_msg_Deposit>(
         deposit_reader_,
         [&](const pheromesh_msg_Deposit& s) {
-          out.push_back({s.uav, s.seq, s.tick, s.region, s.kind, {s.x, s.y}, s.amount});
+          out.push_back({s.uav, s.seq, s.tick, s.region, s.kind, s.layer, {s.x, s.y}, s.amount,
+                         {s.spread[0], s.spread[1], s.spread[2]}});
         },
         ignore_invalid);
   }
@@ -476,12 +572,12 @@ class CycloneBus final : public Bus {
   dds_entity_t domain_ = 0;
   dds_entity_t participant_ = 0;
   dds_entity_t tile_topic_ = 0, deposit_topic_ = 0, uav_topic_ = 0, detection_topic_ = 0, event_topic_ = 0,
-               health_topic_ = 0, halo_topic_ = 0, clock_topic_ = 0, done_topic_ = 0;
+               health_topic_ = 0, halo_topic_ = 0, clock_topic_ = 0, done_topic_ = 0, broadcast_topic_ = 0;
   std::map<std::pair<int, std::string>, WriterEntry> writers_;
-  std::string uav_tile_partition_;
+  std::map<std::string, int> left_tiles_;  // tile partitions with a neighbour-state writer -> states since left
   std::map<std::pair<int32_t, int32_t>, HoodReaders> hood_;
   dds_entity_t deposit_reader_ = 0, halo_reader_ = 0, ground_tiles_ = 0, ground_uavs_ = 0, detection_reader_ = 0,
-               event_reader_ = 0, health_reader_ = 0, clock_reader_ = 0, done_reader_ = 0;
+               event_reader_ = 0, health_reader_ = 0, clock_reader_ = 0, done_reader_ = 0, broadcast_reader_ = 0;
   std::vector<uint32_t> departed_uavs_;
   std::vector<core::RegionId> departed_regions_;
   BusStats stats_;

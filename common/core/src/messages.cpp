@@ -23,9 +23,20 @@ std::string cell_text(Cell c) { return "(" + std::to_string(c.x) + ", " + std::t
 
 }  // namespace
 
-std::optional<std::string> check_deposit(const DepositMsg& d, const MapGeometry& geo, RegionId owner) {
+std::optional<std::string> check_deposit(const DepositMsg& d, const MapGeometry& geo, RegionId owner, int layers) {
   if (d.kind >= kDepositKindCount) {
     return "unknown deposit kind " + std::to_string(d.kind);
+  }
+  if (d.layer >= layers) {
+    return "unknown layer " + std::to_string(d.layer);
+  }
+  if (!std::isfinite(d.spread[0]) || !std::isfinite(d.spread[1]) || !std::isfinite(d.spread[2])) {
+    return std::string("deposit spread is not finite");
+  }
+  if (static_cast<DepositKind>(d.kind) == DepositKind::Ellipse &&
+      (d.spread[0] < 0.0F || d.spread[2] < 0.0F ||
+       double{d.spread[1]} * d.spread[1] > double{d.spread[0]} * d.spread[2] * (1.0 + 1e-6))) {
+    return std::string("deposit spread is not a covariance (positive semi-definite)");
   }
   if (!std::isfinite(d.amount)) {
     return std::string("deposit amount is not finite");
@@ -45,15 +56,16 @@ std::optional<std::string> check_deposit(const DepositMsg& d, const MapGeometry&
   // Marks land on the cell the UAV sensed, which the owner holds; a path
   // visit is the UAV's own cell, which may lie in a neighbour region within D0.
   const auto kind = static_cast<DepositKind>(d.kind);
-  if ((kind == DepositKind::TargetMark || kind == DepositKind::ObstacleMark) &&
+  if ((kind == DepositKind::TargetMark || kind == DepositKind::ObstacleMark || kind == DepositKind::LayerAdd ||
+       kind == DepositKind::Observation || kind == DepositKind::PointSet) &&
       !geo.region_rect(owner).contains(d.cell)) {
     return "mark cell " + cell_text(d.cell) + " outside region " + std::to_string(owner);
   }
   return std::nullopt;
 }
 
-std::optional<std::string> check_tile(const TileMsg& t, const MapGeometry& geo) {
-  if (t.layer >= kLayerCount) {
+std::optional<std::string> check_tile(const TileMsg& t, const MapGeometry& geo, int layers) {
+  if (t.layer >= layers) {
     return "unknown layer " + std::to_string(t.layer);
   }
   if (!geo.valid_tile(t.tile)) {
@@ -103,12 +115,27 @@ std::optional<std::string> check_halo(const HaloMsg& h, const MapGeometry& geo) 
     return "halo ring longer than " + std::to_string(kMaxRingCells);
   }
   const std::size_t expected = ring_size(geo.region_rect(h.region));
-  if (h.target.size() != expected || h.obstacle.size() != expected) {
+  const bool empty = h.target.empty() && h.obstacle.empty();
+  if (!empty && (h.target.size() != expected || h.obstacle.size() != expected)) {
     return "halo ring sizes " + std::to_string(h.target.size()) + "/" + std::to_string(h.obstacle.size()) +
            " do not match " + std::to_string(expected);
   }
   if (!all_finite(h.target) || !all_finite(h.obstacle)) {
     return std::string("halo value is not finite");
+  }
+  return std::nullopt;
+}
+
+std::optional<std::string> check_broadcast(const BroadcastMsg& b) {
+  if (b.kind >= kBroadcastKindCount) {
+    return "unknown broadcast kind " + std::to_string(b.kind);
+  }
+  if (b.values.size() > kMaxBroadcastValues) {
+    return "broadcast has " + std::to_string(b.values.size()) + " values, more than " +
+           std::to_string(kMaxBroadcastValues);
+  }
+  if (!std::all_of(b.values.begin(), b.values.end(), [](double x) { return std::isfinite(x); })) {
+    return std::string("broadcast value is not finite");
   }
   return std::nullopt;
 }

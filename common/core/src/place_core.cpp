@@ -13,8 +13,8 @@ uint64_t DepositLedger::rejected() const {
 PlaceCore::PlaceCore(const ScenarioConfig& scenario, RegionId region)
     : geo_(scenario.geometry()),
       region_(region),
-      field_(geo_, region, scenario.layers),
-      marks_(scenario.aco.revisit_period),
+      layers_(static_cast<int>(policy_traits(scenario).layers.size())),
+      model_(make_place_model(scenario, geo_, region)),
       tiles_(geo_.region_tiles(region)),
       neighbours_(geo_.neighbour_regions(region)) {}
 
@@ -25,10 +25,14 @@ HaloRing PlaceCore::begin_tick(std::vector<DepositMsg>& deposits, uint32_t tick,
             [](const auto& a, const auto& b) { return a.uav != b.uav ? a.uav < b.uav : a.seq < b.seq; });
   for (const auto& d : deposits) {
     ++ledger_.received;
-    std::optional<std::string> reason = check_deposit(d, geo_, region_);
+    std::optional<std::string> reason = check_deposit(d, geo_, region_, layers_);
     if (!reason) {
       auto it = last_seq_.find(d.uav);
       if (it != last_seq_.end() && d.seq <= it->second) reason = "duplicate or out-of-order sequence number";
+    }
+    if (!reason) {
+      last_seq_[d.uav] = d.seq;
+      reason = model_->apply(d, tick, events);
     }
     if (reason) {
       ++ledger_.rejected_by_reason[*reason];
@@ -37,30 +41,9 @@ HaloRing PlaceCore::begin_tick(std::vector<DepositMsg>& deposits, uint32_t tick,
       }
       continue;
     }
-    last_seq_[d.uav] = d.seq;
     ++ledger_.applied;
-    switch (static_cast<DepositKind>(d.kind)) {
-      case DepositKind::PathVisit:
-        field_.add_path_visit(d.cell);
-        break;
-      case DepositKind::ObstacleMark:
-        field_.set_obstacle_switch(d.cell);  // kε = 1, Shao 2020 eq. (3)
-        break;
-      case DepositKind::TargetMark:
-        if (auto ev = marks_.mark(d.cell, tick)) {
-          field_.set_target_switch(d.cell, false);
-          field_.set_target_state(d.cell, kTargetMarked);
-          events.push_back({region_, tick, static_cast<uint8_t>(ev->kind), ev->cell, ev->response_ticks});
-        }
-        break;
-    }
   }
-  for (const auto& ev : marks_.advance(tick)) {
-    field_.set_target_switch(ev.cell, true);  // kτ = 1: revisit signal, Shao 2020 eq. (1)
-    field_.set_target_state(ev.cell, kTargetDue);
-    events.push_back({region_, tick, static_cast<uint8_t>(ev.kind), ev.cell, 0});
-  }
-  return field_.begin_step();
+  return model_->begin_step(tick, events);
 }
 
 void PlaceCore::reject(const std::vector<DepositMsg>& deposits, const std::string& reason) {
@@ -70,17 +53,18 @@ void PlaceCore::reject(const std::vector<DepositMsg>& deposits, const std::strin
 
 bool PlaceCore::accept_halo(const HaloMsg& h) {
   if (check_halo(h, geo_)) return false;
+  if (h.target.empty() && h.obstacle.empty()) return true;  // a policy without diffusion
   const HaloRing ring{h.region, h.target, h.obstacle};
-  field_.accept_halo(geo_.region_rect(h.region), ring);
+  model_->accept_halo(geo_.region_rect(h.region), ring);
   return true;
 }
 
-void PlaceCore::finish_tick() { field_.finish_step(); }
+void PlaceCore::finish_tick() { model_->finish_step(); }
 
 void PlaceCore::tiles(uint32_t tick, bool changed_only, std::vector<TileMsg>& out) {
   for (std::size_t ti = 0; ti < tiles_.size(); ++ti) {
     const Rect tr = geo_.tile_rect(tiles_[ti]);
-    for (int l = 0; l < kLayerCount; ++l) {
+    for (int l = 0; l < layers_; ++l) {
       TileMsg m;
       m.layer = static_cast<uint8_t>(l);
       m.tile = tiles_[ti];
@@ -90,7 +74,7 @@ void PlaceCore::tiles(uint32_t tick, bool changed_only, std::vector<TileMsg>& ou
       m.height = static_cast<uint16_t>(tr.h);
       m.values.reserve(static_cast<std::size_t>(tr.area()));
       for (int32_t y = tr.y0; y < tr.y0 + tr.h; ++y) {
-        for (int32_t x = tr.x0; x < tr.x0 + tr.w; ++x) m.values.push_back(field_.value(static_cast<Layer>(l), {x, y}));
+        for (int32_t x = tr.x0; x < tr.x0 + tr.w; ++x) m.values.push_back(model_->value(l, {x, y}));
       }
       auto& last = published_[{ti, l}];
       if (changed_only && last == m.values) continue;

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <tuple>
 
+#include "pheromesh/core/policy.hpp"
+
 namespace pheromesh::core {
 
 namespace {
@@ -18,7 +20,7 @@ RunRecorder::RunRecorder(const ScenarioConfig& scenario, const World& world)
     : scenario_(&scenario),
       world_(&world),
       geo_(scenario.geometry()),
-      coverage_(world, all_starts(scenario), scenario.aco.sensor_radius),
+      coverage_(world, all_starts(scenario), policy_traits(scenario).sensor_radius),
       acquisitions_(scenario.targets.size()) {}
 
 bool RunRecorder::on_uav_state(const UavStateMsg& s) {

@@ -25,171 +25,10 @@
 #include <system_error>
 #include <utility>
 
-#include "scenario.pb.h"
+#include "scenario_internal.hpp"
 
 namespace pheromesh::core {
-namespace {
-
-namespace pb = ::pheromesh::scenario;
-using google::protobuf::Descriptor;
-using google::protobuf::FieldDescriptor;
-using google::protobuf::Message;
-using google::protobuf::TextFormat;
-
-constexpr int32_t kMinMapSide = 4;      // [cell]
-constexpr int32_t kMaxMapSide = 4096;   // [cell]
-constexpr int32_t kMinTileSize = 4;     // [cell]
-constexpr int32_t kMaxTileSize = 32;    // [cell]; 32 x 32 = 1024 cells, one DDS sample
-constexpr int32_t kMaxUavs = 1000;
-constexpr double kMaxTickRateHz = 1000.0;
-constexpr double kMaxSensorRadius = 64.0;  // [cell]
-constexpr int64_t kMaxU32 = std::numeric_limits<uint32_t>::max();
-constexpr double kInf = std::numeric_limits<double>::infinity();
-
-// 1-based position in the text.
-struct Loc {
-  int line = 1;
-  int col = 1;
-};
-
-std::string format_number(double v) {
-  if (std::isnan(v)) return "nan";
-  if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
-  char buf[64];
-  const auto res = std::to_chars(buf, buf + sizeof buf, v);
-  return {buf, res.ptr};
-}
-std::string format_number(int64_t v) { return std::to_string(v); }
-
-std::string prefix(const std::string& display_name, Loc loc) {
-  return display_name + ":" + std::to_string(loc.line) + ":" + std::to_string(loc.col) + ": ";
-}
-
-// Collects protobuf's parse errors instead of letting it print them.
-class CollectingErrorCollector final : public google::protobuf::io::ErrorCollector {
- public:
-  explicit CollectingErrorCollector(const std::string& display_name) : display_name_(display_name) {}
-  void AddError(int line, google::protobuf::io::ColumnNumber column, const std::string& message) override {
-    if (line < 0) {
-      errors_.push_back(display_name_ + ": " + message);
-    } else {
-      errors_.push_back(prefix(display_name_, {line + 1, column + 1}) + message);
-    }
-  }
-  [[nodiscard]] const std::vector<std::string>& errors() const { return errors_; }
-
- private:
-  const std::string& display_name_;
-  std::vector<std::string> errors_;
-};
-
-// A message of the parsed text: its descriptor, its ParseInfoTree (null when
-// the message was absent from the text), where it stood and its field path.
-class Node {
- public:
-  Node(const Descriptor* desc, const TextFormat::ParseInfoTree* tree, Loc loc, std::string path)
-      : desc_(desc), tree_(tree), loc_(loc), path_(std::move(path)) {}
-
-  [[nodiscard]] Loc loc() const { return loc_; }
-  [[nodiscard]] const std::string& path() const { return path_; }
-
-  // Position of `field` (element `index` if repeated); the message's own
-  // position when the field is absent.
-  [[nodiscard]] Loc loc_of(const char* field, int index = -1) const {
-    const FieldDescriptor* fd = desc_->FindFieldByName(field);
-    if (tree_ == nullptr || fd == nullptr) return loc_;
-    auto p = tree_->GetLocation(fd, fd->is_repeated() ? std::max(index, 0) : -1);
-    // List syntax ("targets: [{...}, {...}]") records one location for the
-    // whole list: fall back to where the list starts.
-    if (p.line < 0 && fd->is_repeated()) p = tree_->GetLocation(fd, 0);
-    if (p.line < 0) return loc_;
-    return {p.line + 1, p.column + 1};
-  }
-
-  [[nodiscard]] std::string path_of(const char* field, int index = -1) const {
-    std::string p = path_.empty() ? std::string(field) : path_ + "." + field;
-    if (index >= 0) p += "[" + std::to_string(index) + "]";
-    return p;
-  }
-
-  [[nodiscard]] Node child(const char* field, int index = -1) const {
-    const FieldDescriptor* fd = desc_->FindFieldByName(field);
-    const TextFormat::ParseInfoTree* nested = nullptr;
-    if (tree_ != nullptr && fd != nullptr) nested = tree_->GetTreeForNested(fd, fd->is_repeated() ? std::max(index, 0) : -1);
-    return {fd != nullptr ? fd->message_type() : nullptr, nested, loc_of(field, index), path_of(field, index)};
-  }
-
- private:
-  const Descriptor* desc_;
-  const TextFormat::ParseInfoTree* tree_;
-  Loc loc_;
-  std::string path_;
-};
-
-// Collects semantic errors.
-class Validator {
- public:
-  explicit Validator(const std::string& display_name) : display_name_(display_name) {}
-
-  void fail_at(Loc loc, const std::string& path, const std::string& what) {
-    issues_.push_back({loc, prefix(display_name_, loc) + "field '" + path + "': " + what});
-  }
-  void fail(const Node& n, const char* field, const std::string& what, int index = -1) {
-    fail_at(n.loc_of(field, index), n.path_of(field, index), what);
-  }
-  void fail(const Node& n, const std::string& what) { fail_at(n.loc(), n.path(), what); }
-
-  void required(const Node& n, const char* field) { fail(n, field, "required field is missing"); }
-
-  bool int_between(const Node& n, const char* field, int64_t v, int64_t lo, int64_t hi, const std::string& note = "") {
-    if (v >= lo && v <= hi) return true;
-    fail(n, field, "must be between " + format_number(lo) + " and " + format_number(hi) + " (got " + format_number(v) + ")" +
-                       (note.empty() ? "" : "; " + note));
-    return false;
-  }
-
-  // Interval check that also rejects nan and +-inf. hi = +inf means unbounded.
-  bool real_in(const Node& n, const char* field, double v, double lo, bool lo_open, double hi, bool hi_open) {
-    const bool lo_ok = lo_open ? v > lo : v >= lo;
-    const bool hi_ok = std::isinf(hi) || (hi_open ? v < hi : v <= hi);
-    if (std::isfinite(v) && lo_ok && hi_ok) return true;
-    std::string range;
-    if (std::isinf(hi)) {
-      range = std::string(lo_open ? "> " : ">= ") + format_number(lo);
-    } else {
-      range = std::string("in ") + (lo_open ? "(" : "[") + format_number(lo) + ", " + format_number(hi) + (hi_open ? ")" : "]");
-    }
-    fail(n, field, "must be " + (std::isfinite(v) ? range : "a finite number " + range) + " (got " + format_number(v) + ")");
-    return false;
-  }
-
-  [[nodiscard]] bool empty() const { return issues_.empty(); }
-  [[nodiscard]] std::string joined() {
-    std::stable_sort(issues_.begin(), issues_.end(), [](const Issue& a, const Issue& b) {
-      return a.loc.line != b.loc.line ? a.loc.line < b.loc.line : a.loc.col < b.loc.col;
-    });
-    std::string out;
-    for (const auto& i : issues_) {
-      if (!out.empty()) out += '\n';
-      out += i.text;
-    }
-    return out;
-  }
-
- private:
-  struct Issue {
-    Loc loc;
-    std::string text;
-  };
-  const std::string& display_name_;
-  std::vector<Issue> issues_;
-};
-
-// Map side lengths once they are known to be valid.
-struct MapSize {
-  int32_t width;
-  int32_t height;
-};
+namespace scenario_detail {
 
 // Checks a rectangle whose four fields are required; returns it if valid.
 std::optional<Rect> check_rect(Validator& v, const Node& n, const pb::Rect& r, std::optional<MapSize> map) {
@@ -256,6 +95,56 @@ int64_t free_cells(const Rect& area, const std::vector<Rect>& obstacles) {
   int64_t n = 0;
   for (int32_t y = area.y0; y < area.y0 + area.h; ++y) n += free_in_row(area, obstacles, y);
   return n;
+}
+
+std::optional<Cell> check_cell(Validator& v, const Node& n, const pb::Cell& c, std::optional<MapSize> map) {
+  bool ok = true;
+  if (!c.has_x()) {
+    v.required(n, "x");
+    ok = false;
+  }
+  if (!c.has_y()) {
+    v.required(n, "y");
+    ok = false;
+  }
+  if (!ok || !map) return std::nullopt;
+  ok = v.int_between(n, "x", c.x(), 0, map->width - 1, "the cell must be inside the map") && ok;
+  ok = v.int_between(n, "y", c.y(), 0, map->height - 1, "the cell must be inside the map") && ok;
+  if (!ok) return std::nullopt;
+  return Cell{c.x(), c.y()};
+}
+
+// scenario.policy: which policy, and its parameters.
+void build_policy(const pb::Scenario& msg, const Node& root, Validator& v, ScenarioConfig& cfg) {
+  if (!msg.has_policy()) return;  // the Shao search
+  const Node pn = root.child("policy");
+  const pb::Policy& p = msg.policy();
+  switch (p.kind_case()) {
+    case pb::Policy::kShaoSearch:
+    case pb::Policy::KIND_NOT_SET:
+      cfg.policy = PolicyKind::ShaoSearch;
+      break;
+    case pb::Policy::kShaoNavigation:
+      cfg.policy = PolicyKind::ShaoNavigation;
+      build_shao_navigation(p.shao_navigation(), pn.child("shao_navigation"), v, cfg);
+      break;
+    case pb::Policy::kLiu:
+      cfg.policy = PolicyKind::Liu;
+      build_liu(p.liu(), pn.child("liu"), v, cfg);
+      break;
+    case pb::Policy::kShostak:
+      cfg.policy = PolicyKind::Shostak;
+      build_shostak(p.shostak(), pn.child("shostak"), v, cfg);
+      break;
+    case pb::Policy::kRavankar:
+      cfg.policy = PolicyKind::Ravankar;
+      build_ravankar(p.ravankar(), pn.child("ravankar"), v, cfg);
+      break;
+    case pb::Policy::kDuan:
+      cfg.policy = PolicyKind::Duan;
+      build_duan(p.duan(), pn.child("duan"), v, cfg);
+      break;
+  }
 }
 
 ScenarioConfig build(const pb::Scenario& msg, const TextFormat::ParseInfoTree& tree, const std::string& display_name,
@@ -429,10 +318,20 @@ ScenarioConfig build(const pb::Scenario& msg, const TextFormat::ParseInfoTree& t
   if (a.has_revisit_period() && v.int_between(cn, "revisit_period", a.revisit_period(), 1, kMaxU32)) {
     ap.revisit_period = static_cast<uint32_t>(a.revisit_period());
   }
+  build_policy(msg, root, v, cfg);
   return cfg;
 }
 
-}  // namespace
+}  // namespace scenario_detail
+
+using scenario_detail::build;
+using scenario_detail::CollectingErrorCollector;
+using scenario_detail::free_cells;
+using scenario_detail::free_in_row;
+using scenario_detail::blocked_intervals;
+using scenario_detail::Validator;
+using scenario_detail::TextFormat;
+namespace pb = scenario_detail::pb;
 
 Result<ScenarioConfig> parse_scenario(std::string_view text, const std::string& display_name) {
   pb::Scenario msg;

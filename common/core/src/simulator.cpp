@@ -18,19 +18,31 @@ void Simulator::step(uint32_t tick) {
   // UAV phase: every UAV sees the tiles of its neighbourhood as the place
   // agents published them at the end of tick k-1 (nothing at tick 0, as no
   // place agent has ticked yet).
+  // The same holds for the states of the UAVs over those tiles and for the
+  // broadcasts: those of tick k-1.
   UavCore::Output out;
+  std::vector<UavStateMsg> states;
+  std::vector<BroadcastMsg> broadcasts;
   for (std::size_t i = 0; i < uavs_.size(); ++i) {
     UavCore& u = *uavs_[i];
     if (tick > 0) {
       for (const TileCoord& t : u.neighbourhood()) {
         auto it = tiles_.find({t.tx, t.ty});
-        if (it == tiles_.end()) continue;
-        for (const TileMsg& m : it->second) u.receive_tile(m);
-        tile_samples_[i] += it->second.size();
+        if (it != tiles_.end()) {
+          for (const TileMsg& m : it->second) u.receive_tile(m);
+          tile_samples_[i] += it->second.size();
+        }
+        auto st = states_by_tile_.find({t.tx, t.ty});
+        if (st != states_by_tile_.end()) {
+          for (const UavStateMsg& s : st->second) u.receive_neighbour(s);
+        }
       }
+      for (const BroadcastMsg& b : broadcasts_) u.receive_broadcast(b);
     }
     u.step(tick, out);
     ++uav_steps_;
+    states.push_back(out.state);
+    if (out.broadcast) broadcasts.push_back(*out.broadcast);
     for (const DepositMsg& d : out.deposits) inbox_[d.region].push_back(d);
     deposits_sent_[i] += out.deposits.size();
     for (const DetectionMsg& d : out.detections) recorder_.on_detection(d);
@@ -38,6 +50,12 @@ void Simulator::step(uint32_t tick) {
     out.state.tile_samples_received = tile_samples_[i];
     recorder_.on_uav_state(out.state);
   }
+  states_by_tile_.clear();
+  for (const UavStateMsg& s : states) {
+    const TileCoord t = geo_.tile_of(state_cell(s));
+    states_by_tile_[{t.tx, t.ty}].push_back(s);
+  }
+  broadcasts_ = std::move(broadcasts);
   // Place phase: deposits of tick k, rings of tick k, update, tiles of tick k.
   std::vector<TargetEventMsg> events;
   std::vector<HaloMsg> rings;
@@ -70,22 +88,19 @@ void Simulator::run(const std::function<void(uint32_t)>& on_tick) {
     recorder_.on_health({p->region(), scenario_.ticks, 0.0F, l.received, l.applied, l.rejected(), 0, true});
   }
   for (std::size_t i = 0; i < uavs_.size(); ++i) {
-    UavStateMsg s{};
-    s.uav = static_cast<uint32_t>(i);
+    UavStateMsg s = uavs_[i]->last_state();
     s.tick = scenario_.ticks;
-    s.x = uavs_[i]->cell().x;
-    s.y = uavs_[i]->cell().y;
-    s.heading = static_cast<uint8_t>(uavs_[i]->heading());
     s.deposits_sent = deposits_sent_[i];
     s.tile_samples_received = tile_samples_[i];
     s.finished = true;
     recorder_.on_uav_state(s);
   }
   recorder_.sample_coverage();
+  recorder_.set_field_summary(field_summary(scenario_, [this](int layer, Cell c) { return field_value(layer, c); }));
 }
 
-float Simulator::field_value(int layer, Cell c) const {
-  return places_[geo_.region_of(c)]->field().value(static_cast<Layer>(layer), c);
-}
+float Simulator::field_value(int layer, Cell c) const { return places_[geo_.region_of(c)]->value(layer, c); }
+
+int Simulator::layer_count() const { return places_.front()->layer_count(); }
 
 }  // namespace pheromesh::core

@@ -6,140 +6,68 @@
 namespace pheromesh::core {
 
 namespace {
-std::pair<int32_t, int32_t> key(Cell c) { return {c.x, c.y}; }
-// A target mark is re-sent at most this often while the place agent has not
-// yet published the target as marked (its tile may lag a tick or two).
-constexpr uint32_t kMarkResendTicks = 5;
+// Neighbour states and broadcasts older than this are forgotten [tick].
+constexpr uint32_t kKeepTicks = 4;
 }  // namespace
 
-// ------------------------------------------------------------------ TileCache
-void TileCache::update(const TileMsg& m) {
-  auto& t = tiles_[{m.tile.tx, m.tile.ty}];
-  auto& slot = t.layers[m.layer];
-  if (!slot.empty() && m.tick < t.tick[m.layer]) return;  // older than what we have
-  slot = m.values;
-  t.tick[m.layer] = m.tick;
+Cell state_cell(const UavStateMsg& s) {
+  return {static_cast<int32_t>(std::lround(s.x)), static_cast<int32_t>(std::lround(s.y))};
 }
 
-std::optional<float> TileCache::value(Layer l, Cell c) const {
-  if (!geo_->in_map(c)) return std::nullopt;
-  const TileCoord tc = geo_->tile_of(c);
-  auto it = tiles_.find({tc.tx, tc.ty});
-  if (it == tiles_.end()) return std::nullopt;
-  const auto& v = it->second.layers[static_cast<std::size_t>(l)];
-  if (v.empty()) return std::nullopt;
-  const Rect r = geo_->tile_rect(tc);
-  return v[static_cast<std::size_t>((c.y - r.y0) * r.w + (c.x - r.x0))];
-}
-
-std::optional<std::array<float, 3>> TileCache::pheromones(Cell c) const {
-  auto t = value(Layer::Target, c);
-  auto o = value(Layer::Obstacle, c);
-  auto p = value(Layer::Path, c);
-  if (!t || !o || !p) return std::nullopt;
-  return std::array<float, 3>{*t, *o, *p};
-}
-
-std::optional<uint32_t> TileCache::oldest_tick(TileCoord t) const {
-  auto it = tiles_.find({t.tx, t.ty});
-  if (it == tiles_.end()) return std::nullopt;
-  uint32_t oldest = UINT32_MAX;
-  for (std::size_t l = 0; l < kLayerCount; ++l) {
-    if (it->second.layers[l].empty()) return std::nullopt;
-    oldest = std::min(oldest, it->second.tick[l]);
-  }
-  return oldest;
-}
-
-void TileCache::forget_except(const std::vector<TileCoord>& keep) {
-  for (auto it = tiles_.begin(); it != tiles_.end();) {
-    const bool kept = std::any_of(keep.begin(), keep.end(), [&](const TileCoord& t) {
-      return t.tx == it->first.first && t.ty == it->first.second;
-    });
-    it = kept ? std::next(it) : tiles_.erase(it);
-  }
-}
-
-// -------------------------------------------------------------------- UavCore
-UavCore::UavCore(const ScenarioConfig& scenario, const World& world, uint32_t id)
+UavCore::UavCore(const ScenarioConfig& scenario, const World& world, uint32_t id, bool exact_ticks)
     : scenario_(&scenario),
       geo_(scenario.geometry()),
-      world_(&world),
       id_(id),
-      rng_(stream_seed(scenario.seed, "uav", id)),
-      cache_(geo_) {
-  pos_ = start_cell(scenario, id);
-  heading_ = static_cast<Heading>(rng_.uniform_below(8));
+      exact_(exact_ticks),
+      traits_(policy_traits(scenario)),
+      cache_(geo_, static_cast<int>(traits_.layers.size())),
+      policy_(make_uav_policy(scenario, geo_, world, id)) {
+  last_state_.uav = id;
+  const Cell c = policy_->cell();
+  last_state_.x = c.x;
+  last_state_.y = c.y;
   update_neighbourhood();
 }
 
 void UavCore::receive_neighbour(const UavStateMsg& s) {
-  if (s.uav != id_) neighbours_[s.uav] = s;
+  if (s.uav == id_) return;
+  auto& by_tick = neighbours_[s.uav];
+  by_tick[s.tick] = s;
+  while (by_tick.size() > kKeepTicks) by_tick.erase(by_tick.begin());
 }
 
-void UavCore::move() {
-  LocalView view;
-  view.pheromones = [this](Cell c) { return cache_.pheromones(c); };
-  view.blocked = [this](Cell c) { return !geo_.in_map(c) || known_obstacles_.contains(key(c)); };
-  const Decision d = decide(pos_, heading_, view, scenario_->aco, rng_);
-  if (d.chosen) {
-    last_step_ = step_of(d.chosen->heading);
-    pos_ = d.chosen->next;
-    heading_ = d.chosen->heading;
-    return;
-  }
-  // Dead end ahead (the five forward headings are blocked): turn back, the
-  // least sharp turn first. Not in the paper, which assumes a way forward.
-  for (int turn : {3, -3, 4}) {
-    const Heading h = rotate(heading_, turn);
-    const Cell s = step_of(h);
-    const Cell next{pos_.x + s.x, pos_.y + s.y};
-    if (!view.blocked(next)) {
-      last_step_ = s;
-      pos_ = next;
-      heading_ = h;
-      return;
+void UavCore::receive_broadcast(const BroadcastMsg& b) {
+  broadcasts_[b.tick][b.uav] = b;
+  while (broadcasts_.size() > kKeepTicks) broadcasts_.erase(broadcasts_.begin());
+}
+
+bool UavCore::in_hood(const UavStateMsg& s) const {
+  const Cell c = state_cell(s);
+  if (!geo_.in_map(c)) return false;
+  const TileCoord t = geo_.tile_of(c);
+  return std::find(hood_.begin(), hood_.end(), t) != hood_.end();
+}
+
+bool UavCore::holds_tick(uint32_t t, const std::vector<TileCount>& occupancy, uint32_t broadcasts) const {
+  for (const TileCount& tc : occupancy) {
+    if (std::find(hood_.begin(), hood_.end(), tc.tile) == hood_.end()) continue;
+    uint32_t want = tc.count;
+    if (last_state_.tick == t && geo_.tile_of(state_cell(last_state_)) == tc.tile && want > 0) --want;  // this UAV
+    uint32_t have = 0;
+    for (const auto& [uav, by_tick] : neighbours_) {
+      auto it = by_tick.find(t);
+      if (it != by_tick.end() && geo_.tile_of(state_cell(it->second)) == tc.tile) ++have;
     }
+    if (have < want) return false;
   }
-  last_step_ = {0, 0};
-}
-
-void UavCore::add_deposit(DepositKind kind, Cell cell, RegionId region, uint32_t tick, Output& out) {
-  out.deposits.push_back({id_, ++seq_, tick, region, static_cast<uint8_t>(kind), cell, 1.0F});
-}
-
-void UavCore::sense_and_deposit(uint32_t tick, Output& out) {
-  const auto reading = world_->sense(pos_, scenario_->aco.sensor_radius);
-  // Algorithm 1 lines 6-9: mark obstacles in the sensor range (kε = 1).
-  for (const Cell& o : reading.obstacles) {
-    known_obstacles_.insert(key(o));
-    if (marked_obstacles_.insert(key(o)).second) add_deposit(DepositKind::ObstacleMark, o, geo_.region_of(o), tick, out);
-  }
-  // Algorithm 1 lines 3-5: mark targets in the sensor range; the place agent
-  // owning the target's cell runs the revisit timer.
-  std::set<int32_t> now_in_range;
-  for (int32_t t : reading.targets) {
-    now_in_range.insert(t);
-    const Cell c = world_->targets()[static_cast<std::size_t>(t)];
-    if (!targets_in_range_.contains(t)) out.detections.push_back({id_, tick, t, c});
-    const auto state = cache_.value(Layer::TargetState, c);
-    const bool needs_mark = !state || *state != kTargetMarked;
-    auto last = target_mark_sent_tick_.find(t);
-    const bool recently = last != target_mark_sent_tick_.end() && tick - last->second < kMarkResendTicks;
-    if (needs_mark && !recently) {
-      add_deposit(DepositKind::TargetMark, c, geo_.region_of(c), tick, out);
-      target_mark_sent_tick_[t] = tick;
-    }
-  }
-  targets_in_range_ = std::move(now_in_range);
-  // Path pheromone decrease around the UAV (Shao 2020 eqs. (5)-(7)) is
-  // computed by every place agent owning a cell within D0.
-  for (RegionId r : geo_.regions_within(pos_, scenario_->layers.d0)) add_deposit(DepositKind::PathVisit, pos_, r, tick, out);
+  auto it = broadcasts_.find(t);
+  const std::size_t have = it == broadcasts_.end() ? 0 : it->second.size();
+  return have >= broadcasts;
 }
 
 void UavCore::update_neighbourhood() {
-  const auto r = static_cast<int32_t>(std::ceil(scenario_->aco.sensor_radius)) + 1;
-  std::vector<TileCoord> hood = geo_.tiles_within(pos_, r);
+  const auto r = static_cast<int32_t>(std::ceil(traits_.view_radius));
+  std::vector<TileCoord> hood = geo_.tiles_within(policy_->cell(), r);
   if (hood != hood_) {
     cache_.forget_except(hood);
     hood_ = std::move(hood);
@@ -149,18 +77,63 @@ void UavCore::update_neighbourhood() {
 void UavCore::step(uint32_t tick, Output& out) {
   out.deposits.clear();
   out.detections.clear();
-  if (tick > 0) move();
+  out.broadcast.reset();
+  // What this UAV sees: the states and broadcasts of the previous tick
+  // (exact), or the latest ones (realtime), of UAVs over its neighbourhood.
+  view_states_.clear();
+  for (const auto& [uav, by_tick] : neighbours_) {
+    if (by_tick.empty()) continue;
+    const UavStateMsg* s = nullptr;
+    if (exact_) {
+      if (tick == 0) continue;
+      auto it = by_tick.find(tick - 1);
+      if (it != by_tick.end()) s = &it->second;
+    } else if (by_tick.rbegin()->first + kKeepTicks >= tick) {
+      s = &by_tick.rbegin()->second;
+    }
+    if (s != nullptr && !s->finished && in_hood(*s)) view_states_.push_back(*s);
+  }
+  view_broadcasts_.clear();
+  if (exact_) {
+    auto it = tick > 0 ? broadcasts_.find(tick - 1) : broadcasts_.end();
+    if (it != broadcasts_.end()) {
+      for (const auto& [uav, b] : it->second) view_broadcasts_.push_back(b);
+    }
+  } else {
+    for (const auto& [t, by_uav] : broadcasts_) {
+      if (t < broadcasts_consumed_) continue;
+      for (const auto& [uav, b] : by_uav) view_broadcasts_.push_back(b);
+      broadcasts_consumed_ = t + 1;
+    }
+  }
+
+  actions_.clear();
+  const UavView view{tick, &cache_, view_states_, view_broadcasts_};
+  policy_->step(view, actions_);
   update_neighbourhood();
-  sense_and_deposit(tick, out);
-  out.state = {};
+
+  for (auto& d : actions_.deposits) {
+    d.uav = id_;
+    d.seq = ++seq_;
+    d.tick = tick;
+    out.deposits.push_back(d);
+  }
+  for (auto& d : actions_.detections) {
+    d.uav = id_;
+    d.tick = tick;
+    out.detections.push_back(d);
+  }
+  if (actions_.broadcast) {
+    BroadcastMsg b = *actions_.broadcast;
+    b.uav = id_;
+    b.tick = tick;
+    receive_broadcast(b);  // a UAV hears its own broadcast
+    out.broadcast = std::move(b);
+  }
+  out.state = actions_.state;
   out.state.uav = id_;
   out.state.tick = tick;
-  out.state.x = pos_.x;
-  out.state.y = pos_.y;
-  out.state.vx = last_step_.x;
-  out.state.vy = last_step_.y;
-  out.state.heading = static_cast<uint8_t>(heading_);
-  out.state.role = static_cast<uint8_t>(Role::Searcher);
+  last_state_ = out.state;
 }
 
 }  // namespace pheromesh::core

@@ -4,7 +4,7 @@
 #include <filesystem>
 #include <fstream>
 
-#include "pheromesh/core/layers.hpp"
+#include "pheromesh/core/policy.hpp"
 
 namespace pheromesh::runtime {
 
@@ -21,6 +21,7 @@ nlohmann::json metrics_json(const core::RunRecorder& r, const RunInfo& info) {
   nlohmann::json j;
   j["scenario"] = s.name;
   j["scenario_file"] = s.source_path;
+  j["policy"] = core::policy_name(s.policy);
   j["seed"] = s.seed;
   j["dds"] = info.transport;
   j["clock"] = info.clock;
@@ -48,6 +49,9 @@ nlohmann::json metrics_json(const core::RunRecorder& r, const RunInfo& info) {
   uint64_t tile_samples = 0, uav_ticks = 0;
   for (const auto& [id, u] : r.uavs()) {
     per_uav[std::to_string(id)] = {{"last_tick", u.last.tick},
+                                   {"x", u.last.x},
+                                   {"y", u.last.y},
+                                   {"role", u.last.role},
                                    {"finished", u.finished},
                                    {"deposits_sent", u.last.deposits_sent},
                                    {"tile_samples_received", u.last.tile_samples_received}};
@@ -61,15 +65,19 @@ nlohmann::json metrics_json(const core::RunRecorder& r, const RunInfo& info) {
   nlohmann::json series = nlohmann::json::array();
   for (const auto& [t, c] : r.coverage_series()) series.push_back({t, c});
   j["coverage_series"] = series;
+  nlohmann::json field = nlohmann::json::object();
+  for (const auto& [k, v] : r.field_summary()) field[k] = v;
+  j["field"] = field;
   return j;
 }
 
-bool write_field(const std::string& path, const core::MapGeometry& geo, const FieldReader& value) {
+bool write_field(const std::string& path, const core::MapGeometry& geo, const std::vector<std::string>& layers,
+                 const FieldReader& value) {
   FILE* f = std::fopen(path.c_str(), "w");
   if (f == nullptr) return false;
   std::fprintf(f, "# pheromesh final field %d x %d\n", geo.width(), geo.height());
-  for (int l = 0; l < core::kLayerCount; ++l) {
-    std::fprintf(f, "layer %s\n", core::layer_name(static_cast<core::Layer>(l)));
+  for (int l = 0; l < static_cast<int>(layers.size()); ++l) {
+    std::fprintf(f, "layer %s\n", layers[static_cast<std::size_t>(l)].c_str());
     for (int32_t y = 0; y < geo.height(); ++y) {
       for (int32_t x = 0; x < geo.width(); ++x) std::fprintf(f, x == 0 ? "%.9g" : " %.9g", static_cast<double>(value(l, {x, y})));
       std::fputc('\n', f);

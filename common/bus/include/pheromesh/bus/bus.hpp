@@ -6,6 +6,8 @@
 //   tiles, UAV states for neighbours  -> partition "t.<tx>.<ty>" of the tile
 //   deposits                          -> partition "r.<region>" of the owner
 //   halo rings                        -> partition "h.<region>" of the sender
+//   UAV broadcasts (to the whole swarm) -> partition "b"
+//   lockstep clock and phase reports  -> partition "c"
 //   UAV states for the ground station, detections, target events, health
 //                                     -> partition "g"
 #pragma once
@@ -58,6 +60,7 @@ class Bus {
   virtual bool publish_target_event(const core::TargetEventMsg& m) = 0;
   virtual bool publish_health(const core::HealthMsg& m) = 0;
   virtual bool publish_halo(const core::HaloMsg& m) = 0;
+  virtual bool publish_broadcast(const core::BroadcastMsg& m) = 0;  // to partition "b"
 
   // --- lockstep clock
   virtual bool publish_clock(const core::ClockMsg& m) = 0;       // conductor
@@ -76,6 +79,8 @@ class Bus {
   // Everything the ground station needs: all tiles, all UAV states,
   // detections, target events, health.
   virtual void subscribe_ground() = 0;
+  // Every UAV's broadcasts (UAVs and the ground station).
+  virtual void subscribe_broadcasts() = 0;
 
   // --- taking: append what arrived since the last call
   virtual void take_deposits(std::vector<core::DepositMsg>& out) = 0;
@@ -85,6 +90,7 @@ class Bus {
   virtual void take_detections(std::vector<core::DetectionMsg>& out) = 0;
   virtual void take_target_events(std::vector<core::TargetEventMsg>& out) = 0;
   virtual void take_health(std::vector<core::HealthMsg>& out) = 0;
+  virtual void take_broadcasts(std::vector<core::BroadcastMsg>& out) = 0;
   // UAVs (ground subscription) whose every writer vanished (liveliness lost or
   // process ended) since the last call.
   virtual void take_departed_uavs(std::vector<uint32_t>& out) = 0;

@@ -2,6 +2,7 @@
 // the bus implementations convert between these and the generated types.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -23,8 +24,18 @@ struct TileMsg {
   std::vector<float> values;       // row-major, width*height
 };
 
-enum class DepositKind : uint8_t { PathVisit = 0, TargetMark = 1, ObstacleMark = 2 };
-inline constexpr uint8_t kDepositKindCount = 3;
+// What a deposit asks its place agent to do (idl/pheromesh.idl, Deposit).
+enum class DepositKind : uint8_t {
+  PathVisit = 0,     // Shao 2020 eqs. (5)-(7): path pheromone falls around the UAV
+  TargetMark = 1,    // Shao: a target sensed here
+  ObstacleMark = 2,  // Shao: an obstacle sensed here
+  LayerAdd = 3,      // add `amount` to `layer` at the cell (capped by the layer)
+  Ellipse = 4,       // Ravankar 2016 eq. (14): spread over the error ellipse `spread`
+  Observation = 5,   // Liu 2022 eqs. (4)-(5): the cell was looked at; amount 1 = detection
+  PointSet = 6,      // Duan 2009: this UAV's point pheromone at the cell is `amount`
+  PointClear = 7,    // Duan 2009: forget this UAV's point pheromone in the region
+};
+inline constexpr uint8_t kDepositKindCount = 8;
 
 struct DepositMsg {
   uint32_t uav = 0;
@@ -32,8 +43,10 @@ struct DepositMsg {
   uint32_t tick = 0;  // UAV tick
   RegionId region = 0;
   uint8_t kind = 0;   // DepositKind
+  uint8_t layer = 0;  // LayerAdd only
   Cell cell{};
   float amount = 0.0F;
+  std::array<float, 3> spread{};  // Ellipse only: Σ_xy entries xx, xy, yy [m²]
 };
 
 enum class Role : uint8_t { Searcher = 0, Leader = 1, Follower = 2 };
@@ -83,11 +96,35 @@ struct HaloMsg {
   std::vector<float> obstacle;
 };
 
+// A UAV's message to the whole swarm (partition "b").
+enum class BroadcastKind : uint8_t {
+  LeaderState = 0,  // Shao 2020 §5: x, y, vx, vy [cell, cell/tick], arrived (0/1)
+  TargetFound = 1,  // Shostak §5: x, y of the target [cell]
+  EtaIntervals = 2, // Duan 2009 eq. (4): pairs (T_min, T_max) [s] of the candidate trajectories
+};
+inline constexpr uint8_t kBroadcastKindCount = 3;
+inline constexpr std::size_t kMaxBroadcastValues = 64;  // idl bound
+struct BroadcastMsg {
+  uint32_t uav = 0;
+  uint32_t tick = 0;
+  uint8_t kind = 0;  // BroadcastKind
+  std::vector<double> values;
+};
+
 // Lockstep clock (DESIGN.md, "Time").
 enum class ClockPhase : uint8_t { Uav = 0, Place = 1, Stop = 2 };
+inline constexpr std::size_t kMaxOccupancy = 1024;  // idl bound
+struct TileCount {
+  TileCoord tile{};
+  uint32_t count = 0;
+};
 struct ClockMsg {
   uint32_t tick = 0;
   uint8_t phase = 0;  // ClockPhase
+  // UAV phase k: what UAV phase k-1 produced, so that each UAV knows when it
+  // holds all of it: the UAVs over each occupied tile, the broadcasts.
+  uint32_t broadcasts = 0;
+  std::vector<TileCount> occupancy;
 };
 inline constexpr uint32_t kRoleUav = 1;
 inline constexpr uint32_t kRolePlace = 2;
@@ -100,9 +137,13 @@ struct PhaseDoneMsg {
 
 // Semantic checks of received samples (the bus checks structure). Each returns
 // a short reason, or nullopt if the sample is acceptable.
-std::optional<std::string> check_deposit(const DepositMsg& d, const MapGeometry& geo, RegionId owner);
-std::optional<std::string> check_tile(const TileMsg& t, const MapGeometry& geo);
+// `layers` is the number of layers of the scenario's policy.
+std::optional<std::string> check_deposit(const DepositMsg& d, const MapGeometry& geo, RegionId owner, int layers);
+std::optional<std::string> check_tile(const TileMsg& t, const MapGeometry& geo, int layers);
+std::optional<std::string> check_broadcast(const BroadcastMsg& b);
 std::optional<std::string> check_uav_state(const UavStateMsg& s, const MapGeometry& geo);
+// Rings are either both empty (a policy without diffusion) or both the
+// size of the sender's border ring.
 std::optional<std::string> check_halo(const HaloMsg& h, const MapGeometry& geo);
 
 }  // namespace pheromesh::core

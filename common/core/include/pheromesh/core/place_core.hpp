@@ -1,18 +1,19 @@
 // One place agent's logic without any transport: deposit checking and
-// accounting, the Shao 2020 layers of its region, target marks and revisit
-// timers, the halo exchange and the tiles it publishes. The pheromesh-place
+// accounting in canonical order, the scenario policy's layers of its region
+// (PlaceModel, policy.hpp), the halo exchange and the tiles it publishes. The pheromesh-place
 // process and the in-process simulator both drive this class.
 #pragma once
 
 #include <cstdint>
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "pheromesh/core/layers.hpp"
-#include "pheromesh/core/marks.hpp"
 #include "pheromesh/core/messages.hpp"
+#include "pheromesh/core/policy.hpp"
 #include "pheromesh/core/scenario.hpp"
 
 namespace pheromesh::core {
@@ -44,7 +45,7 @@ class PlaceCore {
   void reject(const std::vector<DepositMsg>& deposits, const std::string& reason);
   // A neighbour's ring (checked; false if malformed and ignored).
   bool accept_halo(const HaloMsg& h);
-  // Phase 2: the layer update (Shao 2020 eqs. (1)-(8)).
+  // Phase 2: the policy's layer update (e.g. Shao 2020 eqs. (1)-(8)).
   void finish_tick();
 
   // Tiles of this region at `tick`: every tile and layer, or only those that
@@ -52,7 +53,8 @@ class PlaceCore {
   void tiles(uint32_t tick, bool changed_only, std::vector<TileMsg>& out);
 
   [[nodiscard]] const DepositLedger& ledger() const { return ledger_; }
-  [[nodiscard]] const RegionField& field() const { return field_; }
+  [[nodiscard]] float value(int layer, Cell c) const { return model_->value(layer, c); }  // c in the region
+  [[nodiscard]] int layer_count() const { return layers_; }
   [[nodiscard]] RegionId region() const { return region_; }
   [[nodiscard]] const std::vector<RegionId>& neighbours() const { return neighbours_; }
   [[nodiscard]] const std::vector<TileCoord>& owned_tiles() const { return tiles_; }
@@ -60,8 +62,8 @@ class PlaceCore {
  private:
   MapGeometry geo_;
   RegionId region_;
-  RegionField field_;
-  TargetMarks marks_;
+  int layers_;
+  std::unique_ptr<PlaceModel> model_;
   std::vector<TileCoord> tiles_;
   std::vector<RegionId> neighbours_;
   std::map<uint32_t, uint32_t> last_seq_;  // per UAV: highest applied deposit seq

@@ -35,6 +35,9 @@ class RunRecorder {
   void on_uav_departed(uint32_t uav);
   void on_region_departed(RegionId r);
   void count_rejected_sample() { ++samples_rejected_; }
+  // Policy-specific quantities of the final field (policy.hpp field_summary).
+  void set_field_summary(std::map<std::string, double> summary) { field_summary_ = std::move(summary); }
+  [[nodiscard]] const std::map<std::string, double>& field_summary() const { return field_summary_; }
   // Appends (max tick, coverage) to the coverage series.
   void sample_coverage();
 
@@ -68,6 +71,7 @@ class RunRecorder {
   std::map<RegionId, HealthMsg> health_;
   std::map<RegionId, bool> departed_regions_;
   std::vector<std::pair<uint32_t, double>> coverage_series_;
+  std::map<std::string, double> field_summary_;
   uint32_t max_tick_ = 0;
   uint64_t samples_rejected_ = 0;
   bool last_was_first_ = false;

@@ -10,9 +10,18 @@
 
 #include "pheromesh/core/grid.hpp"
 #include "pheromesh/core/result.hpp"
+#include "pheromesh/core/policy_duan.hpp"
+#include "pheromesh/core/policy_liu.hpp"
+#include "pheromesh/core/policy_ravankar.hpp"
+#include "pheromesh/core/policy_shao_navigation.hpp"
+#include "pheromesh/core/policy_shostak.hpp"
 #include "pheromesh/core/shao_params.hpp"
 
 namespace pheromesh::core {
+
+// The search policy a scenario runs (policy.hpp).
+enum class PolicyKind : uint8_t { ShaoSearch = 0, ShaoNavigation, Liu, Shostak, Ravankar, Duan };
+const char* policy_name(PolicyKind k);  // as in the scenario file: "shao_search", ...
 
 struct ScenarioConfig {
   std::string name;
@@ -31,6 +40,12 @@ struct ScenarioConfig {
   uint64_t seed = 1;
   ShaoLayerParams layers;
   ShaoAcoParams aco;
+  PolicyKind policy = PolicyKind::ShaoSearch;
+  ShaoNavigationConfig shao_navigation;  // policy ShaoNavigation
+  LiuConfig liu;                         // policy Liu
+  ShostakConfig shostak;                 // policy Shostak
+  RavankarConfig ravankar;               // policy Ravankar
+  DuanConfig duan;                       // policy Duan
 
   [[nodiscard]] MapGeometry geometry() const { return {width, height, tile_size, regions_x, regions_y}; }
 };

@@ -36,6 +36,7 @@ class Simulator {
   [[nodiscard]] const ScenarioConfig& scenario() const { return scenario_; }
   // Final field value of layer `layer` at c (from the place agent owning c).
   [[nodiscard]] float field_value(int layer, Cell c) const;
+  [[nodiscard]] int layer_count() const;
   [[nodiscard]] uint64_t uav_steps() const { return uav_steps_; }
 
  private:
@@ -49,6 +50,8 @@ class Simulator {
   std::vector<uint64_t> tile_samples_;
   std::map<std::pair<int32_t, int32_t>, std::vector<TileMsg>> tiles_;  // tile -> its layers, latest place tick
   std::vector<std::vector<DepositMsg>> inbox_;                         // per region
+  std::map<std::pair<int32_t, int32_t>, std::vector<UavStateMsg>> states_by_tile_;  // UAV states of the last tick
+  std::vector<BroadcastMsg> broadcasts_;                                            // broadcasts of the last tick
   uint64_t uav_steps_ = 0;
 };
 

@@ -1,95 +1,79 @@
-// One UAV's logic without any transport: the tiles it has received, the Shao
-// 2020 search policy, its simulated sensor, and the deposits, detections and
-// state it produces each tick. The pheromesh-uav process and the in-process
-// simulator both drive this class, so they make the same decisions.
+// One UAV without any transport: the tiles it has received, the states of
+// the UAVs near it, the swarm broadcasts, and the scenario's policy
+// (policy.hpp), which decides, senses and deposits. UavCore numbers the
+// deposits and keeps the neighbourhood. The pheromesh-uav process and the
+// in-process simulator both drive this class, so they make the same decisions.
 #pragma once
 
-#include <array>
 #include <cstdint>
 #include <map>
-#include <optional>
-#include <set>
+#include <memory>
 #include <vector>
 
-#include "pheromesh/core/aco.hpp"
-#include "pheromesh/core/layers.hpp"
 #include "pheromesh/core/messages.hpp"
-#include "pheromesh/core/rng.hpp"
+#include "pheromesh/core/policy.hpp"
 #include "pheromesh/core/scenario.hpp"
 #include "pheromesh/core/world.hpp"
 
 namespace pheromesh::core {
 
-// The pheromone tiles a UAV has received, by tile.
-class TileCache {
- public:
-  explicit TileCache(const MapGeometry& geo) : geo_(&geo) {}
-  void update(const TileMsg& m);  // m must have passed check_tile
-  // Target, obstacle, path values at c, if the tiles of all three layers are known.
-  [[nodiscard]] std::optional<std::array<float, 3>> pheromones(Cell c) const;
-  [[nodiscard]] std::optional<float> value(Layer l, Cell c) const;
-  // Tick of the oldest layer held for tile t (nullopt if a layer is missing).
-  [[nodiscard]] std::optional<uint32_t> oldest_tick(TileCoord t) const;
-  void forget_except(const std::vector<TileCoord>& keep);
-
- private:
-  struct Tile {
-    std::array<std::vector<float>, kLayerCount> layers;
-    std::array<uint32_t, kLayerCount> tick{};
-  };
-  const MapGeometry* geo_;
-  std::map<std::pair<int32_t, int32_t>, Tile> tiles_;
-};
-
 class UavCore {
  public:
   // `world` is the simulated ground truth the sensor reads; it must outlive this.
-  UavCore(const ScenarioConfig& scenario, const World& world, uint32_t id);
-  // The tile cache keeps a pointer to geo_: pinned in memory.
+  // `exact_ticks`: decide on the neighbour states and broadcasts of exactly
+  // the previous tick (lockstep, simulator); otherwise on the latest ones.
+  UavCore(const ScenarioConfig& scenario, const World& world, uint32_t id, bool exact_ticks = true);
+  // The tile cache and the policy keep pointers to geo_: pinned in memory.
   UavCore(const UavCore&) = delete;
   UavCore& operator=(const UavCore&) = delete;
 
   void receive_tile(const TileMsg& m) { cache_.update(m); }
-  void receive_neighbour(const UavStateMsg& s);
+  void receive_neighbour(const UavStateMsg& s);   // other UAVs over the neighbourhood tiles
+  void receive_broadcast(const BroadcastMsg& b);  // the swarm's broadcasts
 
   struct Output {
     std::vector<DepositMsg> deposits;  // in sequence order
     std::vector<DetectionMsg> detections;
+    std::optional<BroadcastMsg> broadcast;
     UavStateMsg state;  // deposits_sent / tile_samples_received left to the caller
   };
-  // Tick 0 senses and deposits at the start cell; every later tick moves
-  // first (Shao 2020 Algorithm 1), then senses and deposits.
   void step(uint32_t tick, Output& out);
 
-  // Tiles this UAV needs: those within its sensor radius plus one step.
+  // Lockstep: true once this UAV holds, for tick t, the states of every
+  // other UAV over its neighbourhood tiles (`occupancy` counts all UAVs per
+  // tile, this one included) and `broadcasts` broadcasts.
+  [[nodiscard]] bool holds_tick(uint32_t t, const std::vector<TileCount>& occupancy, uint32_t broadcasts) const;
+
+  // Tiles this UAV reads: those within the policy's view radius.
   [[nodiscard]] const std::vector<TileCoord>& neighbourhood() const { return hood_; }
   [[nodiscard]] const TileCache& tiles() const { return cache_; }
-  [[nodiscard]] Cell cell() const { return pos_; }
-  [[nodiscard]] Heading heading() const { return heading_; }
+  [[nodiscard]] Cell cell() const { return policy_->cell(); }
+  [[nodiscard]] const UavStateMsg& last_state() const { return last_state_; }
   [[nodiscard]] uint32_t id() const { return id_; }
 
  private:
-  void move();
-  void sense_and_deposit(uint32_t tick, Output& out);
-  void add_deposit(DepositKind kind, Cell cell, RegionId region, uint32_t tick, Output& out);
   void update_neighbourhood();
+  [[nodiscard]] bool in_hood(const UavStateMsg& s) const;
 
   const ScenarioConfig* scenario_;
   MapGeometry geo_;
-  const World* world_;
   uint32_t id_;
-  Rng rng_;
+  bool exact_;
+  PolicyTraits traits_;
   TileCache cache_;
-  Cell pos_{};
-  Cell last_step_{};
-  Heading heading_ = Heading::E;
+  std::unique_ptr<UavPolicy> policy_;
   uint32_t seq_ = 0;
-  std::set<std::pair<int32_t, int32_t>> known_obstacles_;
-  std::set<std::pair<int32_t, int32_t>> marked_obstacles_;
-  std::map<int32_t, uint32_t> target_mark_sent_tick_;  // target index -> tick of the last mark sent
-  std::set<int32_t> targets_in_range_;
-  std::map<uint32_t, UavStateMsg> neighbours_;
+  std::map<uint32_t, std::map<uint32_t, UavStateMsg>> neighbours_;    // uav -> tick -> state (a few ticks)
+  std::map<uint32_t, std::map<uint32_t, BroadcastMsg>> broadcasts_;   // tick -> uav -> broadcast (a few ticks)
+  uint32_t broadcasts_consumed_ = 0;  // realtime: broadcasts of earlier ticks were handed to the policy
   std::vector<TileCoord> hood_;
+  UavStateMsg last_state_{};
+  UavActions actions_;
+  std::vector<UavStateMsg> view_states_;
+  std::vector<BroadcastMsg> view_broadcasts_;
 };
+
+// Cell a UAV state is over (its position rounded to the nearest cell centre).
+Cell state_cell(const UavStateMsg& s);
 
 }  // namespace pheromesh::core

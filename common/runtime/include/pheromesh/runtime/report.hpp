@@ -6,6 +6,7 @@
 
 #include <functional>
 #include <string>
+#include <vector>
 
 #include "pheromesh/core/run_metrics.hpp"
 
@@ -23,7 +24,8 @@ nlohmann::json metrics_json(const core::RunRecorder& r, const RunInfo& info);
 // floats exactly ("%.9g"): `layer NAME` then one line per row. `value` may
 // return NaN for cells it does not know.
 using FieldReader = std::function<float(int layer, core::Cell c)>;
-bool write_field(const std::string& path, const core::MapGeometry& geo, const FieldReader& value);
+bool write_field(const std::string& path, const core::MapGeometry& geo, const std::vector<std::string>& layers,
+                 const FieldReader& value);
 
 // Writes `j` to DIR/metrics.json; false (and a message in `error`) on failure.
 bool write_json(const std::string& dir, const std::string& file, const nlohmann::json& j, std::string& error);

@@ -1,0 +1,153 @@
+// The two halves of every search policy, without any transport:
+//  * UavPolicy: what one UAV decides each tick from what it can see (its
+//    neighbourhood tiles, the UAVs over those tiles, swarm broadcasts, its
+//    simulated sensor);
+//  * PlaceModel: what one place agent does with the deposits it receives
+//    (aggregation, evaporation, diffusion, timers) over the layers it owns.
+// UavCore and PlaceCore wrap them with the parts every policy shares
+// (sequence numbers, the deposit ledger, tiles, neighbour bookkeeping), and
+// the processes and the in-process simulator drive those cores, so a policy
+// behaves identically in `pheromesh run` and `pheromesh sim`.
+//
+// A scenario picks the policy (scenario.policy in the textproto; the Shao
+// search when absent). Each policy lives in policy_<name>.{hpp,cpp}.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <memory>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "pheromesh/core/grid.hpp"
+#include "pheromesh/core/layers.hpp"
+#include "pheromesh/core/messages.hpp"
+#include "pheromesh/core/scenario.hpp"
+#include "pheromesh/core/world.hpp"
+
+namespace pheromesh::core {
+
+// What a policy looks like from outside.
+struct PolicyTraits {
+  std::vector<std::string> layers;  // layer names, index = TileState.layer
+  double sensor_radius = 4.0;       // [cell] for the coverage metric
+  double view_radius = 5.0;         // [cell] tiles (and the UAVs over them) a UAV reads
+};
+PolicyTraits policy_traits(const ScenarioConfig& s);
+
+// The pheromone tiles a UAV has received, by tile and layer.
+class TileCache {
+ public:
+  TileCache(const MapGeometry& geo, int layers) : geo_(&geo), layers_(layers) {}
+  void update(const TileMsg& m);  // m must have passed check_tile
+  [[nodiscard]] std::optional<float> value(int layer, Cell c) const;
+  // Tick of the oldest layer held for tile t (nullopt if a layer is missing).
+  [[nodiscard]] std::optional<uint32_t> oldest_tick(TileCoord t) const;
+  void forget_except(const std::vector<TileCoord>& keep);
+  [[nodiscard]] int layers() const { return layers_; }
+
+ private:
+  struct Tile {
+    std::vector<std::vector<float>> layers;
+    std::vector<uint32_t> tick;
+  };
+  const MapGeometry* geo_;
+  int layers_;
+  std::map<std::pair<int32_t, int32_t>, Tile> tiles_;
+};
+
+// What a UAV knows at the start of its tick.
+struct UavView {
+  uint32_t tick = 0;
+  const TileCache* tiles = nullptr;
+  // States (of tick - 1 in lockstep and in the simulator) of the other UAVs
+  // over the tiles of this UAV's neighbourhood, by id.
+  std::span<const UavStateMsg> neighbours;
+  // Broadcasts (of tick - 1 in lockstep and in the simulator; those received
+  // since the last tick in realtime), own included, by UAV id.
+  std::span<const BroadcastMsg> broadcasts;
+};
+
+// What a UAV does in its tick. UavCore fills uav, tick and seq of deposits,
+// uav and tick of broadcasts and detections, uav and tick of the state.
+struct UavActions {
+  std::vector<DepositMsg> deposits;
+  std::vector<DetectionMsg> detections;
+  std::optional<BroadcastMsg> broadcast;  // at most one per UAV and tick
+  UavStateMsg state;                      // x, y, vx, vy, heading, role
+  void clear() {
+    deposits.clear();
+    detections.clear();
+    broadcast.reset();
+    state = {};
+  }
+};
+
+class UavPolicy {
+ public:
+  virtual ~UavPolicy() = default;
+  // Tick 0 starts the policy (sense and deposit at the start); later ticks move first.
+  virtual void step(const UavView& view, UavActions& out) = 0;
+  [[nodiscard]] virtual Cell cell() const = 0;  // the cell the UAV is over
+};
+
+class PlaceModel {
+ public:
+  virtual ~PlaceModel() = default;
+  // Applies one deposit that passed check_deposit and the sequence check.
+  // Returns a rejection reason, or nullopt when applied.
+  virtual std::optional<std::string> apply(const DepositMsg& d, uint32_t tick, std::vector<TargetEventMsg>& events) = 0;
+  // After the deposits of `tick`: timers, then the border ring of the
+  // diffusion sources for the neighbours (empty rings: no diffusion).
+  virtual HaloRing begin_step(uint32_t tick, std::vector<TargetEventMsg>& events) = 0;
+  virtual void accept_halo(const Rect& neighbour_rect, const HaloRing& ring) = 0;
+  // The layer update of the tick.
+  virtual void finish_step() = 0;
+  [[nodiscard]] virtual float value(int layer, Cell c) const = 0;  // c inside the region
+};
+
+std::unique_ptr<UavPolicy> make_uav_policy(const ScenarioConfig& s, const MapGeometry& geo, const World& world,
+                                           uint32_t id);
+std::unique_ptr<PlaceModel> make_place_model(const ScenarioConfig& s, const MapGeometry& geo, RegionId region);
+
+// Quantities of the final field that judge a run of this policy (for
+// metrics.json "field"), e.g. Liu's visited cells and environmental
+// uncertainty. `value(layer, c)` reads the final field.
+using FieldLookup = std::function<float(int layer, Cell c)>;
+std::map<std::string, double> field_summary(const ScenarioConfig& s, const FieldLookup& value);
+
+// --- per policy (policy_<name>.cpp) -------------------------------------------
+PolicyTraits shao_search_traits(const ScenarioConfig& s);
+std::unique_ptr<UavPolicy> make_shao_search_uav(const ScenarioConfig& s, const MapGeometry& geo, const World& world,
+                                                uint32_t id);
+// A Shao searcher that starts at `at` with `heading` (0..7): what a
+// navigating UAV becomes once the leader is at the target region (Shao 2020
+// Algorithm 3 lines 1-2).
+std::unique_ptr<UavPolicy> make_shao_search_uav_at(const ScenarioConfig& s, const MapGeometry& geo, const World& world,
+                                                   uint32_t id, Cell at, uint8_t heading);
+// `beacons`: targets emit target pheromone and obstacles obstacle pheromone
+// from the start (the navigation scenario's potential field).
+std::unique_ptr<PlaceModel> make_shao_place(const ScenarioConfig& s, const MapGeometry& geo, RegionId region,
+                                            bool beacons);
+
+#define PHEROMESH_POLICY_FUNCTIONS(name)                                                                     \
+  PolicyTraits name##_traits(const ScenarioConfig& s);                                                        \
+  std::unique_ptr<UavPolicy> make_##name##_uav(const ScenarioConfig& s, const MapGeometry& geo,               \
+                                               const World& world, uint32_t id);                              \
+  std::unique_ptr<PlaceModel> make_##name##_place(const ScenarioConfig& s, const MapGeometry& geo,            \
+                                                  RegionId region);                                           \
+  std::map<std::string, double> name##_field_summary(const ScenarioConfig& s, const FieldLookup& value);
+PHEROMESH_POLICY_FUNCTIONS(shao_navigation)
+PHEROMESH_POLICY_FUNCTIONS(liu)
+PHEROMESH_POLICY_FUNCTIONS(shostak)
+PHEROMESH_POLICY_FUNCTIONS(ravankar)
+PHEROMESH_POLICY_FUNCTIONS(duan)
+#undef PHEROMESH_POLICY_FUNCTIONS
+
+// Heading (0..7) closest to a velocity; `fallback` for a zero velocity.
+uint8_t heading_of_velocity(double vx, double vy, uint8_t fallback);
+
+}  // namespace pheromesh::core

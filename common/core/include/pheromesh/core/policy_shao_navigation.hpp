@@ -1,0 +1,16 @@
+// Scenario parameters of the Shao 2020 navigation policy (§5): a leader on
+// vector or scalar pheromones, followers flocking (policy_shao_navigation.cpp).
+#pragma once
+
+#include "pheromesh/core/grid.hpp"
+#include "pheromesh/core/shao_navigation.hpp"
+
+namespace pheromesh::core {
+
+struct ShaoNavigationConfig {
+  ShaoNavParams params;  // Table 2
+  LeaderPheromones leader = LeaderPheromones::Vector;
+  Cell region_centre{};  // centre of the target region [cell]
+};
+
+}  // namespace pheromesh::core

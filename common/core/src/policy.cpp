@@ -1,0 +1,125 @@
+#include "pheromesh/core/policy.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "pheromesh/core/aco.hpp"
+
+namespace pheromesh::core {
+
+const char* policy_name(PolicyKind k) {
+  switch (k) {
+    case PolicyKind::ShaoSearch: return "shao_search";
+    case PolicyKind::ShaoNavigation: return "shao_navigation";
+    case PolicyKind::Liu: return "liu";
+    case PolicyKind::Shostak: return "shostak";
+    case PolicyKind::Ravankar: return "ravankar";
+    case PolicyKind::Duan: return "duan";
+  }
+  return "?";
+}
+
+// ------------------------------------------------------------------ TileCache
+void TileCache::update(const TileMsg& m) {
+  if (m.layer >= layers_) return;
+  auto& t = tiles_[{m.tile.tx, m.tile.ty}];
+  if (t.layers.empty()) {
+    t.layers.resize(static_cast<std::size_t>(layers_));
+    t.tick.assign(static_cast<std::size_t>(layers_), 0);
+  }
+  auto& slot = t.layers[m.layer];
+  if (!slot.empty() && m.tick < t.tick[m.layer]) return;  // older than what we have
+  slot = m.values;
+  t.tick[m.layer] = m.tick;
+}
+
+std::optional<float> TileCache::value(int layer, Cell c) const {
+  if (!geo_->in_map(c) || layer < 0 || layer >= layers_) return std::nullopt;
+  const TileCoord tc = geo_->tile_of(c);
+  auto it = tiles_.find({tc.tx, tc.ty});
+  if (it == tiles_.end()) return std::nullopt;
+  const auto& v = it->second.layers[static_cast<std::size_t>(layer)];
+  if (v.empty()) return std::nullopt;
+  const Rect r = geo_->tile_rect(tc);
+  return v[static_cast<std::size_t>((c.y - r.y0) * r.w + (c.x - r.x0))];
+}
+
+std::optional<uint32_t> TileCache::oldest_tick(TileCoord t) const {
+  auto it = tiles_.find({t.tx, t.ty});
+  if (it == tiles_.end()) return std::nullopt;
+  uint32_t oldest = UINT32_MAX;
+  for (std::size_t l = 0; l < it->second.layers.size(); ++l) {
+    if (it->second.layers[l].empty()) return std::nullopt;
+    oldest = std::min(oldest, it->second.tick[l]);
+  }
+  return oldest;
+}
+
+void TileCache::forget_except(const std::vector<TileCoord>& keep) {
+  for (auto it = tiles_.begin(); it != tiles_.end();) {
+    const bool kept = std::any_of(keep.begin(), keep.end(), [&](const TileCoord& t) {
+      return t.tx == it->first.first && t.ty == it->first.second;
+    });
+    it = kept ? std::next(it) : tiles_.erase(it);
+  }
+}
+
+// ------------------------------------------------------------------ dispatch
+PolicyTraits policy_traits(const ScenarioConfig& s) {
+  switch (s.policy) {
+    case PolicyKind::ShaoSearch: return shao_search_traits(s);
+    case PolicyKind::ShaoNavigation: return shao_navigation_traits(s);
+    case PolicyKind::Liu: return liu_traits(s);
+    case PolicyKind::Shostak: return shostak_traits(s);
+    case PolicyKind::Ravankar: return ravankar_traits(s);
+    case PolicyKind::Duan: return duan_traits(s);
+  }
+  return shao_search_traits(s);
+}
+
+std::unique_ptr<UavPolicy> make_uav_policy(const ScenarioConfig& s, const MapGeometry& geo, const World& world,
+                                           uint32_t id) {
+  switch (s.policy) {
+    case PolicyKind::ShaoSearch: return make_shao_search_uav(s, geo, world, id);
+    case PolicyKind::ShaoNavigation: return make_shao_navigation_uav(s, geo, world, id);
+    case PolicyKind::Liu: return make_liu_uav(s, geo, world, id);
+    case PolicyKind::Shostak: return make_shostak_uav(s, geo, world, id);
+    case PolicyKind::Ravankar: return make_ravankar_uav(s, geo, world, id);
+    case PolicyKind::Duan: return make_duan_uav(s, geo, world, id);
+  }
+  return make_shao_search_uav(s, geo, world, id);
+}
+
+std::unique_ptr<PlaceModel> make_place_model(const ScenarioConfig& s, const MapGeometry& geo, RegionId region) {
+  switch (s.policy) {
+    case PolicyKind::ShaoSearch: return make_shao_place(s, geo, region, false);
+    case PolicyKind::ShaoNavigation: return make_shao_navigation_place(s, geo, region);
+    case PolicyKind::Liu: return make_liu_place(s, geo, region);
+    case PolicyKind::Shostak: return make_shostak_place(s, geo, region);
+    case PolicyKind::Ravankar: return make_ravankar_place(s, geo, region);
+    case PolicyKind::Duan: return make_duan_place(s, geo, region);
+  }
+  return make_shao_place(s, geo, region, false);
+}
+
+std::map<std::string, double> field_summary(const ScenarioConfig& s, const FieldLookup& value) {
+  switch (s.policy) {
+    case PolicyKind::ShaoSearch: return {};
+    case PolicyKind::ShaoNavigation: return shao_navigation_field_summary(s, value);
+    case PolicyKind::Liu: return liu_field_summary(s, value);
+    case PolicyKind::Shostak: return shostak_field_summary(s, value);
+    case PolicyKind::Ravankar: return ravankar_field_summary(s, value);
+    case PolicyKind::Duan: return duan_field_summary(s, value);
+  }
+  return {};
+}
+
+uint8_t heading_of_velocity(double vx, double vy, uint8_t fallback) {
+  if (!std::isfinite(vx) || !std::isfinite(vy) || (vx == 0.0 && vy == 0.0)) return fallback;
+  // Heading h points along step_of(h) (N is +y): the nearest of the eight.
+  const double a = std::atan2(vy, vx);
+  const auto k = static_cast<int>(std::lround(a / (std::acos(-1.0) / 4.0)));
+  return static_cast<uint8_t>(((k % 8) + 8) % 8);
+}
+
+}  // namespace pheromesh::core

@@ -1,0 +1,19 @@
+// Placeholder: the Ravankar policy is not wired into scenarios yet. scenario_ravankar.cpp
+// refuses scenario.policy.ravankar, so none of these is ever called.
+#include <stdexcept>
+
+#include "pheromesh/core/policy.hpp"
+
+namespace pheromesh::core {
+
+PolicyTraits ravankar_traits(const ScenarioConfig& s) { return shao_search_traits(s); }
+std::unique_ptr<UavPolicy> make_ravankar_uav(const ScenarioConfig& /*s*/, const MapGeometry& /*geo*/, const World& /*world*/,
+                                         uint32_t /*id*/) {
+  throw std::logic_error("policy ravankar is not available");
+}
+std::unique_ptr<PlaceModel> make_ravankar_place(const ScenarioConfig& /*s*/, const MapGeometry& /*geo*/, RegionId /*region*/) {
+  throw std::logic_error("policy ravankar is not available");
+}
+std::map<std::string, double> ravankar_field_summary(const ScenarioConfig& /*s*/, const FieldLookup& /*value*/) { return {}; }
+
+}  // namespace pheromesh::core

@@ -1,0 +1,151 @@
+// The Shao 2020 navigation policy (§5, Algorithms 2 and 3): UAV 0 leads on
+// vector (or scalar) pheromones read from its tiles (eqs. 12-15) and tells
+// the swarm where it is through a LeaderState broadcast; the others flock
+// after it with the modified Olfati-Saber rule (eqs. 17-24) using the states
+// of the followers over their neighbourhood tiles. When the leader reaches
+// the centre of the target region every UAV switches to the §4 search
+// (Algorithm 3 lines 1-2). The place agents run the Shao layers with the
+// targets and obstacles emitting from the start (make_shao_place, beacons).
+#include <algorithm>
+#include <cmath>
+
+#include "pheromesh/core/aco.hpp"
+#include "pheromesh/core/policy.hpp"
+#include "pheromesh/core/shao_navigation.hpp"
+
+namespace pheromesh::core {
+
+namespace {
+
+constexpr uint32_t kLeader = 0;
+
+Cell nearest_cell(const Eigen::Vector2d& q, const MapGeometry& geo) {
+  const auto x = static_cast<int32_t>(std::lround(q.x()));
+  const auto y = static_cast<int32_t>(std::lround(q.y()));
+  return {std::clamp(x, 0, geo.width() - 1), std::clamp(y, 0, geo.height() - 1)};
+}
+
+class ShaoNavigationUav final : public UavPolicy {
+ public:
+  ShaoNavigationUav(const ScenarioConfig& s, const MapGeometry& geo, const World& world, uint32_t id)
+      : s_(&s), geo_(&geo), world_(&world), id_(id) {
+    const Cell c = start_cell(s, id);
+    q_ = {c.x, c.y};
+  }
+
+  void step(const UavView& view, UavActions& out) override {
+    if (search_) {
+      search_->step(view, out);
+      return;
+    }
+    const auto& cfg = s_->shao_navigation;
+    bool arrived = false;
+    if (id_ == kLeader) {
+      if (view.tick > 0) {
+        const PheromoneLookup lookup = [&view](Cell c) -> std::optional<std::array<float, 3>> {
+          auto t = view.tiles->value(static_cast<int>(Layer::Target), c);
+          auto o = view.tiles->value(static_cast<int>(Layer::Obstacle), c);
+          auto p = view.tiles->value(static_cast<int>(Layer::Path), c);
+          if (!t || !o || !p) return std::nullopt;
+          return std::array<float, 3>{*t, *o, *p};
+        };
+        const Eigen::Vector2d centre{cfg.region_centre.x, cfg.region_centre.y};
+        // Shao 2020 Algorithm 2: towards the centre once it is within
+        // sensorLD, else one pheromone step (eqs. (12)-(15)).
+        const LeaderStep st = leader_algorithm2_step(q_, centre, lookup, cfg.params, cfg.leader);
+        v_ = st.v;
+        q_ = clamp_to_map(st.q);
+        arrived = st.at_centre;
+      }
+      BroadcastMsg b;
+      b.kind = static_cast<uint8_t>(BroadcastKind::LeaderState);
+      b.values = {q_.x(), q_.y(), v_.x(), v_.y(), arrived ? 1.0 : 0.0};
+      out.broadcast = std::move(b);
+    } else if (view.tick > 0) {
+      std::optional<FollowerState> leader;
+      for (const BroadcastMsg& b : view.broadcasts) {
+        if (b.uav != kLeader || b.kind != static_cast<uint8_t>(BroadcastKind::LeaderState) || b.values.size() < 5) continue;
+        leader = FollowerState{{b.values[0], b.values[1]}, {b.values[2], b.values[3]}};
+        arrived = b.values[4] != 0.0;
+      }
+      if (!arrived && leader) {
+        others_.clear();
+        for (const UavStateMsg& n : view.neighbours) {
+          if (n.uav == kLeader || n.role != static_cast<uint8_t>(Role::Follower)) continue;
+          others_.push_back({{n.x, n.y}, {n.vx, n.vy}});
+        }
+        // Shao 2020 eqs. (17)-(24).
+        const FollowerStep st = follower_step({q_, v_}, others_, *leader, cfg.params);
+        v_ = st.v;
+        q_ = clamp_to_map(st.q);
+      }
+    }
+    const Cell c = nearest_cell(q_, *geo_);
+    // Path pheromone around the UAV (Shao 2020 eqs. (5)-(7)), as in the search.
+    for (RegionId r : geo_->regions_within(c, s_->layers.d0)) {
+      DepositMsg d;
+      d.region = r;
+      d.kind = static_cast<uint8_t>(DepositKind::PathVisit);
+      d.cell = c;
+      d.amount = 1.0F;
+      out.deposits.push_back(d);
+    }
+    out.state.x = q_.x();
+    out.state.y = q_.y();
+    out.state.vx = v_.x();
+    out.state.vy = v_.y();
+    heading_ = heading_of_velocity(v_.x(), v_.y(), heading_);
+    out.state.heading = heading_;
+    out.state.role = static_cast<uint8_t>(id_ == kLeader ? Role::Leader : Role::Follower);
+    if (arrived) {
+      // Algorithm 2 lines 3-4 / Algorithm 3 lines 1-2: the search takes over
+      // from the next tick, from this cell and heading.
+      search_ = make_shao_search_uav_at(*s_, *geo_, *world_, id_, c, heading_);
+      out.state.x = c.x;
+      out.state.y = c.y;
+      out.state.role = static_cast<uint8_t>(Role::Searcher);
+    }
+  }
+
+  [[nodiscard]] Cell cell() const override { return search_ ? search_->cell() : nearest_cell(q_, *geo_); }
+
+ private:
+  [[nodiscard]] Eigen::Vector2d clamp_to_map(const Eigen::Vector2d& q) const {
+    return {std::clamp(q.x(), 0.0, static_cast<double>(geo_->width() - 1)),
+            std::clamp(q.y(), 0.0, static_cast<double>(geo_->height() - 1))};
+  }
+
+  const ScenarioConfig* s_;
+  const MapGeometry* geo_;
+  const World* world_;
+  uint32_t id_;
+  Eigen::Vector2d q_ = Eigen::Vector2d::Zero();  // [cell]
+  Eigen::Vector2d v_ = Eigen::Vector2d::Zero();  // [cell/tick]
+  uint8_t heading_ = 0;
+  std::vector<FollowerState> others_;
+  std::unique_ptr<UavPolicy> search_;  // after the leader's arrival
+};
+
+}  // namespace
+
+PolicyTraits shao_navigation_traits(const ScenarioConfig& s) {
+  PolicyTraits t = shao_search_traits(s);
+  const auto& p = s.shao_navigation.params;
+  t.view_radius = std::max({t.view_radius, std::ceil(p.leader_sensor_radius) + 1.0, std::ceil(p.follower_range) + 1.0});
+  return t;
+}
+
+std::unique_ptr<UavPolicy> make_shao_navigation_uav(const ScenarioConfig& s, const MapGeometry& geo, const World& world,
+                                                    uint32_t id) {
+  return std::make_unique<ShaoNavigationUav>(s, geo, world, id);
+}
+
+std::unique_ptr<PlaceModel> make_shao_navigation_place(const ScenarioConfig& s, const MapGeometry& geo, RegionId region) {
+  return make_shao_place(s, geo, region, true);
+}
+
+std::map<std::string, double> shao_navigation_field_summary(const ScenarioConfig& /*s*/, const FieldLookup& /*value*/) {
+  return {};
+}
+
+}  // namespace pheromesh::core
