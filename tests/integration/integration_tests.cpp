@@ -1,128 +1,13 @@
 // Integration tests: real pheromesh processes talking DDS on loopback.
-// Each test uses its own DDS domain so tests can run in parallel.
-#include <gtest/gtest.h>
-#include <signal.h>
-#include <sys/wait.h>
-#include <unistd.h>
+// Each test uses its own DDS domain so tests can run in parallel. Domains
+// 21-30 are used here; each test_policy_<name>.cpp takes its own:
+// shao_navigation 31, liu 32, shostak 33, ravankar 34, duan 35.
+#include "harness.hpp"
 
-#include <algorithm>
-#include <array>
-#include <chrono>
-#include <cstdio>
-#include <filesystem>
-#include <fstream>
-#include <nlohmann/json.hpp>
-#include <string>
-#include <thread>
-#include <vector>
-
+using namespace pheromesh::itest;  // NOLINT: the test helpers
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 using nlohmann::json;
-
-namespace {
-
-const std::string kBin = PHEROMESH_BIN_DIR;
-const std::string kSrc = PHEROMESH_SOURCE_DIR;
-
-struct Output {
-  int exit_code = -1;
-  std::string text;
-};
-
-// Runs a shell command, capturing stdout+stderr.
-Output run(const std::string& cmd) {
-  Output o;
-  FILE* p = popen((cmd + " 2>&1").c_str(), "r");
-  if (p == nullptr) return o;
-  std::array<char, 4096> buf{};
-  while (fgets(buf.data(), buf.size(), p) != nullptr) o.text += buf.data();
-  const int st = pclose(p);
-  o.exit_code = WIFEXITED(st) ? WEXITSTATUS(st) : 128 + WTERMSIG(st);
-  return o;
-}
-
-// A background process with its stdout in a file.
-struct Background {
-  pid_t pid = -1;
-  std::string out_path;
-};
-
-Background start(const std::vector<std::string>& args, const std::string& out_path) {
-  Background b;
-  b.out_path = out_path;
-  b.pid = fork();
-  if (b.pid == 0) {
-    FILE* f = std::freopen(out_path.c_str(), "w", stdout);
-    (void)f;
-    std::vector<char*> argv;
-    std::vector<std::string> copy = args;
-    for (auto& a : copy) argv.push_back(a.data());
-    argv.push_back(nullptr);
-    execv(argv[0], argv.data());
-    _exit(127);
-  }
-  return b;
-}
-
-int wait_exit(pid_t pid, std::chrono::seconds timeout) {
-  const auto deadline = Clock::now() + timeout;
-  while (Clock::now() < deadline) {
-    int st = 0;
-    if (waitpid(pid, &st, WNOHANG) == pid) return WIFEXITED(st) ? WEXITSTATUS(st) : 128 + WTERMSIG(st);
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));
-  }
-  kill(pid, SIGKILL);
-  waitpid(pid, nullptr, 0);
-  return -1;
-}
-
-std::string slurp(const std::string& path) {
-  std::ifstream in(path);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
-json read_metrics(const std::string& dir) {
-  std::ifstream in(dir + "/metrics.json");
-  json j;
-  if (in) in >> j;
-  return j;
-}
-
-std::string out_dir(const std::string& name) {
-  const fs::path d = fs::path(PHEROMESH_TEST_OUT_DIR) / name;
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d.string();
-}
-
-std::string pheromesh_run(const std::string& scenario, const std::string& out, int domain, const std::string& extra) {
-  return kBin + "/pheromesh run " + kSrc + "/scenarios/" + scenario + " --out " + out + " --domain " +
-         std::to_string(domain) + " --progress 0.5 " + extra;
-}
-
-// `pheromesh run` in the background; its output goes to OUT.txt beside OUT.
-Background start_run(const std::string& scenario, const std::string& out, int domain, const std::string& extra) {
-  return start({"/bin/sh", "-c", pheromesh_run(scenario, out, domain, extra) + " 2>&1"}, out + ".txt");
-}
-
-// Coverage recorded at the last progress line at or before `tick`.
-double coverage_at(const json& m, uint32_t tick) {
-  double c = 0;
-  for (const auto& e : m["coverage_series"]) {
-    if (e[0].get<uint32_t>() <= tick) c = e[1].get<double>();
-  }
-  return c;
-}
-
-void expect_accounting(const json& m) {
-  EXPECT_GT(m["deposits_sent"].get<uint64_t>(), 0U);
-  EXPECT_EQ(m["deposits_sent"].get<uint64_t>(),
-            m["deposits_applied"].get<uint64_t>() + m["deposits_rejected"].get<uint64_t>())
-      << m.dump(2);
-}
-
-}  // namespace
 
 TEST(Swarm, RunFindsTargetsRaisesCoverageAndAccountsForEveryDeposit) {
   const std::string out = out_dir("swarm-basic");
@@ -265,28 +150,6 @@ TEST(Discovery, UnicastOneHostProfileGoesBeyondTheDefaultTenProcesses) {
   EXPECT_EQ(discover_all("onehost-unicast", 16, 26, "discovery-unicast"), 16);
 }
 
-namespace {
-
-void expect_lockstep_matches_sim(const std::string& scenario, const std::string& args, int domain, const std::string& tag) {
-  const std::string run_out = out_dir(tag + "-lockstep");
-  const std::string sim_out = out_dir(tag + "-sim");
-  const Output r = run(pheromesh_run(scenario, run_out, domain, "--clock lockstep " + args));
-  ASSERT_EQ(r.exit_code, 0) << r.text;
-  const Output s = run(kBin + "/pheromesh sim " + kSrc + "/scenarios/" + scenario + " --quiet --out " + sim_out + " " + args);
-  ASSERT_EQ(s.exit_code, 0) << s.text;
-  const json a = read_metrics(run_out);
-  const json b = read_metrics(sim_out);
-  for (const char* key : {"ticks", "uavs", "coverage", "covered_cells", "targets_found", "acquisition_ticks",
-                          "revisit_response_ticks", "deposits_sent", "deposits_applied", "deposits_rejected"}) {
-    EXPECT_EQ(a[key], b[key]) << key;
-  }
-  const std::string field_run = slurp(run_out + "/final_field.txt");
-  EXPECT_GT(field_run.size(), 1000U);
-  EXPECT_TRUE(field_run == slurp(sim_out + "/final_field.txt")) << "final pheromone fields differ";
-  EXPECT_EQ(field_run.find("nan"), std::string::npos);
-}
-
-}  // namespace
 
 TEST(Lockstep, RunOverDdsGivesTheSimulatorsNumbersOnTheSmallScenario) {
   expect_lockstep_matches_sim("small-test.textproto", "--ticks 100", 29, "lockstep-small");
