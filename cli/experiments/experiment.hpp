@@ -53,6 +53,7 @@ struct Experiment {
 
 // Every experiment, by family.
 std::vector<Experiment> shao_experiments();
+std::vector<Experiment> shao_navigation_experiments();
 std::vector<Experiment> duan_experiments();
 std::vector<Experiment> liu_experiments();
 std::vector<Experiment> ravankar_experiments();

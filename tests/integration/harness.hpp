@@ -137,7 +137,7 @@ inline void expect_lockstep_matches_sim(const std::string& scenario, const std::
   const json a = read_metrics(run_out);
   const json b = read_metrics(sim_out);
   for (const char* key : {"policy", "ticks", "uavs", "coverage", "covered_cells", "targets_found", "acquisition_ticks",
-                          "revisit_response_ticks", "deposits_sent", "deposits_applied", "deposits_rejected", "field"}) {
+                          "revisit_response_ticks", "leader_arrival_tick", "deposits_sent", "deposits_applied", "deposits_rejected", "field"}) {
     EXPECT_EQ(a[key], b[key]) << key;
   }
   EXPECT_EQ(a["deposits_rejected"], 0);

@@ -5,7 +5,9 @@
 // of the followers over their neighbourhood tiles. When the leader reaches
 // the centre of the target region every UAV switches to the §4 search
 // (Algorithm 3 lines 1-2). The place agents run the Shao layers with the
-// targets and obstacles emitting from the start (make_shao_place, beacons).
+// targets and obstacles emitting from the start (make_shao_place, beacons):
+// the "artificial pheromone potential field" of §5. Navigating UAVs deposit
+// nothing (Algorithms 2 and 3 have no deposit step); searchers deposit as in §4.
 #include <algorithm>
 #include <cmath>
 
@@ -40,8 +42,9 @@ class ShaoNavigationUav final : public UavPolicy {
     }
     const auto& cfg = s_->shao_navigation;
     bool arrived = false;
+    const bool holding = view.tick <= cfg.hold_ticks;
     if (id_ == kLeader) {
-      if (view.tick > 0) {
+      if (!holding) {
         const PheromoneLookup lookup = [&view](Cell c) -> std::optional<std::array<float, 3>> {
           auto t = view.tiles->value(static_cast<int>(Layer::Target), c);
           auto o = view.tiles->value(static_cast<int>(Layer::Obstacle), c);
@@ -61,7 +64,7 @@ class ShaoNavigationUav final : public UavPolicy {
       b.kind = static_cast<uint8_t>(BroadcastKind::LeaderState);
       b.values = {q_.x(), q_.y(), v_.x(), v_.y(), arrived ? 1.0 : 0.0};
       out.broadcast = std::move(b);
-    } else if (view.tick > 0) {
+    } else if (!holding) {
       std::optional<FollowerState> leader;
       for (const BroadcastMsg& b : view.broadcasts) {
         if (b.uav != kLeader || b.kind != static_cast<uint8_t>(BroadcastKind::LeaderState) || b.values.size() < 5) continue;
@@ -80,16 +83,9 @@ class ShaoNavigationUav final : public UavPolicy {
         q_ = clamp_to_map(st.q);
       }
     }
+    // Algorithms 2 and 3 have no deposit step (Algorithm 1's lines 3-9 are
+    // the search's): navigating UAVs only read the potential field.
     const Cell c = nearest_cell(q_, *geo_);
-    // Path pheromone around the UAV (Shao 2020 eqs. (5)-(7)), as in the search.
-    for (RegionId r : geo_->regions_within(c, s_->layers.d0)) {
-      DepositMsg d;
-      d.region = r;
-      d.kind = static_cast<uint8_t>(DepositKind::PathVisit);
-      d.cell = c;
-      d.amount = 1.0F;
-      out.deposits.push_back(d);
-    }
     out.state.x = q_.x();
     out.state.y = q_.y();
     out.state.vx = v_.x();

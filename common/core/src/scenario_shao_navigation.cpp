@@ -30,6 +30,9 @@ void build_shao_navigation(const pb::ShaoNavigationPolicy& msg, const Node& n, V
       v.fail(n, "neighbour_gradient", "must be \"towards\" or \"away\" (got \"" + msg.neighbour_gradient() + "\")");
     }
   }
+  if (msg.has_hold_ticks() && v.int_between(n, "hold_ticks", msg.hold_ticks(), 0, kMaxU32)) {
+    c.hold_ticks = static_cast<uint32_t>(msg.hold_ticks());
+  }
   ShaoNavParams& p = c.params;
   // The leader weighs the layers with the search's λ (Shao 2020 Table 2 uses
   // the same 1, -0.3, 0.3 as Table 1).

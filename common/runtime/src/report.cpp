@@ -37,6 +37,7 @@ nlohmann::json metrics_json(const core::RunRecorder& r, const RunInfo& info) {
   j["targets_found"] = r.acquisitions().found();
   j["acquisition_ticks"] = r.acquisitions().acquisition_ticks();
   j["revisit_response_ticks"] = r.revisit_response_ticks();
+  j["leader_arrival_tick"] = r.leader_arrival_tick() ? nlohmann::json(*r.leader_arrival_tick()) : nlohmann::json();
   j["deposits_sent"] = r.deposits_sent();
   j["deposits_received"] = received;
   j["deposits_applied"] = applied;

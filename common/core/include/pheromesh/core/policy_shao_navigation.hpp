@@ -11,6 +11,9 @@ struct ShaoNavigationConfig {
   ShaoNavParams params;  // Table 2
   LeaderPheromones leader = LeaderPheromones::Vector;
   Cell region_centre{};  // centre of the target region [cell]
+  // The swarm holds its start positions for this many ticks while the
+  // place agents build up the potential field (the paper starts with a field).
+  uint32_t hold_ticks = 0;
 };
 
 }  // namespace pheromesh::core

@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -59,6 +60,9 @@ class RunRecorder {
   [[nodiscard]] const std::vector<std::pair<uint32_t, double>>& coverage_series() const { return coverage_series_; }
   [[nodiscard]] uint64_t samples_rejected() const { return samples_rejected_; }
   [[nodiscard]] uint64_t deposits_sent() const;
+  // Tick at which a leader became a searcher (Shao 2020 §5: it reached the
+  // centre of the target region), if one did.
+  [[nodiscard]] std::optional<uint32_t> leader_arrival_tick() const { return leader_arrival_; }
 
  private:
   const ScenarioConfig* scenario_;
@@ -72,6 +76,7 @@ class RunRecorder {
   std::map<RegionId, bool> departed_regions_;
   std::vector<std::pair<uint32_t, double>> coverage_series_;
   std::map<std::string, double> field_summary_;
+  std::optional<uint32_t> leader_arrival_;
   uint32_t max_tick_ = 0;
   uint64_t samples_rejected_ = 0;
   bool last_was_first_ = false;
