@@ -168,6 +168,22 @@ TEST(RavankarFollowerChoice, KeepsToTheStrongestUnvisitedNeighbourAtOrAboveDelta
   EXPECT_FLOAT_EQ(static_cast<float>(ch.sensed), 20.0F);
 }
 
+TEST(RavankarFollowerChoice, FindsTheTrailAgainTwoCellsAwayAfterOvershootingABend) {
+  const RavankarFollowerParams p;
+  // The follower stands on (5, 5); the trail went (6, 6) -> (7, 5), and it
+  // already passed (6, 6): ring 1 has nothing unvisited above 10, ring 2 has (7, 5).
+  const std::map<std::pair<int, int>, float> v{{{5, 5}, 50.0F}, {{6, 6}, 50.0F}, {{7, 5}, 45.0F}, {{3, 5}, 60.0F}};
+  const auto value = [&](Cell c) -> std::optional<float> {
+    auto it = v.find({c.x, c.y});
+    return it == v.end() ? 0.0F : it->second;
+  };
+  const auto visited = [](Cell c) { return (c.x == 6 && c.y == 6) || (c.x == 3 && c.y == 5); };
+  const RavankarChoice ch = ravankar_follower_choice({5, 5}, value, visited, p);
+  EXPECT_EQ(ch.mode, RavankarFollowerMode::Following);
+  EXPECT_EQ(ch.target, (Cell{7, 5}));
+  EXPECT_FLOAT_EQ(static_cast<float>(ch.sensed), 45.0F);
+}
+
 TEST(RavankarFollowerChoice, Fig23L11IsFollowedAndL12Rejected) {
   const RavankarFollowerParams p;
   const auto none = [](Cell) { return false; };

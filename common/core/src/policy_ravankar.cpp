@@ -42,7 +42,8 @@ double gaussian(Rng& rng) {
 
 Eigen::Vector2d centre_m(Cell c, double s) { return {(c.x + 0.5) * s, (c.y + 0.5) * s}; }
 
-constexpr std::array<Cell, 8> kNeighbours{{{1, 0}, {1, 1}, {0, 1}, {-1, 1}, {-1, 0}, {-1, -1}, {0, -1}, {1, -1}}};
+const std::vector<Cell> kRing1{{1, 0}, {1, 1}, {0, 1}, {-1, 1}, {-1, 0}, {-1, -1}, {0, -1}, {1, -1}};
+constexpr int32_t kFollowerSearchRings = 2;  // [cell] outermost ring a follower searches
 
 class RavankarUav final : public UavPolicy {
  public:
@@ -295,23 +296,33 @@ class RavankarPlace final : public PlaceModel {
 RavankarChoice ravankar_follower_choice(Cell at, const std::function<std::optional<float>(Cell)>& value,
                                         const std::function<bool(Cell)>& visited, const RavankarFollowerParams& p) {
   RavankarChoice out;
-  bool found = false;
-  double best = 0.0;
-  for (const Cell& o : kNeighbours) {
-    const Cell n{at.x + o.x, at.y + o.y};
-    if (visited(n)) continue;
-    const double v = value(n).value_or(0.0F);
-    if (!found || v > best) {
-      found = true;
-      best = v;
-      out.target = n;
+  // Ring 1 (the 8 neighbours), then ring 2: a follower that overshot a bend
+  // of the trail (its next trail cell already visited) finds it again.
+  std::vector<Cell> ring2;
+  for (int32_t dy = -kFollowerSearchRings; dy <= kFollowerSearchRings; ++dy) {
+    for (int32_t dx = -kFollowerSearchRings; dx <= kFollowerSearchRings; ++dx) {
+      if (std::max(std::abs(dx), std::abs(dy)) == kFollowerSearchRings) ring2.push_back({dx, dy});
     }
   }
-  // Ravankar 2016 eq. (24): a trail below δ·P0 is rejected.
-  if (found && ravankar_follows(best, p)) {
-    out.mode = RavankarFollowerMode::Following;
-    out.sensed = best;
-    return out;
+  for (const std::vector<Cell>* ring : {&kRing1, static_cast<const std::vector<Cell>*>(&ring2)}) {
+    bool found = false;
+    double best = 0.0;
+    for (const Cell& o : *ring) {
+      const Cell n{at.x + o.x, at.y + o.y};
+      if (visited(n)) continue;
+      const double v = value(n).value_or(0.0F);
+      if (!found || v > best) {
+        found = true;
+        best = v;
+        out.target = n;
+      }
+    }
+    // Ravankar 2016 eq. (24): a trail below δ·P0 is rejected.
+    if (found && ravankar_follows(best, p)) {
+      out.mode = RavankarFollowerMode::Following;
+      out.sensed = best;
+      return out;
+    }
   }
   const double here = value(at).value_or(0.0F);
   out.target = at;

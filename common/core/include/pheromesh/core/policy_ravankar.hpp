@@ -38,6 +38,8 @@ enum class RavankarFollowerMode : uint8_t { Waiting = 0, Following = 1, Holding 
 // A follower's choice at the cell `at` under its estimated position: the
 // strongest not yet visited 8-neighbour (ties: the first in the order E, NE,
 // N, NW, W, SW, S, SE) if it holds at least δ·P0 (Following, toward it);
+// failing that the strongest not yet visited cell of the ring at Chebyshev
+// distance 2 (ties: row-major) if it holds at least δ·P0;
 // else, if `at` itself holds at least δ·P0, stay (Holding: at the head of a
 // fresh trail, e.g. just behind the leader); else the trail is rejected
 // (Exploring). Cells whose value the follower does not have count as 0.
