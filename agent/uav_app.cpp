@@ -60,7 +60,14 @@ void UavApp::wait_for_tick(uint32_t tick, const core::ClockMsg& announced) {
       missing += (!oldest || *oldest < tick) ? 1 : 0;
     }
     const bool peers = core_.holds_tick(tick, announced.occupancy, announced.broadcasts);
-    if (missing == 0 && peers) return;
+    if (missing == 0 && peers) {
+      if (log_->should_log(spdlog::level::debug)) {
+        std::string occ;
+        for (const auto& t : announced.occupancy) occ += fmt::format(" ({},{}):{}", t.tile.tx, t.tile.ty, t.count);
+        log_->debug("tick {} announced{} and {} broadcasts", tick, occ, announced.broadcasts);
+      }
+      return;
+    }
     if (Clock::now() > deadline || runtime::shutdown_requested()) {
       log_->error("tick {}: {} neighbourhood tiles{} did not arrive; deciding without them", tick, missing,
                   peers ? "" : " and some neighbour states or broadcasts");
@@ -71,6 +78,8 @@ void UavApp::wait_for_tick(uint32_t tick, const core::ClockMsg& announced) {
 }
 
 void UavApp::step(uint32_t tick, bool finished) {
+  written_.clear();
+  broadcast_written_ = false;
   if (!finished) {
     core_.step(tick, out_);
     for (const auto& d : out_.deposits) {
@@ -80,13 +89,19 @@ void UavApp::step(uint32_t tick, bool finished) {
         ++deposits_undeliverable_;
       } else if (bus_->publish_deposit(d)) {
         ++deposits_sent_;
+        ++written_[d.region];
       }
     }
     for (const auto& d : out_.detections) bus_->publish_detection(d);
-    if (out_.broadcast) bus_->publish_broadcast(*out_.broadcast);
+    if (out_.broadcast) broadcast_written_ = bus_->publish_broadcast(*out_.broadcast);
     bus_->set_neighbourhood(core_.neighbourhood());
   }
   core::UavStateMsg s = core_.last_state();
+  if (!finished) {
+    log_->debug("tick {} at ({:.9g}, {:.9g}) v ({:.9g}, {:.9g}) role {}: saw {} neighbours, {} broadcasts, {} tiles", tick,
+                s.x, s.y, s.vx, s.vy, s.role, core_.last_view_neighbours(), core_.last_view_broadcasts(),
+                core_.neighbourhood().size());
+  }
   s.deposits_sent = deposits_sent_;
   s.tile_samples_received = tile_samples_received_;
   s.finished = finished;
@@ -137,8 +152,13 @@ int UavApp::run_lockstep(uint32_t ticks) {
       // we report done.
       if (c.tick > 0) wait_for_tick(c.tick - 1, c);
       step(c.tick, false);
-      bus_->flush(std::chrono::seconds(10));
-      bus_->publish_phase_done({core::process_key(core::kRoleUav, cfg_.id), c.tick, c.phase});
+      if (!bus_->flush(std::chrono::seconds(10))) log_->warn("tick {}: not every sample was acknowledged in 10 s", c.tick);
+      // Report what this phase wrote: the conductor announces it to the
+      // place agents (deposits) and to the UAVs (broadcasts), which wait for it.
+      core::PhaseDoneMsg report{core::process_key(core::kRoleUav, cfg_.id), c.tick, c.phase, broadcast_written_ ? 1U : 0U,
+                              {}};
+      for (const auto& [region, n] : written_) report.deposits.push_back({region, n});
+      bus_->publish_phase_done(report);
       bus_->flush(std::chrono::seconds(10));
       done = c.tick;
       if (c.tick >= ticks) stop = true;

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <vector>
 
@@ -58,6 +59,9 @@ class UavApp {
   std::vector<core::UavStateMsg> state_inbox_;
   std::vector<core::BroadcastMsg> broadcast_inbox_;
   int layers_ = 0;
+  // What the last step wrote (lockstep reports it with PhaseDone).
+  std::map<core::RegionId, uint32_t> written_;
+  bool broadcast_written_ = false;
 };
 
 }  // namespace pheromesh::agent

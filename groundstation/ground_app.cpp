@@ -48,6 +48,7 @@ void GroundApp::poll() {
     }
     if (was_departed && !s.finished) log_->info("uav {} is back at tick {}", s.uav, s.tick);
     departed_uavs_.erase(s.uav);
+    departed_since_.erase(s.uav);
     if (!s.finished) {
       positions_[s.tick][s.uav] = geo_.tile_of(core::state_cell(s));
       keep_recent(positions_);
@@ -72,6 +73,7 @@ void GroundApp::poll() {
       log_->warn("uav {} lost (liveliness) at tick {}", id, it != rec_.uavs().end() ? it->second.last.tick : 0);
     }
     departed_uavs_.insert(id);
+    departed_since_.emplace(id, Clock::now());
     rec_.on_uav_departed(id);
   }
   detections_.clear();
@@ -136,18 +138,34 @@ core::ClockMsg GroundApp::announce(uint32_t tick, core::ClockPhase phase) const 
   core::ClockMsg m;
   m.tick = tick;
   m.phase = static_cast<uint8_t>(phase);
+  if (phase == core::ClockPhase::Place) {
+    for (const auto& [region, n] : deposits_reported_) m.deposits.push_back({region, n});
+    return m;
+  }
   if (phase != core::ClockPhase::Uav || tick == 0) return m;
   // Every UAV's state of tick-1 is here: each UAV flushed it before it
   // reported the phase done.
   if (auto it = positions_.find(tick - 1); it != positions_.end()) {
     std::map<std::pair<int32_t, int32_t>, uint32_t> count;
-    for (const auto& [uav, t] : it->second) ++count[{t.tx, t.ty}];
+    for (const auto& [uav, t] : it->second) {
+      ++count[{t.tx, t.ty}];
+      log_->debug("tick {}: uav {} over tile ({},{})", tick - 1, uav, t.tx, t.ty);
+    }
     for (const auto& [t, n] : count) m.occupancy.push_back({{t.first, t.second}, n});
   }
   if (auto it = broadcasters_.find(tick - 1); it != broadcasters_.end()) {
     m.broadcasts = static_cast<uint32_t>(it->second.size());
   }
   return m;
+}
+
+bool GroundApp::gone_for_good(uint32_t uav) const {
+  // A UAV whose liveliness lapsed may only be stalled (an overloaded host):
+  // lockstep keeps waiting for it this long before going on without it, so
+  // a hiccup does not change the run.
+  constexpr auto kGrace = std::chrono::seconds(5);
+  auto it = departed_since_.find(uav);
+  return departed_uavs_.contains(uav) && it != departed_since_.end() && Clock::now() - it->second > kGrace;
 }
 
 bool GroundApp::run_phase(uint32_t tick, core::ClockPhase phase) {
@@ -161,10 +179,26 @@ bool GroundApp::run_phase(uint32_t tick, core::ClockPhase phase) {
     poll();
     uint32_t waiting = 0;
     for (uint32_t id = 0; id < count; ++id) {
-      if (uav_phase && departed_uavs_.contains(id)) continue;  // dead UAVs are not waited for
+      if (uav_phase && gone_for_good(id)) continue;  // dead UAVs are not waited for
       auto it = done_.find(core::process_key(role, id));
       const bool done = it != done_.end() && it->second.tick == tick && it->second.phase == static_cast<uint8_t>(phase);
       waiting += done ? 0 : 1;
+    }
+    if (waiting == 0 && uav_phase) {
+      // Every UAV's state and reported broadcast of this tick must be here
+      // before the next announcements are computed from them.
+      uint32_t broadcasts = 0;
+      deposits_reported_.clear();
+      for (uint32_t id = 0; id < count; ++id) {
+        auto it = done_.find(core::process_key(role, id));
+        if (gone_for_good(id) || it == done_.end()) continue;
+        broadcasts += it->second.broadcasts;
+        for (const auto& rc : it->second.deposits) deposits_reported_[rc.region] += rc.count;
+        auto pos = positions_.find(tick);
+        if (pos == positions_.end() || !pos->second.contains(id)) ++waiting;
+      }
+      auto b = broadcasters_.find(tick);
+      if ((b == broadcasters_.end() ? 0U : static_cast<uint32_t>(b->second.size())) < broadcasts) ++waiting;
     }
     if (waiting == 0) return true;
     if (Clock::now() > deadline || runtime::shutdown_requested()) {

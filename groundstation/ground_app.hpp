@@ -43,6 +43,8 @@ class GroundApp {
   // Lockstep conductor: returns false if a phase timed out.
   bool conduct();
   bool run_phase(uint32_t tick, core::ClockPhase phase);
+  // Lockstep: the UAV lost liveliness and did not come back within a grace period.
+  [[nodiscard]] bool gone_for_good(uint32_t uav) const;
   // What UAV phase `tick` produced: the UAVs over each tile, the broadcasts.
   [[nodiscard]] core::ClockMsg announce(uint32_t tick, core::ClockPhase phase) const;
   int finish();
@@ -57,6 +59,7 @@ class GroundApp {
   std::map<std::pair<int, std::pair<int32_t, int32_t>>, core::TileMsg> tiles_latest_;  // (layer, tile)
   std::map<uint32_t, core::PhaseDoneMsg> done_;  // process key -> latest
   std::set<uint32_t> departed_uavs_;
+  std::map<uint32_t, std::chrono::steady_clock::time_point> departed_since_;
   std::chrono::steady_clock::time_point next_progress_;
   // reusable inboxes
   std::vector<core::UavStateMsg> states_;
@@ -71,6 +74,8 @@ class GroundApp {
   // tick -> UAVs that broadcast.
   std::map<uint32_t, std::map<uint32_t, core::TileCoord>> positions_;
   std::map<uint32_t, std::set<uint32_t>> broadcasters_;
+  // Lockstep: what the UAVs reported writing in the current tick's UAV phase.
+  std::map<core::RegionId, uint32_t> deposits_reported_;
 };
 
 }  // namespace pheromesh::groundstation

@@ -2,6 +2,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <chrono>
 #include <set>
 #include <thread>
@@ -19,9 +20,23 @@ PlaceApp::PlaceApp(PlaceConfig cfg, core::ScenarioConfig scenario, std::unique_p
       core_(scenario_, cfg_.region),
       rate_(scenario_.tick_rate_hz) {}
 
-void PlaceApp::step(uint32_t tick, bool wait_for_halos, bool all_tiles) {
+void PlaceApp::step(uint32_t tick, bool wait_for_halos, bool all_tiles, std::optional<uint32_t> expected_deposits) {
   inbox_.clear();
   bus_->take_deposits(inbox_);
+  if (expected_deposits) {
+    const auto deadline = Clock::now() + std::chrono::seconds(30);
+    const auto of_tick = [&] {
+      return static_cast<uint32_t>(std::count_if(inbox_.begin(), inbox_.end(), [&](const auto& d) { return d.tick == tick; }));
+    };
+    while (of_tick() < *expected_deposits) {
+      if (Clock::now() > deadline || runtime::shutdown_requested()) {
+        log_->error("tick {}: {} of {} announced deposits arrived; applying those", tick, of_tick(), *expected_deposits);
+        break;
+      }
+      std::this_thread::sleep_for(std::chrono::microseconds(200));
+      bus_->take_deposits(inbox_);
+    }
+  }
   events_.clear();
   rejections_.clear();
   const core::HaloRing ring = core_.begin_tick(inbox_, tick, events_, &rejections_);
@@ -114,7 +129,9 @@ int PlaceApp::run_lockstep() {
         stop = true;
       } else if (c.phase == static_cast<uint8_t>(core::ClockPhase::Place) && static_cast<int64_t>(c.tick) > done_tick) {
         // Every tile, every tick: a UAV waits for tiles of exactly this tick.
-        step(c.tick, true, true);
+        uint32_t expected = 0;
+        for (const auto& rc : c.deposits) expected += rc.region == cfg_.region ? rc.count : 0;
+        step(c.tick, true, true, expected);
         publish_health(c.tick, false);
         bus_->flush(std::chrono::seconds(10));
         bus_->publish_phase_done({core::process_key(core::kRolePlace, cfg_.region), c.tick, c.phase});

@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "pheromesh/bus/bus.hpp"
@@ -34,7 +35,9 @@ class PlaceApp {
   int run_lockstep();
   // One tick. `wait_for_halos`: wait (bounded) for every neighbour's ring of
   // this tick (lockstep); otherwise use the latest ring received.
-  void step(uint32_t tick, bool wait_for_halos, bool all_tiles);
+  // `expected_deposits` (lockstep): wait (bounded) until this many deposits
+  // of `tick` have arrived before applying them.
+  void step(uint32_t tick, bool wait_for_halos, bool all_tiles, std::optional<uint32_t> expected_deposits = {});
   void publish_health(uint32_t tick, bool finished);
   void log_summary(uint32_t tick);
 

@@ -136,6 +136,11 @@ inline void expect_lockstep_matches_sim(const std::string& scenario, const std::
   ASSERT_EQ(s.exit_code, 0) << s.text;
   const json a = read_metrics(run_out);
   const json b = read_metrics(sim_out);
+  {
+    // The launcher's and the ground station's output, for a failure's post-mortem.
+    std::ofstream keep(run_out + "/launcher.txt");
+    keep << r.text;
+  }
   for (const char* key : {"policy", "ticks", "uavs", "coverage", "covered_cells", "targets_found", "acquisition_ticks",
                           "revisit_response_ticks", "leader_arrival_tick", "deposits_sent", "deposits_applied", "deposits_rejected", "field"}) {
     EXPECT_EQ(a[key], b[key]) << key;

@@ -121,6 +121,31 @@ std::vector<float> get_seq(const dds_sequence_float& s) {
   return {s._buffer, s._buffer + s._length};
 }
 
+std::vector<pheromesh_msg_RegionCount> region_counts_out(const std::vector<core::RegionCount>& v) {
+  std::vector<pheromesh_msg_RegionCount> out;
+  out.reserve(v.size());
+  for (const auto& c : v) out.push_back({c.region, c.count});
+  return out;
+}
+
+void set_region_counts(dds_sequence_pheromesh_msg_RegionCount& s, std::vector<pheromesh_msg_RegionCount>& v) {
+  s._buffer = v.data();
+  s._length = static_cast<uint32_t>(v.size());
+  s._maximum = static_cast<uint32_t>(v.size());
+  s._release = false;
+}
+
+bool region_counts_ok(const dds_sequence_pheromesh_msg_RegionCount& s) {
+  return s._length <= core::kMaxRegionCounts && (s._length == 0 || s._buffer != nullptr);
+}
+
+std::vector<core::RegionCount> region_counts_in(const dds_sequence_pheromesh_msg_RegionCount& s) {
+  std::vector<core::RegionCount> out;
+  out.reserve(s._length);
+  for (uint32_t i = 0; i < s._length; ++i) out.push_back({s._buffer[i].region, s._buffer[i].count});
+  return out;
+}
+
 // Takes everything available from `reader` with loaned buffers and calls
 // on_valid(sample) / on_invalid(sample, info).
 template <typename C, typename Valid, typename Invalid>
@@ -293,6 +318,8 @@ class CycloneBus final : public Bus {
       occ.push_back({static_cast<uint16_t>(t.tile.tx), static_cast<uint16_t>(t.tile.ty),
                      static_cast<uint16_t>(std::min<uint32_t>(t.count, UINT16_MAX))});
     }
+    if (m.deposits.size() > core::kMaxRegionCounts) return refuse("clock deposit counts", m.deposits.size());
+    std::vector<pheromesh_msg_RegionCount> deps = region_counts_out(m.deposits);
     pheromesh_msg_ClockCommand s{};
     s.tick = m.tick;
     s.phase = m.phase;
@@ -301,11 +328,19 @@ class CycloneBus final : public Bus {
     s.occupancy._length = static_cast<uint32_t>(occ.size());
     s.occupancy._maximum = static_cast<uint32_t>(occ.size());
     s.occupancy._release = false;
+    set_region_counts(s.deposits, deps);
     return write(writer(TopicKind::Clock, clock_topic_, kClockPartition), &s);
   }
 
   bool publish_phase_done(const core::PhaseDoneMsg& m) override {
-    const pheromesh_msg_PhaseDone s{m.process, m.tick, m.phase};
+    if (m.deposits.size() > core::kMaxRegionCounts) return refuse("phase deposit counts", m.deposits.size());
+    std::vector<pheromesh_msg_RegionCount> deps = region_counts_out(m.deposits);
+    pheromesh_msg_PhaseDone s{};
+    s.process = m.process;
+    s.tick = m.tick;
+    s.phase = m.phase;
+    s.broadcasts = m.broadcasts;
+    set_region_counts(s.deposits, deps);
     return write(writer(TopicKind::PhaseDone, done_topic_, kClockPartition), &s);
   }
 
@@ -320,7 +355,8 @@ class CycloneBus final : public Bus {
     take_all<pheromesh_msg_ClockCommand>(
         clock_reader_,
         [&](const pheromesh_msg_ClockCommand& s) {
-          if (s.occupancy._length > core::kMaxOccupancy || (s.occupancy._length > 0 && s.occupancy._buffer == nullptr)) {
+          if (s.occupancy._length > core::kMaxOccupancy || (s.occupancy._length > 0 && s.occupancy._buffer == nullptr) ||
+              !region_counts_ok(s.deposits)) {
             ++stats_.samples_dropped;
             return;
           }
@@ -328,6 +364,7 @@ class CycloneBus final : public Bus {
           c.tick = s.tick;
           c.phase = s.phase;
           c.broadcasts = s.broadcasts;
+          c.deposits = region_counts_in(s.deposits);
           for (uint32_t i = 0; i < s.occupancy._length; ++i) {
             const auto& t = s.occupancy._buffer[i];
             c.occupancy.push_back({{t.tx, t.ty}, t.count});
@@ -340,7 +377,14 @@ class CycloneBus final : public Bus {
   void take_phase_done(std::vector<core::PhaseDoneMsg>& out) override {
     if (done_reader_ == 0) return;
     take_all<pheromesh_msg_PhaseDone>(
-        done_reader_, [&](const pheromesh_msg_PhaseDone& s) { out.push_back({s.process, s.tick, s.phase}); },
+        done_reader_,
+        [&](const pheromesh_msg_PhaseDone& s) {
+          if (!region_counts_ok(s.deposits)) {
+            ++stats_.samples_dropped;
+            return;
+          }
+          out.push_back({s.process, s.tick, s.phase, s.broadcasts, region_counts_in(s.deposits)});
+        },
         ignore_invalid);
   }
 

@@ -69,16 +69,10 @@ std::optional<Error> check_config(const LiuSwarmConfig& c) {
   return std::nullopt;
 }
 
-// The mower of eq. (14) in continuous space (see liu_swarm.hpp).
-struct Mower {
-  Rect lane;
-  int32_t dx = 1;  // b along x
-  int32_t dy = 1;  // row change at the border
-  bool climbing = false;
-  double climb_to_y = 0.0;  // [m] centre line of the next row
-};
 
-void mower_advance(Mower& m, LiuUav& uav, double dt_s, const LiuParams& p) {
+}  // namespace
+
+void mower_advance(LiuMower& m, LiuUav& uav, double dt_s, const LiuParams& p) {
   const double l = p.mower_step_mps;
   if (m.climbing) {
     uav = advance_uav(uav, Vec2{0.0, m.dy * l}, dt_s, p);
@@ -102,8 +96,6 @@ void mower_advance(Mower& m, LiuUav& uav, double dt_s, const LiuParams& p) {
   }
   // One-row lane: back along the row, exactly eq. (14).
 }
-
-}  // namespace
 
 std::string_view to_string(LiuPolicy p) {
   switch (p) {
@@ -172,12 +164,12 @@ Result<LiuSwarmResult> run_liu_swarm(const LiuSwarmConfig& config, uint64_t seed
   const std::size_t n = p.uav_count;
   const bool mower = config.policy == LiuPolicy::kLawnmower;
   std::vector<LiuUav> uavs(n);
-  std::vector<Mower> mowers;
+  std::vector<LiuMower> mowers;
   std::vector<Rng> uav_rng;
   for (std::size_t i = 0; i < n; ++i) {
     if (mower) {
       const Rect lane = lawnmower_lane(static_cast<uint32_t>(i), static_cast<uint32_t>(n), w, h);
-      mowers.push_back(Mower{lane});
+      mowers.push_back(LiuMower{lane});
       uavs[i].position = cell_centre(lawnmower_start(lane).cell, p.cell_size_m);
     } else {
       uavs[i].position = config.starts[i];

@@ -122,4 +122,24 @@ uint8_t heading_of_velocity(double vx, double vy, uint8_t fallback) {
   return static_cast<uint8_t>(((k % 8) + 8) % 8);
 }
 
+DepositMsg layer_add(const MapGeometry& geo, int layer, Cell c, double amount) {
+  DepositMsg d;
+  d.region = geo.region_of(c);
+  d.kind = static_cast<uint8_t>(DepositKind::LayerAdd);
+  d.layer = static_cast<uint8_t>(layer);
+  d.cell = c;
+  d.amount = static_cast<float>(amount);
+  return d;
+}
+
+void set_state_from_metres(UavStateMsg& state, double x_m, double y_m, double before_x_m, double before_y_m,
+                           double cell_size_m, uint8_t& heading) {
+  state.x = x_m / cell_size_m - 0.5;
+  state.y = y_m / cell_size_m - 0.5;
+  state.vx = (x_m - before_x_m) / cell_size_m;
+  state.vy = (y_m - before_y_m) / cell_size_m;
+  heading = heading_of_velocity(state.vx, state.vy, heading);
+  state.heading = heading;
+}
+
 }  // namespace pheromesh::core

@@ -266,14 +266,7 @@ class DuanUav final : public UavPolicy {
 
   // A report to the place agent at the target node (LayerAdd; the place keeps the maximum).
   void report(int layer, double value, UavActions& out) const {
-    const Cell c = cell_of(goal_);
-    DepositMsg d;
-    d.region = geo_->region_of(c);
-    d.kind = static_cast<uint8_t>(DepositKind::LayerAdd);
-    d.layer = static_cast<uint8_t>(layer);
-    d.cell = c;
-    d.amount = static_cast<float>(value);
-    out.deposits.push_back(d);
+    out.deposits.push_back(layer_add(*geo_, layer, cell_of(goal_), value));
   }
 
   // Table 4 pop-ups of this tick: every UAV learns them (§4) and the team replans (§2.5).

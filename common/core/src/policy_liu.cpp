@@ -47,41 +47,6 @@ double to_cell_units(double p_m, int32_t cell, double cell_size_m) {
   return std::clamp(p_m / cell_size_m - 0.5, cell - 0.5 + kInside, cell + 0.5 - kInside);
 }
 
-// The mower of eq. (14) in continuous space, exactly as liu_swarm.cpp flies
-// it: along x at l, b reversed at the map border; a lane of more than one
-// row is climbed to the next row's centre line at the border.
-struct Mower {
-  Rect lane;
-  int32_t dx = 1;
-  int32_t dy = 1;
-  bool climbing = false;
-  double climb_to_y = 0.0;  // [m]
-};
-
-void mower_advance(Mower& m, LiuUav& uav, double dt_s, const LiuParams& p) {
-  const double l = p.mower_step_mps;
-  if (m.climbing) {
-    uav = advance_uav(uav, Vec2{0.0, m.dy * l}, dt_s, p);
-    if ((m.dy > 0 && uav.position.y >= m.climb_to_y) || (m.dy < 0 && uav.position.y <= m.climb_to_y)) {
-      uav.position.y = m.climb_to_y;
-      m.climbing = false;
-    }
-    return;
-  }
-  uav = advance_uav(uav, Vec2{m.dx * l, 0.0}, dt_s, p);  // Liu 2022 eq. (14): P += b l Δt
-  if ((uav.velocity.x > 0.0) == (m.dx > 0)) return;
-  m.dx = -m.dx;  // b reversed at the border (advance_uav reflected the position)
-  const int32_t row = cell_of(uav.position, p).y;
-  for (int attempt = 0; attempt < 2; ++attempt) {
-    if (m.lane.contains(Cell{m.lane.x0, row + m.dy})) {
-      m.climbing = true;
-      m.climb_to_y = (row + m.dy + 0.5) * p.cell_size_m;
-      return;
-    }
-    m.dy = -m.dy;
-  }
-}
-
 class LiuUavPolicy final : public UavPolicy {
  public:
   LiuUavPolicy(const ScenarioConfig& s, const MapGeometry& geo, const World& /*world*/, uint32_t id)
@@ -94,7 +59,7 @@ class LiuUavPolicy final : public UavPolicy {
     const Cell start = start_cell(s, id);
     if (c.search == LiuPolicy::kLawnmower) {
       // Mowers start at the centre of their lane's lower-left cell (liu_swarm.hpp).
-      mower_ = Mower{lawnmower_lane(id, s.uavs, s.width, s.height)};
+      mower_ = LiuMower{lawnmower_lane(id, s.uavs, s.width, s.height)};
       uav_.position = cell_centre(lawnmower_start(mower_->lane).cell, p_.cell_size_m);
     } else if (c.start_point == LiuStartPoint::kCorner) {
       uav_.position = Vec2{start.x * p_.cell_size_m, start.y * p_.cell_size_m};
@@ -215,7 +180,7 @@ class LiuUavPolicy final : public UavPolicy {
   LiuUav uav_;  // [m], [m/s]
   Cell cell_{};
   uint8_t heading_ = 0;
-  std::optional<Mower> mower_;
+  std::optional<LiuMower> mower_;
   std::vector<Cell> target_cells_;  // ground truth for the simulated sensor
   std::vector<LiuUav> others_;
 };

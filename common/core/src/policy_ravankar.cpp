@@ -78,13 +78,7 @@ class RavankarUav final : public UavPolicy {
       fix(view.tick);
     }
     if ((leader_ || c_->followers_deposit) && view.tick % c_->deposit_every_ticks == 0) deposit(out);
-    const double s = c_->cell_size_m;
-    out.state.x = truth_.x() / s - 0.5;
-    out.state.y = truth_.y() / s - 0.5;
-    out.state.vx = (truth_.x() - before.x()) / s;
-    out.state.vy = (truth_.y() - before.y()) / s;
-    heading_ = heading_of_velocity(out.state.vx, out.state.vy, heading_);
-    out.state.heading = heading_;
+    set_state_from_metres(out.state, truth_.x(), truth_.y(), before.x(), before.y(), c_->cell_size_m, heading_);
     out.state.role = static_cast<uint8_t>(leader_ ? Role::Leader : Role::Follower);
   }
 

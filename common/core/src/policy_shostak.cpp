@@ -72,13 +72,8 @@ class ShostakUav final : public UavPolicy {
       if (waypoint_) fly();
     }
     sense_and_deposit(view, out);
-    const double cs = cfg_->layers.cell_size_m;
-    out.state.x = true_world_.x() / cs - 0.5;
-    out.state.y = true_world_.y() / cs - 0.5;
-    out.state.vx = (true_world_.x() - before.x()) / cs;
-    out.state.vy = (true_world_.y() - before.y()) / cs;
-    heading_ = heading_of_velocity(out.state.vx, out.state.vy, heading_);
-    out.state.heading = heading_;
+    set_state_from_metres(out.state, true_world_.x(), true_world_.y(), before.x(), before.y(), cfg_->layers.cell_size_m,
+                          heading_);
     out.state.role = static_cast<uint8_t>(Role::Searcher);
   }
 
@@ -208,13 +203,7 @@ class ShostakUav final : public UavPolicy {
   }
 
   void add(ShostakLayer layer, Cell c, double amount, UavActions& out) const {
-    DepositMsg d;
-    d.region = geo_->region_of(c);
-    d.kind = static_cast<uint8_t>(DepositKind::LayerAdd);
-    d.layer = static_cast<uint8_t>(layer);
-    d.cell = c;
-    d.amount = static_cast<float>(amount);
-    out.deposits.push_back(d);
+    out.deposits.push_back(layer_add(*geo_, static_cast<int>(layer), c, amount));
   }
 
   void sense_and_deposit(const UavView& view, UavActions& out) {

@@ -118,6 +118,19 @@ struct LiuSwarmResult {
   std::vector<double> final_tpm;     // row-major grid_width x grid_height
 };
 
+// The mower of eq. (14) in continuous space: along x at l, b reversed at the
+// map border; a lane of more than one row is climbed to the next row's
+// centre line at the border (see the header comment).
+struct LiuMower {
+  Rect lane;
+  int32_t dx = 1;  // b along x
+  int32_t dy = 1;  // row change at the border
+  bool climbing = false;
+  double climb_to_y = 0.0;  // [m] centre line of the next row
+};
+// One Δt of the mower.
+void mower_advance(LiuMower& m, LiuUav& uav, double dt_s, const LiuParams& p);
+
 // The prior TPM of a configuration (row-major), as the simulation starts it.
 std::vector<double> liu_prior_map(const LiuSwarmConfig& config);
 

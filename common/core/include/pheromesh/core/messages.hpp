@@ -118,6 +118,11 @@ struct TileCount {
   TileCoord tile{};
   uint32_t count = 0;
 };
+inline constexpr std::size_t kMaxRegionCounts = 4096;  // idl bound
+struct RegionCount {
+  RegionId region = 0;
+  uint32_t count = 0;
+};
 struct ClockMsg {
   uint32_t tick = 0;
   uint8_t phase = 0;  // ClockPhase
@@ -125,6 +130,8 @@ struct ClockMsg {
   // holds all of it: the UAVs over each occupied tile, the broadcasts.
   uint32_t broadcasts = 0;
   std::vector<TileCount> occupancy;
+  // Place phase k: the deposits of tick k each region must apply.
+  std::vector<RegionCount> deposits;
 };
 inline constexpr uint32_t kRoleUav = 1;
 inline constexpr uint32_t kRolePlace = 2;
@@ -133,6 +140,9 @@ struct PhaseDoneMsg {
   uint32_t process = 0;  // process_key(role, id)
   uint32_t tick = 0;
   uint8_t phase = 0;
+  // UAV phase: what the UAV wrote (broadcasts 0 or 1, deposits per region).
+  uint32_t broadcasts = 0;
+  std::vector<RegionCount> deposits;
 };
 
 // Semantic checks of received samples (the bus checks structure). Each returns

@@ -150,4 +150,13 @@ PHEROMESH_POLICY_FUNCTIONS(duan)
 // Heading (0..7) closest to a velocity; `fallback` for a zero velocity.
 uint8_t heading_of_velocity(double vx, double vy, uint8_t fallback);
 
+// A LayerAdd deposit of `amount` to `layer` at c, for the region owning c.
+DepositMsg layer_add(const MapGeometry& geo, int layer, Cell c, double amount);
+
+// Fills x, y, vx, vy [cell units, cell centre = integer] and heading of a
+// UAV state from positions in metres on a map of `cell_size_m` cells
+// (cell c spans [c·s, (c+1)·s)); `heading` keeps the last one at rest.
+void set_state_from_metres(UavStateMsg& state, double x_m, double y_m, double before_x_m, double before_y_m,
+                           double cell_size_m, uint8_t& heading);
+
 }  // namespace pheromesh::core

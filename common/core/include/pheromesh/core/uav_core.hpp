@@ -50,6 +50,9 @@ class UavCore {
   [[nodiscard]] Cell cell() const { return policy_->cell(); }
   [[nodiscard]] const UavStateMsg& last_state() const { return last_state_; }
   [[nodiscard]] uint32_t id() const { return id_; }
+  // What the last step decided on (for debug traces).
+  [[nodiscard]] std::size_t last_view_neighbours() const { return view_states_.size(); }
+  [[nodiscard]] std::size_t last_view_broadcasts() const { return view_broadcasts_.size(); }
 
  private:
   void update_neighbourhood();
