@@ -318,6 +318,19 @@ Report run_table3(uint32_t runs, const Progress& progress) {
     rep.plots.push_back(fig17);
   }
 
+  // The same planning as the distributed `duan` policy: a colony in each UAV
+  // process, point pheromone summed by the place agents, ETA over broadcasts.
+  {
+    const auto distributed = simulate_scenario("duan2009-table3.textproto", runs);
+    const std::string via = "policy `duan`, scenarios/duan2009-table3.textproto, in-process simulator = lockstep run";
+    rep.rows.push_back({"ETA T_a, distributed policy", sc.table3_eta_s, field_samples(distributed, "uav1_eta_s"), "s", via});
+    for (std::size_t i = 0; i < kUavs; ++i) {
+      const std::string u = "uav" + std::to_string(i + 1);
+      rep.rows.push_back({"trajectory length UAV " + std::to_string(i + 1) + ", distributed policy", sc.table3_length_km[i],
+                          field_samples(distributed, u + "_planned_km"), "km", via});
+    }
+  }
+
   rep.notes = {
       "Mesh reading (duan_aco.cpp): 2 km spacing, 8-neighbour edges. Every Table 3 length has the octile form "
       "2·(a + b·√2) km, and UAV 3's 52.14 km is exactly its octile-shortest length, so T_a = 52.14 km / 300 m/s = "

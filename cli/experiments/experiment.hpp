@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -50,6 +51,13 @@ struct Experiment {
   uint32_t paper_runs = 1;  // run count the paper used (the default)
   std::function<Report(uint32_t runs, const Progress& progress)> run;
 };
+
+// Runs a scenario file of scenarios/ through the in-process simulator (the
+// same code and schedule as `pheromesh run --clock lockstep`) for seeds
+// 1..runs and returns each run's field summary (metrics.json "field").
+std::vector<std::map<std::string, double>> simulate_scenario(const std::string& file, uint32_t runs);
+// The samples of one field-summary key over those runs (runs without it left out).
+std::vector<double> field_samples(const std::vector<std::map<std::string, double>>& runs, const std::string& key);
 
 // Every experiment, by family.
 std::vector<Experiment> shao_experiments();

@@ -1,6 +1,32 @@
+#include <stdexcept>
+
 #include "experiment.hpp"
+#include "pheromesh/core/scenario.hpp"
+#include "pheromesh/core/simulator.hpp"
 
 namespace pheromesh::cli::experiments {
+
+std::vector<std::map<std::string, double>> simulate_scenario(const std::string& file, uint32_t runs) {
+  auto loaded = core::load_scenario(std::string(PHEROMESH_SCENARIO_DIR) + "/" + file);
+  if (!loaded) throw std::runtime_error(loaded.error().message);
+  std::vector<std::map<std::string, double>> out;
+  for (uint32_t run = 0; run < runs; ++run) {
+    core::ScenarioConfig s = loaded.value();
+    s.seed = run + 1;
+    core::Simulator sim(s);
+    sim.run();
+    out.push_back(sim.recorder().field_summary());
+  }
+  return out;
+}
+
+std::vector<double> field_samples(const std::vector<std::map<std::string, double>>& runs, const std::string& key) {
+  std::vector<double> v;
+  for (const auto& r : runs) {
+    if (auto it = r.find(key); it != r.end()) v.push_back(it->second);
+  }
+  return v;
+}
 
 std::vector<Experiment> all_experiments() {
   std::vector<Experiment> all;

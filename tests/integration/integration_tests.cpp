@@ -171,6 +171,14 @@ TEST(Experiment, ListNamesEveryExperimentAndARunWritesAReportBesideThePapersNumb
   EXPECT_NE(slurp(out + "/fig4a.svg").find("<polyline"), std::string::npos);
   const std::string csv = slurp(out + "/results.csv");
   EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 3);  // header + 2 runs
+  // The Liu and Duan reports also run the scenario policies (the code the
+  // processes run) beside their in-experiment loops.
+  for (const std::string name : {"liu-table2", "duan-table3"}) {
+    const std::string dir = out_dir("experiment-" + name);
+    const Output x = run(kBin + "/pheromesh experiment " + name + " --runs 1 --out " + dir);
+    ASSERT_EQ(x.exit_code, 0) << x.text;
+    EXPECT_NE(slurp(dir + "/report.md").find(", distributed policy ["), std::string::npos) << name;
+  }
   const Output bad = run(kBin + "/pheromesh experiment no-such-thing");
   EXPECT_EQ(bad.exit_code, 2);
   EXPECT_NE(bad.text.find("--list"), std::string::npos);
