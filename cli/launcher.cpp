@@ -54,7 +54,8 @@ void Launcher::spawn(const std::string& role, uint32_t index, const std::vector<
                                 "--dds-profile", o_.dds_profile,
                                 "--domain", std::to_string(o_.domain),
                                 "--log-level", o_.log_level,
-                                "--clock", o_.clock};
+                                "--clock", o_.clock,
+                                "--lease-ms", std::to_string(o_.lease_ms)};
   if (o_.uavs > 0) args.insert(args.end(), {"--uavs", std::to_string(o_.uavs)});
   if (o_.seed > 0) args.insert(args.end(), {"--seed", std::to_string(o_.seed)});
   if (o_.rate_hz > 0) args.insert(args.end(), {"--rate", std::to_string(o_.rate_hz)});

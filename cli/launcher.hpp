@@ -30,6 +30,7 @@ struct RunOptions {
   std::string log_level = "info";
   double progress_s = 1.0;
   std::string clock = "realtime";  // realtime | lockstep
+  uint32_t lease_ms = 1000;        // liveliness lease of every process [ms]
 };
 
 struct ChildProcess {

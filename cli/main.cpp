@@ -77,6 +77,11 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"realtime", "lockstep"}))
       ->capture_default_str();
   r->add_option("--process-log-level", ro.log_level, "Log level of the spawned processes")->capture_default_str();
+  r->add_option("--lease-ms", ro.lease_ms,
+                "Liveliness lease of every process [ms]: how fast a dead process is noticed; raise it on an "
+                "overloaded host, where a stalled process can miss a short lease and be reported lost")
+      ->check(CLI::Range(50, 60000))
+      ->capture_default_str();
   r->add_option("--progress", ro.progress_s, "Seconds between the ground station's progress lines")->capture_default_str();
 
   cli::SimOptions so;
