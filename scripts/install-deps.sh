@@ -6,6 +6,7 @@ set -euo pipefail
 packages=(
   build-essential cmake pkg-config
   cyclonedds-dev cyclonedds-tools        # DDS (C API, idlc, ddsperf)
+  libfastrtps-dev libfastcdr-dev fastddsgen fastdds-tools  # Fast DDS (C++ API, fastddsgen, fastdds shm clean)
   libprotobuf-dev protobuf-compiler      # scenario schema
   libeigen3-dev libspdlog-dev libfmt-dev libcli11-dev nlohmann-json3-dev
   libgtest-dev libgmock-dev libbenchmark-dev

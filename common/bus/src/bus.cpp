@@ -3,10 +3,11 @@
 #include <cstdlib>
 
 #include "cyclone_bus.hpp"
+#include "fastdds_bus.hpp"
 
 namespace pheromesh::bus {
 
-std::vector<std::string> available_vendors() { return {"cyclone"}; }
+std::vector<std::string> available_vendors() { return {"cyclone", "fastdds"}; }
 
 std::string default_vendor() {
   if (const char* v = std::getenv("PHEROMESH_DDS"); v != nullptr && *v != '\0') return v;
@@ -15,8 +16,13 @@ std::string default_vendor() {
 
 core::Result<std::unique_ptr<Bus>> make_bus(const std::string& vendor, const BusOptions& options) {
   if (vendor == "cyclone") return make_cyclone_bus(options);
+  if (vendor == "fastdds") return make_fastdds_bus(options);
   std::string known;
   for (const auto& v : available_vendors()) known += (known.empty() ? "" : ", ") + v;
+  if (vendor == "mixed") {
+    return core::Error{"DDS vendor 'mixed' is for pheromesh run, which gives each process one vendor; a process takes one of: " +
+                       known};
+  }
   return core::Error{"unknown DDS vendor '" + vendor + "' (this build has: " + known + ")"};
 }
 

@@ -5,20 +5,76 @@
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
+#include <vector>
 
 #include "dds_profiles_data.hpp"
 
 namespace pheromesh::bus {
+namespace {
+
+std::string read_file(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error("cannot read DDS profile '" + path + "': " + std::strerror(errno));
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+std::vector<std::string> split_commas(const std::string& s) {
+  std::vector<std::string> out;
+  std::size_t start = 0;
+  while (start <= s.size()) {
+    const std::size_t comma = s.find(',', start);
+    const std::string part = s.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+    if (!part.empty()) out.push_back(part);
+    if (comma == std::string::npos) break;
+    start = comma + 1;
+  }
+  return out;
+}
+
+bool is_cyclone_xml(const std::string& text) { return text.find("<CycloneDDS") != std::string::npos; }
+bool is_fastdds_xml(const std::string& text) {
+  return text.find("<dds") != std::string::npos || text.find("<profiles") != std::string::npos;
+}
+
+// The file among `profile`'s comma-separated files whose root element is the
+// vendor's; its text in `text`.
+template <typename IsVendor>
+std::string pick_file(const std::string& profile, const char* vendor, const char* expected, IsVendor&& is_vendor,
+                      std::string& text) {
+  const std::vector<std::string> files = split_commas(profile);
+  for (const auto& f : files) {
+    std::string t = read_file(f);
+    if (is_vendor(t)) {
+      text = std::move(t);
+      return f;
+    }
+  }
+  throw std::runtime_error("DDS profile '" + profile + "': no " + vendor + " configuration among its files (expected a " +
+                           expected + " root element; give one file per vendor, separated by commas)");
+}
+
+}  // namespace
 
 std::string cyclone_config(const std::string& profile) {
   if (profile == "default" || profile.empty()) return {};
   if (profile == "onehost") return detail::kCycloneOneHostXml;
   if (profile == "onehost-unicast") return detail::kCycloneOneHostUnicastXml;
-  std::ifstream in(profile);
-  if (!in) throw std::runtime_error("cannot read DDS profile '" + profile + "': " + std::strerror(errno));
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
+  std::string text;
+  pick_file(profile, "Cyclone DDS", "<CycloneDDS>", is_cyclone_xml, text);
+  return text;
+}
+
+FastDdsProfile fastdds_profile(const std::string& profile) {
+  FastDdsProfile p;
+  if (profile == "default" || profile.empty()) return p;
+  if (profile == "onehost") return {detail::kFastDdsOneHostXml, "pheromesh-onehost", ""};
+  if (profile == "onehost-unicast") return {detail::kFastDdsOneHostUnicastXml, "pheromesh-onehost-unicast", ""};
+  std::string text;
+  p.file = pick_file(profile, "Fast DDS", "<dds> or <profiles>",
+                     [](const std::string& t) { return is_fastdds_xml(t) && !is_cyclone_xml(t); }, text);
+  return p;
 }
 
 }  // namespace pheromesh::bus

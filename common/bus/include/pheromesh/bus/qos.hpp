@@ -1,0 +1,61 @@
+// The QoS of every pheromesh topic, described once and without a vendor:
+// each vendor's bus translates this description (cyclone_bus.cpp,
+// fastdds_bus.cpp) and can read its translation back (effective_qos), which
+// the bus tests compare with this table.
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace pheromesh::bus {
+
+// One entry per kind of endpoint pheromesh creates. UavState (to the ground
+// station, partition "g") and UavNeighbour (to the UAVs over the same tile)
+// share the DDS topic "pheromesh_uav_state" but differ in partition and QoS.
+enum class TopicKind : uint8_t {
+  Tile,
+  Deposit,
+  UavState,
+  UavNeighbour,
+  Detection,
+  TargetEvent,
+  Health,
+  Halo,
+  Clock,
+  PhaseDone,
+  Broadcast,
+};
+inline constexpr TopicKind kAllTopicKinds[] = {
+    TopicKind::Tile,   TopicKind::Deposit,     TopicKind::UavState, TopicKind::UavNeighbour,
+    TopicKind::Detection, TopicKind::TargetEvent, TopicKind::Health,
+    TopicKind::Halo,   TopicKind::Clock,       TopicKind::PhaseDone, TopicKind::Broadcast};
+
+enum class Endpoint : uint8_t { Writer, Reader };
+
+struct QosSpec {
+  enum class Reliability : uint8_t { BestEffort, Reliable };
+  enum class Durability : uint8_t { Volatile, TransientLocal };
+  enum class History : uint8_t { KeepLast, KeepAll };
+
+  Reliability reliability = Reliability::Reliable;
+  std::chrono::milliseconds max_blocking{100};  // a reliable writer blocks at most this long when its history is full
+  Durability durability = Durability::Volatile;
+  History history = History::KeepLast;
+  int32_t depth = 1;                            // KeepLast only
+  std::chrono::milliseconds liveliness_lease{1000};  // automatic liveliness
+
+  bool operator==(const QosSpec&) const = default;
+};
+
+// The QoS of `kind` for a writer or a reader, with the process's liveliness lease.
+QosSpec topic_qos(TopicKind kind, Endpoint endpoint, std::chrono::milliseconds lease);
+
+// The DDS topic name and type name of a kind (the same on every vendor).
+const char* topic_name(TopicKind kind);
+const char* type_name(TopicKind kind);
+const char* to_string(TopicKind kind);
+std::string to_string(const QosSpec& q);
+
+}  // namespace pheromesh::bus

@@ -1,0 +1,136 @@
+#include "pheromesh/bus/qos.hpp"
+
+#include <stdexcept>
+
+namespace pheromesh::bus {
+
+QosSpec topic_qos(TopicKind kind, Endpoint endpoint, std::chrono::milliseconds lease) {
+  using R = QosSpec::Reliability;
+  using D = QosSpec::Durability;
+  using H = QosSpec::History;
+  const bool reader = endpoint == Endpoint::Reader;
+  QosSpec q;
+  q.reliability = R::Reliable;
+  q.liveliness_lease = lease;
+  auto keep_last = [&](int32_t depth) {
+    q.history = H::KeepLast;
+    q.depth = depth;
+  };
+  auto keep_all = [&] {
+    q.history = H::KeepAll;
+    q.depth = 0;
+  };
+  switch (kind) {
+    case TopicKind::Tile:
+    case TopicKind::Health:
+    case TopicKind::Clock:
+    case TopicKind::PhaseDone:
+      // Latest value per key, also for late joiners.
+      q.durability = D::TransientLocal;
+      keep_last(1);
+      break;
+    case TopicKind::Halo:
+      keep_last(1);
+      break;
+    case TopicKind::UavState:
+      // The ground station records every position it is sent: KEEP_ALL
+      // reader, a little writer history.
+      if (reader) {
+        keep_all();
+      } else {
+        keep_last(64);
+      }
+      break;
+    case TopicKind::UavNeighbour:
+      // UAV states for the UAVs nearby, in the partition of the tile the UAV
+      // is over. A UAV that just subscribed to a tile still gets the last two
+      // states written there (lockstep needs the previous tick's even when
+      // the next one is already out).
+      q.durability = D::TransientLocal;
+      keep_last(reader ? 4 : 2);
+      break;
+    case TopicKind::Broadcast:
+      // Every broadcast matters; a few ticks of them for late joiners.
+      q.durability = D::TransientLocal;
+      if (reader) {
+        keep_all();
+      } else {
+        keep_last(8);
+      }
+      break;
+    case TopicKind::Deposit:
+    case TopicKind::Detection:
+    case TopicKind::TargetEvent:
+      // Every sample matters (pheromone accounting): deep writer history,
+      // KEEP_ALL readers.
+      if (reader) {
+        keep_all();
+      } else {
+        keep_last(4096);
+      }
+      break;
+  }
+  return q;
+}
+
+const char* topic_name(TopicKind kind) {
+  switch (kind) {
+    case TopicKind::Tile: return "pheromesh_tile";
+    case TopicKind::Deposit: return "pheromesh_deposit";
+    case TopicKind::UavState:
+    case TopicKind::UavNeighbour: return "pheromesh_uav_state";
+    case TopicKind::Detection: return "pheromesh_detection";
+    case TopicKind::TargetEvent: return "pheromesh_target_event";
+    case TopicKind::Health: return "pheromesh_place_health";
+    case TopicKind::Halo: return "pheromesh_halo";
+    case TopicKind::Clock: return "pheromesh_clock";
+    case TopicKind::PhaseDone: return "pheromesh_phase_done";
+    case TopicKind::Broadcast: return "pheromesh_broadcast";
+  }
+  throw std::logic_error("unknown topic kind");
+}
+
+const char* type_name(TopicKind kind) {
+  switch (kind) {
+    case TopicKind::Tile: return "pheromesh::msg::TileState";
+    case TopicKind::Deposit: return "pheromesh::msg::Deposit";
+    case TopicKind::UavState:
+    case TopicKind::UavNeighbour: return "pheromesh::msg::UavState";
+    case TopicKind::Detection: return "pheromesh::msg::Detection";
+    case TopicKind::TargetEvent: return "pheromesh::msg::TargetEvent";
+    case TopicKind::Health: return "pheromesh::msg::PlaceHealth";
+    case TopicKind::Halo: return "pheromesh::msg::Halo";
+    case TopicKind::Clock: return "pheromesh::msg::ClockCommand";
+    case TopicKind::PhaseDone: return "pheromesh::msg::PhaseDone";
+    case TopicKind::Broadcast: return "pheromesh::msg::Broadcast";
+  }
+  throw std::logic_error("unknown topic kind");
+}
+
+const char* to_string(TopicKind kind) {
+  switch (kind) {
+    case TopicKind::Tile: return "tile";
+    case TopicKind::Deposit: return "deposit";
+    case TopicKind::UavState: return "uav-state";
+    case TopicKind::UavNeighbour: return "uav-neighbour";
+    case TopicKind::Detection: return "detection";
+    case TopicKind::TargetEvent: return "target-event";
+    case TopicKind::Health: return "health";
+    case TopicKind::Halo: return "halo";
+    case TopicKind::Clock: return "clock";
+    case TopicKind::PhaseDone: return "phase-done";
+    case TopicKind::Broadcast: return "broadcast";
+  }
+  return "?";
+}
+
+std::string to_string(const QosSpec& q) {
+  std::string s = q.reliability == QosSpec::Reliability::Reliable ? "reliable" : "best-effort";
+  s += "(" + std::to_string(q.max_blocking.count()) + "ms)";
+  s += q.durability == QosSpec::Durability::TransientLocal ? " transient-local" : " volatile";
+  s += q.history == QosSpec::History::KeepAll ? " keep-all" : " keep-last(" + std::to_string(q.depth) + ")";
+  s += " lease " + std::to_string(q.liveliness_lease.count()) + "ms";
+  return s;
+}
+
+}  // namespace pheromesh::bus
