@@ -14,6 +14,7 @@
 #include <nlohmann/json.hpp>
 #include <thread>
 
+#include "pheromesh/bus/bus.hpp"
 #include "pheromesh/core/scenario.hpp"
 #include "pheromesh/runtime/process.hpp"
 
@@ -47,10 +48,11 @@ void Launcher::spawn(const std::string& role, uint32_t index, const std::vector<
   c.role = role;
   c.index = index;
   c.name = role == "ground" ? "ground" : role + "-" + std::to_string(index);
+  c.dds = plan_.vendor_of(role, index);
   const std::string exe = bin_dir_ + "/pheromesh-" + (role == "uav" ? "uav" : role == "place" ? "place" : "ground");
   std::vector<std::string> args{exe,
                                 "--scenario", o_.scenario,
-                                "--dds", o_.dds,
+                                "--dds", c.dds,
                                 "--dds-profile", o_.dds_profile,
                                 "--domain", std::to_string(o_.domain),
                                 "--log-level", o_.log_level,
@@ -152,6 +154,12 @@ int Launcher::run() {
   const uint32_t ticks = o_.ticks > 0 ? o_.ticks : s.ticks;
   const uint32_t uavs = o_.uavs > 0 ? o_.uavs : s.uavs;
   const uint32_t regions = s.geometry().region_count();
+  auto plan = parse_dds_plan(o_.dds, bus::available_vendors());
+  if (!plan) {
+    spdlog::error("{}", plan.error().message);
+    return 2;
+  }
+  plan_ = std::move(plan).value();
   std::vector<KillEvent> kills;
   if (!o_.kill_spec.empty()) {
     auto k = parse_kill_spec(o_.kill_spec);
@@ -179,7 +187,7 @@ int Launcher::run() {
   fs::remove(fs::path(o_.out_dir) / "metrics.json");
   spdlog::info("run '{}' ({}): {} place agents, {} uavs, {} ticks, {} clock{}, over {} (domain {}, profile {}); logs in {}/logs",
                s.name, o_.scenario, regions, uavs, ticks, o_.clock,
-               o_.clock == "lockstep" ? "" : fmt::format(" at {:.1f} Hz", rate), o_.dds, o_.domain, o_.dds_profile,
+               o_.clock == "lockstep" ? "" : fmt::format(" at {:.1f} Hz", rate), plan_.describe(), o_.domain, o_.dds_profile,
                o_.out_dir);
 
   runtime::install_shutdown_handlers();
@@ -236,7 +244,8 @@ void Launcher::finish_metrics(int& exit_code) {
   for (const auto& c : children_) {
     killed += c.killed_on_purpose ? 1 : 0;
     crashed += c.crashed() ? 1 : 0;
-    procs.push_back({{"name", c.name}, {"pid", c.pid}, {"status", c.describe()}, {"crashed", c.crashed()}});
+    procs.push_back(
+        {{"name", c.name}, {"pid", c.pid}, {"dds", c.dds}, {"status", c.describe()}, {"crashed", c.crashed()}});
   }
   const fs::path path = fs::path(o_.out_dir) / "metrics.json";
   nlohmann::json m;
@@ -256,6 +265,7 @@ void Launcher::finish_metrics(int& exit_code) {
   m["processes_killed"] = killed;
   m["processes_crashed"] = crashed;
   m["processes"] = procs;
+  m["dds"] = plan_.describe();
   std::ofstream(path) << m.dump(2) << "\n";
   if (crashed > 0) exit_code = 1;
   spdlog::info("done: coverage {:.1f}%, targets {}/{}, deposits sent {} applied {} rejected {}, killed {}, crashed {} -> {}",

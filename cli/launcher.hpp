@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "dds_plan.hpp"
 #include "kill_spec.hpp"
 
 namespace pheromesh::cli {
@@ -24,7 +25,7 @@ struct RunOptions {
   double rate_hz = 0;          // 0: the scenario's
   std::string out_dir = "out/run";
   std::string kill_spec;
-  std::string dds;
+  std::string dds;             // a DdsPlan spec: cyclone, fastdds, mixed or ROLE=VENDOR,...
   std::string dds_profile = "onehost";
   uint32_t domain = 0;
   std::string log_level = "info";
@@ -36,6 +37,7 @@ struct RunOptions {
 struct ChildProcess {
   std::string name;  // "uav-3", "place-0", "ground"
   std::string role;  // "uav", "place", "ground"
+  std::string dds;   // its DDS vendor
   uint32_t index = 0;
   pid_t pid = -1;
   bool running = false;
@@ -63,6 +65,7 @@ class Launcher {
   void finish_metrics(int& exit_code);
 
   RunOptions o_;
+  DdsPlan plan_;
   std::string bin_dir_;
   std::vector<ChildProcess> children_;
 };

@@ -64,10 +64,16 @@ int main(int argc, char** argv) {
   r->add_option("--out", ro.out_dir, "Output folder (metrics.json, logs/)")->capture_default_str();
   r->add_option("--kill", ro.kill_spec,
                 "Fault injection: SIGKILL processes at times after the start, e.g. \"uav:3@5s,place:1@2500ms\"");
-  r->add_option("--dds", ro.dds, "DDS vendor for every process [env PHEROMESH_DDS]")
-      ->check(CLI::IsMember(bus::available_vendors()))
+  r->add_option("--dds", ro.dds,
+                "DDS vendor of the processes: cyclone, fastdds, or mixed (ground on cyclone; place agents "
+                "cyclone/fastdds alternating by index, UAVs fastdds/cyclone), or per role, e.g. "
+                "ground=fastdds,place=cyclone,uav=mixed [env PHEROMESH_DDS]")
       ->capture_default_str();
-  r->add_option("--dds-profile", ro.dds_profile, "DDS profile: onehost, onehost-unicast, default or a vendor config file")->capture_default_str();
+  r->add_option("--dds-profile", ro.dds_profile,
+                "DDS profile: onehost (loopback, multicast discovery), onehost-unicast, default (vendor defaults) or "
+                "vendor config files, comma-separated, each process using the one for its vendor "
+                "[env PHEROMESH_DDS_PROFILE]")
+      ->capture_default_str();
   r->add_option("--domain", ro.domain, "DDS domain id (use distinct ids for swarms sharing a host)")
       ->check(CLI::Range(0, 232))
       ->capture_default_str();

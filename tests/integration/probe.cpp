@@ -123,6 +123,8 @@ int main(int argc, char** argv) {
   o.process_name = "probe";
   o.domain = domain;
   o.profile = profile;
+  // Under PHEROMESH_DDS=mixed the probes alternate vendors by id.
+  if (dds == "mixed") dds = id % 2 == 0 ? "cyclone" : "fastdds";
   auto b = bus::make_bus(dds, o);
   if (!b) {
     std::fprintf(stderr, "%s\n", b.error().message.c_str());

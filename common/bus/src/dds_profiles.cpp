@@ -58,7 +58,11 @@ std::string pick_file(const std::string& profile, const char* vendor, const char
 }  // namespace
 
 std::string cyclone_config(const std::string& profile) {
-  if (profile == "default" || profile.empty()) return {};
+  // Vendor defaults, plus the keyhash that Fast DDS needs to notice Cyclone's
+  // deleted readers (see cyclone-onehost.xml).
+  if (profile == "default" || profile.empty()) {
+    return R"(<CycloneDDS><Domain Id="any"><Internal><GenerateKeyhash>true</GenerateKeyhash></Internal></Domain></CycloneDDS>)";
+  }
   if (profile == "onehost") return detail::kCycloneOneHostXml;
   if (profile == "onehost-unicast") return detail::kCycloneOneHostUnicastXml;
   std::string text;

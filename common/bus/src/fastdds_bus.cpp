@@ -215,6 +215,16 @@ void take_each(fdds::DataReader* reader, Valid&& on_valid, Invalid&& on_invalid)
 }
 constexpr auto ignore_invalid = [](const fdds::SampleInfo& /*info*/) {};
 
+// Fast DDS refuses (loudly) to load a profile twice into one process, which
+// a second bus in the process (tests, benchmarks) would otherwise do.
+void load_builtin_profile_once(const FastDdsProfile& profile) {
+  static std::mutex mutex;
+  static std::set<std::string> loaded;
+  std::lock_guard<std::mutex> lock(mutex);
+  if (!loaded.insert(profile.name).second) return;
+  fdds::DomainParticipantFactory::get_instance()->load_XML_profiles_string(profile.xml.data(), profile.xml.size());
+}
+
 template <typename PubSub>
 fdds::TypeSupport type_support() {
   fdds::TypeSupport ts(new PubSub());
@@ -237,8 +247,7 @@ class FastDdsBus final : public Bus {
     fdds::DomainParticipantQos pq = fdds::PARTICIPANT_QOS_DEFAULT;
     const FastDdsProfile profile = fastdds_profile(o.profile);
     if (!profile.xml.empty()) {
-      // Loading the same profiles twice in one process (tests) is harmless.
-      factory->load_XML_profiles_string(profile.xml.data(), profile.xml.size());
+      load_builtin_profile_once(profile);
       if (factory->get_participant_qos_from_profile(profile.name, pq) != ReturnCode_t::RETCODE_OK) {
         throw std::runtime_error("DDS profile '" + o.profile + "' has no participant profile '" + profile.name + "'");
       }

@@ -12,6 +12,14 @@ QosSpec topic_qos(TopicKind kind, Endpoint endpoint, std::chrono::milliseconds l
   QosSpec q;
   q.reliability = R::Reliable;
   q.liveliness_lease = lease;
+  // Transient-local everywhere, also where late joiners do not matter:
+  // a writer may match a reader before the reader has matched the writer, and
+  // a sample written in that window reaches a volatile reader or not
+  // depending on the vendor (a Cyclone reader drops what a Fast DDS writer
+  // sent before the match; measured: deposits, detections and ground UAV
+  // states went missing across vendors). A transient-local reader asks for
+  // the writer's history once it matches, so nothing written is lost.
+  q.durability = D::TransientLocal;
   auto keep_last = [&](int32_t depth) {
     q.history = H::KeepLast;
     q.depth = depth;
@@ -26,7 +34,6 @@ QosSpec topic_qos(TopicKind kind, Endpoint endpoint, std::chrono::milliseconds l
     case TopicKind::Clock:
     case TopicKind::PhaseDone:
       // Latest value per key, also for late joiners.
-      q.durability = D::TransientLocal;
       keep_last(1);
       break;
     case TopicKind::Halo:
@@ -46,12 +53,10 @@ QosSpec topic_qos(TopicKind kind, Endpoint endpoint, std::chrono::milliseconds l
       // is over. A UAV that just subscribed to a tile still gets the last two
       // states written there (lockstep needs the previous tick's even when
       // the next one is already out).
-      q.durability = D::TransientLocal;
       keep_last(reader ? 4 : 2);
       break;
     case TopicKind::Broadcast:
       // Every broadcast matters; a few ticks of them for late joiners.
-      q.durability = D::TransientLocal;
       if (reader) {
         keep_all();
       } else {

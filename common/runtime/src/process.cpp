@@ -27,10 +27,12 @@ void add_common_options(CLI::App& app, CommonOptions& o) {
   o.dds_profile = env_or("PHEROMESH_DDS_PROFILE", o.dds_profile);
   o.domain = static_cast<uint32_t>(std::stoul(env_or("PHEROMESH_DOMAIN", "0")));
   app.add_option("--scenario", o.scenario, "Scenario file (protobuf text format)")->required()->check(CLI::ExistingFile);
-  app.add_option("--dds", o.dds, "DDS vendor [env PHEROMESH_DDS]")->capture_default_str();
+  app.add_option("--dds", o.dds, "DDS vendor of this process: cyclone or fastdds [env PHEROMESH_DDS]")
+      ->capture_default_str();
   app.add_option("--dds-profile", o.dds_profile,
                  "DDS profile: onehost (loopback, multicast discovery, >=100 processes), onehost-unicast (loopback, "
-                 "unicast discovery, <=120 processes), default (vendor defaults) or a config file "
+                 "unicast discovery, <=120 processes), default (vendor defaults) or vendor config files, comma-separated "
+                 "(this process uses the one for its vendor) "
                  "[env PHEROMESH_DDS_PROFILE]")
       ->capture_default_str();
   app.add_option("--domain", o.domain, "DDS domain id [env PHEROMESH_DOMAIN]")->check(CLI::Range(0, 232))->capture_default_str();

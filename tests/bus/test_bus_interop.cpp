@@ -1,0 +1,243 @@
+// Every pheromesh message crosses between the vendors intact, in both
+// directions and within one vendor: a writer bus of vendor A and a reader bus
+// of vendor B in this process, on loopback, domain 60.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <functional>
+#include <thread>
+
+#include "pheromesh/bus/bus.hpp"
+
+using namespace pheromesh;  // NOLINT
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+struct Pair {
+  std::string writer, reader;
+};
+
+std::string pair_name(const testing::TestParamInfo<Pair>& p) { return p.param.writer + "_to_" + p.param.reader; }
+
+std::unique_ptr<bus::Bus> make(const std::string& vendor, const std::string& name) {
+  bus::BusOptions o;
+  o.process_name = name;
+  o.domain = 60;
+  auto b = bus::make_bus(vendor, o);
+  EXPECT_TRUE(static_cast<bool>(b)) << (b ? "" : b.error().message);
+  return b ? std::move(b).value() : nullptr;
+}
+
+// Polls `take` until it yields something or 15 s pass (discovery included).
+template <typename T>
+std::vector<T> wait_for(const std::function<void(std::vector<T>&)>& take, std::size_t want = 1) {
+  std::vector<T> got;
+  const auto deadline = Clock::now() + std::chrono::seconds(15);
+  while (got.size() < want && Clock::now() < deadline) {
+    take(got);
+    if (got.size() < want) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  return got;
+}
+
+class Interop : public testing::TestWithParam<Pair> {
+ protected:
+  void SetUp() override {
+    w_ = make(GetParam().writer, "writer");
+    r_ = make(GetParam().reader, "reader");
+    ASSERT_TRUE(w_ && r_);
+  }
+  std::unique_ptr<bus::Bus> w_, r_;
+};
+
+TEST_P(Interop, EveryMessageArrivesIntact) {
+  // Subscriptions first; transient-local and reliable topics would deliver
+  // late anyway, but volatile ones (deposits, halos) need the match.
+  r_->subscribe_deposits(7);
+  r_->subscribe_halos(std::vector<core::RegionId>{3});
+  r_->set_neighbourhood(std::vector<core::TileCoord>{{2, 5}});
+  r_->subscribe_ground();
+  r_->subscribe_broadcasts();
+  r_->subscribe_clock();
+  r_->subscribe_phase_done();
+  const auto deadline = Clock::now() + std::chrono::seconds(15);
+  while (w_->matched_deposit_readers(7) == 0 && Clock::now() < deadline) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  ASSERT_EQ(w_->matched_deposit_readers(7), 1U);
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));  // the other topics' matches
+
+  const core::DepositMsg dep{11, 42, 9, 7, 4, 2, {-3, 17}, 0.25F, {1.5F, -0.5F, 2.0F}};
+  ASSERT_TRUE(w_->publish_deposit(dep));
+  const auto deps = wait_for<core::DepositMsg>([&](auto& v) { r_->take_deposits(v); });
+  ASSERT_EQ(deps.size(), 1U);
+  EXPECT_EQ(deps[0].uav, 11U);
+  EXPECT_EQ(deps[0].seq, 42U);
+  EXPECT_EQ(deps[0].tick, 9U);
+  EXPECT_EQ(deps[0].region, 7U);
+  EXPECT_EQ(deps[0].kind, 4);
+  EXPECT_EQ(deps[0].layer, 2);
+  EXPECT_EQ(deps[0].cell.x, -3);
+  EXPECT_EQ(deps[0].cell.y, 17);
+  EXPECT_EQ(deps[0].amount, 0.25F);
+  EXPECT_EQ(deps[0].spread, dep.spread);
+
+  core::TileMsg tile{3, {2, 5}, 77, 7, 4, 2, {0.5F, 1.0F, -2.0F, 3.25F, 0.0F, 1e-6F, 7.0F, 8.0F}};
+  ASSERT_TRUE(w_->publish_tile(tile));
+  // The tile reaches both the neighbourhood reader and the ground's "t.*".
+  const auto tiles = wait_for<core::TileMsg>([&](auto& v) { r_->take_tiles(v); }, 2);
+  ASSERT_EQ(tiles.size(), 2U);
+  for (const auto& t : tiles) {
+    EXPECT_EQ(t.layer, 3);
+    EXPECT_EQ(t.tile.tx, 2);
+    EXPECT_EQ(t.tile.ty, 5);
+    EXPECT_EQ(t.tick, 77U);
+    EXPECT_EQ(t.region, 7U);
+    EXPECT_EQ(t.width, 4);
+    EXPECT_EQ(t.height, 2);
+    EXPECT_EQ(t.values, tile.values);
+  }
+
+  const core::UavStateMsg st{5, 12, 1.25, -2.5, 0.125, 3.0, 6, 2, 1234567890123ULL, 99, true};
+  ASSERT_TRUE(w_->publish_uav_state(st, {2, 5}));
+  // Once to the ground station, once to the UAVs over tile (2,5).
+  const auto states = wait_for<core::UavStateMsg>([&](auto& v) { r_->take_uav_states(v); }, 2);
+  ASSERT_EQ(states.size(), 2U);
+  for (const auto& s : states) {
+    EXPECT_EQ(s.uav, 5U);
+    EXPECT_EQ(s.tick, 12U);
+    EXPECT_EQ(s.x, 1.25);
+    EXPECT_EQ(s.y, -2.5);
+    EXPECT_EQ(s.vx, 0.125);
+    EXPECT_EQ(s.vy, 3.0);
+    EXPECT_EQ(s.heading, 6);
+    EXPECT_EQ(s.role, 2);
+    EXPECT_EQ(s.deposits_sent, 1234567890123ULL);
+    EXPECT_EQ(s.tile_samples_received, 99U);
+    EXPECT_TRUE(s.finished);
+  }
+
+  ASSERT_TRUE(w_->publish_detection({5, 13, 2, {8, -1}}));
+  const auto dets = wait_for<core::DetectionMsg>([&](auto& v) { r_->take_detections(v); });
+  ASSERT_EQ(dets.size(), 1U);
+  EXPECT_EQ(dets[0].target, 2);
+  EXPECT_EQ(dets[0].cell.x, 8);
+  EXPECT_EQ(dets[0].cell.y, -1);
+
+  ASSERT_TRUE(w_->publish_target_event({7, 14, 2, {4, 4}, 321}));
+  const auto evs = wait_for<core::TargetEventMsg>([&](auto& v) { r_->take_target_events(v); });
+  ASSERT_EQ(evs.size(), 1U);
+  EXPECT_EQ(evs[0].region, 7U);
+  EXPECT_EQ(evs[0].kind, 2);
+  EXPECT_EQ(evs[0].response_ticks, 321U);
+
+  ASSERT_TRUE(w_->publish_health({7, 15, 25.5F, 100, 90, 10, 3, true}));
+  const auto hs = wait_for<core::HealthMsg>([&](auto& v) { r_->take_health(v); });
+  ASSERT_EQ(hs.size(), 1U);
+  EXPECT_EQ(hs[0].tick_rate_hz, 25.5F);
+  EXPECT_EQ(hs[0].deposits_received, 100U);
+  EXPECT_EQ(hs[0].deposits_applied, 90U);
+  EXPECT_EQ(hs[0].deposits_rejected, 10U);
+  EXPECT_EQ(hs[0].halos_missing, 3U);
+  EXPECT_TRUE(hs[0].finished);
+
+  ASSERT_TRUE(w_->publish_halo({3, 16, {1.0F, 2.0F, 3.0F}, {0.0F, 9.0F}}));
+  const auto halos = wait_for<core::HaloMsg>([&](auto& v) { r_->take_halos(v); });
+  ASSERT_EQ(halos.size(), 1U);
+  EXPECT_EQ(halos[0].target, (std::vector<float>{1.0F, 2.0F, 3.0F}));
+  EXPECT_EQ(halos[0].obstacle, (std::vector<float>{0.0F, 9.0F}));
+
+  ASSERT_TRUE(w_->publish_broadcast({5, 17, 1, {1.5, -2.25, 1e300}}));
+  const auto bcs = wait_for<core::BroadcastMsg>([&](auto& v) { r_->take_broadcasts(v); });
+  ASSERT_EQ(bcs.size(), 1U);
+  EXPECT_EQ(bcs[0].kind, 1);
+  EXPECT_EQ(bcs[0].values, (std::vector<double>{1.5, -2.25, 1e300}));
+
+  core::ClockMsg clk;
+  clk.tick = 18;
+  clk.phase = 1;
+  clk.broadcasts = 4;
+  clk.occupancy = {{{1, 2}, 3}, {{4, 5}, 6}};
+  clk.deposits = {{0, 10}, {7, 20}};
+  ASSERT_TRUE(w_->publish_clock(clk));
+  const auto clks = wait_for<core::ClockMsg>([&](auto& v) { r_->take_clock(v); });
+  ASSERT_EQ(clks.size(), 1U);
+  EXPECT_EQ(clks[0].tick, 18U);
+  EXPECT_EQ(clks[0].phase, 1);
+  EXPECT_EQ(clks[0].broadcasts, 4U);
+  ASSERT_EQ(clks[0].occupancy.size(), 2U);
+  EXPECT_EQ(clks[0].occupancy[1].tile.tx, 4);
+  EXPECT_EQ(clks[0].occupancy[1].tile.ty, 5);
+  EXPECT_EQ(clks[0].occupancy[1].count, 6U);
+  ASSERT_EQ(clks[0].deposits.size(), 2U);
+  EXPECT_EQ(clks[0].deposits[1].region, 7U);
+  EXPECT_EQ(clks[0].deposits[1].count, 20U);
+
+  ASSERT_TRUE(w_->publish_phase_done({(1U << 24) | 5U, 18, 0, 1, {{7, 3}, {8, 1}}}));
+  const auto dones = wait_for<core::PhaseDoneMsg>([&](auto& v) { r_->take_phase_done(v); });
+  ASSERT_EQ(dones.size(), 1U);
+  EXPECT_EQ(dones[0].process, (1U << 24) | 5U);
+  EXPECT_EQ(dones[0].tick, 18U);
+  EXPECT_EQ(dones[0].broadcasts, 1U);
+  ASSERT_EQ(dones[0].deposits.size(), 2U);
+  EXPECT_EQ(dones[0].deposits[0].region, 7U);
+  EXPECT_EQ(dones[0].deposits[0].count, 3U);
+
+  EXPECT_EQ(r_->stats().samples_dropped, 0U);
+}
+
+TEST_P(Interop, SamplesOverTheIdlBoundsAreRefusedBeforeWriting) {
+  core::TileMsg tile{0, {0, 0}, 1, 0, 40, 40, std::vector<float>(1600, 1.0F)};
+  EXPECT_FALSE(w_->publish_tile(tile));
+  EXPECT_FALSE(w_->publish_broadcast({0, 1, 0, std::vector<double>(65, 0.0)}));
+  EXPECT_FALSE(w_->publish_halo({0, 1, std::vector<float>(4097, 0.0F), {}}));
+  EXPECT_EQ(w_->stats().writes_refused, 3U);
+  EXPECT_EQ(w_->stats().writes_failed, 0U);
+}
+
+INSTANTIATE_TEST_SUITE_P(Vendors, Interop,
+                         testing::Values(Pair{"cyclone", "cyclone"}, Pair{"fastdds", "fastdds"}, Pair{"cyclone", "fastdds"},
+                                         Pair{"fastdds", "cyclone"}),
+                         pair_name);
+
+TEST(Bus, MixedIsNotAProcessVendorAndUnknownVendorsAreNamed) {
+  const auto m = bus::make_bus("mixed", {});
+  ASSERT_FALSE(static_cast<bool>(m));
+  EXPECT_NE(m.error().message.find("pheromesh run"), std::string::npos);
+  const auto u = bus::make_bus("opendds", {});
+  ASSERT_FALSE(static_cast<bool>(u));
+  EXPECT_NE(u.error().message.find("cyclone, fastdds"), std::string::npos);
+}
+
+}  // namespace
+
+namespace {
+
+class Departure : public testing::TestWithParam<Pair> {};
+
+TEST_P(Departure, AReaderDeletedByOneVendorIsForgottenByTheOthersWriters) {
+  // A UAV leaving a tile deletes its readers there; the place agent's tile
+  // writer must stop waiting for their acknowledgements (flush) soon after.
+  auto w = make(GetParam().writer, "writer");
+  auto r = make(GetParam().reader, "reader");
+  ASSERT_TRUE(w && r);
+  r->set_neighbourhood(std::vector<core::TileCoord>{{2, 5}});
+  const core::TileMsg tile{0, {2, 5}, 1, 0, 1, 1, {1.0F}};
+  ASSERT_TRUE(w->publish_tile(tile));
+  ASSERT_EQ(wait_for<core::TileMsg>([&](auto& v) { r->take_tiles(v); }).size(), 1U);
+  ASSERT_TRUE(w->flush(std::chrono::seconds(5)));
+  r->set_neighbourhood(std::vector<core::TileCoord>{{9, 9}});
+  bool acked = false;
+  const auto deadline = Clock::now() + std::chrono::seconds(10);
+  for (uint32_t tick = 2; !acked && Clock::now() < deadline; ++tick) {
+    ASSERT_TRUE(w->publish_tile({0, {2, 5}, tick, 0, 1, 1, {1.0F}}));
+    acked = w->flush(std::chrono::milliseconds(200));
+  }
+  EXPECT_TRUE(acked) << "the writer still waits for the deleted reader";
+}
+
+INSTANTIATE_TEST_SUITE_P(Vendors, Departure,
+                         testing::Values(Pair{"cyclone", "cyclone"}, Pair{"fastdds", "fastdds"}, Pair{"cyclone", "fastdds"},
+                                         Pair{"fastdds", "cyclone"}),
+                         pair_name);
+
+}  // namespace

@@ -1,0 +1,43 @@
+// The neutral QoS description means the same on both vendors: each vendor's
+// translation, read back from the vendor's own QoS object, gives the table.
+#include <gtest/gtest.h>
+
+#include "cyclone_bus.hpp"
+#include "fastdds_bus.hpp"
+#include "pheromesh/bus/qos.hpp"
+
+using namespace pheromesh::bus;  // NOLINT
+
+TEST(Qos, EveryEndpointMeansTheSameOnCycloneAndFastDds) {
+  for (const auto lease : {std::chrono::milliseconds(1000), std::chrono::milliseconds(250)}) {
+    for (const TopicKind k : kAllTopicKinds) {
+      for (const Endpoint e : {Endpoint::Writer, Endpoint::Reader}) {
+        const QosSpec want = topic_qos(k, e, lease);
+        EXPECT_EQ(cyclone_effective_qos(k, e, lease), want) << to_string(k) << " cyclone: " << to_string(cyclone_effective_qos(k, e, lease));
+        EXPECT_EQ(fastdds_effective_qos(k, e, lease), want) << to_string(k) << " fastdds: " << to_string(fastdds_effective_qos(k, e, lease));
+      }
+    }
+  }
+}
+
+TEST(Qos, TheTableSaysWhatThePheromoneAccountingNeeds) {
+  using std::chrono::milliseconds;
+  const auto lease = milliseconds(1000);
+  // Every deposit reaches the place agent: reliable, keep-all reader, deep writer history.
+  const QosSpec dr = topic_qos(TopicKind::Deposit, Endpoint::Reader, lease);
+  EXPECT_EQ(dr.reliability, QosSpec::Reliability::Reliable);
+  EXPECT_EQ(dr.history, QosSpec::History::KeepAll);
+  EXPECT_EQ(topic_qos(TopicKind::Deposit, Endpoint::Writer, lease).depth, 4096);
+  // Late joiners get the latest tile and the clock.
+  for (const TopicKind k : {TopicKind::Tile, TopicKind::Clock, TopicKind::Health}) {
+    const QosSpec q = topic_qos(k, Endpoint::Reader, lease);
+    EXPECT_EQ(q.durability, QosSpec::Durability::TransientLocal) << to_string(k);
+    EXPECT_EQ(q.history, QosSpec::History::KeepLast) << to_string(k);
+    EXPECT_EQ(q.depth, 1) << to_string(k);
+  }
+  // The lease is the process's.
+  EXPECT_EQ(topic_qos(TopicKind::UavState, Endpoint::Writer, milliseconds(300)).liveliness_lease, milliseconds(300));
+  EXPECT_EQ(std::string(topic_name(TopicKind::UavNeighbour)), topic_name(TopicKind::UavState));
+  EXPECT_EQ(to_string(topic_qos(TopicKind::Broadcast, Endpoint::Reader, lease)),
+            "reliable(100ms) transient-local keep-all lease 1000ms");
+}
