@@ -6,7 +6,9 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <csignal>
+#include <cstdlib>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -235,7 +237,26 @@ int Launcher::run() {
   stop_role("ground", std::chrono::seconds(15));
   int exit_code = 0;
   finish_metrics(exit_code);
+  clean_fastdds_shm();
   return interrupted ? 130 : exit_code;
+}
+
+void Launcher::clean_fastdds_shm() const {
+  // Our one-host Fast DDS profiles are UDP-only and leave nothing behind. With
+  // any other profile Fast DDS may use shared memory, whose files a killed
+  // process leaves in /dev/shm: remove those of dead processes.
+  if (o_.dds_profile == "onehost" || o_.dds_profile == "onehost-unicast") return;
+  const bool fastdds = std::any_of(children_.begin(), children_.end(), [](const auto& c) { return c.dds == "fastdds"; });
+  const bool died = std::any_of(children_.begin(), children_.end(),
+                                [](const auto& c) { return c.term_signal != 0 || c.crashed(); });
+  if (!fastdds || !died) return;
+  const int rc = std::system("fastdds shm clean > /dev/null 2>&1");
+  if (rc == 0) {
+    spdlog::info("removed the shared-memory files of killed Fast DDS processes (fastdds shm clean)");
+  } else {
+    spdlog::warn("Fast DDS processes were killed with profile '{}'; run `fastdds shm clean` to remove their /dev/shm files",
+                 o_.dds_profile);
+  }
 }
 
 void Launcher::finish_metrics(int& exit_code) {

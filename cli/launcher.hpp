@@ -63,6 +63,7 @@ class Launcher {
   [[nodiscard]] bool any_running(const std::string& role) const;
   ChildProcess* find(const std::string& name);
   void finish_metrics(int& exit_code);
+  void clean_fastdds_shm() const;
 
   RunOptions o_;
   DdsPlan plan_;

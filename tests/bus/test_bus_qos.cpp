@@ -35,9 +35,16 @@ TEST(Qos, TheTableSaysWhatThePheromoneAccountingNeeds) {
     EXPECT_EQ(q.history, QosSpec::History::KeepLast) << to_string(k);
     EXPECT_EQ(q.depth, 1) << to_string(k);
   }
+  EXPECT_EQ(topic_qos(TopicKind::UavNeighbour, Endpoint::Reader, lease).liveliness, QosSpec::Liveliness::Automatic);
   // The lease is the process's.
   EXPECT_EQ(topic_qos(TopicKind::UavState, Endpoint::Writer, milliseconds(300)).liveliness_lease, milliseconds(300));
   EXPECT_EQ(std::string(topic_name(TopicKind::UavNeighbour)), topic_name(TopicKind::UavState));
   EXPECT_EQ(to_string(topic_qos(TopicKind::Broadcast, Endpoint::Reader, lease)),
-            "reliable(100ms) transient-local keep-all lease 1000ms");
+            "reliable(100ms) transient-local keep-all automatic lease 1000ms");
+  // The writers the ground station watches for departures, and its readers,
+  // are manual-by-topic (kept alive per writer; see qos.cpp).
+  for (const TopicKind k : {TopicKind::UavState, TopicKind::Health}) {
+    EXPECT_EQ(topic_qos(k, Endpoint::Writer, lease).liveliness, QosSpec::Liveliness::ManualByTopic) << to_string(k);
+    EXPECT_EQ(topic_qos(k, Endpoint::Reader, lease).liveliness, QosSpec::Liveliness::ManualByTopic) << to_string(k);
+  }
 }

@@ -12,6 +12,7 @@
 #include <array>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -93,8 +94,11 @@ inline json read_metrics(const std::string& dir) {
   return j;
 }
 
+// Under OUT/<backend>/ when PHEROMESH_DDS picks one, so each backend's run of a
+// test keeps its own logs for a post-mortem.
 inline std::string out_dir(const std::string& name) {
-  const fs::path d = fs::path(PHEROMESH_TEST_OUT_DIR) / name;
+  const char* backend = std::getenv("PHEROMESH_DDS");
+  const fs::path d = fs::path(PHEROMESH_TEST_OUT_DIR) / (backend != nullptr && *backend != '\0' ? backend : "any") / name;
   fs::remove_all(d);
   fs::create_directories(d);
   return d.string();
@@ -127,10 +131,12 @@ inline void expect_accounting(const json& m) {
 }
 
 
-inline void expect_lockstep_matches_sim(const std::string& scenario, const std::string& args, int domain, const std::string& tag) {
+// `run_args` go to `pheromesh run` only (e.g. --dds), `args` to run and sim.
+inline void expect_lockstep_matches_sim(const std::string& scenario, const std::string& args, int domain, const std::string& tag,
+                                        const std::string& run_args = "") {
   const std::string run_out = out_dir(tag + "-lockstep");
   const std::string sim_out = out_dir(tag + "-sim");
-  const Output r = run(pheromesh_run(scenario, run_out, domain, "--clock lockstep " + args));
+  const Output r = run(pheromesh_run(scenario, run_out, domain, "--clock lockstep " + args + " " + run_args));
   ASSERT_EQ(r.exit_code, 0) << r.text;
   const Output s = run(kBin + "/pheromesh sim " + kSrc + "/scenarios/" + scenario + " --quiet --out " + sim_out + " " + args);
   ASSERT_EQ(s.exit_code, 0) << s.text;

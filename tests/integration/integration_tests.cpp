@@ -4,6 +4,8 @@
 // shao_navigation 31, liu 32, shostak 33, ravankar 34, duan 35.
 #include "harness.hpp"
 
+#include <set>
+
 using namespace pheromesh::itest;  // NOLINT: the test helpers
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
@@ -55,9 +57,25 @@ TEST(Swarm, KillingAThirdOfTheUavsCausesNoCrashAndCoverageKeepsRising) {
   EXPECT_NE(o.text.find("uav 4 lost (liveliness)"), std::string::npos);
 }
 
+namespace {
+
+// Files Fast DDS's shared-memory transport leaves in /dev/shm.
+std::set<std::string> fastdds_shm_files() {
+  std::set<std::string> names;
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator("/dev/shm", ec)) {
+    const std::string n = e.path().filename();
+    if (n.rfind("fastrtps_", 0) == 0 || n.rfind("sem.fastrtps_", 0) == 0) names.insert(n);
+  }
+  return names;
+}
+
+}  // namespace
+
 TEST(Swarm, AProcessThatDiesUnexpectedlyIsReportedAsACrash) {
   const std::string out = out_dir("swarm-crash");
   const int domain = 23;
+  const std::set<std::string> shm_before = fastdds_shm_files();
   const Background launcher = start_run("small-test.textproto", out, domain, "--uavs 3 --ticks 150 --rate 25");
   // Find uav-2 of this run (its command line carries our domain) and kill it
   // from outside the launcher.
@@ -90,6 +108,9 @@ TEST(Swarm, AProcessThatDiesUnexpectedlyIsReportedAsACrash) {
   ASSERT_FALSE(m.is_null());
   EXPECT_EQ(m["processes_crashed"], 1);
   EXPECT_EQ(m["processes_killed"], 0);
+  // The one-host profiles are UDP-only: a SIGKILLed Fast DDS process leaves
+  // nothing in /dev/shm.
+  for (const auto& f : fastdds_shm_files()) EXPECT_TRUE(shm_before.contains(f)) << "/dev/shm/" << f << " left behind";
 }
 
 TEST(Swarm, AUavReceivesTrafficOfItsNeighbourhoodNotOfTheWholeMap) {
@@ -210,7 +231,7 @@ TEST(BadInput, MalformedSamplesAreRejectedAndCountedAndNothingCrashes) {
   }
 }
 
-TEST(BadInput, MalformedScenarioIsRejectedNamingFileLineAndField) {
+TEST(Cli, MalformedScenarioIsRejectedNamingFileLineAndField) {
   const std::string bad = kSrc + "/tests/data/bad-tile-size.textproto";
   const Output v = run(kBin + "/pheromesh validate " + bad);
   EXPECT_EQ(v.exit_code, 2) << v.text;
@@ -223,7 +244,7 @@ TEST(BadInput, MalformedScenarioIsRejectedNamingFileLineAndField) {
   EXPECT_EQ(u.exit_code, 2) << u.text;
 }
 
-TEST(BadInput, MalformedKillSpecIsRejectedBeforeAnythingStarts) {
+TEST(Cli, MalformedKillSpecIsRejectedBeforeAnythingStarts) {
   const std::string out = out_dir("bad-kill");
   for (const char* spec : {"uav:1", "uav:x@1s", "tank:1@1s", "uav:1@5", "uav:99@1s"}) {
     const Output o = run(kBin + "/pheromesh run " + kSrc + "/scenarios/small-test.textproto --out " + out +

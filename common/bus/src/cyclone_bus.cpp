@@ -52,7 +52,10 @@ QosPtr to_cyclone(const QosSpec& spec) {
   dds_qset_reliability(q.get(),
                        spec.reliability == QosSpec::Reliability::Reliable ? DDS_RELIABILITY_RELIABLE : DDS_RELIABILITY_BEST_EFFORT,
                        DDS_MSECS(spec.max_blocking.count()));
-  dds_qset_liveliness(q.get(), DDS_LIVELINESS_AUTOMATIC, DDS_MSECS(spec.liveliness_lease.count()));
+  dds_qset_liveliness(q.get(),
+                      spec.liveliness == QosSpec::Liveliness::ManualByTopic ? DDS_LIVELINESS_MANUAL_BY_TOPIC
+                                                                            : DDS_LIVELINESS_AUTOMATIC,
+                      DDS_MSECS(spec.liveliness_lease.count()));
   dds_qset_durability(q.get(), spec.durability == QosSpec::Durability::TransientLocal ? DDS_DURABILITY_TRANSIENT_LOCAL
                                                                                        : DDS_DURABILITY_VOLATILE);
   if (spec.history == QosSpec::History::KeepAll) {
@@ -222,6 +225,7 @@ class CycloneBus final : public Bus {
   }
 
   void take_broadcasts(std::vector<core::BroadcastMsg>& out) override {
+    keep_alive();
     if (broadcast_reader_ == 0) return;
     take_all<pheromesh_msg_Broadcast>(
         broadcast_reader_,
@@ -309,6 +313,7 @@ class CycloneBus final : public Bus {
   }
 
   void take_clock(std::vector<core::ClockMsg>& out) override {
+    keep_alive();
     if (clock_reader_ == 0) return;
     take_all<pheromesh_msg_ClockCommand>(
         clock_reader_,
@@ -333,6 +338,7 @@ class CycloneBus final : public Bus {
   }
 
   void take_phase_done(std::vector<core::PhaseDoneMsg>& out) override {
+    keep_alive();
     if (done_reader_ == 0) return;
     take_all<pheromesh_msg_PhaseDone>(
         done_reader_,
@@ -389,6 +395,7 @@ class CycloneBus final : public Bus {
 
   // ------------------------------------------------------------------- take
   void take_deposits(std::vector<core::DepositMsg>& out) override {
+    keep_alive();
     if (deposit_reader_ == 0) return;
     take_all<pheromesh_msg_Deposit>(
         deposit_reader_,
@@ -400,6 +407,7 @@ class CycloneBus final : public Bus {
   }
 
   void take_halos(std::vector<core::HaloMsg>& out) override {
+    keep_alive();
     if (halo_reader_ == 0) return;
     take_all<pheromesh_msg_Halo>(
         halo_reader_,
@@ -414,6 +422,7 @@ class CycloneBus final : public Bus {
   }
 
   void take_tiles(std::vector<core::TileMsg>& out) override {
+    keep_alive();
     auto on_tile = [&](const pheromesh_msg_TileState& s) {
       if (s.values._length > core::kMaxTileCells || s.layer > 255) {
         ++stats_.samples_dropped;
@@ -426,6 +435,7 @@ class CycloneBus final : public Bus {
   }
 
   void take_uav_states(std::vector<core::UavStateMsg>& out) override {
+    keep_alive();
     auto on_state = [&](const pheromesh_msg_UavState& s) {
       out.push_back({s.uav, s.tick, s.x, s.y, s.vx, s.vy, s.heading, s.role, s.deposits_sent, s.tile_samples_received,
                      s.finished});
@@ -457,6 +467,7 @@ class CycloneBus final : public Bus {
   }
 
   void take_health(std::vector<core::HealthMsg>& out) override {
+    keep_alive();
     if (health_reader_ == 0) return;
     take_all<pheromesh_msg_PlaceHealth>(
         health_reader_,
@@ -507,6 +518,20 @@ class CycloneBus final : public Bus {
   struct HoodReaders {
     dds_entity_t subscriber = 0, tiles = 0, uavs = 0;
   };
+
+  // Manual-by-topic writers (qos.cpp) are asserted while the process keeps
+  // polling its bus: every take_* call, at most four times per lease.
+  void keep_alive() {
+    const auto now = std::chrono::steady_clock::now();
+    if (now - last_keep_alive_ < opt_.liveliness_lease / 4) return;
+    last_keep_alive_ = now;
+    for (auto& [key, w] : writers_) {
+      if (topic_qos(static_cast<TopicKind>(key.first), Endpoint::Writer, opt_.liveliness_lease).liveliness ==
+          QosSpec::Liveliness::ManualByTopic) {
+        dds_assert_liveliness(w.writer);
+      }
+    }
+  }
 
   bool refuse(const char* what, std::size_t n) {
     ++stats_.writes_refused;
@@ -579,6 +604,7 @@ class CycloneBus final : public Bus {
   std::vector<uint32_t> departed_uavs_;
   std::vector<core::RegionId> departed_regions_;
   BusStats stats_;
+  std::chrono::steady_clock::time_point last_keep_alive_{};
 };
 
 }  // namespace
@@ -603,6 +629,7 @@ QosSpec cyclone_effective_qos(TopicKind kind, Endpoint endpoint, std::chrono::mi
   dds_duration_t lease_ns = 0;
   dds_qget_liveliness(q.get(), &live, &lease_ns);
   s.liveliness_lease = std::chrono::milliseconds(lease_ns / DDS_NSECS_IN_MSEC);
+  s.liveliness = live == DDS_LIVELINESS_MANUAL_BY_TOPIC ? QosSpec::Liveliness::ManualByTopic : QosSpec::Liveliness::Automatic;
   return s;
 }
 

@@ -66,10 +66,11 @@ std::chrono::milliseconds to_ms(const eprosima::fastrtps::Duration_t& d) {
 }
 
 // --- the Fast DDS adapter of the neutral QoS description (qos.hpp) --------
-constexpr int32_t kMaxInstances = 1 << 14;          // keys per endpoint (tiles x layers on the ground station)
-constexpr int32_t kMaxSamplesPerInstance = 1 << 14;  // >= the deepest writer history (4096)
+constexpr int32_t kWriterInstances = 256;    // keys one writer writes (its UAV or region; layers of a tile)
+constexpr int32_t kReaderInstances = 4096;   // keys one reader sees (tiles x layers on the ground station)
+constexpr int32_t kKeepAllPerInstance = 8192;  // a keep-all reader's backlog per key, >= the deepest writer history
 template <typename Q>
-void apply_common(const QosSpec& spec, Q& q) {
+void apply_common(const QosSpec& spec, Endpoint endpoint, Q& q) {
   q.reliability().kind = spec.reliability == QosSpec::Reliability::Reliable ? fdds::RELIABLE_RELIABILITY_QOS
                                                                               : fdds::BEST_EFFORT_RELIABILITY_QOS;
   q.reliability().max_blocking_time = to_duration(spec.max_blocking);
@@ -81,17 +82,23 @@ void apply_common(const QosSpec& spec, Q& q) {
     q.history().kind = fdds::KEEP_LAST_HISTORY_QOS;
     q.history().depth = spec.depth;
   }
-  q.liveliness().kind = fdds::AUTOMATIC_LIVELINESS_QOS;
+  q.liveliness().kind = spec.liveliness == QosSpec::Liveliness::ManualByTopic ? fdds::MANUAL_BY_TOPIC_LIVELINESS_QOS
+                                                                              : fdds::AUTOMATIC_LIVELINESS_QOS;
   q.liveliness().lease_duration = to_duration(spec.liveliness_lease);
   // Fast DDS's default resource limits (10 instances, 400 samples per
   // instance) would silently cap the ground station's all-tiles reader and
-  // contradict the deposit writers' history of 4096: the history QoS alone
-  // is meant to bound what is kept, as on Cyclone. LENGTH_UNLIMITED makes
-  // every write of Fast DDS 2.9 time out (measured), so the limits are large
-  // finite numbers instead.
-  q.resource_limits().max_instances = kMaxInstances;
-  q.resource_limits().max_samples_per_instance = kMaxSamplesPerInstance;
-  q.resource_limits().max_samples = kMaxInstances * kMaxSamplesPerInstance;
+  // contradict the deposit writers' history of 4096: the history QoS is meant
+  // to bound what is kept, as on Cyclone. Measured on Fast DDS 2.9:
+  // LENGTH_UNLIMITED makes every write time out, and very large limits
+  // (2^28 samples) overflow the payload pool that the readers of one topic
+  // share (16 neighbourhood readers in one UAV: "Maximum number of allowed
+  // reserved payloads reached", samples never acknowledged). So the limits
+  // follow the history: instances x depth.
+  const int32_t per_instance = spec.history == QosSpec::History::KeepAll ? kKeepAllPerInstance : spec.depth;
+  const int32_t instances = endpoint == Endpoint::Writer ? kWriterInstances : kReaderInstances;
+  q.resource_limits().max_instances = instances;
+  q.resource_limits().max_samples_per_instance = per_instance;
+  q.resource_limits().max_samples = instances * per_instance;
   q.resource_limits().allocated_samples = 16;
   // Allocate each sample at its real size instead of the IDL maximum (a
   // halo's bound is 32 KiB), and never share memory with other processes.
@@ -101,7 +108,7 @@ void apply_common(const QosSpec& spec, Q& q) {
 
 fdds::DataWriterQos to_fastdds_writer(const QosSpec& spec) {
   fdds::DataWriterQos q = fdds::DATAWRITER_QOS_DEFAULT;
-  apply_common(spec, q);
+  apply_common(spec, Endpoint::Writer, q);
   // Announce liveliness well inside the lease.
   q.liveliness().announcement_period = to_duration(std::max(std::chrono::milliseconds(1), spec.liveliness_lease * 2 / 5));
   // Fast DDS heartbeats every 3 s by default: a lost sample would stall a
@@ -112,7 +119,7 @@ fdds::DataWriterQos to_fastdds_writer(const QosSpec& spec) {
 
 fdds::DataReaderQos to_fastdds_reader(const QosSpec& spec) {
   fdds::DataReaderQos q = fdds::DATAREADER_QOS_DEFAULT;
-  apply_common(spec, q);
+  apply_common(spec, Endpoint::Reader, q);
   return q;
 }
 
@@ -132,6 +139,8 @@ QosSpec read_back(const Q& q) {
     s.depth = q.history().depth;
   }
   s.liveliness_lease = to_ms(q.liveliness().lease_duration);
+  s.liveliness = q.liveliness().kind == fdds::MANUAL_BY_TOPIC_LIVELINESS_QOS ? QosSpec::Liveliness::ManualByTopic
+                                                                            : QosSpec::Liveliness::Automatic;
   return s;
 }
 
@@ -161,7 +170,9 @@ std::vector<core::RegionCount> region_counts_in(const std::vector<msg::RegionCou
 // process died or hung) by their publication handle. Runs on a Fast DDS thread.
 class LivelinessWatch final : public fdds::DataReaderListener {
  public:
-  void on_liveliness_changed(fdds::DataReader* /*reader*/, const fdds::LivelinessChangedStatus& status) override {
+  void on_liveliness_changed(fdds::DataReader* reader, const fdds::LivelinessChangedStatus& status) override {
+    spdlog::debug("{}: liveliness changed: alive {} ({:+}), not alive {} ({:+})", reader->get_topicdescription()->get_name(),
+                  status.alive_count, status.alive_count_change, status.not_alive_count, status.not_alive_count_change);
     if (status.alive_count_change >= 0 && status.not_alive_count_change <= 0) return;
     std::lock_guard<std::mutex> lock(mutex_);
     lost_.push_back(status.last_publication_handle);
@@ -437,6 +448,7 @@ class FastDdsBus final : public Bus {
   void subscribe_phase_done() override { done_reader_ = make_reader(TopicKind::PhaseDone, {kClockPartition}); }
 
   void take_clock(std::vector<core::ClockMsg>& out) override {
+    keep_alive();
     take_each<msg::ClockCommand>(
         clock_reader_,
         [&](const msg::ClockCommand& s, const fdds::SampleInfo& /*info*/) {
@@ -456,6 +468,7 @@ class FastDdsBus final : public Bus {
   }
 
   void take_phase_done(std::vector<core::PhaseDoneMsg>& out) override {
+    keep_alive();
     take_each<msg::PhaseDone>(
         done_reader_,
         [&](const msg::PhaseDone& s, const fdds::SampleInfo& /*info*/) {
@@ -512,6 +525,7 @@ class FastDdsBus final : public Bus {
 
   // ------------------------------------------------------------------- take
   void take_deposits(std::vector<core::DepositMsg>& out) override {
+    keep_alive();
     take_each<msg::Deposit>(
         deposit_reader_,
         [&](const msg::Deposit& s, const fdds::SampleInfo& /*info*/) {
@@ -522,6 +536,7 @@ class FastDdsBus final : public Bus {
   }
 
   void take_halos(std::vector<core::HaloMsg>& out) override {
+    keep_alive();
     take_each<msg::Halo>(
         halo_reader_,
         [&](const msg::Halo& s, const fdds::SampleInfo& /*info*/) {
@@ -535,6 +550,7 @@ class FastDdsBus final : public Bus {
   }
 
   void take_tiles(std::vector<core::TileMsg>& out) override {
+    keep_alive();
     auto on_tile = [&](const msg::TileState& s, const fdds::SampleInfo& /*info*/) {
       if (s.values().size() > core::kMaxTileCells || s.layer() > 255) {
         ++stats_.samples_dropped;
@@ -547,6 +563,7 @@ class FastDdsBus final : public Bus {
   }
 
   void take_uav_states(std::vector<core::UavStateMsg>& out) override {
+    keep_alive();
     auto to_core = [](const msg::UavState& s) {
       return core::UavStateMsg{s.uav(),     s.tick(),          s.x(),
                                s.y(),       s.vx(),            s.vy(),
@@ -571,6 +588,7 @@ class FastDdsBus final : public Bus {
   }
 
   void take_broadcasts(std::vector<core::BroadcastMsg>& out) override {
+    keep_alive();
     take_each<msg::Broadcast>(
         broadcast_reader_,
         [&](const msg::Broadcast& s, const fdds::SampleInfo& /*info*/) {
@@ -602,6 +620,7 @@ class FastDdsBus final : public Bus {
   }
 
   void take_health(std::vector<core::HealthMsg>& out) override {
+    keep_alive();
     if (health_reader_ == nullptr) return;
     take_each<msg::PlaceHealth>(
         health_reader_,
@@ -632,6 +651,8 @@ class FastDdsBus final : public Bus {
       if (w.writer->wait_for_acknowledgments(to_duration(std::max(std::chrono::milliseconds(0), left))) !=
           ReturnCode_t::RETCODE_OK) {
         all = false;
+        log_->debug("flush: {} writer in partition {} not acknowledged", to_string(static_cast<TopicKind>(key.first)),
+                    key.second);
       }
     }
     return all;
@@ -670,6 +691,20 @@ class FastDdsBus final : public Bus {
   }
 
   fdds::Topic* topic(TopicKind k) { return topics_.at(topic_name(k)); }
+
+  // Manual-by-topic writers (qos.cpp) are asserted while the process keeps
+  // polling its bus: every take_* call, at most four times per lease.
+  void keep_alive() {
+    const auto now = std::chrono::steady_clock::now();
+    if (now - last_keep_alive_ < opt_.liveliness_lease / 4) return;
+    last_keep_alive_ = now;
+    for (auto& [key, w] : writers_) {
+      if (topic_qos(static_cast<TopicKind>(key.first), Endpoint::Writer, opt_.liveliness_lease).liveliness ==
+          QosSpec::Liveliness::ManualByTopic) {
+        w.writer->assert_liveliness();
+      }
+    }
+  }
 
   bool refuse(const char* what, std::size_t n) {
     ++stats_.writes_refused;
@@ -753,6 +788,7 @@ class FastDdsBus final : public Bus {
   std::vector<uint32_t> departed_uavs_;
   std::vector<core::RegionId> departed_regions_;
   BusStats stats_;
+  std::chrono::steady_clock::time_point last_keep_alive_{};
 };
 
 }  // namespace

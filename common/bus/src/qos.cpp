@@ -29,8 +29,18 @@ QosSpec topic_qos(TopicKind kind, Endpoint endpoint, std::chrono::milliseconds l
     q.depth = 0;
   };
   switch (kind) {
-    case TopicKind::Tile:
     case TopicKind::Health:
+      // The ground station tells a lost place agent by this writer's
+      // liveliness. Manual-by-topic, writer and reader: Fast DDS 2.9 keeps
+      // every remote writer that an automatic reader watches alive as long
+      // as any Fast DDS participant sends its automatic liveliness message
+      // (WLPListener asserts them all), so a killed Fast DDS process was
+      // never reported (measured); with a manual-by-topic reader the lease is
+      // tracked per writer on both vendors.
+      q.liveliness = QosSpec::Liveliness::ManualByTopic;
+      keep_last(1);
+      break;
+    case TopicKind::Tile:
     case TopicKind::Clock:
     case TopicKind::PhaseDone:
       // Latest value per key, also for late joiners.
@@ -41,7 +51,9 @@ QosSpec topic_qos(TopicKind kind, Endpoint endpoint, std::chrono::milliseconds l
       break;
     case TopicKind::UavState:
       // The ground station records every position it is sent: KEEP_ALL
-      // reader, a little writer history.
+      // reader, a little writer history. It tells a lost UAV by this
+      // writer's liveliness: manual-by-topic, as for Health.
+      q.liveliness = QosSpec::Liveliness::ManualByTopic;
       if (reader) {
         keep_all();
       } else {
@@ -134,6 +146,7 @@ std::string to_string(const QosSpec& q) {
   s += "(" + std::to_string(q.max_blocking.count()) + "ms)";
   s += q.durability == QosSpec::Durability::TransientLocal ? " transient-local" : " volatile";
   s += q.history == QosSpec::History::KeepAll ? " keep-all" : " keep-last(" + std::to_string(q.depth) + ")";
+  s += q.liveliness == QosSpec::Liveliness::ManualByTopic ? " manual-by-topic" : " automatic";
   s += " lease " + std::to_string(q.liveliness_lease.count()) + "ms";
   return s;
 }

@@ -38,13 +38,17 @@ struct QosSpec {
   enum class Reliability : uint8_t { BestEffort, Reliable };
   enum class Durability : uint8_t { Volatile, TransientLocal };
   enum class History : uint8_t { KeepLast, KeepAll };
+  enum class Liveliness : uint8_t { Automatic, ManualByTopic };
 
   Reliability reliability = Reliability::Reliable;
   std::chrono::milliseconds max_blocking{100};  // a reliable writer blocks at most this long when its history is full
   Durability durability = Durability::Volatile;
   History history = History::KeepLast;
   int32_t depth = 1;                            // KeepLast only
-  std::chrono::milliseconds liveliness_lease{1000};  // automatic liveliness
+  // ManualByTopic writers are kept alive by their writes and by the bus while
+  // the process keeps polling it (Bus::take_*), so a hung process is lost too.
+  Liveliness liveliness = Liveliness::Automatic;
+  std::chrono::milliseconds liveliness_lease{1000};
 
   bool operator==(const QosSpec&) const = default;
 };
