@@ -28,6 +28,7 @@ test: build
 
 bench: build
 	$(BUILD)/bin/pheromesh_bench_layers
+	$(BUILD)/bin/pheromesh-bench-latency
 
 clean:
 	rm -rf $(BUILD) out

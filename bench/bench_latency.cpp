@@ -4,8 +4,8 @@
 //
 // For each backend a real place agent (pheromesh-place, realtime clock at
 // --rate Hz, one region) and a client process (this binary, `client`) run on
-// loopback. The client deposits a path visit (Shao 2020 eq. (5)) on one cell
-// and times until a tile sample shows that cell's pheromone risen; between
+// loopback. The client deposits a path visit (Shao 2020 eqs. (6)-(7)) on a
+// fresh cell and times until a tile sample shows that cell changed; between
 // samples it waits a random 2-5 ms so deposits fall anywhere in the place
 // agent's tick. The figure therefore includes up to one tick of waiting
 // (1 ms at the default 1000 Hz) besides the two DDS hops.
@@ -24,6 +24,8 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <tuple>
 #include <nlohmann/json.hpp>
 #include <random>
 #include <sstream>
@@ -41,7 +43,6 @@ using namespace pheromesh;  // NOLINT
 namespace {
 
 const std::string kScenario = std::string(PHEROMESH_BENCH_DIR) + "/latency.textproto";
-constexpr core::Cell kCell{5, 5};  // in tile (0,0) of the bench scenario (tile size 8)
 
 long rss_kb(pid_t pid) {
   std::ifstream in("/proc/" + (pid == 0 ? std::string("self") : std::to_string(pid)) + "/status");
@@ -60,6 +61,9 @@ double percentile(std::vector<double> v, double p) {
 }
 
 // ------------------------------------------------------------------ client
+constexpr int32_t kMapSide = 32;   // bench/latency.textproto
+constexpr int32_t kTileSide = 16;
+
 int client(const std::string& vendor, uint32_t domain, int samples) {
   bus::BusOptions o;
   o.process_name = "bench-client";
@@ -70,24 +74,32 @@ int client(const std::string& vendor, uint32_t domain, int samples) {
     return 3;
   }
   auto& b = *made.value();
-  const core::TileCoord tile{0, 0};
-  b.set_neighbourhood(std::vector<core::TileCoord>{tile});
+  b.set_neighbourhood(std::vector<core::TileCoord>{{0, 0}, {1, 0}, {0, 1}, {1, 1}});
+  // The latest values of every (layer, tile).
+  std::map<std::tuple<int, int32_t, int32_t>, std::vector<float>> latest;
   std::vector<core::TileMsg> tiles;
-  // The value of kCell in each layer, as last seen.
-  std::array<float, 256> last{};
-  auto value_rose = [&](const core::TileMsg& t) {
-    const auto i = static_cast<std::size_t>(kCell.y * t.width + kCell.x);
-    if (t.tile.tx != tile.tx || t.tile.ty != tile.ty || i >= t.values.size()) return false;
-    const bool rose = t.values[i] > last[t.layer] * 1.0001F + 1e-6F;
-    last[t.layer] = t.values[i];
-    return rose;
+  auto receive = [&] {
+    tiles.clear();
+    b.take_tiles(tiles);
+    for (auto& t : tiles) latest[{t.layer, t.tile.tx, t.tile.ty}] = std::move(t.values);
+    return !tiles.empty();
+  };
+  // The values of `cell` in every layer.
+  auto values_at = [&](core::Cell c) {
+    std::vector<float> v;
+    for (const auto& [key, values] : latest) {
+      const auto& [layer, tx, ty] = key;
+      if (tx != c.x / kTileSide || ty != c.y / kTileSide) continue;
+      v.push_back(values.at(static_cast<std::size_t>((c.y % kTileSide) * kTileSide + c.x % kTileSide)));
+    }
+    return v;
   };
   const auto deadline = Clock::now() + std::chrono::seconds(60);
-  while ((b.matched_deposit_readers(0) == 0 || tiles.empty()) && Clock::now() < deadline) {
-    b.take_tiles(tiles);
+  while ((b.matched_deposit_readers(0) == 0 || latest.size() < 4) && Clock::now() < deadline) {
+    receive();
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
   }
-  if (tiles.empty()) {
+  if (latest.size() < 4) {
     std::fprintf(stderr, "no place agent answered within 60 s\n");
     return 1;
   }
@@ -97,18 +109,17 @@ int client(const std::string& vendor, uint32_t domain, int samples) {
   uint32_t seq = 0;
   int lost = 0;
   const int warmup = 20;
-  for (int n = 0; n < samples + warmup; ++n) {
+  for (int n = 0; n < samples + warmup && n < kMapSide * kMapSide; ++n) {
+    // Each deposit on a cell never visited before: the only change it can see.
+    const core::Cell cell{n % kMapSide, n / kMapSide};
     std::this_thread::sleep_for(std::chrono::microseconds(gap_us(rng)));
-    tiles.clear();
-    b.take_tiles(tiles);
-    for (const auto& t : tiles) value_rose(t);  // forget what came before this deposit
+    receive();
+    const std::vector<float> before = values_at(cell);
     const auto t0 = Clock::now();
-    b.publish_deposit({0, ++seq, 0, 0, static_cast<uint8_t>(core::DepositKind::PathVisit), 0, kCell, 1.0F, {}});
+    b.publish_deposit({0, ++seq, 0, 0, static_cast<uint8_t>(core::DepositKind::PathVisit), 0, cell, 1.0F, {}});
     bool seen = false;
     while (!seen && Clock::now() - t0 < std::chrono::seconds(2)) {
-      tiles.clear();
-      b.take_tiles(tiles);
-      for (const auto& t : tiles) seen = value_rose(t) || seen;
+      if (receive()) seen = values_at(cell) != before;
       if (!seen) std::this_thread::sleep_for(std::chrono::microseconds(20));
     }
     if (!seen) {
@@ -162,8 +173,8 @@ std::string slurp(const std::string& path) {
 }
 
 double field(const std::string& text, const std::string& key) {
-  const auto at = text.find(key + " ");
-  return at == std::string::npos ? -1 : std::stod(text.substr(at + key.size() + 1));
+  const auto at = text.find(" " + key + " ");
+  return at == std::string::npos ? -1 : std::stod(text.substr(at + key.size() + 2));
 }
 
 struct Row {

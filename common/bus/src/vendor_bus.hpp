@@ -1,0 +1,47 @@
+// What the two vendor buses share beyond the Bus interface: the departure
+// lists, the statistics, refusing over-bound samples, the bookkeeping of the
+// tiles a UAV left, and the pace of keeping manual-by-topic writers alive.
+#pragma once
+
+#include <spdlog/spdlog.h>
+
+#include <chrono>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "pheromesh/bus/bus.hpp"
+
+namespace pheromesh::bus {
+
+class VendorBus : public Bus {
+ public:
+  void take_departed_uavs(std::vector<uint32_t>& out) final;
+  void take_departed_regions(std::vector<core::RegionId>& out) final;
+  [[nodiscard]] BusStats stats() const final { return stats_; }
+
+ protected:
+  explicit VendorBus(const BusOptions& o) : opt_(o), log_(spdlog::default_logger()) {}
+
+  // Counts and logs a sample not written because it is over an IDL bound.
+  bool refuse(const char* what, std::size_t n);
+  // The UAV's state now goes to tile partition `part`: the partitions whose
+  // neighbour-state writer is to be deleted (left more than
+  // routing::kKeepLeftTileWriter states ago).
+  std::vector<std::string> tiles_left_behind(const std::string& part);
+  // True at most four times per liveliness lease (see qos.hpp).
+  bool keep_alive_due();
+
+  BusOptions opt_;
+  std::shared_ptr<spdlog::logger> log_;
+  std::vector<uint32_t> departed_uavs_;
+  std::vector<core::RegionId> departed_regions_;
+  BusStats stats_;
+
+ private:
+  std::map<std::string, int> left_tiles_;  // tile partitions with a neighbour-state writer -> states since left
+  std::chrono::steady_clock::time_point last_keep_alive_{};
+};
+
+}  // namespace pheromesh::bus
