@@ -19,6 +19,8 @@ struct Pair {
 };
 
 std::string pair_name(const testing::TestParamInfo<Pair>& p) { return p.param.writer + "_to_" + p.param.reader; }
+// How gtest and ctest show a pairing.
+void PrintTo(const Pair& p, std::ostream* os) { *os << p.writer << " -> " << p.reader; }
 
 std::unique_ptr<bus::Bus> make(const std::string& vendor, const std::string& name) {
   bus::BusOptions o;

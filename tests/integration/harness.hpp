@@ -94,11 +94,16 @@ inline json read_metrics(const std::string& dir) {
   return j;
 }
 
-// Under OUT/<backend>/ when PHEROMESH_DDS picks one, so each backend's run of a
-// test keeps its own logs for a post-mortem.
-inline std::string out_dir(const std::string& name) {
+// The folder of a test's output: OUT/<backend>/NAME when PHEROMESH_DDS picks a
+// backend, so each backend's run of a test keeps its own logs for a post-mortem.
+inline std::string out_path(const std::string& name) {
   const char* backend = std::getenv("PHEROMESH_DDS");
-  const fs::path d = fs::path(PHEROMESH_TEST_OUT_DIR) / (backend != nullptr && *backend != '\0' ? backend : "any") / name;
+  return (fs::path(PHEROMESH_TEST_OUT_DIR) / (backend != nullptr && *backend != '\0' ? backend : "any") / name).string();
+}
+
+// out_path(NAME), emptied and created.
+inline std::string out_dir(const std::string& name) {
+  const fs::path d = out_path(name);
   fs::remove_all(d);
   fs::create_directories(d);
   return d.string();

@@ -7,6 +7,6 @@ using namespace pheromesh::itest;  // NOLINT: the test helpers
 TEST(Lockstep, ShaoNavigationRunOverDdsGivesTheSimulatorsNumbers) {
   expect_lockstep_matches_sim("small-navigation.textproto", "", 31, "lockstep-navigation");
   // The run is not trivial: the leader handed over to the search.
-  const auto m = read_metrics(std::string(PHEROMESH_TEST_OUT_DIR) + "/lockstep-navigation-sim");
+  const auto m = read_metrics(out_path("lockstep-navigation-sim"));
   EXPECT_FALSE(m["leader_arrival_tick"].is_null()) << m.dump(2);
 }

@@ -33,8 +33,9 @@ TEST(Vendors, RunsSayWhichVendorEachProcessUses) {
   const json m = read_metrics(out);
   EXPECT_EQ(m["dds"], "mixed (ground cyclone, place agents cyclone/fastdds, uavs fastdds/cyclone)");
   for (const auto& p : m["processes"]) {
-    if (p["name"] == "uav-2") EXPECT_EQ(p["dds"], "fastdds");
-    if (p["name"] == "place-3") EXPECT_EQ(p["dds"], "fastdds");
+    if (p["name"] == "uav-2" || p["name"] == "place-3") {
+      EXPECT_EQ(p["dds"], "fastdds") << p.dump();
+    }
   }
   const Output bad = run(kBin + "/pheromesh run " + kSrc + "/scenarios/small-test.textproto --dds uav=opendds --out " + out);
   EXPECT_EQ(bad.exit_code, 2) << bad.text;
