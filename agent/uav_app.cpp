@@ -108,6 +108,18 @@ void UavApp::step(uint32_t tick, bool finished) {
   bus_->publish_uav_state(s, geo_.tile_of(core::state_cell(s)));
 }
 
+void UavApp::handle_commands() {
+  for (const auto& c : commands_->take()) {
+    if (c.kind == static_cast<uint8_t>(core::CommandKind::Obstacle)) {
+      const auto cells = world_.add_obstacle({c.x, c.y, c.w, c.h});
+      log_->info("pop-up obstacle: {} new obstacle cells", cells);
+    } else if (c.kind == static_cast<uint8_t>(core::CommandKind::Target)) {
+      const auto index = world_.add_target({c.x, c.y});
+      log_->info("new target {} at ({},{})", index, c.x, c.y);
+    }
+  }
+}
+
 void UavApp::wait_for_place_agents() {
   // Wait (bounded) until every region's place agent is matched, so the first
   // deposits are not lost to discovery.
@@ -129,6 +141,11 @@ int UavApp::run_realtime(uint32_t ticks) {
   runtime::TickClock clock(scenario_.tick_rate_hz);
   uint32_t tick = 0;
   while (tick < ticks && clock.wait_next()) {
+    handle_commands();
+    if (commands_->paused()) {
+      receive();  // keeps the inboxes drained and the liveliness asserted
+      continue;
+    }
     ++tick;
     receive();
     step(tick, false);
@@ -151,6 +168,7 @@ int UavApp::run_lockstep(uint32_t ticks) {
       // deposit; acknowledged deposits are in the place agents' queues before
       // we report done.
       if (c.tick > 0) wait_for_tick(c.tick - 1, c);
+      handle_commands();
       step(c.tick, false);
       if (!bus_->flush(std::chrono::seconds(10))) log_->warn("tick {}: not every sample was acknowledged in 10 s", c.tick);
       // Report what this phase wrote: the conductor announces it to the
@@ -172,6 +190,8 @@ int UavApp::run() {
   const uint32_t ticks = scenario_.ticks;
   bus_->set_neighbourhood(core_.neighbourhood());
   bus_->subscribe_broadcasts();
+  commands_ = std::make_unique<runtime::SwarmCommands>(*bus_, log_);
+  if (cfg_.seq_base > 0) core_.set_first_seq(cfg_.seq_base);
   wait_for_place_agents();
   log_->info("uav {} ({}) starts at ({},{}) for {} ticks, {} clock, over {}", cfg_.id, core::policy_name(scenario_.policy),
              core_.cell().x, core_.cell().y, ticks, cfg_.common.clock, bus_->vendor());

@@ -13,6 +13,7 @@
 #include "pheromesh/core/scenario.hpp"
 #include "pheromesh/core/uav_core.hpp"
 #include "pheromesh/core/world.hpp"
+#include "pheromesh/runtime/commands.hpp"
 #include "pheromesh/runtime/process.hpp"
 
 namespace spdlog {
@@ -25,6 +26,7 @@ struct UavConfig {
   runtime::CommonOptions common;
   uint32_t id = 0;
   double wait_for_places_s = 15.0;  // [s] wait at start until every place agent is matched
+  uint32_t seq_base = 0;  // first deposit sequence number - 1 (a restarted UAV continues above its old life's)
 };
 
 class UavApp {
@@ -40,6 +42,8 @@ class UavApp {
   // states of the UAVs over those tiles, the broadcasts).
   void wait_for_tick(uint32_t tick, const core::ClockMsg& announced);
   void step(uint32_t tick, bool finished);
+  // Ground-station commands: pop-ups change this UAV's world; pause is kept by commands_.
+  void handle_commands();
   int run_realtime(uint32_t ticks);
   int run_lockstep(uint32_t ticks);
 
@@ -62,6 +66,7 @@ class UavApp {
   // What the last step wrote (lockstep reports it with PhaseDone).
   std::map<core::RegionId, uint32_t> written_;
   bool broadcast_written_ = false;
+  std::unique_ptr<runtime::SwarmCommands> commands_;
 };
 
 }  // namespace pheromesh::agent

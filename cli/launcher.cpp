@@ -3,6 +3,7 @@
 #include <fcntl.h>
 #include <spdlog/spdlog.h>
 #include <sys/prctl.h>
+#include <sys/socket.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -10,6 +11,7 @@
 #include <csignal>
 #include <cstdlib>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -17,6 +19,8 @@
 #include <thread>
 
 #include "pheromesh/bus/bus.hpp"
+#include "pheromesh/console/control.hpp"
+#include "pheromesh/console/server.hpp"
 #include "pheromesh/core/scenario.hpp"
 #include "pheromesh/runtime/process.hpp"
 
@@ -75,6 +79,14 @@ void Launcher::spawn(const std::string& role, uint32_t index, const std::vector<
     setpgid(0, 0);
     prctl(PR_SET_PDEATHSIG, SIGTERM);
     if (getppid() != parent) _exit(127);
+    if (role == "ground" && child_ctl_fd_ >= 0) {
+      // The console's control socket, as fd 3 (dup2 clears close-on-exec).
+      if (child_ctl_fd_ == 3) {
+        fcntl(3, F_SETFD, 0);
+      } else {
+        dup2(child_ctl_fd_, 3);
+      }
+    }
     const int fd = open(log_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
     if (fd >= 0) {
       dup2(fd, STDOUT_FILENO);
@@ -114,10 +126,79 @@ bool Launcher::any_running(const std::string& role) const {
 }
 
 ChildProcess* Launcher::find(const std::string& name) {
+  // A restarted UAV has several entries: the running one, else the latest.
+  ChildProcess* latest = nullptr;
   for (auto& c : children_) {
-    if (c.name == name) return &c;
+    if (c.name != name) continue;
+    if (c.running) return &c;
+    latest = &c;
   }
-  return nullptr;
+  return latest;
+}
+
+void Launcher::serve_control() {
+  if (ctl_fd_ < 0) return;
+  char buf[512];
+  for (;;) {
+    const ssize_t n = recv(ctl_fd_, buf, sizeof buf, MSG_DONTWAIT);
+    if (n == 0) {  // the ground station is gone
+      close(ctl_fd_);
+      ctl_fd_ = -1;
+      return;
+    }
+    if (n < 0) break;
+    ctl_buffer_.append(buf, static_cast<std::size_t>(n));
+    if (ctl_buffer_.size() > 4096) ctl_buffer_.clear();  // not our protocol
+  }
+  for (auto nl = ctl_buffer_.find('\n'); nl != std::string::npos; nl = ctl_buffer_.find('\n')) {
+    const std::string line = ctl_buffer_.substr(0, nl);
+    ctl_buffer_.erase(0, nl + 1);
+    const std::string reply = handle_control(line) + "\n";
+    send(ctl_fd_, reply.data(), reply.size(), MSG_NOSIGNAL);
+  }
+}
+
+std::string Launcher::handle_control(const std::string& line) {
+  const auto now = Clock::now();
+  if (line == "pause") {
+    if (!paused_since_) paused_since_ = now;
+    return "ok paused";
+  }
+  if (line == "resume") {
+    if (paused_since_) paused_total_ += now - *paused_since_;
+    paused_since_.reset();
+    return "ok resumed";
+  }
+  char verb[16] = {}, role[16] = {};
+  unsigned index = 0;
+  if (std::sscanf(line.c_str(), "%15s %15s %u", verb, role, &index) != 3) return "error unknown request '" + line + "'";
+  const std::string v = verb, r = role;
+  if (r != "uav" && r != "place") return "error unknown role '" + r + "'";
+  const std::string name = r + "-" + std::to_string(index);
+  ChildProcess* c = find(name);
+  if (c == nullptr) return "error there is no " + name;
+  if (v == "kill") {
+    if (!c->running) return "error " + name + " is not running (" + c->describe() + ")";
+    spdlog::warn("console: SIGKILL to {} (pid {})", c->name, c->pid);
+    c->killed_on_purpose = true;
+    kill(c->pid, SIGKILL);
+    return "ok SIGKILL sent to " + name + " (pid " + std::to_string(c->pid) + ")";
+  }
+  if (v == "restart" && r == "uav") {
+    if (c->running) return "error " + name + " is running; kill it first";
+    const auto flown = std::chrono::duration<double>(now - t0_ - paused_total_).count();
+    const auto remaining = static_cast<int64_t>(ticks_) - static_cast<int64_t>(flown * rate_);
+    if (remaining < 1) return "error the run is over for " + name;
+    const uint32_t life = ++lives_[index];
+    // Deposits of each life are numbered above the earlier lives' (place
+    // agents drop sequence numbers they have seen).
+    spawn("uav", index, {"--id", std::to_string(index), "--ticks", std::to_string(remaining), "--seq-base",
+                         std::to_string(life << 24U)});
+    ChildProcess* fresh = find(name);
+    spdlog::warn("console: restarted {} (pid {}) for its remaining {} ticks", name, fresh->pid, remaining);
+    return "ok restarted " + name + " (pid " + std::to_string(fresh->pid) + ") for " + std::to_string(remaining) + " ticks";
+  }
+  return "error cannot " + v + " a " + r;
 }
 
 void Launcher::stop_role(const std::string& role, std::chrono::seconds grace) {
@@ -193,12 +274,44 @@ int Launcher::run() {
                o_.out_dir);
 
   runtime::install_shutdown_handlers();
-  spawn("ground", 0,
-        {"--out", o_.out_dir, "--progress", std::to_string(o_.progress_s), "--ticks", std::to_string(ticks),
-         "--expect-uavs", std::to_string(uavs)});
+  ticks_ = ticks;
+  rate_ = rate;
+  // Every process of this swarm shares a fresh control key: only this
+  // ground station can sign commands they act on (docs/console.md).
+  setenv(console::kControlKeyEnv, console::random_control_key_hex().c_str(), 1);
+  std::vector<std::string> ground_args{"--out", o_.out_dir, "--progress", std::to_string(o_.progress_s), "--ticks",
+                                       std::to_string(ticks), "--expect-uavs", std::to_string(uavs)};
+  std::string token;
+  if (o_.http_port) {
+    int sv[2];
+    if (socketpair(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0, sv) != 0) {
+      throw std::runtime_error(std::string("socketpair: ") + std::strerror(errno));
+    }
+    ctl_fd_ = sv[0];
+    child_ctl_fd_ = sv[1];
+    token = console::random_token();
+    setenv("PHEROMESH_CONSOLE_TOKEN", token.c_str(), 1);
+    const std::string record = o_.no_record ? "" : !o_.record.empty() ? o_.record : (fs::path(o_.out_dir) / "console.phrec").string();
+    ground_args.insert(ground_args.end(), {"--http", std::to_string(*o_.http_port), "--http-bind", o_.http_bind,
+                                           "--launcher-fd", "3"});
+    if (!record.empty()) ground_args.insert(ground_args.end(), {"--record", record});
+  }
+  spawn("ground", 0, ground_args);
+  if (child_ctl_fd_ >= 0) {
+    close(child_ctl_fd_);
+    child_ctl_fd_ = -1;
+  }
+  unsetenv("PHEROMESH_CONSOLE_TOKEN");
+  if (o_.http_port && *o_.http_port != 0) {
+    const std::string host = o_.http_bind == "0.0.0.0" ? "127.0.0.1" : o_.http_bind;
+    spdlog::info("web console: http://{}:{}/?token={}", host, *o_.http_port, token);
+  } else if (o_.http_port) {
+    spdlog::info("web console: the ground station prints its URL (port chosen by the system)");
+  }
   for (uint32_t r = 0; r < regions; ++r) spawn("place", r, {"--region", std::to_string(r)});
   for (uint32_t u = 0; u < uavs; ++u) spawn("uav", u, {"--id", std::to_string(u), "--ticks", std::to_string(ticks)});
   const auto t0 = Clock::now();
+  t0_ = t0;
   // Generous bound on the UAV phase: the run itself, discovery, and slack for
   // a loaded machine. UAVs still flying then are stopped (and reported).
   // Lockstep runs as fast as the slowest process; allow 0.5 s per tick.
@@ -210,6 +323,7 @@ int Launcher::run() {
   while (any_running("uav")) {
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
     reap();
+    serve_control();
     const auto now = Clock::now();
     while (next_kill < kills.size() && now - t0 >= kills[next_kill].at) {
       const KillEvent& e = kills[next_kill++];
@@ -227,7 +341,8 @@ int Launcher::run() {
       interrupted = true;
       stop_role("uav", std::chrono::seconds(10));
     }
-    if (now > uav_deadline) {
+    const auto paused_for = paused_total_ + (paused_since_ ? now - *paused_since_ : Clock::duration{});
+    if (now > uav_deadline + paused_for) {
       spdlog::error("uavs still flying long after the expected end; stopping them");
       stop_role("uav", std::chrono::seconds(10));
     }

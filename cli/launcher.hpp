@@ -7,6 +7,7 @@
 
 #include <chrono>
 #include <cstdint>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -32,6 +33,11 @@ struct RunOptions {
   double progress_s = 1.0;
   std::string clock = "realtime";  // realtime | lockstep
   uint32_t lease_ms = 1000;        // liveliness lease of every process [ms]
+  // Web console of the ground station (docs/console.md).
+  std::optional<uint16_t> http_port;
+  std::string http_bind = "127.0.0.1";
+  std::string record;              // default with --http: OUT/console.phrec
+  bool no_record = false;
 };
 
 struct ChildProcess {
@@ -64,6 +70,19 @@ class Launcher {
   ChildProcess* find(const std::string& name);
   void finish_metrics(int& exit_code);
   void clean_fastdds_shm() const;
+  // Requests from the ground station's console (kill / restart / pause).
+  void serve_control();
+  std::string handle_control(const std::string& line);
+
+  int ctl_fd_ = -1;        // our end of the ground station's control socket
+  int child_ctl_fd_ = -1;  // its end, inherited as fd 3 by the ground station only
+  std::string ctl_buffer_;
+  std::chrono::steady_clock::time_point t0_;
+  std::chrono::steady_clock::duration paused_total_{};
+  std::optional<std::chrono::steady_clock::time_point> paused_since_;
+  std::map<uint32_t, uint32_t> lives_;  // uav -> restarts so far
+  uint32_t ticks_ = 0;
+  double rate_ = 0;
 
   RunOptions o_;
   DdsPlan plan_;

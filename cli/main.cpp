@@ -7,6 +7,7 @@
 #include <cstdio>
 
 #include "launcher.hpp"
+#include "replay_command.hpp"
 #include "experiment_command.hpp"
 #include "sim_command.hpp"
 #include "pheromesh/bus/bus.hpp"
@@ -89,6 +90,13 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(50, 60000))
       ->capture_default_str();
   r->add_option("--progress", ro.progress_s, "Seconds between the ground station's progress lines")->capture_default_str();
+  r->add_option("--http", ro.http_port,
+                "Serve the web console on this port (e.g. 8080) and print its URL; it records the run to "
+                "OUT/console.phrec for `pheromesh replay`");
+  r->add_option("--http-bind", ro.http_bind, "Address the console listens on (0.0.0.0: every interface)")
+      ->capture_default_str();
+  r->add_option("--record", ro.record, "Where the console records the run (default OUT/console.phrec)");
+  r->add_flag("--no-record", ro.no_record, "Do not record the console");
 
   cli::SimOptions so;
   auto* sim = app.add_subcommand("sim", "Run the whole swarm in this process, deterministically (no DDS): the same "
@@ -109,6 +117,14 @@ int main(int argc, char** argv) {
   ex->add_option("--runs", eo.runs, "Monte Carlo runs (default: the paper's count)");
   ex->add_option("--out", eo.out_dir, "Output folder (default out/experiments/NAME)");
 
+  cli::ReplayOptions rpo;
+  auto* rp = app.add_subcommand("replay", "Serve the web console from a recording (OUT/console.phrec of `run --http`), "
+                                          "with a time slider");
+  rp->add_option("FILE", rpo.file, "Recording")->required()->check(CLI::ExistingFile);
+  rp->add_option("--http", rpo.port, "Port of the console (0: any free port)")->capture_default_str();
+  rp->add_option("--http-bind", rpo.bind, "Address the console listens on")->capture_default_str();
+  rp->add_flag("--check", rpo.check, "Only read the recording and say what it holds");
+
   CLI11_PARSE(app, argc, argv);
   auto logger = spdlog::stderr_color_mt("pheromesh");
   logger->set_pattern("%H:%M:%S.%e %^%-5l%$ [%n] %v");
@@ -118,6 +134,7 @@ int main(int argc, char** argv) {
   if (v->parsed()) return validate(validate_path);
   if (sim->parsed()) return cli::run_sim(so);
   if (ex->parsed()) return cli::run_experiment_command(eo);
+  if (rp->parsed()) return cli::run_replay(rpo);
   try {
     return cli::Launcher(ro).run();
   } catch (const std::exception& e) {

@@ -8,6 +8,7 @@
 #include <limits>
 #include <thread>
 
+#include "pheromesh/console/view.hpp"
 #include "pheromesh/core/policy.hpp"
 #include "pheromesh/core/uav_core.hpp"
 #include "pheromesh/runtime/report.hpp"
@@ -47,6 +48,8 @@ void GroundApp::poll() {
       continue;
     }
     if (was_departed && !s.finished) log_->info("uav {} is back at tick {}", s.uav, s.tick);
+    uav_heard_[s.uav] = Clock::now();
+    if (uncertainty_ && !s.finished) uncertainty_->observe(core::state_cell(s), s.tick);
     departed_uavs_.erase(s.uav);
     departed_since_.erase(s.uav);
     if (!s.finished) {
@@ -80,16 +83,25 @@ void GroundApp::poll() {
   bus_->take_detections(detections_);
   for (const auto& d : detections_) {
     if (rec_.on_detection(d) && rec_.first_acquisition()) {
+      found_by_[d.target] = {d.uav, d.tick};
       log_->info("target {} at ({},{}) first acquired by uav {} at tick {} ({}/{})", d.target, d.cell.x, d.cell.y, d.uav,
-                 d.tick, rec_.acquisitions().found(), scenario_.targets.size());
+                 d.tick, rec_.acquisitions().found(), world_.targets().size());
     }
   }
   events_.clear();
   bus_->take_target_events(events_);
-  for (const auto& e : events_) rec_.on_target_event(e);
+  for (const auto& e : events_) {
+    rec_.on_target_event(e);
+    // Shao 2020 revisits: kind 1 = due, 2 = revisited (marks.hpp).
+    if (e.kind == 1) revisit_due_[{e.cell.x, e.cell.y}] = true;
+    if (e.kind == 2) revisit_due_[{e.cell.x, e.cell.y}] = false;
+  }
   healths_.clear();
   bus_->take_health(healths_);
-  for (const auto& h : healths_) rec_.on_health(h);
+  for (const auto& h : healths_) {
+    rec_.on_health(h);
+    region_heard_[h.region] = Clock::now();
+  }
   tiles_.clear();
   bus_->take_tiles(tiles_);
   for (auto& t : tiles_) {
@@ -124,7 +136,7 @@ void GroundApp::print_progress() {
   rec_.sample_coverage();
   log_->info("tick {:5d} | uavs {}/{} flying | places {}/{} | coverage {:5.1f}% | targets {}/{} | deposits sent {} applied {} rejected {}",
              rec_.max_tick(), flying, cfg_.expect_uavs, rec_.health().size(), geo_.region_count(),
-             100.0 * rec_.coverage().coverage(), rec_.acquisitions().found(), scenario_.targets.size(),
+             100.0 * rec_.coverage().coverage(), rec_.acquisitions().found(), world_.targets().size(),
              rec_.deposits_sent(), applied, rejected);
 }
 
@@ -207,6 +219,7 @@ bool GroundApp::run_phase(uint32_t tick, core::ClockPhase phase) {
       return false;
     }
     progress_if_due();
+    service();
     std::this_thread::sleep_for(std::chrono::microseconds(200));
   }
 }
@@ -217,8 +230,15 @@ bool GroundApp::conduct() {
   log_->info("conducting {} lockstep ticks", ticks);
   bool ok = true;
   for (uint32_t k = 0; k <= ticks && ok && !runtime::shutdown_requested(); ++k) {
+    // Paused from the console: the next tick is not announced.
+    while (paused_ && !runtime::shutdown_requested()) {
+      poll();
+      service();
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
     ok = run_phase(k, core::ClockPhase::Uav) && run_phase(k, core::ClockPhase::Place);
     progress_if_due();
+    service();
   }
   bus_->publish_clock(announce(ticks, core::ClockPhase::Stop));
   bus_->flush(std::chrono::seconds(5));
@@ -240,6 +260,16 @@ int GroundApp::finish() {
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
   print_progress();
+  if (console_) {
+    // The last frame holds the final state; a replay ends with it too.
+    build_frame();
+    console_->close();
+    const auto final_json = console::frame_json(console_->state(), console_->console_info(), 0, 0);
+    std::string error;
+    if (!runtime::write_json(cfg_.out_dir, "console_final.json", final_json, error)) log_->error("{}", error);
+    if (server_) server_->stop();
+    if (recording_) log_->info("recorded {} console frames ({} bytes) in {}", frames_, recording_->bytes_written(), recording_->path());
+  }
   const auto field_value = [&](int layer, core::Cell c) {
     const core::TileCoord t = geo_.tile_of(c);
     auto it = tiles_latest_.find({layer, {t.tx, t.ty}});
@@ -267,11 +297,13 @@ int GroundApp::run() {
   log_->info("ground station on domain {} over {} ({} clock): expecting {} uavs and {} place agents",
              cfg_.common.domain, bus_->vendor(), cfg_.common.clock, cfg_.expect_uavs, geo_.region_count());
   next_progress_ = Clock::now();
+  start_console();
   bool ok = true;
   if (cfg_.common.lockstep()) ok = conduct();
   while (!runtime::shutdown_requested()) {
     poll();
     progress_if_due();
+    service();
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
   const int rc = finish();

@@ -7,11 +7,17 @@
 #include <cstdint>
 #include <map>
 #include <memory>
+#include <optional>
 #include <set>
 #include <string>
 #include <vector>
 
+#include "console_live.hpp"
 #include "pheromesh/bus/bus.hpp"
+#include "pheromesh/console/control.hpp"
+#include "pheromesh/console/recording.hpp"
+#include "pheromesh/console/server.hpp"
+#include "pheromesh/console/uncertainty.hpp"
 #include "pheromesh/core/run_metrics.hpp"
 #include "pheromesh/core/scenario.hpp"
 #include "pheromesh/core/world.hpp"
@@ -29,6 +35,13 @@ struct GroundConfig {
   uint32_t expect_uavs = 0;  // 0: the scenario's swarm.uavs
   double progress_period_s = 1.0;
   double phase_timeout_s = 60.0;  // lockstep: longest wait for one phase [s]
+  // Web console (docs/console.md): served when http_port is set (0: any free port).
+  std::optional<uint16_t> http_port;
+  std::string http_bind = "127.0.0.1";
+  double console_hz = 5.0;   // frames per second
+  std::string record_path;   // record the console frames here (empty: no recording)
+  int launcher_fd = -1;      // control socket from `pheromesh run` (kill / restart)
+  std::string scenario_path;
 };
 
 class GroundApp {
@@ -49,6 +62,15 @@ class GroundApp {
   [[nodiscard]] core::ClockMsg announce(uint32_t tick, core::ClockPhase phase) const;
   int finish();
 
+  // --- web console, recording and commands
+  void start_console();
+  void service();  // main thread: pending commands, frames when due
+  void build_frame();
+  [[nodiscard]] std::string metrics_text() const;
+  console::ConsoleSource::Answer execute(const nlohmann::json& body, const std::string& who);
+  console::ConsoleSource::Answer publish_swarm_command(core::CommandMsg c);
+  console::ConsoleSource::Answer ask_launcher(const std::string& line);
+  void log_command(const std::string& who, const std::string& what, const console::ConsoleSource::Answer& a);
   GroundConfig cfg_;
   core::ScenarioConfig scenario_;
   core::MapGeometry geo_;
@@ -76,6 +98,30 @@ class GroundApp {
   std::map<uint32_t, std::set<uint32_t>> broadcasters_;
   // Lockstep: what the UAVs reported writing in the current tick's UAV phase.
   std::map<core::RegionId, uint32_t> deposits_reported_;
+
+  // --- web console
+  std::unique_ptr<LiveConsole> console_;
+  std::unique_ptr<console::ConsoleServer> server_;
+  std::unique_ptr<console::RecordingWriter> recording_;
+  std::unique_ptr<console::UncertaintyTracker> uncertainty_;
+  std::optional<console::ControlKey> control_key_;
+  std::chrono::steady_clock::time_point console_t0_, next_frame_, next_series_;
+  std::map<uint32_t, std::chrono::steady_clock::time_point> uav_heard_;
+  std::map<core::RegionId, std::chrono::steady_clock::time_point> region_heard_;
+  struct Rate {
+    std::chrono::steady_clock::time_point t;
+    uint64_t applied = 0;
+    double per_s = 0;
+  };
+  std::map<core::RegionId, Rate> region_rate_;
+  std::map<int32_t, std::pair<uint32_t, uint32_t>> found_by_;  // target -> (uav, tick)
+  std::map<std::pair<int32_t, int32_t>, bool> revisit_due_;     // target cell -> due
+  std::vector<core::Rect> popup_obstacles_;
+  std::vector<console::CommandLogEntry> command_log_;           // for the next frame
+  uint32_t command_seq_ = 0;
+  uint64_t commands_ok_ = 0, commands_refused_ = 0, frames_ = 0;
+  bool paused_ = false;
+  bool recording_failed_ = false;
 };
 
 }  // namespace pheromesh::groundstation

@@ -98,8 +98,13 @@ int PlaceApp::run_realtime() {
   auto last_health = Clock::now();
   uint32_t tick = 0;
   while (!runtime::shutdown_requested() && (cfg_.max_ticks == 0 || tick < cfg_.max_ticks)) {
-    step(tick, false, tick == 0);
-    ++tick;
+    commands_->take();
+    // Paused from the console: no evaporation, no diffusion, deposits wait
+    // in the reader; health still goes out.
+    if (!commands_->paused()) {
+      step(tick, false, tick == 0);
+      ++tick;
+    }
     if (Clock::now() - last_health >= std::chrono::milliseconds(500)) {
       rate_ = clock.measured_rate() > 0 ? clock.measured_rate() : rate_;
       publish_health(tick, false);
@@ -159,6 +164,7 @@ int PlaceApp::run_lockstep() {
 int PlaceApp::run() {
   bus_->subscribe_deposits(cfg_.region);
   bus_->subscribe_halos(core_.neighbours());
+  commands_ = std::make_unique<runtime::SwarmCommands>(*bus_, log_);
   const core::Rect r = geo_.region_rect(cfg_.region);
   log_->info("place agent for region {} [{}..{})x[{}..{}) with {} tiles, {} neighbours, {} clock{} over {}", cfg_.region,
              r.x0, r.x0 + r.w, r.y0, r.y0 + r.h, core_.owned_tiles().size(), core_.neighbours().size(), cfg_.common.clock,

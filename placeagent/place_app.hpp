@@ -11,6 +11,7 @@
 #include "pheromesh/bus/bus.hpp"
 #include "pheromesh/core/place_core.hpp"
 #include "pheromesh/core/scenario.hpp"
+#include "pheromesh/runtime/commands.hpp"
 #include "pheromesh/runtime/process.hpp"
 
 namespace spdlog {
@@ -54,6 +55,7 @@ class PlaceApp {
   std::vector<core::TargetEventMsg> events_;
   std::vector<core::TileMsg> tiles_out_;
   std::vector<std::string> rejections_;
+  std::unique_ptr<runtime::SwarmCommands> commands_;  // pause / resume
 };
 
 }  // namespace pheromesh::placeagent

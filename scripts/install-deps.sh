@@ -10,7 +10,14 @@ packages=(
   libprotobuf-dev protobuf-compiler      # scenario schema
   libeigen3-dev libspdlog-dev libfmt-dev libcli11-dev nlohmann-json3-dev
   libgtest-dev libgmock-dev libbenchmark-dev
+  libcpp-httplib-dev libssl-dev zlib1g-dev libbrotli-dev  # web console server (gzip/brotli), command HMAC
+  chromium prometheus curl                 # web console end-to-end test (headless browser, promtool)
 )
+# The web front-end is built with npm at build time. Any Node.js >= 18 with
+# npm does (Debian's nodejs + npm, or one already on the machine).
+if ! command -v npm > /dev/null 2>&1; then
+  packages+=(nodejs npm)
+fi
 
 missing=()
 for p in "${packages[@]}"; do

@@ -62,6 +62,7 @@ TEST_P(Interop, EveryMessageArrivesIntact) {
   r_->subscribe_broadcasts();
   r_->subscribe_clock();
   r_->subscribe_phase_done();
+  r_->subscribe_commands();
   const auto deadline = Clock::now() + std::chrono::seconds(15);
   while (w_->matched_deposit_readers(7) == 0 && Clock::now() < deadline) std::this_thread::sleep_for(std::chrono::milliseconds(20));
   ASSERT_EQ(w_->matched_deposit_readers(7), 1U);
@@ -183,6 +184,29 @@ TEST_P(Interop, EveryMessageArrivesIntact) {
   ASSERT_EQ(dones[0].deposits.size(), 2U);
   EXPECT_EQ(dones[0].deposits[0].region, 7U);
   EXPECT_EQ(dones[0].deposits[0].count, 3U);
+
+  core::CommandMsg cmd;
+  cmd.issuer = 3U << 24U;
+  cmd.seq = 42;
+  cmd.issued_ms = 0xFEDCBA9876543210ULL;
+  cmd.kind = 3;
+  cmd.x = -5;
+  cmd.y = 7;
+  cmd.w = 3;
+  cmd.h = 2;
+  for (std::size_t i = 0; i < cmd.mac.size(); ++i) cmd.mac[i] = static_cast<uint8_t>(255 - 7 * i);
+  ASSERT_TRUE(w_->publish_command(cmd));
+  const auto cmds = wait_for<core::CommandMsg>([&](auto& v) { r_->take_commands(v); });
+  ASSERT_EQ(cmds.size(), 1U);
+  EXPECT_EQ(cmds[0].issuer, cmd.issuer);
+  EXPECT_EQ(cmds[0].seq, 42U);
+  EXPECT_EQ(cmds[0].issued_ms, cmd.issued_ms);
+  EXPECT_EQ(cmds[0].kind, 3);
+  EXPECT_EQ(cmds[0].x, -5);
+  EXPECT_EQ(cmds[0].y, 7);
+  EXPECT_EQ(cmds[0].w, 3);
+  EXPECT_EQ(cmds[0].h, 2);
+  EXPECT_EQ(cmds[0].mac, cmd.mac);
 
   EXPECT_EQ(r_->stats().samples_dropped, 0U);
 }

@@ -158,6 +158,7 @@ class CycloneBus final : public VendorBus {
     clock_topic_ = PHM_DDS(dds_create_topic(participant_, &pheromesh_msg_ClockCommand_desc, topic_name(TopicKind::Clock), nullptr, nullptr));
     done_topic_ = PHM_DDS(dds_create_topic(participant_, &pheromesh_msg_PhaseDone_desc, topic_name(TopicKind::PhaseDone), nullptr, nullptr));
     broadcast_topic_ = PHM_DDS(dds_create_topic(participant_, &pheromesh_msg_Broadcast_desc, topic_name(TopicKind::Broadcast), nullptr, nullptr));
+    command_topic_ = PHM_DDS(dds_create_topic(participant_, &pheromesh_msg_Command_desc, topic_name(TopicKind::Command), nullptr, nullptr));
   }
 
   ~CycloneBus() override {
@@ -211,6 +212,45 @@ class CycloneBus final : public VendorBus {
     s.values._maximum = static_cast<uint32_t>(m.values.size());
     s.values._release = false;
     return write(writer(TopicKind::Broadcast, broadcast_topic_, kBroadcastPartition), &s);
+  }
+
+  bool publish_command(const core::CommandMsg& m) override {
+    pheromesh_msg_Command s{};
+    s.issuer = m.issuer;
+    s.seq = m.seq;
+    s.issued_ms = m.issued_ms;
+    s.kind = m.kind;
+    s.x = m.x;
+    s.y = m.y;
+    s.w = m.w;
+    s.h = m.h;
+    std::copy(m.mac.begin(), m.mac.end(), s.mac);
+    return write(writer(TopicKind::Command, command_topic_, kCommandPartition), &s);
+  }
+
+  void subscribe_commands() override {
+    command_reader_ = make_reader(TopicKind::Command, command_topic_, {kCommandPartition});
+  }
+
+  void take_commands(std::vector<core::CommandMsg>& out) override {
+    keep_alive();
+    if (command_reader_ == 0) return;
+    take_all<pheromesh_msg_Command>(
+        command_reader_,
+        [&](const pheromesh_msg_Command& s) {
+          core::CommandMsg c;
+          c.issuer = s.issuer;
+          c.seq = s.seq;
+          c.issued_ms = s.issued_ms;
+          c.kind = s.kind;
+          c.x = s.x;
+          c.y = s.y;
+          c.w = s.w;
+          c.h = s.h;
+          std::copy(std::begin(s.mac), std::end(s.mac), c.mac.begin());
+          out.push_back(c);
+        },
+        ignore_invalid);
   }
 
   void subscribe_broadcasts() override {
@@ -569,11 +609,13 @@ class CycloneBus final : public VendorBus {
   dds_entity_t domain_ = 0;
   dds_entity_t participant_ = 0;
   dds_entity_t tile_topic_ = 0, deposit_topic_ = 0, uav_topic_ = 0, detection_topic_ = 0, event_topic_ = 0,
-               health_topic_ = 0, halo_topic_ = 0, clock_topic_ = 0, done_topic_ = 0, broadcast_topic_ = 0;
+               health_topic_ = 0, halo_topic_ = 0, clock_topic_ = 0, done_topic_ = 0, broadcast_topic_ = 0,
+               command_topic_ = 0;
   std::map<std::pair<int, std::string>, WriterEntry> writers_;
   std::map<std::pair<int32_t, int32_t>, HoodReaders> hood_;
   dds_entity_t deposit_reader_ = 0, halo_reader_ = 0, ground_tiles_ = 0, ground_uavs_ = 0, detection_reader_ = 0,
-               event_reader_ = 0, health_reader_ = 0, clock_reader_ = 0, done_reader_ = 0, broadcast_reader_ = 0;
+               event_reader_ = 0, health_reader_ = 0, clock_reader_ = 0, done_reader_ = 0, broadcast_reader_ = 0,
+               command_reader_ = 0;
 };
 
 }  // namespace

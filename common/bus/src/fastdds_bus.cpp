@@ -287,6 +287,7 @@ class FastDdsBus final : public VendorBus {
     register_topic<msg::ClockCommandPubSubType>(TopicKind::Clock);
     register_topic<msg::PhaseDonePubSubType>(TopicKind::PhaseDone);
     register_topic<msg::BroadcastPubSubType>(TopicKind::Broadcast);
+    register_topic<msg::CommandPubSubType>(TopicKind::Command);
   }
 
   ~FastDdsBus() override {
@@ -515,6 +516,41 @@ class FastDdsBus final : public VendorBus {
   }
 
   void subscribe_broadcasts() override { broadcast_reader_ = make_reader(TopicKind::Broadcast, {kBroadcastPartition}); }
+  void subscribe_commands() override { command_reader_ = make_reader(TopicKind::Command, {kCommandPartition}); }
+
+  bool publish_command(const core::CommandMsg& m) override {
+    msg::Command s;
+    s.issuer(m.issuer);
+    s.seq(m.seq);
+    s.issued_ms(m.issued_ms);
+    s.kind(m.kind);
+    s.x(m.x);
+    s.y(m.y);
+    s.w(m.w);
+    s.h(m.h);
+    std::copy(m.mac.begin(), m.mac.end(), s.mac().begin());
+    return write(writer(TopicKind::Command, kCommandPartition), &s);
+  }
+
+  void take_commands(std::vector<core::CommandMsg>& out) override {
+    keep_alive();
+    take_each<msg::Command>(
+        command_reader_,
+        [&](const msg::Command& s, const fdds::SampleInfo& /*info*/) {
+          core::CommandMsg c;
+          c.issuer = s.issuer();
+          c.seq = s.seq();
+          c.issued_ms = s.issued_ms();
+          c.kind = s.kind();
+          c.x = s.x();
+          c.y = s.y();
+          c.w = s.w();
+          c.h = s.h();
+          std::copy(s.mac().begin(), s.mac().end(), c.mac.begin());
+          out.push_back(c);
+        },
+        ignore_invalid);
+  }
 
   // ------------------------------------------------------------------- take
   void take_deposits(std::vector<core::DepositMsg>& out) override {
@@ -754,7 +790,7 @@ class FastDdsBus final : public VendorBus {
   fdds::DataReader *deposit_reader_ = nullptr, *halo_reader_ = nullptr, *ground_tiles_ = nullptr,
                    *ground_uavs_ = nullptr, *detection_reader_ = nullptr, *event_reader_ = nullptr,
                    *health_reader_ = nullptr, *clock_reader_ = nullptr, *done_reader_ = nullptr,
-                   *broadcast_reader_ = nullptr;
+                   *broadcast_reader_ = nullptr, *command_reader_ = nullptr;
   // The readers' listeners: the destructor's body deletes the participant
   // (and its readers) before any member is destroyed.
   Departures uav_departures_, region_departures_;

@@ -75,6 +75,15 @@ QosSpec topic_qos(TopicKind kind, Endpoint endpoint, std::chrono::milliseconds l
         keep_last(8);
       }
       break;
+    case TopicKind::Command:
+      // Few and all of them matter, also to a process that starts late (a
+      // restarted UAV must see every pop-up obstacle so far): a deep history.
+      if (reader) {
+        keep_all();
+      } else {
+        keep_last(256);
+      }
+      break;
     case TopicKind::Deposit:
     case TopicKind::Detection:
     case TopicKind::TargetEvent:
@@ -103,6 +112,7 @@ const char* topic_name(TopicKind kind) {
     case TopicKind::Clock: return "pheromesh_clock";
     case TopicKind::PhaseDone: return "pheromesh_phase_done";
     case TopicKind::Broadcast: return "pheromesh_broadcast";
+    case TopicKind::Command: return "pheromesh_command";
   }
   throw std::logic_error("unknown topic kind");
 }
@@ -120,6 +130,7 @@ const char* type_name(TopicKind kind) {
     case TopicKind::Clock: return "pheromesh::msg::ClockCommand";
     case TopicKind::PhaseDone: return "pheromesh::msg::PhaseDone";
     case TopicKind::Broadcast: return "pheromesh::msg::Broadcast";
+    case TopicKind::Command: return "pheromesh::msg::Command";
   }
   throw std::logic_error("unknown topic kind");
 }
@@ -137,6 +148,7 @@ const char* to_string(TopicKind kind) {
     case TopicKind::Clock: return "clock";
     case TopicKind::PhaseDone: return "phase-done";
     case TopicKind::Broadcast: return "broadcast";
+    case TopicKind::Command: return "command";
   }
   return "?";
 }

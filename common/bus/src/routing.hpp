@@ -15,6 +15,7 @@ inline constexpr const char* kAllTiles = "t.*";
 inline constexpr const char* kGroundPartition = "g";
 inline constexpr const char* kClockPartition = "c";
 inline constexpr const char* kBroadcastPartition = "b";
+inline constexpr const char* kCommandPartition = "k";
 // A UAV keeps the neighbour-state writer of a tile it left for this many
 // further states, so UAVs that subscribe to that tile late still get them.
 inline constexpr int kKeepLeftTileWriter = 3;

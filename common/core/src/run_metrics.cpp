@@ -8,13 +8,11 @@
 
 namespace pheromesh::core {
 
-namespace {
 std::vector<Cell> all_starts(const ScenarioConfig& s) {
   std::vector<Cell> out;
   for (uint32_t i = 0; i < s.uavs; ++i) out.push_back(start_cell(s, i));
   return out;
 }
-}  // namespace
 
 RunRecorder::RunRecorder(const ScenarioConfig& scenario, const World& world)
     : scenario_(&scenario),
@@ -34,6 +32,9 @@ bool RunRecorder::on_uav_state(const UavStateMsg& s) {
       s.role == static_cast<uint8_t>(Role::Searcher)) {
     leader_arrival_ = s.tick;
   }
+  // A UAV back after it was lost with a lower count is a restarted process:
+  // its earlier life's deposits still count.
+  if (!u.alive && s.deposits_sent < u.last.deposits_sent) u.earlier_lives_deposits += u.last.deposits_sent;
   u.last = s;
   u.alive = true;
   u.finished = u.finished || s.finished;
@@ -44,7 +45,7 @@ bool RunRecorder::on_uav_state(const UavStateMsg& s) {
 
 bool RunRecorder::on_detection(const DetectionMsg& d) {
   last_was_first_ = false;
-  if (d.target < 0 || static_cast<std::size_t>(d.target) >= scenario_->targets.size()) {
+  if (d.target < 0 || static_cast<std::size_t>(d.target) >= acquisitions_.size()) {
     ++samples_rejected_;
     return false;
   }
@@ -82,7 +83,7 @@ std::vector<uint32_t> RunRecorder::revisit_response_ticks() const {
 
 uint64_t RunRecorder::deposits_sent() const {
   uint64_t sent = 0;
-  for (const auto& [id, u] : uavs_) sent += u.last.deposits_sent;
+  for (const auto& [id, u] : uavs_) sent += u.last.deposits_sent + u.earlier_lives_deposits;
   return sent;
 }
 

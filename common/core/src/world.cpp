@@ -12,18 +12,7 @@ World::World(const MapGeometry& geo, const std::vector<Rect>& obstacles, const s
       obstacle_(static_cast<std::size_t>(geo.width()) * static_cast<std::size_t>(geo.height()), 0),
       target_index_(obstacle_.size(), -1),
       targets_(targets) {
-  for (const Rect& r : obstacles) {
-    // Clip to the map; a rect that sticks out only marks its in-map part.
-    const int64_t x0 = std::max<int64_t>(r.x0, 0);
-    const int64_t y0 = std::max<int64_t>(r.y0, 0);
-    const int64_t x1 = std::min<int64_t>(int64_t{r.x0} + r.w, geo.width());
-    const int64_t y1 = std::min<int64_t>(int64_t{r.y0} + r.h, geo.height());
-    for (int64_t y = y0; y < y1; ++y) {
-      for (int64_t x = x0; x < x1; ++x) {
-        obstacle_[geo.index(Cell{static_cast<int32_t>(x), static_cast<int32_t>(y)})] = 1;
-      }
-    }
-  }
+  for (const Rect& r : obstacles) add_obstacle(r);
   for (std::size_t i = 0; i < targets_.size(); ++i) {
     const Cell c = targets_[i];
     // Two targets on one cell: the first one in scenario order is reported.
@@ -31,6 +20,30 @@ World::World(const MapGeometry& geo, const std::vector<Rect>& obstacles, const s
       target_index_[geo.index(c)] = static_cast<int32_t>(i);
     }
   }
+}
+
+int64_t World::add_obstacle(const Rect& r) {
+  // Clip to the map; a rect that sticks out only marks its in-map part.
+  const int64_t x0 = std::max<int64_t>(r.x0, 0);
+  const int64_t y0 = std::max<int64_t>(r.y0, 0);
+  const int64_t x1 = std::min<int64_t>(int64_t{r.x0} + r.w, geo_->width());
+  const int64_t y1 = std::min<int64_t>(int64_t{r.y0} + r.h, geo_->height());
+  int64_t added = 0;
+  for (int64_t y = y0; y < y1; ++y) {
+    for (int64_t x = x0; x < x1; ++x) {
+      auto& o = obstacle_[geo_->index(Cell{static_cast<int32_t>(x), static_cast<int32_t>(y)})];
+      added += o == 0 ? 1 : 0;
+      o = 1;
+    }
+  }
+  return added;
+}
+
+int32_t World::add_target(Cell c) {
+  targets_.push_back(c);
+  const auto i = static_cast<int32_t>(targets_.size() - 1);
+  if (geo_->in_map(c) && target_index_[geo_->index(c)] < 0) target_index_[geo_->index(c)] = i;
+  return i;
 }
 
 bool World::is_obstacle(Cell c) const { return geo_->in_map(c) && obstacle_[geo_->index(c)] != 0; }

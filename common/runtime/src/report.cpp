@@ -33,7 +33,7 @@ nlohmann::json metrics_json(const core::RunRecorder& r, const RunInfo& info) {
   j["coverage"] = r.coverage().coverage();
   j["reachable_cells"] = r.coverage().reachable_cells();
   j["covered_cells"] = r.coverage().covered_cells();
-  j["targets_total"] = s.targets.size();
+  j["targets_total"] = r.acquisitions().size();  // the scenario's and those added from the console
   j["targets_found"] = r.acquisitions().found();
   j["acquisition_ticks"] = r.acquisitions().acquisition_ticks();
   j["revisit_response_ticks"] = r.revisit_response_ticks();

@@ -10,6 +10,7 @@
 //   lockstep clock and phase reports  -> partition "c"
 //   UAV states for the ground station, detections, target events, health
 //                                     -> partition "g"
+//   ground-station commands           -> partition "k"
 #pragma once
 
 #include <chrono>
@@ -69,6 +70,12 @@ class Bus {
   virtual void subscribe_phase_done() = 0;                        // conductor
   virtual void take_clock(std::vector<core::ClockMsg>& out) = 0;
   virtual void take_phase_done(std::vector<core::PhaseDoneMsg>& out) = 0;
+
+  // --- ground-station commands (pause, pop-ups): the ground station
+  // writes, every UAV and place agent reads, late joiners get the history.
+  virtual bool publish_command(const core::CommandMsg& m) = 0;
+  virtual void subscribe_commands() = 0;
+  virtual void take_commands(std::vector<core::CommandMsg>& out) = 0;
 
   // --- subscribing (call once per kind; set_neighbourhood as often as needed)
   virtual void subscribe_deposits(core::RegionId own) = 0;

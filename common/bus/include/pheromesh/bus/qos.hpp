@@ -26,11 +26,13 @@ enum class TopicKind : uint8_t {
   Clock,
   PhaseDone,
   Broadcast,
+  Command,
 };
 inline constexpr TopicKind kAllTopicKinds[] = {
     TopicKind::Tile,   TopicKind::Deposit,     TopicKind::UavState, TopicKind::UavNeighbour,
     TopicKind::Detection, TopicKind::TargetEvent, TopicKind::Health,
-    TopicKind::Halo,   TopicKind::Clock,       TopicKind::PhaseDone, TopicKind::Broadcast};
+    TopicKind::Halo,   TopicKind::Clock,       TopicKind::PhaseDone, TopicKind::Broadcast,
+    TopicKind::Command};
 
 enum class Endpoint : uint8_t { Writer, Reader };
 

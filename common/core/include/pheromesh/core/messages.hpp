@@ -104,6 +104,17 @@ enum class BroadcastKind : uint8_t {
 };
 inline constexpr uint8_t kBroadcastKindCount = 3;
 inline constexpr std::size_t kMaxBroadcastValues = 64;  // idl bound
+
+// A ground-station command (idl Command; authenticated by runtime/control.hpp).
+enum class CommandKind : uint8_t { Pause = 1, Resume = 2, Obstacle = 3, Target = 4 };
+struct CommandMsg {
+  uint32_t issuer = 0;
+  uint32_t seq = 0;
+  uint64_t issued_ms = 0;
+  uint8_t kind = 0;
+  int32_t x = 0, y = 0, w = 0, h = 0;
+  std::array<uint8_t, 32> mac{};
+};
 struct BroadcastMsg {
   uint32_t uav = 0;
   uint32_t tick = 0;

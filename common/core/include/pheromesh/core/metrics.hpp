@@ -33,6 +33,9 @@ class AcquisitionTracker {
   explicit AcquisitionTracker(std::size_t targets) : first_(targets) {}
   // Returns true if this is the first acquisition of the target.
   bool acquire(int32_t target, uint32_t tick);
+  void add_target() { first_.emplace_back(); }
+  [[nodiscard]] std::size_t size() const { return first_.size(); }
+  [[nodiscard]] std::optional<uint32_t> first(std::size_t target) const { return target < first_.size() ? first_[target] : std::nullopt; }
   [[nodiscard]] std::size_t found() const;
   // Tick of the k-th first acquisition (sorted ascending).
   [[nodiscard]] std::vector<uint32_t> acquisition_ticks() const;

@@ -18,10 +18,14 @@
 
 namespace pheromesh::core {
 
+// Every UAV's start cell (coverage counts the cells reachable from them).
+std::vector<Cell> all_starts(const ScenarioConfig& s);
+
 struct UavStatus {
   UavStateMsg last{};
   bool alive = true;
   bool finished = false;
+  uint64_t earlier_lives_deposits = 0;  // deposits sent by earlier processes of this UAV (restarts)
 };
 
 class RunRecorder {
@@ -36,6 +40,8 @@ class RunRecorder {
   void on_uav_departed(uint32_t uav);
   void on_region_departed(RegionId r);
   void count_rejected_sample() { ++samples_rejected_; }
+  // A target added during the run (the world gained it first).
+  void add_target() { acquisitions_.add_target(); }
   // Policy-specific quantities of the final field (policy.hpp field_summary).
   void set_field_summary(std::map<std::string, double> summary) { field_summary_ = std::move(summary); }
   [[nodiscard]] const std::map<std::string, double>& field_summary() const { return field_summary_; }

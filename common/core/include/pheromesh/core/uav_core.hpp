@@ -19,6 +19,9 @@ namespace pheromesh::core {
 
 class UavCore {
  public:
+  // Deposits are numbered first + 1, first + 2, ... (a restarted UAV starts
+  // above the numbers of its earlier life, which place agents already saw).
+  void set_first_seq(uint32_t first) { seq_ = first; }
   // `world` is the simulated ground truth the sensor reads; it must outlive this.
   // `exact_ticks`: decide on the neighbour states and broadcasts of exactly
   // the previous tick (lockstep, simulator); otherwise on the latest ones.

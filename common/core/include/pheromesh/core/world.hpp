@@ -14,6 +14,11 @@ class World {
   World(const MapGeometry& geo, const std::vector<Rect>& obstacles, const std::vector<Cell>& targets);
 
   [[nodiscard]] const MapGeometry& geometry() const { return *geo_; }
+  // Pop-ups during a run (ground-station commands). add_obstacle clips to
+  // the map and returns the number of cells that became obstacles;
+  // add_target returns the new target's index.
+  int64_t add_obstacle(const Rect& r);
+  int32_t add_target(Cell c);
   [[nodiscard]] bool is_obstacle(Cell c) const;  // false outside the map
   [[nodiscard]] const std::vector<Cell>& targets() const { return targets_; }
   // Index of the target at c, or -1.

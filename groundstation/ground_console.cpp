@@ -1,0 +1,436 @@
+// The ground station's web console, recording and commands (docs/console.md).
+#include <poll.h>
+#include <spdlog/spdlog.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdlib>
+#include <limits>
+
+#include "ground_app.hpp"
+#include "pheromesh/console/prometheus.hpp"
+#include "pheromesh/console/view.hpp"
+#include "pheromesh/core/policy.hpp"
+#include "pheromesh/core/uav_core.hpp"
+
+namespace pheromesh::groundstation {
+
+using Clock = std::chrono::steady_clock;
+using Answer = console::ConsoleSource::Answer;
+
+namespace {
+constexpr uint32_t kRoleGround = 3;  // process_key role of the ground station (1 uav, 2 place)
+double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+uint64_t wall_ms() {
+  return static_cast<uint64_t>(
+      std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::system_clock::now().time_since_epoch()).count());
+}
+}  // namespace
+
+void GroundApp::start_console() {
+  console_t0_ = Clock::now();
+  next_frame_ = console_t0_;
+  next_series_ = console_t0_;
+  auto key = console::control_key_from_env();
+  if (!key) {
+    log_->error("{}; console commands to the swarm are disabled", key.error().message);
+  } else {
+    control_key_ = key.value();
+  }
+  if (!cfg_.http_port && cfg_.record_path.empty()) return;
+
+  console::ConsoleInfo info;
+  info.scenario_name = scenario_.name;
+  info.scenario_path = cfg_.scenario_path;
+  info.policy = core::policy_name(scenario_.policy);
+  info.width = geo_.width();
+  info.height = geo_.height();
+  info.tile_size = geo_.tile_size();
+  for (core::RegionId r = 0; r < geo_.region_count(); ++r) info.regions.push_back(geo_.region_rect(r));
+  info.layers = core::policy_traits(scenario_).layers;
+  info.tick_rate_hz = scenario_.tick_rate_hz;
+  info.ticks = scenario_.ticks;
+  info.uavs_expected = cfg_.expect_uavs;
+  info.lease_ms = cfg_.common.lease_ms;
+  info.sensor_radius = core::policy_traits(scenario_).sensor_radius;
+  info.clock = cfg_.common.clock;
+  info.dds = bus_->vendor();
+
+  ControlStatus control;
+  control.enabled = cfg_.http_port.has_value();
+  control.process_control = cfg_.launcher_fd >= 0;
+  if (!control.process_control) control.reason = "kill and restart need the launcher: start the swarm with `pheromesh run --http PORT`";
+  if (!control_key_) {
+    control.reason += std::string(control.reason.empty() ? "" : "; ") + "pause and pop-ups need $" + console::kControlKeyEnv +
+                      " (set by pheromesh run)";
+  }
+  uncertainty_ = std::make_unique<console::UncertaintyTracker>(
+      geo_, world_.reachable_from(core::all_starts(scenario_)), info.sensor_radius, std::max(1.0, scenario_.ticks / 10.0));
+  console_ = std::make_unique<LiveConsole>(info, control);
+  if (!cfg_.record_path.empty()) {
+    auto w = console::RecordingWriter::open(cfg_.record_path, info);
+    if (!w) {
+      log_->error("cannot record the console: {}", w.error().message);
+    } else {
+      recording_ = std::move(w).value();
+      log_->info("recording the console to {}", cfg_.record_path);
+    }
+  }
+  if (cfg_.http_port) {
+    console::ServerOptions o;
+    o.bind = cfg_.http_bind;
+    o.port = *cfg_.http_port;
+    const char* token = std::getenv("PHEROMESH_CONSOLE_TOKEN");
+    o.token = token != nullptr && *token != '\0' ? token : console::random_token();
+    server_ = std::make_unique<console::ConsoleServer>(*console_, o);
+    auto port = server_->start();
+    if (!port) {
+      log_->error("web console: {}", port.error().message);
+      server_.reset();
+    } else {
+      log_->info("web console at {}", server_->url());
+    }
+  }
+  build_frame();
+}
+
+void GroundApp::service() {
+  if (!console_) return;
+  for (auto& p : console_->take_pending()) p->done.set_value(execute(p->body, p->who));
+  const auto now = Clock::now();
+  if (now < next_frame_) return;
+  build_frame();
+  const auto period = std::chrono::nanoseconds(static_cast<int64_t>(1e9 / std::max(0.1, cfg_.console_hz)));
+  next_frame_ += period;
+  if (next_frame_ < now) next_frame_ = now + period;  // fell behind: no burst
+}
+
+void GroundApp::build_frame() {
+  const auto now = Clock::now();
+  const console::ConsoleState& st = console_->state();
+  console::Frame f;
+  f.version = st.version + 1;
+  f.t_s = seconds_since(console_t0_);
+  f.tick = rec_.max_tick();
+  f.paused = paused_;
+  // Layers: quantised tiles that changed (all of a layer whose scale changed).
+  std::vector<float> max_of(st.layers.size(), 0.0F);
+  for (const auto& [key, t] : tiles_latest_) {
+    if (key.first < 0 || static_cast<std::size_t>(key.first) >= max_of.size()) continue;
+    for (float v : t.values) {
+      if (v > max_of[key.first]) max_of[key.first] = v;
+    }
+  }
+  std::vector<float> scale(st.layers.size());
+  for (std::size_t l = 0; l < st.layers.size(); ++l) {
+    scale[l] = console::next_scale(st.layers[l].scale, max_of[l]);
+    if (scale[l] != st.layers[l].scale) f.scales.emplace_back(static_cast<uint16_t>(l), scale[l]);
+  }
+  std::vector<uint8_t> q;
+  for (const auto& [key, t] : tiles_latest_) {
+    const auto l = static_cast<std::size_t>(key.first);
+    if (l >= st.layers.size()) continue;
+    console::quantise(t.values, scale[l], q);
+    const auto& tiles = st.layers[l].tiles;
+    auto it = tiles.find(key.second);
+    if (scale[l] == st.layers[l].scale && it != tiles.end() && it->second.q == q) continue;
+    f.tiles.push_back({static_cast<uint16_t>(l), key.second.first, key.second.second, geo_.tile_rect(t.tile), t.tick, q});
+  }
+  // UAVs
+  for (const auto& [id, u] : rec_.uavs()) {
+    console::UavView v;
+    v.id = id;
+    v.x = u.last.x;
+    v.y = u.last.y;
+    v.heading = u.last.heading;
+    v.role = u.last.role;
+    v.tick = u.last.tick;
+    auto heard = uav_heard_.find(id);
+    const bool quiet = heard == uav_heard_.end() || now - heard->second > std::chrono::seconds(1);
+    v.liveness = u.finished ? console::Liveness::Finished
+                 : !u.alive ? console::Liveness::Dead
+                 : (quiet && !paused_) ? console::Liveness::Stale
+                           : console::Liveness::Alive;
+    f.uavs.push_back(v);
+  }
+  // Place agents
+  for (core::RegionId r = 0; r < geo_.region_count(); ++r) {
+    console::RegionView v;
+    v.id = r;
+    auto h = rec_.health().find(r);
+    if (h != rec_.health().end()) {
+      v.tick = h->second.tick;
+      v.tick_rate_hz = h->second.tick_rate_hz;
+      v.deposits_received = h->second.deposits_received;
+      v.deposits_applied = h->second.deposits_applied;
+      v.deposits_rejected = h->second.deposits_rejected;
+      auto& rate = region_rate_[r];
+      const double dt = std::chrono::duration<double>(now - rate.t).count();
+      if (rate.t == Clock::time_point{}) {
+        rate = {now, v.deposits_applied, 0.0};
+      } else if (dt >= 1.0) {
+        rate.per_s = static_cast<double>(v.deposits_applied - std::min(v.deposits_applied, rate.applied)) / dt;
+        rate.t = now;
+        rate.applied = v.deposits_applied;
+      }
+      v.deposits_per_s = rate.per_s;
+      const auto heard = region_heard_[r];
+      if (h->second.finished) {
+        v.liveness = console::Liveness::Finished;
+      } else if (rec_.region_departed(r)) {
+        v.liveness = console::Liveness::Dead;
+      } else if (now - heard > std::chrono::seconds(2) && !paused_) {
+        v.liveness = console::Liveness::Stale;
+      } else {
+        v.liveness = console::Liveness::Alive;
+      }
+    }
+    f.regions.push_back(v);
+  }
+  // Targets and obstacles
+  for (std::size_t i = 0; i < world_.targets().size(); ++i) {
+    console::TargetView t;
+    t.cell = world_.targets()[i];
+    t.popup = i >= scenario_.targets.size();
+    if (auto first = rec_.acquisitions().first(i)) {
+      t.status = console::TargetStatus::Found;
+      t.found_tick = *first;
+      if (auto by = found_by_.find(static_cast<int32_t>(i)); by != found_by_.end()) t.found_by = by->second.first;
+    }
+    if (auto due = revisit_due_.find({t.cell.x, t.cell.y}); due != revisit_due_.end() && due->second) {
+      t.status = console::TargetStatus::RevisitDue;
+    }
+    f.targets.push_back(t);
+  }
+  for (const auto& r : scenario_.obstacles) f.obstacles.push_back({r, false});
+  for (const auto& r : popup_obstacles_) f.obstacles.push_back({r, true});
+  if (now >= next_series_ && uncertainty_) {
+    f.series = console::SeriesPoint{0, f.t_s, f.tick, rec_.coverage().coverage(),
+                                    static_cast<uint32_t>(rec_.acquisitions().found()), uncertainty_->mean(f.tick)};
+    next_series_ = now + std::chrono::seconds(1);
+  }
+  f.commands = std::move(command_log_);
+  command_log_.clear();
+  ++frames_;
+  if (recording_ && !recording_failed_ && !recording_->write(f)) {
+    recording_failed_ = true;
+    log_->error("cannot write to the recording {}; recording stopped", recording_->path());
+  }
+  console_->publish(f);
+  console_->set_metrics(metrics_text());  // of the state just published
+}
+
+std::string GroundApp::metrics_text() const {
+  console::Exposition e;
+  const console::ConsoleState& st = console_->state();
+  std::map<std::string, int> uavs{{"alive", 0}, {"stale", 0}, {"dead", 0}, {"finished", 0}};
+  for (const auto& [id, u] : st.uavs) ++uavs[console::to_string(u.liveness)];
+  e.family("pheromesh_uavs", "gauge", "UAVs by liveness as the ground station sees them.");
+  for (const auto& [k, n] : uavs) e.sample("pheromesh_uavs", {{"state", k}}, n);
+  std::map<std::string, int> places{{"alive", 0}, {"stale", 0}, {"dead", 0}, {"finished", 0}};
+  for (const auto& r : st.regions) ++places[console::to_string(r.liveness)];
+  e.family("pheromesh_place_agents", "gauge", "Place agents by liveness.");
+  for (const auto& [k, n] : places) e.sample("pheromesh_place_agents", {{"state", k}}, n);
+  e.family("pheromesh_tick", "gauge", "Highest UAV tick seen.");
+  e.sample("pheromesh_tick", st.tick);
+  e.family("pheromesh_paused", "gauge", "1 while the swarm is paused from the console.");
+  e.sample("pheromesh_paused", st.paused ? 1 : 0);
+  e.family("pheromesh_coverage_ratio", "gauge", "Reachable cells seen at least once, 0..1.");
+  e.sample("pheromesh_coverage_ratio", rec_.coverage().coverage());
+  e.family("pheromesh_uncertainty_ratio", "gauge", "Mean environmental uncertainty over reachable cells, 0..1 (docs/console.md).");
+  e.sample("pheromesh_uncertainty_ratio", uncertainty_ ? uncertainty_->mean(rec_.max_tick()) : 1.0);
+  e.family("pheromesh_targets", "gauge", "Targets by status.");
+  e.sample("pheromesh_targets", {{"status", "found"}}, static_cast<double>(rec_.acquisitions().found()));
+  e.sample("pheromesh_targets", {{"status", "total"}}, static_cast<double>(world_.targets().size()));
+  e.family("pheromesh_deposits_sent_total", "counter", "Deposits the UAVs report having sent.");
+  e.sample("pheromesh_deposits_sent_total", static_cast<double>(rec_.deposits_sent()));
+  e.family("pheromesh_region_deposits_applied_total", "counter", "Deposits a place agent applied to its layers.");
+  for (const auto& r : st.regions) {
+    e.sample("pheromesh_region_deposits_applied_total", {{"region", std::to_string(r.id)}}, static_cast<double>(r.deposits_applied));
+  }
+  e.family("pheromesh_region_deposits_rejected_total", "counter", "Deposits a place agent rejected.");
+  for (const auto& r : st.regions) {
+    e.sample("pheromesh_region_deposits_rejected_total", {{"region", std::to_string(r.id)}}, static_cast<double>(r.deposits_rejected));
+  }
+  e.family("pheromesh_region_tick_rate_hz", "gauge", "Measured tick rate of a place agent.");
+  for (const auto& r : st.regions) e.sample("pheromesh_region_tick_rate_hz", {{"region", std::to_string(r.id)}}, r.tick_rate_hz);
+  e.family("pheromesh_region_up", "gauge", "1 if the place agent is alive.");
+  for (const auto& r : st.regions) {
+    e.sample("pheromesh_region_up", {{"region", std::to_string(r.id)}}, r.liveness == console::Liveness::Alive ? 1 : 0);
+  }
+  e.family("pheromesh_samples_rejected_total", "counter", "Malformed samples the ground station dropped.");
+  e.sample("pheromesh_samples_rejected_total", static_cast<double>(rec_.samples_rejected() + bus_->stats().samples_dropped));
+  e.family("pheromesh_console_frames_total", "counter", "Console frames built.");
+  e.sample("pheromesh_console_frames_total", static_cast<double>(frames_));
+  e.family("pheromesh_console_commands_total", "counter", "Console commands by result.");
+  e.sample("pheromesh_console_commands_total", {{"result", "ok"}}, static_cast<double>(commands_ok_));
+  e.sample("pheromesh_console_commands_total", {{"result", "refused"}}, static_cast<double>(commands_refused_));
+  if (server_) {
+    const auto s = server_->stats();
+    e.family("pheromesh_console_http_requests_total", "counter", "HTTP requests served by the console.");
+    e.sample("pheromesh_console_http_requests_total", static_cast<double>(s.requests));
+    e.family("pheromesh_console_http_body_bytes_total", "counter", "Response body bytes before compression.");
+    e.sample("pheromesh_console_http_body_bytes_total", static_cast<double>(s.body_bytes));
+  }
+  if (recording_) {
+    e.family("pheromesh_recording_bytes_total", "counter", "Bytes written to the console recording.");
+    e.sample("pheromesh_recording_bytes_total", static_cast<double>(recording_->bytes_written()));
+  }
+  return e.text();
+}
+
+void GroundApp::log_command(const std::string& who, const std::string& what, const Answer& a) {
+  const bool ok = a.status == 200;
+  (ok ? commands_ok_ : commands_refused_)++;
+  if (ok) {
+    log_->info("console command from {}: {} -> {}", who, what, a.message);
+  } else {
+    log_->warn("console command from {}: {} refused ({}): {}", who, what, a.status, a.message);
+  }
+  command_log_.push_back({0, seconds_since(console_t0_), who, what, ok, a.message});
+}
+
+Answer GroundApp::publish_swarm_command(core::CommandMsg c) {
+  if (!control_key_) {
+    return {409, std::string("this ground station has no control key ($") + console::kControlKeyEnv +
+                     "); start the swarm with pheromesh run"};
+  }
+  c.issuer = core::process_key(kRoleGround, 0);
+  c.seq = ++command_seq_;
+  c.issued_ms = wall_ms();
+  console::sign(c, *control_key_);
+  if (!bus_->publish_command(c)) return {500, "the DDS write failed"};
+  return {200, console::describe(c) + " sent to the swarm (seq " + std::to_string(c.seq) + ")"};
+}
+
+Answer GroundApp::ask_launcher(const std::string& line) {
+  if (cfg_.launcher_fd < 0) return {409, "kill and restart need the launcher: start the swarm with pheromesh run"};
+  const std::string out = line + "\n";
+  if (::send(cfg_.launcher_fd, out.data(), out.size(), MSG_NOSIGNAL) != static_cast<ssize_t>(out.size())) {
+    return {409, "the launcher is gone"};
+  }
+  std::string reply;
+  const auto deadline = Clock::now() + std::chrono::seconds(5);
+  while (reply.empty() || reply.back() != '\n') {
+    pollfd p{cfg_.launcher_fd, POLLIN, 0};
+    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - Clock::now()).count();
+    if (left <= 0 || ::poll(&p, 1, static_cast<int>(left)) <= 0) return {504, "the launcher did not answer within 5 s"};
+    char buf[512];
+    const ssize_t n = ::recv(cfg_.launcher_fd, buf, sizeof buf, 0);
+    if (n <= 0) return {409, "the launcher is gone"};
+    reply.append(buf, static_cast<std::size_t>(n));
+  }
+  reply.pop_back();
+  if (reply.rfind("ok ", 0) == 0) return {200, reply.substr(3)};
+  return {409, reply.rfind("error ", 0) == 0 ? reply.substr(6) : reply};
+}
+
+Answer GroundApp::execute(const nlohmann::json& body, const std::string& who) {
+  const std::string kind = body.contains("kind") && body["kind"].is_string() ? body["kind"].get<std::string>() : "";
+  if (kind == "unauthorised") {
+    const Answer a{401, "refused: no or wrong token"};
+    log_command(who, "command without a valid token", a);
+    return a;
+  }
+  const auto integer = [&body](const char* name) -> std::optional<int64_t> {
+    if (!body.contains(name) || !body[name].is_number_integer()) return std::nullopt;
+    return body[name].get<int64_t>();
+  };
+  std::string what = kind.empty() ? "(no kind)" : kind;
+  Answer a;
+  const uint32_t uavs = cfg_.expect_uavs;
+  if (kind == "pause" || kind == "resume") {
+    const bool pause = kind == "pause";
+    core::CommandMsg c;
+    c.kind = static_cast<uint8_t>(pause ? core::CommandKind::Pause : core::CommandKind::Resume);
+    if (cfg_.common.lockstep()) {
+      paused_ = pause;  // the conductor holds the clock
+      a = {200, pause ? "lockstep clock held" : "lockstep clock goes on"};
+    } else {
+      a = publish_swarm_command(c);
+      if (a.status == 200) paused_ = pause;
+    }
+    if (a.status == 200 && cfg_.launcher_fd >= 0) ask_launcher(kind);  // the launcher extends its deadline
+  } else if (kind == "kill_uav" || kind == "restart_uav") {
+    const auto id = integer("uav");
+    what = kind == "kill_uav" ? "kill uav " : "restart uav ";
+    if (!id || *id < 0 || *id >= uavs) {
+      a = {400, "\"uav\" must be an integer 0.." + std::to_string(uavs - 1)};
+    } else {
+      what += std::to_string(*id);
+      if (kind == "restart_uav" && cfg_.common.lockstep()) {
+        a = {409, "restarting a UAV is supported with the realtime clock only"};
+      } else {
+        a = ask_launcher((kind == "kill_uav" ? "kill uav " : "restart uav ") + std::to_string(*id));
+      }
+    }
+  } else if (kind == "kill_place") {
+    const auto r = integer("region");
+    what = "kill place agent ";
+    if (!r || *r < 0 || *r >= geo_.region_count()) {
+      a = {400, "\"region\" must be an integer 0.." + std::to_string(geo_.region_count() - 1)};
+    } else {
+      what += std::to_string(*r);
+      a = ask_launcher("kill place " + std::to_string(*r));
+    }
+  } else if (kind == "obstacle") {
+    const auto x0 = integer("x0"), y0 = integer("y0"), w = integer("w"), h = integer("h");
+    if (!x0 || !y0 || !w || !h || *w < 1 || *h < 1 || *w > geo_.width() || *h > geo_.height()) {
+      a = {400, "an obstacle needs integers x0, y0, w >= 1, h >= 1 (w, h at most the map's size)"};
+    } else {
+      const core::Rect r{static_cast<int32_t>(*x0), static_cast<int32_t>(*y0), static_cast<int32_t>(*w), static_cast<int32_t>(*h)};
+      what = "obstacle at (" + std::to_string(r.x0) + "," + std::to_string(r.y0) + ") " + std::to_string(r.w) + "x" + std::to_string(r.h);
+      std::optional<uint32_t> covered;
+      for (const auto& [id, u] : rec_.uavs()) {
+        if (u.alive && !u.finished && r.contains(core::state_cell(u.last))) covered = id;
+      }
+      const bool inside = r.x0 < geo_.width() && r.y0 < geo_.height() && r.x0 + r.w > 0 && r.y0 + r.h > 0;
+      if (!inside) {
+        a = {400, "the obstacle lies outside the map"};
+      } else if (covered) {
+        a = {400, "the obstacle would cover uav " + std::to_string(*covered) + "; place it beside the UAV"};
+      } else {
+        core::CommandMsg c;
+        c.kind = static_cast<uint8_t>(core::CommandKind::Obstacle);
+        c.x = r.x0;
+        c.y = r.y0;
+        c.w = r.w;
+        c.h = r.h;
+        a = publish_swarm_command(c);
+        if (a.status == 200) {
+          world_.add_obstacle(r);
+          popup_obstacles_.push_back(r);
+        }
+      }
+    }
+  } else if (kind == "target") {
+    const auto x = integer("x"), y = integer("y");
+    if (!x || !y || !geo_.in_map({static_cast<int32_t>(*x), static_cast<int32_t>(*y)})) {
+      a = {400, "a target needs integers x, y inside the map"};
+    } else {
+      const core::Cell cell{static_cast<int32_t>(*x), static_cast<int32_t>(*y)};
+      what = "target at (" + std::to_string(cell.x) + "," + std::to_string(cell.y) + ")";
+      if (world_.is_obstacle(cell)) {
+        a = {400, "that cell is an obstacle"};
+      } else {
+        core::CommandMsg c;
+        c.kind = static_cast<uint8_t>(core::CommandKind::Target);
+        c.x = cell.x;
+        c.y = cell.y;
+        a = publish_swarm_command(c);
+        if (a.status == 200) {
+          world_.add_target(cell);
+          rec_.add_target();
+        }
+      }
+    }
+  } else {
+    a = {400, "unknown kind '" + kind + "'; one of pause, resume, kill_uav, restart_uav, kill_place, obstacle, target"};
+  }
+  log_command(who, what, a);
+  return a;
+}
+
+}  // namespace pheromesh::groundstation
