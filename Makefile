@@ -1,11 +1,13 @@
 # The two commands of the README. Both install what is missing, then build.
 #   make demo   run the default swarm (Shao 2020 50x50) with the ground station
+#               and its web console (the URL is printed; DEMO_HTTP=port)
 #   make test   run the whole test suite (unit + integration)
 BUILD ?= build
 JOBS ?= $(shell nproc)
 DEMO_SCENARIO ?= scenarios/shao2020-50x50.textproto
 DEMO_TICKS ?= 600
 DEMO_OUT ?= out/demo
+DEMO_HTTP ?= 8080
 
 .PHONY: all deps build demo test bench clean
 
@@ -21,7 +23,7 @@ build: deps $(BUILD)/CMakeCache.txt
 	cmake --build $(BUILD) -j$(JOBS)
 
 demo: build
-	$(BUILD)/bin/pheromesh run $(DEMO_SCENARIO) --ticks $(DEMO_TICKS) --out $(DEMO_OUT)
+	$(BUILD)/bin/pheromesh run $(DEMO_SCENARIO) --ticks $(DEMO_TICKS) --out $(DEMO_OUT) --http $(DEMO_HTTP)
 
 test: build
 	cd $(BUILD) && ctest --output-on-failure -j2 --timeout 900
@@ -29,6 +31,7 @@ test: build
 bench: build
 	$(BUILD)/bin/pheromesh_bench_layers
 	$(BUILD)/bin/pheromesh-bench-latency
+	bench/console_bench.sh $(BUILD)
 
 clean:
 	rm -rf $(BUILD) out

@@ -13,8 +13,9 @@ packages=(
   libcpp-httplib-dev libssl-dev zlib1g-dev libbrotli-dev  # web console server (gzip/brotli), command HMAC
   chromium prometheus curl                 # web console end-to-end test (headless browser, promtool)
 )
-# The web front-end is built with npm at build time. Any Node.js >= 18 with
-# npm does (Debian's nodejs + npm, or one already on the machine).
+# The web front-end is built with npm at build time: Debian's nodejs + npm
+# (18) build it; the browser test's playwright-core needs Node.js >= 20, which
+# the CI machines have. A Node.js already on the machine is used as it is.
 if ! command -v npm > /dev/null 2>&1; then
   packages+=(nodejs npm)
 fi

@@ -22,6 +22,8 @@ step() { echo "--- $*"; }
 for tool in chromium node promtool curl; do
   command -v "$tool" > /dev/null || fail "$tool is not installed (scripts/install-deps.sh installs it)"
 done
+node -e 'process.exit(Number(process.versions.node.split(".")[0]) >= 20 ? 0 : 1)' ||
+  fail "playwright-core needs Node.js >= 20; this is $(node --version)"
 [ -f "$E2E/console_live.mjs" ] || fail "$E2E/console_live.mjs missing: build the target pheromesh_web_assets"
 rm -rf "$OUT"
 mkdir -p "$OUT"

@@ -215,6 +215,13 @@ if (!flags["no-obstacle"]) {
     await page.evaluate(() => {
       window.pheromesh.lastCommand = null;
     });
+    // The obstacle layer in the rectangle about to be sent, before the click
+    // (the page centres a w x h rectangle on the clicked cell).
+    c.before = await page.evaluate(({ x, y }) => {
+      const w = Number(document.querySelector("#obstacle-w").value) || 3;
+      const h = Number(document.querySelector("#obstacle-h").value) || 3;
+      return window.pheromesh.rectSum(x - Math.floor(w / 2), y - Math.floor(h / 2), w, h);
+    }, c);
     clickedAt = Date.now();
     await page.mouse.click(pt.x, pt.y);
     sent = await pollPage(page, () => ({ ok: window.pheromesh.lastCommand !== null, c: window.pheromesh.lastCommand }), null, 10000, 100);
@@ -240,27 +247,32 @@ if (!flags["no-obstacle"]) {
     timeoutMs,
   );
   if (!gained.ok) await fail(`frame.obstacles gained no pop-up obstacle in ${timeoutMs / 1000} s (still ${gained.count})`);
+  // The UAV next to the pop-up senses it and deposits obstacle marks on its
+  // cells (Shao 2020 eq. (3)): the obstacle layer must rise inside the
+  // rectangle itself, not just anywhere (diffusion and evaporation move the
+  // whole layer all the time).
   const rose = await pollPage(
     page,
-    (b) => {
+    (a) => {
       const s = window.pheromesh.layerSum();
-      return { ok: s.name === "obstacle" && (s.q > b.q || s.value > b.value + 1e-9), sum: s };
+      const r = window.pheromesh.rectSum(a.body.x0, a.body.y0, a.body.w, a.body.h);
+      return { ok: s.name === "obstacle" && r !== null && r.q >= a.before.q + 2 && r.value > a.before.value, sum: s, rect: r };
     },
-    base.sum,
+    { body: sent.c.body, before: target.before ?? { q: 0, value: 0 } },
     timeoutMs,
     250,
   );
   if (!rose.ok) {
     await fail(
-      `the obstacle layer did not change within ${timeoutMs / 1000} s after the pop-up obstacle at (${sent.c.body.x0}, ${sent.c.body.y0}) ` +
-        `${sent.c.body.w}x${sent.c.body.h}: sum of q ${base.sum.q} → ${rose.sum.q}, value ${base.sum.value.toFixed(3)} → ${rose.sum.value.toFixed(3)}`,
+      `the obstacle layer did not rise inside the pop-up obstacle at (${sent.c.body.x0}, ${sent.c.body.y0}) ` +
+        `${sent.c.body.w}x${sent.c.body.h} within ${timeoutMs / 1000} s: sum of q there ${target.before?.q} -> ${rose.rect?.q}`,
     );
   }
   const local = await page.evaluate((b) => window.pheromesh.rectSum(b.x0, b.y0, b.w, b.h), sent.c.body);
   summary.obstacle = {
     near_uav: target.uav,
     refused: refusals,
-    q_sum_in_rect: local.q,
+    q_sum_in_rect: [target.before?.q ?? null, local.q],
     rect: [sent.c.body.x0, sent.c.body.y0, sent.c.body.w, sent.c.body.h],
     ms_to_layer_change: Date.now() - clickedAt,
     q_sum: [base.sum.q, rose.sum.q],

@@ -130,6 +130,13 @@ core::Result<uint16_t> ConsoleServer::start() {
     }
     count(res);
   });
+  // SO_REUSEADDR only: the library's default also sets SO_REUSEPORT, with
+  // which a second console binds a port already in use and the two share
+  // its connections. A taken port must be an error.
+  http.set_socket_options([](int sock) {
+    int yes = 1;
+    setsockopt(sock, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof yes);
+  });
   const int port = m.opt.port == 0 ? http.bind_to_any_port(m.opt.bind) : (http.bind_to_port(m.opt.bind, m.opt.port) ? m.opt.port : -1);
   if (port <= 0) {
     return core::Error{"cannot listen on " + m.opt.bind + ":" + std::to_string(m.opt.port) +
