@@ -58,6 +58,18 @@ core::Result<uint16_t> ConsoleServer::start() {
     ++m.requests;
     m.body_bytes += res.body.size();
   };
+  // gzip, never brotli: the packaged cpp-httplib compresses brotli at quality
+  // 11, which took 8.7 s for one 47 KB frame on a loaded 2-core host (gzip:
+  // 0.3 s) and held the browser's updates below 1 per second. The library
+  // picks brotli whenever "br" appears in Accept-Encoding, so it is taken out.
+  http.set_pre_routing_handler([](const httplib::Request& req, httplib::Response&) {
+    auto& headers = const_cast<httplib::Request&>(req).headers;  // the server's own object, not const
+    auto [first, last] = headers.equal_range("Accept-Encoding");
+    for (auto it = first; it != last; ++it) {
+      for (auto p = it->second.find("br"); p != std::string::npos; p = it->second.find("br")) it->second.erase(p, 2);
+    }
+    return httplib::Server::HandlerResponse::Unhandled;
+  });
   http.Get("/api/info", [&m, count](const httplib::Request&, httplib::Response& res) {
     res.set_content(dump(m.source->info()), "application/json");
     res.set_header("Cache-Control", "no-store");
