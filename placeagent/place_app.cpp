@@ -139,7 +139,7 @@ int PlaceApp::run_lockstep() {
         step(c.tick, true, true, expected);
         publish_health(c.tick, false);
         bus_->flush(std::chrono::seconds(10));
-        bus_->publish_phase_done({core::process_key(core::kRolePlace, cfg_.region), c.tick, c.phase});
+        bus_->publish_phase_done({core::process_key(core::kRolePlace, cfg_.region), c.tick, c.phase, 0, {}});
         bus_->flush(std::chrono::seconds(10));
         done_tick = c.tick;
       }

@@ -4,6 +4,7 @@
 #include <fstream>
 #include <mutex>
 
+#include "pheromesh/console/control.hpp"
 #include "pheromesh/console/server.hpp"
 #include "pheromesh/console/prometheus.hpp"
 #include "pheromesh/web/assets.hpp"
@@ -31,18 +32,7 @@ bool same_token(const std::string& a, const std::string& b) {
 }
 }  // namespace
 
-std::string random_token() {
-  std::ifstream in("/dev/urandom", std::ios::binary);
-  unsigned char b[16] = {};
-  in.read(reinterpret_cast<char*>(b), sizeof b);
-  static constexpr char kHex[] = "0123456789abcdef";
-  std::string t;
-  for (unsigned char c : b) {
-    t += kHex[c >> 4];
-    t += kHex[c & 15];
-  }
-  return t;
-}
+std::string random_token() { return random_hex(16); }
 
 ConsoleServer::ConsoleServer(ConsoleSource& source, ServerOptions options) : impl_(std::make_unique<Impl>()) {
   impl_->source = &source;

@@ -7,13 +7,15 @@
 #include <algorithm>
 #include <cstdlib>
 #include <fstream>
+#include <stdexcept>
 
 namespace pheromesh::console {
 
-std::string random_control_key_hex() {
+std::string random_hex(std::size_t bytes) {
   std::ifstream in("/dev/urandom", std::ios::binary);
-  std::array<unsigned char, 32> b{};
-  in.read(reinterpret_cast<char*>(b.data()), b.size());
+  std::vector<unsigned char> b(bytes);
+  in.read(reinterpret_cast<char*>(b.data()), static_cast<std::streamsize>(b.size()));
+  if (!in) throw std::runtime_error("cannot read /dev/urandom");
   static constexpr char kHex[] = "0123456789abcdef";
   std::string t;
   for (unsigned char c : b) {
@@ -22,6 +24,8 @@ std::string random_control_key_hex() {
   }
   return t;
 }
+
+std::string random_control_key_hex() { return random_hex(32); }
 
 core::Result<ControlKey> parse_control_key(const std::string& hex) {
   if (hex.size() != 64) return core::Error{"a control key is 64 hex digits, got " + std::to_string(hex.size()) + " characters"};

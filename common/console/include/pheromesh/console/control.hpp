@@ -22,6 +22,8 @@ namespace pheromesh::console {
 using ControlKey = std::vector<uint8_t>;
 inline constexpr const char* kControlKeyEnv = "PHEROMESH_CONTROL_KEY";
 
+// `bytes` random bytes from /dev/urandom as hex digits.
+std::string random_hex(std::size_t bytes);
 // 32 random bytes as 64 hex digits.
 std::string random_control_key_hex();
 // Parses 64 hex digits (any case).
