@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "pheromesh/core/metrics.hpp"
+
 namespace pheromesh::console {
 
 UncertaintyTracker::UncertaintyTracker(const core::MapGeometry& geo, std::vector<uint8_t> reachable, double sensor_radius,
@@ -11,13 +13,7 @@ UncertaintyTracker::UncertaintyTracker(const core::MapGeometry& geo, std::vector
   reachable_.resize(static_cast<std::size_t>(geo_.width()) * static_cast<std::size_t>(geo_.height()), 0);
   last_seen_.assign(reachable_.size(), -1);
   reachable_count_ = std::count(reachable_.begin(), reachable_.end(), uint8_t{1});
-  if (!(sensor_radius >= 0.0)) return;
-  const auto r = static_cast<int32_t>(std::floor(std::min(sensor_radius, double(std::max(geo_.width(), geo_.height())))));
-  for (int32_t dy = -r; dy <= r; ++dy) {
-    for (int32_t dx = -r; dx <= r; ++dx) {
-      if (double(dx * dx + dy * dy) <= sensor_radius * sensor_radius) disk_.push_back({dx, dy});
-    }
-  }
+  disk_ = core::sensor_disk_offsets(sensor_radius, std::max(geo_.width(), geo_.height()));
 }
 
 void UncertaintyTracker::observe(core::Cell uav, uint32_t tick) {

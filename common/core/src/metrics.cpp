@@ -14,15 +14,19 @@ CoverageTracker::CoverageTracker(const World& world, const std::vector<Cell>& st
   }
   // Offsets of the sensor disk, computed once; observe() only shifts them.
   const MapGeometry& geo = world.geometry();
-  const double extent = static_cast<double>(std::max(geo.width(), geo.height()));
-  const auto r = static_cast<int32_t>(std::floor(std::min(radius_, extent)));
+  disk_offsets_ = sensor_disk_offsets(radius_, std::max(geo.width(), geo.height()));
+}
+
+std::vector<Cell> sensor_disk_offsets(double radius, int32_t max_extent) {
+  std::vector<Cell> out;
+  if (!(radius >= 0.0)) return out;  // negative or NaN radius: nothing
+  const auto r = static_cast<int32_t>(std::floor(std::min(radius, static_cast<double>(max_extent))));
   for (int32_t dy = -r; dy <= r; ++dy) {
     for (int32_t dx = -r; dx <= r; ++dx) {
-      if (static_cast<double>(int64_t{dx} * dx + int64_t{dy} * dy) <= radius_ * radius_) {
-        disk_offsets_.push_back(Cell{dx, dy});
-      }
+      if (static_cast<double>(int64_t{dx} * dx + int64_t{dy} * dy) <= radius * radius) out.push_back(Cell{dx, dy});
     }
   }
+  return out;
 }
 
 void CoverageTracker::observe(Cell uav) {

@@ -9,6 +9,10 @@
 
 namespace pheromesh::core {
 
+// Offsets (dx, dy) of the cells within Euclidean distance `radius` of a
+// cell, the radius capped at `max_extent`; empty for a negative or NaN radius.
+std::vector<Cell> sensor_disk_offsets(double radius, int32_t max_extent);
+
 // Coverage of reachable cells: a cell counts once it was within the sensor
 // radius of some UAV at least once.
 class CoverageTracker {
