@@ -8,8 +8,9 @@ DEMO_SCENARIO ?= scenarios/shao2020-50x50.textproto
 DEMO_TICKS ?= 600
 DEMO_OUT ?= out/demo
 DEMO_HTTP ?= 8080
+SCALE_MAX ?= 400
 
-.PHONY: all deps build demo test bench clean
+.PHONY: all deps build demo test bench bench-scale clean
 
 all: build
 
@@ -32,6 +33,11 @@ bench: build
 	$(BUILD)/bin/pheromesh_bench_layers
 	$(BUILD)/bin/pheromesh-bench-latency
 	bench/console_bench.sh $(BUILD)
+
+# Swarms of 25 UAVs up to SCALE_MAX, one process each: what a size costs
+# (out/bench-scale/scale.md). Keep the host otherwise idle.
+bench-scale: build
+	$(BUILD)/bin/pheromesh bench scale scenarios/scale-100x100.textproto --max $(SCALE_MAX)
 
 clean:
 	rm -rf $(BUILD) out

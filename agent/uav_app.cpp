@@ -17,27 +17,33 @@ UavApp::UavApp(UavConfig cfg, core::ScenarioConfig scenario, std::unique_ptr<bus
       bus_(std::move(bus)),
       log_(spdlog::default_logger()),
       core_(scenario_, world_, cfg_.id, cfg_.common.lockstep()),
-      layers_(static_cast<int>(core::policy_traits(scenario_).layers.size())) {}
+      layers_(static_cast<int>(core::policy_traits(scenario_).layers.size())),
+      home_(core::home_region(cfg_.id, geo_.region_count())) {}
 
 void UavApp::receive() {
-  tile_inbox_.clear();
-  bus_->take_tiles(tile_inbox_);
-  tile_samples_received_ += tile_inbox_.size();
-  for (const auto& t : tile_inbox_) {
-    if (auto reason = core::check_tile(t, geo_, layers_)) {
-      if (++samples_rejected_ <= 3) log_->warn("dropped tile ({},{}) layer {}: {}", t.tile.tx, t.tile.ty, t.layer, *reason);
+  view_inbox_.clear();
+  bus_->take_views(view_inbox_);
+  for (const auto& v : view_inbox_) {
+    if (v.uav != cfg_.id) {
+      if (++samples_rejected_ <= 3) log_->warn("dropped a view addressed to uav {}", v.uav);
       continue;
     }
-    core_.receive_tile(t);
-  }
-  state_inbox_.clear();
-  bus_->take_uav_states(state_inbox_);
-  for (const auto& s : state_inbox_) {
-    if (auto reason = core::check_uav_state(s, geo_)) {
-      if (++samples_rejected_ <= 3) log_->warn("dropped state of uav {}: {}", s.uav, *reason);
-      continue;
+    view_tick_ = std::max(view_tick_.value_or(0), v.tick);
+    tile_samples_received_ += v.tiles.size();
+    for (const auto& t : v.tiles) {
+      if (auto reason = core::check_tile(t, geo_, layers_)) {
+        if (++samples_rejected_ <= 3) log_->warn("dropped tile ({},{}) layer {}: {}", t.tile.tx, t.tile.ty, t.layer, *reason);
+        continue;
+      }
+      core_.receive_tile(t);
     }
-    core_.receive_neighbour(s);
+    for (const auto& s : v.uavs) {
+      if (auto reason = core::check_uav_state(s, geo_)) {
+        if (++samples_rejected_ <= 3) log_->warn("dropped state of uav {}: {}", s.uav, *reason);
+        continue;
+      }
+      core_.receive_neighbour(s);
+    }
   }
   broadcast_inbox_.clear();
   bus_->take_broadcasts(broadcast_inbox_);
@@ -54,26 +60,15 @@ void UavApp::wait_for_tick(uint32_t tick, const core::ClockMsg& announced) {
   const auto deadline = Clock::now() + std::chrono::seconds(30);
   for (;;) {
     receive();
-    uint32_t missing = 0;
-    for (const auto& t : core_.neighbourhood()) {
-      const auto oldest = core_.tiles().oldest_tick(t);
-      missing += (!oldest || *oldest < tick) ? 1 : 0;
-    }
-    const bool peers = core_.holds_tick(tick, announced.occupancy, announced.broadcasts);
-    if (missing == 0 && peers) {
-      if (log_->should_log(spdlog::level::debug)) {
-        std::string occ;
-        for (const auto& t : announced.occupancy) occ += fmt::format(" ({},{}):{}", t.tile.tx, t.tile.ty, t.count);
-        log_->debug("tick {} announced{} and {} broadcasts", tick, occ, announced.broadcasts);
-      }
-      return;
-    }
+    const bool view = view_tick_ && *view_tick_ >= tick;
+    const bool broadcasts = core_.holds_tick(tick, {}, announced.broadcasts);
+    if (view && broadcasts) return;
     if (Clock::now() > deadline || runtime::shutdown_requested()) {
-      log_->error("tick {}: {} neighbourhood tiles{} did not arrive; deciding without them", tick, missing,
-                  peers ? "" : " and some neighbour states or broadcasts");
+      log_->error("tick {}: {}{} did not arrive; deciding without", tick, view ? "" : "the view of the neighbourhood",
+                  broadcasts ? "" : (view ? "the announced broadcasts" : " and the announced broadcasts"));
       return;
     }
-    std::this_thread::sleep_for(std::chrono::microseconds(200));
+    bus_->wait({bus::TopicKind::View, bus::TopicKind::Broadcast}, std::min(deadline, Clock::now() + std::chrono::milliseconds(100)));
   }
 }
 
@@ -85,16 +80,15 @@ void UavApp::step(uint32_t tick, bool finished) {
     for (const auto& d : out_.deposits) {
       // A deposit written while no place agent of that region is matched
       // would be lost silently; count it as undeliverable instead of sent.
-      if (bus_->matched_deposit_readers(d.region) == 0) {
+      if (bus_->matched_deposit_readers(home_) == 0) {
         ++deposits_undeliverable_;
-      } else if (bus_->publish_deposit(d)) {
+      } else if (bus_->publish_deposit(d, home_)) {
         ++deposits_sent_;
         ++written_[d.region];
       }
     }
     for (const auto& d : out_.detections) bus_->publish_detection(d);
     if (out_.broadcast) broadcast_written_ = bus_->publish_broadcast(*out_.broadcast);
-    bus_->set_neighbourhood(core_.neighbourhood());
   }
   core::UavStateMsg s = core_.last_state();
   if (!finished) {
@@ -104,8 +98,10 @@ void UavApp::step(uint32_t tick, bool finished) {
   }
   s.deposits_sent = deposits_sent_;
   s.tile_samples_received = tile_samples_received_;
+  s.ticks_late = ticks_late_;
   s.finished = finished;
-  bus_->publish_uav_state(s, geo_.tile_of(core::state_cell(s)));
+  s.view = core_.cell();  // the home place agent composes the next view around it
+  bus_->publish_uav_state(s);
 }
 
 void UavApp::handle_commands() {
@@ -120,16 +116,13 @@ void UavApp::handle_commands() {
   }
 }
 
-void UavApp::wait_for_place_agents() {
-  // Wait (bounded) until every region's place agent is matched, so the first
-  // deposits are not lost to discovery.
+void UavApp::wait_for_home() {
+  // Wait (bounded) until the home place agent is matched, so the first
+  // deposits are not lost to discovery (matching is not data: no wait set).
   const auto deadline = Clock::now() + std::chrono::milliseconds(static_cast<int64_t>(cfg_.wait_for_places_s * 1000));
-  for (;;) {
-    uint32_t missing = 0;
-    for (core::RegionId r = 0; r < geo_.region_count(); ++r) missing += bus_->matched_deposit_readers(r) == 0 ? 1 : 0;
-    if (missing == 0) return;
+  while (bus_->matched_deposit_readers(home_) == 0) {
     if (Clock::now() > deadline || runtime::shutdown_requested()) {
-      log_->warn("starting with {} place agent(s) not discovered", missing);
+      log_->warn("starting before home place agent {} was discovered", home_);
       return;
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
@@ -141,6 +134,7 @@ int UavApp::run_realtime(uint32_t ticks) {
   runtime::TickClock clock(scenario_.tick_rate_hz);
   uint32_t tick = 0;
   while (tick < ticks && clock.wait_next()) {
+    ticks_late_ = clock.late_ticks();
     handle_commands();
     if (commands_->paused()) {
       receive();  // keeps the inboxes drained and the liveliness asserted
@@ -154,7 +148,6 @@ int UavApp::run_realtime(uint32_t ticks) {
 }
 
 int UavApp::run_lockstep(uint32_t ticks) {
-  bus_->subscribe_clock();
   std::vector<core::ClockMsg> cmds;
   int64_t done = -1;
   bool stop = false;
@@ -181,20 +174,24 @@ int UavApp::run_lockstep(uint32_t ticks) {
       done = c.tick;
       if (c.tick >= ticks) stop = true;
     }
-    if (cmds.empty()) std::this_thread::sleep_for(std::chrono::microseconds(200));
+    if (cmds.empty()) bus_->wait({bus::TopicKind::Clock}, Clock::now() + std::chrono::milliseconds(100));
   }
   return static_cast<int>(std::max<int64_t>(done, 0));
 }
 
 int UavApp::run() {
   const uint32_t ticks = scenario_.ticks;
-  bus_->set_neighbourhood(core_.neighbourhood());
+  // Every endpoint this UAV flies with, created once: state, deposits and
+  // view through its home place agent, broadcasts, commands (and the clock).
+  bus_->join_uav(cfg_.id, home_);
   bus_->subscribe_broadcasts();
   commands_ = std::make_unique<runtime::SwarmCommands>(*bus_, log_);
+  if (cfg_.common.lockstep()) bus_->subscribe_clock();
   if (cfg_.seq_base > 0) core_.set_first_seq(cfg_.seq_base);
-  wait_for_place_agents();
-  log_->info("uav {} ({}) starts at ({},{}) for {} ticks, {} clock, over {}", cfg_.id, core::policy_name(scenario_.policy),
-             core_.cell().x, core_.cell().y, ticks, cfg_.common.clock, bus_->vendor());
+  wait_for_home();
+  log_->info("uav {} ({}) starts at ({},{}) for {} ticks, {} clock, home place agent {}, over {}", cfg_.id,
+             core::policy_name(scenario_.policy), core_.cell().x, core_.cell().y, ticks, cfg_.common.clock, home_,
+             bus_->vendor());
   const int last = cfg_.common.lockstep() ? run_lockstep(ticks) : run_realtime(ticks);
   step(static_cast<uint32_t>(last), true);
   const bool acked = bus_->flush(std::chrono::seconds(5));

@@ -1,12 +1,14 @@
-// pheromesh-uav: one UAV. The logic is core::UavCore (Shao 2020 search);
-// this shell wires it to the bus and a clock: it reads only the tiles (and
-// UAV states) around it and deposits to the place agents owning the cells it
-// affects.
+// pheromesh-uav: one UAV. The logic is core::UavCore (the scenario's
+// policy); this shell wires it to the bus and a clock. It reads one view per
+// tick - the tiles around it and the UAVs over them - and writes its state
+// and deposits, all through its home place agent (core::home_region), with
+// DDS endpoints created once at start-up.
 #pragma once
 
 #include <cstdint>
 #include <map>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "pheromesh/bus/bus.hpp"
@@ -25,7 +27,7 @@ namespace pheromesh::agent {
 struct UavConfig {
   runtime::CommonOptions common;
   uint32_t id = 0;
-  double wait_for_places_s = 15.0;  // [s] wait at start until every place agent is matched
+  double wait_for_places_s = 15.0;  // [s] wait at start until the home place agent is matched
   uint32_t seq_base = 0;  // first deposit sequence number - 1 (a restarted UAV continues above its old life's)
 };
 
@@ -35,11 +37,11 @@ class UavApp {
   int run();
 
  private:
-  void wait_for_place_agents();
+  void wait_for_home();
   void receive();
-  // Lockstep: wait (bounded) until every neighbourhood tile of place tick
-  // `tick` has arrived, and what the clock announced of UAV tick `tick` (the
-  // states of the UAVs over those tiles, the broadcasts).
+  // Lockstep: wait (bounded) until the view of place tick `tick` (the tiles
+  // around this UAV and the states of the UAVs over them) and the broadcasts
+  // the clock announced of UAV tick `tick` have arrived.
   void wait_for_tick(uint32_t tick, const core::ClockMsg& announced);
   void step(uint32_t tick, bool finished);
   // Ground-station commands: pop-ups change this UAV's world; pause is kept by commands_.
@@ -59,10 +61,12 @@ class UavApp {
   uint64_t deposits_undeliverable_ = 0;
   uint64_t samples_rejected_ = 0;
   uint64_t tile_samples_received_ = 0;
-  std::vector<core::TileMsg> tile_inbox_;
-  std::vector<core::UavStateMsg> state_inbox_;
+  uint32_t ticks_late_ = 0;  // realtime: ticks that started more than one period late
+  std::vector<core::ViewMsg> view_inbox_;
+  std::optional<uint32_t> view_tick_;  // tick of the newest view received
   std::vector<core::BroadcastMsg> broadcast_inbox_;
   int layers_ = 0;
+  core::RegionId home_ = 0;  // the place agent this UAV talks to
   // What the last step wrote (lockstep reports it with PhaseDone).
   std::map<core::RegionId, uint32_t> written_;
   bool broadcast_written_ = false;

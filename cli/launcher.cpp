@@ -3,6 +3,7 @@
 #include <fcntl.h>
 #include <spdlog/spdlog.h>
 #include <sys/prctl.h>
+#include <sys/resource.h>
 #include <sys/socket.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -28,6 +29,31 @@ namespace pheromesh::cli {
 
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
+
+namespace {
+
+// Above this many processes the start is staggered: a thousand fork/execs at
+// once, each then loading the DDS libraries, starting its threads and
+// announcing itself, stall a small host for seconds.
+constexpr std::size_t kStaggerAbove = 64;
+constexpr uint32_t kUavBatch = 32;
+constexpr auto kBatchPause = std::chrono::milliseconds(50);
+// Each process adds discovery and shutdown work; the UAV deadline grows by
+// this much per process.
+constexpr auto kDeadlinePerProcess = std::chrono::milliseconds(200);
+
+double seconds(const timeval& tv) { return static_cast<double>(tv.tv_sec) + static_cast<double>(tv.tv_usec) / 1e6; }
+
+// Three decimals are plenty for seconds and MiB, and keep metrics.json readable.
+double round3(double v) { return std::round(v * 1000.0) / 1000.0; }
+
+nlohmann::json opt_json(const std::optional<double>& v) { return v ? nlohmann::json(round3(*v)) : nlohmann::json(nullptr); }
+
+int64_t unix_ms_now() {
+  return std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::system_clock::now().time_since_epoch()).count();
+}
+
+}  // namespace
 
 bool ChildProcess::crashed() const {
   if (running || pid < 0) return false;
@@ -71,7 +97,13 @@ void Launcher::spawn(const std::string& role, uint32_t index, const std::vector<
   const std::string log_path = (fs::path(o_.out_dir) / "logs" / (c.name + ".log")).string();
 
   const pid_t parent = getpid();
-  const pid_t pid = fork();
+  pid_t pid = fork();
+  // EAGAIN: the process or thread limit is reached for now (a big swarm's
+  // start); give exiting processes a moment.
+  for (int attempt = 0; pid < 0 && errno == EAGAIN && attempt < 5; ++attempt) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));
+    pid = fork();
+  }
   if (pid < 0) throw std::runtime_error(std::string("fork failed: ") + std::strerror(errno));
   if (pid == 0) {
     // Child: own process group (the launcher orders the shutdown), die with
@@ -101,22 +133,100 @@ void Launcher::spawn(const std::string& role, uint32_t index, const std::vector<
   }
   c.pid = pid;
   c.running = true;
+  unreaped_[pid] = children_.size();
   children_.push_back(std::move(c));
 }
 
+bool Launcher::spawn_swarm(uint32_t regions, uint32_t uavs, uint32_t ticks) {
+  for (uint32_t r = 0; r < regions; ++r) spawn("place", r, {"--region", std::to_string(r)});
+  const bool stagger = 1 + std::size_t{regions} + uavs > kStaggerAbove;
+  if (stagger) {
+    spdlog::info("{} processes: starting the uavs in batches of {}, {} ms apart", 1 + regions + uavs, kUavBatch,
+                 kBatchPause.count());
+  }
+  for (uint32_t u = 0; u < uavs; ++u) {
+    if (stagger && u % kUavBatch == 0) {
+      // The pause before the first batch gives the place agents a head start.
+      const auto until = Clock::now() + kBatchPause;
+      while (Clock::now() < until) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(10));
+        reap();
+      }
+      if (runtime::shutdown_requested()) {
+        spdlog::warn("interrupted after starting {} of {} uavs", u, uavs);
+        return false;
+      }
+    }
+    spawn("uav", u, {"--id", std::to_string(u), "--ticks", std::to_string(ticks)});
+  }
+  return true;
+}
+
 void Launcher::reap() {
-  for (auto& c : children_) {
-    if (!c.running) continue;
+  // One wait4(-1) per child that has ended rather than one per running child:
+  // polled every 10 ms, a thousand children would otherwise cost 100 000
+  // system calls a second. Every child of the launcher is in children_ (the
+  // only other fork, std::system in clean_fastdds_shm, comes after the last
+  // reap and waits for its own child).
+  for (;;) {
     int status = 0;
-    const pid_t r = waitpid(c.pid, &status, WNOHANG);
-    if (r != c.pid) continue;
+    rusage ru{};
+    const pid_t r = wait4(-1, &status, WNOHANG, &ru);
+    if (r <= 0) break;  // 0: none has ended; -1 (ECHILD): no children left
+    const auto it = unreaped_.find(r);
+    if (it == unreaped_.end()) continue;
+    ChildProcess& c = children_[it->second];
+    unreaped_.erase(it);
     c.running = false;
+    c.reaped = true;
+    c.cpu_user_s = seconds(ru.ru_utime);
+    c.cpu_sys_s = seconds(ru.ru_stime);
+    c.max_rss_mib = static_cast<double>(ru.ru_maxrss) / 1024.0;  // ru_maxrss is in KiB on Linux
     if (WIFEXITED(status)) c.exit_code = WEXITSTATUS(status);
     if (WIFSIGNALED(status)) c.term_signal = WTERMSIG(status);
     if (c.crashed()) {
       spdlog::error("{} (pid {}) {} — see {}/logs/{}.log", c.name, c.pid, c.describe(), o_.out_dir, c.name);
     } else if (c.killed_on_purpose) {
       spdlog::info("{} (pid {}) {}", c.name, c.pid, c.describe());
+    }
+  }
+}
+
+void Launcher::sample_resources() {
+  // Once per run, mid-flight: smaps_rollup (Rss and Pss: shared pages such as
+  // the DDS libraries counted once per sharer) and the thread count of every
+  // process still running. Reading a thousand processes' files takes a few
+  // hundred ms; a process that ended meanwhile is simply left out.
+  const auto start = Clock::now();
+  std::size_t sampled = 0, running = 0;
+  for (auto& c : children_) {
+    if (!c.running) continue;
+    ++running;
+    c.sample = sample_process(c.pid);
+    sampled += c.sample ? 1 : 0;
+  }
+  sampled_at_s_ = std::chrono::duration<double>(start - spawn_t0_).count();
+  spdlog::debug("resources: sampled {} of {} running processes in {:.0f} ms, {:.1f} s after the first spawn", sampled,
+                running, std::chrono::duration<double, std::milli>(Clock::now() - start).count(), *sampled_at_s_);
+}
+
+void Launcher::raise_fd_limit() {
+  // Each DDS participant holds a dozen sockets and each child a log file;
+  // children inherit the raised limit. The thread limit (RLIMIT_NPROC counts
+  // every thread of the user) is raised alike, for a thousand DDS processes.
+  for (const auto& [resource, name] : {std::pair{RLIMIT_NOFILE, "RLIMIT_NOFILE"}, std::pair{RLIMIT_NPROC, "RLIMIT_NPROC"}}) {
+    rlimit rl{};
+    if (getrlimit(resource, &rl) != 0) continue;
+    if (rl.rlim_cur == rl.rlim_max) {
+      spdlog::debug("{}: soft limit already at the hard limit ({})", name, rl.rlim_max);
+      continue;
+    }
+    const rlim_t before = rl.rlim_cur;
+    rl.rlim_cur = rl.rlim_max;
+    if (setrlimit(resource, &rl) == 0) {
+      spdlog::debug("{}: soft limit raised from {} to the hard limit {}", name, before, rl.rlim_max);
+    } else {
+      spdlog::debug("{}: cannot raise the soft limit {} to {}: {}", name, before, rl.rlim_max, std::strerror(errno));
     }
   }
 }
@@ -226,6 +336,7 @@ void Launcher::stop_role(const std::string& role, std::chrono::seconds grace) {
 }
 
 int Launcher::run() {
+  raise_fd_limit();
   auto scenario = core::load_scenario(o_.scenario);
   if (!scenario) {
     spdlog::error("invalid scenario:\n{}", scenario.error().message);
@@ -282,6 +393,12 @@ int Launcher::run() {
   std::vector<std::string> ground_args{"--out", o_.out_dir, "--progress", std::to_string(o_.progress_s), "--ticks",
                                        std::to_string(ticks), "--expect-uavs", std::to_string(uavs)};
   std::string token;
+  // The launch instant: wall_s and the ground station's discovery_s count from
+  // here (children inherit PHEROMESH_RUN_T0_MS).
+  udp_start_ = read_udp_counters();
+  spawn_t0_ = Clock::now();
+  run_t0_unix_ms_ = unix_ms_now();
+  setenv("PHEROMESH_RUN_T0_MS", std::to_string(run_t0_unix_ms_).c_str(), 1);
   if (o_.http_port) {
     int sv[2];
     if (socketpair(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0, sv) != 0) {
@@ -308,23 +425,41 @@ int Launcher::run() {
   } else if (o_.http_port) {
     spdlog::info("web console: the ground station prints its URL (port chosen by the system)");
   }
-  for (uint32_t r = 0; r < regions; ++r) spawn("place", r, {"--region", std::to_string(r)});
-  for (uint32_t u = 0; u < uavs; ++u) spawn("uav", u, {"--id", std::to_string(u), "--ticks", std::to_string(ticks)});
+  spawn_swarm(regions, uavs, ticks);  // if interrupted, the loop below stops what was started
   const auto t0 = Clock::now();
   t0_ = t0;
   // Generous bound on the UAV phase: the run itself, discovery, and slack for
-  // a loaded machine. UAVs still flying then are stopped (and reported).
+  // a loaded machine, growing with the swarm (discovery and shutdown work per
+  // process). UAVs still flying then are stopped (and reported).
   // Lockstep runs as fast as the slowest process; allow 0.5 s per tick.
   const double expected_s = o_.clock == "lockstep" ? 0.5 * ticks : ticks / rate * 2.0;
-  const auto uav_deadline =
-      t0 + std::chrono::milliseconds(static_cast<int64_t>(1000.0 * expected_s)) + std::chrono::seconds(45);
+  const auto uav_deadline = t0 + std::chrono::milliseconds(static_cast<int64_t>(1000.0 * expected_s)) +
+                            std::chrono::seconds(45) + kDeadlinePerProcess * children_.size();
+  // The resource sample: at 60 % of the flight (ticks / rate). A lockstep
+  // flight goes as fast as the slowest process and its length is unknown, so
+  // there the sample is also taken when the first UAV ends by itself, if that
+  // comes earlier.
+  const auto sample_at = t0 + std::chrono::milliseconds(static_cast<int64_t>(600.0 * ticks / rate));
+  bool sampled = false;
   std::size_t next_kill = 0;
   bool interrupted = false;
   while (any_running("uav")) {
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    if (!sampled && o_.clock == "lockstep" &&
+        std::any_of(children_.begin(), children_.end(), [](const auto& c) {
+          return c.role == "uav" && !c.running && !c.killed_on_purpose && !c.asked_to_stop;
+        })) {
+      sample_resources();
+      sampled = true;
+    }
     reap();
     serve_control();
     const auto now = Clock::now();
+    const auto paused_now = paused_total_ + (paused_since_ ? now - *paused_since_ : Clock::duration{});
+    if (!sampled && now >= sample_at + paused_now) {
+      sample_resources();
+      sampled = true;
+    }
     while (next_kill < kills.size() && now - t0 >= kills[next_kill].at) {
       const KillEvent& e = kills[next_kill++];
       ChildProcess* c = find(e.process_name());
@@ -341,8 +476,7 @@ int Launcher::run() {
       interrupted = true;
       stop_role("uav", std::chrono::seconds(10));
     }
-    const auto paused_for = paused_total_ + (paused_since_ ? now - *paused_since_ : Clock::duration{});
-    if (now > uav_deadline + paused_for) {
+    if (now > uav_deadline + paused_now) {
       spdlog::error("uavs still flying long after the expected end; stopping them");
       stop_role("uav", std::chrono::seconds(10));
     }
@@ -350,6 +484,10 @@ int Launcher::run() {
   spdlog::info("all uavs ended; stopping place agents");
   stop_role("place", std::chrono::seconds(15));
   stop_role("ground", std::chrono::seconds(15));
+  wall_s_ = std::chrono::duration<double>(Clock::now() - spawn_t0_).count();
+  udp_end_ = read_udp_counters();
+  if (!sampled) spdlog::warn("the uavs ended before the resource sample ({} s in): no pss/rss/threads in metrics.json",
+                             0.6 * ticks / rate);
   int exit_code = 0;
   finish_metrics(exit_code);
   clean_fastdds_shm();
@@ -377,11 +515,63 @@ void Launcher::clean_fastdds_shm() const {
 void Launcher::finish_metrics(int& exit_code) {
   uint32_t killed = 0, crashed = 0;
   nlohmann::json procs = nlohmann::json::array();
+  // Per role: sums of CPU, means over the processes sampled mid-flight.
+  struct RoleTotals {
+    uint32_t count = 0, reaped = 0, sampled = 0;
+    double user_s = 0, sys_s = 0, max_rss_sum = 0;
+    std::vector<double> pss, rss, threads;
+  };
+  std::map<std::string, RoleTotals> roles{{"uav", {}}, {"place", {}}, {"ground", {}}};
   for (const auto& c : children_) {
     killed += c.killed_on_purpose ? 1 : 0;
     crashed += c.crashed() ? 1 : 0;
-    procs.push_back(
-        {{"name", c.name}, {"pid", c.pid}, {"dds", c.dds}, {"status", c.describe()}, {"crashed", c.crashed()}});
+    nlohmann::json p = {{"name", c.name}, {"pid", c.pid}, {"dds", c.dds}, {"status", c.describe()}, {"crashed", c.crashed()}};
+    p["cpu_user_s"] = c.reaped ? nlohmann::json(round3(c.cpu_user_s)) : nlohmann::json(nullptr);
+    p["cpu_sys_s"] = c.reaped ? nlohmann::json(round3(c.cpu_sys_s)) : nlohmann::json(nullptr);
+    p["max_rss_mib"] = c.reaped ? nlohmann::json(round3(c.max_rss_mib)) : nlohmann::json(nullptr);
+    p["pss_mib"] = opt_json(c.sample ? c.sample->pss_mib : std::nullopt);
+    p["rss_mib"] = opt_json(c.sample ? c.sample->rss_mib : std::nullopt);
+    p["threads"] = c.sample && c.sample->threads ? nlohmann::json(*c.sample->threads) : nlohmann::json(nullptr);
+    procs.push_back(std::move(p));
+    RoleTotals& t = roles[c.role];
+    ++t.count;
+    if (c.reaped) {
+      ++t.reaped;
+      t.user_s += c.cpu_user_s;
+      t.sys_s += c.cpu_sys_s;
+      t.max_rss_sum += c.max_rss_mib;
+    }
+    if (c.sample) {
+      ++t.sampled;
+      if (c.sample->pss_mib) t.pss.push_back(*c.sample->pss_mib);
+      if (c.sample->rss_mib) t.rss.push_back(*c.sample->rss_mib);
+      if (c.sample->threads) t.threads.push_back(static_cast<double>(*c.sample->threads));
+    }
+  }
+  auto mean_of = [](const std::vector<double>& v) -> std::optional<double> {
+    if (v.empty()) return std::nullopt;
+    double sum = 0;
+    for (double x : v) sum += x;
+    return sum / static_cast<double>(v.size());
+  };
+  auto max_of = [](const std::vector<double>& v) -> std::optional<double> {
+    if (v.empty()) return std::nullopt;
+    return *std::max_element(v.begin(), v.end());
+  };
+  nlohmann::json resources = nlohmann::json::object();
+  for (const auto& [role, t] : roles) {
+    resources[role] = {
+        {"count", t.count},
+        {"cpu_user_s", round3(t.user_s)},
+        {"cpu_sys_s", round3(t.sys_s)},
+        {"sampled", t.sampled},
+        {"pss_mib_mean", opt_json(mean_of(t.pss))},
+        {"pss_mib_max", opt_json(max_of(t.pss))},
+        {"rss_mib_mean", opt_json(mean_of(t.rss))},
+        {"max_rss_mib_mean",
+         opt_json(t.reaped > 0 ? std::optional<double>(t.max_rss_sum / t.reaped) : std::nullopt)},
+        {"threads_mean", opt_json(mean_of(t.threads))},
+    };
   }
   const fs::path path = fs::path(o_.out_dir) / "metrics.json";
   nlohmann::json m;
@@ -402,6 +592,20 @@ void Launcher::finish_metrics(int& exit_code) {
   m["processes_crashed"] = crashed;
   m["processes"] = procs;
   m["dds"] = plan_.describe();
+  m["resources"] = resources;
+  m["resources_sampled_at_s"] = opt_json(sampled_at_s_);
+  m["wall_s"] = opt_json(wall_s_);
+  m["run_t0_unix_ms"] = run_t0_unix_ms_;
+  // /proc/net/snmp counts the IPv4 UDP datagrams of the whole host (its
+  // network namespace), not only this swarm's: anything else sending UDP
+  // meanwhile (another swarm, DNS, ...) is included. IPv6 is not counted
+  // (/proc/net/snmp6); the onehost profiles use IPv4 loopback.
+  const bool udp = udp_start_ && udp_end_ && udp_end_->in_datagrams >= udp_start_->in_datagrams &&
+                   udp_end_->out_datagrams >= udp_start_->out_datagrams;
+  m["udp_in_datagrams"] =
+      udp ? nlohmann::json(udp_end_->in_datagrams - udp_start_->in_datagrams) : nlohmann::json(nullptr);
+  m["udp_out_datagrams"] =
+      udp ? nlohmann::json(udp_end_->out_datagrams - udp_start_->out_datagrams) : nlohmann::json(nullptr);
   std::ofstream(path) << m.dump(2) << "\n";
   if (crashed > 0) exit_code = 1;
   spdlog::info("done: coverage {:.1f}%, targets {}/{}, deposits sent {} applied {} rejected {}, killed {}, crashed {} -> {}",

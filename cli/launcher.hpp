@@ -14,6 +14,7 @@
 
 #include "dds_plan.hpp"
 #include "kill_spec.hpp"
+#include "proc_stats.hpp"
 
 namespace pheromesh::cli {
 
@@ -51,6 +52,14 @@ struct ChildProcess {
   bool asked_to_stop = false;
   int exit_code = -1;    // if exited
   int term_signal = 0;   // if signalled
+  // From wait4's rusage once reaped (all its threads, and any children it
+  // reaped itself).
+  bool reaped = false;
+  double cpu_user_s = 0;   // ru_utime [s]
+  double cpu_sys_s = 0;    // ru_stime [s]
+  double max_rss_mib = 0;  // ru_maxrss [MiB]; Linux keeps the pre-exec peak, so never below the launcher's RSS at fork
+  // The one look at it during the flight (Launcher::sample_resources).
+  std::optional<ProcessSample> sample;
   [[nodiscard]] bool crashed() const;
   [[nodiscard]] std::string describe() const;
 };
@@ -64,7 +73,12 @@ class Launcher {
 
  private:
   void spawn(const std::string& role, uint32_t index, const std::vector<std::string>& extra_args);
+  // Starts the place agents and then the UAVs, in batches when the swarm is
+  // large. Returns false if interrupted before all were started.
+  bool spawn_swarm(uint32_t regions, uint32_t uavs, uint32_t ticks);
   void reap();
+  void sample_resources();
+  static void raise_fd_limit();
   void stop_role(const std::string& role, std::chrono::seconds grace);
   [[nodiscard]] bool any_running(const std::string& role) const;
   ChildProcess* find(const std::string& name);
@@ -81,6 +95,13 @@ class Launcher {
   std::chrono::steady_clock::duration paused_total_{};
   std::optional<std::chrono::steady_clock::time_point> paused_since_;
   std::map<uint32_t, uint32_t> lives_;  // uav -> restarts so far
+  std::map<pid_t, std::size_t> unreaped_;  // pid -> index in children_, for the children not reaped yet
+  // Resource accounting (metrics.json "resources", "wall_s", "udp_*").
+  std::chrono::steady_clock::time_point spawn_t0_;  // first spawn
+  int64_t run_t0_unix_ms_ = 0;                      // the same instant, Unix time [ms]
+  std::optional<double> wall_s_;                    // first spawn -> every child ended [s]
+  std::optional<double> sampled_at_s_;              // when sample_resources ran, after the first spawn [s]
+  std::optional<UdpCounters> udp_start_, udp_end_;
   uint32_t ticks_ = 0;
   double rate_ = 0;
 

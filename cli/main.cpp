@@ -6,6 +6,7 @@
 #include <CLI/CLI.hpp>
 #include <cstdio>
 
+#include "bench_scale.hpp"
 #include "launcher.hpp"
 #include "replay_command.hpp"
 #include "experiment_command.hpp"
@@ -41,7 +42,8 @@ int main(int argc, char** argv) {
                "  pheromesh run scenarios/shao2020-50x50.textproto --ticks 600 --out out/demo\n"
                "  pheromesh run scenarios/small-test.textproto --uavs 6 --duration 20 --kill \"uav:1@5s,uav:4@8s\"\n"
                "  pheromesh sim scenarios/shao2020-100x100.textproto --seed 7 --out out/sim\n"
-               "  pheromesh run scenarios/small-test.textproto --clock lockstep --ticks 100   # same numbers as sim\n",
+               "  pheromesh run scenarios/small-test.textproto --clock lockstep --ticks 100   # same numbers as sim\n"
+               "  pheromesh bench scale scenarios/scale-100x100.textproto --max 400            # cost per swarm size\n",
                "pheromesh"};
   app.require_subcommand(1);
   std::string log_level = "info";
@@ -125,6 +127,38 @@ int main(int argc, char** argv) {
   rp->add_option("--http-bind", rpo.bind, "Address the console listens on")->capture_default_str();
   rp->add_flag("--check", rpo.check, "Only read the recording and say what it holds");
 
+  cli::BenchScaleOptions bso;
+  auto* bench = app.add_subcommand("bench", "Benchmarks of whole swarms (they print figures; they are not tests)");
+  bench->require_subcommand(1);
+  auto* bs = bench->add_subcommand(
+      "scale", "Run `pheromesh run` with swarms of increasing size, per DDS vendor, and tabulate what each size costs: "
+               "late ticks, discovery time, CPU per UAV tick, memory (PSS/RSS) and threads per process, UDP datagrams "
+               "per UAV tick");
+  bs->add_option("SCENARIO", bso.scenario, "Scenario file, e.g. scenarios/scale-100x100.textproto (its start area "
+                                           "must hold the largest size)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  bs->add_option("--sizes", bso.sizes, "UAV counts to run, comma-separated")->capture_default_str();
+  bs->add_option("--max", bso.max_uavs, "Leave out the sizes above this many UAVs (0: none)")->capture_default_str();
+  bs->add_option("--dds", bso.dds, "Vendors, comma-separated among cyclone, fastdds, mixed: each size runs once per vendor")
+      ->capture_default_str();
+  bs->add_option("--rate", bso.rate_hz, "Tick rate of every process [Hz]")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  bs->add_option("--ticks", bso.ticks, "Ticks each UAV flies")->check(CLI::Range(1U, 1000000U))->capture_default_str();
+  bs->add_option("--lease-ms", bso.lease_ms, "Liveliness lease of every process [ms] (generous: a loaded host stalls)")
+      ->check(CLI::Range(50, 60000))
+      ->capture_default_str();
+  bs->add_option("--out", bso.out_dir, "Output folder: scale.md/.csv/.json, *.svg, and one folder V-N per run")
+      ->capture_default_str();
+  bs->add_option("--stop-late-share", bso.stop_late_share,
+                 "Once a size has more than this share of late UAV ticks, skip the vendor's larger sizes")
+      ->check(CLI::Range(0.0, 1.0))
+      ->capture_default_str();
+  bs->add_option("--domain", bso.domain, "DDS domain id of the runs")->check(CLI::Range(0, 232))->capture_default_str();
+  bs->add_option("--extra", bso.extra, "More arguments for `pheromesh run`, in one string, e.g. \"--dds-profile default\"");
+  bs->footer(cli::kBenchScaleFooter);
+
   CLI11_PARSE(app, argc, argv);
   auto logger = spdlog::stderr_color_mt("pheromesh");
   logger->set_pattern("%H:%M:%S.%e %^%-5l%$ [%n] %v");
@@ -135,6 +169,7 @@ int main(int argc, char** argv) {
   if (sim->parsed()) return cli::run_sim(so);
   if (ex->parsed()) return cli::run_experiment_command(eo);
   if (rp->parsed()) return cli::run_replay(rpo);
+  if (bs->parsed()) return cli::run_bench_scale(bso);
   try {
     return cli::Launcher(ro).run();
   } catch (const std::exception& e) {

@@ -39,7 +39,7 @@ int run_sim(const SimOptions& o) {
   const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
   std::string error;
-  const runtime::RunInfo info{"none (in-process simulator)", "lockstep", s.uavs};
+  const runtime::RunInfo info{"none (in-process simulator)", "lockstep", s.uavs, std::nullopt};  // no discovery in-process
   auto j = runtime::metrics_json(sim.recorder(), info);
   j["wall_seconds"] = secs;
   j["uav_steps_per_second"] = static_cast<double>(sim.uav_steps()) / secs;

@@ -4,6 +4,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <limits>
 #include <thread>
@@ -17,6 +18,12 @@ namespace pheromesh::groundstation {
 
 using Clock = std::chrono::steady_clock;
 
+namespace {
+int64_t unix_ms_now() {
+  return std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::system_clock::now().time_since_epoch()).count();
+}
+}  // namespace
+
 GroundApp::GroundApp(GroundConfig cfg, core::ScenarioConfig scenario, std::unique_ptr<bus::Bus> bus)
     : cfg_(std::move(cfg)),
       scenario_(std::move(scenario)),
@@ -27,6 +34,19 @@ GroundApp::GroundApp(GroundConfig cfg, core::ScenarioConfig scenario, std::uniqu
       rec_(scenario_, world_),
       layers_(static_cast<int>(core::policy_traits(scenario_).layers.size())) {
   if (cfg_.expect_uavs == 0) cfg_.expect_uavs = scenario_.uavs;
+  run_t0_unix_ms_ = unix_ms_now();
+  if (const char* t0 = std::getenv("PHEROMESH_RUN_T0_MS"); t0 != nullptr) {
+    char* end = nullptr;
+    const long long v = std::strtoll(t0, &end, 10);
+    if (end != t0 && *end == '\0' && v > 0) run_t0_unix_ms_ = v;
+  }
+}
+
+void GroundApp::note_discovery() {
+  if (discovery_s_ || uav_heard_.size() < cfg_.expect_uavs || region_heard_.size() < geo_.region_count()) return;
+  discovery_s_ = static_cast<double>(unix_ms_now() - run_t0_unix_ms_) / 1000.0;
+  log_->info("discovery complete: every UAV ({}) and place agent ({}) heard {:.1f} s after the launch", cfg_.expect_uavs,
+             geo_.region_count(), *discovery_s_);
 }
 
 namespace {
@@ -104,6 +124,11 @@ void GroundApp::poll() {
   }
   tiles_.clear();
   bus_->take_tiles(tiles_);
+  fields_.clear();
+  bus_->take_fields(fields_);
+  for (auto& f : fields_) {
+    for (auto& t : f.tiles) tiles_.push_back(std::move(t));
+  }
   for (auto& t : tiles_) {
     if (auto reason = core::check_tile(t, geo_, layers_)) {
       rec_.count_rejected_sample();
@@ -123,6 +148,7 @@ void GroundApp::poll() {
   dones_.clear();
   bus_->take_phase_done(dones_);
   for (const auto& d : dones_) done_[d.process] = d;
+  note_discovery();
 }
 
 void GroundApp::print_progress() {
@@ -220,8 +246,13 @@ bool GroundApp::run_phase(uint32_t tick, core::ClockPhase phase) {
     }
     progress_if_due();
     service();
-    std::this_thread::sleep_for(std::chrono::microseconds(200));
+    wait_for_data(std::min(deadline, Clock::now() + std::chrono::milliseconds(20)));
   }
+}
+
+void GroundApp::wait_for_data(Clock::time_point until) {
+  using K = bus::TopicKind;
+  bus_->wait({K::UavState, K::Field, K::Tile, K::Detection, K::TargetEvent, K::Health, K::Broadcast, K::PhaseDone}, until);
 }
 
 bool GroundApp::conduct() {
@@ -234,7 +265,7 @@ bool GroundApp::conduct() {
     while (paused_ && !runtime::shutdown_requested()) {
       poll();
       service();
-      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+      wait_for_data(Clock::now() + std::chrono::milliseconds(10));
     }
     ok = run_phase(k, core::ClockPhase::Uav) && run_phase(k, core::ClockPhase::Place);
     progress_if_due();
@@ -257,7 +288,7 @@ int GroundApp::finish() {
       done += ((it != rec_.health().end() && it->second.finished) || rec_.region_departed(r)) ? 1 : 0;
     }
     if (done >= geo_.region_count() || Clock::now() > deadline) break;
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    wait_for_data(std::min(deadline, Clock::now() + std::chrono::milliseconds(20)));
   }
   print_progress();
   if (console_) {
@@ -279,7 +310,7 @@ int GroundApp::finish() {
   };
   rec_.set_field_summary(core::field_summary(scenario_, field_value));
   std::string error;
-  const runtime::RunInfo info{bus_->vendor(), cfg_.common.clock, cfg_.expect_uavs};
+  const runtime::RunInfo info{bus_->vendor(), cfg_.common.clock, cfg_.expect_uavs, discovery_s_};
   if (!runtime::write_json(cfg_.out_dir, "metrics.json", runtime::metrics_json(rec_, info), error)) {
     log_->error("{}", error);
     return 5;
@@ -304,7 +335,7 @@ int GroundApp::run() {
     poll();
     progress_if_due();
     service();
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    wait_for_data(Clock::now() + std::chrono::milliseconds(20));
   }
   const int rc = finish();
   return rc != 0 ? rc : (ok ? 0 : 6);

@@ -51,6 +51,8 @@ class GroundApp {
 
  private:
   void poll();
+  // Until data arrives on any reader poll() takes, or `until`.
+  void wait_for_data(std::chrono::steady_clock::time_point until);
   void progress_if_due();
   void print_progress();
   // Lockstep conductor: returns false if a phase timed out.
@@ -89,6 +91,7 @@ class GroundApp {
   std::vector<core::TargetEventMsg> events_;
   std::vector<core::HealthMsg> healths_;
   std::vector<core::TileMsg> tiles_;
+  std::vector<core::FieldMsg> fields_;
   std::vector<core::PhaseDoneMsg> dones_;
   std::vector<core::BroadcastMsg> broadcasts_;
   int layers_ = 0;
@@ -122,6 +125,11 @@ class GroundApp {
   uint64_t commands_ok_ = 0, commands_refused_ = 0, frames_ = 0;
   bool paused_ = false;
   bool recording_failed_ = false;
+  // Discovery: the launch time ($PHEROMESH_RUN_T0_MS, else this process's
+  // start) and how long until every expected process was heard.
+  int64_t run_t0_unix_ms_ = 0;
+  std::optional<double> discovery_s_;
+  void note_discovery();
 };
 
 }  // namespace pheromesh::groundstation

@@ -18,11 +18,103 @@ PlaceApp::PlaceApp(PlaceConfig cfg, core::ScenarioConfig scenario, std::unique_p
       bus_(std::move(bus)),
       log_(spdlog::default_logger()),
       core_(scenario_, cfg_.region),
-      rate_(scenario_.tick_rate_hz) {}
+      rate_(scenario_.tick_rate_hz),
+      views_(geo_, static_cast<int>(core::policy_traits(scenario_).layers.size()), core::policy_traits(scenario_).view_radius) {
+  for (uint32_t u = 0; u < scenario_.uavs; ++u) {
+    if (core::home_region(u, geo_.region_count()) == cfg_.region) home_uavs_.push_back(u);
+  }
+  for (core::RegionId r = 0; r < geo_.region_count(); ++r) {
+    if (r != cfg_.region) other_regions_.push_back(r);
+  }
+}
 
-void PlaceApp::step(uint32_t tick, bool wait_for_halos, bool all_tiles, std::optional<uint32_t> expected_deposits) {
+namespace {
+// Realtime: a home UAV not heard for this many place ticks gets no more
+// views (it died or finished); in lockstep every view is sent.
+constexpr uint32_t kViewsAfterSilence = 20;
+// Realtime: neighbour states at most this many ticks older than the UAV's
+// own go into its view (UavCore keeps the same window).
+constexpr uint32_t kNeighbourAge = 4;
+}  // namespace
+
+void PlaceApp::take_deposits() {
+  taken_.clear();
+  bus_->take_deposits(taken_);
+  for (const auto& d : taken_) {
+    if (d.region == cfg_.region || d.region >= geo_.region_count()) {
+      inbox_.push_back(d);  // ours, or for no region at all (PlaceCore rejects it with the reason)
+      continue;
+    }
+    // A home UAV's deposit for another region: to the owner's place agent.
+    if (bus_->matched_deposit_readers(d.region) == 0) {
+      core_.reject({d}, "owner place agent of region " + std::to_string(d.region) + " not reachable to forward to");
+      continue;
+    }
+    if (bus_->publish_deposit(d, d.region)) {
+      ++deposits_forwarded_;
+    } else {
+      core_.reject({d}, "forwarding to region " + std::to_string(d.region) + " failed");
+    }
+  }
+}
+
+void PlaceApp::take_home_states(uint32_t tick) {
+  state_inbox_.clear();
+  bus_->take_uav_states(state_inbox_);
+  for (const auto& st : state_inbox_) {
+    if (core::home_region(st.uav, geo_.region_count()) != cfg_.region) continue;  // not ours (a stray writer)
+    if (auto reason = core::check_uav_state(st, geo_)) {
+      log_->warn("dropped state of uav {}: {}", st.uav, *reason);
+      continue;
+    }
+    const core::UavStateMsg* before = views_.state(st.uav);
+    if (before == nullptr || st.tick > before->tick) heard_at_[st.uav] = tick;
+    views_.update_state(st);
+  }
+}
+
+void PlaceApp::serve_views(uint32_t tick, bool exact) {
+  // This region's field and its home UAVs' latest states, to every place agent and the ground.
+  home_states_.clear();
+  for (uint32_t u : home_uavs_) {
+    if (const core::UavStateMsg* st = views_.state(u)) home_states_.push_back(*st);
+  }
+  for (const auto& t : tiles_out_) views_.update_tile(t);
+  for (const auto& f : core::make_field_chunks(cfg_.region, tick, tiles_out_, home_states_)) bus_->publish_field(f);
+  // Every other region's field: exactly this tick's (lockstep), or the latest.
+  const auto deadline = Clock::now() + std::chrono::seconds(30);
+  for (;;) {
+    field_inbox_.clear();
+    bus_->take_fields(field_inbox_);
+    for (const auto& f : field_inbox_) {
+      if (f.region == cfg_.region) continue;
+      bool ok = f.region < geo_.region_count();
+      for (const auto& t : f.tiles) ok = ok && !core::check_tile(t, geo_, core_.layer_count());
+      for (const auto& st : f.uavs) ok = ok && !core::check_uav_state(st, geo_);
+      if (!ok) {
+        log_->warn("dropped a malformed field chunk of region {}", f.region);
+        continue;
+      }
+      views_.update_field(f);
+    }
+    if (!exact || views_.holds_fields(tick, other_regions_)) break;
+    if (Clock::now() > deadline || runtime::shutdown_requested()) {
+      log_->error("tick {}: the fields of some regions did not arrive; views use the latest", tick);
+      break;
+    }
+    bus_->wait({bus::TopicKind::Field}, std::min(deadline, Clock::now() + std::chrono::milliseconds(100)));
+  }
+  for (uint32_t u : home_uavs_) {
+    const core::UavStateMsg* st = views_.state(u);
+    if (st == nullptr || st->finished) continue;
+    if (!exact && tick - heard_at_[u] > kViewsAfterSilence) continue;
+    if (views_.compose(u, tick, exact ? 0 : kNeighbourAge, view_)) bus_->publish_view(view_);
+  }
+}
+
+void PlaceApp::step(uint32_t tick, bool exact, std::optional<uint32_t> expected_deposits) {
   inbox_.clear();
-  bus_->take_deposits(inbox_);
+  take_deposits();
   if (expected_deposits) {
     const auto deadline = Clock::now() + std::chrono::seconds(30);
     const auto of_tick = [&] {
@@ -33,10 +125,11 @@ void PlaceApp::step(uint32_t tick, bool wait_for_halos, bool all_tiles, std::opt
         log_->error("tick {}: {} of {} announced deposits arrived; applying those", tick, of_tick(), *expected_deposits);
         break;
       }
-      std::this_thread::sleep_for(std::chrono::microseconds(200));
-      bus_->take_deposits(inbox_);
+      bus_->wait({bus::TopicKind::Deposit}, std::min(deadline, Clock::now() + std::chrono::milliseconds(100)));
+      take_deposits();
     }
   }
+  take_home_states(tick);
   events_.clear();
   rejections_.clear();
   const core::HaloRing ring = core_.begin_tick(inbox_, tick, events_, &rejections_);
@@ -58,26 +151,26 @@ void PlaceApp::step(uint32_t tick, bool wait_for_halos, bool all_tiles, std::opt
     halo_inbox_.clear();
     bus_->take_halos(halo_inbox_);
     for (const auto& h : halo_inbox_) {
-      if (wait_for_halos && h.tick != tick) continue;
+      if (exact && h.tick != tick) continue;
       if (!core_.accept_halo(h)) {
         log_->warn("dropped malformed halo from region {}", h.region);
         continue;
       }
       fresh.insert(h.region);
     }
-    if (!wait_for_halos || fresh.size() >= core_.neighbours().size()) break;
+    if (!exact || fresh.size() >= core_.neighbours().size()) break;
     if (Clock::now() > deadline || runtime::shutdown_requested()) {
       log_->error("tick {}: rings of {} of {} neighbours did not arrive", tick, core_.neighbours().size() - fresh.size(),
                   core_.neighbours().size());
       break;
     }
-    std::this_thread::sleep_for(std::chrono::microseconds(200));
+    bus_->wait({bus::TopicKind::Halo}, std::min(deadline, Clock::now() + std::chrono::milliseconds(100)));
   }
   halos_missing_ += core_.neighbours().size() - std::min(fresh.size(), core_.neighbours().size());
   core_.finish_tick();
   tiles_out_.clear();
-  core_.tiles(tick, !all_tiles, tiles_out_);
-  for (const auto& t : tiles_out_) bus_->publish_tile(t);
+  core_.tiles(tick, false, tiles_out_);
+  serve_views(tick, exact);
 }
 
 void PlaceApp::publish_health(uint32_t tick, bool finished) {
@@ -88,8 +181,8 @@ void PlaceApp::publish_health(uint32_t tick, bool finished) {
 
 void PlaceApp::log_summary(uint32_t tick) {
   const auto& l = core_.ledger();
-  log_->info("region {} finished at tick {}: deposits received {}, applied {}, rejected {}", cfg_.region, tick,
-             l.received, l.applied, l.rejected());
+  log_->info("region {} finished at tick {}: deposits received {}, applied {}, rejected {}; forwarded {} of its {} home UAVs' to other regions",
+             cfg_.region, tick, l.received, l.applied, l.rejected(), deposits_forwarded_, home_uavs_.size());
   for (const auto& [reason, n] : l.rejected_by_reason) log_->info("  rejected {}: {}", n, reason);
 }
 
@@ -102,7 +195,7 @@ int PlaceApp::run_realtime() {
     // Paused from the console: no evaporation, no diffusion, deposits wait
     // in the reader; health still goes out.
     if (!commands_->paused()) {
-      step(tick, false, tick == 0);
+      step(tick, false);
       ++tick;
     }
     if (Clock::now() - last_health >= std::chrono::milliseconds(500)) {
@@ -114,7 +207,7 @@ int PlaceApp::run_realtime() {
   }
   // Drain: deposits that arrived after the last tick are still applied (or
   // rejected) and counted before the final health.
-  step(tick, false, false);
+  step(tick, false);
   publish_health(tick, true);
   bus_->flush(std::chrono::seconds(3));
   log_summary(tick);
@@ -136,7 +229,7 @@ int PlaceApp::run_lockstep() {
         // Every tile, every tick: a UAV waits for tiles of exactly this tick.
         uint32_t expected = 0;
         for (const auto& rc : c.deposits) expected += rc.region == cfg_.region ? rc.count : 0;
-        step(c.tick, true, true, expected);
+        step(c.tick, true, expected);
         publish_health(c.tick, false);
         bus_->flush(std::chrono::seconds(10));
         bus_->publish_phase_done({core::process_key(core::kRolePlace, cfg_.region), c.tick, c.phase, 0, {}});
@@ -144,14 +237,14 @@ int PlaceApp::run_lockstep() {
         done_tick = c.tick;
       }
     }
-    if (cmds.empty()) std::this_thread::sleep_for(std::chrono::microseconds(200));
+    if (cmds.empty()) bus_->wait({bus::TopicKind::Clock}, Clock::now() + std::chrono::milliseconds(100));
   }
   // Wait for SIGTERM from the launcher; deposits arriving now (none in a
   // clean run) are counted, not applied to the field, so the final field
   // stays that of the last conducted tick.
   while (!runtime::shutdown_requested()) std::this_thread::sleep_for(std::chrono::milliseconds(20));
   inbox_.clear();
-  bus_->take_deposits(inbox_);
+  take_deposits();
   if (!inbox_.empty()) log_->warn("{} deposits arrived after the last tick; rejected", inbox_.size());
   core_.reject(inbox_, "arrived after the last lockstep tick");
   const auto final_tick = static_cast<uint32_t>(std::max<int64_t>(done_tick, 0));
@@ -162,8 +255,15 @@ int PlaceApp::run_lockstep() {
 }
 
 int PlaceApp::run() {
+  // Every endpoint this place agent runs with, created once: deposits for
+  // this region, its home UAVs' states, every region's field, halos, and the
+  // writers of forwarded deposits, of fields and of its home UAVs' views.
   bus_->subscribe_deposits(cfg_.region);
+  bus_->subscribe_home_states(cfg_.region);
+  bus_->subscribe_fields();
   bus_->subscribe_halos(core_.neighbours());
+  for (core::RegionId r : other_regions_) (void)bus_->matched_deposit_readers(r);  // creates the forwarding writer
+  bus_->offer_views(home_uavs_);
   commands_ = std::make_unique<runtime::SwarmCommands>(*bus_, log_);
   const core::Rect r = geo_.region_rect(cfg_.region);
   log_->info("place agent for region {} [{}..{})x[{}..{}) with {} tiles, {} neighbours, {} clock{} over {}", cfg_.region,

@@ -1,9 +1,13 @@
 // pheromesh-place: owns the pheromone tiles of one region (the software twin
 // of an RFID tag / unattended ground sensor). The logic is core::PlaceCore;
-// this shell wires it to the bus and a clock.
+// this shell wires it to the bus and a clock. It is also the home of the
+// UAVs with core::home_region(uav) == its region: it forwards their deposits
+// for other regions to the owners, and each tick sends each of them its view
+// (core::ViewServer), composed from the fields every place agent publishes.
 #pragma once
 
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -11,6 +15,7 @@
 #include "pheromesh/bus/bus.hpp"
 #include "pheromesh/core/place_core.hpp"
 #include "pheromesh/core/scenario.hpp"
+#include "pheromesh/core/view_server.hpp"
 #include "pheromesh/runtime/commands.hpp"
 #include "pheromesh/runtime/process.hpp"
 
@@ -34,11 +39,17 @@ class PlaceApp {
  private:
   int run_realtime();
   int run_lockstep();
-  // One tick. `wait_for_halos`: wait (bounded) for every neighbour's ring of
-  // this tick (lockstep); otherwise use the latest ring received.
-  // `expected_deposits` (lockstep): wait (bounded) until this many deposits
-  // of `tick` have arrived before applying them.
-  void step(uint32_t tick, bool wait_for_halos, bool all_tiles, std::optional<uint32_t> expected_deposits = {});
+  // One tick. `exact` (lockstep): wait (bounded) for every neighbour's ring
+  // of this tick and every region's field of this tick; otherwise use the
+  // latest received. `expected_deposits` (lockstep): wait (bounded) until
+  // this many deposits of `tick` for this region have arrived.
+  void step(uint32_t tick, bool exact, std::optional<uint32_t> expected_deposits = {});
+  // Takes deposits into inbox_ (this region's) and forwards the others to
+  // their owner's place agent (or counts them rejected if it is unreachable).
+  void take_deposits();
+  void take_home_states(uint32_t tick);
+  // Publishes this region's field of `tick` and sends the home UAVs their views.
+  void serve_views(uint32_t tick, bool exact);
   void publish_health(uint32_t tick, bool finished);
   void log_summary(uint32_t tick);
 
@@ -56,6 +67,17 @@ class PlaceApp {
   std::vector<core::TileMsg> tiles_out_;
   std::vector<std::string> rejections_;
   std::unique_ptr<runtime::SwarmCommands> commands_;  // pause / resume
+  // Home UAVs and views.
+  core::ViewServer views_;
+  std::vector<uint32_t> home_uavs_;
+  std::vector<core::RegionId> other_regions_;
+  std::map<uint32_t, uint32_t> heard_at_;  // home UAV -> place tick of its newest state
+  std::vector<core::DepositMsg> taken_;
+  std::vector<core::UavStateMsg> state_inbox_;
+  std::vector<core::FieldMsg> field_inbox_;
+  std::vector<core::UavStateMsg> home_states_;
+  core::ViewMsg view_;
+  uint64_t deposits_forwarded_ = 0;
 };
 
 }  // namespace pheromesh::placeagent

@@ -72,6 +72,10 @@ std::vector<Experiment> all_experiments();
 // message on I/O failure.
 bool write_report(const Report& r, const std::string& out_dir, double wall_seconds, std::string& error);
 
+// The SVG line chart of one plot (also used by `pheromesh bench scale`).
+// Points with a non-finite coordinate are left out.
+std::string svg_plot(const Plot& p);
+
 // mean and sample standard deviation
 double mean(const std::vector<double>& v);
 double stddev(const std::vector<double>& v);

@@ -54,6 +54,8 @@ std::string xml_escape(const std::string& s) {
   return o;
 }
 
+}  // namespace
+
 // A plain line chart: axes with ticks, one polyline per series, a legend.
 std::string svg_plot(const Plot& p) {
   const double W = 720, H = 440, L = 70, R = 190, T = 40, B = 60;
@@ -111,8 +113,6 @@ std::string svg_plot(const Plot& p) {
   o << "</svg>\n";
   return o.str();
 }
-
-}  // namespace
 
 bool write_report(const Report& r, const std::string& out_dir, double wall_seconds, std::string& error) {
   std::error_code ec;

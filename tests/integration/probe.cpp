@@ -68,7 +68,7 @@ int hostile(bus::Bus& b, uint32_t region, uint32_t map_width) {
   const uint32_t uav = 900000;  // not a UAV of the swarm
   int sent = 0;
   auto deposit = [&](uint32_t seq, uint8_t kind, core::Cell c, float amount, core::RegionId r) {
-    sent += b.publish_deposit({uav, seq, 1, r, kind, 0, c, amount, {}}) ? 1 : 0;
+    sent += b.publish_deposit({uav, seq, 1, r, kind, 0, c, amount, {}}, r) ? 1 : 0;
   };
   deposit(1, 0, {1, 1}, std::numeric_limits<float>::quiet_NaN(), region);     // NaN amount
   deposit(2, 0, {static_cast<int32_t>(map_width) + 7, 3}, 1.0F, region);      // cell outside the map

@@ -108,6 +108,64 @@ std::vector<core::RegionCount> region_counts_in(const dds_sequence_pheromesh_msg
   return out;
 }
 
+pheromesh_msg_UavState state_out(const core::UavStateMsg& m) {
+  return {m.uav,  m.tick, m.x,          m.y,          m.vx,  m.vy, m.heading, m.role, m.deposits_sent, m.tile_samples_received,
+          m.ticks_late, m.view.x, m.view.y, m.finished};
+}
+
+core::UavStateMsg state_in(const pheromesh_msg_UavState& s) {
+  return {s.uav,     s.tick, s.x,  s.y,  s.vx, s.vy, s.heading, s.role, s.deposits_sent, s.tile_samples_received,
+          s.ticks_late, {s.view_x, s.view_y}, s.finished};
+}
+
+// TilePatch views of `tiles` (their values are borrowed, not copied).
+std::vector<pheromesh_msg_TilePatch> patches_out(const std::vector<core::TileMsg>& tiles) {
+  std::vector<pheromesh_msg_TilePatch> out(tiles.size());
+  for (std::size_t i = 0; i < tiles.size(); ++i) {
+    const auto& t = tiles[i];
+    out[i].layer = t.layer;
+    out[i].tx = static_cast<uint16_t>(t.tile.tx);
+    out[i].ty = static_cast<uint16_t>(t.tile.ty);
+    out[i].width = t.width;
+    out[i].height = t.height;
+    set_seq(out[i].values, t.values);
+  }
+  return out;
+}
+
+template <typename Seq, typename T>
+void borrow(Seq& s, std::vector<T>& v) {
+  s._buffer = v.data();
+  s._length = static_cast<uint32_t>(v.size());
+  s._maximum = static_cast<uint32_t>(v.size());
+  s._release = false;
+}
+
+// False if a received sequence is over `bound` or has no buffer.
+template <typename Seq>
+bool seq_ok(const Seq& s, std::size_t bound) {
+  return s._length <= bound && (s._length == 0 || s._buffer != nullptr);
+}
+
+// Tiles and states of a received view or field; false if malformed.
+template <typename Msg>
+bool unpack(const Msg& s, std::size_t max_tiles, std::size_t max_uavs, uint32_t tick, core::RegionId region,
+            std::vector<core::TileMsg>& tiles, std::vector<core::UavStateMsg>& uavs) {
+  if (!seq_ok(s.tiles, max_tiles) || !seq_ok(s.uavs, max_uavs)) return false;
+  for (uint32_t i = 0; i < s.tiles._length; ++i) {
+    const auto& p = s.tiles._buffer[i];
+    if (!seq_ok(p.values, core::kMaxTileCells) || p.layer > 255) return false;
+  }
+  tiles.reserve(s.tiles._length);
+  for (uint32_t i = 0; i < s.tiles._length; ++i) {
+    const auto& p = s.tiles._buffer[i];
+    tiles.push_back({static_cast<uint8_t>(p.layer), {p.tx, p.ty}, tick, region, p.width, p.height, get_seq(p.values)});
+  }
+  uavs.reserve(s.uavs._length);
+  for (uint32_t i = 0; i < s.uavs._length; ++i) uavs.push_back(state_in(s.uavs._buffer[i]));
+  return true;
+}
+
 // Takes everything available from `reader` with loaned buffers and calls
 // on_valid(sample) / on_invalid(sample, info).
 template <typename C, typename Valid, typename Invalid>
@@ -159,6 +217,8 @@ class CycloneBus final : public VendorBus {
     done_topic_ = PHM_DDS(dds_create_topic(participant_, &pheromesh_msg_PhaseDone_desc, topic_name(TopicKind::PhaseDone), nullptr, nullptr));
     broadcast_topic_ = PHM_DDS(dds_create_topic(participant_, &pheromesh_msg_Broadcast_desc, topic_name(TopicKind::Broadcast), nullptr, nullptr));
     command_topic_ = PHM_DDS(dds_create_topic(participant_, &pheromesh_msg_Command_desc, topic_name(TopicKind::Command), nullptr, nullptr));
+    view_topic_ = PHM_DDS(dds_create_topic(participant_, &pheromesh_msg_View_desc, topic_name(TopicKind::View), nullptr, nullptr));
+    field_topic_ = PHM_DDS(dds_create_topic(participant_, &pheromesh_msg_RegionField_desc, topic_name(TopicKind::Field), nullptr, nullptr));
   }
 
   ~CycloneBus() override {
@@ -183,22 +243,46 @@ class CycloneBus final : public VendorBus {
     return write(writer(TopicKind::Tile, tile_topic_, tile_partition(m.tile)), &s);
   }
 
-  bool publish_deposit(const core::DepositMsg& m) override {
+  bool publish_deposit(const core::DepositMsg& m, core::RegionId via) override {
     const pheromesh_msg_Deposit s{m.uav,    m.seq,    m.tick,  m.region, m.kind,
                                   m.layer,  m.cell.x, m.cell.y, m.amount, {m.spread[0], m.spread[1], m.spread[2]}};
-    return write(writer(TopicKind::Deposit, deposit_topic_, region_partition(m.region)), &s);
+    return write(writer(TopicKind::Deposit, deposit_topic_, region_partition(via)), &s);
   }
 
-  bool publish_uav_state(const core::UavStateMsg& m, TileCoord over) override {
-    const pheromesh_msg_UavState s{m.uav,     m.tick, m.x, m.y, m.vx, m.vy, m.heading, m.role, m.deposits_sent,
-                                    m.tile_samples_received, m.finished};
-    // The ground station reads the stable "g" writer (clean liveliness); the
-    // neighbours read the writer of the tile the UAV is over.
-    const bool ground = write(writer(TopicKind::UavState, uav_topic_, kGroundPartition), &s);
-    const std::string part = tile_partition(over);
-    // Writers of tiles left behind are deleted a few states later.
-    for (const auto& left : tiles_left_behind(part)) drop_writer(TopicKind::UavNeighbour, left);
-    return write(writer(TopicKind::UavNeighbour, uav_topic_, part), &s) && ground;
+  bool publish_uav_state(const core::UavStateMsg& m) override {
+    if (!home_) throw DdsError("publish_uav_state before join_uav");
+    const pheromesh_msg_UavState s = state_out(m);
+    return write(writer(TopicKind::UavState, uav_topic_, home_partition(*home_)), &s);
+  }
+
+  bool publish_view(const core::ViewMsg& m) override {
+    if (!view_fits(m)) return false;
+    std::vector<pheromesh_msg_TilePatch> tiles = patches_out(m.tiles);
+    std::vector<pheromesh_msg_UavState> uavs;
+    uavs.reserve(m.uavs.size());
+    for (const auto& u : m.uavs) uavs.push_back(state_out(u));
+    pheromesh_msg_View s{};
+    s.uav = m.uav;
+    s.tick = m.tick;
+    borrow(s.tiles, tiles);
+    borrow(s.uavs, uavs);
+    return write(writer(TopicKind::View, view_topic_, view_partition(m.uav)), &s);
+  }
+
+  bool publish_field(const core::FieldMsg& m) override {
+    if (!field_fits(m)) return false;
+    std::vector<pheromesh_msg_TilePatch> tiles = patches_out(m.tiles);
+    std::vector<pheromesh_msg_UavState> uavs;
+    uavs.reserve(m.uavs.size());
+    for (const auto& u : m.uavs) uavs.push_back(state_out(u));
+    pheromesh_msg_RegionField s{};
+    s.region = m.region;
+    s.chunk = m.chunk;
+    s.chunks = m.chunks;
+    s.tick = m.tick;
+    borrow(s.tiles, tiles);
+    borrow(s.uavs, uavs);
+    return write(writer(TopicKind::Field, field_topic_, kFieldPartition), &s);
   }
 
   bool publish_broadcast(const core::BroadcastMsg& m) override {
@@ -396,34 +480,30 @@ class CycloneBus final : public VendorBus {
     if (!parts.empty()) halo_reader_ = make_reader(TopicKind::Halo, halo_topic_, parts);
   }
 
-  void set_neighbourhood(std::span<const TileCoord> tiles) override {
-    std::set<std::pair<int32_t, int32_t>> wanted;
-    for (auto t : tiles) wanted.insert({t.tx, t.ty});
-    for (auto it = hood_.begin(); it != hood_.end();) {
-      if (!wanted.contains(it->first)) {
-        dds_delete(it->second.subscriber);  // deletes its readers too
-        it = hood_.erase(it);
-      } else {
-        ++it;
-      }
-    }
-    for (const auto& key : wanted) {
-      if (hood_.contains(key)) continue;
-      const std::string part = tile_partition({key.first, key.second});
-      HoodReaders h;
-      h.subscriber = make_subscriber({part});
-      h.tiles = make_reader_on(h.subscriber, TopicKind::Tile, tile_topic_);
-      h.uavs = make_reader_on(h.subscriber, TopicKind::UavNeighbour, uav_topic_);
-      hood_.emplace(key, h);
-    }
+  void join_uav(uint32_t uav, core::RegionId home) override {
+    home_ = home;
+    writer(TopicKind::UavState, uav_topic_, home_partition(home));
+    writer(TopicKind::Deposit, deposit_topic_, region_partition(home));
+    view_reader_ = make_reader(TopicKind::View, view_topic_, {view_partition(uav)});
   }
+
+  void subscribe_home_states(core::RegionId own) override {
+    home_uavs_ = make_reader(TopicKind::UavHome, uav_topic_, {home_partition(own)});
+  }
+
+  void offer_views(std::span<const uint32_t> uavs) override {
+    for (uint32_t u : uavs) writer(TopicKind::View, view_topic_, view_partition(u));
+  }
+
+  void subscribe_fields() override { field_reader_ = make_reader(TopicKind::Field, field_topic_, {kFieldPartition}); }
 
   void subscribe_ground() override {
     ground_tiles_ = make_reader(TopicKind::Tile, tile_topic_, {kAllTiles});
-    ground_uavs_ = make_reader(TopicKind::UavState, uav_topic_, {kGroundPartition});
+    ground_uavs_ = make_reader(TopicKind::UavState, uav_topic_, {kAllHomes});
     detection_reader_ = make_reader(TopicKind::Detection, detection_topic_, {kGroundPartition});
     event_reader_ = make_reader(TopicKind::TargetEvent, event_topic_, {kGroundPartition});
     health_reader_ = make_reader(TopicKind::Health, health_topic_, {kGroundPartition});
+    subscribe_fields();
   }
 
   // ------------------------------------------------------------------- take
@@ -456,24 +536,61 @@ class CycloneBus final : public VendorBus {
 
   void take_tiles(std::vector<core::TileMsg>& out) override {
     keep_alive();
-    auto on_tile = [&](const pheromesh_msg_TileState& s) {
-      if (s.values._length > core::kMaxTileCells || s.layer > 255) {
-        ++stats_.samples_dropped;
-        return;
-      }
-      out.push_back({static_cast<uint8_t>(s.layer), {s.tx, s.ty}, s.tick, s.region, s.width, s.height, get_seq(s.values)});
-    };
-    for (auto& [key, h] : hood_) take_all<pheromesh_msg_TileState>(h.tiles, on_tile, ignore_invalid);
-    if (ground_tiles_ != 0) take_all<pheromesh_msg_TileState>(ground_tiles_, on_tile, ignore_invalid);
+    if (ground_tiles_ == 0) return;
+    take_all<pheromesh_msg_TileState>(
+        ground_tiles_,
+        [&](const pheromesh_msg_TileState& s) {
+          if (s.values._length > core::kMaxTileCells || s.layer > 255) {
+            ++stats_.samples_dropped;
+            return;
+          }
+          out.push_back({static_cast<uint8_t>(s.layer), {s.tx, s.ty}, s.tick, s.region, s.width, s.height, get_seq(s.values)});
+        },
+        ignore_invalid);
+  }
+
+  void take_fields(std::vector<core::FieldMsg>& out) override {
+    keep_alive();
+    if (field_reader_ == 0) return;
+    take_all<pheromesh_msg_RegionField>(
+        field_reader_,
+        [&](const pheromesh_msg_RegionField& s) {
+          core::FieldMsg f;
+          f.region = s.region;
+          f.chunk = s.chunk;
+          f.chunks = s.chunks;
+          f.tick = s.tick;
+          if (!unpack(s, core::kMaxFieldTiles, core::kMaxFieldUavs, s.tick, s.region, f.tiles, f.uavs)) {
+            ++stats_.samples_dropped;
+            return;
+          }
+          out.push_back(std::move(f));
+        },
+        ignore_invalid);
+  }
+
+  void take_views(std::vector<core::ViewMsg>& out) override {
+    keep_alive();
+    if (view_reader_ == 0) return;
+    take_all<pheromesh_msg_View>(
+        view_reader_,
+        [&](const pheromesh_msg_View& s) {
+          core::ViewMsg v;
+          v.uav = s.uav;
+          v.tick = s.tick;
+          if (!unpack(s, core::kMaxViewTiles, core::kMaxViewUavs, s.tick, 0, v.tiles, v.uavs)) {
+            ++stats_.samples_dropped;
+            return;
+          }
+          out.push_back(std::move(v));
+        },
+        ignore_invalid);
   }
 
   void take_uav_states(std::vector<core::UavStateMsg>& out) override {
     keep_alive();
-    auto on_state = [&](const pheromesh_msg_UavState& s) {
-      out.push_back({s.uav, s.tick, s.x, s.y, s.vx, s.vy, s.heading, s.role, s.deposits_sent, s.tile_samples_received,
-                     s.finished});
-    };
-    for (auto& [key, h] : hood_) take_all<pheromesh_msg_UavState>(h.uavs, on_state, ignore_invalid);
+    auto on_state = [&](const pheromesh_msg_UavState& s) { out.push_back(state_in(s)); };
+    if (home_uavs_ != 0) take_all<pheromesh_msg_UavState>(home_uavs_, on_state, ignore_invalid);
     if (ground_uavs_ != 0) {
       take_all<pheromesh_msg_UavState>(ground_uavs_, on_state, [&](const pheromesh_msg_UavState& s, const dds_sample_info_t& info) {
         log_->debug("uav {} instance state {} (valid {})", s.uav, static_cast<int>(info.instance_state), info.valid_data);
@@ -515,6 +632,25 @@ class CycloneBus final : public VendorBus {
 
 
 
+  bool wait(std::initializer_list<TopicKind> kinds, std::chrono::steady_clock::time_point deadline) override {
+    const auto left = std::chrono::duration_cast<std::chrono::nanoseconds>(deadline - std::chrono::steady_clock::now());
+    if (left.count() <= 0) return false;
+    uint32_t mask = 0;
+    for (auto k : kinds) mask |= 1U << static_cast<unsigned>(k);
+    auto it = waitsets_.find(mask);
+    if (it == waitsets_.end()) {
+      // One wait set per set of kinds, holding the read conditions of the
+      // readers of those kinds (make_reader_on attaches later ones).
+      const dds_entity_t ws = PHM_DDS(dds_create_waitset(participant_));
+      for (const auto& [kind, cond] : conditions_) {
+        if ((mask >> kind & 1U) != 0) PHM_DDS(dds_waitset_attach(ws, cond, cond));
+      }
+      it = waitsets_.emplace(mask, ws).first;
+    }
+    const dds_return_t n = dds_waitset_wait(it->second, nullptr, 0, left.count());
+    return n > 0;
+  }
+
   bool flush(std::chrono::milliseconds timeout) override {
     const auto deadline = std::chrono::steady_clock::now() + timeout;
     bool all = true;
@@ -537,9 +673,6 @@ class CycloneBus final : public VendorBus {
   struct WriterEntry {
     dds_entity_t publisher = 0;
     dds_entity_t writer = 0;
-  };
-  struct HoodReaders {
-    dds_entity_t subscriber = 0, tiles = 0, uavs = 0;
   };
 
   // Manual-by-topic writers (qos.cpp) are asserted while the process keeps
@@ -578,14 +711,6 @@ class CycloneBus final : public VendorBus {
     return e.writer;
   }
 
-  void drop_writer(TopicKind k, const std::string& partition) {
-    const auto key = std::make_pair(static_cast<int>(k), partition);
-    if (auto it = writers_.find(key); it != writers_.end()) {
-      dds_delete(it->second.publisher);
-      writers_.erase(it);
-    }
-  }
-
   dds_entity_t make_subscriber(const std::vector<std::string>& partitions) {
     QosPtr sq(dds_create_qos());
     std::vector<const char*> names;
@@ -595,9 +720,18 @@ class CycloneBus final : public VendorBus {
     return PHM_DDS(dds_create_subscriber(participant_, sq.get(), nullptr));
   }
 
+  // Every reader wakes wait(): a read condition on its unread samples
+  // (including the no-writers notifications of departures) joins the wait set.
   dds_entity_t make_reader_on(dds_entity_t subscriber, TopicKind k, dds_entity_t topic) {
     QosPtr q = topic_qos_cyclone(k, opt_.liveliness_lease, true);
-    return PHM_DDS(dds_create_reader(subscriber, topic, q.get(), nullptr));
+    const dds_entity_t r = PHM_DDS(dds_create_reader(subscriber, topic, q.get(), nullptr));
+    const dds_entity_t cond = PHM_DDS(dds_create_readcondition(r, DDS_NOT_READ_SAMPLE_STATE));
+    const auto kind = static_cast<unsigned>(k);
+    conditions_.emplace_back(kind, cond);
+    for (const auto& [mask, ws] : waitsets_) {
+      if ((mask >> kind & 1U) != 0) PHM_DDS(dds_waitset_attach(ws, cond, cond));
+    }
+    return r;
   }
 
   dds_entity_t make_reader(TopicKind k, dds_entity_t topic, const std::vector<std::string>& partitions) {
@@ -610,9 +744,11 @@ class CycloneBus final : public VendorBus {
   dds_entity_t participant_ = 0;
   dds_entity_t tile_topic_ = 0, deposit_topic_ = 0, uav_topic_ = 0, detection_topic_ = 0, event_topic_ = 0,
                health_topic_ = 0, halo_topic_ = 0, clock_topic_ = 0, done_topic_ = 0, broadcast_topic_ = 0,
-               command_topic_ = 0;
+               command_topic_ = 0, view_topic_ = 0, field_topic_ = 0;
+  std::vector<std::pair<unsigned, dds_entity_t>> conditions_;  // (reader kind, its read condition)
+  std::map<uint32_t, dds_entity_t> waitsets_;                   // kinds mask -> wait set
   std::map<std::pair<int, std::string>, WriterEntry> writers_;
-  std::map<std::pair<int32_t, int32_t>, HoodReaders> hood_;
+  dds_entity_t view_reader_ = 0, field_reader_ = 0, home_uavs_ = 0;
   dds_entity_t deposit_reader_ = 0, halo_reader_ = 0, ground_tiles_ = 0, ground_uavs_ = 0, detection_reader_ = 0,
                event_reader_ = 0, health_reader_ = 0, clock_reader_ = 0, done_reader_ = 0, broadcast_reader_ = 0,
                command_reader_ = 0;

@@ -14,6 +14,8 @@
 //    killed process leaves nothing in /dev/shm.
 #include "fastdds_bus.hpp"
 
+#include <fastdds/dds/core/condition/StatusCondition.hpp>
+#include <fastdds/dds/core/condition/WaitSet.hpp>
 #include <fastdds/dds/core/policy/QosPolicies.hpp>
 #include <fastdds/dds/domain/DomainParticipant.hpp>
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
@@ -167,6 +169,63 @@ std::vector<core::RegionCount> region_counts_in(const std::vector<msg::RegionCou
   return out;
 }
 
+msg::UavState state_out(const core::UavStateMsg& m) {
+  msg::UavState s;
+  s.uav(m.uav);
+  s.tick(m.tick);
+  s.x(m.x);
+  s.y(m.y);
+  s.vx(m.vx);
+  s.vy(m.vy);
+  s.heading(m.heading);
+  s.role(m.role);
+  s.deposits_sent(m.deposits_sent);
+  s.tile_samples_received(m.tile_samples_received);
+  s.ticks_late(m.ticks_late);
+  s.view_x(m.view.x);
+  s.view_y(m.view.y);
+  s.finished(m.finished);
+  return s;
+}
+
+core::UavStateMsg state_in(const msg::UavState& s) {
+  return core::UavStateMsg{s.uav(),     s.tick(),          s.x(),
+                           s.y(),       s.vx(),            s.vy(),
+                           s.heading(), s.role(),          s.deposits_sent(),
+                           s.tile_samples_received(), s.ticks_late(), {s.view_x(), s.view_y()}, s.finished()};
+}
+
+std::vector<msg::TilePatch> patches_out(const std::vector<core::TileMsg>& tiles) {
+  std::vector<msg::TilePatch> out(tiles.size());
+  for (std::size_t i = 0; i < tiles.size(); ++i) {
+    const auto& t = tiles[i];
+    out[i].layer(t.layer);
+    out[i].tx(static_cast<uint16_t>(t.tile.tx));
+    out[i].ty(static_cast<uint16_t>(t.tile.ty));
+    out[i].width(t.width);
+    out[i].height(t.height);
+    out[i].values(t.values);
+  }
+  return out;
+}
+
+// Tiles and states of a received view or field; false if malformed.
+template <typename Msg>
+bool unpack(const Msg& s, std::size_t max_tiles, std::size_t max_uavs, uint32_t tick, core::RegionId region,
+            std::vector<core::TileMsg>& tiles, std::vector<core::UavStateMsg>& uavs) {
+  if (s.tiles().size() > max_tiles || s.uavs().size() > max_uavs) return false;
+  for (const auto& p : s.tiles()) {
+    if (p.values().size() > core::kMaxTileCells || p.layer() > 255) return false;
+  }
+  tiles.reserve(s.tiles().size());
+  for (const auto& p : s.tiles()) {
+    tiles.push_back({static_cast<uint8_t>(p.layer()), {p.tx(), p.ty()}, tick, region, p.width(), p.height(), p.values()});
+  }
+  uavs.reserve(s.uavs().size());
+  for (const auto& u : s.uavs()) uavs.push_back(state_in(u));
+  return true;
+}
+
 // A DataReader listener that reports writers whose liveliness was lost (the
 // process died or hung) by their publication handle. Runs on a Fast DDS thread.
 class LivelinessWatch final : public fdds::DataReaderListener {
@@ -272,6 +331,10 @@ class FastDdsBus final : public VendorBus {
       pq = factory->get_default_participant_qos();
     }
     pq.name(o.process_name.empty() ? "pheromesh" : o.process_name);
+    // A launcher-given participant id fixes this process's ports (7410 +
+    // 250 domain + 2 id): no search for free ports, so no limit of about 120
+    // participants per host that the search (mutation_tries) imposes.
+    if (o.participant_id >= 0) pq.wire_protocol().participant_id = o.participant_id;
     participant_ = factory->create_participant(o.domain, pq);
     if (participant_ == nullptr) {
       throw std::runtime_error("cannot create a participant on domain " + std::to_string(o.domain) +
@@ -288,9 +351,16 @@ class FastDdsBus final : public VendorBus {
     register_topic<msg::PhaseDonePubSubType>(TopicKind::PhaseDone);
     register_topic<msg::BroadcastPubSubType>(TopicKind::Broadcast);
     register_topic<msg::CommandPubSubType>(TopicKind::Command);
+    register_topic<msg::ViewPubSubType>(TopicKind::View);
+    register_topic<msg::RegionFieldPubSubType>(TopicKind::Field);
   }
 
   ~FastDdsBus() override {
+    // Wait sets first: they refer to the readers' status conditions.
+    for (auto& [mask, ws] : waitsets_) {
+      for (const auto& [kind, reader] : readers_) ws->detach_condition(reader->get_statuscondition());
+    }
+    waitsets_.clear();
     if (participant_ != nullptr) {
       participant_->delete_contained_entities();
       fdds::DomainParticipantFactory::get_instance()->delete_participant(participant_);
@@ -314,7 +384,7 @@ class FastDdsBus final : public VendorBus {
     return write(writer(TopicKind::Tile, tile_partition(m.tile)), &s);
   }
 
-  bool publish_deposit(const core::DepositMsg& m) override {
+  bool publish_deposit(const core::DepositMsg& m, core::RegionId via) override {
     msg::Deposit s;
     s.uav(m.uav);
     s.seq(m.seq);
@@ -326,28 +396,41 @@ class FastDdsBus final : public VendorBus {
     s.y(m.cell.y);
     s.amount(m.amount);
     s.spread({m.spread[0], m.spread[1], m.spread[2]});
-    return write(writer(TopicKind::Deposit, region_partition(m.region)), &s);
+    return write(writer(TopicKind::Deposit, region_partition(via)), &s);
   }
 
-  bool publish_uav_state(const core::UavStateMsg& m, TileCoord over) override {
-    msg::UavState s;
+  bool publish_uav_state(const core::UavStateMsg& m) override {
+    if (!home_) throw std::logic_error("publish_uav_state before join_uav");
+    msg::UavState s = state_out(m);
+    return write(writer(TopicKind::UavState, home_partition(*home_)), &s);
+  }
+
+  bool publish_view(const core::ViewMsg& m) override {
+    if (!view_fits(m)) return false;
+    msg::View s;
     s.uav(m.uav);
     s.tick(m.tick);
-    s.x(m.x);
-    s.y(m.y);
-    s.vx(m.vx);
-    s.vy(m.vy);
-    s.heading(m.heading);
-    s.role(m.role);
-    s.deposits_sent(m.deposits_sent);
-    s.tile_samples_received(m.tile_samples_received);
-    s.finished(m.finished);
-    // The ground station reads the stable "g" writer (clean liveliness); the
-    // neighbours read the writer of the tile the UAV is over.
-    const bool ground = write(writer(TopicKind::UavState, kGroundPartition), &s);
-    const std::string part = tile_partition(over);
-    for (const auto& left : tiles_left_behind(part)) drop_writer(TopicKind::UavNeighbour, left);
-    return write(writer(TopicKind::UavNeighbour, part), &s) && ground;
+    s.tiles(patches_out(m.tiles));
+    std::vector<msg::UavState> uavs;
+    uavs.reserve(m.uavs.size());
+    for (const auto& u : m.uavs) uavs.push_back(state_out(u));
+    s.uavs(std::move(uavs));
+    return write(writer(TopicKind::View, view_partition(m.uav)), &s);
+  }
+
+  bool publish_field(const core::FieldMsg& m) override {
+    if (!field_fits(m)) return false;
+    msg::RegionField s;
+    s.region(m.region);
+    s.chunk(m.chunk);
+    s.chunks(m.chunks);
+    s.tick(m.tick);
+    s.tiles(patches_out(m.tiles));
+    std::vector<msg::UavState> uavs;
+    uavs.reserve(m.uavs.size());
+    for (const auto& u : m.uavs) uavs.push_back(state_out(u));
+    s.uavs(std::move(uavs));
+    return write(writer(TopicKind::Field, kFieldPartition), &s);
   }
 
   bool publish_broadcast(const core::BroadcastMsg& m) override {
@@ -486,33 +569,30 @@ class FastDdsBus final : public VendorBus {
     if (!parts.empty()) halo_reader_ = make_reader(TopicKind::Halo, parts);
   }
 
-  void set_neighbourhood(std::span<const TileCoord> tiles) override {
-    std::set<std::pair<int32_t, int32_t>> wanted;
-    for (auto t : tiles) wanted.insert({t.tx, t.ty});
-    for (auto it = hood_.begin(); it != hood_.end();) {
-      if (!wanted.contains(it->first)) {
-        delete_subscriber(it->second.subscriber);
-        it = hood_.erase(it);
-      } else {
-        ++it;
-      }
-    }
-    for (const auto& key : wanted) {
-      if (hood_.contains(key)) continue;
-      HoodReaders h;
-      h.subscriber = make_subscriber({tile_partition({key.first, key.second})});
-      h.tiles = make_reader_on(h.subscriber, TopicKind::Tile);
-      h.uavs = make_reader_on(h.subscriber, TopicKind::UavNeighbour);
-      hood_.emplace(key, h);
-    }
+  void join_uav(uint32_t uav, core::RegionId home) override {
+    home_ = home;
+    writer(TopicKind::UavState, home_partition(home));
+    writer(TopicKind::Deposit, region_partition(home));
+    view_reader_ = make_reader(TopicKind::View, {view_partition(uav)});
   }
+
+  void subscribe_home_states(core::RegionId own) override {
+    home_uavs_ = make_reader(TopicKind::UavHome, {home_partition(own)});
+  }
+
+  void offer_views(std::span<const uint32_t> uavs) override {
+    for (uint32_t u : uavs) writer(TopicKind::View, view_partition(u));
+  }
+
+  void subscribe_fields() override { field_reader_ = make_reader(TopicKind::Field, {kFieldPartition}); }
 
   void subscribe_ground() override {
     ground_tiles_ = make_reader(TopicKind::Tile, {kAllTiles});
-    ground_uavs_ = make_reader(TopicKind::UavState, {kGroundPartition}, &uav_departures_.watch);
+    ground_uavs_ = make_reader(TopicKind::UavState, {kAllHomes}, &uav_departures_.watch);
     detection_reader_ = make_reader(TopicKind::Detection, {kGroundPartition});
     event_reader_ = make_reader(TopicKind::TargetEvent, {kGroundPartition});
     health_reader_ = make_reader(TopicKind::Health, {kGroundPartition}, &region_departures_.watch);
+    subscribe_fields();
   }
 
   void subscribe_broadcasts() override { broadcast_reader_ = make_reader(TopicKind::Broadcast, {kBroadcastPartition}); }
@@ -580,36 +660,66 @@ class FastDdsBus final : public VendorBus {
 
   void take_tiles(std::vector<core::TileMsg>& out) override {
     keep_alive();
-    auto on_tile = [&](const msg::TileState& s, const fdds::SampleInfo& /*info*/) {
-      if (s.values().size() > core::kMaxTileCells || s.layer() > 255) {
-        ++stats_.samples_dropped;
-        return;
-      }
-      out.push_back({static_cast<uint8_t>(s.layer()), {s.tx(), s.ty()}, s.tick(), s.region(), s.width(), s.height(), s.values()});
-    };
-    for (auto& [key, h] : hood_) take_each<msg::TileState>(h.tiles, on_tile, ignore_invalid);
-    take_each<msg::TileState>(ground_tiles_, on_tile, ignore_invalid);
+    take_each<msg::TileState>(
+        ground_tiles_,
+        [&](const msg::TileState& s, const fdds::SampleInfo& /*info*/) {
+          if (s.values().size() > core::kMaxTileCells || s.layer() > 255) {
+            ++stats_.samples_dropped;
+            return;
+          }
+          out.push_back(
+              {static_cast<uint8_t>(s.layer()), {s.tx(), s.ty()}, s.tick(), s.region(), s.width(), s.height(), s.values()});
+        },
+        ignore_invalid);
+  }
+
+  void take_fields(std::vector<core::FieldMsg>& out) override {
+    keep_alive();
+    take_each<msg::RegionField>(
+        field_reader_,
+        [&](const msg::RegionField& s, const fdds::SampleInfo& /*info*/) {
+          core::FieldMsg f;
+          f.region = s.region();
+          f.chunk = s.chunk();
+          f.chunks = s.chunks();
+          f.tick = s.tick();
+          if (!unpack(s, core::kMaxFieldTiles, core::kMaxFieldUavs, s.tick(), s.region(), f.tiles, f.uavs)) {
+            ++stats_.samples_dropped;
+            return;
+          }
+          out.push_back(std::move(f));
+        },
+        ignore_invalid);
+  }
+
+  void take_views(std::vector<core::ViewMsg>& out) override {
+    keep_alive();
+    take_each<msg::View>(
+        view_reader_,
+        [&](const msg::View& s, const fdds::SampleInfo& /*info*/) {
+          core::ViewMsg v;
+          v.uav = s.uav();
+          v.tick = s.tick();
+          if (!unpack(s, core::kMaxViewTiles, core::kMaxViewUavs, s.tick(), 0, v.tiles, v.uavs)) {
+            ++stats_.samples_dropped;
+            return;
+          }
+          out.push_back(std::move(v));
+        },
+        ignore_invalid);
   }
 
   void take_uav_states(std::vector<core::UavStateMsg>& out) override {
     keep_alive();
-    auto to_core = [](const msg::UavState& s) {
-      return core::UavStateMsg{s.uav(),     s.tick(),          s.x(),
-                               s.y(),       s.vx(),            s.vy(),
-                               s.heading(), s.role(),          s.deposits_sent(),
-                               s.tile_samples_received(), s.finished()};
-    };
-    for (auto& [key, h] : hood_) {
-      take_each<msg::UavState>(
-          h.uavs, [&](const msg::UavState& s, const fdds::SampleInfo& /*info*/) { out.push_back(to_core(s)); },
-          ignore_invalid);
-    }
+    take_each<msg::UavState>(
+        home_uavs_, [&](const msg::UavState& s, const fdds::SampleInfo& /*info*/) { out.push_back(state_in(s)); },
+        ignore_invalid);
     if (ground_uavs_ != nullptr) {
       take_each<msg::UavState>(
           ground_uavs_,
           [&](const msg::UavState& s, const fdds::SampleInfo& info) {
             uav_departures_.seen(info, s.uav());
-            out.push_back(to_core(s));
+            out.push_back(state_in(s));
           },
           [&](const fdds::SampleInfo& info) { uav_departures_.on_invalid(info, departed_uavs_); });
       uav_departures_.collect_lost(departed_uavs_);
@@ -664,6 +774,27 @@ class FastDdsBus final : public VendorBus {
 
 
 
+  bool wait(std::initializer_list<TopicKind> kinds, std::chrono::steady_clock::time_point deadline) override {
+    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
+    if (left.count() <= 0) return false;
+    uint32_t mask = 0;
+    for (auto k : kinds) mask |= 1U << static_cast<unsigned>(k);
+    auto it = waitsets_.find(mask);
+    if (it == waitsets_.end()) {
+      // One wait set per set of kinds, holding the data-available status
+      // conditions of the readers of those kinds (later readers join in
+      // make_reader_on).
+      auto ws = std::make_unique<fdds::WaitSet>();
+      for (const auto& [kind, reader] : readers_) {
+        if ((mask >> kind & 1U) != 0) ws->attach_condition(reader->get_statuscondition());
+      }
+      it = waitsets_.emplace(mask, std::move(ws)).first;
+    }
+    fdds::ConditionSeq active;
+    const ReturnCode_t rc = it->second->wait(active, to_duration(left));
+    return rc == ReturnCode_t::RETCODE_OK && !active.empty();
+  }
+
   bool flush(std::chrono::milliseconds timeout) override {
     const auto deadline = std::chrono::steady_clock::now() + timeout;
     bool all = true;
@@ -691,11 +822,6 @@ class FastDdsBus final : public VendorBus {
   struct WriterEntry {
     fdds::Publisher* publisher = nullptr;
     fdds::DataWriter* writer = nullptr;
-  };
-  struct HoodReaders {
-    fdds::Subscriber* subscriber = nullptr;
-    fdds::DataReader* tiles = nullptr;
-    fdds::DataReader* uavs = nullptr;
   };
 
   template <typename PubSub>
@@ -748,15 +874,6 @@ class FastDdsBus final : public VendorBus {
     return e.writer;
   }
 
-  void drop_writer(TopicKind k, const std::string& partition) {
-    const auto key = std::make_pair(static_cast<int>(k), partition);
-    if (auto it = writers_.find(key); it != writers_.end()) {
-      it->second.publisher->delete_datawriter(it->second.writer);
-      participant_->delete_publisher(it->second.publisher);
-      writers_.erase(it);
-    }
-  }
-
   fdds::Subscriber* make_subscriber(const std::vector<std::string>& partitions) {
     fdds::SubscriberQos sq = fdds::SUBSCRIBER_QOS_DEFAULT;
     for (const auto& p : partitions) sq.partition().push_back(p.c_str());
@@ -765,16 +882,18 @@ class FastDdsBus final : public VendorBus {
     return s;
   }
 
-  void delete_subscriber(fdds::Subscriber* s) {
-    s->delete_contained_entities();
-    participant_->delete_subscriber(s);
-  }
-
   fdds::DataReader* make_reader_on(fdds::Subscriber* s, TopicKind k, fdds::DataReaderListener* listener = nullptr) {
     const fdds::StatusMask mask = listener != nullptr ? fdds::StatusMask::liveliness_changed() : fdds::StatusMask::none();
     fdds::DataReader* r =
         s->create_datareader(topic(k), to_fastdds_reader(topic_qos(k, Endpoint::Reader, opt_.liveliness_lease)), listener, mask);
     if (r == nullptr) throw std::runtime_error(std::string("cannot create a reader of ") + to_string(k));
+    // Every reader can wake wait(): its data-available status condition.
+    r->get_statuscondition().set_enabled_statuses(fdds::StatusMask::data_available());
+    const auto kind = static_cast<unsigned>(k);
+    readers_.emplace_back(kind, r);
+    for (const auto& [mask, ws] : waitsets_) {
+      if ((mask >> kind & 1U) != 0) ws->attach_condition(r->get_statuscondition());
+    }
     return r;
   }
 
@@ -786,7 +905,9 @@ class FastDdsBus final : public VendorBus {
   fdds::DomainParticipant* participant_ = nullptr;
   std::map<std::string, fdds::Topic*> topics_;
   std::map<std::pair<int, std::string>, WriterEntry> writers_;
-  std::map<std::pair<int32_t, int32_t>, HoodReaders> hood_;
+  std::vector<std::pair<unsigned, fdds::DataReader*>> readers_;          // (kind, reader), for wait sets
+  std::map<uint32_t, std::unique_ptr<fdds::WaitSet>> waitsets_;          // kinds mask -> wait set
+  fdds::DataReader *view_reader_ = nullptr, *field_reader_ = nullptr, *home_uavs_ = nullptr;
   fdds::DataReader *deposit_reader_ = nullptr, *halo_reader_ = nullptr, *ground_tiles_ = nullptr,
                    *ground_uavs_ = nullptr, *detection_reader_ = nullptr, *event_reader_ = nullptr,
                    *health_reader_ = nullptr, *clock_reader_ = nullptr, *done_reader_ = nullptr,

@@ -60,12 +60,20 @@ QosSpec topic_qos(TopicKind kind, Endpoint endpoint, std::chrono::milliseconds l
         keep_last(64);
       }
       break;
-    case TopicKind::UavNeighbour:
-      // UAV states for the UAVs nearby, in the partition of the tile the UAV
-      // is over. A UAV that just subscribed to a tile still gets the last two
-      // states written there (lockstep needs the previous tick's even when
-      // the next one is already out).
-      keep_last(reader ? 4 : 2);
+    case TopicKind::UavHome:
+      // The home place agent reads the latest state of each UAV homed on it
+      // (lockstep: the state of the UAV phase just finished, written and
+      // acknowledged before the place phase starts). Reader only; the writer
+      // is the UAV's UavState writer, whose liveliness it must accept.
+      q.liveliness = QosSpec::Liveliness::ManualByTopic;
+      keep_last(1);
+      break;
+    case TopicKind::View:
+    case TopicKind::Field:
+      // The latest view of a UAV, the latest field chunk of a region: a newer
+      // one replaces an older one. Lockstep never has two in flight (each is
+      // acknowledged before the phase that produced it reports done).
+      keep_last(1);
       break;
     case TopicKind::Broadcast:
       // Every broadcast matters; a few ticks of them for late joiners.
@@ -104,7 +112,7 @@ const char* topic_name(TopicKind kind) {
     case TopicKind::Tile: return "pheromesh_tile";
     case TopicKind::Deposit: return "pheromesh_deposit";
     case TopicKind::UavState:
-    case TopicKind::UavNeighbour: return "pheromesh_uav_state";
+    case TopicKind::UavHome: return "pheromesh_uav_state";
     case TopicKind::Detection: return "pheromesh_detection";
     case TopicKind::TargetEvent: return "pheromesh_target_event";
     case TopicKind::Health: return "pheromesh_place_health";
@@ -113,6 +121,8 @@ const char* topic_name(TopicKind kind) {
     case TopicKind::PhaseDone: return "pheromesh_phase_done";
     case TopicKind::Broadcast: return "pheromesh_broadcast";
     case TopicKind::Command: return "pheromesh_command";
+    case TopicKind::View: return "pheromesh_view";
+    case TopicKind::Field: return "pheromesh_region_field";
   }
   throw std::logic_error("unknown topic kind");
 }
@@ -122,7 +132,7 @@ const char* type_name(TopicKind kind) {
     case TopicKind::Tile: return "pheromesh::msg::TileState";
     case TopicKind::Deposit: return "pheromesh::msg::Deposit";
     case TopicKind::UavState:
-    case TopicKind::UavNeighbour: return "pheromesh::msg::UavState";
+    case TopicKind::UavHome: return "pheromesh::msg::UavState";
     case TopicKind::Detection: return "pheromesh::msg::Detection";
     case TopicKind::TargetEvent: return "pheromesh::msg::TargetEvent";
     case TopicKind::Health: return "pheromesh::msg::PlaceHealth";
@@ -131,6 +141,8 @@ const char* type_name(TopicKind kind) {
     case TopicKind::PhaseDone: return "pheromesh::msg::PhaseDone";
     case TopicKind::Broadcast: return "pheromesh::msg::Broadcast";
     case TopicKind::Command: return "pheromesh::msg::Command";
+    case TopicKind::View: return "pheromesh::msg::View";
+    case TopicKind::Field: return "pheromesh::msg::RegionField";
   }
   throw std::logic_error("unknown topic kind");
 }
@@ -140,7 +152,7 @@ const char* to_string(TopicKind kind) {
     case TopicKind::Tile: return "tile";
     case TopicKind::Deposit: return "deposit";
     case TopicKind::UavState: return "uav-state";
-    case TopicKind::UavNeighbour: return "uav-neighbour";
+    case TopicKind::UavHome: return "uav-home";
     case TopicKind::Detection: return "detection";
     case TopicKind::TargetEvent: return "target-event";
     case TopicKind::Health: return "health";
@@ -149,6 +161,8 @@ const char* to_string(TopicKind kind) {
     case TopicKind::PhaseDone: return "phase-done";
     case TopicKind::Broadcast: return "broadcast";
     case TopicKind::Command: return "command";
+    case TopicKind::View: return "view";
+    case TopicKind::Field: return "field";
   }
   return "?";
 }

@@ -11,13 +11,14 @@ namespace pheromesh::bus::routing {
 inline std::string tile_partition(core::TileCoord t) { return "t." + std::to_string(t.tx) + "." + std::to_string(t.ty); }
 inline std::string region_partition(core::RegionId r) { return "r." + std::to_string(r); }
 inline std::string halo_partition(core::RegionId r) { return "h." + std::to_string(r); }
+inline std::string home_partition(core::RegionId r) { return "s." + std::to_string(r); }
+inline std::string view_partition(uint32_t uav) { return "u." + std::to_string(uav); }
+inline constexpr const char* kAllHomes = "s.*";
+inline constexpr const char* kFieldPartition = "f";
 inline constexpr const char* kAllTiles = "t.*";
 inline constexpr const char* kGroundPartition = "g";
 inline constexpr const char* kClockPartition = "c";
 inline constexpr const char* kBroadcastPartition = "b";
 inline constexpr const char* kCommandPartition = "k";
-// A UAV keeps the neighbour-state writer of a tile it left for this many
-// further states, so UAVs that subscribe to that tile late still get them.
-inline constexpr int kKeepLeftTileWriter = 3;
 
 }  // namespace pheromesh::bus::routing

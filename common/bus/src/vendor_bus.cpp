@@ -1,5 +1,7 @@
 #include "vendor_bus.hpp"
 
+#include <algorithm>
+
 #include "routing.hpp"
 
 namespace pheromesh::bus {
@@ -20,18 +22,24 @@ bool VendorBus::refuse(const char* what, std::size_t n) {
   return false;
 }
 
-std::vector<std::string> VendorBus::tiles_left_behind(const std::string& part) {
-  std::vector<std::string> drop;
-  for (auto it = left_tiles_.begin(); it != left_tiles_.end();) {
-    if (it->first != part && ++it->second > routing::kKeepLeftTileWriter) {
-      drop.push_back(it->first);
-      it = left_tiles_.erase(it);
-    } else {
-      ++it;
-    }
-  }
-  left_tiles_[part] = 0;
-  return drop;
+namespace {
+bool tiles_fit(const std::vector<core::TileMsg>& tiles) {
+  return std::all_of(tiles.begin(), tiles.end(), [](const auto& t) { return t.values.size() <= core::kMaxTileCells; });
+}
+}  // namespace
+
+bool VendorBus::view_fits(const core::ViewMsg& m) {
+  if (m.tiles.size() > core::kMaxViewTiles) return refuse("view tiles", m.tiles.size());
+  if (m.uavs.size() > core::kMaxViewUavs) return refuse("view states", m.uavs.size());
+  if (!tiles_fit(m.tiles)) return refuse("view tile values", core::kMaxTileCells + 1);
+  return true;
+}
+
+bool VendorBus::field_fits(const core::FieldMsg& m) {
+  if (m.tiles.size() > core::kMaxFieldTiles) return refuse("field tiles", m.tiles.size());
+  if (m.uavs.size() > core::kMaxFieldUavs) return refuse("field states", m.uavs.size());
+  if (!tiles_fit(m.tiles)) return refuse("field tile values", core::kMaxTileCells + 1);
+  return true;
 }
 
 bool VendorBus::keep_alive_due() {

@@ -1,6 +1,6 @@
 // What the two vendor buses share beyond the Bus interface: the departure
-// lists, the statistics, refusing over-bound samples, the bookkeeping of the
-// tiles a UAV left, and the pace of keeping manual-by-topic writers alive.
+// lists, the statistics, refusing over-bound samples, a UAV's home, and the
+// pace of keeping manual-by-topic writers alive.
 #pragma once
 
 #include <spdlog/spdlog.h>
@@ -8,6 +8,7 @@
 #include <chrono>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -26,10 +27,9 @@ class VendorBus : public Bus {
 
   // Counts and logs a sample not written because it is over an IDL bound.
   bool refuse(const char* what, std::size_t n);
-  // The UAV's state now goes to tile partition `part`: the partitions whose
-  // neighbour-state writer is to be deleted (left more than
-  // routing::kKeepLeftTileWriter states ago).
-  std::vector<std::string> tiles_left_behind(const std::string& part);
+  // Refuses (counts, logs) a view or field over an IDL bound; true if within.
+  bool view_fits(const core::ViewMsg& m);
+  bool field_fits(const core::FieldMsg& m);
   // True at most four times per liveliness lease (see qos.hpp).
   bool keep_alive_due();
 
@@ -38,9 +38,9 @@ class VendorBus : public Bus {
   std::vector<uint32_t> departed_uavs_;
   std::vector<core::RegionId> departed_regions_;
   BusStats stats_;
+  std::optional<core::RegionId> home_;  // a UAV's home place agent (join_uav)
 
  private:
-  std::map<std::string, int> left_tiles_;  // tile partitions with a neighbour-state writer -> states since left
   std::chrono::steady_clock::time_point last_keep_alive_{};
 };
 

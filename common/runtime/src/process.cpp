@@ -119,7 +119,12 @@ TickClock::TickClock(double rate_hz)
 bool TickClock::wait_next() {
   next_ += period_;
   auto now = std::chrono::steady_clock::now();
-  if (next_ < now - period_) next_ = now;  // fell far behind: do not burst
+  if (next_ < now - period_) {
+    // More than a period behind this tick's boundary: late. Do not burst to
+    // catch up; the schedule restarts from now.
+    ++late_ticks_;
+    next_ = now;
+  }
   // Sleep in slices so a shutdown request is seen within 50 ms.
   while (!shutdown_requested() && now < next_) {
     std::this_thread::sleep_for(std::min<std::chrono::nanoseconds>(next_ - now, std::chrono::milliseconds(50)));

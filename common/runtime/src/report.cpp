@@ -1,5 +1,6 @@
 #include "pheromesh/runtime/report.hpp"
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -47,7 +48,8 @@ nlohmann::json metrics_json(const core::RunRecorder& r, const RunInfo& info) {
   j["processes_killed"] = 0;
   j["processes_crashed"] = 0;
   nlohmann::json per_uav = nlohmann::json::object();
-  uint64_t tile_samples = 0, uav_ticks = 0;
+  uint64_t tile_samples = 0, uav_ticks = 0, ticks_late = 0;
+  double late_share_max = 0.0;
   for (const auto& [id, u] : r.uavs()) {
     per_uav[std::to_string(id)] = {{"last_tick", u.last.tick},
                                    {"x", u.last.x},
@@ -55,11 +57,21 @@ nlohmann::json metrics_json(const core::RunRecorder& r, const RunInfo& info) {
                                    {"role", u.last.role},
                                    {"finished", u.finished},
                                    {"deposits_sent", u.last.deposits_sent},
-                                   {"tile_samples_received", u.last.tile_samples_received}};
+                                   {"tile_samples_received", u.last.tile_samples_received},
+                                   {"ticks_late", u.last.ticks_late}};
     tile_samples += u.last.tile_samples_received;
     uav_ticks += u.last.tick;
+    ticks_late += u.last.ticks_late;
+    if (u.last.tick > 0) late_share_max = std::max(late_share_max, static_cast<double>(u.last.ticks_late) / u.last.tick);
   }
   j["uav_status"] = per_uav;
+  // Keeping time (realtime): UAV ticks flown, and those that started more
+  // than one tick period late, over the swarm and for the worst UAV.
+  j["uav_ticks_flown"] = uav_ticks;
+  j["uav_ticks_late"] = ticks_late;
+  j["uav_late_share"] = uav_ticks > 0 ? static_cast<double>(ticks_late) / static_cast<double>(uav_ticks) : 0.0;
+  j["uav_late_share_max"] = late_share_max;
+  j["discovery_s"] = info.discovery_s ? nlohmann::json(*info.discovery_s) : nlohmann::json();
   // Neighbourhood traffic: tile samples a UAV received per tick, on average.
   j["tile_samples_per_uav_tick"] =
       uav_ticks > 0 ? static_cast<double>(tile_samples) / static_cast<double>(uav_ticks) : 0.0;

@@ -2,19 +2,25 @@
 // topics. Nothing above this header includes a DDS vendor header.
 //
 // Routing (writer-side matching through DDS partitions, so a process receives
-// only what it subscribed to):
-//   tiles, UAV states for neighbours  -> partition "t.<tx>.<ty>" of the tile
-//   deposits                          -> partition "r.<region>" of the owner
-//   halo rings                        -> partition "h.<region>" of the sender
-//   UAV broadcasts (to the whole swarm) -> partition "b"
-//   lockstep clock and phase reports  -> partition "c"
-//   UAV states for the ground station, detections, target events, health
-//                                     -> partition "g"
-//   ground-station commands           -> partition "k"
+// only what it subscribed to). Every endpoint is created once, when a process
+// joins; nothing is created, deleted or re-partitioned while a swarm flies
+// (docs/architecture.md, "Views"):
+//   UAV state    -> "s.<home>": its home place agent and the ground ("s.*")
+//   deposits     -> "r.<region>": a UAV writes to its home place agent, which
+//                   forwards those for other regions to their owner
+//   views        -> "u.<uav>": from the home place agent to that UAV only
+//   region fields (tiles + home UAV states) -> "f": place agents, ground
+//   halo rings   -> "h.<region>" of the sender
+//   UAV broadcasts (to the whole swarm) -> "b"
+//   lockstep clock and phase reports  -> "c"
+//   detections, target events, health -> "g"
+//   ground-station commands           -> "k"
+//   tiles (TileState; only test probes write them now) -> "t.<tx>.<ty>"
 #pragma once
 
 #include <chrono>
 #include <cstdint>
+#include <initializer_list>
 #include <memory>
 #include <span>
 #include <string>
@@ -23,6 +29,7 @@
 #include "pheromesh/core/grid.hpp"
 #include "pheromesh/core/messages.hpp"
 #include "pheromesh/core/result.hpp"
+#include "pheromesh/bus/qos.hpp"
 
 namespace pheromesh::bus {
 
@@ -34,6 +41,9 @@ struct BusOptions {
   // "default" (vendor defaults) or a path to a vendor configuration file.
   std::string profile = "onehost";
   std::chrono::milliseconds liveliness_lease{1000};
+  // Fast DDS participant id (ports 7410 + 250 domain + 2 id) given by the
+  // launcher so that no two processes search for free ports; -1: search.
+  int32_t participant_id = -1;
 };
 
 // Samples dropped by the bus itself (structurally malformed: sequence bounds,
@@ -55,8 +65,12 @@ class Bus {
 
   // --- publishing; false if the sample was refused (bounds) or the write failed
   virtual bool publish_tile(const core::TileMsg& m) = 0;
-  virtual bool publish_deposit(const core::DepositMsg& m) = 0;                  // to m.region
-  virtual bool publish_uav_state(const core::UavStateMsg& m, core::TileCoord over) = 0;
+  // Into the deposit partition of `via`: a UAV's home place agent, or the
+  // owner m.region when a place agent forwards it.
+  virtual bool publish_deposit(const core::DepositMsg& m, core::RegionId via) = 0;
+  virtual bool publish_uav_state(const core::UavStateMsg& m) = 0;  // to the home given to join_uav
+  virtual bool publish_view(const core::ViewMsg& m) = 0;           // to UAV m.uav
+  virtual bool publish_field(const core::FieldMsg& m) = 0;
   virtual bool publish_detection(const core::DetectionMsg& m) = 0;
   virtual bool publish_target_event(const core::TargetEventMsg& m) = 0;
   virtual bool publish_health(const core::HealthMsg& m) = 0;
@@ -77,14 +91,21 @@ class Bus {
   virtual void subscribe_commands() = 0;
   virtual void take_commands(std::vector<core::CommandMsg>& out) = 0;
 
-  // --- subscribing (call once per kind; set_neighbourhood as often as needed)
+  // --- joining and subscribing (each once per process)
+  // A UAV: its state writer and deposit writer towards its home place agent,
+  // and its view reader. Creates every endpoint the UAV flies with.
+  virtual void join_uav(uint32_t uav, core::RegionId home) = 0;
+  // A place agent: deposits for `own` (from its UAVs and forwarded), the
+  // states of the UAVs homed on it, and every region's field.
   virtual void subscribe_deposits(core::RegionId own) = 0;
+  virtual void subscribe_home_states(core::RegionId own) = 0;
+  virtual void subscribe_fields() = 0;
+  // A place agent: the view writers of the UAVs homed on it, created before
+  // they fly (publish_view would otherwise create one on first use).
+  virtual void offer_views(std::span<const uint32_t> uavs) = 0;
   virtual void subscribe_halos(std::span<const core::RegionId> neighbours) = 0;
-  // Tiles and neighbour UAV states of exactly these tiles; readers for tiles
-  // no longer listed are deleted.
-  virtual void set_neighbourhood(std::span<const core::TileCoord> tiles) = 0;
-  // Everything the ground station needs: all tiles, all UAV states,
-  // detections, target events, health.
+  // Everything the ground station needs: every region's field, all UAV
+  // states, detections, target events, health.
   virtual void subscribe_ground() = 0;
   // Every UAV's broadcasts (UAVs and the ground station).
   virtual void subscribe_broadcasts() = 0;
@@ -92,7 +113,10 @@ class Bus {
   // --- taking: append what arrived since the last call
   virtual void take_deposits(std::vector<core::DepositMsg>& out) = 0;
   virtual void take_halos(std::vector<core::HaloMsg>& out) = 0;
+  // Tiles of the fields (and of TileState writers), ground station only.
   virtual void take_tiles(std::vector<core::TileMsg>& out) = 0;
+  virtual void take_fields(std::vector<core::FieldMsg>& out) = 0;
+  virtual void take_views(std::vector<core::ViewMsg>& out) = 0;
   virtual void take_uav_states(std::vector<core::UavStateMsg>& out) = 0;
   virtual void take_detections(std::vector<core::DetectionMsg>& out) = 0;
   virtual void take_target_events(std::vector<core::TargetEventMsg>& out) = 0;
@@ -104,12 +128,18 @@ class Bus {
   // Place agents (ground subscription) whose health writer vanished.
   virtual void take_departed_regions(std::vector<core::RegionId>& out) = 0;
 
+  // Block until one of this process's readers of `kinds` holds a sample not
+  // yet taken (or a departure notice), or `deadline` passes; true if one
+  // does. Backed by the vendor's own wait set, so no process polls. Wait only
+  // on kinds the caller then takes, or the wait returns at once.
+  virtual bool wait(std::initializer_list<TopicKind> kinds, std::chrono::steady_clock::time_point deadline) = 0;
+
   // Block until every reliable sample written so far is acknowledged by the
   // matched readers, or the timeout passes. Returns true if all were acked.
   virtual bool flush(std::chrono::milliseconds timeout) = 0;
 
-  // Number of readers currently matched by this process's deposit writers,
-  // summed (used to wait for a place agent before depositing).
+  // Readers matched by this process's deposit writer into the partition of
+  // `region` (a UAV: its home place agent before depositing).
   [[nodiscard]] virtual uint32_t matched_deposit_readers(core::RegionId region) = 0;
 
   [[nodiscard]] virtual BusStats stats() const = 0;

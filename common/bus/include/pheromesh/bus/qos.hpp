@@ -11,14 +11,15 @@
 
 namespace pheromesh::bus {
 
-// One entry per kind of endpoint pheromesh creates. UavState (to the ground
-// station, partition "g") and UavNeighbour (to the UAVs over the same tile)
-// share the DDS topic "pheromesh_uav_state" but differ in partition and QoS.
+// One entry per kind of endpoint pheromesh creates. UavState (the UAV's
+// writer and the ground station's reader) and UavHome (the home place
+// agent's reader of the same writer) share the DDS topic
+// "pheromesh_uav_state" but differ in reader QoS.
 enum class TopicKind : uint8_t {
   Tile,
   Deposit,
   UavState,
-  UavNeighbour,
+  UavHome,
   Detection,
   TargetEvent,
   Health,
@@ -27,12 +28,14 @@ enum class TopicKind : uint8_t {
   PhaseDone,
   Broadcast,
   Command,
+  View,
+  Field,
 };
 inline constexpr TopicKind kAllTopicKinds[] = {
-    TopicKind::Tile,   TopicKind::Deposit,     TopicKind::UavState, TopicKind::UavNeighbour,
+    TopicKind::Tile,   TopicKind::Deposit,     TopicKind::UavState, TopicKind::UavHome,
     TopicKind::Detection, TopicKind::TargetEvent, TopicKind::Health,
     TopicKind::Halo,   TopicKind::Clock,       TopicKind::PhaseDone, TopicKind::Broadcast,
-    TopicKind::Command};
+    TopicKind::Command, TopicKind::View,      TopicKind::Field};
 
 enum class Endpoint : uint8_t { Writer, Reader };
 

@@ -60,6 +60,8 @@ struct UavStateMsg {
   uint8_t role = 0;
   uint64_t deposits_sent = 0;
   uint64_t tile_samples_received = 0;
+  uint32_t ticks_late = 0;  // realtime ticks that started more than one tick period late
+  Cell view{};            // the cell whose neighbourhood the UAV reads next (its home place agent composes it)
   bool finished = false;  // last state of a UAV that ended its run
 };
 
@@ -154,6 +156,38 @@ struct PhaseDoneMsg {
   // UAV phase: what the UAV wrote (broadcasts 0 or 1, deposits per region).
   uint32_t broadcasts = 0;
   std::vector<RegionCount> deposits;
+};
+
+// The place agent that serves a UAV: it receives the UAV's state and
+// deposits and sends it its view. Fixed for the whole run, so a UAV's DDS
+// endpoints never change while it flies (docs/architecture.md, "Views").
+inline constexpr RegionId home_region(uint32_t uav, uint32_t region_count) {
+  return region_count == 0 ? 0 : uav % region_count;
+}
+
+inline constexpr std::size_t kMaxViewTiles = 1024;  // idl bounds
+inline constexpr std::size_t kMaxViewUavs = 1024;
+inline constexpr std::size_t kMaxFieldTiles = 256;
+inline constexpr std::size_t kMaxFieldUavs = 1024;
+
+// What one UAV reads at a tick (idl View): its neighbourhood's tiles of
+// `tick` and the states of the other UAVs over them.
+struct ViewMsg {
+  uint32_t uav = 0;
+  uint32_t tick = 0;
+  std::vector<TileMsg> tiles;  // tick and region filled in
+  std::vector<UavStateMsg> uavs;
+};
+
+// One chunk of a region's field of `tick` and of the latest states of the
+// UAVs homed there (idl RegionField).
+struct FieldMsg {
+  RegionId region = 0;
+  uint16_t chunk = 0;
+  uint16_t chunks = 1;
+  uint32_t tick = 0;
+  std::vector<TileMsg> tiles;  // tick and region filled in
+  std::vector<UavStateMsg> uavs;
 };
 
 // Semantic checks of received samples (the bus checks structure). Each returns

@@ -71,6 +71,9 @@ class TickClock {
   [[nodiscard]] std::chrono::nanoseconds period() const { return period_; }
   // Ticks per second measured over the last second.
   [[nodiscard]] double measured_rate() const { return measured_rate_; }
+  // Ticks whose wake-up came more than one period after their boundary: the
+  // process could not keep the rate (an overloaded host).
+  [[nodiscard]] uint32_t late_ticks() const { return late_ticks_; }
 
  private:
   std::chrono::nanoseconds period_;
@@ -78,6 +81,7 @@ class TickClock {
   std::chrono::steady_clock::time_point window_start_;
   uint32_t window_ticks_ = 0;
   double measured_rate_ = 0.0;
+  uint32_t late_ticks_ = 0;
 };
 
 }  // namespace pheromesh::runtime

@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -16,6 +17,9 @@ struct RunInfo {
   std::string transport;  // "cyclone", "sim", ...
   std::string clock;      // "realtime", "lockstep", "sim"
   uint32_t uavs_expected = 0;
+  // Seconds from the launch ($PHEROMESH_RUN_T0_MS) until the ground station
+  // had heard every expected UAV and place agent; unset if it never did.
+  std::optional<double> discovery_s;
 };
 
 nlohmann::json metrics_json(const core::RunRecorder& r, const RunInfo& info);
