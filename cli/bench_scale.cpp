@@ -186,6 +186,14 @@ std::string fmt_value(Value v, int precision) {
   return b;
 }
 
+// For the CSV and JSON: whole numbers as such, the rest to four decimals
+// (finer than any of these measurements).
+Value rounded(Value v, int precision) {
+  if (!v || !std::isfinite(*v)) return std::nullopt;
+  const double scale = precision == 0 ? 1.0 : 1e4;
+  return std::round(*v * scale) / scale;
+}
+
 std::string markdown_table(const std::vector<Row>& rows) {
   std::ostringstream o;
   o << "| vendor | N | exit |";
@@ -206,19 +214,21 @@ std::string markdown_table(const std::vector<Row>& rows) {
 std::vector<std::string> summary_lines(const std::vector<Row>& rows, const std::vector<std::string>& vendors, Json& json) {
   std::vector<std::string> lines;
   for (const auto& vendor : vendors) {
-    std::optional<uint32_t> first_late, largest_ok;
+    std::optional<uint32_t> first_late, largest_ok, largest_measured;
     int largest_ok_exit = 0;
     for (const auto& r : rows) {  // rows are in ascending N
       if (r.vendor != vendor) continue;
       const Value late = r.get("late_pct");
       if (!late) continue;
+      largest_measured = r.uavs;
       if (*late > 1.0 && !first_late) first_late = r.uavs;
       if (*late <= 1.0) largest_ok = r.uavs, largest_ok_exit = r.exit_code;
     }
-    std::string line = vendor + ": first N with late share > 1 %: " +
-                       (first_late ? std::to_string(*first_late) : std::string("none measured")) +
+    const std::string none =
+        largest_measured ? "none up to N=" + std::to_string(*largest_measured) : std::string("n/a (no late share reported)");
+    std::string line = vendor + ": first N with late share > 1 %: " + (first_late ? std::to_string(*first_late) : none) +
                        "; largest N with late share <= 1 %: " +
-                       (largest_ok ? std::to_string(*largest_ok) : std::string("none measured"));
+                       (largest_ok ? std::to_string(*largest_ok) : largest_measured ? std::string("none") : none);
     if (largest_ok && largest_ok_exit != 0) line += " (that run exited " + std::to_string(largest_ok_exit) + ")";
     lines.push_back(line);
     json[vendor] = {{"first_n_late_above_1pct", first_late ? Json(*first_late) : Json(nullptr)},
@@ -275,8 +285,7 @@ bool write_results(const Plan& p, const std::vector<Row>& rows, const std::vecto
   for (const auto& r : rows) {
     csv << csv_field(r.vendor) << "," << r.uavs << "," << r.exit_code;
     for (const auto& c : columns()) {
-      const Value v = r.get(c.key);
-      csv << "," << (v && std::isfinite(*v) ? fmt_value(v, 6) : "n/a");
+      csv << "," << fmt_value(rounded(r.get(c.key), c.precision), c.precision == 0 ? 0 : 4);
     }
     csv << "\n";
   }
@@ -285,8 +294,14 @@ bool write_results(const Plan& p, const std::vector<Row>& rows, const std::vecto
   for (const auto& r : rows) {
     Json jr = {{"vendor", r.vendor}, {"uavs", r.uavs}, {"exit_code", r.exit_code}, {"dir", r.dir}};
     for (const auto& c : columns()) {
-      const Value v = r.get(c.key);
-      jr[c.key] = v && std::isfinite(*v) ? Json(*v) : Json(nullptr);
+      const Value v = rounded(r.get(c.key), c.precision);
+      if (!v) {
+        jr[c.key] = nullptr;
+      } else if (c.precision == 0) {
+        jr[c.key] = static_cast<int64_t>(*v);
+      } else {
+        jr[c.key] = *v;
+      }
     }
     j_rows.push_back(std::move(jr));
   }

@@ -57,7 +57,7 @@ struct ChildProcess {
   bool reaped = false;
   double cpu_user_s = 0;   // ru_utime [s]
   double cpu_sys_s = 0;    // ru_stime [s]
-  double max_rss_mib = 0;  // ru_maxrss [MiB]; Linux keeps the pre-exec peak, so never below the launcher's RSS at fork
+  double max_rss_mib = 0;  // ru_maxrss [MiB]; Linux keeps the pre-exec peak: never below the anonymous memory the forked copy of the launcher had
   // The one look at it during the flight (Launcher::sample_resources).
   std::optional<ProcessSample> sample;
   [[nodiscard]] bool crashed() const;

@@ -57,7 +57,8 @@ TEST_P(Interop, EveryMessageArrivesIntact) {
   // Subscriptions first, then one match to know both buses are up.
   r_->subscribe_deposits(7);
   r_->subscribe_halos(std::vector<core::RegionId>{3});
-  r_->set_neighbourhood(std::vector<core::TileCoord>{{2, 5}});
+  r_->subscribe_home_states(3);
+  r_->join_uav(5, 3);  // the reader is UAV 5 for views
   r_->subscribe_ground();
   r_->subscribe_broadcasts();
   r_->subscribe_clock();
@@ -70,7 +71,7 @@ TEST_P(Interop, EveryMessageArrivesIntact) {
   // sample written before its reader matched still arrives (wait_for polls).
 
   const core::DepositMsg dep{11, 42, 9, 7, 4, 2, {-3, 17}, 0.25F, {1.5F, -0.5F, 2.0F}};
-  ASSERT_TRUE(w_->publish_deposit(dep));
+  ASSERT_TRUE(w_->publish_deposit(dep, 7));
   const auto deps = wait_for<core::DepositMsg>([&](auto& v) { r_->take_deposits(v); });
   ASSERT_EQ(deps.size(), 1U);
   EXPECT_EQ(deps[0].uav, 11U);
@@ -86,9 +87,9 @@ TEST_P(Interop, EveryMessageArrivesIntact) {
 
   core::TileMsg tile{3, {2, 5}, 77, 7, 4, 2, {0.5F, 1.0F, -2.0F, 3.25F, 0.0F, 1e-6F, 7.0F, 8.0F}};
   ASSERT_TRUE(w_->publish_tile(tile));
-  // The tile reaches both the neighbourhood reader and the ground's "t.*".
-  const auto tiles = wait_for<core::TileMsg>([&](auto& v) { r_->take_tiles(v); }, 2);
-  ASSERT_EQ(tiles.size(), 2U);
+  // Only the ground's "t.*" reader reads TileState now (UAVs read views).
+  const auto tiles = wait_for<core::TileMsg>([&](auto& v) { r_->take_tiles(v); }, 1);
+  ASSERT_EQ(tiles.size(), 1U);
   for (const auto& t : tiles) {
     EXPECT_EQ(t.layer, 3);
     EXPECT_EQ(t.tile.tx, 2);
@@ -100,12 +101,13 @@ TEST_P(Interop, EveryMessageArrivesIntact) {
     EXPECT_EQ(t.values, tile.values);
   }
 
-  const core::UavStateMsg st{5, 12, 1.25, -2.5, 0.125, 3.0, 6, 2, 1234567890123ULL, 99, true};
-  ASSERT_TRUE(w_->publish_uav_state(st, {2, 5}));
-  // Once to the ground station, once to the UAVs over tile (2,5).
+  const core::UavStateMsg st{5, 12, 1.25, -2.5, 0.125, 3.0, 6, 2, 1234567890123ULL, 99, 8, {3, 4}, true};
+  w_->join_uav(5, 3);
+  ASSERT_TRUE(w_->publish_uav_state(st));
+  // Once to the home place agent's reader ("s.3"), once to the ground's ("s.*").
   const auto states = wait_for<core::UavStateMsg>([&](auto& v) { r_->take_uav_states(v); }, 2);
   ASSERT_EQ(states.size(), 2U);
-  for (const auto& s : states) {
+  const auto expect_state = [](const core::UavStateMsg& s) {
     EXPECT_EQ(s.uav, 5U);
     EXPECT_EQ(s.tick, 12U);
     EXPECT_EQ(s.x, 1.25);
@@ -116,8 +118,46 @@ TEST_P(Interop, EveryMessageArrivesIntact) {
     EXPECT_EQ(s.role, 2);
     EXPECT_EQ(s.deposits_sent, 1234567890123ULL);
     EXPECT_EQ(s.tile_samples_received, 99U);
+    EXPECT_EQ(s.ticks_late, 8U);
+    EXPECT_EQ(s.view.x, 3);
+    EXPECT_EQ(s.view.y, 4);
     EXPECT_TRUE(s.finished);
-  }
+  };
+  for (const auto& s : states) expect_state(s);
+
+  // A view, to UAV 5 only, and a field chunk: nested tiles and states.
+  const core::ViewMsg view{5, 33, {tile, core::TileMsg{1, {3, 5}, 0, 0, 1, 2, {4.5F, -1.0F}}}, {st, st}};
+  ASSERT_TRUE(w_->publish_view(view));
+  const auto views = wait_for<core::ViewMsg>([&](auto& v) { r_->take_views(v); });
+  ASSERT_EQ(views.size(), 1U);
+  EXPECT_EQ(views[0].uav, 5U);
+  EXPECT_EQ(views[0].tick, 33U);
+  ASSERT_EQ(views[0].tiles.size(), 2U);
+  EXPECT_EQ(views[0].tiles[0].values, tile.values);
+  EXPECT_EQ(views[0].tiles[0].tick, 33U);  // a view's tiles are of its tick
+  EXPECT_EQ(views[0].tiles[1].layer, 1);
+  EXPECT_EQ(views[0].tiles[1].tile.tx, 3);
+  EXPECT_EQ(views[0].tiles[1].height, 2);
+  EXPECT_EQ(views[0].tiles[1].values, (std::vector<float>{4.5F, -1.0F}));
+  ASSERT_EQ(views[0].uavs.size(), 2U);
+  for (const auto& s : views[0].uavs) expect_state(s);
+  const core::ViewMsg other{6, 33, {tile}, {}};  // UAV 6's view: not for this reader
+  ASSERT_TRUE(w_->publish_view(other));
+
+  const core::FieldMsg field{7, 1, 2, 44, {tile}, {st}};
+  ASSERT_TRUE(w_->publish_field(field));
+  const auto fields = wait_for<core::FieldMsg>([&](auto& v) { r_->take_fields(v); });
+  ASSERT_EQ(fields.size(), 1U);
+  EXPECT_EQ(fields[0].region, 7U);
+  EXPECT_EQ(fields[0].chunk, 1);
+  EXPECT_EQ(fields[0].chunks, 2);
+  EXPECT_EQ(fields[0].tick, 44U);
+  ASSERT_EQ(fields[0].tiles.size(), 1U);
+  EXPECT_EQ(fields[0].tiles[0].region, 7U);
+  EXPECT_EQ(fields[0].tiles[0].tick, 44U);
+  EXPECT_EQ(fields[0].tiles[0].values, tile.values);
+  ASSERT_EQ(fields[0].uavs.size(), 1U);
+  expect_state(fields[0].uavs[0]);
 
   ASSERT_TRUE(w_->publish_detection({5, 13, 2, {8, -1}}));
   const auto dets = wait_for<core::DetectionMsg>([&](auto& v) { r_->take_detections(v); });
@@ -209,6 +249,10 @@ TEST_P(Interop, EveryMessageArrivesIntact) {
   EXPECT_EQ(cmds[0].mac, cmd.mac);
 
   EXPECT_EQ(r_->stats().samples_dropped, 0U);
+  // UAV 6's view never reached UAV 5 (its partition is "u.6").
+  std::vector<core::ViewMsg> stray;
+  r_->take_views(stray);
+  EXPECT_TRUE(stray.empty());
 }
 
 TEST_P(Interop, SamplesOverTheIdlBoundsAreRefusedBeforeWriting) {
@@ -216,7 +260,13 @@ TEST_P(Interop, SamplesOverTheIdlBoundsAreRefusedBeforeWriting) {
   EXPECT_FALSE(w_->publish_tile(tile));
   EXPECT_FALSE(w_->publish_broadcast({0, 1, 0, std::vector<double>(65, 0.0)}));
   EXPECT_FALSE(w_->publish_halo({0, 1, std::vector<float>(4097, 0.0F), {}}));
-  EXPECT_EQ(w_->stats().writes_refused, 3U);
+  core::ViewMsg view{0, 1, std::vector<core::TileMsg>(1025), {}};
+  EXPECT_FALSE(w_->publish_view(view));
+  core::FieldMsg field{0, 0, 1, 1, std::vector<core::TileMsg>(257), {}};
+  EXPECT_FALSE(w_->publish_field(field));
+  field.tiles = {tile};  // a tile over its own bound inside a field
+  EXPECT_FALSE(w_->publish_field(field));
+  EXPECT_EQ(w_->stats().writes_refused, 6U);
   EXPECT_EQ(w_->stats().writes_failed, 0U);
 }
 
@@ -241,24 +291,51 @@ namespace {
 class Departure : public testing::TestWithParam<Pair> {};
 
 TEST_P(Departure, AReaderDeletedByOneVendorIsForgottenByTheOthersWriters) {
-  // A UAV leaving a tile deletes its readers there; the place agent's tile
+  // A process that leaves (or dies) deletes its readers; a place agent's
   // writer must stop waiting for their acknowledgements (flush) soon after.
   auto w = make(GetParam().writer, "writer");
   auto r = make(GetParam().reader, "reader");
   ASSERT_TRUE(w && r);
-  r->set_neighbourhood(std::vector<core::TileCoord>{{2, 5}});
-  const core::TileMsg tile{0, {2, 5}, 1, 0, 1, 1, {1.0F}};
-  ASSERT_TRUE(w->publish_tile(tile));
-  ASSERT_EQ(wait_for<core::TileMsg>([&](auto& v) { r->take_tiles(v); }).size(), 1U);
+  r->subscribe_fields();
+  const core::FieldMsg field{0, 0, 1, 1, {core::TileMsg{0, {2, 5}, 1, 0, 1, 1, {1.0F}}}, {}};
+  ASSERT_TRUE(w->publish_field(field));
+  ASSERT_EQ(wait_for<core::FieldMsg>([&](auto& v) { r->take_fields(v); }).size(), 1U);
   ASSERT_TRUE(w->flush(std::chrono::seconds(5)));
-  r->set_neighbourhood(std::vector<core::TileCoord>{{9, 9}});
+  r.reset();
   bool acked = false;
   const auto deadline = Clock::now() + std::chrono::seconds(10);
   for (uint32_t tick = 2; !acked && Clock::now() < deadline; ++tick) {
-    ASSERT_TRUE(w->publish_tile({0, {2, 5}, tick, 0, 1, 1, {1.0F}}));
+    core::FieldMsg next = field;
+    next.tick = tick;
+    ASSERT_TRUE(w->publish_field(next));
     acked = w->flush(std::chrono::milliseconds(200));
   }
   EXPECT_TRUE(acked) << "the writer still waits for the deleted reader";
+}
+
+TEST_P(Departure, AWaitReturnsWhenDataArrivesAndNotBefore) {
+  // The wait set: a wait on a kind with nothing to take runs to its
+  // deadline; a sample of that kind ends it early.
+  auto w = make(GetParam().writer, "writer");
+  auto r = make(GetParam().reader, "reader");
+  ASSERT_TRUE(w && r);
+  r->subscribe_fields();
+  r->subscribe_broadcasts();
+  const auto t0 = Clock::now();
+  EXPECT_FALSE(r->wait({bus::TopicKind::Field}, t0 + std::chrono::milliseconds(300)));
+  EXPECT_GE(Clock::now() - t0, std::chrono::milliseconds(290));
+  ASSERT_TRUE(w->publish_field({0, 0, 1, 7, {}, {}}));
+  ASSERT_TRUE(w->publish_broadcast({1, 2, 0, {1.0}}));
+  // Ends by data (true), well before the deadline of 20 s.
+  EXPECT_TRUE(r->wait({bus::TopicKind::Field}, Clock::now() + std::chrono::seconds(20)));
+  std::vector<core::FieldMsg> got;
+  const auto deadline = Clock::now() + std::chrono::seconds(20);
+  while (got.empty() && Clock::now() < deadline) {
+    r->wait({bus::TopicKind::Field}, deadline);
+    r->take_fields(got);
+  }
+  ASSERT_EQ(got.size(), 1U);
+  EXPECT_EQ(got[0].tick, 7U);
 }
 
 INSTANTIATE_TEST_SUITE_P(Vendors, Departure,

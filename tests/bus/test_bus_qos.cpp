@@ -29,16 +29,20 @@ TEST(Qos, TheTableSaysWhatThePheromoneAccountingNeeds) {
   EXPECT_EQ(dr.history, QosSpec::History::KeepAll);
   EXPECT_EQ(topic_qos(TopicKind::Deposit, Endpoint::Writer, lease).depth, 4096);
   // Late joiners get the latest tile and the clock.
-  for (const TopicKind k : {TopicKind::Tile, TopicKind::Clock, TopicKind::Health}) {
+  for (const TopicKind k : {TopicKind::Tile, TopicKind::Clock, TopicKind::Health, TopicKind::View, TopicKind::Field,
+                            TopicKind::UavHome}) {
     const QosSpec q = topic_qos(k, Endpoint::Reader, lease);
     EXPECT_EQ(q.durability, QosSpec::Durability::TransientLocal) << to_string(k);
     EXPECT_EQ(q.history, QosSpec::History::KeepLast) << to_string(k);
     EXPECT_EQ(q.depth, 1) << to_string(k);
   }
-  EXPECT_EQ(topic_qos(TopicKind::UavNeighbour, Endpoint::Reader, lease).liveliness, QosSpec::Liveliness::Automatic);
+  // The home place agent reads the UAV's one state writer: the same topic,
+  // a liveliness the writer offers.
+  EXPECT_EQ(topic_qos(TopicKind::UavHome, Endpoint::Reader, lease).liveliness,
+            topic_qos(TopicKind::UavState, Endpoint::Writer, lease).liveliness);
   // The lease is the process's.
   EXPECT_EQ(topic_qos(TopicKind::UavState, Endpoint::Writer, milliseconds(300)).liveliness_lease, milliseconds(300));
-  EXPECT_EQ(std::string(topic_name(TopicKind::UavNeighbour)), topic_name(TopicKind::UavState));
+  EXPECT_EQ(std::string(topic_name(TopicKind::UavHome)), topic_name(TopicKind::UavState));
   EXPECT_EQ(to_string(topic_qos(TopicKind::Broadcast, Endpoint::Reader, lease)),
             "reliable(100ms) transient-local keep-all automatic lease 1000ms");
   // The writers the ground station watches for departures, and its readers,

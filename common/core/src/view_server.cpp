@@ -8,7 +8,7 @@
 namespace pheromesh::core {
 
 ViewServer::ViewServer(const MapGeometry& geo, int layers, double view_radius)
-    : geo_(&geo), layers_(layers), radius_(static_cast<int32_t>(std::ceil(view_radius))) {}
+    : geo_(geo), layers_(layers), radius_(static_cast<int32_t>(std::ceil(view_radius))) {}
 
 void ViewServer::update_tile(const TileMsg& t) {
   auto [it, fresh] = tiles_.try_emplace({t.tile.tx, t.tile.ty, static_cast<int>(t.layer)}, t);
@@ -19,13 +19,13 @@ void ViewServer::update_state(const UavStateMsg& s) {
   auto it = states_.find(s.uav);
   if (it != states_.end()) {
     if (s.tick < it->second.tick) return;
-    const TileCoord before = geo_->tile_of(state_cell(it->second));
+    const TileCoord before = geo_.tile_of(state_cell(it->second));
     over_[{before.tx, before.ty}].erase(s.uav);
     it->second = s;
   } else {
     states_.emplace(s.uav, s);
   }
-  const TileCoord now = geo_->tile_of(state_cell(s));
+  const TileCoord now = geo_.tile_of(state_cell(s));
   over_[{now.tx, now.ty}].insert(s.uav);
 }
 
@@ -47,7 +47,7 @@ bool ViewServer::holds_fields(uint32_t tick, std::span<const RegionId> regions) 
   });
 }
 
-std::vector<TileCoord> ViewServer::neighbourhood(Cell c) const { return geo_->tiles_within(c, radius_); }
+std::vector<TileCoord> ViewServer::neighbourhood(Cell c) const { return geo_.tiles_within(c, radius_); }
 
 const UavStateMsg* ViewServer::state(uint32_t uav) const {
   auto it = states_.find(uav);
@@ -61,7 +61,7 @@ bool ViewServer::compose(uint32_t uav, uint32_t tick, uint32_t max_age, ViewMsg&
   out.tick = tick;
   out.tiles.clear();
   out.uavs.clear();
-  const Cell centre = geo_->in_map(self->view) ? self->view : state_cell(*self);
+  const Cell centre = geo_.in_map(self->view) ? self->view : state_cell(*self);
   for (const TileCoord t : neighbourhood(centre)) {
     for (int l = 0; l < layers_; ++l) {
       if (auto it = tiles_.find({t.tx, t.ty, l}); it != tiles_.end()) out.tiles.push_back(it->second);

@@ -87,6 +87,12 @@ bus::BusOptions bus_options(const CommonOptions& o, const std::string& process_n
   b.domain = o.domain;
   b.profile = o.dds_profile;
   b.liveliness_lease = std::chrono::milliseconds(o.lease_ms);
+  // Given by `pheromesh run` to each process it spawns (Fast DDS ports).
+  if (const char* id = std::getenv("PHEROMESH_PARTICIPANT_ID"); id != nullptr && *id != '\0') {
+    char* end = nullptr;
+    const long v = std::strtol(id, &end, 10);
+    if (end != id && *end == '\0' && v >= 0 && v < 30000) b.participant_id = static_cast<int32_t>(v);
+  }
   return b;
 }
 

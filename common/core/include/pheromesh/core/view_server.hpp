@@ -53,7 +53,7 @@ class ViewServer {
   [[nodiscard]] std::vector<TileCoord> neighbourhood(Cell c) const;
 
  private:
-  const MapGeometry* geo_;
+  MapGeometry geo_;
   int layers_;
   int32_t radius_;
   std::map<std::tuple<int32_t, int32_t, int>, TileMsg> tiles_;  // (tx, ty, layer)

@@ -1,0 +1,70 @@
+// The /proc parsers of the launcher's resource accounting (cli/proc_stats.hpp,
+// header-only for these tests), on texts copied from a Linux 6.x host.
+#include <gtest/gtest.h>
+
+#include "../../cli/proc_stats.hpp"
+
+namespace pheromesh::cli {
+namespace {
+
+constexpr const char* kSmapsRollup =
+    "55a6df237000-7ffdc032d000 ---p 00000000 00:00 0                          [rollup]\n"
+    "Rss:               21660 kB\n"
+    "Pss:                8510 kB\n"
+    "Pss_Dirty:          6112 kB\n"
+    "Pss_Anon:           6112 kB\n"
+    "Pss_File:           2398 kB\n"
+    "Pss_Shmem:             0 kB\n"
+    "Shared_Clean:      13028 kB\n";
+
+TEST(ProcStats, SmapsRollupGivesRssAndPssNotPssDirty) {
+  const auto r = parse_smaps_rollup(kSmapsRollup);
+  ASSERT_TRUE(r.has_value());
+  EXPECT_EQ(r->rss_kib, 21660U);
+  EXPECT_EQ(r->pss_kib, 8510U);
+}
+
+TEST(ProcStats, SmapsRollupOfAVanishedProcessIsNothing) {
+  EXPECT_FALSE(parse_smaps_rollup("").has_value());
+  // A guard that the parser does not take Pss_Dirty for Pss.
+  EXPECT_FALSE(parse_smaps_rollup("Rss: 10 kB\nPss_Dirty: 5 kB\n").has_value());
+}
+
+TEST(ProcStats, StatusGivesThreadsAndState) {
+  const char* status =
+      "Name:\tpheromesh-uav\nUmask:\t0022\nState:\tS (sleeping)\nTgid:\t4242\nVmRSS:\t   21660 kB\nThreads:\t17\n"
+      "SigQ:\t0/62811\n";
+  EXPECT_EQ(parse_status_threads(status), std::optional<uint64_t>(17));
+  EXPECT_EQ(parse_status_state(status), 'S');
+  EXPECT_EQ(parse_status_state("Name:\tx\nState:\tZ (zombie)\nThreads:\t1\n"), 'Z');
+  EXPECT_FALSE(parse_status_threads("Name:\tx\n").has_value());
+  EXPECT_EQ(parse_status_state("Name:\tx\n"), '\0');
+}
+
+TEST(ProcStats, SnmpUdpCountersAreFoundByColumnNameAndUdpLiteIsIgnored) {
+  const char* snmp =
+      "Ip: Forwarding DefaultTTL InReceives\nIp: 1 64 1234\n"
+      "Udp: InDatagrams NoPorts InErrors OutDatagrams RcvbufErrors SndbufErrors InCsumErrors IgnoredMulti MemErrors\n"
+      "Udp: 123456789012 4 0 98765 0 0 0 7 0\n"
+      "UdpLite: InDatagrams NoPorts InErrors OutDatagrams RcvbufErrors SndbufErrors InCsumErrors IgnoredMulti MemErrors\n"
+      "UdpLite: 1 2 3 4 5 6 7 8 9\n";
+  const auto c = parse_snmp_udp(snmp);
+  ASSERT_TRUE(c.has_value());
+  EXPECT_EQ(c->in_datagrams, 123456789012U);
+  EXPECT_EQ(c->out_datagrams, 98765U);
+  // Columns in another order are still found by name.
+  const auto swapped = parse_snmp_udp("Udp: OutDatagrams InDatagrams\nUdp: 5 9\n");
+  ASSERT_TRUE(swapped.has_value());
+  EXPECT_EQ(swapped->in_datagrams, 9U);
+  EXPECT_EQ(swapped->out_datagrams, 5U);
+}
+
+TEST(ProcStats, SnmpWithoutUdpValuesIsNothing) {
+  EXPECT_FALSE(parse_snmp_udp("").has_value());
+  EXPECT_FALSE(parse_snmp_udp("Udp: InDatagrams OutDatagrams\n").has_value());
+  EXPECT_FALSE(parse_snmp_udp("UdpLite: InDatagrams OutDatagrams\nUdpLite: 1 2\n").has_value());
+  EXPECT_FALSE(parse_snmp_udp("Udp: InDatagrams OutDatagrams\nUdp: 1 x\n").has_value());
+}
+
+}  // namespace
+}  // namespace pheromesh::cli
