@@ -23,6 +23,7 @@ UavApp::UavApp(UavConfig cfg, core::ScenarioConfig scenario, std::unique_ptr<bus
 void UavApp::receive() {
   view_inbox_.clear();
   bus_->take_views(view_inbox_);
+  samples_received_ += view_inbox_.size();
   for (const auto& v : view_inbox_) {
     if (v.uav != cfg_.id) {
       if (++samples_rejected_ <= 3) log_->warn("dropped a view addressed to uav {}", v.uav);
@@ -47,6 +48,7 @@ void UavApp::receive() {
   }
   broadcast_inbox_.clear();
   bus_->take_broadcasts(broadcast_inbox_);
+  samples_received_ += broadcast_inbox_.size();
   for (const auto& b : broadcast_inbox_) {
     if (auto reason = core::check_broadcast(b)) {
       if (++samples_rejected_ <= 3) log_->warn("dropped broadcast of uav {}: {}", b.uav, *reason);
@@ -99,13 +101,16 @@ void UavApp::step(uint32_t tick, bool finished) {
   s.deposits_sent = deposits_sent_;
   s.tile_samples_received = tile_samples_received_;
   s.ticks_late = ticks_late_;
+  s.samples_received = samples_received_;
   s.finished = finished;
   s.view = core_.cell();  // the home place agent composes the next view around it
   bus_->publish_uav_state(s);
 }
 
 void UavApp::handle_commands() {
-  for (const auto& c : commands_->take()) {
+  const auto commands = commands_->take();
+  samples_received_ += commands.size();
+  for (const auto& c : commands) {
     if (c.kind == static_cast<uint8_t>(core::CommandKind::Obstacle)) {
       const auto cells = world_.add_obstacle({c.x, c.y, c.w, c.h});
       log_->info("pop-up obstacle: {} new obstacle cells", cells);

@@ -61,6 +61,7 @@ class UavApp {
   uint64_t deposits_undeliverable_ = 0;
   uint64_t samples_rejected_ = 0;
   uint64_t tile_samples_received_ = 0;
+  uint64_t samples_received_ = 0;  // views + broadcasts + commands taken
   uint32_t ticks_late_ = 0;  // realtime: ticks that started more than one period late
   std::vector<core::ViewMsg> view_inbox_;
   std::optional<uint32_t> view_tick_;  // tick of the newest view received

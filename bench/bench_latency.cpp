@@ -74,15 +74,19 @@ int client(const std::string& vendor, uint32_t domain, int samples) {
     return 3;
   }
   auto& b = *made.value();
-  b.set_neighbourhood(std::vector<core::TileCoord>{{0, 0}, {1, 0}, {0, 1}, {1, 1}});
+  // The place agent's field (what every place agent composes views from and
+  // the ground station shows): one sample per place tick with every tile.
+  b.subscribe_fields();
   // The latest values of every (layer, tile).
   std::map<std::tuple<int, int32_t, int32_t>, std::vector<float>> latest;
-  std::vector<core::TileMsg> tiles;
+  std::vector<core::FieldMsg> fields;
   auto receive = [&] {
-    tiles.clear();
-    b.take_tiles(tiles);
-    for (auto& t : tiles) latest[{t.layer, t.tile.tx, t.tile.ty}] = std::move(t.values);
-    return !tiles.empty();
+    fields.clear();
+    b.take_fields(fields);
+    for (auto& f : fields) {
+      for (auto& t : f.tiles) latest[{t.layer, t.tile.tx, t.tile.ty}] = std::move(t.values);
+    }
+    return !fields.empty();
   };
   // The values of `cell` in every layer.
   auto values_at = [&](core::Cell c) {
@@ -116,7 +120,7 @@ int client(const std::string& vendor, uint32_t domain, int samples) {
     receive();
     const std::vector<float> before = values_at(cell);
     const auto t0 = Clock::now();
-    b.publish_deposit({0, ++seq, 0, 0, static_cast<uint8_t>(core::DepositKind::PathVisit), 0, cell, 1.0F, {}});
+    b.publish_deposit({0, ++seq, 0, 0, static_cast<uint8_t>(core::DepositKind::PathVisit), 0, cell, 1.0F, {}}, 0);
     bool seen = false;
     while (!seen && Clock::now() - t0 < std::chrono::seconds(2)) {
       if (receive()) seen = values_at(cell) != before;

@@ -48,7 +48,8 @@ const char* const kBenchScaleFooter =
     "Keep the host otherwise idle; on a small host stop early with --max.\n\n"
     "Example:\n"
     "  pheromesh bench scale scenarios/scale-100x100.textproto --max 400 --dds cyclone,fastdds\n"
-    "  pheromesh bench scale scenarios/scale-100x100.textproto --sizes 50,100 --ticks 200 --extra \"--dds-profile default\"\n";
+    "  pheromesh bench scale scenarios/scale-100x100.textproto --sizes 50,100 --ticks 200 --extra \"--dds-profile "
+    "default\"\n";
 
 namespace {
 
@@ -211,7 +212,8 @@ std::string markdown_table(const std::vector<Row>& rows) {
 
 // Per vendor: the first N whose late share is above 1 %, and the largest N at
 // or below it.
-std::vector<std::string> summary_lines(const std::vector<Row>& rows, const std::vector<std::string>& vendors, Json& json) {
+std::vector<std::string> summary_lines(const std::vector<Row>& rows, const std::vector<std::string>& vendors,
+                                       Json& json) {
   std::vector<std::string> lines;
   for (const auto& vendor : vendors) {
     std::optional<uint32_t> first_late, largest_ok, largest_measured;
@@ -224,11 +226,14 @@ std::vector<std::string> summary_lines(const std::vector<Row>& rows, const std::
       if (*late > 1.0 && !first_late) first_late = r.uavs;
       if (*late <= 1.0) largest_ok = r.uavs, largest_ok_exit = r.exit_code;
     }
-    const std::string none =
-        largest_measured ? "none up to N=" + std::to_string(*largest_measured) : std::string("n/a (no late share reported)");
-    std::string line = vendor + ": first N with late share > 1 %: " + (first_late ? std::to_string(*first_late) : none) +
+    const std::string none = largest_measured ? "none up to N=" + std::to_string(*largest_measured)
+                                              : std::string("n/a (no late share reported)");
+    std::string line = vendor +
+                       ": first N with late share > 1 %: " + (first_late ? std::to_string(*first_late) : none) +
                        "; largest N with late share <= 1 %: " +
-                       (largest_ok ? std::to_string(*largest_ok) : largest_measured ? std::string("none") : none);
+                       (largest_ok         ? std::to_string(*largest_ok)
+                        : largest_measured ? std::string("none")
+                                           : none);
     if (largest_ok && largest_ok_exit != 0) line += " (that run exited " + std::to_string(largest_ok_exit) + ")";
     lines.push_back(line);
     json[vendor] = {{"first_n_late_above_1pct", first_late ? Json(*first_late) : Json(nullptr)},
@@ -267,15 +272,16 @@ bool write_results(const Plan& p, const std::vector<Row>& rows, const std::vecto
 
   std::ofstream md(dir / "scale.md");
   md << "# pheromesh bench scale\n\n"
-     << "*Scenario:* " << p.o.scenario << "  \n*Per run:* " << p.o.ticks << " ticks at " << p.o.rate_hz
-     << " Hz, lease " << p.o.lease_ms << " ms, domain " << p.o.domain
+     << "*Scenario:* " << p.o.scenario << "  \n*Per run:* " << p.o.ticks << " ticks at " << p.o.rate_hz << " Hz, lease "
+     << p.o.lease_ms << " ms, domain " << p.o.domain
      << (p.extra.empty() ? std::string() : ", extra `" + p.o.extra + "`") << "  \n*Host:* " << p.host << "\n\n"
      << markdown_table(rows) << "\n";
   for (const auto& l : lines) md << "* " << l << "\n";
   for (const auto& s : skipped) md << "* " << s << "\n";
   md << "\n![late share](late_share.svg)\n![CPU per UAV tick](cpu_per_uav_tick.svg)\n"
      << "![PSS per UAV](pss_per_uav.svg)\n![discovery](discovery.svg)\n\n"
-     << "## How it is measured\n\n```\n" << kBenchScaleFooter << "```\n\n"
+     << "## How it is measured\n\n```\n"
+     << kBenchScaleFooter << "```\n\n"
      << "Each run's own output: `V-N/run.txt`, its metrics: `V-N/metrics.json`, its processes' logs: `V-N/logs/`.\n";
 
   std::ofstream csv(dir / "scale.csv");
@@ -305,7 +311,7 @@ bool write_results(const Plan& p, const std::vector<Row>& rows, const std::vecto
     }
     j_rows.push_back(std::move(jr));
   }
-  const Json j = {{"scenario", p.o.scenario}, {"ticks", p.o.ticks},  {"rate_hz", p.o.rate_hz},
+  const Json j = {{"scenario", p.o.scenario}, {"ticks", p.o.ticks},   {"rate_hz", p.o.rate_hz},
                   {"lease_ms", p.o.lease_ms}, {"domain", p.o.domain}, {"extra", p.o.extra},
                   {"host", p.host},           {"rows", j_rows},       {"summary", summary},
                   {"skipped", skipped}};
@@ -341,15 +347,25 @@ bool write_results(const Plan& p, const std::vector<Row>& rows, const std::vecto
 // could not be started).
 int run_swarm(const Plan& p, const std::string& vendor, uint32_t uavs, const fs::path& dir) {
   const std::string exe = executable_dir() + "/pheromesh";
-  std::vector<std::string> args{exe,           "run",      p.o.scenario,
-                                "--uavs",      std::to_string(uavs),
-                                "--rate",      std::to_string(p.o.rate_hz),
-                                "--ticks",     std::to_string(p.o.ticks),
-                                "--lease-ms",  std::to_string(p.o.lease_ms),
-                                "--dds",       vendor,
-                                "--domain",    std::to_string(p.o.domain),
-                                "--out",       dir.string(),
-                                "--progress",  "5"};
+  std::vector<std::string> args{exe,
+                                "run",
+                                p.o.scenario,
+                                "--uavs",
+                                std::to_string(uavs),
+                                "--rate",
+                                std::to_string(p.o.rate_hz),
+                                "--ticks",
+                                std::to_string(p.o.ticks),
+                                "--lease-ms",
+                                std::to_string(p.o.lease_ms),
+                                "--dds",
+                                vendor,
+                                "--domain",
+                                std::to_string(p.o.domain),
+                                "--out",
+                                dir.string(),
+                                "--progress",
+                                "5"};
   args.insert(args.end(), p.extra.begin(), p.extra.end());
   const std::string log = (dir / "run.txt").string();
   const int fd = open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
@@ -361,7 +377,8 @@ int run_swarm(const Plan& p, const std::string& vendor, uint32_t uavs, const fs:
     std::string cmd;
     for (const auto& a : args) cmd += (cmd.empty() ? "" : " ") + a;
     cmd += "\n";
-    if (write(fd, cmd.data(), cmd.size()) < 0) { /* the command line is only a courtesy */ }
+    if (write(fd, cmd.data(), cmd.size()) < 0) { /* the command line is only a courtesy */
+    }
   }
   const pid_t parent = getpid();
   const pid_t pid = fork();
@@ -429,15 +446,18 @@ int run_bench_scale(const BenchScaleOptions& o) {
     std::fprintf(stderr, "%s\n", error.c_str());
     return 2;
   }
-  if (o.max_uavs > 0) sizes->erase(std::remove_if(sizes->begin(), sizes->end(), [&](uint32_t n) { return n > o.max_uavs; }),
-                                   sizes->end());
+  if (o.max_uavs > 0)
+    sizes->erase(std::remove_if(sizes->begin(), sizes->end(), [&](uint32_t n) { return n > o.max_uavs; }),
+                 sizes->end());
   if (sizes->empty()) {
     std::fprintf(stderr, "no size left with --max %u\n", o.max_uavs);
     return 2;
   }
   Plan p{o, {}, *sizes, split(o.extra, " \t"), host_description()};
   const auto available = bus::available_vendors();
-  auto built = [&](const std::string& v) { return std::find(available.begin(), available.end(), v) != available.end(); };
+  auto built = [&](const std::string& v) {
+    return std::find(available.begin(), available.end(), v) != available.end();
+  };
   for (const auto& v : split(o.dds, ", ")) {
     if (v != "cyclone" && v != "fastdds" && v != "mixed") {
       std::fprintf(stderr, "--dds: unknown vendor '%s' (cyclone, fastdds or mixed)\n", v.c_str());
@@ -505,9 +525,11 @@ int run_bench_scale(const BenchScaleOptions& o) {
           std::fprintf(stderr, "  note: metrics.json says %.0f uavs, %u were asked for\n", *u, n);
         }
       } else {
-        std::fprintf(stderr, "  no metrics.json: every figure of this row is n/a (see %s)\n", (dir / "run.txt").c_str());
+        std::fprintf(stderr, "  no metrics.json: every figure of this row is n/a (see %s)\n",
+                     (dir / "run.txt").c_str());
       }
-      std::fprintf(stderr, "  exit %d, wall %s s, discovery %s s, late %s %% (max %s %%), swarm CPU %s ms per UAV tick\n",
+      std::fprintf(stderr,
+                   "  exit %d, wall %s s, discovery %s s, late %s %% (max %s %%), swarm CPU %s ms per UAV tick\n",
                    row.exit_code, fmt_value(row.get("wall_s"), 1).c_str(), fmt_value(row.get("discovery_s"), 1).c_str(),
                    fmt_value(row.get("late_pct"), 2).c_str(), fmt_value(row.get("late_max_pct"), 1).c_str(),
                    fmt_value(row.get("swarm_cpu_ms_per_tick"), 2).c_str());
@@ -532,9 +554,10 @@ int run_bench_scale(const BenchScaleOptions& o) {
   Json summary;
   for (const auto& l : summary_lines(rows, p.vendors, summary)) std::printf("%s\n", l.c_str());
   for (const auto& s : skipped) std::printf("%s\n", s.c_str());
-  std::printf("\n-> %s/scale.md, scale.csv, scale.json, late_share.svg, cpu_per_uav_tick.svg, pss_per_uav.svg, "
-              "discovery.svg\n",
-              o.out_dir.c_str());
+  std::printf(
+      "\n-> %s/scale.md, scale.csv, scale.json, late_share.svg, cpu_per_uav_tick.svg, pss_per_uav.svg, "
+      "discovery.svg\n",
+      o.out_dir.c_str());
   if (interrupted) {
     std::fprintf(stderr, "interrupted: the table holds the runs made so far\n");
     return 130;

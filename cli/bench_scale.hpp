@@ -11,11 +11,11 @@ namespace pheromesh::cli {
 struct BenchScaleOptions {
   std::string scenario;
   std::string sizes = "25,50,100,200,400,700,1000";  // UAV counts
-  uint32_t max_uavs = 0;                               // 0: no cap; else sizes above it are left out
-  std::string dds = "cyclone";                         // comma-separated: cyclone, fastdds, mixed
-  double rate_hz = 5;                                  // [Hz]
+  uint32_t max_uavs = 0;                             // 0: no cap; else sizes above it are left out
+  std::string dds = "cyclone";                       // comma-separated: cyclone, fastdds, mixed
+  double rate_hz = 5;                                // [Hz]
   uint32_t ticks = 100;
-  uint32_t lease_ms = 5000;                            // [ms]
+  uint32_t lease_ms = 5000;  // [ms]
   std::string out_dir = "out/bench-scale";
   double stop_late_share = 0.10;  // a vendor's larger sizes are skipped once a size has more late ticks than this
   uint32_t domain = 40;

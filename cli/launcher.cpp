@@ -96,6 +96,12 @@ void Launcher::spawn(const std::string& role, uint32_t index, const std::vector<
   args.insert(args.end(), extra_args.begin(), extra_args.end());
   const std::string log_path = (fs::path(o_.out_dir) / "logs" / (c.name + ".log")).string();
 
+  // A participant id per process: Fast DDS takes its ports from it (7410 +
+  // 250 domain + 2 id) instead of searching for free ones, which stops at
+  // about 120 processes per host (docs/dds.md). Ground 0, place agents from
+  // 1, UAVs after them; a restarted UAV gets its old id (its ports are free).
+  const uint32_t participant = role == "ground" ? 0 : role == "place" ? 1 + index : 1 + regions_ + index;
+  std::string participant_env = "PHEROMESH_PARTICIPANT_ID=" + std::to_string(participant);
   const pid_t parent = getpid();
   pid_t pid = fork();
   // EAGAIN: the process or thread limit is reached for now (a big swarm's
@@ -110,6 +116,7 @@ void Launcher::spawn(const std::string& role, uint32_t index, const std::vector<
     // the launcher, output to its log file (the ground station also to ours).
     setpgid(0, 0);
     prctl(PR_SET_PDEATHSIG, SIGTERM);
+    putenv(participant_env.data());  // single-threaded launcher: safe after fork
     if (getppid() != parent) _exit(127);
     if (role == "ground" && child_ctl_fd_ >= 0) {
       // The console's control socket, as fd 3 (dup2 clears close-on-exec).
@@ -348,6 +355,7 @@ int Launcher::run() {
   const uint32_t ticks = o_.ticks > 0 ? o_.ticks : s.ticks;
   const uint32_t uavs = o_.uavs > 0 ? o_.uavs : s.uavs;
   const uint32_t regions = s.geometry().region_count();
+  regions_ = regions;
   auto plan = parse_dds_plan(o_.dds, bus::available_vendors());
   if (!plan) {
     spdlog::error("{}", plan.error().message);
@@ -486,8 +494,10 @@ int Launcher::run() {
   stop_role("ground", std::chrono::seconds(15));
   wall_s_ = std::chrono::duration<double>(Clock::now() - spawn_t0_).count();
   udp_end_ = read_udp_counters();
-  if (!sampled) spdlog::warn("the uavs ended before the resource sample ({} s in): no pss/rss/threads in metrics.json",
-                             0.6 * ticks / rate);
+  if (!sampled && !interrupted) {
+    spdlog::warn("the uavs ended before the resource sample ({} s in): no pss/rss/threads in metrics.json",
+                 0.6 * ticks / rate);
+  }
   int exit_code = 0;
   finish_metrics(exit_code);
   clean_fastdds_shm();

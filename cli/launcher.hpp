@@ -103,6 +103,7 @@ class Launcher {
   std::optional<double> sampled_at_s_;              // when sample_resources ran, after the first spawn [s]
   std::optional<UdpCounters> udp_start_, udp_end_;
   uint32_t ticks_ = 0;
+  uint32_t regions_ = 0;
   double rate_ = 0;
 
   RunOptions o_;

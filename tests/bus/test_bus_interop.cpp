@@ -101,7 +101,7 @@ TEST_P(Interop, EveryMessageArrivesIntact) {
     EXPECT_EQ(t.values, tile.values);
   }
 
-  const core::UavStateMsg st{5, 12, 1.25, -2.5, 0.125, 3.0, 6, 2, 1234567890123ULL, 99, 8, {3, 4}, true};
+  const core::UavStateMsg st{5, 12, 1.25, -2.5, 0.125, 3.0, 6, 2, 1234567890123ULL, 99, 1ULL << 40U, 8, {3, 4}, true};
   w_->join_uav(5, 3);
   ASSERT_TRUE(w_->publish_uav_state(st));
   // Once to the home place agent's reader ("s.3"), once to the ground's ("s.*").
@@ -118,6 +118,7 @@ TEST_P(Interop, EveryMessageArrivesIntact) {
     EXPECT_EQ(s.role, 2);
     EXPECT_EQ(s.deposits_sent, 1234567890123ULL);
     EXPECT_EQ(s.tile_samples_received, 99U);
+    EXPECT_EQ(s.samples_received, 1ULL << 40U);
     EXPECT_EQ(s.ticks_late, 8U);
     EXPECT_EQ(s.view.x, 3);
     EXPECT_EQ(s.view.y, 4);

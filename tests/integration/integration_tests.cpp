@@ -131,6 +131,28 @@ TEST(Swarm, AUavReceivesTrafficOfItsNeighbourhoodNotOfTheWholeMap) {
   EXPECT_LT(per_tick[1], 1.5 * per_tick[0]);
 }
 
+TEST(Swarm, AUavReceivesTheSameTrafficWhateverTheSwarmSize) {
+  // One view per tick from its home place agent, whatever the number of UAVs:
+  // the samples a UAV takes per tick do not grow with the swarm (the old
+  // per-tile subscriptions did not either, but every move re-created readers,
+  // announced to every participant).
+  double samples[2] = {0, 0}, tiles[2] = {0, 0};
+  const int sizes[2] = {3, 12};
+  for (int i = 0; i < 2; ++i) {
+    const std::string out = out_dir(std::string("traffic-swarm-") + std::to_string(i));
+    const Output o = run(pheromesh_run("shao2020-100x100.textproto", out, 41 + i,
+                                       "--uavs " + std::to_string(sizes[i]) + " --ticks 100 --rate 20"));
+    ASSERT_EQ(o.exit_code, 0) << o.text;
+    const json m = read_metrics(out);
+    samples[i] = m["samples_per_uav_tick"].get<double>();
+    tiles[i] = m["tile_samples_per_uav_tick"].get<double>();
+    std::printf("%d uavs: %.2f samples and %.2f tile samples per UAV per tick\n", sizes[i], samples[i], tiles[i]);
+  }
+  EXPECT_GT(samples[0], 0.5);
+  EXPECT_LT(samples[1], 1.5 * samples[0]);
+  EXPECT_LT(tiles[1], 1.5 * tiles[0]);
+}
+
 namespace {
 
 // Starts `count` probe processes with `profile` on `domain` and returns how

@@ -46,7 +46,8 @@ TEST(ProcStats, SnmpUdpCountersAreFoundByColumnNameAndUdpLiteIsIgnored) {
       "Ip: Forwarding DefaultTTL InReceives\nIp: 1 64 1234\n"
       "Udp: InDatagrams NoPorts InErrors OutDatagrams RcvbufErrors SndbufErrors InCsumErrors IgnoredMulti MemErrors\n"
       "Udp: 123456789012 4 0 98765 0 0 0 7 0\n"
-      "UdpLite: InDatagrams NoPorts InErrors OutDatagrams RcvbufErrors SndbufErrors InCsumErrors IgnoredMulti MemErrors\n"
+      "UdpLite: InDatagrams NoPorts InErrors OutDatagrams RcvbufErrors SndbufErrors InCsumErrors IgnoredMulti "
+      "MemErrors\n"
       "UdpLite: 1 2 3 4 5 6 7 8 9\n";
   const auto c = parse_snmp_udp(snmp);
   ASSERT_TRUE(c.has_value());

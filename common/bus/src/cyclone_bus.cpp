@@ -110,12 +110,12 @@ std::vector<core::RegionCount> region_counts_in(const dds_sequence_pheromesh_msg
 
 pheromesh_msg_UavState state_out(const core::UavStateMsg& m) {
   return {m.uav,  m.tick, m.x,          m.y,          m.vx,  m.vy, m.heading, m.role, m.deposits_sent, m.tile_samples_received,
-          m.ticks_late, m.view.x, m.view.y, m.finished};
+          m.samples_received, m.ticks_late, m.view.x, m.view.y, m.finished};
 }
 
 core::UavStateMsg state_in(const pheromesh_msg_UavState& s) {
   return {s.uav,     s.tick, s.x,  s.y,  s.vx, s.vy, s.heading, s.role, s.deposits_sent, s.tile_samples_received,
-          s.ticks_late, {s.view_x, s.view_y}, s.finished};
+          s.samples_received, s.ticks_late, {s.view_x, s.view_y}, s.finished};
 }
 
 // TilePatch views of `tiles` (their values are borrowed, not copied).

@@ -181,6 +181,7 @@ msg::UavState state_out(const core::UavStateMsg& m) {
   s.role(m.role);
   s.deposits_sent(m.deposits_sent);
   s.tile_samples_received(m.tile_samples_received);
+  s.samples_received(m.samples_received);
   s.ticks_late(m.ticks_late);
   s.view_x(m.view.x);
   s.view_y(m.view.y);
@@ -192,7 +193,7 @@ core::UavStateMsg state_in(const msg::UavState& s) {
   return core::UavStateMsg{s.uav(),     s.tick(),          s.x(),
                            s.y(),       s.vx(),            s.vy(),
                            s.heading(), s.role(),          s.deposits_sent(),
-                           s.tile_samples_received(), s.ticks_late(), {s.view_x(), s.view_y()}, s.finished()};
+                           s.tile_samples_received(), s.samples_received(), s.ticks_late(), {s.view_x(), s.view_y()}, s.finished()};
 }
 
 std::vector<msg::TilePatch> patches_out(const std::vector<core::TileMsg>& tiles) {

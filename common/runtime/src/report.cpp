@@ -48,7 +48,7 @@ nlohmann::json metrics_json(const core::RunRecorder& r, const RunInfo& info) {
   j["processes_killed"] = 0;
   j["processes_crashed"] = 0;
   nlohmann::json per_uav = nlohmann::json::object();
-  uint64_t tile_samples = 0, uav_ticks = 0, ticks_late = 0;
+  uint64_t tile_samples = 0, uav_ticks = 0, ticks_late = 0, samples = 0;
   double late_share_max = 0.0;
   for (const auto& [id, u] : r.uavs()) {
     per_uav[std::to_string(id)] = {{"last_tick", u.last.tick},
@@ -58,7 +58,9 @@ nlohmann::json metrics_json(const core::RunRecorder& r, const RunInfo& info) {
                                    {"finished", u.finished},
                                    {"deposits_sent", u.last.deposits_sent},
                                    {"tile_samples_received", u.last.tile_samples_received},
+                                   {"samples_received", u.last.samples_received},
                                    {"ticks_late", u.last.ticks_late}};
+    samples += u.last.samples_received;
     tile_samples += u.last.tile_samples_received;
     uav_ticks += u.last.tick;
     ticks_late += u.last.ticks_late;
@@ -75,6 +77,8 @@ nlohmann::json metrics_json(const core::RunRecorder& r, const RunInfo& info) {
   // Neighbourhood traffic: tile samples a UAV received per tick, on average.
   j["tile_samples_per_uav_tick"] =
       uav_ticks > 0 ? static_cast<double>(tile_samples) / static_cast<double>(uav_ticks) : 0.0;
+  // Every DDS sample a UAV took (its views, broadcasts, commands) per tick.
+  j["samples_per_uav_tick"] = uav_ticks > 0 ? static_cast<double>(samples) / static_cast<double>(uav_ticks) : 0.0;
   nlohmann::json series = nlohmann::json::array();
   for (const auto& [t, c] : r.coverage_series()) series.push_back({t, c});
   j["coverage_series"] = series;

@@ -60,6 +60,7 @@ struct UavStateMsg {
   uint8_t role = 0;
   uint64_t deposits_sent = 0;
   uint64_t tile_samples_received = 0;
+  uint64_t samples_received = 0;  // DDS samples the UAV took (views, broadcasts, commands)
   uint32_t ticks_late = 0;  // realtime ticks that started more than one tick period late
   Cell view{};            // the cell whose neighbourhood the UAV reads next (its home place agent composes it)
   bool finished = false;  // last state of a UAV that ended its run
