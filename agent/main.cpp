@@ -17,6 +17,10 @@ int main(int argc, char** argv) {
   app.add_option("--id", cfg.id, "UAV id (0-based; also picks its start cell and random stream)")->required();
   app.add_option("--wait-for-places", cfg.wait_for_places_s, "Seconds to wait at start for every place agent [s]")
       ->capture_default_str();
+  app.add_option("--wait-for-start", cfg.wait_for_start_s,
+                 "Realtime: seconds to wait for the ground station's start (sent once every process is heard) "
+                 "before flying anyway [s]")
+      ->capture_default_str();
   app.add_option("--seq-base", cfg.seq_base,
                  "Number deposits from this value + 1 (pheromesh run gives a restarted UAV a base above its earlier life's)");
   CLI11_PARSE(app, argc, argv);

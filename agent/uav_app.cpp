@@ -134,6 +134,34 @@ void UavApp::wait_for_home() {
   }
 }
 
+void UavApp::wait_for_start() {
+  // Realtime swarms fly together: this UAV announces itself (its state
+  // before the first tick, which also lets its home compose a first view)
+  // and waits for the ground station's start, which comes once every UAV
+  // and place agent has been heard. Without it the first UAVs of a big swarm
+  // fly while hundreds of others are still being discovered, on a host busy
+  // with that discovery, and deposit into place agents not yet matched.
+  if (!commands_->can_start()) return;  // no control key: nobody can sign a start
+  core::UavStateMsg ready = core_.last_state();
+  ready.view = core_.cell();
+  bus_->publish_uav_state(ready);
+  const auto deadline = Clock::now() + std::chrono::milliseconds(static_cast<int64_t>(cfg_.wait_for_start_s * 1000));
+  auto next_state = Clock::now() + std::chrono::seconds(1);
+  while (!commands_->started() && !runtime::shutdown_requested()) {
+    if (Clock::now() > deadline) {
+      log_->warn("no start from the ground station within {} s; flying without it", cfg_.wait_for_start_s);
+      return;
+    }
+    handle_commands();
+    receive();  // drains the view and keeps the state writer's liveliness asserted
+    if (Clock::now() > next_state) {
+      bus_->publish_uav_state(ready);  // the ground station may have joined late
+      next_state = Clock::now() + std::chrono::seconds(1);
+    }
+    bus_->wait({bus::TopicKind::Command}, std::min(deadline, Clock::now() + std::chrono::milliseconds(200)));
+  }
+}
+
 int UavApp::run_realtime(uint32_t ticks) {
   step(0, false);
   runtime::TickClock clock(scenario_.tick_rate_hz);
@@ -197,6 +225,7 @@ int UavApp::run() {
   log_->info("uav {} ({}) starts at ({},{}) for {} ticks, {} clock, home place agent {}, over {}", cfg_.id,
              core::policy_name(scenario_.policy), core_.cell().x, core_.cell().y, ticks, cfg_.common.clock, home_,
              bus_->vendor());
+  if (!cfg_.common.lockstep()) wait_for_start();
   const int last = cfg_.common.lockstep() ? run_lockstep(ticks) : run_realtime(ticks);
   step(static_cast<uint32_t>(last), true);
   const bool acked = bus_->flush(std::chrono::seconds(5));

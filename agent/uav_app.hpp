@@ -28,6 +28,7 @@ struct UavConfig {
   runtime::CommonOptions common;
   uint32_t id = 0;
   double wait_for_places_s = 15.0;  // [s] wait at start until the home place agent is matched
+  double wait_for_start_s = 300.0;  // [s] realtime: wait at most this long for the ground station's start
   uint32_t seq_base = 0;  // first deposit sequence number - 1 (a restarted UAV continues above its old life's)
 };
 
@@ -38,6 +39,7 @@ class UavApp {
 
  private:
   void wait_for_home();
+  void wait_for_start();
   void receive();
   // Lockstep: wait (bounded) until the view of place tick `tick` (the tiles
   // around this UAV and the states of the UAVs over them) and the broadcasts

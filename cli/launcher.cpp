@@ -19,6 +19,7 @@
 #include <nlohmann/json.hpp>
 #include <thread>
 
+#include "host_fit.hpp"
 #include "pheromesh/bus/bus.hpp"
 #include "pheromesh/console/control.hpp"
 #include "pheromesh/console/server.hpp"
@@ -32,12 +33,14 @@ using Clock = std::chrono::steady_clock;
 
 namespace {
 
-// Above this many processes the start is staggered: a thousand fork/execs at
-// once, each then loading the DDS libraries, starting its threads and
-// announcing itself, stall a small host for seconds.
+// Above this many processes the UAVs start at --start-rate per second: every
+// new participant is discovered by every other one (SPDP/SEDP), and when a
+// few hundred arrive at once on a small host the discovery traffic starves
+// the processes that must acknowledge it, their peers repeat it, and the
+// storm lasts (measured, docs/dds.md "Scale").
 constexpr std::size_t kStaggerAbove = 64;
-constexpr uint32_t kUavBatch = 32;
-constexpr auto kBatchPause = std::chrono::milliseconds(50);
+// --discovery-server listens on this port + the domain id.
+constexpr int kDiscoveryServerPort = 11811;
 // Each process adds discovery and shutdown work; the UAV deadline grows by
 // this much per process.
 constexpr auto kDeadlinePerProcess = std::chrono::milliseconds(200);
@@ -146,15 +149,18 @@ void Launcher::spawn(const std::string& role, uint32_t index, const std::vector<
 
 bool Launcher::spawn_swarm(uint32_t regions, uint32_t uavs, uint32_t ticks) {
   for (uint32_t r = 0; r < regions; ++r) spawn("place", r, {"--region", std::to_string(r)});
-  const bool stagger = 1 + std::size_t{regions} + uavs > kStaggerAbove;
+  const bool stagger = 1 + std::size_t{regions} + uavs > kStaggerAbove && o_.start_rate > 0;
+  // Batches of a tenth of a second's worth of UAVs.
+  const auto batch = std::max<uint32_t>(1, static_cast<uint32_t>(o_.start_rate / 10.0));
+  const auto pause = std::chrono::milliseconds(static_cast<int64_t>(1000.0 * batch / std::max(o_.start_rate, 1e-3)));
   if (stagger) {
-    spdlog::info("{} processes: starting the uavs in batches of {}, {} ms apart", 1 + regions + uavs, kUavBatch,
-                 kBatchPause.count());
+    spdlog::info("{} processes: starting the uavs {} at a time, {} ms apart ({:.0f} per second, --start-rate)",
+                 1 + regions + uavs, batch, pause.count(), o_.start_rate);
   }
   for (uint32_t u = 0; u < uavs; ++u) {
-    if (stagger && u % kUavBatch == 0) {
+    if (stagger && u % batch == 0) {
       // The pause before the first batch gives the place agents a head start.
-      const auto until = Clock::now() + kBatchPause;
+      const auto until = Clock::now() + pause;
       while (Clock::now() < until) {
         std::this_thread::sleep_for(std::chrono::milliseconds(10));
         reap();
@@ -167,6 +173,51 @@ bool Launcher::spawn_swarm(uint32_t regions, uint32_t uavs, uint32_t ticks) {
     spawn("uav", u, {"--id", std::to_string(u), "--ticks", std::to_string(ticks)});
   }
   return true;
+}
+
+bool Launcher::start_discovery_server() {
+  // Fast DDS's discovery server: every Fast DDS process discovers through it
+  // instead of with every other process (its clients take the server's
+  // address from ROS_DISCOVERY_SERVER). Cyclone processes cannot use it.
+  for (const char* role : {"ground", "place", "uav"}) {
+    if (plan_.vendor_of(role, 0) != "fastdds" || plan_.vendor_of(role, 1) != "fastdds") {
+      spdlog::error("--discovery-server needs every process on Fast DDS (--dds fastdds); {} processes are not", role);
+      return false;
+    }
+  }
+  const std::string port = std::to_string(kDiscoveryServerPort + o_.domain);
+  const std::string log_path = (fs::path(o_.out_dir) / "logs" / "discovery-server.log").string();
+  const pid_t pid = fork();
+  if (pid < 0) throw std::runtime_error(std::string("fork failed: ") + std::strerror(errno));
+  if (pid == 0) {
+    setpgid(0, 0);
+    prctl(PR_SET_PDEATHSIG, SIGTERM);
+    const int fd = open(log_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+    if (fd >= 0) {
+      dup2(fd, STDOUT_FILENO);
+      dup2(fd, STDERR_FILENO);
+    }
+    execlp("fast-discovery-server", "fast-discovery-server", "-i", "0", "-l", "127.0.0.1", "-p", port.c_str(),
+           static_cast<char*>(nullptr));
+    dprintf(STDERR_FILENO, "cannot execute fast-discovery-server: %s\n", std::strerror(errno));
+    _exit(127);
+  }
+  discovery_server_pid_ = pid;
+  setenv("ROS_DISCOVERY_SERVER", ("127.0.0.1:" + port).c_str(), 1);
+  spdlog::info("Fast DDS discovery server on 127.0.0.1:{} (pid {}); its log: {}", port, pid, log_path);
+  return true;
+}
+
+void Launcher::stop_discovery_server() {
+  if (discovery_server_pid_ <= 0) return;
+  kill(discovery_server_pid_, SIGTERM);
+  // reap() may already have collected it (wait4(-1)); then this fails at once.
+  for (int i = 0; i < 100 && waitpid(discovery_server_pid_, nullptr, WNOHANG) == 0; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  kill(discovery_server_pid_, SIGKILL);
+  waitpid(discovery_server_pid_, nullptr, WNOHANG);
+  discovery_server_pid_ = -1;
 }
 
 void Launcher::reap() {
@@ -387,6 +438,11 @@ int Launcher::run() {
   }
   fs::create_directories(fs::path(o_.out_dir) / "logs");
   fs::remove(fs::path(o_.out_dir) / "metrics.json");
+  if (o_.clock != "lockstep") {
+    if (auto w = host_fit_warning(uavs, rate, std::thread::hardware_concurrency(), o_.dds, o_.discovery_server)) {
+      spdlog::warn("this swarm may not keep time on this host: {}", *w);
+    }
+  }
   spdlog::info("run '{}' ({}): {} place agents, {} uavs, {} ticks, {} clock{}, over {} (domain {}, profile {}); logs in {}/logs",
                s.name, o_.scenario, regions, uavs, ticks, o_.clock,
                o_.clock == "lockstep" ? "" : fmt::format(" at {:.1f} Hz", rate), plan_.describe(), o_.domain, o_.dds_profile,
@@ -421,6 +477,7 @@ int Launcher::run() {
                                            "--launcher-fd", "3"});
     if (!record.empty()) ground_args.insert(ground_args.end(), {"--record", record});
   }
+  if (o_.discovery_server && !start_discovery_server()) return 3;
   spawn("ground", 0, ground_args);
   if (child_ctl_fd_ >= 0) {
     close(child_ctl_fd_);
@@ -500,6 +557,7 @@ int Launcher::run() {
   }
   int exit_code = 0;
   finish_metrics(exit_code);
+  stop_discovery_server();
   clean_fastdds_shm();
   return interrupted ? 130 : exit_code;
 }

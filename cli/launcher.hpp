@@ -34,6 +34,8 @@ struct RunOptions {
   double progress_s = 1.0;
   std::string clock = "realtime";  // realtime | lockstep
   uint32_t lease_ms = 1000;        // liveliness lease of every process [ms]
+  bool discovery_server = false;   // Fast DDS only: discover through a fast-discovery-server the launcher starts
+  double start_rate = 50;          // UAV processes started per second when the swarm exceeds 64 processes (0: all at once)
   // Web console of the ground station (docs/console.md).
   std::optional<uint16_t> http_port;
   std::string http_bind = "127.0.0.1";
@@ -104,6 +106,9 @@ class Launcher {
   std::optional<UdpCounters> udp_start_, udp_end_;
   uint32_t ticks_ = 0;
   uint32_t regions_ = 0;
+  pid_t discovery_server_pid_ = -1;
+  bool start_discovery_server();
+  void stop_discovery_server();
   double rate_ = 0;
 
   RunOptions o_;

@@ -43,10 +43,33 @@ GroundApp::GroundApp(GroundConfig cfg, core::ScenarioConfig scenario, std::uniqu
 }
 
 void GroundApp::note_discovery() {
-  if (discovery_s_ || uav_heard_.size() < cfg_.expect_uavs || region_heard_.size() < geo_.region_count()) return;
-  discovery_s_ = static_cast<double>(unix_ms_now() - run_t0_unix_ms_) / 1000.0;
-  log_->info("discovery complete: every UAV ({}) and place agent ({}) heard {:.1f} s after the launch", cfg_.expect_uavs,
-             geo_.region_count(), *discovery_s_);
+  const bool all = uav_heard_.size() >= cfg_.expect_uavs && region_heard_.size() >= geo_.region_count();
+  if (all && !discovery_s_) {
+    discovery_s_ = static_cast<double>(unix_ms_now() - run_t0_unix_ms_) / 1000.0;
+    log_->info("discovery complete: every UAV ({}) and place agent ({}) heard {:.1f} s after the launch",
+               cfg_.expect_uavs, geo_.region_count(), *discovery_s_);
+  }
+  // Realtime UAVs wait for the start to fly (UavApp::wait_for_start): once
+  // every process is heard, or after a bound that grows with the swarm, so
+  // one process that never came up does not hold the others back.
+  if (start_sent_ || cfg_.common.lockstep()) return;
+  const auto bound = std::chrono::milliseconds(static_cast<int64_t>(1000.0 * (30.0 + 0.1 * cfg_.expect_uavs)));
+  if (!all && Clock::now() - started_at_ < bound) return;
+  if (!all) {
+    log_->warn("starting the swarm without {} of {} UAVs and {} of {} place agents, not heard within {} s",
+               cfg_.expect_uavs - std::min<std::size_t>(cfg_.expect_uavs, uav_heard_.size()), cfg_.expect_uavs,
+               geo_.region_count() - std::min<std::size_t>(geo_.region_count(), region_heard_.size()), geo_.region_count(),
+               bound.count() / 1000);
+  }
+  start_sent_ = true;
+  core::CommandMsg start;
+  start.kind = static_cast<uint8_t>(core::CommandKind::Start);
+  const auto a = publish_swarm_command(start);
+  if (a.status == 200) {
+    log_->info("{}", a.message);
+  } else {
+    log_->warn("cannot start the swarm: {}", a.message);
+  }
 }
 
 namespace {

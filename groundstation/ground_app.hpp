@@ -129,6 +129,8 @@ class GroundApp {
   // start) and how long until every expected process was heard.
   int64_t run_t0_unix_ms_ = 0;
   std::optional<double> discovery_s_;
+  bool start_sent_ = false;
+  std::chrono::steady_clock::time_point started_at_ = std::chrono::steady_clock::now();
   void note_discovery();
 };
 

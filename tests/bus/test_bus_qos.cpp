@@ -44,7 +44,7 @@ TEST(Qos, TheTableSaysWhatThePheromoneAccountingNeeds) {
   EXPECT_EQ(topic_qos(TopicKind::UavState, Endpoint::Writer, milliseconds(300)).liveliness_lease, milliseconds(300));
   EXPECT_EQ(std::string(topic_name(TopicKind::UavHome)), topic_name(TopicKind::UavState));
   EXPECT_EQ(to_string(topic_qos(TopicKind::Broadcast, Endpoint::Reader, lease)),
-            "reliable(100ms) transient-local keep-all automatic lease 1000ms");
+            "reliable(100ms) transient-local keep-all automatic lease infinite");
   // The writers the ground station watches for departures, and its readers,
   // are manual-by-topic (kept alive per writer; see qos.cpp).
   for (const TopicKind k : {TopicKind::UavState, TopicKind::Health}) {

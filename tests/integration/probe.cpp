@@ -6,6 +6,9 @@
 //                                then stay until SIGTERM (bounded).
 //   hostile --region R           send malformed deposits and tiles into a
 //                                running swarm; print what it sent.
+//   idle --id I --regions R      a UAV's endpoints and nothing else, until
+//                                SIGTERM: what discovery alone costs
+//                                (bench/discovery_idle.sh).
 #include <spdlog/spdlog.h>
 
 #include <CLI/CLI.hpp>
@@ -97,6 +100,23 @@ int hostile(bus::Bus& b, uint32_t region, uint32_t map_width) {
   return 0;
 }
 
+int idle(bus::Bus& b, uint32_t id, uint32_t regions) {
+  // Exactly the endpoints a realtime UAV creates (UavApp::run), no samples.
+  b.join_uav(id, core::home_region(id, regions));
+  b.subscribe_broadcasts();
+  b.subscribe_commands();
+  std::vector<core::ViewMsg> views;
+  std::vector<core::CommandMsg> commands;
+  while (!runtime::shutdown_requested()) {
+    b.wait({bus::TopicKind::View, bus::TopicKind::Command}, Clock::now() + std::chrono::milliseconds(200));
+    views.clear();
+    commands.clear();
+    b.take_views(views);
+    b.take_commands(commands);
+  }
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -113,6 +133,10 @@ int main(int argc, char** argv) {
   d->add_option("--id", id)->required();
   d->add_option("--expect", expect)->required();
   d->add_option("--timeout", timeout_s);
+  uint32_t regions = 16;
+  auto* i = app.add_subcommand("idle", "a UAV's endpoints, no samples, until SIGTERM");
+  i->add_option("--id", id)->required();
+  i->add_option("--regions", regions);
   auto* h = app.add_subcommand("hostile", "send malformed samples");
   h->add_option("--region", region);
   h->add_option("--map-width", width);
@@ -131,5 +155,6 @@ int main(int argc, char** argv) {
     return 3;
   }
   if (d->parsed()) return discover(*b.value(), id, expect, timeout_s);
+  if (i->parsed()) return idle(*b.value(), id, regions);
   return hostile(*b.value(), region, width);
 }

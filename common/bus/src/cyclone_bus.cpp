@@ -56,7 +56,8 @@ QosPtr to_cyclone(const QosSpec& spec) {
   dds_qset_liveliness(q.get(),
                       spec.liveliness == QosSpec::Liveliness::ManualByTopic ? DDS_LIVELINESS_MANUAL_BY_TOPIC
                                                                             : DDS_LIVELINESS_AUTOMATIC,
-                      DDS_MSECS(spec.liveliness_lease.count()));
+                      spec.liveliness_lease == QosSpec::kInfiniteLease ? DDS_INFINITY
+                                                                       : DDS_MSECS(spec.liveliness_lease.count()));
   dds_qset_durability(q.get(), spec.durability == QosSpec::Durability::TransientLocal ? DDS_DURABILITY_TRANSIENT_LOCAL
                                                                                        : DDS_DURABILITY_VOLATILE);
   if (spec.history == QosSpec::History::KeepAll) {
@@ -775,7 +776,7 @@ QosSpec cyclone_effective_qos(TopicKind kind, Endpoint endpoint, std::chrono::mi
   dds_liveliness_kind_t live{};
   dds_duration_t lease_ns = 0;
   dds_qget_liveliness(q.get(), &live, &lease_ns);
-  s.liveliness_lease = std::chrono::milliseconds(lease_ns / DDS_NSECS_IN_MSEC);
+  s.liveliness_lease = lease_ns == DDS_INFINITY ? QosSpec::kInfiniteLease : std::chrono::milliseconds(lease_ns / DDS_NSECS_IN_MSEC);
   s.liveliness = live == DDS_LIVELINESS_MANUAL_BY_TOPIC ? QosSpec::Liveliness::ManualByTopic : QosSpec::Liveliness::Automatic;
   return s;
 }

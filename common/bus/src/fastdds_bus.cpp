@@ -87,7 +87,8 @@ void apply_common(const QosSpec& spec, Endpoint endpoint, Q& q) {
   }
   q.liveliness().kind = spec.liveliness == QosSpec::Liveliness::ManualByTopic ? fdds::MANUAL_BY_TOPIC_LIVELINESS_QOS
                                                                               : fdds::AUTOMATIC_LIVELINESS_QOS;
-  q.liveliness().lease_duration = to_duration(spec.liveliness_lease);
+  q.liveliness().lease_duration =
+      spec.liveliness_lease == QosSpec::kInfiniteLease ? eprosima::fastrtps::c_TimeInfinite : to_duration(spec.liveliness_lease);
   // Fast DDS's default resource limits (10 instances, 400 samples per
   // instance) would silently cap the ground station's all-tiles reader and
   // contradict the deposit writers' history of 4096: the history QoS is meant
@@ -113,7 +114,9 @@ fdds::DataWriterQos to_fastdds_writer(const QosSpec& spec) {
   fdds::DataWriterQos q = fdds::DATAWRITER_QOS_DEFAULT;
   apply_common(spec, Endpoint::Writer, q);
   // Announce liveliness well inside the lease.
-  q.liveliness().announcement_period = to_duration(std::max(std::chrono::milliseconds(1), spec.liveliness_lease * 2 / 5));
+  q.liveliness().announcement_period = spec.liveliness_lease == QosSpec::kInfiniteLease
+                                           ? eprosima::fastrtps::c_TimeInfinite
+                                           : to_duration(std::max(std::chrono::milliseconds(1), spec.liveliness_lease * 2 / 5));
   // Fast DDS heartbeats every 3 s by default: a lost sample would stall a
   // lockstep tick that long. Cyclone's writers heartbeat about every 100 ms.
   q.reliable_writer_qos().times.heartbeatPeriod = to_duration(std::chrono::milliseconds(100));
@@ -141,7 +144,8 @@ QosSpec read_back(const Q& q) {
     s.history = QosSpec::History::KeepLast;
     s.depth = q.history().depth;
   }
-  s.liveliness_lease = to_ms(q.liveliness().lease_duration);
+  s.liveliness_lease = q.liveliness().lease_duration == eprosima::fastrtps::c_TimeInfinite ? QosSpec::kInfiniteLease
+                                                                                       : to_ms(q.liveliness().lease_duration);
   s.liveliness = q.liveliness().kind == fdds::MANUAL_BY_TOPIC_LIVELINESS_QOS ? QosSpec::Liveliness::ManualByTopic
                                                                             : QosSpec::Liveliness::Automatic;
   return s;

@@ -11,7 +11,14 @@ QosSpec topic_qos(TopicKind kind, Endpoint endpoint, std::chrono::milliseconds l
   const bool reader = endpoint == Endpoint::Reader;
   QosSpec q;
   q.reliability = R::Reliable;
-  q.liveliness_lease = lease;
+  // Only the writers the ground station and the home place agents watch for
+  // departures (UAV state, place-agent health: manual-by-topic, below) have
+  // a finite lease. Any finite automatic lease makes every participant
+  // assert its liveliness to every other one periodically (Cyclone's and
+  // Fast DDS's participant-message / WLP writers), traffic that grows as N²
+  // with the swarm whether or not anything is published (measured: issue 12,
+  // docs/dds.md "Scale").
+  q.liveliness_lease = QosSpec::kInfiniteLease;
   // Transient-local everywhere, also where late joiners do not matter:
   // a writer may match a reader before the reader has matched the writer, and
   // a sample written in that window reaches a volatile reader or not
@@ -38,6 +45,7 @@ QosSpec topic_qos(TopicKind kind, Endpoint endpoint, std::chrono::milliseconds l
       // never reported (measured); with a manual-by-topic reader the lease is
       // tracked per writer on both vendors.
       q.liveliness = QosSpec::Liveliness::ManualByTopic;
+      q.liveliness_lease = lease;
       keep_last(1);
       break;
     case TopicKind::Tile:
@@ -54,6 +62,7 @@ QosSpec topic_qos(TopicKind kind, Endpoint endpoint, std::chrono::milliseconds l
       // reader, a little writer history. It tells a lost UAV by this
       // writer's liveliness: manual-by-topic, as for Health.
       q.liveliness = QosSpec::Liveliness::ManualByTopic;
+      q.liveliness_lease = lease;
       if (reader) {
         keep_all();
       } else {
@@ -66,6 +75,7 @@ QosSpec topic_qos(TopicKind kind, Endpoint endpoint, std::chrono::milliseconds l
       // acknowledged before the place phase starts). Reader only; the writer
       // is the UAV's UavState writer, whose liveliness it must accept.
       q.liveliness = QosSpec::Liveliness::ManualByTopic;
+      q.liveliness_lease = lease;
       keep_last(1);
       break;
     case TopicKind::View:
@@ -173,7 +183,8 @@ std::string to_string(const QosSpec& q) {
   s += q.durability == QosSpec::Durability::TransientLocal ? " transient-local" : " volatile";
   s += q.history == QosSpec::History::KeepAll ? " keep-all" : " keep-last(" + std::to_string(q.depth) + ")";
   s += q.liveliness == QosSpec::Liveliness::ManualByTopic ? " manual-by-topic" : " automatic";
-  s += " lease " + std::to_string(q.liveliness_lease.count()) + "ms";
+  s += q.liveliness_lease == QosSpec::kInfiniteLease ? std::string(" lease infinite")
+                                                     : " lease " + std::to_string(q.liveliness_lease.count()) + "ms";
   return s;
 }
 

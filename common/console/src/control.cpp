@@ -90,6 +90,7 @@ std::string describe(const core::CommandMsg& m) {
       return "obstacle at (" + std::to_string(m.x) + "," + std::to_string(m.y) + ") " + std::to_string(m.w) + "x" +
              std::to_string(m.h);
     case core::CommandKind::Target: return "target at (" + std::to_string(m.x) + "," + std::to_string(m.y) + ")";
+    case core::CommandKind::Start: return "start";
   }
   return "unknown command kind " + std::to_string(m.kind);
 }
@@ -107,7 +108,7 @@ std::vector<core::CommandMsg> CommandGate::admit(std::vector<core::CommandMsg>& 
       why = "bad signature";
     } else if (last != last_seq_.end() && c.seq <= last->second) {
       why = "replayed or out-of-order seq";
-    } else if (c.kind < 1 || c.kind > 4) {
+    } else if (c.kind < 1 || c.kind > 5) {
       why = "unknown kind";
     }
     if (why != nullptr) {

@@ -33,6 +33,7 @@ std::vector<core::CommandMsg> SwarmCommands::take() {
     log_->info("ground-station command {} (seq {})", console::describe(c), c.seq);
     if (c.kind == static_cast<uint8_t>(core::CommandKind::Pause)) paused_ = true;
     if (c.kind == static_cast<uint8_t>(core::CommandKind::Resume)) paused_ = false;
+    if (c.kind == static_cast<uint8_t>(core::CommandKind::Start)) started_ = true;
   }
   return ok;
 }

@@ -53,7 +53,8 @@ struct QosSpec {
   // ManualByTopic writers are kept alive by their writes and by the bus while
   // the process keeps polling it (Bus::take_*), so a hung process is lost too.
   Liveliness liveliness = Liveliness::Automatic;
-  std::chrono::milliseconds liveliness_lease{1000};
+  std::chrono::milliseconds liveliness_lease{1000};  // kInfiniteLease: no liveliness traffic at all
+  static constexpr std::chrono::milliseconds kInfiniteLease = std::chrono::milliseconds::max();
 
   bool operator==(const QosSpec&) const = default;
 };

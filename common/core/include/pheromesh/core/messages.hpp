@@ -109,7 +109,9 @@ inline constexpr uint8_t kBroadcastKindCount = 3;
 inline constexpr std::size_t kMaxBroadcastValues = 64;  // idl bound
 
 // A ground-station command (idl Command; authenticated by runtime/control.hpp).
-enum class CommandKind : uint8_t { Pause = 1, Resume = 2, Obstacle = 3, Target = 4 };
+// Start: the ground station heard every UAV and place agent (realtime runs
+// fly from then on, all together; see runtime::SwarmCommands::started).
+enum class CommandKind : uint8_t { Pause = 1, Resume = 2, Obstacle = 3, Target = 4, Start = 5 };
 struct CommandMsg {
   uint32_t issuer = 0;
   uint32_t seq = 0;

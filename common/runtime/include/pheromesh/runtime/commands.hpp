@@ -22,6 +22,11 @@ class SwarmCommands {
   // applied to paused() here; the caller applies the others.
   std::vector<core::CommandMsg> take();
   [[nodiscard]] bool paused() const { return paused_; }
+  // The ground station's start arrived (it is transient-local: a process
+  // started late, or restarted, gets it at once).
+  [[nodiscard]] bool started() const { return started_; }
+  // False without a control key: no command can be admitted, so no start.
+  [[nodiscard]] bool can_start() const { return gate_.has_key(); }
   [[nodiscard]] uint64_t rejected() const { return gate_.rejected(); }
 
  private:
@@ -30,6 +35,7 @@ class SwarmCommands {
   console::CommandGate gate_;
   std::vector<core::CommandMsg> inbox_;
   bool paused_ = false;
+  bool started_ = false;
 };
 
 }  // namespace pheromesh::runtime

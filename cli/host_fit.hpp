@@ -1,0 +1,52 @@
+// Does a requested swarm fit this host? The figures are what `pheromesh
+// bench scale` measured on the 2-core CI machine (README, "Scale"); the
+// launcher warns, with them, when a run asks for more.
+#pragma once
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <optional>
+#include <string>
+
+namespace pheromesh::cli {
+
+struct HostFit {
+  // UAV processes whose discovery completed and whose ticks kept time
+  // (< 1 % late) at 5 Hz on 2 cores, per vendor (bench scale, issue 12).
+  static constexpr uint32_t kHeldOnTwoCores = 100;
+  static constexpr double kMeasuredRateHz = 5.0;
+  static constexpr uint32_t kMeasuredCores = 2;
+};
+
+// A warning for `uavs` UAV processes at `rate_hz` on `cores` cores over
+// `dds` (a DdsPlan spec), or nothing if the swarm is within what was
+// measured (scaled by cores; the flight cost by the rate). Header-only so
+// that the unit tests use it without the CLI.
+inline std::optional<std::string> host_fit_warning(uint32_t uavs, double rate_hz, unsigned cores, const std::string& dds,
+                                            bool discovery_server) {
+  const double share = static_cast<double>(std::max(1U, cores)) / HostFit::kMeasuredCores;
+  const auto held = static_cast<uint32_t>(HostFit::kHeldOnTwoCores * share);
+  // Discovery (every process with every other one) bounds the count
+  // whatever the rate; the flight cost grows with UAVs x rate.
+  const double flight_budget = HostFit::kHeldOnTwoCores * HostFit::kMeasuredRateHz * share;  // UAV ticks per second
+  std::string why;
+  if (uavs > held && !discovery_server) {
+    why = fmt::format(
+        "{} UAV processes: on {} cores `pheromesh bench scale` saw discovery complete for {} UAVs (Cyclone 33.5 s, "
+        "Fast DDS 20.8 s on 2 cores) and not for 150, where some UAVs never found their place agent{}",
+        uavs, cores, held, dds == "fastdds" ? "; with --dds fastdds, --discovery-server discovers through one server" : "");
+  }
+  if (static_cast<double>(uavs) * rate_hz > flight_budget) {
+    const double rate = std::floor(10.0 * flight_budget / uavs) / 10.0;
+    why += fmt::format("{}{} UAVs at {:.1f} Hz is more than the {:.0f} UAV ticks per second held on time here; try --rate {:.1f}",
+                       why.empty() ? "" : "; ", uavs, rate_hz, flight_budget, std::max(rate, 0.1));
+  }
+  if (why.empty()) return std::nullopt;
+  return why + " (README, \"Scale\")";
+}
+
+
+}  // namespace pheromesh::cli

@@ -1,0 +1,32 @@
+// `pheromesh run`'s warning when a swarm exceeds what this host held on time
+// in the scale benchmark (cli/host_fit.hpp, header-only for these tests).
+#include <gtest/gtest.h>
+
+#include "../../cli/host_fit.hpp"
+
+namespace pheromesh::cli {
+namespace {
+
+TEST(HostFit, ASwarmWithinTheMeasuredFigureGetsNoWarning) {
+  EXPECT_FALSE(host_fit_warning(100, 5.0, 2, "cyclone", false).has_value());
+  EXPECT_FALSE(host_fit_warning(10, 10.0, 2, "cyclone", false).has_value());
+}
+
+TEST(HostFit, TooManyProcessesNameTheMeasuredDiscoveryLimitAndTheServerForFastDds) {
+  const auto w = host_fit_warning(250, 1.0, 2, "fastdds", false);
+  ASSERT_TRUE(w.has_value());
+  EXPECT_NE(w->find("250 UAV processes"), std::string::npos) << *w;
+  EXPECT_NE(w->find("--discovery-server"), std::string::npos) << *w;
+  // Twice the cores, twice the processes measured.
+  EXPECT_FALSE(host_fit_warning(200, 1.0, 4, "cyclone", false).has_value());
+}
+
+TEST(HostFit, TooFastSuggestsARateThatFits) {
+  const auto w = host_fit_warning(100, 10.0, 2, "cyclone", false);
+  ASSERT_TRUE(w.has_value());
+  EXPECT_NE(w->find("try --rate 5.0"), std::string::npos) << *w;
+  EXPECT_EQ(w->find("processes:"), std::string::npos) << "the count itself is within the figure: " << *w;
+}
+
+}  // namespace
+}  // namespace pheromesh::cli
