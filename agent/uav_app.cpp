@@ -216,7 +216,7 @@ int UavApp::run() {
   const uint32_t ticks = scenario_.ticks;
   // Every endpoint this UAV flies with, created once: state, deposits and
   // view through its home place agent, broadcasts, commands (and the clock).
-  bus_->join_uav(cfg_.id, home_);
+  bus_->join_uav(cfg_.id, home_, core::policy_traits(scenario_).broadcasts);
   bus_->subscribe_broadcasts();
   commands_ = std::make_unique<runtime::SwarmCommands>(*bus_, log_);
   if (cfg_.common.lockstep()) bus_->subscribe_clock();

@@ -3,11 +3,10 @@
 // launcher warns, with them, when a run asks for more.
 #pragma once
 
-#include <fmt/format.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <optional>
 #include <string>
 
@@ -32,17 +31,24 @@ inline std::optional<std::string> host_fit_warning(uint32_t uavs, double rate_hz
   // Discovery (every process with every other one) bounds the count
   // whatever the rate; the flight cost grows with UAVs x rate.
   const double flight_budget = HostFit::kHeldOnTwoCores * HostFit::kMeasuredRateHz * share;  // UAV ticks per second
+  const auto fixed1 = [](double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.1f", v);
+    return std::string(buf);
+  };
   std::string why;
   if (uavs > held && !discovery_server) {
-    why = fmt::format(
-        "{} UAV processes: on {} cores `pheromesh bench scale` saw discovery complete for {} UAVs (Cyclone 33.5 s, "
-        "Fast DDS 20.8 s on 2 cores) and not for 150, where some UAVs never found their place agent{}",
-        uavs, cores, held, dds == "fastdds" ? "; with --dds fastdds, --discovery-server discovers through one server" : "");
+    why = std::to_string(uavs) + " UAV processes: on " + std::to_string(cores) +
+          " cores `pheromesh bench scale` saw discovery complete for " + std::to_string(held) +
+          " UAVs (Cyclone 33.5 s, Fast DDS 20.8 s on 2 cores) and not for 150, where some UAVs never found their "
+          "place agent";
+    if (dds == "fastdds") why += "; with --dds fastdds, --discovery-server discovers through one server";
   }
   if (static_cast<double>(uavs) * rate_hz > flight_budget) {
     const double rate = std::floor(10.0 * flight_budget / uavs) / 10.0;
-    why += fmt::format("{}{} UAVs at {:.1f} Hz is more than the {:.0f} UAV ticks per second held on time here; try --rate {:.1f}",
-                       why.empty() ? "" : "; ", uavs, rate_hz, flight_budget, std::max(rate, 0.1));
+    why += (why.empty() ? "" : "; ") + std::to_string(uavs) + " UAVs at " + fixed1(rate_hz) + " Hz is more than the " +
+           std::to_string(static_cast<int>(flight_budget)) + " UAV ticks per second held on time here; try --rate " +
+           fixed1(std::max(rate, 0.1));
   }
   if (why.empty()) return std::nullopt;
   return why + " (README, \"Scale\")";

@@ -481,10 +481,12 @@ class CycloneBus final : public VendorBus {
     if (!parts.empty()) halo_reader_ = make_reader(TopicKind::Halo, halo_topic_, parts);
   }
 
-  void join_uav(uint32_t uav, core::RegionId home) override {
+  void join_uav(uint32_t uav, core::RegionId home, bool broadcasts) override {
     home_ = home;
     writer(TopicKind::UavState, uav_topic_, home_partition(home));
     writer(TopicKind::Deposit, deposit_topic_, region_partition(home));
+    writer(TopicKind::Detection, detection_topic_, kGroundPartition);
+    if (broadcasts) writer(TopicKind::Broadcast, broadcast_topic_, kBroadcastPartition);
     view_reader_ = make_reader(TopicKind::View, view_topic_, {view_partition(uav)});
   }
 

@@ -574,10 +574,12 @@ class FastDdsBus final : public VendorBus {
     if (!parts.empty()) halo_reader_ = make_reader(TopicKind::Halo, parts);
   }
 
-  void join_uav(uint32_t uav, core::RegionId home) override {
+  void join_uav(uint32_t uav, core::RegionId home, bool broadcasts) override {
     home_ = home;
     writer(TopicKind::UavState, home_partition(home));
     writer(TopicKind::Deposit, region_partition(home));
+    writer(TopicKind::Detection, kGroundPartition);
+    if (broadcasts) writer(TopicKind::Broadcast, kBroadcastPartition);
     view_reader_ = make_reader(TopicKind::View, {view_partition(uav)});
   }
 

@@ -65,7 +65,8 @@ void TileCache::forget_except(const std::vector<TileCoord>& keep) {
 }
 
 // ------------------------------------------------------------------ dispatch
-PolicyTraits policy_traits(const ScenarioConfig& s) {
+namespace {
+PolicyTraits traits_of(const ScenarioConfig& s) {
   switch (s.policy) {
     case PolicyKind::ShaoSearch: return shao_search_traits(s);
     case PolicyKind::ShaoNavigation: return shao_navigation_traits(s);
@@ -75,6 +76,15 @@ PolicyTraits policy_traits(const ScenarioConfig& s) {
     case PolicyKind::Duan: return duan_traits(s);
   }
   return shao_search_traits(s);
+}
+}  // namespace
+
+PolicyTraits policy_traits(const ScenarioConfig& s) {
+  PolicyTraits t = traits_of(s);
+  // The leader's state (Shao 2020 §5), "target found" (Shostak), the ETA
+  // intervals (Duan 2009 eq. (4)); the other policies never broadcast.
+  t.broadcasts = s.policy == PolicyKind::ShaoNavigation || s.policy == PolicyKind::Shostak || s.policy == PolicyKind::Duan;
+  return t;
 }
 
 std::unique_ptr<UavPolicy> make_uav_policy(const ScenarioConfig& s, const MapGeometry& geo, const World& world,

@@ -93,8 +93,9 @@ class Bus {
 
   // --- joining and subscribing (each once per process)
   // A UAV: its state writer and deposit writer towards its home place agent,
-  // and its view reader. Creates every endpoint the UAV flies with.
-  virtual void join_uav(uint32_t uav, core::RegionId home) = 0;
+  // its view reader, its detection writer and (if its policy broadcasts) its
+  // broadcast writer: every endpoint it writes with, before it flies.
+  virtual void join_uav(uint32_t uav, core::RegionId home, bool broadcasts = false) = 0;
   // A place agent: deposits for `own` (from its UAVs and forwarded), the
   // states of the UAVs homed on it, and every region's field.
   virtual void subscribe_deposits(core::RegionId own) = 0;

@@ -35,6 +35,7 @@ struct PolicyTraits {
   std::vector<std::string> layers;  // layer names, index = TileState.layer
   double sensor_radius = 4.0;       // [cell] for the coverage metric
   double view_radius = 5.0;         // [cell] tiles (and the UAVs over them) a UAV reads
+  bool broadcasts = false;          // its UAVs may broadcast to the swarm (a UAV then creates its writer at start)
 };
 PolicyTraits policy_traits(const ScenarioConfig& s);
 
