@@ -64,7 +64,7 @@ void PlaceApp::take_home_states(uint32_t tick) {
   for (const auto& st : state_inbox_) {
     if (core::home_region(st.uav, geo_.region_count()) != cfg_.region) continue;  // not ours (a stray writer)
     if (auto reason = core::check_uav_state(st, geo_)) {
-      log_->warn("dropped state of uav {}: {}", st.uav, *reason);
+      if (++samples_rejected_ <= 3) log_->warn("dropped state of uav {}: {}", st.uav, *reason);
       continue;
     }
     const core::UavStateMsg* before = views_.state(st.uav);
@@ -92,7 +92,7 @@ void PlaceApp::serve_views(uint32_t tick, bool exact) {
       for (const auto& t : f.tiles) ok = ok && !core::check_tile(t, geo_, core_.layer_count());
       for (const auto& st : f.uavs) ok = ok && !core::check_uav_state(st, geo_);
       if (!ok) {
-        log_->warn("dropped a malformed field chunk of region {}", f.region);
+        if (++samples_rejected_ <= 3) log_->warn("dropped a malformed field chunk of region {}", f.region);
         continue;
       }
       views_.update_field(f);
@@ -181,8 +181,9 @@ void PlaceApp::publish_health(uint32_t tick, bool finished) {
 
 void PlaceApp::log_summary(uint32_t tick) {
   const auto& l = core_.ledger();
-  log_->info("region {} finished at tick {}: deposits received {}, applied {}, rejected {}; forwarded {} of its {} home UAVs' to other regions",
-             cfg_.region, tick, l.received, l.applied, l.rejected(), deposits_forwarded_, home_uavs_.size());
+  log_->info("region {} finished at tick {}: deposits received {}, applied {}, rejected {}; forwarded {} of its {} home "
+             "UAVs' to other regions; samples dropped {}",
+             cfg_.region, tick, l.received, l.applied, l.rejected(), deposits_forwarded_, home_uavs_.size(), samples_rejected_);
   for (const auto& [reason, n] : l.rejected_by_reason) log_->info("  rejected {}: {}", n, reason);
 }
 

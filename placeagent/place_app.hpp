@@ -78,6 +78,7 @@ class PlaceApp {
   std::vector<core::UavStateMsg> home_states_;
   core::ViewMsg view_;
   uint64_t deposits_forwarded_ = 0;
+  uint64_t samples_rejected_ = 0;  // malformed home states and field chunks, dropped
 };
 
 }  // namespace pheromesh::placeagent
