@@ -553,41 +553,23 @@ class CycloneBus final : public VendorBus {
   }
 
   void take_fields(std::vector<core::FieldMsg>& out) override {
-    keep_alive();
-    if (field_reader_ == 0) return;
-    take_all<pheromesh_msg_RegionField>(
-        field_reader_,
-        [&](const pheromesh_msg_RegionField& s) {
-          core::FieldMsg f;
-          f.region = s.region;
-          f.chunk = s.chunk;
-          f.chunks = s.chunks;
-          f.tick = s.tick;
-          if (!unpack(s, core::kMaxFieldTiles, core::kMaxFieldUavs, s.tick, s.region, f.tiles, f.uavs)) {
-            ++stats_.samples_dropped;
-            return;
-          }
-          out.push_back(std::move(f));
-        },
-        ignore_invalid);
+    take_nested<pheromesh_msg_RegionField>(field_reader_, core::kMaxFieldTiles, core::kMaxFieldUavs, out,
+                                           [](const pheromesh_msg_RegionField& s, core::FieldMsg& f) {
+                                             f.region = s.region;
+                                             f.chunk = s.chunk;
+                                             f.chunks = s.chunks;
+                                             f.tick = s.tick;
+                                             return f.region;
+                                           });
   }
 
   void take_views(std::vector<core::ViewMsg>& out) override {
-    keep_alive();
-    if (view_reader_ == 0) return;
-    take_all<pheromesh_msg_View>(
-        view_reader_,
-        [&](const pheromesh_msg_View& s) {
-          core::ViewMsg v;
-          v.uav = s.uav;
-          v.tick = s.tick;
-          if (!unpack(s, core::kMaxViewTiles, core::kMaxViewUavs, s.tick, 0, v.tiles, v.uavs)) {
-            ++stats_.samples_dropped;
-            return;
-          }
-          out.push_back(std::move(v));
-        },
-        ignore_invalid);
+    take_nested<pheromesh_msg_View>(view_reader_, core::kMaxViewTiles, core::kMaxViewUavs, out,
+                                    [](const pheromesh_msg_View& s, core::ViewMsg& v) {
+                                      v.uav = s.uav;
+                                      v.tick = s.tick;
+                                      return core::RegionId{0};
+                                    });
   }
 
   void take_uav_states(std::vector<core::UavStateMsg>& out) override {
@@ -677,6 +659,27 @@ class CycloneBus final : public VendorBus {
     dds_entity_t publisher = 0;
     dds_entity_t writer = 0;
   };
+
+  // A View or a RegionField: `head` fills the fields before the nested tiles
+  // and states and returns the region the tiles belong to; a sample over a
+  // bound is dropped and counted.
+  template <typename C, typename M, typename Head>
+  void take_nested(dds_entity_t reader, std::size_t max_tiles, std::size_t max_uavs, std::vector<M>& out, Head&& head) {
+    keep_alive();
+    if (reader == 0) return;
+    take_all<C>(
+        reader,
+        [&](const C& s) {
+          M m;
+          const core::RegionId region = head(s, m);
+          if (!unpack(s, max_tiles, max_uavs, m.tick, region, m.tiles, m.uavs)) {
+            ++stats_.samples_dropped;
+            return;
+          }
+          out.push_back(std::move(m));
+        },
+        ignore_invalid);
+  }
 
   // Manual-by-topic writers (qos.cpp) are asserted while the process keeps
   // polling its bus: every take_* call, at most four times per lease.

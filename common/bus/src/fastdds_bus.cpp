@@ -681,39 +681,23 @@ class FastDdsBus final : public VendorBus {
   }
 
   void take_fields(std::vector<core::FieldMsg>& out) override {
-    keep_alive();
-    take_each<msg::RegionField>(
-        field_reader_,
-        [&](const msg::RegionField& s, const fdds::SampleInfo& /*info*/) {
-          core::FieldMsg f;
-          f.region = s.region();
-          f.chunk = s.chunk();
-          f.chunks = s.chunks();
-          f.tick = s.tick();
-          if (!unpack(s, core::kMaxFieldTiles, core::kMaxFieldUavs, s.tick(), s.region(), f.tiles, f.uavs)) {
-            ++stats_.samples_dropped;
-            return;
-          }
-          out.push_back(std::move(f));
-        },
-        ignore_invalid);
+    take_nested<msg::RegionField>(field_reader_, core::kMaxFieldTiles, core::kMaxFieldUavs, out,
+                                  [](const msg::RegionField& s, core::FieldMsg& f) {
+                                    f.region = s.region();
+                                    f.chunk = s.chunk();
+                                    f.chunks = s.chunks();
+                                    f.tick = s.tick();
+                                    return f.region;
+                                  });
   }
 
   void take_views(std::vector<core::ViewMsg>& out) override {
-    keep_alive();
-    take_each<msg::View>(
-        view_reader_,
-        [&](const msg::View& s, const fdds::SampleInfo& /*info*/) {
-          core::ViewMsg v;
-          v.uav = s.uav();
-          v.tick = s.tick();
-          if (!unpack(s, core::kMaxViewTiles, core::kMaxViewUavs, s.tick(), 0, v.tiles, v.uavs)) {
-            ++stats_.samples_dropped;
-            return;
-          }
-          out.push_back(std::move(v));
-        },
-        ignore_invalid);
+    take_nested<msg::View>(view_reader_, core::kMaxViewTiles, core::kMaxViewUavs, out,
+                           [](const msg::View& s, core::ViewMsg& v) {
+                             v.uav = s.uav();
+                             v.tick = s.tick();
+                             return core::RegionId{0};
+                           });
   }
 
   void take_uav_states(std::vector<core::UavStateMsg>& out) override {
@@ -843,6 +827,27 @@ class FastDdsBus final : public VendorBus {
   }
 
   fdds::Topic* topic(TopicKind k) { return topics_.at(topic_name(k)); }
+
+  // A View or a RegionField: `head` fills the fields before the nested tiles
+  // and states and returns the region the tiles belong to; a sample over a
+  // bound is dropped and counted.
+  template <typename T, typename M, typename Head>
+  void take_nested(fdds::DataReader* reader, std::size_t max_tiles, std::size_t max_uavs, std::vector<M>& out,
+                   Head&& head) {
+    keep_alive();
+    take_each<T>(
+        reader,
+        [&](const T& s, const fdds::SampleInfo& /*info*/) {
+          M m;
+          const core::RegionId region = head(s, m);
+          if (!unpack(s, max_tiles, max_uavs, m.tick, region, m.tiles, m.uavs)) {
+            ++stats_.samples_dropped;
+            return;
+          }
+          out.push_back(std::move(m));
+        },
+        ignore_invalid);
+  }
 
   // Manual-by-topic writers (qos.cpp) are asserted while the process keeps
   // polling its bus: every take_* call, at most four times per lease.
