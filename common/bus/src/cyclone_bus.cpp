@@ -119,6 +119,13 @@ core::UavStateMsg state_in(const pheromesh_msg_UavState& s) {
           s.samples_received, s.ticks_late, {s.view_x, s.view_y}, s.finished};
 }
 
+std::vector<pheromesh_msg_UavState> states_out(const std::vector<core::UavStateMsg>& states) {
+  std::vector<pheromesh_msg_UavState> out;
+  out.reserve(states.size());
+  for (const auto& u : states) out.push_back(state_out(u));
+  return out;
+}
+
 // TilePatch views of `tiles` (their values are borrowed, not copied).
 std::vector<pheromesh_msg_TilePatch> patches_out(const std::vector<core::TileMsg>& tiles) {
   std::vector<pheromesh_msg_TilePatch> out(tiles.size());
@@ -259,9 +266,7 @@ class CycloneBus final : public VendorBus {
   bool publish_view(const core::ViewMsg& m) override {
     if (!view_fits(m)) return false;
     std::vector<pheromesh_msg_TilePatch> tiles = patches_out(m.tiles);
-    std::vector<pheromesh_msg_UavState> uavs;
-    uavs.reserve(m.uavs.size());
-    for (const auto& u : m.uavs) uavs.push_back(state_out(u));
+    std::vector<pheromesh_msg_UavState> uavs = states_out(m.uavs);
     pheromesh_msg_View s{};
     s.uav = m.uav;
     s.tick = m.tick;
@@ -273,9 +278,7 @@ class CycloneBus final : public VendorBus {
   bool publish_field(const core::FieldMsg& m) override {
     if (!field_fits(m)) return false;
     std::vector<pheromesh_msg_TilePatch> tiles = patches_out(m.tiles);
-    std::vector<pheromesh_msg_UavState> uavs;
-    uavs.reserve(m.uavs.size());
-    for (const auto& u : m.uavs) uavs.push_back(state_out(u));
+    std::vector<pheromesh_msg_UavState> uavs = states_out(m.uavs);
     pheromesh_msg_RegionField s{};
     s.region = m.region;
     s.chunk = m.chunk;

@@ -200,6 +200,13 @@ core::UavStateMsg state_in(const msg::UavState& s) {
                            s.tile_samples_received(), s.samples_received(), s.ticks_late(), {s.view_x(), s.view_y()}, s.finished()};
 }
 
+std::vector<msg::UavState> states_out(const std::vector<core::UavStateMsg>& states) {
+  std::vector<msg::UavState> out;
+  out.reserve(states.size());
+  for (const auto& u : states) out.push_back(state_out(u));
+  return out;
+}
+
 std::vector<msg::TilePatch> patches_out(const std::vector<core::TileMsg>& tiles) {
   std::vector<msg::TilePatch> out(tiles.size());
   for (std::size_t i = 0; i < tiles.size(); ++i) {
@@ -416,10 +423,7 @@ class FastDdsBus final : public VendorBus {
     s.uav(m.uav);
     s.tick(m.tick);
     s.tiles(patches_out(m.tiles));
-    std::vector<msg::UavState> uavs;
-    uavs.reserve(m.uavs.size());
-    for (const auto& u : m.uavs) uavs.push_back(state_out(u));
-    s.uavs(std::move(uavs));
+    s.uavs(states_out(m.uavs));
     return write(writer(TopicKind::View, view_partition(m.uav)), &s);
   }
 
@@ -431,10 +435,7 @@ class FastDdsBus final : public VendorBus {
     s.chunks(m.chunks);
     s.tick(m.tick);
     s.tiles(patches_out(m.tiles));
-    std::vector<msg::UavState> uavs;
-    uavs.reserve(m.uavs.size());
-    for (const auto& u : m.uavs) uavs.push_back(state_out(u));
-    s.uavs(std::move(uavs));
+    s.uavs(states_out(m.uavs));
     return write(writer(TopicKind::Field, kFieldPartition), &s);
   }
 
