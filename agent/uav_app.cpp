@@ -15,6 +15,7 @@ UavApp::UavApp(UavConfig cfg, core::ScenarioConfig scenario, std::unique_ptr<bus
       geo_(scenario_.geometry()),
       world_(geo_, scenario_.obstacles, scenario_.targets),
       bus_(std::move(bus)),
+      resend_(*bus_, cfg_.common.lockstep()),
       log_(spdlog::default_logger()),
       core_(scenario_, world_, cfg_.id, cfg_.common.lockstep()),
       layers_(static_cast<int>(core::policy_traits(scenario_).layers.size())),
@@ -202,12 +203,16 @@ int UavApp::run_lockstep(uint32_t ticks) {
       core::PhaseDoneMsg report{core::process_key(core::kRoleUav, cfg_.id), c.tick, c.phase, broadcast_written_ ? 1U : 0U,
                               {}};
       for (const auto& [region, n] : written_) report.deposits.push_back({region, n});
-      bus_->publish_phase_done(report);
+      resend_.begin_tick();
+      resend_.phase_done(report);
       bus_->flush(std::chrono::seconds(10));
       done = c.tick;
       if (c.tick >= ticks) stop = true;
     }
-    if (cmds.empty()) bus_->wait({bus::TopicKind::Clock}, Clock::now() + std::chrono::milliseconds(100));
+    if (cmds.empty()) {
+      if (resend_.resend_if_quiet()) log_->debug("tick {}: nothing new for 1 s; re-sent PhaseDone", done);
+      bus_->wait({bus::TopicKind::Clock}, Clock::now() + std::chrono::milliseconds(100));
+    }
   }
   return static_cast<int>(std::max<int64_t>(done, 0));
 }

@@ -17,6 +17,7 @@
 #include "pheromesh/core/world.hpp"
 #include "pheromesh/runtime/commands.hpp"
 #include "pheromesh/runtime/process.hpp"
+#include "pheromesh/bus/resend.hpp"
 
 namespace spdlog {
 class logger;
@@ -56,6 +57,7 @@ class UavApp {
   core::MapGeometry geo_;
   core::World world_;
   std::unique_ptr<bus::Bus> bus_;
+  bus::LatestResender resend_;  // lockstep: this tick's PhaseDone
   std::shared_ptr<spdlog::logger> log_;
   core::UavCore core_;
   core::UavCore::Output out_;

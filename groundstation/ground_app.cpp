@@ -30,6 +30,7 @@ GroundApp::GroundApp(GroundConfig cfg, core::ScenarioConfig scenario, std::uniqu
       geo_(scenario_.geometry()),
       world_(geo_, scenario_.obstacles, scenario_.targets),
       bus_(std::move(bus)),
+      resend_(*bus_, true),  // only conduct() (lockstep) publishes through it
       log_(spdlog::default_logger()),
       rec_(scenario_, world_),
       layers_(static_cast<int>(core::policy_traits(scenario_).layers.size())) {
@@ -231,7 +232,8 @@ bool GroundApp::gone_for_good(uint32_t uav) const {
 
 bool GroundApp::run_phase(uint32_t tick, core::ClockPhase phase) {
   poll();
-  bus_->publish_clock(announce(tick, phase));
+  resend_.begin_tick();
+  resend_.clock(announce(tick, phase));
   const bool uav_phase = phase == core::ClockPhase::Uav;
   const uint32_t role = uav_phase ? core::kRoleUav : core::kRolePlace;
   const uint32_t count = uav_phase ? cfg_.expect_uavs : geo_.region_count();
@@ -269,6 +271,7 @@ bool GroundApp::run_phase(uint32_t tick, core::ClockPhase phase) {
     }
     progress_if_due();
     service();
+    if (resend_.resend_if_quiet()) log_->debug("lockstep tick {}: nothing new for 1 s; re-sent the clock", tick);
     wait_for_data(std::min(deadline, Clock::now() + std::chrono::milliseconds(20)));
   }
 }

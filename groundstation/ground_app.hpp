@@ -22,6 +22,7 @@
 #include "pheromesh/core/scenario.hpp"
 #include "pheromesh/core/world.hpp"
 #include "pheromesh/runtime/process.hpp"
+#include "pheromesh/bus/resend.hpp"
 
 namespace spdlog {
 class logger;
@@ -78,6 +79,7 @@ class GroundApp {
   core::MapGeometry geo_;
   core::World world_;
   std::unique_ptr<bus::Bus> bus_;
+  bus::LatestResender resend_;  // lockstep: the clock of the phase under way
   std::shared_ptr<spdlog::logger> log_;
   core::RunRecorder rec_;
   std::map<std::pair<int, std::pair<int32_t, int32_t>>, core::TileMsg> tiles_latest_;  // (layer, tile)

@@ -16,6 +16,7 @@ PlaceApp::PlaceApp(PlaceConfig cfg, core::ScenarioConfig scenario, std::unique_p
       scenario_(std::move(scenario)),
       geo_(scenario_.geometry()),
       bus_(std::move(bus)),
+      resend_(*bus_, cfg_.common.lockstep()),
       log_(spdlog::default_logger()),
       core_(scenario_, cfg_.region),
       rate_(scenario_.tick_rate_hz),
@@ -80,7 +81,7 @@ void PlaceApp::serve_views(uint32_t tick, bool exact) {
     if (const core::UavStateMsg* st = views_.state(u)) home_states_.push_back(*st);
   }
   for (const auto& t : tiles_out_) views_.update_tile(t);
-  for (const auto& f : core::make_field_chunks(cfg_.region, tick, tiles_out_, home_states_)) bus_->publish_field(f);
+  for (const auto& f : core::make_field_chunks(cfg_.region, tick, tiles_out_, home_states_)) resend_.field(f);
   // Every other region's field: exactly this tick's (lockstep), or the latest.
   const auto deadline = Clock::now() + std::chrono::seconds(30);
   for (;;) {
@@ -99,20 +100,23 @@ void PlaceApp::serve_views(uint32_t tick, bool exact) {
     }
     if (!exact || views_.holds_fields(tick, other_regions_)) break;
     if (Clock::now() > deadline || runtime::shutdown_requested()) {
-      log_->error("tick {}: the fields of some regions did not arrive; views use the latest", tick);
+      log_->error("tick {}: the fields of some regions did not arrive ({}); views use the latest", tick,
+                  views_.missing_fields(tick, other_regions_));
       break;
     }
+    resend_.resend_if_quiet();
     bus_->wait({bus::TopicKind::Field}, std::min(deadline, Clock::now() + std::chrono::milliseconds(100)));
   }
   for (uint32_t u : home_uavs_) {
     const core::UavStateMsg* st = views_.state(u);
     if (st == nullptr || st->finished) continue;
     if (!exact && tick - heard_at_[u] > kViewsAfterSilence) continue;
-    if (views_.compose(u, tick, exact ? 0 : kNeighbourAge, view_)) bus_->publish_view(view_);
+    if (views_.compose(u, tick, exact ? 0 : kNeighbourAge, view_)) resend_.view(view_);
   }
 }
 
 void PlaceApp::step(uint32_t tick, bool exact, std::optional<uint32_t> expected_deposits) {
+  resend_.begin_tick();
   inbox_.clear();
   take_deposits();
   if (expected_deposits) {
@@ -141,7 +145,7 @@ void PlaceApp::step(uint32_t tick, bool exact, std::optional<uint32_t> expected_
     log_->info("target at ({},{}) {} at tick {}", e.cell.x, e.cell.y,
                e.kind == 0 ? "marked" : e.kind == 1 ? "due for a revisit" : "revisited", tick);
   }
-  bus_->publish_halo({cfg_.region, tick, ring.target, ring.obstacle});
+  resend_.halo({cfg_.region, tick, ring.target, ring.obstacle});
   // Neighbour rings. Realtime: whatever arrived (a neighbour that sent
   // nothing new leaves its last ring in the halo, counted as missing).
   // Lockstep: exactly the rings of this tick, waited for.
@@ -164,6 +168,7 @@ void PlaceApp::step(uint32_t tick, bool exact, std::optional<uint32_t> expected_
                   core_.neighbours().size());
       break;
     }
+    resend_.resend_if_quiet();
     bus_->wait({bus::TopicKind::Halo}, std::min(deadline, Clock::now() + std::chrono::milliseconds(100)));
   }
   halos_missing_ += core_.neighbours().size() - std::min(fresh.size(), core_.neighbours().size());
@@ -182,8 +187,9 @@ void PlaceApp::publish_health(uint32_t tick, bool finished) {
 void PlaceApp::log_summary(uint32_t tick) {
   const auto& l = core_.ledger();
   log_->info("region {} finished at tick {}: deposits received {}, applied {}, rejected {}; forwarded {} of its {} home "
-             "UAVs' to other regions; samples dropped {}",
-             cfg_.region, tick, l.received, l.applied, l.rejected(), deposits_forwarded_, home_uavs_.size(), samples_rejected_);
+             "UAVs' to other regions; samples dropped {}; lockstep re-sends {}",
+             cfg_.region, tick, l.received, l.applied, l.rejected(), deposits_forwarded_, home_uavs_.size(), samples_rejected_,
+             resend_.resends());
   for (const auto& [reason, n] : l.rejected_by_reason) log_->info("  rejected {}: {}", n, reason);
 }
 
@@ -232,13 +238,16 @@ int PlaceApp::run_lockstep() {
         for (const auto& rc : c.deposits) expected += rc.region == cfg_.region ? rc.count : 0;
         step(c.tick, true, expected);
         publish_health(c.tick, false);
-        bus_->flush(std::chrono::seconds(10));
-        bus_->publish_phase_done({core::process_key(core::kRolePlace, cfg_.region), c.tick, c.phase, 0, {}});
+        if (!bus_->flush(std::chrono::seconds(10))) log_->warn("tick {}: not every sample was acknowledged in 10 s", c.tick);
+        resend_.phase_done({core::process_key(core::kRolePlace, cfg_.region), c.tick, c.phase, 0, {}});
         bus_->flush(std::chrono::seconds(10));
         done_tick = c.tick;
       }
     }
-    if (cmds.empty()) bus_->wait({bus::TopicKind::Clock}, Clock::now() + std::chrono::milliseconds(100));
+    if (cmds.empty()) {
+      if (resend_.resend_if_quiet()) log_->debug("tick {}: nothing new for 1 s; re-sent this tick's samples", done_tick);
+      bus_->wait({bus::TopicKind::Clock}, Clock::now() + std::chrono::milliseconds(100));
+    }
   }
   // Wait for SIGTERM from the launcher; deposits arriving now (none in a
   // clean run) are counted, not applied to the field, so the final field

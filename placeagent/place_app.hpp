@@ -18,6 +18,7 @@
 #include "pheromesh/core/view_server.hpp"
 #include "pheromesh/runtime/commands.hpp"
 #include "pheromesh/runtime/process.hpp"
+#include "pheromesh/bus/resend.hpp"
 
 namespace spdlog {
 class logger;
@@ -57,6 +58,7 @@ class PlaceApp {
   core::ScenarioConfig scenario_;
   core::MapGeometry geo_;
   std::unique_ptr<bus::Bus> bus_;
+  bus::LatestResender resend_;  // lockstep: this tick's fields, views, halo, PhaseDone
   std::shared_ptr<spdlog::logger> log_;
   core::PlaceCore core_;
   uint64_t halos_missing_ = 0;

@@ -8,6 +8,7 @@
 #include <thread>
 
 #include "pheromesh/bus/bus.hpp"
+#include "pheromesh/bus/resend.hpp"
 
 using namespace pheromesh;  // NOLINT
 using Clock = std::chrono::steady_clock;
@@ -337,6 +338,51 @@ TEST_P(Departure, AWaitReturnsWhenDataArrivesAndNotBefore) {
   }
   ASSERT_EQ(got.size(), 1U);
   EXPECT_EQ(got[0].tick, 7U);
+}
+
+TEST_P(Departure, LockstepResenderWritesTheTicksSamplesAgainAfterAQuietSpellOnly) {
+  // bus::LatestResender: publishes and remembers; once nothing was
+  // published for its quiet period it writes the same samples again (a new
+  // sample of the same instance and content); begin_tick forgets them.
+  auto w = make(GetParam().writer, "writer");
+  auto r = make(GetParam().reader, "reader");
+  ASSERT_TRUE(w && r);
+  r->subscribe_fields();
+  r->subscribe_phase_done();
+  bus::LatestResender resend(*w, true, std::chrono::milliseconds(300));
+  EXPECT_FALSE(resend.resend_if_quiet()) << "nothing remembered yet";
+  const core::FieldMsg field{3, 0, 1, 9, {core::TileMsg{0, {2, 5}, 1, 0, 9, 1, {1.0F}}}, {}};
+  ASSERT_TRUE(resend.field(field));
+  ASSERT_TRUE(resend.phase_done({core::process_key(core::kRolePlace, 3), 9, 2, 0, {}}));
+  EXPECT_FALSE(resend.resend_if_quiet()) << "published just now";
+  const auto fields = wait_for<core::FieldMsg>([&](auto& v) { r->take_fields(v); });
+  ASSERT_EQ(fields.size(), 1U);
+  std::this_thread::sleep_for(std::chrono::milliseconds(350));
+  EXPECT_TRUE(resend.resend_if_quiet());
+  EXPECT_EQ(resend.resends(), 1U);
+  const auto again = wait_for<core::FieldMsg>([&](auto& v) { r->take_fields(v); });
+  ASSERT_EQ(again.size(), 1U);
+  EXPECT_EQ(again[0].region, 3U);
+  EXPECT_EQ(again[0].tick, 9U);
+  ASSERT_EQ(again[0].tiles.size(), 1U);
+  EXPECT_EQ(again[0].tiles[0].tile.ty, 5);
+  std::vector<core::PhaseDoneMsg> dones;
+  const auto deadline = Clock::now() + std::chrono::seconds(20);
+  while (dones.empty() && Clock::now() < deadline) {
+    r->wait({bus::TopicKind::PhaseDone}, Clock::now() + std::chrono::milliseconds(100));
+    r->take_phase_done(dones);
+  }
+  ASSERT_FALSE(dones.empty());
+  EXPECT_EQ(dones.back().tick, 9U);
+  // A new tick forgets the old samples; a disabled resender only publishes.
+  resend.begin_tick();
+  std::this_thread::sleep_for(std::chrono::milliseconds(350));
+  EXPECT_FALSE(resend.resend_if_quiet());
+  bus::LatestResender off(*w, false, std::chrono::milliseconds(1));
+  ASSERT_TRUE(off.field(field));
+  std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  EXPECT_FALSE(off.resend_if_quiet());
+  EXPECT_EQ(off.resends(), 0U);
 }
 
 INSTANTIATE_TEST_SUITE_P(Vendors, Departure,

@@ -88,9 +88,12 @@ TEST(ViewServer, FieldsOfATickAreHeldOnlyWhenEveryChunkOfEveryRegionArrived) {
   vs.update_field(chunks[0]);
   for (const auto& f : make_field_chunks(2, 4, {}, {uav(7, 4, 30, 30)})) vs.update_field(f);
   EXPECT_FALSE(vs.holds_fields(4, regions)) << "chunk 1 of region 1 is missing";
+  EXPECT_EQ(vs.missing_fields(4, regions), "region 1: tick 4, 1 of 2 chunks");
   vs.update_field(chunks[1]);
   EXPECT_TRUE(vs.holds_fields(4, regions));
+  EXPECT_EQ(vs.missing_fields(4, regions), "");
   EXPECT_FALSE(vs.holds_fields(5, regions));
+  EXPECT_EQ(vs.missing_fields(5, std::vector<RegionId>{2, 9}), "region 2: tick 4, 1 of 1 chunks; region 9: none");
   ASSERT_NE(vs.state(7), nullptr) << "a field carries its home UAVs' states";
   // An empty region still sends one chunk.
   EXPECT_EQ(make_field_chunks(3, 1, {}, {}).size(), 1U);

@@ -47,6 +47,23 @@ bool ViewServer::holds_fields(uint32_t tick, std::span<const RegionId> regions) 
   });
 }
 
+std::string ViewServer::missing_fields(uint32_t tick, std::span<const RegionId> regions) const {
+  std::string out;
+  for (RegionId r : regions) {
+    auto it = fields_.find(r);
+    if (it != fields_.end() && it->second.tick == tick && it->second.seen.size() >= it->second.chunks) continue;
+    if (!out.empty()) out += "; ";
+    out += "region " + std::to_string(r) + ": ";
+    if (it == fields_.end()) {
+      out += "none";
+    } else {
+      out += "tick " + std::to_string(it->second.tick) + ", " + std::to_string(it->second.seen.size()) + " of " +
+             std::to_string(it->second.chunks) + " chunks";
+    }
+  }
+  return out;
+}
+
 std::vector<TileCoord> ViewServer::neighbourhood(Cell c) const { return geo_.tiles_within(c, radius_); }
 
 const UavStateMsg* ViewServer::state(uint32_t uav) const {

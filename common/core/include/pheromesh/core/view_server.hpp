@@ -14,6 +14,7 @@
 #include <map>
 #include <set>
 #include <span>
+#include <string>
 #include <tuple>
 #include <vector>
 
@@ -38,6 +39,9 @@ class ViewServer {
 
   // Lockstep: every chunk of tick `tick` of every region in `regions` arrived.
   [[nodiscard]] bool holds_fields(uint32_t tick, std::span<const RegionId> regions) const;
+  // What holds_fields misses, for a log line: "region R: tick T, C of N
+  // chunks" per region not complete at `tick` ("none" if nothing arrived).
+  [[nodiscard]] std::string missing_fields(uint32_t tick, std::span<const RegionId> regions) const;
 
   // The view of `uav` at (place) tick `tick` into `out`: the tiles of the
   // neighbourhood of its latest state's view cell, and the states of the
