@@ -21,7 +21,7 @@
 
 #include "host_fit.hpp"
 #include "pheromesh/bus/bus.hpp"
-#include "pheromesh/console/control.hpp"
+#include "pheromesh/auth/control.hpp"
 #include "pheromesh/console/server.hpp"
 #include "pheromesh/core/scenario.hpp"
 #include "pheromesh/runtime/process.hpp"
@@ -453,7 +453,7 @@ int Launcher::run() {
   rate_ = rate;
   // Every process of this swarm shares a fresh control key: only this
   // ground station can sign commands they act on (docs/console.md).
-  setenv(console::kControlKeyEnv, console::random_control_key_hex().c_str(), 1);
+  setenv(auth::kControlKeyEnv, auth::random_control_key_hex().c_str(), 1);
   std::vector<std::string> ground_args{"--out", o_.out_dir, "--progress", std::to_string(o_.progress_s), "--ticks",
                                        std::to_string(ticks), "--expect-uavs", std::to_string(uavs)};
   std::string token;

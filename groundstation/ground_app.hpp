@@ -14,7 +14,7 @@
 
 #include "console_live.hpp"
 #include "pheromesh/bus/bus.hpp"
-#include "pheromesh/console/control.hpp"
+#include "pheromesh/auth/control.hpp"
 #include "pheromesh/console/recording.hpp"
 #include "pheromesh/console/server.hpp"
 #include "pheromesh/console/uncertainty.hpp"
@@ -109,7 +109,7 @@ class GroundApp {
   std::unique_ptr<console::ConsoleServer> server_;
   std::unique_ptr<console::RecordingWriter> recording_;
   std::unique_ptr<console::UncertaintyTracker> uncertainty_;
-  std::optional<console::ControlKey> control_key_;
+  std::optional<auth::ControlKey> control_key_;
   std::chrono::steady_clock::time_point console_t0_, next_frame_, next_series_;
   std::map<uint32_t, std::chrono::steady_clock::time_point> uav_heard_;
   std::map<core::RegionId, std::chrono::steady_clock::time_point> region_heard_;

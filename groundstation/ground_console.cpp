@@ -33,7 +33,7 @@ void GroundApp::start_console() {
   console_t0_ = Clock::now();
   next_frame_ = console_t0_;
   next_series_ = console_t0_;
-  auto key = console::control_key_from_env();
+  auto key = auth::control_key_from_env();
   if (!key) {
     log_->error("{}; console commands to the swarm are disabled", key.error().message);
   } else {
@@ -63,7 +63,7 @@ void GroundApp::start_console() {
   control.process_control = cfg_.launcher_fd >= 0;
   if (!control.process_control) control.reason = "kill and restart need the launcher: start the swarm with `pheromesh run --http PORT`";
   if (!control_key_) {
-    control.reason += std::string(control.reason.empty() ? "" : "; ") + "pause and pop-ups need $" + console::kControlKeyEnv +
+    control.reason += std::string(control.reason.empty() ? "" : "; ") + "pause and pop-ups need $" + auth::kControlKeyEnv +
                       " (set by pheromesh run)";
   }
   uncertainty_ = std::make_unique<console::UncertaintyTracker>(
@@ -294,15 +294,15 @@ void GroundApp::log_command(const std::string& who, const std::string& what, con
 
 Answer GroundApp::publish_swarm_command(core::CommandMsg c) {
   if (!control_key_) {
-    return {409, std::string("this ground station has no control key ($") + console::kControlKeyEnv +
+    return {409, std::string("this ground station has no control key ($") + auth::kControlKeyEnv +
                      "); start the swarm with pheromesh run"};
   }
   c.issuer = core::process_key(kRoleGround, 0);
   c.seq = ++command_seq_;
   c.issued_ms = wall_ms();
-  console::sign(c, *control_key_);
+  auth::sign(c, *control_key_);
   if (!bus_->publish_command(c)) return {500, "the DDS write failed"};
-  return {200, console::describe(c) + " sent to the swarm (seq " + std::to_string(c.seq) + ")"};
+  return {200, auth::describe(c) + " sent to the swarm (seq " + std::to_string(c.seq) + ")"};
 }
 
 Answer GroundApp::ask_launcher(const std::string& line) {

@@ -4,7 +4,7 @@
 #include <fstream>
 #include <mutex>
 
-#include "pheromesh/console/control.hpp"
+#include "pheromesh/auth/control.hpp"
 #include "pheromesh/console/server.hpp"
 #include "pheromesh/console/prometheus.hpp"
 #include "pheromesh/web/assets.hpp"
@@ -32,7 +32,7 @@ bool same_token(const std::string& a, const std::string& b) {
 }
 }  // namespace
 
-std::string random_token() { return random_hex(16); }
+std::string random_token() { return auth::random_hex(16); }
 
 ConsoleServer::ConsoleServer(ConsoleSource& source, ServerOptions options) : impl_(std::make_unique<Impl>()) {
   impl_->source = &source;

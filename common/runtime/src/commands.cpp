@@ -5,8 +5,8 @@
 namespace pheromesh::runtime {
 
 namespace {
-std::optional<console::ControlKey> key_or_log(spdlog::logger& log) {
-  auto k = console::control_key_from_env();
+std::optional<auth::ControlKey> key_or_log(spdlog::logger& log) {
+  auto k = auth::control_key_from_env();
   if (!k) {
     log.error("{}; ground-station commands will be ignored", k.error().message);
     return std::nullopt;
@@ -30,7 +30,7 @@ std::vector<core::CommandMsg> SwarmCommands::take() {
     if (gate_.rejected() <= 20) log_->warn("ignored ground-station command {}", r);
   }
   for (const auto& c : ok) {
-    log_->info("ground-station command {} (seq {})", console::describe(c), c.seq);
+    log_->info("ground-station command {} (seq {})", auth::describe(c), c.seq);
     if (c.kind == static_cast<uint8_t>(core::CommandKind::Pause)) paused_ = true;
     if (c.kind == static_cast<uint8_t>(core::CommandKind::Resume)) paused_ = false;
     if (c.kind == static_cast<uint8_t>(core::CommandKind::Start)) started_ = true;

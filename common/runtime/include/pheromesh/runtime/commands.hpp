@@ -1,12 +1,12 @@
 // Ground-station commands as a UAV or place agent receives them: subscribed,
-// authenticated (console/control.hpp), ordered, logged; pause state kept.
+// authenticated (auth/control.hpp), ordered, logged; pause state kept.
 #pragma once
 
 #include <memory>
 #include <vector>
 
 #include "pheromesh/bus/bus.hpp"
-#include "pheromesh/console/control.hpp"
+#include "pheromesh/auth/control.hpp"
 
 namespace spdlog {
 class logger;
@@ -32,7 +32,7 @@ class SwarmCommands {
  private:
   bus::Bus* bus_;
   std::shared_ptr<spdlog::logger> log_;
-  console::CommandGate gate_;
+  auth::CommandGate gate_;
   std::vector<core::CommandMsg> inbox_;
   bool paused_ = false;
   bool started_ = false;

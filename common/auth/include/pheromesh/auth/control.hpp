@@ -17,7 +17,7 @@
 #include "pheromesh/core/messages.hpp"
 #include "pheromesh/core/result.hpp"
 
-namespace pheromesh::console {
+namespace pheromesh::auth {
 
 using ControlKey = std::vector<uint8_t>;
 inline constexpr const char* kControlKeyEnv = "PHEROMESH_CONTROL_KEY";
@@ -56,4 +56,4 @@ class CommandGate {
   uint64_t accepted_ = 0, rejected_ = 0;
 };
 
-}  // namespace pheromesh::console
+}  // namespace pheromesh::auth

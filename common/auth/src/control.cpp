@@ -1,4 +1,4 @@
-#include "pheromesh/console/control.hpp"
+#include "pheromesh/auth/control.hpp"
 
 #include <openssl/crypto.h>
 #include <openssl/evp.h>
@@ -9,7 +9,7 @@
 #include <fstream>
 #include <stdexcept>
 
-namespace pheromesh::console {
+namespace pheromesh::auth {
 
 std::string random_hex(std::size_t bytes) {
   std::ifstream in("/dev/urandom", std::ios::binary);
@@ -123,4 +123,4 @@ std::vector<core::CommandMsg> CommandGate::admit(std::vector<core::CommandMsg>& 
   return ok;
 }
 
-}  // namespace pheromesh::console
+}  // namespace pheromesh::auth
