@@ -31,7 +31,7 @@
 //    along the gradient itself.
 //  * Shao 2020 eq. (15): v_{t+1} = ρ s/‖s‖, q_{t+1} = q_t + v_{t+1}; the speed is
 //    always ρ = 2 [cell/tick] and the position is continuous.
-//  * Scalar leader (Fig. 10b, not specified in the paper; our baseline): per
+//  * Scalar leader (Shao 2020 Fig. 10b, not specified in the paper; our baseline): per
 //    sector the mean over J(d) of λTa τ_j + λTh ε_j + λTr σ_j (the same
 //    fusion as Shao 2020 eq. (9) of Shao 2020 Sec. 4), the sector of the largest mean wins (ties to
 //    the lowest index; sectors without a known cell take no part), and the

@@ -80,8 +80,8 @@ struct LiuSwarmConfig {
   std::vector<Vec2> starts{kLiuStartPositions.begin(), kLiuStartPositions.end()};
   LiuPrior prior = LiuPrior::kUniform;
   // Where the kWrong prior expects targets [m]. Default: Liu 2022 Sec. 5.3's three prior
-  // targets; pair it with `targets` that differ (Fig. 27a: the one at
-  // (700, 500) absent; Fig. 27b: the only target at (300, 200)).
+  // targets; pair it with `targets` that differ (Liu 2022 Fig. 27a: the one at
+  // (700, 500) absent; Liu 2022 Fig. 27b: the only target at (300, 200)).
   std::vector<Vec2> wrong_prior_centres{kLiuTargets.begin(), kLiuTargets.end()};
   // Mixture components: the paper gives neither σ0 nor α_i. Ours: σ0 = one
   // cell, α_i = 1 (each expected target is one unit of probability mass, so a

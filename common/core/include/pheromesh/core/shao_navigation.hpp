@@ -86,7 +86,7 @@ Heading nav_sector_of(const Eigen::Vector2d& offset);
 // One leader step with vector pheromones, Shao 2020 eq. (12), Shao 2020 eq. (13), Shao 2020 eq. (14), Shao 2020 eq. (15).
 LeaderStep leader_vector_step(const Eigen::Vector2d& q, const PheromoneLookup& pheromones,
                               const ShaoNavParams& p);
-// Our baseline reading of the scalar-pheromone leader of Fig. 10b.
+// Our baseline reading of the scalar-pheromone leader of Shao 2020 Fig. 10b.
 LeaderStep leader_scalar_step(const Eigen::Vector2d& q, const PheromoneLookup& pheromones,
                               const ShaoNavParams& p);
 
