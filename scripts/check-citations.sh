@@ -32,7 +32,7 @@ perl -CSD -Mutf8 -ne '
   my @why;
   push @why, "range or list after eq."
     if $t =~ /eq\. \(\d+\)\s*(?:[-–—]|to\b|,|and\b|or\b)\s*\(\d+\)/
-      || $t =~ /eq\. \(\d+\)\s*[-–—]\s*\d/;
+      || $t =~ /eq\. \(\d+\)\s*(?:[-–—]|to\b|,|and\b|or\b)\s*\d/;
   push @why, "et al. before a year" if $t =~ /\bet al\.?,?\s*\(?(?:19|20)\d\d/;
   push @why, "\"Eq\"/\"eqs\"/\"equation\"" if $t =~ /\b(?:Eqs?|EQS?|eqs|[Ee]quations?)\b\.?\s*\(?\d/;
   (my $u = $t) =~ s/$cite (?:eq\. \(\d+\)|Table \d+|Fig\. \d+[a-z]?|Algorithm \d+|Sec\. \d+(?:\.\d+)*)//g;

@@ -153,7 +153,7 @@ std::vector<double> gaussian_mixture_prior(int32_t w, int32_t h, std::span<const
 double tpm_after_detection(double p, double p_detection, double p_false_alarm);
 // Liu 2022 eq. (5), printed or Bayesian (see MissUpdate).
 double tpm_after_miss(double p, double p_detection, double p_false_alarm, MissUpdate rule);
-// One observation of a searched cell (Liu 2022 eq. (4) or 5). An unsearched cell keeps
+// One observation of a searched cell (Liu 2022 eq. (4) or Liu 2022 eq. (5)). An unsearched cell keeps
 // its value (Liu 2022 eq. (3)): simply do not call this.
 double tpm_update(double p, bool detected, const LiuParams& params);
 
