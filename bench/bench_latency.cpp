@@ -4,7 +4,7 @@
 //
 // For each backend a real place agent (pheromesh-place, realtime clock at
 // --rate Hz, one region) and a client process (this binary, `client`) run on
-// loopback. The client deposits a path visit (Shao 2020 eqs. (6)-(7)) on a
+// loopback. The client deposits a path visit (Shao 2020 eq. (6), Shao 2020 eq. (7)) on a
 // fresh cell and times until a tile sample shows that cell changed; between
 // samples it waits a random 2-5 ms so deposits fall anywhere in the place
 // agent's tick. The figure therefore includes up to one tick of waiting

@@ -82,11 +82,11 @@ void BM_NaiveStep(benchmark::State& state) {
         for (const Cell& u : uavs) {
           const double dx = x - u.x;
           const double dy = y - u.y;
-          delta += pheromesh::core::path_decrease(std::sqrt(dx * dx + dy * dy), p);  // eqs. (6), (7)
+          delta += pheromesh::core::path_decrease(std::sqrt(dx * dx + dy * dy), p);  // Shao 2020 eq. (6), Shao 2020 eq. (7)
         }
         float& s = sigma[geo.index({x, y})];
         s = std::min(std::max(s - static_cast<float>(delta), static_cast<float>(p.sigma_min)),
-                     static_cast<float>(p.sigma0));  // eqs. (5), (8)
+                     static_cast<float>(p.sigma0));  // Shao 2020 eq. (5), Shao 2020 eq. (8)
       }
     }
     benchmark::DoNotOptimize(tau.data());

@@ -1,6 +1,6 @@
-// Duan et al. 2009 §4, second experiment: three UAVs plan with team colonies
-// (Max-Min adaptive ACO, eqs. (9)-(18)), agree on an ETA (eqs. (4)-(8)), then
-// the pop-up threats of Table 4 appear and every UAV replans (§2.5 Steps 1-4).
+// Duan 2009 Sec. 4, second experiment: three UAVs plan with team colonies
+// (Max-Min adaptive ACO, Duan 2009 eq. (9), Duan 2009 eq. (10), Duan 2009 eq. (11), Duan 2009 eq. (12), Duan 2009 eq. (13), Duan 2009 eq. (14), Duan 2009 eq. (15), Duan 2009 eq. (16), Duan 2009 eq. (17), Duan 2009 eq. (18)), agree on an ETA (Duan 2009 eq. (4), Duan 2009 eq. (5), Duan 2009 eq. (6), Duan 2009 eq. (7), Duan 2009 eq. (8)), then
+// the pop-up threats of Duan 2009 Table 4 appear and every UAV replans (Duan 2009 Sec. 2.5 Steps 1-4).
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -22,7 +22,7 @@ using core::PointKm;
 using core::ThreatMesh;
 
 constexpr std::size_t kUavs = 3;
-// Pop-ups appear at this time after take-off (the paper gives no time; Fig. 18
+// Pop-ups appear at this time after take-off (the paper gives no time; Duan 2009 Fig. 18
 // only shows the UAVs "marching"). 30 s ≈ 9 km flown: every UAV is still at
 // least 5 km outside the pop-up ranges, so each has something left to avoid.
 constexpr double kPopupTimeS = 30.0;
@@ -34,7 +34,7 @@ std::string fmt(double v, int prec = 2) {
   return b;
 }
 
-// Per-UAV optimum of the eq. (3) cost under the turn constraint: Dijkstra over
+// Per-UAV optimum of the Duan 2009 eq. (3) cost under the turn constraint: Dijkstra over
 // (node, incoming direction). It ignores the other UAVs (no point pheromone),
 // so it is a lower bound for what one colony can find, not the team optimum.
 struct Optimum {
@@ -242,7 +242,7 @@ Report run_table3(uint32_t runs, const Progress& progress) {
     progress(run + 1, runs);
   }
 
-  // Rows: Table 3 first, then what the paper only shows in figures.
+  // Rows: Duan 2009 Table 3 first, then what the paper only shows in figures.
   rep.rows.push_back({"ETA T_a", sc.table3_eta_s, eta, "s",
                       "Table 3: 174 s (Fig. 15 text: 173 s); T_a = min S = (longest of the UAVs' shortest candidates) / 300 m/s"});
   for (std::size_t i = 0; i < kUavs; ++i) {
@@ -272,7 +272,7 @@ Report run_table3(uint32_t runs, const Progress& progress) {
                       "eq. (2) with Table 1 + Table 4 threats"});
   rep.rows.push_back({"Σ J_threat of the replanned trajectories", std::nullopt, new_threat, "", ""});
 
-  // Fig. 16 / 19: trajectories of run 1, threats as circles.
+  // Duan 2009 Fig. 16 / 19: trajectories of run 1, threats as circles.
   std::vector<Series> threats;
   for (std::size_t k = 0; k < sc.threats.size(); ++k) {
     threats.push_back(circle("threat " + std::to_string(k + 1), sc.threats[k]));

@@ -1,5 +1,5 @@
-// Liu et al. 2022 (ESUSTPM) §5: Table 2 (five search methods, with and
-// without targets) and §5.3 (prior information, Figs. 24–27), run with the
+// Liu 2022 (ESUSTPM) Liu 2022 Sec. 5: Liu 2022 Table 2 (five search methods, with and
+// without targets) and Liu 2022 Sec. 5.3 (prior information, Liu 2022 Fig. 24, Liu 2022 Fig. 25, Liu 2022 Fig. 26, Liu 2022 Fig. 27), run with the
 // core's liu_swarm simulation.
 #include <array>
 #include <cmath>
@@ -25,8 +25,8 @@ using core::LiuSwarmConfig;
 using core::LiuSwarmResult;
 using core::Vec2;
 
-// §5.4: "five simulations ... are executed 10 times" (the statistics of
-// Figs. 28–30). Table 2 and Figs. 24–27 do not say how many runs they show.
+// Liu 2022 Sec. 5.4: "five simulations ... are executed 10 times" (the statistics of
+// Liu 2022 Fig. 28, Liu 2022 Fig. 29, Liu 2022 Fig. 30). Liu 2022 Table 2 and Liu 2022 Fig. 24, Liu 2022 Fig. 25, Liu 2022 Fig. 26, Liu 2022 Fig. 27 do not say how many runs they show.
 constexpr uint32_t kPaperRuns = 10;
 
 std::string fmt(double v, int prec = 2) {
@@ -82,14 +82,14 @@ std::string common_setup(uint32_t runs) {
 }
 
 // ---------------------------------------------------------------------------
-// Table 2
+// Liu 2022 Table 2
 // ---------------------------------------------------------------------------
 
 struct MethodSpec {
   LiuPolicy policy;
   std::string name;
-  double visited, eu, found;     // Table 2, "grid with target"
-  double visited_nt, eu_nt;      // Table 2, "grid without target"
+  double visited, eu, found;     // Liu 2022 Table 2, "grid with target"
+  double visited_nt, eu_nt;      // Liu 2022 Table 2, "grid without target"
 };
 
 const std::vector<MethodSpec>& methods() {
@@ -165,7 +165,7 @@ Report run_table2(uint32_t runs, const Progress& progress) {
       rep.rows.push_back({m.name + " visited, no targets" + tag, m.visited_nt, wo.visited, "cell", ""});
       rep.rows.push_back({m.name + " EU, no targets" + tag, m.eu_nt, wo.eu, "bit", ""});
     }
-    // Plots: Fig. 21 (EU, targets), Fig. 12 (EU, no targets), Fig. 20 (visited), Fig. 22 (found).
+    // Plots: Liu 2022 Fig. 21 (EU, targets), Liu 2022 Fig. 12 (EU, no targets), Liu 2022 Fig. 20 (visited), Liu 2022 Fig. 22 (found).
     const std::string sensor_name = ss[si].sensor == LiuSensor::kNoisy ? "noisy sensor" : "Algorithm 1 sensor";
     Plot eu_t{"fig21-eu-" + ss[si].file + ".svg", "EU vs cycle, 3 targets (Fig. 21), " + sensor_name, "cycle",
               "environmental uncertainty [bit]", {}};
@@ -247,7 +247,7 @@ Report run_table2(uint32_t runs, const Progress& progress) {
 }
 
 // ---------------------------------------------------------------------------
-// Prior information, §5.3
+// Prior information, Liu 2022 Sec. 5.3
 // ---------------------------------------------------------------------------
 
 struct PriorScenario {

@@ -1,6 +1,6 @@
-// Ravankar et al. 2016: evaporation toward the ambient level (eqs. (17)-(26),
-// Figs. 6-8) and what a follower does with a trail (threshold δ·P0 of
-// eq. (24), Fig. 23, speed bands of Table 2). Closed-form and deterministic:
+// Ravankar 2016: evaporation toward the ambient level (Ravankar 2016 eq. (17), Ravankar 2016 eq. (18), Ravankar 2016 eq. (19), Ravankar 2016 eq. (20), Ravankar 2016 eq. (21), Ravankar 2016 eq. (22), Ravankar 2016 eq. (23), Ravankar 2016 eq. (24), Ravankar 2016 eq. (25), Ravankar 2016 eq. (26),
+// Ravankar 2016 Fig. 6, Ravankar 2016 Fig. 7, Ravankar 2016 Fig. 8) and what a follower does with a trail (threshold δ·P0 of
+// Ravankar 2016 eq. (24), Ravankar 2016 Fig. 23, speed bands of Ravankar 2016 Table 2). Closed-form and deterministic:
 // every experiment is a single run.
 #include <cmath>
 #include <cstdio>
@@ -18,8 +18,8 @@ using core::RavankarEvaporationParams;
 using core::RavankarField;
 using core::RavankarFollowerParams;
 
-constexpr double kK = 0.0057;          // K of Figs. 6-8 [1/s]
-constexpr double kFigThreshold = 18.0;  // "a threshold value of 18" (text under Fig. 6-7)
+constexpr double kK = 0.0057;          // K of Ravankar 2016 Fig. 6, Ravankar 2016 Fig. 7, Ravankar 2016 Fig. 8 [1/s]
+constexpr double kFigThreshold = 18.0;  // "a threshold value of 18" (text under Ravankar 2016 Fig. 6, Ravankar 2016 Fig. 7)
 
 std::string fmt(double v, int prec = 2) {
   char b[64];
@@ -29,7 +29,7 @@ std::string fmt(double v, int prec = 2) {
 
 double value_or_nan(std::optional<double> v) { return v ? *v : std::nan(""); }
 
-// P(t) of eq. (22) from t = 0 to t_end_s.
+// P(t) of Ravankar 2016 eq. (22) from t = 0 to t_end_s.
 Series curve(const std::string& name, double p0, double k, double ambient, double t_end_s, double dt_s) {
   Series s{name, {}};
   for (double t = 0.0; t <= t_end_s + 1e-9; t += dt_s) s.points.emplace_back(t, core::ravankar_evaporate(p0, ambient, k, t));
@@ -65,7 +65,7 @@ Report run_evaporation(uint32_t /*runs*/, const Progress& progress) {
   const double t7 = value_or_nan(core::ravankar_time_to_level(35.0, 0.0, kK, kFigThreshold));
   const double t7_k6 = value_or_nan(core::ravankar_time_to_level(35.0, 0.0, k_fig6_text, kFigThreshold));
   const double t8 = value_or_nan(core::ravankar_time_to_level(35.0, 10.0, kK, kFigThreshold));
-  // Eq. (26): the same Fig. 7 time from one observation (t_m = 100 s, Fig. 7(e)).
+  // Ravankar 2016 eq. (26): the same Ravankar 2016 Fig. 7 time from one observation (t_m = 100 s, Ravankar 2016 Fig. 7(e)).
   const double p7_100 = core::ravankar_evaporate(35.0, 0.0, kK, 100.0);
   const double t7_eq26 = value_or_nan(core::ravankar_time_to_threshold(35.0, 0.0, kFigThreshold / 35.0, 100.0, p7_100));
   const double t7_field = value_or_nan(field_crossing(35.0, {kK, 0.0}, kFigThreshold, 1.0, 1000.0));
@@ -128,7 +128,7 @@ Report run_evaporation(uint32_t /*runs*/, const Progress& progress) {
 }
 
 Report run_trails(uint32_t /*runs*/, const Progress& progress) {
-  const RavankarFollowerParams fp;  // δ = 0.1, P0 = 100 (the cap), Table 2 bands
+  const RavankarFollowerParams fp;  // δ = 0.1, P0 = 100 (the cap), Ravankar 2016 Table 2 bands
   Report rep;
   rep.title = "Ravankar 2016 Fig. 23 / Table 2 — trail rejection below δ·P0 and speed adaptation";
   rep.source = "Ravankar et al. 2016, eq. (24), Figs. 22–24 (real corridor), Figs. 25–27 and Table 2";
@@ -165,7 +165,7 @@ Report run_trails(uint32_t /*runs*/, const Progress& progress) {
                       "exact " + fmt(value_or_nan(core::ravankar_time_to_level(11.35, 0.0, kK, 10.0)), 1) +
                           " s: a follower that far behind the leader would also give up at L11"});
 
-  // Plots: Table 2, and the evaporating cap-level trail as a follower sees it.
+  // Plots: Ravankar 2016 Table 2, and the evaporating cap-level trail as a follower sees it.
   Plot bands{"table2.svg", "Follower speed vs sensed pheromone (Table 2)", "sensed pheromone", "speed [m/s]", {}};
   Series sp{"speed (Table 2)", {}}, follow{"follows (1) / rejects (0)", {}};
   for (int i = 0; i <= 1000; ++i) {

@@ -1,5 +1,5 @@
-// Shao et al. 2020 §4.3: target acquisition (Fig. 4), revisit response
-// (Fig. 5) and coverage against an exhaustive fixed-route search (Fig. 6), on
+// Shao 2020 Sec. 4.3: target acquisition (Shao 2020 Fig. 4), revisit response
+// (Shao 2020 Fig. 5) and coverage against an exhaustive fixed-route search (Shao 2020 Fig. 6), on
 // the 50x50 and 100x100 scenarios, with the in-process simulator.
 #include <algorithm>
 #include <cmath>
@@ -20,7 +20,7 @@ using core::Cell;
 
 std::string scenario_path(const std::string& file) { return std::string(PHEROMESH_SCENARIO_DIR) + "/" + file; }
 
-// Exhaustive search with fixed routes (the paper's Fig. 6 baseline, which it
+// Exhaustive search with fixed routes (the paper's Shao 2020 Fig. 6 baseline, which it
 // does not specify): UAV i sweeps its own horizontal band of the map back and
 // forth along lanes 2·SD+1 rows apart, one cell per tick, flying over
 // obstacles (a fixed route cannot adapt). Returns coverage per tick.
@@ -100,7 +100,7 @@ Report run_family(const FamilySpec& f, uint32_t runs, const Progress& progress) 
     coverage_runs.push_back(std::move(cov));
     progress(run + 1, runs);
   }
-  // Fig. 4: k-th acquisition.
+  // Shao 2020 Fig. 4: k-th acquisition.
   Plot fig4{"fig4" + f.figure_suffix + ".svg", "Target acquisition (Fig. 4" + f.figure_suffix + ")",
             "number of targets acquired", "mean iterations", {}};
   Series ours{"pheromesh", {}}, paper{"Shao 2020", {}};
@@ -114,7 +114,7 @@ Report run_family(const FamilySpec& f, uint32_t runs, const Progress& progress) 
   }
   fig4.series = {ours, paper};
   rep.plots.push_back(fig4);
-  // Fig. 5: revisit response by revisit ordinal.
+  // Shao 2020 Fig. 5: revisit response by revisit ordinal.
   Plot fig5{"fig5" + f.figure_suffix + ".svg", "Revisit response (Fig. 5" + f.figure_suffix + ")",
             "number of times targets have been revisited", "mean response iterations", {}};
   Series ours5{"pheromesh", {}}, paper5{"Shao 2020", {}};
@@ -127,7 +127,7 @@ Report run_family(const FamilySpec& f, uint32_t runs, const Progress& progress) 
   for (std::size_t j = 0; j < f.paper_revisit.size(); ++j) paper5.points.emplace_back(static_cast<double>(j + 1), f.paper_revisit[j]);
   fig5.series = {ours5, paper5};
   rep.plots.push_back(fig5);
-  // Fig. 6: coverage vs iterations against exhaustive search.
+  // Shao 2020 Fig. 6: coverage vs iterations against exhaustive search.
   const std::vector<double> exhaustive = exhaustive_coverage(base, base.ticks);
   Plot fig6{"fig6" + f.figure_suffix + ".svg", "Coverage vs iterations (Fig. 6)", "iteration", "coverage", {}};
   Series ours6{"pheromesh (mean)", {}}, ex6{"exhaustive fixed routes", {}};

@@ -1,6 +1,6 @@
-// Shao 2020 §5.2, Fig. 10: iterations for the leader to reach the centre of
-// the target region with vector pheromones (eqs. 12-15) and with scalar
-// pheromones, the followers flocking behind it (eqs. 17-24). Runs the
+// Shao 2020 Sec. 5.2, Shao 2020 Fig. 10: iterations for the leader to reach the centre of
+// the target region with vector pheromones (Shao 2020 eq. (12), Shao 2020 eq. (13), Shao 2020 eq. (14), Shao 2020 eq. (15)) and with scalar
+// pheromones, the followers flocking behind it (Shao 2020 eq. (17), Shao 2020 eq. (18), Shao 2020 eq. (19), Shao 2020 eq. (20), Shao 2020 eq. (21), Shao 2020 eq. (22), Shao 2020 eq. (23), Shao 2020 eq. (24)). Runs the
 // navigation scenarios through the in-process simulator (the same code and
 // schedule as `pheromesh run --clock lockstep`).
 #include <cmath>
@@ -19,7 +19,7 @@ namespace {
 struct Leg {
   std::string name;   // "vector"
   std::string file;   // scenario
-  double paper = 0;   // Fig. 10 [iteration]
+  double paper = 0;   // Shao 2020 Fig. 10 [iteration]
 };
 
 struct LegRun {

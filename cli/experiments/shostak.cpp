@@ -1,7 +1,7 @@
-// Shostak & Petrenko §5: evaporation of the explored layer (eq. (2), "10 -> 5
+// Shostak 2024 Sec. 5: evaporation of the explored layer (Shostak 2024 eq. (2), "10 -> 5
 // in about 14 s") and the swarm's convergence on a detected target, with a
-// small in-file swarm loop built on the core's layers, candidates (eq. (4)),
-// scoring (eqs. (3), (5)) and roulette (eq. (6)).
+// small in-file swarm loop built on the core's layers, candidates (Shostak 2024 eq. (4)),
+// scoring (Shostak 2024 eq. (3), Shostak 2024 eq. (5)) and roulette (Shostak 2024 eq. (6)).
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -32,7 +32,7 @@ std::string fmt(double v, int prec = 2) {
 // ---------------------------------------------------------------- evaporation
 
 // First multiple of dt_s at which a cell that starts at `from` is at or below
-// `to`, evaporating by eq. (2) in steps of dt_s seconds.
+// `to`, evaporating by Shostak 2024 eq. (2) in steps of dt_s seconds.
 double layer_crossing(double from, double to, double dt_s) {
   ShostakLayers layers({0, 0, 1, 1}, core::ShostakLayerParams{});
   layers.deposit(ShostakLayer::Explored, {0, 0}, from);
@@ -120,15 +120,15 @@ Report run_evaporation(uint32_t /*runs*/, const Progress& progress) {
 
 // Values the paper leaves open (ours), and the paper's own.
 struct SwarmSetup {
-  uint32_t uavs = 3;                 // §5: three drones
-  int32_t cells = 40;                // §2: 40 x 40 cells of 5 m
+  uint32_t uavs = 3;                 // Shostak 2024 Sec. 5: three drones
+  int32_t cells = 40;                // Shostak 2024 Sec. 2: 40 x 40 cells of 5 m
   double speed_mps = 5.0;            // ours: cruise speed (not given)
   double altitude_m = 10.0;          // ours: take-off altitude
   double min_altitude_m = 5.0;       // ours: candidates' z kept in [5, 30] m
   double max_altitude_m = 30.0;
   double dispersal_m = 50.0;         // ours: length of the 0°/120°/240° dispersal leg
   double detect_radius_m = 10.0;     // ours: camera footprint radius (horizontal)
-  double lidar_range_m = 10.0;       // ours: "obstacle at the set distance" (§4.2)
+  double lidar_range_m = 10.0;       // ours: "obstacle at the set distance" (Shostak 2024 Sec. 4.2)
   uint32_t obstacles = 4;            // ours: point obstacles that feed the hazard layer
   double target_min_distance_m = 40.0;  // ours: target at least this far from the launch point
   double converge_radius_m = 15.0;   // ours: "arrived" = within one step d of the target
@@ -196,7 +196,7 @@ SwarmRun run_swarm(const SwarmSetup& s, uint64_t seed) {
     for (uint32_t i = 0; i < s.uavs; ++i) {
       Uav& u = uavs[i];
       if (!u.waypoint) {
-        // §3.4-3.5: the next waypoint by roulette; η prefers the reported
+        // Shostak 2024 Sec. 3.4, Shostak 2024 Sec. 3.5: the next waypoint by roulette; η prefers the reported
         // target's bearing after the broadcast, the current heading before.
         std::optional<double> preferred = u.heading;
         if (out.detect_s) preferred = std::atan2(out.target.y() - u.pos.y(), out.target.x() - u.pos.x());
@@ -219,12 +219,12 @@ SwarmRun run_swarm(const SwarmSetup& s, uint64_t seed) {
       }
       if (to.head<2>().norm() > 1e-9) u.heading = std::atan2(to.y(), to.x());
       const core::Cell here = core::shostak_cell_of(u.pos, lp.cell_size_m);
-      layers.deposit_explored(here);  // eq. (1), every 0.2 s
+      layers.deposit_explored(here);  // Shostak 2024 eq. (1), every 0.2 s
       for (const Vec3& o : out.obstacles) {
-        if (horizontal(o, u.pos) <= s.lidar_range_m) layers.mark_hazard(here);  // §4.2
+        if (horizontal(o, u.pos) <= s.lidar_range_m) layers.mark_hazard(here);  // Shostak 2024 Sec. 4.2
       }
       if (!out.detect_s && horizontal(out.target, u.pos) <= s.detect_radius_m) {
-        // §5: target pheromone 100 at the target and an immediate broadcast.
+        // Shostak 2024 Sec. 5: target pheromone 100 at the target and an immediate broadcast.
         out.detect_s = t;
         out.detector = i;
         layers.mark_target(core::shostak_cell_of(out.target, lp.cell_size_m));
@@ -238,7 +238,7 @@ SwarmRun run_swarm(const SwarmSetup& s, uint64_t seed) {
       }
       if (tick % 5 == 0) u.track.points.emplace_back(u.pos.x(), u.pos.y());
     }
-    layers.evaporate(dt);  // eq. (2)
+    layers.evaporate(dt);  // Shostak 2024 eq. (2)
 
     if (!out.detect_s) {
       if (t >= s.search_limit_s) break;

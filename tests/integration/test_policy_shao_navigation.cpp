@@ -1,4 +1,4 @@
-// Shao 2020 navigation (§5) over DDS: lockstep equals the simulator, on a
+// Shao 2020 navigation (Shao 2020 Sec. 5) over DDS: lockstep equals the simulator, on a
 // reduced navigation scenario where the leader arrives and the search takes over.
 #include "harness.hpp"
 

@@ -1,4 +1,4 @@
-// Shao 2020 ACO direction choice (eqs. 9-11), checked against hand-worked numbers.
+// Shao 2020 ACO direction choice (Shao 2020 eq. (9), Shao 2020 eq. (10), Shao 2020 eq. (11)), checked against hand-worked numbers.
 #include <gtest/gtest.h>
 
 #include <array>
@@ -98,11 +98,11 @@ ShaoAcoParams hand_params() {
 //   N:  0     - 0.6   + 0.0375 = -0.5625 -> 1e-6
 //   S:  0                              -> 1e-6
 //   SE: 0.25  - 0.075 + 0.15  = 0.325
-// η_ijk (eqs. 10-11): S, N: 1.4/6 (cardinal, 90°); SE, NE: 5/24 (diagonal,
+// η_ijk (Shao 2020 eq. (10), Shao 2020 eq. (11)): S, N: 1.4/6 (cardinal, 90°); SE, NE: 5/24 (diagonal,
 // 45°); E: 1.4/4 = 0.35 (cardinal, straight).
 constexpr double kAttrE = 0.775, kAttrNE = 0.7, kAttrSE = 0.325, kFloor = 1e-6;
 constexpr double kEtaCardinal90 = 1.4 / 6.0, kEtaDiagonal45 = 5.0 / 24.0, kEtaStraight = 0.35;
-// Numerators a^2 · η of eq. (9):
+// Numerators a^2 · η of Shao 2020 eq. (9):
 constexpr double kNumE = kAttrE * kAttrE * kEtaStraight;       // 0.21021875
 constexpr double kNumNE = kAttrNE * kAttrNE * kEtaDiagonal45;  // 0.1020833…
 constexpr double kNumSE = kAttrSE * kAttrSE * kEtaDiagonal45;  // 0.0220052…

@@ -1,4 +1,4 @@
-// Duan 2009 Max-Min adaptive ACO (eqs. 2-18), checked against hand-worked numbers.
+// Duan 2009 Max-Min adaptive ACO (Duan 2009 eq. (2), Duan 2009 eq. (3), Duan 2009 eq. (4), Duan 2009 eq. (5), Duan 2009 eq. (6), Duan 2009 eq. (7), Duan 2009 eq. (8), Duan 2009 eq. (9), Duan 2009 eq. (10), Duan 2009 eq. (11), Duan 2009 eq. (12), Duan 2009 eq. (13), Duan 2009 eq. (14), Duan 2009 eq. (15), Duan 2009 eq. (16), Duan 2009 eq. (17), Duan 2009 eq. (18)), checked against hand-worked numbers.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -53,7 +53,7 @@ int shared_nodes(const std::vector<NodeId>& a, const std::vector<NodeId>& b) {
   return n;
 }
 
-// --------------------------------------------------------------- eqs. (2)-(3)
+// --------------------------------------------------------------- Duan 2009 eq. (2), Duan 2009 eq. (3)
 
 TEST(DuanThreat, IntensityIsGradeOverDistanceToTheFourthInsideTheRadius) {
   const std::vector<Threat> threats{{{0.0, 0.0}, 10.0, 2.0}, {{2.0, 3.0}, 5.0, 1.6}};
@@ -69,10 +69,10 @@ TEST(DuanThreat, EdgeCostSumsFiveSamplePointsTimesLengthAndWeightsItWithF) {
   const std::vector<Threat> threats{{{0.0, 0.0}, 10.0, 2.0}};
   // Edge (0, 2) -> (2, 2), L = 2. Samples x = 0.2, 0.6, 1.0, 1.4, 1.8 at y = 2:
   // d² = 4.04, 4.36, 5, 5.96, 7.24; Σ 1/d⁴ = 0.0612685 + 0.0526050 + 0.04 +
-  // 0.0281519 + 0.0190776 = 0.2011029. Eq. (2): 2 · 2 · 0.2011029 = 0.8044118.
+  // 0.0281519 + 0.0190776 = 0.2011029. Duan 2009 eq. (2): 2 · 2 · 0.2011029 = 0.8044118.
   const double threat = edge_threat_cost(threats, {0.0, 2.0}, {2.0, 2.0});
   EXPECT_NEAR(threat, 0.8044118, 1e-7);
-  // Eq. (3), f = 0.75: 0.75 · 0.8044118 + 0.25 · 2 = 1.1033088.
+  // Duan 2009 eq. (3), f = 0.75: 0.75 · 0.8044118 + 0.25 · 2 = 1.1033088.
   EXPECT_NEAR(edge_cost(threat, 2.0), 1.1033088, 1e-7);
 
   // Per-point radius: with R = 2.2 only the samples at d = 2.010 and 2.088 count:
@@ -105,7 +105,7 @@ TEST(DuanMesh, CreateRejectsAnInvalidSpec) {
   EXPECT_TRUE(ThreatMesh::create(open_mesh(10.0, 10.0)).ok());
 }
 
-// -------------------------------------------------------------- eqs. (9)-(18)
+// -------------------------------------------------------------- Duan 2009 eq. (9), Duan 2009 eq. (10), Duan 2009 eq. (11), Duan 2009 eq. (12), Duan 2009 eq. (13), Duan 2009 eq. (14), Duan 2009 eq. (15), Duan 2009 eq. (16), Duan 2009 eq. (17), Duan 2009 eq. (18)
 
 TEST(DuanAco, TransitionProbabilitiesOfAThreeEdgeNodeFollowEquationEleven) {
   // τ = (1, 2, 0.5), η = (1, 0.5, 2), α = 3, β = 2:
@@ -120,9 +120,9 @@ TEST(DuanAco, TransitionProbabilitiesOfAThreeEdgeNodeFollowEquationEleven) {
 }
 
 TEST(DuanAco, HeuristicAndPointPheromoneFactorFollowEquationsNineAndTen) {
-  // Eq. (9): J = 0.5, d = 4 km -> 1 / (0.5 · 4) = 0.5.
+  // Duan 2009 eq. (9): J = 0.5, d = 4 km -> 1 / (0.5 · 4) = 0.5.
   EXPECT_NEAR(heuristic(0.5, 4.0), 0.5, kEps);
-  // Eq. (10), N = 3: τ^e = 2, other UAVs' τ^p at u = 0.1 + 9.9 -> 2 · 2 / 10 = 0.4.
+  // Duan 2009 eq. (10), N = 3: τ^e = 2, other UAVs' τ^p at u = 0.1 + 9.9 -> 2 · 2 / 10 = 0.4.
   EXPECT_NEAR(combined_pheromone(2.0, 10.0, 2), 0.4, kEps);
   // A node both others left at τ_min: 2 · 2 / 0.2 = 20 (favoured 50x over the one above).
   EXPECT_NEAR(combined_pheromone(2.0, 0.2, 2), 20.0, kEps);
@@ -131,9 +131,9 @@ TEST(DuanAco, HeuristicAndPointPheromoneFactorFollowEquationsNineAndTen) {
 }
 
 TEST(DuanAco, PheromoneUpdateEvaporatesDepositsAndClampsIntoMinMax) {
-  // Eq. (12): (1 - 0.7) · 5 + 0.5 = 2.0.
+  // Duan 2009 eq. (12): (1 - 0.7) · 5 + 0.5 = 2.0.
   EXPECT_NEAR(updated_pheromone(5.0, 0.5, 0.7, 0.1, 10.0), 2.0, kEps);
-  // Eq. (18): 0.3 · 10 + 8 = 11 -> τ_max = 10; 0.3 · 0.2 + 0 = 0.06 -> τ_min = 0.1.
+  // Duan 2009 eq. (18): 0.3 · 10 + 8 = 11 -> τ_max = 10; 0.3 · 0.2 + 0 = 0.06 -> τ_min = 0.1.
   EXPECT_EQ(updated_pheromone(10.0, 8.0, 0.7, 0.1, 10.0), 10.0);
   EXPECT_EQ(updated_pheromone(0.2, 0.0, 0.7, 0.1, 10.0), 0.1);
 }
@@ -151,7 +151,7 @@ TEST(DuanAco, ColonyPheromoneStaysWithinMinMaxAndReachesBothBounds) {
 }
 
 TEST(DuanAco, TurnConstraintRejectsTurnsSharperThanTheLimit) {
-  const double limit = std::numbers::pi / 4.0;  // default: the three nodes ahead (Fig. 4)
+  const double limit = std::numbers::pi / 4.0;  // default: the three nodes ahead (Duan 2009 Fig. 4)
   const PointKm prev{0.0, 0.0}, cur{2.0, 0.0};
   EXPECT_TRUE(turn_allowed(prev, cur, {4.0, 0.0}, limit));    // straight
   EXPECT_TRUE(turn_allowed(prev, cur, {4.0, 2.0}, limit));    // 45°
@@ -180,7 +180,7 @@ TEST(DuanAco, PlannedTrajectoriesNeverTurnMoreThanTheLimit) {
 TEST(DuanAco, SeededColonyFindsTheStraightPathInAThreatFreeMesh) {
   // 12 km straight north in a 20 km wide open mesh: the unique cheapest walk
   // is the 6 straight edges, J = 0.25 · 12 = 3. With the paper's α = 3,
-  // ρ = 0.7, τ ∈ [0.1, 10] a colony stagnates within a few iterations (Fig. 14
+  // ρ = 0.7, τ ∈ [0.1, 10] a colony stagnates within a few iterations (Duan 2009 Fig. 14
   // "converge after a few iterations"), so success depends on the seed: seeds
   // 1..20 find it 18 times (80 of seeds 1..100; 53/100 for 8 edges).
   const ThreatMesh mesh(open_mesh(20.0, 12.0));
@@ -225,8 +225,8 @@ TEST(DuanAco, SameSeedGivesTheSameTrajectories) {
 }
 
 TEST(DuanAco, PointPheromoneKeepsNeighbouringUavsApart) {
-  // Experiment 1 of section 4 (no data given): two UAVs from neighbouring
-  // nodes to neighbouring targets. Planned together (eq. (10)) they share far
+  // Experiment 1 of Duan 2009 Sec. 4 (no data given): two UAVs from neighbouring
+  // nodes to neighbouring targets. Planned together (Duan 2009 eq. (10)) they share far
   // fewer nodes than planned alone (seeds 1..10: 5 vs 34 shared nodes).
   const auto sc = duan2009_scenario();
   const ThreatMesh mesh(sc.mesh, sc.threats);
@@ -255,7 +255,7 @@ TEST(DuanReplan, ReplanningFromTheCurrentNodeAvoidsAPopUpOnTheOldPath) {
     old_rest.push_back(mesh.node(5, y));
   }
   const NodeId previous = mesh.node(5, 5), current = old_rest.front(), goal = old_rest.back();
-  // A pop-up like Table 4's first one, right on the old path at (10, 24).
+  // A pop-up like Duan 2009 Table 4's first one, right on the old path at (10, 24).
   const std::vector<Threat> popup{{{10.0, 24.0}, 6.0, 2.5}};
   mesh.add_threats(popup);
   // The rest of the old path now crosses the centre: samples 0.2 km from it
@@ -281,10 +281,10 @@ TEST(DuanReplan, ReplanningFromTheCurrentNodeAvoidsAPopUpOnTheOldPath) {
   EXPECT_LT(r.best.threat_cost, 0.01 * old_threat);
 }
 
-// ----------------------------------------------------------- eqs. (4)-(8)
+// ----------------------------------------------------------- Duan 2009 eq. (4), Duan 2009 eq. (5), Duan 2009 eq. (6), Duan 2009 eq. (7), Duan 2009 eq. (8)
 
 TEST(DuanEta, ArrivalIntervalIsLengthOverMaxAndMinSpeed) {
-  // Eq. (4): 60 km at 300 / 200 m/s -> [200, 300] s.
+  // Duan 2009 eq. (4): 60 km at 300 / 200 m/s -> [200, 300] s.
   const TimeInterval t = arrival_interval(60.0, SpeedLimits{});
   EXPECT_NEAR(t.earliest_s, 200.0, kEps);
   EXPECT_NEAR(t.latest_s, 300.0, kEps);
@@ -316,10 +316,10 @@ TEST(DuanEta, NoCommonArrivalTimeIsAnError) {
 }
 
 TEST(DuanEta, TableThreeLengthsGiveTheReportedEtaAndSpeeds) {
-  // Table 3 lengths 51.31 / 47.80 / 52.14 km: earliest arrivals 171.03 / 159.33
+  // Duan 2009 Table 3 lengths 51.31 / 47.80 / 52.14 km: earliest arrivals 171.03 / 159.33
   // / 173.80 s, latest 256.55 / 239.00 / 260.70 s -> S = [173.80, 239.00],
-  // T_a = 173.80 s (Table 3: 174 s, Fig. 15 text: 173 s). V = L / T_a =
-  // 295.22 / 275.03 / 300.00 m/s (Table 3: 295 / 275 / 300).
+  // T_a = 173.80 s (Duan 2009 Table 3: 174 s, Duan 2009 Fig. 15 text: 173 s). V = L / T_a =
+  // 295.22 / 275.03 / 300.00 m/s (Duan 2009 Table 3: 295 / 275 / 300).
   const auto sc = duan2009_scenario();
   const auto plan = coordinate_eta(sc.table3_length_km, sc.speeds);
   ASSERT_TRUE(plan.ok());
@@ -348,7 +348,7 @@ TEST(DuanEta, EachUavFliesItsCheapestCandidateFeasibleAtTheEta) {
 
 TEST(DuanEta, CostRuleMayWaitForACheaperTrajectory) {
   // A: 40 km (J 100) -> [133.3, 200], 50 km (J 10) -> [166.7, 250]; B: 45 km (J 20) -> [150, 225].
-  // S = [150, 225]. Eq. (8) with f1 = f2 = 1:
+  // S = [150, 225]. Duan 2009 eq. (8) with f1 = f2 = 1:
   //   T = 150:    A must fly 40 km: (100 + 150) + (20 + 150) = 420
   //   T = 166.67: A flies 50 km:    (10 + 166.67) + (20 + 166.67) = 363.33  <- minimum
   const std::vector<std::vector<EtaCandidate>> cands{{{40.0, 100.0}, {50.0, 10.0}}, {{45.0, 20.0}}};
@@ -364,7 +364,7 @@ TEST(DuanEta, CostRuleMayWaitForACheaperTrajectory) {
   EXPECT_NEAR(cheapest->speed_mps[1], 270.0, 1e-9);
 }
 
-// ------------------------------------------------------------------ section 4
+// ------------------------------------------------------------------ Duan 2009 Sec. 4
 
 TEST(DuanScenario, PaperDataSitsOnMeshNodes) {
   const auto sc = duan2009_scenario();
@@ -409,7 +409,7 @@ TEST(DuanScenario, TeamPlanAndReplanGiveAFeasibleEta) {
     EXPECT_GE(v, 200.0);
     EXPECT_LE(v, 300.0);
   }
-  // Pop-ups of Table 4; every UAV replans from its fourth waypoint.
+  // Pop-ups of Duan 2009 Table 4; every UAV replans from its fourth waypoint.
   mesh.add_threats(sc.popups);
   for (std::size_t i = 0; i < 3; ++i) {
     const auto& nodes = planned[i].best.nodes;

@@ -1,4 +1,4 @@
-// Shao 2020 pheromone layers: hand-worked steps of eqs. (1)-(8), the halo
+// Shao 2020 pheromone layers: hand-worked steps of Shao 2020 eq. (1), Shao 2020 eq. (2), Shao 2020 eq. (3), Shao 2020 eq. (4), Shao 2020 eq. (5), Shao 2020 eq. (6), Shao 2020 eq. (7), Shao 2020 eq. (8), the halo
 // protocol, and the split-map == undivided-map invariant.
 #include <gtest/gtest.h>
 
@@ -35,7 +35,7 @@ std::vector<float> whole(const RegionField& f, Layer l) {
 }
 
 // ---------------------------------------------------------------------------
-// Target and obstacle: eqs. (1)-(4)
+// Target and obstacle: Shao 2020 eq. (1), Shao 2020 eq. (2), Shao 2020 eq. (3), Shao 2020 eq. (4)
 // ---------------------------------------------------------------------------
 
 TEST(Layers, StartEmptyExceptPathAtSigmaZero) {
@@ -68,11 +68,11 @@ TEST(Layers, EvaporationAloneScalesBySurvivingFraction) {
   f.set_obstacle_switch({2, 2});
 
   step(f);
-  // eq. (1): τ = (1-0.2)·1·[τ + k·1]:  (0,0) 0.8·1 = 0.8;  (1,1) 0.8·1.5 = 1.2
+  // Shao 2020 eq. (1): τ = (1-0.2)·1·[τ + k·1]:  (0,0) 0.8·1 = 0.8;  (1,1) 0.8·1.5 = 1.2
   EXPECT_NEAR(f.value(Layer::Target, {0, 0}), 0.8F, kTol);
   EXPECT_NEAR(f.value(Layer::Target, {1, 1}), 1.2F, kTol);
   EXPECT_EQ(f.value(Layer::Target, {2, 2}), 0.0F);
-  // eq. (3): ε = (1-0.5)·{1·[ε + k·1] + 0}:  (0,0) 0.5;  (2,2) 0.5·1.25 = 0.625
+  // Shao 2020 eq. (3): ε = (1-0.5)·{1·[ε + k·1] + 0}:  (0,0) 0.5;  (2,2) 0.5·1.25 = 0.625
   EXPECT_NEAR(f.value(Layer::Obstacle, {0, 0}), 0.5F, kTol);
   EXPECT_NEAR(f.value(Layer::Obstacle, {2, 2}), 0.625F, kTol);
 
@@ -111,7 +111,7 @@ TEST(Layers, TargetSourceDiffusesByNeighbourCountsOfTheSenders) {
   f.mutable_layer(Layer::Target)[1] = 0.5F;  // (1,0)
   const std::vector<float> before = whole(f, Layer::Target);
   step(f);
-  // eq. (1): τ = (1-E)(1-G)·s + G·Σ = 0.45·s + 0.4·Σ
+  // Shao 2020 eq. (1): τ = (1-E)(1-G)·s + G·Σ = 0.45·s + 0.4·Σ
   const float expected[9] = {
       0.49F,       // 0.45·1   + 0.4·0.1    = 0.45 + 0.04
       0.358333F,   // 0.45·0.5 + 0.4·0.3333 = 0.225 + 0.13333
@@ -138,7 +138,7 @@ TEST(Layers, ObstacleEvaporationAlsoMultipliesTheNeighbourSum) {
   f.mutable_layer(Layer::Obstacle)[1] = 0.5F;  // (1,0)
   const std::vector<float> before = whole(f, Layer::Obstacle);
   step(f);
-  // eq. (3): ε = (1-E)·{(1-G)·s + G·Σ} = 0.75·(0.6·s + 0.4·Σ)
+  // Shao 2020 eq. (3): ε = (1-E)·{(1-G)·s + G·Σ} = 0.75·(0.6·s + 0.4·Σ)
   const float expected[9] = {
       0.48F,   // 0.75·(0.6 + 0.04)          = 0.75·0.64
       0.325F,  // 0.75·(0.3 + 0.13333)       = 0.75·0.43333
@@ -216,7 +216,7 @@ TEST(Layers, NamesAreStable) {
 }
 
 // ---------------------------------------------------------------------------
-// Path: eqs. (5)-(8)
+// Path: Shao 2020 eq. (5), Shao 2020 eq. (6), Shao 2020 eq. (7), Shao 2020 eq. (8)
 // ---------------------------------------------------------------------------
 
 // 1/(2·sqrt(2π)) = 0.19947114020071635; with σ0 = 2, Q = 1, D0 = 4.
@@ -466,7 +466,7 @@ int64_t split_mismatches(const MapGeometry& g, const SplitRun& run) {
     const Cell obstacle = random_cell();
     k_eps[g.index(obstacle)] = 1;
     for (RegionField& f : fields) f.set_obstacle_switch(obstacle);
-    // UAV visits, eqs. (6)-(7); the oracle accumulates in the same UAV order.
+    // UAV visits, Shao 2020 eq. (6), Shao 2020 eq. (7); the oracle accumulates in the same UAV order.
     std::fill(delta.begin(), delta.end(), 0.0F);
     for (int u = 0; u < 5; ++u) {
       const Cell uav = random_cell();

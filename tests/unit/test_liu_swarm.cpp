@@ -1,4 +1,4 @@
-// Liu 2022 §5 simulation (liu_swarm): determinism, the mower's coverage, the
+// Liu 2022 Sec. 5 simulation (liu_swarm): determinism, the mower's coverage, the
 // EU series, confirmations, and configuration errors.
 #include <gtest/gtest.h>
 
@@ -159,7 +159,7 @@ TEST(LiuSwarm, WithoutTargetsNothingIsFound) {
 
 TEST(LiuSwarm, BoidsAtRestOnTheStartLatticeNeverLeaveTheirCells) {
   // Why UAVs start with a random heading: at rest, separation and cohesion
-  // cancel on §5's 100 m lattice.
+  // cancel on Liu 2022 Sec. 5's 100 m lattice.
   LiuSwarmConfig c;
   c.policy = LiuPolicy::kBoids;
   c.start_velocity = LiuStartVelocity::kRest;
@@ -179,7 +179,7 @@ TEST(LiuSwarm, ConfigurationsThatCannotRunAreRejected) {
   EXPECT_FALSE(run_liu_swarm(crowded_mower, 1).ok());
 
   LiuSwarmConfig always_false_alarm;
-  always_false_alarm.params.p_false_alarm = 1.0;  // eq. (5) divides by 1 - Pf
+  always_false_alarm.params.p_false_alarm = 1.0;  // Liu 2022 eq. (5) divides by 1 - Pf
   EXPECT_FALSE(run_liu_swarm(always_false_alarm, 1).ok());
 
   LiuSwarmConfig outside;
@@ -193,7 +193,7 @@ TEST(LiuSwarm, ConfigurationsThatCannotRunAreRejected) {
 }
 
 TEST(LiuSwarm, MowerWithFewerUavsThanRowsStillCoversTheMap) {
-  // Five mowers, two rows each: the climb at the border keeps eq. (14)'s sweep.
+  // Five mowers, two rows each: the climb at the border keeps Liu 2022 eq. (14)'s sweep.
   LiuSwarmConfig c;
   c.policy = LiuPolicy::kLawnmower;
   c.params.uav_count = 5;

@@ -1,6 +1,6 @@
 // Liu 2022 (ESUSTPM): TPM update, prior, environmental uncertainty, local
 // rules and baselines, checked against hand-worked numbers. Sensor values of
-// §2.1: Pd = 0.3, Pf = 0.1.
+// Liu 2022 Sec. 2.1: Pd = 0.3, Pf = 0.1.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -36,16 +36,16 @@ TpmLookup lookup_of(const std::vector<double>& map, int32_t w = 10, int32_t h = 
   };
 }
 
-// --- TPM update, eqs. (3)-(5) ---------------------------------------------
+// --- TPM update, Liu 2022 eq. (3), Liu 2022 eq. (4), Liu 2022 eq. (5) ---------------------------------------------
 
 TEST(LiuTpm, DetectionFromAnEvenPriorRaisesItToThreeQuarters) {
-  // eq. (4): 0.3·0.5 / ((0.3 - 0.1)·0.5 + 0.1) = 0.15 / 0.2 = 0.75
+  // Liu 2022 eq. (4): 0.3·0.5 / ((0.3 - 0.1)·0.5 + 0.1) = 0.15 / 0.2 = 0.75
   EXPECT_NEAR(tpm_update(0.5, true, LiuParams{}), 0.75, kEps);
-  EXPECT_NEAR(tpm_update(0.5, true, bayes_params()), 0.75, kEps);  // eq. (4) is the same for both
+  EXPECT_NEAR(tpm_update(0.5, true, bayes_params()), 0.75, kEps);  // Liu 2022 eq. (4) is the same for both
 }
 
 TEST(LiuTpm, MissFromAnEvenPriorFollowsThePrintedEquationFive) {
-  // printed eq. (5): 0.7·0.5 / 0.9 = 0.35 / 0.9 = 0.388889
+  // printed Liu 2022 eq. (5): 0.7·0.5 / 0.9 = 0.35 / 0.9 = 0.388889
   EXPECT_NEAR(tpm_update(0.5, false, LiuParams{}), 0.35 / 0.9, kEps);
   EXPECT_NEAR(tpm_update(0.5, false, LiuParams{}), 0.388889, 1e-6);
   // Bayesian: 0.35 / ((0.1 - 0.3)·0.5 + 0.9) = 0.35 / 0.8 = 0.4375
@@ -53,16 +53,16 @@ TEST(LiuTpm, MissFromAnEvenPriorFollowsThePrintedEquationFive) {
 }
 
 TEST(LiuTpm, DetectionAndMissFromOneTenthMatchHandWorkedValues) {
-  // eq. (4): 0.03 / (0.2·0.1 + 0.1) = 0.03 / 0.12 = 0.25
+  // Liu 2022 eq. (4): 0.03 / (0.2·0.1 + 0.1) = 0.03 / 0.12 = 0.25
   EXPECT_NEAR(tpm_update(0.1, true, LiuParams{}), 0.25, kEps);
-  // printed eq. (5): 0.07 / 0.9 = 0.077778
+  // printed Liu 2022 eq. (5): 0.07 / 0.9 = 0.077778
   EXPECT_NEAR(tpm_update(0.1, false, LiuParams{}), 0.077778, 1e-6);
   // Bayesian: 0.07 / (-0.2·0.1 + 0.9) = 0.07 / 0.88 = 0.079545
   EXPECT_NEAR(tpm_update(0.1, false, bayes_params()), 0.079545, 1e-6);
 }
 
 TEST(LiuTpm, DetectionThenMissFromAnEvenPrior) {
-  // 0.5 -> 0.75 (eq. 4) -> printed: 0.7·0.75 / 0.9 = 0.583333
+  // 0.5 -> 0.75 (Liu 2022 eq. (4)) -> printed: 0.7·0.75 / 0.9 = 0.583333
   EXPECT_NEAR(tpm_update(tpm_update(0.5, true, LiuParams{}), false, LiuParams{}), 0.583333, 1e-6);
   // Bayesian: 0.525 / (-0.2·0.75 + 0.9) = 0.525 / 0.75 = 0.7
   EXPECT_NEAR(tpm_update(tpm_update(0.5, true, bayes_params()), false, bayes_params()), 0.7, kEps);
@@ -79,7 +79,7 @@ TEST(LiuTpm, RepeatedMissesDriveTheProbabilityDownMonotonically) {
     }
     EXPECT_LT(p, 1e-4);
   }
-  // Printed eq. (5) is geometric: 0.5·(7/9)^3 = 0.235254
+  // Printed Liu 2022 eq. (5) is geometric: 0.5·(7/9)^3 = 0.235254
   double p = 0.5;
   for (int i = 0; i < 3; ++i) {
     p = tpm_update(p, false, LiuParams{});
@@ -103,7 +103,7 @@ TEST(LiuTpm, ATargetIsConfirmedOnlyAboveTheThreshold) {
   EXPECT_TRUE(tpm.confirmed(target));
   ASSERT_EQ(tpm.confirmed_cells().size(), 1U);
   EXPECT_EQ(tpm.confirmed_cells()[0], target);
-  // An unobserved cell keeps its value (eq. 3).
+  // An unobserved cell keeps its value (Liu 2022 eq. (3)).
   EXPECT_NEAR(tpm.probability(Cell{0, 0}), 0.5, kEps);
 }
 
@@ -137,7 +137,7 @@ TEST(LiuTpm, FromMapCutsTheRegionOutOfAWholeMapAndRejectsBadInput) {
 }
 
 TEST(LiuTpm, AWrongPriorIsOvercomeByObservations) {
-  // §5.3.2 (b): the prior expects a target at (7, 5) only; the real one is at (3, 2).
+  // Liu 2022 Sec. 5.3.2 (b): the prior expects a target at (7, 5) only; the real one is at (3, 2).
   const std::vector<GaussianComponent> prior{{7.5, 5.5, 0.7, 0.7, 0.0, 1.0}};
   const std::vector<double> map = gaussian_mixture_prior(10, 10, prior);
   auto tpm = TargetProbabilityMap::from_map(Rect{0, 0, 10, 10}, map, 10, 10, LiuParams{});
@@ -145,7 +145,7 @@ TEST(LiuTpm, AWrongPriorIsOvercomeByObservations) {
   const Cell expected{7, 5}, real{3, 2};
   EXPECT_GT(tpm->probability(expected), 0.2);
   EXPECT_LT(tpm->probability(real), 1e-6);
-  // The UAVs keep returning to the most probable cells (§4).
+  // The UAVs keep returning to the most probable cells (Liu 2022 Sec. 4).
   for (int i = 0; i < 25; ++i) {
     tpm->observe(expected, false);
     tpm->observe(real, true);
@@ -157,7 +157,7 @@ TEST(LiuTpm, AWrongPriorIsOvercomeByObservations) {
   EXPECT_FALSE(tpm->confirmed(expected));
 }
 
-// --- prior, eqs. (1)-(2) ----------------------------------------------------
+// --- prior, Liu 2022 eq. (1), Liu 2022 eq. (2) ----------------------------------------------------
 
 TEST(LiuPrior, OneComponentSumsToOneAndPeaksAtItsMean) {
   // μ = (4.5, 5.5), σ = 1, ρ = 0: cell (4, 5) holds (Φ(0.5) - Φ(-0.5))² = 0.382925² = 0.146631;
@@ -179,7 +179,7 @@ TEST(LiuPrior, OneComponentSumsToOneAndPeaksAtItsMean) {
 }
 
 TEST(LiuPrior, AMixtureSumsToItsWeightsAndPeaksAtEveryTarget) {
-  // The three targets of §5.2 in cell units, α = 0.5, 0.3, 0.2 (Σα = 1).
+  // The three targets of Liu 2022 Sec. 5.2 in cell units, α = 0.5, 0.3, 0.2 (Σα = 1).
   const std::vector<GaussianComponent> g{
       {4.5, 5.5, 0.6, 0.6, 0.0, 0.5}, {4.5, 7.5, 0.6, 0.6, 0.0, 0.3}, {7.5, 5.5, 0.6, 0.6, 0.0, 0.2}};
   const std::vector<double> map = gaussian_mixture_prior(10, 10, g);
@@ -258,8 +258,8 @@ TEST(LiuUncertainty, ACertainMapHasNoUncertainty) {
 }
 
 TEST(LiuUncertainty, OneOrTwoMissesPerCellBracketTheMowerValueOfTable2) {
-  // Every cell missed once (printed eq. 5): P = 0.388889, -P log2 P = 0.529888 -> 52.99;
-  // twice: P = 0.302469, 0.521802 -> 52.18. Table 2's mower (all 100 cells visited): 52.34.
+  // Every cell missed once (printed Liu 2022 eq. (5)): P = 0.388889, -P log2 P = 0.529888 -> 52.99;
+  // twice: P = 0.302469, 0.521802 -> 52.18. Liu 2022 Table 2's mower (all 100 cells visited): 52.34.
   std::vector<double> once(100, 0.5), twice(100, 0.5);
   for (std::size_t i = 0; i < 100; ++i) {
     once[i] = tpm_update(once[i], false, LiuParams{});
@@ -271,7 +271,7 @@ TEST(LiuUncertainty, OneOrTwoMissesPerCellBracketTheMowerValueOfTable2) {
   EXPECT_LT(environmental_uncertainty(twice), 52.34);
 }
 
-// --- ESUSTPM local rules, eqs. (6)-(11) ------------------------------------
+// --- ESUSTPM local rules, Liu 2022 eq. (6), Liu 2022 eq. (7), Liu 2022 eq. (8), Liu 2022 eq. (9), Liu 2022 eq. (10), Liu 2022 eq. (11) ------------------------------------
 
 TEST(LiuFlocking, TheGainVanishesAtTheGivenDistanceAndMatchesHandValues) {
   const LiuParams p;
@@ -340,7 +340,7 @@ TEST(LiuFlocking, AHandBuiltConfigurationStepsSouthEast) {
   EXPECT_NEAR(m.velocity.x, 7.0711, 1e-4);
   EXPECT_NEAR(m.velocity.y, -7.0711, 1e-4);
 
-  // Eqs. (10)-(11) in continuous space: one second at that velocity.
+  // Liu 2022 eq. (10), Liu 2022 eq. (11) in continuous space: one second at that velocity.
   const LiuUav after = advance_uav(self, m.velocity, 1.0, p);
   EXPECT_NEAR(after.position.x, 557.0711, 1e-4);
   EXPECT_NEAR(after.position.y, 542.9289, 1e-4);
@@ -403,7 +403,7 @@ int mower_steps_to_cover(uint32_t uavs) {
 }
 
 TEST(LiuBaselines, TenMowersOfOneRowEachCoverTheGridInNineSteps) {
-  // Eq. (14) per row: from x = 0 the 10th cell of the row is reached after 9 steps.
+  // Liu 2022 eq. (14) per row: from x = 0 the 10th cell of the row is reached after 9 steps.
   EXPECT_EQ(mower_steps_to_cover(10), 9);
 }
 

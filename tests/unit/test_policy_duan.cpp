@@ -1,6 +1,6 @@
 // The Duan 2009 policy (common/core/src/policy_duan.cpp): the place model's
-// point-pheromone sum and reports, eq. (10)'s Σ_{j≠i} from the published sum,
-// the ETA from broadcast intervals (eqs. (4)-(6), Fig. 6), the UAV's planning
+// point-pheromone sum and reports, Duan 2009 eq. (10)'s Σ_{j≠i} from the published sum,
+// the ETA from broadcast intervals (Duan 2009 eq. (4), Duan 2009 eq. (5), Duan 2009 eq. (6), Duan 2009 Fig. 6), the UAV's planning
 // phase, deposits and flight, and the scenario parser's errors.
 #include <gtest/gtest.h>
 
@@ -51,7 +51,7 @@ DepositMsg deposit(uint32_t uav, uint32_t seq, DepositKind kind, Cell c, float a
   return d;
 }
 
-// --- eq. (10) input -----------------------------------------------------------
+// --- Duan 2009 eq. (10) input -----------------------------------------------------------
 
 TEST(DuanPolicy, OthersPointSumIsThePublishedSumMinusTheOwnShare) {
   // Three UAVs; at this node the others hold 0.1 and 0.2, this UAV 10:
@@ -66,7 +66,7 @@ TEST(DuanPolicy, OthersPointSumIsThePublishedSumMinusTheOwnShare) {
   EXPECT_EQ(others_point_sum(1.0F, 5.0, 0.1), 0.0);
 }
 
-// --- ETA (eqs. (4)-(6), Fig. 6) ------------------------------------------------
+// --- ETA (Duan 2009 eq. (4), Duan 2009 eq. (5), Duan 2009 eq. (6), Duan 2009 Fig. 6) ------------------------------------------------
 
 TEST(DuanPolicy, EtaBroadcastCarriesThePhaseThenEquationFourIntervals) {
   const auto v = eta_broadcast(2, {52.14, 60.0}, SpeedLimits{200.0, 300.0});
@@ -87,7 +87,7 @@ TEST(DuanPolicy, TableThreeLengthsAgreeOnTheEtaFromTheBroadcastsAlone) {
     in[i].assign(b.begin() + 1, b.end());
   }
   // S = [max T_min, min T_max] = [52.14/0.3, 47.80/0.2] = [173.8, 239] s; T_a = min S.
-  const double speeds[] = {51310.0 / 173.8, 47800.0 / 173.8, 300.0};  // 295.2, 275.0, 300 m/s (Table 3)
+  const double speeds[] = {51310.0 / 173.8, 47800.0 / 173.8, 300.0};  // 295.2, 275.0, 300 m/s (Duan 2009 Table 3)
   for (uint32_t i = 0; i < 3; ++i) {
     const auto d = decide_eta(in, i, lengths[i], sp);
     ASSERT_TRUE(d);
@@ -249,7 +249,7 @@ TEST(DuanUav, PlansOneIterationPerTickThenBroadcastsAndFliesAtLengthOverEta) {
 }
 
 TEST(DuanUav, ALoneUavPlansExactlyLikeTheColonyItWraps) {
-  // N = 1: eq. (10) is the edge pheromone alone, so the distributed colony
+  // N = 1: Duan 2009 eq. (10) is the edge pheromone alone, so the distributed colony
   // must consume its random stream exactly like DuanColony::plan.
   const ScenarioConfig s = parse_ok(small_text(1));
   Simulator sim(s);

@@ -78,16 +78,16 @@ TEST(LiuPlace, DetectionAndMissFollowEquationsFourAndFive) {
   const RegionId r = geo.region_of({7, 6});
   auto place = make_liu_place(s, geo, r);
   std::vector<TargetEventMsg> events;
-  EXPECT_FLOAT_EQ(place->value(kTpm, {7, 6}), 0.5F);  // §5 uniform prior
+  EXPECT_FLOAT_EQ(place->value(kTpm, {7, 6}), 0.5F);  // Liu 2022 Sec. 5 uniform prior
   EXPECT_FLOAT_EQ(place->value(kVisited, {7, 6}), 0.0F);
-  // Eq. (4): 0.3 · 0.5 / ((0.3 - 0.1) · 0.5 + 0.1) = 0.75.
+  // Liu 2022 eq. (4): 0.3 · 0.5 / ((0.3 - 0.1) · 0.5 + 0.1) = 0.75.
   EXPECT_FALSE(place->apply(observation({7, 6}, r, 1.0F, 1), 3, events));
   EXPECT_FLOAT_EQ(place->value(kTpm, {7, 6}), 0.75F);
   EXPECT_FLOAT_EQ(place->value(kVisited, {7, 6}), 1.0F);
-  // Eq. (5) as printed: (1 - 0.3) · 0.5 / (1 - 0.1) = 0.388889.
+  // Liu 2022 eq. (5) as printed: (1 - 0.3) · 0.5 / (1 - 0.1) = 0.388889.
   EXPECT_FALSE(place->apply(observation({8, 6}, r, 0.0F, 2), 3, events));
   EXPECT_NEAR(place->value(kTpm, {8, 6}), 0.3888889F, 1e-6);
-  // Eq. (3): an unsearched cell keeps its value, also over ticks.
+  // Liu 2022 eq. (3): an unsearched cell keeps its value, also over ticks.
   std::vector<TargetEventMsg> none;
   const HaloRing ring = place->begin_step(3, none);
   EXPECT_TRUE(ring.target.empty());
@@ -161,7 +161,7 @@ TEST(LiuPlace, EveryRegionHoldsItsPartOfTheWholeMapPrior) {
       }
     }
   }
-  // Eq. (2) with σ0 = 1 cell, α = 1, components at the cell centres: cell
+  // Liu 2022 eq. (2) with σ0 = 1 cell, α = 1, components at the cell centres: cell
   // (4, 7) holds its own target's mass (Φ(0.5) - Φ(-0.5))² = 0.146631, plus
   // (Φ(0.5) - Φ(-0.5)) (Φ(2.5) - Φ(1.5)) = 0.023205 from (4, 5) and
   // (Φ(-2.5) - Φ(-3.5)) (Φ(2.5) - Φ(1.5)) = 0.000362 from (7, 5): 0.170198.
@@ -234,13 +234,13 @@ TEST(LiuUav, EsustpmVelocityFromANeighbourInCellUnitsAndTheMostProbableCell) {
   const std::vector<UavStateMsg> neighbours{n};
   UavActions out;
   uav->step(UavView{1, &cache, neighbours, {}}, out);
-  // Eqs. (7)-(9), Table 1: β_1(60 m) = 2529.58 (F_1 from the neighbour to the
+  // Liu 2022 eq. (7), Liu 2022 eq. (8), Liu 2022 eq. (9), Liu 2022 Table 1: β_1(60 m) = 2529.58 (F_1 from the neighbour to the
   // UAV, westwards); β_4(100 m) = 6116.29 (F_4 towards (250, 350) m, north).
-  // Eq. (6): mvel = (-2529.58, 6116.29) / 4 = (-632.40, 1529.07) m/s, clipped
+  // Liu 2022 eq. (6): mvel = (-2529.58, 6116.29) / 4 = (-632.40, 1529.07) m/s, clipped
   // to 10 m/s: (-3.82184, 9.24086) m/s = (-0.0382184, 0.0924086) cell/tick.
   EXPECT_NEAR(out.state.vx, -0.0382184318, 1e-9);
   EXPECT_NEAR(out.state.vy, 0.0924086115, 1e-9);
-  // Flown for one 1 s cycle (eqs. 10-11): (246.178, 259.241) m, still cell (2, 2).
+  // Flown for one 1 s cycle (Liu 2022 eq. (10), Liu 2022 eq. (11)): (246.178, 259.241) m, still cell (2, 2).
   EXPECT_NEAR(out.state.x, 2.46178157 - 0.5, 1e-7);
   EXPECT_NEAR(out.state.y, 2.59240861 - 0.5, 1e-7);
   EXPECT_EQ(uav->cell(), (Cell{2, 2}));
@@ -266,7 +266,7 @@ TEST(LiuUav, ConfirmedCellsNoLongerGuide) {
 }
 
 TEST(LiuUav, SendsOneObservationPerCellEnteredToTheOwningRegion) {
-  // Guided east at 10 m/s from (250, 250) m with the Algorithm 1 sensor: the
+  // Guided east at 10 m/s from (250, 250) m with the Liu 2022 Algorithm 1 sensor: the
   // UAV crosses x = 300 m (cell (3, 2)) in cycle 5 and x = 400, 500 m in
   // cycles 15 and 25; cell (4, 2) is in region 0, (5, 2) in region 1.
   UavFixture f(scenario_text("start_velocity: \"rest\" sensor: \"algorithm1\"", 1, "x: 2 y: 2 w: 1 h: 1",
@@ -287,7 +287,7 @@ TEST(LiuUav, SendsOneObservationPerCellEnteredToTheOwningRegion) {
   }
   ASSERT_EQ(all.size(), 3U);
   EXPECT_EQ(all[0].cell, (Cell{3, 2}));
-  EXPECT_FLOAT_EQ(all[0].amount, 1.0F);  // the target's cell: Algorithm 1 uses eq. (4)
+  EXPECT_FLOAT_EQ(all[0].amount, 1.0F);  // the target's cell: Liu 2022 Algorithm 1 uses Liu 2022 eq. (4)
   EXPECT_EQ(all[1].cell, (Cell{4, 2}));
   EXPECT_FLOAT_EQ(all[1].amount, 0.0F);
   EXPECT_EQ(all[1].region, 0U);
@@ -304,7 +304,7 @@ TEST(LiuTraits, LayersAndAViewThatHoldsEveryNeighbourWithANonNegligibleGain) {
   const ScenarioConfig s = parse_ok(scenario_text(""));
   const PolicyTraits t = liu_traits(s);
   EXPECT_EQ(t.layers, (std::vector<std::string>{"tpm", "visited", "confirmed"}));
-  // Table 1: |β(d)| < 1e-3 m/s beyond about 290 m = 2.9 cells of 100 m.
+  // Liu 2022 Table 1: |β(d)| < 1e-3 m/s beyond about 290 m = 2.9 cells of 100 m.
   EXPECT_DOUBLE_EQ(t.view_radius, 3.0);
   EXPECT_LT(std::abs(liu_gain(0, 300.0, s.liu.params)), 1e-3);
   EXPECT_GT(std::abs(liu_gain(0, 250.0, s.liu.params)), 1e-3);
@@ -317,7 +317,7 @@ TEST(LiuTraits, LayersAndAViewThatHoldsEveryNeighbourWithANonNegligibleGain) {
 // --- distributed run ---------------------------------------------------------
 
 TEST(LiuSimulation, LawnmowerWithAlgorithm1SensorMatchesRunLiuSwarm) {
-  // The mower with the Algorithm 1 sensor has no randomness and no neighbour
+  // The mower with the Liu 2022 Algorithm 1 sensor has no randomness and no neighbour
   // rule: the distributed run must visit and update the same cells as
   // run_liu_swarm. Only the float tiles separate the EU.
   auto loaded = load_scenario(source_path("scenarios/liu2022-table2.textproto"));

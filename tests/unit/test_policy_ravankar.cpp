@@ -49,9 +49,9 @@ TEST(RavankarPlace, EllipseDepositFollowsEquations12And14) {
   const MapGeometry geo = s.geometry();
   auto place = make_place_model(s, geo, 0);
   std::vector<TargetEventMsg> events;
-  // Σ_xy = diag(2, 1): λ1 = 2, λ2 = 1, γ = τ/(λ1·λ2) = 0.2/2 = 0.1 (eq. (12)).
+  // Σ_xy = diag(2, 1): λ1 = 2, λ2 = 1, γ = τ/(λ1·λ2) = 0.2/2 = 0.1 (Ravankar 2016 eq. (12)).
   ASSERT_FALSE(place->apply(ellipse({5, 5}, 2.0F, 0.0F, 1.0F, 0), 0, events));
-  // Eq. (14) with a_i = λ_i: γ·exp(-(u²/4 + v²/1)).
+  // Ravankar 2016 eq. (14) with a_i = λ_i: γ·exp(-(u²/4 + v²/1)).
   EXPECT_NEAR(place->value(0, {5, 5}), 0.1, 1e-7);
   EXPECT_NEAR(place->value(0, {6, 5}), 0.0778800783, 1e-7);  // 0.1·e^(-1/4)
   EXPECT_NEAR(place->value(0, {7, 5}), 0.0367879441, 1e-7);  // 0.1·e^(-1)
@@ -101,7 +101,7 @@ TEST(RavankarPlace, EvaporatesTowardTheAmbientLevelEachTick) {
   EXPECT_TRUE(ring.target.empty());  // no diffusion
   EXPECT_TRUE(ring.obstacle.empty());
   place->finish_step();
-  // Eq. (22): 0.05 + (0.1 - 0.05)·e^(-0.0057·1) = 0.0997158107.
+  // Ravankar 2016 eq. (22): 0.05 + (0.1 - 0.05)·e^(-0.0057·1) = 0.0997158107.
   EXPECT_NEAR(place->value(0, {5, 5}), 0.0997158107, 1e-7);
   // Cells at or below P_a are left alone (0 stays 0; 0.0367879 < 0.05 too).
   EXPECT_EQ(place->value(0, {0, 0}), 0.0F);
@@ -260,7 +260,7 @@ TEST(RavankarUav, LeaderDepositsTheCapAtItsStartWithZeroSpreadToEveryRegionInRan
     EXPECT_EQ(d.kind, static_cast<uint8_t>(DepositKind::Ellipse));
     EXPECT_EQ(d.cell, (Cell{10, 6}));
     EXPECT_EQ(d.spread, (std::array<float, 3>{0.0F, 0.0F, 0.0F}));
-    EXPECT_EQ(d.amount, 100.0F);  // γ capped, eq. (12)
+    EXPECT_EQ(d.amount, 100.0F);  // γ capped, Ravankar 2016 eq. (12)
   }
 }
 

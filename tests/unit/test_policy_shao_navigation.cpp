@@ -1,4 +1,4 @@
-// Shao 2020 §5 navigation as a scenario policy: parsing, the leader's
+// Shao 2020 Sec. 5 navigation as a scenario policy: parsing, the leader's
 // broadcast, the followers' use of it and of their neighbours, the hold, the
 // hand-over to the search, and the beacons of the place agents.
 #include <gtest/gtest.h>
@@ -38,7 +38,7 @@ TEST(ShaoNavigationPolicy, ParsesTheTable2ParametersAndTheCentre) {
   EXPECT_EQ(s.shao_navigation.hold_ticks, 5U);
   EXPECT_EQ(s.shao_navigation.leader, LeaderPheromones::Vector);
   EXPECT_EQ(s.shao_navigation.params.neighbour_gradient, NeighbourGradient::AwayFromNeighbour);
-  EXPECT_DOUBLE_EQ(s.shao_navigation.params.rho, 2.0);  // Table 2
+  EXPECT_DOUBLE_EQ(s.shao_navigation.params.rho, 2.0);  // Shao 2020 Table 2
   EXPECT_DOUBLE_EQ(s.shao_navigation.params.leader_sensor_radius, 5.0);
   EXPECT_STREQ(policy_name(s.policy), "shao_navigation");
 }
@@ -74,7 +74,7 @@ TEST(ShaoNavigationPolicy, TargetsAndObstaclesEmitFromTheStart) {
   }
   // Shao 2020 eq. (1) with kτ = 1 and an empty field: τ = (1-Eτ)(1-Gτ)·dτ = 0.99·0.8·1.
   EXPECT_FLOAT_EQ(target_region.value(static_cast<int>(Layer::Target), {15, 15}), 0.99F * 0.8F);
-  // Eq. (3) with kε = 1: ε = (1-Eε)(1-Gε)·dε = 0.8·0.8 = 0.64 inside the 2 x 2 block, plus what its
+  // Shao 2020 eq. (3) with kε = 1: ε = (1-Eε)(1-Gε)·dε = 0.8·0.8 = 0.64 inside the 2 x 2 block, plus what its
   // three obstacle neighbours diffuse in: (1-Eε)·Gε·Σ s/|N| = 0.8·0.2·3·(1/8).
   EXPECT_FLOAT_EQ(obstacle_region.value(static_cast<int>(Layer::Obstacle), {2, 15}), 0.64F + 0.8F * 0.2F * 3.0F / 8.0F);
   EXPECT_TRUE(events.empty());
@@ -94,7 +94,7 @@ TEST(ShaoNavigationPolicy, TheLeaderBroadcastsItsStateAndFollowersHoldWithoutIt)
   EXPECT_DOUBLE_EQ(out.broadcast->values[0], leader.cell().x);
   EXPECT_DOUBLE_EQ(out.broadcast->values[4], 0.0);  // not arrived
   EXPECT_EQ(out.state.role, static_cast<uint8_t>(Role::Leader));
-  EXPECT_TRUE(out.deposits.empty());  // Algorithms 2 and 3 deposit nothing
+  EXPECT_TRUE(out.deposits.empty());  // Shao 2020 Algorithm 2 and Shao 2020 Algorithm 3 deposit nothing
   // A follower that never heard the leader stays where it is, also after the hold.
   const Cell start = follower.cell();
   for (uint32_t k = 0; k <= 8; ++k) follower.step(k, out);

@@ -1,8 +1,8 @@
 // The Shostak GPS-denied stigmergy policy behind the policy interface: the
-// place model (eqs. (1)-(2) as the place agents run them), the UAV policy
+// place model (Shostak 2024 eq. (1), Shostak 2024 eq. (2) as the place agents run them), the UAV policy
 // (frames, dispersal, deposits, detection and broadcast, decisions by
-// eqs. (3)-(6), convergence), the field summary, the scenario parser, and a
-// run of the §5 scenario measured over seeds.
+// Shostak 2024 eq. (3), Shostak 2024 eq. (4), Shostak 2024 eq. (5), Shostak 2024 eq. (6), convergence), the field summary, the scenario parser, and a
+// run of the Shostak 2024 Sec. 5 scenario measured over seeds.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -106,15 +106,15 @@ TEST(ShostakPlace, DepositsAreCappedAtTenTenAndAHundred) {
   const MapGeometry geo = s.geometry();
   auto place = make_shostak_place(s, geo, 0);
   std::vector<TargetEventMsg> events;
-  // Eq. (1): min(τ + Δτ, τmax). 12 explored deposits of 1 -> 10.
+  // Shostak 2024 eq. (1): min(τ + Δτ, τmax). 12 explored deposits of 1 -> 10.
   for (int k = 0; k < 12; ++k) EXPECT_FALSE(place->apply(layer_add(kExplored, {2, 3}, 1.0F), 0, events));
   EXPECT_FLOAT_EQ(place->value(kExplored, {2, 3}), 10.0F);
-  // §4.2: +5 hazard per detection, capped at 10.
+  // Shostak 2024 Sec. 4.2: +5 hazard per detection, capped at 10.
   EXPECT_FALSE(place->apply(layer_add(kHazard, {2, 3}, 5.0F), 0, events));
   EXPECT_FLOAT_EQ(place->value(kHazard, {2, 3}), 5.0F);
   for (int k = 0; k < 2; ++k) EXPECT_FALSE(place->apply(layer_add(kHazard, {2, 3}, 5.0F), 0, events));
   EXPECT_FLOAT_EQ(place->value(kHazard, {2, 3}), 10.0F);
-  // §5: +100 target, capped at 100.
+  // Shostak 2024 Sec. 5: +100 target, capped at 100.
   EXPECT_FALSE(place->apply(layer_add(kTarget, {4, 4}, 100.0F), 0, events));
   EXPECT_FALSE(place->apply(layer_add(kTarget, {4, 4}, 100.0F), 0, events));
   EXPECT_FLOAT_EQ(place->value(kTarget, {4, 4}), 100.0F);
@@ -131,14 +131,14 @@ TEST(ShostakPlace, EachTickEvaporatesByNinetyFivePercentToTheFifthRoot) {
   ASSERT_FALSE(place->apply(layer_add(kTarget, {15, 12}, 100.0F, 3), 0, events));
   place->begin_step(0, events);
   place->finish_step();
-  // Eq. (2) over dt = 0.2 s: 10·0.95^0.2 = 9.8979378..., 100·0.95^0.2 = 98.979378...
+  // Shostak 2024 eq. (2) over dt = 0.2 s: 10·0.95^0.2 = 9.8979378..., 100·0.95^0.2 = 98.979378...
   EXPECT_NEAR(place->value(kExplored, {15, 12}), 9.897937816869885, 1e-5);
   EXPECT_NEAR(place->value(kTarget, {15, 12}), 98.97937816869885, 1e-4);
   for (uint32_t k = 1; k < 70; ++k) {
     place->begin_step(k, events);
     place->finish_step();
   }
-  // 70 ticks = 14 s: 10·0.95^14 = 4.8767 (§5: "10 -> 5 in about 14 s").
+  // 70 ticks = 14 s: 10·0.95^14 = 4.8767 (Shostak 2024 Sec. 5: "10 -> 5 in about 14 s").
   EXPECT_NEAR(place->value(kExplored, {15, 12}), 4.876749791155295, 1e-4);
 }
 
@@ -212,7 +212,7 @@ TEST(ShostakUav, ThreeUavsDisperseAtZeroOneTwentyAndTwoFortyDegreesAtFiveMetresP
     UavActions a = u.step(0);
     for (uint32_t k = 1; k <= 10; ++k) {
       a = u.step(k);
-      // One explored deposit per 0.2 s tick, eq. (1).
+      // One explored deposit per 0.2 s tick, Shostak 2024 eq. (1).
       ASSERT_EQ(of_layer(a, kExplored).size(), 1U) << "tick " << k;
     }
     // 10 ticks · 0.2 s · 5 m/s = 10 m = 2 cells along 2π·id/3.
@@ -305,7 +305,7 @@ TEST(ShostakUav, DecisionIsTheCoresRouletteOverCandidatesAroundTheEstimate) {
 }
 
 TEST(ShostakUav, CandidatesOnCellsWithTargetPheromoneWin) {
-  // Eq. (3): b_t = τ_t·10 dwarfs b_e·b_h <= 1. With target pheromone 50 on
+  // Shostak 2024 eq. (3): b_t = τ_t·10 dwarfs b_e·b_h <= 1. With target pheromone 50 on
   // every cell east of the UAV, and none west, its waypoints lie east.
   const ScenarioConfig s = scenario(20, 1, {9, 9}, "", "dispersal_m: 0");
   const MapGeometry geo = s.geometry();
@@ -427,12 +427,12 @@ TEST(ShostakScenario, BadValuesNameTheLineAndTheField) {
   expect_error("    yaw_noise_rad2_per_m: -1", 5, "yaw_noise_rad2_per_m", "must be >= 0");
 }
 
-// --- the §5 scenario in the simulator ---------------------------------------------
+// --- the Shostak 2024 Sec. 5 scenario in the simulator ---------------------------------------------
 
 // Seeds 1..10 of scenarios/shostak-40x40.textproto: the tick of the first
 // detection (the TargetFound broadcast) and the ticks until every other UAV
 // has come within one step d = 15 m (3 cells) of the target, as the
-// shostak-convergence experiment measures it. §5 gives no number
+// shostak-convergence experiment measures it. Shostak 2024 Sec. 5 gives no number
 // ("rapid convergence of all drones"); printed for docs/policies/shostak.md.
 TEST(ShostakSimulator, PaperScenarioFindsTheTargetAndTheOthersConverge) {
   auto r = load_scenario(std::string(PHEROMESH_SOURCE_DIR) + "/scenarios/shostak-40x40.textproto");

@@ -130,7 +130,7 @@ TEST(RavankarDeposit, EllipseAngleFollowsTheMajorAxis) {
   EXPECT_NEAR(e.angle_rad, kPi / 4.0, 1e-12);
 }
 
-// --- spread, eq. (14) ---------------------------------------------------------------
+// --- spread, Ravankar 2016 eq. (14) ---------------------------------------------------------------
 
 TEST(RavankarSpread, PeakModeMatchesEquationFourteenAtCellCentres) {
   // Σ = diag(4, 1): γ = 0.2/4 = 0.05, a = (4, 1) as printed, z_rng = 4 m, 1 m cells.
@@ -204,7 +204,7 @@ TEST(RavankarSpread, GradientMatchesEquationSixteenAndFiniteDifferences) {
   EXPECT_EQ(ravankar_gradient({4.5, 0.0}, 0.05, axis, p), Eigen::Vector2d::Zero());
 
   const RavankarEllipse e = ravankar_error_ellipse(rotated_4_1());
-  auto value = [&](const Eigen::Vector2d& o) {  // eq. (14) in the ellipse axes
+  auto value = [&](const Eigen::Vector2d& o) {  // Ravankar 2016 eq. (14) in the ellipse axes
     const double u = (o.x() + o.y()) / std::sqrt(2.0);
     const double v = (-o.x() + o.y()) / std::sqrt(2.0);
     return 0.05 * std::exp(-(u * u / 16.0 + v * v / 1.0));
@@ -243,18 +243,18 @@ TEST(RavankarEvaporation, FigureSixCurveAndStepsCompose) {
 }
 
 TEST(RavankarEvaporation, ThresholdTimesFromEquationsTwentyThreeToTwentySix) {
-  // Fig. 7: 35 -> 18 at K = 0.0057 takes ln(35/18)/K = 116.66 s ("about 116 s").
+  // Ravankar 2016 Fig. 7: 35 -> 18 at K = 0.0057 takes ln(35/18)/K = 116.66 s ("about 116 s").
   const auto t = ravankar_time_to_level(35.0, 0.0, 0.0057, 18.0);
   ASSERT_TRUE(t.has_value());
   EXPECT_NEAR(*t, 116.66250940232437, 1e-9);
-  // Eq. (23): K from one observation; eq. (26): same time from (t_m, P_tm).
+  // Ravankar 2016 eq. (23): K from one observation; Ravankar 2016 eq. (26): same time from (t_m, P_tm).
   const auto k = ravankar_rate_constant(35.0, 0.0, 100.0, 19.793390354483797);
   ASSERT_TRUE(k.has_value());
   EXPECT_NEAR(*k, 0.0057, 1e-12);
   const auto t26 = ravankar_time_to_threshold(35.0, 0.0, 18.0 / 35.0, 100.0, 19.793390354483797);
   ASSERT_TRUE(t26.has_value());
   EXPECT_NEAR(*t26, 116.66250940232437, 1e-9);
-  // Fig. 6 text "50 -> 18 in about 300 s" needs K = ln(50/18)/300 = 0.0034055.
+  // Ravankar 2016 Fig. 6 text "50 -> 18 in about 300 s" needs K = ln(50/18)/300 = 0.0034055.
   EXPECT_NEAR(*ravankar_rate_constant(50.0, 0.0, 300.0, 18.0), 0.003405504158439938, 1e-12);
   // Never reaches a level at or below the ambient one.
   EXPECT_FALSE(ravankar_time_to_level(35.0, 10.0, 0.0057, 10.0).has_value());

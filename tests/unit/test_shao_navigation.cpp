@@ -1,5 +1,5 @@
-// Shao 2020 §5 navigation via flocking and stigmergy (eqs. 12-24,
-// Algorithm 2), checked against hand-worked numbers.
+// Shao 2020 Sec. 5 navigation via flocking and stigmergy (Shao 2020 eq. (12), Shao 2020 eq. (13), Shao 2020 eq. (14), Shao 2020 eq. (15), Shao 2020 eq. (16), Shao 2020 eq. (17), Shao 2020 eq. (18), Shao 2020 eq. (19), Shao 2020 eq. (20), Shao 2020 eq. (21), Shao 2020 eq. (22), Shao 2020 eq. (23), Shao 2020 eq. (24),
+// Shao 2020 Algorithm 2), checked against hand-worked numbers.
 #include <gtest/gtest.h>
 
 #include <Eigen/Core>
@@ -36,7 +36,7 @@ PheromoneLookup sparse(const std::map<std::pair<int32_t, int32_t>, Values>& know
 }
 
 // The hand-built neighbourhood of a leader at q = (0, 0):
-//   i = (0,0): τ=1            (the leader's own cell, reference of eq. 12)
+//   i = (0,0): τ=1            (the leader's own cell, reference of Shao 2020 eq. (12))
 //   A = (3,1): τ=6            bearing 18.4° -> sector E
 //   B = (0,2): τ=1, ε=eps_b   bearing 90°   -> sector N
 //   C = (4,0): τ=1, σ=2       bearing 0°    -> sector E
@@ -63,7 +63,7 @@ TEST(ShaoNav, ParametersAreThoseOfTableTwo) {
   EXPECT_EQ(p.h, 0.5);
   EXPECT_EQ(p.c1, 0.6);
   EXPECT_EQ(p.c2, 0.4);
-  EXPECT_EQ(p.follower_range, 4.0);  // not in §5; Table 1's SD
+  EXPECT_EQ(p.follower_range, 4.0);  // not in Shao 2020 Sec. 5; Shao 2020 Table 1's SD
 }
 
 TEST(ShaoNav, SigmaNormOfThreeFourIsEquationEighteen) {
@@ -101,11 +101,11 @@ TEST(ShaoNav, SectorsAreCentredOnTheCompassHeadings) {
 TEST(ShaoNav, VectorLeaderOfHandBuiltNeighbourhoodMatchesEquationsTwelveToFifteen) {
   const ShaoNavParams p;
   const LeaderStep s = leader_vector_step(Vector2d::Zero(), sparse(hand_neighbourhood(4.0F)), p);
-  // Eq. (12), τ_ij = (τ(i) - τ(j))·(q_i - q_j)/‖q_i - q_j‖²:
+  // Shao 2020 eq. (12), τ_ij = (τ(i) - τ(j))·(q_i - q_j)/‖q_i - q_j‖²:
   //   A: (1 - 6)/10 · (-3, -1) = (1.5, 0.5)        (towards A, more target pheromone)
   //   B: ε: (0 - 4)/4 · (0, -2) = (0, 2)           (towards B, more obstacle pheromone)
   //   C: σ: (0 - 2)/16 · (-4, 0) = (0.5, 0)
-  // Eqs. (13)-(14) with λ = (1, -0.3, 0.3):
+  // Shao 2020 eq. (13), Shao 2020 eq. (14) with λ = (1, -0.3, 0.3):
   //   s_E = (1.5, 0.5) + 0.3·(0.5, 0) = (1.65, 0.5), ‖s_E‖ = √2.9725 = 1.72409396...
   //   s_N = -0.3·(0, 2) = (0, -0.6),                 ‖s_N‖ = 0.6
   expect_near(s.sector_sums[static_cast<std::size_t>(Heading::E)], 1.65, 0.5);
@@ -117,7 +117,7 @@ TEST(ShaoNav, VectorLeaderOfHandBuiltNeighbourhoodMatchesEquationsTwelveToFiftee
     EXPECT_EQ(s.sector_cells[static_cast<std::size_t>(h)], 0);
     expect_near(s.sector_sums[static_cast<std::size_t>(h)], 0.0, 0.0);
   }
-  // Largest ‖s_d‖ is E; eq. (15): v = 2·(1.65, 0.5)/1.72409396 = (1.91404881, 0.58001479).
+  // Largest ‖s_d‖ is E; Shao 2020 eq. (15): v = 2·(1.65, 0.5)/1.72409396 = (1.91404881, 0.58001479).
   ASSERT_TRUE(s.sector.has_value());
   EXPECT_EQ(*s.sector, Heading::E);
   expect_near(s.v, 1.91404880886694710, 0.58001479056574154);
@@ -202,7 +202,7 @@ TEST(ShaoNav, LeaderStaysWhenItHasNothingToFollow) {
   expect_near(f.v, 0.0, 0.0);
   expect_near(f.q, 5.0, 5.0);
 
-  // Its own cell unknown: eq. (12) has no reference value.
+  // Its own cell unknown: Shao 2020 eq. (12) has no reference value.
   auto known = hand_neighbourhood(4.0F);
   known.erase({0, 0});
   const LeaderStep u = leader_vector_step(Vector2d::Zero(), sparse(known), p);
@@ -245,8 +245,8 @@ TEST(ShaoNav, CentreWithinSensorRadiusSwitchesLeaderToGoThereAndBecomeFollower) 
   expect_near(c.v, -2.0, 0.0);
 }
 
-// Not the paper's Fig. 10 (its field cannot be rebuilt from the text): a
-// closed-loop run of Algorithm 2 on a cone-shaped target field.
+// Not the paper's Shao 2020 Fig. 10 (its field cannot be rebuilt from the text): a
+// closed-loop run of Shao 2020 Algorithm 2 on a cone-shaped target field.
 TEST(ShaoNav, VectorLeaderClimbsAConeFieldToTheCentreAtSpeedRho) {
   const ShaoNavParams p;
   const Vector2d centre{80.0, 75.0};
@@ -285,7 +285,7 @@ TEST(ShaoNav, VectorLeaderClimbsAConeFieldToTheCentreAtSpeedRho) {
 //   a_kj = ½(1 + cos(π(0.61785275 - 0.5)/0.5)) = 0.86906881
 //   consensus = a·((1,-1) - (0.5,0.5)) = (0.43453440, -1.30360321)
 //   leader = -0.6·((0,0) - (5,1)) - 0.4·((0.5,0.5) - (2,0)) = (3, 0.6) + (0.6, -0.2) = (3.6, 0.4)
-//   v = (4.60969315, -0.90360321), q' = q + v (eq. 24)
+//   v = (4.60969315, -0.90360321), q' = q + v (Shao 2020 eq. (24))
 const FollowerState kSelf{Vector2d{0.0, 0.0}, Vector2d{0.5, 0.5}};
 const FollowerState kLeader{Vector2d{5.0, 1.0}, Vector2d{2.0, 0.0}};
 const std::vector<FollowerState> kOneNeighbour{{Vector2d{3.0, 0.0}, Vector2d{1.0, -1.0}}};
@@ -302,7 +302,7 @@ TEST(ShaoNav, FollowerWithOneNeighbourAndLeaderMatchesHandWorkedEquationNineteen
 }
 
 TEST(ShaoNav, FollowerInterpretationSwitchesChangeOnlyTheirOwnTerms) {
-  // Literal eq. (22): z = 3.78404875/4 = 0.94601219, a = ½(1 + cos(π·0.89202438)) = 0.02849199,
+  // Literal Shao 2020 eq. (22): z = 3.78404875/4 = 0.94601219, a = ½(1 + cos(π·0.89202438)) = 0.02849199,
   // consensus = a·(0.5, -1.5), v = (0.57515875 + 0.01424599 + 3.6, -0.04273798 + 0.4).
   ShaoNavParams literal;
   literal.adjacency_scale = AdjacencyScale::LiteralRange;
@@ -343,7 +343,7 @@ TEST(ShaoNav, CoincidentOrCorruptNeighboursAddNoGradient) {
 }
 
 TEST(ShaoNav, LoneFollowerSettlesAtLeaderVelocityTrailingByVelocityOverC1) {
-  // Eq. (19) is the new velocity itself: with v_L constant the fixed point is
+  // Shao 2020 eq. (19) is the new velocity itself: with v_L constant the fixed point is
   // v_k = v_L and q_k - q_L = -v_L/c1 = (-10/3, 0); the error shrinks by
   // √0.4 per tick (eigenvalues ±0.632 of the linear map).
   const ShaoNavParams p;

@@ -21,7 +21,7 @@ constexpr double kPi = std::numbers::pi;
 // --- evaporation -------------------------------------------------------------
 
 TEST(ShostakEvaporation, FactorIsPerSecondMultiplicativeAndComposes) {
-  // Eq. (2): one second multiplies by exactly 1 - ρ; five 0.2 s steps equal one second.
+  // Shostak 2024 eq. (2): one second multiplies by exactly 1 - ρ; five 0.2 s steps equal one second.
   EXPECT_DOUBLE_EQ(shostak_evaporation_factor(0.05, 1.0), 0.95);
   EXPECT_NEAR(shostak_evaporation_factor(0.05, 0.2), 0.98979378168698849, 1e-15);
   EXPECT_NEAR(std::pow(shostak_evaporation_factor(0.05, 0.2), 5), 0.95, 1e-15);
@@ -34,7 +34,7 @@ TEST(ShostakEvaporation, HalfLifeIsThirteenAndAHalfSeconds) {
 }
 
 TEST(ShostakEvaporation, ExploredTenFallsBelowFiveAtTheFourteenthSecond) {
-  // §5: "explored 10.0 -> 5.0 in about 14 s".
+  // Shostak 2024 Sec. 5: "explored 10.0 -> 5.0 in about 14 s".
   ShostakLayers layers({0, 0, 1, 1}, ShostakLayerParams{});
   ASSERT_TRUE(layers.deposit(ShostakLayer::Explored, {0, 0}, 10.0));
   for (int step = 0; step < 65; ++step) {  // 13 s in 0.2 s steps

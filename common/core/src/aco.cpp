@@ -1,4 +1,4 @@
-// Shao 2020 ACO direction choice, section 4.2, eqs. (9)-(11) and Algorithm 1
+// Shao 2020 ACO direction choice, Shao 2020 Sec. 4.2, Shao 2020 eq. (9), Shao 2020 eq. (10), Shao 2020 eq. (11) and Shao 2020 Algorithm 1
 // lines 10-11.
 //
 // Interpretations (the paper leaves these open):
@@ -16,7 +16,7 @@
 //  * Accessibility. J_ik holds the candidates whose next cell is not
 //    view.blocked(); LocalView::blocked reports cells outside the map too.
 //    A view without a `blocked` (or `pheromones`) function blocks (knows) nothing.
-//  * Eq. (9) is evaluated in log space (a softmax of α·ln a + β·ln η), which
+//  * Shao 2020 eq. (9) is evaluated in log space (a softmax of α·ln a + β·ln η), which
 //    equals the quotient of powers but cannot underflow for large α or β.
 #include "pheromesh/core/aco.hpp"
 
@@ -159,7 +159,7 @@ std::array<Candidate, 5> evaluate_candidates(Cell pos, Heading heading, const Lo
     const Cell step = step_of(c.heading);
     c.next = Cell{pos.x + step.x, pos.y + step.y};
     c.accessible = !(view.blocked && view.blocked(c.next));
-    c.eta = eta_turn(std::abs(turn)) * eta_distance(step.x * step.x + step.y * step.y);  // eqs. (10)-(11)
+    c.eta = eta_turn(std::abs(turn)) * eta_distance(step.x * step.x + step.y * step.y);  // Shao 2020 eq. (10), Shao 2020 eq. (11)
 
     const SectorSums& s = sums[static_cast<std::size_t>(c.heading)];
     if (s.count > 0) {
@@ -170,7 +170,7 @@ std::array<Candidate, 5> evaluate_candidates(Cell pos, Heading heading, const Lo
     const double base = p.lambda_target * c.tau + p.lambda_obstacle * c.eps + p.lambda_path * c.sigma;
     c.attractiveness = std::isnan(base) ? kAttractivenessFloor : std::max(base, kAttractivenessFloor);
 
-    // Eq. (9) numerator, and the physical-costs-only weight of the random
+    // Shao 2020 eq. (9) numerator, and the physical-costs-only weight of the random
     // sub-group, both as logarithms (η > 0 for every turn of -2..2).
     log_info[i] = p.alpha * std::log(c.attractiveness) + p.beta * std::log(c.eta);
     log_random[i] = p.beta * std::log(c.eta);
@@ -203,7 +203,7 @@ Decision decide(Cell pos, Heading heading, const LocalView& view, const ShaoAcoP
   }
 
   if (!d.random_group) {
-    // Algorithm 1 line 11: the information sub-group selects the maximum.
+    // Shao 2020 Algorithm 1 line 11: the information sub-group selects the maximum.
     double best = -1.0;
     for (const std::size_t i : accessible) {
       best = std::max(best, cands[i].probability);

@@ -1,55 +1,55 @@
-// Duan et al. 2009, Max-Min adaptive ACO trajectory (re)planning.
+// Duan 2009, Max-Min adaptive ACO trajectory (re)planning.
 //
 // Reading of the paper (the text is partly mangled; figures are missing):
-//  * Mesh (section 2.2, Fig. 2). OX is cut into m and OY into n equal
+//  * Mesh (Duan 2009 Sec. 2.2, Duan 2009 Fig. 2). OX is cut into m and OY into n equal
 //    sections; the (m+1)(n+1) crossings L_i(x_i, y_j) are the nodes. Paths
 //    {B, L_i1, ..., A} are read as walks on this grid with 8-neighbour edges:
-//    the lengths of Table 3 are all of the form 2·(a + b·√2) km (51.31 =
+//    the lengths of Duan 2009 Table 3 are all of the form 2·(a + b·√2) km (51.31 =
 //    2(20 + 4√2), 47.80 = 2(14 + 7√2), 52.14 = 2(19 + 5√2)) and every
-//    coordinate of Tables 1, 2, 4 is even, so the paper's mesh is the 60 x 70 km
+//    coordinate of Duan 2009 Table 1, Duan 2009 Table 2, Duan 2009 Table 4 is even, so the paper's mesh is the 60 x 70 km
 //    region with 2 km spacing (m = 30, n = 35) and straight + diagonal edges.
 //    Edges are directed for the pheromone (start -> goal walks); costs are
 //    symmetric.
-//  * Eq. (1) is not used; eq. (2) is implemented as printed: L_ij times the sum
+//  * Duan 2009 eq. (1) is not used; Duan 2009 eq. (2) is implemented as printed: L_ij times the sum
 //    of w_k / d^4 at the 1/10, 3/10, ..., 9/10 points (not L/5 times it), with
 //    d in km. N_t ("threats that can pose threat to the edge") is read per
 //    sample point: threat k adds w_k / d^4 at a point only if d <= R_k, so the
-//    radius of Tables 1/4 is the threatened range and the grade is w_k.
+//    radius of Duan 2009 Table 1/4 is the threatened range and the grade is w_k.
 //    d is floored at 1 m so a point on a threat centre stays finite.
 //    With d in km the cost only bites within ~3 km of a centre, which matches
-//    Table 3: UAV-3's 52.14 km is the octile-shortest length although every
+//    Duan 2009 Table 3: UAV-3's 52.14 km is the octile-shortest length although every
 //    such path touches the ranges of threats 1 and 2.
-//  * Eq. (3): J = f·J_threat + (1 - f)·L with f = 0.75; J_fuel = L [km].
-//  * Turn constraint (Fig. 4, figure missing): the next node must not turn the
+//  * Duan 2009 eq. (3): J = f·J_threat + (1 - f)·L with f = 0.75; J_fuel = L [km].
+//  * Turn constraint (Duan 2009 Fig. 4, figure missing): the next node must not turn the
 //    heading by more than max_turn_rad (default 45°: the three nodes "ahead"
 //    of the previous waypoint (b)). At the start of a plan every neighbour is
 //    allowed unless a previous node is given (replanning).
 //  * Ant walks: tabu list (no node twice); an ant with no allowed neighbour is
 //    dropped for the iteration (no cost, no deposit). When the goal is an
-//    allowed neighbour the ant takes it: η -> ∞ as d_u,target -> 0 in eq. (9),
-//    so eq. (11) gives it probability 1.
-//  * Eq. (10): τ_i,su = τ^e_i,su · (N-1) / Σ_{j≠i} τ^p_{j,u}: a node rich in
+//    allowed neighbour the ant takes it: η -> ∞ as d_u,target -> 0 in Duan 2009 eq. (9),
+//    so Duan 2009 eq. (11) gives it probability 1.
+//  * Duan 2009 eq. (10): τ_i,su = τ^e_i,su · (N-1) / Σ_{j≠i} τ^p_{j,u}: a node rich in
 //    the other UAVs' point pheromone (their good paths) is penalised, a node
 //    they left at τ_min is favoured; N = 1 gives a factor of 1.
-//  * Eqs. (12)-(17): evaporation with ρ on every edge and node, then deposits
-//    Q / J_i,k by the ants allowed by section 3.2 (1) on every edge and every
-//    node (start and goal included) of their walk. Section 3.2 (1) defines the
+//  * Duan 2009 eq. (12), Duan 2009 eq. (13), Duan 2009 eq. (14), Duan 2009 eq. (15), Duan 2009 eq. (16), Duan 2009 eq. (17): evaporation with ρ on every edge and node, then deposits
+//    Q / J_i,k by the ants allowed by Duan 2009 Sec. 3.2 (1) on every edge and every
+//    node (start and goal included) of their walk. Duan 2009 Sec. 3.2 (1) defines the
 //    average J_ave(t) and then says "J_k(t) <= J_min(t)"; we read J_ave
 //    (DepositRule::BelowAverage: the better half deposits), the literal
 //    reading is DepositRule::IterationBest. This selection is the "adaptive"
 //    part: the deposit threshold follows each iteration's costs; the paper
 //    gives no schedule for ρ, so ρ stays 0.7.
-//  * Eq. (18): after the update both edge and point pheromone are clamped to
+//  * Duan 2009 eq. (18): after the update both edge and point pheromone are clamped to
 //    [τ_min, τ_max]. Initial pheromone is not given: τ_max, as in MMAS [24].
-//  * Candidates (section 3.3): the best `candidate_count` (4) distinct walks
+//  * Candidates (Duan 2009 Sec. 3.3): the best `candidate_count` (4) distinct walks
 //    over all iterations feed the ETA.
-//  * Replanning (section 2.5, steps 1-4): add the pop-up threats to the mesh
+//  * Replanning (Duan 2009 Sec. 2.5, steps 1-4): add the pop-up threats to the mesh
 //    (edge costs recomputed) and plan again from the current node with a fresh
 //    pheromone, passing the previous node so the turn constraint holds.
-//  * ETA (eqs. (4)-(8)): S_i is the union of the candidates' intervals, S the
-//    intersection; T_a = min S (Fig. 6), or optionally the T in S minimising
-//    eq. (8) = Σ_i (f1·J_i + f2·T) with each UAV's cheapest feasible candidate
-//    (eq. (8) sums over j too, which we read as the candidate actually flown).
+//  * ETA (Duan 2009 eq. (4), Duan 2009 eq. (5), Duan 2009 eq. (6), Duan 2009 eq. (7), Duan 2009 eq. (8)): S_i is the union of the candidates' intervals, S the
+//    intersection; T_a = min S (Duan 2009 Fig. 6), or optionally the T in S minimising
+//    Duan 2009 eq. (8) = Σ_i (f1·J_i + f2·T) with each UAV's cheapest feasible candidate
+//    (Duan 2009 eq. (8) sums over j too, which we read as the candidate actually flown).
 //    Only interval lower bounds can be optimal, so only they are tried.
 #include "pheromesh/core/duan_aco.hpp"
 
@@ -65,9 +65,9 @@ namespace {
 
 constexpr std::array<int32_t, ThreatMesh::kDirections> kDx{1, 1, 0, -1, -1, -1, 0, 1};
 constexpr std::array<int32_t, ThreatMesh::kDirections> kDy{0, 1, 1, 1, 0, -1, -1, -1};
-constexpr std::array<double, 5> kSampleFractions{0.1, 0.3, 0.5, 0.7, 0.9};  // eq. (2)
+constexpr std::array<double, 5> kSampleFractions{0.1, 0.3, 0.5, 0.7, 0.9};  // Duan 2009 eq. (2)
 constexpr double kTurnTolerance = 1e-9;   // [rad]
-constexpr double kMinEdgeCost = 1e-12;    // keeps η of eq. (9) finite (f = 1, no threat)
+constexpr double kMinEdgeCost = 1e-12;    // keeps η of Duan 2009 eq. (9) finite (f = 1, no threat)
 constexpr double kTimeTolerance = 1e-9;   // relative, for interval membership
 constexpr double kCostTolerance = 1e-12;  // relative, for the deposit threshold
 
@@ -115,11 +115,11 @@ double edge_threat_cost(std::span<const Threat> threats, PointKm a, PointKm b) {
   for (const double s : kSampleFractions) {
     sum += threat_intensity(threats, PointKm{a.x + s * (b.x - a.x), a.y + s * (b.y - a.y)});
   }
-  return distance_km(a, b) * sum;  // eq. (2)
+  return distance_km(a, b) * sum;  // Duan 2009 eq. (2)
 }
 
 double edge_cost(double threat_cost, double length_km, double f) {
-  return f * threat_cost + (1.0 - f) * length_km;  // eq. (3)
+  return f * threat_cost + (1.0 - f) * length_km;  // Duan 2009 eq. (3)
 }
 
 // -------------------------------------------------------------------- mesh
@@ -251,11 +251,11 @@ double combined_pheromone(double tau_edge, double others_point_sum, uint32_t oth
   if (others_count == 0) {
     return tau_edge;
   }
-  return tau_edge * static_cast<double>(others_count) / std::max(others_point_sum, kMinEdgeCost);  // eq. (10)
+  return tau_edge * static_cast<double>(others_count) / std::max(others_point_sum, kMinEdgeCost);  // Duan 2009 eq. (10)
 }
 
 double heuristic(double edge_cost, double distance_to_target_km) {
-  return 1.0 / (std::max(edge_cost, kMinEdgeCost) * distance_to_target_km);  // eq. (9)
+  return 1.0 / (std::max(edge_cost, kMinEdgeCost) * distance_to_target_km);  // Duan 2009 eq. (9)
 }
 
 std::vector<double> transition_probabilities(std::span<const double> tau, std::span<const double> eta,
@@ -264,7 +264,7 @@ std::vector<double> transition_probabilities(std::span<const double> tau, std::s
   std::vector<double> p(tau.size());
   double sum = 0.0;
   for (std::size_t i = 0; i < tau.size(); ++i) {
-    p[i] = std::pow(tau[i], alpha) * std::pow(eta[i], beta);  // eq. (11) numerator
+    p[i] = std::pow(tau[i], alpha) * std::pow(eta[i], beta);  // Duan 2009 eq. (11) numerator
     sum += p[i];
   }
   for (double& v : p) {
@@ -274,7 +274,7 @@ std::vector<double> transition_probabilities(std::span<const double> tau, std::s
 }
 
 double updated_pheromone(double tau, double delta, double rho, double tau_min, double tau_max) {
-  return std::clamp((1.0 - rho) * tau + delta, tau_min, tau_max);  // eqs. (12)/(13), (18)
+  return std::clamp((1.0 - rho) * tau + delta, tau_min, tau_max);  // Duan 2009 eq. (12)/(13), (18)
 }
 
 DuanColony::DuanColony(const ThreatMesh& mesh, const DuanAcoParams& params, Rng rng)
@@ -305,7 +305,7 @@ void DuanColony::begin(NodeId start, NodeId goal, std::optional<NodeId> previous
     eta_beta_.clear();
     return;
   }
-  // η^β of eq. (9) per edge for this goal (recomputed here so pop-up threats count).
+  // η^β of Duan 2009 eq. (9) per edge for this goal (recomputed here so pop-up threats count).
   eta_beta_.assign(nodes * ThreatMesh::kDirections, 0.0);
   const PointKm target = mesh.position(goal);
   for (NodeId n = 0; n < nodes; ++n) {
@@ -362,7 +362,7 @@ bool DuanColony::walk(const PointPheromone& others, std::vector<NodeId>& path) {
       const std::size_t e = ThreatMesh::edge_index(s, d);
       const double tau = with_others ? combined_pheromone(tau_edge_[e], others.sum[u], others.uav_count)
                                      : tau_edge_[e];
-      weight[di] = std::pow(tau, params_.alpha) * eta_beta_[e];  // eq. (11)
+      weight[di] = std::pow(tau, params_.alpha) * eta_beta_[e];  // Duan 2009 eq. (11)
       total += weight[di];
     }
     NodeId next = kNoNode;
@@ -437,7 +437,7 @@ void DuanColony::iterate(const PointPheromone& others) {
     iteration_min = std::min(iteration_min, costs[k]);
     ++arrived;
   }
-  // Eqs. (12)-(13): evaporation; eqs. (14)-(17): deposits; eq. (18): clamp.
+  // Duan 2009 eq. (12), Duan 2009 eq. (13): evaporation; Duan 2009 eq. (14), Duan 2009 eq. (15), Duan 2009 eq. (16), Duan 2009 eq. (17): deposits; Duan 2009 eq. (18): clamp.
   for (double& t : tau_edge_) {
     t *= 1.0 - params_.rho;
   }
@@ -528,12 +528,12 @@ std::vector<PathResult> plan_team(std::span<DuanColony> colonies, std::span<cons
 
 TimeInterval arrival_interval(double length_km, const SpeedLimits& speeds) {
   const double length_m = 1000.0 * length_km;
-  return {length_m / speeds.max_mps, length_m / speeds.min_mps};  // eq. (4)
+  return {length_m / speeds.max_mps, length_m / speeds.min_mps};  // Duan 2009 eq. (4)
 }
 
 namespace {
 
-// Sorted union of intervals (eq. (5)).
+// Sorted union of intervals (Duan 2009 eq. (5)).
 std::vector<TimeInterval> merged(std::vector<TimeInterval> v) {
   std::sort(v.begin(), v.end(), [](const TimeInterval& a, const TimeInterval& b) { return a.earliest_s < b.earliest_s; });
   std::vector<TimeInterval> out;
@@ -547,7 +547,7 @@ std::vector<TimeInterval> merged(std::vector<TimeInterval> v) {
   return out;
 }
 
-// Intersection of two sorted unions (eq. (6)).
+// Intersection of two sorted unions (Duan 2009 eq. (6)).
 std::vector<TimeInterval> intersected(const std::vector<TimeInterval>& a, const std::vector<TimeInterval>& b) {
   std::vector<TimeInterval> out;
   std::size_t i = 0, j = 0;
@@ -604,15 +604,15 @@ Result<EtaPlan> coordinate_eta(const std::vector<std::vector<EtaCandidate>>& can
       }
       s_i.push_back(arrival_interval(c.length_km, speeds));
     }
-    s_i = merged(std::move(s_i));                          // eq. (5)
-    window = i == 0 ? s_i : intersected(window, s_i);      // eq. (6)
+    s_i = merged(std::move(s_i));                          // Duan 2009 eq. (5)
+    window = i == 0 ? s_i : intersected(window, s_i);      // Duan 2009 eq. (6)
   }
   if (window.empty()) {
     return Error{"duan eta: no common arrival time (S is empty)"};
   }
 
-  // Candidate values of T_a: min S (Fig. 6) and, for the cost rule, every
-  // interval lower bound inside S (eq. (8) rises with T between them).
+  // Candidate values of T_a: min S (Duan 2009 Fig. 6) and, for the cost rule, every
+  // interval lower bound inside S (Duan 2009 eq. (8) rises with T between them).
   std::vector<double> times{window.front().earliest_s};
   if (options.rule == EtaRule::MinCoordinationCost) {
     for (const auto& cands : candidates) {
@@ -630,7 +630,7 @@ Result<EtaPlan> coordinate_eta(const std::vector<std::vector<EtaCandidate>>& can
   double best_cost = std::numeric_limits<double>::infinity();
   for (const double t : times) {
     EtaPlan plan{t, window, {}, {}};
-    double total = 0.0;  // eq. (8)
+    double total = 0.0;  // Duan 2009 eq. (8)
     bool feasible = true;
     for (const auto& cands : candidates) {
       const auto j = cheapest_at(cands, t, speeds);
@@ -641,7 +641,7 @@ Result<EtaPlan> coordinate_eta(const std::vector<std::vector<EtaCandidate>>& can
       plan.chosen.push_back(*j);
       // V = L / T_a, kept inside the limits against rounding at the interval ends.
       plan.speed_mps.push_back(std::clamp(1000.0 * cands[*j].length_km / t, speeds.min_mps, speeds.max_mps));
-      total += options.f1 * cands[*j].cost + options.f2 * t;  // eq. (7)
+      total += options.f1 * cands[*j].cost + options.f2 * t;  // Duan 2009 eq. (7)
     }
     if (feasible && total < best_cost) {
       best_cost = total;
@@ -669,7 +669,7 @@ Duan2009Scenario duan2009_scenario() {
   Duan2009Scenario s;
   s.mesh = MeshSpec{};  // 60 x 70 km, 2 km spacing, f = 0.75
   s.threats = {
-      // Table 1: location [km], threat radius [km], threat grade.
+      // Duan 2009 Table 1: location [km], threat radius [km], threat grade.
       {{52.0, 32.0}, 10.0, 2.0},
       {{36.0, 26.0}, 6.0, 1.2},
       {{22.0, 48.0}, 8.0, 1.6},
@@ -677,13 +677,13 @@ Duan2009Scenario duan2009_scenario() {
       {{30.0, 30.0}, 9.0, 2.0},
   };
   s.uavs = {
-      // Table 2: starting point -> target [km].
+      // Duan 2009 Table 2: starting point -> target [km].
       {{6.0, 20.0}, {10.0, 68.0}},
       {{24.0, 20.0}, {40.0, 60.0}},
       {{40.0, 20.0}, {50.0, 68.0}},
   };
   s.popups = {
-      // Table 4.
+      // Duan 2009 Table 4.
       {{12.0, 40.0}, 6.0, 2.5},
       {{40.0, 40.0}, 6.0, 2.0},
   };

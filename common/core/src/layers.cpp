@@ -1,4 +1,4 @@
-// Shao 2020 semantic pheromone layers (section 4.1, eqs. (1)-(8)) over one
+// Shao 2020 semantic pheromone layers (Shao 2020 Sec. 4.1, Shao 2020 eq. (1), Shao 2020 eq. (2), Shao 2020 eq. (3), Shao 2020 eq. (4), Shao 2020 eq. (5), Shao 2020 eq. (6), Shao 2020 eq. (7), Shao 2020 eq. (8)) over one
 // region with a one-cell halo, and the whole-map reference step.
 //
 // Exactness contract between reference_diffuse and RegionField: both compute,
@@ -7,7 +7,7 @@
 //   nb_i  = sum over the in-map 8-neighbours j of i, in the order
 //           (-1,-1) (0,-1) (1,-1) (-1,0) (1,0) (-1,1) (0,1) (1,1), of
 //           s_j * (1 / |N(j)|)
-//   out_i = combine(s_i, nb_i)                                  eq. (1) or (3)
+//   out_i = combine(s_i, nb_i)                                  Shao 2020 eq. (1) or Shao 2020 eq. (3)
 // with the same helper functions below. RegionField adds +0 for out-of-map
 // neighbours (source 0, weight 0) where the reference skips them; x + (+0) == x
 // for every x except -0, which compares equal anyway. So the split map and the
@@ -39,9 +39,9 @@ namespace {
 // Step coefficients, rounded to float once so both implementations use the same.
 struct StepCoeffs {
   float d = 0.0F;     // deposit per iteration (dτ or dε)
-  float g = 0.0F;     // G, multiplies the neighbour sum: g(i,t) = G * Σ s_j/|N(j)|, eqs. (2), (4)
-  float self = 0.0F;  // eq. (1): (1-E)(1-G);  eq. (3): (1-G)
-  float evap = 1.0F;  // eq. (3): (1-E), applied to the whole brace; unused for eq. (1)
+  float g = 0.0F;     // G, multiplies the neighbour sum: g(i,t) = G * Σ s_j/|N(j)|, Shao 2020 eq. (2), Shao 2020 eq. (4)
+  float self = 0.0F;  // Shao 2020 eq. (1): (1-E)(1-G);  Shao 2020 eq. (3): (1-G)
+  float evap = 1.0F;  // Shao 2020 eq. (3): (1-E), applied to the whole brace; unused for Shao 2020 eq. (1)
 };
 
 StepCoeffs make_coeffs(double e, double g, double d, bool evaporate_neighbour_sum) {
@@ -53,7 +53,7 @@ StepCoeffs make_coeffs(double e, double g, double d, bool evaporate_neighbour_su
   return c;
 }
 
-// s = v + k·d, the quantity that stays and diffuses (brackets of eqs. (1)-(4)).
+// s = v + k·d, the quantity that stays and diffuses (brackets of Shao 2020 eq. (1), Shao 2020 eq. (2), Shao 2020 eq. (3), Shao 2020 eq. (4)).
 inline float source(float v, uint8_t k, float d) { return v + (k != 0 ? d : 0.0F); }
 
 // 1/|N(j)|; 0 for a cell with no neighbours (1x1 map), which then never
@@ -108,7 +108,7 @@ void diffuse_row(const float* __restrict up, const float* __restrict mid, const 
   }
 }
 
-// Eqs. (1)-(4) over the w x h own cells of a (w+2) x (h+2) padded source
+// Shao 2020 eq. (1), Shao 2020 eq. (2), Shao 2020 eq. (3), Shao 2020 eq. (4) over the w x h own cells of a (w+2) x (h+2) padded source
 // buffer. `weighted` is scratch of the padded size. No per-cell branches.
 template <bool kEvaporateNeighbourSum>
 void diffuse_padded(const float* src, const float* inv_n, float* weighted, std::size_t w, std::size_t h,
@@ -130,7 +130,7 @@ void make_sources(const float* __restrict v, const uint8_t* __restrict k, float 
   for (; i < n; ++i) s[i] = source(v[i], k[i], d);
 }
 
-// σ = clamp(σ − Δσ, σmin, σ0), eqs. (5) and (8); clears Δσ.
+// σ = clamp(σ − Δσ, σmin, σ0), Shao 2020 eq. (5) and Shao 2020 eq. (8); clears Δσ.
 void update_path(float* __restrict sigma, float* __restrict delta, std::size_t n, float lo, float hi) {
   std::size_t i = 0;
   for (; i + kBlock <= n; i += kBlock) {
@@ -286,11 +286,11 @@ void RegionField::add_path_visit(Cell uav) {
       const int64_t dx = x - uav.x;
       const int64_t dy = y - uav.y;
       const double dist = std::sqrt(static_cast<double>(dx * dx + dy * dy));  // D_ij [cell]
-      const double delta = path_decrease(dist, p_);                          // eq. (7)
+      const double delta = path_decrease(dist, p_);                          // Shao 2020 eq. (7)
       if (delta == 0.0) continue;
       const auto i = static_cast<std::size_t>(y - rect_.y0) * static_cast<std::size_t>(rect_.w) +
                      static_cast<std::size_t>(x - rect_.x0);
-      path_delta_[i] += static_cast<float>(delta);  // eq. (6): sum over UAVs k
+      path_delta_[i] += static_cast<float>(delta);  // Shao 2020 eq. (6): sum over UAVs k
     }
   }
 }
@@ -303,7 +303,7 @@ HaloRing RegionField::begin_step() {
   const float d_eps = static_cast<float>(p_.d_eps);
   const float* tau = layers_[layer_index(Layer::Target)].data();
   const float* eps = layers_[layer_index(Layer::Obstacle)].data();
-  // Sources s = v + k·d of eqs. (1)-(4) into the interior of the padded
+  // Sources s = v + k·d of Shao 2020 eq. (1), Shao 2020 eq. (2), Shao 2020 eq. (3), Shao 2020 eq. (4) into the interior of the padded
   // buffers; the halo keeps what neighbours sent last.
   for (std::size_t y = 0; y < h; ++y) {
     float* st = src_tau_.data() + (y + 1) * pw + 1;
@@ -367,12 +367,12 @@ void RegionField::finish_step() {
   const auto h = static_cast<std::size_t>(rect_.h);
   diffuse_padded<false>(src_tau_.data(), inv_n_.data(), weighted_.data(), w, h,
                         make_coeffs(p_.e_tau, p_.g_tau, p_.d_tau, false),
-                        layers_[layer_index(Layer::Target)].data());  // eqs. (1), (2)
+                        layers_[layer_index(Layer::Target)].data());  // Shao 2020 eq. (1), Shao 2020 eq. (2)
   diffuse_padded<true>(src_eps_.data(), inv_n_.data(), weighted_.data(), w, h,
                        make_coeffs(p_.e_eps, p_.g_eps, p_.d_eps, true),
-                       layers_[layer_index(Layer::Obstacle)].data());  // eqs. (3), (4)
+                       layers_[layer_index(Layer::Obstacle)].data());  // Shao 2020 eq. (3), Shao 2020 eq. (4)
 
-  // Path: σ(t+1) = σ(t) − Δσ(t), eq. (5), clamped into [σmin, σ0], eq. (8).
+  // Path: σ(t+1) = σ(t) − Δσ(t), Shao 2020 eq. (5), clamped into [σmin, σ0], Shao 2020 eq. (8).
   const float lo = static_cast<float>(p_.sigma_min);
   const float hi = static_cast<float>(p_.sigma0);
   update_path(layers_[layer_index(Layer::Path)].data(), path_delta_.data(), w * h, lo, hi);
@@ -392,7 +392,7 @@ void reference_diffuse(const MapGeometry& geo, std::span<const float> in, std::s
   for (int32_t y = 0; y < geo.height(); ++y) {
     for (int32_t x = 0; x < geo.width(); ++x) {
       const Cell ci{x, y};
-      // g(i,t) / G = Σ_{j∈N(i)} s_j / |N(j)|, eqs. (2), (4); |N(j)| counted on the spot.
+      // g(i,t) / G = Σ_{j∈N(i)} s_j / |N(j)|, Shao 2020 eq. (2), Shao 2020 eq. (4); |N(j)| counted on the spot.
       float nb = 0.0F;
       for (int32_t dy = -1; dy <= 1; ++dy) {
         for (int32_t dx = -1; dx <= 1; ++dx) {

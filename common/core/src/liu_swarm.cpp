@@ -1,4 +1,4 @@
-// Liu 2022 §5 simulation: the time loop of Algorithm 1 around the pure pieces
+// Liu 2022 Sec. 5 simulation: the time loop of Liu 2022 Algorithm 1 around the pure pieces
 // of liu_tpm.cpp. The choices the paper leaves open are listed in
 // liu_swarm.hpp and liu_tpm.hpp; this file only wires them together.
 #include "pheromesh/core/liu_swarm.hpp"
@@ -33,7 +33,7 @@ std::optional<Error> check_config(const LiuSwarmConfig& c) {
   if (p.uav_count == 0) return Error{"liu swarm: uav_count must be > 0"};
   if (!(p.dt_s > 0.0) || !(p.cycle_s >= p.dt_s)) return Error{"liu swarm: need 0 < dt_s <= cycle_s"};
   if (!(p.p_detection >= 0.0 && p.p_detection <= 1.0)) return Error{"liu swarm: p_detection must be in [0, 1]"};
-  // Eq. (5) divides by 1 - Pf.
+  // Liu 2022 eq. (5) divides by 1 - Pf.
   if (!(p.p_false_alarm >= 0.0 && p.p_false_alarm < 1.0)) return Error{"liu swarm: p_false_alarm must be in [0, 1)"};
   if (!std::isfinite(p.confirm_threshold)) return Error{"liu swarm: confirm_threshold must be finite"};
   if (!(p.initial_probability >= 0.0 && p.initial_probability <= 1.0)) {
@@ -82,7 +82,7 @@ void mower_advance(LiuMower& m, LiuUav& uav, double dt_s, const LiuParams& p) {
     }
     return;
   }
-  uav = advance_uav(uav, Vec2{m.dx * l, 0.0}, dt_s, p);  // eq. (14): P += b l Δt
+  uav = advance_uav(uav, Vec2{m.dx * l, 0.0}, dt_s, p);  // Liu 2022 eq. (14): P += b l Δt
   if ((uav.velocity.x > 0.0) == (m.dx > 0)) return;
   m.dx = -m.dx;  // b reversed at the border (advance_uav reflected the position)
   const int32_t row = cell_of(uav.position, p).y;
@@ -94,7 +94,7 @@ void mower_advance(LiuMower& m, LiuUav& uav, double dt_s, const LiuParams& p) {
     }
     m.dy = -m.dy;
   }
-  // One-row lane: back along the row, exactly eq. (14).
+  // One-row lane: back along the row, exactly Liu 2022 eq. (14).
 }
 
 std::string_view to_string(LiuPolicy p) {
@@ -129,7 +129,7 @@ std::vector<double> liu_prior_map(const LiuSwarmConfig& config) {
   for (const Vec2& v : centres) {
     const Cell c = cell_of(v, p);
     components.push_back({c.x + 0.5, c.y + 0.5, config.prior_sigma_cells, config.prior_sigma_cells, 0.0,
-                          config.prior_weight});  // eqs. (1)-(2), ρ = 0, σ1 = σ2 = σ0
+                          config.prior_weight});  // Liu 2022 eq. (1), Liu 2022 eq. (2), ρ = 0, σ1 = σ2 = σ0
   }
   return gaussian_mixture_prior(p.grid_width, p.grid_height, components);
 }
@@ -176,7 +176,7 @@ Result<LiuSwarmResult> run_liu_swarm(const LiuSwarmConfig& config, uint64_t seed
     }
     uav_rng.emplace_back(stream_seed(seed, "liu-uav", static_cast<uint32_t>(i)));
     if (!mower && config.start_velocity == LiuStartVelocity::kRandomHeading) {
-      const Vec2 d = random_direction(uav_rng[i]);  // eq. (12)
+      const Vec2 d = random_direction(uav_rng[i]);  // Liu 2022 eq. (12)
       uavs[i].velocity = Vec2{d.x * p.max_speed_mps, d.y * p.max_speed_mps};
     }
   }
@@ -218,7 +218,7 @@ Result<LiuSwarmResult> run_liu_swarm(const LiuSwarmConfig& config, uint64_t seed
       }
       for (std::size_t i = 0; i < n; ++i) uavs[i].velocity = velocity[i];
     }
-    // Fly the cycle in Δt steps (eqs. 10-11); observe every cell entered.
+    // Fly the cycle in Δt steps (Liu 2022 eq. (10), Liu 2022 eq. (11)); observe every cell entered.
     for (uint32_t s = 0; s < substeps; ++s) {
       for (std::size_t i = 0; i < n; ++i) {
         if (mower) {
@@ -232,12 +232,12 @@ Result<LiuSwarmResult> run_liu_swarm(const LiuSwarmConfig& config, uint64_t seed
         visited.visit(now);
         const std::size_t k = cell_index(now, w);
         const bool target = !targets_in[k].empty();
-        bool detected = target;  // Algorithm 1: the branch is on the truth
+        bool detected = target;  // Liu 2022 Algorithm 1: the branch is on the truth
         if (config.sensor == LiuSensor::kNoisy) {
           const double draw = sensor.uniform01();
           detected = target ? draw < p.p_detection : draw < p.p_false_alarm;
         }
-        tpm.observe(now, detected);  // eq. (4) or (5)
+        tpm.observe(now, detected);  // Liu 2022 eq. (4) or Liu 2022 eq. (5)
         ++out.observations;
         if (latched[k] == 0 && tpm.confirmed(now)) {  // "the TEP of a grid is more than the given value"
           latched[k] = 1;

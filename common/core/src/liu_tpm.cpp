@@ -1,22 +1,22 @@
-// Liu et al. 2022 (ESUSTPM): TPM, environmental uncertainty, local rules and
+// Liu 2022 (ESUSTPM): TPM, environmental uncertainty, local rules and
 // baselines. How we read the PDF-extracted equations:
 //
-//  Eq. (1) bivariate normal density. The extracted text has
+//  Liu 2022 eq. (1) bivariate normal density. The extracted text has
 //    {(x-μ1)²/σ1² - 2ρ(x-μ1)(y-μ2)/(σ1σ2) - (y-μ2)²/σ2²};
 //  the last minus makes the "density" non-integrable, so it is a typo for +
 //  (the textbook form). ρ is called "the covariance", but sqrt(1 - ρ²) in the
 //  normaliser makes it the correlation coefficient.
-//  Eq. (2) f = Σ α_i f_i; P_mn = ∬ over the cell of f (the sentence after
-//  eq. 2). "independent in x and y, thus σ1 = σ2 = σ0": independence means
+//  Liu 2022 eq. (2) f = Σ α_i f_i; P_mn = ∬ over the cell of f (the sentence after
+//  Liu 2022 eq. (2)). "independent in x and y, thus σ1 = σ2 = σ0": independence means
 //  ρ = 0; we keep σx, σy, ρ general, callers can pass σx = σy, ρ = 0.
-//  Eq. (3) unsearched cell unchanged; eq. (4) detection posterior
+//  Liu 2022 eq. (3) unsearched cell unchanged; Liu 2022 eq. (4) detection posterior
 //    P' = Pd P / ((Pd - Pf) P + Pf)  (= Pd P / (Pd P + Pf (1 - P)));
-//  eq. (5) miss, printed P' = (1 - Pd) P / (1 - Pf) (see MissUpdate).
-//  Eq. (6) mvel = 1/4 Σ_{i=1..4} F_i/|F_i| β_i; eqs. (7)-(9)
+//  Liu 2022 eq. (5) miss, printed P' = (1 - Pd) P / (1 - Pf) (see MissUpdate).
+//  Liu 2022 eq. (6) mvel = 1/4 Σ_{i=1..4} F_i/|F_i| β_i; Liu 2022 eq. (7), Liu 2022 eq. (8), Liu 2022 eq. (9)
 //    g(d) = t (1 - exp(-(d - c)²/δ'²)),  a(d) = k (d - c) exp(-(d - c)²/δ²),
 //    β = a g.
-//  Eqs. (10)-(11) P(t+1) = P(t) + mvel Δt. Eq. (12) dir = rnd(2,1)/|rnd(2,1)|,
-//  rnd uniform in [-1, 1]; eq. (13) P += dir S Δt; eq. (14) P += b l Δt.
+//  Liu 2022 eq. (10), Liu 2022 eq. (11) P(t+1) = P(t) + mvel Δt. Liu 2022 eq. (12) dir = rnd(2,1)/|rnd(2,1)|,
+//  rnd uniform in [-1, 1]; Liu 2022 eq. (13) P += dir S Δt; Liu 2022 eq. (14) P += b l Δt.
 #include "pheromesh/core/liu_tpm.hpp"
 
 #include <algorithm>
@@ -53,7 +53,7 @@ Vec2 clip_speed(Vec2 v, double max_speed) {
 // Standard normal CDF.
 double phi_cdf(double z) { return 0.5 * std::erfc(-z / std::numbers::sqrt2); }
 
-// ∬ over [x0, x1] x [y0, y1] of one component's density (eq. 1), without α.
+// ∬ over [x0, x1] x [y0, y1] of one component's density (Liu 2022 eq. (1)), without α.
 double cell_mass(const GaussianComponent& g, double x0, double x1, double y0, double y1) {
   if (g.rho == 0.0) {
     // Separable: product of the marginal masses, exact.
@@ -117,7 +117,7 @@ std::vector<double> gaussian_mixture_prior(int32_t w, int32_t h, std::span<const
     for (int32_t y = 0; y < h; ++y) {
       for (int32_t x = 0; x < w; ++x) {
         const std::size_t i = static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x);
-        map[i] += g.weight * cell_mass(g, x, x + 1.0, y, y + 1.0);  // eq. (2)
+        map[i] += g.weight * cell_mass(g, x, x + 1.0, y, y + 1.0);  // Liu 2022 eq. (2)
       }
     }
   }
@@ -132,13 +132,13 @@ std::vector<double> gaussian_mixture_prior(int32_t w, int32_t h, std::span<const
 // ---------------------------------------------------------------------------
 
 double tpm_after_detection(double p, double p_detection, double p_false_alarm) {
-  const double den = (p_detection - p_false_alarm) * p + p_false_alarm;  // eq. (4)
+  const double den = (p_detection - p_false_alarm) * p + p_false_alarm;  // Liu 2022 eq. (4)
   return den > 0.0 ? p_detection * p / den : p;
 }
 
 double tpm_after_miss(double p, double p_detection, double p_false_alarm, MissUpdate rule) {
   if (rule == MissUpdate::kAsPrinted) {
-    return (1.0 - p_detection) * p / (1.0 - p_false_alarm);  // eq. (5) as printed
+    return (1.0 - p_detection) * p / (1.0 - p_false_alarm);  // Liu 2022 eq. (5) as printed
   }
   const double den = (p_false_alarm - p_detection) * p + 1.0 - p_false_alarm;  // (1-Pd)P + (1-Pf)(1-P)
   return den > 0.0 ? (1.0 - p_detection) * p / den : p;
@@ -317,9 +317,9 @@ std::optional<Cell> most_probable_neighbour(Cell at, Vec2 velocity, const TpmLoo
 
 double liu_gain(std::size_t rule, double distance_m, const LiuParams& params) {
   const double e = distance_m - params.c[rule];
-  const double g = params.t[rule] * (1.0 - std::exp(-e * e / (params.delta_prime[rule] * params.delta_prime[rule])));  // eq. (7)
-  const double a = params.k[rule] * e * std::exp(-e * e / (params.delta[rule] * params.delta[rule]));  // eq. (8)
-  return a * g;  // eq. (9)
+  const double g = params.t[rule] * (1.0 - std::exp(-e * e / (params.delta_prime[rule] * params.delta_prime[rule])));  // Liu 2022 eq. (7)
+  const double a = params.k[rule] * e * std::exp(-e * e / (params.delta[rule] * params.delta[rule]));  // Liu 2022 eq. (8)
+  return a * g;  // Liu 2022 eq. (9)
 }
 
 LiuMove grid_move(Vec2 position, Vec2 velocity, const LiuParams& params) {
@@ -329,7 +329,7 @@ LiuMove grid_move(Vec2 position, Vec2 velocity, const LiuParams& params) {
     return m;
   }
   Cell step = step_of(*m.heading);
-  if (at.x + step.x < 0 || at.x + step.x >= params.grid_width) {  // §2.2: velocity reversed at the boundary
+  if (at.x + step.x < 0 || at.x + step.x >= params.grid_width) {  // Liu 2022 Sec. 2.2: velocity reversed at the boundary
     step.x = -step.x;
     m.velocity.x = -m.velocity.x;
   }
@@ -348,7 +348,7 @@ LiuMove grid_move(Vec2 position, Vec2 velocity, const LiuParams& params) {
 }
 
 LiuUav advance_uav(const LiuUav& uav, Vec2 velocity, double dt_s, const LiuParams& params) {
-  LiuUav out{uav.position + velocity * dt_s, velocity};  // eqs. (10)-(11)
+  LiuUav out{uav.position + velocity * dt_s, velocity};  // Liu 2022 eq. (10), Liu 2022 eq. (11)
   const auto reflect = [](double& x, double& v, double extent) {
     if (x < 0.0) {
       x = -x;
@@ -388,7 +388,7 @@ Vec2 esustpm_objective_velocity(const LiuUav& self, std::span<const LiuUav> othe
       sum = sum + f * (std::abs(liu_gain(3, d, params)) / d);
     }
   }
-  return sum * 0.25;  // eq. (6)
+  return sum * 0.25;  // Liu 2022 eq. (6)
 }
 
 LiuMove esustpm_step(const LiuUav& self, std::span<const LiuUav> others, const TpmLookup& tpm,
@@ -409,13 +409,13 @@ Vec2 random_direction(Rng& rng) {
     const Vec2 r{2.0 * rng.uniform01() - 1.0, 2.0 * rng.uniform01() - 1.0};  // rnd(2, 1)
     const double n = norm(r);
     if (n > kTiny) {
-      return r * (1.0 / n);  // eq. (12)
+      return r * (1.0 / n);  // Liu 2022 eq. (12)
     }
   }
 }
 
 LiuMove random_search_step(const LiuUav& self, Rng& rng, const LiuParams& params) {
-  return grid_move(self.position, random_direction(rng) * params.random_step_mps, params);  // eq. (13)
+  return grid_move(self.position, random_direction(rng) * params.random_step_mps, params);  // Liu 2022 eq. (13)
 }
 
 Rect lawnmower_lane(uint32_t uav, uint32_t uavs, int32_t w, int32_t h) {
@@ -434,7 +434,7 @@ LawnmowerState lawnmower_step(const LawnmowerState& s, Rect lane) {
   }
   LawnmowerState n = s;
   const Cell along{s.cell.x + s.dx, s.cell.y};
-  if (lane.contains(along)) {  // eq. (14): P += b l Δt
+  if (lane.contains(along)) {  // Liu 2022 eq. (14): P += b l Δt
     n.cell = along;
     return n;
   }

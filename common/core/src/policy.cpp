@@ -81,7 +81,7 @@ PolicyTraits traits_of(const ScenarioConfig& s) {
 
 PolicyTraits policy_traits(const ScenarioConfig& s) {
   PolicyTraits t = traits_of(s);
-  // The leader's state (Shao 2020 §5), "target found" (Shostak), the ETA
+  // The leader's state (Shao 2020 Sec. 5), "target found" (Shostak), the ETA
   // intervals (Duan 2009 eq. (4)); the other policies never broadcast.
   t.broadcasts = s.policy == PolicyKind::ShaoNavigation || s.policy == PolicyKind::Shostak || s.policy == PolicyKind::Duan;
   return t;

@@ -3,18 +3,18 @@
 //
 //  * UAV side: each UAV process owns a copy of the threat mesh (the map cells
 //    are the mesh nodes) and its own DuanColony. A planning phase is Nc_max
-//    ticks, one ACO iteration per tick (plan_team's lockstep, Fig. 12): before
+//    ticks, one ACO iteration per tick (plan_team's lockstep, Duan 2009 Fig. 12): before
 //    iteration t it reads Σ_j τ^p_j (after iteration t-1 of every UAV) from
 //    the place agents' "point_sum" layer, subtracts its own share to get
-//    Σ_{j≠i} τ^p_j of eq. (10), iterates, and sends its new point pheromone to
+//    Σ_{j≠i} τ^p_j of Duan 2009 eq. (10), iterates, and sends its new point pheromone to
 //    the place agents (PointClear to the regions it set last time, then
 //    PointSet per node above τ_min). After the last iteration it broadcasts
-//    its candidates' arrival intervals (eq. (4)); at the next tick every UAV
-//    runs coordinate_eta on the same broadcasts (eqs. (5)-(6), T_a = min S,
-//    Fig. 6) and flies its cheapest feasible candidate at V = L / T_a.
-//  * Pop-up threats (Table 4) are announced to every UAV at their tick (§4:
+//    its candidates' arrival intervals (Duan 2009 eq. (4)); at the next tick every UAV
+//    runs coordinate_eta on the same broadcasts (Duan 2009 eq. (5), Duan 2009 eq. (6), T_a = min S,
+//    Duan 2009 Fig. 6) and flies its cheapest feasible candidate at V = L / T_a.
+//  * Pop-up threats (Duan 2009 Table 4) are announced to every UAV at their tick (Duan 2009 Sec. 4:
 //    "detected by marching multi-UAVs ... shared immediately"); every UAV
-//    still on its way replans (§2.5 cause (2)) from the next node of its
+//    still on its way replans (Duan 2009 Sec. 2.5 cause (2)) from the next node of its
 //    trajectory (Step 3), flying on to it meanwhile, and the ETA is agreed again.
 //  * Place side: "point_sum" (Σ over the swarm, absent = τ_min), "threat"
 //    (display) and four report layers the UAVs write at their target node
@@ -114,7 +114,7 @@ double node_threat(std::span<const Threat> threats, int32_t x, int32_t y, int32_
   for (int32_t dy = -1; dy <= 1; ++dy) {
     for (int32_t dx = -1; dx <= 1; ++dx) {
       if ((dx == 0 && dy == 0) || x + dx < 0 || y + dy < 0 || x + dx >= columns || y + dy >= rows) continue;
-      sum += edge_threat_cost(threats, p, PointKm{(x + dx) * spacing_km, (y + dy) * spacing_km});  // eq. (2)
+      sum += edge_threat_cost(threats, p, PointKm{(x + dx) * spacing_km, (y + dy) * spacing_km});  // Duan 2009 eq. (2)
       ++count;
     }
   }
@@ -269,7 +269,7 @@ class DuanUav final : public UavPolicy {
     out.deposits.push_back(layer_add(*geo_, layer, cell_of(goal_), value));
   }
 
-  // Table 4 pop-ups of this tick: every UAV learns them (§4) and the team replans (§2.5).
+  // Duan 2009 Table 4 pop-ups of this tick: every UAV learns them (Duan 2009 Sec. 4) and the team replans (Duan 2009 Sec. 2.5).
   void announce_popups(uint32_t tick, UavActions& out) {
     std::vector<Threat> now;
     for (const DuanPopup& p : cfg_->popups) {
@@ -319,7 +319,7 @@ class DuanUav final : public UavPolicy {
     point_regions_.clear();
   }
 
-  // Σ_{j≠i} τ^p_j of eq. (10) for the coming iteration.
+  // Σ_{j≠i} τ^p_j of Duan 2009 eq. (10) for the coming iteration.
   void read_others(const UavView& view) {
     const double tau_min = cfg_->aco.tau_min;
     others_.uav_count = n_ > 0 ? n_ - 1 : 0;
@@ -342,9 +342,9 @@ class DuanUav final : public UavPolicy {
 
   void plan_iteration(const UavView& view, UavActions& out) {
     read_others(view);
-    colony_->iterate(others_);  // eqs. (9)-(18)
+    colony_->iterate(others_);  // Duan 2009 eq. (9), Duan 2009 eq. (10), Duan 2009 eq. (11), Duan 2009 eq. (12), Duan 2009 eq. (13), Duan 2009 eq. (14), Duan 2009 eq. (15), Duan 2009 eq. (16), Duan 2009 eq. (17), Duan 2009 eq. (18)
     ++iteration_;
-    // Send the new point pheromone (Fig. 11: "transmitted to other UAVs").
+    // Send the new point pheromone (Duan 2009 Fig. 11: "transmitted to other UAVs").
     clear_point_pheromone(out);
     const std::vector<double>& tau = colony_->point_pheromone();
     std::set<RegionId> regions;
@@ -361,7 +361,7 @@ class DuanUav final : public UavPolicy {
     }
     point_regions_.assign(regions.begin(), regions.end());
     if (iteration_ < cfg_->aco.iterations) return;
-    // Planning ends (Step 7): broadcast the candidates' intervals (eq. (4)),
+    // Planning ends (Step 7): broadcast the candidates' intervals (Duan 2009 eq. (4)),
     // lengths counted from where the UAV will be when the ETA is agreed.
     const PathResult& r = colony_->result();
     offset_km_ = 0.0;
@@ -381,7 +381,7 @@ class DuanUav final : public UavPolicy {
     mode_ = Mode::AwaitEta;
   }
 
-  // Eqs. (5)-(8): agree on T_a with the swarm, pick the trajectory and V.
+  // Duan 2009 eq. (5), Duan 2009 eq. (6), Duan 2009 eq. (7), Duan 2009 eq. (8): agree on T_a with the swarm, pick the trajectory and V.
   void coordinate(UavActions& out) {
     const auto d = decide_eta(eta_inbox_, id_, lengths_km_, cfg_->speeds);
     if (!d) {
@@ -397,7 +397,7 @@ class DuanUav final : public UavPolicy {
     speed_mps_ = d->speed_mps;
     prev_for_plan_.reset();
     if (!took_off_) {
-      // Table 3 quantities of the first agreed plan.
+      // Duan 2009 Table 3 quantities of the first agreed plan.
       took_off_ = true;
       report(kEtaS, d->eta_s, out);
       report(kPlannedKm, lengths_km_[d->chosen], out);
@@ -542,7 +542,7 @@ PolicyTraits duan_traits(const ScenarioConfig& s) {
   for (int l = 0; l < duan_detail::kDuanLayerCount; ++l) t.layers.emplace_back(duan_detail::layer_name(l));
   t.sensor_radius = 1.0;  // [cell] one node: the coverage metric is not a Duan quantity
   // An ant may walk anywhere on the mesh (only the tabu list and the turn
-  // limit bound it), and eq. (10) needs the others' point pheromone wherever
+  // limit bound it), and Duan 2009 eq. (10) needs the others' point pheromone wherever
   // it goes: every UAV reads the whole map.
   t.view_radius = static_cast<double>(std::max(s.width, s.height));
   return t;

@@ -1,15 +1,15 @@
-// Liu et al. 2022 (ESUSTPM) as a distributed policy (docs/policies/liu.md).
+// Liu 2022 (ESUSTPM) as a distributed policy (docs/policies/liu.md).
 //  * Place agents own the target probability map: layer "tpm" starts at the
-//    prior (eqs. 1-2 over the whole map, the region's part kept), every
-//    Observation deposit applies eq. (4) (detection) or eq. (5) (miss) to its
+//    prior (Liu 2022 eq. (1), Liu 2022 eq. (2) over the whole map, the region's part kept), every
+//    Observation deposit applies Liu 2022 eq. (4) (detection) or Liu 2022 eq. (5) (miss) to its
 //    cell, "visited" marks the cells some UAV has been in, "confirmed" latches
-//    P > θ (§2.4) and emits a FirstMarked target event. No diffusion, no
-//    evaporation: the paper has neither (eq. 3, an unsearched cell keeps its
+//    P > θ (Liu 2022 Sec. 2.4) and emits a FirstMarked target event. No diffusion, no
+//    evaporation: the paper has neither (Liu 2022 eq. (3), an unsearched cell keeps its
 //    value).
 //  * A UAV decides, once per tick (= one time cycle), a velocity from its own
 //    state, the UAVs it can see (view.neighbours) and the TPM of the eight
-//    cells around it (its tiles): ESUSTPM eqs. (6)-(9) or a §5.1 baseline. It
-//    then flies the cycle in Δt steps (eqs. 10-11, reflected at the border)
+//    cells around it (its tiles): ESUSTPM Liu 2022 eq. (6), Liu 2022 eq. (7), Liu 2022 eq. (8), Liu 2022 eq. (9) or a Liu 2022 Sec. 5.1 baseline. It
+//    then flies the cycle in Δt steps (Liu 2022 eq. (10), Liu 2022 eq. (11), reflected at the border)
 //    and sends one Observation per cell it enters, to the region owning it.
 // The loop is that of run_liu_swarm (liu_swarm.cpp); the differences are
 // listed in docs/policies/liu.md.
@@ -40,7 +40,7 @@ LiuParams params_of(const ScenarioConfig& s) {
 
 // Position [m] -> cell units (cell centre = integer), kept inside `cell` so
 // that rounding the reported state gives back the cell the UAV is over (a UAV
-// exactly on a cell border belongs to the cell floor(p / s) is, Algorithm 1's
+// exactly on a cell border belongs to the cell floor(p / s) is, Liu 2022 Algorithm 1's
 // "map(int, P)"; lround would give the other one at the low border of cell 0).
 double to_cell_units(double p_m, int32_t cell, double cell_size_m) {
   constexpr double kInside = 1e-9;  // [cell]
@@ -67,7 +67,7 @@ class LiuUavPolicy final : public UavPolicy {
       uav_.position = cell_centre(start, p_.cell_size_m);
     }
     if (!mower_ && c.start_velocity == LiuStartVelocity::kRandomHeading) {
-      const Vec2 d = random_direction(rng_);  // Liu 2022 eq. (12), §2.2 "maximum velocity"
+      const Vec2 d = random_direction(rng_);  // Liu 2022 eq. (12), Liu 2022 Sec. 2.2 "maximum velocity"
       uav_.velocity = Vec2{d.x * p_.max_speed_mps, d.y * p_.max_speed_mps};
     }
     cell_ = cell_of(uav_.position, p_);
@@ -105,7 +105,7 @@ class LiuUavPolicy final : public UavPolicy {
  private:
   // One velocity per cycle from the state at its start (liu_swarm.hpp).
   void decide(const UavView& view) {
-    if (mower_) return;  // eq. (14) needs no decision
+    if (mower_) return;  // Liu 2022 eq. (14) needs no decision
     const LiuConfig& c = s_->liu;
     others_.clear();
     // The UAVs this one sees (states of tick - 1, by id), [cell] -> [m].
@@ -119,7 +119,7 @@ class LiuUavPolicy final : public UavPolicy {
       if (tiles == nullptr) return std::nullopt;
       if (release) {
         const auto confirmed = tiles->value(kConfirmed, cell);
-        if (!confirmed || *confirmed != 0.0F) return std::nullopt;  // §4: found targets release the UAVs
+        if (!confirmed || *confirmed != 0.0F) return std::nullopt;  // Liu 2022 Sec. 4: found targets release the UAVs
       }
       const auto p = tiles->value(kTpm, cell);
       if (!p) return std::nullopt;
@@ -127,16 +127,16 @@ class LiuUavPolicy final : public UavPolicy {
     };
     LiuMove move;
     switch (c.search) {
-      case LiuPolicy::kEsustpm: move = esustpm_step(uav_, others_, tpm, p_); break;       // eqs. (6)-(9)
-      case LiuPolicy::kRandom: move = random_search_step(uav_, rng_, p_); break;          // eqs. (12)-(13)
-      case LiuPolicy::kBoids: move = boids_step(uav_, others_, p_); break;                // §5.1.4
-      case LiuPolicy::kGuidedBoids: move = boids_guided_step(uav_, others_, tpm, p_); break;  // §5.1.5
+      case LiuPolicy::kEsustpm: move = esustpm_step(uav_, others_, tpm, p_); break;       // Liu 2022 eq. (6), Liu 2022 eq. (7), Liu 2022 eq. (8), Liu 2022 eq. (9)
+      case LiuPolicy::kRandom: move = random_search_step(uav_, rng_, p_); break;          // Liu 2022 eq. (12), Liu 2022 eq. (13)
+      case LiuPolicy::kBoids: move = boids_step(uav_, others_, p_); break;                // Liu 2022 Sec. 5.1.4
+      case LiuPolicy::kGuidedBoids: move = boids_guided_step(uav_, others_, tpm, p_); break;  // Liu 2022 Sec. 5.1.5
       case LiuPolicy::kLawnmower: return;
     }
     uav_.velocity = move.velocity;
   }
 
-  // The cycle in Δt steps (eqs. 10-11); one Observation per cell entered.
+  // The cycle in Δt steps (Liu 2022 eq. (10), Liu 2022 eq. (11)); one Observation per cell entered.
   void fly(UavActions& out) {
     const auto substeps = static_cast<uint32_t>(std::max(1.0, std::round(p_.cycle_s / p_.dt_s)));
     const double dt = p_.cycle_s / substeps;
@@ -156,9 +156,9 @@ class LiuUavPolicy final : public UavPolicy {
   void observe(Cell c, UavActions& out) {
     const auto it = std::find(target_cells_.begin(), target_cells_.end(), c);
     const bool target = it != target_cells_.end();
-    bool detected = target;  // Algorithm 1: the branch is on the truth
+    bool detected = target;  // Liu 2022 Algorithm 1: the branch is on the truth
     if (s_->liu.sensor == LiuSensor::kNoisy) {
-      const double draw = sensor_.uniform01();  // §2.1: P_d on a target cell, P_f elsewhere
+      const double draw = sensor_.uniform01();  // Liu 2022 Sec. 2.1: P_d on a target cell, P_f elsewhere
       detected = target ? draw < p_.p_detection : draw < p_.p_false_alarm;
     }
     DepositMsg d;
@@ -175,7 +175,7 @@ class LiuUavPolicy final : public UavPolicy {
   const ScenarioConfig* s_;
   const MapGeometry* geo_;
   LiuParams p_;
-  Rng rng_;     // start heading, random search (eq. 12)
+  Rng rng_;     // start heading, random search (Liu 2022 eq. (12))
   Rng sensor_;  // this UAV's sensor noise
   LiuUav uav_;  // [m], [m/s]
   Cell cell_{};
@@ -198,10 +198,10 @@ class LiuPlace final : public PlaceModel {
     switch (static_cast<DepositKind>(d.kind)) {
       case DepositKind::Observation: {
         if (d.amount != 0.0F && d.amount != 1.0F) return "observation amount must be 0 (miss) or 1 (detection)";
-        tpm_.observe(d.cell, d.amount == 1.0F);  // Liu 2022 eq. (4) or (5)
+        tpm_.observe(d.cell, d.amount == 1.0F);  // Liu 2022 eq. (4) or Liu 2022 eq. (5)
         visited_[index(d.cell)] = 1;
         uint8_t& confirmed = confirmed_[index(d.cell)];
-        if (confirmed == 0 && tpm_.confirmed(d.cell)) {  // §2.4: P > θ
+        if (confirmed == 0 && tpm_.confirmed(d.cell)) {  // Liu 2022 Sec. 2.4: P > θ
           confirmed = 1;
           events.push_back({region_, tick, kFirstMarked, d.cell, 0});
         }
@@ -220,7 +220,7 @@ class LiuPlace final : public PlaceModel {
     return HaloRing{region_, {}, {}};  // no diffusion
   }
   void accept_halo(const Rect& /*neighbour_rect*/, const HaloRing& /*ring*/) override {}
-  void finish_step() override {}  // no evaporation (eq. 3)
+  void finish_step() override {}  // no evaporation (Liu 2022 eq. (3))
 
   [[nodiscard]] float value(int layer, Cell c) const override {
     if (!rect_.contains(c)) return 0.0F;
@@ -235,7 +235,7 @@ class LiuPlace final : public PlaceModel {
  private:
   static TargetProbabilityMap make_tpm(const ScenarioConfig& s, Rect rect) {
     const LiuParams p = params_of(s);
-    // The prior of the whole map (eqs. 1-2), then the region's part: each
+    // The prior of the whole map (Liu 2022 eq. (1), Liu 2022 eq. (2)), then the region's part: each
     // place agent computes the same map, so the parts fit seamlessly.
     LiuSwarmConfig cfg = liu_swarm_config_of(s.liu, s.targets);
     cfg.params = p;
@@ -260,7 +260,7 @@ class LiuPlace final : public PlaceModel {
 
 double liu_view_radius_cells(const LiuParams& p) {
   // Smallest distance beyond which |β_i(d)| < 1e-3 m/s for every rule (the
-  // bound |k| t |d - c| exp(-(d - c)²/δ²) of eqs. 7-9 falls monotonically
+  // bound |k| t |d - c| exp(-(d - c)²/δ²) of Liu 2022 eq. (7), Liu 2022 eq. (8), Liu 2022 eq. (9) falls monotonically
   // once d - c > δ/√2).
   constexpr double kNegligible = 1e-3;  // [m/s]
   double horizon = 0.0;                 // [m]
@@ -329,10 +329,10 @@ std::map<std::string, double> liu_field_summary(const ScenarioConfig& s, const F
     }
   }
   return {
-      {"visited_cells", visited},                                    // Table 2 "visited grid number"
-      {"environmental_uncertainty", environmental_uncertainty(tpm)},  // [bit] Table 2, -Σ P log2 P
+      {"visited_cells", visited},                                    // Liu 2022 Table 2 "visited grid number"
+      {"environmental_uncertainty", environmental_uncertainty(tpm)},  // [bit] Liu 2022 Table 2, -Σ P log2 P
       {"confirmed_cells", confirmed},                                 // cells with P > θ once
-      {"real_targets_confirmed", real},                               // Table 2 "target found number"
+      {"real_targets_confirmed", real},                               // Liu 2022 Table 2 "target found number"
       {"false_confirmations", confirmed - real},
   };
 }

@@ -1,6 +1,6 @@
 // The Ravankar 2016 policy (docs/policies/ravankar.md): uncertainty-aware
 // pheromone deposition by leaders, trail following with rejection below δ·P0
-// and Table 2 speeds by followers, evaporation toward the ambient level at
+// and Ravankar 2016 Table 2 speeds by followers, evaporation toward the ambient level at
 // the place agents. The pure paper code is in ravankar.{hpp,cpp}.
 //
 // Frames: a UAV's belief and its true pose are in metres, x along the map's
@@ -60,7 +60,7 @@ class RavankarUav final : public UavPolicy {
       const Eigen::Vector2d to = centre_m(c_->route.front(), sz) - p;
       if (to.squaredNorm() > 0.0) heading = wrap_two_pi(std::atan2(to.y(), to.x()));
     }
-    // Both robots start at a known "anchor": zero uncertainty (paper, Fig. 16).
+    // Both robots start at a known "anchor": zero uncertainty (paper, Ravankar 2016 Fig. 16).
     truth_ = {p.x(), p.y(), heading};
     belief_.mean = truth_;
     belief_.covariance.setZero();
@@ -158,7 +158,7 @@ class RavankarUav final : public UavPolicy {
   // One tick of differential-drive motion toward `goal_m` (estimate frame) at
   // `speed`: turn on the spot while the heading error exceeds what one tick
   // of turning allows, else move min(speed·dt, distance) on an arc that ends
-  // facing the goal (β = heading error, eq. (27)).
+  // facing the goal (β = heading error, Ravankar 2016 eq. (27)).
   void drive_to(const Eigen::Vector2d& goal_m, double speed_mps) {
     const Eigen::Vector2d to = goal_m - belief_.mean.head<2>();
     const double dist = to.norm();
@@ -172,13 +172,13 @@ class RavankarUav final : public UavPolicy {
       travel = 0.0;
     }
     const double w = c_->motion.wheel_separation_m;
-    move_wheels(travel - 0.5 * beta * w, travel + 0.5 * beta * w);  // β = (r - l) / W_r, eq. (27)
+    move_wheels(travel - 0.5 * beta * w, travel + 0.5 * beta * w);  // β = (r - l) / W_r, Ravankar 2016 eq. (27)
   }
 
   // Commanded wheel travels l, r [m]. The wheels slip: each actually travels
   // its command plus N(0, k·|command|) (the noise the belief assumes), so the
   // true pose drifts from the estimate, which predicts with the commands
-  // (Ravankar 2016 eqs. (3)-(4), (27)-(33)).
+  // (Ravankar 2016 eq. (3), Ravankar 2016 eq. (4), Ravankar 2016 eq. (27), Ravankar 2016 eq. (28), Ravankar 2016 eq. (29), Ravankar 2016 eq. (30), Ravankar 2016 eq. (31), Ravankar 2016 eq. (32), Ravankar 2016 eq. (33)).
   void move_wheels(double l, double r) {
     const double k = c_->motion.wheel_noise_m2_per_m;
     const double nl = gaussian(rng_) * std::sqrt(k * std::abs(l));
@@ -202,7 +202,7 @@ class RavankarUav final : public UavPolicy {
     belief_ = ravankar_correct(belief_, z, Eigen::Matrix2d::Identity() * sigma * sigma);
   }
 
-  // Ravankar 2016 eqs. (11)-(14): the cell under the estimated position and
+  // Ravankar 2016 eq. (11), Ravankar 2016 eq. (12), Ravankar 2016 eq. (13), Ravankar 2016 eq. (14): the cell under the estimated position and
   // Σ_xy go to every region within z_rng of that cell; each place agent
   // spreads γ over its own cells.
   void deposit(UavActions& out) {
@@ -220,7 +220,7 @@ class RavankarUav final : public UavPolicy {
     if (std::abs(static_cast<double>(d.spread[1])) > limit) d.spread[1] = static_cast<float>(std::copysign(limit, d.spread[1]));
     Eigen::Matrix2d sent;
     sent << d.spread[0], d.spread[1], d.spread[1], d.spread[2];
-    d.amount = static_cast<float>(ravankar_deposit_amount(sent, c_->deposit));  // γ, eq. (12): informative
+    d.amount = static_cast<float>(ravankar_deposit_amount(sent, c_->deposit));  // γ, Ravankar 2016 eq. (12): informative
     for (RegionId r : geo_->regions_within(at, c_->deposit.sensor_range_m / s)) {
       d.region = r;
       out.deposits.push_back(d);
@@ -263,7 +263,7 @@ class RavankarPlace final : public PlaceModel {
     const int32_t x1 = std::min(rect_.x0 + rect_.w, d.cell.x + reach + 1);
     const int32_t y1 = std::min(rect_.y0 + rect_.h, d.cell.y + reach + 1);
     if (x0 >= x1 || y0 >= y1) return std::nullopt;  // nothing of the footprint lands here
-    // Ravankar 2016 eqs. (12), (14); the field adds up to the cap (Fig. 26(b)).
+    // Ravankar 2016 eq. (12), Ravankar 2016 eq. (14); the field adds up to the cap (Ravankar 2016 Fig. 26(b)).
     field_.add(ravankar_spread(centre_m(d.cell, s), sigma, {x0, y0, x1 - x0, y1 - y0}, c_->deposit));
     return std::nullopt;
   }

@@ -1,13 +1,13 @@
-// The Shao 2020 navigation policy (§5, Algorithms 2 and 3): UAV 0 leads on
-// vector (or scalar) pheromones read from its tiles (eqs. 12-15) and tells
+// The Shao 2020 navigation policy (Shao 2020 Sec. 5, Shao 2020 Algorithm 2 and Shao 2020 Algorithm 3): UAV 0 leads on
+// vector (or scalar) pheromones read from its tiles (Shao 2020 eq. (12), Shao 2020 eq. (13), Shao 2020 eq. (14), Shao 2020 eq. (15)) and tells
 // the swarm where it is through a LeaderState broadcast; the others flock
-// after it with the modified Olfati-Saber rule (eqs. 17-24) using the states
+// after it with the modified Olfati-Saber rule (Shao 2020 eq. (17), Shao 2020 eq. (18), Shao 2020 eq. (19), Shao 2020 eq. (20), Shao 2020 eq. (21), Shao 2020 eq. (22), Shao 2020 eq. (23), Shao 2020 eq. (24)) using the states
 // of the followers over their neighbourhood tiles. When the leader reaches
-// the centre of the target region every UAV switches to the §4 search
-// (Algorithm 3 lines 1-2). The place agents run the Shao layers with the
+// the centre of the target region every UAV switches to the Shao 2020 Sec. 4 search
+// (Shao 2020 Algorithm 3 lines 1-2). The place agents run the Shao layers with the
 // targets and obstacles emitting from the start (make_shao_place, beacons):
-// the "artificial pheromone potential field" of §5. Navigating UAVs deposit
-// nothing (Algorithms 2 and 3 have no deposit step); searchers deposit as in §4.
+// the "artificial pheromone potential field" of Shao 2020 Sec. 5. Navigating UAVs deposit
+// nothing (Shao 2020 Algorithm 2 and Shao 2020 Algorithm 3 have no deposit step); searchers deposit as in Shao 2020 Sec. 4.
 #include <algorithm>
 #include <cmath>
 
@@ -54,7 +54,7 @@ class ShaoNavigationUav final : public UavPolicy {
         };
         const Eigen::Vector2d centre{cfg.region_centre.x, cfg.region_centre.y};
         // Shao 2020 Algorithm 2: towards the centre once it is within
-        // sensorLD, else one pheromone step (eqs. (12)-(15)).
+        // sensorLD, else one pheromone step (Shao 2020 eq. (12), Shao 2020 eq. (13), Shao 2020 eq. (14), Shao 2020 eq. (15)).
         const LeaderStep st = leader_algorithm2_step(q_, centre, lookup, cfg.params, cfg.leader);
         v_ = st.v;
         q_ = clamp_to_map(st.q);
@@ -77,13 +77,13 @@ class ShaoNavigationUav final : public UavPolicy {
           if (n.uav == kLeader || n.role != static_cast<uint8_t>(Role::Follower)) continue;
           others_.push_back({{n.x, n.y}, {n.vx, n.vy}});
         }
-        // Shao 2020 eqs. (17)-(24).
+        // Shao 2020 eq. (17), Shao 2020 eq. (18), Shao 2020 eq. (19), Shao 2020 eq. (20), Shao 2020 eq. (21), Shao 2020 eq. (22), Shao 2020 eq. (23), Shao 2020 eq. (24).
         const FollowerStep st = follower_step({q_, v_}, others_, *leader, cfg.params);
         v_ = st.v;
         q_ = clamp_to_map(st.q);
       }
     }
-    // Algorithms 2 and 3 have no deposit step (Algorithm 1's lines 3-9 are
+    // Shao 2020 Algorithm 2 and Shao 2020 Algorithm 3 have no deposit step (Shao 2020 Algorithm 1's lines 3-9 are
     // the search's): navigating UAVs only read the potential field.
     const Cell c = nearest_cell(q_, *geo_);
     out.state.x = q_.x();
@@ -94,7 +94,7 @@ class ShaoNavigationUav final : public UavPolicy {
     out.state.heading = heading_;
     out.state.role = static_cast<uint8_t>(id_ == kLeader ? Role::Leader : Role::Follower);
     if (arrived) {
-      // Algorithm 2 lines 3-4 / Algorithm 3 lines 1-2: the search takes over
+      // Shao 2020 Algorithm 2 lines 3-4 / Shao 2020 Algorithm 3 lines 1-2: the search takes over
       // from the next tick, from this cell and heading.
       search_ = make_shao_search_uav_at(*s_, *geo_, *world_, id_, c, heading_);
       out.state.x = c.x;

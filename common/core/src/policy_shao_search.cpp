@@ -1,6 +1,6 @@
-// The Shao 2020 search policy (§4): ACO decisions on semantic pheromones
-// (eqs. 9-11), target and obstacle marks, path pheromone around the UAV
-// (eqs. 5-7), and the place agents' layers (eqs. 1-8) with revisit timers.
+// The Shao 2020 search policy (Shao 2020 Sec. 4): ACO decisions on semantic pheromones
+// (Shao 2020 eq. (9), Shao 2020 eq. (10), Shao 2020 eq. (11)), target and obstacle marks, path pheromone around the UAV
+// (Shao 2020 eq. (5), Shao 2020 eq. (6), Shao 2020 eq. (7)), and the place agents' layers (Shao 2020 eq. (1), Shao 2020 eq. (2), Shao 2020 eq. (3), Shao 2020 eq. (4), Shao 2020 eq. (5), Shao 2020 eq. (6), Shao 2020 eq. (7), Shao 2020 eq. (8)) with revisit timers.
 #include <cmath>
 #include <set>
 
@@ -86,12 +86,12 @@ class ShaoSearchUav final : public UavPolicy {
 
   void sense_and_deposit(const UavView& view, UavActions& out) {
     const auto reading = world_->sense(pos_, s_->aco.sensor_radius);
-    // Algorithm 1 lines 6-9: mark obstacles in the sensor range (kε = 1).
+    // Shao 2020 Algorithm 1 lines 6-9: mark obstacles in the sensor range (kε = 1).
     for (const Cell& o : reading.obstacles) {
       known_obstacles_.insert(key(o));
       if (marked_obstacles_.insert(key(o)).second) deposit(DepositKind::ObstacleMark, o, geo_->region_of(o), out);
     }
-    // Algorithm 1 lines 3-5: mark targets in the sensor range; the place agent
+    // Shao 2020 Algorithm 1 lines 3-5: mark targets in the sensor range; the place agent
     // owning the target's cell runs the revisit timer.
     std::set<int32_t> now_in_range;
     for (int32_t t : reading.targets) {
@@ -108,7 +108,7 @@ class ShaoSearchUav final : public UavPolicy {
       }
     }
     targets_in_range_ = std::move(now_in_range);
-    // Path pheromone decrease around the UAV (Shao 2020 eqs. (5)-(7)) is
+    // Path pheromone decrease around the UAV (Shao 2020 eq. (5), Shao 2020 eq. (6), Shao 2020 eq. (7)) is
     // computed by every place agent owning a cell within D0.
     for (RegionId r : geo_->regions_within(pos_, s_->layers.d0)) deposit(DepositKind::PathVisit, pos_, r, out);
   }

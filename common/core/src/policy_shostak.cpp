@@ -1,19 +1,19 @@
-// The Shostak & Petrenko GPS-denied stigmergy policy (Shostak §2-§5; the
+// The Shostak & Petrenko GPS-denied stigmergy policy (Shostak 2024 Sec. 2, Shostak 2024 Sec. 3, Shostak 2024 Sec. 4, Shostak 2024 Sec. 5; the
 // pure parts are in shostak.{hpp,cpp}, the choices in docs/policies/shostak.md).
 //
 // UAV (ShostakUav): knows only its own local frame (origin at its take-off
-// cell, yaw fixed at take-off, §4.1) and a dead-reckoned pose in it. Each
+// cell, yaw fixed at take-off, Shostak 2024 Sec. 4.1) and a dead-reckoned pose in it. Each
 // tick (one 0.2 s deposit period) it flies one step towards its waypoint,
-// then deposits "explored" at the cell of its ESTIMATED position (eq. (1)),
-// "hazard" +5 when an obstacle is within lidar range (§4.2), "target" +100
-// and a TargetFound broadcast when it first sees a target (§5). Waypoints:
-// the 0°/120°/240° dispersal leg (§5), then, each time one is reached, 20
-// random candidates at 15 m (eq. (4)) scored φ^α·η^β from its tiles (eqs.
-// (3), (5)) and drawn by roulette (eq. (6)); η prefers the bearing to a
-// reported target, so the swarm converges on it (§4.3, §5).
+// then deposits "explored" at the cell of its ESTIMATED position (Shostak 2024 eq. (1)),
+// "hazard" +5 when an obstacle is within lidar range (Shostak 2024 Sec. 4.2), "target" +100
+// and a TargetFound broadcast when it first sees a target (Shostak 2024 Sec. 5). Waypoints:
+// the 0°/120°/240° dispersal leg (Shostak 2024 Sec. 5), then, each time one is reached, 20
+// random candidates at 15 m (Shostak 2024 eq. (4)) scored φ^α·η^β from its tiles (eqs.
+// (3), (5)) and drawn by roulette (Shostak 2024 eq. (6)); η prefers the bearing to a
+// reported target, so the swarm converges on it (Shostak 2024 Sec. 4.3, Shostak 2024 Sec. 5).
 //
 // Place agent (ShostakPlace): the three capped layers of its region
-// (ShostakLayers): deposits capped by eq. (1), evaporation by eq. (2) once per
+// (ShostakLayers): deposits capped by Shostak 2024 eq. (1), evaporation by Shostak 2024 eq. (2) once per
 // tick, no diffusion.
 #include <algorithm>
 #include <cmath>
@@ -54,12 +54,12 @@ class ShostakUav final : public UavPolicy {
       : s_(&s), cfg_(&s.shostak), geo_(&geo), world_(&world), id_(id), rng_(stream_seed(s.seed, "shostak-uav", id)) {
     const double cs = cfg_->layers.cell_size_m;
     const Cell c0 = start_cell(s, id);
-    // §4.1: the local frame starts at the take-off point, on the ground.
+    // Shostak 2024 Sec. 4.1: the local frame starts at the take-off point, on the ground.
     frame_.origin_world = cell_centre_m(c0.x, c0.y, cs);
     frame_.yaw_rad = id < cfg_->frame_yaw_rad.size() ? cfg_->frame_yaw_rad[id] : 0.0;
     est_.position_local = {0.0, 0.0, cfg_->altitude_m};
     true_world_ = shostak_local_to_world(frame_, est_.position_local);
-    // §5: the dispersal leg at 2π·i/n in the UAV's own frame.
+    // Shostak 2024 Sec. 5: the dispersal leg at 2π·i/n in the UAV's own frame.
     heading_local_ = shostak_dispersal_heading(id, s.uavs);
     if (cfg_->dispersal_m > 0.0) waypoint_ = dispersal_waypoint();
   }
@@ -103,7 +103,7 @@ class ShostakUav final : public UavPolicy {
     return p.x() >= m && p.y() >= m && p.x() <= geo_->width() * cs - m && p.y() <= geo_->height() * cs - m;
   }
 
-  // §4.3 / §5: a TargetFound broadcast (x, y pairs in map cells). A report
+  // Shostak 2024 Sec. 4.3 / Shostak 2024 Sec. 5: a TargetFound broadcast (x, y pairs in map cells). A report
   // within the detection radius of a known target is the same target.
   void learn_targets(std::span<const BroadcastMsg> broadcasts) {
     bool learned = false;
@@ -113,7 +113,7 @@ class ShostakUav final : public UavPolicy {
         learned = remember_target(Eigen::Vector2d(b.values[i], b.values[i + 1])) || learned;
       }
     }
-    // The others turn towards the target at once (§5: "start flying to the target").
+    // The others turn towards the target at once (Shostak 2024 Sec. 5: "start flying to the target").
     if (learned) waypoint_.reset();
   }
 
@@ -146,9 +146,9 @@ class ShostakUav final : public UavPolicy {
     return azimuth;
   }
 
-  // §3.4-3.5 in the UAV's own frame: candidates around the estimated
-  // position (eq. (4)), each scored at the map cell it falls in (through the
-  // frame) by eqs. (3) and (5), one drawn by eq. (6).
+  // Shostak 2024 Sec. 3.4, Shostak 2024 Sec. 3.5 in the UAV's own frame: candidates around the estimated
+  // position (Shostak 2024 eq. (4)), each scored at the map cell it falls in (through the
+  // frame) by Shostak 2024 eq. (3) and Shostak 2024 eq. (5), one drawn by Shostak 2024 eq. (6).
   void decide(const TileCache& tiles) {
     const double cs = cfg_->layers.cell_size_m;
     const ShostakLookup lookup = [&tiles](Cell c) -> std::optional<ShostakCellValues> {
@@ -164,10 +164,10 @@ class ShostakUav final : public UavPolicy {
     for (std::size_t k = 0; k < candidates.size(); ++k) {
       const auto v = lookup(shostak_cell_of(shostak_local_to_world(frame_, candidates[k].position), cs));
       if (!v) continue;  // unknown or off the map: never taken
-      const double phi = shostak_attractiveness(*v, cfg_->attractiveness).phi;                  // eq. (3)
-      scores[k] = shostak_score(phi, shostak_eta(candidates[k].azimuth_rad, preferred, cfg_->aco), cfg_->aco);  // eq. (5)
+      const double phi = shostak_attractiveness(*v, cfg_->attractiveness).phi;                  // Shostak 2024 eq. (3)
+      scores[k] = shostak_score(phi, shostak_eta(candidates[k].azimuth_rad, preferred, cfg_->aco), cfg_->aco);  // Shostak 2024 eq. (5)
     }
-    if (const auto k = shostak_roulette(scores, rng_)) {  // eq. (6)
+    if (const auto k = shostak_roulette(scores, rng_)) {  // Shostak 2024 eq. (6)
       Vec3 w = candidates[*k].position;
       w.z() = std::clamp(w.z(), cfg_->min_altitude_m, cfg_->max_altitude_m);
       waypoint_ = w;
@@ -184,7 +184,7 @@ class ShostakUav final : public UavPolicy {
 
   // One tick of flight towards the waypoint at speed_mps. The autopilot steers
   // the ESTIMATED position; the true position moves by the commanded step and
-  // the estimate by the same step through the drift model (§4.1, ours).
+  // the estimate by the same step through the drift model (Shostak 2024 Sec. 4.1, ours).
   void fly() {
     const Vec3 to = *waypoint_ - est_.position_local;
     const double step = cfg_->speed_mps * cfg_->dt_s;
@@ -212,17 +212,17 @@ class ShostakUav final : public UavPolicy {
     const Vec3 est_world = shostak_local_to_world(frame_, est_.position_local);
     const Cell here = shostak_cell_of(est_world, cs);
     const bool here_in_map = geo_->in_map(here);
-    // Eq. (1): +Δτ per deposit instant k·0.2 s within this tick (one per
+    // Shostak 2024 eq. (1): +Δτ per deposit instant k·0.2 s within this tick (one per
     // tick at dt = 0.2 s; the instant t = 0 at tick 0).
     const double t1 = view.tick * cfg_->dt_s;
     const uint32_t due = view.tick == 0 ? 1 : shostak_deposits_due(t1 - cfg_->dt_s, t1, lp.deposit_period_s);
     if (due > 0 && here_in_map) add(ShostakLayer::Explored, here, due * lp.explored_increment, out);
-    // §4.2: the lidar flags an obstacle within range: +5 hazard at the current cell.
+    // Shostak 2024 Sec. 4.2: the lidar flags an obstacle within range: +5 hazard at the current cell.
     const bool obstacle = std::any_of(s_->obstacles.begin(), s_->obstacles.end(), [&](const Rect& r) {
       return distance_to_rect_m(true_world_, r, cs) <= cfg_->lidar_range_m;
     });
     if (obstacle && here_in_map) add(ShostakLayer::Hazard, here, lp.hazard_increment, out);
-    // §5: a target in the camera footprint: +100 target at its cell and, if
+    // Shostak 2024 Sec. 5: a target in the camera footprint: +100 target at its cell and, if
     // nobody has reported it yet, the TargetFound broadcast. The UAV places
     // the target through its own estimate: estimated position plus the
     // measured offset, turned by its heading error.
@@ -281,7 +281,7 @@ class ShostakPlace final : public PlaceModel {
       return "deposit kind " + std::to_string(d.kind) + " is not used by the shostak policy";
     }
     if (d.layer >= kShostakLayerCount) return "unknown layer " + std::to_string(d.layer);
-    // Eq. (1): τ <- min(τ + amount, τmax of the layer).
+    // Shostak 2024 eq. (1): τ <- min(τ + amount, τmax of the layer).
     if (!layers_.deposit(static_cast<ShostakLayer>(d.layer), d.cell, d.amount)) {
       return std::string("deposit outside the region or with a negative amount");
     }
@@ -289,7 +289,7 @@ class ShostakPlace final : public PlaceModel {
   }
   HaloRing begin_step(uint32_t /*tick*/, std::vector<TargetEventMsg>& /*events*/) override { return {}; }  // no diffusion
   void accept_halo(const Rect& /*neighbour_rect*/, const HaloRing& /*ring*/) override {}
-  void finish_step() override { layers_.evaporate(dt_s_); }  // eq. (2): ·(1-ρ)^dt
+  void finish_step() override { layers_.evaporate(dt_s_); }  // Shostak 2024 eq. (2): ·(1-ρ)^dt
   [[nodiscard]] float value(int layer, Cell c) const override {
     return layers_.value(static_cast<ShostakLayer>(layer), c);
   }

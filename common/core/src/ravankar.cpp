@@ -26,9 +26,9 @@ double sinc_derivative(double x) {
 }
 
 // Mean of the differential-drive step and its Jacobians. The arc of
-// eqs. (29)-(31) written as a chord: the robot moves c = d·sinc(β/2) along
+// Ravankar 2016 eq. (29), Ravankar 2016 eq. (30), Ravankar 2016 eq. (31) written as a chord: the robot moves c = d·sinc(β/2) along
 // the mid heading φ = θ + β/2 (d = (l + r)/2). This equals the arc for every
-// β and eq. (33) at β = 0, without a branch.
+// β and Ravankar 2016 eq. (33) at β = 0, without a branch.
 struct MotionStep {
   Eigen::Vector3d next;
   Eigen::Matrix3d g;              // ∂(x', y', θ') / ∂(x, y, θ)
@@ -45,7 +45,7 @@ MotionStep motion_step(const Eigen::Vector3d& pose, double l, double r, double w
   const double sp = std::sin(phi);
 
   MotionStep m;
-  m.next = {pose.x() + c * cp, pose.y() + c * sp, wrap_two_pi(pose.z() + beta)};  // eqs. (30)-(31), (32)-(33)
+  m.next = {pose.x() + c * cp, pose.y() + c * sp, wrap_two_pi(pose.z() + beta)};  // Ravankar 2016 eq. (30), Ravankar 2016 eq. (31), Ravankar 2016 eq. (32), Ravankar 2016 eq. (33)
 
   m.g.setIdentity();
   m.g(0, 2) = -c * sp;
@@ -60,7 +60,7 @@ MotionStep motion_step(const Eigen::Vector3d& pose, double l, double r, double w
   return m;
 }
 
-// Exponent q = u²/a1² + v²/a2² of eq. (14); a zero axis admits only 0 along it.
+// Exponent q = u²/a1² + v²/a2² of Ravankar 2016 eq. (14); a zero axis admits only 0 along it.
 double exponent(double u, double v, double a1, double a2) {
   auto term = [](double x, double a) {
     if (x == 0.0) {
@@ -96,7 +96,7 @@ RavankarBelief ravankar_predict(const RavankarBelief& b, double left_m, double r
   noise(1, 1) = p.wheel_noise_m2_per_m * std::abs(right_m);
   RavankarBelief out;
   out.mean = m.next;
-  out.covariance = m.g * b.covariance * m.g.transpose() + m.v * noise * m.v.transpose();  // eq. (4), EKF prediction
+  out.covariance = m.g * b.covariance * m.g.transpose() + m.v * noise * m.v.transpose();  // Ravankar 2016 eq. (4), EKF prediction
   out.covariance = 0.5 * (out.covariance + out.covariance.transpose());
   return out;
 }
@@ -119,7 +119,7 @@ RavankarBelief ravankar_correct(const RavankarBelief& b, const Eigen::Vector2d& 
 }
 
 Eigen::Matrix2d ravankar_position_covariance(const Eigen::Matrix3d& sigma) {
-  // Ravankar 2016 eq. (11). (Eq. (9) prints σ_x² at (2,1); it is σ_xy.)
+  // Ravankar 2016 eq. (11). (Ravankar 2016 eq. (9) prints σ_x² at (2,1); it is σ_xy.)
   Eigen::Matrix2d s = sigma.topLeftCorner<2, 2>();
   s(0, 1) = s(1, 0) = 0.5 * (sigma(0, 1) + sigma(1, 0));
   return s;
@@ -246,7 +246,7 @@ std::optional<double> ravankar_time_to_level(double p0, double ambient, double k
   if (!(k_per_s > 0.0) || !(ratio > 0.0) || !(ratio <= 1.0)) {
     return std::nullopt;
   }
-  return -std::log(ratio) / k_per_s;  // eq. (24) solved for t
+  return -std::log(ratio) / k_per_s;  // Ravankar 2016 eq. (24) solved for t
 }
 
 std::optional<double> ravankar_time_to_threshold(double p0, double ambient, double delta, double t_m_s, double p_tm) {
@@ -281,7 +281,7 @@ void RavankarField::add(const RavankarDeposit& d) {
       }
       float& v = v_[static_cast<std::size_t>(y - rect_.y0) * static_cast<std::size_t>(rect_.w) +
                     static_cast<std::size_t>(x - rect_.x0)];
-      v = static_cast<float>(std::min(static_cast<double>(v) + a, cap_));  // total capped, Fig. 26(b)
+      v = static_cast<float>(std::min(static_cast<double>(v) + a, cap_));  // total capped, Ravankar 2016 Fig. 26(b)
     }
   }
 }

@@ -27,7 +27,7 @@ bool RunRecorder::on_uav_state(const UavStateMsg& s) {
     return false;
   }
   auto& u = uavs_[s.uav];
-  // Shao 2020 §5: the leader hands over to the search at the target region.
+  // Shao 2020 Sec. 5: the leader hands over to the search at the target region.
   if (!leader_arrival_ && u.last.role == static_cast<uint8_t>(Role::Leader) &&
       s.role == static_cast<uint8_t>(Role::Searcher)) {
     leader_arrival_ = s.tick;

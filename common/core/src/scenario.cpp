@@ -267,7 +267,7 @@ ScenarioConfig build(const pb::Scenario& msg, const TextFormat::ParseInfoTree& t
   v.real_in(rn, "tick_rate_hz", cfg.tick_rate_hz, 0.0, true, kMaxTickRateHz, false);
   if (run.has_seed()) cfg.seed = run.seed();
 
-  // --- shao.layers: Shao 2020 eqs. (1)-(8) --------------------------------------
+  // --- shao.layers: Shao 2020 eq. (1), Shao 2020 eq. (2), Shao 2020 eq. (3), Shao 2020 eq. (4), Shao 2020 eq. (5), Shao 2020 eq. (6), Shao 2020 eq. (7), Shao 2020 eq. (8) --------------------------------------
   const Node shn = root.child("shao");
   const Node ln = shn.child("layers");
   const pb::Layers& l = msg.shao().layers();
@@ -288,7 +288,7 @@ ScenarioConfig build(const pb::Scenario& msg, const TextFormat::ParseInfoTree& t
   v.real_in(ln, "e_eps", lp.e_eps, 0.0, false, 1.0, true);
   v.real_in(ln, "g_eps", lp.g_eps, 0.0, false, 1.0, true);
   v.real_in(ln, "d_eps", lp.d_eps, 0.0, false, kInf, false);
-  // Eq. (8) clamps path pheromone to [σmin, σ0], so the interval must not be empty.
+  // Shao 2020 eq. (8) clamps path pheromone to [σmin, σ0], so the interval must not be empty.
   const bool sigma_min_ok = v.real_in(ln, "sigma_min", lp.sigma_min, 0.0, true, kInf, false);
   const bool sigma0_ok = v.real_in(ln, "sigma0", lp.sigma0, 0.0, true, kInf, false);
   if (sigma_min_ok && sigma0_ok && lp.sigma0 < lp.sigma_min) {
@@ -297,7 +297,7 @@ ScenarioConfig build(const pb::Scenario& msg, const TextFormat::ParseInfoTree& t
   v.real_in(ln, "d0", lp.d0, 0.0, true, kInf, false);
   v.real_in(ln, "q", lp.q, 0.0, true, kInf, false);
 
-  // --- shao.aco: Shao 2020 eqs. (9)-(11), §4.2 ----------------------------------
+  // --- shao.aco: Shao 2020 eq. (9), Shao 2020 eq. (10), Shao 2020 eq. (11), Shao 2020 Sec. 4.2 ----------------------------------
   const Node cn = shn.child("aco");
   const pb::Aco& a = msg.shao().aco();
   ShaoAcoParams& ap = cfg.aco;

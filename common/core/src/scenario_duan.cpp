@@ -1,4 +1,4 @@
-// scenario.policy.duan (Duan 2009 §4, Tables 1-4; docs/policies/duan.md).
+// scenario.policy.duan (Duan 2009 Sec. 4, Duan 2009 Table 1, Duan 2009 Table 2, Duan 2009 Table 3, Duan 2009 Table 4; docs/policies/duan.md).
 #include <numbers>
 
 #include "scenario_internal.hpp"

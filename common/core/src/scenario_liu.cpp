@@ -1,4 +1,4 @@
-// scenario.policy.liu (Liu 2022 ESUSTPM, §5 and Table 1; policy_liu.cpp).
+// scenario.policy.liu (Liu 2022 ESUSTPM, Liu 2022 Sec. 5 and Liu 2022 Table 1; policy_liu.cpp).
 #include <array>
 #include <utility>
 
@@ -74,11 +74,11 @@ void build_liu(const pb::LiuPolicy& msg, const Node& n, Validator& v, ScenarioCo
   if (msg.has_confirm_threshold()) p.confirm_threshold = msg.confirm_threshold();
   if (msg.has_initial_probability()) p.initial_probability = msg.initial_probability();
   v.real_in(n, "p_detection", p.p_detection, 0.0, false, 1.0, false);
-  v.real_in(n, "p_false_alarm", p.p_false_alarm, 0.0, false, 1.0, true);  // eq. (5) divides by 1 - P_f
+  v.real_in(n, "p_false_alarm", p.p_false_alarm, 0.0, false, 1.0, true);  // Liu 2022 eq. (5) divides by 1 - P_f
   v.real_in(n, "confirm_threshold", p.confirm_threshold, 0.0, true, 1.0, true);
   v.real_in(n, "initial_probability", p.initial_probability, 0.0, false, 1.0, false);
 
-  // Table 1: one value for the four rules.
+  // Liu 2022 Table 1: one value for the four rules.
   const auto all = [](std::array<double, 4>& a, double x) { a.fill(x); };
   if (msg.has_k()) all(p.k, msg.k());
   if (msg.has_t()) all(p.t, msg.t());

@@ -43,7 +43,7 @@ void build_ravankar(const pb::RavankarPolicy& msg, const Node& n, Validator& v, 
   if (msg.has_leader_speed_mps()) c.leader_speed_mps = msg.leader_speed_mps();
   v.real_in(n, "leader_speed_mps", c.leader_speed_mps, 0.0, true, kMaxSpeedMps, false);
 
-  // Deposit, Ravankar 2016 eqs. (12)-(14).
+  // Deposit, Ravankar 2016 eq. (12), Ravankar 2016 eq. (13), Ravankar 2016 eq. (14).
   RavankarDepositParams& d = c.deposit;
   if (msg.has_tau()) d.tau = msg.tau();
   v.real_in(n, "tau", d.tau, 0.0, true, kInf, false);
@@ -70,13 +70,13 @@ void build_ravankar(const pb::RavankarPolicy& msg, const Node& n, Validator& v, 
     }
   }
 
-  // Evaporation, eqs. (17)-(22).
+  // Evaporation, Ravankar 2016 eq. (17), Ravankar 2016 eq. (18), Ravankar 2016 eq. (19), Ravankar 2016 eq. (20), Ravankar 2016 eq. (21), Ravankar 2016 eq. (22).
   if (msg.has_k_per_s()) c.evaporation.k_per_s = msg.k_per_s();
   v.real_in(n, "k_per_s", c.evaporation.k_per_s, 0.0, false, kInf, false);
   if (msg.has_ambient()) c.evaporation.ambient = msg.ambient();
   v.real_in(n, "ambient", c.evaporation.ambient, 0.0, false, kInf, false);
 
-  // Followers, eq. (24) and Table 2.
+  // Followers, Ravankar 2016 eq. (24) and Ravankar 2016 Table 2.
   c.follower.reference_deposit = msg.has_reference_deposit() ? msg.reference_deposit() : d.max_deposit;
   if (msg.has_reference_deposit() || cap_ok) {
     v.real_in(n, msg.has_reference_deposit() ? "reference_deposit" : "max_deposit", c.follower.reference_deposit, 0.0,
@@ -85,7 +85,7 @@ void build_ravankar(const pb::RavankarPolicy& msg, const Node& n, Validator& v, 
   if (msg.has_delta()) c.follower.delta = msg.delta();
   v.real_in(n, "delta", c.follower.delta, 0.0, true, 1.0, false);
 
-  // Motion, eqs. (27)-(33), and fixes.
+  // Motion, Ravankar 2016 eq. (27), Ravankar 2016 eq. (28), Ravankar 2016 eq. (29), Ravankar 2016 eq. (30), Ravankar 2016 eq. (31), Ravankar 2016 eq. (32), Ravankar 2016 eq. (33), and fixes.
   if (msg.has_wheel_separation_m()) c.motion.wheel_separation_m = msg.wheel_separation_m();
   v.real_in(n, "wheel_separation_m", c.motion.wheel_separation_m, 0.0, true, kInf, false);
   if (msg.has_wheel_noise_m2_per_m()) c.motion.wheel_noise_m2_per_m = msg.wheel_noise_m2_per_m();

@@ -1,4 +1,4 @@
-// scenario.policy.shao_navigation (Shao 2020 §5, Table 2).
+// scenario.policy.shao_navigation (Shao 2020 Sec. 5, Shao 2020 Table 2).
 #include "scenario_internal.hpp"
 
 namespace pheromesh::core::scenario_detail {
@@ -35,7 +35,7 @@ void build_shao_navigation(const pb::ShaoNavigationPolicy& msg, const Node& n, V
   }
   ShaoNavParams& p = c.params;
   // The leader weighs the layers with the search's λ (Shao 2020 Table 2 uses
-  // the same 1, -0.3, 0.3 as Table 1).
+  // the same 1, -0.3, 0.3 as Shao 2020 Table 1).
   p.lambda_target = cfg.aco.lambda_target;
   p.lambda_obstacle = cfg.aco.lambda_obstacle;
   p.lambda_path = cfg.aco.lambda_path;

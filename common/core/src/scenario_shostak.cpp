@@ -1,4 +1,4 @@
-// scenario.policy.shostak (Shostak & Petrenko §2-§5; policy_shostak.cpp).
+// scenario.policy.shostak (Shostak 2024 Sec. 2, Shostak 2024 Sec. 3, Shostak 2024 Sec. 4, Shostak 2024 Sec. 5; policy_shostak.cpp).
 #include <numbers>
 
 #include "scenario_internal.hpp"

@@ -47,7 +47,7 @@ double shostak_evaporation_factor(double rho, double dt_s) {
   if (dt_s <= 0.0) {
     return 1.0;
   }
-  return std::pow(1.0 - rho, dt_s);  // Shostak eq. (2), per-second factor raised to dt
+  return std::pow(1.0 - rho, dt_s);  // Shostak 2024 eq. (2), per-second factor raised to dt
 }
 
 double shostak_half_life_s(double rho) { return std::log(0.5) / std::log(1.0 - rho); }
@@ -116,7 +116,7 @@ bool ShostakLayers::deposit(ShostakLayer l, Cell c, double amount) {
     return false;
   }
   float& v = layers_[static_cast<int>(l)][*i];
-  v = static_cast<float>(std::min(static_cast<double>(v) + amount, max_of(l)));  // Shostak eq. (1)
+  v = static_cast<float>(std::min(static_cast<double>(v) + amount, max_of(l)));  // Shostak 2024 eq. (1)
   return true;
 }
 
@@ -127,7 +127,7 @@ void ShostakLayers::evaporate(double dt_s) {
   const auto f = static_cast<float>(shostak_evaporation_factor(p_.evaporation_rate, dt_s));
   for (auto& layer : layers_) {
     for (float& v : layer) {
-      v *= f;  // Shostak eq. (2)
+      v *= f;  // Shostak 2024 eq. (2)
     }
   }
 }
@@ -139,7 +139,7 @@ ShostakAttractiveness shostak_attractiveness(const ShostakCellValues& v, const S
   a.b_e = 1.0 - std::min(std::max(v.explored, 0.0) / p.explored_scale, p.explored_max_penalty);
   a.b_h = 1.0 - std::min(std::max(v.hazard, 0.0) / p.hazard_scale, p.hazard_max_penalty);
   a.b_t = std::max(v.target, 0.0) * p.target_gain;
-  a.phi = a.b_e * a.b_h + a.b_t;  // Shostak eq. (3)
+  a.phi = a.b_e * a.b_h + a.b_t;  // Shostak 2024 eq. (3)
   return a;
 }
 
@@ -151,7 +151,7 @@ std::vector<ShostakCandidate> shostak_candidates(const Eigen::Vector3d& p, const
     c.azimuth_rad = kTwoPi * rng.uniform01();
     c.pitch_rad = -params.pitch_max_rad + 2.0 * params.pitch_max_rad * rng.uniform01();
     const double cp = std::cos(c.pitch_rad);
-    // Shostak eq. (4)
+    // Shostak 2024 eq. (4)
     c.position = p + params.step_m * Eigen::Vector3d(cp * std::cos(c.azimuth_rad), cp * std::sin(c.azimuth_rad),
                                                      std::sin(c.pitch_rad));
     out.push_back(c);
@@ -172,7 +172,7 @@ double shostak_score(double phi, double eta, const ShostakAcoParams& p) {
   if (!(phi > 0.0) || !(eta > 0.0)) {
     return 0.0;
   }
-  return std::pow(phi, p.alpha) * std::pow(eta, p.beta);  // Shostak eq. (5)
+  return std::pow(phi, p.alpha) * std::pow(eta, p.beta);  // Shostak 2024 eq. (5)
 }
 
 std::optional<std::size_t> shostak_roulette(std::span<const double> scores, Rng& rng) {
@@ -186,7 +186,7 @@ std::optional<std::size_t> shostak_roulette(std::span<const double> scores, Rng&
   if (!(total > 0.0) || !std::isfinite(total)) {
     return std::nullopt;
   }
-  // Shostak eq. (6): P(c_k) = s_k / Σ s_j
+  // Shostak 2024 eq. (6): P(c_k) = s_k / Σ s_j
   const double r = rng.uniform01() * total;
   double acc = 0.0;
   std::optional<std::size_t> last;
@@ -236,7 +236,7 @@ double shostak_dispersal_heading(uint32_t index, uint32_t count) {
   if (count == 0) {
     return 0.0;
   }
-  return kTwoPi * static_cast<double>(index % count) / static_cast<double>(count);  // Shostak §5
+  return kTwoPi * static_cast<double>(index % count) / static_cast<double>(count);  // Shostak 2024 Sec. 5
 }
 
 Eigen::Vector3d shostak_dispersal_waypoint(const Eigen::Vector3d& start, uint32_t index, uint32_t count,

@@ -2,11 +2,11 @@
 // to multi-UAVs coordinated trajectory replanning in dynamic and uncertain
 // environments", J. Bionic Eng. 6:161-173 (doi 10.1016/S1672-6529(08)60113-4).
 //
-//  * ThreatMesh: the 2-D mesh of section 2.2 with the edge costs of eqs. (2)-(3).
-//  * DuanColony: one Max-Min adaptive ACO colony per UAV (eqs. (9)-(18)) with
+//  * ThreatMesh: the 2-D mesh of Duan 2009 Sec. 2.2 with the edge costs of Duan 2009 eq. (2), Duan 2009 eq. (3).
+//  * DuanColony: one Max-Min adaptive ACO colony per UAV (Duan 2009 eq. (9), Duan 2009 eq. (10), Duan 2009 eq. (11), Duan 2009 eq. (12), Duan 2009 eq. (13), Duan 2009 eq. (14), Duan 2009 eq. (15), Duan 2009 eq. (16), Duan 2009 eq. (17), Duan 2009 eq. (18)) with
 //    edge pheromone and point pheromone (inter-UAV collision avoidance).
-//  * coordinate_eta: ETA for simultaneous arrival (eqs. (4)-(8)).
-//  * duan2009_scenario: the data of Tables 1-4.
+//  * coordinate_eta: ETA for simultaneous arrival (Duan 2009 eq. (4), Duan 2009 eq. (5), Duan 2009 eq. (6), Duan 2009 eq. (7), Duan 2009 eq. (8)).
+//  * duan2009_scenario: the data of Duan 2009 Table 1, Duan 2009 Table 2, Duan 2009 Table 3, Duan 2009 Table 4.
 // The interpretations of the paper are listed in duan_aco.cpp.
 #pragma once
 
@@ -25,7 +25,7 @@
 namespace pheromesh::core {
 
 // ---------------------------------------------------------------------------
-// Threats and the mesh (section 2.2)
+// Threats and the mesh (Duan 2009 Sec. 2.2)
 // ---------------------------------------------------------------------------
 
 struct PointKm {
@@ -34,26 +34,26 @@ struct PointKm {
   friend bool operator==(const PointKm&, const PointKm&) = default;
 };
 
-// A radar / missile site / gun / pop-up threat (Tables 1 and 4).
+// A radar / missile site / gun / pop-up threat (Duan 2009 Table 1 and Duan 2009 Table 4).
 struct Threat {
   PointKm centre{};
   double radius_km = 0.0;  // threatened range: beyond it the threat adds no cost
-  double grade = 1.0;      // w_k, threat weighting coefficient of eq. (2)
+  double grade = 1.0;      // w_k, threat weighting coefficient of Duan 2009 eq. (2)
 };
 
 // w_k / d^4 summed over the threats whose range covers p (the integrand of
-// eq. (1)); d is floored at kMinThreatDistanceKm so a sample point on a threat
+// Duan 2009 eq. (1)); d is floored at kMinThreatDistanceKm so a sample point on a threat
 // centre stays finite.
 inline constexpr double kMinThreatDistanceKm = 1e-3;
 double threat_intensity(std::span<const Threat> threats, PointKm p);
 
-// Eq. (2): J_threat = L_ab · Σ_k w_k (d_0.1,k^-4 + d_0.3,k^-4 + d_0.5,k^-4 +
+// Duan 2009 eq. (2): J_threat = L_ab · Σ_k w_k (d_0.1,k^-4 + d_0.3,k^-4 + d_0.5,k^-4 +
 // d_0.7,k^-4 + d_0.9,k^-4), i.e. L_ab times the sum of threat_intensity at the
 // points 1/10, 3/10, ..., 9/10 of the segment a -> b.
 double edge_threat_cost(std::span<const Threat> threats, PointKm a, PointKm b);
 
-// Eq. (3): J = f·J_threat + (1 - f)·J_fuel with J_fuel = L [km].
-inline constexpr double kDuanThreatWeight = 0.75;  // f, section 2.2
+// Duan 2009 eq. (3): J = f·J_threat + (1 - f)·J_fuel with J_fuel = L [km].
+inline constexpr double kDuanThreatWeight = 0.75;  // f, Duan 2009 Sec. 2.2
 double edge_cost(double threat_cost, double length_km, double f = kDuanThreatWeight);
 
 // The task region [x0, x0 + width] x [y0, y0 + height] divided into
@@ -114,7 +114,7 @@ class ThreatMesh {
   // cost of the edges in their range.
   void add_threats(std::span<const Threat> popups);
 
-  // Σ of eq. (3) costs along a node path (consecutive nodes must be neighbours).
+  // Σ of Duan 2009 eq. (3) costs along a node path (consecutive nodes must be neighbours).
   struct PathCost {
     double length_km = 0.0;
     double threat = 0.0;  // Σ J_threat
@@ -140,35 +140,35 @@ class ThreatMesh {
 
 // Angle [rad, 0..π] between the headings prev -> cur and cur -> next.
 double turn_angle_rad(PointKm prev, PointKm cur, PointKm next);
-// Section 2.3 (1), Fig. 4: next is selectable from cur iff the turn is at most max_turn_rad.
+// Duan 2009 Sec. 2.3 (1), Duan 2009 Fig. 4: next is selectable from cur iff the turn is at most max_turn_rad.
 bool turn_allowed(PointKm prev, PointKm cur, PointKm next, double max_turn_rad);
 
 // ---------------------------------------------------------------------------
-// Max-Min adaptive ACO (section 3)
+// Max-Min adaptive ACO (Duan 2009 Sec. 3)
 // ---------------------------------------------------------------------------
 
 enum class DepositRule : uint8_t {
-  BelowAverage,   // section 3.2 (1) as reconstructed: J_k <= J_ave(t) deposits
+  BelowAverage,   // Duan 2009 Sec. 3.2 (1) as reconstructed: J_k <= J_ave(t) deposits
   IterationBest,  // the literal "J_k <= J_min(t)": only the iteration-best ants
 };
 
 struct DuanAcoParams {
-  double alpha = 3.0;        // α, trail exponent of eq. (11)
-  double beta = 2.0;         // β, visibility exponent of eq. (11)
-  double rho = 0.7;          // ρ, evaporation of eqs. (12)-(13)
-  double q = 10.0;           // Q of eqs. (16)-(17)
+  double alpha = 3.0;        // α, trail exponent of Duan 2009 eq. (11)
+  double beta = 2.0;         // β, visibility exponent of Duan 2009 eq. (11)
+  double rho = 0.7;          // ρ, evaporation of Duan 2009 eq. (12), Duan 2009 eq. (13)
+  double q = 10.0;           // Q of Duan 2009 eq. (16), Duan 2009 eq. (17)
   uint32_t iterations = 20;  // Nc_max
   uint32_t ants = 20;        // m
-  double tau_min = 0.1;      // eq. (18)
-  double tau_max = 10.0;     // eq. (18)
+  double tau_min = 0.1;      // Duan 2009 eq. (18)
+  double tau_max = 10.0;     // Duan 2009 eq. (18)
   double tau_initial = 10.0;       // edge pheromone at start; not given: τ_max, as in Max-Min AS [24]
   double tau_point_initial = 0.1;  // point pheromone at start; not given: τ_min (no node claimed yet)
-  double max_turn_rad = std::numbers::pi / 4.0;  // Fig. 4 (not given numerically)
+  double max_turn_rad = std::numbers::pi / 4.0;  // Duan 2009 Fig. 4 (not given numerically)
   DepositRule deposit = DepositRule::BelowAverage;
-  uint32_t candidate_count = 4;  // candidate trajectories per UAV for the ETA (section 3.3)
+  uint32_t candidate_count = 4;  // candidate trajectories per UAV for the ETA (Duan 2009 Sec. 3.3)
 };
 
-// Σ_{j≠i} τ^p_{j,u} over the other UAVs of eq. (10), per node, and their number
+// Σ_{j≠i} τ^p_{j,u} over the other UAVs of Duan 2009 eq. (10), per node, and their number
 // N - 1. Empty (uav_count == 0): a lone UAV, the point-pheromone factor is 1.
 struct PointPheromone {
   uint32_t uav_count = 0;
@@ -177,22 +177,22 @@ struct PointPheromone {
   void add(std::span<const double> tau_p);
 };
 
-// Eq. (10): τ_i,su = τ^e_i,su · (N - 1) / Σ_{j≠i} τ^p_{j,u}.
+// Duan 2009 eq. (10): τ_i,su = τ^e_i,su · (N - 1) / Σ_{j≠i} τ^p_{j,u}.
 double combined_pheromone(double tau_edge, double others_point_sum, uint32_t others_count);
-// Eq. (9): η_su = 1 / (J_su · d_u,target).
+// Duan 2009 eq. (9): η_su = 1 / (J_su · d_u,target).
 double heuristic(double edge_cost, double distance_to_target_km);
-// Eq. (11) over the allowed edges of one node: p_u = τ_u^α η_u^β / Σ_v τ_v^α η_v^β.
+// Duan 2009 eq. (11) over the allowed edges of one node: p_u = τ_u^α η_u^β / Σ_v τ_v^α η_v^β.
 // All zero if every weight is zero.
 std::vector<double> transition_probabilities(std::span<const double> tau, std::span<const double> eta,
                                              double alpha, double beta);
-// Eqs. (12)/(13) then eq. (18): clamp((1 - ρ)·τ + Δτ, τ_min, τ_max).
+// Duan 2009 eq. (12)/(13) then Duan 2009 eq. (18): clamp((1 - ρ)·τ + Δτ, τ_min, τ_max).
 double updated_pheromone(double tau, double delta, double rho, double tau_min, double tau_max);
 
 struct Trajectory {
   std::vector<NodeId> nodes;  // start ... goal
   double length_km = 0.0;
   double threat_cost = 0.0;  // Σ J_threat
-  double cost = 0.0;         // J_i,k = Σ J_su (eq. (3) summed)
+  double cost = 0.0;         // J_i,k = Σ J_su (Duan 2009 eq. (3) summed)
 };
 
 struct PathResult {
@@ -201,7 +201,7 @@ struct PathResult {
   // Up to candidate_count best distinct trajectories, cost ascending
   // (candidates[0] == best); input of coordinate_eta.
   std::vector<Trajectory> candidates;
-  // Best-so-far cost after each iteration (Figs. 14, 17); +inf until found.
+  // Best-so-far cost after each iteration (Duan 2009 Fig. 14, Duan 2009 Fig. 17); +inf until found.
   std::vector<double> best_cost_history;
 };
 
@@ -220,7 +220,7 @@ class DuanColony {
                   std::optional<NodeId> previous = std::nullopt);
 
   // Step API for colonies that exchange point pheromone every iteration
-  // (Fig. 11 / Step 6; see plan_team). begin() resets the pheromone.
+  // (Duan 2009 Fig. 11 / Step 6; see plan_team). begin() resets the pheromone.
   void begin(NodeId start, NodeId goal, std::optional<NodeId> previous = std::nullopt);
   void iterate(const PointPheromone& others);
   [[nodiscard]] const PathResult& result() const { return result_; }
@@ -253,17 +253,17 @@ struct UavTask {
   std::optional<NodeId> previous;  // heading at start (replanning)
 };
 
-// Fig. 12: the colonies of all UAVs iterate in lockstep; before each
+// Duan 2009 Fig. 12: the colonies of all UAVs iterate in lockstep; before each
 // iteration every colony receives the summed point pheromone of the others
 // from the previous iteration (Step 6). colonies.size() == tasks.size().
 std::vector<PathResult> plan_team(std::span<DuanColony> colonies, std::span<const UavTask> tasks);
 
 // ---------------------------------------------------------------------------
-// ETA coordination (sections 2.3 (2), 2.4)
+// ETA coordination (Duan 2009 Sec. 2.3 (2), 2.4)
 // ---------------------------------------------------------------------------
 
 struct SpeedLimits {
-  double min_mps = 200.0;  // V_min [m/s], section 4
+  double min_mps = 200.0;  // V_min [m/s], Duan 2009 Sec. 4
   double max_mps = 300.0;  // V_max [m/s]
 };
 
@@ -272,33 +272,33 @@ struct TimeInterval {
   double latest_s = 0.0;    // [s]
 };
 
-// Eq. (4): T ∈ [L / V_max, L / V_min].
+// Duan 2009 eq. (4): T ∈ [L / V_max, L / V_min].
 TimeInterval arrival_interval(double length_km, const SpeedLimits& speeds);
 
 struct EtaCandidate {
   double length_km = 0.0;
-  double cost = 0.0;  // J_i,j of eq. (7)
+  double cost = 0.0;  // J_i,j of Duan 2009 eq. (7)
 };
 
 enum class EtaRule : uint8_t {
-  EarliestFeasible,     // T_a = min S (section 2.4, Fig. 6)
-  MinCoordinationCost,  // T_a = argmin over S of eq. (8) with f1, f2
+  EarliestFeasible,     // T_a = min S (Duan 2009 Sec. 2.4, Duan 2009 Fig. 6)
+  MinCoordinationCost,  // T_a = argmin over S of Duan 2009 eq. (8) with f1, f2
 };
 
 struct EtaOptions {
   EtaRule rule = EtaRule::EarliestFeasible;
-  double f1 = 1.0;  // eq. (7), weight of the trajectory cost
-  double f2 = 1.0;  // eq. (7), weight of the arrival time [1/s]
+  double f1 = 1.0;  // Duan 2009 eq. (7), weight of the trajectory cost
+  double f2 = 1.0;  // Duan 2009 eq. (7), weight of the arrival time [1/s]
 };
 
 struct EtaPlan {
   double eta_s = 0.0;                // T_a [s]
-  std::vector<TimeInterval> window;  // S of eq. (6), sorted, disjoint
+  std::vector<TimeInterval> window;  // S of Duan 2009 eq. (6), sorted, disjoint
   std::vector<std::size_t> chosen;   // per UAV, index of the candidate flown
   std::vector<double> speed_mps;     // per UAV, V = L / T_a [m/s]
 };
 
-// Eqs. (5)-(8): S_i = ∪_j [L_ij/Vmax, L_ij/Vmin], S = ∩_i S_i, T_a ∈ S by the
+// Duan 2009 eq. (5), Duan 2009 eq. (6), Duan 2009 eq. (7), Duan 2009 eq. (8): S_i = ∪_j [L_ij/Vmax, L_ij/Vmin], S = ∩_i S_i, T_a ∈ S by the
 // rule; each UAV flies its cheapest candidate feasible at T_a at V = L / T_a.
 // Error if S is empty or the input is invalid.
 Result<EtaPlan> coordinate_eta(const std::vector<std::vector<EtaCandidate>>& candidates,
@@ -307,22 +307,22 @@ Result<EtaPlan> coordinate_eta(const std::vector<std::vector<EtaCandidate>>& can
 Result<EtaPlan> coordinate_eta(std::span<const double> lengths_km, const SpeedLimits& speeds);
 
 // ---------------------------------------------------------------------------
-// The paper's experiment (section 4)
+// The paper's experiment (Duan 2009 Sec. 4)
 // ---------------------------------------------------------------------------
 
 struct Duan2009Uav {
-  PointKm start{};   // Table 2
-  PointKm target{};  // Table 2
+  PointKm start{};   // Duan 2009 Table 2
+  PointKm target{};  // Duan 2009 Table 2
 };
 
 struct Duan2009Scenario {
-  MeshSpec mesh;                  // 60 km x 70 km region (section 4), 2 km mesh
-  std::vector<Threat> threats;    // Table 1
-  std::vector<Duan2009Uav> uavs;  // Table 2 (second experiment, three UAVs)
-  std::vector<Threat> popups;     // Table 4 (time of appearance not given)
-  SpeedLimits speeds;             // 200..300 m/s (section 4)
-  DuanAcoParams aco;              // section 4 parameters
-  // Table 3 (reported results, for comparison; Fig. 15 text says T_a = 173 s).
+  MeshSpec mesh;                  // 60 km x 70 km region (Duan 2009 Sec. 4), 2 km mesh
+  std::vector<Threat> threats;    // Duan 2009 Table 1
+  std::vector<Duan2009Uav> uavs;  // Duan 2009 Table 2 (second experiment, three UAVs)
+  std::vector<Threat> popups;     // Duan 2009 Table 4 (time of appearance not given)
+  SpeedLimits speeds;             // 200..300 m/s (Duan 2009 Sec. 4)
+  DuanAcoParams aco;              // Duan 2009 Sec. 4 parameters
+  // Duan 2009 Table 3 (reported results, for comparison; Duan 2009 Fig. 15 text says T_a = 173 s).
   double table3_eta_s = 174.0;
   std::array<double, 3> table3_length_km{51.31, 47.80, 52.14};
   std::array<double, 3> table3_speed_mps{295.0, 275.0, 300.0};

@@ -1,4 +1,4 @@
-// Shao 2020 semantic pheromone layers (eqs. 1-8) over one region, with a
+// Shao 2020 semantic pheromone layers (Shao 2020 eq. (1), Shao 2020 eq. (2), Shao 2020 eq. (3), Shao 2020 eq. (4), Shao 2020 eq. (5), Shao 2020 eq. (6), Shao 2020 eq. (7), Shao 2020 eq. (8)) over one region, with a
 // one-cell halo so that diffusion across region borders equals diffusion on
 // the undivided map. Diffusion radius is 1 cell (8-neighbourhood); the halo
 // width is 1 cell; the constructor's geometry guarantees radius <= halo.
@@ -27,7 +27,7 @@ inline constexpr float kTargetDue = 2.0F;      // revisit due: kτ = 1, emitting
 double path_decrease(double dist, const ShaoLayerParams& p);
 
 // The border ring of a region: the source values s = v + k·d of the target and
-// obstacle layers (the quantity neighbours diffuse from, eqs. (2) and (4)) for
+// obstacle layers (the quantity neighbours diffuse from, Shao 2020 eq. (2) and Shao 2020 eq. (4)) for
 // every cell on the region's border, in row-major order over the rect's cells
 // that satisfy x == x0 || x == x0+w-1 || y == y0 || y == y0+h-1.
 struct HaloRing {
@@ -58,7 +58,7 @@ class RegionField {
   void set_target_state(Cell c, float state);  // TargetState layer value
 
   // A UAV is at `uav` after its move: accumulate Δσ^k_ij for every cell of this
-  // region within D0 (eqs. (6)-(7)). Applied at the next step().
+  // region within D0 (Shao 2020 eq. (6), Shao 2020 eq. (7)). Applied at the next step().
   void add_path_visit(Cell uav);
 
   // 1) Computes the sources s = v + k·d for target and obstacle layers and
@@ -69,8 +69,8 @@ class RegionField {
   //    that are not neighbours are ignored. Missing rings leave the last value
   //    (initially 0) in the halo.
   void accept_halo(const Rect& neighbour_rect, const HaloRing& ring);
-  // 3) Applies eqs. (1)-(4) to target and obstacle layers using the halo, and
-  //    eqs. (5), (8) to the path layer with the visits accumulated since the
+  // 3) Applies Shao 2020 eq. (1), Shao 2020 eq. (2), Shao 2020 eq. (3), Shao 2020 eq. (4) to target and obstacle layers using the halo, and
+  //    Shao 2020 eq. (5), Shao 2020 eq. (8) to the path layer with the visits accumulated since the
   //    last step; clears the visits.
   void finish_step();
 
@@ -90,10 +90,10 @@ class RegionField {
   [[nodiscard]] std::optional<std::size_t> own_index(Cell c) const;
 };
 
-// Reference: one step of eqs. (1)-(4) on a whole undivided map, straight from
+// Reference: one step of Shao 2020 eq. (1), Shao 2020 eq. (2), Shao 2020 eq. (3), Shao 2020 eq. (4) on a whole undivided map, straight from
 // the equations (used by tests and the benchmark as the baseline). `k` is the
-// switch per cell; `a_evaporates_diffusion` selects eq. (3) (true, obstacle:
-// (1-E) multiplies the neighbour sum too) or eq. (1) (false, target).
+// switch per cell; `a_evaporates_diffusion` selects Shao 2020 eq. (3) (true, obstacle:
+// (1-E) multiplies the neighbour sum too) or Shao 2020 eq. (1) (false, target).
 void reference_diffuse(const MapGeometry& geo, std::span<const float> in, std::span<const uint8_t> k, double e,
                        double g, double d, bool evaporate_neighbour_sum, std::span<float> out);
 

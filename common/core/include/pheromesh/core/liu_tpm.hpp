@@ -1,19 +1,19 @@
-// Liu et al. 2022, "Emergent Search of UAV Swarm Guided by the Target
+// Liu 2022, "Emergent Search of UAV Swarm Guided by the Target
 // Probability Map" (ESUSTPM), Appl. Sci. 12, 5086: the pure math.
-//  * target probability map (TPM): mixed-Gaussian prior (eqs. 1-2), the
-//    per-cell update from an observation (eqs. 3-5), confirmation threshold θ;
-//  * environmental uncertainty (EU), the metric of Table 2;
-//  * the ESUSTPM local rules (eqs. 6-11) and the four baselines of section 5
-//    (random search eqs. 12-13, mower eq. 14, Boids with and without TPM
+//  * target probability map (TPM): mixed-Gaussian prior (Liu 2022 eq. (1), Liu 2022 eq. (2)), the
+//    per-cell update from an observation (Liu 2022 eq. (3), Liu 2022 eq. (4), Liu 2022 eq. (5)), confirmation threshold θ;
+//  * environmental uncertainty (EU), the metric of Liu 2022 Table 2;
+//  * the ESUSTPM local rules (Liu 2022 eq. (6), Liu 2022 eq. (7), Liu 2022 eq. (8), Liu 2022 eq. (9), Liu 2022 eq. (10), Liu 2022 eq. (11)) and the four baselines of Liu 2022 Sec. 5
+//    (random search Liu 2022 eq. (12), Liu 2022 eq. (13), mower Liu 2022 eq. (14), Boids with and without TPM
 //    guidance) as pure step functions;
-//  * the visited-cell count of Table 2.
+//  * the visited-cell count of Liu 2022 Table 2.
 // Where the paper is silent or self-contradictory, the choice made is written
 // beside the code that makes it (see also liu_tpm.cpp).
 //
 // Units: positions [m] in the map frame (x east, y north = +y as in aco.hpp),
 // velocities [m/s]. Cell (m, n) covers [m·s, (m+1)·s) x [n·s, (n+1)·s) for
 // the cell size s = LiuParams::cell_size_m; the paper's "map(int, P)"
-// (Algorithm 1) is floor(P / s).
+// (Liu 2022 Algorithm 1) is floor(P / s).
 #pragma once
 
 #include <array>
@@ -38,67 +38,67 @@ struct Vec2 {
   friend bool operator==(const Vec2&, const Vec2&) = default;
 };
 
-// How a miss (eq. 5) is applied. The paper prints
+// How a miss (Liu 2022 eq. (5)) is applied. The paper prints
 //   P(t) = (1 - Pd) P(t-1) / (1 - Pf),
-// which is not the Bayesian posterior that eq. (4) is for a detection; the
+// which is not the Bayesian posterior that Liu 2022 eq. (4) is for a detection; the
 // posterior would be (1 - Pd) P / ((Pf - Pd) P + 1 - Pf). Both shrink P; the
 // printed one by the constant factor (1 - Pd)/(1 - Pf) = 7/9 with Table-1
 // sensor values, and it does not keep P = 1 at 1.
 enum class MissUpdate : uint8_t {
-  kAsPrinted,  // eq. (5) exactly as printed (default: reproduce the paper)
-  kBayes,      // the Bayesian posterior matching eq. (4)
+  kAsPrinted,  // Liu 2022 eq. (5) exactly as printed (default: reproduce the paper)
+  kBayes,      // the Bayesian posterior matching Liu 2022 eq. (4)
 };
 
 // Every number the paper gives, with where it gives it; values marked "ours"
 // are not in the paper.
 struct LiuParams {
   // --- sensor and TPM ---------------------------------------------------------
-  // §2.1: "The two parameters of the UAV sensor are set as 0.3 and 0.1"
+  // Liu 2022 Sec. 2.1: "The two parameters of the UAV sensor are set as 0.3 and 0.1"
   // (detection, false-alarm probability).
   double p_detection = 0.3;    // P_d
   double p_false_alarm = 0.1;  // P_f
   MissUpdate miss_update = MissUpdate::kAsPrinted;
-  // θ of §2.4 / Algorithm 1 ("the TEP of a grid is more than the given value").
+  // θ of Liu 2022 Sec. 2.4 / Liu 2022 Algorithm 1 ("the TEP of a grid is more than the given value").
   // Not given; ours. 0.95 needs three detections from 0.5 (0.75, 0.9, 0.964):
-  // a pass or two over a target cell, as the mower makes in §5.2.3, does not
-  // confirm it ("no target is found"), repeated visits (§4) do.
+  // a pass or two over a target cell, as the mower makes in Liu 2022 Sec. 5.2.3, does not
+  // confirm it ("no target is found"), repeated visits (Liu 2022 Sec. 4) do.
   double confirm_threshold = 0.95;
-  // §5: "The initial target probability of each grid ... is set as 0.5".
+  // Liu 2022 Sec. 5: "The initial target probability of each grid ... is set as 0.5".
   double initial_probability = 0.5;
 
-  // --- local rules, Table 1 (the same value for rules i = 1..4) -------------
-  std::array<double, 4> k{-80.0, -80.0, -80.0, -80.0};    // k_i, eq. (8)
-  std::array<double, 4> t{5.0, 5.0, 5.0, 5.0};            // t_i, eq. (7)
-  std::array<double, 4> c{120.0, 120.0, 120.0, 120.0};    // c_i [m], eqs. (7)-(8)
-  std::array<double, 4> delta{40.0, 40.0, 40.0, 40.0};    // δ_i [m], eq. (8)
-  std::array<double, 4> delta_prime{10.0, 10.0, 10.0, 10.0};  // δ'_i [m], eq. (7)
-  // §3.1: "each agent adopts the three closest neighbors".
+  // --- local rules, Liu 2022 Table 1 (the same value for rules i = 1..4) -------------
+  std::array<double, 4> k{-80.0, -80.0, -80.0, -80.0};    // k_i, Liu 2022 eq. (8)
+  std::array<double, 4> t{5.0, 5.0, 5.0, 5.0};            // t_i, Liu 2022 eq. (7)
+  std::array<double, 4> c{120.0, 120.0, 120.0, 120.0};    // c_i [m], Liu 2022 eq. (7), Liu 2022 eq. (8)
+  std::array<double, 4> delta{40.0, 40.0, 40.0, 40.0};    // δ_i [m], Liu 2022 eq. (8)
+  std::array<double, 4> delta_prime{10.0, 10.0, 10.0, 10.0};  // δ'_i [m], Liu 2022 eq. (7)
+  // Liu 2022 Sec. 3.1: "each agent adopts the three closest neighbors".
   std::size_t neighbour_count = 3;
-  // §2.2 "The detection and communication range of UAV is limited"; the value
+  // Liu 2022 Sec. 2.2 "The detection and communication range of UAV is limited"; the value
   // is not given. Ours: unlimited (the caller passes the UAVs it hears).
   double comm_range_m = std::numeric_limits<double>::infinity();
 
-  // --- scenario, §5 ---------------------------------------------------------
+  // --- scenario, Liu 2022 Sec. 5 ---------------------------------------------------------
   int32_t grid_width = 10;   // [cell] "evenly divided as 10x10 grids"
   int32_t grid_height = 10;  // [cell]
-  // Not stated; inferred from the coordinates of §5 (starts at multiples of
+  // Not stated; inferred from the coordinates of Liu 2022 Sec. 5 (starts at multiples of
   // 100 m, targets at (400, 500), (400, 700), (700, 500) on a 10x10 grid).
   double cell_size_m = 100.0;  // [m]
-  uint32_t uav_count = 10;     // §5 "A total of 10 UAVs"
-  uint32_t cycles = 200;       // §5 "The total simulation time cycle is 200"
-  double max_speed_mps = 10.0; // §5 "The maximum velocity of UAV agents is 10 m/s"
-  double dt_s = 0.01;          // Δt [s], §5 "The simulation interval is 10 ms"
+  uint32_t uav_count = 10;     // Liu 2022 Sec. 5 "A total of 10 UAVs"
+  uint32_t cycles = 200;       // Liu 2022 Sec. 5 "The total simulation time cycle is 200"
+  double max_speed_mps = 10.0; // Liu 2022 Sec. 5 "The maximum velocity of UAV agents is 10 m/s"
+  double dt_s = 0.01;          // Δt [s], Liu 2022 Sec. 5 "The simulation interval is 10 ms"
   // Length of one "time cycle" [s]: not given. At 10 m/s and Δt = 10 ms a
   // cycle of one interval would move a UAV 0.1 m, and 200 cycles could not
-  // cover a 1 km map as Figs. 11 and 20 show. Ours: 1 s (100 intervals), so a
+  // cover a 1 km map as Liu 2022 Fig. 11 and Liu 2022 Fig. 20 show. Ours: 1 s (100 intervals), so a
   // UAV crosses 20 cells in 200 cycles and 10 mowers enter each of the 100
-  // cells about twice — which is what Table 2's mower EU needs (see
+  // cells about twice — which is what Liu 2022 Table 2's mower EU needs (see
   // environmental_uncertainty).
   double cycle_s = 1.0;
-  double random_step_mps = 10.0;  // S, eq. (13) "it equals 10 in this paper"
-  double mower_step_mps = 10.0;   // l, eq. (14) "it equals 10 in this paper"
+  double random_step_mps = 10.0;  // S, Liu 2022 eq. (13) "it equals 10 in this paper"
+  double mower_step_mps = 10.0;   // l, Liu 2022 eq. (14) "it equals 10 in this paper"
 
-  // --- Boids baselines, §5.1.4-5.1.5 ----------------------------------------
+  // --- Boids baselines, Liu 2022 Sec. 5.1.4, Liu 2022 Sec. 5.1.5 ----------------------------------------
   double boids_safe_distance_m = 120.0;  // "The given safe distance between the agents is 120 m"
   // Rule weights: not given. Ours: equal.
   double boids_separation_weight = 1.0;
@@ -107,19 +107,19 @@ struct LiuParams {
   double boids_guidance_weight = 1.0;  // Boids with guidance only
 };
 
-// §5: start positions [m] of the 10 UAVs, and the three targets of §5.2/5.3.
+// Liu 2022 Sec. 5: start positions [m] of the 10 UAVs, and the three targets of Liu 2022 Sec. 5.2/5.3.
 inline constexpr std::array<Vec2, 10> kLiuStartPositions{{
     {100.0, 100.0}, {100.0, 200.0}, {100.0, 300.0}, {100.0, 400.0}, {100.0, 500.0},
     {200.0, 100.0}, {200.0, 200.0}, {200.0, 300.0}, {200.0, 400.0}, {200.0, 500.0},
 }};
 inline constexpr std::array<Vec2, 3> kLiuTargets{{{400.0, 500.0}, {400.0, 700.0}, {700.0, 500.0}}};
-// §5.3.2: wrong priors. (a) the prior's target at (700, 500) does not exist;
+// Liu 2022 Sec. 5.3.2: wrong priors. (a) the prior's target at (700, 500) does not exist;
 // (b) a real target at (300, 200) that the prior does not expect.
 inline constexpr Vec2 kLiuAbsentPriorTarget{700.0, 500.0};
 inline constexpr Vec2 kLiuUnexpectedTarget{300.0, 200.0};
 
 // ---------------------------------------------------------------------------
-// Prior map, eqs. (1)-(2)
+// Prior map, Liu 2022 eq. (1), Liu 2022 eq. (2)
 // ---------------------------------------------------------------------------
 
 // One target's bivariate Gaussian, in cell units (cell (m, n) covers
@@ -138,7 +138,7 @@ struct GaussianComponent {
 std::optional<Error> check_component(const GaussianComponent& g);
 
 // Row-major w x h map (index y·w + x) with P_mn = ∬_cell Σ α_i f_i dx dy
-// (eq. 2 and the sentence after it): each cell holds the mixture's mass over
+// (Liu 2022 eq. (2) and the sentence after it): each cell holds the mixture's mass over
 // the cell, clipped to [0, 1]. So the map sums to Σ α_i times the share of
 // the mass inside the map — no other normalisation (the paper gives none).
 // A "wrong" prior is just components placed where no target is. Components
@@ -146,15 +146,15 @@ std::optional<Error> check_component(const GaussianComponent& g);
 std::vector<double> gaussian_mixture_prior(int32_t w, int32_t h, std::span<const GaussianComponent> components);
 
 // ---------------------------------------------------------------------------
-// TPM update, eqs. (3)-(5)
+// TPM update, Liu 2022 eq. (3), Liu 2022 eq. (4), Liu 2022 eq. (5)
 // ---------------------------------------------------------------------------
 
-// Eq. (4): P' = Pd P / ((Pd - Pf) P + Pf). Requires 0 <= P <= 1, 0 < Pf < 1.
+// Liu 2022 eq. (4): P' = Pd P / ((Pd - Pf) P + Pf). Requires 0 <= P <= 1, 0 < Pf < 1.
 double tpm_after_detection(double p, double p_detection, double p_false_alarm);
-// Eq. (5), printed or Bayesian (see MissUpdate).
+// Liu 2022 eq. (5), printed or Bayesian (see MissUpdate).
 double tpm_after_miss(double p, double p_detection, double p_false_alarm, MissUpdate rule);
-// One observation of a searched cell (eq. 4 or 5). An unsearched cell keeps
-// its value (eq. 3): simply do not call this.
+// One observation of a searched cell (Liu 2022 eq. (4) or Liu 2022 eq. (5)). An unsearched cell keeps
+// its value (Liu 2022 eq. (3)): simply do not call this.
 double tpm_update(double p, bool detected, const LiuParams& params);
 
 // Per-cell target existing probabilities over a rectangle of the map, so a
@@ -175,10 +175,10 @@ class TargetProbabilityMap {
   [[nodiscard]] double probability(Cell c) const;
   // nullopt outside the region (use as a TpmLookup).
   [[nodiscard]] std::optional<double> find(Cell c) const;
-  // Applies eq. (4) (detected) or eq. (5). Returns false and changes nothing
+  // Applies Liu 2022 eq. (4) (detected) or Liu 2022 eq. (5). Returns false and changes nothing
   // if c is outside the region (a cell from the network is never trusted).
   bool observe(Cell c, bool detected);
-  // "find the target when the probability exceeds the threshold θ" (§2.4):
+  // "find the target when the probability exceeds the threshold θ" (Liu 2022 Sec. 2.4):
   // P > θ. False outside the region.
   [[nodiscard]] bool confirmed(Cell c) const;
   [[nodiscard]] std::vector<Cell> confirmed_cells() const;
@@ -196,12 +196,12 @@ class TargetProbabilityMap {
 };
 
 // ---------------------------------------------------------------------------
-// Environmental uncertainty (Table 2, Figs. 12, 21, 29)
+// Environmental uncertainty (Liu 2022 Table 2, Liu 2022 Fig. 12, Liu 2022 Fig. 21, Liu 2022 Fig. 29)
 // ---------------------------------------------------------------------------
 
 // EU = -Σ_cells P log2 P (0 log 0 = 0) [bit]. The paper names the metric but
 // never defines it. This is the only entropy-like sum we found that fits
-// Table 2: an uninformed 10x10 map (P = 0.5) gives 50; its maximum is
+// Liu 2022 Table 2: an uninformed 10x10 map (P = 0.5) gives 50; its maximum is
 // 100/(e ln 2) = 53.07, above the mower's 52.34, which visits all 100 cells
 // once or twice (one miss per cell gives 52.99, two 52.18); random search
 // (26 cells visited, 74 untouched = 37.0) gives 43.92 with its few cells
@@ -223,7 +223,7 @@ struct LiuUav {
 
 // Centre of a cell [m].
 Vec2 cell_centre(Cell c, double cell_size_m);
-// floor(P / s) per axis (Algorithm 1 "map(int, P)"), clamped into the grid
+// floor(P / s) per axis (Liu 2022 Algorithm 1 "map(int, P)"), clamped into the grid
 // so a UAV exactly on the far border is in the last cell.
 Cell cell_of(Vec2 position, const LiuParams& p);
 // Nearest of the eight compass headings to v (sector rule of aco.cpp:
@@ -240,14 +240,14 @@ using TpmLookup = std::function<std::optional<double>(Cell)>;
 std::vector<std::size_t> nearest_neighbours(Vec2 self, std::span<const LiuUav> others, const LiuParams& params);
 
 // The most probable of the eight cells around `at` that the lookup knows
-// (§3.1 rule 4, "the nearby grid with the highest target existing
+// (Liu 2022 Sec. 3.1 rule 4, "the nearby grid with the highest target existing
 // probability"; the cell under the UAV is not a candidate). Ties (within
 // 1e-12) — every cell is 0.5 at the start — go to the cell whose direction is
 // closest to `velocity` (keep going), then to the first heading from E
 // counter-clockwise. nullopt if no neighbouring cell is known.
 std::optional<Cell> most_probable_neighbour(Cell at, Vec2 velocity, const TpmLookup& tpm);
 
-// Eqs. (7)-(9): β_i(d) = a_i(d) g_i(d) for rule i (0-based, 0..3) [m/s per unit direction].
+// Liu 2022 eq. (7), Liu 2022 eq. (8), Liu 2022 eq. (9): β_i(d) = a_i(d) g_i(d) for rule i (0-based, 0..3) [m/s per unit direction].
 double liu_gain(std::size_t rule, double distance_m, const LiuParams& params);
 
 // A velocity decision, mapped onto the grid.
@@ -259,24 +259,24 @@ struct LiuMove {
 
 // Maps a velocity onto the grid: the heading nearest to v from the cell of
 // `position`; at the map border the offending components of the step and of
-// v are reversed (§2.2 "When the monomers reach the boundaries of the
+// v are reversed (Liu 2022 Sec. 2.2 "When the monomers reach the boundaries of the
 // mission area, the velocities are reversed"); if that still leaves the map
 // (one-cell-wide map) the UAV stays.
 LiuMove grid_move(Vec2 position, Vec2 velocity, const LiuParams& params);
 
-// Eqs. (10)-(11) in continuous space: P += v Δt with the same border reversal
+// Liu 2022 eq. (10), Liu 2022 eq. (11) in continuous space: P += v Δt with the same border reversal
 // (reflection) on a map of grid_width·cell_size x grid_height·cell_size.
 LiuUav advance_uav(const LiuUav& uav, Vec2 velocity, double dt_s, const LiuParams& params);
 
 // ---------------------------------------------------------------------------
-// ESUSTPM, eqs. (6)-(9)
+// ESUSTPM, Liu 2022 eq. (6), Liu 2022 eq. (7), Liu 2022 eq. (8), Liu 2022 eq. (9)
 // ---------------------------------------------------------------------------
 
-// Objective velocity mvel of eq. (6) before clipping:
+// Objective velocity mvel of Liu 2022 eq. (6) before clipping:
 //   mvel = 1/4 Σ_{i=1..4} β_i (F_i / |F_i|)
 // F_1..F_3 from the three nearest neighbours, F_4 towards the centre of the
-// most probable neighbouring cell. Sign convention: with Table 1's k < 0,
-// β(d) > 0 for d < c and < 0 for d > c. §5 says agents "repel each other when
+// most probable neighbouring cell. Sign convention: with Liu 2022 Table 1's k < 0,
+// β(d) > 0 for d < c and < 0 for d > c. Liu 2022 Sec. 5 says agents "repel each other when
 // the distance between them is less than the safe distance", so F_i (i <= 3)
 // points from the neighbour to the UAV. For rule 4 the same sign would push
 // the UAV away from a best cell farther than c = 120 m (a diagonal neighbour
@@ -287,27 +287,27 @@ LiuUav advance_uav(const LiuUav& uav, Vec2 velocity, double dt_s, const LiuParam
 Vec2 esustpm_objective_velocity(const LiuUav& self, std::span<const LiuUav> others, const TpmLookup& tpm,
                                 const LiuParams& params);
 // One ESUSTPM decision: mvel clipped to max_speed_mps ("mass points with the
-// maximum velocity", §2.2); if mvel is 0 the UAV keeps its velocity. Then
+// maximum velocity", Liu 2022 Sec. 2.2); if mvel is 0 the UAV keeps its velocity. Then
 // grid_move. No randomness: the paper has none here.
 LiuMove esustpm_step(const LiuUav& self, std::span<const LiuUav> others, const TpmLookup& tpm,
                      const LiuParams& params);
 
 // ---------------------------------------------------------------------------
-// Baselines of section 5
+// Baselines of Liu 2022 Sec. 5
 // ---------------------------------------------------------------------------
 
-// Eq. (12): dir = r / |r|, r with two components uniform in [-1, 1) (drawn
+// Liu 2022 eq. (12): dir = r / |r|, r with two components uniform in [-1, 1) (drawn
 // again in the measure-zero case r = 0). As printed this is not uniform in
 // angle (diagonals are likelier); kept.
 Vec2 random_direction(Rng& rng);
-// Eqs. (12)-(13): velocity dir · S, then grid_move. The paper's collision
+// Liu 2022 eq. (12), Liu 2022 eq. (13): velocity dir · S, then grid_move. The paper's collision
 // avoidance of random searchers is not specified and not modelled.
 LiuMove random_search_step(const LiuUav& self, Rng& rng, const LiuParams& params);
 
-// Eq. (14) on the grid: P += b l Δt with b reversed at the boundary. Each UAV
+// Liu 2022 eq. (14) on the grid: P += b l Δt with b reversed at the boundary. Each UAV
 // sweeps its own lane (a band of rows) boustrophedon-style: along x, and at
 // the lane's end one row up (or down) with b reversed. A one-row lane is
-// exactly eq. (14): back and forth along the row. A lane of W x H cells is
+// exactly Liu 2022 eq. (14): back and forth along the row. A lane of W x H cells is
 // covered in W·H - 1 steps from its corner.
 struct LawnmowerState {
   Cell cell;
@@ -322,7 +322,7 @@ Rect lawnmower_lane(uint32_t uav, uint32_t uavs, int32_t w, int32_t h);
 LawnmowerState lawnmower_start(Rect lane);
 LawnmowerState lawnmower_step(const LawnmowerState& s, Rect lane);
 
-// Boids without guidance (§5.1.4): Reynolds' three rules over the three
+// Boids without guidance (Liu 2022 Sec. 5.1.4): Reynolds' three rules over the three
 // nearest neighbours (the paper says "nearby neighbors"; we use the same set
 // as ESUSTPM). Each rule contributes a unit vector (or nothing):
 //   separation: Σ over neighbours closer than the safe distance (120 m) of
@@ -332,7 +332,7 @@ LawnmowerState lawnmower_step(const LawnmowerState& s, Rect lane);
 // desired = Σ weight · unit vector; velocity = max speed along desired (the
 // current velocity if desired is 0). Then grid_move.
 LiuMove boids_step(const LiuUav& self, std::span<const LiuUav> others, const LiuParams& params);
-// Boids with guidance (§5.1.5): the same plus boids_guidance_weight times
+// Boids with guidance (Liu 2022 Sec. 5.1.5): the same plus boids_guidance_weight times
 // the unit vector towards the centre of most_probable_neighbour.
 LiuMove boids_guided_step(const LiuUav& self, std::span<const LiuUav> others, const TpmLookup& tpm,
                           const LiuParams& params);
@@ -341,7 +341,7 @@ LiuMove boids_guided_step(const LiuUav& self, std::span<const LiuUav> others, co
 // Metrics
 // ---------------------------------------------------------------------------
 
-// "Visited grid number" of Table 2 / Figs. 11, 20: distinct cells that some
+// "Visited grid number" of Liu 2022 Table 2 / Liu 2022 Fig. 11, Liu 2022 Fig. 20: distinct cells that some
 // UAV has been in.
 class VisitedCells {
  public:

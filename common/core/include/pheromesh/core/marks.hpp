@@ -1,5 +1,5 @@
 // Target marks and the revisit timer (Shao 2020 Algorithm 1 and the kτ switch
-// of eq. (1)), kept by the place agent that owns the target's cell.
+// of Shao 2020 eq. (1)), kept by the place agent that owns the target's cell.
 #pragma once
 
 #include <cstdint>

@@ -26,12 +26,12 @@ struct TileMsg {
 
 // What a deposit asks its place agent to do (idl/pheromesh.idl, Deposit).
 enum class DepositKind : uint8_t {
-  PathVisit = 0,     // Shao 2020 eqs. (5)-(7): path pheromone falls around the UAV
+  PathVisit = 0,     // Shao 2020 eq. (5), Shao 2020 eq. (6), Shao 2020 eq. (7): path pheromone falls around the UAV
   TargetMark = 1,    // Shao: a target sensed here
   ObstacleMark = 2,  // Shao: an obstacle sensed here
   LayerAdd = 3,      // add `amount` to `layer` at the cell (capped by the layer)
   Ellipse = 4,       // Ravankar 2016 eq. (14): spread over the error ellipse `spread`
-  Observation = 5,   // Liu 2022 eqs. (4)-(5): the cell was looked at; amount 1 = detection
+  Observation = 5,   // Liu 2022 eq. (4), Liu 2022 eq. (5): the cell was looked at; amount 1 = detection
   PointSet = 6,      // Duan 2009: this UAV's point pheromone at the cell is `amount`
   PointClear = 7,    // Duan 2009: forget this UAV's point pheromone in the region
 };
@@ -101,8 +101,8 @@ struct HaloMsg {
 
 // A UAV's message to the whole swarm (partition "b").
 enum class BroadcastKind : uint8_t {
-  LeaderState = 0,  // Shao 2020 §5: x, y, vx, vy [cell, cell/tick], arrived (0/1)
-  TargetFound = 1,  // Shostak §5: x, y of the target [cell]
+  LeaderState = 0,  // Shao 2020 Sec. 5: x, y, vx, vy [cell, cell/tick], arrived (0/1)
+  TargetFound = 1,  // Shostak 2024 Sec. 5: x, y of the target [cell]
   EtaIntervals = 2, // Duan 2009 eq. (4): pairs (T_min, T_max) [s] of the candidate trajectories
 };
 inline constexpr uint8_t kBroadcastKindCount = 3;

@@ -45,7 +45,7 @@ class PlaceCore {
   void reject(const std::vector<DepositMsg>& deposits, const std::string& reason);
   // A neighbour's ring (checked; false if malformed and ignored).
   bool accept_halo(const HaloMsg& h);
-  // Phase 2: the policy's layer update (e.g. Shao 2020 eqs. (1)-(8)).
+  // Phase 2: the policy's layer update (e.g. Shao 2020 eq. (1), Shao 2020 eq. (2), Shao 2020 eq. (3), Shao 2020 eq. (4), Shao 2020 eq. (5), Shao 2020 eq. (6), Shao 2020 eq. (7), Shao 2020 eq. (8)).
   void finish_tick();
 
   // Tiles of this region at `tick`: every tile and layer, or only those that

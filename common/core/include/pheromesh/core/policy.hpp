@@ -125,8 +125,8 @@ PolicyTraits shao_search_traits(const ScenarioConfig& s);
 std::unique_ptr<UavPolicy> make_shao_search_uav(const ScenarioConfig& s, const MapGeometry& geo, const World& world,
                                                 uint32_t id);
 // A Shao searcher that starts at `at` with `heading` (0..7): what a
-// navigating UAV becomes once the leader is at the target region (Shao 2020
-// Algorithm 3 lines 1-2).
+// navigating UAV becomes once the leader is at the target region
+// (Shao 2020 Algorithm 3 lines 1-2).
 std::unique_ptr<UavPolicy> make_shao_search_uav_at(const ScenarioConfig& s, const MapGeometry& geo, const World& world,
                                                    uint32_t id, Cell at, uint8_t heading);
 // `beacons`: targets emit target pheromone and obstacles obstacle pheromone

@@ -18,7 +18,7 @@ namespace pheromesh::core {
 // A threat that appears during the run (Duan 2009 Table 4).
 struct DuanPopup {
   Threat threat;
-  uint32_t appear_tick = 0;  // [tick] announced to every UAV at this tick (§4: "shared immediately")
+  uint32_t appear_tick = 0;  // [tick] announced to every UAV at this tick (Duan 2009 Sec. 4: "shared immediately")
 };
 
 // One UAV's mission (Duan 2009 Table 2), in mesh nodes = cells.
@@ -28,15 +28,15 @@ struct DuanMission {
 };
 
 struct DuanConfig {
-  double node_spacing_km = 2.0;  // [km] mesh spacing: 60 x 70 km at 2 km = 31 x 36 nodes (§4)
-  double f = kDuanThreatWeight;  // eq. (3)
+  double node_spacing_km = 2.0;  // [km] mesh spacing: 60 x 70 km at 2 km = 31 x 36 nodes (Duan 2009 Sec. 4)
+  double f = kDuanThreatWeight;  // Duan 2009 eq. (3)
   // α, β, ρ, Q, Nc_max, m, τ_min, τ_max, the turn limit, candidates, deposit rule.
   DuanAcoParams aco;
-  SpeedLimits speeds;             // V_min, V_max [m/s] (§4)
+  SpeedLimits speeds;             // V_min, V_max [m/s] (Duan 2009 Sec. 4)
   double dt_s = 1.0;              // [s] flight time of one tick (planning ticks are ACO iterations)
   uint32_t eta_wait_ticks = 10;   // [tick] realtime: coordinate with the intervals present after this long
-  std::vector<Threat> threats;    // Table 1, positions [km]
-  std::vector<DuanPopup> popups;  // Table 4
+  std::vector<Threat> threats;    // Duan 2009 Table 1, positions [km]
+  std::vector<DuanPopup> popups;  // Duan 2009 Table 4
   std::vector<DuanMission> uavs;  // one per UAV of the swarm
 };
 
@@ -47,8 +47,8 @@ namespace pheromesh::core::duan_detail {
 
 // Layers of the Duan place model (TileState.layer).
 enum DuanLayer : int {
-  kPointSum = 0,   // Σ over the swarm's UAVs of their point pheromone τ^p at the node (eq. (10))
-  kThreat = 1,     // mean eq. (2) J_threat of the node's edges under the threats present (display)
+  kPointSum = 0,   // Σ over the swarm's UAVs of their point pheromone τ^p at the node (Duan 2009 eq. (10))
+  kThreat = 1,     // mean Duan 2009 eq. (2) J_threat of the node's edges under the threats present (display)
   kEtaS = 2,       // report at a UAV's target node: T_a of its first agreed plan [s]
   kPlannedKm = 3,  // report at a UAV's target node: length of its first agreed trajectory [km]
   kArrivalS = 4,   // report at a UAV's target node: flight time from take-off to arrival [s]
@@ -57,30 +57,30 @@ enum DuanLayer : int {
 };
 const char* layer_name(int layer);
 
-// Eq. (10) input at one node: Σ_{j≠i} τ^p_j from the published Σ_j τ^p_j
+// Duan 2009 eq. (10) input at one node: Σ_{j≠i} τ^p_j from the published Σ_j τ^p_j
 // minus this UAV's own share. The place counts a UAV that set no value at the
 // node with τ_min (the floor its pheromone sits at), and a set value arrives
 // as a float: the own share is float(own) where own != τ_min, else τ_min.
 double others_point_sum(float published_sum, double own_tau, double tau_min);
 
 // Contents of an EtaIntervals broadcast: the planning phase, then
-// (T_min, T_max) of eq. (4) per candidate length [km], in the given order.
+// (T_min, T_max) of Duan 2009 eq. (4) per candidate length [km], in the given order.
 std::vector<double> eta_broadcast(uint32_t phase, const std::vector<double>& lengths_km, const SpeedLimits& speeds);
 
 struct EtaDecision {
-  bool agreed = false;        // S (eq. (6)) was not empty
+  bool agreed = false;        // S (Duan 2009 eq. (6)) was not empty
   double eta_s = 0.0;         // T_a [s] (min S; fallback: max_i min_j T_min,ij)
   std::size_t chosen = 0;     // index of this UAV's candidate
   double speed_mps = 0.0;     // V = L / T_a, within the limits
 };
-// Eqs. (5)-(6) and Fig. 6 on the broadcasts (values after the phase number,
+// Duan 2009 eq. (5), Duan 2009 eq. (6) and Duan 2009 Fig. 6 on the broadcasts (values after the phase number,
 // by UAV id; empty entries = UAVs without candidates are left out), then this
 // UAV's cheapest candidate feasible at T_a (candidates are cost-ascending).
 // nullopt if `self` has no candidates.
 std::optional<EtaDecision> decide_eta(const std::map<uint32_t, std::vector<double>>& intervals, uint32_t self,
                                       const std::vector<double>& own_lengths_km, const SpeedLimits& speeds);
 
-// Mean eq. (2) J_threat over the edges of node (x, y) of a columns x rows
+// Mean Duan 2009 eq. (2) J_threat over the edges of node (x, y) of a columns x rows
 // mesh with spacing `spacing_km`.
 double node_threat(std::span<const Threat> threats, int32_t x, int32_t y, int32_t columns, int32_t rows,
                    double spacing_km);

@@ -19,23 +19,23 @@ namespace pheromesh::core {
 // Where in its start cell (scenario start_cell) a UAV starts.
 enum class LiuStartPoint : uint8_t {
   kCentre,  // the cell centre (the framework's convention: integer cell units)
-  kCorner,  // the cell's low-x low-y corner, p = cell · cell_size_m: §5's start
+  kCorner,  // the cell's low-x low-y corner, p = cell · cell_size_m: Liu 2022 Sec. 5's start
             // coordinates (100, 100) ... (200, 500) m are such corners
 };
 
 struct LiuConfig {
-  // Table 1 constants, P_d, P_f, θ, speeds, Δt, cycle length, cell size. The
+  // Liu 2022 Table 1 constants, P_d, P_f, θ, speeds, Δt, cycle length, cell size. The
   // grid size and the UAV count are taken from the scenario's map and swarm
   // (the parser copies them in); `cycles` is unused (the run length is
   // run.ticks).
   LiuParams params;
-  LiuPolicy search = LiuPolicy::kEsustpm;  // ESUSTPM or a §5.1 baseline
+  LiuPolicy search = LiuPolicy::kEsustpm;  // ESUSTPM or a Liu 2022 Sec. 5.1 baseline
   LiuPrior prior = LiuPrior::kUniform;
-  // kWrong: where the prior expects targets [cell] (§5.3.2).
+  // kWrong: where the prior expects targets [cell] (Liu 2022 Sec. 5.3.2).
   std::vector<Cell> wrong_prior_cells;
-  double prior_sigma_cells = 1.0;  // σ0 [cell] of eq. (1), as liu_swarm
-  double prior_weight = 1.0;       // α_i of eq. (2), as liu_swarm
-  // §4: a confirmed cell is no longer a guidance candidate (as liu_swarm).
+  double prior_sigma_cells = 1.0;  // σ0 [cell] of Liu 2022 eq. (1), as liu_swarm
+  double prior_weight = 1.0;       // α_i of Liu 2022 eq. (2), as liu_swarm
+  // Liu 2022 Sec. 4: a confirmed cell is no longer a guidance candidate (as liu_swarm).
   bool release_confirmed_cells = true;
   LiuSensor sensor = LiuSensor::kNoisy;
   LiuStartVelocity start_velocity = LiuStartVelocity::kRandomHeading;
@@ -46,9 +46,9 @@ struct LiuConfig {
 };
 
 // Default view radius [cell]: the distance beyond which a neighbour's ESUSTPM
-// gain |β_i(d)| (eqs. 7-9) is below 1e-3 m/s for every rule i, or the Boids
+// gain |β_i(d)| (Liu 2022 eq. (7), Liu 2022 eq. (8), Liu 2022 eq. (9)) is below 1e-3 m/s for every rule i, or the Boids
 // safe distance, whichever is larger, in cells, rounded up, at least 1 (the
-// eight cells around the UAV for rule 4). Table 1 with 100 m cells: 3.
+// eight cells around the UAV for rule 4). Liu 2022 Table 1 with 100 m cells: 3.
 double liu_view_radius_cells(const LiuParams& p);
 
 // The run_liu_swarm configuration equivalent to a scenario's Liu policy (for

@@ -19,9 +19,9 @@ struct RavankarConfig {
   uint32_t leaders = 1;          // UAVs 0 .. leaders-1 lead (Role::Leader), the others follow
   std::vector<Cell> route;       // leaders' waypoints [cell], flown in order
   double leader_speed_mps = 0.5;  // [m/s]
-  RavankarDepositParams deposit;          // τ, cap, z_rng, eq. (14) reading
+  RavankarDepositParams deposit;          // τ, cap, z_rng, Ravankar 2016 eq. (14) reading
   RavankarEvaporationParams evaporation;  // K, P_a
-  RavankarFollowerParams follower;        // P0, δ, Table 2
+  RavankarFollowerParams follower;        // P0, δ, Ravankar 2016 Table 2
   RavankarMotionParams motion;            // W_r, wheel noise
   uint32_t fix_every_ticks = 1;           // [tick] 0 = never
   double fix_sigma_m = 0.05;              // [m]

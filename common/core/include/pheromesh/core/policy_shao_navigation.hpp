@@ -1,4 +1,4 @@
-// Scenario parameters of the Shao 2020 navigation policy (§5): a leader on
+// Scenario parameters of the Shao 2020 navigation policy (Shao 2020 Sec. 5): a leader on
 // vector or scalar pheromones, followers flocking (policy_shao_navigation.cpp).
 #pragma once
 
@@ -8,7 +8,7 @@
 namespace pheromesh::core {
 
 struct ShaoNavigationConfig {
-  ShaoNavParams params;  // Table 2
+  ShaoNavParams params;  // Shao 2020 Table 2
   LeaderPheromones leader = LeaderPheromones::Vector;
   Cell region_centre{};  // centre of the target region [cell]
   // The swarm holds its start positions for this many ticks while the

@@ -1,7 +1,7 @@
 // Scenario parameters of the Shostak GPS-denied stigmergy policy
 // (policy_shostak.cpp; scenario.policy.shostak, docs/policies/shostak.md).
 //
-// The paper's constants keep their names from shostak.hpp (layers, eq. (1)-(6)
+// The paper's constants keep their names from shostak.hpp (layers, Shostak 2024 eq. (1), Shostak 2024 eq. (2), Shostak 2024 eq. (3), Shostak 2024 eq. (4), Shostak 2024 eq. (5), Shostak 2024 eq. (6)
 // parameters, drift model); the rest are our choices for what the paper leaves
 // open, the same as the in-experiment swarm loop (cli/experiments/shostak.cpp,
 // SwarmSetup).
@@ -14,16 +14,16 @@
 namespace pheromesh::core {
 
 struct ShostakConfig {
-  // One tick is one deposit period of §3.1 (0.2 s): one explored deposit, one
-  // motion step of speed·dt, one eq. (2) evaporation by (1-ρ)^dt. Other values
+  // One tick is one deposit period of Shostak 2024 Sec. 3.1 (0.2 s): one explored deposit, one
+  // motion step of speed·dt, one Shostak 2024 eq. (2) evaporation by (1-ρ)^dt. Other values
   // keep the physics (deposits at multiples of the deposit period, speed in
   // m/s, ρ per second).
   double dt_s = 0.2;  // [s] (0, 1]
 
-  ShostakLayerParams layers;                    // eqs. (1)-(2), §2, §4.2, §5; cell_size_m [m/cell]
-  ShostakAcoParams aco;                         // eqs. (4)-(6): N, d, ψmax, α, β, our η floor
-  ShostakAttractivenessParams attractiveness;   // eq. (3) (not configurable)
-  ShostakDriftParams drift;                     // ours: dead-reckoning drift, 0 = ideal pose (§4.1)
+  ShostakLayerParams layers;                    // Shostak 2024 eq. (1), Shostak 2024 eq. (2), Shostak 2024 Sec. 2, Shostak 2024 Sec. 4.2, Shostak 2024 Sec. 5; cell_size_m [m/cell]
+  ShostakAcoParams aco;                         // Shostak 2024 eq. (4), Shostak 2024 eq. (5), Shostak 2024 eq. (6): N, d, ψmax, α, β, our η floor
+  ShostakAttractivenessParams attractiveness;   // Shostak 2024 eq. (3) (not configurable)
+  ShostakDriftParams drift;                     // ours: dead-reckoning drift, 0 = ideal pose (Shostak 2024 Sec. 4.1)
 
   // Ours (the paper gives none of these; values of SwarmSetup in
   // cli/experiments/shostak.cpp).
@@ -31,11 +31,11 @@ struct ShostakConfig {
   double altitude_m = 10.0;       // [m] take-off (and dispersal) altitude above the take-off point
   double min_altitude_m = 5.0;    // [m] waypoints' z clamped into [min, max]
   double max_altitude_m = 30.0;   // [m]
-  double dispersal_m = 50.0;      // [m] length of the 2π·i/n dispersal leg (§5), shortened to stay on the map
+  double dispersal_m = 50.0;      // [m] length of the 2π·i/n dispersal leg (Shostak 2024 Sec. 5), shortened to stay on the map
   double detect_radius_m = 10.0;  // [m] horizontal camera footprint radius: a target closer is detected
-  double lidar_range_m = 10.0;    // [m] "obstacle at the set distance" of §4.2 (horizontal)
+  double lidar_range_m = 10.0;    // [m] "obstacle at the set distance" of Shostak 2024 Sec. 4.2 (horizontal)
   // Yaw of UAV i's local frame in the map frame [rad], fixed at take-off
-  // (§4.1); UAVs beyond the list use 0.
+  // (Shostak 2024 Sec. 4.1); UAVs beyond the list use 0.
   std::vector<double> frame_yaw_rad;
 };
 

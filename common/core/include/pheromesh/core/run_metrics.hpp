@@ -66,7 +66,7 @@ class RunRecorder {
   [[nodiscard]] const std::vector<std::pair<uint32_t, double>>& coverage_series() const { return coverage_series_; }
   [[nodiscard]] uint64_t samples_rejected() const { return samples_rejected_; }
   [[nodiscard]] uint64_t deposits_sent() const;
-  // Tick at which a leader became a searcher (Shao 2020 §5: it reached the
+  // Tick at which a leader became a searcher (Shao 2020 Sec. 5: it reached the
   // centre of the target region), if one did.
   [[nodiscard]] std::optional<uint32_t> leader_arrival_tick() const { return leader_arrival_; }
 

@@ -1,4 +1,4 @@
-// Parameters of Shao 2020 (Table 1 holds the paper's values).
+// Parameters of Shao 2020 (Shao 2020 Table 1 holds the paper's values).
 #pragma once
 
 #include <cstdint>

@@ -1,10 +1,10 @@
 // Shostak & Petrenko (KPI), "Decentralised coordination of a drone swarm
 // through stigmergy and swarm intelligence without GPS" (Ukrainian; here
 // "Shostak"): three capped pheromone layers with per-second multiplicative
-// evaporation (eqs. (1)-(2)), attractiveness φ = b_e·b_h + b_t (eq. (3)),
-// 20 random 3-D candidates at 15 m (eq. (4)) chosen by roulette on
-// φ^α·η^β (eqs. (5)-(6)), 0°/120°/240° dispersal (§5), and the GPS-denied
-// local frame of §4.1 plus a dead-reckoning drift model (ours).
+// evaporation (Shostak 2024 eq. (1), Shostak 2024 eq. (2)), attractiveness φ = b_e·b_h + b_t (Shostak 2024 eq. (3)),
+// 20 random 3-D candidates at 15 m (Shostak 2024 eq. (4)) chosen by roulette on
+// φ^α·η^β (Shostak 2024 eq. (5), Shostak 2024 eq. (6)), 0°/120°/240° dispersal (Shostak 2024 Sec. 5), and the GPS-denied
+// local frame of Shostak 2024 Sec. 4.1 plus a dead-reckoning drift model (ours).
 //
 // Conventions: positions in metres [m], angles in radians [rad], azimuth
 // counter-clockwise from +x, pitch positive up (+z). A map cell c covers
@@ -27,31 +27,31 @@
 namespace pheromesh::core {
 
 // ---------------------------------------------------------------------------
-// Layers, deposit, evaporation (Shostak §2, §3.1-3.2, §4.2, §5)
+// Layers, deposit, evaporation (Shostak 2024 Sec. 2, Shostak 2024 Sec. 3.1, Shostak 2024 Sec. 3.2, Shostak 2024 Sec. 4.2, Shostak 2024 Sec. 5)
 
 enum class ShostakLayer : uint8_t { Explored = 0, Hazard = 1, Target = 2 };
 inline constexpr int kShostakLayerCount = 3;
 const char* shostak_layer_name(ShostakLayer l);
 
 struct ShostakLayerParams {
-  double explored_max = 10.0;        // τmax of explored, Shostak §2 / eq. (1): range [0, 10]
-  double hazard_max = 10.0;          // τmax of hazard, §2: [0, 10]
-  double target_max = 100.0;         // τmax of target, §2: [0, 100]
-  double explored_increment = 1.0;   // Δτ, eq. (1), per deposit
-  double hazard_increment = 5.0;     // +5.0 per obstacle detection, §4.2
-  double target_increment = 100.0;   // +100.0 per target detection, §5
-  double deposit_period_s = 0.2;     // one explored deposit every 0.2 s, §3.1 [s]
-  double evaporation_rate = 0.05;    // ρ, eq. (2): 5 % per second, multiplicative [1/s]
-  double cell_size_m = 5.0;          // 40 x 40 cells of 5 m, §2 [m/cell]
+  double explored_max = 10.0;        // τmax of explored, Shostak 2024 Sec. 2 / Shostak 2024 eq. (1): range [0, 10]
+  double hazard_max = 10.0;          // τmax of hazard, Shostak 2024 Sec. 2: [0, 10]
+  double target_max = 100.0;         // τmax of target, Shostak 2024 Sec. 2: [0, 100]
+  double explored_increment = 1.0;   // Δτ, Shostak 2024 eq. (1), per deposit
+  double hazard_increment = 5.0;     // +5.0 per obstacle detection, Shostak 2024 Sec. 4.2
+  double target_increment = 100.0;   // +100.0 per target detection, Shostak 2024 Sec. 5
+  double deposit_period_s = 0.2;     // one explored deposit every 0.2 s, Shostak 2024 Sec. 3.1 [s]
+  double evaporation_rate = 0.05;    // ρ, Shostak 2024 eq. (2): 5 % per second, multiplicative [1/s]
+  double cell_size_m = 5.0;          // 40 x 40 cells of 5 m, Shostak 2024 Sec. 2 [m/cell]
 };
 
-// Per-step evaporation factor for a step of dt_s seconds. Eq. (2) is
+// Per-step evaporation factor for a step of dt_s seconds. Shostak 2024 eq. (2) is
 // multiplicative per whole second, τ(t+1) = τ(t)·(1-ρ), so a step of dt
-// multiplies by (1-ρ)^dt (exactly eq. (2) when dt is 1 s, and steps compose:
+// multiplies by (1-ρ)^dt (exactly Shostak 2024 eq. (2) when dt is 1 s, and steps compose:
 // five 0.2 s steps equal one 1 s step). Not e^(-ρ·dt).
 double shostak_evaporation_factor(double rho, double dt_s);
-// Time [s] for a level to halve under eq. (2): ln 0.5 / ln(1-ρ); 13.51 s for
-// ρ = 0.05. Shostak §5 reports "10.0 -> 5.0 in about 14 s" (whole-second
+// Time [s] for a level to halve under Shostak 2024 eq. (2): ln 0.5 / ln(1-ρ); 13.51 s for
+// ρ = 0.05. Shostak 2024 Sec. 5 reports "10.0 -> 5.0 in about 14 s" (whole-second
 // steps: 10·0.95^13 = 5.13, 10·0.95^14 = 4.88).
 double shostak_half_life_s(double rho);
 // Number of deposit instants k·period (k integer) in (t0_s, t1_s]; 0 if t1 <= t0.
@@ -77,14 +77,14 @@ class ShostakLayers {
   [[nodiscard]] std::optional<ShostakCellValues> values(Cell c) const;
   [[nodiscard]] float value(ShostakLayer l, Cell c) const;  // c must be in rect()
 
-  // Eq. (1) for any layer: τ <- min(τ + amount, τmax). Returns false and
+  // Shostak 2024 eq. (1) for any layer: τ <- min(τ + amount, τmax). Returns false and
   // changes nothing if c is outside rect() or amount is negative or not finite.
   bool deposit(ShostakLayer l, Cell c, double amount);
   bool deposit_explored(Cell c) { return deposit(ShostakLayer::Explored, c, p_.explored_increment); }  // one 0.2 s deposit
-  bool mark_hazard(Cell c) { return deposit(ShostakLayer::Hazard, c, p_.hazard_increment); }           // §4.2
-  bool mark_target(Cell c) { return deposit(ShostakLayer::Target, c, p_.target_increment); }           // §5
+  bool mark_hazard(Cell c) { return deposit(ShostakLayer::Hazard, c, p_.hazard_increment); }           // Shostak 2024 Sec. 4.2
+  bool mark_target(Cell c) { return deposit(ShostakLayer::Target, c, p_.target_increment); }           // Shostak 2024 Sec. 5
 
-  // Eq. (2) over dt_s seconds on every layer: τ <- τ·(1-ρ)^dt. dt_s <= 0 does nothing.
+  // Shostak 2024 eq. (2) over dt_s seconds on every layer: τ <- τ·(1-ρ)^dt. dt_s <= 0 does nothing.
   void evaporate(double dt_s);
 
  private:
@@ -95,34 +95,34 @@ class ShostakLayers {
 };
 
 // ---------------------------------------------------------------------------
-// Attractiveness, candidates, roulette (Shostak §3.3-3.5)
+// Attractiveness, candidates, roulette (Shostak 2024 Sec. 3.3, Shostak 2024 Sec. 3.4, Shostak 2024 Sec. 3.5)
 
 struct ShostakAttractivenessParams {
-  double explored_scale = 10.0;       // b_e = 1 - min(τ_e / 10, 0.9), eq. (3)
+  double explored_scale = 10.0;       // b_e = 1 - min(τ_e / 10, 0.9), Shostak 2024 eq. (3)
   double explored_max_penalty = 0.9;  // so b_e in [0.1, 1]
-  double hazard_scale = 10.0;         // b_h = 1 - min(τ_h / 10, 0.95), eq. (3)
+  double hazard_scale = 10.0;         // b_h = 1 - min(τ_h / 10, 0.95), Shostak 2024 eq. (3)
   double hazard_max_penalty = 0.95;   // so b_h in [0.05, 1]
-  double target_gain = 10.0;          // b_t = τ_t · 10, eq. (3)
+  double target_gain = 10.0;          // b_t = τ_t · 10, Shostak 2024 eq. (3)
 };
 
 struct ShostakAttractiveness {
   double b_e = 0.0;  // exploration bonus
   double b_h = 0.0;  // hazard penalty (a factor)
   double b_t = 0.0;  // target bonus
-  double phi = 0.0;  // φ = b_e·b_h + b_t, eq. (3)
+  double phi = 0.0;  // φ = b_e·b_h + b_t, Shostak 2024 eq. (3)
 };
-// Eq. (3). Negative layer values are read as 0 (the layers never hold them).
+// Shostak 2024 eq. (3). Negative layer values are read as 0 (the layers never hold them).
 ShostakAttractiveness shostak_attractiveness(const ShostakCellValues& v, const ShostakAttractivenessParams& p);
 
 struct ShostakAcoParams {
-  uint32_t candidate_count = 20;                        // N, §3.4
-  double step_m = 15.0;                                 // d, eq. (4) [m]
-  double pitch_max_rad = std::numbers::pi / 6.0;        // ψ ~ U(-π/6, π/6), eq. (4) [rad]
-  double alpha = 1.5;                                   // α, eq. (5)
-  double beta = 3.0;                                    // β, eq. (5)
-  // η is "the heuristic function" in eq. (5), not defined by the paper. Ours:
+  uint32_t candidate_count = 20;                        // N, Shostak 2024 Sec. 3.4
+  double step_m = 15.0;                                 // d, Shostak 2024 eq. (4) [m]
+  double pitch_max_rad = std::numbers::pi / 6.0;        // ψ ~ U(-π/6, π/6), Shostak 2024 eq. (4) [rad]
+  double alpha = 1.5;                                   // α, Shostak 2024 eq. (5)
+  double beta = 3.0;                                    // β, Shostak 2024 eq. (5)
+  // η is "the heuristic function" in Shostak 2024 eq. (5), not defined by the paper. Ours:
   // alignment with a preferred azimuth (current heading, or bearing to a
-  // reported target, §4.3), η = floor + (1-floor)·(1 + cos Δθ)/2 in [floor, 1];
+  // reported target, Shostak 2024 Sec. 4.3), η = floor + (1-floor)·(1 + cos Δθ)/2 in [floor, 1];
   // η = 1 for every candidate when there is no preferred azimuth.
   double eta_floor = 0.1;
 };
@@ -132,15 +132,15 @@ struct ShostakCandidate {
   double azimuth_rad = 0.0;                            // θ in [0, 2π)
   double pitch_rad = 0.0;                              // ψ in [-ψmax, ψmax)
 };
-// Eq. (4): c_k = p + d·(cos ψ cos θ, cos ψ sin θ, sin ψ), θ ~ U(0, 2π),
+// Shostak 2024 eq. (4): c_k = p + d·(cos ψ cos θ, cos ψ sin θ, sin ψ), θ ~ U(0, 2π),
 // ψ ~ U(-ψmax, ψmax), N candidates; draws θ then ψ per candidate.
 std::vector<ShostakCandidate> shostak_candidates(const Eigen::Vector3d& p, const ShostakAcoParams& params, Rng& rng);
 
 // Our η (see ShostakAcoParams::eta_floor).
 double shostak_eta(double candidate_azimuth_rad, std::optional<double> preferred_azimuth_rad, const ShostakAcoParams& p);
-// Eq. (5): s = φ^α · η^β (0 for φ <= 0 or η <= 0).
+// Shostak 2024 eq. (5): s = φ^α · η^β (0 for φ <= 0 or η <= 0).
 double shostak_score(double phi, double eta, const ShostakAcoParams& p);
-// Eq. (6): draws index k with probability s_k / Σ s_j. Negative or non-finite
+// Shostak 2024 eq. (6): draws index k with probability s_k / Σ s_j. Negative or non-finite
 // scores count as 0; nullopt if no score is positive.
 std::optional<std::size_t> shostak_roulette(std::span<const double> scores, Rng& rng);
 
@@ -154,16 +154,16 @@ using ShostakLookup = std::function<std::optional<ShostakCellValues>(Cell)>;
 struct ShostakChoice {
   ShostakCandidate candidate;
   std::size_t index = 0;     // in the generated list
-  double probability = 0.0;  // P(c_k), eq. (6)
+  double probability = 0.0;  // P(c_k), Shostak 2024 eq. (6)
 };
-// One decision of §3.4-3.5 from world position p: generate candidates, score
+// One decision of Shostak 2024 Sec. 3.4, Shostak 2024 Sec. 3.5 from world position p: generate candidates, score
 // each at the cell under it, draw one. nullopt if every candidate scores 0.
 std::optional<ShostakChoice> shostak_choose(const Eigen::Vector3d& p_world, std::optional<double> preferred_azimuth_rad,
                                             const ShostakLookup& lookup, double cell_size_m,
                                             const ShostakAcoParams& aco, const ShostakAttractivenessParams& attr,
                                             Rng& rng);
 
-// Initial dispersal, §5: UAV `index` of `count` flies out at 2π·index/count
+// Initial dispersal, Shostak 2024 Sec. 5: UAV `index` of `count` flies out at 2π·index/count
 // (0°, 120°, 240° for the paper's three drones) [rad]; 0 if count == 0.
 double shostak_dispersal_heading(uint32_t index, uint32_t count);
 // The dispersal waypoint `distance_m` from `start` at that heading, same altitude.
@@ -171,9 +171,9 @@ Eigen::Vector3d shostak_dispersal_waypoint(const Eigen::Vector3d& start, uint32_
                                            double distance_m);
 
 // ---------------------------------------------------------------------------
-// GPS-denied local frame (Shostak §4.1) and drift (ours)
+// GPS-denied local frame (Shostak 2024 Sec. 4.1) and drift (ours)
 //
-// §4.1: no GPS; each drone works in a local Cartesian frame with its origin
+// Shostak 2024 Sec. 4.1: no GPS; each drone works in a local Cartesian frame with its origin
 // at the take-off point, the pose coming from VIO / motion capture / LIDAR
 // SLAM (ideal in the paper's simulation). Here a UAV knows only its own frame
 // (where its origin sits in the shared map frame and its yaw, fixed at take-

@@ -1,0 +1,46 @@
+#!/usr/bin/env bash
+# Checks that every citation of the papers in comments and docs has one form:
+#   Shao 2020 eq. (9)   Shao 2020 Table 1   Duan 2009 Fig. 5
+#   Liu 2022 Algorithm 1   Shao 2020 Sec. 4.2
+# One equation (table, figure, ...) per mention: no "eqs.", no ranges, no
+# lists. See docs/contributing.md. Usage: check-citations.sh [repo root].
+# Prints file:line: text for each bad mention and exits 1 if there is one.
+# C++ and textproto string literals are not checked (they are code).
+set -euo pipefail
+root=${1:-$(cd "$(dirname "$0")/.." && pwd)}
+cd "$root"
+
+files=$(
+  {
+    find common agent placeagent groundstation cli bench tests \
+      \( -name build -o -name 'build-*' -o -name .git -o -name node_modules \) -prune -o \
+      -type f \( -name '*.cpp' -o -name '*.hpp' -o -name '*.h' -o -name '*.proto' -o -name '*.textproto' \) -print
+    # docs/contributing.md shows the bad forms on purpose.
+    find docs -type f -name '*.md' ! -path docs/contributing.md
+    find scenarios -type f -name '*.textproto'
+    find idl -type f -name '*.idl'
+    echo README.md
+  } 2>/dev/null | sort
+)
+
+# shellcheck disable=SC2086
+perl -CSD -Mutf8 -ne '
+  BEGIN { $bad = 0; $cite = qr/(?:Shao 2020|Liu 2022|Duan 2009|Ravankar 2016|Shostak 2024)/; }
+  my $t = $_;
+  # Code files: drop string literals, keep comments and code.
+  $t =~ s/"(?:\\.|[^"\\])*"//g if $ARGV !~ /\.md$/;
+  my @why;
+  push @why, "range or list after eq."
+    if $t =~ /eq\. \(\d+\)\s*(?:[-–—]|to\b|,|and\b|or\b)\s*\(\d+\)/
+      || $t =~ /eq\. \(\d+\)\s*(?:[-–—]|to\b|,|and\b|or\b)\s*\d/;
+  push @why, "et al. before a year" if $t =~ /\bet al\.?,?\s*\(?(?:19|20)\d\d/;
+  push @why, "\"Eq\"/\"eqs\"/\"equation\"" if $t =~ /\b(?:Eqs?|EQS?|eqs|[Ee]quations?)\b\.?\s*\(?\d/;
+  (my $u = $t) =~ s/$cite (?:eq\. \(\d+\)|Table \d+|Fig\. \d+[a-z]?|Algorithm \d+|Sec\. \d+(?:\.\d+)*)//g;
+  push @why, "eq. without <Author> <Year> or not as eq. (N)" if $u =~ /\beq\b\.?\s*\(?\d/;
+  push @why, "table/figure/algorithm without <Author> <Year>"
+    if $u =~ /\b(?:Tables?\s+\d|Tabs?\.\s*\d|Figs?\.\s*\d|Figures?\s+\d|Algorithms?\s+\d|Alg\.\s*\d)/;
+  push @why, "section not as <Author> <Year> Sec. N" if $u =~ /§|\b(?:Secs?\.|Sections?|sections?)\s*\d/;
+  if (@why) { chomp(my $l = $_); $l =~ s/^\s+//; print "$ARGV:$.: $why[0]: $l\n"; $bad = 1; }
+  close ARGV if eof;
+  END { exit $bad; }
+' $files
