@@ -33,6 +33,8 @@ GroundApp::GroundApp(GroundConfig cfg, core::ScenarioConfig scenario, std::uniqu
       resend_(*bus_, true),  // only conduct() (lockstep) publishes through it
       log_(spdlog::default_logger()),
       rec_(scenario_, world_),
+      conductor_({cfg_.expect_uavs != 0 ? cfg_.expect_uavs : scenario_.uavs, geo_.region_count(),
+                  std::chrono::milliseconds(static_cast<int64_t>(cfg_.phase_timeout_s * 1000))}),
       layers_(static_cast<int>(core::policy_traits(scenario_).layers.size())) {
   if (cfg_.expect_uavs == 0) cfg_.expect_uavs = scenario_.uavs;
   run_t0_unix_ms_ = unix_ms_now();
@@ -73,33 +75,19 @@ void GroundApp::note_discovery() {
   }
 }
 
-namespace {
-// Ticks of lockstep bookkeeping kept by the ground station.
-constexpr uint32_t kKeepTicks = 4;
-template <typename M>
-void keep_recent(M& by_tick) {
-  while (by_tick.size() > kKeepTicks) by_tick.erase(by_tick.begin());
-}
-}  // namespace
-
 void GroundApp::poll() {
   states_.clear();
   bus_->take_uav_states(states_);
   for (const auto& s : states_) {
-    const bool was_departed = departed_uavs_.contains(s.uav);
     if (!rec_.on_uav_state(s)) {
       if (rec_.samples_rejected() <= 3) log_->warn("dropped state of uav {}", s.uav);
       continue;
     }
-    if (was_departed && !s.finished) log_->info("uav {} is back at tick {}", s.uav, s.tick);
+    const bool back = s.finished ? conductor_.on_uav_finished(s.uav)
+                                 : conductor_.on_uav_state(s.uav, s.tick, geo_.tile_of(core::state_cell(s)));
+    if (back && !s.finished) log_->info("uav {} is back at tick {}", s.uav, s.tick);
     uav_heard_[s.uav] = Clock::now();
     if (uncertainty_ && !s.finished) uncertainty_->observe(core::state_cell(s), s.tick);
-    departed_uavs_.erase(s.uav);
-    departed_since_.erase(s.uav);
-    if (!s.finished) {
-      positions_[s.tick][s.uav] = geo_.tile_of(core::state_cell(s));
-      keep_recent(positions_);
-    }
   }
   broadcasts_.clear();
   bus_->take_broadcasts(broadcasts_);
@@ -108,19 +96,16 @@ void GroundApp::poll() {
       rec_.count_rejected_sample();
       continue;
     }
-    broadcasters_[b.tick].insert(b.uav);
-    keep_recent(broadcasters_);
+    conductor_.on_broadcast(b.uav, b.tick);
   }
   std::vector<uint32_t> gone;
   bus_->take_departed_uavs(gone);
   for (uint32_t id : gone) {
     auto it = rec_.uavs().find(id);
     const bool finished = it != rec_.uavs().end() && it->second.finished;
-    if (!finished && !departed_uavs_.contains(id)) {
+    if (conductor_.on_uav_departed(id, Clock::now()) && !finished) {
       log_->warn("uav {} lost (liveliness) at tick {}", id, it != rec_.uavs().end() ? it->second.last.tick : 0);
     }
-    departed_uavs_.insert(id);
-    departed_since_.emplace(id, Clock::now());
     rec_.on_uav_departed(id);
   }
   detections_.clear();
@@ -136,9 +121,9 @@ void GroundApp::poll() {
   bus_->take_target_events(events_);
   for (const auto& e : events_) {
     rec_.on_target_event(e);
-    // Shao 2020 revisits: kind 1 = due, 2 = revisited (marks.hpp).
-    if (e.kind == 1) revisit_due_[{e.cell.x, e.cell.y}] = true;
-    if (e.kind == 2) revisit_due_[{e.cell.x, e.cell.y}] = false;
+    // Shao 2020 revisits (marks.hpp).
+    if (e.kind == static_cast<uint8_t>(core::TargetEventKind::RevisitDue)) revisit_due_[{e.cell.x, e.cell.y}] = true;
+    if (e.kind == static_cast<uint8_t>(core::TargetEventKind::Revisited)) revisit_due_[{e.cell.x, e.cell.y}] = false;
   }
   healths_.clear();
   bus_->take_health(healths_);
@@ -171,7 +156,7 @@ void GroundApp::poll() {
   }
   dones_.clear();
   bus_->take_phase_done(dones_);
-  for (const auto& d : dones_) done_[d.process] = d;
+  for (const auto& d : dones_) conductor_.on_phase_done(d);
   note_discovery();
 }
 
@@ -196,83 +181,23 @@ void GroundApp::progress_if_due() {
   next_progress_ += std::chrono::milliseconds(static_cast<int64_t>(cfg_.progress_period_s * 1000));
 }
 
-core::ClockMsg GroundApp::announce(uint32_t tick, core::ClockPhase phase) const {
-  core::ClockMsg m;
-  m.tick = tick;
-  m.phase = static_cast<uint8_t>(phase);
-  if (phase == core::ClockPhase::Place) {
-    for (const auto& [region, n] : deposits_reported_) m.deposits.push_back({region, n});
-    return m;
-  }
-  if (phase != core::ClockPhase::Uav || tick == 0) return m;
-  // Every UAV's state of tick-1 is here: each UAV flushed it before it
-  // reported the phase done.
-  if (auto it = positions_.find(tick - 1); it != positions_.end()) {
-    std::map<std::pair<int32_t, int32_t>, uint32_t> count;
-    for (const auto& [uav, t] : it->second) {
-      ++count[{t.tx, t.ty}];
-      log_->debug("tick {}: uav {} over tile ({},{})", tick - 1, uav, t.tx, t.ty);
-    }
-    for (const auto& [t, n] : count) m.occupancy.push_back({{t.first, t.second}, n});
-  }
-  if (auto it = broadcasters_.find(tick - 1); it != broadcasters_.end()) {
-    m.broadcasts = static_cast<uint32_t>(it->second.size());
-  }
-  return m;
-}
-
-bool GroundApp::gone_for_good(uint32_t uav) const {
-  // A UAV whose liveliness lapsed may only be stalled (an overloaded host):
-  // lockstep keeps waiting for it this long before going on without it, so
-  // a hiccup does not change the run.
-  constexpr auto kGrace = std::chrono::seconds(5);
-  auto it = departed_since_.find(uav);
-  return departed_uavs_.contains(uav) && it != departed_since_.end() && Clock::now() - it->second > kGrace;
-}
-
 bool GroundApp::run_phase(uint32_t tick, core::ClockPhase phase) {
   poll();
   resend_.begin_tick();
-  resend_.clock(announce(tick, phase));
-  const bool uav_phase = phase == core::ClockPhase::Uav;
-  const uint32_t role = uav_phase ? core::kRoleUav : core::kRolePlace;
-  const uint32_t count = uav_phase ? cfg_.expect_uavs : geo_.region_count();
-  const auto deadline = Clock::now() + std::chrono::milliseconds(static_cast<int64_t>(cfg_.phase_timeout_s * 1000));
+  resend_.clock(conductor_.begin_phase(tick, phase, Clock::now()));
   for (;;) {
     poll();
-    uint32_t waiting = 0;
-    for (uint32_t id = 0; id < count; ++id) {
-      if (uav_phase && gone_for_good(id)) continue;  // dead UAVs are not waited for
-      auto it = done_.find(core::process_key(role, id));
-      const bool done = it != done_.end() && it->second.tick == tick && it->second.phase == static_cast<uint8_t>(phase);
-      waiting += done ? 0 : 1;
-    }
-    if (waiting == 0 && uav_phase) {
-      // Every UAV's state and reported broadcast of this tick must be here
-      // before the next announcements are computed from them.
-      uint32_t broadcasts = 0;
-      deposits_reported_.clear();
-      for (uint32_t id = 0; id < count; ++id) {
-        auto it = done_.find(core::process_key(role, id));
-        if (gone_for_good(id) || it == done_.end()) continue;
-        broadcasts += it->second.broadcasts;
-        for (const auto& rc : it->second.deposits) deposits_reported_[rc.region] += rc.count;
-        auto pos = positions_.find(tick);
-        if (pos == positions_.end() || !pos->second.contains(id)) ++waiting;
-      }
-      auto b = broadcasters_.find(tick);
-      if ((b == broadcasters_.end() ? 0U : static_cast<uint32_t>(b->second.size())) < broadcasts) ++waiting;
-    }
-    if (waiting == 0) return true;
-    if (Clock::now() > deadline || runtime::shutdown_requested()) {
+    const auto st = conductor_.status(Clock::now());
+    if (st.complete) return true;
+    if (st.timed_out || runtime::shutdown_requested()) {
       log_->error("lockstep tick {} {} phase: {} process(es) did not finish within {} s", tick,
-                  uav_phase ? "uav" : "place", waiting, cfg_.phase_timeout_s);
+                  phase == core::ClockPhase::Uav ? "uav" : "place", st.waiting, cfg_.phase_timeout_s);
       return false;
     }
     progress_if_due();
     service();
     if (resend_.resend_if_quiet()) log_->debug("lockstep tick {}: nothing new for 1 s; re-sent the clock", tick);
-    wait_for_data(std::min(deadline, Clock::now() + std::chrono::milliseconds(20)));
+    wait_for_data(Clock::now() + std::chrono::milliseconds(20));
   }
 }
 
@@ -297,7 +222,7 @@ bool GroundApp::conduct() {
     progress_if_due();
     service();
   }
-  bus_->publish_clock(announce(ticks, core::ClockPhase::Stop));
+  bus_->publish_clock(core::LockstepConductor::stop(ticks));
   bus_->flush(std::chrono::seconds(5));
   return ok;
 }

@@ -18,6 +18,7 @@
 #include "pheromesh/console/recording.hpp"
 #include "pheromesh/console/server.hpp"
 #include "pheromesh/console/uncertainty.hpp"
+#include "pheromesh/core/conductor.hpp"
 #include "pheromesh/core/run_metrics.hpp"
 #include "pheromesh/core/scenario.hpp"
 #include "pheromesh/core/world.hpp"
@@ -59,10 +60,6 @@ class GroundApp {
   // Lockstep conductor: returns false if a phase timed out.
   bool conduct();
   bool run_phase(uint32_t tick, core::ClockPhase phase);
-  // Lockstep: the UAV lost liveliness and did not come back within a grace period.
-  [[nodiscard]] bool gone_for_good(uint32_t uav) const;
-  // What UAV phase `tick` produced: the UAVs over each tile, the broadcasts.
-  [[nodiscard]] core::ClockMsg announce(uint32_t tick, core::ClockPhase phase) const;
   int finish();
 
   // --- web console, recording and commands
@@ -83,9 +80,7 @@ class GroundApp {
   std::shared_ptr<spdlog::logger> log_;
   core::RunRecorder rec_;
   std::map<std::pair<int, std::pair<int32_t, int32_t>>, core::TileMsg> tiles_latest_;  // (layer, tile)
-  std::map<uint32_t, core::PhaseDoneMsg> done_;  // process key -> latest
-  std::set<uint32_t> departed_uavs_;
-  std::map<uint32_t, std::chrono::steady_clock::time_point> departed_since_;
+  core::LockstepConductor conductor_;  // lockstep protocol (also departures, realtime)
   std::chrono::steady_clock::time_point next_progress_;
   // reusable inboxes
   std::vector<core::UavStateMsg> states_;
@@ -97,12 +92,6 @@ class GroundApp {
   std::vector<core::PhaseDoneMsg> dones_;
   std::vector<core::BroadcastMsg> broadcasts_;
   int layers_ = 0;
-  // Lockstep bookkeeping of the last few UAV ticks: tick -> uav -> tile, and
-  // tick -> UAVs that broadcast.
-  std::map<uint32_t, std::map<uint32_t, core::TileCoord>> positions_;
-  std::map<uint32_t, std::set<uint32_t>> broadcasters_;
-  // Lockstep: what the UAVs reported writing in the current tick's UAV phase.
-  std::map<core::RegionId, uint32_t> deposits_reported_;
 
   // --- web console
   std::unique_ptr<LiveConsole> console_;

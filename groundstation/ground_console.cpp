@@ -20,7 +20,6 @@ using Clock = std::chrono::steady_clock;
 using Answer = console::ConsoleSource::Answer;
 
 namespace {
-constexpr uint32_t kRoleGround = 3;  // process_key role of the ground station (1 uav, 2 place)
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
 uint64_t wall_ms() {
@@ -297,7 +296,7 @@ Answer GroundApp::publish_swarm_command(core::CommandMsg c) {
     return {409, std::string("this ground station has no control key ($") + auth::kControlKeyEnv +
                      "); start the swarm with pheromesh run"};
   }
-  c.issuer = core::process_key(kRoleGround, 0);
+  c.issuer = core::process_key(core::kRoleGround, 0);
   c.seq = ++command_seq_;
   c.issued_ms = wall_ms();
   auth::sign(c, *control_key_);

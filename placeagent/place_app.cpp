@@ -143,7 +143,7 @@ void PlaceApp::step(uint32_t tick, bool exact, std::optional<uint32_t> expected_
   for (const auto& e : events_) {
     bus_->publish_target_event(e);
     log_->info("target at ({},{}) {} at tick {}", e.cell.x, e.cell.y,
-               e.kind == 0 ? "marked" : e.kind == 1 ? "due for a revisit" : "revisited", tick);
+               core::to_string(static_cast<core::TargetEventKind>(e.kind)), tick);
   }
   resend_.halo({cfg_.region, tick, ring.target, ring.obstacle});
   // Neighbour rings. Realtime: whatever arrived (a neighbour that sent

@@ -8,6 +8,7 @@
 
 #include "pheromesh/core/grid.hpp"
 #include "pheromesh/core/layers.hpp"
+#include "pheromesh/core/marks.hpp"
 #include "pheromesh/core/messages.hpp"
 
 namespace pheromesh::core {
@@ -243,6 +244,15 @@ TEST(CheckHalo, RejectsNonFiniteValues) {
   HaloMsg h = good_halo(geo, 3);
   h.obstacle.back() = kInf;
   expect_reason(check_halo(h, geo), "not finite");
+}
+
+TEST(Messages, TargetEventKindsAreTheMarkEventKindsWithNames) {
+  EXPECT_EQ(static_cast<int>(TargetEventKind::FirstMarked), static_cast<int>(MarkEvent::Kind::FirstMarked));
+  EXPECT_EQ(static_cast<int>(TargetEventKind::RevisitDue), static_cast<int>(MarkEvent::Kind::RevisitDue));
+  EXPECT_EQ(static_cast<int>(TargetEventKind::Revisited), static_cast<int>(MarkEvent::Kind::Revisited));
+  EXPECT_STREQ(to_string(TargetEventKind::RevisitDue), "due for a revisit");
+  EXPECT_STREQ(to_string(static_cast<TargetEventKind>(9)), "unknown");
+  EXPECT_EQ(process_key(kRoleGround, 0) >> 24U, 3U);
 }
 
 }  // namespace

@@ -9,6 +9,16 @@
 
 namespace pheromesh::core {
 
+const char* to_string(TargetEventKind k) {
+  switch (k) {
+    case TargetEventKind::FirstMarked: return "marked";
+    case TargetEventKind::RevisitDue: return "due for a revisit";
+    case TargetEventKind::Revisited: return "revisited";
+  }
+  return "unknown";
+}
+
+
 namespace {
 
 constexpr float kMaxDepositAmount = 1e6F;

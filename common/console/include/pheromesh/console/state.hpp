@@ -61,7 +61,7 @@ struct UavView {
   uint32_t id = 0;
   double x = 0, y = 0;  // [cell]
   uint8_t heading = 0;  // 0..7, 45 deg steps counter-clockwise from east
-  uint8_t role = 0;     // 0 searcher, 1 leader, 2 follower
+  uint8_t role = 0;     // core::Role
   uint32_t tick = 0;
   Liveness liveness = Liveness::Alive;
   std::deque<TrackPoint> track;  // decimated, at most kTrackPoints

@@ -73,10 +73,14 @@ struct DetectionMsg {
   Cell cell{};
 };
 
+// TargetEventMsg::kind on the wire (the values of MarkEvent::Kind).
+enum class TargetEventKind : uint8_t { FirstMarked = 0, RevisitDue = 1, Revisited = 2 };
+const char* to_string(TargetEventKind k);  // "marked", "due for a revisit", "revisited"
+
 struct TargetEventMsg {
   RegionId region = 0;
   uint32_t tick = 0;
-  uint8_t kind = 0;  // MarkEvent::Kind
+  uint8_t kind = 0;  // TargetEventKind
   Cell cell{};
   uint32_t response_ticks = 0;
 };
@@ -151,6 +155,7 @@ struct ClockMsg {
 };
 inline constexpr uint32_t kRoleUav = 1;
 inline constexpr uint32_t kRolePlace = 2;
+inline constexpr uint32_t kRoleGround = 3;
 inline constexpr uint32_t process_key(uint32_t role, uint32_t id) { return role << 24U | (id & 0xFFFFFFU); }
 struct PhaseDoneMsg {
   uint32_t process = 0;  // process_key(role, id)

@@ -1,0 +1,107 @@
+#include "pheromesh/core/conductor.hpp"
+
+namespace pheromesh::core {
+
+namespace {
+// Ticks of bookkeeping kept: a UAV phase needs the tick before it only.
+constexpr std::size_t kKeepTicks = 4;
+template <typename M>
+void trim(M& by_tick) {
+  while (by_tick.size() > kKeepTicks) by_tick.erase(by_tick.begin());
+}
+}  // namespace
+
+bool LockstepConductor::on_uav_state(uint32_t uav, uint32_t tick, TileCoord tile) {
+  positions_[tick][uav] = tile;
+  trim(positions_);
+  return departed_since_.erase(uav) > 0;
+}
+
+bool LockstepConductor::on_uav_finished(uint32_t uav) { return departed_since_.erase(uav) > 0; }
+
+void LockstepConductor::on_broadcast(uint32_t uav, uint32_t tick) {
+  broadcasters_[tick].insert(uav);
+  trim(broadcasters_);
+}
+
+void LockstepConductor::on_phase_done(const PhaseDoneMsg& m) { done_[m.process] = m; }
+
+bool LockstepConductor::on_uav_departed(uint32_t uav, Clock::time_point now) {
+  return departed_since_.emplace(uav, now).second;
+}
+
+bool LockstepConductor::gone_for_good(uint32_t uav, Clock::time_point now) const {
+  auto it = departed_since_.find(uav);
+  return it != departed_since_.end() && now - it->second > o_.departed_grace;
+}
+
+ClockMsg LockstepConductor::begin_phase(uint32_t tick, ClockPhase phase, Clock::time_point now) {
+  tick_ = tick;
+  phase_ = phase;
+  deadline_ = now + o_.phase_timeout;
+  return announce(tick, phase);
+}
+
+ClockMsg LockstepConductor::stop(uint32_t ticks) {
+  ClockMsg m;
+  m.tick = ticks;
+  m.phase = static_cast<uint8_t>(ClockPhase::Stop);
+  return m;
+}
+
+ClockMsg LockstepConductor::announce(uint32_t tick, ClockPhase phase) const {
+  ClockMsg m;
+  m.tick = tick;
+  m.phase = static_cast<uint8_t>(phase);
+  if (phase == ClockPhase::Place) {
+    // The deposits of this tick each region must apply, as the UAVs reported.
+    for (const auto& [region, n] : deposits_reported_) m.deposits.push_back({region, n});
+    return m;
+  }
+  if (phase != ClockPhase::Uav || tick == 0) return m;
+  // UAV phase k: the UAVs over each tile after UAV phase k-1, and how many
+  // broadcasts it produced (each UAV waits until it holds all of them).
+  if (auto it = positions_.find(tick - 1); it != positions_.end()) {
+    std::map<std::pair<int32_t, int32_t>, uint32_t> count;
+    for (const auto& [uav, t] : it->second) ++count[{t.tx, t.ty}];
+    for (const auto& [t, n] : count) m.occupancy.push_back({{t.first, t.second}, n});
+  }
+  if (auto it = broadcasters_.find(tick - 1); it != broadcasters_.end()) {
+    m.broadcasts = static_cast<uint32_t>(it->second.size());
+  }
+  return m;
+}
+
+LockstepConductor::Status LockstepConductor::status(Clock::time_point now) {
+  const bool uav_phase = phase_ == ClockPhase::Uav;
+  const uint32_t role = uav_phase ? kRoleUav : kRolePlace;
+  const uint32_t count = uav_phase ? o_.uavs : o_.regions;
+  Status s;
+  for (uint32_t id = 0; id < count; ++id) {
+    if (uav_phase && gone_for_good(id, now)) continue;  // dead UAVs are not waited for
+    auto it = done_.find(process_key(role, id));
+    const bool done = it != done_.end() && it->second.tick == tick_ && it->second.phase == static_cast<uint8_t>(phase_);
+    s.waiting += done ? 0 : 1;
+  }
+  if (s.waiting == 0 && uav_phase) {
+    // Every UAV's state and reported broadcast of this tick must be here
+    // before the next announcements are computed from them.
+    uint32_t broadcasts = 0;
+    deposits_reported_.clear();
+    auto pos = positions_.find(tick_);
+    for (uint32_t id = 0; id < count; ++id) {
+      auto it = done_.find(process_key(role, id));
+      if (gone_for_good(id, now) || it == done_.end()) continue;
+      broadcasts += it->second.broadcasts;
+      for (const auto& rc : it->second.deposits) deposits_reported_[rc.region] += rc.count;
+      if (pos == positions_.end() || !pos->second.contains(id)) ++s.waiting;
+    }
+    auto b = broadcasters_.find(tick_);
+    if ((b == broadcasters_.end() ? 0U : static_cast<uint32_t>(b->second.size())) < broadcasts) ++s.waiting;
+  }
+  s.complete = s.waiting == 0;
+  s.timed_out = !s.complete && now > deadline_;
+  return s;
+}
+
+}  // namespace pheromesh::core
