@@ -192,8 +192,8 @@ Report run_convergence(uint32_t runs, const Progress& progress) {
       "picks among 20 random directions, so a drone zig-zags toward the target rather than flying straight. The "
       "ratio row measures the cost of that.",
       "All drones share one pheromone map (the /swarm/pheromone_map topic, with ideal pose as in the paper's Gazebo "
-      "runs, §4.1). Layers evaporate every 0.2 s by (1−ρ)^0.2. The swarm loop lives in this file, seeded per run "
-      "and per UAV (stream_seed), so every run can be repeated exactly.",
+      "runs, §4.1). Layers evaporate every 0.2 s by (1−ρ)^0.2. The swarm loop (core::shostak_swarm_run) is seeded "
+      "per run and per UAV (stream_seed), so every run can be repeated exactly.",
   };
   return rep;
 }
