@@ -1,81 +1,34 @@
 // Duan 2009 Sec. 4, second experiment: three UAVs plan with team colonies
 // (Max-Min adaptive ACO, Duan 2009 eq. (9), Duan 2009 eq. (10), Duan 2009 eq. (11), Duan 2009 eq. (12), Duan 2009 eq. (13), Duan 2009 eq. (14), Duan 2009 eq. (15), Duan 2009 eq. (16), Duan 2009 eq. (17), Duan 2009 eq. (18)), agree on an ETA (Duan 2009 eq. (4), Duan 2009 eq. (5), Duan 2009 eq. (6), Duan 2009 eq. (7), Duan 2009 eq. (8)), then
 // the pop-up threats of Duan 2009 Table 4 appear and every UAV replans (Duan 2009 Sec. 2.5 Steps 1-4).
-#include <algorithm>
+// The planning and the Monte Carlo loop are core::duan_table3
+// (common/core/src/duan_experiment.cpp); this file only turns its results into
+// the report's rows, CSV and plots.
+#include <array>
 #include <cmath>
 #include <cstdio>
-#include <limits>
 #include <numbers>
-#include <queue>
 #include <string>
+#include <vector>
 
 #include "experiment.hpp"
 #include "pheromesh/core/duan_aco.hpp"
-#include "pheromesh/core/rng.hpp"
+#include "pheromesh/core/duan_experiment.hpp"
 
 namespace pheromesh::cli::experiments {
 
 namespace {
 
 using core::NodeId;
-using core::PointKm;
 using core::ThreatMesh;
 
-constexpr std::size_t kUavs = 3;
-// Pop-ups appear at this time after take-off (the paper gives no time; Duan 2009 Fig. 18
-// only shows the UAVs "marching"). 30 s ≈ 9 km flown: every UAV is still at
-// least 5 km outside the pop-up ranges, so each has something left to avoid.
-constexpr double kPopupTimeS = 30.0;
+constexpr std::size_t kUavs = 3;  // Duan 2009 Table 2, second experiment
 constexpr uint32_t kPlotPointsPerCircle = 48;  // > 30 so the writer draws no markers on the circles
 
 std::string fmt(double v, int prec = 2) {
   char b[64];
   std::snprintf(b, sizeof b, "%.*f", prec, v);
   return b;
-}
-
-// Per-UAV optimum of the Duan 2009 eq. (3) cost under the turn constraint: Dijkstra over
-// (node, incoming direction). It ignores the other UAVs (no point pheromone),
-// so it is a lower bound for what one colony can find, not the team optimum.
-struct Optimum {
-  double cost = std::numeric_limits<double>::infinity();
-  double length_km = 0.0;
-};
-
-Optimum optimal_path(const ThreatMesh& mesh, NodeId start, NodeId goal, double max_turn_rad) {
-  constexpr int kDirs = ThreatMesh::kDirections;
-  constexpr int kNoDir = kDirs;  // start state: no heading yet
-  const std::size_t states = mesh.node_count() * (kDirs + 1);
-  auto state = [](NodeId n, int d) { return static_cast<std::size_t>(n) * (kDirs + 1) + static_cast<std::size_t>(d); };
-  std::vector<double> dist(states, std::numeric_limits<double>::infinity()), len(states, 0.0);
-  using Item = std::pair<double, std::size_t>;
-  std::priority_queue<Item, std::vector<Item>, std::greater<>> q;
-  dist[state(start, kNoDir)] = 0.0;
-  q.push({0.0, state(start, kNoDir)});
-  while (!q.empty()) {
-    const auto [c, s] = q.top();
-    q.pop();
-    if (c > dist[s]) continue;
-    const auto n = static_cast<NodeId>(s / (kDirs + 1));
-    const int in = static_cast<int>(s % (kDirs + 1));
-    if (n == goal) return {c, len[s]};
-    for (int d = 0; d < kDirs; ++d) {
-      const NodeId u = mesh.neighbour(n, d);
-      if (u == core::kNoNode) continue;
-      if (in != kNoDir) {
-        const NodeId prev = mesh.neighbour(n, (in + kDirs / 2) % kDirs);
-        if (!core::turn_allowed(mesh.position(prev), mesh.position(n), mesh.position(u), max_turn_rad)) continue;
-      }
-      const std::size_t t = state(u, d);
-      const double nc = c + mesh.edge_cost(n, d);
-      if (nc < dist[t]) {
-        dist[t] = nc;
-        len[t] = len[s] + mesh.edge_length_km(n, d);
-        q.push({nc, t});
-      }
-    }
-  }
-  return {};
 }
 
 Series polyline(const std::string& name, const ThreatMesh& mesh, const std::vector<NodeId>& nodes) {
@@ -93,44 +46,21 @@ Series circle(const std::string& name, const core::Threat& t) {
   return s;
 }
 
-std::vector<std::vector<core::EtaCandidate>> eta_candidates(const std::vector<core::PathResult>& r,
-                                                             const std::vector<double>& offset_km) {
-  std::vector<std::vector<core::EtaCandidate>> c(r.size());
-  for (std::size_t i = 0; i < r.size(); ++i) {
-    for (const auto& t : r[i].candidates) c[i].push_back({offset_km[i] + t.length_km, t.cost});
-  }
-  return c;
-}
-
-// Last iteration (1-based) at which the best-so-far cost improved.
-double last_improvement(const std::vector<double>& history) {
-  std::size_t last = 0;
-  for (std::size_t k = 1; k < history.size(); ++k) {
-    if (history[k] < history[k - 1]) last = k;
-  }
-  return static_cast<double>(last + 1);
-}
-
 Report run_table3(uint32_t runs, const Progress& progress) {
   const core::Duan2009Scenario sc = core::duan2009_scenario();
+  core::DuanTable3Options options;
+  options.runs = runs;
   Report rep;
   rep.title = "Duan 2009 Table 3 — three-UAV coordinated planning, ETA and pop-up replanning";
   rep.source = "Duan, Zhang, Wu, Ma 2009, §4 (second experiment), Tables 1–4, Figs. 15–19";
   rep.setup = "duan2009_scenario(): 60 x 70 km, 2 km mesh (31 x 36 nodes, 8-neighbour edges), Table 1 threats, Table 2 "
               "UAVs, α=3, β=2, ρ=0.7, Q=10, Nc_max=20, m=20, τ ∈ [0.1, 10], 45° turn limit, V ∈ [200, 300] m/s; team "
               "colonies in lockstep (plan_team), 4 candidates per UAV, T_a = min S; Table 4 pop-ups at t = " +
-              fmt(kPopupTimeS, 0) + " s, replanning with fresh colonies; " + std::to_string(runs) +
+              fmt(options.popup_time_s, 0) + " s, replanning with fresh colonies; " + std::to_string(runs) +
               " runs, seeds 1.." + std::to_string(runs) + " (colony i: stream_seed(seed, \"duan\", i))";
 
-  // Per-UAV optimum on the static mesh (the same for every run).
-  std::array<Optimum, kUavs> optimum{};
-  {
-    const ThreatMesh mesh(sc.mesh, sc.threats);
-    for (std::size_t i = 0; i < kUavs; ++i) {
-      optimum[i] = optimal_path(mesh, *mesh.nearest_node(sc.uavs[i].start), *mesh.nearest_node(sc.uavs[i].target),
-                                sc.aco.max_turn_rad);
-    }
-  }
+  const core::DuanTable3Result res = core::duan_table3(sc, options, progress);
+  const std::vector<core::DuanOptimum>& optimum = res.optimum;
 
   std::vector<double> eta, eta_ok, stall, eta2, eta2_ok, old_threat, new_threat, uav3_shortest;
   std::array<std::vector<double>, kUavs> length, speed, ratio, length2;
@@ -140,106 +70,60 @@ Report run_table3(uint32_t runs, const Progress& progress) {
   rep.csv_header = {"run", "seed", "eta_s", "L1_km", "L2_km", "L3_km", "V1_mps", "V2_mps", "V3_mps", "J1_over_opt",
                     "J2_over_opt", "J3_over_opt", "eta_after_replan_s", "Lr1_km", "Lr2_km", "Lr3_km"};
 
-  for (uint32_t run = 0; run < runs; ++run) {
-    const uint64_t seed = run + 1;
-    ThreatMesh mesh(sc.mesh, sc.threats);
-    std::vector<core::DuanColony> team;
-    std::vector<core::UavTask> tasks;
-    for (std::size_t i = 0; i < kUavs; ++i) {
-      team.emplace_back(mesh, sc.aco, core::Rng(core::stream_seed(seed, "duan", static_cast<uint32_t>(i))));
-      tasks.push_back({*mesh.nearest_node(sc.uavs[i].start), *mesh.nearest_node(sc.uavs[i].target), {}});
-    }
-    const auto planned = core::plan_team(team, tasks);
-    std::vector<std::string> csv{std::to_string(run), std::to_string(seed)};
-    const bool found = std::all_of(planned.begin(), planned.end(), [](const auto& r) { return r.found; });
-    const auto plan = found ? core::coordinate_eta(eta_candidates(planned, {0.0, 0.0, 0.0}), sc.speeds)
-                            : core::Result<core::EtaPlan>(core::Error{"a colony found no path"});
-    eta_ok.push_back(plan.ok() ? 1.0 : 0.0);
+  for (std::size_t run = 0; run < res.runs.size(); ++run) {
+    const core::DuanTable3Run& r = res.runs[run];
+    std::vector<std::string> csv{std::to_string(run), std::to_string(r.seed)};
+    eta_ok.push_back(r.eta_found ? 1.0 : 0.0);
     // T_a = 173.8 s needs UAV 3 to hold its octile-shortest walk (52.14 km).
-    uav3_shortest.push_back(std::any_of(planned[2].candidates.begin(), planned[2].candidates.end(),
-                                        [&](const auto& t) { return t.length_km <= optimum[2].length_km + 1e-6; })
-                                ? 1.0
-                                : 0.0);
-    if (!plan.ok()) {
+    uav3_shortest.push_back(r.uavs[2].holds_shortest ? 1.0 : 0.0);
+    if (!r.eta_found) {
       csv.resize(rep.csv_header.size(), "");
       rep.csv_rows.push_back(csv);
-      progress(run + 1, runs);
       continue;
     }
-    eta.push_back(plan->eta_s);
-    csv.push_back(fmt(plan->eta_s, 3));
-    std::array<std::vector<NodeId>, kUavs> flown_nodes;
+    eta.push_back(r.plan.eta_s);
+    csv.push_back(fmt(r.plan.eta_s, 3));
     for (std::size_t i = 0; i < kUavs; ++i) {
-      const auto& t = planned[i].candidates[plan->chosen[i]];
-      length[i].push_back(t.length_km);
-      speed[i].push_back(plan->speed_mps[i]);
-      ratio[i].push_back(t.cost / optimum[i].cost);
-      stall.push_back(last_improvement(planned[i].best_cost_history));
+      const core::DuanTable3Uav& u = r.uavs[i];
+      length[i].push_back(u.length_km);
+      speed[i].push_back(u.speed_mps);
+      ratio[i].push_back(u.cost_over_optimum);
+      stall.push_back(u.last_improvement);
+      const std::vector<double>& history = u.planned.best_cost_history;
       if (history_sum[i].empty()) {
-        history_sum[i].assign(planned[i].best_cost_history.size(), 0.0);
-        history_count[i].assign(planned[i].best_cost_history.size(), 0U);
+        history_sum[i].assign(history.size(), 0.0);
+        history_count[i].assign(history.size(), 0U);
       }
-      for (std::size_t k = 0; k < history_sum[i].size() && k < planned[i].best_cost_history.size(); ++k) {
-        if (!std::isfinite(planned[i].best_cost_history[k])) continue;  // nothing found yet
-        history_sum[i][k] += planned[i].best_cost_history[k];
+      for (std::size_t k = 0; k < history_sum[i].size() && k < history.size(); ++k) {
+        if (!std::isfinite(history[k])) continue;  // nothing found yet
+        history_sum[i][k] += history[k];
         ++history_count[i][k];
       }
-      flown_nodes[i] = t.nodes;
     }
     for (std::size_t i = 0; i < kUavs; ++i) csv.push_back(fmt(length[i].back(), 3));
     for (std::size_t i = 0; i < kUavs; ++i) csv.push_back(fmt(speed[i].back(), 2));
     for (std::size_t i = 0; i < kUavs; ++i) csv.push_back(fmt(ratio[i].back(), 4));
 
-    // Pop-ups (Step 1-2): the mesh costs change; each UAV carries on to the next
-    // node of its trajectory (Step 3, "a neighbouring node") and replans from
-    // there, heading kept for the turn constraint (Step 4).
-    mesh.add_threats(sc.popups);
-    std::vector<double> offset(kUavs, 0.0), flown_km(kUavs, 0.0);
-    double old_sum = 0.0;
-    for (std::size_t i = 0; i < kUavs; ++i) {
-      const auto& nodes = flown_nodes[i];
-      const double at_km = plan->speed_mps[i] * kPopupTimeS / 1000.0;
-      // First node at or past the UAV's position; never the goal itself.
-      double cum = 0.0;
-      std::size_t k = 0;
-      while (k + 2 < nodes.size() && cum < at_km) {
-        cum += mesh.edge_length_km(nodes[k], mesh.direction(nodes[k], nodes[k + 1]));
-        ++k;
-      }
-      offset[i] = std::max(0.0, cum - at_km);
-      flown_km[i] = cum;
-      tasks[i] = core::UavTask{nodes[k], tasks[i].goal, nodes[k - 1]};
-      const std::vector<NodeId> rest(nodes.begin() + static_cast<std::ptrdiff_t>(k), nodes.end());
-      old_sum += mesh.path_cost(rest).threat;
-      flown_nodes[i].resize(k + 1);
-    }
-    const auto replanned = core::plan_team(team, tasks);
-    const bool found2 = std::all_of(replanned.begin(), replanned.end(), [](const auto& r) { return r.found; });
-    const auto plan2 = found2 ? core::coordinate_eta(eta_candidates(replanned, offset), sc.speeds)
-                              : core::Result<core::EtaPlan>(core::Error{"a colony found no path"});
-    eta2_ok.push_back(plan2.ok() ? 1.0 : 0.0);
-    if (plan2.ok()) {
-      eta2.push_back(kPopupTimeS + plan2->eta_s);
+    eta2_ok.push_back(r.replan_eta_found ? 1.0 : 0.0);
+    if (r.replan_eta_found) {
+      eta2.push_back(r.eta_after_replan_s);
       csv.push_back(fmt(eta2.back(), 3));
-      double new_sum = 0.0;
       for (std::size_t i = 0; i < kUavs; ++i) {
-        const auto& t = replanned[i].candidates[plan2->chosen[i]];
-        length2[i].push_back(flown_km[i] + t.length_km);
-        new_sum += t.threat_cost;
+        const core::DuanTable3Uav& u = r.uavs[i];
+        length2[i].push_back(u.length_after_replan_km);
         csv.push_back(fmt(length2[i].back(), 3));
         if (run == 0) {
-          plot_planned[i] = planned[i].candidates[plan->chosen[i]].nodes;
-          plot_flown[i] = flown_nodes[i];
-          plot_replanned[i] = t.nodes;
+          plot_planned[i] = u.planned.candidates[r.plan.chosen[i]].nodes;
+          plot_flown[i] = u.flown;
+          plot_replanned[i] = u.replanned_nodes;
         }
       }
-      old_threat.push_back(old_sum);
-      new_threat.push_back(new_sum);
+      old_threat.push_back(r.old_threat_sum);
+      new_threat.push_back(r.new_threat_sum);
     } else {
       csv.resize(rep.csv_header.size(), "");
     }
     rep.csv_rows.push_back(csv);
-    progress(run + 1, runs);
   }
 
   // Rows: Duan 2009 Table 3 first, then what the paper only shows in figures.
@@ -263,7 +147,7 @@ Report run_table3(uint32_t runs, const Progress& progress) {
   rep.rows.push_back({"runs where a UAV 3 candidate is its shortest walk (" + fmt(optimum[2].length_km) + " km)",
                       std::nullopt, uav3_shortest, "share", "the paper's T_a = 173.8 s requires it"});
   rep.rows.push_back({"ETA after replanning (from take-off)", std::nullopt, eta2, "s",
-                      "pop-ups at t = " + fmt(kPopupTimeS, 0) + " s; the paper gives no replanned numbers"});
+                      "pop-ups at t = " + fmt(options.popup_time_s, 0) + " s; the paper gives no replanned numbers"});
   for (std::size_t i = 0; i < kUavs; ++i) {
     rep.rows.push_back({"flown length after replanning, UAV " + std::to_string(i + 1), std::nullopt, length2[i], "km",
                         "old path up to the replanning node + new trajectory (Figs. 19–20 give no lengths)"});
@@ -352,7 +236,7 @@ Report run_table3(uint32_t runs, const Progress& progress) {
       "its cheapest candidate feasible at T_a with V = L / T_a. Section 3.2 (1)'s deposit rule is read as "
       "\"J ≤ J_ave\" (the literal \"J ≤ J_min\" is DepositRule::IterationBest).",
       "Replanning: Table 4 gives no time of appearance and no replanned numbers. We let the pop-ups appear at t = " +
-          fmt(kPopupTimeS, 0) +
+          fmt(options.popup_time_s, 0) +
           " s, each UAV continues to the next node of its trajectory (Step 3) and replans from there with a fresh "
           "team of colonies, keeping its heading for the 45° turn limit; the new ETA counts the stretch to that "
           "node at the new speed. The plotted run is run 1 (seed 1).",

@@ -1,19 +1,18 @@
 // Shostak 2024 Sec. 5: evaporation of the explored layer (Shostak 2024 eq. (2), "10 -> 5
-// in about 14 s") and the swarm's convergence on a detected target, with a
-// small in-file swarm loop built on the core's layers, candidates (Shostak 2024 eq. (4)),
-// scoring (Shostak 2024 eq. (3), Shostak 2024 eq. (5)) and roulette (Shostak 2024 eq. (6)).
-#include <algorithm>
-#include <array>
+// in about 14 s") and the swarm's convergence on a detected target. The
+// crossing times, the hovering drone and the swarm loop are in the core
+// (common/core/src/shostak_experiment.cpp); this file only turns their
+// results into the reports' rows, CSV and plots.
 #include <cmath>
 #include <cstdio>
-#include <limits>
 #include <numbers>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "experiment.hpp"
-#include "pheromesh/core/rng.hpp"
 #include "pheromesh/core/shostak.hpp"
+#include "pheromesh/core/shostak_experiment.hpp"
 
 namespace pheromesh::cli::experiments {
 
@@ -31,18 +30,6 @@ std::string fmt(double v, int prec = 2) {
 
 // ---------------------------------------------------------------- evaporation
 
-// First multiple of dt_s at which a cell that starts at `from` is at or below
-// `to`, evaporating by Shostak 2024 eq. (2) in steps of dt_s seconds.
-double layer_crossing(double from, double to, double dt_s) {
-  ShostakLayers layers({0, 0, 1, 1}, core::ShostakLayerParams{});
-  layers.deposit(ShostakLayer::Explored, {0, 0}, from);
-  for (int k = 1; k < 100000; ++k) {
-    layers.evaporate(dt_s);
-    if (layers.value(ShostakLayer::Explored, {0, 0}) <= to) return k * dt_s;
-  }
-  return std::nan("");
-}
-
 Report run_evaporation(uint32_t /*runs*/, const Progress& progress) {
   const core::ShostakLayerParams lp;
   Report rep;
@@ -51,24 +38,16 @@ Report run_evaporation(uint32_t /*runs*/, const Progress& progress) {
   rep.setup = "one cell of ShostakLayers: explored = 10, ρ = 0.05 per second (τ ← τ·(1−ρ)^dt), deposits of +1 every "
               "0.2 s capped at 10; deterministic, 1 run";
 
-  const double whole_seconds = layer_crossing(10.0, 5.0, 1.0);
-  const double ticks = layer_crossing(10.0, 5.0, lp.deposit_period_s);
+  const double whole_seconds = core::shostak_explored_crossing_s(core::ShostakLayerParams{}, 10.0, 5.0, 1.0);
+  const double ticks = core::shostak_explored_crossing_s(core::ShostakLayerParams{}, 10.0, 5.0, lp.deposit_period_s);
   const double half_life = core::shostak_half_life_s(lp.evaporation_rate);
   const double exp_reading = std::log(2.0) / lp.evaporation_rate;
 
   // Hovering over one cell: +1 every 0.2 s with evaporation in between; when the cap is reached.
-  ShostakLayers hover({0, 0, 1, 1}, lp);
-  Series fill{"hover 5 s, then leave", {{0.0, 0.0}}};
-  double t_full = std::nan("");
+  const core::ShostakHoverTrace hover = core::shostak_hover(lp, 5.0, 300);
+  const Series fill{"hover 5 s, then leave", hover.points};
+  const double t_full = hover.full_s.value_or(std::nan(""));
   const double dt = lp.deposit_period_s;
-  for (int k = 1; k <= 300; ++k) {
-    const double t = k * dt;
-    hover.evaporate(dt);
-    if (t <= 5.0 + 1e-9) hover.deposit_explored({0, 0});
-    const double v = hover.value(ShostakLayer::Explored, {0, 0});
-    if (std::isnan(t_full) && v >= lp.explored_max - 1e-6) t_full = t;
-    fill.points.emplace_back(t, v);
-  }
 
   rep.rows = {
       {"explored 10 → ≤ 5, eq. (2) in whole-second steps", 14.0, {whole_seconds}, "s",
@@ -118,152 +97,6 @@ Report run_evaporation(uint32_t /*runs*/, const Progress& progress) {
 
 // ------------------------------------------------------------------ the swarm
 
-// Values the paper leaves open (ours), and the paper's own.
-struct SwarmSetup {
-  uint32_t uavs = 3;                 // Shostak 2024 Sec. 5: three drones
-  int32_t cells = 40;                // Shostak 2024 Sec. 2: 40 x 40 cells of 5 m
-  double speed_mps = 5.0;            // ours: cruise speed (not given)
-  double altitude_m = 10.0;          // ours: take-off altitude
-  double min_altitude_m = 5.0;       // ours: candidates' z kept in [5, 30] m
-  double max_altitude_m = 30.0;
-  double dispersal_m = 50.0;         // ours: length of the 0°/120°/240° dispersal leg
-  double detect_radius_m = 10.0;     // ours: camera footprint radius (horizontal)
-  double lidar_range_m = 10.0;       // ours: "obstacle at the set distance" (Shostak 2024 Sec. 4.2)
-  uint32_t obstacles = 4;            // ours: point obstacles that feed the hazard layer
-  double target_min_distance_m = 40.0;  // ours: target at least this far from the launch point
-  double converge_radius_m = 15.0;   // ours: "arrived" = within one step d of the target
-  double search_limit_s = 600.0;     // ours: give up searching
-  double converge_limit_s = 300.0;   // ours: give up converging
-};
-
-struct Uav {
-  Vec3 pos = Vec3::Zero();
-  std::optional<Vec3> waypoint;
-  bool dispersed = false;
-  double heading = 0.0;  // azimuth of the last move [rad]
-  core::Rng rng{0};
-  std::optional<double> arrived_s;  // after the broadcast
-  Series track;
-};
-
-struct SwarmRun {
-  std::optional<double> detect_s;    // first detection (= broadcast)
-  uint32_t detector = 0;
-  std::optional<double> converge_s;  // broadcast -> all others within the radius
-  std::vector<double> arrival_s;     // per other UAV, after the broadcast (NaN: never)
-  double direct_s = 0.0;             // farthest other UAV's straight-line time at the broadcast
-  std::vector<Series> tracks;        // x/y [m]
-  Vec3 target = Vec3::Zero();
-  std::vector<Vec3> obstacles;
-};
-
-double horizontal(const Vec3& a, const Vec3& b) { return std::hypot(a.x() - b.x(), a.y() - b.y()); }
-
-SwarmRun run_swarm(const SwarmSetup& s, uint64_t seed) {
-  const core::ShostakLayerParams lp;  // 5 m cells, +1 per 0.2 s, ρ = 0.05, τmax 10 / 10 / 100
-  const core::ShostakAcoParams aco;   // N = 20, d = 15 m, ψ ∈ ±30°, α = 1.5, β = 3
-  const core::ShostakAttractivenessParams attr;
-  const double size_m = s.cells * lp.cell_size_m;
-  const double dt = lp.deposit_period_s;
-  const Vec3 launch(0.5 * size_m, 0.5 * size_m, s.altitude_m);
-
-  SwarmRun out;
-  core::Rng world(core::stream_seed(seed, "scenario", 0));
-  auto uniform_xy = [&](double margin) {
-    return Vec3(margin + (size_m - 2 * margin) * world.uniform01(), margin + (size_m - 2 * margin) * world.uniform01(),
-                0.0);
-  };
-  do {
-    out.target = uniform_xy(lp.cell_size_m);
-  } while (horizontal(out.target, launch) < s.target_min_distance_m);
-  for (uint32_t k = 0; k < s.obstacles; ++k) out.obstacles.push_back(uniform_xy(lp.cell_size_m));
-
-  ShostakLayers layers({0, 0, s.cells, s.cells}, lp);  // the shared /swarm/pheromone_map
-  const core::ShostakLookup lookup = [&](core::Cell c) { return layers.values(c); };
-  std::vector<Uav> uavs(s.uavs);
-  for (uint32_t i = 0; i < s.uavs; ++i) {
-    uavs[i].pos = launch;
-    uavs[i].heading = core::shostak_dispersal_heading(i, s.uavs);
-    uavs[i].waypoint = core::shostak_dispersal_waypoint(launch, i, s.uavs, s.dispersal_m);
-    uavs[i].rng = core::Rng(core::stream_seed(seed, "uav", i));
-    uavs[i].track.name = "UAV " + std::to_string(i + 1);
-  }
-
-  const double step_m = s.speed_mps * dt;
-  const auto limit_ticks = static_cast<int>(std::lround((s.search_limit_s + s.converge_limit_s) / dt));
-  for (int tick = 1; tick <= limit_ticks; ++tick) {
-    const double t = tick * dt;
-    for (uint32_t i = 0; i < s.uavs; ++i) {
-      Uav& u = uavs[i];
-      if (!u.waypoint) {
-        // Shostak 2024 Sec. 3.4, Shostak 2024 Sec. 3.5: the next waypoint by roulette; η prefers the reported
-        // target's bearing after the broadcast, the current heading before.
-        std::optional<double> preferred = u.heading;
-        if (out.detect_s) preferred = std::atan2(out.target.y() - u.pos.y(), out.target.x() - u.pos.x());
-        const auto choice = core::shostak_choose(u.pos, preferred, lookup, lp.cell_size_m, aco, attr, u.rng);
-        if (choice) {
-          Vec3 w = choice->candidate.position;
-          w.z() = std::clamp(w.z(), s.min_altitude_m, s.max_altitude_m);
-          u.waypoint = w;
-        } else {  // every candidate off the map: head back toward the middle
-          const Vec3 back = launch - u.pos;
-          u.waypoint = u.pos + aco.step_m * back.normalized();
-        }
-      }
-      const Vec3 to = *u.waypoint - u.pos;
-      if (to.norm() <= step_m) {
-        u.pos = *u.waypoint;
-        u.waypoint.reset();
-      } else {
-        u.pos += step_m * to.normalized();
-      }
-      if (to.head<2>().norm() > 1e-9) u.heading = std::atan2(to.y(), to.x());
-      const core::Cell here = core::shostak_cell_of(u.pos, lp.cell_size_m);
-      layers.deposit_explored(here);  // Shostak 2024 eq. (1), every 0.2 s
-      for (const Vec3& o : out.obstacles) {
-        if (horizontal(o, u.pos) <= s.lidar_range_m) layers.mark_hazard(here);  // Shostak 2024 Sec. 4.2
-      }
-      if (!out.detect_s && horizontal(out.target, u.pos) <= s.detect_radius_m) {
-        // Shostak 2024 Sec. 5: target pheromone 100 at the target and an immediate broadcast.
-        out.detect_s = t;
-        out.detector = i;
-        layers.mark_target(core::shostak_cell_of(out.target, lp.cell_size_m));
-        double farthest = 0.0;
-        for (uint32_t j = 0; j < s.uavs; ++j) {
-          if (j == i) continue;
-          uavs[j].waypoint.reset();  // the others turn toward the target at once
-          farthest = std::max(farthest, horizontal(uavs[j].pos, out.target));
-        }
-        out.direct_s = std::max(0.0, farthest - s.converge_radius_m) / s.speed_mps;
-      }
-      if (tick % 5 == 0) u.track.points.emplace_back(u.pos.x(), u.pos.y());
-    }
-    layers.evaporate(dt);  // Shostak 2024 eq. (2)
-
-    if (!out.detect_s) {
-      if (t >= s.search_limit_s) break;
-      continue;
-    }
-    bool all = true;
-    for (uint32_t j = 0; j < s.uavs; ++j) {
-      if (j == out.detector) continue;
-      Uav& u = uavs[j];
-      if (!u.arrived_s && horizontal(u.pos, out.target) <= s.converge_radius_m) u.arrived_s = t - *out.detect_s;
-      all = all && u.arrived_s.has_value();
-    }
-    if (all) {
-      out.converge_s = t - *out.detect_s;
-      break;
-    }
-    if (t - *out.detect_s >= s.converge_limit_s) break;
-  }
-  for (uint32_t j = 0; j < s.uavs; ++j) {
-    if (out.detect_s && j != out.detector) out.arrival_s.push_back(uavs[j].arrived_s.value_or(std::nan("")));
-    out.tracks.push_back(std::move(uavs[j].track));
-  }
-  return out;
-}
-
 Series circle(const std::string& name, const Vec3& c, double r) {
   Series s{name, {}};
   for (int k = 0; k <= 48; ++k) {
@@ -274,7 +107,7 @@ Series circle(const std::string& name, const Vec3& c, double r) {
 }
 
 Report run_convergence(uint32_t runs, const Progress& progress) {
-  const SwarmSetup s;
+  const core::ShostakSwarmSetup s;
   Report rep;
   rep.title = "Shostak §5 — swarm convergence after a target is detected";
   rep.source = "Shostak & Petrenko, §2–§5 (eqs. (1)–(6)), Fig. 3";
@@ -287,11 +120,11 @@ Report run_convergence(uint32_t runs, const Progress& progress) {
 
   std::vector<double> detect, converge, each, direct, ratio;
   uint32_t never_detected = 0, never_converged = 0;
-  std::optional<SwarmRun> shown;
+  std::optional<core::ShostakSwarmRun> shown;
   rep.csv_header = {"run", "seed", "detect_s", "detector", "converge_s", "arrivals_s", "direct_s"};
   for (uint32_t run = 0; run < runs; ++run) {
     const uint64_t seed = run + 1;
-    SwarmRun r = run_swarm(s, seed);
+    core::ShostakSwarmRun r = core::shostak_swarm_run(s, seed);
     std::string arrivals;
     for (double a : r.arrival_s) {
       arrivals += (arrivals.empty() ? "" : " ") + (std::isnan(a) ? std::string("never") : fmt(a, 1));
@@ -332,7 +165,9 @@ Report run_convergence(uint32_t runs, const Progress& progress) {
 
   if (shown) {
     Plot p{"convergence.svg", "Tracks of the first converged run (cf. Fig. 3)", "x [m]", "y [m]", {}};
-    p.series = shown->tracks;
+    for (std::size_t i = 0; i < shown->tracks.size(); ++i) {
+      p.series.push_back({"UAV " + std::to_string(i + 1), shown->tracks[i]});
+    }
     p.series.push_back(circle("target (" + radius + ")", shown->target, s.converge_radius_m));
     for (std::size_t k = 0; k < shown->obstacles.size(); ++k) {
       p.series.push_back(circle("obstacle " + std::to_string(k + 1), shown->obstacles[k], 2.0));
@@ -357,8 +192,8 @@ Report run_convergence(uint32_t runs, const Progress& progress) {
       "picks among 20 random directions, so a drone zig-zags toward the target rather than flying straight. The "
       "ratio row measures the cost of that.",
       "All drones share one pheromone map (the /swarm/pheromone_map topic, with ideal pose as in the paper's Gazebo "
-      "runs, §4.1). Layers evaporate every 0.2 s by (1−ρ)^0.2. The swarm loop lives in this file, seeded per run "
-      "and per UAV (stream_seed), so every run can be repeated exactly.",
+      "runs, §4.1). Layers evaporate every 0.2 s by (1−ρ)^0.2. The swarm loop (core::shostak_swarm_run) is seeded "
+      "per run and per UAV (stream_seed), so every run can be repeated exactly.",
   };
   return rep;
 }
