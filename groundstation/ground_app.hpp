@@ -15,6 +15,7 @@
 #include "console_live.hpp"
 #include "pheromesh/bus/bus.hpp"
 #include "pheromesh/auth/control.hpp"
+#include "pheromesh/console/commands.hpp"
 #include "pheromesh/console/recording.hpp"
 #include "pheromesh/console/server.hpp"
 #include "pheromesh/console/uncertainty.hpp"
@@ -68,6 +69,7 @@ class GroundApp {
   void build_frame();
   [[nodiscard]] std::string metrics_text() const;
   console::ConsoleSource::Answer execute(const nlohmann::json& body, const std::string& who);
+  console::ConsoleSource::Answer apply(const console::ConsoleCommand& c);
   console::ConsoleSource::Answer publish_swarm_command(core::CommandMsg c);
   console::ConsoleSource::Answer ask_launcher(const std::string& line);
   void log_command(const std::string& who, const std::string& what, const console::ConsoleSource::Answer& a);

@@ -9,6 +9,7 @@
 #include <limits>
 
 #include "ground_app.hpp"
+#include "pheromesh/console/commands.hpp"
 #include "pheromesh/console/prometheus.hpp"
 #include "pheromesh/console/view.hpp"
 #include "pheromesh/core/policy.hpp"
@@ -327,109 +328,64 @@ Answer GroundApp::ask_launcher(const std::string& line) {
 }
 
 Answer GroundApp::execute(const nlohmann::json& body, const std::string& who) {
-  const std::string kind = body.contains("kind") && body["kind"].is_string() ? body["kind"].get<std::string>() : "";
-  if (kind == "unauthorised") {
-    const Answer a{401, "refused: no or wrong token"};
-    log_command(who, "command without a valid token", a);
-    return a;
-  }
-  const auto integer = [&body](const char* name) -> std::optional<int64_t> {
-    if (!body.contains(name) || !body[name].is_number_integer()) return std::nullopt;
-    return body[name].get<int64_t>();
+  console::CommandContext ctx;
+  ctx.uavs = cfg_.expect_uavs;
+  ctx.regions = geo_.region_count();
+  ctx.width = geo_.width();
+  ctx.height = geo_.height();
+  ctx.lockstep = cfg_.common.lockstep();
+  ctx.uav_under = [this](const core::Rect& r) -> std::optional<uint32_t> {
+    std::optional<uint32_t> covered;
+    for (const auto& [id, u] : rec_.uavs()) {
+      if (u.alive && !u.finished && r.contains(core::state_cell(u.last))) covered = id;
+    }
+    return covered;
   };
-  std::string what = kind.empty() ? "(no kind)" : kind;
-  Answer a;
-  const uint32_t uavs = cfg_.expect_uavs;
-  if (kind == "pause" || kind == "resume") {
-    const bool pause = kind == "pause";
-    core::CommandMsg c;
-    c.kind = static_cast<uint8_t>(pause ? core::CommandKind::Pause : core::CommandKind::Resume);
-    if (cfg_.common.lockstep()) {
-      paused_ = pause;  // the conductor holds the clock
-      a = {200, pause ? "lockstep clock held" : "lockstep clock goes on"};
-    } else {
-      a = publish_swarm_command(c);
-      if (a.status == 200) paused_ = pause;
-    }
-    if (a.status == 200 && cfg_.launcher_fd >= 0) ask_launcher(kind);  // the launcher extends its deadline
-  } else if (kind == "kill_uav" || kind == "restart_uav") {
-    const auto id = integer("uav");
-    what = kind == "kill_uav" ? "kill uav " : "restart uav ";
-    if (!id || *id < 0 || *id >= uavs) {
-      a = {400, "\"uav\" must be an integer 0.." + std::to_string(uavs - 1)};
-    } else {
-      what += std::to_string(*id);
-      if (kind == "restart_uav" && cfg_.common.lockstep()) {
-        a = {409, "restarting a UAV is supported with the realtime clock only"};
-      } else {
-        a = ask_launcher((kind == "kill_uav" ? "kill uav " : "restart uav ") + std::to_string(*id));
-      }
-    }
-  } else if (kind == "kill_place") {
-    const auto r = integer("region");
-    what = "kill place agent ";
-    if (!r || *r < 0 || *r >= geo_.region_count()) {
-      a = {400, "\"region\" must be an integer 0.." + std::to_string(geo_.region_count() - 1)};
-    } else {
-      what += std::to_string(*r);
-      a = ask_launcher("kill place " + std::to_string(*r));
-    }
-  } else if (kind == "obstacle") {
-    const auto x0 = integer("x0"), y0 = integer("y0"), w = integer("w"), h = integer("h");
-    if (!x0 || !y0 || !w || !h || *w < 1 || *h < 1 || *w > geo_.width() || *h > geo_.height()) {
-      a = {400, "an obstacle needs integers x0, y0, w >= 1, h >= 1 (w, h at most the map's size)"};
-    } else {
-      const core::Rect r{static_cast<int32_t>(*x0), static_cast<int32_t>(*y0), static_cast<int32_t>(*w), static_cast<int32_t>(*h)};
-      what = "obstacle at (" + std::to_string(r.x0) + "," + std::to_string(r.y0) + ") " + std::to_string(r.w) + "x" + std::to_string(r.h);
-      std::optional<uint32_t> covered;
-      for (const auto& [id, u] : rec_.uavs()) {
-        if (u.alive && !u.finished && r.contains(core::state_cell(u.last))) covered = id;
-      }
-      const bool inside = r.x0 < geo_.width() && r.y0 < geo_.height() && r.x0 + r.w > 0 && r.y0 + r.h > 0;
-      if (!inside) {
-        a = {400, "the obstacle lies outside the map"};
-      } else if (covered) {
-        a = {400, "the obstacle would cover uav " + std::to_string(*covered) + "; place it beside the UAV"};
-      } else {
-        core::CommandMsg c;
-        c.kind = static_cast<uint8_t>(core::CommandKind::Obstacle);
-        c.x = r.x0;
-        c.y = r.y0;
-        c.w = r.w;
-        c.h = r.h;
-        a = publish_swarm_command(c);
-        if (a.status == 200) {
-          world_.add_obstacle(r);
-          popup_obstacles_.push_back(r);
-        }
-      }
-    }
-  } else if (kind == "target") {
-    const auto x = integer("x"), y = integer("y");
-    if (!x || !y || !geo_.in_map({static_cast<int32_t>(*x), static_cast<int32_t>(*y)})) {
-      a = {400, "a target needs integers x, y inside the map"};
-    } else {
-      const core::Cell cell{static_cast<int32_t>(*x), static_cast<int32_t>(*y)};
-      what = "target at (" + std::to_string(cell.x) + "," + std::to_string(cell.y) + ")";
-      if (world_.is_obstacle(cell)) {
-        a = {400, "that cell is an obstacle"};
-      } else {
-        core::CommandMsg c;
-        c.kind = static_cast<uint8_t>(core::CommandKind::Target);
-        c.x = cell.x;
-        c.y = cell.y;
-        a = publish_swarm_command(c);
-        if (a.status == 200) {
-          world_.add_target(cell);
-          rec_.add_target();
-        }
-      }
-    }
-  } else {
-    a = {400, "unknown kind '" + kind + "'; one of pause, resume, kill_uav, restart_uav, kill_place, obstacle, target"};
-  }
-  log_command(who, what, a);
+  ctx.is_obstacle = [this](core::Cell c) { return world_.is_obstacle(c); };
+  const console::ParsedCommand p = console::parse_command(body, ctx);
+  const Answer a = p.command ? apply(*p.command) : p.refusal;
+  log_command(who, p.what, a);
   return a;
+}
+
+Answer GroundApp::apply(const console::ConsoleCommand& c) {
+  using K = console::ConsoleCommand::Kind;
+  switch (c.kind) {
+    case K::Pause:
+    case K::Resume: {
+      const bool pause = c.kind == K::Pause;
+      Answer a;
+      if (cfg_.common.lockstep()) {
+        paused_ = pause;  // the conductor holds the clock
+        a = {200, pause ? "lockstep clock held" : "lockstep clock goes on"};
+      } else {
+        a = publish_swarm_command(*console::swarm_command(c));
+        if (a.status == 200) paused_ = pause;
+      }
+      if (a.status == 200 && cfg_.launcher_fd >= 0) ask_launcher(pause ? "pause" : "resume");  // the launcher extends its deadline
+      return a;
+    }
+    case K::KillUav: return ask_launcher("kill uav " + std::to_string(c.id));
+    case K::RestartUav: return ask_launcher("restart uav " + std::to_string(c.id));
+    case K::KillPlace: return ask_launcher("kill place " + std::to_string(c.id));
+    case K::Obstacle: {
+      const Answer a = publish_swarm_command(*console::swarm_command(c));
+      if (a.status == 200) {
+        world_.add_obstacle(c.rect);
+        popup_obstacles_.push_back(c.rect);
+      }
+      return a;
+    }
+    case K::Target: {
+      const Answer a = publish_swarm_command(*console::swarm_command(c));
+      if (a.status == 200) {
+        world_.add_target(c.cell);
+        rec_.add_target();
+      }
+      return a;
+    }
+  }
+  return {500, "unhandled command"};
 }
 
 }  // namespace pheromesh::groundstation
