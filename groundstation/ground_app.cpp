@@ -33,6 +33,7 @@ GroundApp::GroundApp(GroundConfig cfg, core::ScenarioConfig scenario, std::uniqu
       resend_(*bus_, true),  // only conduct() (lockstep) publishes through it
       log_(spdlog::default_logger()),
       rec_(scenario_, world_),
+      frame_builder_(geo_),
       conductor_({cfg_.expect_uavs != 0 ? cfg_.expect_uavs : scenario_.uavs, geo_.region_count(),
                   std::chrono::milliseconds(static_cast<int64_t>(cfg_.phase_timeout_s * 1000))}),
       layers_(static_cast<int>(core::policy_traits(scenario_).layers.size())) {
@@ -46,7 +47,7 @@ GroundApp::GroundApp(GroundConfig cfg, core::ScenarioConfig scenario, std::uniqu
 }
 
 void GroundApp::note_discovery() {
-  const bool all = uav_heard_.size() >= cfg_.expect_uavs && region_heard_.size() >= geo_.region_count();
+  const bool all = frame_builder_.uavs_heard() >= cfg_.expect_uavs && frame_builder_.regions_heard() >= geo_.region_count();
   if (all && !discovery_s_) {
     discovery_s_ = static_cast<double>(unix_ms_now() - run_t0_unix_ms_) / 1000.0;
     log_->info("discovery complete: every UAV ({}) and place agent ({}) heard {:.1f} s after the launch",
@@ -60,8 +61,8 @@ void GroundApp::note_discovery() {
   if (!all && Clock::now() - started_at_ < bound) return;
   if (!all) {
     log_->warn("starting the swarm without {} of {} UAVs and {} of {} place agents, not heard within {} s",
-               cfg_.expect_uavs - std::min<std::size_t>(cfg_.expect_uavs, uav_heard_.size()), cfg_.expect_uavs,
-               geo_.region_count() - std::min<std::size_t>(geo_.region_count(), region_heard_.size()), geo_.region_count(),
+               cfg_.expect_uavs - std::min<std::size_t>(cfg_.expect_uavs, frame_builder_.uavs_heard()), cfg_.expect_uavs,
+               geo_.region_count() - std::min<std::size_t>(geo_.region_count(), frame_builder_.regions_heard()), geo_.region_count(),
                bound.count() / 1000);
   }
   start_sent_ = true;
@@ -86,7 +87,7 @@ void GroundApp::poll() {
     const bool back = s.finished ? conductor_.on_uav_finished(s.uav)
                                  : conductor_.on_uav_state(s.uav, s.tick, geo_.tile_of(core::state_cell(s)));
     if (back && !s.finished) log_->info("uav {} is back at tick {}", s.uav, s.tick);
-    uav_heard_[s.uav] = Clock::now();
+    frame_builder_.heard_uav(s.uav, Clock::now());
     if (uncertainty_ && !s.finished) uncertainty_->observe(core::state_cell(s), s.tick);
   }
   broadcasts_.clear();
@@ -112,7 +113,7 @@ void GroundApp::poll() {
   bus_->take_detections(detections_);
   for (const auto& d : detections_) {
     if (rec_.on_detection(d) && rec_.first_acquisition()) {
-      found_by_[d.target] = {d.uav, d.tick};
+      frame_builder_.target_found(d.target, d.uav, d.tick);
       log_->info("target {} at ({},{}) first acquired by uav {} at tick {} ({}/{})", d.target, d.cell.x, d.cell.y, d.uav,
                  d.tick, rec_.acquisitions().found(), world_.targets().size());
     }
@@ -122,14 +123,14 @@ void GroundApp::poll() {
   for (const auto& e : events_) {
     rec_.on_target_event(e);
     // Shao 2020 revisits (marks.hpp).
-    if (e.kind == static_cast<uint8_t>(core::TargetEventKind::RevisitDue)) revisit_due_[{e.cell.x, e.cell.y}] = true;
-    if (e.kind == static_cast<uint8_t>(core::TargetEventKind::Revisited)) revisit_due_[{e.cell.x, e.cell.y}] = false;
+    if (e.kind == static_cast<uint8_t>(core::TargetEventKind::RevisitDue)) frame_builder_.revisit(e.cell, true);
+    if (e.kind == static_cast<uint8_t>(core::TargetEventKind::Revisited)) frame_builder_.revisit(e.cell, false);
   }
   healths_.clear();
   bus_->take_health(healths_);
   for (const auto& h : healths_) {
     rec_.on_health(h);
-    region_heard_[h.region] = Clock::now();
+    frame_builder_.heard_region(h.region, Clock::now());
   }
   tiles_.clear();
   bus_->take_tiles(tiles_);

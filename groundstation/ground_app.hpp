@@ -16,6 +16,7 @@
 #include "pheromesh/bus/bus.hpp"
 #include "pheromesh/auth/control.hpp"
 #include "pheromesh/console/commands.hpp"
+#include "pheromesh/console/frame_builder.hpp"
 #include "pheromesh/console/recording.hpp"
 #include "pheromesh/console/server.hpp"
 #include "pheromesh/console/uncertainty.hpp"
@@ -81,7 +82,8 @@ class GroundApp {
   bus::LatestResender resend_;  // lockstep: the clock of the phase under way
   std::shared_ptr<spdlog::logger> log_;
   core::RunRecorder rec_;
-  std::map<std::pair<int, std::pair<int32_t, int32_t>>, core::TileMsg> tiles_latest_;  // (layer, tile)
+  std::map<console::FrameBuilder::TileKey, core::TileMsg> tiles_latest_;  // (layer, tile)
+  console::FrameBuilder frame_builder_;  // what the console shows (also who was heard, for discovery)
   core::LockstepConductor conductor_;  // lockstep protocol (also departures, realtime)
   std::chrono::steady_clock::time_point next_progress_;
   // reusable inboxes
@@ -102,16 +104,6 @@ class GroundApp {
   std::unique_ptr<console::UncertaintyTracker> uncertainty_;
   std::optional<auth::ControlKey> control_key_;
   std::chrono::steady_clock::time_point console_t0_, next_frame_, next_series_;
-  std::map<uint32_t, std::chrono::steady_clock::time_point> uav_heard_;
-  std::map<core::RegionId, std::chrono::steady_clock::time_point> region_heard_;
-  struct Rate {
-    std::chrono::steady_clock::time_point t;
-    uint64_t applied = 0;
-    double per_s = 0;
-  };
-  std::map<core::RegionId, Rate> region_rate_;
-  std::map<int32_t, std::pair<uint32_t, uint32_t>> found_by_;  // target -> (uav, tick)
-  std::map<std::pair<int32_t, int32_t>, bool> revisit_due_;     // target cell -> due
   std::vector<core::Rect> popup_obstacles_;
   std::vector<console::CommandLogEntry> command_log_;           // for the next frame
   uint32_t command_seq_ = 0;
