@@ -10,8 +10,8 @@
 #include <string>
 
 #include "experiment.hpp"
-#include "pheromesh/core/duan_aco.hpp"
 #include "pheromesh/core/rng.hpp"
+#include "pheromesh/duan/aco.hpp"
 
 namespace pheromesh::cli::experiments {
 
@@ -332,7 +332,7 @@ Report run_table3(uint32_t runs, const Progress& progress) {
   }
 
   rep.notes = {
-      "Mesh reading (duan_aco.cpp): 2 km spacing, 8-neighbour edges. Every Table 3 length has the octile form "
+      "Mesh reading (duan/src/aco.cpp): 2 km spacing, 8-neighbour edges. Every Table 3 length has the octile form "
       "2·(a + b·√2) km, and UAV 3's 52.14 km is exactly its octile-shortest length, so T_a = 52.14 km / 300 m/s = "
       "173.8 s whenever UAV 3 flies a shortest walk; that is why the ETA and UAV 3's speed match so closely. The "
       "octile-shortest lengths of UAVs 1 and 2 are 49.66 and 46.63 km; the paper's 51.31 and 47.80 km are slightly "

@@ -13,7 +13,7 @@
 
 #include "experiment.hpp"
 #include "pheromesh/core/rng.hpp"
-#include "pheromesh/core/shostak.hpp"
+#include "pheromesh/shostak/model.hpp"
 
 namespace pheromesh::cli::experiments {
 
