@@ -2,7 +2,7 @@
 // (Max-Min adaptive ACO, Duan 2009 eq. (9), Duan 2009 eq. (10), Duan 2009 eq. (11), Duan 2009 eq. (12), Duan 2009 eq. (13), Duan 2009 eq. (14), Duan 2009 eq. (15), Duan 2009 eq. (16), Duan 2009 eq. (17), Duan 2009 eq. (18)), agree on an ETA (Duan 2009 eq. (4), Duan 2009 eq. (5), Duan 2009 eq. (6), Duan 2009 eq. (7), Duan 2009 eq. (8)), then
 // the pop-up threats of Duan 2009 Table 4 appear and every UAV replans (Duan 2009 Sec. 2.5 Steps 1-4).
 // The planning and the Monte Carlo loop are core::duan_table3
-// (common/core/src/duan_experiment.cpp); this file only turns its results into
+// (common/core/papers/duan/src/experiment.cpp); this file only turns its results into
 // the report's rows, CSV and plots.
 #include <array>
 #include <cmath>
@@ -12,8 +12,8 @@
 #include <vector>
 
 #include "experiment.hpp"
-#include "pheromesh/core/duan_aco.hpp"
-#include "pheromesh/core/duan_experiment.hpp"
+#include "pheromesh/duan/aco.hpp"
+#include "pheromesh/duan/experiment.hpp"
 
 namespace pheromesh::cli::experiments {
 

@@ -11,8 +11,8 @@
 #include <vector>
 
 #include "experiment.hpp"
-#include "pheromesh/core/liu_swarm.hpp"
-#include "pheromesh/core/liu_tpm.hpp"
+#include "pheromesh/liu/swarm.hpp"
+#include "pheromesh/liu/tpm.hpp"
 
 namespace pheromesh::cli::experiments {
 
@@ -218,7 +218,7 @@ Report run_table2(uint32_t runs, const Progress& progress) {
       "(MissUpdate::kBayes) would not cap P like this; we keep the printed equation.",
       "Mower with targets, Algorithm 1 sensor: 51.19, not 52.34 — its three target cells are entered twice, both "
       "times detected (P = 0.9, below θ), which lowers the EU by 1.15 bit. Table 2 prints 52.34 for both variants.",
-      "EU is -Σ P log2 P over the 100 cells (liu_tpm.hpp: the paper names the metric but never defines it; this "
+      "EU is -Σ P log2 P over the 100 cells (pheromesh/liu/tpm.hpp: the paper names the metric but never defines it; this "
       "sum fits Table 2's range, 50 for an even map). Under it the EU rises after one or two misses per cell "
       "(0.53 and 0.52 bit vs 0.50) and falls only after three, so a method's EU depends on how often it re-enters "
       "cells, not only on coverage. With Algorithm 1's sensor the no-target mower gives 52.34 exactly, Table 2's "

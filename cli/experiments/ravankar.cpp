@@ -8,7 +8,7 @@
 #include <string>
 
 #include "experiment.hpp"
-#include "pheromesh/core/ravankar.hpp"
+#include "pheromesh/ravankar/model.hpp"
 
 namespace pheromesh::cli::experiments {
 

@@ -11,6 +11,7 @@
 #include "pheromesh/core/messages.hpp"
 #include "pheromesh/core/scenario.hpp"
 #include "pheromesh/core/simulator.hpp"
+#include "pheromesh/shao/policy.hpp"
 
 namespace pheromesh::cli::experiments {
 
@@ -31,7 +32,7 @@ struct LegRun {
 LegRun run_leg(const core::ScenarioConfig& base, uint64_t seed) {
   core::ScenarioConfig s = base;
   s.seed = seed;
-  const uint32_t hold = s.shao_navigation.hold_ticks;
+  const uint32_t hold = s.config_of<core::ShaoNavigationConfig>().hold_ticks;
   core::Simulator sim(s);
   LegRun r;
   for (uint32_t k = 0; k <= s.ticks && !r.arrival; ++k) {

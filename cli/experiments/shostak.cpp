@@ -1,7 +1,7 @@
 // Shostak 2024 Sec. 5: evaporation of the explored layer (Shostak 2024 eq. (2), "10 -> 5
 // in about 14 s") and the swarm's convergence on a detected target. The
 // crossing times, the hovering drone and the swarm loop are in the core
-// (common/core/src/shostak_experiment.cpp); this file only turns their
+// (common/core/papers/shostak/src/experiment.cpp); this file only turns their
 // results into the reports' rows, CSV and plots.
 #include <cmath>
 #include <cstdio>
@@ -11,8 +11,8 @@
 #include <vector>
 
 #include "experiment.hpp"
-#include "pheromesh/core/shostak.hpp"
-#include "pheromesh/core/shostak_experiment.hpp"
+#include "pheromesh/shostak/model.hpp"
+#include "pheromesh/shostak/experiment.hpp"
 
 namespace pheromesh::cli::experiments {
 

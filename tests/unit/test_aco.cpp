@@ -10,10 +10,10 @@
 #include <utility>
 #include <vector>
 
-#include "pheromesh/core/aco.hpp"
 #include "pheromesh/core/grid.hpp"
 #include "pheromesh/core/rng.hpp"
 #include "pheromesh/core/shao_params.hpp"
+#include "pheromesh/shao/aco.hpp"
 
 namespace pheromesh::core {
 namespace {

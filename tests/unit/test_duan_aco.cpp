@@ -8,8 +8,8 @@
 #include <set>
 #include <vector>
 
-#include "pheromesh/core/duan_aco.hpp"
 #include "pheromesh/core/rng.hpp"
+#include "pheromesh/duan/aco.hpp"
 
 namespace pheromesh::core {
 namespace {

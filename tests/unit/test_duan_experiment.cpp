@@ -10,8 +10,8 @@
 #include <numbers>
 #include <vector>
 
-#include "pheromesh/core/duan_aco.hpp"
-#include "pheromesh/core/duan_experiment.hpp"
+#include "pheromesh/duan/aco.hpp"
+#include "pheromesh/duan/experiment.hpp"
 
 namespace pheromesh::core {
 namespace {

@@ -7,8 +7,8 @@
 #include <optional>
 #include <vector>
 
-#include "pheromesh/core/liu_swarm.hpp"
-#include "pheromesh/core/liu_tpm.hpp"
+#include "pheromesh/liu/swarm.hpp"
+#include "pheromesh/liu/tpm.hpp"
 
 namespace pheromesh::core {
 namespace {

@@ -10,10 +10,10 @@
 #include <span>
 #include <vector>
 
-#include "pheromesh/core/aco.hpp"
 #include "pheromesh/core/grid.hpp"
-#include "pheromesh/core/liu_tpm.hpp"
 #include "pheromesh/core/rng.hpp"
+#include "pheromesh/liu/tpm.hpp"
+#include "pheromesh/shao/aco.hpp"
 
 namespace pheromesh::core {
 namespace {

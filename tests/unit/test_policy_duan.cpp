@@ -12,6 +12,7 @@
 #include "pheromesh/core/scenario.hpp"
 #include "pheromesh/core/simulator.hpp"
 #include "pheromesh/core/uav_core.hpp"
+#include "pheromesh/duan/policy.hpp"
 
 namespace pheromesh::core {
 namespace {
@@ -254,13 +255,13 @@ TEST(DuanUav, ALoneUavPlansExactlyLikeTheColonyItWraps) {
   const ScenarioConfig s = parse_ok(small_text(1));
   Simulator sim(s);
   sim.run();
-  const ThreatMesh mesh(MeshSpec{{0.0, 0.0}, 30.0, 30.0, 15, 15, s.duan.f}, s.duan.threats);
-  DuanColony colony(mesh, s.duan.aco, Rng(stream_seed(s.seed, "duan-uav", 0)));
+  const ThreatMesh mesh(MeshSpec{{0.0, 0.0}, 30.0, 30.0, 15, 15, s.config_of<DuanConfig>().f}, s.config_of<DuanConfig>().threats);
+  DuanColony colony(mesh, s.config_of<DuanConfig>().aco, Rng(stream_seed(s.seed, "duan-uav", 0)));
   const PathResult r = colony.plan(mesh.node(1, 1), mesh.node(2, 13), PointPheromone{});
   ASSERT_TRUE(r.found);
   std::vector<std::vector<EtaCandidate>> c(1);
   for (const auto& t : r.candidates) c[0].push_back({t.length_km, 0.0});
-  const auto plan = coordinate_eta(c, s.duan.speeds);
+  const auto plan = coordinate_eta(c, s.config_of<DuanConfig>().speeds);
   ASSERT_TRUE(plan.ok());
   const Cell target{2, 13};
   EXPECT_FLOAT_EQ(sim.field_value(kEtaS, target), static_cast<float>(plan->eta_s));
@@ -294,15 +295,15 @@ TEST(DuanScenarioFile, PaperScenarioLoadsTables) {
   EXPECT_EQ(r->policy, PolicyKind::Duan);
   EXPECT_EQ(r->width, 31);
   EXPECT_EQ(r->height, 36);
-  EXPECT_EQ(r->duan.threats.size(), 5U);
-  ASSERT_EQ(r->duan.popups.size(), 2U);
-  EXPECT_EQ(r->duan.popups[0].threat.grade, 2.5);
-  ASSERT_EQ(r->duan.uavs.size(), 3U);
-  EXPECT_EQ(r->duan.uavs[1].target, (Cell{20, 30}));
-  EXPECT_EQ(r->duan.aco.alpha, 3.0);
-  EXPECT_EQ(r->duan.aco.rho, 0.7);
-  EXPECT_EQ(r->duan.aco.iterations, 20U);
-  EXPECT_NEAR(r->duan.aco.max_turn_rad, std::acos(-1.0) / 4.0, 1e-12);
+  EXPECT_EQ(r->config_of<DuanConfig>().threats.size(), 5U);
+  ASSERT_EQ(r->config_of<DuanConfig>().popups.size(), 2U);
+  EXPECT_EQ(r->config_of<DuanConfig>().popups[0].threat.grade, 2.5);
+  ASSERT_EQ(r->config_of<DuanConfig>().uavs.size(), 3U);
+  EXPECT_EQ(r->config_of<DuanConfig>().uavs[1].target, (Cell{20, 30}));
+  EXPECT_EQ(r->config_of<DuanConfig>().aco.alpha, 3.0);
+  EXPECT_EQ(r->config_of<DuanConfig>().aco.rho, 0.7);
+  EXPECT_EQ(r->config_of<DuanConfig>().aco.iterations, 20U);
+  EXPECT_NEAR(r->config_of<DuanConfig>().aco.max_turn_rad, std::acos(-1.0) / 4.0, 1e-12);
   EXPECT_TRUE(load_scenario(source_path("scenarios/duan2009-small.textproto")).ok());
 }
 

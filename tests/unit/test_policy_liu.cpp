@@ -1,4 +1,4 @@
-// The Liu 2022 (ESUSTPM) policy (policy_liu.cpp): the place model's TPM
+// The Liu 2022 (ESUSTPM) policy (liu/src/policy.cpp): the place model's TPM
 // update and confirmation, the UAV's decision from its view and its
 // deposits, the field summary, the scenario parser, and a distributed run
 // against run_liu_swarm where both are deterministic.
@@ -9,12 +9,13 @@
 #include <string>
 #include <vector>
 
-#include "pheromesh/core/liu_swarm.hpp"
-#include "pheromesh/core/liu_tpm.hpp"
 #include "pheromesh/core/policy.hpp"
 #include "pheromesh/core/scenario.hpp"
 #include "pheromesh/core/simulator.hpp"
 #include "pheromesh/core/world.hpp"
+#include "pheromesh/liu/policy.hpp"
+#include "pheromesh/liu/swarm.hpp"
+#include "pheromesh/liu/tpm.hpp"
 
 namespace pheromesh::core {
 namespace {
@@ -151,7 +152,7 @@ TEST(LiuPlace, EveryRegionHoldsItsPartOfTheWholeMapPrior) {
   const ScenarioConfig s = parse_ok(scenario_text("prior: \"accurate\"", 1, "x: 2 y: 2 w: 1 h: 1",
                                                   "targets { x: 4 y: 5 } targets { x: 4 y: 7 } targets { x: 7 y: 5 }"));
   const MapGeometry geo = s.geometry();
-  const std::vector<double> whole = liu_prior_map(liu_swarm_config_of(s.liu, s.targets));
+  const std::vector<double> whole = liu_prior_map(liu_swarm_config_of(s.config_of<LiuConfig>(), s.targets));
   for (RegionId r = 0; r < geo.region_count(); ++r) {
     auto place = make_liu_place(s, geo, r);
     const Rect rect = geo.region_rect(r);
@@ -306,8 +307,8 @@ TEST(LiuTraits, LayersAndAViewThatHoldsEveryNeighbourWithANonNegligibleGain) {
   EXPECT_EQ(t.layers, (std::vector<std::string>{"tpm", "visited", "confirmed"}));
   // Liu 2022 Table 1: |β(d)| < 1e-3 m/s beyond about 290 m = 2.9 cells of 100 m.
   EXPECT_DOUBLE_EQ(t.view_radius, 3.0);
-  EXPECT_LT(std::abs(liu_gain(0, 300.0, s.liu.params)), 1e-3);
-  EXPECT_GT(std::abs(liu_gain(0, 250.0, s.liu.params)), 1e-3);
+  EXPECT_LT(std::abs(liu_gain(0, 300.0, s.config_of<LiuConfig>().params)), 1e-3);
+  EXPECT_GT(std::abs(liu_gain(0, 250.0, s.config_of<LiuConfig>().params)), 1e-3);
   const ScenarioConfig fine = parse_ok(scenario_text("cell_size_m: 50"));
   EXPECT_DOUBLE_EQ(liu_traits(fine).view_radius, 6.0);
   const ScenarioConfig set = parse_ok(scenario_text("view_radius: 9"));
@@ -323,11 +324,13 @@ TEST(LiuSimulation, LawnmowerWithAlgorithm1SensorMatchesRunLiuSwarm) {
   auto loaded = load_scenario(source_path("scenarios/liu2022-table2.textproto"));
   ASSERT_TRUE(loaded.ok()) << loaded.error().message;
   ScenarioConfig s = loaded.value();
-  s.liu.search = LiuPolicy::kLawnmower;
-  s.liu.sensor = LiuSensor::kAlgorithm1;
+  LiuConfig mower = s.config_of<LiuConfig>();
+  mower.search = LiuPolicy::kLawnmower;
+  mower.sensor = LiuSensor::kAlgorithm1;
+  s.set_policy_config(mower);
   Simulator sim(s);
   sim.run();
-  LiuSwarmConfig c = liu_swarm_config_of(s.liu, s.targets);
+  LiuSwarmConfig c = liu_swarm_config_of(s.config_of<LiuConfig>(), s.targets);
   c.params.grid_width = s.width;
   c.params.grid_height = s.height;
   c.params.uav_count = s.uavs;
@@ -358,7 +361,7 @@ TEST(LiuSimulation, SmallScenarioAppliesEveryDepositAndLowersTheUncertainty) {
   EXPECT_EQ(rejected, 0U);
   const auto& field = rec.field_summary();
   EXPECT_GE(field.at("visited_cells"), 4.0);
-  const std::vector<double> prior = liu_prior_map(liu_swarm_config_of(loaded.value().liu, loaded.value().targets));
+  const std::vector<double> prior = liu_prior_map(liu_swarm_config_of(loaded.value().config_of<LiuConfig>(), loaded.value().targets));
   EXPECT_NE(field.at("environmental_uncertainty"), environmental_uncertainty(prior));
 }
 
@@ -369,15 +372,15 @@ TEST(LiuScenario, Table2LoadsWithTable1Parameters) {
   ASSERT_TRUE(r.ok()) << r.error().message;
   const ScenarioConfig& s = r.value();
   EXPECT_EQ(s.policy, PolicyKind::Liu);
-  EXPECT_EQ(s.liu.search, LiuPolicy::kEsustpm);
-  EXPECT_EQ(s.liu.start_point, LiuStartPoint::kCorner);
+  EXPECT_EQ(s.config_of<LiuConfig>().search, LiuPolicy::kEsustpm);
+  EXPECT_EQ(s.config_of<LiuConfig>().start_point, LiuStartPoint::kCorner);
   EXPECT_EQ(s.uavs, 10U);
   EXPECT_EQ(s.ticks, 200U);
   EXPECT_EQ(s.targets.size(), 3U);
-  EXPECT_DOUBLE_EQ(s.liu.params.k[3], -80.0);
-  EXPECT_DOUBLE_EQ(s.liu.params.c[0], 120.0);
-  EXPECT_DOUBLE_EQ(s.liu.params.p_detection, 0.3);
-  EXPECT_DOUBLE_EQ(s.liu.params.dt_s, 0.01);
+  EXPECT_DOUBLE_EQ(s.config_of<LiuConfig>().params.k[3], -80.0);
+  EXPECT_DOUBLE_EQ(s.config_of<LiuConfig>().params.c[0], 120.0);
+  EXPECT_DOUBLE_EQ(s.config_of<LiuConfig>().params.p_detection, 0.3);
+  EXPECT_DOUBLE_EQ(s.config_of<LiuConfig>().params.dt_s, 0.01);
   EXPECT_TRUE(load_scenario(source_path("scenarios/liu2022-small.textproto")).ok());
 }
 

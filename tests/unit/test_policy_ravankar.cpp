@@ -1,4 +1,4 @@
-// The Ravankar 2016 policy (policy_ravankar.cpp, scenario_ravankar.cpp):
+// The Ravankar 2016 policy (ravankar/src/policy.cpp, ravankar/src/scenario.cpp):
 // place model, UAV policy and scenario parsing, against hand-worked numbers.
 #include <gtest/gtest.h>
 
@@ -9,9 +9,9 @@
 #include <vector>
 
 #include "pheromesh/core/policy.hpp"
-#include "pheromesh/core/policy_ravankar.hpp"
 #include "pheromesh/core/scenario.hpp"
 #include "pheromesh/core/world.hpp"
+#include "pheromesh/ravankar/policy.hpp"
 
 namespace pheromesh::core {
 namespace {
@@ -377,11 +377,11 @@ TEST(RavankarScenario, ShippedScenariosLoad) {
   const auto small = load_scenario(source_path("scenarios/ravankar2016-small.textproto"));
   ASSERT_TRUE(small.ok());
   EXPECT_EQ(small.value().geometry().region_count(), 4U);
-  EXPECT_EQ(small.value().ravankar.route.size(), 4U);
-  ASSERT_TRUE(small.value().ravankar.fix_area);
+  EXPECT_EQ(small.value().config_of<RavankarConfig>().route.size(), 4U);
+  ASSERT_TRUE(small.value().config_of<RavankarConfig>().fix_area);
   const auto corridor = load_scenario(source_path("scenarios/ravankar2016-corridor.textproto"));
   ASSERT_TRUE(corridor.ok());
-  const RavankarConfig& c = corridor.value().ravankar;
+  const RavankarConfig& c = corridor.value().config_of<RavankarConfig>();
   EXPECT_DOUBLE_EQ(c.evaporation.k_per_s, 0.0057);
   EXPECT_DOUBLE_EQ(c.follower.delta * c.follower.reference_deposit, 10.0);
   EXPECT_DOUBLE_EQ(c.deposit.tau, 0.2);
@@ -389,7 +389,7 @@ TEST(RavankarScenario, ShippedScenariosLoad) {
 
 TEST(RavankarScenario, DefaultsAreThePapersValues) {
   const ScenarioConfig s = scenario("");
-  const RavankarConfig& c = s.ravankar;
+  const RavankarConfig& c = s.config_of<RavankarConfig>();
   EXPECT_DOUBLE_EQ(c.deposit.tau, 0.2);
   EXPECT_DOUBLE_EQ(c.deposit.max_deposit, 100.0);
   EXPECT_DOUBLE_EQ(c.follower.reference_deposit, 100.0);

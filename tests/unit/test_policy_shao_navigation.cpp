@@ -10,6 +10,7 @@
 #include "pheromesh/core/scenario.hpp"
 #include "pheromesh/core/simulator.hpp"
 #include "pheromesh/core/uav_core.hpp"
+#include "pheromesh/shao/policy.hpp"
 
 using namespace pheromesh::core;
 
@@ -34,12 +35,12 @@ ScenarioConfig nav() {
 TEST(ShaoNavigationPolicy, ParsesTheTable2ParametersAndTheCentre) {
   const ScenarioConfig s = nav();
   EXPECT_EQ(s.policy, PolicyKind::ShaoNavigation);
-  EXPECT_EQ(s.shao_navigation.region_centre, (Cell{15, 15}));
-  EXPECT_EQ(s.shao_navigation.hold_ticks, 5U);
-  EXPECT_EQ(s.shao_navigation.leader, LeaderPheromones::Vector);
-  EXPECT_EQ(s.shao_navigation.params.neighbour_gradient, NeighbourGradient::AwayFromNeighbour);
-  EXPECT_DOUBLE_EQ(s.shao_navigation.params.rho, 2.0);  // Shao 2020 Table 2
-  EXPECT_DOUBLE_EQ(s.shao_navigation.params.leader_sensor_radius, 5.0);
+  EXPECT_EQ(s.config_of<ShaoNavigationConfig>().region_centre, (Cell{15, 15}));
+  EXPECT_EQ(s.config_of<ShaoNavigationConfig>().hold_ticks, 5U);
+  EXPECT_EQ(s.config_of<ShaoNavigationConfig>().leader, LeaderPheromones::Vector);
+  EXPECT_EQ(s.config_of<ShaoNavigationConfig>().params.neighbour_gradient, NeighbourGradient::AwayFromNeighbour);
+  EXPECT_DOUBLE_EQ(s.config_of<ShaoNavigationConfig>().params.rho, 2.0);  // Shao 2020 Table 2
+  EXPECT_DOUBLE_EQ(s.config_of<ShaoNavigationConfig>().params.leader_sensor_radius, 5.0);
   EXPECT_STREQ(policy_name(s.policy), "shao_navigation");
 }
 

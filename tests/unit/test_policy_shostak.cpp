@@ -18,9 +18,10 @@
 #include "pheromesh/core/policy.hpp"
 #include "pheromesh/core/rng.hpp"
 #include "pheromesh/core/scenario.hpp"
-#include "pheromesh/core/shostak.hpp"
 #include "pheromesh/core/simulator.hpp"
 #include "pheromesh/core/world.hpp"
+#include "pheromesh/shostak/model.hpp"
+#include "pheromesh/shostak/policy.hpp"
 
 namespace pheromesh::core {
 namespace {
@@ -291,7 +292,7 @@ TEST(ShostakUav, DecisionIsTheCoresRouletteOverCandidatesAroundTheEstimate) {
   u.step(0);
   const UavActions a = u.step(1);
 
-  const auto& c = s.shostak;
+  const auto& c = s.config_of<ShostakConfig>();
   Rng rng(stream_seed(s.seed, "shostak-uav", 0));
   const Eigen::Vector3d p(9.5 * 5.0, 9.5 * 5.0, c.altitude_m);
   const ShostakLookup lookup = [](Cell) { return std::optional<ShostakCellValues>(ShostakCellValues{}); };
@@ -389,7 +390,7 @@ TEST(ShostakScenario, PaperScenarioHasTheParametersOfSectionsTwoToFive) {
   EXPECT_EQ(s.width, 40);
   EXPECT_EQ(s.uavs, 3U);
   ASSERT_EQ(s.targets.size(), 1U);
-  const ShostakConfig& c = s.shostak;
+  const ShostakConfig& c = s.config_of<ShostakConfig>();
   EXPECT_DOUBLE_EQ(c.dt_s, 0.2);
   EXPECT_DOUBLE_EQ(c.layers.cell_size_m, 5.0);
   EXPECT_DOUBLE_EQ(c.layers.evaporation_rate, 0.05);
@@ -438,8 +439,8 @@ TEST(ShostakSimulator, PaperScenarioFindsTheTargetAndTheOthersConverge) {
   auto r = load_scenario(std::string(PHEROMESH_SOURCE_DIR) + "/scenarios/shostak-40x40.textproto");
   ASSERT_TRUE(r.ok()) << r.error().message;
   const Cell target = r.value().targets[0];
-  const double detect_cells = r.value().shostak.detect_radius_m / r.value().shostak.layers.cell_size_m;
-  const double step_cells = r.value().shostak.aco.step_m / r.value().shostak.layers.cell_size_m;
+  const double detect_cells = r.value().config_of<ShostakConfig>().detect_radius_m / r.value().config_of<ShostakConfig>().layers.cell_size_m;
+  const double step_cells = r.value().config_of<ShostakConfig>().aco.step_m / r.value().config_of<ShostakConfig>().layers.cell_size_m;
   int detected = 0;
   int converged = 0;
   for (uint64_t seed = 1; seed <= 10; ++seed) {
@@ -468,7 +469,7 @@ TEST(ShostakSimulator, PaperScenarioFindsTheTargetAndTheOthersConverge) {
       if (all && detector) converge_tick = k;
     }
     if (converge_tick) ++converged;
-    const double dt = s.shostak.dt_s;
+    const double dt = s.config_of<ShostakConfig>().dt_s;
     std::printf("shostak-40x40 seed %2llu: first detection at tick %5lld (%6.1f s); others within 15 m after %5lld ticks (%6.1f s)\n",
                 static_cast<unsigned long long>(seed), detect_tick ? static_cast<long long>(*detect_tick) : -1LL,
                 detect_tick ? *detect_tick * dt : -1.0,

@@ -9,7 +9,7 @@
 #include <Eigen/LU>
 
 #include "pheromesh/core/grid.hpp"
-#include "pheromesh/core/ravankar.hpp"
+#include "pheromesh/ravankar/model.hpp"
 
 namespace pheromesh::core {
 namespace {

@@ -12,9 +12,9 @@
 #include <utility>
 #include <vector>
 
-#include "pheromesh/core/aco.hpp"
 #include "pheromesh/core/grid.hpp"
-#include "pheromesh/core/shao_navigation.hpp"
+#include "pheromesh/shao/aco.hpp"
+#include "pheromesh/shao/navigation.hpp"
 
 namespace pheromesh::core {
 namespace {

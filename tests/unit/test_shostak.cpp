@@ -11,7 +11,7 @@
 
 #include "pheromesh/core/grid.hpp"
 #include "pheromesh/core/rng.hpp"
-#include "pheromesh/core/shostak.hpp"
+#include "pheromesh/shostak/model.hpp"
 
 namespace pheromesh::core {
 namespace {

@@ -7,8 +7,8 @@
 #include <cstddef>
 #include <vector>
 
-#include "pheromesh/core/shostak.hpp"
-#include "pheromesh/core/shostak_experiment.hpp"
+#include "pheromesh/shostak/model.hpp"
+#include "pheromesh/shostak/experiment.hpp"
 
 namespace pheromesh::core {
 namespace {

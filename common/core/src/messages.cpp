@@ -22,7 +22,7 @@ const char* to_string(TargetEventKind k) {
 namespace {
 
 constexpr float kMaxDepositAmount = 1e6F;
-constexpr uint8_t kHeadingCount = 8;  // aco.hpp Heading
+constexpr uint8_t kHeadingCount = 8;  // heading.hpp Heading
 constexpr uint8_t kRoleCount = 3;     // Role
 
 bool all_finite(const std::vector<float>& v) {

@@ -10,7 +10,8 @@
 // behaves identically in `pheromesh run` and `pheromesh sim`.
 //
 // A scenario picks the policy (scenario.policy in the textproto; the Shao
-// search when absent). Each policy lives in policy_<name>.{hpp,cpp}.
+// search when absent). Each policy lives in its paper's room,
+// common/core/papers/<paper>/ (pheromesh/<paper>/policy.hpp).
 #pragma once
 
 #include <cstdint>
@@ -120,33 +121,9 @@ std::unique_ptr<PlaceModel> make_place_model(const ScenarioConfig& s, const MapG
 using FieldLookup = std::function<float(int layer, Cell c)>;
 std::map<std::string, double> field_summary(const ScenarioConfig& s, const FieldLookup& value);
 
-// --- per policy (policy_<name>.cpp) -------------------------------------------
-PolicyTraits shao_search_traits(const ScenarioConfig& s);
-std::unique_ptr<UavPolicy> make_shao_search_uav(const ScenarioConfig& s, const MapGeometry& geo, const World& world,
-                                                uint32_t id);
-// A Shao searcher that starts at `at` with `heading` (0..7): what a
-// navigating UAV becomes once the leader is at the target region
-// (Shao 2020 Algorithm 3 lines 1-2).
-std::unique_ptr<UavPolicy> make_shao_search_uav_at(const ScenarioConfig& s, const MapGeometry& geo, const World& world,
-                                                   uint32_t id, Cell at, uint8_t heading);
-// `beacons`: targets emit target pheromone and obstacles obstacle pheromone
-// from the start (the navigation scenario's potential field).
-std::unique_ptr<PlaceModel> make_shao_place(const ScenarioConfig& s, const MapGeometry& geo, RegionId region,
-                                            bool beacons);
-
-#define PHEROMESH_POLICY_FUNCTIONS(name)                                                                     \
-  PolicyTraits name##_traits(const ScenarioConfig& s);                                                        \
-  std::unique_ptr<UavPolicy> make_##name##_uav(const ScenarioConfig& s, const MapGeometry& geo,               \
-                                               const World& world, uint32_t id);                              \
-  std::unique_ptr<PlaceModel> make_##name##_place(const ScenarioConfig& s, const MapGeometry& geo,            \
-                                                  RegionId region);                                           \
-  std::map<std::string, double> name##_field_summary(const ScenarioConfig& s, const FieldLookup& value);
-PHEROMESH_POLICY_FUNCTIONS(shao_navigation)
-PHEROMESH_POLICY_FUNCTIONS(liu)
-PHEROMESH_POLICY_FUNCTIONS(shostak)
-PHEROMESH_POLICY_FUNCTIONS(ravankar)
-PHEROMESH_POLICY_FUNCTIONS(duan)
-#undef PHEROMESH_POLICY_FUNCTIONS
+// Each paper's factories (traits, UAV policy, place model, field summary)
+// are declared in its room (pheromesh/<paper>/policy.hpp) and dispatched on
+// ScenarioConfig::policy by policy_registry.cpp.
 
 // Heading (0..7) closest to a velocity; `fallback` for a zero velocity.
 uint8_t heading_of_velocity(double vx, double vy, uint8_t fallback);

@@ -4,17 +4,15 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
+#include <stdexcept>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "pheromesh/core/grid.hpp"
 #include "pheromesh/core/result.hpp"
-#include "pheromesh/core/policy_duan.hpp"
-#include "pheromesh/core/policy_liu.hpp"
-#include "pheromesh/core/policy_ravankar.hpp"
-#include "pheromesh/core/policy_shao_navigation.hpp"
-#include "pheromesh/core/policy_shostak.hpp"
 #include "pheromesh/core/shao_params.hpp"
 
 namespace pheromesh::core {
@@ -22,6 +20,23 @@ namespace pheromesh::core {
 // The search policy a scenario runs (policy.hpp).
 enum class PolicyKind : uint8_t { ShaoSearch = 0, ShaoNavigation, Liu, Shostak, Ravankar, Duan };
 const char* policy_name(PolicyKind k);  // as in the scenario file: "shao_search", ...
+
+// The configuration of one paper's policy. Each room derives its own
+// (pheromesh/<paper>/policy.hpp: ShaoNavigationConfig, LiuConfig,
+// ShostakConfig, RavankarConfig, DuanConfig) with `static constexpr
+// PolicyKind kKind`, so that a scenario holds only the policy it runs and this
+// header knows no paper.
+struct PolicyConfig {
+  virtual ~PolicyConfig() = default;
+  [[nodiscard]] virtual PolicyKind kind() const = 0;
+
+ protected:
+  PolicyConfig() = default;
+  PolicyConfig(const PolicyConfig&) = default;
+  PolicyConfig(PolicyConfig&&) = default;
+  PolicyConfig& operator=(const PolicyConfig&) = default;
+  PolicyConfig& operator=(PolicyConfig&&) = default;
+};
 
 struct ScenarioConfig {
   std::string name;
@@ -38,16 +53,32 @@ struct ScenarioConfig {
   uint32_t ticks = 1000;       // default run length [tick]
   double tick_rate_hz = 10.0;  // realtime clock rate [Hz]
   uint64_t seed = 1;
-  ShaoLayerParams layers;
-  ShaoAcoParams aco;
+  ShaoLayerParams layers;  // the Shao field (layers.hpp): Shao search and navigation
+  ShaoAcoParams aco;       // Shao 2020 eq. (9): Shao search and navigation
   PolicyKind policy = PolicyKind::ShaoSearch;
-  ShaoNavigationConfig shao_navigation;  // policy ShaoNavigation
-  LiuConfig liu;                         // policy Liu
-  ShostakConfig shostak;                 // policy Shostak
-  RavankarConfig ravankar;               // policy Ravankar
-  DuanConfig duan;                       // policy Duan
+  // The config of `policy`; null for the Shao search, which has none beyond
+  // `layers` and `aco`. Immutable and shared by copies of the scenario.
+  std::shared_ptr<const PolicyConfig> policy_config;
 
   [[nodiscard]] MapGeometry geometry() const { return {width, height, tile_size, regions_x, regions_y}; }
+
+  // Sets the policy and its config: set_policy_config(LiuConfig{...}).
+  template <class C>
+  void set_policy_config(C config) {
+    policy = C::kKind;
+    policy_config = std::make_shared<const C>(std::move(config));
+  }
+  // The config of policy C; throws std::logic_error when the scenario runs
+  // another policy (a programming error: callers dispatch on `policy`).
+  template <class C>
+  [[nodiscard]] const C& config_of() const {
+    if (policy_config == nullptr || policy_config->kind() != C::kKind) {
+      throw std::logic_error(std::string("scenario '") + name + "': asked for the " + policy_name(C::kKind) +
+                             " config of a scenario whose policy is " + policy_name(policy) +
+                             (policy_config == nullptr ? " (no policy config set)" : ""));
+    }
+    return static_cast<const C&>(*policy_config);
+  }
 };
 
 Result<ScenarioConfig> load_scenario(const std::string& path);

@@ -1,0 +1,48 @@
+// Scenario parameters of the Shao 2020 navigation policy (Shao 2020 Sec. 5): a leader on
+// vector or scalar pheromones, followers flocking (shao/src/navigation_policy.cpp).
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <string>
+#include "pheromesh/core/grid.hpp"
+#include "pheromesh/core/policy.hpp"
+#include "pheromesh/shao/navigation.hpp"
+
+namespace pheromesh::core {
+
+struct ShaoNavigationConfig final : PolicyConfig {
+  static constexpr PolicyKind kKind = PolicyKind::ShaoNavigation;
+  [[nodiscard]] PolicyKind kind() const override { return kKind; }
+
+  ShaoNavParams params;  // Shao 2020 Table 2
+  LeaderPheromones leader = LeaderPheromones::Vector;
+  Cell region_centre{};  // centre of the target region [cell]
+  // The swarm holds its start positions for this many ticks while the
+  // place agents build up the potential field (the paper starts with a field).
+  uint32_t hold_ticks = 0;
+};
+
+// --- Shao 2020 Sec. 4 search (search_policy.cpp): no config of its own, it
+// reads ScenarioConfig::layers and ::aco.
+PolicyTraits shao_search_traits(const ScenarioConfig& s);
+std::unique_ptr<UavPolicy> make_shao_search_uav(const ScenarioConfig& s, const MapGeometry& geo, const World& world,
+                                                uint32_t id);
+// A Shao searcher that starts at `at` with `heading` (0..7): what a
+// navigating UAV becomes once the leader is at the target region
+// (Shao 2020 Algorithm 3 lines 1-2).
+std::unique_ptr<UavPolicy> make_shao_search_uav_at(const ScenarioConfig& s, const MapGeometry& geo, const World& world,
+                                                   uint32_t id, Cell at, uint8_t heading);
+// `beacons`: targets emit target pheromone and obstacles obstacle pheromone
+// from the start (the navigation scenario's potential field).
+std::unique_ptr<PlaceModel> make_shao_place(const ScenarioConfig& s, const MapGeometry& geo, RegionId region,
+                                            bool beacons);
+
+// --- Shao 2020 Sec. 5 navigation (navigation_policy.cpp)
+PolicyTraits shao_navigation_traits(const ScenarioConfig& s);
+std::unique_ptr<UavPolicy> make_shao_navigation_uav(const ScenarioConfig& s, const MapGeometry& geo, const World& world, uint32_t id);
+std::unique_ptr<PlaceModel> make_shao_navigation_place(const ScenarioConfig& s, const MapGeometry& geo, RegionId region);
+std::map<std::string, double> shao_navigation_field_summary(const ScenarioConfig& s, const FieldLookup& value);
+
+}  // namespace pheromesh::core

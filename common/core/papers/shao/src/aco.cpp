@@ -1,0 +1,223 @@
+// Shao 2020 ACO direction choice, Shao 2020 Sec. 4.2, Shao 2020 eq. (9), Shao 2020 eq. (10), Shao 2020 eq. (11) and Shao 2020 Algorithm 1
+// lines 10-11.
+//
+// Interpretations (the paper leaves these open):
+//  * Sectors. A cell c != pos within the sensor radius (Euclidean, <= SD)
+//    belongs to the sector of the heading whose angle is within ±22.5° of the
+//    bearing from pos to c. A bearing exactly on a boundary goes to the sector
+//    counter-clockwise of it (sector = floor((bearing + 22.5°) / 45°) mod 8).
+//    No integer offset lies exactly on a boundary (tan 22.5° is irrational),
+//    so the rule only fixes the definition. Cells in the three rear sectors
+//    are not used. Only cells whose pheromones the UAV knows count; a sector
+//    without a known cell has means 0.
+//  * Attractiveness floor. λTh < 0, so λTa·τ + λTh·ε + λTr·σ can be <= 0 and
+//    its α-th power undefined. The base is clamped to kAttractivenessFloor:
+//    P stays defined and a sector dominated by obstacle pheromone ranks last.
+//  * Accessibility. J_ik holds the candidates whose next cell is not
+//    view.blocked(); LocalView::blocked reports cells outside the map too.
+//    A view without a `blocked` (or `pheromones`) function blocks (knows) nothing.
+//  * Shao 2020 eq. (9) is evaluated in log space (a softmax of α·ln a + β·ln η), which
+//    equals the quotient of powers but cannot underflow for large α or β.
+#include "pheromesh/shao/aco.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <limits>
+#include <numbers>
+#include <vector>
+
+namespace pheromesh::core {
+
+namespace {
+
+constexpr double kAttractivenessFloor = 1e-6;
+constexpr double kTieTolerance = 1e-12;
+constexpr int kHeadingCount = 8;
+constexpr int kMaxTurn = 2;  // ±90°, Shao 2020 eq. (10)
+
+// Sector (heading index 0..7) of the bearing of offset (dx, dy) != (0, 0).
+int sector_of(int32_t dx, int32_t dy) {
+  constexpr double kEighth = std::numbers::pi / 4.0;
+  const double bearing = std::atan2(static_cast<double>(dy), static_cast<double>(dx));  // (-π, π]
+  const auto s = static_cast<int>(std::floor((bearing + kEighth / 2.0) / kEighth));
+  return ((s % kHeadingCount) + kHeadingCount) % kHeadingCount;
+}
+
+struct SectorSums {
+  double tau = 0.0, eps = 0.0, sigma = 0.0;
+  int count = 0;
+};
+
+// Sums of known pheromone values per sector over the sensor disk around pos.
+std::array<SectorSums, kHeadingCount> sector_sums(Cell pos, const LocalView& view, double radius) {
+  std::array<SectorSums, kHeadingCount> sums{};
+  if (!view.pheromones || !(radius >= 1.0)) {
+    return sums;
+  }
+  // A sensor radius beyond any sane map is capped so the loop stays bounded.
+  const auto r = static_cast<int32_t>(std::floor(std::min(radius, 4096.0)));
+  const double r2 = radius * radius;
+  for (int32_t dy = -r; dy <= r; ++dy) {
+    for (int32_t dx = -r; dx <= r; ++dx) {
+      if ((dx == 0 && dy == 0) || static_cast<double>(dx * dx + dy * dy) > r2) {
+        continue;
+      }
+      const auto v = view.pheromones(Cell{pos.x + dx, pos.y + dy});
+      if (!v) {
+        continue;
+      }
+      SectorSums& s = sums[static_cast<std::size_t>(sector_of(dx, dy))];
+      s.tau += static_cast<double>((*v)[0]);
+      s.eps += static_cast<double>((*v)[1]);
+      s.sigma += static_cast<double>((*v)[2]);
+      ++s.count;
+    }
+  }
+  return sums;
+}
+
+// Normalises weights given as logarithms over the accessible candidates:
+// out[i] = exp(w[i]) / Σ exp(w[j]); 0 for inaccessible candidates.
+void softmax_accessible(const std::array<double, 5>& log_w, std::array<Candidate, 5>& cands,
+                        double Candidate::*out) {
+  double max_w = -std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < cands.size(); ++i) {
+    if (cands[i].accessible) {
+      max_w = std::max(max_w, log_w[i]);
+    }
+  }
+  if (!std::isfinite(max_w)) {
+    return;  // nothing accessible (or degenerate weights): all stay 0
+  }
+  double sum = 0.0;
+  std::array<double, 5> w{};
+  for (std::size_t i = 0; i < cands.size(); ++i) {
+    if (cands[i].accessible) {
+      w[i] = std::exp(log_w[i] - max_w);
+      sum += w[i];
+    }
+  }
+  for (std::size_t i = 0; i < cands.size(); ++i) {
+    cands[i].*out = w[i] / sum;
+  }
+}
+
+}  // namespace
+
+// Shao 2020 eq. (11): η_ij = 1.4 for D_ij = 1, 1 for D_ij = √2, 0 otherwise.
+double eta_distance(int32_t d2) {
+  switch (d2) {
+    case 1:
+      return 1.4;
+    case 2:
+      return 1.0;
+    default:
+      return 0.0;
+  }
+}
+
+// Shao 2020 eq. (10): η_ijk = (1/4, 5/24, 1/6)·η_ij for θ = 0°, 45°, 90°.
+double eta_turn(int abs_turn_eighths) {
+  switch (abs_turn_eighths) {
+    case 0:
+      return 1.0 / 4.0;
+    case 1:
+      return 5.0 / 24.0;
+    case 2:
+      return 1.0 / 6.0;
+    default:
+      return 0.0;
+  }
+}
+
+std::array<Candidate, 5> evaluate_candidates(Cell pos, Heading heading, const LocalView& view,
+                                             const ShaoAcoParams& p) {
+  const auto sums = sector_sums(pos, view, p.sensor_radius);
+
+  std::array<Candidate, 5> cands{};
+  std::array<double, 5> log_info{};
+  std::array<double, 5> log_random{};
+  for (int turn = -kMaxTurn; turn <= kMaxTurn; ++turn) {
+    const auto i = static_cast<std::size_t>(turn + kMaxTurn);
+    Candidate& c = cands[i];
+    c.turn_eighths = turn;
+    c.heading = rotate(heading, turn);
+    const Cell step = step_of(c.heading);
+    c.next = Cell{pos.x + step.x, pos.y + step.y};
+    c.accessible = !(view.blocked && view.blocked(c.next));
+    c.eta = eta_turn(std::abs(turn)) * eta_distance(step.x * step.x + step.y * step.y);  // Shao 2020 eq. (10), Shao 2020 eq. (11)
+
+    const SectorSums& s = sums[static_cast<std::size_t>(c.heading)];
+    if (s.count > 0) {
+      c.tau = s.tau / s.count;
+      c.eps = s.eps / s.count;
+      c.sigma = s.sigma / s.count;
+    }
+    const double base = p.lambda_target * c.tau + p.lambda_obstacle * c.eps + p.lambda_path * c.sigma;
+    c.attractiveness = std::isnan(base) ? kAttractivenessFloor : std::max(base, kAttractivenessFloor);
+
+    // Shao 2020 eq. (9) numerator, and the physical-costs-only weight of the random
+    // sub-group, both as logarithms (η > 0 for every turn of -2..2).
+    log_info[i] = p.alpha * std::log(c.attractiveness) + p.beta * std::log(c.eta);
+    log_random[i] = p.beta * std::log(c.eta);
+  }
+  softmax_accessible(log_info, cands, &Candidate::probability);
+  softmax_accessible(log_random, cands, &Candidate::random_probability);
+  return cands;
+}
+
+// Random-stream consumption, in this order, for every call:
+//  1. rng.uniform01() decides the sub-group (always drawn);
+//  2. if at least one candidate is accessible, exactly one more call:
+//     information group: rng.uniform_below(number of tied maxima), made even
+//     when there is a single maximum; random group: rng.uniform01() for the
+//     roulette wheel.
+// Nothing more is drawn when no candidate is accessible.
+Decision decide(Cell pos, Heading heading, const LocalView& view, const ShaoAcoParams& p, Rng& rng) {
+  const auto cands = evaluate_candidates(pos, heading, view, p);
+  Decision d;
+  d.random_group = rng.uniform01() < p.random_fraction;
+
+  std::vector<std::size_t> accessible;
+  for (std::size_t i = 0; i < cands.size(); ++i) {
+    if (cands[i].accessible) {
+      accessible.push_back(i);
+    }
+  }
+  if (accessible.empty()) {
+    return d;  // the caller decides what to do (e.g. turn back)
+  }
+
+  if (!d.random_group) {
+    // Shao 2020 Algorithm 1 line 11: the information sub-group selects the maximum.
+    double best = -1.0;
+    for (const std::size_t i : accessible) {
+      best = std::max(best, cands[i].probability);
+    }
+    std::vector<std::size_t> ties;
+    for (const std::size_t i : accessible) {
+      if (cands[i].probability >= best - kTieTolerance) {
+        ties.push_back(i);
+      }
+    }
+    const uint32_t k = rng.uniform_below(static_cast<uint32_t>(ties.size()));
+    d.chosen = cands[ties[k]];
+    return d;
+  }
+
+  // Random sub-group: roulette wheel over physical costs only.
+  const double u = rng.uniform01();
+  double cumulative = 0.0;
+  for (const std::size_t i : accessible) {
+    cumulative += cands[i].random_probability;
+    if (u < cumulative) {
+      d.chosen = cands[i];
+      return d;
+    }
+  }
+  d.chosen = cands[accessible.back()];  // rounding left u just above the total
+  return d;
+}
+
+}  // namespace pheromesh::core

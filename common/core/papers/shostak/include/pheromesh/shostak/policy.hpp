@@ -1,0 +1,56 @@
+// Scenario parameters of the Shostak GPS-denied stigmergy policy
+// (shostak/src/policy.cpp; scenario.policy.shostak, docs/policies/shostak.md).
+//
+// The paper's constants keep their names from pheromesh/shostak/model.hpp (layers, Shostak 2024 eq. (1), Shostak 2024 eq. (2), Shostak 2024 eq. (3), Shostak 2024 eq. (4), Shostak 2024 eq. (5), Shostak 2024 eq. (6)
+// parameters, drift model); the rest are our choices for what the paper leaves
+// open, the same as the in-experiment swarm loop (cli/experiments/shostak.cpp,
+// SwarmSetup).
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "pheromesh/core/policy.hpp"
+#include "pheromesh/shostak/model.hpp"
+
+namespace pheromesh::core {
+
+struct ShostakConfig final : PolicyConfig {
+  static constexpr PolicyKind kKind = PolicyKind::Shostak;
+  [[nodiscard]] PolicyKind kind() const override { return kKind; }
+
+  // One tick is one deposit period of Shostak 2024 Sec. 3.1 (0.2 s): one explored deposit, one
+  // motion step of speed·dt, one Shostak 2024 eq. (2) evaporation by (1-ρ)^dt. Other values
+  // keep the physics (deposits at multiples of the deposit period, speed in
+  // m/s, ρ per second).
+  double dt_s = 0.2;  // [s] (0, 1]
+
+  ShostakLayerParams layers;                    // Shostak 2024 eq. (1), Shostak 2024 eq. (2), Shostak 2024 Sec. 2, Shostak 2024 Sec. 4.2, Shostak 2024 Sec. 5; cell_size_m [m/cell]
+  ShostakAcoParams aco;                         // Shostak 2024 eq. (4), Shostak 2024 eq. (5), Shostak 2024 eq. (6): N, d, ψmax, α, β, our η floor
+  ShostakAttractivenessParams attractiveness;   // Shostak 2024 eq. (3) (not configurable)
+  ShostakDriftParams drift;                     // ours: dead-reckoning drift, 0 = ideal pose (Shostak 2024 Sec. 4.1)
+
+  // Ours (the paper gives none of these; values of SwarmSetup in
+  // cli/experiments/shostak.cpp).
+  double speed_mps = 5.0;         // [m/s] cruise speed
+  double altitude_m = 10.0;       // [m] take-off (and dispersal) altitude above the take-off point
+  double min_altitude_m = 5.0;    // [m] waypoints' z clamped into [min, max]
+  double max_altitude_m = 30.0;   // [m]
+  double dispersal_m = 50.0;      // [m] length of the 2π·i/n dispersal leg (Shostak 2024 Sec. 5), shortened to stay on the map
+  double detect_radius_m = 10.0;  // [m] horizontal camera footprint radius: a target closer is detected
+  double lidar_range_m = 10.0;    // [m] "obstacle at the set distance" of Shostak 2024 Sec. 4.2 (horizontal)
+  // Yaw of UAV i's local frame in the map frame [rad], fixed at take-off
+  // (Shostak 2024 Sec. 4.1); UAVs beyond the list use 0.
+  std::vector<double> frame_yaw_rad;
+};
+
+// --- the policy (policy.cpp), dispatched by core/src/policy_registry.cpp
+PolicyTraits shostak_traits(const ScenarioConfig& s);
+std::unique_ptr<UavPolicy> make_shostak_uav(const ScenarioConfig& s, const MapGeometry& geo, const World& world, uint32_t id);
+std::unique_ptr<PlaceModel> make_shostak_place(const ScenarioConfig& s, const MapGeometry& geo, RegionId region);
+std::map<std::string, double> shostak_field_summary(const ScenarioConfig& s, const FieldLookup& value);
+
+}  // namespace pheromesh::core
