@@ -1,0 +1,39 @@
+#!/usr/bin/env bash
+# The module map of docs/architecture.md, checked on the #include lines:
+#   - a paper's room (common/core/papers/<paper>) includes the shared core
+#     and its own room only;
+#   - the shared core includes no room, except the two places that know
+#     every paper (src/policy_registry.cpp, src/scenario.cpp), and nothing
+#     of the bus, the runtime, auth or the console;
+#   - auth, bus and runtime include nothing of the console;
+#   - the UAV and place agent shells include no room and nothing of the console;
+#   - the ground station includes no room.
+# Usage: check-structure.sh [repo root]; prints each violation, exits 1 if any.
+set -u
+root="${1:-$(cd "$(dirname "$0")/.." && pwd)}"
+cd "$root" || exit 2
+papers="shao|liu|duan|shostak|ravankar"
+bad=0
+report() {  # report RULE HITS: prints each hit with its rule
+  [ -z "$2" ] && return
+  while IFS= read -r hit; do echo "$hit   <- $1"; done <<<"$2"
+  bad=1
+}
+inc() { grep -rnE --include='*.hpp' --include='*.cpp' --include='*.h' '^[[:space:]]*#[[:space:]]*include[[:space:]]*"pheromesh/' "$@" 2>/dev/null; }
+
+for dir in common/core/papers/*/; do
+  p=$(basename "$dir")
+  report "room $p may include pheromesh/core/ and pheromesh/$p/ only" "$(inc "$dir" | grep -vE "\"pheromesh/(core|$p)/")"
+done
+report "the shared core includes no room" \
+  "$(inc common/core/include common/core/src | grep -E "\"pheromesh/($papers)/" | grep -vE '^common/core/src/(policy_registry|scenario)\.cpp:')"
+report "the core includes no bus, runtime, auth or console" \
+  "$(inc common/core/include common/core/src common/core/papers | grep -E '"pheromesh/(bus|runtime|auth|console)/')"
+report "auth, bus and runtime include nothing of the console" "$(inc common/auth common/bus common/runtime | grep -E '"pheromesh/console/')"
+report "UAV and place shells include no console and no room" "$(inc agent placeagent | grep -E "\"pheromesh/(console|$papers)/")"
+report "the ground station includes no room" "$(inc groundstation | grep -E "\"pheromesh/($papers)/")"
+if [ "$bad" -ne 0 ]; then
+  echo "check-structure: the module map of docs/architecture.md is broken (above)" >&2
+  exit 1
+fi
+echo "check-structure: ok"
