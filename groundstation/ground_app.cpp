@@ -26,6 +26,7 @@ int64_t unix_ms_now() {
 
 GroundApp::GroundApp(GroundConfig cfg, core::ScenarioConfig scenario, std::unique_ptr<bus::Bus> bus)
     : cfg_(std::move(cfg)),
+      launcher_(cfg_.launcher_fd),
       scenario_(std::move(scenario)),
       geo_(scenario_.geometry()),
       world_(geo_, scenario_.obstacles, scenario_.targets),

@@ -17,6 +17,7 @@
 #include "pheromesh/auth/control.hpp"
 #include "pheromesh/console/commands.hpp"
 #include "pheromesh/console/frame_builder.hpp"
+#include "pheromesh/console/launcher_link.hpp"
 #include "pheromesh/console/recording.hpp"
 #include "pheromesh/console/server.hpp"
 #include "pheromesh/console/uncertainty.hpp"
@@ -72,9 +73,9 @@ class GroundApp {
   console::ConsoleSource::Answer execute(const nlohmann::json& body, const std::string& who);
   console::ConsoleSource::Answer apply(const console::ConsoleCommand& c);
   console::ConsoleSource::Answer publish_swarm_command(core::CommandMsg c);
-  console::ConsoleSource::Answer ask_launcher(const std::string& line);
   void log_command(const std::string& who, const std::string& what, const console::ConsoleSource::Answer& a);
   GroundConfig cfg_;
+  console::LauncherLink launcher_;  // kill / restart, and pause so the launcher extends its deadline
   core::ScenarioConfig scenario_;
   core::MapGeometry geo_;
   core::World world_;

@@ -1,8 +1,5 @@
 // The ground station's web console, recording and commands (docs/console.md).
-#include <poll.h>
 #include <spdlog/spdlog.h>
-#include <sys/socket.h>
-#include <unistd.h>
 
 #include <chrono>
 #include <cstdlib>
@@ -10,7 +7,7 @@
 
 #include "ground_app.hpp"
 #include "pheromesh/console/commands.hpp"
-#include "pheromesh/console/prometheus.hpp"
+#include "pheromesh/console/swarm_metrics.hpp"
 #include "pheromesh/console/view.hpp"
 #include "pheromesh/core/policy.hpp"
 #include "pheromesh/core/uav_core.hpp"
@@ -60,7 +57,7 @@ void GroundApp::start_console() {
 
   ControlStatus control;
   control.enabled = cfg_.http_port.has_value();
-  control.process_control = cfg_.launcher_fd >= 0;
+  control.process_control = launcher_.connected();
   if (!control.process_control) control.reason = "kill and restart need the launcher: start the swarm with `pheromesh run --http PORT`";
   if (!control_key_) {
     control.reason += std::string(control.reason.empty() ? "" : "; ") + "pause and pop-ups need $" + auth::kControlKeyEnv +
@@ -129,62 +126,23 @@ void GroundApp::build_frame() {
 }
 
 std::string GroundApp::metrics_text() const {
-  console::Exposition e;
-  const console::ConsoleState& st = console_->state();
-  std::map<std::string, int> uavs{{"alive", 0}, {"stale", 0}, {"dead", 0}, {"finished", 0}};
-  for (const auto& [id, u] : st.uavs) ++uavs[console::to_string(u.liveness)];
-  e.family("pheromesh_uavs", "gauge", "UAVs by liveness as the ground station sees them.");
-  for (const auto& [k, n] : uavs) e.sample("pheromesh_uavs", {{"state", k}}, n);
-  std::map<std::string, int> places{{"alive", 0}, {"stale", 0}, {"dead", 0}, {"finished", 0}};
-  for (const auto& r : st.regions) ++places[console::to_string(r.liveness)];
-  e.family("pheromesh_place_agents", "gauge", "Place agents by liveness.");
-  for (const auto& [k, n] : places) e.sample("pheromesh_place_agents", {{"state", k}}, n);
-  e.family("pheromesh_tick", "gauge", "Highest UAV tick seen.");
-  e.sample("pheromesh_tick", st.tick);
-  e.family("pheromesh_paused", "gauge", "1 while the swarm is paused from the console.");
-  e.sample("pheromesh_paused", st.paused ? 1 : 0);
-  e.family("pheromesh_coverage_ratio", "gauge", "Reachable cells seen at least once, 0..1.");
-  e.sample("pheromesh_coverage_ratio", rec_.coverage().coverage());
-  e.family("pheromesh_uncertainty_ratio", "gauge", "Mean environmental uncertainty over reachable cells, 0..1 (docs/console.md).");
-  e.sample("pheromesh_uncertainty_ratio", uncertainty_ ? uncertainty_->mean(rec_.max_tick()) : 1.0);
-  e.family("pheromesh_targets", "gauge", "Targets by status.");
-  e.sample("pheromesh_targets", {{"status", "found"}}, static_cast<double>(rec_.acquisitions().found()));
-  e.sample("pheromesh_targets", {{"status", "total"}}, static_cast<double>(world_.targets().size()));
-  e.family("pheromesh_deposits_sent_total", "counter", "Deposits the UAVs report having sent.");
-  e.sample("pheromesh_deposits_sent_total", static_cast<double>(rec_.deposits_sent()));
-  e.family("pheromesh_region_deposits_applied_total", "counter", "Deposits a place agent applied to its layers.");
-  for (const auto& r : st.regions) {
-    e.sample("pheromesh_region_deposits_applied_total", {{"region", std::to_string(r.id)}}, static_cast<double>(r.deposits_applied));
-  }
-  e.family("pheromesh_region_deposits_rejected_total", "counter", "Deposits a place agent rejected.");
-  for (const auto& r : st.regions) {
-    e.sample("pheromesh_region_deposits_rejected_total", {{"region", std::to_string(r.id)}}, static_cast<double>(r.deposits_rejected));
-  }
-  e.family("pheromesh_region_tick_rate_hz", "gauge", "Measured tick rate of a place agent.");
-  for (const auto& r : st.regions) e.sample("pheromesh_region_tick_rate_hz", {{"region", std::to_string(r.id)}}, r.tick_rate_hz);
-  e.family("pheromesh_region_up", "gauge", "1 if the place agent is alive.");
-  for (const auto& r : st.regions) {
-    e.sample("pheromesh_region_up", {{"region", std::to_string(r.id)}}, r.liveness == console::Liveness::Alive ? 1 : 0);
-  }
-  e.family("pheromesh_samples_rejected_total", "counter", "Malformed samples the ground station dropped.");
-  e.sample("pheromesh_samples_rejected_total", static_cast<double>(rec_.samples_rejected() + bus_->stats().samples_dropped));
-  e.family("pheromesh_console_frames_total", "counter", "Console frames built.");
-  e.sample("pheromesh_console_frames_total", static_cast<double>(frames_));
-  e.family("pheromesh_console_commands_total", "counter", "Console commands by result.");
-  e.sample("pheromesh_console_commands_total", {{"result", "ok"}}, static_cast<double>(commands_ok_));
-  e.sample("pheromesh_console_commands_total", {{"result", "refused"}}, static_cast<double>(commands_refused_));
+  console::SwarmCounters c;
+  c.coverage = rec_.coverage().coverage();
+  c.uncertainty = uncertainty_ ? uncertainty_->mean(rec_.max_tick()) : 1.0;
+  c.targets_found = rec_.acquisitions().found();
+  c.targets_total = world_.targets().size();
+  c.deposits_sent = rec_.deposits_sent();
+  c.samples_rejected = rec_.samples_rejected() + bus_->stats().samples_dropped;
+  c.frames = frames_;
+  c.commands_ok = commands_ok_;
+  c.commands_refused = commands_refused_;
   if (server_) {
     const auto s = server_->stats();
-    e.family("pheromesh_console_http_requests_total", "counter", "HTTP requests served by the console.");
-    e.sample("pheromesh_console_http_requests_total", static_cast<double>(s.requests));
-    e.family("pheromesh_console_http_body_bytes_total", "counter", "Response body bytes before compression.");
-    e.sample("pheromesh_console_http_body_bytes_total", static_cast<double>(s.body_bytes));
+    c.http_requests = s.requests;
+    c.http_body_bytes = s.body_bytes;
   }
-  if (recording_) {
-    e.family("pheromesh_recording_bytes_total", "counter", "Bytes written to the console recording.");
-    e.sample("pheromesh_recording_bytes_total", static_cast<double>(recording_->bytes_written()));
-  }
-  return e.text();
+  if (recording_) c.recording_bytes = recording_->bytes_written();
+  return console::swarm_metrics_text(console_->state(), c);
 }
 
 void GroundApp::log_command(const std::string& who, const std::string& what, const Answer& a) {
@@ -209,28 +167,6 @@ Answer GroundApp::publish_swarm_command(core::CommandMsg c) {
   auth::sign(c, *control_key_);
   if (!bus_->publish_command(c)) return {500, "the DDS write failed"};
   return {200, auth::describe(c) + " sent to the swarm (seq " + std::to_string(c.seq) + ")"};
-}
-
-Answer GroundApp::ask_launcher(const std::string& line) {
-  if (cfg_.launcher_fd < 0) return {409, "kill and restart need the launcher: start the swarm with pheromesh run"};
-  const std::string out = line + "\n";
-  if (::send(cfg_.launcher_fd, out.data(), out.size(), MSG_NOSIGNAL) != static_cast<ssize_t>(out.size())) {
-    return {409, "the launcher is gone"};
-  }
-  std::string reply;
-  const auto deadline = Clock::now() + std::chrono::seconds(5);
-  while (reply.empty() || reply.back() != '\n') {
-    pollfd p{cfg_.launcher_fd, POLLIN, 0};
-    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - Clock::now()).count();
-    if (left <= 0 || ::poll(&p, 1, static_cast<int>(left)) <= 0) return {504, "the launcher did not answer within 5 s"};
-    char buf[512];
-    const ssize_t n = ::recv(cfg_.launcher_fd, buf, sizeof buf, 0);
-    if (n <= 0) return {409, "the launcher is gone"};
-    reply.append(buf, static_cast<std::size_t>(n));
-  }
-  reply.pop_back();
-  if (reply.rfind("ok ", 0) == 0) return {200, reply.substr(3)};
-  return {409, reply.rfind("error ", 0) == 0 ? reply.substr(6) : reply};
 }
 
 Answer GroundApp::execute(const nlohmann::json& body, const std::string& who) {
@@ -268,12 +204,12 @@ Answer GroundApp::apply(const console::ConsoleCommand& c) {
         a = publish_swarm_command(*console::swarm_command(c));
         if (a.status == 200) paused_ = pause;
       }
-      if (a.status == 200 && cfg_.launcher_fd >= 0) ask_launcher(pause ? "pause" : "resume");  // the launcher extends its deadline
+      if (a.status == 200 && launcher_.connected()) launcher_.ask(pause ? "pause" : "resume");  // the launcher extends its deadline
       return a;
     }
-    case K::KillUav: return ask_launcher("kill uav " + std::to_string(c.id));
-    case K::RestartUav: return ask_launcher("restart uav " + std::to_string(c.id));
-    case K::KillPlace: return ask_launcher("kill place " + std::to_string(c.id));
+    case K::KillUav: return launcher_.ask("kill uav " + std::to_string(c.id));
+    case K::RestartUav: return launcher_.ask("restart uav " + std::to_string(c.id));
+    case K::KillPlace: return launcher_.ask("kill place " + std::to_string(c.id));
     case K::Obstacle: {
       const Answer a = publish_swarm_command(*console::swarm_command(c));
       if (a.status == 200) {

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "pheromesh/core/rng.hpp"
+#include "duan_paths.hpp"
 #include "pheromesh/duan/aco.hpp"
 
 namespace pheromesh::core {
@@ -22,14 +23,7 @@ MeshSpec open_mesh(double w_km, double h_km) {
                   kDuanThreatWeight};
 }
 
-double max_turn_of(const ThreatMesh& mesh, const std::vector<NodeId>& nodes) {
-  double worst = 0.0;
-  for (std::size_t i = 2; i < nodes.size(); ++i) {
-    worst = std::max(worst, turn_angle_rad(mesh.position(nodes[i - 2]), mesh.position(nodes[i - 1]),
-                                           mesh.position(nodes[i])));
-  }
-  return worst;
-}
+using testing_duan::max_turn_of;
 
 bool is_walk(const ThreatMesh& mesh, const std::vector<NodeId>& nodes, NodeId start, NodeId goal) {
   if (nodes.empty() || nodes.front() != start || nodes.back() != goal) {

@@ -10,6 +10,7 @@
 #include <numbers>
 #include <vector>
 
+#include "duan_paths.hpp"
 #include "pheromesh/duan/aco.hpp"
 #include "pheromesh/duan/experiment.hpp"
 
@@ -36,14 +37,7 @@ MeshSpec three_by_three() { return MeshSpec{{0.0, 0.0}, 4.0, 4.0, 2, 2, kDuanThr
 // are 90° turns.
 ThreatMesh ring_mesh() { return ThreatMesh(three_by_three(), {Threat{{2.0, 2.0}, 1.5, 1.0}}); }
 
-double max_turn_of(const ThreatMesh& mesh, const std::vector<NodeId>& nodes) {
-  double worst = 0.0;
-  for (std::size_t i = 2; i < nodes.size(); ++i) {
-    worst = std::max(worst, turn_angle_rad(mesh.position(nodes[i - 2]), mesh.position(nodes[i - 1]),
-                                           mesh.position(nodes[i])));
-  }
-  return worst;
-}
+using testing_duan::max_turn_of;
 
 bool contains(const std::vector<NodeId>& nodes, NodeId n) { return std::find(nodes.begin(), nodes.end(), n) != nodes.end(); }
 
