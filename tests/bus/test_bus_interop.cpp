@@ -349,7 +349,7 @@ TEST_P(Departure, LockstepResenderWritesTheTicksSamplesAgainAfterAQuietSpellOnly
   ASSERT_TRUE(w && r);
   r->subscribe_fields();
   r->subscribe_phase_done();
-  bus::LatestResender resend(*w, true, std::chrono::milliseconds(300));
+  bus::LatestResender resend(*w, true, std::chrono::milliseconds(1000));
   EXPECT_FALSE(resend.resend_if_quiet()) << "nothing remembered yet";
   const core::FieldMsg field{3, 0, 1, 9, {core::TileMsg{0, {2, 5}, 1, 0, 9, 1, {1.0F}}}, {}};
   ASSERT_TRUE(resend.field(field));
@@ -357,7 +357,7 @@ TEST_P(Departure, LockstepResenderWritesTheTicksSamplesAgainAfterAQuietSpellOnly
   EXPECT_FALSE(resend.resend_if_quiet()) << "published just now";
   const auto fields = wait_for<core::FieldMsg>([&](auto& v) { r->take_fields(v); });
   ASSERT_EQ(fields.size(), 1U);
-  std::this_thread::sleep_for(std::chrono::milliseconds(350));
+  std::this_thread::sleep_for(std::chrono::milliseconds(1100));
   EXPECT_TRUE(resend.resend_if_quiet());
   EXPECT_EQ(resend.resends(), 1U);
   const auto again = wait_for<core::FieldMsg>([&](auto& v) { r->take_fields(v); });
@@ -376,7 +376,7 @@ TEST_P(Departure, LockstepResenderWritesTheTicksSamplesAgainAfterAQuietSpellOnly
   EXPECT_EQ(dones.back().tick, 9U);
   // A new tick forgets the old samples; a disabled resender only publishes.
   resend.begin_tick();
-  std::this_thread::sleep_for(std::chrono::milliseconds(350));
+  std::this_thread::sleep_for(std::chrono::milliseconds(1100));
   EXPECT_FALSE(resend.resend_if_quiet());
   bus::LatestResender off(*w, false, std::chrono::milliseconds(1));
   ASSERT_TRUE(off.field(field));

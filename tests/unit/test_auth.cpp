@@ -26,7 +26,7 @@ TEST(Auth, HmacSha256Rfc4231Case2) {
 
 core::CommandMsg signed_command(const ControlKey& key, uint32_t seq, core::CommandKind kind) {
   core::CommandMsg c;
-  c.issuer = 3U << 24U;
+  c.issuer = core::process_key(core::kRoleGround, 0);
   c.seq = seq;
   c.issued_ms = 1'700'000'000'000ULL;
   c.kind = static_cast<uint8_t>(kind);
