@@ -31,6 +31,7 @@ void UavApp::receive() {
       continue;
     }
     view_tick_ = std::max(view_tick_.value_or(0), v.tick);
+    receipts_.confirmed(v.deposit_ack);
     tile_samples_received_ += v.tiles.size();
     for (const auto& t : v.tiles) {
       if (auto reason = core::check_tile(t, geo_, layers_)) {
@@ -88,6 +89,9 @@ void UavApp::step(uint32_t tick, bool finished) {
       } else if (bus_->publish_deposit(d, home_)) {
         ++deposits_sent_;
         ++written_[d.region];
+        receipts_.sent(d.seq);
+      } else {
+        ++deposits_undeliverable_;
       }
     }
     for (const auto& d : out_.detections) bus_->publish_detection(d);
@@ -104,8 +108,17 @@ void UavApp::step(uint32_t tick, bool finished) {
   s.ticks_late = ticks_late_;
   s.samples_received = samples_received_;
   s.finished = finished;
+  s.deposits_unconfirmed = receipts_.unconfirmed() + deposits_undeliverable_;
   s.view = core_.cell();  // the home place agent composes the next view around it
   bus_->publish_uav_state(s);
+}
+
+void UavApp::wait_for_receipts(std::chrono::milliseconds bound) {
+  const auto deadline = Clock::now() + bound;
+  while (receipts_.unconfirmed() > 0 && Clock::now() < deadline && !runtime::shutdown_requested()) {
+    receive();
+    bus_->wait({bus::TopicKind::View}, std::min(deadline, Clock::now() + std::chrono::milliseconds(50)));
+  }
 }
 
 void UavApp::handle_commands() {
@@ -232,11 +245,19 @@ int UavApp::run() {
              bus_->vendor());
   if (!cfg_.common.lockstep()) wait_for_start();
   const int last = cfg_.common.lockstep() ? run_lockstep(ticks) : run_realtime(ticks);
+  // The home confirms the last deposits in its next view: wait for it (a
+  // dead home never does; those deposits are counted unconfirmed).
+  wait_for_receipts(std::chrono::milliseconds(std::max<uint32_t>(2 * cfg_.common.lease_ms, 1000)));
   step(static_cast<uint32_t>(last), true);
   const bool acked = bus_->flush(std::chrono::seconds(5));
-  log_->info("uav {} finished at tick {} at ({},{}): deposits sent {}, undeliverable {}, samples rejected {}{}", cfg_.id,
-             last, core_.cell().x, core_.cell().y, deposits_sent_, deposits_undeliverable_, samples_rejected_,
-             acked ? "" : " (not every sample was acknowledged)");
+  log_->info("uav {} finished at tick {} at ({},{}): deposits sent {}, unconfirmed by its home place agent {}, "
+             "undeliverable {}, samples rejected {}{}",
+             cfg_.id, last, core_.cell().x, core_.cell().y, deposits_sent_, receipts_.unconfirmed(), deposits_undeliverable_,
+             samples_rejected_, acked ? "" : " (not every sample was acknowledged)");
+  if (receipts_.unconfirmed() > 0) {
+    log_->warn("uav {}: {} deposits were never confirmed by place agent {} (counted lost)", cfg_.id, receipts_.unconfirmed(),
+               home_);
+  }
   return 0;
 }
 

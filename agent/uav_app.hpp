@@ -5,6 +5,7 @@
 // DDS endpoints created once at start-up.
 #pragma once
 
+#include <chrono>
 #include <cstdint>
 #include <map>
 #include <memory>
@@ -12,6 +13,7 @@
 #include <vector>
 
 #include "pheromesh/bus/bus.hpp"
+#include "pheromesh/core/receipts.hpp"
 #include "pheromesh/core/scenario.hpp"
 #include "pheromesh/core/uav_core.hpp"
 #include "pheromesh/core/world.hpp"
@@ -63,6 +65,9 @@ class UavApp {
   core::UavCore::Output out_;
   uint64_t deposits_sent_ = 0;
   uint64_t deposits_undeliverable_ = 0;
+  core::DepositReceipts receipts_;  // deposits its home place agent has not confirmed yet
+  // Before the last state: wait (bounded) until the home confirmed every deposit.
+  void wait_for_receipts(std::chrono::milliseconds bound);
   uint64_t samples_rejected_ = 0;
   uint64_t tile_samples_received_ = 0;
   uint64_t samples_received_ = 0;  // views + broadcasts + commands taken

@@ -78,11 +78,12 @@ std::string executable_dir() {
   return ec ? std::string(".") : self.parent_path().string();
 }
 
-void Launcher::spawn(const std::string& role, uint32_t index, const std::vector<std::string>& extra_args) {
+void Launcher::spawn(const std::string& role, uint32_t index, const std::vector<std::string>& extra_args, uint32_t replica) {
   ChildProcess c;
   c.role = role;
   c.index = index;
   c.name = role == "ground" ? "ground" : role + "-" + std::to_string(index);
+  if (replica > 0) c.name += ".r" + std::to_string(replica);
   c.dds = plan_.vendor_of(role, index);
   const std::string exe = bin_dir_ + "/pheromesh-" + (role == "uav" ? "uav" : role == "place" ? "place" : "ground");
   std::vector<std::string> args{exe,
@@ -96,6 +97,8 @@ void Launcher::spawn(const std::string& role, uint32_t index, const std::vector<
   if (o_.uavs > 0) args.insert(args.end(), {"--uavs", std::to_string(o_.uavs)});
   if (o_.seed > 0) args.insert(args.end(), {"--seed", std::to_string(o_.seed)});
   if (o_.rate_hz > 0) args.insert(args.end(), {"--rate", std::to_string(o_.rate_hz)});
+  if (standby_) args.emplace_back("--standby");
+  if (replica > 0) args.insert(args.end(), {"--replica", std::to_string(replica)});
   args.insert(args.end(), extra_args.begin(), extra_args.end());
   const std::string log_path = (fs::path(o_.out_dir) / "logs" / (c.name + ".log")).string();
 
@@ -103,7 +106,11 @@ void Launcher::spawn(const std::string& role, uint32_t index, const std::vector<
   // 250 domain + 2 id) instead of searching for free ones, which stops at
   // about 120 processes per host (docs/dds.md). Ground 0, place agents from
   // 1, UAVs after them; a restarted UAV gets its old id (its ports are free).
-  const uint32_t participant = role == "ground" ? 0 : role == "place" ? 1 + index : 1 + regions_ + index;
+  // Standby place agents after the UAVs.
+  const uint32_t participant = role == "ground"  ? 0
+                               : replica > 0     ? 1 + regions_ + uavs_ + (replica - 1) * regions_ + index
+                               : role == "place" ? 1 + index
+                                                 : 1 + regions_ + index;
   std::string participant_env = "PHEROMESH_PARTICIPANT_ID=" + std::to_string(participant);
   const pid_t parent = getpid();
   pid_t pid = fork();
@@ -149,6 +156,9 @@ void Launcher::spawn(const std::string& role, uint32_t index, const std::vector<
 
 bool Launcher::spawn_swarm(uint32_t regions, uint32_t uavs, uint32_t ticks) {
   for (uint32_t r = 0; r < regions; ++r) spawn("place", r, {"--region", std::to_string(r)});
+  if (standby_) {
+    for (uint32_t r = 0; r < regions; ++r) spawn("place", r, {"--region", std::to_string(r)}, 1);
+  }
   const bool stagger = 1 + std::size_t{regions} + uavs > kStaggerAbove && o_.start_rate > 0;
   // Batches of a tenth of a second's worth of UAVs.
   const auto batch = std::max<uint32_t>(1, static_cast<uint32_t>(o_.start_rate / 10.0));
@@ -407,6 +417,8 @@ int Launcher::run() {
   const uint32_t uavs = o_.uavs > 0 ? o_.uavs : s.uavs;
   const uint32_t regions = s.geometry().region_count();
   regions_ = regions;
+  uavs_ = uavs;
+  standby_ = o_.standby || s.standby;
   auto plan = parse_dds_plan(o_.dds, bus::available_vendors());
   if (!plan) {
     spdlog::error("{}", plan.error().message);

@@ -35,6 +35,7 @@ struct RunOptions {
   std::string clock = "realtime";  // realtime | lockstep
   uint32_t lease_ms = 1000;        // liveliness lease of every process [ms]
   bool discovery_server = false;   // Fast DDS only: discover through a fast-discovery-server the launcher starts
+  bool standby = false;            // a hot-standby replica of every place agent (also the scenario's run.standby)
   double start_rate = 50;          // UAV processes started per second when the swarm exceeds 64 processes (0: all at once)
   // Web console of the ground station (docs/console.md).
   std::optional<uint16_t> http_port;
@@ -74,7 +75,8 @@ class Launcher {
   int run();
 
  private:
-  void spawn(const std::string& role, uint32_t index, const std::vector<std::string>& extra_args);
+  // `replica` > 0: a standby place agent, named place-R.rN.
+  void spawn(const std::string& role, uint32_t index, const std::vector<std::string>& extra_args, uint32_t replica = 0);
   // Starts the place agents and then the UAVs, in batches when the swarm is
   // large. Returns false if interrupted before all were started.
   bool spawn_swarm(uint32_t regions, uint32_t uavs, uint32_t ticks);
@@ -106,6 +108,8 @@ class Launcher {
   std::optional<UdpCounters> udp_start_, udp_end_;
   uint32_t ticks_ = 0;
   uint32_t regions_ = 0;
+  uint32_t uavs_ = 0;
+  bool standby_ = false;  // --standby or the scenario's run.standby
   pid_t discovery_server_pid_ = -1;
   bool start_discovery_server();
   void stop_discovery_server();

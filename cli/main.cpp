@@ -72,6 +72,11 @@ int main(int argc, char** argv) {
                 "cyclone/fastdds alternating by index, UAVs fastdds/cyclone), or per role, e.g. "
                 "ground=fastdds,place=cyclone,uav=mixed [env PHEROMESH_DDS]")
       ->capture_default_str();
+  r->add_flag("--standby", ro.standby,
+              "Run a hot-standby replica of every place agent (place-R.r1): it receives every deposit and keeps the "
+              "same field; the primary's output wins through DDS exclusive ownership, and when the primary dies or "
+              "stops the standby's takes over within about a liveliness lease (docs/faults.md). Also the scenario's "
+              "run.standby");
   r->add_option("--dds-profile", ro.dds_profile,
                 "DDS profile: onehost (loopback, multicast discovery), onehost-unicast, default (vendor defaults) or "
                 "vendor config files, comma-separated, each process using the one for its vendor "

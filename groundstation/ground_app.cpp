@@ -130,7 +130,15 @@ void GroundApp::poll() {
   healths_.clear();
   bus_->take_health(healths_);
   for (const auto& h : healths_) {
-    rec_.on_health(h);
+    const auto owner_before = rec_.region_owner(h.region);
+    if (rec_.on_health(h)) {
+      log_->warn("place agent {}{} is back at tick {}", h.region, h.replica > 0 ? fmt::format(" (standby {})", h.replica) : "",
+                 h.tick);
+    }
+    const auto owner = rec_.region_owner(h.region);
+    if (owner_before && owner && *owner < *owner_before) {
+      log_->info("region {}: replica {} owns it again", h.region, *owner);
+    }
     frame_builder_.heard_region(h.region, Clock::now());
   }
   tiles_.clear();
@@ -149,12 +157,22 @@ void GroundApp::poll() {
     auto& slot = tiles_latest_[{t.layer, {t.tile.tx, t.tile.ty}}];
     if (slot.values.empty() || t.tick >= slot.tick) slot = std::move(t);
   }
-  std::vector<core::RegionId> regions_gone;
-  bus_->take_departed_regions(regions_gone);
-  for (auto r : regions_gone) {
-    auto it = rec_.health().find(r);
-    if (it == rec_.health().end() || !it->second.finished) log_->warn("place agent of region {} lost (liveliness)", r);
-    rec_.on_region_departed(r);
+  std::vector<uint32_t> places_gone;
+  bus_->take_departed_regions(places_gone);
+  for (uint32_t id : places_gone) {
+    const core::RegionId r = core::place_id_region(id);
+    const uint16_t replica = core::place_id_replica(id);
+    auto it = rec_.replica_health().find(id);
+    const bool finished = it != rec_.replica_health().end() && it->second.finished;
+    rec_.on_place_departed(id);
+    if (finished) continue;
+    const std::string who = replica > 0 ? fmt::format("standby {} of region {}", replica, r) : fmt::format("place agent {}", r);
+    if (auto owner = rec_.region_owner(r)) {
+      log_->warn("{} lost (liveliness); region {} is served by {}", who, r,
+                 *owner == 0 ? std::string("its primary") : fmt::format("standby {}", *owner));
+    } else {
+      log_->warn("{} lost (liveliness); region {} has no live place agent: deposits into it are lost", who, r);
+    }
   }
   dones_.clear();
   bus_->take_phase_done(dones_);
@@ -171,10 +189,17 @@ void GroundApp::print_progress() {
     rejected += h.deposits_rejected;
   }
   rec_.sample_coverage();
-  log_->info("tick {:5d} | uavs {}/{} flying | places {}/{} | coverage {:5.1f}% | targets {}/{} | deposits sent {} applied {} rejected {}",
-             rec_.max_tick(), flying, cfg_.expect_uavs, rec_.health().size(), geo_.region_count(),
+  uint32_t standby_owned = 0;
+  for (core::RegionId r = 0; r < geo_.region_count(); ++r) {
+    const auto owner = rec_.region_owner(r);
+    standby_owned += owner && *owner > 0 ? 1 : 0;
+  }
+  log_->info("tick {:5d} | uavs {}/{} flying | places {}/{}{} | coverage {:5.1f}% | targets {}/{} | deposits sent {} applied {} "
+             "rejected {} lost {}",
+             rec_.max_tick(), flying, cfg_.expect_uavs, rec_.regions_alive(), geo_.region_count(),
+             standby_owned > 0 ? fmt::format(" ({} on standby)", standby_owned) : std::string(),
              100.0 * rec_.coverage().coverage(), rec_.acquisitions().found(), world_.targets().size(),
-             rec_.deposits_sent(), applied, rejected);
+             rec_.deposits_sent(), applied, rejected, rec_.deposits_lost());
 }
 
 void GroundApp::progress_if_due() {

@@ -17,13 +17,27 @@ int main(int argc, char** argv) {
   app.add_option("--region", cfg.region, "Region id owned by this process (0 .. regions_x*regions_y-1)")->required();
   app.add_option("--max-ticks", cfg.max_ticks, "Stop after this many ticks (0: run until SIGINT/SIGTERM)")
       ->capture_default_str();
+  uint32_t replica = 0;
+  app.add_option("--replica", replica,
+                 "Replica number in a swarm with --standby: 0 the primary, 1.. hot standbys (the lowest live one owns "
+                 "the region's output; docs/faults.md)")
+      ->check(CLI::Range(0, 999))
+      ->capture_default_str();
   CLI11_PARSE(app, argc, argv);
+  cfg.common.place_replica = static_cast<int32_t>(replica);
+  cfg.replica = static_cast<uint16_t>(replica);
 
-  const std::string name = "place-" + std::to_string(cfg.region);
+  const std::string name = "place-" + std::to_string(cfg.region) + (replica > 0 ? ".r" + std::to_string(replica) : "");
   return runtime::run_process(name, cfg.common, [&](core::ScenarioConfig scenario, std::unique_ptr<bus::Bus> bus) {
     if (cfg.region >= scenario.geometry().region_count()) {
       spdlog::error("--region {} does not exist: the scenario has {} regions", cfg.region,
                     scenario.geometry().region_count());
+      return 2;
+    }
+    if (replica > 0 && !(cfg.common.standby || scenario.standby)) {
+      spdlog::error("--replica {} needs a swarm with standbys: pass --standby to every process (or set run.standby in "
+                    "the scenario)",
+                    replica);
       return 2;
     }
     return placeagent::PlaceApp(cfg, std::move(scenario), std::move(bus)).run();

@@ -27,6 +27,7 @@ PlaceApp::PlaceApp(PlaceConfig cfg, core::ScenarioConfig scenario, std::unique_p
   for (core::RegionId r = 0; r < geo_.region_count(); ++r) {
     if (r != cfg_.region) other_regions_.push_back(r);
   }
+  replicated_ = cfg_.common.standby || scenario_.standby;
 }
 
 namespace {
@@ -36,12 +37,33 @@ constexpr uint32_t kViewsAfterSilence = 20;
 // Realtime: neighbour states at most this many ticks older than the UAV's
 // own go into its view (UavCore keeps the same window).
 constexpr uint32_t kNeighbourAge = 4;
+// Replicated swarms: deposit seqs remembered per UAV to drop the second copy
+// of a forwarded deposit (both replicas of a home forward each one; the
+// copies arrive within a tick or so of each other).
+constexpr std::size_t kSeenSeqs = 4096;
 }  // namespace
+
+bool PlaceApp::duplicate(const core::DepositMsg& d) {
+  if (!replicated_) return false;
+  auto& seen = seen_seq_[d.uav];
+  if (!seen.insert(d.seq).second) return true;
+  if (seen.size() > kSeenSeqs) seen.erase(seen.begin());
+  return false;
+}
 
 void PlaceApp::take_deposits() {
   taken_.clear();
   bus_->take_deposits(taken_);
   for (const auto& d : taken_) {
+    // What this replica received from its own UAVs, confirmed in their views.
+    if (core::home_region(d.uav, geo_.region_count()) == cfg_.region) {
+      auto& a = acked_[d.uav];
+      a = std::max(a, d.seq);
+    }
+    if (duplicate(d)) {
+      ++duplicates_;
+      continue;
+    }
     if (d.region == cfg_.region || d.region >= geo_.region_count()) {
       inbox_.push_back(d);  // ours, or for no region at all (PlaceCore rejects it with the reason)
       continue;
@@ -81,7 +103,10 @@ void PlaceApp::serve_views(uint32_t tick, bool exact) {
     if (const core::UavStateMsg* st = views_.state(u)) home_states_.push_back(*st);
   }
   for (const auto& t : tiles_out_) views_.update_tile(t);
-  for (const auto& f : core::make_field_chunks(cfg_.region, tick, tiles_out_, home_states_)) resend_.field(f);
+  for (auto& f : core::make_field_chunks(cfg_.region, tick, tiles_out_, home_states_)) {
+    f.replica = cfg_.replica;
+    resend_.field(f);
+  }
   // Every other region's field: exactly this tick's (lockstep), or the latest.
   const auto deadline = Clock::now() + std::chrono::seconds(30);
   for (;;) {
@@ -111,7 +136,11 @@ void PlaceApp::serve_views(uint32_t tick, bool exact) {
     const core::UavStateMsg* st = views_.state(u);
     if (st == nullptr || st->finished) continue;
     if (!exact && tick - heard_at_[u] > kViewsAfterSilence) continue;
-    if (views_.compose(u, tick, exact ? 0 : kNeighbourAge, view_)) resend_.view(view_);
+    if (views_.compose(u, tick, exact ? 0 : kNeighbourAge, view_)) {
+      auto a = acked_.find(u);
+      view_.deposit_ack = a == acked_.end() ? 0 : a->second;
+      resend_.view(view_);
+    }
   }
 }
 
@@ -180,15 +209,19 @@ void PlaceApp::step(uint32_t tick, bool exact, std::optional<uint32_t> expected_
 
 void PlaceApp::publish_health(uint32_t tick, bool finished) {
   const auto& l = core_.ledger();
-  bus_->publish_health({cfg_.region, tick, static_cast<float>(rate_), l.received, l.applied, l.rejected(), halos_missing_,
-                        finished});
+  core::HealthMsg h{cfg_.region, tick, static_cast<float>(rate_), l.received, l.applied, l.rejected(), halos_missing_,
+                    finished};
+  h.replica = cfg_.replica;
+  h.deposits_duplicate = duplicates_;
+  bus_->publish_health(h);
 }
 
 void PlaceApp::log_summary(uint32_t tick) {
   const auto& l = core_.ledger();
-  log_->info("region {} finished at tick {}: deposits received {}, applied {}, rejected {}; forwarded {} of its {} home "
-             "UAVs' to other regions; samples dropped {}; lockstep re-sends {}",
-             cfg_.region, tick, l.received, l.applied, l.rejected(), deposits_forwarded_, home_uavs_.size(), samples_rejected_,
+  log_->info("region {}{} finished at tick {}: deposits received {}, applied {}, rejected {}, duplicates dropped {}; "
+             "forwarded {} of its {} home UAVs' to other regions; samples dropped {}; lockstep re-sends {}",
+             cfg_.region, cfg_.replica > 0 ? " (standby " + std::to_string(cfg_.replica) + ")" : "", tick, l.received,
+             l.applied, l.rejected(), duplicates_, deposits_forwarded_, home_uavs_.size(), samples_rejected_,
              resend_.resends());
   for (const auto& [reason, n] : l.rejected_by_reason) log_->info("  rejected {}: {}", n, reason);
 }
@@ -276,9 +309,11 @@ int PlaceApp::run() {
   bus_->offer_views(home_uavs_);
   commands_ = std::make_unique<runtime::SwarmCommands>(*bus_, log_);
   const core::Rect r = geo_.region_rect(cfg_.region);
-  log_->info("place agent for region {} [{}..{})x[{}..{}) with {} tiles, {} neighbours, {} clock{} over {}", cfg_.region,
+  log_->info("place agent for region {} [{}..{})x[{}..{}) with {} tiles, {} neighbours, {} clock{} over {}{}", cfg_.region,
              r.x0, r.x0 + r.w, r.y0, r.y0 + r.h, core_.owned_tiles().size(), core_.neighbours().size(), cfg_.common.clock,
-             cfg_.common.lockstep() ? "" : fmt::format(" at {:.1f} Hz", rate_), bus_->vendor());
+             cfg_.common.lockstep() ? "" : fmt::format(" at {:.1f} Hz", rate_), bus_->vendor(),
+             !replicated_ ? std::string() : cfg_.replica == 0 ? std::string(", primary of a replicated region")
+                                                              : fmt::format(", hot standby {}", cfg_.replica));
   return cfg_.common.lockstep() ? run_lockstep() : run_realtime();
 }
 

@@ -10,6 +10,7 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <set>
 #include <vector>
 
 #include "pheromesh/bus/bus.hpp"
@@ -30,6 +31,7 @@ struct PlaceConfig {
   runtime::CommonOptions common;
   core::RegionId region = 0;
   uint32_t max_ticks = 0;  // 0: run until SIGINT/SIGTERM (realtime clock)
+  uint16_t replica = 0;    // 0 the primary, 1.. hot standbys (--standby swarms)
 };
 
 class PlaceApp {
@@ -52,6 +54,9 @@ class PlaceApp {
   // Publishes this region's field of `tick` and sends the home UAVs their views.
   void serve_views(uint32_t tick, bool exact);
   void publish_health(uint32_t tick, bool finished);
+  // A replicated swarm: the same deposit can come twice (forwarded by both
+  // replicas of its UAV's home). True if this one was seen before.
+  bool duplicate(const core::DepositMsg& d);
   void log_summary(uint32_t tick);
 
   PlaceConfig cfg_;
@@ -80,6 +85,10 @@ class PlaceApp {
   std::vector<core::UavStateMsg> home_states_;
   core::ViewMsg view_;
   uint64_t deposits_forwarded_ = 0;
+  bool replicated_ = false;                          // --standby swarm
+  std::map<uint32_t, std::set<uint32_t>> seen_seq_;  // replicated: per UAV, the newest deposit seqs received
+  uint64_t duplicates_ = 0;
+  std::map<uint32_t, uint32_t> acked_;  // home UAV -> highest deposit seq received from it (its views carry it)
   uint64_t samples_rejected_ = 0;  // malformed home states and field chunks, dropped
 };
 

@@ -20,6 +20,48 @@ TEST(Qos, EveryEndpointMeansTheSameOnCycloneAndFastDds) {
   }
 }
 
+TEST(Qos, ReplicatedSwarmsMeanTheSameOnCycloneAndFastDds) {
+  const auto lease = std::chrono::milliseconds(800);
+  for (const Replication r : {Replication{true, 0}, Replication{true, 999}}) {
+    for (const TopicKind k : kAllTopicKinds) {
+      for (const Endpoint e : {Endpoint::Writer, Endpoint::Reader}) {
+        const QosSpec want = endpoint_qos(k, e, lease, r);
+        EXPECT_EQ(cyclone_effective_qos(k, e, lease, r), want)
+            << to_string(k) << " cyclone: " << to_string(cyclone_effective_qos(k, e, lease, r));
+        EXPECT_EQ(fastdds_effective_qos(k, e, lease, r), want)
+            << to_string(k) << " fastdds: " << to_string(fastdds_effective_qos(k, e, lease, r));
+      }
+    }
+  }
+}
+
+TEST(Qos, APlaceReplicasOutputIsExclusiveWithAStrengthAndALease) {
+  using std::chrono::milliseconds;
+  const auto lease = milliseconds(800);
+  const Replication replica{true, 999};
+  for (const TopicKind k : {TopicKind::Field, TopicKind::View, TopicKind::Halo, TopicKind::TargetEvent,
+                            TopicKind::PhaseDone}) {
+    const QosSpec w = endpoint_qos(k, Endpoint::Writer, lease, replica);
+    EXPECT_EQ(w.ownership, QosSpec::Ownership::Exclusive) << to_string(k);
+    EXPECT_EQ(w.ownership_strength, 999) << to_string(k);
+    // Ownership moves on within a lease of the replica's death or stop.
+    EXPECT_EQ(w.liveliness, QosSpec::Liveliness::ManualByTopic) << to_string(k);
+    EXPECT_EQ(w.liveliness_lease, lease) << to_string(k);
+    EXPECT_EQ(endpoint_qos(k, Endpoint::Reader, lease, Replication{true, 0}).ownership, QosSpec::Ownership::Exclusive);
+    // A UAV's writer of the same topic: exclusive (or it would not match), strength 0, no lease traffic.
+    const QosSpec uav = endpoint_qos(k, Endpoint::Writer, lease, Replication{true, 0});
+    EXPECT_EQ(uav.ownership_strength, 0);
+    EXPECT_EQ(uav.liveliness_lease, topic_qos(k, Endpoint::Writer, lease).liveliness_lease);
+    // Not replicated: today's QoS.
+    EXPECT_EQ(endpoint_qos(k, Endpoint::Writer, lease, Replication{}), topic_qos(k, Endpoint::Writer, lease));
+  }
+  // Deposits, states and health stay shared: every replica receives every
+  // deposit, and the ground station hears each replica's health.
+  for (const TopicKind k : {TopicKind::Deposit, TopicKind::UavState, TopicKind::Health, TopicKind::Clock}) {
+    EXPECT_EQ(endpoint_qos(k, Endpoint::Writer, lease, replica).ownership, QosSpec::Ownership::Shared) << to_string(k);
+  }
+}
+
 TEST(Qos, TheTableSaysWhatThePheromoneAccountingNeeds) {
   using std::chrono::milliseconds;
   const auto lease = milliseconds(1000);

@@ -102,8 +102,30 @@ TEST(FrameBuilder, APlaceAgentIsStaleAfterTwoQuietSecondsAndItsRateIsAppliedDepo
   f = rig.build(b, t0 + 2001ms);
   EXPECT_EQ(f.regions[1].liveness, Liveness::Stale);
   EXPECT_DOUBLE_EQ(f.regions[1].deposits_per_s, 10.0) << "kept until a full period has passed";
-  rig.rec->on_region_departed(1);
+  rig.rec->on_place_departed(core::place_id(1, 0));
   EXPECT_EQ(rig.build(b, t0 + 2002ms).regions[1].liveness, Liveness::Dead);
+}
+
+TEST(FrameBuilder, ARegionWhosePrimaryDiedIsAliveOnItsStandbyAndShowsWhichReplicaServesIt) {
+  Rig rig;
+  FrameBuilder b(rig.geo);
+  const auto t0 = Clock::time_point{} + 100s;
+  core::HealthMsg h;
+  h.region = 2;
+  rig.rec->on_health(h);
+  h.replica = 1;
+  rig.rec->on_health(h);
+  b.heard_region(2, t0);
+  Frame f = rig.build(b, t0);
+  EXPECT_EQ(f.regions[2].replica, 0U);
+  EXPECT_EQ(f.regions[2].replicas_alive, 2U);
+  rig.rec->on_place_departed(core::place_id(2, 0));
+  f = rig.build(b, t0 + 100ms);
+  EXPECT_EQ(f.regions[2].liveness, Liveness::Alive) << "its standby serves it";
+  EXPECT_EQ(f.regions[2].replica, 1U) << "shown as replaced by standby 1";
+  EXPECT_EQ(f.regions[2].replicas_alive, 1U);
+  rig.rec->on_place_departed(core::place_id(2, 1));
+  EXPECT_EQ(rig.build(b, t0 + 200ms).regions[2].liveness, Liveness::Dead);
 }
 
 TEST(FrameBuilder, OnlyChangedTilesAreSentAndAScaleChangeResendsTheLayer) {

@@ -65,11 +65,15 @@ QosPtr to_cyclone(const QosSpec& spec) {
   } else {
     dds_qset_history(q.get(), DDS_HISTORY_KEEP_LAST, spec.depth);
   }
+  if (spec.ownership == QosSpec::Ownership::Exclusive) {
+    dds_qset_ownership(q.get(), DDS_OWNERSHIP_EXCLUSIVE);
+    dds_qset_ownership_strength(q.get(), spec.ownership_strength);
+  }
   return q;
 }
 
-QosPtr topic_qos_cyclone(TopicKind k, std::chrono::milliseconds lease, bool reader) {
-  return to_cyclone(topic_qos(k, reader ? Endpoint::Reader : Endpoint::Writer, lease));
+QosPtr topic_qos_cyclone(TopicKind k, std::chrono::milliseconds lease, const Replication& r, bool reader) {
+  return to_cyclone(endpoint_qos(k, reader ? Endpoint::Reader : Endpoint::Writer, lease, r));
 }
 
 void set_seq(dds_sequence_float& s, const std::vector<float>& v) {
@@ -111,12 +115,14 @@ std::vector<core::RegionCount> region_counts_in(const dds_sequence_pheromesh_msg
 
 pheromesh_msg_UavState state_out(const core::UavStateMsg& m) {
   return {m.uav,  m.tick, m.x,          m.y,          m.vx,  m.vy, m.heading, m.role, m.deposits_sent, m.tile_samples_received,
-          m.samples_received, m.ticks_late, m.view.x, m.view.y, m.finished};
+          m.samples_received, m.ticks_late, m.view.x, m.view.y, m.finished, m.deposits_unconfirmed};
 }
 
 core::UavStateMsg state_in(const pheromesh_msg_UavState& s) {
-  return {s.uav,     s.tick, s.x,  s.y,  s.vx, s.vy, s.heading, s.role, s.deposits_sent, s.tile_samples_received,
-          s.samples_received, s.ticks_late, {s.view_x, s.view_y}, s.finished};
+  core::UavStateMsg m{s.uav,     s.tick, s.x,  s.y,  s.vx, s.vy, s.heading, s.role, s.deposits_sent, s.tile_samples_received,
+                      s.samples_received, s.ticks_late, {s.view_x, s.view_y}, s.finished};
+  m.deposits_unconfirmed = s.deposits_unconfirmed;
+  return m;
 }
 
 std::vector<pheromesh_msg_UavState> states_out(const std::vector<core::UavStateMsg>& states) {
@@ -270,6 +276,7 @@ class CycloneBus final : public VendorBus {
     pheromesh_msg_View s{};
     s.uav = m.uav;
     s.tick = m.tick;
+    s.deposit_ack = m.deposit_ack;
     borrow(s.tiles, tiles);
     borrow(s.uavs, uavs);
     return write(writer(TopicKind::View, view_topic_, view_partition(m.uav)), &s);
@@ -284,6 +291,7 @@ class CycloneBus final : public VendorBus {
     s.chunk = m.chunk;
     s.chunks = m.chunks;
     s.tick = m.tick;
+    s.replica = m.replica;
     borrow(s.tiles, tiles);
     borrow(s.uavs, uavs);
     return write(writer(TopicKind::Field, field_topic_, kFieldPartition), &s);
@@ -376,8 +384,17 @@ class CycloneBus final : public VendorBus {
   }
 
   bool publish_health(const core::HealthMsg& m) override {
-    const pheromesh_msg_PlaceHealth s{m.region,           m.tick,           m.tick_rate_hz, m.deposits_received,
-                                      m.deposits_applied, m.deposits_rejected, m.halos_missing, m.finished};
+    pheromesh_msg_PlaceHealth s{};
+    s.region = m.region;
+    s.replica = m.replica;
+    s.tick = m.tick;
+    s.tick_rate_hz = m.tick_rate_hz;
+    s.deposits_received = m.deposits_received;
+    s.deposits_applied = m.deposits_applied;
+    s.deposits_rejected = m.deposits_rejected;
+    s.halos_missing = m.halos_missing;
+    s.finished = m.finished;
+    s.deposits_duplicate = m.deposits_duplicate;
     return write(writer(TopicKind::Health, health_topic_, kGroundPartition), &s);
   }
 
@@ -562,6 +579,7 @@ class CycloneBus final : public VendorBus {
                                              f.chunk = s.chunk;
                                              f.chunks = s.chunks;
                                              f.tick = s.tick;
+                                             f.replica = s.replica;
                                              return f.region;
                                            });
   }
@@ -571,6 +589,7 @@ class CycloneBus final : public VendorBus {
                                     [](const pheromesh_msg_View& s, core::ViewMsg& v) {
                                       v.uav = s.uav;
                                       v.tick = s.tick;
+                                      v.deposit_ack = s.deposit_ack;
                                       return core::RegionId{0};
                                     });
   }
@@ -610,11 +629,14 @@ class CycloneBus final : public VendorBus {
     take_all<pheromesh_msg_PlaceHealth>(
         health_reader_,
         [&](const pheromesh_msg_PlaceHealth& s) {
-          out.push_back({s.region, s.tick, s.tick_rate_hz, s.deposits_received, s.deposits_applied, s.deposits_rejected,
-                         s.halos_missing, s.finished});
+          core::HealthMsg h{s.region, s.tick, s.tick_rate_hz, s.deposits_received, s.deposits_applied, s.deposits_rejected,
+                            s.halos_missing, s.finished};
+          h.replica = s.replica;
+          h.deposits_duplicate = s.deposits_duplicate;
+          out.push_back(h);
         },
         [&](const pheromesh_msg_PlaceHealth& s, const dds_sample_info_t& info) {
-          if (info.instance_state != DDS_ALIVE_INSTANCE_STATE) departed_regions_.push_back(s.region);
+          if (info.instance_state != DDS_ALIVE_INSTANCE_STATE) departed_regions_.push_back(core::place_id(s.region, s.replica));
         });
   }
 
@@ -689,7 +711,7 @@ class CycloneBus final : public VendorBus {
   void keep_alive() {
     if (!keep_alive_due()) return;
     for (auto& [key, w] : writers_) {
-      if (topic_qos(static_cast<TopicKind>(key.first), Endpoint::Writer, opt_.liveliness_lease).liveliness ==
+      if (endpoint_qos(static_cast<TopicKind>(key.first), Endpoint::Writer, opt_.liveliness_lease, opt_.replication).liveliness ==
           QosSpec::Liveliness::ManualByTopic) {
         dds_assert_liveliness(w.writer);
       }
@@ -714,7 +736,7 @@ class CycloneBus final : public VendorBus {
     dds_qset_partition1(pq.get(), partition.c_str());
     WriterEntry e;
     e.publisher = PHM_DDS(dds_create_publisher(participant_, pq.get(), nullptr));
-    QosPtr wq = topic_qos_cyclone(k, opt_.liveliness_lease, false);
+    QosPtr wq = topic_qos_cyclone(k, opt_.liveliness_lease, opt_.replication, false);
     e.writer = PHM_DDS(dds_create_writer(e.publisher, topic, wq.get(), nullptr));
     writers_.emplace(key, e);
     return e.writer;
@@ -732,7 +754,7 @@ class CycloneBus final : public VendorBus {
   // Every reader wakes wait(): a read condition on its unread samples
   // (including the no-writers notifications of departures) joins the wait set.
   dds_entity_t make_reader_on(dds_entity_t subscriber, TopicKind k, dds_entity_t topic) {
-    QosPtr q = topic_qos_cyclone(k, opt_.liveliness_lease, true);
+    QosPtr q = topic_qos_cyclone(k, opt_.liveliness_lease, opt_.replication, true);
     const dds_entity_t r = PHM_DDS(dds_create_reader(subscriber, topic, q.get(), nullptr));
     const dds_entity_t cond = PHM_DDS(dds_create_readcondition(r, DDS_NOT_READ_SAMPLE_STATE));
     const auto kind = static_cast<unsigned>(k);
@@ -765,8 +787,9 @@ class CycloneBus final : public VendorBus {
 
 }  // namespace
 
-QosSpec cyclone_effective_qos(TopicKind kind, Endpoint endpoint, std::chrono::milliseconds lease) {
-  const QosPtr q = to_cyclone(topic_qos(kind, endpoint, lease));
+QosSpec cyclone_effective_qos(TopicKind kind, Endpoint endpoint, std::chrono::milliseconds lease,
+                              const Replication& replication) {
+  const QosPtr q = to_cyclone(endpoint_qos(kind, endpoint, lease, replication));
   QosSpec s;
   dds_reliability_kind_t rel{};
   dds_duration_t blocking = 0;
@@ -786,6 +809,12 @@ QosSpec cyclone_effective_qos(TopicKind kind, Endpoint endpoint, std::chrono::mi
   dds_qget_liveliness(q.get(), &live, &lease_ns);
   s.liveliness_lease = lease_ns == DDS_INFINITY ? QosSpec::kInfiniteLease : std::chrono::milliseconds(lease_ns / DDS_NSECS_IN_MSEC);
   s.liveliness = live == DDS_LIVELINESS_MANUAL_BY_TOPIC ? QosSpec::Liveliness::ManualByTopic : QosSpec::Liveliness::Automatic;
+  dds_ownership_kind_t own = DDS_OWNERSHIP_SHARED;
+  if (dds_qget_ownership(q.get(), &own) && own == DDS_OWNERSHIP_EXCLUSIVE) {
+    s.ownership = QosSpec::Ownership::Exclusive;
+    int32_t strength = 0;
+    if (endpoint == Endpoint::Writer && dds_qget_ownership_strength(q.get(), &strength)) s.ownership_strength = strength;
+  }
   return s;
 }
 

@@ -108,11 +108,14 @@ void apply_common(const QosSpec& spec, Endpoint endpoint, Q& q) {
   // halo's bound is 32 KiB), and never share memory with other processes.
   q.endpoint().history_memory_policy = eprosima::fastrtps::rtps::DYNAMIC_REUSABLE_MEMORY_MODE;
   q.data_sharing().off();
+  q.ownership().kind =
+      spec.ownership == QosSpec::Ownership::Exclusive ? fdds::EXCLUSIVE_OWNERSHIP_QOS : fdds::SHARED_OWNERSHIP_QOS;
 }
 
 fdds::DataWriterQos to_fastdds_writer(const QosSpec& spec) {
   fdds::DataWriterQos q = fdds::DATAWRITER_QOS_DEFAULT;
   apply_common(spec, Endpoint::Writer, q);
+  q.ownership_strength().value = static_cast<uint32_t>(spec.ownership_strength);
   // Announce liveliness well inside the lease.
   q.liveliness().announcement_period = spec.liveliness_lease == QosSpec::kInfiniteLease
                                            ? eprosima::fastrtps::c_TimeInfinite
@@ -148,6 +151,8 @@ QosSpec read_back(const Q& q) {
                                                                                        : to_ms(q.liveliness().lease_duration);
   s.liveliness = q.liveliness().kind == fdds::MANUAL_BY_TOPIC_LIVELINESS_QOS ? QosSpec::Liveliness::ManualByTopic
                                                                             : QosSpec::Liveliness::Automatic;
+  s.ownership = q.ownership().kind == fdds::EXCLUSIVE_OWNERSHIP_QOS ? QosSpec::Ownership::Exclusive
+                                                                   : QosSpec::Ownership::Shared;
   return s;
 }
 
@@ -190,14 +195,17 @@ msg::UavState state_out(const core::UavStateMsg& m) {
   s.view_x(m.view.x);
   s.view_y(m.view.y);
   s.finished(m.finished);
+  s.deposits_unconfirmed(m.deposits_unconfirmed);
   return s;
 }
 
 core::UavStateMsg state_in(const msg::UavState& s) {
-  return core::UavStateMsg{s.uav(),     s.tick(),          s.x(),
-                           s.y(),       s.vx(),            s.vy(),
-                           s.heading(), s.role(),          s.deposits_sent(),
-                           s.tile_samples_received(), s.samples_received(), s.ticks_late(), {s.view_x(), s.view_y()}, s.finished()};
+  core::UavStateMsg m{s.uav(),     s.tick(),          s.x(),
+                      s.y(),       s.vx(),            s.vy(),
+                      s.heading(), s.role(),          s.deposits_sent(),
+                      s.tile_samples_received(), s.samples_received(), s.ticks_late(), {s.view_x(), s.view_y()}, s.finished()};
+  m.deposits_unconfirmed = s.deposits_unconfirmed();
+  return m;
 }
 
 std::vector<msg::UavState> states_out(const std::vector<core::UavStateMsg>& states) {
@@ -422,6 +430,7 @@ class FastDdsBus final : public VendorBus {
     msg::View s;
     s.uav(m.uav);
     s.tick(m.tick);
+    s.deposit_ack(m.deposit_ack);
     s.tiles(patches_out(m.tiles));
     s.uavs(states_out(m.uavs));
     return write(writer(TopicKind::View, view_partition(m.uav)), &s);
@@ -434,6 +443,7 @@ class FastDdsBus final : public VendorBus {
     s.chunk(m.chunk);
     s.chunks(m.chunks);
     s.tick(m.tick);
+    s.replica(m.replica);
     s.tiles(patches_out(m.tiles));
     s.uavs(states_out(m.uavs));
     return write(writer(TopicKind::Field, kFieldPartition), &s);
@@ -473,6 +483,7 @@ class FastDdsBus final : public VendorBus {
   bool publish_health(const core::HealthMsg& m) override {
     msg::PlaceHealth s;
     s.region(m.region);
+    s.replica(m.replica);
     s.tick(m.tick);
     s.tick_rate_hz(m.tick_rate_hz);
     s.deposits_received(m.deposits_received);
@@ -480,6 +491,7 @@ class FastDdsBus final : public VendorBus {
     s.deposits_rejected(m.deposits_rejected);
     s.halos_missing(m.halos_missing);
     s.finished(m.finished);
+    s.deposits_duplicate(m.deposits_duplicate);
     return write(writer(TopicKind::Health, kGroundPartition), &s);
   }
 
@@ -688,6 +700,7 @@ class FastDdsBus final : public VendorBus {
                                     f.chunk = s.chunk();
                                     f.chunks = s.chunks();
                                     f.tick = s.tick();
+                                    f.replica = s.replica();
                                     return f.region;
                                   });
   }
@@ -697,6 +710,7 @@ class FastDdsBus final : public VendorBus {
                            [](const msg::View& s, core::ViewMsg& v) {
                              v.uav = s.uav();
                              v.tick = s.tick();
+                             v.deposit_ack = s.deposit_ack();
                              return core::RegionId{0};
                            });
   }
@@ -756,9 +770,12 @@ class FastDdsBus final : public VendorBus {
     take_each<msg::PlaceHealth>(
         health_reader_,
         [&](const msg::PlaceHealth& s, const fdds::SampleInfo& info) {
-          region_departures_.seen(info, s.region());
-          out.push_back({s.region(), s.tick(), s.tick_rate_hz(), s.deposits_received(), s.deposits_applied(),
-                         s.deposits_rejected(), s.halos_missing(), s.finished()});
+          region_departures_.seen(info, core::place_id(s.region(), s.replica()));
+          core::HealthMsg h{s.region(), s.tick(), s.tick_rate_hz(), s.deposits_received(), s.deposits_applied(),
+                            s.deposits_rejected(), s.halos_missing(), s.finished()};
+          h.replica = s.replica();
+          h.deposits_duplicate = s.deposits_duplicate();
+          out.push_back(h);
         },
         [&](const fdds::SampleInfo& info) { region_departures_.on_invalid(info, departed_regions_); });
     region_departures_.collect_lost(departed_regions_);
@@ -855,7 +872,7 @@ class FastDdsBus final : public VendorBus {
   void keep_alive() {
     if (!keep_alive_due()) return;
     for (auto& [key, w] : writers_) {
-      if (topic_qos(static_cast<TopicKind>(key.first), Endpoint::Writer, opt_.liveliness_lease).liveliness ==
+      if (endpoint_qos(static_cast<TopicKind>(key.first), Endpoint::Writer, opt_.liveliness_lease, opt_.replication).liveliness ==
           QosSpec::Liveliness::ManualByTopic) {
         w.writer->assert_liveliness();
       }
@@ -881,7 +898,7 @@ class FastDdsBus final : public VendorBus {
     WriterEntry e;
     e.publisher = participant_->create_publisher(pq);
     if (e.publisher == nullptr) throw std::runtime_error("cannot create a publisher for partition " + partition);
-    e.writer = e.publisher->create_datawriter(topic(k), to_fastdds_writer(topic_qos(k, Endpoint::Writer, opt_.liveliness_lease)));
+    e.writer = e.publisher->create_datawriter(topic(k), to_fastdds_writer(endpoint_qos(k, Endpoint::Writer, opt_.liveliness_lease, opt_.replication)));
     if (e.writer == nullptr) throw std::runtime_error(std::string("cannot create a writer of ") + to_string(k));
     writers_.emplace(key, e);
     return e.writer;
@@ -898,7 +915,7 @@ class FastDdsBus final : public VendorBus {
   fdds::DataReader* make_reader_on(fdds::Subscriber* s, TopicKind k, fdds::DataReaderListener* listener = nullptr) {
     const fdds::StatusMask mask = listener != nullptr ? fdds::StatusMask::liveliness_changed() : fdds::StatusMask::none();
     fdds::DataReader* r =
-        s->create_datareader(topic(k), to_fastdds_reader(topic_qos(k, Endpoint::Reader, opt_.liveliness_lease)), listener, mask);
+        s->create_datareader(topic(k), to_fastdds_reader(endpoint_qos(k, Endpoint::Reader, opt_.liveliness_lease, opt_.replication)), listener, mask);
     if (r == nullptr) throw std::runtime_error(std::string("cannot create a reader of ") + to_string(k));
     // Every reader can wake wait(): its data-available status condition.
     r->get_statuscondition().set_enabled_statuses(fdds::StatusMask::data_available());
@@ -940,9 +957,16 @@ core::Result<std::unique_ptr<Bus>> make_fastdds_bus(const BusOptions& options) {
   }
 }
 
-QosSpec fastdds_effective_qos(TopicKind kind, Endpoint endpoint, std::chrono::milliseconds lease) {
-  const QosSpec spec = topic_qos(kind, endpoint, lease);
-  return endpoint == Endpoint::Writer ? read_back(to_fastdds_writer(spec)) : read_back(to_fastdds_reader(spec));
+QosSpec fastdds_effective_qos(TopicKind kind, Endpoint endpoint, std::chrono::milliseconds lease,
+                              const Replication& replication) {
+  const QosSpec spec = endpoint_qos(kind, endpoint, lease, replication);
+  if (endpoint == Endpoint::Writer) {
+    const fdds::DataWriterQos q = to_fastdds_writer(spec);
+    QosSpec s = read_back(q);
+    s.ownership_strength = s.ownership == QosSpec::Ownership::Exclusive ? static_cast<int32_t>(q.ownership_strength().value) : 0;
+    return s;
+  }
+  return read_back(to_fastdds_reader(spec));
 }
 
 }  // namespace pheromesh::bus

@@ -6,5 +6,6 @@ namespace pheromesh::bus {
 core::Result<std::unique_ptr<Bus>> make_fastdds_bus(const BusOptions& options);
 // The QoS a Fast DDS endpoint of `kind` gets, read back from the vendor's QoS
 // object (tests compare it with topic_qos()).
-QosSpec fastdds_effective_qos(TopicKind kind, Endpoint endpoint, std::chrono::milliseconds lease);
+QosSpec fastdds_effective_qos(TopicKind kind, Endpoint endpoint, std::chrono::milliseconds lease,
+                             const Replication& replication = {});
 }  // namespace pheromesh::bus

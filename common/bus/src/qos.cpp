@@ -117,6 +117,35 @@ QosSpec topic_qos(TopicKind kind, Endpoint endpoint, std::chrono::milliseconds l
   return q;
 }
 
+bool replicated(TopicKind kind) {
+  switch (kind) {
+    case TopicKind::Field:
+    case TopicKind::View:
+    case TopicKind::Halo:
+    case TopicKind::TargetEvent:
+    case TopicKind::PhaseDone:
+      return true;
+    default:
+      return false;
+  }
+}
+
+QosSpec endpoint_qos(TopicKind kind, Endpoint endpoint, std::chrono::milliseconds lease, const Replication& r) {
+  QosSpec q = topic_qos(kind, endpoint, lease);
+  if (!r.exclusive || !replicated(kind)) return q;
+  q.ownership = QosSpec::Ownership::Exclusive;
+  if (endpoint == Endpoint::Writer && r.strength > 0) {
+    q.ownership_strength = r.strength;
+    // Ownership passes to the next replica when this writer is not alive:
+    // a finite lease, asserted while the process polls its bus (a stopped
+    // or hung replica loses ownership too, and takes it back when it runs
+    // again). The participant's lease (1 h, deploy/dds) would be far too slow.
+    q.liveliness = QosSpec::Liveliness::ManualByTopic;
+    q.liveliness_lease = lease;
+  }
+  return q;
+}
+
 const char* topic_name(TopicKind kind) {
   switch (kind) {
     case TopicKind::Tile: return "pheromesh_tile";
@@ -185,6 +214,7 @@ std::string to_string(const QosSpec& q) {
   s += q.liveliness == QosSpec::Liveliness::ManualByTopic ? " manual-by-topic" : " automatic";
   s += q.liveliness_lease == QosSpec::kInfiniteLease ? std::string(" lease infinite")
                                                      : " lease " + std::to_string(q.liveliness_lease.count()) + "ms";
+  if (q.ownership == QosSpec::Ownership::Exclusive) s += " exclusive(" + std::to_string(q.ownership_strength) + ")";
   return s;
 }
 

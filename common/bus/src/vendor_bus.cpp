@@ -11,7 +11,7 @@ void VendorBus::take_departed_uavs(std::vector<uint32_t>& out) {
   departed_uavs_.clear();
 }
 
-void VendorBus::take_departed_regions(std::vector<core::RegionId>& out) {
+void VendorBus::take_departed_regions(std::vector<uint32_t>& out) {
   out.insert(out.end(), departed_regions_.begin(), departed_regions_.end());
   departed_regions_.clear();
 }

@@ -19,7 +19,7 @@ namespace pheromesh::bus {
 class VendorBus : public Bus {
  public:
   void take_departed_uavs(std::vector<uint32_t>& out) final;
-  void take_departed_regions(std::vector<core::RegionId>& out) final;
+  void take_departed_regions(std::vector<uint32_t>& out) final;
   [[nodiscard]] BusStats stats() const final { return stats_; }
 
  protected:
@@ -36,7 +36,7 @@ class VendorBus : public Bus {
   BusOptions opt_;
   std::shared_ptr<spdlog::logger> log_;
   std::vector<uint32_t> departed_uavs_;
-  std::vector<core::RegionId> departed_regions_;
+  std::vector<uint32_t> departed_regions_;  // core::place_id
   BusStats stats_;
   std::optional<core::RegionId> home_;  // a UAV's home place agent (join_uav)
 

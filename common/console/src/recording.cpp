@@ -177,6 +177,8 @@ void to_pb(const Frame& f, pb::Frame* out) {
     v->set_deposits_received(r.deposits_received);
     v->set_deposits_applied(r.deposits_applied);
     v->set_deposits_rejected(r.deposits_rejected);
+    v->set_replica(r.replica);
+    v->set_replicas_alive(r.replicas_alive);
   }
   for (const auto& t : f.targets) {
     auto* v = out->add_targets();
@@ -336,6 +338,9 @@ std::string from_pb(const pb::Frame& in, Frame& f) {
     v.deposits_received = r.deposits_received();
     v.deposits_applied = r.deposits_applied();
     v.deposits_rejected = r.deposits_rejected();
+    if (r.replica() > 0xFFFFU) return "region " + std::to_string(r.id()) + ": replica " + std::to_string(r.replica()) + " out of range";
+    v.replica = static_cast<uint16_t>(r.replica());
+    v.replicas_alive = r.replicas_alive();
     f.regions.push_back(v);
   }
   for (int k = 0; k < in.targets_size(); ++k) {

@@ -109,7 +109,9 @@ nlohmann::json frame_json(const ConsoleState& s, const ConsoleInfo& info, uint16
     regions.push_back({{"id", r.id}, {"liveness", to_string(r.liveness)}, {"tick", r.tick},
                        {"tick_rate_hz", r.tick_rate_hz}, {"deposits_per_s", r.deposits_per_s},
                        {"deposits_received", r.deposits_received}, {"deposits_applied", r.deposits_applied},
-                       {"deposits_rejected", r.deposits_rejected}});
+                       {"deposits_rejected", r.deposits_rejected},
+                       {"replica", r.replica},
+                       {"replicas_alive", r.replicas_alive}});
   }
   j["regions"] = std::move(regions);
   nlohmann::json targets = nlohmann::json::array();

@@ -57,11 +57,73 @@ void RunRecorder::on_target_event(const TargetEventMsg& e) {
   if (e.kind == static_cast<uint8_t>(MarkEvent::Kind::Revisited)) revisits_.push_back(e);
 }
 
-void RunRecorder::on_health(const HealthMsg& h) { health_[h.region] = h; }
+bool RunRecorder::on_health(const HealthMsg& h) {
+  const uint32_t id = place_id(h.region, h.replica);
+  const bool back = departed_places_.erase(id) > 0 && !h.finished;
+  replica_health_[id] = h;
+  auto& best = health_[h.region];
+  if (best.region != h.region || best.replica == h.replica || h.deposits_received > best.deposits_received ||
+      (h.deposits_received == best.deposits_received && h.replica < best.replica)) {
+    best = h;
+  }
+  return back;
+}
+
+bool RunRecorder::region_departed(RegionId r) const {
+  bool any = false;
+  for (const auto& [id, h] : replica_health_) {
+    if (place_id_region(id) != r) continue;
+    any = true;
+    if (!departed_places_.contains(id)) return false;
+  }
+  // Lost before its first health: departed if a departure was seen.
+  if (!any) {
+    for (const auto& [id, gone] : departed_places_) {
+      if (place_id_region(id) == r) return true;
+    }
+  }
+  return any;
+}
+
+std::optional<uint16_t> RunRecorder::region_owner(RegionId r) const {
+  std::optional<uint16_t> best;
+  for (const auto& [id, h] : replica_health_) {
+    if (place_id_region(id) != r || departed_places_.contains(id) || h.finished) continue;
+    if (!best || place_id_replica(id) < *best) best = place_id_replica(id);
+  }
+  return best;
+}
+
+uint32_t RunRecorder::replicas_alive(RegionId r) const {
+  uint32_t n = 0;
+  for (const auto& [id, h] : replica_health_) {
+    if (place_id_region(id) == r && !departed_places_.contains(id) && !h.finished) ++n;
+  }
+  return n;
+}
+
+uint32_t RunRecorder::regions_alive() const {
+  uint32_t n = 0;
+  for (const auto& [r, h] : health_) n += replicas_alive(r) > 0 ? 1 : 0;
+  return n;
+}
+
+uint64_t RunRecorder::deposits_lost() const {
+  uint64_t received = 0;
+  for (const auto& [r, h] : health_) received += h.deposits_received;
+  const uint64_t sent = deposits_sent();
+  return sent > received ? sent - received : 0;
+}
+
+uint64_t RunRecorder::deposits_unconfirmed_by_uavs() const {
+  uint64_t n = 0;
+  for (const auto& [id, u] : uavs_) n += u.last.deposits_unconfirmed;
+  return n;
+}
 
 void RunRecorder::on_uav_departed(uint32_t uav) { uavs_[uav].alive = false; }
 
-void RunRecorder::on_region_departed(RegionId r) { departed_regions_[r] = true; }
+void RunRecorder::on_place_departed(uint32_t place) { departed_places_[place] = true; }
 
 void RunRecorder::sample_coverage() { coverage_series_.emplace_back(max_tick_, coverage_.coverage()); }
 

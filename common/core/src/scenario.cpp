@@ -264,6 +264,7 @@ ScenarioConfig build(const pb::Scenario& msg, const TextFormat::ParseInfoTree& t
   const pb::Run& run = msg.run();
   if (run.has_ticks() && v.int_between(rn, "ticks", run.ticks(), 1, kMaxU32)) cfg.ticks = static_cast<uint32_t>(run.ticks());
   if (run.has_tick_rate_hz()) cfg.tick_rate_hz = run.tick_rate_hz();
+  if (run.has_standby()) cfg.standby = run.standby();
   v.real_in(rn, "tick_rate_hz", cfg.tick_rate_hz, 0.0, true, kMaxTickRateHz, false);
   if (run.has_seed()) cfg.seed = run.seed();
 

@@ -1,5 +1,6 @@
 #include "pheromesh/runtime/process.hpp"
 
+#include <algorithm>
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
@@ -50,6 +51,9 @@ void add_common_options(CLI::App& app, CommonOptions& o) {
       ->capture_default_str();
   app.add_option("--uavs", o.uavs, "Number of UAVs in the swarm (default: the scenario's swarm.uavs)");
   app.add_option("--lease-ms", o.lease_ms, "Liveliness lease [ms]")->check(CLI::Range(50, 60000))->capture_default_str();
+  app.add_flag("--standby", o.standby,
+               "The swarm runs a hot-standby replica of every place agent (every process of it needs this flag, or "
+               "the scenario's run.standby: true): exclusive ownership of place-agent output");
 }
 
 std::shared_ptr<spdlog::logger> make_logger(const std::string& name, const std::string& level) {
@@ -81,8 +85,12 @@ core::Result<core::ScenarioConfig> load_scenario(const CommonOptions& o) {
   return s;
 }
 
-bus::BusOptions bus_options(const CommonOptions& o, const std::string& process_name) {
+bus::BusOptions bus_options(const CommonOptions& o, const std::string& process_name, bool standby) {
   bus::BusOptions b;
+  b.replication.exclusive = standby || o.standby;
+  if (b.replication.exclusive && o.place_replica >= 0) {
+    b.replication.strength = std::max(1, kPrimaryStrength - o.place_replica);
+  }
   b.process_name = process_name;
   b.domain = o.domain;
   b.profile = o.dds_profile;
@@ -104,7 +112,7 @@ int run_process(const std::string& name, const CommonOptions& o, const AppBody& 
     return 2;
   }
   install_shutdown_handlers();
-  auto bus = bus::make_bus(o.dds, bus_options(o, name));
+  auto bus = bus::make_bus(o.dds, bus_options(o, name, scenario->standby));
   if (!bus) {
     log->error("{}", bus.error().message);
     return 3;

@@ -43,6 +43,23 @@ nlohmann::json metrics_json(const core::RunRecorder& r, const RunInfo& info) {
   j["deposits_received"] = received;
   j["deposits_applied"] = applied;
   j["deposits_rejected"] = rejected;
+  // No silent loss (docs/faults.md): what the UAVs sent and no place agent
+  // counted, and what the UAVs themselves saw unconfirmed by their home.
+  j["deposits_lost"] = r.deposits_lost();
+  j["deposits_unconfirmed_by_uavs"] = r.deposits_unconfirmed_by_uavs();
+  uint64_t duplicates = 0;
+  nlohmann::json replicas = nlohmann::json::object();
+  for (const auto& [id, h] : r.replica_health()) {
+    duplicates += h.deposits_duplicate;
+    const std::string name = "place-" + std::to_string(h.region) + (h.replica > 0 ? ".r" + std::to_string(h.replica) : "");
+    replicas[name] = {{"region", h.region},        {"replica", h.replica},
+                      {"tick", h.tick},            {"finished", h.finished},
+                      {"lost", r.place_departed(id)}, {"deposits_received", h.deposits_received},
+                      {"deposits_applied", h.deposits_applied}, {"deposits_duplicate", h.deposits_duplicate}};
+  }
+  j["deposits_duplicate_dropped"] = duplicates;
+  j["place_replicas"] = replicas;
+  j["place_agents_alive"] = r.regions_alive();
   j["samples_rejected_by_ground"] = r.samples_rejected();
   // The launcher owns process accounting and overwrites these two.
   j["processes_killed"] = 0;

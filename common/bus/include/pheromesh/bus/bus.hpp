@@ -44,6 +44,8 @@ struct BusOptions {
   // Fast DDS participant id (ports 7410 + 250 domain + 2 id) given by the
   // launcher so that no two processes search for free ports; -1: search.
   int32_t participant_id = -1;
+  // Hot-standby place agents in this swarm (qos.hpp, docs/faults.md).
+  Replication replication;
 };
 
 // Samples dropped by the bus itself (structurally malformed: sequence bounds,
@@ -126,8 +128,9 @@ class Bus {
   // UAVs (ground subscription) whose every writer vanished (liveliness lost or
   // process ended) since the last call.
   virtual void take_departed_uavs(std::vector<uint32_t>& out) = 0;
-  // Place agents (ground subscription) whose health writer vanished.
-  virtual void take_departed_regions(std::vector<core::RegionId>& out) = 0;
+  // Place replicas (ground subscription) whose health writer vanished, as
+  // core::place_id(region, replica).
+  virtual void take_departed_regions(std::vector<uint32_t>& out) = 0;
 
   // Block until one of this process's readers of `kinds` holds a sample not
   // yet taken (or a departure notice), or `deadline` passes; true if one

@@ -55,12 +55,34 @@ struct QosSpec {
   Liveliness liveliness = Liveliness::Automatic;
   std::chrono::milliseconds liveliness_lease{1000};  // kInfiniteLease: no liveliness traffic at all
   static constexpr std::chrono::milliseconds kInfiniteLease = std::chrono::milliseconds::max();
+  // Exclusive: a reader takes each instance from its strongest live writer
+  // only (hot-standby place agents, docs/faults.md).
+  enum class Ownership : uint8_t { Shared, Exclusive };
+  Ownership ownership = Ownership::Shared;
+  int32_t ownership_strength = 0;  // writers only
 
   bool operator==(const QosSpec&) const = default;
 };
 
 // The QoS of `kind` for a writer or a reader, with the process's liveliness lease.
 QosSpec topic_qos(TopicKind kind, Endpoint endpoint, std::chrono::milliseconds lease);
+
+// A swarm with hot-standby place agents (`pheromesh run --standby`): every
+// process of it uses exclusive ownership on the topics a place agent
+// publishes for others to use (fields, views, halos, target events, phase
+// reports), so that each reader takes them from one replica of a region only.
+// A place replica writes them with strength `strength` (> 0; the primary
+// strongest) and a manual-by-topic lease, so that its death or a stop hands
+// ownership to the next replica within a lease. Every other writer of these
+// topics (a UAV's phase reports) has strength 0.
+struct Replication {
+  bool exclusive = false;
+  int32_t strength = 0;  // > 0: this process is a place replica
+};
+// Kinds whose readers take each instance from one owner in a replicated swarm.
+bool replicated(TopicKind kind);
+// topic_qos with the swarm's replication applied.
+QosSpec endpoint_qos(TopicKind kind, Endpoint endpoint, std::chrono::milliseconds lease, const Replication& r);
 
 // The DDS topic name and type name of a kind (the same on every vendor).
 const char* topic_name(TopicKind kind);

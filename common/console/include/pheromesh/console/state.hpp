@@ -76,6 +76,8 @@ struct RegionView {
   uint64_t deposits_received = 0;
   uint64_t deposits_applied = 0;
   uint64_t deposits_rejected = 0;
+  uint16_t replica = 0;         // the replica serving the region: 0 its primary, > 0 a standby that took over
+  uint32_t replicas_alive = 0;  // live replicas (with --standby: 2 while primary and standby run)
 };
 
 enum class TargetStatus : uint8_t { NotFound, Found, RevisitDue };

@@ -64,6 +64,7 @@ struct UavStateMsg {
   uint32_t ticks_late = 0;  // realtime ticks that started more than one tick period late
   Cell view{};            // the cell whose neighbourhood the UAV reads next (its home place agent composes it)
   bool finished = false;  // last state of a UAV that ended its run
+  uint64_t deposits_unconfirmed = 0;  // sent, but not (yet) confirmed received by its home place agent
 };
 
 struct DetectionMsg {
@@ -94,7 +95,16 @@ struct HealthMsg {
   uint64_t deposits_rejected = 0;
   uint64_t halos_missing = 0;
   bool finished = false;
+  uint16_t replica = 0;             // 0 the primary, 1.. standbys
+  uint64_t deposits_duplicate = 0;  // copies of a deposit already received, dropped
 };
+
+// A place replica in one 32-bit id (departures): replica << 16 | region.
+inline constexpr uint32_t place_id(RegionId region, uint16_t replica) {
+  return static_cast<uint32_t>(replica) << 16U | (region & 0xFFFFU);
+}
+inline constexpr RegionId place_id_region(uint32_t id) { return id & 0xFFFFU; }
+inline constexpr uint16_t place_id_replica(uint32_t id) { return static_cast<uint16_t>(id >> 16U); }
 
 struct HaloMsg {
   RegionId region = 0;
@@ -185,6 +195,7 @@ struct ViewMsg {
   uint32_t tick = 0;
   std::vector<TileMsg> tiles;  // tick and region filled in
   std::vector<UavStateMsg> uavs;
+  uint32_t deposit_ack = 0;  // highest seq of this UAV's deposits its home place agent received
 };
 
 // One chunk of a region's field of `tick` and of the latest states of the
@@ -196,6 +207,7 @@ struct FieldMsg {
   uint32_t tick = 0;
   std::vector<TileMsg> tiles;  // tick and region filled in
   std::vector<UavStateMsg> uavs;
+  uint16_t replica = 0;  // the place replica that wrote it
 };
 
 // Semantic checks of received samples (the bus checks structure). Each returns

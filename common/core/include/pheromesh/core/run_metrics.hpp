@@ -36,9 +36,12 @@ class RunRecorder {
   bool on_uav_state(const UavStateMsg& s);
   bool on_detection(const DetectionMsg& d);  // true also for repeats; see first_acquisition
   void on_target_event(const TargetEventMsg& e);
-  void on_health(const HealthMsg& h);
+  // One replica's health. Returns true if that replica had been lost and is
+  // heard again (a stopped process that resumed).
+  bool on_health(const HealthMsg& h);
   void on_uav_departed(uint32_t uav);
-  void on_region_departed(RegionId r);
+  // A place replica's health writer vanished (core::place_id).
+  void on_place_departed(uint32_t place);
   void count_rejected_sample() { ++samples_rejected_; }
   // A target added during the run (the world gained it first).
   void add_target() { acquisitions_.add_target(); }
@@ -54,8 +57,26 @@ class RunRecorder {
   [[nodiscard]] const ScenarioConfig& scenario() const { return *scenario_; }
   [[nodiscard]] uint32_t max_tick() const { return max_tick_; }
   [[nodiscard]] const std::map<uint32_t, UavStatus>& uavs() const { return uavs_; }
+  // Per region, the health of the replica that received the most deposits
+  // (the one that has served it longest: a standby that took over counts
+  // every deposit of the run, its dead primary only those until its death).
   [[nodiscard]] const std::map<RegionId, HealthMsg>& health() const { return health_; }
-  [[nodiscard]] bool region_departed(RegionId r) const { return departed_regions_.contains(r); }
+  // Every replica's latest health, by core::place_id.
+  [[nodiscard]] const std::map<uint32_t, HealthMsg>& replica_health() const { return replica_health_; }
+  [[nodiscard]] bool place_departed(uint32_t place) const { return departed_places_.contains(place); }
+  // Every replica heard of region r is lost.
+  [[nodiscard]] bool region_departed(RegionId r) const;
+  // The live replica of r with the lowest number (the owner of its output), if any.
+  [[nodiscard]] std::optional<uint16_t> region_owner(RegionId r) const;
+  [[nodiscard]] uint32_t replicas_alive(RegionId r) const;
+  // Regions with at least one live replica.
+  [[nodiscard]] uint32_t regions_alive() const;
+  // Deposits sent by the UAVs that no place agent counted (received,
+  // applied or rejected): lost in transit to a dead place agent. Exact once
+  // every process has reported its final counts.
+  [[nodiscard]] uint64_t deposits_lost() const;
+  // What the UAVs themselves count as not confirmed by their home place agent.
+  [[nodiscard]] uint64_t deposits_unconfirmed_by_uavs() const;
   [[nodiscard]] const CoverageTracker& coverage() const { return coverage_; }
   [[nodiscard]] const AcquisitionTracker& acquisitions() const { return acquisitions_; }
   // Revisit response times ordered by (tick, region, y, x): independent of
@@ -79,7 +100,8 @@ class RunRecorder {
   std::vector<TargetEventMsg> revisits_;
   std::map<uint32_t, UavStatus> uavs_;
   std::map<RegionId, HealthMsg> health_;
-  std::map<RegionId, bool> departed_regions_;
+  std::map<uint32_t, HealthMsg> replica_health_;  // by place_id
+  std::map<uint32_t, bool> departed_places_;      // by place_id
   std::vector<std::pair<uint32_t, double>> coverage_series_;
   std::map<std::string, double> field_summary_;
   std::optional<uint32_t> leader_arrival_;

@@ -53,6 +53,7 @@ struct ScenarioConfig {
   uint32_t ticks = 1000;       // default run length [tick]
   double tick_rate_hz = 10.0;  // realtime clock rate [Hz]
   uint64_t seed = 1;
+  bool standby = false;        // a hot-standby replica of every place agent (pheromesh run --standby)
   ShaoLayerParams layers;  // the Shao field (layers.hpp): Shao search and navigation
   ShaoAcoParams aco;       // Shao 2020 eq. (9): Shao search and navigation
   PolicyKind policy = PolicyKind::ShaoSearch;

@@ -34,6 +34,12 @@ struct CommonOptions {
   uint32_t uavs = 0;           // 0: the scenario's swarm.uavs
   std::string clock = "realtime";  // realtime | lockstep
   [[nodiscard]] bool lockstep() const { return clock == "lockstep"; }
+  // The swarm runs hot-standby place agents (--standby, or the scenario's
+  // run.standby): every process then uses exclusive ownership (bus/qos.hpp).
+  bool standby = false;
+  // A place agent's replica number (0 the primary, 1.. standbys); -1 for
+  // every other process. Its ownership strength is kMaxStrength - replica.
+  int32_t place_replica = -1;
 };
 
 // Loads the scenario and applies the overrides of the common flags (--rate,
@@ -53,7 +59,10 @@ void install_shutdown_handlers();
 [[nodiscard]] bool shutdown_requested();
 void request_shutdown();  // for tests and internal stops
 
-bus::BusOptions bus_options(const CommonOptions& o, const std::string& process_name);
+// `standby`: the swarm runs hot-standby place agents (the flag or the scenario).
+bus::BusOptions bus_options(const CommonOptions& o, const std::string& process_name, bool standby = false);
+// Ownership strength of place replica 0 (the primary); replica N has this - N.
+inline constexpr int32_t kPrimaryStrength = 1000;
 
 // The common body of every process's main() after flag parsing: logger named
 // `name`, scenario (exit 2 if invalid), shutdown handlers, bus (exit 3 if it

@@ -1,0 +1,129 @@
+// The ground station's view of replicated place agents (RunRecorder):
+// which replica serves a region, lost and resumed replicas, and the deposit
+// accounting that counts what no place agent received.
+#include <gtest/gtest.h>
+
+#include "pheromesh/core/receipts.hpp"
+#include "pheromesh/core/run_metrics.hpp"
+#include "pheromesh/core/scenario.hpp"
+#include "pheromesh/core/world.hpp"
+
+namespace pheromesh::core {
+namespace {
+
+struct Rig {
+  ScenarioConfig s;
+  MapGeometry geo;
+  World world;
+  RunRecorder rec;
+  Rig() : s(make()), geo(s.geometry()), world(geo, s.obstacles, s.targets), rec(s, world) {}
+  static ScenarioConfig make() {
+    ScenarioConfig c;
+    c.width = 20;
+    c.height = 20;
+    c.tile_size = 10;
+    c.regions_x = 2;
+    c.regions_y = 1;
+    c.uavs = 2;
+    c.start_area = {0, 0, 20, 20};
+    return c;
+  }
+  static HealthMsg health(RegionId r, uint16_t replica, uint64_t received) {
+    HealthMsg h;
+    h.region = r;
+    h.replica = replica;
+    h.deposits_received = received;
+    h.deposits_applied = received;
+    return h;
+  }
+  void sent(uint32_t uav, uint64_t n, uint64_t unconfirmed = 0) {
+    UavStateMsg st;
+    st.uav = uav;
+    st.x = 1;
+    st.y = 1;
+    st.deposits_sent = n;
+    st.deposits_unconfirmed = unconfirmed;
+    rec.on_uav_state(st);
+  }
+};
+
+TEST(Replicas, TheLowestLiveReplicaServesTheRegionAndAStandbyTakesOver) {
+  Rig rig;
+  rig.rec.on_health(Rig::health(0, 0, 10));
+  rig.rec.on_health(Rig::health(0, 1, 10));
+  rig.rec.on_health(Rig::health(1, 0, 5));
+  EXPECT_EQ(rig.rec.region_owner(0), std::optional<uint16_t>(0));
+  EXPECT_EQ(rig.rec.replicas_alive(0), 2U);
+  EXPECT_EQ(rig.rec.regions_alive(), 2U);
+  rig.rec.on_place_departed(place_id(0, 0));
+  EXPECT_EQ(rig.rec.region_owner(0), std::optional<uint16_t>(1)) << "the standby serves region 0";
+  EXPECT_FALSE(rig.rec.region_departed(0));
+  EXPECT_EQ(rig.rec.regions_alive(), 2U) << "places N/M counts regions with a live replica";
+  rig.rec.on_place_departed(place_id(1, 0));
+  EXPECT_TRUE(rig.rec.region_departed(1));
+  EXPECT_EQ(rig.rec.regions_alive(), 1U);
+  EXPECT_FALSE(rig.rec.region_owner(1).has_value());
+}
+
+TEST(Replicas, AReplicaHeardAgainAfterItWasLostIsAliveAndOwnsAgain) {
+  Rig rig;
+  rig.rec.on_health(Rig::health(0, 0, 3));
+  rig.rec.on_health(Rig::health(0, 1, 3));
+  rig.rec.on_place_departed(place_id(0, 0));  // SIGSTOP: its lease ran out
+  EXPECT_TRUE(rig.rec.place_departed(place_id(0, 0)));
+  EXPECT_FALSE(rig.rec.on_health(Rig::health(0, 1, 4))) << "the standby was never lost";
+  EXPECT_TRUE(rig.rec.on_health(Rig::health(0, 0, 4))) << "SIGCONT: the primary is back";
+  EXPECT_FALSE(rig.rec.place_departed(place_id(0, 0)));
+  EXPECT_EQ(rig.rec.region_owner(0), std::optional<uint16_t>(0));
+}
+
+TEST(Replicas, TheRegionsCountsAreTheReplicaThatReceivedMost) {
+  Rig rig;
+  // The primary died after 40 deposits; its standby received all 100.
+  rig.rec.on_health(Rig::health(0, 0, 40));
+  rig.rec.on_health(Rig::health(0, 1, 100));
+  EXPECT_EQ(rig.rec.health().at(0).deposits_received, 100U);
+  EXPECT_EQ(rig.rec.health().at(0).replica, 1U);
+  // A later health of the same replica replaces its own earlier one.
+  rig.rec.on_health(Rig::health(0, 1, 101));
+  EXPECT_EQ(rig.rec.health().at(0).deposits_received, 101U);
+}
+
+TEST(Replicas, DepositsNoPlaceAgentCountedAreLostAndTheUavsOwnCountIsKept) {
+  Rig rig;
+  rig.sent(0, 70, 0);
+  rig.sent(1, 50, 12);  // 12 never confirmed by its home
+  rig.rec.on_health(Rig::health(0, 0, 60));
+  rig.rec.on_health(Rig::health(1, 0, 48));
+  EXPECT_EQ(rig.rec.deposits_sent(), 120U);
+  EXPECT_EQ(rig.rec.deposits_lost(), 12U) << "120 sent, 108 received";
+  EXPECT_EQ(rig.rec.deposits_unconfirmed_by_uavs(), 12U);
+  rig.rec.on_health(Rig::health(1, 0, 60));
+  EXPECT_EQ(rig.rec.deposits_lost(), 0U) << "balanced";
+}
+
+}  // namespace
+}  // namespace pheromesh::core
+
+namespace pheromesh::core {
+namespace {
+
+TEST(DepositReceipts, ADepositStaysUnconfirmedUntilTheHomeAcknowledgesItsSeq) {
+  DepositReceipts r;
+  for (uint32_t seq : {1U, 2U, 5U, 9U}) r.sent(seq);
+  EXPECT_EQ(r.unconfirmed(), 4U);
+  r.confirmed(0);  // a view before any deposit arrived
+  EXPECT_EQ(r.unconfirmed(), 4U);
+  r.confirmed(5);
+  EXPECT_EQ(r.unconfirmed(), 1U) << "1, 2 and 5 confirmed";
+  r.confirmed(3);  // an older view arriving late changes nothing
+  EXPECT_EQ(r.unconfirmed(), 1U);
+  r.sent((1U << 24U) + 1);  // a restarted life's numbering
+  r.confirmed(9);
+  EXPECT_EQ(r.unconfirmed(), 1U);
+  r.confirmed((1U << 24U) + 1);
+  EXPECT_EQ(r.unconfirmed(), 0U);
+}
+
+}  // namespace
+}  // namespace pheromesh::core
