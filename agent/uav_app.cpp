@@ -139,7 +139,9 @@ void UavApp::wait_for_home() {
   // Wait (bounded) until the home place agent is matched, so the first
   // deposits are not lost to discovery (matching is not data: no wait set).
   const auto deadline = Clock::now() + std::chrono::milliseconds(static_cast<int64_t>(cfg_.wait_for_places_s * 1000));
-  while (bus_->matched_deposit_readers(home_) == 0) {
+  // With standbys, every replica of the home reads this UAV's deposits.
+  const uint32_t replicas = (cfg_.common.standby || scenario_.standby) ? 2 : 1;
+  while (bus_->matched_deposit_readers(home_) < replicas) {
     if (Clock::now() > deadline || runtime::shutdown_requested()) {
       log_->warn("starting before home place agent {} was discovered", home_);
       return;
@@ -210,7 +212,11 @@ int UavApp::run_lockstep(uint32_t ticks) {
       if (c.tick > 0) wait_for_tick(c.tick - 1, c);
       handle_commands();
       step(c.tick, false);
-      if (!bus_->flush(std::chrono::seconds(10))) log_->warn("tick {}: not every sample was acknowledged in 10 s", c.tick);
+      // No flush (waiting for every matched reader's acknowledgement) here:
+      // a reader of a process that was killed stays matched for the
+      // participant lease (1 h, deploy/dds) and never acknowledges, so every
+      // flush would time out and stall the swarm after a fault. The place
+      // agents wait for the deposits the conductor announces instead.
       // Report what this phase wrote: the conductor announces it to the
       // place agents (deposits) and to the UAVs (broadcasts), which wait for it.
       core::PhaseDoneMsg report{core::process_key(core::kRoleUav, cfg_.id), c.tick, c.phase, broadcast_written_ ? 1U : 0U,
@@ -218,7 +224,6 @@ int UavApp::run_lockstep(uint32_t ticks) {
       for (const auto& [region, n] : written_) report.deposits.push_back({region, n});
       resend_.begin_tick();
       resend_.phase_done(report);
-      bus_->flush(std::chrono::seconds(10));
       done = c.tick;
       if (c.tick >= ticks) stop = true;
     }

@@ -98,6 +98,9 @@ void Launcher::spawn(const std::string& role, uint32_t index, const std::vector<
   if (o_.seed > 0) args.insert(args.end(), {"--seed", std::to_string(o_.seed)});
   if (o_.rate_hz > 0) args.insert(args.end(), {"--rate", std::to_string(o_.rate_hz)});
   if (standby_) args.emplace_back("--standby");
+  // Fast DDS 2.9 keeps an instance with its dead owner (docs/faults.md):
+  // exclusive ownership only in all-Cyclone swarms.
+  if (standby_ && !(plan_.single_vendor() && plan_.ground == "cyclone")) args.emplace_back("--shared-ownership");
   if (replica > 0) args.insert(args.end(), {"--replica", std::to_string(replica)});
   args.insert(args.end(), extra_args.begin(), extra_args.end());
   const std::string log_path = (fs::path(o_.out_dir) / "logs" / (c.name + ".log")).string();

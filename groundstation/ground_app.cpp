@@ -36,7 +36,8 @@ GroundApp::GroundApp(GroundConfig cfg, core::ScenarioConfig scenario, std::uniqu
       rec_(scenario_, world_),
       frame_builder_(geo_),
       conductor_({cfg_.expect_uavs != 0 ? cfg_.expect_uavs : scenario_.uavs, geo_.region_count(),
-                  std::chrono::milliseconds(static_cast<int64_t>(cfg_.phase_timeout_s * 1000))}),
+                  std::chrono::milliseconds(static_cast<int64_t>(cfg_.phase_timeout_s * 1000)), std::chrono::milliseconds(5000),
+                  (cfg_.common.standby || scenario_.standby) ? 1U : 0U}),
       layers_(static_cast<int>(core::policy_traits(scenario_).layers.size())) {
   if (cfg_.expect_uavs == 0) cfg_.expect_uavs = scenario_.uavs;
   run_t0_unix_ms_ = unix_ms_now();
@@ -166,6 +167,7 @@ void GroundApp::poll() {
     const bool finished = it != rec_.replica_health().end() && it->second.finished;
     rec_.on_place_departed(id);
     if (finished) continue;
+    if (cfg_.common.standby || scenario_.standby) conductor_.on_place_departed(id);
     const std::string who = replica > 0 ? fmt::format("standby {} of region {}", replica, r) : fmt::format("place agent {}", r);
     if (auto owner = rec_.region_owner(r)) {
       log_->warn("{} lost (liveliness); region {} is served by {}", who, r,
@@ -195,7 +197,7 @@ void GroundApp::print_progress() {
     standby_owned += owner && *owner > 0 ? 1 : 0;
   }
   log_->info("tick {:5d} | uavs {}/{} flying | places {}/{}{} | coverage {:5.1f}% | targets {}/{} | deposits sent {} applied {} "
-             "rejected {} lost {}",
+             "rejected {} unaccounted {}",
              rec_.max_tick(), flying, cfg_.expect_uavs, rec_.regions_alive(), geo_.region_count(),
              standby_owned > 0 ? fmt::format(" ({} on standby)", standby_owned) : std::string(),
              100.0 * rec_.coverage().coverage(), rec_.acquisitions().found(), world_.targets().size(),

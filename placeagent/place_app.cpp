@@ -266,14 +266,24 @@ int PlaceApp::run_lockstep() {
       if (c.phase == static_cast<uint8_t>(core::ClockPhase::Stop)) {
         stop = true;
       } else if (c.phase == static_cast<uint8_t>(core::ClockPhase::Place) && static_cast<int64_t>(c.tick) > done_tick) {
+        if (replicated_ && done_tick >= 0 && static_cast<int64_t>(c.tick) > done_tick + 1) {
+          // The swarm went on without this replica (it was stopped or cut
+          // off longer than a lease and another replica served the region):
+          // its field missed ticks and must not be served again.
+          log_->error("region {} replica {}: the lockstep clock is at tick {} but this replica finished tick {} last; it "
+                      "missed ticks while it was stopped or cut off and leaves (another replica serves the region)",
+                      cfg_.region, cfg_.replica, c.tick, done_tick);
+          return 7;
+        }
         // Every tile, every tick: a UAV waits for tiles of exactly this tick.
         uint32_t expected = 0;
         for (const auto& rc : c.deposits) expected += rc.region == cfg_.region ? rc.count : 0;
         step(c.tick, true, expected);
         publish_health(c.tick, false);
-        if (!bus_->flush(std::chrono::seconds(10))) log_->warn("tick {}: not every sample was acknowledged in 10 s", c.tick);
-        resend_.phase_done({core::process_key(core::kRolePlace, cfg_.region), c.tick, c.phase, 0, {}});
-        bus_->flush(std::chrono::seconds(10));
+        // No flush: a killed process's readers never acknowledge (see uav_app.cpp).
+        // Every reader of this phase's output waits for exactly this tick's samples.
+        const uint32_t id = replicated_ ? core::place_id(cfg_.region, cfg_.replica) : cfg_.region;
+        resend_.phase_done({core::process_key(core::kRolePlace, id), c.tick, c.phase, 0, {}});
         done_tick = c.tick;
       }
     }
@@ -285,7 +295,12 @@ int PlaceApp::run_lockstep() {
   // Wait for SIGTERM from the launcher; deposits arriving now (none in a
   // clean run) are counted, not applied to the field, so the final field
   // stays that of the last conducted tick.
-  while (!runtime::shutdown_requested()) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  // Polling the bus keeps this process's writers alive (manual-by-topic
+  // liveliness), so the ground station does not report it lost meanwhile.
+  while (!runtime::shutdown_requested()) {
+    commands_->take();
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
   inbox_.clear();
   take_deposits();
   if (!inbox_.empty()) log_->warn("{} deposits arrived after the last tick; rejected", inbox_.size());

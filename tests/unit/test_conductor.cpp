@@ -125,3 +125,39 @@ TEST(Conductor, ADeadPlaceAgentRunsThePhaseIntoItsTimeout) {
 
 }  // namespace
 }  // namespace pheromesh::core
+
+namespace pheromesh::core {
+namespace {
+
+TEST(LockstepConductorStandby, EveryLiveReplicaIsWaitedForAndALostOneIsNot) {
+  using namespace std::chrono_literals;
+  LockstepConductor::Options o;
+  o.uavs = 0;
+  o.regions = 2;
+  o.standbys = 1;
+  LockstepConductor c(o);
+  const auto t0 = LockstepConductor::Clock::time_point{} + 10s;
+  c.begin_phase(0, ClockPhase::Place, t0);
+  const auto done = [&](RegionId r, uint16_t replica) {
+    PhaseDoneMsg m;
+    m.process = process_key(kRolePlace, place_id(r, replica));
+    m.tick = 0;
+    m.phase = static_cast<uint8_t>(ClockPhase::Place);
+    c.on_phase_done(m);
+  };
+  EXPECT_EQ(c.status(t0).waiting, 4U) << "two regions, two replicas each";
+  done(0, 0);
+  done(1, 0);
+  done(1, 1);
+  EXPECT_EQ(c.status(t0).waiting, 1U) << "the standby of region 0 keeps the swarm waiting: it must not fall behind";
+  c.on_place_departed(place_id(0, 1));
+  EXPECT_TRUE(c.status(t0).complete) << "a lost standby is not waited for";
+  // Tick 1: region 0's primary is lost too; without a live replica the
+  // region's primary is waited for (the tick cannot be exact without it).
+  c.begin_phase(1, ClockPhase::Place, t0);
+  c.on_place_departed(place_id(0, 0));
+  EXPECT_EQ(c.status(t0).waiting, 3U);
+}
+
+}  // namespace
+}  // namespace pheromesh::core

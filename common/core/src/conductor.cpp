@@ -77,11 +77,26 @@ LockstepConductor::Status LockstepConductor::status(Clock::time_point now) {
   const uint32_t role = uav_phase ? kRoleUav : kRolePlace;
   const uint32_t count = uav_phase ? o_.uavs : o_.regions;
   Status s;
+  const auto reported = [&](uint32_t key) {
+    auto it = done_.find(key);
+    return it != done_.end() && it->second.tick == tick_ && it->second.phase == static_cast<uint8_t>(phase_);
+  };
   for (uint32_t id = 0; id < count; ++id) {
     if (uav_phase && gone_for_good(id, now)) continue;  // dead UAVs are not waited for
-    auto it = done_.find(process_key(role, id));
-    const bool done = it != done_.end() && it->second.tick == tick_ && it->second.phase == static_cast<uint8_t>(phase_);
-    s.waiting += done ? 0 : 1;
+    if (!uav_phase && o_.standbys > 0) {
+      // Every live replica of the region; if none lives, its primary (the
+      // tick cannot be exact without it: the phase runs into its timeout).
+      bool any = false;
+      for (uint32_t rep = 0; rep <= o_.standbys; ++rep) {
+        const uint32_t place = place_id(id, static_cast<uint16_t>(rep));
+        if (places_gone_.contains(place)) continue;
+        any = true;
+        s.waiting += reported(process_key(role, place)) ? 0 : 1;
+      }
+      if (!any) s.waiting += reported(process_key(role, id)) ? 0 : 1;
+      continue;
+    }
+    s.waiting += reported(process_key(role, id)) ? 0 : 1;
   }
   if (s.waiting == 0 && uav_phase) {
     // Every UAV's state and reported broadcast of this tick must be here

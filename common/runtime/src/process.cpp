@@ -54,6 +54,9 @@ void add_common_options(CLI::App& app, CommonOptions& o) {
   app.add_flag("--standby", o.standby,
                "The swarm runs a hot-standby replica of every place agent (every process of it needs this flag, or "
                "the scenario's run.standby: true): exclusive ownership of place-agent output");
+  app.add_flag("--shared-ownership", o.shared_ownership,
+               "With standbys: readers take every replica's output (shared ownership) instead of the owner's only; "
+               "pheromesh run sets it for swarms with Fast DDS processes (docs/faults.md)");
 }
 
 std::shared_ptr<spdlog::logger> make_logger(const std::string& name, const std::string& level) {
@@ -87,7 +90,7 @@ core::Result<core::ScenarioConfig> load_scenario(const CommonOptions& o) {
 
 bus::BusOptions bus_options(const CommonOptions& o, const std::string& process_name, bool standby) {
   bus::BusOptions b;
-  b.replication.exclusive = standby || o.standby;
+  b.replication.exclusive = (standby || o.standby) && !o.shared_ownership;
   if (b.replication.exclusive && o.place_replica >= 0) {
     b.replication.strength = std::max(1, kPrimaryStrength - o.place_replica);
   }

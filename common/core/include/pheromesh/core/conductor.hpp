@@ -32,6 +32,11 @@ class LockstepConductor {
     uint32_t regions = 0;
     std::chrono::milliseconds phase_timeout{60000};
     std::chrono::milliseconds departed_grace{5000};
+    // Hot standbys per region (pheromesh run --standby): each replica
+    // reports PhaseDone under process_key(kRolePlace, place_id(region,
+    // replica)) and is waited for while it lives, so standbys never fall
+    // behind; a lost replica is not waited for while another of its region lives.
+    uint32_t standbys = 0;
   };
 
   struct Status {
@@ -52,6 +57,9 @@ class LockstepConductor {
   void on_phase_done(const PhaseDoneMsg& m);
   // The UAV's liveliness lapsed. Returns true the first time (until it is back).
   bool on_uav_departed(uint32_t uav, Clock::time_point now);
+  // A place replica's liveliness lapsed (place_id). In a run with standbys it
+  // is not waited for again (it missed ticks; it leaves when it notices).
+  void on_place_departed(uint32_t place) { places_gone_.insert(place); }
   [[nodiscard]] bool departed(uint32_t uav) const { return departed_since_.contains(uav); }
 
   // --- the protocol
@@ -78,6 +86,7 @@ class LockstepConductor {
   std::map<uint32_t, std::set<uint32_t>> broadcasters_;   // tick -> UAVs that broadcast
   std::map<RegionId, uint32_t> deposits_reported_;        // current tick's UAV phase
   std::map<uint32_t, Clock::time_point> departed_since_;  // departed UAVs
+  std::set<uint32_t> places_gone_;                         // departed place replicas (place_id)
 };
 
 }  // namespace pheromesh::core

@@ -37,6 +37,12 @@ struct CommonOptions {
   // The swarm runs hot-standby place agents (--standby, or the scenario's
   // run.standby): every process then uses exclusive ownership (bus/qos.hpp).
   bool standby = false;
+  // With standbys: the replicas' output is shared (every reader takes every
+  // replica's samples; identical in lockstep) instead of exclusively owned.
+  // `pheromesh run` sets it when a Fast DDS process is in the swarm: Fast DDS
+  // 2.9 does not hand an instance to the next writer when its owner's
+  // liveliness is lost (measured; docs/faults.md).
+  bool shared_ownership = false;
   // A place agent's replica number (0 the primary, 1.. standbys); -1 for
   // every other process. Its ownership strength is kMaxStrength - replica.
   int32_t place_replica = -1;
