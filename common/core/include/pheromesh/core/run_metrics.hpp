@@ -39,6 +39,16 @@ class RunRecorder {
   void on_health(const HealthMsg& h);
   void on_uav_departed(uint32_t uav);
   void on_region_departed(RegionId r);
+  // Faults injected on purpose (docs/faults.md): deposits that reached no
+  // place agent because their region or their UAV's home was dead, UAVs and
+  // place agents killed, and of those place agents the ones no standby took
+  // over (their regions froze).
+  void count_deposits_lost(uint64_t n) { deposits_lost_ += n; }
+  void on_uav_killed() { ++uavs_killed_; }
+  void on_place_killed(bool region_frozen) {
+    ++places_killed_;
+    regions_frozen_ += region_frozen ? 1 : 0;
+  }
   void count_rejected_sample() { ++samples_rejected_; }
   // A target added during the run (the world gained it first).
   void add_target() { acquisitions_.add_target(); }
@@ -66,6 +76,10 @@ class RunRecorder {
   [[nodiscard]] const std::vector<std::pair<uint32_t, double>>& coverage_series() const { return coverage_series_; }
   [[nodiscard]] uint64_t samples_rejected() const { return samples_rejected_; }
   [[nodiscard]] uint64_t deposits_sent() const;
+  [[nodiscard]] uint64_t deposits_lost() const { return deposits_lost_; }
+  [[nodiscard]] uint32_t uavs_killed() const { return uavs_killed_; }
+  [[nodiscard]] uint32_t places_killed() const { return places_killed_; }
+  [[nodiscard]] uint32_t regions_frozen() const { return regions_frozen_; }
   // Tick at which a leader became a searcher (Shao 2020 Sec. 5: it reached the
   // centre of the target region), if one did.
   [[nodiscard]] std::optional<uint32_t> leader_arrival_tick() const { return leader_arrival_; }
@@ -85,6 +99,8 @@ class RunRecorder {
   std::optional<uint32_t> leader_arrival_;
   uint32_t max_tick_ = 0;
   uint64_t samples_rejected_ = 0;
+  uint64_t deposits_lost_ = 0;
+  uint32_t uavs_killed_ = 0, places_killed_ = 0, regions_frozen_ = 0;
   bool last_was_first_ = false;
 };
 
