@@ -1,4 +1,4 @@
-// The pieces of `pheromesh experiment shao2020-robustness` (Shao 2020 §4.3.3):
+// The pieces of `pheromesh experiment shao2020-robustness` (Shao 2020 Sec. 4.3.3):
 // the fixed-route lawnmower with transit, and the reproducible kill draws.
 #include <gtest/gtest.h>
 

@@ -87,7 +87,7 @@ void Simulator::step(uint32_t tick) {
   for (const auto& [u, k] : uav_kill_) {
     if (k != tick) continue;
     recorder_.on_uav_killed();
-    recorder_.on_uav_departed(u);
+    if (tick > 0) recorder_.on_uav_departed(u);  // one that never flew has no status to end
   }
   for (const auto& [r, k] : region_kill_) {
     if (k != tick) continue;
@@ -97,7 +97,6 @@ void Simulator::step(uint32_t tick) {
       // Its last health record: the ledger as it stopped.
       const auto& l = places_[r]->ledger();
       recorder_.on_health({r, tick == 0 ? 0 : tick - 1, 0.0F, l.received, l.applied, l.rejected(), 0, false});
-      recorder_.on_region_departed(r);
     }
   }
   // UAV phase: every UAV sees the tiles of its neighbourhood as the place
@@ -108,7 +107,6 @@ void Simulator::step(uint32_t tick) {
   UavCore::Output out;
   std::vector<UavStateMsg> states;
   std::vector<BroadcastMsg> broadcasts;
-  uint64_t lost = 0;
   const auto regions = static_cast<uint32_t>(places_.size());
   for (std::size_t i = 0; i < uavs_.size(); ++i) {
     const auto id = static_cast<uint32_t>(i);
@@ -140,11 +138,9 @@ void Simulator::step(uint32_t tick) {
     if (!home_dead) states.push_back(out.state);
     if (out.broadcast) broadcasts.push_back(*out.broadcast);
     for (const DepositMsg& d : out.deposits) {
-      if (home_dead || region_dead(d.region, tick)) {
-        ++lost;  // no place agent to forward or apply it
-      } else {
-        inbox_[d.region].push_back(d);
-      }
+      // Lost (no place agent to forward or apply it): RunRecorder::deposits_lost
+      // counts it, as sent and never received.
+      if (!home_dead && !region_dead(d.region, tick)) inbox_[d.region].push_back(d);
     }
     deposits_sent_[i] += out.deposits.size();
     for (const DetectionMsg& d : out.detections) recorder_.on_detection(d);
@@ -152,7 +148,6 @@ void Simulator::step(uint32_t tick) {
     out.state.tile_samples_received = tile_samples_[i];
     recorder_.on_uav_state(out.state);
   }
-  if (lost > 0) recorder_.count_deposits_lost(lost);
   states_by_tile_.clear();
   for (const UavStateMsg& s : states) {
     const TileCoord t = geo_.tile_of(state_cell(s));

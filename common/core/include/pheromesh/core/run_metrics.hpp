@@ -39,11 +39,9 @@ class RunRecorder {
   void on_health(const HealthMsg& h);
   void on_uav_departed(uint32_t uav);
   void on_region_departed(RegionId r);
-  // Faults injected on purpose (docs/faults.md): deposits that reached no
-  // place agent because their region or their UAV's home was dead, UAVs and
-  // place agents killed, and of those place agents the ones no standby took
-  // over (their regions froze).
-  void count_deposits_lost(uint64_t n) { deposits_lost_ += n; }
+  // Faults injected on purpose (docs/faults.md): UAVs and place agents
+  // killed, and of those place agents the ones no standby took over (their
+  // regions froze).
   void on_uav_killed() { ++uavs_killed_; }
   void on_place_killed(bool region_frozen) {
     ++places_killed_;
@@ -76,7 +74,10 @@ class RunRecorder {
   [[nodiscard]] const std::vector<std::pair<uint32_t, double>>& coverage_series() const { return coverage_series_; }
   [[nodiscard]] uint64_t samples_rejected() const { return samples_rejected_; }
   [[nodiscard]] uint64_t deposits_sent() const;
-  [[nodiscard]] uint64_t deposits_lost() const { return deposits_lost_; }
+  // Deposits sent by the UAVs that no place agent counted (received,
+  // applied or rejected): lost to a dead place agent, whether their region's
+  // or their UAV's home. sent == applied + rejected + lost.
+  [[nodiscard]] uint64_t deposits_lost() const;
   [[nodiscard]] uint32_t uavs_killed() const { return uavs_killed_; }
   [[nodiscard]] uint32_t places_killed() const { return places_killed_; }
   [[nodiscard]] uint32_t regions_frozen() const { return regions_frozen_; }
@@ -99,7 +100,6 @@ class RunRecorder {
   std::optional<uint32_t> leader_arrival_;
   uint32_t max_tick_ = 0;
   uint64_t samples_rejected_ = 0;
-  uint64_t deposits_lost_ = 0;
   uint32_t uavs_killed_ = 0, places_killed_ = 0, regions_frozen_ = 0;
   bool last_was_first_ = false;
 };

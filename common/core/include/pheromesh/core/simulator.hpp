@@ -24,8 +24,9 @@
 //                      tick >= k reach no other view (the home publishes
 //                      them with its field). The ground station still hears
 //                      them: they keep covering cells and detecting targets.
-// Lost deposits are counted (RunRecorder::deposits_lost), so a run still
-// balances: sent == applied + rejected + lost.
+// A lost deposit is sent and never received by any place agent
+// (RunRecorder::deposits_lost), so a run still balances: sent == applied +
+// rejected + lost.
 #pragma once
 
 #include <cstdint>

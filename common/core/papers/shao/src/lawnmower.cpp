@@ -1,6 +1,6 @@
-// The exhaustive fixed-route search with transit (Shao 2020 §4.3.3, Shao 2020
-// Fig. 6): routes and the UAV policy that flies them. The reading of the
-// paper is in lawnmower.hpp.
+// The exhaustive fixed-route search with transit (Shao 2020 Sec. 4.3.3,
+// Shao 2020 Fig. 6): routes and the UAV policy that flies them. The reading
+// of the paper is in lawnmower.hpp.
 #include "pheromesh/shao/lawnmower.hpp"
 
 #include <algorithm>

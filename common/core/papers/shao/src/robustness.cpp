@@ -1,4 +1,4 @@
-// Shao 2020 §4.3.3 robustness runs: UAVs killed mid-search, pheromone search
+// Shao 2020 Sec. 4.3.3 robustness runs: UAVs killed mid-search, pheromone search
 // against the fixed-route lawnmower (robustness.hpp has the reading).
 #include "pheromesh/shao/robustness.hpp"
 

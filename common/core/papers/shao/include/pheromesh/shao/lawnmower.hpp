@@ -1,4 +1,4 @@
-// The exhaustive fixed-route search Shao 2020 §4.3.3 compares the pheromone
+// The exhaustive fixed-route search Shao 2020 Sec. 4.3.3 compares the pheromone
 // search with (Shao 2020 Fig. 6), flown as a UAV policy with transit, so that
 // it runs in the simulator beside the swarm and under the same faults.
 //
@@ -19,9 +19,10 @@
 //    free cells, among equally short steps the one nearest (Euclidean) to the
 //    goal, then the first in heading order E, NE, N, NW, W, SW, S, SE. Lane
 //    cells that lie in obstacles or cannot be reached are left out; when the
-//    lanes are flown, it visits (nearest first, by path length) every cell
-//    of its strip reachable from its start that its sensor has not yet
-//    covered — the far sides of the blocks its lanes went around;
+//    lanes are flown, it visits (nearest first by path length, ties in
+//    row-major order) every cell of its strip reachable from its start that
+//    its sensor has not yet covered — the far sides of the blocks its lanes
+//    went around;
 //  - same sensor as the searchers (radius SD): it reports each target when it
 //    comes within range; it deposits nothing (it reads no pheromone) and,
 //    once its route is flown, it hovers at the route's end;

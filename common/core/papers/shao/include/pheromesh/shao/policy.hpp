@@ -27,8 +27,9 @@ struct ShaoNavigationConfig final : PolicyConfig {
 // --- Shao 2020 Sec. 4 search (search_policy.cpp): it reads
 // ScenarioConfig::layers and ::aco. A scenario file gives it no config
 // (policy_config stays null: the pheromone search); a program may set a
-// ShaoSearchConfig to fly the exhaustive fixed-route baseline of Shao 2020
-// §4.3.3 instead (lawnmower.hpp), with the same place agents, sensor and speed.
+// ShaoSearchConfig to fly the exhaustive fixed-route baseline of
+// Shao 2020 Sec. 4.3.3 instead (lawnmower.hpp), with the same place agents,
+// sensor and speed.
 enum class ShaoRoute : uint8_t {
   Pheromone,         // Shao 2020 Algorithm 1
   LawnmowerTransit,  // fixed boustrophedon strips, flown from the start area

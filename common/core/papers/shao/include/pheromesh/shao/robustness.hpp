@@ -1,13 +1,13 @@
-// The robustness claim of Shao 2020 §4.3.3 as a library: "the exhaustive
+// The robustness claim of Shao 2020 Sec. 4.3.3 as a library: "the exhaustive
 // search algorithm with a fixed path is not robust or flexible, facing
 // unexpected faults which cause a rapid decrease in the efficiency of the
 // whole system. However, our algorithm with no fixed path can adapt
-// dynamically to emergencies". The paper shows no numbers for it (Shao 2020
-// Fig. 6 is fault-free); `pheromesh experiment shao2020-robustness` formats
-// what this loop returns.
+// dynamically to emergencies". The paper shows no numbers for it
+// (Shao 2020 Fig. 6 is fault-free); `pheromesh experiment shao2020-robustness`
+// formats what this loop returns.
 //
-// One run = one scenario seed, one search (the pheromone search of Shao 2020
-// Algorithm 1, unchanged, or the fixed-route lawnmower with transit,
+// One run = one scenario seed, one search (the pheromone search of
+// Shao 2020 Algorithm 1, unchanged, or the fixed-route lawnmower with transit,
 // lawnmower.hpp) and one share of UAVs killed at one tick, in the simulator
 // with the fault semantics of faults.hpp (a killed UAV is gone: no state, no
 // deposits, no coverage).
