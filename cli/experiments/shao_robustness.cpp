@@ -7,9 +7,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <map>
 #include <sstream>
-#include <limits>
 #include <stdexcept>
 #include <string>
 #include <tuple>
@@ -37,9 +37,7 @@ constexpr double kGoal = 0.95;  // the coverage whose first tick we report
 const std::vector<double> kShares = {0.0, 0.1, 0.3};
 const std::vector<uint32_t> kTableTicks = {25, 50, 75, 100, 150, 200, 300, 500, 1000, 3000};
 
-const char* route_name(ShaoRoute r) {
-  return r == ShaoRoute::Pheromone ? "pheromone search" : "fixed-route lawnmower";
-}
+const char* route_name(ShaoRoute r) { return r == ShaoRoute::Pheromone ? "pheromone search" : "fixed-route lawnmower"; }
 
 std::string pct(double share) { return std::to_string(static_cast<int>(std::lround(100 * share))) + " %"; }
 
@@ -79,8 +77,8 @@ using Key = std::tuple<uint32_t, int, std::size_t>;  // (kill tick, route, share
 std::string cross_table(const std::map<Key, Cell>& cells, uint32_t kill_tick, uint32_t runs,
                         const std::vector<uint32_t>& ticks, const std::vector<ShaoRoute>& routes) {
   std::ostringstream md;
-  md << "### UAVs killed at tick " << kill_tick << ": coverage over time [% of reachable cells, mean ± sd over "
-     << runs << " runs]\n\n| search | killed |";
+  md << "### UAVs killed at tick " << kill_tick << ": coverage over time [% of reachable cells, mean ± sd over " << runs
+     << " runs]\n\n| search | killed |";
   for (uint32_t t : ticks) md << " t = " << t << " |";
   md << " runs reaching 95 % | ticks to 95 % (mean ± sd of those) |\n|---|---|";
   for (std::size_t i = 0; i < ticks.size() + 2; ++i) md << "--:|";
@@ -134,7 +132,8 @@ std::string verdict(const std::map<Key, Cell>& cells, uint32_t kill_tick) {
   } else if (adapts) {
     v += "Partly reproduced. The pheromone search adapts: it ends with more of the map covered, and reaches 95 % "
          "at least as often, while the fixed routes never search what the dead UAVs had not flown yet. But no "
-         "'rapid decrease in the efficiency' of the fixed routes: with " + not_slower +
+         "'rapid decrease in the efficiency' of the fixed routes: with " +
+         not_slower +
          " killed they reach 95 % in at least half as many runs, and sooner on average, than the pheromone search.";
   } else {
     v += "Not reproduced: the pheromone search does not end up ahead of the fixed routes once UAVs are lost.";
@@ -155,14 +154,15 @@ Report run_robustness_experiment(uint32_t runs, const Progress& progress) {
   rep.title = "Shao 2020 Sec. 4.3.3 — robustness to UAV losses: pheromone search vs fixed routes, " + base.name;
   rep.source = "Shao et al. 2020, Sec. 4.3.3 (the claim after Fig. 6; the paper shows no numbers for it)";
   rep.setup = "scenarios/" + file + " unchanged (" + std::to_string(base.uavs) + " UAVs, " + std::to_string(horizon) +
-              " iterations = Nc, Shao 2020 Table 1 parameters); " + std::to_string(runs) + " runs per cell with seeds 1.." +
-              std::to_string(runs) + "; 0 %, 10 %, 30 % of the UAVs (0, " +
-              std::to_string(core::kill_count(0.1, base.uavs)) + ", " + std::to_string(core::kill_count(0.3, base.uavs)) +
-              ") killed at tick " + std::to_string(kKillTick) + " (and, as a check, at tick " +
-              std::to_string(kSecondKillTick) + "), drawn per seed, the same UAVs in both searches; in-process "
+              " iterations = Nc, Shao 2020 Table 1 parameters); " + std::to_string(runs) +
+              " runs per cell with seeds 1.." + std::to_string(runs) + "; 0 %, 10 %, 30 % of the UAVs (0, " +
+              std::to_string(core::kill_count(0.1, base.uavs)) + ", " +
+              std::to_string(core::kill_count(0.3, base.uavs)) + ") killed at tick " + std::to_string(kKillTick) +
+              " (and, as a check, at tick " + std::to_string(kSecondKillTick) +
+              "), drawn per seed, the same UAVs in both searches; in-process "
               "simulator with its fault semantics (docs/faults.md)";
-  rep.csv_header = {"search", "kill_share", "kill_tick", "seed", "killed", "ticks_to_95", "targets_found",
-                    "deposits_sent", "deposits_lost"};
+  rep.csv_header = {"search",      "kill_share",    "kill_tick",     "seed",         "killed",
+                    "ticks_to_95", "targets_found", "deposits_sent", "deposits_lost"};
   std::vector<uint32_t> ticks;
   for (uint32_t t : kTableTicks) {
     if (t <= horizon) ticks.push_back(t);
@@ -216,28 +216,29 @@ Report run_robustness_experiment(uint32_t runs, const Progress& progress) {
     for (ShaoRoute route : routes) {
       for (std::size_t si = 0; si < kShares.size(); ++si) {
         const Cell& c = cells.at({kKillTick, static_cast<int>(route), si});
-        rep.rows.push_back({"coverage at tick " + std::to_string(t) + ", " + route_name(route) + ", " + pct(kShares[si]) +
-                                " killed",
-                            std::nullopt, c.coverage_at(t), "share of reachable cells", ""});
+        rep.rows.push_back(
+            {"coverage at tick " + std::to_string(t) + ", " + route_name(route) + ", " + pct(kShares[si]) + " killed",
+             std::nullopt, c.coverage_at(t), "share of reachable cells", ""});
       }
     }
   }
   rep.tables = cross_table(cells, kKillTick, runs, ticks, routes) + "\n" +
                cross_table(cells, kSecondKillTick, runs, ticks, routes);
   // Plots: mean coverage over the first 300 ticks, and the time to 95 %.
-  Plot cov{"coverage.svg", "Coverage, UAVs killed at tick " + std::to_string(kKillTick), "iteration",
-           "coverage (mean)", {}};
+  Plot cov{
+      "coverage.svg", "Coverage, UAVs killed at tick " + std::to_string(kKillTick), "iteration", "coverage (mean)", {}};
   for (ShaoRoute route : routes) {
     for (std::size_t si = 0; si < kShares.size(); ++si) {
       const Cell& c = cells.at({kKillTick, static_cast<int>(route), si});
       Series s{std::string(route == ShaoRoute::Pheromone ? "pheromone" : "lawnmower") + ", " + pct(kShares[si]), {}};
-      for (uint32_t t = 0; t <= std::min<uint32_t>(300, horizon); t += 5) s.points.emplace_back(t, mean(c.coverage_at(t)));
+      for (uint32_t t = 0; t <= std::min<uint32_t>(300, horizon); t += 5)
+        s.points.emplace_back(t, mean(c.coverage_at(t)));
       cov.series.push_back(std::move(s));
     }
   }
   rep.plots.push_back(cov);
-  Plot t95{"ticks_to_95.svg", "Ticks to 95 % coverage (runs that reach it)", "share of UAVs killed [%]",
-           "ticks (mean)", {}};
+  Plot t95{
+      "ticks_to_95.svg", "Ticks to 95 % coverage (runs that reach it)", "share of UAVs killed [%]", "ticks (mean)", {}};
   for (uint32_t kt : kill_ticks) {
     for (ShaoRoute route : routes) {
       Series s{std::string(route == ShaoRoute::Pheromone ? "pheromone" : "lawnmower") + ", kill @" + std::to_string(kt),
@@ -270,7 +271,8 @@ Report run_robustness_experiment(uint32_t runs, const Progress& progress) {
       "(pheromesh/shao/robustness.hpp), so the UAVs killed at 10 % are among those killed at 30 %, for either "
       "kill tick.",
       "Coverage = share of the reachable cells that were within some UAV's sensor radius at least once (metrics.json "
-      "`coverage`). Runs that never reach 95 % within the " + std::to_string(horizon) +
+      "`coverage`). Runs that never reach 95 % within the " +
+          std::to_string(horizon) +
           " iterations are counted in the 'runs reaching 95 %' column and left out of the mean ± sd.",
   };
   return rep;
@@ -279,10 +281,11 @@ Report run_robustness_experiment(uint32_t runs, const Progress& progress) {
 }  // namespace
 
 std::vector<Experiment> shao_robustness_experiments() {
-  return {{"shao2020-robustness",
-           "Shao 2020 Sec. 4.3.3: coverage with 0/10/30 % of the UAVs killed mid-search, pheromone search vs fixed-route "
-           "lawnmower with transit (50x50)",
-           30, [](uint32_t runs, const Progress& p) { return run_robustness_experiment(runs, p); }}};
+  return {
+      {"shao2020-robustness",
+       "Shao 2020 Sec. 4.3.3: coverage with 0/10/30 % of the UAVs killed mid-search, pheromone search vs fixed-route "
+       "lawnmower with transit (50x50)",
+       30, [](uint32_t runs, const Progress& p) { return run_robustness_experiment(runs, p); }}};
 }
 
 }  // namespace pheromesh::cli::experiments

@@ -212,7 +212,8 @@ TEST(SimFaults, DepositsIntoADeadRegionOrThroughADeadHomeAreLostAndTheLedgerBala
   EXPECT_EQ(ledger(sim).applied, 15U);
   EXPECT_EQ(ledger(sim).rejected, 0U);
   EXPECT_EQ(sim.recorder().deposits_lost(), 6U);
-  EXPECT_EQ(sim.recorder().deposits_sent(), ledger(sim).applied + ledger(sim).rejected + sim.recorder().deposits_lost());
+  EXPECT_EQ(sim.recorder().deposits_sent(),
+            ledger(sim).applied + ledger(sim).rejected + sim.recorder().deposits_lost());
   // The UAVs themselves fly on: every one took 7 steps.
   EXPECT_EQ(sim.uav_steps(), 21U);
 }
@@ -269,7 +270,7 @@ TEST(SimFaults, AStandbyMakesAPlaceKillChangeNothing) {
   EXPECT_EQ(standby.recorder().acquisitions().acquisition_ticks(), plain.recorder().acquisitions().acquisition_ticks());
   EXPECT_EQ(standby.recorder().deposits_sent(), ledger(standby).applied);
   EXPECT_EQ(standby.recorder().deposits_lost(), 0U);
-  EXPECT_EQ(standby.recorder().places_killed(), 2U);  // two processes died...
+  EXPECT_EQ(standby.recorder().places_killed(), 2U);   // two processes died...
   EXPECT_EQ(standby.recorder().regions_frozen(), 0U);  // ...and no region with them
   // A `standby place:R` event before R's kill does the same.
   Simulator event(s);
@@ -296,7 +297,8 @@ TEST(SimFaults, EventsThatChangeNoNumbersAreNotedAndWhatCannotBeModelledIsRefuse
   ScenarioConfig s = tiny(16, 8, 2, 2, {0, 0, 2, 1}, 10);
   {
     Simulator sim(s);
-    auto notes = sim.set_faults(schedule("stop uav:0 @2t for 1s; loss 20% @3t for 2s; partition place:1 @4t for 1s"), false);
+    auto notes =
+        sim.set_faults(schedule("stop uav:0 @2t for 1s; loss 20% @3t for 2s; partition place:1 @4t for 1s"), false);
     ASSERT_TRUE(notes.ok()) << notes.error().message;
     ASSERT_EQ(notes.value().size(), 3U);
     EXPECT_NE(notes.value()[0].find("does not change simulated numbers"), std::string::npos) << notes.value()[0];

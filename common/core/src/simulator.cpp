@@ -30,7 +30,8 @@ Result<std::vector<std::string>> Simulator::set_faults(const FaultSchedule& sche
     if (e.action == FaultAction::Restart) {
       // A restarted process is down for a wall-clock time while a lockstep
       // run goes on without it: how many ticks it misses is not defined.
-      return Error{"'" + e.text + "': the simulator cannot restart a process (its down time is wall-clock time, "
+      return Error{"'" + e.text +
+                   "': the simulator cannot restart a process (its down time is wall-clock time, "
                    "not ticks); use kill, or pheromesh run --clock lockstep"};
     }
     if (e.action == FaultAction::Stop || e.action == FaultAction::Partition || e.action == FaultAction::Loss) {
@@ -42,11 +43,11 @@ Result<std::vector<std::string>> Simulator::set_faults(const FaultSchedule& sche
   standby_.clear();
   for (const auto& [u, k] : schedule.uav_kills()) uav_kill_[u] = k;
   for (const auto& [r, k] : schedule.place_kills()) {
-    const bool covered = standby || std::any_of(schedule.events.begin(), schedule.events.end(), [&](const FaultEvent& e) {
-                           return e.action == FaultAction::Standby && e.at_tick && *e.at_tick < k &&
-                                  std::find(e.targets.begin(), e.targets.end(), FaultTarget{"place", r}) !=
-                                      e.targets.end();
-                         });
+    const bool covered =
+        standby || std::any_of(schedule.events.begin(), schedule.events.end(), [&](const FaultEvent& e) {
+          return e.action == FaultAction::Standby && e.at_tick && *e.at_tick < k &&
+                 std::find(e.targets.begin(), e.targets.end(), FaultTarget{"place", r}) != e.targets.end();
+        });
     // A place agent a standby replaces is still a killed process (metrics.json
     // counts it), but its region lives on.
     region_kill_[static_cast<RegionId>(r)] = k;

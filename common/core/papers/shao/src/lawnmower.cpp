@@ -123,7 +123,7 @@ std::vector<Cell> lawnmower_transit_route(const ScenarioConfig& s, const World& 
         continue;
       }
       const std::vector<Cell> leg = free_path(world, at, goal);  // transit, or around an obstacle
-      route.insert(route.end(), leg.begin(), leg.end());             // empty: unreachable, left out
+      route.insert(route.end(), leg.begin(), leg.end());         // empty: unreachable, left out
     }
     east = !east;
   }
@@ -177,7 +177,8 @@ class LawnmowerUav final : public UavPolicy {
     std::set<int32_t> now_in_range;
     for (int32_t t : world_->sense(at, s_->aco.sensor_radius).targets) {
       now_in_range.insert(t);
-      if (!in_range_.contains(t)) out.detections.push_back({0, view.tick, t, world_->targets()[static_cast<std::size_t>(t)]});
+      if (!in_range_.contains(t))
+        out.detections.push_back({0, view.tick, t, world_->targets()[static_cast<std::size_t>(t)]});
     }
     in_range_ = std::move(now_in_range);
     out.state.x = at.x;

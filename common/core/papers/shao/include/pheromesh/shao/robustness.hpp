@@ -42,8 +42,8 @@ struct RobustnessRun {
   uint64_t seed = 0;
   uint32_t kill_tick = 0;
   std::vector<uint32_t> killed;
-  std::vector<double> coverage;       // share of reachable cells covered after tick t, t = 0..ticks
-  std::optional<uint32_t> reached;    // first tick with coverage >= the goal
+  std::vector<double> coverage;     // share of reachable cells covered after tick t, t = 0..ticks
+  std::optional<uint32_t> reached;  // first tick with coverage >= the goal
   uint32_t targets_found = 0;
   uint64_t deposits_sent = 0, deposits_lost = 0;
 };
