@@ -169,8 +169,6 @@ Report run_robustness_experiment(uint32_t runs, const Progress& progress) {
   }
   for (uint32_t t : ticks) rep.csv_header.push_back("coverage_at_" + std::to_string(t));
   // Without kills the kill tick changes nothing: one run serves both ticks.
-  const auto total = static_cast<uint32_t>(runs * routes.size() * (1 + (kShares.size() - 1) * kill_ticks.size()));
-  uint32_t done = 0;
   for (uint32_t run = 0; run < runs; ++run) {
     const uint64_t seed = run + 1;
     for (std::size_t si = 0; si < kShares.size(); ++si) {
@@ -196,10 +194,10 @@ Report run_robustness_experiment(uint32_t runs, const Progress& progress) {
           } else {
             cells[{kt, static_cast<int>(route), si}].runs.push_back(std::move(r));
           }
-          progress(++done, total);
         }
       }
     }
+    progress(run + 1, runs);  // one seed: both searches, every share and kill tick
   }
   // Rows (main kill tick): time to 95 %, coverage at tick 100 and at the end.
   for (ShaoRoute route : routes) {
