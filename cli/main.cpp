@@ -124,6 +124,10 @@ int main(int argc, char** argv) {
   sim->add_option("--uavs", so.uavs, "Number of UAVs (default: the scenario's swarm.uavs)");
   sim->add_option("--out", so.out_dir, "Output folder")->capture_default_str();
   sim->add_flag("--quiet", so.quiet, "No progress lines");
+  sim->add_option("--faults", so.faults,
+                  "Fault schedule timed in ticks, e.g. \"kill uav:3 @40t; kill place:1 @60t\" (docs/faults.md); "
+                  "stop, partition and loss do not change simulated numbers");
+  sim->add_flag("--standby", so.standby, "Every place agent has a standby that takes over when it is killed");
 
   cli::ExperimentOptions eo;
   auto* ex = app.add_subcommand("experiment", "Run one of the papers' experiments as Monte Carlo with the simulator and "

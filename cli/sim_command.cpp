@@ -13,6 +13,19 @@
 
 namespace pheromesh::cli {
 
+namespace {
+// The scenario's own `fault:` lines (ScenarioConfig::faults, docs/faults.md)
+// once the scenario format has them; none before.
+template <class Scenario>
+core::FaultSchedule scenario_faults(const Scenario& s) {
+  if constexpr (requires { s.faults; }) {
+    return s.faults;
+  } else {
+    return {};
+  }
+}
+}  // namespace
+
 int run_sim(const SimOptions& o) {
   auto loaded = core::load_scenario(o.scenario);
   if (!loaded) {
@@ -23,10 +36,41 @@ int run_sim(const SimOptions& o) {
   if (o.seed > 0) s.seed = o.seed;
   if (o.ticks > 0) s.ticks = o.ticks;
   if (o.uavs > 0) s.uavs = o.uavs;
+  core::FaultSchedule faults = scenario_faults(s);
+  if (!o.faults.empty()) {
+    auto parsed = core::parse_fault_schedule(o.faults, "--faults");
+    if (!parsed) {
+      spdlog::error("{}", parsed.error().message);
+      return 2;
+    }
+    core::merge_fault_schedules(faults, parsed.value());
+  }
+  return simulate(s, faults, o);
+}
+
+int simulate(const core::ScenarioConfig& s, const core::FaultSchedule& faults, const SimOptions& o) {
   const core::MapGeometry geo = s.geometry();
   spdlog::info("sim '{}': {} regions, {} uavs, {} ticks, seed {}", s.name, geo.region_count(), s.uavs, s.ticks, s.seed);
 
   core::Simulator sim(s);
+  if (!faults.empty()) {
+    auto notes = sim.set_faults(faults, o.standby);
+    if (!notes) {
+      spdlog::error("faults: {}", notes.error().message);
+      return 2;
+    }
+    for (const auto& n : notes.value()) spdlog::info("faults: {}", n);
+    for (const auto& [u, k] : faults.uav_kills()) {
+      if (k <= s.ticks) spdlog::info("faults: uav {} acts in ticks 0..{} only", u, static_cast<int64_t>(k) - 1);
+    }
+    for (const auto& [r, k] : faults.place_kills()) {
+      if (k <= s.ticks && sim.region_kill_tick(r)) {
+        spdlog::info("faults: region {} frozen from tick {} (its deposits and those of its home UAVs are lost)", r, k);
+      }
+    }
+  } else if (o.standby) {
+    spdlog::info("faults: --standby without a fault schedule changes nothing");
+  }
   const auto t0 = std::chrono::steady_clock::now();
   uint32_t next_report = s.ticks / 10;
   sim.run([&](uint32_t k) {
@@ -41,6 +85,8 @@ int run_sim(const SimOptions& o) {
   std::string error;
   const runtime::RunInfo info{"none (in-process simulator)", "lockstep", s.uavs, std::nullopt};  // no discovery in-process
   auto j = runtime::metrics_json(sim.recorder(), info);
+  // The launcher counts killed processes; the simulator counts the kills it ran.
+  j["processes_killed"] = sim.recorder().uavs_killed() + sim.recorder().places_killed();
   j["wall_seconds"] = secs;
   j["uav_steps_per_second"] = static_cast<double>(sim.uav_steps()) / secs;
   if (!runtime::write_json(o.out_dir, "metrics.json", j, error)) {
@@ -55,6 +101,13 @@ int run_sim(const SimOptions& o) {
   spdlog::info("done in {:.2f} s ({:.0f} UAV-steps/s): coverage {:.1f}%, targets {}/{} at ticks {} -> {}/metrics.json",
                secs, static_cast<double>(sim.uav_steps()) / secs, 100.0 * sim.recorder().coverage().coverage(),
                sim.recorder().acquisitions().found(), s.targets.size(), j["acquisition_ticks"].dump(), o.out_dir);
+  if (!faults.empty()) {
+    spdlog::info("faults: {} uav(s) and {} place agent(s) killed, {} region(s) frozen; deposits sent {} = applied {} "
+                 "+ rejected {} + lost {}",
+                 sim.recorder().uavs_killed(), sim.recorder().places_killed(), sim.recorder().regions_frozen(),
+                 j["deposits_sent"].get<uint64_t>(), j["deposits_applied"].get<uint64_t>(),
+                 j["deposits_rejected"].get<uint64_t>(), j["deposits_lost"].get<uint64_t>());
+  }
   return 0;
 }
 

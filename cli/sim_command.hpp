@@ -2,6 +2,9 @@
 #include <cstdint>
 #include <string>
 
+#include "pheromesh/core/faults.hpp"
+#include "pheromesh/core/scenario.hpp"
+
 namespace pheromesh::cli {
 
 struct SimOptions {
@@ -11,10 +14,16 @@ struct SimOptions {
   uint32_t uavs = 0;    // 0: the scenario's
   std::string out_dir = "out/sim";
   bool quiet = false;
+  std::string faults;    // fault schedule in ticks (core::parse_fault_schedule); "" = none
+  bool standby = false;  // a standby takes over every killed place agent
 };
 
 // `pheromesh sim`: the whole swarm in this process (core::Simulator), same
 // metrics.json and final_field.txt as a lockstep `pheromesh run`.
 int run_sim(const SimOptions& o);
+
+// The run itself, with a checked scenario and the whole fault schedule (from
+// --faults and the scenario's own faults, merged by the caller).
+int simulate(const core::ScenarioConfig& s, const core::FaultSchedule& faults, const SimOptions& o);
 
 }  // namespace pheromesh::cli

@@ -43,6 +43,7 @@ struct Report {
   std::vector<std::string> csv_header;               // raw per-run data
   std::vector<std::vector<std::string>> csv_rows;
   std::vector<std::string> notes;                    // choices and differences, one paragraph each
+  std::string tables;  // optional Markdown after the rows (cross tables the rows cannot show)
 };
 
 struct Experiment {
@@ -66,6 +67,7 @@ std::vector<Experiment> duan_experiments();
 std::vector<Experiment> liu_experiments();
 std::vector<Experiment> ravankar_experiments();
 std::vector<Experiment> shostak_experiments();
+std::vector<Experiment> shao_robustness_experiments();
 std::vector<Experiment> all_experiments();
 
 // Writes OUT/report.md, OUT/results.csv and the plots. Returns false with a

@@ -129,6 +129,7 @@ bool write_report(const Report& r, const std::string& out_dir, double wall_secon
        << (row.ours.size() > 1 ? " ± " + num(stddev(row.ours)) : "") << " | " << row.ours.size() << " | "
        << (row.paper && *row.paper != 0 && std::isfinite(m) ? num(m / *row.paper, 3) : "–") << " | " << row.note << " |\n";
   }
+  if (!r.tables.empty()) md << "\n" << r.tables << "\n";
   for (const auto& p : r.plots) md << "\n![" << p.title << "](" << p.file << ")\n";
   if (!r.notes.empty()) {
     md << "\n## Notes\n\n";

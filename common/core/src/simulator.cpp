@@ -1,5 +1,7 @@
 #include "pheromesh/core/simulator.hpp"
 
+#include <algorithm>
+
 namespace pheromesh::core {
 
 Simulator::Simulator(ScenarioConfig scenario)
@@ -14,7 +16,90 @@ Simulator::Simulator(ScenarioConfig scenario)
   inbox_.resize(places_.size());
 }
 
+Result<std::vector<std::string>> Simulator::set_faults(const FaultSchedule& schedule, bool standby) {
+  const auto regions = static_cast<uint32_t>(places_.size());
+  if (auto err = check_fault_schedule(schedule, scenario_.uavs, regions, true)) return Error{*err};
+  std::vector<std::string> notes;
+  for (const FaultEvent& e : schedule.events) {
+    for (const FaultTarget& t : e.targets) {
+      if (t.role == "ground" && (e.action == FaultAction::Kill || e.action == FaultAction::Restart)) {
+        return Error{"'" + e.text + "': the simulator has no ground station to " + to_string(e.action) +
+                     " (in a lockstep run it conducts the ticks: its death ends the run)"};
+      }
+    }
+    if (e.action == FaultAction::Restart) {
+      // A restarted process is down for a wall-clock time while a lockstep
+      // run goes on without it: how many ticks it misses is not defined.
+      return Error{"'" + e.text +
+                   "': the simulator cannot restart a process (its down time is wall-clock time, "
+                   "not ticks); use kill, or pheromesh run --clock lockstep"};
+    }
+    if (e.action == FaultAction::Stop || e.action == FaultAction::Partition || e.action == FaultAction::Loss) {
+      notes.push_back("'" + e.text + "': does not change simulated numbers (a lockstep run only becomes slower)");
+    }
+  }
+  uav_kill_.clear();
+  region_kill_.clear();
+  standby_.clear();
+  for (const auto& [u, k] : schedule.uav_kills()) uav_kill_[u] = k;
+  for (const auto& [r, k] : schedule.place_kills()) {
+    const bool covered =
+        standby || std::any_of(schedule.events.begin(), schedule.events.end(), [&](const FaultEvent& e) {
+          return e.action == FaultAction::Standby && e.at_tick && *e.at_tick < k &&
+                 std::find(e.targets.begin(), e.targets.end(), FaultTarget{"place", r}) != e.targets.end();
+        });
+    // A place agent a standby replaces is still a killed process (metrics.json
+    // counts it), but its region lives on.
+    region_kill_[static_cast<RegionId>(r)] = k;
+    if (covered) {
+      notes.push_back("kill place:" + std::to_string(r) + " @" + std::to_string(k) +
+                      "t: a standby place agent takes over; the simulated numbers do not change");
+      standby_.insert(static_cast<RegionId>(r));
+    }
+  }
+  return notes;
+}
+
+std::optional<uint32_t> Simulator::uav_kill_tick(uint32_t u) const {
+  auto it = uav_kill_.find(u);
+  return it == uav_kill_.end() ? std::nullopt : std::optional<uint32_t>(it->second);
+}
+
+std::optional<uint32_t> Simulator::region_kill_tick(RegionId r) const {
+  auto it = region_kill_.find(r);
+  if (it == region_kill_.end() || standby_.contains(r)) return std::nullopt;
+  return it->second;
+}
+
+bool Simulator::uav_gone(uint32_t u, uint32_t tick) const {
+  if (uav_kill_.empty()) return false;
+  auto it = uav_kill_.find(u);
+  return it != uav_kill_.end() && tick >= it->second;
+}
+
+bool Simulator::region_dead(RegionId r, uint32_t tick) const {
+  if (region_kill_.empty()) return false;
+  auto it = region_kill_.find(r);
+  return it != region_kill_.end() && tick >= it->second && !standby_.contains(r);
+}
+
 void Simulator::step(uint32_t tick) {
+  // Kills that take effect at this tick, for the metrics.
+  for (const auto& [u, k] : uav_kill_) {
+    if (k != tick) continue;
+    recorder_.on_uav_killed();
+    if (tick > 0) recorder_.on_uav_departed(u);  // one that never flew has no status to end
+  }
+  for (const auto& [r, k] : region_kill_) {
+    if (k != tick) continue;
+    const bool frozen = !standby_.contains(r);
+    recorder_.on_place_killed(frozen);
+    if (frozen) {
+      // Its last health record: the ledger as it stopped.
+      const auto& l = places_[r]->ledger();
+      recorder_.on_health({r, tick == 0 ? 0 : tick - 1, 0.0F, l.received, l.applied, l.rejected(), 0, false});
+    }
+  }
   // UAV phase: every UAV sees the tiles of its neighbourhood as the place
   // agents published them at the end of tick k-1 (nothing at tick 0, as no
   // place agent has ticked yet).
@@ -23,27 +108,41 @@ void Simulator::step(uint32_t tick) {
   UavCore::Output out;
   std::vector<UavStateMsg> states;
   std::vector<BroadcastMsg> broadcasts;
+  const auto regions = static_cast<uint32_t>(places_.size());
   for (std::size_t i = 0; i < uavs_.size(); ++i) {
+    const auto id = static_cast<uint32_t>(i);
+    if (uav_gone(id, tick)) continue;
     UavCore& u = *uavs_[i];
+    const RegionId home = home_region(id, regions);
+    // The view of place tick k-1 comes from the home: empty if it was dead then.
+    const bool blind = tick > 0 && region_dead(home, tick - 1);
     if (tick > 0) {
-      for (const TileCoord& t : u.neighbourhood()) {
-        auto it = tiles_.find({t.tx, t.ty});
-        if (it != tiles_.end()) {
-          for (const TileMsg& m : it->second) u.receive_tile(m);
-          tile_samples_[i] += it->second.size();
-        }
-        auto st = states_by_tile_.find({t.tx, t.ty});
-        if (st != states_by_tile_.end()) {
-          for (const UavStateMsg& s : st->second) u.receive_neighbour(s);
+      if (!blind) {
+        for (const TileCoord& t : u.neighbourhood()) {
+          auto it = tiles_.find({t.tx, t.ty});
+          if (it != tiles_.end()) {
+            for (const TileMsg& m : it->second) u.receive_tile(m);
+            tile_samples_[i] += it->second.size();
+          }
+          auto st = states_by_tile_.find({t.tx, t.ty});
+          if (st != states_by_tile_.end()) {
+            for (const UavStateMsg& s : st->second) u.receive_neighbour(s);
+          }
         }
       }
       for (const BroadcastMsg& b : broadcasts_) u.receive_broadcast(b);
     }
     u.step(tick, out);
     ++uav_steps_;
-    states.push_back(out.state);
+    // The home publishes this state with its field of tick k: not if it is dead.
+    const bool home_dead = region_dead(home, tick);
+    if (!home_dead) states.push_back(out.state);
     if (out.broadcast) broadcasts.push_back(*out.broadcast);
-    for (const DepositMsg& d : out.deposits) inbox_[d.region].push_back(d);
+    for (const DepositMsg& d : out.deposits) {
+      // Lost (no place agent to forward or apply it): RunRecorder::deposits_lost
+      // counts it, as sent and never received.
+      if (!home_dead && !region_dead(d.region, tick)) inbox_[d.region].push_back(d);
+    }
     deposits_sent_[i] += out.deposits.size();
     for (const DetectionMsg& d : out.detections) recorder_.on_detection(d);
     out.state.deposits_sent = deposits_sent_[i];
@@ -57,21 +156,46 @@ void Simulator::step(uint32_t tick) {
   }
   broadcasts_ = std::move(broadcasts);
   // Place phase: deposits of tick k, rings of tick k, update, tiles of tick k.
+  // A dead region does none of it: its last ring and tiles stay what the
+  // others use.
   std::vector<TargetEventMsg> events;
   std::vector<HaloMsg> rings;
   rings.reserve(places_.size());
   for (std::size_t r = 0; r < places_.size(); ++r) {
+    const auto region = static_cast<RegionId>(r);
+    if (region_dead(region, tick)) {
+      // Killed before it ever ticked: no ring (its neighbours' halo stays 0).
+      auto [it, fresh] = last_ring_.try_emplace(region);
+      if (fresh) it->second.region = region;
+      rings.push_back(it->second);
+      continue;
+    }
     const HaloRing ring = places_[r]->begin_tick(inbox_[r], tick, events);
-    rings.push_back({static_cast<RegionId>(r), tick, ring.target, ring.obstacle});
+    rings.push_back({region, tick, ring.target, ring.obstacle});
+    if (region_kill_tick(region)) last_ring_[region] = rings.back();
     inbox_[r].clear();
   }
-  for (auto& p : places_) {
-    for (RegionId n : p->neighbours()) p->accept_halo(rings[n]);
-    p->finish_tick();
+  for (std::size_t r = 0; r < places_.size(); ++r) {
+    if (region_dead(static_cast<RegionId>(r), tick)) continue;
+    PlaceCore& p = *places_[r];
+    for (RegionId n : p.neighbours()) p.accept_halo(rings[n]);
+    p.finish_tick();
   }
   for (const auto& e : events) recorder_.on_target_event(e);
   std::vector<TileMsg> tiles;
-  for (auto& p : places_) p->tiles(tick, false, tiles);
+  for (std::size_t r = 0; r < places_.size(); ++r) {
+    const auto region = static_cast<RegionId>(r);
+    if (region_dead(region, tick)) {
+      const auto& last = last_tiles_[region];
+      tiles.insert(tiles.end(), last.begin(), last.end());
+      continue;
+    }
+    const std::size_t from = tiles.size();
+    places_[r]->tiles(tick, false, tiles);
+    if (region_kill_tick(region)) {
+      last_tiles_[region].assign(tiles.begin() + static_cast<std::ptrdiff_t>(from), tiles.end());
+    }
+  }
   tiles_.clear();
   for (auto& t : tiles) tiles_[{t.tile.tx, t.tile.ty}].push_back(std::move(t));
   if (tick % 10 == 0) recorder_.sample_coverage();
@@ -82,12 +206,15 @@ void Simulator::run(const std::function<void(uint32_t)>& on_tick) {
     step(k);
     if (on_tick) on_tick(k);
   }
-  // The final accounting, as the place agents' last health records carry it.
+  // The final accounting, as the place agents' last health records carry it
+  // (a dead region's stays the one recorded when it died).
   for (const auto& p : places_) {
+    if (region_dead(p->region(), scenario_.ticks)) continue;
     const auto& l = p->ledger();
     recorder_.on_health({p->region(), scenario_.ticks, 0.0F, l.received, l.applied, l.rejected(), 0, true});
   }
   for (std::size_t i = 0; i < uavs_.size(); ++i) {
+    if (uav_gone(static_cast<uint32_t>(i), scenario_.ticks)) continue;  // its last state stays the last it sent
     UavStateMsg s = uavs_[i]->last_state();
     s.tick = scenario_.ticks;
     s.deposits_sent = deposits_sent_[i];

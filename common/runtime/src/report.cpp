@@ -60,6 +60,9 @@ nlohmann::json metrics_json(const core::RunRecorder& r, const RunInfo& info) {
   j["deposits_duplicate_dropped"] = duplicates;
   j["place_replicas"] = replicas;
   j["place_agents_alive"] = r.regions_alive();
+  j["uavs_killed"] = r.uavs_killed();
+  j["places_killed"] = r.places_killed();
+  j["regions_frozen"] = r.regions_frozen();
   j["samples_rejected_by_ground"] = r.samples_rejected();
   // The launcher owns process accounting and overwrites these two.
   j["processes_killed"] = 0;

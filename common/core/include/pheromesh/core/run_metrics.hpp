@@ -42,6 +42,14 @@ class RunRecorder {
   void on_uav_departed(uint32_t uav);
   // A place replica's health writer vanished (core::place_id).
   void on_place_departed(uint32_t place);
+  // Faults injected on purpose (docs/faults.md): UAVs and place agents
+  // killed, and of those place agents the ones no standby took over (their
+  // regions froze).
+  void on_uav_killed() { ++uavs_killed_; }
+  void on_place_killed(bool region_frozen) {
+    ++places_killed_;
+    regions_frozen_ += region_frozen ? 1 : 0;
+  }
   void count_rejected_sample() { ++samples_rejected_; }
   // A target added during the run (the world gained it first).
   void add_target() { acquisitions_.add_target(); }
@@ -71,10 +79,6 @@ class RunRecorder {
   [[nodiscard]] uint32_t replicas_alive(RegionId r) const;
   // Regions with at least one live replica.
   [[nodiscard]] uint32_t regions_alive() const;
-  // Deposits sent by the UAVs that no place agent counted (received,
-  // applied or rejected): lost in transit to a dead place agent. Exact once
-  // every process has reported its final counts.
-  [[nodiscard]] uint64_t deposits_lost() const;
   // What the UAVs themselves count as not confirmed by their home place agent.
   [[nodiscard]] uint64_t deposits_unconfirmed_by_uavs() const;
   [[nodiscard]] const CoverageTracker& coverage() const { return coverage_; }
@@ -87,6 +91,13 @@ class RunRecorder {
   [[nodiscard]] const std::vector<std::pair<uint32_t, double>>& coverage_series() const { return coverage_series_; }
   [[nodiscard]] uint64_t samples_rejected() const { return samples_rejected_; }
   [[nodiscard]] uint64_t deposits_sent() const;
+  // Deposits sent by the UAVs that no place agent counted (received,
+  // applied or rejected): lost to a dead place agent, whether their region's
+  // or their UAV's home. sent == applied + rejected + lost.
+  [[nodiscard]] uint64_t deposits_lost() const;
+  [[nodiscard]] uint32_t uavs_killed() const { return uavs_killed_; }
+  [[nodiscard]] uint32_t places_killed() const { return places_killed_; }
+  [[nodiscard]] uint32_t regions_frozen() const { return regions_frozen_; }
   // Tick at which a leader became a searcher (Shao 2020 Sec. 5: it reached the
   // centre of the target region), if one did.
   [[nodiscard]] std::optional<uint32_t> leader_arrival_tick() const { return leader_arrival_; }
@@ -107,6 +118,7 @@ class RunRecorder {
   std::optional<uint32_t> leader_arrival_;
   uint32_t max_tick_ = 0;
   uint64_t samples_rejected_ = 0;
+  uint32_t uavs_killed_ = 0, places_killed_ = 0, regions_frozen_ = 0;
   bool last_was_first_ = false;
 };
 

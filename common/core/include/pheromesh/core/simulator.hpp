@@ -4,14 +4,41 @@
 // then place phase (apply exactly the deposits of tick k in canonical order,
 // exchange halos of tick k, update, publish tiles of tick k). No DDS, no
 // threads: deterministic for a scenario and seed.
+//
+// Faults (set_faults; docs/faults.md, "Faults in the simulator") follow the
+// meaning faults.hpp gives a kill at tick k, which a lockstep run of the
+// processes gives too. Views are numbered by place tick: the view of tick t is
+// composed at the end of tick t and read by its UAV at tick t+1.
+//   kill uav:U @kt     U steps in ticks 0..k-1 only: its state of tick k-1 is
+//                      the last one in any view (the views of tick k-1), it
+//                      deposits, detects and covers nothing from tick k on.
+//   kill place:R @kt   (no standby) R runs its place phase in ticks 0..k-1
+//                      only. Its tiles and its halo ring stay those of tick
+//                      k-1 (its neighbours keep diffusing against that ring);
+//                      every deposit made at tick >= k into R is lost, and
+//                      so is every deposit made at tick >= k by a UAV homed on
+//                      R (it goes through its home); the views of tick >= k of
+//                      R's home UAVs are empty (they read no tiles and no
+//                      neighbours from tick k+1 on; broadcasts do not go
+//                      through the home and still arrive), and their states of
+//                      tick >= k reach no other view (the home publishes
+//                      them with its field). The ground station still hears
+//                      them: they keep covering cells and detecting targets.
+// A lost deposit is sent and never received by any place agent
+// (RunRecorder::deposits_lost), so a run still balances: sent == applied +
+// rejected + lost.
 #pragma once
 
 #include <cstdint>
 #include <functional>
 #include <map>
 #include <memory>
+#include <optional>
+#include <set>
+#include <string>
 #include <vector>
 
+#include "pheromesh/core/faults.hpp"
 #include "pheromesh/core/place_core.hpp"
 #include "pheromesh/core/run_metrics.hpp"
 #include "pheromesh/core/scenario.hpp"
@@ -31,6 +58,20 @@ class Simulator {
   void run(const std::function<void(uint32_t)>& on_tick = {});
   // One tick (both phases).
   void step(uint32_t tick);
+
+  // The faults of the coming run (call before run()/step()). Kills timed in
+  // ticks change the run as described above; `standby` (or a `standby
+  // place:R` event timed before R's kill) means a standby place agent takes
+  // over, which changes nothing. Returns one note per event that does not
+  // change simulated numbers (stop, partition, loss, covered kills), or an
+  // error for what the simulator cannot model: wall-clock times, restarts,
+  // killing the ground station, targets outside the swarm or the map.
+  Result<std::vector<std::string>> set_faults(const FaultSchedule& schedule, bool standby);
+  // When UAV u stops acting / region r stops ticking (nullopt: never).
+  [[nodiscard]] std::optional<uint32_t> uav_kill_tick(uint32_t u) const;
+  [[nodiscard]] std::optional<uint32_t> region_kill_tick(RegionId r) const;
+  // One UAV's core, for tests and traces.
+  [[nodiscard]] const UavCore& uav(uint32_t u) const { return *uavs_.at(u); }
 
   [[nodiscard]] const RunRecorder& recorder() const { return recorder_; }
   [[nodiscard]] const ScenarioConfig& scenario() const { return scenario_; }
@@ -53,6 +94,16 @@ class Simulator {
   std::map<std::pair<int32_t, int32_t>, std::vector<UavStateMsg>> states_by_tile_;  // UAV states of the last tick
   std::vector<BroadcastMsg> broadcasts_;                                            // broadcasts of the last tick
   uint64_t uav_steps_ = 0;
+  // Faults: the tick each UAV / region is gone from (absent: never).
+  std::map<uint32_t, uint32_t> uav_kill_;
+  std::map<RegionId, uint32_t> region_kill_;
+  std::set<RegionId> standby_;  // killed regions a standby took over: they live on
+  // A region that will die keeps its last tiles and ring (what others see of it).
+  std::map<RegionId, std::vector<TileMsg>> last_tiles_;
+  std::map<RegionId, HaloMsg> last_ring_;
+
+  [[nodiscard]] bool uav_gone(uint32_t u, uint32_t tick) const;
+  [[nodiscard]] bool region_dead(RegionId r, uint32_t tick) const;
 };
 
 }  // namespace pheromesh::core

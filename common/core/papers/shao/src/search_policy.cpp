@@ -8,6 +8,7 @@
 #include "pheromesh/core/policy.hpp"
 #include "pheromesh/core/rng.hpp"
 #include "pheromesh/shao/aco.hpp"
+#include "pheromesh/shao/lawnmower.hpp"
 #include "pheromesh/shao/policy.hpp"
 
 namespace pheromesh::core {
@@ -193,8 +194,14 @@ PolicyTraits shao_search_traits(const ScenarioConfig& s) {
   return t;
 }
 
+ShaoRoute shao_route(const ScenarioConfig& s) {
+  if (s.policy != PolicyKind::ShaoSearch || s.policy_config == nullptr) return ShaoRoute::Pheromone;
+  return s.config_of<ShaoSearchConfig>().route;
+}
+
 std::unique_ptr<UavPolicy> make_shao_search_uav(const ScenarioConfig& s, const MapGeometry& geo, const World& world,
                                                 uint32_t id) {
+  if (shao_route(s) == ShaoRoute::LawnmowerTransit) return make_shao_lawnmower_uav(s, geo, world, id);
   return std::make_unique<ShaoSearchUav>(s, geo, world, id);
 }
 

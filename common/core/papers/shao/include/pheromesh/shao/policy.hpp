@@ -24,8 +24,24 @@ struct ShaoNavigationConfig final : PolicyConfig {
   uint32_t hold_ticks = 0;
 };
 
-// --- Shao 2020 Sec. 4 search (search_policy.cpp): no config of its own, it
-// reads ScenarioConfig::layers and ::aco.
+// --- Shao 2020 Sec. 4 search (search_policy.cpp): it reads
+// ScenarioConfig::layers and ::aco. A scenario file gives it no config
+// (policy_config stays null: the pheromone search); a program may set a
+// ShaoSearchConfig to fly the exhaustive fixed-route baseline of
+// Shao 2020 Sec. 4.3.3 instead (lawnmower.hpp), with the same place agents,
+// sensor and speed.
+enum class ShaoRoute : uint8_t {
+  Pheromone,         // Shao 2020 Algorithm 1
+  LawnmowerTransit,  // fixed boustrophedon strips, flown from the start area
+};
+struct ShaoSearchConfig final : PolicyConfig {
+  static constexpr PolicyKind kKind = PolicyKind::ShaoSearch;
+  [[nodiscard]] PolicyKind kind() const override { return kKind; }
+  ShaoRoute route = ShaoRoute::Pheromone;
+};
+// The route of a Shao search scenario (Pheromone without a config).
+ShaoRoute shao_route(const ScenarioConfig& s);
+
 PolicyTraits shao_search_traits(const ScenarioConfig& s);
 std::unique_ptr<UavPolicy> make_shao_search_uav(const ScenarioConfig& s, const MapGeometry& geo, const World& world,
                                                 uint32_t id);
