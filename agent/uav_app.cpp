@@ -19,7 +19,9 @@ UavApp::UavApp(UavConfig cfg, core::ScenarioConfig scenario, std::unique_ptr<bus
       log_(spdlog::default_logger()),
       core_(scenario_, world_, cfg_.id, cfg_.common.lockstep()),
       layers_(static_cast<int>(core::policy_traits(scenario_).layers.size())),
-      home_(core::home_region(cfg_.id, geo_.region_count())) {}
+      home_(core::home_region(cfg_.id, geo_.region_count())) {
+  resend_.resend_deposits(cfg_.common.standby || scenario_.standby);
+}
 
 void UavApp::receive() {
   view_inbox_.clear();
@@ -86,7 +88,7 @@ void UavApp::step(uint32_t tick, bool finished) {
       // would be lost silently; count it as undeliverable instead of sent.
       if (bus_->matched_deposit_readers(home_) == 0) {
         ++deposits_undeliverable_;
-      } else if (bus_->publish_deposit(d, home_)) {
+      } else if (resend_.deposit(d, home_)) {
         ++deposits_sent_;
         ++written_[d.region];
         receipts_.sent(d.seq);
@@ -211,6 +213,7 @@ int UavApp::run_lockstep(uint32_t ticks) {
       // we report done.
       if (c.tick > 0) wait_for_tick(c.tick - 1, c);
       handle_commands();
+      resend_.begin_tick();
       step(c.tick, false);
       // No flush (waiting for every matched reader's acknowledgement) here:
       // a reader of a process that was killed stays matched for the
@@ -222,7 +225,6 @@ int UavApp::run_lockstep(uint32_t ticks) {
       core::PhaseDoneMsg report{core::process_key(core::kRoleUav, cfg_.id), c.tick, c.phase, broadcast_written_ ? 1U : 0U,
                               {}};
       for (const auto& [region, n] : written_) report.deposits.push_back({region, n});
-      resend_.begin_tick();
       resend_.phase_done(report);
       done = c.tick;
       if (c.tick >= ticks) stop = true;

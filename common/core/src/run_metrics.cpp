@@ -54,7 +54,15 @@ bool RunRecorder::on_detection(const DetectionMsg& d) {
 }
 
 void RunRecorder::on_target_event(const TargetEventMsg& e) {
-  if (e.kind == static_cast<uint8_t>(MarkEvent::Kind::Revisited)) revisits_.push_back(e);
+  if (e.kind != static_cast<uint8_t>(MarkEvent::Kind::Revisited)) return;
+  // The same event from two replicas of a region (standbys with shared
+  // ownership publish it too) counts once.
+  const auto same = [&](const TargetEventMsg& x) {
+    return x.region == e.region && x.tick == e.tick && x.cell.x == e.cell.x && x.cell.y == e.cell.y &&
+           x.response_ticks == e.response_ticks;
+  };
+  if (std::any_of(revisits_.begin(), revisits_.end(), same)) return;
+  revisits_.push_back(e);
 }
 
 bool RunRecorder::on_health(const HealthMsg& h) {

@@ -54,7 +54,7 @@ nlohmann::json metrics_json(const core::RunRecorder& r, const RunInfo& info) {
     const std::string name = "place-" + std::to_string(h.region) + (h.replica > 0 ? ".r" + std::to_string(h.replica) : "");
     replicas[name] = {{"region", h.region},        {"replica", h.replica},
                       {"tick", h.tick},            {"finished", h.finished},
-                      {"lost", r.place_departed(id)}, {"deposits_received", h.deposits_received},
+                      {"lost", r.place_departed(id) && !h.finished}, {"deposits_received", h.deposits_received},
                       {"deposits_applied", h.deposits_applied}, {"deposits_duplicate", h.deposits_duplicate}};
   }
   j["deposits_duplicate_dropped"] = duplicates;

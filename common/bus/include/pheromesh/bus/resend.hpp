@@ -11,13 +11,17 @@
 // tick and then heard nothing new for a while writes them again: the copy is
 // a new sample of the same instance and content, which the readers take like
 // the first (each of these readers is idempotent per tick), so the run's
-// numbers do not change. Deposits and broadcasts are not re-sent: they are
-// counted, not replaced, and a copy would be a second deposit.
+// numbers do not change. Broadcasts are not re-sent: they are counted, not
+// replaced. Deposits are re-sent only in swarms with standbys, whose place
+// agents drop a deposit they have seen (by UAV and sequence number): there a
+// deposit a replica missed (measured: a Fast DDS UAV's first deposit never
+// reached a Cyclone standby that matched it late) would split the replicas.
 #pragma once
 
 #include <chrono>
 #include <cstdint>
 #include <optional>
+#include <utility>
 #include <vector>
 
 #include "pheromesh/bus/bus.hpp"
@@ -40,6 +44,17 @@ class LatestResender {
     halo_.reset();
     clock_.reset();
     done_.reset();
+    deposits_.clear();
+  }
+  // Re-send deposits too (swarms with standbys only: see above).
+  void resend_deposits(bool on) { deposits_on_ = on; }
+  bool deposit(const core::DepositMsg& m, core::RegionId via) {
+    const bool ok = bus_.publish_deposit(m, via);
+    if (enabled_ && deposits_on_) {
+      deposits_.emplace_back(m, via);
+      last_ = Clock::now();
+    }
+    return ok;
   }
 
   // Publish and remember (the result is that of the bus's publish).
@@ -53,7 +68,10 @@ class LatestResender {
   // quiet period, publishes every remembered sample again. True if it did.
   bool resend_if_quiet() {
     const auto now = Clock::now();
-    if (now - last_ < quiet_ || (fields_.empty() && views_.empty() && !halo_ && !clock_ && !done_)) return false;
+    if (now - last_ < quiet_ || (fields_.empty() && views_.empty() && !halo_ && !clock_ && !done_ && deposits_.empty())) {
+      return false;
+    }
+    for (const auto& [m, via] : deposits_) bus_.publish_deposit(m, via);
     for (const auto& m : fields_) bus_.publish_field(m);
     for (const auto& m : views_) bus_.publish_view(m);
     if (halo_) bus_.publish_halo(*halo_);
@@ -92,6 +110,8 @@ class LatestResender {
   std::optional<core::HaloMsg> halo_;
   std::optional<core::ClockMsg> clock_;
   std::optional<core::PhaseDoneMsg> done_;
+  bool deposits_on_ = false;
+  std::vector<std::pair<core::DepositMsg, core::RegionId>> deposits_;
   uint64_t resends_ = 0;
 };
 
