@@ -76,6 +76,15 @@ std::optional<std::string> Launcher::prepare_faults(const core::ScenarioConfig& 
       return "fault schedule: partition and loss do not work with --discovery-server (the server listens on this "
              "host's loopback, outside the processes' network namespaces)";
     }
+    // The one-host profiles speak on loopback only; in a namespace of its
+    // own each process must speak on its veth (deploy/dds/*-netns.xml).
+    if (o_.dds_profile == "onehost" || o_.dds_profile == "onehost-unicast") {
+      o_.dds_profile = "netns";
+    } else if (o_.dds_profile != "netns") {
+      spdlog::warn("network faults: every process runs in its own network namespace; DDS profile '{}' must not "
+                   "limit it to the loopback interface (the netns profile is made for this)",
+                   o_.dds_profile);
+    }
   }
   if (standby && !takes_flag(bin_dir_ + "/pheromesh-place", "--replica")) {
     return "fault schedule: 'standby' starts a place agent with --replica, which this build's pheromesh-place does "
@@ -96,13 +105,6 @@ std::optional<std::string> Launcher::prepare_netns(uint32_t uavs, uint32_t regio
   if (!faults_ || !faults_->schedule().has_network()) return std::nullopt;
   auto subnet = parse_subnet(o_.netns_subnet);
   if (!subnet) return subnet.error().message;
-  if (o_.dds_profile == "onehost" || o_.dds_profile == "onehost-unicast") {
-    o_.dds_profile = "netns";
-  } else if (o_.dds_profile != "netns") {
-    spdlog::warn("network faults: every process runs in its own network namespace; DDS profile '{}' must not "
-                 "limit it to the loopback interface (the netns profile is made for this)",
-                 o_.dds_profile);
-  }
   if (geteuid() == 0) {
     const auto stale = remove_stale_namespaces();
     if (!stale.empty()) {
@@ -321,7 +323,8 @@ void Launcher::add_fault_metrics(nlohmann::json& m) const {
   m["faults"] = std::move(list);
   m["faults_failed"] = fault_failures_;
   if (netns_setup_s_) {
-    m["netns"] = {{"subnet", o_.netns_subnet},
+    m["netns"] = {{"prefix", netns_ ? netns_->prefix() : std::string()},
+                  {"subnet", o_.netns_subnet},
                   {"namespaces", netns_ ? netns_->size() + 1 : 0},  // + the switch
                   {"setup_s", round3(*netns_setup_s_)},
                   {"profile", o_.dds_profile}};
