@@ -8,6 +8,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -23,11 +24,26 @@ namespace fs = std::filesystem;
 namespace {
 
 constexpr const char* kNetnsDir = "/run/netns";
-// A Linux bridge takes at most 1024 ports (BR_MAX_PORTS).
-constexpr std::size_t kMaxPorts = 1000;
+// At most this many processes: each namespace holds a permanent neighbour
+// entry for every other process (see make_slots), N (N - 1) entries of about
+// half a KiB of kernel memory: 45 MiB at 300. (A Linux bridge would take
+// 1024 ports.)
+constexpr std::size_t kMaxPorts = 300;
 // The processes' interface, the same name in every namespace (the netns DDS
 // profiles name it).
 constexpr const char* kIface = "phm0";
+// The veth MTU, as large as veth takes (loopback has 65536): DDS sends
+// datagrams of up to ~15 KB (Cyclone's default MaxMessageSize), which a 1500
+// byte MTU would cut into IP fragments; then one lost fragment loses the
+// datagram, and a "loss 20%" would lose most large datagrams, not 20 %.
+constexpr int kMtu = 65535;
+
+// A fixed, locally administered MAC address per slot ("phm" + the slot).
+std::string mac_of(uint32_t slot) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "02:70:68:6d:%02x:%02x", (slot >> 8U) & 0xffU, slot & 0xffU);
+  return buf;
+}
 
 std::string trim_output(std::string s) {
   while (!s.empty() && (s.back() == '\n' || s.back() == ' ')) s.pop_back();
@@ -192,8 +208,9 @@ std::optional<std::string> NetnsSwarm::create(const std::vector<std::string>& na
     return "network faults need the `nft` program (nftables), which cannot be run; install it (apt-get install nftables)";
   }
   if (names.size() > kMaxPorts) {
-    return "network faults: " + std::to_string(names.size()) + " processes are more than one bridge takes (" +
-           std::to_string(kMaxPorts) + ")";
+    return "network faults: " + std::to_string(names.size()) + " processes are more than the " + std::to_string(kMaxPorts) +
+           " that network namespaces are made for (each one holds a fixed neighbour entry per other process: N^2 "
+           "entries); leave out the partition and loss events, or run fewer processes";
   }
   if (names.size() > subnet_.hosts()) {
     return "network faults: the subnet " + subnet_.text() + " has " + std::to_string(subnet_.hosts()) +
@@ -247,25 +264,47 @@ std::optional<std::string> NetnsSwarm::make_slots(const std::vector<std::string>
     s.netns = prefix_ + "-" + std::to_string(s.index);
     s.port = "v" + std::to_string(s.index);
     add_ns += "netns add " + s.netns + "\n";
-    add_ports += "link add " + s.port + " type veth peer name " + kIface + " netns " + s.netns + "\n";
+    add_ports += "link add " + s.port + " mtu " + std::to_string(kMtu) + " type veth peer name " + kIface + " mtu " +
+                 std::to_string(kMtu) + " address " + mac_of(s.index) + " netns " + s.netns + "\n";
     add_ports += "link set " + s.port + " master br0 up\n";
     slots_[name] = s;
     fresh.push_back(name);
   }
   if (fresh.empty()) return std::nullopt;
-  // Three batches for all the new namespaces, then one per namespace: one
-  // `ip` run costs a few ms, a run per command would cost ~5 per process.
+  // Batches: one `ip` run costs a few ms, a run per command ~5 per process.
   if (auto err = must({"ip", "-batch", "-"}, add_ns)) return "cannot create the processes' namespaces: " + *err;
   for (const auto& name : fresh) {
     slots_[name].fd = open_netns(slots_[name].netns);
     if (slots_[name].fd < 0) return "cannot open the namespace of " + name + ": " + std::strerror(errno);
   }
   if (auto err = must({"ip", "-n", switch_ns(), "-batch", "-"}, add_ports)) return "cannot create the veth pairs: " + *err;
+  // Every namespace knows every other process's MAC address for good:
+  // Linux keeps one ARP table for all namespaces, and its default limit
+  // (net.ipv4.neigh.default.gc_thresh3 = 1024 entries) is reached with ~33
+  // processes that all talk to each other (N (N - 1) entries). Past it,
+  // sends fail (ENOBUFS, counted as UdpSndbufErrors), the host's own ARP
+  // suffers too, and DDS discovery stalled for 30-60 s (measured with 42
+  // processes). Permanent entries do not count against the limit, and no
+  // ARP request is flooded to every port either.
+  auto neigh_of = [this](const Slot& peer) {
+    return "neigh add " + subnet_.address(peer.index) + " lladdr " + mac_of(peer.index) + " dev " + kIface +
+           " nud permanent\n";
+  };
   for (const auto& name : fresh) {
     const Slot& s = slots_[name];
-    const std::string cfg = "link set lo up\naddr add " + subnet_.address(s.index) + "/" + std::to_string(subnet_.prefix) +
-                            " dev " + kIface + "\nlink set " + kIface + " up\nroute add 224.0.0.0/4 dev " + kIface + "\n";
+    std::string cfg = "link set lo up\naddr add " + subnet_.address(s.index) + "/" + std::to_string(subnet_.prefix) +
+                      " dev " + kIface + "\nlink set " + kIface + " up\nroute add 224.0.0.0/4 dev " + kIface + "\n";
+    for (const auto& [other, peer] : slots_) {
+      if (other != name) cfg += neigh_of(peer);
+    }
     if (auto err = must({"ip", "-n", s.netns, "-batch", "-"}, cfg)) return "cannot configure the namespace of " + name + ": " + *err;
+  }
+  // The namespaces made before learn the new ones.
+  for (const auto& [other, peer] : slots_) {
+    if (std::find(fresh.begin(), fresh.end(), other) != fresh.end()) continue;
+    std::string cfg;
+    for (const auto& name : fresh) cfg += neigh_of(slots_[name]);
+    if (auto err = must({"ip", "-n", peer.netns, "-batch", "-"}, cfg)) return "cannot configure the namespace of " + other + ": " + *err;
   }
   return std::nullopt;
 }
