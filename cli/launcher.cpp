@@ -111,6 +111,7 @@ void Launcher::spawn(const std::string& role, uint32_t index, const std::vector<
   if (o_.uavs > 0) args.insert(args.end(), {"--uavs", std::to_string(o_.uavs)});
   if (o_.seed > 0) args.insert(args.end(), {"--seed", std::to_string(o_.seed)});
   if (o_.rate_hz > 0) args.insert(args.end(), {"--rate", std::to_string(o_.rate_hz)});
+  if (replica > 0) args.insert(args.end(), {"--replica", std::to_string(replica)});
   args.insert(args.end(), extra_args.begin(), extra_args.end());
   const std::string log_path = (fs::path(o_.out_dir) / "logs" / (c.name + ".log")).string();
 
@@ -177,9 +178,7 @@ void Launcher::spawn(const std::string& role, uint32_t index, const std::vector<
 }
 
 void Launcher::spawn_place(uint32_t region, uint32_t replica) {
-  std::vector<std::string> args{"--region", std::to_string(region)};
-  if (replica > 0) args.insert(args.end(), {"--replica", std::to_string(replica)});
-  spawn("place", region, args, replica);
+  spawn("place", region, {"--region", std::to_string(region)}, replica);
   top_replica_[region] = std::max(top_replica_[region], replica);
 }
 
