@@ -92,7 +92,8 @@ Launcher::Launcher(RunOptions o) : o_(std::move(o)) {}
 // launcher does, also when run() ends by an exception.
 Launcher::~Launcher() = default;
 
-void Launcher::spawn(const std::string& role, uint32_t index, const std::vector<std::string>& extra_args, uint32_t replica) {
+void Launcher::spawn(const std::string& role, uint32_t index, const std::vector<std::string>& extra_args,
+                     uint32_t replica) {
   ChildProcess c;
   c.role = role;
   c.index = index;
@@ -122,13 +123,14 @@ void Launcher::spawn(const std::string& role, uint32_t index, const std::vector<
   // Standby replicas come after the UAVs.
   const uint32_t participant = role == "ground"                  ? 0
                                : role == "place" && replica == 0 ? 1 + index
-                               : role == "place"                 ? 1 + regions_ + uavs_ + (replica - 1) * regions_ + index
-                                                                 : 1 + regions_ + index;
+                               : role == "place" ? 1 + regions_ + uavs_ + (replica - 1) * regions_ + index
+                                                 : 1 + regions_ + index;
   std::string participant_env = "PHEROMESH_PARTICIPANT_ID=" + std::to_string(participant);
   // Network faults: the process runs in its own network namespace.
   int netns_fd = -1;
   if (netns_) {
-    if (auto err = netns_->add(c.name)) throw std::runtime_error("cannot give " + c.name + " a network namespace: " + *err);
+    if (auto err = netns_->add(c.name))
+      throw std::runtime_error("cannot give " + c.name + " a network namespace: " + *err);
     netns_fd = netns_->fd_of(c.name);
   }
   const pid_t parent = getpid();

@@ -32,8 +32,8 @@ struct RunOptions {
   uint64_t seed = 0;           // 0: the scenario's
   double rate_hz = 0;          // 0: the scenario's
   std::string out_dir = "out/run";
-  std::string faults_spec;      // --faults: the fault schedule (docs/faults.md), added to the scenario's
-  std::string kill_spec;        // --kill: the older form of --faults ("uav:3@5s,place:1@2500ms")
+  std::string faults_spec;                    // --faults: the fault schedule (docs/faults.md), added to the scenario's
+  std::string kill_spec;                      // --kill: the older form of --faults ("uav:3@5s,place:1@2500ms")
   std::string netns_subnet = "10.77.0.0/16";  // the processes' addresses when network faults need namespaces
   std::string dds;             // a DdsPlan spec: cyclone, fastdds, mixed or ROLE=VENDOR,...
   std::string dds_profile = "onehost";
@@ -124,8 +124,8 @@ class Launcher {
   void execute_fault(std::size_t event, std::optional<uint32_t> tick);
   void end_fault(std::size_t event, bool run_over);
   void end_due_faults();
-  void end_open_faults();  // the run is over: continue, remove, give up
-  std::string answer_faults(uint32_t tick);  // `faults K` from the lockstep conductor
+  void end_open_faults();                           // the run is over: continue, remove, give up
+  std::string answer_faults(uint32_t tick);         // `faults K` from the lockstep conductor
   void add_fault_metrics(nlohmann::json& m) const;  // metrics.json "faults", "faults_failed", "netns"
   void finish_metrics(int& exit_code);
   void clean_fastdds_shm() const;
@@ -145,11 +145,11 @@ class Launcher {
   std::optional<core::FaultPlan> faults_;
   std::map<std::size_t, std::vector<std::string>> fault_names_;  // event -> processes it acted on
   std::map<std::size_t, std::vector<pid_t>> fault_pids_;
-  uint32_t fault_failures_ = 0;                     // events that could not be injected
-  std::optional<uint32_t> last_fault_tick_;         // lockstep: the tick of the last `faults K`
-  std::vector<std::string> gone_since_answer_;      // lockstep: processes ended since the last answer
+  uint32_t fault_failures_ = 0;                 // events that could not be injected
+  std::optional<uint32_t> last_fault_tick_;     // lockstep: the tick of the last `faults K`
+  std::vector<std::string> gone_since_answer_;  // lockstep: processes ended since the last answer
   std::unique_ptr<NetnsSwarm> netns_;
-  std::optional<double> netns_setup_s_;             // [s] to make the namespaces
+  std::optional<double> netns_setup_s_;    // [s] to make the namespaces
   std::map<pid_t, std::size_t> unreaped_;  // pid -> index in children_, for the children not reaped yet
   // Resource accounting (metrics.json "resources", "wall_s", "udp_*").
   std::chrono::steady_clock::time_point spawn_t0_;  // first spawn

@@ -52,7 +52,8 @@ std::optional<std::string> Launcher::prepare_faults(const core::ScenarioConfig& 
     if (spec.empty()) continue;
     auto parsed = core::parse_fault_schedule(spec, where);
     if (!parsed) return parsed.error().message;
-    if (auto err = core::check_fault_schedule(parsed.value(), uavs, regions, lockstep)) return std::string(where) + ": " + *err;
+    if (auto err = core::check_fault_schedule(parsed.value(), uavs, regions, lockstep))
+      return std::string(where) + ": " + *err;
     core::merge_fault_schedules(schedule, parsed.value());
   }
   if (schedule.empty()) return std::nullopt;
@@ -62,7 +63,8 @@ std::optional<std::string> Launcher::prepare_faults(const core::ScenarioConfig& 
     const bool ends_it = e.action == FaultAction::Kill || e.action == FaultAction::Restart;
     for (const auto& t : e.targets) {
       if (t.role == "ground" && ends_it) {
-        return "fault schedule: '" + e.text + "': the ground station cannot be killed or restarted (it conducts the "
+        return "fault schedule: '" + e.text +
+               "': the ground station cannot be killed or restarted (it conducts the "
                "run and writes metrics.json); stop, partition and loss may target it";
       }
     }
@@ -81,9 +83,10 @@ std::optional<std::string> Launcher::prepare_faults(const core::ScenarioConfig& 
     if (o_.dds_profile == "onehost" || o_.dds_profile == "onehost-unicast") {
       o_.dds_profile = "netns";
     } else if (o_.dds_profile != "netns") {
-      spdlog::warn("network faults: every process runs in its own network namespace; DDS profile '{}' must not "
-                   "limit it to the loopback interface (the netns profile is made for this)",
-                   o_.dds_profile);
+      spdlog::warn(
+          "network faults: every process runs in its own network namespace; DDS profile '{}' must not "
+          "limit it to the loopback interface (the netns profile is made for this)",
+          o_.dds_profile);
     }
   }
   if (standby && !takes_flag(bin_dir_ + "/pheromesh-place", "--replica")) {
@@ -118,15 +121,18 @@ std::optional<std::string> Launcher::prepare_netns(uint32_t uavs, uint32_t regio
   const auto t0 = std::chrono::steady_clock::now();
   if (auto err = ns->create(names)) return err;
   netns_setup_s_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  spdlog::info("network faults: {} processes in network namespaces {}-0..{} on a bridge in {}-sw, addresses from {} "
-               "(ground {}), DDS profile {}; made in {:.2f} s",
-               names.size(), ns->prefix(), names.size() - 1, ns->prefix(), subnet->text(), ns->address_of("ground"),
-               o_.dds_profile, *netns_setup_s_);
+  spdlog::info(
+      "network faults: {} processes in network namespaces {}-0..{} on a bridge in {}-sw, addresses from {} "
+      "(ground {}), DDS profile {}; made in {:.2f} s",
+      names.size(), ns->prefix(), names.size() - 1, ns->prefix(), subnet->text(), ns->address_of("ground"),
+      o_.dds_profile, *netns_setup_s_);
   netns_ = std::move(ns);
   return std::nullopt;
 }
 
-double Launcher::fault_clock_s() const { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0_).count(); }
+double Launcher::fault_clock_s() const {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0_).count();
+}
 
 ChildProcess* Launcher::resolve(const core::FaultTarget& t) {
   if (t.role != "place") {
@@ -135,7 +141,8 @@ ChildProcess* Launcher::resolve(const core::FaultTarget& t) {
   }
   ChildProcess* best = nullptr;
   for (auto& c : children_) {
-    if (c.role == "place" && c.index == t.index && c.running && (best == nullptr || c.replica < best->replica)) best = &c;
+    if (c.role == "place" && c.index == t.index && c.running && (best == nullptr || c.replica < best->replica))
+      best = &c;
   }
   return best;
 }
@@ -164,8 +171,9 @@ void Launcher::execute_fault(std::size_t i, std::optional<uint32_t> tick) {
           not_running(t);
           continue;
         }
-        spdlog::warn("fault: SIGKILL to {} (pid {}) {}{}", c->name, c->pid, when,
-                     e.action == FaultAction::Restart ? fmt::format(", to be started again in {:.2f} s", e.duration_s) : "");
+        spdlog::warn(
+            "fault: SIGKILL to {} (pid {}) {}{}", c->name, c->pid, when,
+            e.action == FaultAction::Restart ? fmt::format(", to be started again in {:.2f} s", e.duration_s) : "");
         names.push_back(c->name);
         pids.push_back(c->pid);
         // Reaped before going on: a lockstep kill is complete when the
@@ -211,13 +219,13 @@ void Launcher::execute_fault(std::size_t i, std::optional<uint32_t> tick) {
         names.push_back(c != nullptr ? c->name : t.process_name());
         if (c != nullptr) pids.push_back(c->pid);
       }
-      const auto err = e.action == FaultAction::Partition
-                           ? netns_->cut_off(static_cast<int>(i), names)
-                           : netns_->drop_share(static_cast<int>(i), e.loss, names);
+      const auto err = e.action == FaultAction::Partition ? netns_->cut_off(static_cast<int>(i), names)
+                                                          : netns_->drop_share(static_cast<int>(i), e.loss, names);
       if (err) {
         failed(*err);
       } else if (e.action == FaultAction::Partition) {
-        spdlog::warn("fault: {} cut off from every other process {} for {:.2f} s", join(names, ","), when, e.duration_s);
+        spdlog::warn("fault: {} cut off from every other process {} for {:.2f} s", join(names, ","), when,
+                     e.duration_s);
       } else {
         spdlog::warn("fault: {:.0f} % of the packets to {} dropped {} for {:.2f} s", 100.0 * e.loss,
                      names.empty() ? "every process" : join(names, ","), when, e.duration_s);

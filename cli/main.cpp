@@ -46,7 +46,8 @@ void print_faults(const pheromesh::core::FaultSchedule& f) {
     std::printf("  faults      none\n");
     return;
   }
-  std::printf("  faults      %zu events, timed in %s\n", f.events.size(), f.in_ticks() ? "ticks (lockstep runs)" : "seconds (realtime runs)");
+  std::printf("  faults      %zu events, timed in %s\n", f.events.size(),
+              f.in_ticks() ? "ticks (lockstep runs)" : "seconds (realtime runs)");
   for (const auto& e : f.events) std::printf("              %s\n", e.text.c_str());
 }
 
@@ -71,15 +72,17 @@ int validate(const std::string& path) {
 
 int main(int argc, char** argv) {
   using namespace pheromesh;
-  CLI::App app{"pheromesh: a UAV swarm coordinating through digital pheromones over DDS.\n\n"
-               "Examples:\n"
-               "  pheromesh validate scenarios/shao2020-50x50.textproto\n"
-               "  pheromesh run scenarios/shao2020-50x50.textproto --ticks 600 --out out/demo\n"
-               "  pheromesh run scenarios/small-test.textproto --uavs 6 --duration 20 --faults \"kill uav:1 @5s; stop uav:4 @8s for 3s\"\n"
-               "  pheromesh sim scenarios/shao2020-100x100.textproto --seed 7 --out out/sim\n"
-               "  pheromesh run scenarios/small-test.textproto --clock lockstep --ticks 100   # same numbers as sim\n"
-               "  pheromesh bench scale scenarios/scale-100x100.textproto --max 400            # cost per swarm size\n",
-               "pheromesh"};
+  CLI::App app{
+      "pheromesh: a UAV swarm coordinating through digital pheromones over DDS.\n\n"
+      "Examples:\n"
+      "  pheromesh validate scenarios/shao2020-50x50.textproto\n"
+      "  pheromesh run scenarios/shao2020-50x50.textproto --ticks 600 --out out/demo\n"
+      "  pheromesh run scenarios/small-test.textproto --uavs 6 --duration 20 --faults \"kill uav:1 @5s; stop uav:4 @8s "
+      "for 3s\"\n"
+      "  pheromesh sim scenarios/shao2020-100x100.textproto --seed 7 --out out/sim\n"
+      "  pheromesh run scenarios/small-test.textproto --clock lockstep --ticks 100   # same numbers as sim\n"
+      "  pheromesh bench scale scenarios/scale-100x100.textproto --max 400            # cost per swarm size\n",
+      "pheromesh"};
   app.require_subcommand(1);
   std::string log_level = "info";
   app.add_option("--log-level", log_level, "Launcher log level")->capture_default_str();

@@ -56,7 +56,8 @@ std::string describe(const std::vector<std::string>& argv, const ToolResult& r) 
 }
 
 // Runs argv; nullopt on success, else the command and its message.
-std::optional<std::string> must(const std::vector<std::string>& argv, const std::string& input = "", int netns_fd = -1) {
+std::optional<std::string> must(const std::vector<std::string>& argv, const std::string& input = "",
+                                int netns_fd = -1) {
   const ToolResult r = run_tool(argv, input, netns_fd);
   if (r.rc == 0) return std::nullopt;
   return describe(argv, r) + (input.empty() ? "" : "\n  its input was:\n" + input);
@@ -98,7 +99,8 @@ core::Result<Subnet> parse_subnet(const std::string& cidr) {
   in_addr a{};
   if (inet_pton(AF_INET, cidr.substr(0, slash).c_str(), &a) != 1) return bad("not an IPv4 address");
   const std::string len = cidr.substr(slash + 1);
-  if (len.empty() || len.size() > 2 || len.find_first_not_of("0123456789") != std::string::npos) return bad("bad prefix length");
+  if (len.empty() || len.size() > 2 || len.find_first_not_of("0123456789") != std::string::npos)
+    return bad("bad prefix length");
   const int prefix = std::stoi(len);
   if (prefix < 8 || prefix > 28) return bad("the prefix length must be between 8 and 28");
   Subnet s;
@@ -201,19 +203,23 @@ std::optional<std::string> NetnsSwarm::create(const std::vector<std::string>& na
            "partition and loss events";
   }
   if (run_tool({"ip", "-V"}).rc != 0) {
-    return "network faults need the `ip` program (iproute2), which cannot be run; install it (apt-get install iproute2)";
+    return "network faults need the `ip` program (iproute2), which cannot be run; install it (apt-get install "
+           "iproute2)";
   }
   if (run_tool({"nft", "--version"}).rc != 0) {
-    return "network faults need the `nft` program (nftables), which cannot be run; install it (apt-get install nftables)";
+    return "network faults need the `nft` program (nftables), which cannot be run; install it (apt-get install "
+           "nftables)";
   }
   if (names.size() > kMaxPorts) {
-    return "network faults: " + std::to_string(names.size()) + " processes are more than the " + std::to_string(kMaxPorts) +
+    return "network faults: " + std::to_string(names.size()) + " processes are more than the " +
+           std::to_string(kMaxPorts) +
            " that network namespaces are made for (each one holds a fixed neighbour entry per other process: N^2 "
            "entries); leave out the partition and loss events, or run fewer processes";
   }
   if (names.size() > subnet_.hosts()) {
     return "network faults: the subnet " + subnet_.text() + " has " + std::to_string(subnet_.hosts()) +
-           " addresses, too few for " + std::to_string(names.size()) + " processes; give a larger one with --netns-subnet";
+           " addresses, too few for " + std::to_string(names.size()) +
+           " processes; give a larger one with --netns-subnet";
   }
   auto fail = [this](const std::string& what) {
     teardown();
@@ -226,7 +232,8 @@ std::optional<std::string> NetnsSwarm::create(const std::vector<std::string>& na
   }
   switch_made_ = true;
   switch_fd_ = open_netns(switch_ns());
-  if (switch_fd_ < 0) return fail("cannot open " + std::string(kNetnsDir) + "/" + switch_ns() + ": " + std::strerror(errno));
+  if (switch_fd_ < 0)
+    return fail("cannot open " + std::string(kNetnsDir) + "/" + switch_ns() + ": " + std::strerror(errno));
   // The bridge; multicast snooping off, so that every port gets every
   // multicast frame (DDS discovery) without waiting for IGMP reports.
   if (auto err = must({"ip", "-n", switch_ns(), "-batch", "-"},
@@ -276,7 +283,8 @@ std::optional<std::string> NetnsSwarm::make_slots(const std::vector<std::string>
     slots_[name].fd = open_netns(slots_[name].netns);
     if (slots_[name].fd < 0) return "cannot open the namespace of " + name + ": " + std::strerror(errno);
   }
-  if (auto err = must({"ip", "-n", switch_ns(), "-batch", "-"}, add_ports)) return "cannot create the veth pairs: " + *err;
+  if (auto err = must({"ip", "-n", switch_ns(), "-batch", "-"}, add_ports))
+    return "cannot create the veth pairs: " + *err;
   // Every namespace knows every other process's MAC address for good:
   // Linux keeps one ARP table for all namespaces, and its default limit
   // (net.ipv4.neigh.default.gc_thresh3 = 1024 entries) is reached with ~33
@@ -296,14 +304,16 @@ std::optional<std::string> NetnsSwarm::make_slots(const std::vector<std::string>
     for (const auto& [other, peer] : slots_) {
       if (other != name) cfg += neigh_of(peer);
     }
-    if (auto err = must({"ip", "-n", s.netns, "-batch", "-"}, cfg)) return "cannot configure the namespace of " + name + ": " + *err;
+    if (auto err = must({"ip", "-n", s.netns, "-batch", "-"}, cfg))
+      return "cannot configure the namespace of " + name + ": " + *err;
   }
   // The namespaces made before learn the new ones.
   for (const auto& [other, peer] : slots_) {
     if (std::find(fresh.begin(), fresh.end(), other) != fresh.end()) continue;
     std::string cfg;
     for (const auto& name : fresh) cfg += neigh_of(slots_[name]);
-    if (auto err = must({"ip", "-n", peer.netns, "-batch", "-"}, cfg)) return "cannot configure the namespace of " + other + ": " + *err;
+    if (auto err = must({"ip", "-n", peer.netns, "-batch", "-"}, cfg))
+      return "cannot configure the namespace of " + other + ": " + *err;
   }
   return std::nullopt;
 }
@@ -434,9 +444,10 @@ void NetnsSwarm::teardown() {
   if (batch.empty()) return;
   // -force: go on past a namespace that is already gone.
   if (auto err = must({"ip", "-force", "-batch", "-"}, batch)) {
-    spdlog::error("removing the network namespaces: {}\n  remove what is left by hand: ip netns list | grep '^{}-' | "
-                  "xargs -r -n1 ip netns del",
-                  *err, prefix_);
+    spdlog::error(
+        "removing the network namespaces: {}\n  remove what is left by hand: ip netns list | grep '^{}-' | "
+        "xargs -r -n1 ip netns del",
+        *err, prefix_);
   }
 }
 

@@ -41,7 +41,7 @@ namespace pheromesh::cli {
 struct Subnet {
   uint32_t base = 0;  // network address, host byte order
   int prefix = 16;
-  [[nodiscard]] uint32_t hosts() const;                   // usable addresses: network and broadcast excluded
+  [[nodiscard]] uint32_t hosts() const;                    // usable addresses: network and broadcast excluded
   [[nodiscard]] std::string address(uint32_t slot) const;  // slot 0 -> base + 1
   [[nodiscard]] std::string text() const;                  // "10.77.0.0/16"
 };

@@ -96,8 +96,9 @@ TEST(Faults, AStoppedUavAndPlaceAgentResumeAndEveryProcessEndsNormally) {
 
 TEST(Faults, ARestartedUavAndPlaceAgentAreKilledAndStartedAgainAfterTheirDownTime) {
   const std::string out = out_dir("faults-restart");
-  const Output o = run(pheromesh_run("small-test.textproto", out, 41,
-                                     "--ticks 300 --faults \"restart uav:2 @2s for 1s; restart place:1 @2500ms for 500ms\""));
+  const Output o =
+      run(pheromesh_run("small-test.textproto", out, 41,
+                        "--ticks 300 --faults \"restart uav:2 @2s for 1s; restart place:1 @2500ms for 500ms\""));
   ASSERT_EQ(o.exit_code, 0) << o.text;
   const json m = read_metrics(out);
   ASSERT_FALSE(m.is_null()) << o.text;
@@ -189,13 +190,16 @@ TEST(Cli, BadFaultSchedulesAreRefusedNamingTheEventBeforeAnythingStarts) {
   const std::vector<std::pair<std::string, std::string>> cases = {
       {"--faults 'explode uav:1 @1s'", "--faults: 'explode uav:1 @1s': unknown action 'explode'"},
       {"--faults 'stop uav:1 @1s'", "'stop uav:1 @1s': stop needs 'for DURATION'"},
-      {"--faults 'kill uav:9 @1s'", "--faults: 'kill uav:9 @1s': uav-9 does not exist (this swarm has 4 UAVs: uav:0-3)"},
+      {"--faults 'kill uav:9 @1s'",
+       "--faults: 'kill uav:9 @1s': uav-9 does not exist (this swarm has 4 UAVs: uav:0-3)"},
       {"--faults 'kill place:7 @1s'", "'kill place:7 @1s': place-7 does not exist"},
       {"--faults 'kill uav:1 @5t'", "'kill uav:1 @5t': a realtime run times faults in s or ms"},
-      {"--clock lockstep --faults 'kill uav:1 @1s'", "'kill uav:1 @1s': a lockstep run (and the simulator) times faults in ticks"},
+      {"--clock lockstep --faults 'kill uav:1 @1s'",
+       "'kill uav:1 @1s': a lockstep run (and the simulator) times faults in ticks"},
       {"--faults 'stop ground @1s for 1s; kill ground @2s'", "'kill ground @2s': the ground station cannot be killed"},
       {"--faults 'loss 20% @1s for 1s' --http 0", "leave out --http or the network faults"},
-      {"--faults 'partition uav:0 @1s for 1s' --netns-subnet 10.77.0.1/16", "--netns-subnet '10.77.0.1/16': host bits are set"},
+      {"--faults 'partition uav:0 @1s for 1s' --netns-subnet 10.77.0.1/16",
+       "--netns-subnet '10.77.0.1/16': host bits are set"},
       {"--kill 'uav:1@5'", "--kill: 'kill uav:1 @5': time '5' needs a unit"},
   };
   for (const auto& [args, want] : cases) {
@@ -234,8 +238,9 @@ TEST(Cli, NetworkFaultsWithoutRootSayWhyAndStartNothing) {
   // As nobody, in a folder nobody may write.
   const std::string out = out_dir("faults-not-root");
   chmod(out.c_str(), 0777);
-  const Output o = run("setpriv --reuid=65534 --regid=65534 --clear-groups " + kBin + "/pheromesh run " + kSrc +
-                       "/scenarios/small-test.textproto --domain 44 --out " + out + "/run --faults 'loss 10% @1s for 1s'");
+  const Output o =
+      run("setpriv --reuid=65534 --regid=65534 --clear-groups " + kBin + "/pheromesh run " + kSrc +
+          "/scenarios/small-test.textproto --domain 44 --out " + out + "/run --faults 'loss 10% @1s for 1s'");
   EXPECT_EQ(o.exit_code, 2) << o.text;
   EXPECT_NE(o.text.find("needs root"), std::string::npos) << o.text;
   EXPECT_NE(o.text.find("leave out the partition and loss events"), std::string::npos) << o.text;

@@ -181,7 +181,8 @@ TEST(ScenarioErrors, AMalformedFaultLineNamesFileLineFieldAndTheEvent) {
   expect_error_at(r, "bad-fault.textproto", 8, "fault[1]");
   expect_error_at(r, "bad-fault.textproto", 10, "fault[3]");
   const std::string& msg = r.error().message;
-  EXPECT_NE(msg.find("bad-fault.textproto:8:1: field 'fault[1]': 'stop uav:2 for 3s': no time (@TIME)"), std::string::npos)
+  EXPECT_NE(msg.find("bad-fault.textproto:8:1: field 'fault[1]': 'stop uav:2 for 3s': no time (@TIME)"),
+            std::string::npos)
       << msg;
   EXPECT_NE(msg.find("'kill place:3 @4s': place-3 does not exist (the map has 1 region: place:0)"), std::string::npos)
       << msg;

@@ -168,17 +168,22 @@ void build_faults(const pb::Scenario& msg, const Node& root, Validator& v, Scena
     bool ok = true;
     for (const auto& e : s->events) {
       if (in_ticks && *in_ticks != e.at_tick.has_value()) {
-        v.fail(root, "fault", "'" + e.text + "': mixes tick times (t) with wall times (s, ms) of the lines above; "
-                              "use one clock", i);
+        v.fail(root, "fault",
+               "'" + e.text +
+                   "': mixes tick times (t) with wall times (s, ms) of the lines above; "
+                   "use one clock",
+               i);
         ok = false;
         break;
       }
       in_ticks = e.at_tick.has_value();
       for (const auto& t : e.targets) {
         if (t.role == "place" && t.index >= regions) {
-          const std::string have = regions == 1 ? "1 region: place:0"
-                                                : std::to_string(regions) + " regions: place:0-" + std::to_string(regions - 1);
-          v.fail(root, "fault", "'" + e.text + "': " + t.process_name() + " does not exist (the map has " + have + ")", i);
+          const std::string have = regions == 1
+                                       ? "1 region: place:0"
+                                       : std::to_string(regions) + " regions: place:0-" + std::to_string(regions - 1);
+          v.fail(root, "fault", "'" + e.text + "': " + t.process_name() + " does not exist (the map has " + have + ")",
+                 i);
           ok = false;
           break;
         }

@@ -25,14 +25,14 @@ namespace pheromesh::core {
 
 // One executed event, as metrics.json "faults" lists it.
 struct FaultRecord {
-  std::size_t event = 0;              // index into the schedule
+  std::size_t event = 0;  // index into the schedule
   FaultAction action = FaultAction::Kill;
-  std::vector<std::string> targets;   // process names as executed (e.g. "uav-3", "place-1.r1"); empty: every process
-  double at_s = 0;                    // [s] when it was executed, after the swarm started
-  std::optional<uint32_t> tick;       // lockstep: executed before this tick
-  double duration_s = 0;              // [s] as scheduled (restart: down time)
-  std::optional<double> done_at_s;    // [s] when it ended (kill, standby: at_s); none if the run ended first
-  std::string note;                   // e.g. "uav-3 was not running"
+  std::vector<std::string> targets;  // process names as executed (e.g. "uav-3", "place-1.r1"); empty: every process
+  double at_s = 0;                   // [s] when it was executed, after the swarm started
+  std::optional<uint32_t> tick;      // lockstep: executed before this tick
+  double duration_s = 0;             // [s] as scheduled (restart: down time)
+  std::optional<double> done_at_s;   // [s] when it ended (kill, standby: at_s); none if the run ended first
+  std::string note;                  // e.g. "uav-3 was not running"
 };
 
 class FaultPlan {
