@@ -14,7 +14,6 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <sstream>
 
 namespace pheromesh::cli {
@@ -183,10 +182,10 @@ std::vector<std::string> remove_stale_namespaces() {
     if (dash == std::string::npos) continue;
     const std::string pid = name.substr(4, dash - 4);
     if (pid.empty() || pid.find_first_not_of("0123456789") != std::string::npos) continue;
-    // Alive: a process with that pid that is a pheromesh launcher.
-    std::ifstream comm("/proc/" + pid + "/comm");
-    std::string prog;
-    if (comm && std::getline(comm, prog) && prog == "pheromesh") continue;
+    // A launcher that still runs keeps its namespaces (a recycled pid only
+    // delays the clean-up of a dead one's).
+    std::error_code exists_ec;
+    if (fs::exists("/proc/" + pid, exists_ec)) continue;
     stale.push_back(name);
   }
   if (stale.empty()) return stale;

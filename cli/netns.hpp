@@ -58,7 +58,7 @@ struct ToolResult {
 ToolResult run_tool(const std::vector<std::string>& argv, const std::string& input = "", int netns_fd = -1);
 
 // Removes the namespaces `pheromesh run` left behind when it was killed
-// (phm-<pid>-* whose launcher pid no longer runs). Returns their names.
+// (phm-<pid>-* whose launcher pid no longer exists). Returns their names.
 std::vector<std::string> remove_stale_namespaces();
 
 class NetnsSwarm {
