@@ -1,7 +1,7 @@
 // Fault injection with real processes and real signals (docs/faults.md):
 // `pheromesh run --faults` stops, restarts, partitions and drops packets of
 // the processes of a small swarm, once per backend; bad schedules are refused
-// before anything starts. DDS domains 40-44.
+// before anything starts. DDS domains 45-49 (test_standby.cpp has 41-44).
 #include <sys/stat.h>
 
 #include <set>
@@ -66,7 +66,7 @@ TEST(Faults, AStoppedUavAndPlaceAgentResumeAndEveryProcessEndsNormally) {
   // 4 UAVs at 50 Hz for 350 ticks (7 s). The stops last 2 s, more than the
   // 1 s liveliness lease, so the ground station must lose both and hear the
   // UAV again; they start at 3 s, after discovery (under 1 s here).
-  const Output o = run(pheromesh_run("small-test.textproto", out, 40,
+  const Output o = run(pheromesh_run("small-test.textproto", out, 45,
                                      "--ticks 350 --faults \"stop uav:1 @3s for 2s; stop place:2 @3500ms for 2s\""));
   ASSERT_EQ(o.exit_code, 0) << o.text;
   const json m = read_metrics(out);
@@ -97,7 +97,7 @@ TEST(Faults, AStoppedUavAndPlaceAgentResumeAndEveryProcessEndsNormally) {
 TEST(Faults, ARestartedUavAndPlaceAgentAreKilledAndStartedAgainAfterTheirDownTime) {
   const std::string out = out_dir("faults-restart");
   const Output o =
-      run(pheromesh_run("small-test.textproto", out, 41,
+      run(pheromesh_run("small-test.textproto", out, 46,
                         "--ticks 300 --faults \"restart uav:2 @2s for 1s; restart place:1 @2500ms for 500ms\""));
   ASSERT_EQ(o.exit_code, 0) << o.text;
   const json m = read_metrics(out);
@@ -134,7 +134,7 @@ TEST(Faults, APartitionAndPacketLossInNetworkNamespacesLeaveNothingBehind) {
   // uav-0 and uav-1 are cut off from the rest for 3 s (longer than the 1 s
   // lease: the ground station loses them, then hears them again); every
   // process loses 20 % of what it receives for 4 s.
-  const Output o = run(pheromesh_run("small-test.textproto", out, 42,
+  const Output o = run(pheromesh_run("small-test.textproto", out, 47,
                                      "--ticks 400 --faults \"partition uav:0-1 @3s for 3s; loss 20% @3s for 4s\""));
   ASSERT_EQ(o.exit_code, 0) << o.text;
   const json m = read_metrics(out);
@@ -175,7 +175,7 @@ TEST(Faults, LockstepKillsBeforeATickGiveTheSimulatorsNumbers) {
       run(kBin + "/pheromesh sim --help").text.find("--faults") == std::string::npos) {
     GTEST_SKIP() << "pheromesh-ground --fault-ticks or pheromesh sim --faults is not in this build";
   }
-  expect_lockstep_matches_sim("small-test.textproto", "--ticks 80 --faults \"kill uav:1 @20t; kill place:3 @40t\"", 43,
+  expect_lockstep_matches_sim("small-test.textproto", "--ticks 80 --faults \"kill uav:1 @20t; kill place:3 @40t\"", 48,
                               "faults-lockstep");
   const json m = read_metrics(out_path("faults-lockstep-lockstep"));
   const auto kills = faults_of(m, "kill");
@@ -203,7 +203,7 @@ TEST(Cli, BadFaultSchedulesAreRefusedNamingTheEventBeforeAnythingStarts) {
       {"--kill 'uav:1@5'", "--kill: 'kill uav:1 @5': time '5' needs a unit"},
   };
   for (const auto& [args, want] : cases) {
-    const Output o = run(kBin + "/pheromesh run " + scenario + " --domain 44 --out " + out + " " + args);
+    const Output o = run(kBin + "/pheromesh run " + scenario + " --domain 49 --out " + out + " " + args);
     EXPECT_EQ(o.exit_code, 2) << args << "\n" << o.text;
     EXPECT_NE(o.text.find(want), std::string::npos) << args << "\n" << o.text;
     EXPECT_FALSE(fs::exists(out + "/logs/ground.log")) << args;
@@ -240,7 +240,7 @@ TEST(Cli, NetworkFaultsWithoutRootSayWhyAndStartNothing) {
   chmod(out.c_str(), 0777);
   const Output o =
       run("setpriv --reuid=65534 --regid=65534 --clear-groups " + kBin + "/pheromesh run " + kSrc +
-          "/scenarios/small-test.textproto --domain 44 --out " + out + "/run --faults 'loss 10% @1s for 1s'");
+          "/scenarios/small-test.textproto --domain 49 --out " + out + "/run --faults 'loss 10% @1s for 1s'");
   EXPECT_EQ(o.exit_code, 2) << o.text;
   EXPECT_NE(o.text.find("needs root"), std::string::npos) << o.text;
   EXPECT_NE(o.text.find("leave out the partition and loss events"), std::string::npos) << o.text;
