@@ -221,14 +221,17 @@ void Launcher::execute_fault(std::size_t i, std::optional<uint32_t> tick) {
       }
       const auto err = e.action == FaultAction::Partition ? netns_->cut_off(static_cast<int>(i), names)
                                                           : netns_->drop_share(static_cast<int>(i), e.loss, names);
+      std::vector<std::string> pid_list;
+      for (const pid_t p : pids) pid_list.push_back(std::to_string(p));
+      const std::string who = names.empty() ? std::string("every process")
+                                            : join(names, ",") + " (pid " + join(pid_list, ",") + ")";
       if (err) {
         failed(*err);
       } else if (e.action == FaultAction::Partition) {
-        spdlog::warn("fault: {} cut off from every other process {} for {:.2f} s", join(names, ","), when,
-                     e.duration_s);
+        spdlog::warn("fault: {} cut off from every other process {} for {:.2f} s", who, when, e.duration_s);
       } else {
-        spdlog::warn("fault: {:.0f} % of the packets to {} dropped {} for {:.2f} s", 100.0 * e.loss,
-                     names.empty() ? "every process" : join(names, ","), when, e.duration_s);
+        spdlog::warn("fault: {:.0f} % of the packets to {} dropped {} for {:.2f} s", 100.0 * e.loss, who, when,
+                     e.duration_s);
       }
       break;
     }
@@ -255,16 +258,25 @@ void Launcher::end_fault(std::size_t i, bool run_over) {
       if (run_over) notes.emplace_back("cut short: the run ended");
       break;
     case FaultAction::Partition:
-    case FaultAction::Loss:
-      if (auto err = netns_->remove_rules(static_cast<int>(i))) {
+    case FaultAction::Loss: {
+      NetnsSwarm::RuleCounts counts;
+      if (auto err = netns_->remove_rules(static_cast<int>(i), &counts)) {
         spdlog::error("fault '{}': cannot remove its rules: {}", e.text, *err);
         notes.push_back("rules not removed: " + *err);
         ++fault_failures_;
       } else {
-        spdlog::warn("fault: '{}' lifted at {:.2f} s{}", e.text, now, run_over ? " (the run is ending)" : "");
+        std::string what;
+        if (counts.dropped) what = fmt::format("; {} packets dropped", *counts.dropped);
+        if (counts.dropped && counts.seen && *counts.seen > 0) {
+          what += fmt::format(" of {} ({:.1f} %)", *counts.seen, 100.0 * static_cast<double>(*counts.dropped) /
+                                                                     static_cast<double>(*counts.seen));
+        }
+        spdlog::warn("fault: '{}' lifted at {:.2f} s{}{}", e.text, now, what, run_over ? " (the run is ending)" : "");
       }
+      if (counts.dropped) fault_packets_[i] = {counts.seen.value_or(0), *counts.dropped};
       if (run_over) notes.emplace_back("cut short: the run ended");
       break;
+    }
     case FaultAction::Restart:
       for (const auto& name : fault_names_[i]) {
         if (run_over) {
@@ -324,6 +336,10 @@ void Launcher::add_fault_metrics(nlohmann::json& m) const {
       if (e.action == FaultAction::Loss) f["loss"] = e.loss;
       const auto pids = fault_pids_.find(r.event);
       f["pids"] = pids != fault_pids_.end() ? pids->second : std::vector<pid_t>{};
+      if (const auto p = fault_packets_.find(r.event); p != fault_packets_.end()) {
+        f["dropped_packets"] = p->second.second;
+        if (e.action == FaultAction::Loss) f["seen_packets"] = p->second.first;
+      }
       if (!r.note.empty()) f["note"] = r.note;
       list.push_back(std::move(f));
     }

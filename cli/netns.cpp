@@ -14,6 +14,7 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <nlohmann/json.hpp>
 #include <sstream>
 
 namespace pheromesh::cli {
@@ -356,11 +357,12 @@ std::optional<std::string> NetnsSwarm::cut_off(int id, const std::vector<std::st
   // pass. A flooded multicast frame is filtered per receiving port.
   std::ostringstream s;
   s << "table bridge " << table << " {\n"
+    << "  counter dropped { }\n"
     << "  set inside { type ifname; elements = { " << ports << " } }\n"
     << "  chain forward {\n"
     << "    type filter hook forward priority 0; policy accept;\n"
-    << "    iifname @inside oifname != @inside drop\n"
-    << "    iifname != @inside oifname @inside drop\n"
+    << "    iifname @inside oifname != @inside counter name dropped drop\n"
+    << "    iifname != @inside oifname @inside counter name dropped drop\n"
     << "  }\n"
     << "}\n";
   if (auto err = nft_in_switch(s.str())) return err;
@@ -376,13 +378,19 @@ std::optional<std::string> NetnsSwarm::drop_share(int id, double share, const st
   // `share`, independently (a flooded multicast frame per receiver). Only
   // IPv4: dropping ARP would add losses of its own.
   const auto per10k = static_cast<long>(std::lround(share * 10000.0));
-  const std::string drop = per10k >= 10000 ? "drop" : "numgen random mod 10000 < " + std::to_string(per10k) + " drop";
+  const std::string draw = per10k >= 10000 ? "" : "numgen random mod 10000 < " + std::to_string(per10k) + " ";
+  const std::string match = (ports.empty() ? "" : "oifname @lossy ") + std::string("ether type ip ");
+  // Two counters: the frames the rule saw and those it dropped, so that the
+  // share really dropped can be reported.
   std::ostringstream s;
-  s << "table bridge " << table << " {\n";
+  s << "table bridge " << table << " {\n"
+    << "  counter seen { }\n"
+    << "  counter dropped { }\n";
   if (!ports.empty()) s << "  set lossy { type ifname; elements = { " << ports << " } }\n";
   s << "  chain forward {\n"
     << "    type filter hook forward priority 0; policy accept;\n"
-    << "    " << (ports.empty() ? "" : "oifname @lossy ") << "ether type ip " << drop << "\n"
+    << "    " << match << "counter name seen\n"
+    << "    " << match << draw << "counter name dropped drop\n"
     << "  }\n"
     << "}\n";
   if (auto err = nft_in_switch(s.str())) return err;
@@ -390,11 +398,27 @@ std::optional<std::string> NetnsSwarm::drop_share(int id, double share, const st
   return std::nullopt;
 }
 
-std::optional<std::string> NetnsSwarm::remove_rules(int id) {
+std::optional<std::string> NetnsSwarm::remove_rules(int id, RuleCounts* counts) {
   const auto it = tables_.find(id);
   if (it == tables_.end()) return std::nullopt;
   const std::string table = it->second;
   tables_.erase(it);
+  if (counts != nullptr) {
+    // {"nftables": [{"metainfo": ...}, {"counter": {"name": "seen", "packets": N, ...}}, ...]}
+    const ToolResult r = run_tool({"nft", "-j", "list", "table", "bridge", table}, "", switch_fd_);
+    try {
+      const auto j = nlohmann::json::parse(r.output);
+      for (const auto& item : j.at("nftables")) {
+        if (!item.contains("counter")) continue;
+        const auto& c = item["counter"];
+        const auto packets = c.at("packets").get<uint64_t>();
+        if (c.at("name") == "seen") counts->seen = packets;
+        if (c.at("name") == "dropped") counts->dropped = packets;
+      }
+    } catch (const std::exception& e) {
+      spdlog::warn("cannot read the counters of nft table {}: {} ({})", table, e.what(), trim_output(r.output));
+    }
+  }
   return nft_in_switch("delete table bridge " + table + "\n");
 }
 

@@ -88,8 +88,12 @@ class NetnsSwarm {
   // Fault `id`: drop `share` (0..1) of the IPv4 packets each of `names`
   // receives from other processes (every process if `names` is empty).
   std::optional<std::string> drop_share(int id, double share, const std::vector<std::string>& names);
-  // Removes fault `id`'s rules.
-  std::optional<std::string> remove_rules(int id);
+  // Removes fault `id`'s rules; `counts` (if given) gets what they did.
+  struct RuleCounts {
+    std::optional<uint64_t> seen;     // loss: IPv4 frames to the lossy ports
+    std::optional<uint64_t> dropped;  // frames the rules dropped
+  };
+  std::optional<std::string> remove_rules(int id, RuleCounts* counts = nullptr);
 
   // UDP datagrams over every namespace (each process's own counters).
   [[nodiscard]] std::optional<UdpCounters> udp_counters() const;

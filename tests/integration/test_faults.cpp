@@ -148,6 +148,15 @@ TEST(Faults, APartitionAndPacketLossInNetworkNamespacesLeaveNothingBehind) {
   EXPECT_DOUBLE_EQ(loss[0]["loss"].get<double>(), 0.2);
   expect_lasted(cut[0]);
   expect_lasted(loss[0]);
+  // The rules did what they say: the partition dropped frames, and the loss
+  // dropped about 20 % of thousands (a binomial share: 0.15..0.25 is more
+  // than 4 standard deviations at 1000 frames).
+  EXPECT_GT(cut[0]["dropped_packets"].get<uint64_t>(), 0U) << cut[0].dump();
+  const auto seen = loss[0]["seen_packets"].get<uint64_t>();
+  ASSERT_GT(seen, 1000U) << loss[0].dump();
+  const double share = static_cast<double>(loss[0]["dropped_packets"].get<uint64_t>()) / static_cast<double>(seen);
+  EXPECT_GT(share, 0.15) << loss[0].dump();
+  EXPECT_LT(share, 0.25) << loss[0].dump();
   EXPECT_EQ(m["faults_failed"], 0);
   EXPECT_EQ(m["processes_crashed"], 0);
   EXPECT_EQ(m["netns"]["profile"], "netns");
