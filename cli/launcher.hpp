@@ -146,8 +146,8 @@ class Launcher {
   std::map<std::size_t, std::vector<std::string>> fault_names_;  // event -> processes it acted on
   std::map<std::size_t, std::vector<pid_t>> fault_pids_;
   std::map<std::size_t, std::pair<uint64_t, uint64_t>> fault_packets_;  // partition, loss: frames seen, dropped
-  uint32_t fault_failures_ = 0;                 // events that could not be injected
-  std::optional<uint32_t> last_fault_tick_;     // lockstep: the tick of the last `faults K`
+  uint32_t fault_failures_ = 0;                                         // events that could not be injected
+  std::optional<uint32_t> last_fault_tick_;                             // lockstep: the tick of the last `faults K`
   std::vector<std::string> gone_since_answer_;  // lockstep: processes ended since the last answer
   std::unique_ptr<NetnsSwarm> netns_;
   std::optional<double> netns_setup_s_;    // [s] to make the namespaces

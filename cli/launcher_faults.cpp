@@ -223,8 +223,8 @@ void Launcher::execute_fault(std::size_t i, std::optional<uint32_t> tick) {
                                                           : netns_->drop_share(static_cast<int>(i), e.loss, names);
       std::vector<std::string> pid_list;
       for (const pid_t p : pids) pid_list.push_back(std::to_string(p));
-      const std::string who = names.empty() ? std::string("every process")
-                                            : join(names, ",") + " (pid " + join(pid_list, ",") + ")";
+      const std::string who =
+          names.empty() ? std::string("every process") : join(names, ",") + " (pid " + join(pid_list, ",") + ")";
       if (err) {
         failed(*err);
       } else if (e.action == FaultAction::Partition) {
@@ -268,8 +268,8 @@ void Launcher::end_fault(std::size_t i, bool run_over) {
         std::string what;
         if (counts.dropped) what = fmt::format("; {} packets dropped", *counts.dropped);
         if (counts.dropped && counts.seen && *counts.seen > 0) {
-          what += fmt::format(" of {} ({:.1f} %)", *counts.seen, 100.0 * static_cast<double>(*counts.dropped) /
-                                                                     static_cast<double>(*counts.seen));
+          what += fmt::format(" of {} ({:.1f} %)", *counts.seen,
+                              100.0 * static_cast<double>(*counts.dropped) / static_cast<double>(*counts.seen));
         }
         spdlog::warn("fault: '{}' lifted at {:.2f} s{}{}", e.text, now, what, run_over ? " (the run is ending)" : "");
       }
