@@ -296,7 +296,7 @@ void Launcher::record_exit(pid_t pid, int status, const rusage& ru) {
 void Launcher::kill_and_reap(ChildProcess& c) {
   c.killed_on_purpose = true;
   kill(c.pid, SIGKILL);
-  const pid_t pid = c.pid;  // record_exit may not keep `c` valid for us: copy first
+  const pid_t pid = c.pid;
   int status = 0;
   rusage ru{};
   pid_t r = -1;
