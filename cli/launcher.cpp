@@ -1,6 +1,7 @@
 #include "launcher.hpp"
 
 #include <fcntl.h>
+#include <sched.h>
 #include <spdlog/spdlog.h>
 #include <sys/prctl.h>
 #include <sys/resource.h>
@@ -78,12 +79,26 @@ std::string executable_dir() {
   return ec ? std::string(".") : self.parent_path().string();
 }
 
-void Launcher::spawn(const std::string& role, uint32_t index, const std::vector<std::string>& extra_args, uint32_t replica) {
+std::string process_name(const std::string& role, uint32_t index, uint32_t replica) {
+  if (role == "ground") return role;
+  std::string n = role + "-" + std::to_string(index);
+  if (replica > 0) n += ".r" + std::to_string(replica);
+  return n;
+}
+
+Launcher::Launcher(RunOptions o) : o_(std::move(o)) {}
+
+// Out of line: the namespaces go (NetnsSwarm's destructor) whenever the
+// launcher does, also when run() ends by an exception.
+Launcher::~Launcher() = default;
+
+void Launcher::spawn(const std::string& role, uint32_t index, const std::vector<std::string>& extra_args,
+                     uint32_t replica) {
   ChildProcess c;
   c.role = role;
   c.index = index;
-  c.name = role == "ground" ? "ground" : role + "-" + std::to_string(index);
-  if (replica > 0) c.name += ".r" + std::to_string(replica);
+  c.replica = replica;
+  c.name = process_name(role, index, replica);
   c.dds = plan_.vendor_of(role, index);
   const std::string exe = bin_dir_ + "/pheromesh-" + (role == "uav" ? "uav" : role == "place" ? "place" : "ground");
   std::vector<std::string> args{exe,
@@ -109,12 +124,19 @@ void Launcher::spawn(const std::string& role, uint32_t index, const std::vector<
   // 250 domain + 2 id) instead of searching for free ones, which stops at
   // about 120 processes per host (docs/dds.md). Ground 0, place agents from
   // 1, UAVs after them; a restarted UAV gets its old id (its ports are free).
-  // Standby place agents after the UAVs.
-  const uint32_t participant = role == "ground"  ? 0
-                               : replica > 0     ? 1 + regions_ + uavs_ + (replica - 1) * regions_ + index
-                               : role == "place" ? 1 + index
+  // Standby replicas come after the UAVs.
+  const uint32_t participant = role == "ground"                  ? 0
+                               : role == "place" && replica == 0 ? 1 + index
+                               : role == "place" ? 1 + regions_ + uavs_ + (replica - 1) * regions_ + index
                                                  : 1 + regions_ + index;
   std::string participant_env = "PHEROMESH_PARTICIPANT_ID=" + std::to_string(participant);
+  // Network faults: the process runs in its own network namespace.
+  int netns_fd = -1;
+  if (netns_) {
+    if (auto err = netns_->add(c.name))
+      throw std::runtime_error("cannot give " + c.name + " a network namespace: " + *err);
+    netns_fd = netns_->fd_of(c.name);
+  }
   const pid_t parent = getpid();
   pid_t pid = fork();
   // EAGAIN: the process or thread limit is reached for now (a big swarm's
@@ -131,6 +153,10 @@ void Launcher::spawn(const std::string& role, uint32_t index, const std::vector<
     prctl(PR_SET_PDEATHSIG, SIGTERM);
     putenv(participant_env.data());  // single-threaded launcher: safe after fork
     if (getppid() != parent) _exit(127);
+    if (netns_fd >= 0 && setns(netns_fd, CLONE_NEWNET) != 0) {
+      dprintf(STDERR_FILENO, "cannot enter the network namespace of %s: %s\n", c.name.c_str(), std::strerror(errno));
+      _exit(126);
+    }
     if (role == "ground" && child_ctl_fd_ >= 0) {
       // The console's control socket, as fd 3 (dup2 clears close-on-exec).
       if (child_ctl_fd_ == 3) {
@@ -157,10 +183,15 @@ void Launcher::spawn(const std::string& role, uint32_t index, const std::vector<
   children_.push_back(std::move(c));
 }
 
+void Launcher::spawn_place(uint32_t region, uint32_t replica) {
+  spawn("place", region, {"--region", std::to_string(region)}, replica);
+  top_replica_[region] = std::max(top_replica_[region], replica);
+}
+
 bool Launcher::spawn_swarm(uint32_t regions, uint32_t uavs, uint32_t ticks) {
-  for (uint32_t r = 0; r < regions; ++r) spawn("place", r, {"--region", std::to_string(r)});
+  for (uint32_t r = 0; r < regions; ++r) spawn_place(r, 0);
   if (standby_) {
-    for (uint32_t r = 0; r < regions; ++r) spawn("place", r, {"--region", std::to_string(r)}, 1);
+    for (uint32_t r = 0; r < regions; ++r) spawn_place(r, 1);
   }
   const bool stagger = 1 + std::size_t{regions} + uavs > kStaggerAbove && o_.start_rate > 0;
   // Batches of a tenth of a second's worth of UAVs.
@@ -244,23 +275,41 @@ void Launcher::reap() {
     rusage ru{};
     const pid_t r = wait4(-1, &status, WNOHANG, &ru);
     if (r <= 0) break;  // 0: none has ended; -1 (ECHILD): no children left
-    const auto it = unreaped_.find(r);
-    if (it == unreaped_.end()) continue;
-    ChildProcess& c = children_[it->second];
-    unreaped_.erase(it);
-    c.running = false;
-    c.reaped = true;
-    c.cpu_user_s = seconds(ru.ru_utime);
-    c.cpu_sys_s = seconds(ru.ru_stime);
-    c.max_rss_mib = static_cast<double>(ru.ru_maxrss) / 1024.0;  // ru_maxrss is in KiB on Linux
-    if (WIFEXITED(status)) c.exit_code = WEXITSTATUS(status);
-    if (WIFSIGNALED(status)) c.term_signal = WTERMSIG(status);
-    if (c.crashed()) {
-      spdlog::error("{} (pid {}) {} — see {}/logs/{}.log", c.name, c.pid, c.describe(), o_.out_dir, c.name);
-    } else if (c.killed_on_purpose) {
-      spdlog::info("{} (pid {}) {}", c.name, c.pid, c.describe());
-    }
+    record_exit(r, status, ru);
   }
+}
+
+void Launcher::record_exit(pid_t pid, int status, const rusage& ru) {
+  const auto it = unreaped_.find(pid);
+  if (it == unreaped_.end()) return;
+  ChildProcess& c = children_[it->second];
+  unreaped_.erase(it);
+  c.running = false;
+  c.stopped = false;
+  c.reaped = true;
+  c.cpu_user_s = seconds(ru.ru_utime);
+  c.cpu_sys_s = seconds(ru.ru_stime);
+  c.max_rss_mib = static_cast<double>(ru.ru_maxrss) / 1024.0;  // ru_maxrss is in KiB on Linux
+  if (WIFEXITED(status)) c.exit_code = WEXITSTATUS(status);
+  if (WIFSIGNALED(status)) c.term_signal = WTERMSIG(status);
+  if (faults_ && faults_->schedule().in_ticks()) gone_since_answer_.push_back(c.name);
+  if (c.crashed()) {
+    spdlog::error("{} (pid {}) {} — see {}/logs/{}.log", c.name, c.pid, c.describe(), o_.out_dir, c.name);
+  } else if (c.killed_on_purpose) {
+    spdlog::info("{} (pid {}) {}", c.name, c.pid, c.describe());
+  }
+}
+
+void Launcher::kill_and_reap(ChildProcess& c) {
+  c.killed_on_purpose = true;
+  kill(c.pid, SIGKILL);
+  const pid_t pid = c.pid;
+  int status = 0;
+  rusage ru{};
+  pid_t r = -1;
+  while ((r = wait4(pid, &status, 0, &ru)) < 0 && errno == EINTR) {
+  }
+  if (r == pid) record_exit(pid, status, ru);
 }
 
 void Launcher::sample_resources() {
@@ -350,6 +399,13 @@ std::string Launcher::handle_control(const std::string& line) {
     paused_since_.reset();
     return "ok resumed";
   }
+  if (line.rfind("faults ", 0) == 0) {
+    const std::string k = line.substr(7);
+    if (k.empty() || k.size() > 9 || k.find_first_not_of("0123456789") != std::string::npos) {
+      return "error bad tick in '" + line + "'";
+    }
+    return answer_faults(static_cast<uint32_t>(std::stoul(k)));
+  }
   char verb[16] = {}, role[16] = {};
   unsigned index = 0;
   if (std::sscanf(line.c_str(), "%15s %15s %u", verb, role, &index) != 3) return "error unknown request '" + line + "'";
@@ -366,20 +422,43 @@ std::string Launcher::handle_control(const std::string& line) {
     return "ok SIGKILL sent to " + name + " (pid " + std::to_string(c->pid) + ")";
   }
   if (v == "restart" && r == "uav") {
-    if (c->running) return "error " + name + " is running; kill it first";
-    const auto flown = std::chrono::duration<double>(now - t0_ - paused_total_).count();
-    const auto remaining = static_cast<int64_t>(ticks_) - static_cast<int64_t>(flown * rate_);
-    if (remaining < 1) return "error the run is over for " + name;
+    auto pid = respawn(name);
+    if (!pid) return "error " + pid.error().message;
+    spdlog::warn("console: restarted {} (pid {})", name, pid.value());
+    return "ok restarted " + name + " (pid " + std::to_string(pid.value()) + ")";
+  }
+  return "error cannot " + v + " a " + r;
+}
+
+core::Result<pid_t> Launcher::respawn(const std::string& name) {
+  const ChildProcess* c = find(name);
+  if (c == nullptr) return core::Error{"there is no " + name};
+  if (c->running) return core::Error{name + " is running; kill it first"};
+  const std::string role = c->role;
+  const uint32_t index = c->index, replica = c->replica;
+  if (role == "uav") {
+    // A lockstep run knows its tick from the conductor's last `faults K`;
+    // a realtime one counts the ticks flown by the wall clock.
+    int64_t remaining = 0;
+    if (o_.clock == "lockstep" && last_fault_tick_) {
+      remaining = static_cast<int64_t>(ticks_) - static_cast<int64_t>(*last_fault_tick_);
+    } else {
+      const auto flown = std::chrono::duration<double>(Clock::now() - t0_ - paused_total_).count();
+      remaining = static_cast<int64_t>(ticks_) - static_cast<int64_t>(flown * rate_);
+    }
+    if (remaining < 1) return core::Error{"the run is over for " + name};
     const uint32_t life = ++lives_[index];
     // Deposits of each life are numbered above the earlier lives' (place
     // agents drop sequence numbers they have seen).
     spawn("uav", index, {"--id", std::to_string(index), "--ticks", std::to_string(remaining), "--seq-base",
                          std::to_string(life << 24U)});
-    ChildProcess* fresh = find(name);
-    spdlog::warn("console: restarted {} (pid {}) for its remaining {} ticks", name, fresh->pid, remaining);
-    return "ok restarted " + name + " (pid " + std::to_string(fresh->pid) + ") for " + std::to_string(remaining) + " ticks";
+    spdlog::info("{} started again for its remaining {} ticks", name, remaining);
+  } else if (role == "place") {
+    spawn_place(index, replica);
+  } else {
+    return core::Error{"cannot restart the " + name};
   }
-  return "error cannot " + v + " a " + r;
+  return find(name)->pid;
 }
 
 void Launcher::stop_role(const std::string& role, std::chrono::seconds grace) {
@@ -428,28 +507,16 @@ int Launcher::run() {
     return 2;
   }
   plan_ = std::move(plan).value();
-  std::vector<KillEvent> kills;
-  if (!o_.kill_spec.empty()) {
-    auto k = parse_kill_spec(o_.kill_spec);
-    if (!k) {
-      spdlog::error("{}", k.error().message);
-      return 2;
-    }
-    kills = std::move(k).value();
-    for (const auto& e : kills) {
-      const uint32_t n = e.role == "uav" ? uavs : regions;
-      if (e.index >= n) {
-        spdlog::error("--kill: {} does not exist (this run has {} {}s)", e.process_name(), n, e.role);
-        return 2;
-      }
-    }
-  }
   bin_dir_ = executable_dir();
   for (const char* exe : {"pheromesh-uav", "pheromesh-place", "pheromesh-ground"}) {
     if (access((bin_dir_ + "/" + exe).c_str(), X_OK) != 0) {
       spdlog::error("cannot find {} next to pheromesh in {}", exe, bin_dir_);
       return 3;
     }
+  }
+  if (auto err = prepare_faults(s, uavs, regions)) {
+    spdlog::error("{}", *err);
+    return 2;
   }
   fs::create_directories(fs::path(o_.out_dir) / "logs");
   fs::remove(fs::path(o_.out_dir) / "metrics.json");
@@ -466,6 +533,12 @@ int Launcher::run() {
   runtime::install_shutdown_handlers();
   ticks_ = ticks;
   rate_ = rate;
+  uavs_ = uavs;
+  if (auto err = prepare_netns(uavs, regions)) {
+    spdlog::error("{}", *err);
+    return 2;
+  }
+  const bool lockstep_faults = faults_ && o_.clock == "lockstep";
   // Every process of this swarm shares a fresh control key: only this
   // ground station can sign commands they act on (docs/console.md).
   setenv(auth::kControlKeyEnv, auth::random_control_key_hex().c_str(), 1);
@@ -474,22 +547,33 @@ int Launcher::run() {
   std::string token;
   // The launch instant: wall_s and the ground station's discovery_s count from
   // here (children inherit PHEROMESH_RUN_T0_MS).
-  udp_start_ = read_udp_counters();
+  // With network faults every process counts its own datagrams in its own
+  // namespace: exactly this swarm's.
+  udp_start_ = netns_ ? netns_->udp_counters() : read_udp_counters();
   spawn_t0_ = Clock::now();
   run_t0_unix_ms_ = unix_ms_now();
   setenv("PHEROMESH_RUN_T0_MS", std::to_string(run_t0_unix_ms_).c_str(), 1);
-  if (o_.http_port) {
+  // The ground station's line to us: the console's kill / restart requests,
+  // and the lockstep conductor's `faults K`.
+  if (o_.http_port || lockstep_faults) {
     int sv[2];
     if (socketpair(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0, sv) != 0) {
       throw std::runtime_error(std::string("socketpair: ") + std::strerror(errno));
     }
     ctl_fd_ = sv[0];
     child_ctl_fd_ = sv[1];
+    ground_args.insert(ground_args.end(), {"--launcher-fd", "3"});
+  }
+  if (lockstep_faults) {
+    std::string list;
+    for (const uint32_t k : faults_->fault_ticks()) list += (list.empty() ? "" : ",") + std::to_string(k);
+    ground_args.insert(ground_args.end(), {"--fault-ticks", list});
+  }
+  if (o_.http_port) {
     token = console::random_token();
     setenv("PHEROMESH_CONSOLE_TOKEN", token.c_str(), 1);
     const std::string record = o_.no_record ? "" : !o_.record.empty() ? o_.record : (fs::path(o_.out_dir) / "console.phrec").string();
-    ground_args.insert(ground_args.end(), {"--http", std::to_string(*o_.http_port), "--http-bind", o_.http_bind,
-                                           "--launcher-fd", "3"});
+    ground_args.insert(ground_args.end(), {"--http", std::to_string(*o_.http_port), "--http-bind", o_.http_bind});
     if (!record.empty()) ground_args.insert(ground_args.end(), {"--record", record});
   }
   if (o_.discovery_server && !start_discovery_server()) return 3;
@@ -521,7 +605,6 @@ int Launcher::run() {
   // comes earlier.
   const auto sample_at = t0 + std::chrono::milliseconds(static_cast<int64_t>(600.0 * ticks / rate));
   bool sampled = false;
-  std::size_t next_kill = 0;
   bool interrupted = false;
   while (any_running("uav")) {
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
@@ -540,32 +623,34 @@ int Launcher::run() {
       sample_resources();
       sampled = true;
     }
-    while (next_kill < kills.size() && now - t0 >= kills[next_kill].at) {
-      const KillEvent& e = kills[next_kill++];
-      ChildProcess* c = find(e.process_name());
-      if (c != nullptr && c->running) {
-        spdlog::warn("fault injection: SIGKILL to {} (pid {}) at {} ms", c->name, c->pid, e.at.count());
-        c->killed_on_purpose = true;
-        kill(c->pid, SIGKILL);
-      } else {
-        spdlog::warn("fault injection: {} is not running at {} ms; nothing to kill", e.process_name(), e.at.count());
-      }
+    // Realtime faults by the wall clock since the swarm was started
+    // (lockstep ones come with the conductor's `faults K`, in
+    // serve_control); the ends of lasting ones in both clocks.
+    if (faults_ && !faults_->schedule().in_ticks() && !interrupted) {
+      for (const auto i : faults_->take_due_at(fault_clock_s())) execute_fault(i, std::nullopt);
     }
+    end_due_faults();
     if (runtime::shutdown_requested() && !interrupted) {
       spdlog::warn("interrupted: stopping the swarm");
       interrupted = true;
+      end_open_faults();  // a stopped process would not hear SIGTERM
       stop_role("uav", std::chrono::seconds(10));
     }
     if (now > uav_deadline + paused_now) {
       spdlog::error("uavs still flying long after the expected end; stopping them");
+      end_open_faults();
       stop_role("uav", std::chrono::seconds(10));
     }
   }
+  // Stopped processes continue, cut-off ones are reconnected, restarts due
+  // later do not happen: the place agents and the ground station must be
+  // able to hear SIGTERM and finish.
+  end_open_faults();
   spdlog::info("all uavs ended; stopping place agents");
   stop_role("place", std::chrono::seconds(15));
   stop_role("ground", std::chrono::seconds(15));
   wall_s_ = std::chrono::duration<double>(Clock::now() - spawn_t0_).count();
-  udp_end_ = read_udp_counters();
+  udp_end_ = netns_ ? netns_->udp_counters() : read_udp_counters();
   if (!sampled && !interrupted) {
     spdlog::warn("the uavs ended before the resource sample ({} s in): no pss/rss/threads in metrics.json",
                  0.6 * ticks / rate);
@@ -574,6 +659,10 @@ int Launcher::run() {
   finish_metrics(exit_code);
   stop_discovery_server();
   clean_fastdds_shm();
+  if (netns_) {
+    netns_->teardown();
+    spdlog::info("network namespaces {}-* removed", netns_->prefix());
+  }
   return interrupted ? 130 : exit_code;
 }
 
@@ -581,7 +670,7 @@ void Launcher::clean_fastdds_shm() const {
   // Our one-host Fast DDS profiles are UDP-only and leave nothing behind. With
   // any other profile Fast DDS may use shared memory, whose files a killed
   // process leaves in /dev/shm: remove those of dead processes.
-  if (o_.dds_profile == "onehost" || o_.dds_profile == "onehost-unicast") return;
+  if (o_.dds_profile == "onehost" || o_.dds_profile == "onehost-unicast" || o_.dds_profile == "netns") return;
   const bool fastdds = std::any_of(children_.begin(), children_.end(), [](const auto& c) { return c.dds == "fastdds"; });
   const bool died = std::any_of(children_.begin(), children_.end(),
                                 [](const auto& c) { return c.term_signal != 0 || c.crashed(); });
@@ -670,6 +759,11 @@ void Launcher::finish_metrics(int& exit_code) {
     spdlog::error("the ground station left no {}", path.string());
     exit_code = 1;
     m = nlohmann::json::object();
+  }
+  add_fault_metrics(m);
+  if (fault_failures_ > 0) {
+    spdlog::error("{} fault events could not be injected (metrics.json \"faults\")", fault_failures_);
+    exit_code = 1;
   }
   m["processes_killed"] = killed;
   m["processes_crashed"] = crashed;

@@ -16,6 +16,41 @@
 
 namespace {
 
+constexpr const char* kRunFooter = R"(FAULTS (--faults, and `fault:` lines in the scenario; docs/faults.md)
+  One event per item, items separated by ';':
+    kill      TARGETS @TIME                     SIGKILL
+    stop      TARGETS @TIME for DURATION        SIGSTOP, then SIGCONT after DURATION
+    restart   TARGETS @TIME [for DOWN]          SIGKILL, then start it again after DOWN (default 0 s)
+    standby   place:R @TIME                     start one more place agent for region R (--replica N)
+    partition TARGETS @TIME for DURATION        cut TARGETS off from every other process
+    loss      P% [TARGETS] @TIME for DURATION   drop P % of the packets TARGETS receive (default: all)
+  TARGETS  uav:3  uav:0-4  place:1  place:0-3  ground   comma-separated; place:R is the live
+           replica of region R with the lowest replica number
+  TIME     5s, 2500ms after the swarm was started (realtime runs), or 40t: before tick 40
+           (--clock lockstep); DURATION is always wall time (s, ms)
+  partition and loss run every process in its own network namespace on a private
+  bridge (root needed; --netns-subnet), with the DDS profile `netns`.
+
+Examples:
+  pheromesh run scenarios/small-test.textproto --duration 20 --faults "kill uav:3 @5s"
+  pheromesh run scenarios/small-test.textproto --duration 20 \
+      --faults "stop place:1 @4s for 3s; restart uav:2 @6s for 1s"
+  sudo pheromesh run scenarios/small-test.textproto --duration 20 \
+      --faults "partition uav:0-1 @4s for 3s; loss 20% @8s for 5s"
+  pheromesh run scenarios/small-test.textproto --clock lockstep --ticks 200 --faults "kill uav:1 @40t"
+)";
+
+// Prints a scenario's fault lines under `pheromesh validate`.
+void print_faults(const pheromesh::core::FaultSchedule& f) {
+  if (f.empty()) {
+    std::printf("  faults      none\n");
+    return;
+  }
+  std::printf("  faults      %zu events, timed in %s\n", f.events.size(),
+              f.in_ticks() ? "ticks (lockstep runs)" : "seconds (realtime runs)");
+  for (const auto& e : f.events) std::printf("              %s\n", e.text.c_str());
+}
+
 int validate(const std::string& path) {
   auto s = pheromesh::core::load_scenario(path);
   if (!s) {
@@ -29,6 +64,7 @@ int validate(const std::string& path) {
               path.c_str(), s->name.c_str(), s->width, s->height, geo.tiles_x(), geo.tiles_y(), s->tile_size,
               geo.region_count(), s->regions_x, s->regions_y, s->obstacles.size(), s->targets.size(), s->uavs, s->ticks,
               s->tick_rate_hz, static_cast<unsigned long long>(s->seed), s->aco.revisit_period);
+  print_faults(s->faults);
   return 0;
 }
 
@@ -36,15 +72,17 @@ int validate(const std::string& path) {
 
 int main(int argc, char** argv) {
   using namespace pheromesh;
-  CLI::App app{"pheromesh: a UAV swarm coordinating through digital pheromones over DDS.\n\n"
-               "Examples:\n"
-               "  pheromesh validate scenarios/shao2020-50x50.textproto\n"
-               "  pheromesh run scenarios/shao2020-50x50.textproto --ticks 600 --out out/demo\n"
-               "  pheromesh run scenarios/small-test.textproto --uavs 6 --duration 20 --kill \"uav:1@5s,uav:4@8s\"\n"
-               "  pheromesh sim scenarios/shao2020-100x100.textproto --seed 7 --out out/sim\n"
-               "  pheromesh run scenarios/small-test.textproto --clock lockstep --ticks 100   # same numbers as sim\n"
-               "  pheromesh bench scale scenarios/scale-100x100.textproto --max 400            # cost per swarm size\n",
-               "pheromesh"};
+  CLI::App app{
+      "pheromesh: a UAV swarm coordinating through digital pheromones over DDS.\n\n"
+      "Examples:\n"
+      "  pheromesh validate scenarios/shao2020-50x50.textproto\n"
+      "  pheromesh run scenarios/shao2020-50x50.textproto --ticks 600 --out out/demo\n"
+      "  pheromesh run scenarios/small-test.textproto --uavs 6 --duration 20 --faults \"kill uav:1 @5s; stop uav:4 @8s "
+      "for 3s\"\n"
+      "  pheromesh sim scenarios/shao2020-100x100.textproto --seed 7 --out out/sim\n"
+      "  pheromesh run scenarios/small-test.textproto --clock lockstep --ticks 100   # same numbers as sim\n"
+      "  pheromesh bench scale scenarios/scale-100x100.textproto --max 400            # cost per swarm size\n",
+      "pheromesh"};
   app.require_subcommand(1);
   std::string log_level = "info";
   app.add_option("--log-level", log_level, "Launcher log level")->capture_default_str();
@@ -65,8 +103,17 @@ int main(int argc, char** argv) {
   r->add_option("--seed", ro.seed, "Run seed (default: the scenario's run.seed)");
   r->add_option("--rate", ro.rate_hz, "Tick rate of every process [Hz] (default: the scenario's run.tick_rate_hz)");
   r->add_option("--out", ro.out_dir, "Output folder (metrics.json, logs/)")->capture_default_str();
+  r->add_option("--faults", ro.faults_spec,
+                "Faults to inject, ';'-separated (added to the scenario's `fault:` lines), e.g. \"kill uav:3 @5s; "
+                "stop place:1 @10s for 5s\". See FAULTS below and docs/faults.md");
   r->add_option("--kill", ro.kill_spec,
-                "Fault injection: SIGKILL processes at times after the start, e.g. \"uav:3@5s,place:1@2500ms\"");
+                "Older form of --faults for kills only: \"uav:3@5s,place:1@2500ms\" = \"kill uav:3 @5s; kill place:1 "
+                "@2500ms\"");
+  r->add_option("--netns-subnet", ro.netns_subnet,
+                "Network faults (partition, loss): the IPv4 subnet of the processes' addresses in their namespaces "
+                "(private to this run: nothing of it reaches the host's network)")
+      ->capture_default_str();
+  r->footer(kRunFooter);
   r->add_option("--dds", ro.dds,
                 "DDS vendor of the processes: cyclone, fastdds, or mixed (ground on cyclone; place agents "
                 "cyclone/fastdds alternating by index, UAVs fastdds/cyclone), or per role, e.g. "

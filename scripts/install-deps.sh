@@ -12,6 +12,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   libcpp-httplib-dev libssl-dev zlib1g-dev libbrotli-dev  # web console server (gzip/brotli), command HMAC
   chromium prometheus curl                 # web console end-to-end test (headless browser, promtool)
+  iproute2 nftables util-linux             # network faults: namespaces, veth, bridge (ip), partition/loss (nft); setpriv in a test
 )
 # The web front-end is built with npm at build time: Debian's nodejs + npm
 # (18) build it; the browser test's playwright-core needs Node.js >= 20, which

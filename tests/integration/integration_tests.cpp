@@ -1,7 +1,8 @@
 // Integration tests: real pheromesh processes talking DDS on loopback.
 // Each test uses its own DDS domain so tests can run in parallel. Domains
 // 21-30 are used here; each test_policy_<name>.cpp takes its own:
-// shao_navigation 31, liu 32, shostak 33, ravankar 34, duan 35.
+// shao_navigation 31, liu 32, shostak 33, ravankar 34, duan 35; vendors
+// 36-37; faults 45-49.
 #include "harness.hpp"
 
 #include <set>

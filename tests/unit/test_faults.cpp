@@ -59,6 +59,7 @@ TEST(FaultSchedule, ErrorsNameTheSourceTheItemAndWhatIsWrong) {
   const std::vector<std::pair<std::string, std::string>> cases = {
       {"explode uav:1 @5s", "unknown action 'explode'"},
       {"kill uav:1", "no time"},
+      {"stop uav:1 for 3s", "no time"},
       {"kill uav:1 @5", "needs a unit"},
       {"stop uav:1 @5s", "stop needs 'for DURATION'"},
       {"stop uav:1 @5s for 3t", "wall time"},

@@ -176,6 +176,47 @@ TEST(ScenarioErrors, ExplicitZeroIsNotTakenForAbsent) {
   expect_error_at(r, "t.textproto", 2, "shao.layers.q");
 }
 
+TEST(ScenarioErrors, AMalformedFaultLineNamesFileLineFieldAndTheEvent) {
+  const auto r = load_fixture("bad-fault.textproto");
+  expect_error_at(r, "bad-fault.textproto", 8, "fault[1]");
+  expect_error_at(r, "bad-fault.textproto", 10, "fault[3]");
+  const std::string& msg = r.error().message;
+  EXPECT_NE(msg.find("bad-fault.textproto:8:1: field 'fault[1]': 'stop uav:2 for 3s': no time (@TIME)"),
+            std::string::npos)
+      << msg;
+  EXPECT_NE(msg.find("'kill place:3 @4s': place-3 does not exist (the map has 1 region: place:0)"), std::string::npos)
+      << msg;
+  // The good lines are not reported.
+  EXPECT_EQ(msg.find("fault[0]"), std::string::npos) << msg;
+  EXPECT_EQ(msg.find("fault[2]"), std::string::npos) << msg;
+}
+
+TEST(ScenarioErrors, FaultLinesMustShareOneClock) {
+  const auto r = parse_scenario("map { width: 10 height: 10 }\nfault: \"kill uav:0 @5t\"\nfault: \"kill uav:1 @2s\"\n",
+                                "t.textproto");
+  expect_error_at(r, "t.textproto", 3, "fault[1]");
+  EXPECT_NE(r.error().message.find("mixes tick times"), std::string::npos) << r.error().message;
+}
+
+TEST(ScenarioFaults, FaultLinesBecomeOneScheduleSortedByTime) {
+  const auto r = parse_scenario(
+      "map { width: 20 height: 20 tile_size: 5 regions_x: 2 }\n"
+      "fault: \"stop place:1 @10s for 5s\"\n"
+      "fault: \"kill uav:3 @5s; loss 30% @2s for 20s\"\n",
+      "t.textproto");
+  ASSERT_TRUE(r.ok()) << r.error().message;
+  ASSERT_EQ(r->faults.events.size(), 3U);
+  EXPECT_EQ(r->faults.events[0].action, FaultAction::Loss);
+  EXPECT_EQ(r->faults.events[1].action, FaultAction::Kill);
+  EXPECT_EQ(r->faults.events[2].action, FaultAction::Stop);
+  EXPECT_EQ(r->faults.events[2].targets.front().process_name(), "place-1");
+  EXPECT_TRUE(r->faults.has_network());
+  // No fault lines: an empty schedule.
+  const auto none = parse_scenario("map { width: 20 height: 20 }\n", "t.textproto");
+  ASSERT_TRUE(none.ok());
+  EXPECT_TRUE(none->faults.empty());
+}
+
 // --- defaults ----------------------------------------------------------------
 
 TEST(ScenarioDefaults, AbsentFieldsTakeDefaultsFromHeaders) {

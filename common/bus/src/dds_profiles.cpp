@@ -65,6 +65,7 @@ std::string cyclone_config(const std::string& profile) {
   }
   if (profile == "onehost") return detail::kCycloneOneHostXml;
   if (profile == "onehost-unicast") return detail::kCycloneOneHostUnicastXml;
+  if (profile == "netns") return detail::kCycloneNetnsXml;
   std::string text;
   pick_file(profile, "Cyclone DDS", "<CycloneDDS>", is_cyclone_xml, text);
   return text;
@@ -75,6 +76,7 @@ FastDdsProfile fastdds_profile(const std::string& profile) {
   if (profile == "default" || profile.empty()) return p;
   if (profile == "onehost") return {detail::kFastDdsOneHostXml, "pheromesh-onehost", ""};
   if (profile == "onehost-unicast") return {detail::kFastDdsOneHostUnicastXml, "pheromesh-onehost-unicast", ""};
+  if (profile == "netns") return {detail::kFastDdsNetnsXml, "pheromesh-netns", ""};
   std::string text;
   p.file = pick_file(profile, "Fast DDS", "<dds> or <profiles>",
                      [](const std::string& t) { return is_fastdds_xml(t) && !is_cyclone_xml(t); }, text);

@@ -1,5 +1,7 @@
 // The DDS profiles a process can name with --dds-profile, per vendor:
 //   "onehost", "onehost-unicast"  built in (deploy/dds/<vendor>-<name>.xml)
+//   "netns"                       built in: one network namespace per process
+//                                 on a bridge (pheromesh run's network faults)
 //   "default"                     the vendor's own defaults
 //   FILE[,FILE...]                configuration files; each vendor uses the one
 //                                 written for it (by its root element), so one

@@ -139,12 +139,12 @@ Result<FaultEvent> parse_event(const std::string& item) {
     e.loss = v / 100.0;
     ++i;
   }
-  // Targets: every word up to the '@' word.
+  // Targets: every word up to the '@' word (or a 'for' that came too early).
   std::string targets;
-  while (i < w.size() && !w[i].starts_with("@")) targets += w[i++] + ",";
+  while (i < w.size() && !w[i].starts_with("@") && w[i] != "for") targets += w[i++] + ",";
   if (auto err = parse_targets(targets, e.targets)) return bad(*err);
   if (e.targets.empty() && e.action != FaultAction::Loss) return bad("no targets");
-  if (i >= w.size()) return bad("no time (@TIME)");
+  if (i >= w.size() || !w[i].starts_with("@")) return bad("no time (@TIME)");
   std::string at = w[i++].substr(1);
   if (at.empty() && i < w.size()) at = w[i++];  // "@ 5s"
   if (auto err = parse_time(at, e.at_s, e.at_tick)) return bad(*err);

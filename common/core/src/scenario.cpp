@@ -147,6 +147,53 @@ void build_policy(const pb::Scenario& msg, const Node& root, Validator& v, Scena
   }
 }
 
+// scenario.fault: one fault schedule line each (faults.hpp), one clock for
+// all. UAV indices are checked by `pheromesh run`, which may change the
+// swarm's size; regions are the map's.
+void build_faults(const pb::Scenario& msg, const Node& root, Validator& v, ScenarioConfig& cfg) {
+  // parse_fault_schedule prefixes its errors with their source; the
+  // validator's prefix (file, line, field) replaces it.
+  constexpr std::string_view kSource = "fault";
+  const std::string source_prefix = std::string(kSource) + ": ";
+  std::optional<bool> in_ticks;
+  const uint32_t regions = static_cast<uint32_t>(std::max(cfg.regions_x, 1) * std::max(cfg.regions_y, 1));
+  for (int i = 0; i < msg.fault_size(); ++i) {
+    auto s = parse_fault_schedule(msg.fault(i), std::string(kSource));
+    if (!s) {
+      std::string what = s.error().message;
+      if (what.rfind(source_prefix, 0) == 0) what.erase(0, source_prefix.size());
+      v.fail(root, "fault", what, i);
+      continue;
+    }
+    bool ok = true;
+    for (const auto& e : s->events) {
+      if (in_ticks && *in_ticks != e.at_tick.has_value()) {
+        v.fail(root, "fault",
+               "'" + e.text +
+                   "': mixes tick times (t) with wall times (s, ms) of the lines above; "
+                   "use one clock",
+               i);
+        ok = false;
+        break;
+      }
+      in_ticks = e.at_tick.has_value();
+      for (const auto& t : e.targets) {
+        if (t.role == "place" && t.index >= regions) {
+          const std::string have = regions == 1
+                                       ? "1 region: place:0"
+                                       : std::to_string(regions) + " regions: place:0-" + std::to_string(regions - 1);
+          v.fail(root, "fault", "'" + e.text + "': " + t.process_name() + " does not exist (the map has " + have + ")",
+                 i);
+          ok = false;
+          break;
+        }
+      }
+      if (!ok) break;
+    }
+    if (ok) merge_fault_schedules(cfg.faults, s.value());
+  }
+}
+
 ScenarioConfig build(const pb::Scenario& msg, const TextFormat::ParseInfoTree& tree, const std::string& display_name,
                      Validator& v) {
   ScenarioConfig cfg;
@@ -320,6 +367,7 @@ ScenarioConfig build(const pb::Scenario& msg, const TextFormat::ParseInfoTree& t
     ap.revisit_period = static_cast<uint32_t>(a.revisit_period());
   }
   build_policy(msg, root, v, cfg);
+  build_faults(msg, root, v, cfg);
   return cfg;
 }
 

@@ -32,7 +32,8 @@ void add_common_options(CLI::App& app, CommonOptions& o) {
       ->capture_default_str();
   app.add_option("--dds-profile", o.dds_profile,
                  "DDS profile: onehost (loopback, multicast discovery, >=100 processes), onehost-unicast (loopback, "
-                 "unicast discovery, <=120 processes), default (vendor defaults) or vendor config files, comma-separated "
+                 "unicast discovery, <=120 processes), netns (one network namespace per process on a bridge, set up by "
+                 "pheromesh run for network faults), default (vendor defaults) or vendor config files, comma-separated "
                  "(this process uses the one for its vendor) "
                  "[env PHEROMESH_DDS_PROFILE]")
       ->capture_default_str();

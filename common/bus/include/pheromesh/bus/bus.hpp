@@ -38,6 +38,8 @@ struct BusOptions {
   uint32_t domain = 0;       // DDS domain id, 0..232
   // DDS profile: "onehost" (loopback, multicast discovery, >= 100 processes
   // per host), "onehost-unicast" (loopback, unicast discovery, up to 120),
+  // "netns" (one network namespace per process on a bridge, multicast
+  // discovery on its phm0 interface: pheromesh run's network faults),
   // "default" (vendor defaults) or a path to a vendor configuration file.
   std::string profile = "onehost";
   std::chrono::milliseconds liveliness_lease{1000};

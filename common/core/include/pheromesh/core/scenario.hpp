@@ -11,6 +11,7 @@
 #include <utility>
 #include <vector>
 
+#include "pheromesh/core/faults.hpp"
 #include "pheromesh/core/grid.hpp"
 #include "pheromesh/core/result.hpp"
 #include "pheromesh/core/shao_params.hpp"
@@ -60,6 +61,9 @@ struct ScenarioConfig {
   // The config of `policy`; null for the Shao search, which has none beyond
   // `layers` and `aco`. Immutable and shared by copies of the scenario.
   std::shared_ptr<const PolicyConfig> policy_config;
+  // The scenario's `fault:` lines (docs/faults.md), sorted by time; `pheromesh
+  // run` adds --faults to them.
+  FaultSchedule faults;
 
   [[nodiscard]] MapGeometry geometry() const { return {width, height, tile_size, regions_x, regions_y}; }
 
