@@ -190,7 +190,7 @@ void Launcher::spawn_place(uint32_t region, uint32_t replica) {
 
 bool Launcher::spawn_swarm(uint32_t regions, uint32_t uavs, uint32_t ticks) {
   for (uint32_t r = 0; r < regions; ++r) spawn_place(r, 0);
-  if (standby_) {
+  if (o_.standby || standby_from_scenario_) {
     for (uint32_t r = 0; r < regions; ++r) spawn_place(r, 1);
   }
   const bool stagger = 1 + std::size_t{regions} + uavs > kStaggerAbove && o_.start_rate > 0;
@@ -500,6 +500,7 @@ int Launcher::run() {
   const uint32_t regions = s.geometry().region_count();
   regions_ = regions;
   uavs_ = uavs;
+  standby_from_scenario_ = s.standby;
   standby_ = o_.standby || s.standby;
   auto plan = parse_dds_plan(o_.dds, bus::available_vendors());
   if (!plan) {

@@ -163,7 +163,8 @@ class Launcher {
   uint32_t ticks_ = 0;
   uint32_t regions_ = 0;
   uint32_t uavs_ = 0;
-  bool standby_ = false;  // --standby or the scenario's run.standby
+  bool standby_ = false;  // --standby, the scenario's run.standby, or a 'standby' fault: every process runs with --standby
+  bool standby_from_scenario_ = false;  // run.standby: a standby for every region from the start
   pid_t discovery_server_pid_ = -1;
   bool start_discovery_server();
   void stop_discovery_server();
