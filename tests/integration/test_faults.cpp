@@ -90,7 +90,7 @@ TEST(Faults, AStoppedUavAndPlaceAgentResumeAndEveryProcessEndsNormally) {
   // They really stood still: their liveliness lapsed.
   EXPECT_NE(o.text.find("uav 1 lost (liveliness)"), std::string::npos) << o.text;
   EXPECT_NE(o.text.find("uav 1 is back"), std::string::npos) << o.text;
-  EXPECT_NE(o.text.find("place agent of region 2 lost (liveliness)"), std::string::npos) << o.text;
+  EXPECT_NE(o.text.find("place agent 2 lost (liveliness)"), std::string::npos) << o.text;
   EXPECT_NE(o.text.find("fault: SIGCONT to uav-1"), std::string::npos) << o.text;
 }
 
