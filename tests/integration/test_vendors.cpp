@@ -57,7 +57,7 @@ TEST(Vendors, EachVendorNoticesAKilledProcessOfTheOtherThroughLiveliness) {
     EXPECT_EQ(m["processes_killed"], 2) << plan;
     EXPECT_EQ(m["processes_crashed"], 0) << plan;
     EXPECT_NE(o.text.find("uav 1 lost (liveliness)"), std::string::npos) << plan << "\n" << o.text;
-    EXPECT_NE(o.text.find("place agent of region 1 lost (liveliness)"), std::string::npos) << plan << "\n" << o.text;
+    EXPECT_NE(o.text.find("place agent 1 lost (liveliness)"), std::string::npos) << plan << "\n" << o.text;
     // The survivors flew the whole run.
     for (const char* id : {"0", "2"}) EXPECT_EQ(m["uav_status"][id]["last_tick"], 150) << plan << " uav " << id;
   }
