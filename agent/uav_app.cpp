@@ -18,6 +18,7 @@ UavApp::UavApp(UavConfig cfg, core::ScenarioConfig scenario, std::unique_ptr<bus
       resend_(*bus_, cfg_.common.lockstep()),
       log_(spdlog::default_logger()),
       core_(scenario_, world_, cfg_.id, cfg_.common.lockstep()),
+      gaps_(std::chrono::nanoseconds(static_cast<int64_t>(1e9 / scenario_.tick_rate_hz))),
       layers_(static_cast<int>(core::policy_traits(scenario_).layers.size())),
       home_(core::home_region(cfg_.id, geo_.region_count())) {}
 
@@ -102,6 +103,8 @@ void UavApp::step(uint32_t tick, bool finished) {
   s.deposits_sent = deposits_sent_;
   s.tile_samples_received = tile_samples_received_;
   s.ticks_late = ticks_late_;
+  s.tick_gap_max_ms = gaps_.max_gap_ms();
+  s.tick_gaps_over_2 = gaps_.gaps_over_2();
   s.samples_received = samples_received_;
   s.finished = finished;
   s.view = core_.cell();  // the home place agent composes the next view around it
@@ -169,6 +172,11 @@ int UavApp::run_realtime(uint32_t ticks) {
   uint32_t tick = 0;
   while (tick < ticks && clock.wait_next()) {
     ticks_late_ = clock.late_ticks();
+    if (const auto gap = gaps_.on_tick_start(Clock::now()); gap && gaps_.gaps_over_2() <= 10) {
+      log_->warn("tick {} started {} ms after the one before ({:.1f} tick periods)", tick + 1,
+                 std::chrono::duration_cast<std::chrono::milliseconds>(*gap).count(),
+                 static_cast<double>(gap->count()) / static_cast<double>(gaps_.period().count()));
+    }
     handle_commands();
     if (commands_->paused()) {
       receive();  // keeps the inboxes drained and the liveliness asserted
@@ -237,6 +245,10 @@ int UavApp::run() {
   log_->info("uav {} finished at tick {} at ({},{}): deposits sent {}, undeliverable {}, samples rejected {}{}", cfg_.id,
              last, core_.cell().x, core_.cell().y, deposits_sent_, deposits_undeliverable_, samples_rejected_,
              acked ? "" : " (not every sample was acknowledged)");
+  if (!cfg_.common.lockstep()) {
+    log_->info("uav {} kept its clock: longest gap between tick starts {} ms ({:.2f} periods), {} gaps over 2 periods, {} late ticks",
+               cfg_.id, gaps_.max_gap_ms(), gaps_.max_gap_periods(), gaps_.gaps_over_2(), ticks_late_);
+  }
   return 0;
 }
 

@@ -13,6 +13,7 @@
 
 #include "pheromesh/bus/bus.hpp"
 #include "pheromesh/core/scenario.hpp"
+#include "pheromesh/core/tick_gaps.hpp"
 #include "pheromesh/core/uav_core.hpp"
 #include "pheromesh/core/world.hpp"
 #include "pheromesh/runtime/commands.hpp"
@@ -67,6 +68,7 @@ class UavApp {
   uint64_t tile_samples_received_ = 0;
   uint64_t samples_received_ = 0;  // views + broadcasts + commands taken
   uint32_t ticks_late_ = 0;  // realtime: ticks that started more than one period late
+  core::TickGaps gaps_;      // realtime: gaps between tick starts (reported in the state)
   std::vector<core::ViewMsg> view_inbox_;
   std::optional<uint32_t> view_tick_;  // tick of the newest view received
   std::vector<core::BroadcastMsg> broadcast_inbox_;

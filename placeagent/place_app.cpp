@@ -20,6 +20,7 @@ PlaceApp::PlaceApp(PlaceConfig cfg, core::ScenarioConfig scenario, std::unique_p
       log_(spdlog::default_logger()),
       core_(scenario_, cfg_.region),
       rate_(scenario_.tick_rate_hz),
+      gaps_(std::chrono::nanoseconds(static_cast<int64_t>(1e9 / scenario_.tick_rate_hz))),
       views_(geo_, static_cast<int>(core::policy_traits(scenario_).layers.size()), core::policy_traits(scenario_).view_radius) {
   for (uint32_t u = 0; u < scenario_.uavs; ++u) {
     if (core::home_region(u, geo_.region_count()) == cfg_.region) home_uavs_.push_back(u);
@@ -181,7 +182,7 @@ void PlaceApp::step(uint32_t tick, bool exact, std::optional<uint32_t> expected_
 void PlaceApp::publish_health(uint32_t tick, bool finished) {
   const auto& l = core_.ledger();
   bus_->publish_health({cfg_.region, tick, static_cast<float>(rate_), l.received, l.applied, l.rejected(), halos_missing_,
-                        finished});
+                        finished, gaps_.max_gap_ms(), gaps_.gaps_over_2()});
 }
 
 void PlaceApp::log_summary(uint32_t tick) {
@@ -191,6 +192,10 @@ void PlaceApp::log_summary(uint32_t tick) {
              cfg_.region, tick, l.received, l.applied, l.rejected(), deposits_forwarded_, home_uavs_.size(), samples_rejected_,
              resend_.resends());
   for (const auto& [reason, n] : l.rejected_by_reason) log_->info("  rejected {}: {}", n, reason);
+  if (!cfg_.common.lockstep()) {
+    log_->info("region {} kept its clock: longest gap between tick starts {} ms ({:.2f} periods), {} gaps over 2 periods",
+               cfg_.region, gaps_.max_gap_ms(), gaps_.max_gap_periods(), gaps_.gaps_over_2());
+  }
 }
 
 int PlaceApp::run_realtime() {
@@ -198,6 +203,11 @@ int PlaceApp::run_realtime() {
   auto last_health = Clock::now();
   uint32_t tick = 0;
   while (!runtime::shutdown_requested() && (cfg_.max_ticks == 0 || tick < cfg_.max_ticks)) {
+    if (const auto gap = gaps_.on_tick_start(Clock::now()); gap && gaps_.gaps_over_2() <= 10) {
+      log_->warn("tick {} started {} ms after the one before ({:.1f} tick periods)", tick,
+                 std::chrono::duration_cast<std::chrono::milliseconds>(*gap).count(),
+                 static_cast<double>(gap->count()) / static_cast<double>(gaps_.period().count()));
+    }
     commands_->take();
     // Paused from the console: no evaporation, no diffusion, deposits wait
     // in the reader; health still goes out.

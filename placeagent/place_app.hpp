@@ -15,6 +15,7 @@
 #include "pheromesh/bus/bus.hpp"
 #include "pheromesh/core/place_core.hpp"
 #include "pheromesh/core/scenario.hpp"
+#include "pheromesh/core/tick_gaps.hpp"
 #include "pheromesh/core/view_server.hpp"
 #include "pheromesh/runtime/commands.hpp"
 #include "pheromesh/runtime/process.hpp"
@@ -63,6 +64,7 @@ class PlaceApp {
   core::PlaceCore core_;
   uint64_t halos_missing_ = 0;
   double rate_ = 0.0;
+  core::TickGaps gaps_;  // realtime: gaps between tick starts (reported in the health)
   std::vector<core::DepositMsg> inbox_;
   std::vector<core::HaloMsg> halo_inbox_;
   std::vector<core::TargetEventMsg> events_;

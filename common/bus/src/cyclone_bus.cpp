@@ -111,12 +111,12 @@ std::vector<core::RegionCount> region_counts_in(const dds_sequence_pheromesh_msg
 
 pheromesh_msg_UavState state_out(const core::UavStateMsg& m) {
   return {m.uav,  m.tick, m.x,          m.y,          m.vx,  m.vy, m.heading, m.role, m.deposits_sent, m.tile_samples_received,
-          m.samples_received, m.ticks_late, m.view.x, m.view.y, m.finished};
+          m.samples_received, m.ticks_late, m.view.x, m.view.y, m.finished, m.tick_gap_max_ms, m.tick_gaps_over_2};
 }
 
 core::UavStateMsg state_in(const pheromesh_msg_UavState& s) {
   return {s.uav,     s.tick, s.x,  s.y,  s.vx, s.vy, s.heading, s.role, s.deposits_sent, s.tile_samples_received,
-          s.samples_received, s.ticks_late, {s.view_x, s.view_y}, s.finished};
+          s.samples_received, s.ticks_late, {s.view_x, s.view_y}, s.finished, s.tick_gap_max_ms, s.tick_gaps_over_2};
 }
 
 std::vector<pheromesh_msg_UavState> states_out(const std::vector<core::UavStateMsg>& states) {
@@ -376,8 +376,9 @@ class CycloneBus final : public VendorBus {
   }
 
   bool publish_health(const core::HealthMsg& m) override {
-    const pheromesh_msg_PlaceHealth s{m.region,           m.tick,           m.tick_rate_hz, m.deposits_received,
-                                      m.deposits_applied, m.deposits_rejected, m.halos_missing, m.finished};
+    const pheromesh_msg_PlaceHealth s{m.region,           m.tick,            m.tick_rate_hz,    m.deposits_received,
+                                      m.deposits_applied, m.deposits_rejected, m.halos_missing,   m.finished,
+                                      m.tick_gap_max_ms,  m.tick_gaps_over_2};
     return write(writer(TopicKind::Health, health_topic_, kGroundPartition), &s);
   }
 
@@ -403,6 +404,8 @@ class CycloneBus final : public VendorBus {
     }
     if (m.deposits.size() > core::kMaxRegionCounts) return refuse("clock deposit counts", m.deposits.size());
     std::vector<pheromesh_msg_RegionCount> deps = region_counts_out(m.deposits);
+    if (m.absent.size() > core::kMaxRegionCounts) return refuse("clock absent regions", m.absent.size());
+    std::vector<uint32_t> absent(m.absent.begin(), m.absent.end());
     pheromesh_msg_ClockCommand s{};
     s.tick = m.tick;
     s.phase = m.phase;
@@ -412,6 +415,7 @@ class CycloneBus final : public VendorBus {
     s.occupancy._maximum = static_cast<uint32_t>(occ.size());
     s.occupancy._release = false;
     set_region_counts(s.deposits, deps);
+    borrow(s.absent, absent);
     return write(writer(TopicKind::Clock, clock_topic_, kClockPartition), &s);
   }
 
@@ -440,7 +444,7 @@ class CycloneBus final : public VendorBus {
         clock_reader_,
         [&](const pheromesh_msg_ClockCommand& s) {
           if (s.occupancy._length > core::kMaxOccupancy || (s.occupancy._length > 0 && s.occupancy._buffer == nullptr) ||
-              !region_counts_ok(s.deposits)) {
+              !region_counts_ok(s.deposits) || !seq_ok(s.absent, core::kMaxRegionCounts)) {
             ++stats_.samples_dropped;
             return;
           }
@@ -449,6 +453,7 @@ class CycloneBus final : public VendorBus {
           c.phase = s.phase;
           c.broadcasts = s.broadcasts;
           c.deposits = region_counts_in(s.deposits);
+          c.absent.assign(s.absent._buffer, s.absent._buffer + s.absent._length);
           for (uint32_t i = 0; i < s.occupancy._length; ++i) {
             const auto& t = s.occupancy._buffer[i];
             c.occupancy.push_back({{t.tx, t.ty}, t.count});
@@ -611,7 +616,7 @@ class CycloneBus final : public VendorBus {
         health_reader_,
         [&](const pheromesh_msg_PlaceHealth& s) {
           out.push_back({s.region, s.tick, s.tick_rate_hz, s.deposits_received, s.deposits_applied, s.deposits_rejected,
-                         s.halos_missing, s.finished});
+                         s.halos_missing, s.finished, s.tick_gap_max_ms, s.tick_gaps_over_2});
         },
         [&](const pheromesh_msg_PlaceHealth& s, const dds_sample_info_t& info) {
           if (info.instance_state != DDS_ALIVE_INSTANCE_STATE) departed_regions_.push_back(s.region);

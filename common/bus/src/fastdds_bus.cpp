@@ -190,6 +190,8 @@ msg::UavState state_out(const core::UavStateMsg& m) {
   s.view_x(m.view.x);
   s.view_y(m.view.y);
   s.finished(m.finished);
+  s.tick_gap_max_ms(m.tick_gap_max_ms);
+  s.tick_gaps_over_2(m.tick_gaps_over_2);
   return s;
 }
 
@@ -197,7 +199,8 @@ core::UavStateMsg state_in(const msg::UavState& s) {
   return core::UavStateMsg{s.uav(),     s.tick(),          s.x(),
                            s.y(),       s.vx(),            s.vy(),
                            s.heading(), s.role(),          s.deposits_sent(),
-                           s.tile_samples_received(), s.samples_received(), s.ticks_late(), {s.view_x(), s.view_y()}, s.finished()};
+                           s.tile_samples_received(), s.samples_received(), s.ticks_late(), {s.view_x(), s.view_y()}, s.finished(),
+                           s.tick_gap_max_ms(), s.tick_gaps_over_2()};
 }
 
 std::vector<msg::UavState> states_out(const std::vector<core::UavStateMsg>& states) {
@@ -480,6 +483,8 @@ class FastDdsBus final : public VendorBus {
     s.deposits_rejected(m.deposits_rejected);
     s.halos_missing(m.halos_missing);
     s.finished(m.finished);
+    s.tick_gap_max_ms(m.tick_gap_max_ms);
+    s.tick_gaps_over_2(m.tick_gaps_over_2);
     return write(writer(TopicKind::Health, kGroundPartition), &s);
   }
 
@@ -498,6 +503,7 @@ class FastDdsBus final : public VendorBus {
   bool publish_clock(const core::ClockMsg& m) override {
     if (m.occupancy.size() > core::kMaxOccupancy) return refuse("clock occupancy", m.occupancy.size());
     if (m.deposits.size() > core::kMaxRegionCounts) return refuse("clock deposit counts", m.deposits.size());
+    if (m.absent.size() > core::kMaxRegionCounts) return refuse("clock absent regions", m.absent.size());
     msg::ClockCommand s;
     s.tick(m.tick);
     s.phase(m.phase);
@@ -513,6 +519,7 @@ class FastDdsBus final : public VendorBus {
     }
     s.occupancy(std::move(occ));
     s.deposits(region_counts_out(m.deposits));
+    s.absent(std::vector<uint32_t>(m.absent.begin(), m.absent.end()));
     return write(writer(TopicKind::Clock, kClockPartition), &s);
   }
 
@@ -535,7 +542,8 @@ class FastDdsBus final : public VendorBus {
     take_each<msg::ClockCommand>(
         clock_reader_,
         [&](const msg::ClockCommand& s, const fdds::SampleInfo& /*info*/) {
-          if (s.occupancy().size() > core::kMaxOccupancy || !region_counts_ok(s.deposits())) {
+          if (s.occupancy().size() > core::kMaxOccupancy || !region_counts_ok(s.deposits()) ||
+              s.absent().size() > core::kMaxRegionCounts) {
             ++stats_.samples_dropped;
             return;
           }
@@ -544,6 +552,7 @@ class FastDdsBus final : public VendorBus {
           c.phase = s.phase();
           c.broadcasts = s.broadcasts();
           c.deposits = region_counts_in(s.deposits());
+          c.absent.assign(s.absent().begin(), s.absent().end());
           for (const auto& t : s.occupancy()) c.occupancy.push_back({{t.tx(), t.ty()}, t.count()});
           out.push_back(std::move(c));
         },
@@ -758,7 +767,7 @@ class FastDdsBus final : public VendorBus {
         [&](const msg::PlaceHealth& s, const fdds::SampleInfo& info) {
           region_departures_.seen(info, s.region());
           out.push_back({s.region(), s.tick(), s.tick_rate_hz(), s.deposits_received(), s.deposits_applied(),
-                         s.deposits_rejected(), s.halos_missing(), s.finished()});
+                         s.deposits_rejected(), s.halos_missing(), s.finished(), s.tick_gap_max_ms(), s.tick_gaps_over_2()});
         },
         [&](const fdds::SampleInfo& info) { region_departures_.on_invalid(info, departed_regions_); });
     region_departures_.collect_lost(departed_regions_);
