@@ -2,12 +2,18 @@
 
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <chrono>
 #include <thread>
 
 namespace pheromesh::agent {
 
 using Clock = std::chrono::steady_clock;
+
+namespace {
+// Exit code when the lockstep conductor vanished (runtime::run_process uses 2-4).
+constexpr int kConductorLost = 7;
+}  // namespace
 
 UavApp::UavApp(UavConfig cfg, core::ScenarioConfig scenario, std::unique_ptr<bus::Bus> bus)
     : cfg_(std::move(cfg)),
@@ -64,7 +70,7 @@ void UavApp::wait_for_tick(uint32_t tick, const core::ClockMsg& announced) {
   const auto deadline = Clock::now() + std::chrono::seconds(30);
   for (;;) {
     receive();
-    const bool view = view_tick_ && *view_tick_ >= tick;
+    const bool view = home_absent_ || (view_tick_ && *view_tick_ >= tick);
     const bool broadcasts = core_.holds_tick(tick, {}, announced.broadcasts);
     if (view && broadcasts) return;
     if (Clock::now() > deadline || runtime::shutdown_requested()) {
@@ -82,6 +88,13 @@ void UavApp::step(uint32_t tick, bool finished) {
   if (!finished) {
     core_.step(tick, out_);
     for (const auto& d : out_.deposits) {
+      if (home_absent_) {
+        // Lockstep, home killed without a standby (core/faults.hpp): the
+        // deposit is made and lost on the way; the conductor counts it lost.
+        ++deposits_sent_;
+        ++written_[d.region];
+        continue;
+      }
       // A deposit written while no place agent of that region is matched
       // would be lost silently; count it as undeliverable instead of sent.
       if (bus_->matched_deposit_readers(home_) == 0) {
@@ -193,19 +206,34 @@ int UavApp::run_lockstep(uint32_t ticks) {
   std::vector<core::ClockMsg> cmds;
   int64_t done = -1;
   bool stop = false;
+  auto watch = core::ConductorWatch::for_lease(std::chrono::milliseconds(cfg_.common.lease_ms), Clock::now());
   while (!stop && !runtime::shutdown_requested()) {
     cmds.clear();
     bus_->take_clock(cmds);
+    if (!cmds.empty()) watch.on_clock(Clock::now());
     for (const auto& c : cmds) {
       if (c.phase == static_cast<uint8_t>(core::ClockPhase::Stop)) stop = true;
       if (c.phase != static_cast<uint8_t>(core::ClockPhase::Uav) || static_cast<int64_t>(c.tick) <= done) continue;
+      if (!home_absent_ && std::find(c.absent.begin(), c.absent.end(), home_) != c.absent.end()) {
+        home_absent_ = true;
+        log_->warn("tick {}: home place agent {} is gone (no standby): from now on this UAV acts on empty views and its "
+                   "deposits are lost",
+                   c.tick, home_);
+      }
       // UAV phase of tick k: read the tiles of place tick k-1, decide, move,
       // deposit; acknowledged deposits are in the place agents' queues before
       // we report done.
       if (c.tick > 0) wait_for_tick(c.tick - 1, c);
       handle_commands();
       step(c.tick, false);
-      if (!bus_->flush(std::chrono::seconds(10))) log_->warn("tick {}: not every sample was acknowledged in 10 s", c.tick);
+      // The home place agent must hold this tick's deposits and state before
+      // the place phase (the conductor waits for the state too). Only those
+      // writers: every other reader waits for exact samples, and a flush of
+      // all writers would also wait for the readers of a killed process,
+      // which stay matched until its participant lease ends (docs/dds.md).
+      if (!home_absent_ && !bus_->flush({bus::TopicKind::Deposit, bus::TopicKind::UavState}, std::chrono::seconds(10))) {
+        log_->warn("tick {}: deposits and state not acknowledged in 10 s", c.tick);
+      }
       // Report what this phase wrote: the conductor announces it to the
       // place agents (deposits) and to the UAVs (broadcasts), which wait for it.
       core::PhaseDoneMsg report{core::process_key(core::kRoleUav, cfg_.id), c.tick, c.phase, broadcast_written_ ? 1U : 0U,
@@ -213,11 +241,18 @@ int UavApp::run_lockstep(uint32_t ticks) {
       for (const auto& [region, n] : written_) report.deposits.push_back({region, n});
       resend_.begin_tick();
       resend_.phase_done(report);
-      bus_->flush(std::chrono::seconds(10));
       done = c.tick;
       if (c.tick >= ticks) stop = true;
     }
     if (cmds.empty()) {
+      if (watch.lost(Clock::now())) {
+        log_->error("the conductor (ground station) is gone: no lockstep clock for {:.1f} s ({} leases of {} ms) after tick {}; "
+                    "stopping",
+                    std::chrono::duration<double>(watch.silence(Clock::now())).count(),
+                    watch.limit() / std::chrono::milliseconds(cfg_.common.lease_ms), cfg_.common.lease_ms, done);
+        conductor_lost_ = true;
+        break;
+      }
       if (resend_.resend_if_quiet()) log_->debug("tick {}: nothing new for 1 s; re-sent PhaseDone", done);
       bus_->wait({bus::TopicKind::Clock}, Clock::now() + std::chrono::milliseconds(100));
     }
@@ -240,6 +275,7 @@ int UavApp::run() {
              bus_->vendor());
   if (!cfg_.common.lockstep()) wait_for_start();
   const int last = cfg_.common.lockstep() ? run_lockstep(ticks) : run_realtime(ticks);
+  if (conductor_lost_) return kConductorLost;  // nobody to report a last state to
   step(static_cast<uint32_t>(last), true);
   const bool acked = bus_->flush(std::chrono::seconds(5));
   log_->info("uav {} finished at tick {} at ({},{}): deposits sent {}, undeliverable {}, samples rejected {}{}", cfg_.id,

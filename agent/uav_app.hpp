@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "pheromesh/bus/bus.hpp"
+#include "pheromesh/core/conductor.hpp"
 #include "pheromesh/core/scenario.hpp"
 #include "pheromesh/core/tick_gaps.hpp"
 #include "pheromesh/core/uav_core.hpp"
@@ -77,6 +78,8 @@ class UavApp {
   // What the last step wrote (lockstep reports it with PhaseDone).
   std::map<core::RegionId, uint32_t> written_;
   bool broadcast_written_ = false;
+  bool home_absent_ = false;     // lockstep: the home place agent was killed at a tick, no standby
+  bool conductor_lost_ = false;  // lockstep: no clock for ConductorWatch's limit
   std::unique_ptr<runtime::SwarmCommands> commands_;
 };
 

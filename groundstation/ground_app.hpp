@@ -47,6 +47,11 @@ struct GroundConfig {
   std::string record_path;   // record the console frames here (empty: no recording)
   int launcher_fd = -1;      // control socket from `pheromesh run` (kill / restart)
   std::string scenario_path;
+  // Lockstep: ticks before whose UAV phase the launcher injects faults
+  // (core/faults.hpp); the conductor asks it "faults K" and drops what it killed.
+  std::vector<uint32_t> fault_ticks;
+  double faults_timeout_s = 60.0;  // [s] longest wait for the launcher's answer
+  bool standby = false;            // place agents have standby replicas: a killed one is replaced, its region stays
 };
 
 class GroundApp {
@@ -63,6 +68,12 @@ class GroundApp {
   // Lockstep conductor: returns false if a phase timed out.
   bool conduct();
   bool run_phase(uint32_t tick, core::ClockPhase phase);
+  // Lockstep: asks the launcher for the faults of `tick` and drops from the
+  // protocol what it killed; false if the launcher could not say.
+  bool apply_faults(uint32_t tick);
+  // Lockstep: the launcher or the console killed these.
+  void drop_uav(uint32_t uav, uint32_t tick);
+  void drop_region(core::RegionId r, uint32_t tick);
   int finish();
 
   // --- web console, recording and commands

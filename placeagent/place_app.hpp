@@ -10,10 +10,12 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <set>
 #include <vector>
 
 #include "pheromesh/bus/bus.hpp"
 #include "pheromesh/core/place_core.hpp"
+#include "pheromesh/core/conductor.hpp"
 #include "pheromesh/core/scenario.hpp"
 #include "pheromesh/core/tick_gaps.hpp"
 #include "pheromesh/core/view_server.hpp"
@@ -54,6 +56,10 @@ class PlaceApp {
   void serve_views(uint32_t tick, bool exact);
   void publish_health(uint32_t tick, bool finished);
   void log_summary(uint32_t tick);
+  // Lockstep: the clock's absent regions (place agents killed at a tick,
+  // without a standby) join absent_; nobody waits for them any more.
+  void note_absent(const core::ClockMsg& c);
+  [[nodiscard]] bool is_absent(core::RegionId r) const { return absent_.contains(r); }
 
   PlaceConfig cfg_;
   core::ScenarioConfig scenario_;
@@ -82,6 +88,9 @@ class PlaceApp {
   std::vector<core::UavStateMsg> home_states_;
   core::ViewMsg view_;
   uint64_t deposits_forwarded_ = 0;
+  uint64_t deposits_lost_ = 0;  // lockstep: home UAVs' deposits for absent regions, not forwarded
+  std::set<core::RegionId> absent_;
+  std::vector<core::RegionId> present_others_;  // other_regions_ without the absent ones
   uint64_t samples_rejected_ = 0;  // malformed home states and field chunks, dropped
 };
 

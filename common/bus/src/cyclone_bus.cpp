@@ -644,10 +644,19 @@ class CycloneBus final : public VendorBus {
     return n > 0;
   }
 
-  bool flush(std::chrono::milliseconds timeout) override {
+  bool flush(std::chrono::milliseconds timeout) override { return flush_if([](int) { return true; }, timeout); }
+
+  bool flush(std::initializer_list<TopicKind> kinds, std::chrono::milliseconds timeout) override {
+    return flush_if([&](int k) { return std::find(kinds.begin(), kinds.end(), static_cast<TopicKind>(k)) != kinds.end(); },
+                    timeout);
+  }
+
+  template <typename Pred>
+  bool flush_if(Pred&& wanted, std::chrono::milliseconds timeout) {
     const auto deadline = std::chrono::steady_clock::now() + timeout;
     bool all = true;
     for (auto& [key, w] : writers_) {
+      if (!wanted(key.first)) continue;
       const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
       const dds_return_t rc = dds_wait_for_acks(w.writer, DDS_MSECS(std::max<int64_t>(0, left.count())));
       if (rc != DDS_RETCODE_OK) all = false;

@@ -796,10 +796,19 @@ class FastDdsBus final : public VendorBus {
     return rc == ReturnCode_t::RETCODE_OK && !active.empty();
   }
 
-  bool flush(std::chrono::milliseconds timeout) override {
+  bool flush(std::chrono::milliseconds timeout) override { return flush_if([](int) { return true; }, timeout); }
+
+  bool flush(std::initializer_list<TopicKind> kinds, std::chrono::milliseconds timeout) override {
+    return flush_if([&](int k) { return std::find(kinds.begin(), kinds.end(), static_cast<TopicKind>(k)) != kinds.end(); },
+                    timeout);
+  }
+
+  template <typename Pred>
+  bool flush_if(Pred&& wanted, std::chrono::milliseconds timeout) {
     const auto deadline = std::chrono::steady_clock::now() + timeout;
     bool all = true;
     for (auto& [key, w] : writers_) {
+      if (!wanted(key.first)) continue;
       const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
       if (w.writer->wait_for_acknowledgments(to_duration(std::max(std::chrono::milliseconds(0), left))) !=
           ReturnCode_t::RETCODE_OK) {

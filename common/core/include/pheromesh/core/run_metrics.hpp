@@ -40,6 +40,10 @@ class RunRecorder {
   void on_uav_departed(uint32_t uav);
   void on_region_departed(RegionId r);
   void count_rejected_sample() { ++samples_rejected_; }
+  // Deposits made but applied by no place agent: a lockstep run or the
+  // simulator with a place agent killed at a tick (core/faults.hpp).
+  void add_deposits_lost(uint64_t n) { deposits_lost_ += n; }
+  [[nodiscard]] uint64_t deposits_lost() const { return deposits_lost_; }
   // A target added during the run (the world gained it first).
   void add_target() { acquisitions_.add_target(); }
   // Policy-specific quantities of the final field (policy.hpp field_summary).
@@ -85,6 +89,7 @@ class RunRecorder {
   std::optional<uint32_t> leader_arrival_;
   uint32_t max_tick_ = 0;
   uint64_t samples_rejected_ = 0;
+  uint64_t deposits_lost_ = 0;
   bool last_was_first_ = false;
 };
 
