@@ -78,6 +78,9 @@ void UavApp::wait_for_tick(uint32_t tick, const core::ClockMsg& announced) {
                   broadcasts ? "" : (view ? "the announced broadcasts" : " and the announced broadcasts"));
       return;
     }
+    // The last PhaseDone again after a quiet second: the conductor takes it as
+    // a sign of life while this UAV waits (its liveliness may lapse under loss).
+    resend_.resend_if_quiet();
     bus_->wait({bus::TopicKind::View, bus::TopicKind::Broadcast}, std::min(deadline, Clock::now() + std::chrono::milliseconds(100)));
   }
 }
@@ -242,7 +245,10 @@ int UavApp::run_lockstep(uint32_t ticks) {
       resend_.begin_tick();
       resend_.phase_done(report);
       done = c.tick;
-      if (c.tick >= ticks) stop = true;
+      // After the last UAV phase this UAV waits for the conductor's stop,
+      // which comes after the last place phase: the launcher stops the place
+      // agents once every UAV has ended, and they must have finished it.
+      if (c.tick >= ticks) log_->debug("tick {}: the last UAV phase; waiting for the conductor's stop", c.tick);
     }
     if (cmds.empty()) {
       if (watch.lost(Clock::now())) {

@@ -41,7 +41,8 @@ GroundApp::GroundApp(GroundConfig cfg, core::ScenarioConfig scenario, std::uniqu
       rec_(scenario_, world_),
       frame_builder_(geo_),
       conductor_({cfg_.expect_uavs != 0 ? cfg_.expect_uavs : scenario_.uavs, geo_.region_count(),
-                  std::chrono::milliseconds(static_cast<int64_t>(cfg_.phase_timeout_s * 1000))}),
+                  std::chrono::milliseconds(static_cast<int64_t>(cfg_.phase_timeout_s * 1000)),
+                  std::chrono::milliseconds(static_cast<int64_t>(cfg_.departed_grace_s * 1000))}),
       layers_(static_cast<int>(core::policy_traits(scenario_).layers.size())) {
   if (cfg_.expect_uavs == 0) cfg_.expect_uavs = scenario_.uavs;
   run_t0_unix_ms_ = unix_ms_now();
@@ -90,6 +91,7 @@ void GroundApp::poll() {
       if (rec_.samples_rejected() <= 3) log_->warn("dropped state of uav {}", s.uav);
       continue;
     }
+    conductor_.heard_from(s.uav, Clock::now());
     const bool back = s.finished ? conductor_.on_uav_finished(s.uav)
                                  : conductor_.on_uav_state(s.uav, s.tick, geo_.tile_of(core::state_cell(s)));
     if (back && !s.finished) log_->info("uav {} is back at tick {}", s.uav, s.tick);
@@ -104,6 +106,7 @@ void GroundApp::poll() {
       continue;
     }
     conductor_.on_broadcast(b.uav, b.tick);
+    conductor_.heard_from(b.uav, Clock::now());
   }
   std::vector<uint32_t> gone;
   bus_->take_departed_uavs(gone);
@@ -143,6 +146,15 @@ void GroundApp::poll() {
   fields_.clear();
   bus_->take_fields(fields_);
   for (auto& f : fields_) {
+    if (f.region < geo_.region_count()) {
+      auto& [tick, chunks] = field_ticks_[f.region];
+      if (f.tick > tick || chunks.empty()) {
+        tick = f.tick;
+        chunks.clear();
+      }
+      if (f.tick == tick) chunks.insert(f.chunk);
+      field_chunks_[f.region] = f.chunks;
+    }
     for (auto& t : f.tiles) tiles_.push_back(std::move(t));
   }
   for (auto& t : tiles_) {
@@ -163,7 +175,10 @@ void GroundApp::poll() {
   }
   dones_.clear();
   bus_->take_phase_done(dones_);
-  for (const auto& d : dones_) conductor_.on_phase_done(d);
+  for (const auto& d : dones_) {
+    conductor_.on_phase_done(d);
+    if (d.process >> 24U == core::kRoleUav) conductor_.heard_from(d.process & 0xFFFFFFU, Clock::now());
+  }
   note_discovery();
 }
 
@@ -191,11 +206,16 @@ void GroundApp::progress_if_due() {
 bool GroundApp::run_phase(uint32_t tick, core::ClockPhase phase) {
   poll();
   resend_.begin_tick();
-  resend_.clock(conductor_.begin_phase(tick, phase, Clock::now()));
+  const auto t0 = Clock::now();
+  resend_.clock(conductor_.begin_phase(tick, phase, t0));
   for (;;) {
     poll();
     const auto st = conductor_.status(Clock::now());
-    if (st.complete) return true;
+    if (st.complete) {
+      log_->debug("lockstep tick {} {} phase: {} ms", tick, phase == core::ClockPhase::Uav ? "uav" : "place",
+                  std::chrono::duration_cast<std::chrono::milliseconds>(Clock::now() - t0).count());
+      return true;
+    }
     if (st.timed_out || runtime::shutdown_requested()) {
       log_->error("lockstep tick {} {} phase: {} process(es) did not finish within {} s", tick,
                   phase == core::ClockPhase::Uav ? "uav" : "place", st.waiting, cfg_.phase_timeout_s);
@@ -262,6 +282,19 @@ bool GroundApp::apply_faults(uint32_t tick) {
   return true;
 }
 
+bool GroundApp::holds_last_fields(uint32_t tick) const {
+  for (core::RegionId r = 0; r < geo_.region_count(); ++r) {
+    if (conductor_.absent(r)) continue;
+    auto it = field_ticks_.find(r);
+    auto n = field_chunks_.find(r);
+    if (it == field_ticks_.end() || n == field_chunks_.end() || it->second.first != tick ||
+        it->second.second.size() < n->second) {
+      return false;
+    }
+  }
+  return true;
+}
+
 bool GroundApp::conduct() {
   bus_->subscribe_phase_done();
   const uint32_t ticks = scenario_.ticks;
@@ -280,6 +313,19 @@ bool GroundApp::conduct() {
     ok = ok && run_phase(k, core::ClockPhase::Uav) && run_phase(k, core::ClockPhase::Place);
     progress_if_due();
     service();
+  }
+  // The final field is that of the last tick: wait (bounded) until every
+  // present region's field of it is here, before the place agents are let go.
+  const auto deadline = Clock::now() + std::chrono::milliseconds(static_cast<int64_t>(cfg_.phase_timeout_s * 1000));
+  while (ok && !holds_last_fields(ticks) && !runtime::shutdown_requested()) {
+    if (Clock::now() > deadline) {
+      log_->error("the fields of the last tick {} did not all reach the ground station within {} s", ticks, cfg_.phase_timeout_s);
+      ok = false;
+      break;
+    }
+    poll();
+    resend_.resend_if_quiet();
+    wait_for_data(Clock::now() + std::chrono::milliseconds(20));
   }
   // Stop: re-sent like every clock (run() keeps the re-sender going), not
   // flushed - a killed process's reader would never acknowledge it.

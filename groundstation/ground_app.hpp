@@ -40,6 +40,7 @@ struct GroundConfig {
   uint32_t expect_uavs = 0;  // 0: the scenario's swarm.uavs
   double progress_period_s = 1.0;
   double phase_timeout_s = 60.0;  // lockstep: longest wait for one phase [s]
+  double departed_grace_s = 5.0;  // lockstep: a UAV silent this long after its liveliness lapsed is dropped [s]
   // Web console (docs/console.md): served when http_port is set (0: any free port).
   std::optional<uint16_t> http_port;
   std::string http_bind = "127.0.0.1";
@@ -71,6 +72,8 @@ class GroundApp {
   // Lockstep: asks the launcher for the faults of `tick` and drops from the
   // protocol what it killed; false if the launcher could not say.
   bool apply_faults(uint32_t tick);
+  // Lockstep: every present region's field of `tick` (all chunks) arrived.
+  [[nodiscard]] bool holds_last_fields(uint32_t tick) const;
   // Lockstep: the launcher or the console killed these.
   void drop_uav(uint32_t uav, uint32_t tick);
   void drop_region(core::RegionId r, uint32_t tick);
@@ -105,6 +108,8 @@ class GroundApp {
   std::vector<core::HealthMsg> healths_;
   std::vector<core::TileMsg> tiles_;
   std::vector<core::FieldMsg> fields_;
+  std::map<core::RegionId, std::pair<uint32_t, std::set<uint16_t>>> field_ticks_;  // region -> newest tick, its chunks seen
+  std::map<core::RegionId, uint16_t> field_chunks_;                               // region -> chunks per field
   std::vector<core::PhaseDoneMsg> dones_;
   std::vector<core::BroadcastMsg> broadcasts_;
   int layers_ = 0;

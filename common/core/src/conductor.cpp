@@ -77,7 +77,10 @@ bool LockstepConductor::on_uav_departed(uint32_t uav, Clock::time_point now) {
 
 bool LockstepConductor::gone_for_good(uint32_t uav, Clock::time_point now) const {
   auto it = departed_since_.find(uav);
-  return it != departed_since_.end() && now - it->second > o_.departed_grace;
+  if (it == departed_since_.end()) return false;
+  auto heard = heard_.find(uav);
+  const Clock::time_point since = heard == heard_.end() ? it->second : std::max(it->second, heard->second);
+  return now - since > o_.departed_grace;
 }
 
 ClockMsg LockstepConductor::begin_phase(uint32_t tick, ClockPhase phase, Clock::time_point now) {

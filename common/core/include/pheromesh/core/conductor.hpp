@@ -10,7 +10,10 @@
 // UAV whose liveliness lapsed is still waited for during a grace period (a
 // stalled, overloaded process is not a dead one); after it, it is not. A
 // place agent is waited for unless it is absent (below): without it the tick
-// cannot be exact, so the phase runs into its timeout and the run ends.
+// cannot be exact, so the phase runs into its timeout and the run ends. Any
+// sample of a UAV (its state, a PhaseDone - a waiting UAV re-sends its own
+// every second - or a broadcast) counts as a sign of life: a UAV whose
+// liveliness lapses under packet loss while it still talks is not dropped.
 //
 // Faults at a tick (core/faults.hpp): before the UAV phase of a tick with
 // faults, the ground station asks the launcher which processes it killed
@@ -74,6 +77,9 @@ class LockstepConductor {
   void on_phase_done(const PhaseDoneMsg& m);
   // The UAV's liveliness lapsed. Returns true the first time (until it is back).
   bool on_uav_departed(uint32_t uav, Clock::time_point now);
+  // A sample from the UAV (state, PhaseDone, broadcast) arrived at `now`: the
+  // grace of a departed UAV runs from the later of its departure and this.
+  void heard_from(uint32_t uav, Clock::time_point now) { heard_[uav] = now; }
   [[nodiscard]] bool departed(uint32_t uav) const { return departed_since_.contains(uav); }
 
   // --- faults at a tick (before begin_phase of its UAV phase)
@@ -117,6 +123,7 @@ class LockstepConductor {
   std::map<uint32_t, std::set<uint32_t>> broadcasters_;   // tick -> UAVs that broadcast
   std::map<RegionId, uint32_t> deposits_reported_;        // current tick's UAV phase
   std::map<uint32_t, Clock::time_point> departed_since_;  // departed UAVs
+  std::map<uint32_t, Clock::time_point> heard_;           // UAV -> its latest sample
   std::set<uint32_t> dropped_;                            // UAVs killed at a tick
   std::set<RegionId> absent_;                             // regions whose place agent was killed, no standby
   uint64_t lost_this_tick_ = 0;                           // current tick's UAV phase, for absent regions
