@@ -2,12 +2,18 @@
 
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <chrono>
 #include <thread>
 
 namespace pheromesh::agent {
 
 using Clock = std::chrono::steady_clock;
+
+namespace {
+// Exit code when the lockstep conductor vanished (runtime::run_process uses 2-4).
+constexpr int kConductorLost = 7;
+}  // namespace
 
 UavApp::UavApp(UavConfig cfg, core::ScenarioConfig scenario, std::unique_ptr<bus::Bus> bus)
     : cfg_(std::move(cfg)),
@@ -18,9 +24,11 @@ UavApp::UavApp(UavConfig cfg, core::ScenarioConfig scenario, std::unique_ptr<bus
       resend_(*bus_, cfg_.common.lockstep()),
       log_(spdlog::default_logger()),
       core_(scenario_, world_, cfg_.id, cfg_.common.lockstep()),
+      gaps_(std::chrono::nanoseconds(static_cast<int64_t>(1e9 / scenario_.tick_rate_hz))),
       layers_(static_cast<int>(core::policy_traits(scenario_).layers.size())),
       home_(core::home_region(cfg_.id, geo_.region_count())) {
-  resend_.resend_deposits(cfg_.common.standby || scenario_.standby);
+  standby_ = cfg_.common.standby || scenario_.standby;
+  resend_.resend_deposits(standby_);
 }
 
 void UavApp::receive() {
@@ -66,7 +74,7 @@ void UavApp::wait_for_tick(uint32_t tick, const core::ClockMsg& announced) {
   const auto deadline = Clock::now() + std::chrono::seconds(30);
   for (;;) {
     receive();
-    const bool view = view_tick_ && *view_tick_ >= tick;
+    const bool view = home_absent_ || (view_tick_ && *view_tick_ >= tick);
     const bool broadcasts = core_.holds_tick(tick, {}, announced.broadcasts);
     if (view && broadcasts) return;
     if (Clock::now() > deadline || runtime::shutdown_requested()) {
@@ -74,6 +82,9 @@ void UavApp::wait_for_tick(uint32_t tick, const core::ClockMsg& announced) {
                   broadcasts ? "" : (view ? "the announced broadcasts" : " and the announced broadcasts"));
       return;
     }
+    // The last PhaseDone again after a quiet second: the conductor takes it as
+    // a sign of life while this UAV waits (its liveliness may lapse under loss).
+    resend_.resend_if_quiet();
     bus_->wait({bus::TopicKind::View, bus::TopicKind::Broadcast}, std::min(deadline, Clock::now() + std::chrono::milliseconds(100)));
   }
 }
@@ -84,6 +95,13 @@ void UavApp::step(uint32_t tick, bool finished) {
   if (!finished) {
     core_.step(tick, out_);
     for (const auto& d : out_.deposits) {
+      if (home_absent_) {
+        // Lockstep, home killed without a standby (core/faults.hpp): the
+        // deposit is made and lost on the way; the conductor counts it lost.
+        ++deposits_sent_;
+        ++written_[d.region];
+        continue;
+      }
       // A deposit written while no place agent of that region is matched
       // would be lost silently; count it as undeliverable instead of sent.
       if (bus_->matched_deposit_readers(home_) == 0) {
@@ -108,6 +126,8 @@ void UavApp::step(uint32_t tick, bool finished) {
   s.deposits_sent = deposits_sent_;
   s.tile_samples_received = tile_samples_received_;
   s.ticks_late = ticks_late_;
+  s.tick_gap_max_ms = gaps_.max_gap_ms();
+  s.tick_gaps_over_2 = gaps_.gaps_over_2();
   s.samples_received = samples_received_;
   s.finished = finished;
   s.deposits_unconfirmed = receipts_.unconfirmed() + deposits_undeliverable_;
@@ -186,6 +206,11 @@ int UavApp::run_realtime(uint32_t ticks) {
   uint32_t tick = 0;
   while (tick < ticks && clock.wait_next()) {
     ticks_late_ = clock.late_ticks();
+    if (const auto gap = gaps_.on_tick_start(Clock::now()); gap && gaps_.gaps_over_2() <= 10) {
+      log_->warn("tick {} started {} ms after the one before ({:.1f} tick periods)", tick + 1,
+                 std::chrono::duration_cast<std::chrono::milliseconds>(*gap).count(),
+                 static_cast<double>(gap->count()) / static_cast<double>(gaps_.period().count()));
+    }
     handle_commands();
     if (commands_->paused()) {
       receive();  // keeps the inboxes drained and the liveliness asserted
@@ -202,12 +227,20 @@ int UavApp::run_lockstep(uint32_t ticks) {
   std::vector<core::ClockMsg> cmds;
   int64_t done = -1;
   bool stop = false;
+  auto watch = core::ConductorWatch::for_lease(std::chrono::milliseconds(cfg_.common.lease_ms), Clock::now());
   while (!stop && !runtime::shutdown_requested()) {
     cmds.clear();
     bus_->take_clock(cmds);
+    if (!cmds.empty()) watch.on_clock(Clock::now());
     for (const auto& c : cmds) {
       if (c.phase == static_cast<uint8_t>(core::ClockPhase::Stop)) stop = true;
       if (c.phase != static_cast<uint8_t>(core::ClockPhase::Uav) || static_cast<int64_t>(c.tick) <= done) continue;
+      if (!home_absent_ && std::find(c.absent.begin(), c.absent.end(), home_) != c.absent.end()) {
+        home_absent_ = true;
+        log_->warn("tick {}: home place agent {} is gone (no standby): from now on this UAV acts on empty views and its "
+                   "deposits are lost",
+                   c.tick, home_);
+      }
       // UAV phase of tick k: read the tiles of place tick k-1, decide, move,
       // deposit; acknowledged deposits are in the place agents' queues before
       // we report done.
@@ -215,11 +248,16 @@ int UavApp::run_lockstep(uint32_t ticks) {
       handle_commands();
       resend_.begin_tick();
       step(c.tick, false);
-      // No flush (waiting for every matched reader's acknowledgement) here:
-      // a reader of a process that was killed stays matched for the
-      // participant lease (1 h, deploy/dds) and never acknowledges, so every
-      // flush would time out and stall the swarm after a fault. The place
-      // agents wait for the deposits the conductor announces instead.
+      // The home place agent must hold this tick's deposits and state before
+      // the place phase (the conductor waits for the state too). Only those
+      // writers: every other reader waits for exact samples, and a flush of
+      // all writers would also wait for the readers of a killed process,
+      // which stay matched until its participant lease ends (docs/dds.md).
+      // Not in swarms with standbys: a killed primary of the home never
+      // acknowledges; its standby drops re-sent copies instead.
+      if (!home_absent_ && !standby_ && !bus_->flush({bus::TopicKind::Deposit, bus::TopicKind::UavState}, std::chrono::seconds(10))) {
+        log_->warn("tick {}: deposits and state not acknowledged in 10 s", c.tick);
+      }
       // Report what this phase wrote: the conductor announces it to the
       // place agents (deposits) and to the UAVs (broadcasts), which wait for it.
       core::PhaseDoneMsg report{core::process_key(core::kRoleUav, cfg_.id), c.tick, c.phase, broadcast_written_ ? 1U : 0U,
@@ -227,9 +265,20 @@ int UavApp::run_lockstep(uint32_t ticks) {
       for (const auto& [region, n] : written_) report.deposits.push_back({region, n});
       resend_.phase_done(report);
       done = c.tick;
-      if (c.tick >= ticks) stop = true;
+      // After the last UAV phase this UAV waits for the conductor's stop,
+      // which comes after the last place phase: the launcher stops the place
+      // agents once every UAV has ended, and they must have finished it.
+      if (c.tick >= ticks) log_->debug("tick {}: the last UAV phase; waiting for the conductor's stop", c.tick);
     }
     if (cmds.empty()) {
+      if (watch.lost(Clock::now())) {
+        log_->error("the conductor (ground station) is gone: no lockstep clock for {:.1f} s ({} leases of {} ms) after tick {}; "
+                    "stopping",
+                    std::chrono::duration<double>(watch.silence(Clock::now())).count(),
+                    watch.limit() / std::chrono::milliseconds(cfg_.common.lease_ms), cfg_.common.lease_ms, done);
+        conductor_lost_ = true;
+        break;
+      }
       if (resend_.resend_if_quiet()) log_->debug("tick {}: nothing new for 1 s; re-sent PhaseDone", done);
       bus_->wait({bus::TopicKind::Clock}, Clock::now() + std::chrono::milliseconds(100));
     }
@@ -252,6 +301,7 @@ int UavApp::run() {
              bus_->vendor());
   if (!cfg_.common.lockstep()) wait_for_start();
   const int last = cfg_.common.lockstep() ? run_lockstep(ticks) : run_realtime(ticks);
+  if (conductor_lost_) return kConductorLost;  // nobody to report a last state to
   // The home confirms the last deposits in its next view: wait for it (a
   // dead home never does; those deposits are counted unconfirmed).
   wait_for_receipts(std::chrono::milliseconds(std::max<uint32_t>(2 * cfg_.common.lease_ms, 1000)));
@@ -264,6 +314,10 @@ int UavApp::run() {
   if (receipts_.unconfirmed() > 0) {
     log_->warn("uav {}: {} deposits were never confirmed by place agent {} (counted lost)", cfg_.id, receipts_.unconfirmed(),
                home_);
+  }
+  if (!cfg_.common.lockstep()) {
+    log_->info("uav {} kept its clock: longest gap between tick starts {} ms ({:.2f} periods), {} gaps over 2 periods, {} late ticks",
+               cfg_.id, gaps_.max_gap_ms(), gaps_.max_gap_periods(), gaps_.gaps_over_2(), ticks_late_);
   }
   return 0;
 }

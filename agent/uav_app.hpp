@@ -14,7 +14,9 @@
 
 #include "pheromesh/bus/bus.hpp"
 #include "pheromesh/core/receipts.hpp"
+#include "pheromesh/core/conductor.hpp"
 #include "pheromesh/core/scenario.hpp"
+#include "pheromesh/core/tick_gaps.hpp"
 #include "pheromesh/core/uav_core.hpp"
 #include "pheromesh/core/world.hpp"
 #include "pheromesh/runtime/commands.hpp"
@@ -72,6 +74,7 @@ class UavApp {
   uint64_t tile_samples_received_ = 0;
   uint64_t samples_received_ = 0;  // views + broadcasts + commands taken
   uint32_t ticks_late_ = 0;  // realtime: ticks that started more than one period late
+  core::TickGaps gaps_;      // realtime: gaps between tick starts (reported in the state)
   std::vector<core::ViewMsg> view_inbox_;
   std::optional<uint32_t> view_tick_;  // tick of the newest view received
   std::vector<core::BroadcastMsg> broadcast_inbox_;
@@ -80,6 +83,9 @@ class UavApp {
   // What the last step wrote (lockstep reports it with PhaseDone).
   std::map<core::RegionId, uint32_t> written_;
   bool broadcast_written_ = false;
+  bool standby_ = false;         // the swarm runs standby place agents
+  bool home_absent_ = false;     // lockstep: the home place agent was killed at a tick, no standby
+  bool conductor_lost_ = false;  // lockstep: no clock for ConductorWatch's limit
   std::unique_ptr<runtime::SwarmCommands> commands_;
 };
 

@@ -2,10 +2,12 @@
 
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <future>
 #include <limits>
 #include <thread>
 
@@ -31,12 +33,16 @@ GroundApp::GroundApp(GroundConfig cfg, core::ScenarioConfig scenario, std::uniqu
       geo_(scenario_.geometry()),
       world_(geo_, scenario_.obstacles, scenario_.targets),
       bus_(std::move(bus)),
-      resend_(*bus_, true),  // only conduct() (lockstep) publishes through it
+      // Only conduct() (lockstep) publishes through it. The clock goes out at
+      // least every half lease: the UAVs and place agents take a long
+      // silence for the conductor's death (core::ConductorWatch).
+      resend_(*bus_, true, std::min(std::chrono::milliseconds(1000), std::chrono::milliseconds(cfg_.common.lease_ms) / 2)),
       log_(spdlog::default_logger()),
       rec_(scenario_, world_),
       frame_builder_(geo_),
       conductor_({cfg_.expect_uavs != 0 ? cfg_.expect_uavs : scenario_.uavs, geo_.region_count(),
-                  std::chrono::milliseconds(static_cast<int64_t>(cfg_.phase_timeout_s * 1000)), std::chrono::milliseconds(5000),
+                  std::chrono::milliseconds(static_cast<int64_t>(cfg_.phase_timeout_s * 1000)),
+                  std::chrono::milliseconds(static_cast<int64_t>(cfg_.departed_grace_s * 1000)),
                   (cfg_.common.standby || scenario_.standby) ? 1U : 0U}),
       layers_(static_cast<int>(core::policy_traits(scenario_).layers.size())) {
   if (cfg_.expect_uavs == 0) cfg_.expect_uavs = scenario_.uavs;
@@ -86,6 +92,7 @@ void GroundApp::poll() {
       if (rec_.samples_rejected() <= 3) log_->warn("dropped state of uav {}", s.uav);
       continue;
     }
+    conductor_.heard_from(s.uav, Clock::now());
     const bool back = s.finished ? conductor_.on_uav_finished(s.uav)
                                  : conductor_.on_uav_state(s.uav, s.tick, geo_.tile_of(core::state_cell(s)));
     if (back && !s.finished) log_->info("uav {} is back at tick {}", s.uav, s.tick);
@@ -100,6 +107,7 @@ void GroundApp::poll() {
       continue;
     }
     conductor_.on_broadcast(b.uav, b.tick);
+    conductor_.heard_from(b.uav, Clock::now());
   }
   std::vector<uint32_t> gone;
   bus_->take_departed_uavs(gone);
@@ -147,6 +155,15 @@ void GroundApp::poll() {
   fields_.clear();
   bus_->take_fields(fields_);
   for (auto& f : fields_) {
+    if (f.region < geo_.region_count()) {
+      auto& [tick, chunks] = field_ticks_[f.region];
+      if (f.tick > tick || chunks.empty()) {
+        tick = f.tick;
+        chunks.clear();
+      }
+      if (f.tick == tick) chunks.insert(f.chunk);
+      field_chunks_[f.region] = f.chunks;
+    }
     for (auto& t : f.tiles) tiles_.push_back(std::move(t));
   }
   for (auto& t : tiles_) {
@@ -178,7 +195,10 @@ void GroundApp::poll() {
   }
   dones_.clear();
   bus_->take_phase_done(dones_);
-  for (const auto& d : dones_) conductor_.on_phase_done(d);
+  for (const auto& d : dones_) {
+    conductor_.on_phase_done(d);
+    if (d.process >> 24U == core::kRoleUav) conductor_.heard_from(d.process & 0xFFFFFFU, Clock::now());
+  }
   note_discovery();
 }
 
@@ -213,11 +233,16 @@ void GroundApp::progress_if_due() {
 bool GroundApp::run_phase(uint32_t tick, core::ClockPhase phase) {
   poll();
   resend_.begin_tick();
-  resend_.clock(conductor_.begin_phase(tick, phase, Clock::now()));
+  const auto t0 = Clock::now();
+  resend_.clock(conductor_.begin_phase(tick, phase, t0));
   for (;;) {
     poll();
     const auto st = conductor_.status(Clock::now());
-    if (st.complete) return true;
+    if (st.complete) {
+      log_->debug("lockstep tick {} {} phase: {} ms", tick, phase == core::ClockPhase::Uav ? "uav" : "place",
+                  std::chrono::duration_cast<std::chrono::milliseconds>(Clock::now() - t0).count());
+      return true;
+    }
     if (st.timed_out || runtime::shutdown_requested()) {
       log_->error("lockstep tick {} {} phase: {} process(es) did not finish within {} s", tick,
                   phase == core::ClockPhase::Uav ? "uav" : "place", st.waiting, cfg_.phase_timeout_s);
@@ -235,24 +260,107 @@ void GroundApp::wait_for_data(Clock::time_point until) {
   bus_->wait({K::UavState, K::Field, K::Tile, K::Detection, K::TargetEvent, K::Health, K::Broadcast, K::PhaseDone}, until);
 }
 
+void GroundApp::drop_uav(uint32_t uav, uint32_t tick) {
+  if (conductor_.drop_uav(uav)) log_->warn("lockstep tick {}: uav {} was killed; it no longer takes part", tick, uav);
+}
+
+void GroundApp::drop_region(core::RegionId r, uint32_t tick) {
+  if (cfg_.standby) {
+    log_->warn("lockstep tick {}: place agent {} was killed; its standby answers for region {}", tick, r, r);
+    return;
+  }
+  if (conductor_.drop_region(r)) {
+    log_->warn("lockstep tick {}: place agent {} was killed without a standby; region {} is absent from now on (its field "
+               "frozen, deposits into it lost, its UAVs on empty views)",
+               tick, r, r);
+  }
+}
+
+bool GroundApp::apply_faults(uint32_t tick) {
+  if (cfg_.launcher_fd < 0) {
+    log_->error("lockstep tick {} has faults (--fault-ticks) but there is no launcher to inject them (--launcher-fd)", tick);
+    return false;
+  }
+  // The launcher kills and reaps the processes of this tick before it
+  // answers. Meanwhile the clock keeps going out (re-sent), so nobody takes
+  // the wait for the conductor's death.
+  const console::LauncherLink link(cfg_.launcher_fd,
+                                   std::chrono::milliseconds(static_cast<int64_t>(cfg_.faults_timeout_s * 1000)));
+  auto answer = std::async(std::launch::async, [&] { return link.ask("faults " + std::to_string(tick)); });
+  while (answer.wait_for(std::chrono::seconds(0)) != std::future_status::ready) {
+    poll();
+    progress_if_due();
+    resend_.resend_if_quiet();
+    wait_for_data(Clock::now() + std::chrono::milliseconds(20));
+  }
+  const auto a = answer.get();
+  if (a.status != 200) {
+    log_->error("lockstep tick {}: the launcher did not inject the faults of this tick: {}", tick, a.message);
+    return false;
+  }
+  auto gone = core::parse_gone(a.message, cfg_.expect_uavs, geo_.region_count());
+  if (!gone) {
+    log_->error("lockstep tick {}: {}", tick, gone.error().message);
+    return false;
+  }
+  log_->info("lockstep tick {}: the launcher reports {}", tick, a.message);
+  for (uint32_t u : gone->uavs) drop_uav(u, tick);
+  for (core::RegionId r : gone->regions) drop_region(r, tick);
+  return true;
+}
+
+bool GroundApp::holds_last_fields(uint32_t tick) const {
+  for (core::RegionId r = 0; r < geo_.region_count(); ++r) {
+    if (conductor_.absent(r)) continue;
+    auto it = field_ticks_.find(r);
+    auto n = field_chunks_.find(r);
+    if (it == field_ticks_.end() || n == field_chunks_.end() || it->second.first != tick ||
+        it->second.second.size() < n->second) {
+      return false;
+    }
+  }
+  return true;
+}
+
 bool GroundApp::conduct() {
   bus_->subscribe_phase_done();
   const uint32_t ticks = scenario_.ticks;
   log_->info("conducting {} lockstep ticks", ticks);
   bool ok = true;
   for (uint32_t k = 0; k <= ticks && ok && !runtime::shutdown_requested(); ++k) {
-    // Paused from the console: the next tick is not announced.
+    // Paused from the console: the next tick is not announced (the last clock
+    // is, again, so the swarm knows the conductor lives).
     while (paused_ && !runtime::shutdown_requested()) {
       poll();
       service();
+      resend_.resend_if_quiet();
       wait_for_data(Clock::now() + std::chrono::milliseconds(10));
     }
-    ok = run_phase(k, core::ClockPhase::Uav) && run_phase(k, core::ClockPhase::Place);
+    if (std::find(cfg_.fault_ticks.begin(), cfg_.fault_ticks.end(), k) != cfg_.fault_ticks.end()) ok = apply_faults(k);
+    ok = ok && run_phase(k, core::ClockPhase::Uav) && run_phase(k, core::ClockPhase::Place);
     progress_if_due();
     service();
   }
-  bus_->publish_clock(core::LockstepConductor::stop(ticks));
-  bus_->flush(std::chrono::seconds(5));
+  // The final field is that of the last tick: wait (bounded) until every
+  // present region's field of it is here, before the place agents are let go.
+  const auto deadline = Clock::now() + std::chrono::milliseconds(static_cast<int64_t>(cfg_.phase_timeout_s * 1000));
+  while (ok && !holds_last_fields(ticks) && !runtime::shutdown_requested()) {
+    if (Clock::now() > deadline) {
+      log_->error("the fields of the last tick {} did not all reach the ground station within {} s", ticks, cfg_.phase_timeout_s);
+      ok = false;
+      break;
+    }
+    poll();
+    resend_.resend_if_quiet();
+    wait_for_data(Clock::now() + std::chrono::milliseconds(20));
+  }
+  // Stop: re-sent like every clock (run() keeps the re-sender going), not
+  // flushed - a killed process's reader would never acknowledge it.
+  resend_.begin_tick();
+  resend_.clock(core::LockstepConductor::stop(ticks));
+  if (conductor_.deposits_lost() > 0) {
+    log_->info("{} deposits were lost with the place agents killed at a tick", conductor_.deposits_lost());
+  }
   return ok;
 }
 
@@ -289,6 +397,7 @@ int GroundApp::finish() {
     return it->second.values[static_cast<std::size_t>((c.y - r.y0) * r.w + (c.x - r.x0))];
   };
   rec_.set_field_summary(core::field_summary(scenario_, field_value));
+  rec_.add_deposits_lost(conductor_.deposits_lost());
   std::string error;
   const runtime::RunInfo info{bus_->vendor(), cfg_.common.clock, cfg_.expect_uavs, discovery_s_};
   if (!runtime::write_json(cfg_.out_dir, "metrics.json", runtime::metrics_json(rec_, info), error)) {
@@ -315,6 +424,7 @@ int GroundApp::run() {
     poll();
     progress_if_due();
     service();
+    if (cfg_.common.lockstep()) resend_.resend_if_quiet();  // the stop
     wait_for_data(Clock::now() + std::chrono::milliseconds(20));
   }
   const int rc = finish();

@@ -40,6 +40,7 @@ struct GroundConfig {
   uint32_t expect_uavs = 0;  // 0: the scenario's swarm.uavs
   double progress_period_s = 1.0;
   double phase_timeout_s = 60.0;  // lockstep: longest wait for one phase [s]
+  double departed_grace_s = 5.0;  // lockstep: a UAV silent this long after its liveliness lapsed is dropped [s]
   // Web console (docs/console.md): served when http_port is set (0: any free port).
   std::optional<uint16_t> http_port;
   std::string http_bind = "127.0.0.1";
@@ -47,6 +48,11 @@ struct GroundConfig {
   std::string record_path;   // record the console frames here (empty: no recording)
   int launcher_fd = -1;      // control socket from `pheromesh run` (kill / restart)
   std::string scenario_path;
+  // Lockstep: ticks before whose UAV phase the launcher injects faults
+  // (core/faults.hpp); the conductor asks it "faults K" and drops what it killed.
+  std::vector<uint32_t> fault_ticks;
+  double faults_timeout_s = 60.0;  // [s] longest wait for the launcher's answer
+  bool standby = false;            // place agents have standby replicas: a killed one is replaced, its region stays
 };
 
 class GroundApp {
@@ -63,6 +69,14 @@ class GroundApp {
   // Lockstep conductor: returns false if a phase timed out.
   bool conduct();
   bool run_phase(uint32_t tick, core::ClockPhase phase);
+  // Lockstep: asks the launcher for the faults of `tick` and drops from the
+  // protocol what it killed; false if the launcher could not say.
+  bool apply_faults(uint32_t tick);
+  // Lockstep: every present region's field of `tick` (all chunks) arrived.
+  [[nodiscard]] bool holds_last_fields(uint32_t tick) const;
+  // Lockstep: the launcher or the console killed these.
+  void drop_uav(uint32_t uav, uint32_t tick);
+  void drop_region(core::RegionId r, uint32_t tick);
   int finish();
 
   // --- web console, recording and commands
@@ -94,6 +108,8 @@ class GroundApp {
   std::vector<core::HealthMsg> healths_;
   std::vector<core::TileMsg> tiles_;
   std::vector<core::FieldMsg> fields_;
+  std::map<core::RegionId, std::pair<uint32_t, std::set<uint16_t>>> field_ticks_;  // region -> newest tick, its chunks seen
+  std::map<core::RegionId, uint16_t> field_chunks_;                               // region -> chunks per field
   std::vector<core::PhaseDoneMsg> dones_;
   std::vector<core::BroadcastMsg> broadcasts_;
   int layers_ = 0;

@@ -207,9 +207,18 @@ Answer GroundApp::apply(const console::ConsoleCommand& c) {
       if (a.status == 200 && launcher_.connected()) launcher_.ask(pause ? "pause" : "resume");  // the launcher extends its deadline
       return a;
     }
-    case K::KillUav: return launcher_.ask("kill uav " + std::to_string(c.id));
+    case K::KillUav: {
+      auto a = launcher_.ask("kill uav " + std::to_string(c.id));
+      // Lockstep: the conductor knows it is gone and does not wait for it.
+      if (a.status == 200 && cfg_.common.lockstep()) drop_uav(c.id, rec_.max_tick());
+      return a;
+    }
     case K::RestartUav: return launcher_.ask("restart uav " + std::to_string(c.id));
-    case K::KillPlace: return launcher_.ask("kill place " + std::to_string(c.id));
+    case K::KillPlace: {
+      auto a = launcher_.ask("kill place " + std::to_string(c.id));
+      if (a.status == 200 && cfg_.common.lockstep()) drop_region(c.id, rec_.max_tick());
+      return a;
+    }
     case K::Obstacle: {
       const Answer a = publish_swarm_command(*console::swarm_command(c));
       if (a.status == 200) {

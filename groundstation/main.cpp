@@ -19,12 +19,25 @@ int main(int argc, char** argv) {
   app.add_option("--expect-uavs", cfg.expect_uavs, "UAVs expected (default: the scenario's swarm.uavs)");
   app.add_option("--progress", cfg.progress_period_s, "Seconds between progress lines [s]")->capture_default_str();
   app.add_option("--phase-timeout", cfg.phase_timeout_s, "Lockstep: longest wait for one phase [s]")->capture_default_str();
+  app.add_option("--departed-grace", cfg.departed_grace_s,
+                 "Lockstep: a UAV whose liveliness lapsed and that sent nothing for this long is no longer waited for "
+                 "(one killed by the launcher at a tick is dropped at once) [s]")
+      ->capture_default_str();
   app.add_option("--http", cfg.http_port, "Serve the web console and /metrics on this port (0: any free port)");
   app.add_option("--http-bind", cfg.http_bind, "Address the console listens on (0.0.0.0: every interface)")
       ->capture_default_str();
   app.add_option("--console-hz", cfg.console_hz, "Console frames per second")->capture_default_str()->check(CLI::Range(0.2, 50.0));
   app.add_option("--record", cfg.record_path, "Record the console frames to this file (read by `pheromesh replay`)");
   app.add_option("--launcher-fd", cfg.launcher_fd, "Control socket inherited from `pheromesh run` (kill / restart)");
+  app.add_option("--fault-ticks", cfg.fault_ticks,
+                 "Lockstep: ticks with faults, comma-separated; before each one's UAV phase the conductor asks the launcher "
+                 "(\"faults K\" on --launcher-fd) which processes it killed and drops them")
+      ->delimiter(',');
+  app.add_option("--faults-timeout", cfg.faults_timeout_s, "Lockstep: longest wait for the launcher's answer to \"faults K\" [s]")
+      ->capture_default_str();
+  app.add_flag("--standby", cfg.standby,
+               "Place agents have standby replicas: a place agent killed at a tick is replaced and its region stays "
+               "(without: the region is absent from then on)");
   CLI11_PARSE(app, argc, argv);
   cfg.scenario_path = cfg.common.scenario;
 

@@ -20,6 +20,7 @@ PlaceApp::PlaceApp(PlaceConfig cfg, core::ScenarioConfig scenario, std::unique_p
       log_(spdlog::default_logger()),
       core_(scenario_, cfg_.region),
       rate_(scenario_.tick_rate_hz),
+      gaps_(std::chrono::nanoseconds(static_cast<int64_t>(1e9 / scenario_.tick_rate_hz))),
       views_(geo_, static_cast<int>(core::policy_traits(scenario_).layers.size()), core::policy_traits(scenario_).view_radius) {
   for (uint32_t u = 0; u < scenario_.uavs; ++u) {
     if (core::home_region(u, geo_.region_count()) == cfg_.region) home_uavs_.push_back(u);
@@ -28,9 +29,28 @@ PlaceApp::PlaceApp(PlaceConfig cfg, core::ScenarioConfig scenario, std::unique_p
     if (r != cfg_.region) other_regions_.push_back(r);
   }
   replicated_ = cfg_.common.standby || scenario_.standby;
+  present_others_ = other_regions_;
+}
+
+void PlaceApp::note_absent(const core::ClockMsg& c) {
+  bool changed = false;
+  for (core::RegionId r : c.absent) {
+    if (r == cfg_.region || r >= geo_.region_count() || !absent_.insert(r).second) continue;
+    changed = true;
+    log_->warn("tick {}: the place agent of region {} is gone (no standby); its field and ring stay as they were", c.tick, r);
+  }
+  if (!changed) return;
+  present_others_.clear();
+  for (core::RegionId r : other_regions_) {
+    if (!absent_.contains(r)) present_others_.push_back(r);
+  }
 }
 
 namespace {
+// Exit code when the lockstep conductor vanished (runtime::run_process uses 2-4).
+constexpr int kConductorLost = 7;
+// Exit code of a replica that missed lockstep ticks (docs/faults.md).
+constexpr int kReplicaBehind = 8;
 // Realtime: a home UAV not heard for this many place ticks gets no more
 // views (it died or finished); in lockstep every view is sent.
 constexpr uint32_t kViewsAfterSilence = 20;
@@ -68,6 +88,10 @@ void PlaceApp::take_deposits() {
       continue;
     }
     // A home UAV's deposit for another region: to the owner's place agent.
+    if (is_absent(d.region)) {
+      ++deposits_lost_;  // the conductor counts it lost (deposits_lost)
+      continue;
+    }
     if (bus_->matched_deposit_readers(d.region) == 0) {
       core_.reject({d}, "owner place agent of region " + std::to_string(d.region) + " not reachable to forward to");
       continue;
@@ -122,10 +146,10 @@ void PlaceApp::serve_views(uint32_t tick, bool exact) {
       }
       views_.update_field(f);
     }
-    if (!exact || views_.holds_fields(tick, other_regions_)) break;
+    if (!exact || views_.holds_fields(tick, present_others_)) break;
     if (Clock::now() > deadline || runtime::shutdown_requested()) {
       log_->error("tick {}: the fields of some regions did not arrive ({}); views use the latest", tick,
-                  views_.missing_fields(tick, other_regions_));
+                  views_.missing_fields(tick, present_others_));
       break;
     }
     resend_.resend_if_quiet();
@@ -178,28 +202,31 @@ void PlaceApp::step(uint32_t tick, bool exact, std::optional<uint32_t> expected_
   // nothing new leaves its last ring in the halo, counted as missing).
   // Lockstep: exactly the rings of this tick, waited for.
   std::set<core::RegionId> fresh;
+  // Lockstep: an absent neighbour's last ring stays in the halo (frozen).
+  const std::size_t awaited = static_cast<std::size_t>(
+      std::count_if(core_.neighbours().begin(), core_.neighbours().end(), [&](core::RegionId n) { return !is_absent(n); }));
   const auto deadline = Clock::now() + std::chrono::seconds(30);
   for (;;) {
     halo_inbox_.clear();
     bus_->take_halos(halo_inbox_);
     for (const auto& h : halo_inbox_) {
-      if (exact && h.tick != tick) continue;
+      if (exact && (h.tick != tick || is_absent(h.region))) continue;
       if (!core_.accept_halo(h)) {
         log_->warn("dropped malformed halo from region {}", h.region);
         continue;
       }
       fresh.insert(h.region);
     }
-    if (!exact || fresh.size() >= core_.neighbours().size()) break;
+    if (!exact || fresh.size() >= awaited) break;
     if (Clock::now() > deadline || runtime::shutdown_requested()) {
-      log_->error("tick {}: rings of {} of {} neighbours did not arrive", tick, core_.neighbours().size() - fresh.size(),
-                  core_.neighbours().size());
+      log_->error("tick {}: rings of {} of {} neighbours did not arrive", tick, awaited - std::min(awaited, fresh.size()),
+                  awaited);
       break;
     }
     resend_.resend_if_quiet();
     bus_->wait({bus::TopicKind::Halo}, std::min(deadline, Clock::now() + std::chrono::milliseconds(100)));
   }
-  halos_missing_ += core_.neighbours().size() - std::min(fresh.size(), core_.neighbours().size());
+  halos_missing_ += awaited - std::min(fresh.size(), awaited);
   core_.finish_tick();
   tiles_out_.clear();
   core_.tiles(tick, false, tiles_out_);
@@ -209,7 +236,7 @@ void PlaceApp::step(uint32_t tick, bool exact, std::optional<uint32_t> expected_
 void PlaceApp::publish_health(uint32_t tick, bool finished) {
   const auto& l = core_.ledger();
   core::HealthMsg h{cfg_.region, tick, static_cast<float>(rate_), l.received, l.applied, l.rejected(), halos_missing_,
-                    finished};
+                    finished, gaps_.max_gap_ms(), gaps_.gaps_over_2()};
   h.replica = cfg_.replica;
   h.deposits_duplicate = duplicates_;
   bus_->publish_health(h);
@@ -218,11 +245,16 @@ void PlaceApp::publish_health(uint32_t tick, bool finished) {
 void PlaceApp::log_summary(uint32_t tick) {
   const auto& l = core_.ledger();
   log_->info("region {}{} finished at tick {}: deposits received {}, applied {}, rejected {}, duplicates dropped {}; "
-             "forwarded {} of its {} home UAVs' to other regions; samples dropped {}; lockstep re-sends {}",
+             "forwarded {} of its {} home UAVs' to other regions; samples dropped {}; lockstep re-sends {}{}",
              cfg_.region, cfg_.replica > 0 ? " (standby " + std::to_string(cfg_.replica) + ")" : "", tick, l.received,
              l.applied, l.rejected(), duplicates_, deposits_forwarded_, home_uavs_.size(), samples_rejected_,
-             resend_.resends());
+             resend_.resends(),
+             deposits_lost_ > 0 ? fmt::format("; {} deposits for absent regions lost", deposits_lost_) : std::string());
   for (const auto& [reason, n] : l.rejected_by_reason) log_->info("  rejected {}: {}", n, reason);
+  if (!cfg_.common.lockstep()) {
+    log_->info("region {} kept its clock: longest gap between tick starts {} ms ({:.2f} periods), {} gaps over 2 periods",
+               cfg_.region, gaps_.max_gap_ms(), gaps_.max_gap_periods(), gaps_.gaps_over_2());
+  }
 }
 
 int PlaceApp::run_realtime() {
@@ -230,6 +262,11 @@ int PlaceApp::run_realtime() {
   auto last_health = Clock::now();
   uint32_t tick = 0;
   while (!runtime::shutdown_requested() && (cfg_.max_ticks == 0 || tick < cfg_.max_ticks)) {
+    if (const auto gap = gaps_.on_tick_start(Clock::now()); gap && gaps_.gaps_over_2() <= 10) {
+      log_->warn("tick {} started {} ms after the one before ({:.1f} tick periods)", tick,
+                 std::chrono::duration_cast<std::chrono::milliseconds>(*gap).count(),
+                 static_cast<double>(gap->count()) / static_cast<double>(gaps_.period().count()));
+    }
     commands_->take();
     // Paused from the console: no evaporation, no diffusion, deposits wait
     // in the reader; health still goes out.
@@ -258,10 +295,13 @@ int PlaceApp::run_lockstep() {
   std::vector<core::ClockMsg> cmds;
   int64_t done_tick = -1;
   bool stop = false;
+  auto watch = core::ConductorWatch::for_lease(std::chrono::milliseconds(cfg_.common.lease_ms), Clock::now());
   while (!stop && !runtime::shutdown_requested()) {
     cmds.clear();
     bus_->take_clock(cmds);
+    if (!cmds.empty()) watch.on_clock(Clock::now());
     for (const auto& c : cmds) {
+      note_absent(c);
       if (c.phase == static_cast<uint8_t>(core::ClockPhase::Stop)) {
         stop = true;
       } else if (c.phase == static_cast<uint8_t>(core::ClockPhase::Place) && static_cast<int64_t>(c.tick) > done_tick) {
@@ -272,21 +312,33 @@ int PlaceApp::run_lockstep() {
           log_->error("region {} replica {}: the lockstep clock is at tick {} but this replica finished tick {} last; it "
                       "missed ticks while it was stopped or cut off and leaves (another replica serves the region)",
                       cfg_.region, cfg_.replica, c.tick, done_tick);
-          return 7;
+          return kReplicaBehind;
         }
         // Every tile, every tick: a UAV waits for tiles of exactly this tick.
         uint32_t expected = 0;
         for (const auto& rc : c.deposits) expected += rc.region == cfg_.region ? rc.count : 0;
         step(c.tick, true, expected);
         publish_health(c.tick, false);
-        // No flush: a killed process's readers never acknowledge (see uav_app.cpp).
-        // Every reader of this phase's output waits for exactly this tick's samples.
+        // No flush here: every reader of what this phase wrote waits for
+        // exactly this tick's samples (fields, halos, views, forwarded
+        // deposits by count), and the re-sender covers a sample that does not
+        // come out. A flush would wait for the acknowledgement of every
+        // matched reader, also of a killed process, whose readers stay
+        // matched until its participant lease ends (docs/dds.md).
         const uint32_t id = replicated_ ? core::place_id(cfg_.region, cfg_.replica) : cfg_.region;
         resend_.phase_done({core::process_key(core::kRolePlace, id), c.tick, c.phase, 0, {}});
         done_tick = c.tick;
       }
     }
     if (cmds.empty()) {
+      if (watch.lost(Clock::now())) {
+        log_->error("the conductor (ground station) is gone: no lockstep clock for {:.1f} s ({} leases of {} ms) after tick {}; "
+                    "stopping",
+                    std::chrono::duration<double>(watch.silence(Clock::now())).count(),
+                    watch.limit() / std::chrono::milliseconds(cfg_.common.lease_ms), cfg_.common.lease_ms, done_tick);
+        log_summary(static_cast<uint32_t>(std::max<int64_t>(done_tick, 0)));
+        return kConductorLost;
+      }
       if (resend_.resend_if_quiet()) log_->debug("tick {}: nothing new for 1 s; re-sent this tick's samples", done_tick);
       bus_->wait({bus::TopicKind::Clock}, Clock::now() + std::chrono::milliseconds(100));
     }

@@ -15,7 +15,9 @@
 
 #include "pheromesh/bus/bus.hpp"
 #include "pheromesh/core/place_core.hpp"
+#include "pheromesh/core/conductor.hpp"
 #include "pheromesh/core/scenario.hpp"
+#include "pheromesh/core/tick_gaps.hpp"
 #include "pheromesh/core/view_server.hpp"
 #include "pheromesh/runtime/commands.hpp"
 #include "pheromesh/runtime/process.hpp"
@@ -58,6 +60,10 @@ class PlaceApp {
   // replicas of its UAV's home). True if this one was seen before.
   bool duplicate(const core::DepositMsg& d);
   void log_summary(uint32_t tick);
+  // Lockstep: the clock's absent regions (place agents killed at a tick,
+  // without a standby) join absent_; nobody waits for them any more.
+  void note_absent(const core::ClockMsg& c);
+  [[nodiscard]] bool is_absent(core::RegionId r) const { return absent_.contains(r); }
 
   PlaceConfig cfg_;
   core::ScenarioConfig scenario_;
@@ -68,6 +74,7 @@ class PlaceApp {
   core::PlaceCore core_;
   uint64_t halos_missing_ = 0;
   double rate_ = 0.0;
+  core::TickGaps gaps_;  // realtime: gaps between tick starts (reported in the health)
   std::vector<core::DepositMsg> inbox_;
   std::vector<core::HaloMsg> halo_inbox_;
   std::vector<core::TargetEventMsg> events_;
@@ -89,6 +96,9 @@ class PlaceApp {
   std::map<uint32_t, std::set<uint32_t>> seen_seq_;  // replicated: per UAV, the newest deposit seqs received
   uint64_t duplicates_ = 0;
   std::map<uint32_t, uint32_t> acked_;  // home UAV -> highest deposit seq received from it (its views carry it)
+  uint64_t deposits_lost_ = 0;  // lockstep: home UAVs' deposits for absent regions, not forwarded
+  std::set<core::RegionId> absent_;
+  std::vector<core::RegionId> present_others_;  // other_regions_ without the absent ones
   uint64_t samples_rejected_ = 0;  // malformed home states and field chunks, dropped
 };
 

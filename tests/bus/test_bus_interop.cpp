@@ -102,7 +102,7 @@ TEST_P(Interop, EveryMessageArrivesIntact) {
     EXPECT_EQ(t.values, tile.values);
   }
 
-  const core::UavStateMsg st{5, 12, 1.25, -2.5, 0.125, 3.0, 6, 2, 1234567890123ULL, 99, 1ULL << 40U, 8, {3, 4}, true};
+  const core::UavStateMsg st{5, 12, 1.25, -2.5, 0.125, 3.0, 6, 2, 1234567890123ULL, 99, 1ULL << 40U, 8, {3, 4}, true, 1003, 7};
   w_->join_uav(5, 3);
   ASSERT_TRUE(w_->publish_uav_state(st));
   // Once to the home place agent's reader ("s.3"), once to the ground's ("s.*").
@@ -124,6 +124,8 @@ TEST_P(Interop, EveryMessageArrivesIntact) {
     EXPECT_EQ(s.view.x, 3);
     EXPECT_EQ(s.view.y, 4);
     EXPECT_TRUE(s.finished);
+    EXPECT_EQ(s.tick_gap_max_ms, 1003U);
+    EXPECT_EQ(s.tick_gaps_over_2, 7U);
   };
   for (const auto& s : states) expect_state(s);
 
@@ -175,7 +177,7 @@ TEST_P(Interop, EveryMessageArrivesIntact) {
   EXPECT_EQ(evs[0].kind, 2);
   EXPECT_EQ(evs[0].response_ticks, 321U);
 
-  ASSERT_TRUE(w_->publish_health({7, 15, 25.5F, 100, 90, 10, 3, true}));
+  ASSERT_TRUE(w_->publish_health({7, 15, 25.5F, 100, 90, 10, 3, true, 250, 2}));
   const auto hs = wait_for<core::HealthMsg>([&](auto& v) { r_->take_health(v); });
   ASSERT_EQ(hs.size(), 1U);
   EXPECT_EQ(hs[0].tick_rate_hz, 25.5F);
@@ -184,6 +186,8 @@ TEST_P(Interop, EveryMessageArrivesIntact) {
   EXPECT_EQ(hs[0].deposits_rejected, 10U);
   EXPECT_EQ(hs[0].halos_missing, 3U);
   EXPECT_TRUE(hs[0].finished);
+  EXPECT_EQ(hs[0].tick_gap_max_ms, 250U);
+  EXPECT_EQ(hs[0].tick_gaps_over_2, 2U);
 
   ASSERT_TRUE(w_->publish_halo({3, 16, {1.0F, 2.0F, 3.0F}, {0.0F, 9.0F}}));
   const auto halos = wait_for<core::HaloMsg>([&](auto& v) { r_->take_halos(v); });
@@ -203,6 +207,7 @@ TEST_P(Interop, EveryMessageArrivesIntact) {
   clk.broadcasts = 4;
   clk.occupancy = {{{1, 2}, 3}, {{4, 5}, 6}};
   clk.deposits = {{0, 10}, {7, 20}};
+  clk.absent = {2, 9};
   ASSERT_TRUE(w_->publish_clock(clk));
   const auto clks = wait_for<core::ClockMsg>([&](auto& v) { r_->take_clock(v); });
   ASSERT_EQ(clks.size(), 1U);
@@ -216,6 +221,7 @@ TEST_P(Interop, EveryMessageArrivesIntact) {
   ASSERT_EQ(clks[0].deposits.size(), 2U);
   EXPECT_EQ(clks[0].deposits[1].region, 7U);
   EXPECT_EQ(clks[0].deposits[1].count, 20U);
+  EXPECT_EQ(clks[0].absent, (std::vector<core::RegionId>{2, 9}));
 
   ASSERT_TRUE(w_->publish_phase_done({(1U << 24) | 5U, 18, 0, 1, {{7, 3}, {8, 1}}}));
   const auto dones = wait_for<core::PhaseDoneMsg>([&](auto& v) { r_->take_phase_done(v); });

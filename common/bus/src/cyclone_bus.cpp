@@ -115,12 +115,13 @@ std::vector<core::RegionCount> region_counts_in(const dds_sequence_pheromesh_msg
 
 pheromesh_msg_UavState state_out(const core::UavStateMsg& m) {
   return {m.uav,  m.tick, m.x,          m.y,          m.vx,  m.vy, m.heading, m.role, m.deposits_sent, m.tile_samples_received,
-          m.samples_received, m.ticks_late, m.view.x, m.view.y, m.finished, m.deposits_unconfirmed};
+          m.samples_received, m.ticks_late, m.view.x, m.view.y, m.finished, m.tick_gap_max_ms, m.tick_gaps_over_2,
+          m.deposits_unconfirmed};
 }
 
 core::UavStateMsg state_in(const pheromesh_msg_UavState& s) {
   core::UavStateMsg m{s.uav,     s.tick, s.x,  s.y,  s.vx, s.vy, s.heading, s.role, s.deposits_sent, s.tile_samples_received,
-                      s.samples_received, s.ticks_late, {s.view_x, s.view_y}, s.finished};
+                      s.samples_received, s.ticks_late, {s.view_x, s.view_y}, s.finished, s.tick_gap_max_ms, s.tick_gaps_over_2};
   m.deposits_unconfirmed = s.deposits_unconfirmed;
   return m;
 }
@@ -395,6 +396,8 @@ class CycloneBus final : public VendorBus {
     s.halos_missing = m.halos_missing;
     s.finished = m.finished;
     s.deposits_duplicate = m.deposits_duplicate;
+    s.tick_gap_max_ms = m.tick_gap_max_ms;
+    s.tick_gaps_over_2 = m.tick_gaps_over_2;
     return write(writer(TopicKind::Health, health_topic_, kGroundPartition), &s);
   }
 
@@ -420,6 +423,8 @@ class CycloneBus final : public VendorBus {
     }
     if (m.deposits.size() > core::kMaxRegionCounts) return refuse("clock deposit counts", m.deposits.size());
     std::vector<pheromesh_msg_RegionCount> deps = region_counts_out(m.deposits);
+    if (m.absent.size() > core::kMaxRegionCounts) return refuse("clock absent regions", m.absent.size());
+    std::vector<uint32_t> absent(m.absent.begin(), m.absent.end());
     pheromesh_msg_ClockCommand s{};
     s.tick = m.tick;
     s.phase = m.phase;
@@ -429,6 +434,7 @@ class CycloneBus final : public VendorBus {
     s.occupancy._maximum = static_cast<uint32_t>(occ.size());
     s.occupancy._release = false;
     set_region_counts(s.deposits, deps);
+    borrow(s.absent, absent);
     return write(writer(TopicKind::Clock, clock_topic_, kClockPartition), &s);
   }
 
@@ -457,7 +463,7 @@ class CycloneBus final : public VendorBus {
         clock_reader_,
         [&](const pheromesh_msg_ClockCommand& s) {
           if (s.occupancy._length > core::kMaxOccupancy || (s.occupancy._length > 0 && s.occupancy._buffer == nullptr) ||
-              !region_counts_ok(s.deposits)) {
+              !region_counts_ok(s.deposits) || !seq_ok(s.absent, core::kMaxRegionCounts)) {
             ++stats_.samples_dropped;
             return;
           }
@@ -466,6 +472,7 @@ class CycloneBus final : public VendorBus {
           c.phase = s.phase;
           c.broadcasts = s.broadcasts;
           c.deposits = region_counts_in(s.deposits);
+          c.absent.assign(s.absent._buffer, s.absent._buffer + s.absent._length);
           for (uint32_t i = 0; i < s.occupancy._length; ++i) {
             const auto& t = s.occupancy._buffer[i];
             c.occupancy.push_back({{t.tx, t.ty}, t.count});
@@ -630,7 +637,7 @@ class CycloneBus final : public VendorBus {
         health_reader_,
         [&](const pheromesh_msg_PlaceHealth& s) {
           core::HealthMsg h{s.region, s.tick, s.tick_rate_hz, s.deposits_received, s.deposits_applied, s.deposits_rejected,
-                            s.halos_missing, s.finished};
+                            s.halos_missing, s.finished, s.tick_gap_max_ms, s.tick_gaps_over_2};
           h.replica = s.replica;
           h.deposits_duplicate = s.deposits_duplicate;
           out.push_back(h);
@@ -661,10 +668,19 @@ class CycloneBus final : public VendorBus {
     return n > 0;
   }
 
-  bool flush(std::chrono::milliseconds timeout) override {
+  bool flush(std::chrono::milliseconds timeout) override { return flush_if([](int) { return true; }, timeout); }
+
+  bool flush(std::initializer_list<TopicKind> kinds, std::chrono::milliseconds timeout) override {
+    return flush_if([&](int k) { return std::find(kinds.begin(), kinds.end(), static_cast<TopicKind>(k)) != kinds.end(); },
+                    timeout);
+  }
+
+  template <typename Pred>
+  bool flush_if(Pred&& wanted, std::chrono::milliseconds timeout) {
     const auto deadline = std::chrono::steady_clock::now() + timeout;
     bool all = true;
     for (auto& [key, w] : writers_) {
+      if (!wanted(key.first)) continue;
       const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
       const dds_return_t rc = dds_wait_for_acks(w.writer, DDS_MSECS(std::max<int64_t>(0, left.count())));
       if (rc != DDS_RETCODE_OK) all = false;

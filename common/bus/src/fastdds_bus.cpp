@@ -196,6 +196,8 @@ msg::UavState state_out(const core::UavStateMsg& m) {
   s.view_y(m.view.y);
   s.finished(m.finished);
   s.deposits_unconfirmed(m.deposits_unconfirmed);
+  s.tick_gap_max_ms(m.tick_gap_max_ms);
+  s.tick_gaps_over_2(m.tick_gaps_over_2);
   return s;
 }
 
@@ -203,7 +205,8 @@ core::UavStateMsg state_in(const msg::UavState& s) {
   core::UavStateMsg m{s.uav(),     s.tick(),          s.x(),
                       s.y(),       s.vx(),            s.vy(),
                       s.heading(), s.role(),          s.deposits_sent(),
-                      s.tile_samples_received(), s.samples_received(), s.ticks_late(), {s.view_x(), s.view_y()}, s.finished()};
+                      s.tile_samples_received(), s.samples_received(), s.ticks_late(), {s.view_x(), s.view_y()}, s.finished(),
+                      s.tick_gap_max_ms(), s.tick_gaps_over_2()};
   m.deposits_unconfirmed = s.deposits_unconfirmed();
   return m;
 }
@@ -492,6 +495,8 @@ class FastDdsBus final : public VendorBus {
     s.halos_missing(m.halos_missing);
     s.finished(m.finished);
     s.deposits_duplicate(m.deposits_duplicate);
+    s.tick_gap_max_ms(m.tick_gap_max_ms);
+    s.tick_gaps_over_2(m.tick_gaps_over_2);
     return write(writer(TopicKind::Health, kGroundPartition), &s);
   }
 
@@ -510,6 +515,7 @@ class FastDdsBus final : public VendorBus {
   bool publish_clock(const core::ClockMsg& m) override {
     if (m.occupancy.size() > core::kMaxOccupancy) return refuse("clock occupancy", m.occupancy.size());
     if (m.deposits.size() > core::kMaxRegionCounts) return refuse("clock deposit counts", m.deposits.size());
+    if (m.absent.size() > core::kMaxRegionCounts) return refuse("clock absent regions", m.absent.size());
     msg::ClockCommand s;
     s.tick(m.tick);
     s.phase(m.phase);
@@ -525,6 +531,7 @@ class FastDdsBus final : public VendorBus {
     }
     s.occupancy(std::move(occ));
     s.deposits(region_counts_out(m.deposits));
+    s.absent(std::vector<uint32_t>(m.absent.begin(), m.absent.end()));
     return write(writer(TopicKind::Clock, kClockPartition), &s);
   }
 
@@ -547,7 +554,8 @@ class FastDdsBus final : public VendorBus {
     take_each<msg::ClockCommand>(
         clock_reader_,
         [&](const msg::ClockCommand& s, const fdds::SampleInfo& /*info*/) {
-          if (s.occupancy().size() > core::kMaxOccupancy || !region_counts_ok(s.deposits())) {
+          if (s.occupancy().size() > core::kMaxOccupancy || !region_counts_ok(s.deposits()) ||
+              s.absent().size() > core::kMaxRegionCounts) {
             ++stats_.samples_dropped;
             return;
           }
@@ -556,6 +564,7 @@ class FastDdsBus final : public VendorBus {
           c.phase = s.phase();
           c.broadcasts = s.broadcasts();
           c.deposits = region_counts_in(s.deposits());
+          c.absent.assign(s.absent().begin(), s.absent().end());
           for (const auto& t : s.occupancy()) c.occupancy.push_back({{t.tx(), t.ty()}, t.count()});
           out.push_back(std::move(c));
         },
@@ -772,7 +781,7 @@ class FastDdsBus final : public VendorBus {
         [&](const msg::PlaceHealth& s, const fdds::SampleInfo& info) {
           region_departures_.seen(info, core::place_id(s.region(), s.replica()));
           core::HealthMsg h{s.region(), s.tick(), s.tick_rate_hz(), s.deposits_received(), s.deposits_applied(),
-                            s.deposits_rejected(), s.halos_missing(), s.finished()};
+                            s.deposits_rejected(), s.halos_missing(), s.finished(), s.tick_gap_max_ms(), s.tick_gaps_over_2()};
           h.replica = s.replica();
           h.deposits_duplicate = s.deposits_duplicate();
           out.push_back(h);
@@ -804,10 +813,19 @@ class FastDdsBus final : public VendorBus {
     return rc == ReturnCode_t::RETCODE_OK && !active.empty();
   }
 
-  bool flush(std::chrono::milliseconds timeout) override {
+  bool flush(std::chrono::milliseconds timeout) override { return flush_if([](int) { return true; }, timeout); }
+
+  bool flush(std::initializer_list<TopicKind> kinds, std::chrono::milliseconds timeout) override {
+    return flush_if([&](int k) { return std::find(kinds.begin(), kinds.end(), static_cast<TopicKind>(k)) != kinds.end(); },
+                    timeout);
+  }
+
+  template <typename Pred>
+  bool flush_if(Pred&& wanted, std::chrono::milliseconds timeout) {
     const auto deadline = std::chrono::steady_clock::now() + timeout;
     bool all = true;
     for (auto& [key, w] : writers_) {
+      if (!wanted(key.first)) continue;
       const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
       if (w.writer->wait_for_acknowledgments(to_duration(std::max(std::chrono::milliseconds(0), left))) !=
           ReturnCode_t::RETCODE_OK) {

@@ -1,6 +1,49 @@
 #include "pheromesh/core/conductor.hpp"
 
+#include <algorithm>
+#include <charconv>
+#include <utility>
+
 namespace pheromesh::core {
+
+Result<GoneProcesses> parse_gone(const std::string& answer, uint32_t uavs, uint32_t regions) {
+  const std::string prefix = "gone ";
+  if (answer.rfind(prefix, 0) != 0) return Error{"the launcher answered '" + answer + "', not 'gone NAME,...' or 'gone -'"};
+  const std::string list = answer.substr(prefix.size());
+  GoneProcesses g;
+  if (list == "-") return g;
+  std::size_t from = 0;
+  while (from <= list.size()) {
+    const std::size_t comma = std::min(list.find(',', from), list.size());
+    const std::string name = list.substr(from, comma - from);
+    from = comma + 1;
+    const std::size_t dash = name.find('-');
+    const std::string role = dash == std::string::npos ? name : name.substr(0, dash);
+    uint32_t index = 0;
+    const char* first = name.data() + (dash == std::string::npos ? name.size() : dash + 1);
+    const char* last = name.data() + name.size();
+    const auto [end, ec] = std::from_chars(first, last, index);
+    if (dash == std::string::npos || first == last || ec != std::errc() || end != last) {
+      return Error{"the launcher named '" + name + "' among the gone processes; expected uav-N or place-R"};
+    }
+    if (role == "uav" && index < uavs) {
+      g.uavs.push_back(index);
+    } else if (role == "place" && index < regions) {
+      g.regions.push_back(index);
+    } else {
+      return Error{"the launcher named '" + name + "' among the gone processes; this swarm has " + std::to_string(uavs) +
+                   " uavs and " + std::to_string(regions) + " place agents"};
+    }
+  }
+  return g;
+}
+
+bool LockstepConductor::drop_uav(uint32_t uav) {
+  departed_since_.erase(uav);
+  return dropped_.insert(uav).second;
+}
+
+bool LockstepConductor::drop_region(RegionId r) { return absent_.insert(r).second; }
 
 namespace {
 // Ticks of bookkeeping kept: a UAV phase needs the tick before it only.
@@ -12,12 +55,13 @@ void trim(M& by_tick) {
 }  // namespace
 
 bool LockstepConductor::on_uav_state(uint32_t uav, uint32_t tick, TileCoord tile) {
+  if (dropped_.contains(uav)) return false;  // a sample it wrote before it was killed
   positions_[tick][uav] = tile;
   trim(positions_);
   return departed_since_.erase(uav) > 0;
 }
 
-bool LockstepConductor::on_uav_finished(uint32_t uav) { return departed_since_.erase(uav) > 0; }
+bool LockstepConductor::on_uav_finished(uint32_t uav) { return !dropped_.contains(uav) && departed_since_.erase(uav) > 0; }
 
 void LockstepConductor::on_broadcast(uint32_t uav, uint32_t tick) {
   broadcasters_[tick].insert(uav);
@@ -27,18 +71,25 @@ void LockstepConductor::on_broadcast(uint32_t uav, uint32_t tick) {
 void LockstepConductor::on_phase_done(const PhaseDoneMsg& m) { done_[m.process] = m; }
 
 bool LockstepConductor::on_uav_departed(uint32_t uav, Clock::time_point now) {
+  if (dropped_.contains(uav)) return false;  // known: killed at a tick
   return departed_since_.emplace(uav, now).second;
 }
 
 bool LockstepConductor::gone_for_good(uint32_t uav, Clock::time_point now) const {
   auto it = departed_since_.find(uav);
-  return it != departed_since_.end() && now - it->second > o_.departed_grace;
+  if (it == departed_since_.end()) return false;
+  auto heard = heard_.find(uav);
+  const Clock::time_point since = heard == heard_.end() ? it->second : std::max(it->second, heard->second);
+  return now - since > o_.departed_grace;
 }
 
 ClockMsg LockstepConductor::begin_phase(uint32_t tick, ClockPhase phase, Clock::time_point now) {
   tick_ = tick;
   phase_ = phase;
   deadline_ = now + o_.phase_timeout;
+  // The UAV phase just completed: what it reported for absent regions is lost.
+  if (phase == ClockPhase::Place) deposits_lost_ += std::exchange(lost_this_tick_, 0);
+  if (phase == ClockPhase::Uav) lost_this_tick_ = 0;
   return announce(tick, phase);
 }
 
@@ -53,6 +104,7 @@ ClockMsg LockstepConductor::announce(uint32_t tick, ClockPhase phase) const {
   ClockMsg m;
   m.tick = tick;
   m.phase = static_cast<uint8_t>(phase);
+  m.absent.assign(absent_.begin(), absent_.end());
   if (phase == ClockPhase::Place) {
     // The deposits of this tick each region must apply, as the UAVs reported.
     for (const auto& [region, n] : deposits_reported_) m.deposits.push_back({region, n});
@@ -82,7 +134,8 @@ LockstepConductor::Status LockstepConductor::status(Clock::time_point now) {
     return it != done_.end() && it->second.tick == tick_ && it->second.phase == static_cast<uint8_t>(phase_);
   };
   for (uint32_t id = 0; id < count; ++id) {
-    if (uav_phase && gone_for_good(id, now)) continue;  // dead UAVs are not waited for
+    if (uav_phase && !waited_for_uav(id, now)) continue;  // dead UAVs are not waited for
+    if (!uav_phase && absent_.contains(id)) continue;     // nor absent place agents
     if (!uav_phase && o_.standbys > 0) {
       // Every live replica of the region; if none lives, its primary (the
       // tick cannot be exact without it: the phase runs into its timeout).
@@ -103,12 +156,22 @@ LockstepConductor::Status LockstepConductor::status(Clock::time_point now) {
     // before the next announcements are computed from them.
     uint32_t broadcasts = 0;
     deposits_reported_.clear();
+    lost_this_tick_ = 0;
     auto pos = positions_.find(tick_);
     for (uint32_t id = 0; id < count; ++id) {
       auto it = done_.find(process_key(role, id));
-      if (gone_for_good(id, now) || it == done_.end()) continue;
+      if (!waited_for_uav(id, now) || it == done_.end()) continue;
       broadcasts += it->second.broadcasts;
-      for (const auto& rc : it->second.deposits) deposits_reported_[rc.region] += rc.count;
+      // A UAV's deposits go through its home place agent; an absent home
+      // forwards nothing, an absent owner applies nothing.
+      const bool home_absent = absent_.contains(home_region(id, o_.regions));
+      for (const auto& rc : it->second.deposits) {
+        if (home_absent || absent_.contains(rc.region)) {
+          lost_this_tick_ += rc.count;
+        } else {
+          deposits_reported_[rc.region] += rc.count;
+        }
+      }
       if (pos == positions_.end() || !pos->second.contains(id)) ++s.waiting;
     }
     auto b = broadcasters_.find(tick_);

@@ -6,6 +6,7 @@
 #include <fstream>
 
 #include "pheromesh/core/policy.hpp"
+#include "pheromesh/core/tick_gaps.hpp"
 
 namespace pheromesh::runtime {
 
@@ -63,6 +64,8 @@ nlohmann::json metrics_json(const core::RunRecorder& r, const RunInfo& info) {
   j["uavs_killed"] = r.uavs_killed();
   j["places_killed"] = r.places_killed();
   j["regions_frozen"] = r.regions_frozen();
+  // Announced by the lockstep conductor for regions that were absent (no standby).
+  j["deposits_lost_announced"] = r.deposits_lost_announced();
   j["samples_rejected_by_ground"] = r.samples_rejected();
   // The launcher owns process accounting and overwrites these two.
   j["processes_killed"] = 0;
@@ -79,7 +82,9 @@ nlohmann::json metrics_json(const core::RunRecorder& r, const RunInfo& info) {
                                    {"deposits_sent", u.last.deposits_sent},
                                    {"tile_samples_received", u.last.tile_samples_received},
                                    {"samples_received", u.last.samples_received},
-                                   {"ticks_late", u.last.ticks_late}};
+                                   {"ticks_late", u.last.ticks_late},
+                                   {"tick_gap_max_ms", u.last.tick_gap_max_ms},
+                                   {"tick_gaps_over_2", u.last.tick_gaps_over_2}};
     samples += u.last.samples_received;
     tile_samples += u.last.tile_samples_received;
     uav_ticks += u.last.tick;
@@ -93,6 +98,30 @@ nlohmann::json metrics_json(const core::RunRecorder& r, const RunInfo& info) {
   j["uav_ticks_late"] = ticks_late;
   j["uav_late_share"] = uav_ticks > 0 ? static_cast<double>(ticks_late) / static_cast<double>(uav_ticks) : 0.0;
   j["uav_late_share_max"] = late_share_max;
+  // Survivors keep their clock (issue 14): the longest gap between two tick
+  // starts of a UAV / place agent that ran to the end, in tick periods, and
+  // the gaps longer than two periods, summed. Realtime runs only (0 in lockstep).
+  uint32_t uav_gap_ms = 0, uav_gaps = 0, place_gap_ms = 0, place_gaps = 0;
+  for (const auto& [id, u] : r.uavs()) {
+    if (!u.finished) continue;
+    uav_gap_ms = std::max(uav_gap_ms, u.last.tick_gap_max_ms);
+    uav_gaps += u.last.tick_gaps_over_2;
+  }
+  nlohmann::json place_gap_by_region = nlohmann::json::object();
+  for (const auto& [region, h] : r.health()) {
+    if (!h.finished) continue;
+    place_gap_ms = std::max(place_gap_ms, h.tick_gap_max_ms);
+    place_gaps += h.tick_gaps_over_2;
+    place_gap_by_region[std::to_string(region)] = {{"tick_gap_max_ms", h.tick_gap_max_ms},
+                                                   {"tick_gaps_over_2", h.tick_gaps_over_2}};
+  }
+  j["uav_tick_gap_max_ms"] = uav_gap_ms;
+  j["uav_tick_gap_max_periods"] = core::gap_periods(uav_gap_ms, s.tick_rate_hz);
+  j["uav_tick_gaps_over_2"] = uav_gaps;
+  j["place_tick_gap_max_ms"] = place_gap_ms;
+  j["place_tick_gap_max_periods"] = core::gap_periods(place_gap_ms, s.tick_rate_hz);
+  j["place_tick_gaps_over_2"] = place_gaps;
+  j["place_tick_gaps"] = place_gap_by_region;
   j["discovery_s"] = info.discovery_s ? nlohmann::json(*info.discovery_s) : nlohmann::json();
   // Neighbourhood traffic: tile samples a UAV received per tick, on average.
   j["tile_samples_per_uav_tick"] =

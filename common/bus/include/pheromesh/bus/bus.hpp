@@ -143,6 +143,10 @@ class Bus {
   // Block until every reliable sample written so far is acknowledged by the
   // matched readers, or the timeout passes. Returns true if all were acked.
   virtual bool flush(std::chrono::milliseconds timeout) = 0;
+  // The same for this process's writers of `kinds` only (lockstep: the
+  // samples a phase must have delivered; a killed process's readers stay
+  // matched until its participant lease ends and never acknowledge).
+  virtual bool flush(std::initializer_list<TopicKind> kinds, std::chrono::milliseconds timeout) = 0;
 
   // Readers matched by this process's deposit writer into the partition of
   // `region` (a UAV: its home place agent before depositing).

@@ -9,19 +9,44 @@
 // UAV's state of tick k and as many broadcasts of tick k as were reported. A
 // UAV whose liveliness lapsed is still waited for during a grace period (a
 // stalled, overloaded process is not a dead one); after it, it is not. A
-// place agent is always waited for: without it the tick cannot be exact, so
-// the phase runs into its timeout and the run ends.
+// place agent is waited for unless it is absent (below): without it the tick
+// cannot be exact, so the phase runs into its timeout and the run ends. Any
+// sample of a UAV (its state, a PhaseDone - a waiting UAV re-sends its own
+// every second - or a broadcast) counts as a sign of life: a UAV whose
+// liveliness lapses under packet loss while it still talks is not dropped.
+//
+// Faults at a tick (core/faults.hpp): before the UAV phase of a tick with
+// faults, the ground station asks the launcher which processes it killed
+// (parse_gone) and tells the conductor. A gone UAV is dropped at once: it is
+// not waited for from that tick on. A gone place agent without a standby
+// makes its region absent: every clock from then on lists it, nobody waits
+// for it, and the deposits reported for it - and every deposit of the UAVs
+// homed on it, which went through it - are lost (deposits_lost).
 #pragma once
 
+#include <algorithm>
 #include <chrono>
 #include <cstdint>
 #include <map>
+#include <optional>
 #include <set>
+#include <string>
+#include <vector>
 
 #include "pheromesh/core/grid.hpp"
 #include "pheromesh/core/messages.hpp"
+#include "pheromesh/core/result.hpp"
 
 namespace pheromesh::core {
+
+// The launcher's answer to "faults K" without its "ok ": "gone uav-3,place-1"
+// or "gone -" (nothing gone). Names outside the swarm (uav index >= uavs,
+// region >= regions) and anything else are errors.
+struct GoneProcesses {
+  std::vector<uint32_t> uavs;
+  std::vector<RegionId> regions;
+};
+Result<GoneProcesses> parse_gone(const std::string& answer, uint32_t uavs, uint32_t regions);
 
 class LockstepConductor {
  public:
@@ -60,7 +85,23 @@ class LockstepConductor {
   // A place replica's liveliness lapsed (place_id). In a run with standbys it
   // is not waited for again (it missed ticks; it leaves when it notices).
   void on_place_departed(uint32_t place) { places_gone_.insert(place); }
+  // A sample from the UAV (state, PhaseDone, broadcast) arrived at `now`: the
+  // grace of a departed UAV runs from the later of its departure and this.
+  void heard_from(uint32_t uav, Clock::time_point now) { heard_[uav] = now; }
   [[nodiscard]] bool departed(uint32_t uav) const { return departed_since_.contains(uav); }
+
+  // --- faults at a tick (before begin_phase of its UAV phase)
+  // The UAV was killed: not waited for from now on, and a state it sent
+  // before it died does not bring it back. True the first time.
+  bool drop_uav(uint32_t uav);
+  // The region's place agent was killed and has no standby: absent from now
+  // on (listed in every clock). True the first time.
+  bool drop_region(RegionId r);
+  [[nodiscard]] bool dropped(uint32_t uav) const { return dropped_.contains(uav); }
+  [[nodiscard]] bool absent(RegionId r) const { return absent_.contains(r); }
+  // Deposits reported in completed UAV phases that no place agent applies:
+  // those for absent regions and those of UAVs homed on absent regions.
+  [[nodiscard]] uint64_t deposits_lost() const { return deposits_lost_; }
 
   // --- the protocol
   // Starts phase `phase` of `tick` and returns the clock to publish.
@@ -77,6 +118,10 @@ class LockstepConductor {
   [[nodiscard]] ClockMsg announce(uint32_t tick, ClockPhase phase) const;
   void keep_recent();
 
+  [[nodiscard]] bool waited_for_uav(uint32_t uav, Clock::time_point now) const {
+    return !dropped_.contains(uav) && !gone_for_good(uav, now);
+  }
+
   Options o_;
   uint32_t tick_ = 0;
   ClockPhase phase_ = ClockPhase::Uav;
@@ -87,6 +132,47 @@ class LockstepConductor {
   std::map<RegionId, uint32_t> deposits_reported_;        // current tick's UAV phase
   std::map<uint32_t, Clock::time_point> departed_since_;  // departed UAVs
   std::set<uint32_t> places_gone_;                         // departed place replicas (place_id)
+  std::map<uint32_t, Clock::time_point> heard_;           // UAV -> its latest sample
+  std::set<uint32_t> dropped_;                            // UAVs killed at a tick
+  std::set<RegionId> absent_;                             // regions whose place agent was killed, no standby
+  uint64_t lost_this_tick_ = 0;                           // current tick's UAV phase, for absent regions
+  uint64_t deposits_lost_ = 0;
+};
+
+// A UAV's or place agent's watch on the conductor in a lockstep run. The
+// conductor publishes its clock at least every half lease (re-sending the
+// current one), also while paused or waiting for the launcher; a process
+// that takes no clock for `limit` concludes that the conductor is gone and
+// ends with an error, instead of waiting for a clock that never comes.
+// Before the first clock (discovery) the bound is `first_limit`.
+class ConductorWatch {
+ public:
+  using Clock = std::chrono::steady_clock;
+  // Silence that means the conductor is gone, in liveliness leases (--lease-ms):
+  // long enough for a conductor stopped for 5 s at the default lease to come back.
+  static constexpr int kLeases = 6;
+  // Before the first clock: discovery of a big swarm on a busy host.
+  static constexpr std::chrono::milliseconds kFirstClock{300000};
+
+  ConductorWatch(std::chrono::milliseconds limit, std::chrono::milliseconds first_limit, Clock::time_point start)
+      : limit_(limit), first_limit_(first_limit), last_(start) {}
+  static ConductorWatch for_lease(std::chrono::milliseconds lease, Clock::time_point start) {
+    return {lease * kLeases, std::max(kFirstClock, lease * kLeases), start};
+  }
+  // A clock sample arrived (any: a re-sent one also says the conductor lives).
+  void on_clock(Clock::time_point now) {
+    last_ = now;
+    heard_ = true;
+  }
+  [[nodiscard]] bool lost(Clock::time_point now) const { return now - last_ > (heard_ ? limit_ : first_limit_); }
+  [[nodiscard]] Clock::duration silence(Clock::time_point now) const { return now - last_; }
+  [[nodiscard]] bool heard() const { return heard_; }
+  [[nodiscard]] std::chrono::milliseconds limit() const { return heard_ ? limit_ : first_limit_; }
+
+ private:
+  std::chrono::milliseconds limit_, first_limit_;
+  Clock::time_point last_;
+  bool heard_ = false;
 };
 
 }  // namespace pheromesh::core

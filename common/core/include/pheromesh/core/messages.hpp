@@ -64,6 +64,8 @@ struct UavStateMsg {
   uint32_t ticks_late = 0;  // realtime ticks that started more than one tick period late
   Cell view{};            // the cell whose neighbourhood the UAV reads next (its home place agent composes it)
   bool finished = false;  // last state of a UAV that ended its run
+  uint32_t tick_gap_max_ms = 0;   // [ms] realtime: longest gap between two tick starts (core/tick_gaps.hpp)
+  uint32_t tick_gaps_over_2 = 0;  // realtime: gaps between tick starts longer than two periods
   uint64_t deposits_unconfirmed = 0;  // sent, but not (yet) confirmed received by its home place agent
 };
 
@@ -95,6 +97,8 @@ struct HealthMsg {
   uint64_t deposits_rejected = 0;
   uint64_t halos_missing = 0;
   bool finished = false;
+  uint32_t tick_gap_max_ms = 0;   // [ms] realtime: longest gap between two tick starts (core/tick_gaps.hpp)
+  uint32_t tick_gaps_over_2 = 0;  // realtime: gaps between tick starts longer than two periods
   uint16_t replica = 0;             // 0 the primary, 1.. standbys
   uint64_t deposits_duplicate = 0;  // copies of a deposit already received, dropped
 };
@@ -162,6 +166,10 @@ struct ClockMsg {
   std::vector<TileCount> occupancy;
   // Place phase k: the deposits of tick k each region must apply.
   std::vector<RegionCount> deposits;
+  // Regions whose place agent is gone without a standby (core/faults.hpp,
+  // "kill place:R @kt"), from the tick it was killed at: no one waits for
+  // their field, halo or views; their field stays as it was (frozen).
+  std::vector<RegionId> absent;
 };
 inline constexpr uint32_t kRoleUav = 1;
 inline constexpr uint32_t kRolePlace = 2;
