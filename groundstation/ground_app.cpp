@@ -46,6 +46,8 @@ GroundApp::GroundApp(GroundConfig cfg, core::ScenarioConfig scenario, std::uniqu
                   (cfg_.common.standby || scenario_.standby) ? 1U : 0U}),
       layers_(static_cast<int>(core::policy_traits(scenario_).layers.size())) {
   if (cfg_.expect_uavs == 0) cfg_.expect_uavs = scenario_.uavs;
+  // Place agents have standby replicas (--standby, common to every process, or run.standby).
+  cfg_.standby = cfg_.common.standby || scenario_.standby;
   run_t0_unix_ms_ = unix_ms_now();
   if (const char* t0 = std::getenv("PHEROMESH_RUN_T0_MS"); t0 != nullptr) {
     char* end = nullptr;
@@ -267,6 +269,7 @@ void GroundApp::drop_uav(uint32_t uav, uint32_t tick) {
 void GroundApp::drop_region(core::RegionId r, uint32_t tick) {
   if (cfg_.standby) {
     log_->warn("lockstep tick {}: place agent {} was killed; its standby answers for region {}", tick, r, r);
+    conductor_.on_place_departed(core::place_id(r, 0));
     return;
   }
   if (conductor_.drop_region(r)) {
@@ -306,6 +309,10 @@ bool GroundApp::apply_faults(uint32_t tick) {
   log_->info("lockstep tick {}: the launcher reports {}", tick, a.message);
   for (uint32_t u : gone->uavs) drop_uav(u, tick);
   for (core::RegionId r : gone->regions) drop_region(r, tick);
+  for (uint32_t p : gone->standbys) {
+    log_->warn("lockstep tick {}: standby {} of region {} was killed", tick, core::place_id_replica(p), core::place_id_region(p));
+    conductor_.on_place_departed(p);
+  }
   return true;
 }
 

@@ -35,9 +35,6 @@ int main(int argc, char** argv) {
       ->delimiter(',');
   app.add_option("--faults-timeout", cfg.faults_timeout_s, "Lockstep: longest wait for the launcher's answer to \"faults K\" [s]")
       ->capture_default_str();
-  app.add_flag("--standby", cfg.standby,
-               "Place agents have standby replicas: a place agent killed at a tick is replaced and its region stays "
-               "(without: the region is absent from then on)");
   CLI11_PARSE(app, argc, argv);
   cfg.scenario_path = cfg.common.scenario;
 

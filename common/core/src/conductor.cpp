@@ -20,14 +20,25 @@ Result<GoneProcesses> parse_gone(const std::string& answer, uint32_t uavs, uint3
     const std::size_t dash = name.find('-');
     const std::string role = dash == std::string::npos ? name : name.substr(0, dash);
     uint32_t index = 0;
+    uint32_t replica = 0;
     const char* first = name.data() + (dash == std::string::npos ? name.size() : dash + 1);
     const char* last = name.data() + name.size();
+    // A standby place agent: place-R.rN.
+    if (const std::size_t dot = name.find(".r"); role == "place" && dot != std::string::npos && dot > dash) {
+      const auto [rend, rec] = std::from_chars(name.data() + dot + 2, last, replica);
+      if (rec != std::errc() || rend != last || replica == 0 || replica > 0xFFFFU) {
+        return Error{"the launcher named '" + name + "' among the gone processes; expected place-R.rN with N >= 1"};
+      }
+      last = name.data() + dot;
+    }
     const auto [end, ec] = std::from_chars(first, last, index);
     if (dash == std::string::npos || first == last || ec != std::errc() || end != last) {
       return Error{"the launcher named '" + name + "' among the gone processes; expected uav-N or place-R"};
     }
     if (role == "uav" && index < uavs) {
       g.uavs.push_back(index);
+    } else if (role == "place" && index < regions && replica > 0) {
+      g.standbys.push_back(place_id(index, static_cast<uint16_t>(replica)));
     } else if (role == "place" && index < regions) {
       g.regions.push_back(index);
     } else {

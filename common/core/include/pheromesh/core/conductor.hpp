@@ -44,7 +44,8 @@ namespace pheromesh::core {
 // region >= regions) and anything else are errors.
 struct GoneProcesses {
   std::vector<uint32_t> uavs;
-  std::vector<RegionId> regions;
+  std::vector<RegionId> regions;  // primaries (place-R)
+  std::vector<uint32_t> standbys; // standby replicas (place-R.rN), as place_id(R, N)
 };
 Result<GoneProcesses> parse_gone(const std::string& answer, uint32_t uavs, uint32_t regions);
 
