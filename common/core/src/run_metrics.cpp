@@ -87,4 +87,11 @@ uint64_t RunRecorder::deposits_sent() const {
   return sent;
 }
 
+uint64_t RunRecorder::deposits_lost() const {
+  uint64_t received = 0;
+  for (const auto& [r, h] : health_) received += h.deposits_received;
+  const uint64_t sent = deposits_sent();
+  return sent > received ? sent - received : 0;
+}
+
 }  // namespace pheromesh::core

@@ -85,7 +85,7 @@ void Simulator::run(const std::function<void(uint32_t)>& on_tick) {
   // The final accounting, as the place agents' last health records carry it.
   for (const auto& p : places_) {
     const auto& l = p->ledger();
-    recorder_.on_health({p->region(), scenario_.ticks, 0.0F, l.received, l.applied, l.rejected(), 0, true, 0, 0});
+    recorder_.on_health({p->region(), scenario_.ticks, 0.0F, l.received, l.applied, l.rejected(), 0, true});
   }
   for (std::size_t i = 0; i < uavs_.size(); ++i) {
     UavStateMsg s = uavs_[i]->last_state();

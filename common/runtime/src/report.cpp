@@ -44,9 +44,11 @@ nlohmann::json metrics_json(const core::RunRecorder& r, const RunInfo& info) {
   j["deposits_received"] = received;
   j["deposits_applied"] = applied;
   j["deposits_rejected"] = rejected;
-  // Made but applied by no place agent (a place agent killed at a tick, no
-  // standby): sent == applied + rejected + lost.
+  // Faults (docs/faults.md): sent == applied + rejected + lost.
   j["deposits_lost"] = r.deposits_lost();
+  j["uavs_killed"] = r.uavs_killed();
+  j["places_killed"] = r.places_killed();
+  j["regions_frozen"] = r.regions_frozen();
   j["samples_rejected_by_ground"] = r.samples_rejected();
   // The launcher owns process accounting and overwrites these two.
   j["processes_killed"] = 0;

@@ -39,11 +39,15 @@ class RunRecorder {
   void on_health(const HealthMsg& h);
   void on_uav_departed(uint32_t uav);
   void on_region_departed(RegionId r);
+  // Faults injected on purpose (docs/faults.md): UAVs and place agents
+  // killed, and of those place agents the ones no standby took over (their
+  // regions froze).
+  void on_uav_killed() { ++uavs_killed_; }
+  void on_place_killed(bool region_frozen) {
+    ++places_killed_;
+    regions_frozen_ += region_frozen ? 1 : 0;
+  }
   void count_rejected_sample() { ++samples_rejected_; }
-  // Deposits made but applied by no place agent: a lockstep run or the
-  // simulator with a place agent killed at a tick (core/faults.hpp).
-  void add_deposits_lost(uint64_t n) { deposits_lost_ += n; }
-  [[nodiscard]] uint64_t deposits_lost() const { return deposits_lost_; }
   // A target added during the run (the world gained it first).
   void add_target() { acquisitions_.add_target(); }
   // Policy-specific quantities of the final field (policy.hpp field_summary).
@@ -70,6 +74,13 @@ class RunRecorder {
   [[nodiscard]] const std::vector<std::pair<uint32_t, double>>& coverage_series() const { return coverage_series_; }
   [[nodiscard]] uint64_t samples_rejected() const { return samples_rejected_; }
   [[nodiscard]] uint64_t deposits_sent() const;
+  // Deposits sent by the UAVs that no place agent counted (received,
+  // applied or rejected): lost to a dead place agent, whether their region's
+  // or their UAV's home. sent == applied + rejected + lost.
+  [[nodiscard]] uint64_t deposits_lost() const;
+  [[nodiscard]] uint32_t uavs_killed() const { return uavs_killed_; }
+  [[nodiscard]] uint32_t places_killed() const { return places_killed_; }
+  [[nodiscard]] uint32_t regions_frozen() const { return regions_frozen_; }
   // Tick at which a leader became a searcher (Shao 2020 Sec. 5: it reached the
   // centre of the target region), if one did.
   [[nodiscard]] std::optional<uint32_t> leader_arrival_tick() const { return leader_arrival_; }
@@ -89,7 +100,7 @@ class RunRecorder {
   std::optional<uint32_t> leader_arrival_;
   uint32_t max_tick_ = 0;
   uint64_t samples_rejected_ = 0;
-  uint64_t deposits_lost_ = 0;
+  uint32_t uavs_killed_ = 0, places_killed_ = 0, regions_frozen_ = 0;
   bool last_was_first_ = false;
 };
 
