@@ -22,6 +22,7 @@ UavApp::UavApp(UavConfig cfg, core::ScenarioConfig scenario, std::unique_ptr<bus
       world_(geo_, scenario_.obstacles, scenario_.targets),
       bus_(std::move(bus)),
       resend_(*bus_, cfg_.common.lockstep()),
+      watch_(core::ConductorWatch::for_lease(std::chrono::milliseconds(cfg_.common.lease_ms), Clock::now())),
       log_(spdlog::default_logger()),
       core_(scenario_, world_, cfg_.id, cfg_.common.lockstep()),
       gaps_(std::chrono::nanoseconds(static_cast<int64_t>(1e9 / scenario_.tick_rate_hz))),
@@ -74,7 +75,10 @@ void UavApp::wait_for_tick(uint32_t tick, const core::ClockMsg& announced) {
   const auto deadline = Clock::now() + std::chrono::seconds(30);
   for (;;) {
     receive();
-    const bool view = home_absent_ || (view_tick_ && *view_tick_ >= tick);
+    if (!take_clock()) return;  // the conductor is gone: run_lockstep says so and ends
+    // The home composed the views of the ticks before it was killed; from
+    // then on this UAV reads empty views (core/faults.hpp).
+    const bool view = (home_absent_ && tick >= home_absent_since_) || (view_tick_ && *view_tick_ >= tick);
     const bool broadcasts = core_.holds_tick(tick, {}, announced.broadcasts);
     if (view && broadcasts) return;
     if (Clock::now() > deadline || runtime::shutdown_requested()) {
@@ -223,20 +227,51 @@ int UavApp::run_realtime(uint32_t ticks) {
   return static_cast<int>(tick);
 }
 
+bool UavApp::take_clock() {
+  const std::size_t before = clock_inbox_.size();
+  bus_->take_clock(clock_inbox_);
+  const auto now = Clock::now();
+  if (clock_inbox_.size() > before) watch_.on_clock(now);
+  return !watch_.lost(now);
+}
+
+bool UavApp::flush_watching(std::initializer_list<bus::TopicKind> kinds, std::chrono::milliseconds timeout) {
+  // In slices: a reader that never acknowledges (the dead conductor's) must
+  // not hide the conductor's death for the whole timeout.
+  const auto deadline = Clock::now() + timeout;
+  while (!bus_->flush(kinds, std::chrono::milliseconds(250))) {
+    if (!take_clock() || Clock::now() > deadline || runtime::shutdown_requested()) return false;
+  }
+  return true;
+}
+
 int UavApp::run_lockstep(uint32_t ticks) {
   std::vector<core::ClockMsg> cmds;
   int64_t done = -1;
   bool stop = false;
-  auto watch = core::ConductorWatch::for_lease(std::chrono::milliseconds(cfg_.common.lease_ms), Clock::now());
+  bool ready = false;
   while (!stop && !runtime::shutdown_requested()) {
+    // Before tick 0: report Ready once this UAV's home place agent reads its
+    // deposits and state (and the ground station its state); the conductor
+    // starts tick 0 when every process is ready.
+    if (!ready && done < 0 && bus_->matched_deposit_readers(home_) >= 1 && bus_->matched_state_readers() >= 2) {
+      resend_.phase_done({core::process_key(core::kRoleUav, cfg_.id), 0, static_cast<uint8_t>(core::ClockPhase::Ready), 0, {}});
+      ready = true;
+      log_->debug("matched home place agent {} and the ground station: ready", home_);
+    }
     cmds.clear();
-    bus_->take_clock(cmds);
-    if (!cmds.empty()) watch.on_clock(Clock::now());
+    take_clock();
+    cmds.swap(clock_inbox_);  // with what arrived while the last phase was under way
     for (const auto& c : cmds) {
       if (c.phase == static_cast<uint8_t>(core::ClockPhase::Stop)) stop = true;
       if (c.phase != static_cast<uint8_t>(core::ClockPhase::Uav) || static_cast<int64_t>(c.tick) <= done) continue;
+      if (!ready) {
+        log_->warn("tick {} starts before home place agent {} was matched: deposits may be undeliverable", c.tick, home_);
+        ready = true;
+      }
       if (!home_absent_ && std::find(c.absent.begin(), c.absent.end(), home_) != c.absent.end()) {
         home_absent_ = true;
+        home_absent_since_ = c.tick;
         log_->warn("tick {}: home place agent {} is gone (no standby): from now on this UAV acts on empty views and its "
                    "deposits are lost",
                    c.tick, home_);
@@ -255,7 +290,7 @@ int UavApp::run_lockstep(uint32_t ticks) {
       // which stay matched until its participant lease ends (docs/dds.md).
       // Not in swarms with standbys: a killed primary of the home never
       // acknowledges; its standby drops re-sent copies instead.
-      if (!home_absent_ && !standby_ && !bus_->flush({bus::TopicKind::Deposit, bus::TopicKind::UavState}, std::chrono::seconds(10))) {
+      if (!home_absent_ && !standby_ && !flush_watching({bus::TopicKind::Deposit, bus::TopicKind::UavState}, std::chrono::seconds(10))) {
         log_->warn("tick {}: deposits and state not acknowledged in 10 s", c.tick);
       }
       // Report what this phase wrote: the conductor announces it to the
@@ -271,11 +306,11 @@ int UavApp::run_lockstep(uint32_t ticks) {
       if (c.tick >= ticks) log_->debug("tick {}: the last UAV phase; waiting for the conductor's stop", c.tick);
     }
     if (cmds.empty()) {
-      if (watch.lost(Clock::now())) {
+      if (watch_.lost(Clock::now())) {
         log_->error("the conductor (ground station) is gone: no lockstep clock for {:.1f} s ({} leases of {} ms) after tick {}; "
                     "stopping",
-                    std::chrono::duration<double>(watch.silence(Clock::now())).count(),
-                    watch.limit() / std::chrono::milliseconds(cfg_.common.lease_ms), cfg_.common.lease_ms, done);
+                    std::chrono::duration<double>(watch_.silence(Clock::now())).count(),
+                    watch_.limit() / std::chrono::milliseconds(cfg_.common.lease_ms), cfg_.common.lease_ms, done);
         conductor_lost_ = true;
         break;
       }
@@ -295,7 +330,7 @@ int UavApp::run() {
   commands_ = std::make_unique<runtime::SwarmCommands>(*bus_, log_);
   if (cfg_.common.lockstep()) bus_->subscribe_clock();
   if (cfg_.seq_base > 0) core_.set_first_seq(cfg_.seq_base);
-  wait_for_home();
+  if (!cfg_.common.lockstep()) wait_for_home();  // lockstep: the conductor waits for every process's Ready
   log_->info("uav {} ({}) starts at ({},{}) for {} ticks, {} clock, home place agent {}, over {}", cfg_.id,
              core::policy_name(scenario_.policy), core_.cell().x, core_.cell().y, ticks, cfg_.common.clock, home_,
              bus_->vendor());

@@ -51,6 +51,11 @@ class UavApp {
   // the clock announced of UAV tick `tick` have arrived.
   void wait_for_tick(uint32_t tick, const core::ClockMsg& announced);
   void step(uint32_t tick, bool finished);
+  // Lockstep: takes the conductor's clock samples into clock_inbox_ (the
+  // loop handles them) and feeds watch_; false once the conductor is gone.
+  bool take_clock();
+  // Lockstep: Bus::flush of `kinds`, given up early when the conductor is gone.
+  bool flush_watching(std::initializer_list<bus::TopicKind> kinds, std::chrono::milliseconds timeout);
   // Ground-station commands: pop-ups change this UAV's world; pause is kept by commands_.
   void handle_commands();
   int run_realtime(uint32_t ticks);
@@ -62,6 +67,8 @@ class UavApp {
   core::World world_;
   std::unique_ptr<bus::Bus> bus_;
   bus::LatestResender resend_;  // lockstep: this tick's PhaseDone
+  core::ConductorWatch watch_;   // lockstep: is the conductor still there?
+  std::vector<core::ClockMsg> clock_inbox_;
   std::shared_ptr<spdlog::logger> log_;
   core::UavCore core_;
   core::UavCore::Output out_;
@@ -85,6 +92,7 @@ class UavApp {
   bool broadcast_written_ = false;
   bool standby_ = false;         // the swarm runs standby place agents
   bool home_absent_ = false;     // lockstep: the home place agent was killed at a tick, no standby
+  uint32_t home_absent_since_ = 0;  // that tick: its views of earlier ticks exist
   bool conductor_lost_ = false;  // lockstep: no clock for ConductorWatch's limit
   std::unique_ptr<runtime::SwarmCommands> commands_;
 };

@@ -43,7 +43,8 @@ GroundApp::GroundApp(GroundConfig cfg, core::ScenarioConfig scenario, std::uniqu
       conductor_({cfg_.expect_uavs != 0 ? cfg_.expect_uavs : scenario_.uavs, geo_.region_count(),
                   std::chrono::milliseconds(static_cast<int64_t>(cfg_.phase_timeout_s * 1000)),
                   std::chrono::milliseconds(static_cast<int64_t>(cfg_.departed_grace_s * 1000)),
-                  (cfg_.common.standby || scenario_.standby) ? 1U : 0U}),
+                  (cfg_.common.standby || scenario_.standby) ? 1U : 0U,
+                  std::chrono::milliseconds(static_cast<int64_t>(cfg_.start_timeout_s * 1000))}),
       layers_(static_cast<int>(core::policy_traits(scenario_).layers.size())) {
   if (cfg_.expect_uavs == 0) cfg_.expect_uavs = scenario_.uavs;
   // Place agents have standby replicas (--standby, common to every process, or run.standby).
@@ -240,9 +241,16 @@ bool GroundApp::run_phase(uint32_t tick, core::ClockPhase phase) {
   for (;;) {
     poll();
     const auto st = conductor_.status(Clock::now());
+    const char* name = phase == core::ClockPhase::Uav ? "uav" : phase == core::ClockPhase::Place ? "place" : "ready";
     if (st.complete) {
-      log_->debug("lockstep tick {} {} phase: {} ms", tick, phase == core::ClockPhase::Uav ? "uav" : "place",
+      log_->debug("lockstep tick {} {} phase: {} ms", tick, name,
                   std::chrono::duration_cast<std::chrono::milliseconds>(Clock::now() - t0).count());
+      return true;
+    }
+    if (st.timed_out && phase == core::ClockPhase::Ready) {
+      log_->warn("starting tick 0 although {} process(es) did not report ready within {} s (not yet matched: their first "
+                 "deposits may be lost)",
+                 st.waiting, cfg_.start_timeout_s);
       return true;
     }
     if (st.timed_out || runtime::shutdown_requested()) {
@@ -263,16 +271,21 @@ void GroundApp::wait_for_data(Clock::time_point until) {
 }
 
 void GroundApp::drop_uav(uint32_t uav, uint32_t tick) {
-  if (conductor_.drop_uav(uav)) log_->warn("lockstep tick {}: uav {} was killed; it no longer takes part", tick, uav);
+  if (!conductor_.drop_uav(uav)) return;
+  log_->warn("lockstep tick {}: uav {} was killed; it no longer takes part", tick, uav);
+  rec_.on_uav_killed();
+  rec_.on_uav_departed(uav);
 }
 
 void GroundApp::drop_region(core::RegionId r, uint32_t tick) {
   if (cfg_.standby) {
     log_->warn("lockstep tick {}: place agent {} was killed; its standby answers for region {}", tick, r, r);
     conductor_.on_place_departed(core::place_id(r, 0));
+    rec_.on_place_killed(false);
     return;
   }
   if (conductor_.drop_region(r)) {
+    rec_.on_place_killed(true);
     log_->warn("lockstep tick {}: place agent {} was killed without a standby; region {} is absent from now on (its field "
                "frozen, deposits into it lost, its UAVs on empty views)",
                tick, r, r);
@@ -333,7 +346,8 @@ bool GroundApp::conduct() {
   bus_->subscribe_phase_done();
   const uint32_t ticks = scenario_.ticks;
   log_->info("conducting {} lockstep ticks", ticks);
-  bool ok = true;
+  // Tick 0 waits until every process matched what it deposits to.
+  bool ok = run_phase(0, core::ClockPhase::Ready);
   for (uint32_t k = 0; k <= ticks && ok && !runtime::shutdown_requested(); ++k) {
     // Paused from the console: the next tick is not announced (the last clock
     // is, again, so the swarm knows the conductor lives).
@@ -404,7 +418,6 @@ int GroundApp::finish() {
     return it->second.values[static_cast<std::size_t>((c.y - r.y0) * r.w + (c.x - r.x0))];
   };
   rec_.set_field_summary(core::field_summary(scenario_, field_value));
-  rec_.add_deposits_lost(conductor_.deposits_lost());
   std::string error;
   const runtime::RunInfo info{bus_->vendor(), cfg_.common.clock, cfg_.expect_uavs, discovery_s_};
   if (!runtime::write_json(cfg_.out_dir, "metrics.json", runtime::metrics_json(rec_, info), error)) {

@@ -19,6 +19,10 @@ int main(int argc, char** argv) {
   app.add_option("--expect-uavs", cfg.expect_uavs, "UAVs expected (default: the scenario's swarm.uavs)");
   app.add_option("--progress", cfg.progress_period_s, "Seconds between progress lines [s]")->capture_default_str();
   app.add_option("--phase-timeout", cfg.phase_timeout_s, "Lockstep: longest wait for one phase [s]")->capture_default_str();
+  app.add_option("--start-timeout", cfg.start_timeout_s,
+                 "Lockstep: longest wait before tick 0 for every UAV and place agent to report that it matched the "
+                 "readers it deposits to (then tick 0 starts anyway) [s]")
+      ->capture_default_str();
   app.add_option("--departed-grace", cfg.departed_grace_s,
                  "Lockstep: a UAV whose liveliness lapsed and that sent nothing for this long is no longer waited for "
                  "(one killed by the launcher at a tick is dropped at once) [s]")

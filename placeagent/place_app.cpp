@@ -296,7 +296,18 @@ int PlaceApp::run_lockstep() {
   int64_t done_tick = -1;
   bool stop = false;
   auto watch = core::ConductorWatch::for_lease(std::chrono::milliseconds(cfg_.common.lease_ms), Clock::now());
+  bool ready = false;
   while (!stop && !runtime::shutdown_requested()) {
+    // Before tick 0: report Ready once every other region's place agent reads
+    // the deposits this one forwards (the conductor starts tick 0 when every
+    // process is ready).
+    if (!ready && done_tick < 0 && std::all_of(other_regions_.begin(), other_regions_.end(), [&](core::RegionId r) {
+          return bus_->matched_deposit_readers(r) >= 1;
+        })) {
+      resend_.phase_done({core::process_key(core::kRolePlace, cfg_.region), 0, static_cast<uint8_t>(core::ClockPhase::Ready), 0, {}});
+      ready = true;
+      log_->debug("matched every other region's place agent: ready");
+    }
     cmds.clear();
     bus_->take_clock(cmds);
     if (!cmds.empty()) watch.on_clock(Clock::now());
@@ -313,6 +324,11 @@ int PlaceApp::run_lockstep() {
                       "missed ticks while it was stopped or cut off and leaves (another replica serves the region)",
                       cfg_.region, cfg_.replica, c.tick, done_tick);
           return kReplicaBehind;
+        }
+        if (!ready) {
+          log_->warn("tick {} starts before every other region's place agent was matched: forwarded deposits may be rejected",
+                     c.tick);
+          ready = true;
         }
         // Every tile, every tick: a UAV waits for tiles of exactly this tick.
         uint32_t expected = 0;

@@ -159,5 +159,189 @@ TEST(LockstepConductorStandby, EveryLiveReplicaIsWaitedForAndALostOneIsNot) {
   EXPECT_EQ(c.status(t0).waiting, 3U);
 }
 
+using namespace std::chrono_literals;
+using C = LockstepConductor;
+
+C::Options four_uavs_two_regions() {
+  C::Options o;
+  o.uavs = 4;  // homes: uav % 2 -> uavs 0 and 2 on region 0, 1 and 3 on region 1
+  o.regions = 2;
+  o.phase_timeout = 60s;
+  o.departed_grace = 5s;
+  return o;
+}
+
+PhaseDoneMsg uav_report(uint32_t uav, uint32_t tick, std::vector<RegionCount> deposits = {}) {
+  return {process_key(kRoleUav, uav), tick, static_cast<uint8_t>(ClockPhase::Uav), 0, std::move(deposits)};
+}
+PhaseDoneMsg place_report(RegionId r, uint32_t tick) {
+  return {process_key(kRolePlace, r), tick, static_cast<uint8_t>(ClockPhase::Place), 0, {}};
+}
+
+TEST(ConductorFaults, TheLaunchersAnswerNamesTheGoneUavsAndPlaceAgents) {
+  auto g = parse_gone("gone uav-3,place-1,uav-0", 4, 2);
+  ASSERT_TRUE(g) << g.error().message;
+  EXPECT_EQ(g->uavs, (std::vector<uint32_t>{3, 0}));
+  EXPECT_EQ(g->regions, (std::vector<RegionId>{1}));
+  auto none = parse_gone("gone -", 4, 2);
+  ASSERT_TRUE(none);
+  EXPECT_TRUE(none->uavs.empty());
+  EXPECT_TRUE(none->regions.empty());
+  // What is not the protocol, or not this swarm, is an error that quotes it.
+  for (const char* bad : {"SIGKILL sent to uav-3", "gone ", "gone uav-4", "gone place-2", "gone uav3", "gone uav-", "gone uav-1x",
+                          "gone ground", "gone uav-1,,uav-2", "gone uav--1"}) {
+    auto r = parse_gone(bad, 4, 2);
+    EXPECT_FALSE(r) << bad;
+  }
+  EXPECT_NE(parse_gone("gone uav-9", 4, 2).error().message.find("uav-9"), std::string::npos);
+}
+
+TEST(ConductorFaults, AUavKilledAtATickIsNotWaitedForAtThatTickAndItsOldStateDoesNotBringItBack) {
+  C c(four_uavs_two_regions());
+  const auto t0 = C::Clock::time_point{} + 100s;
+  c.begin_phase(7, ClockPhase::Uav, t0);
+  for (uint32_t u : {0U, 1U, 2U, 3U}) {
+    c.on_phase_done(uav_report(u, 7));
+    c.on_uav_state(u, 7, {0, 0});
+  }
+  ASSERT_TRUE(c.status(t0).complete);
+  c.begin_phase(7, ClockPhase::Place, t0);
+  c.on_phase_done(place_report(0, 7));
+  c.on_phase_done(place_report(1, 7));
+  ASSERT_TRUE(c.status(t0).complete);
+  // The launcher killed uav 2 before tick 8.
+  EXPECT_TRUE(c.drop_uav(2));
+  EXPECT_FALSE(c.drop_uav(2)) << "reported once";
+  EXPECT_TRUE(c.dropped(2));
+  c.begin_phase(8, ClockPhase::Uav, t0);
+  for (uint32_t u : {0U, 1U, 3U}) {
+    c.on_phase_done(uav_report(u, 8));
+    c.on_uav_state(u, 8, {0, 0});
+  }
+  EXPECT_TRUE(c.status(t0).complete) << "no wait, no grace: complete at once";
+  EXPECT_FALSE(c.on_uav_state(2, 7, {0, 0})) << "a state it wrote before it died";
+  EXPECT_FALSE(c.on_uav_departed(2, t0)) << "its liveliness lapsing is no news";
+  EXPECT_TRUE(c.status(t0).complete);
+  // The guard: without the drop the same tick waits for it (grace, then timeout).
+  C g(four_uavs_two_regions());
+  g.begin_phase(8, ClockPhase::Uav, t0);
+  for (uint32_t u : {0U, 1U, 3U}) {
+    g.on_phase_done(uav_report(u, 8));
+    g.on_uav_state(u, 8, {0, 0});
+  }
+  EXPECT_EQ(g.status(t0 + 30s).waiting, 1U);
+}
+
+TEST(ConductorFaults, AnAbsentRegionIsListedNotWaitedForAndItsDepositsAreCountedLost) {
+  C c(four_uavs_two_regions());
+  const auto t0 = C::Clock::time_point{} + 100s;
+  EXPECT_TRUE(c.drop_region(1));
+  EXPECT_FALSE(c.drop_region(1));
+  EXPECT_TRUE(c.absent(1));
+  const ClockMsg uav = c.begin_phase(9, ClockPhase::Uav, t0);
+  EXPECT_EQ(uav.absent, (std::vector<RegionId>{1})) << "the UAV phase tells the UAVs homed on it";
+  // uav 0 (home 0): 2 deposits for region 0, 3 for region 1 (lost: absent owner).
+  // uav 1 (home 1, absent): 4 for region 0 (lost: they go through its home).
+  // uav 2 (home 0): 1 for region 0. uav 3 (home 1): none.
+  c.on_phase_done(uav_report(0, 9, {{0, 2}, {1, 3}}));
+  c.on_phase_done(uav_report(1, 9, {{0, 4}}));
+  c.on_phase_done(uav_report(2, 9, {{0, 1}}));
+  c.on_phase_done(uav_report(3, 9));
+  for (uint32_t u : {0U, 1U, 2U, 3U}) c.on_uav_state(u, 9, {0, 0});
+  ASSERT_TRUE(c.status(t0).complete);
+  EXPECT_TRUE(c.status(t0).complete) << "asking twice counts nothing twice";
+  const ClockMsg place = c.begin_phase(9, ClockPhase::Place, t0);
+  ASSERT_EQ(place.deposits.size(), 1U);
+  EXPECT_EQ(place.deposits[0].region, 0U);
+  EXPECT_EQ(place.deposits[0].count, 3U);
+  EXPECT_EQ(place.absent, (std::vector<RegionId>{1}));
+  EXPECT_EQ(c.deposits_lost(), 7U);
+  c.on_phase_done(place_report(0, 9));
+  EXPECT_TRUE(c.status(t0).complete) << "region 1 is not waited for";
+  // Nothing lost in a tick without deposits for it.
+  c.begin_phase(10, ClockPhase::Uav, t0);
+  for (uint32_t u : {0U, 1U, 2U, 3U}) {
+    c.on_phase_done(uav_report(u, 10, {{0, 1}}));
+    c.on_uav_state(u, 10, {0, 0});
+  }
+  ASSERT_TRUE(c.status(t0).complete);
+  c.begin_phase(10, ClockPhase::Place, t0);
+  EXPECT_EQ(c.deposits_lost(), 9U) << "uavs 1 and 3 are homed on the absent region";
+}
+
+TEST(ConductorFaults, AUavWhoseLivelinessLapsesButThatStillTalksIsNotDropped) {
+  C c(four_uavs_two_regions());
+  const auto t0 = C::Clock::time_point{} + 100s;
+  c.begin_phase(4, ClockPhase::Uav, t0);
+  for (uint32_t u : {0U, 1U, 2U}) {
+    c.on_phase_done(uav_report(u, 4));
+    c.on_uav_state(u, 4, {0, 0});
+  }
+  // Under packet loss uav 3's liveliness lapses, but its re-sent PhaseDone of
+  // the tick before keeps arriving while it waits for its view.
+  c.on_uav_departed(3, t0);
+  for (auto t = t0; t < t0 + 20s; t += 1s) c.heard_from(3, t);
+  EXPECT_FALSE(c.gone_for_good(3, t0 + 20s));
+  EXPECT_EQ(c.status(t0 + 20s).waiting, 1U);
+  // Silent for longer than the grace: gone.
+  EXPECT_TRUE(c.gone_for_good(3, t0 + 25s));
+  EXPECT_TRUE(c.status(t0 + 25s).complete);
+}
+
+TEST(ConductorWatch, ASilentConductorIsLostAfterItsLimitAndEveryClockResetsIt) {
+  const auto t0 = ConductorWatch::Clock::time_point{} + 100s;
+  ConductorWatch w(6s, 300s, t0);
+  EXPECT_FALSE(w.lost(t0 + 200s)) << "before the first clock: discovery";
+  EXPECT_TRUE(w.lost(t0 + 301s));
+  w.on_clock(t0 + 10s);
+  EXPECT_TRUE(w.heard());
+  EXPECT_FALSE(w.lost(t0 + 16s));
+  EXPECT_TRUE(w.lost(t0 + 16s + 1ms));
+  w.on_clock(t0 + 16s);  // a re-sent clock
+  EXPECT_FALSE(w.lost(t0 + 21s));
+  EXPECT_EQ(w.silence(t0 + 21s), 5s);
+  const auto f = ConductorWatch::for_lease(1000ms, t0);
+  EXPECT_EQ(f.limit(), ConductorWatch::kFirstClock);
+  auto g = ConductorWatch::for_lease(1000ms, t0);
+  g.on_clock(t0);
+  EXPECT_EQ(g.limit(), 1000ms * ConductorWatch::kLeases);
+}
+
+}  // namespace
+}  // namespace pheromesh::core
+
+namespace pheromesh::core {
+namespace {
+
+using namespace std::chrono_literals;
+
+TEST(ConductorStart, TickZeroWaitsForEveryUavAndPlaceAgentToReportReadyThenForNobodyElse) {
+  LockstepConductor::Options o;
+  o.uavs = 2;
+  o.regions = 2;
+  o.start_timeout = 120s;
+  LockstepConductor c(o);
+  const auto t0 = LockstepConductor::Clock::time_point{} + 100s;
+  const ClockMsg ready = c.begin_phase(0, ClockPhase::Ready, t0);
+  EXPECT_EQ(ready.phase, static_cast<uint8_t>(ClockPhase::Ready));
+  EXPECT_EQ(c.status(t0).waiting, 4U);
+  const auto report = [](uint32_t role, uint32_t id) {
+    return PhaseDoneMsg{process_key(role, id), 0, static_cast<uint8_t>(ClockPhase::Ready), 0, {}};
+  };
+  c.on_phase_done(report(kRoleUav, 0));
+  c.on_phase_done(report(kRolePlace, 1));
+  c.on_phase_done(report(kRolePlace, 1));  // re-sent: counts once
+  auto s = c.status(t0 + 60s);
+  EXPECT_EQ(s.waiting, 2U);
+  EXPECT_FALSE(s.timed_out);
+  EXPECT_TRUE(c.status(t0 + 121s).timed_out) << "the ground station then starts anyway, with a warning";
+  c.on_phase_done(report(kRoleUav, 1));
+  c.on_phase_done(report(kRolePlace, 0));
+  EXPECT_TRUE(c.status(t0 + 60s).complete);
+  // A Ready report is no report of the UAV phase of tick 0.
+  c.begin_phase(0, ClockPhase::Uav, t0 + 60s);
+  EXPECT_EQ(c.status(t0 + 60s).waiting, 2U);
+}
+
 }  // namespace
 }  // namespace pheromesh::core

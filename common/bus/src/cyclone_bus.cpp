@@ -695,6 +695,15 @@ class CycloneBus final : public VendorBus {
     return st.current_count;
   }
 
+  [[nodiscard]] uint32_t matched_state_readers() override {
+    if (!home_) return 0;
+    dds_publication_matched_status_t st{};
+    if (dds_get_publication_matched_status(writer(TopicKind::UavState, uav_topic_, home_partition(*home_)), &st) != DDS_RETCODE_OK) {
+      return 0;
+    }
+    return st.current_count;
+  }
+
  private:
   struct WriterEntry {
     dds_entity_t publisher = 0;

@@ -845,6 +845,15 @@ class FastDdsBus final : public VendorBus {
     return static_cast<uint32_t>(std::max(0, st.current_count));
   }
 
+  [[nodiscard]] uint32_t matched_state_readers() override {
+    if (!home_) return 0;
+    fdds::PublicationMatchedStatus st;
+    if (writer(TopicKind::UavState, home_partition(*home_))->get_publication_matched_status(st) != ReturnCode_t::RETCODE_OK) {
+      return 0;
+    }
+    return static_cast<uint32_t>(std::max(0, st.current_count));
+  }
+
  private:
   struct WriterEntry {
     fdds::Publisher* publisher = nullptr;

@@ -97,7 +97,7 @@ bool LockstepConductor::gone_for_good(uint32_t uav, Clock::time_point now) const
 ClockMsg LockstepConductor::begin_phase(uint32_t tick, ClockPhase phase, Clock::time_point now) {
   tick_ = tick;
   phase_ = phase;
-  deadline_ = now + o_.phase_timeout;
+  deadline_ = now + (phase == ClockPhase::Ready ? o_.start_timeout : o_.phase_timeout);
   // The UAV phase just completed: what it reported for absent regions is lost.
   if (phase == ClockPhase::Place) deposits_lost_ += std::exchange(lost_this_tick_, 0);
   if (phase == ClockPhase::Uav) lost_this_tick_ = 0;
@@ -140,6 +140,18 @@ LockstepConductor::Status LockstepConductor::status(Clock::time_point now) {
   const uint32_t role = uav_phase ? kRoleUav : kRolePlace;
   const uint32_t count = uav_phase ? o_.uavs : o_.regions;
   Status s;
+  if (phase_ == ClockPhase::Ready) {
+    // Every UAV and every place agent, each once.
+    const auto ready = [&](uint32_t r, uint32_t id) {
+      auto it = done_.find(process_key(r, id));
+      return it != done_.end() && it->second.phase == static_cast<uint8_t>(ClockPhase::Ready);
+    };
+    for (uint32_t id = 0; id < o_.uavs; ++id) s.waiting += dropped_.contains(id) || ready(kRoleUav, id) ? 0 : 1;
+    for (uint32_t id = 0; id < o_.regions; ++id) s.waiting += absent_.contains(id) || ready(kRolePlace, id) ? 0 : 1;
+    s.complete = s.waiting == 0;
+    s.timed_out = !s.complete && now > deadline_;
+    return s;
+  }
   const auto reported = [&](uint32_t key) {
     auto it = done_.find(key);
     return it != done_.end() && it->second.tick == tick_ && it->second.phase == static_cast<uint8_t>(phase_);

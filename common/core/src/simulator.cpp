@@ -211,7 +211,7 @@ void Simulator::run(const std::function<void(uint32_t)>& on_tick) {
   for (const auto& p : places_) {
     if (region_dead(p->region(), scenario_.ticks)) continue;
     const auto& l = p->ledger();
-    recorder_.on_health({p->region(), scenario_.ticks, 0.0F, l.received, l.applied, l.rejected(), 0, true, 0, 0});
+    recorder_.on_health({p->region(), scenario_.ticks, 0.0F, l.received, l.applied, l.rejected(), 0, true});
   }
   for (std::size_t i = 0; i < uavs_.size(); ++i) {
     if (uav_gone(static_cast<uint32_t>(i), scenario_.ticks)) continue;  // its last state stays the last it sent

@@ -64,8 +64,6 @@ nlohmann::json metrics_json(const core::RunRecorder& r, const RunInfo& info) {
   j["uavs_killed"] = r.uavs_killed();
   j["places_killed"] = r.places_killed();
   j["regions_frozen"] = r.regions_frozen();
-  // Announced by the lockstep conductor for regions that were absent (no standby).
-  j["deposits_lost_announced"] = r.deposits_lost_announced();
   j["samples_rejected_by_ground"] = r.samples_rejected();
   // The launcher owns process accounting and overwrites these two.
   j["processes_killed"] = 0;

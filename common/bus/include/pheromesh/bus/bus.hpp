@@ -151,6 +151,9 @@ class Bus {
   // Readers matched by this process's deposit writer into the partition of
   // `region` (a UAV: its home place agent before depositing).
   [[nodiscard]] virtual uint32_t matched_deposit_readers(core::RegionId region) = 0;
+  // Readers matched by this UAV's state writer (its home place agent and the
+  // ground station; 0 before join_uav).
+  [[nodiscard]] virtual uint32_t matched_state_readers() = 0;
 
   [[nodiscard]] virtual BusStats stats() const = 0;
 };

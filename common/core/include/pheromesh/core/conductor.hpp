@@ -4,8 +4,10 @@
 // clock it returns; this class decides what each clock announces and when a
 // phase is complete. Time is passed in, so tests drive it by hand.
 //
-// A phase of tick k is complete when every expected process reported
-// PhaseDone for exactly (k, phase); a UAV phase also needs every reporting
+// Before tick 0 the Ready phase waits (start_timeout) until every UAV and
+// place agent reported Ready: it matched the readers it deposits to. A phase
+// of tick k is complete when every expected process reported PhaseDone for
+// exactly (k, phase); a UAV phase also needs every reporting
 // UAV's state of tick k and as many broadcasts of tick k as were reported. A
 // UAV whose liveliness lapsed is still waited for during a grace period (a
 // stalled, overloaded process is not a dead one); after it, it is not. A
@@ -63,6 +65,7 @@ class LockstepConductor {
     // replica)) and is waited for while it lives, so standbys never fall
     // behind; a lost replica is not waited for while another of its region lives.
     uint32_t standbys = 0;
+    std::chrono::milliseconds start_timeout{120000};  // the Ready phase (ClockPhase::Ready)
   };
 
   struct Status {

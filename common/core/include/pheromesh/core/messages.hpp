@@ -146,7 +146,11 @@ struct BroadcastMsg {
 };
 
 // Lockstep clock (DESIGN.md, "Time").
-enum class ClockPhase : uint8_t { Uav = 0, Place = 1, Stop = 2 };
+// Ready: before tick 0, the conductor waits until every UAV and place agent
+// reports (PhaseDone of phase Ready) that it matched the readers it writes
+// deposits to - discovery takes long under packet loss or on a busy host,
+// and a deposit written before the match would be lost.
+enum class ClockPhase : uint8_t { Uav = 0, Place = 1, Stop = 2, Ready = 3 };
 inline constexpr std::size_t kMaxOccupancy = 1024;  // idl bound
 struct TileCount {
   TileCoord tile{};

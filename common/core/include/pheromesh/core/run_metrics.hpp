@@ -51,10 +51,6 @@ class RunRecorder {
     regions_frozen_ += region_frozen ? 1 : 0;
   }
   void count_rejected_sample() { ++samples_rejected_; }
-  // Deposits made but applied by no place agent: a lockstep run or the
-  // simulator with a place agent killed at a tick (core/faults.hpp).
-  void add_deposits_lost(uint64_t n) { deposits_lost_announced_ += n; }
-  [[nodiscard]] uint64_t deposits_lost_announced() const { return deposits_lost_announced_; }
   // A target added during the run (the world gained it first).
   void add_target() { acquisitions_.add_target(); }
   // Policy-specific quantities of the final field (policy.hpp field_summary).
@@ -123,7 +119,6 @@ class RunRecorder {
   uint32_t max_tick_ = 0;
   uint64_t samples_rejected_ = 0;
   uint32_t uavs_killed_ = 0, places_killed_ = 0, regions_frozen_ = 0;
-  uint64_t deposits_lost_announced_ = 0;
   bool last_was_first_ = false;
 };
 
