@@ -55,6 +55,7 @@ struct LauncherGroup {
   std::string out_path;
   LauncherGroup(const std::string& scenario, const std::string& out, int domain, const std::string& extra) : out_path(out + ".txt") {
     const std::string cmd = pheromesh_run(scenario, out, domain, extra) + " > " + out_path + " 2>&1";
+    std::ofstream(out_path, std::ios::trunc).flush();  // no progress of an earlier run
     pid = fork();
     if (pid == 0) {
       setpgid(0, 0);
