@@ -57,13 +57,16 @@ constexpr uint32_t kViewsAfterSilence = 20;
 // Realtime: neighbour states at most this many ticks older than the UAV's
 // own go into its view (UavCore keeps the same window).
 constexpr uint32_t kNeighbourAge = 4;
-// Deposit seqs remembered per UAV to drop a second copy: in swarms with
-// standbys both replicas of a home forward each deposit, and lockstep UAVs
-// re-send theirs after a quiet spell (the copies arrive within a tick or so).
+// Swarms with standbys: deposit seqs remembered per UAV to drop a second
+// copy (both replicas of a home forward each deposit, and lockstep UAVs
+// re-send theirs after a quiet spell; the copies arrive within a tick or so).
 constexpr std::size_t kSeenSeqs = 4096;
 }  // namespace
 
 bool PlaceApp::duplicate(const core::DepositMsg& d) {
+  // Only swarms with standbys send copies; elsewhere a repeated sequence
+  // number is a replay, which PlaceCore rejects with its reason.
+  if (!replicated_) return false;
   auto& seen = seen_seq_[d.uav];
   if (!seen.insert(d.seq).second) return true;
   if (seen.size() > kSeenSeqs) seen.erase(seen.begin());
