@@ -13,6 +13,8 @@ packages=(
   libcpp-httplib-dev libssl-dev zlib1g-dev libbrotli-dev  # web console server (gzip/brotli), command HMAC
   chromium prometheus curl                 # web console end-to-end test (headless browser, promtool)
   iproute2 nftables util-linux             # network faults: namespaces, veth, bridge (ip), partition/loss (nft); setpriv in a test
+  podman runc debootstrap                  # container tests: the base image (debootstrap), the images, compose and kube play
+  containernetworking-plugins golang-github-containernetworking-plugin-dnsname  # podman networks with DNS between containers
 )
 # The web front-end is built with npm at build time: Debian's nodejs + npm
 # (18) build it; the browser test's playwright-core needs Node.js >= 20, which
