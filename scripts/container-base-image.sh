@@ -28,5 +28,8 @@ debootstrap --variant=minbase bookworm "$root" "$mirror" > "$root.log" 2>&1 || {
 rm -f "$root.log"
 # Leave apt's lists out of the image (as Debian's official image does).
 rm -rf "$root"/var/lib/apt/lists/* "$root"/var/cache/apt/*.bin
-tar -C "$root" -c . | podman_ import --change 'CMD ["/bin/bash"]' - "$image" > /dev/null
+# `podman import` sets no environment: give the image Debian's PATH, as the
+# official image has, or `command: [sh, ...]` in a pod spec finds nothing.
+tar -C "$root" -c . | podman_ import --change 'CMD ["/bin/bash"]' \
+  --change 'ENV PATH=/usr/local/sbin:/usr/local/bin:/usr/sbin:/usr/bin:/sbin:/bin' - "$image" > /dev/null
 echo "container-base-image: $image made in $(( $(date +%s) - t0 )) s"
