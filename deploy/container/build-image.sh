@@ -18,8 +18,15 @@ if [ ! -s "$ca" ]; then
   ca="$empty"
 fi
 trap '[ -z "$empty" ] || rm -f "$empty"' EXIT
+podman_() { "$here/scripts/podman.sh" "$@"; }
+old="$(podman_ image inspect --format '{{.Id}}' "$image" 2> /dev/null || true)"
 t0=$(date +%s)
-"$here/scripts/podman.sh" build --network host --secret "id=ca,src=$ca" \
+podman_ build --network host --secret "id=ca,src=$ca" \
   -f "$here/deploy/container/Containerfile" -t "$image" "$here"
-size="$("$here/scripts/podman.sh" image inspect --format '{{.Size}}' "$image")"
+# The image this one replaced, if nothing else names it (no tag, no container).
+new="$(podman_ image inspect --format '{{.Id}}' "$image")"
+if [ -n "$old" ] && [ "$old" != "$new" ] && [ "$(podman_ image inspect --format '{{len .RepoTags}}' "$old" 2> /dev/null)" = 0 ]; then
+  podman_ rmi "$old" > /dev/null 2>&1 || true
+fi
+size="$(podman_ image inspect --format '{{.Size}}' "$image")"
 echo "build-image: $image built in $(($(date +%s) - t0)) s, $((size / 1000000)) MB"
