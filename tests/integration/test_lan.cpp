@@ -185,3 +185,42 @@ TEST(Lan, ASwarmOverThreeHostsWithUnicastPeersCompletesWithoutMulticastAndALateM
   run_split_swarm("lan-unicast", 71,
                   "--dds-profile lan-unicast --dds-peers " + address(0) + "," + address(1) + "," + address(2));
 }
+
+// What a swarm over several hosts cannot do is refused before anything
+// starts, and the message says what to do instead.
+TEST(Cli, SeveralHostsRefuseWhatCannotWorkAndSayWhatToDo) {
+  const std::string base = kBin + "/pheromesh run " + kSrc + "/scenarios/small-test.textproto --out " +
+                           out_dir("lan-cli") + " --domain 72 ";
+  const std::string key = "PHEROMESH_CONTROL_KEY=" + std::string(64, 'a') + " ";
+  struct Case {
+    std::string env, args, says;
+  };
+  const std::vector<Case> cases{
+      {key, "--hosts 3 --host-index 3 --dds-profile lan", "--host-index 3 is not below --hosts 3"},
+      {key, "--hosts 3 --ground-host 5 --dds-profile lan", "--ground-host 5"},
+      {key, "--hosts 2", "use --dds-profile lan"},
+      {key, "--hosts 2 --dds-profile lan-unicast", "needs --dds-peers"},
+      {"env -u PHEROMESH_CONTROL_KEY ", "--hosts 2 --dds-profile lan", "pheromesh key"},
+      {key, "--hosts 2 --host-index 1 --dds-profile lan --http 0", "runs on host 0"},
+      {key, "--hosts 2 --host-index 1 --dds-profile lan --faults 'kill uav:0 @2s'", "uav-0 does not run on host 1"},
+      {key, "--hosts 2 --dds-profile lan --faults 'loss 10% @1s for 1s'", "do not work with --hosts"},
+  };
+  for (const auto& c : cases) {
+    const Output o = run("env " + c.env + base + c.args);
+    EXPECT_EQ(o.exit_code, 2) << c.args << "\n" << o.text;
+    EXPECT_NE(o.text.find(c.says), std::string::npos) << c.args << "\n" << o.text;
+  }
+  // A key for every host.
+  const Output k = run(kBin + "/pheromesh key");
+  EXPECT_EQ(k.exit_code, 0);
+  EXPECT_TRUE(std::regex_match(k.text, std::regex("[0-9a-f]{64}\n"))) << k.text;
+}
+
+TEST(Cli, AMonitorWithNoSwarmOnItsDomainSaysSoAndAGroundStationNeedsAScenarioOrAttach) {
+  const Output a = run(kBin + "/pheromesh attach --domain 73 --timeout 1 --out " + out_dir("attach-none"));
+  EXPECT_EQ(a.exit_code, 2) << a.text;
+  EXPECT_NE(a.text.find("no place agent published a run on domain 73"), std::string::npos) << a.text;
+  const Output g = run(kBin + "/pheromesh-ground --domain 73");
+  EXPECT_NE(g.exit_code, 0);
+  EXPECT_NE(g.text.find("--scenario is required (or --attach"), std::string::npos) << g.text;
+}
