@@ -187,7 +187,9 @@ void Launcher::spawn(const std::string& role, uint32_t index, const std::vector<
 }
 
 void Launcher::spawn_place(uint32_t region, uint32_t replica) {
-  spawn("place", region, {"--region", std::to_string(region)}, replica);
+  // --ticks only so that the run the place agent publishes for monitors
+  // (RunScenario) is the UAVs'; a realtime place agent runs until the end.
+  spawn("place", region, {"--region", std::to_string(region), "--ticks", std::to_string(ticks_)}, replica);
   top_replica_[region] = std::max(top_replica_[region], replica);
 }
 
