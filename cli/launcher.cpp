@@ -109,6 +109,7 @@ void Launcher::spawn(const std::string& role, uint32_t index, const std::vector<
                                 "--log-level", o_.log_level,
                                 "--clock", o_.clock,
                                 "--lease-ms", std::to_string(o_.lease_ms)};
+  if (!o_.dds_peers.empty()) args.insert(args.end(), {"--dds-peers", o_.dds_peers});
   if (o_.uavs > 0) args.insert(args.end(), {"--uavs", std::to_string(o_.uavs)});
   if (o_.seed > 0) args.insert(args.end(), {"--seed", std::to_string(o_.seed)});
   if (o_.rate_hz > 0) args.insert(args.end(), {"--rate", std::to_string(o_.rate_hz)});
@@ -122,13 +123,15 @@ void Launcher::spawn(const std::string& role, uint32_t index, const std::vector<
 
   // A participant id per process: Fast DDS takes its ports from it (7410 +
   // 250 domain + 2 id) instead of searching for free ones, which stops at
-  // about 120 processes per host (docs/dds.md). Ground 0, place agents from
-  // 1, UAVs after them; a restarted UAV gets its old id (its ports are free).
-  // Standby replicas come after the UAVs.
-  const uint32_t participant = role == "ground"                  ? 0
-                               : role == "place" && replica == 0 ? 1 + index
-                               : role == "place" ? 1 + regions_ + uavs_ + (replica - 1) * regions_ + index
-                                                 : 1 + regions_ + index;
+  // about 120 processes per host (docs/dds.md). Numbered in the order this
+  // host starts them (the ground station, place agents, UAVs; standbys
+  // started later after them), so that a host's ids stay below the 120 that
+  // unicast discovery probes (lan-unicast); a restarted process gets its old
+  // id (its ports are free).
+  const auto known = participant_of_.find(c.name);
+  const uint32_t participant = known != participant_of_.end() ? known->second
+                                                              : static_cast<uint32_t>(participant_of_.size());
+  participant_of_[c.name] = participant;
   std::string participant_env = "PHEROMESH_PARTICIPANT_ID=" + std::to_string(participant);
   // Network faults: the process runs in its own network namespace.
   int netns_fd = -1;
@@ -184,14 +187,27 @@ void Launcher::spawn(const std::string& role, uint32_t index, const std::vector<
 }
 
 void Launcher::spawn_place(uint32_t region, uint32_t replica) {
-  spawn("place", region, {"--region", std::to_string(region)}, replica);
+  // --ticks only so that the run the place agent publishes for monitors
+  // (RunScenario) is the UAVs'; a realtime place agent runs until the end.
+  spawn("place", region, {"--region", std::to_string(region), "--ticks", std::to_string(ticks_)}, replica);
   top_replica_[region] = std::max(top_replica_[region], replica);
 }
 
+bool Launcher::on_this_host(const std::string& role, uint32_t index, uint32_t replica) const {
+  if (o_.hosts <= 1) return true;
+  if (role == "ground") return o_.host_index == o_.ground_host;
+  if (role == "place") return (index + replica) % o_.hosts == o_.host_index;
+  return index % o_.hosts == o_.host_index;
+}
+
 bool Launcher::spawn_swarm(uint32_t regions, uint32_t uavs, uint32_t ticks) {
-  for (uint32_t r = 0; r < regions; ++r) spawn_place(r, 0);
+  for (uint32_t r = 0; r < regions; ++r) {
+    if (on_this_host("place", r, 0)) spawn_place(r, 0);
+  }
   if (o_.standby || standby_from_scenario_) {
-    for (uint32_t r = 0; r < regions; ++r) spawn_place(r, 1);
+    for (uint32_t r = 0; r < regions; ++r) {
+      if (on_this_host("place", r, 1)) spawn_place(r, 1);
+    }
   }
   const bool stagger = 1 + std::size_t{regions} + uavs > kStaggerAbove && o_.start_rate > 0;
   // Batches of a tenth of a second's worth of UAVs.
@@ -214,6 +230,7 @@ bool Launcher::spawn_swarm(uint32_t regions, uint32_t uavs, uint32_t ticks) {
         return false;
       }
     }
+    if (!on_this_host("uav", u)) continue;
     spawn("uav", u, {"--id", std::to_string(u), "--ticks", std::to_string(ticks)});
   }
   return true;
@@ -485,6 +502,61 @@ void Launcher::stop_role(const std::string& role, std::chrono::seconds grace) {
   }
 }
 
+std::optional<std::string> Launcher::check_multi_host(const core::ScenarioConfig& s) const {
+  if (o_.hosts == 0) return "--hosts must be at least 1";
+  if (o_.host_index >= o_.hosts) {
+    return "--host-index " + std::to_string(o_.host_index) + " is not below --hosts " + std::to_string(o_.hosts) +
+           " (hosts are numbered 0.." + std::to_string(o_.hosts - 1) + ")";
+  }
+  if (o_.ground_host >= o_.hosts) {
+    return "--ground-host " + std::to_string(o_.ground_host) + " is not below --hosts " + std::to_string(o_.hosts);
+  }
+  if (!multi_host()) return std::nullopt;
+  if (o_.dds_profile == "onehost" || o_.dds_profile == "onehost-unicast" || o_.dds_profile == "netns") {
+    return "--hosts " + std::to_string(o_.hosts) + ": DDS profile '" + o_.dds_profile +
+           "' keeps traffic on this host; use --dds-profile lan (multicast discovery) or lan-unicast --dds-peers "
+           "HOST,HOST,... (docs/deployment.md)";
+  }
+  if (o_.dds_profile == "lan-unicast" && o_.dds_peers.empty()) {
+    return "--dds-profile lan-unicast needs --dds-peers: the address or name of every host of the swarm";
+  }
+  auto key = auth::control_key_from_env();
+  if (!key || !key.value()) {
+    return std::string("--hosts ") + std::to_string(o_.hosts) + ": every host of one swarm needs the same control key in $" +
+           auth::kControlKeyEnv + " (the ground station signs the start and the end of the run with it); make one with " +
+           "`pheromesh key` and export it on every host" + (key ? "" : " (the one set is malformed: " + key.error().message + ")");
+  }
+  if (o_.discovery_server) return "--discovery-server runs on one host; it does not work with --hosts";
+  if (o_.http_port && !on_this_host("ground", 0)) {
+    return "--http: the web console is served by the ground station, which runs on host " + std::to_string(o_.ground_host) +
+           " (--ground-host); give --http there, or attach a monitor anywhere with `pheromesh attach --http PORT`";
+  }
+  if (faults_) {
+    if (faults_->schedule().has_network()) {
+      return "fault schedule: partition and loss put every process of one host in its own network namespace; they do "
+             "not work with --hosts (use them on one host, or shape the LAN itself)";
+    }
+    if (o_.clock == "lockstep") {
+      return "fault schedule: a lockstep run injects faults through the conductor's line to its launcher, on one host; "
+             "with --hosts give the faults to a realtime run";
+    }
+    const uint32_t replicas = (o_.standby || s.standby) ? 2 : 1;
+    for (const auto& e : faults_->schedule().events) {
+      for (const auto& t : e.targets) {
+        bool here = false;
+        for (uint32_t k = 0; k < (t.role == "place" ? replicas : 1); ++k) here = here || on_this_host(t.role, t.index, k);
+        if (!here) {
+          return "fault schedule: '" + e.text + "': " + t.process_name() + " does not run on host " +
+                 std::to_string(o_.host_index) + " (--hosts " + std::to_string(o_.hosts) +
+                 ": place agent R on host R % hosts, its standby on the next, UAV U on host U % hosts, the ground "
+                 "station on --ground-host); give this fault to that host's pheromesh run";
+        }
+      }
+    }
+  }
+  return std::nullopt;
+}
+
 int Launcher::run() {
   raise_fd_limit();
   auto scenario = core::load_scenario(o_.scenario);
@@ -519,6 +591,10 @@ int Launcher::run() {
     spdlog::error("{}", *err);
     return 2;
   }
+  if (auto err = check_multi_host(s)) {
+    spdlog::error("{}", *err);
+    return 2;
+  }
   fs::create_directories(fs::path(o_.out_dir) / "logs");
   fs::remove(fs::path(o_.out_dir) / "metrics.json");
   if (o_.clock != "lockstep") {
@@ -530,6 +606,17 @@ int Launcher::run() {
                s.name, o_.scenario, regions, uavs, ticks, o_.clock,
                o_.clock == "lockstep" ? "" : fmt::format(" at {:.1f} Hz", rate), plan_.describe(), o_.domain, o_.dds_profile,
                o_.out_dir);
+  if (multi_host()) {
+    uint32_t places_here = 0, uavs_here = 0;
+    const uint32_t replicas = (o_.standby || s.standby) ? 2 : 1;
+    for (uint32_t r = 0; r < regions; ++r) {
+      for (uint32_t k = 0; k < replicas; ++k) places_here += on_this_host("place", r, k) ? 1 : 0;
+    }
+    for (uint32_t u = 0; u < uavs; ++u) uavs_here += on_this_host("uav", u) ? 1 : 0;
+    spdlog::info("host {} of {}: {} place agents, {} uavs{} here; the ground station {}", o_.host_index, o_.hosts, places_here,
+                 uavs_here, o_.dds_peers.empty() ? "" : fmt::format(" (DDS peers {})", o_.dds_peers),
+                 on_this_host("ground", 0) ? "too (it ends the run)" : fmt::format("on host {}", o_.ground_host));
+  }
 
   runtime::install_shutdown_handlers();
   ticks_ = ticks;
@@ -541,10 +628,14 @@ int Launcher::run() {
   }
   const bool lockstep_faults = faults_ && o_.clock == "lockstep";
   // Every process of this swarm shares a fresh control key: only this
-  // ground station can sign commands they act on (docs/console.md).
-  setenv(auth::kControlKeyEnv, auth::random_control_key_hex().c_str(), 1);
+  // ground station can sign commands they act on (docs/console.md). Over
+  // several hosts every host has the same one, from the environment
+  // (check_multi_host).
+  if (!multi_host()) setenv(auth::kControlKeyEnv, auth::random_control_key_hex().c_str(), 1);
   std::vector<std::string> ground_args{"--out", o_.out_dir, "--progress", std::to_string(o_.progress_s), "--ticks",
                                        std::to_string(ticks), "--expect-uavs", std::to_string(uavs)};
+  // No launcher sees every process: the ground station ends the run.
+  if (multi_host()) ground_args.emplace_back("--until-done");
   std::string token;
   // The launch instant: wall_s and the ground station's discovery_s count from
   // here (children inherit PHEROMESH_RUN_T0_MS).
@@ -578,7 +669,7 @@ int Launcher::run() {
     if (!record.empty()) ground_args.insert(ground_args.end(), {"--record", record});
   }
   if (o_.discovery_server && !start_discovery_server()) return 3;
-  spawn("ground", 0, ground_args);
+  if (on_this_host("ground", 0)) spawn("ground", 0, ground_args);
   if (child_ctl_fd_ >= 0) {
     close(child_ctl_fd_);
     child_ctl_fd_ = -1;
@@ -610,7 +701,19 @@ int Launcher::run() {
   const auto sample_at = t0 + std::chrono::milliseconds(static_cast<int64_t>(600.0 * ticks / rate));
   bool sampled = false;
   bool interrupted = false;
-  while (any_running("uav")) {
+  // Over several hosts this host's place agents and ground station end by
+  // themselves, on the ground station's End, after every UAV of the swarm.
+  const auto flying = [&] {
+    return any_running("uav") || (multi_host() && (any_running("place") || any_running("ground")));
+  };
+  const auto stop_here = [&] {
+    stop_role("uav", std::chrono::seconds(10));
+    if (multi_host()) {
+      stop_role("place", std::chrono::seconds(15));
+      stop_role("ground", std::chrono::seconds(15));
+    }
+  };
+  while (flying()) {
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
     if (!sampled && o_.clock == "lockstep" &&
         std::any_of(children_.begin(), children_.end(), [](const auto& c) {
@@ -638,19 +741,22 @@ int Launcher::run() {
       spdlog::warn("interrupted: stopping the swarm");
       interrupted = true;
       end_open_faults();  // a stopped process would not hear SIGTERM
-      stop_role("uav", std::chrono::seconds(10));
+      stop_here();
     }
-    if (now > uav_deadline + paused_now) {
-      spdlog::error("uavs still flying long after the expected end; stopping them");
+    // Over several hosts: a minute more for the End of a ground station on
+    // another host (it waits for the slowest host's UAVs).
+    if (now > uav_deadline + paused_now + (multi_host() ? std::chrono::seconds(60) : std::chrono::seconds(0))) {
+      spdlog::error(multi_host() ? "this host's processes still running long after the expected end; stopping them"
+                                 : "uavs still flying long after the expected end; stopping them");
       end_open_faults();
-      stop_role("uav", std::chrono::seconds(10));
+      stop_here();
     }
   }
   // Stopped processes continue, cut-off ones are reconnected, restarts due
   // later do not happen: the place agents and the ground station must be
   // able to hear SIGTERM and finish.
   end_open_faults();
-  spdlog::info("all uavs ended; stopping place agents");
+  spdlog::info(multi_host() ? "this host's processes ended" : "all uavs ended; stopping place agents");
   stop_role("place", std::chrono::seconds(15));
   stop_role("ground", std::chrono::seconds(15));
   wall_s_ = std::chrono::duration<double>(Clock::now() - spawn_t0_).count();
@@ -749,9 +855,13 @@ void Launcher::finish_metrics(int& exit_code) {
         {"threads_mean", opt_json(mean_of(t.threads))},
     };
   }
-  const fs::path path = fs::path(o_.out_dir) / "metrics.json";
+  // Over several hosts the swarm's metrics.json is the ground station's host's;
+  // every other host writes what it ran to host-I.json.
+  const bool ground_here = on_this_host("ground", 0);
+  const fs::path path =
+      fs::path(o_.out_dir) / (ground_here ? std::string("metrics.json") : "host-" + std::to_string(o_.host_index) + ".json");
   nlohmann::json m;
-  std::ifstream in(path);
+  std::ifstream in(ground_here ? path : fs::path());
   if (in) {
     try {
       in >> m;
@@ -760,9 +870,16 @@ void Launcher::finish_metrics(int& exit_code) {
     }
   }
   if (m.is_null()) {
-    spdlog::error("the ground station left no {}", path.string());
-    exit_code = 1;
+    if (ground_here) {
+      spdlog::error("the ground station left no {}", path.string());
+      exit_code = 1;
+    }
     m = nlohmann::json::object();
+  }
+  if (multi_host()) {
+    m["hosts"] = o_.hosts;
+    m["host_index"] = o_.host_index;
+    m["ground_host"] = o_.ground_host;
   }
   add_fault_metrics(m);
   if (fault_failures_ > 0) {
@@ -789,6 +906,11 @@ void Launcher::finish_metrics(int& exit_code) {
       udp ? nlohmann::json(udp_end_->out_datagrams - udp_start_->out_datagrams) : nlohmann::json(nullptr);
   std::ofstream(path) << m.dump(2) << "\n";
   if (crashed > 0) exit_code = 1;
+  if (!ground_here) {
+    spdlog::info("done on host {}: {} processes, killed {}, crashed {} -> {} (the swarm's metrics.json is on host {})",
+                 o_.host_index, children_.size(), killed, crashed, path.string(), o_.ground_host);
+    return;
+  }
   spdlog::info("done: coverage {:.1f}%, targets {}/{}, deposits sent {} applied {} rejected {}, killed {}, crashed {} -> {}",
                100.0 * m.value("coverage", 0.0), m.value("targets_found", 0), m.value("targets_total", 0),
                m.value("deposits_sent", 0), m.value("deposits_applied", 0), m.value("deposits_rejected", 0), killed,

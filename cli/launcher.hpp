@@ -37,7 +37,15 @@ struct RunOptions {
   std::string netns_subnet = "10.77.0.0/16";  // the processes' addresses when network faults need namespaces
   std::string dds;             // a DdsPlan spec: cyclone, fastdds, mixed or ROLE=VENDOR,...
   std::string dds_profile = "onehost";
+  std::string dds_peers;       // lan profiles: discovery peers (every process gets them)
   uint32_t domain = 0;
+  // One swarm over several hosts (docs/deployment.md): each host runs
+  // `pheromesh run` with the same scenario and options and its own index,
+  // and starts only its share: place agent R (its standby R.rN) on host
+  // (R + N) % hosts, UAV U on host U % hosts, the ground station on ground_host.
+  uint32_t hosts = 1;
+  uint32_t host_index = 0;
+  uint32_t ground_host = 0;
   std::string log_level = "info";
   double progress_s = 1.0;
   std::string clock = "realtime";  // realtime | lockstep
@@ -112,6 +120,12 @@ class Launcher {
   void stop_role(const std::string& role, std::chrono::seconds grace);
   [[nodiscard]] bool any_running(const std::string& role) const;
   ChildProcess* find(const std::string& name);
+  // --hosts: whether this host runs that process.
+  [[nodiscard]] bool on_this_host(const std::string& role, uint32_t index, uint32_t replica = 0) const;
+  [[nodiscard]] bool multi_host() const { return o_.hosts > 1; }
+  // --hosts: what a swarm over several hosts cannot do; an error message.
+  std::optional<std::string> check_multi_host(const core::ScenarioConfig& s) const;
+  std::map<std::string, uint32_t> participant_of_;  // process name -> Fast DDS participant id on this host
   // The process a fault target means now: uav-I, ground, and for place:R the
   // live replica of R with the lowest replica number (null if none runs).
   ChildProcess* resolve(const core::FaultTarget& t);

@@ -7,10 +7,12 @@
 #include <cstdio>
 
 #include "bench_scale.hpp"
+#include "attach_command.hpp"
 #include "launcher.hpp"
 #include "replay_command.hpp"
 #include "experiment_command.hpp"
 #include "sim_command.hpp"
+#include "pheromesh/auth/control.hpp"
 #include "pheromesh/bus/bus.hpp"
 #include "pheromesh/core/scenario.hpp"
 
@@ -38,6 +40,30 @@ Examples:
   sudo pheromesh run scenarios/small-test.textproto --duration 20 \
       --faults "partition uav:0-1 @4s for 3s; loss 20% @8s for 5s"
   pheromesh run scenarios/small-test.textproto --clock lockstep --ticks 200 --faults "kill uav:1 @40t"
+
+SEVERAL HOSTS (docs/deployment.md)
+  Every host runs the same command with its own --host-index, and the same
+  $PHEROMESH_CONTROL_KEY (make one with `pheromesh key`). Place agent R runs on
+  host R % hosts (a standby on the next host), UAV U on host U % hosts, the
+  ground station on --ground-host, which ends the run and writes metrics.json.
+    export PHEROMESH_CONTROL_KEY=...      # the same on every host
+    pheromesh run scenarios/small-test.textproto --hosts 3 --host-index 0 --dds-profile lan
+    pheromesh run scenarios/small-test.textproto --hosts 3 --host-index 1 --dds-profile lan     # on host 1
+  Without multicast: --dds-profile lan-unicast --dds-peers 10.0.0.1,10.0.0.2,10.0.0.3
+  Watch from anywhere on the LAN: pheromesh attach --dds-profile lan --http 8080
+)";
+
+constexpr const char* kAttachFooter = R"(The monitor takes the scenario and the run's options from the swarm's
+place agents (published transient-local), so it needs only the domain id and
+a DDS profile that reaches the swarm. It conducts nothing and signs no command;
+it exits when every place agent finished, writing OUT/metrics.json as seen
+from its start (deposit counters are the processes' totals, so the accounting
+is complete; coverage and responses count from its start).
+
+Examples:
+  pheromesh attach --domain 0 --http 8080                     # a swarm on this host
+  pheromesh attach --dds-profile lan --http 8080 --http-bind 0.0.0.0
+  pheromesh attach --dds-profile lan-unicast --dds-peers 10.0.0.1,10.0.0.2 --out out/watch
 )";
 
 // Prints a scenario's fault lines under `pheromesh validate`.
@@ -125,9 +151,20 @@ int main(int argc, char** argv) {
               "stops the standby's takes over within about a liveliness lease (docs/faults.md). Also the scenario's "
               "run.standby");
   r->add_option("--dds-profile", ro.dds_profile,
-                "DDS profile: onehost (loopback, multicast discovery), onehost-unicast, default (vendor defaults) or "
-                "vendor config files, comma-separated, each process using the one for its vendor "
-                "[env PHEROMESH_DDS_PROFILE]")
+                "DDS profile: onehost (loopback, multicast discovery), onehost-unicast, lan (several hosts, multicast "
+                "discovery), lan-unicast (several hosts, --dds-peers), default (vendor defaults) or vendor config "
+                "files, comma-separated, each process using the one for its vendor [env PHEROMESH_DDS_PROFILE]")
+      ->capture_default_str();
+  if (const char* p = std::getenv("PHEROMESH_DDS_PEERS"); p != nullptr) ro.dds_peers = p;
+  r->add_option("--dds-peers", ro.dds_peers,
+                "lan profiles: every host of the swarm, comma-separated addresses or names (unicast discovery) "
+                "[env PHEROMESH_DDS_PEERS]");
+  r->add_option("--hosts", ro.hosts, "Hosts the swarm is split over; each runs this command with its --host-index "
+                                     "(see SEVERAL HOSTS below)")
+      ->check(CLI::Range(1U, 1000U))
+      ->capture_default_str();
+  r->add_option("--host-index", ro.host_index, "This host's index, 0 .. hosts-1")->capture_default_str();
+  r->add_option("--ground-host", ro.ground_host, "The host that runs the ground station (and the web console)")
       ->capture_default_str();
   r->add_option("--domain", ro.domain, "DDS domain id (use distinct ids for swarms sharing a host)")
       ->check(CLI::Range(0, 232))
@@ -224,6 +261,32 @@ int main(int argc, char** argv) {
   bs->add_option("--extra", bso.extra, "More arguments for `pheromesh run`, in one string, e.g. \"--dds-profile default\"");
   bs->footer(cli::kBenchScaleFooter);
 
+  auto* key = app.add_subcommand("key", "Print a new random control key (64 hex digits) for $PHEROMESH_CONTROL_KEY: "
+                                        "every host of a swarm over several hosts exports the same one");
+
+  cli::AttachOptions ao;
+  ao.dds = bus::default_vendor();
+  if (const char* p = std::getenv("PHEROMESH_DDS_PROFILE"); p != nullptr && *p != '\0') ao.dds_profile = p;
+  if (const char* p = std::getenv("PHEROMESH_DDS_PEERS"); p != nullptr) ao.dds_peers = p;
+  auto* at = app.add_subcommand("attach", "Monitor a running swarm from this host, found by its domain id alone: "
+                                          "progress lines, metrics, and with --http the web console");
+  at->add_option("--domain", ao.domain, "DDS domain id of the swarm")->check(CLI::Range(0, 232))->capture_default_str();
+  at->add_option("--dds", ao.dds, "DDS vendor of the monitor: cyclone or fastdds (either reaches any swarm)")
+      ->capture_default_str();
+  at->add_option("--dds-profile", ao.dds_profile,
+                 "DDS profile that reaches the swarm: onehost (same host), lan, lan-unicast (with --dds-peers), or files")
+      ->capture_default_str();
+  at->add_option("--dds-peers", ao.dds_peers, "lan profiles: the swarm's hosts, comma-separated [env PHEROMESH_DDS_PEERS]");
+  at->add_option("--out", ao.out_dir, "Output folder (metrics.json, console recording)")->capture_default_str();
+  at->add_option("--http", ao.http_port, "Serve the web console on this port (0: any free port)");
+  at->add_option("--http-bind", ao.http_bind, "Address the console listens on (0.0.0.0: every interface)")
+      ->capture_default_str();
+  at->add_option("--record", ao.record, "Record the console to this file (for pheromesh replay)");
+  at->add_option("--timeout", ao.timeout_s, "Longest wait for a running swarm [s]")->capture_default_str();
+  at->add_option("--progress", ao.progress_s, "Seconds between progress lines")->capture_default_str();
+  at->add_option("--process-log-level", ao.log_level, "Log level of the monitor")->capture_default_str();
+  at->footer(kAttachFooter);
+
   CLI11_PARSE(app, argc, argv);
   auto logger = spdlog::stderr_color_mt("pheromesh");
   logger->set_pattern("%H:%M:%S.%e %^%-5l%$ [%n] %v");
@@ -231,6 +294,11 @@ int main(int argc, char** argv) {
   spdlog::set_default_logger(logger);
 
   if (v->parsed()) return validate(validate_path);
+  if (key->parsed()) {
+    std::printf("%s\n", auth::random_control_key_hex().c_str());
+    return 0;
+  }
+  if (at->parsed()) return cli::run_attach(ao);
   if (sim->parsed()) return cli::run_sim(so);
   if (ex->parsed()) return cli::run_experiment_command(eo);
   if (rp->parsed()) return cli::run_replay(rpo);

@@ -67,7 +67,7 @@ void GroundApp::note_discovery() {
   // Realtime UAVs wait for the start to fly (UavApp::wait_for_start): once
   // every process is heard, or after a bound that grows with the swarm, so
   // one process that never came up does not hold the others back.
-  if (start_sent_ || cfg_.common.lockstep()) return;
+  if (start_sent_ || cfg_.common.lockstep() || cfg_.attach) return;
   const auto bound = std::chrono::milliseconds(static_cast<int64_t>(1000.0 * (30.0 + 0.1 * cfg_.expect_uavs)));
   if (!all && Clock::now() - started_at_ < bound) return;
   if (!all) {
@@ -385,10 +385,50 @@ bool GroundApp::conduct() {
   return ok;
 }
 
+bool GroundApp::places_finished() const {
+  for (core::RegionId r = 0; r < geo_.region_count(); ++r) {
+    auto it = rec_.health().find(r);
+    if (!((it != rec_.health().end() && it->second.finished) || rec_.region_departed(r))) return false;
+  }
+  return true;
+}
+
+void GroundApp::note_full_state() {
+  if (full_state_logged_) return;
+  if (frame_builder_.uavs_heard() < cfg_.expect_uavs || frame_builder_.regions_heard() < geo_.region_count() ||
+      field_ticks_.size() < geo_.region_count()) {
+    return;
+  }
+  full_state_logged_ = true;
+  log_->info("attached: the whole swarm is shown (every uav of {}, every place agent of {}, every region's field) {:.2f} s "
+             "after the monitor started",
+             cfg_.expect_uavs, geo_.region_count(), static_cast<double>(unix_ms_now() - run_t0_unix_ms_) / 1000.0);
+}
+
+bool GroundApp::uavs_done() const {
+  const auto& uavs = rec_.uavs();
+  if (uavs.size() < cfg_.expect_uavs && !start_sent_) return false;
+  if (uavs.empty()) return false;
+  return std::all_of(uavs.begin(), uavs.end(), [](const auto& kv) { return kv.second.finished || !kv.second.alive; });
+}
+
+void GroundApp::end_run() {
+  ended_ = true;
+  core::CommandMsg end;
+  end.kind = static_cast<uint8_t>(core::CommandKind::End);
+  const auto a = publish_swarm_command(end);
+  if (a.status == 200) {
+    log_->info("every uav finished: {}", a.message);
+  } else {
+    log_->error("every uav finished, but the end of the run cannot be announced: {}", a.message);
+  }
+}
+
 int GroundApp::finish() {
   // Final drain: wait (bounded) for every place agent's final health so the
-  // deposit accounting is complete.
-  const auto deadline = Clock::now() + std::chrono::seconds(3);
+  // deposit accounting is complete. After an End the place agents, maybe on
+  // other hosts, finish their last tick and publish it: longer.
+  const auto deadline = Clock::now() + std::chrono::seconds(ended_ ? 10 : 3);
   for (;;) {
     poll();
     uint32_t done = 0;
@@ -439,8 +479,21 @@ int GroundApp::run() {
   next_progress_ = Clock::now();
   start_console();
   bool ok = true;
-  if (cfg_.common.lockstep()) ok = conduct();
+  if (cfg_.common.lockstep() && !cfg_.attach) ok = conduct();
+  if (cfg_.until_done && cfg_.common.lockstep()) end_run();
   while (!runtime::shutdown_requested()) {
+    if (cfg_.attach) {
+      note_full_state();
+      if (places_finished()) {
+        log_->info("every place agent finished: the run is over");
+        break;
+      }
+    }
+    if (cfg_.until_done && !ended_ && uavs_done()) {
+      end_run();
+      break;
+    }
+    if (ended_) break;
     poll();
     progress_if_due();
     service();

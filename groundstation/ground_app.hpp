@@ -54,6 +54,15 @@ struct GroundConfig {
   std::vector<uint32_t> fault_ticks;
   double faults_timeout_s = 60.0;  // [s] longest wait for the launcher's answer
   bool standby = false;            // place agents have standby replicas: a killed one is replaced, its region stays
+  // The ground station ends the run (no launcher to do it: a swarm over
+  // several hosts, containers): once every expected UAV finished or was
+  // lost, it publishes a signed End (place agents finish on it) and exits
+  // after writing metrics.json.
+  bool until_done = false;
+  // A monitor that attached to a running swarm (pheromesh attach): it took
+  // the scenario from the place agents, conducts nothing, starts and ends
+  // nothing, sends no commands; it stops when every place agent finished.
+  bool attach = false;
 };
 
 class GroundApp {
@@ -79,6 +88,16 @@ class GroundApp {
   void drop_uav(uint32_t uav, uint32_t tick);
   void drop_region(core::RegionId r, uint32_t tick);
   int finish();
+  // --until-done: every expected UAV was heard (or the swarm started
+  // without some) and each finished or was lost.
+  [[nodiscard]] bool uavs_done() const;
+  // Every region's place agent reported its final health (or is gone).
+  [[nodiscard]] bool places_finished() const;
+  // --attach: logs once when every UAV and place agent was heard and every
+  // region's field arrived.
+  void note_full_state();
+  bool full_state_logged_ = false;
+  void end_run();
 
   // --- web console, recording and commands
   void start_console();
@@ -133,8 +152,13 @@ class GroundApp {
   int64_t run_t0_unix_ms_ = 0;
   std::optional<double> discovery_s_;
   bool start_sent_ = false;
+  bool ended_ = false;  // --until-done: the End went out
   std::chrono::steady_clock::time_point started_at_ = std::chrono::steady_clock::now();
   void note_discovery();
 };
+
+// pheromesh-ground --attach (attach.cpp): finds the running swarm on the
+// domain, takes its scenario and options, then runs a GroundApp as a monitor.
+int attach(GroundConfig cfg, double timeout_s);
 
 }  // namespace pheromesh::groundstation

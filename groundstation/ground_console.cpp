@@ -31,7 +31,9 @@ void GroundApp::start_console() {
   next_frame_ = console_t0_;
   next_series_ = console_t0_;
   auto key = auth::control_key_from_env();
-  if (!key) {
+  if (cfg_.attach) {
+    // A monitor steers nothing: the swarm's ground station signs its commands.
+  } else if (!key) {
     log_->error("{}; console commands to the swarm are disabled", key.error().message);
   } else {
     control_key_ = key.value();

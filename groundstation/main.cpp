@@ -1,7 +1,12 @@
-// pheromesh-ground: flags -> scenario -> bus -> app -> run.
+// pheromesh-ground: flags -> scenario -> bus -> app -> run. With --attach the
+// scenario comes from the running swarm (its place agents publish it).
 #include <spdlog/spdlog.h>
 
 #include <CLI/CLI.hpp>
+#include <chrono>
+#include <cstdlib>
+#include <string>
+#include <thread>
 
 #include "ground_app.hpp"
 #include "pheromesh/core/scenario.hpp"
@@ -32,6 +37,10 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--console-hz", cfg.console_hz, "Console frames per second")->capture_default_str()->check(CLI::Range(0.2, 50.0));
   app.add_option("--record", cfg.record_path, "Record the console frames to this file (read by `pheromesh replay`)");
+  app.add_flag("--until-done", cfg.until_done,
+               "End the run when every expected UAV finished or was lost: publish a signed End, on which every place "
+               "agent finishes, then write metrics.json and exit (a swarm without pheromesh run's single launcher: "
+               "several hosts, containers; needs $PHEROMESH_CONTROL_KEY, the same in every process)");
   app.add_option("--launcher-fd", cfg.launcher_fd, "Control socket inherited from `pheromesh run` (kill / restart)");
   app.add_option("--fault-ticks", cfg.fault_ticks,
                  "Lockstep: ticks with faults, comma-separated; before each one's UAV phase the conductor asks the launcher "
@@ -39,8 +48,21 @@ int main(int argc, char** argv) {
       ->delimiter(',');
   app.add_option("--faults-timeout", cfg.faults_timeout_s, "Lockstep: longest wait for the launcher's answer to \"faults K\" [s]")
       ->capture_default_str();
+  double attach_timeout_s = 60.0;
+  app.add_flag("--attach", cfg.attach,
+               "Monitor a running swarm found by its domain id alone: take the scenario and the run's options from its "
+               "place agents (no --scenario needed), show and record what happens from now on, steer nothing; exits "
+               "when every place agent finished (or on SIGINT) and writes OUT/metrics.json as seen from here");
+  app.add_option("--attach-timeout", attach_timeout_s, "With --attach: longest wait for a running swarm [s]")
+      ->capture_default_str();
+  app.get_option("--scenario")->required(false);
   CLI11_PARSE(app, argc, argv);
   cfg.scenario_path = cfg.common.scenario;
+  if (cfg.attach) return groundstation::attach(cfg, attach_timeout_s);
+  if (cfg.common.scenario.empty()) {
+    std::fprintf(stderr, "--scenario is required (or --attach, to monitor a running swarm)\nRun with --help for more information.\n");
+    return 106;
+  }
 
   return runtime::run_process("ground", cfg.common, [&](core::ScenarioConfig scenario, std::unique_ptr<bus::Bus> bus) {
     return groundstation::GroundApp(cfg, std::move(scenario), std::move(bus)).run();

@@ -264,7 +264,7 @@ int PlaceApp::run_realtime() {
   runtime::TickClock clock(rate_);
   auto last_health = Clock::now();
   uint32_t tick = 0;
-  while (!runtime::shutdown_requested() && (cfg_.max_ticks == 0 || tick < cfg_.max_ticks)) {
+  while (!runtime::shutdown_requested() && !commands_->ended() && (cfg_.max_ticks == 0 || tick < cfg_.max_ticks)) {
     if (const auto gap = gaps_.on_tick_start(Clock::now()); gap && gaps_.gaps_over_2() <= 10) {
       log_->warn("tick {} started {} ms after the one before ({:.1f} tick periods)", tick,
                  std::chrono::duration_cast<std::chrono::milliseconds>(*gap).count(),
@@ -367,7 +367,7 @@ int PlaceApp::run_lockstep() {
   // stays that of the last conducted tick.
   // Polling the bus keeps this process's writers alive (manual-by-topic
   // liveliness), so the ground station does not report it lost meanwhile.
-  while (!runtime::shutdown_requested()) {
+  while (!runtime::shutdown_requested() && !commands_->ended()) {
     commands_->take();
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
@@ -393,6 +393,12 @@ int PlaceApp::run() {
   for (core::RegionId r : other_regions_) (void)bus_->matched_deposit_readers(r);  // creates the forwarding writer
   bus_->offer_views(home_uavs_);
   commands_ = std::make_unique<runtime::SwarmCommands>(*bus_, log_);
+  // The run, for monitors that attach with only the domain id.
+  if (auto m = runtime::scenario_message(cfg_.common, scenario_, core::place_id(cfg_.region, cfg_.replica)); !m) {
+    log_->warn("{}", m.error().message);
+  } else if (!bus_->publish_scenario(m.value())) {
+    log_->warn("cannot publish the scenario for monitors");
+  }
   const core::Rect r = geo_.region_rect(cfg_.region);
   log_->info("place agent for region {} [{}..{})x[{}..{}) with {} tiles, {} neighbours, {} clock{} over {}{}", cfg_.region,
              r.x0, r.x0 + r.w, r.y0, r.y0 + r.h, core_.owned_tiles().size(), core_.neighbours().size(), cfg_.common.clock,

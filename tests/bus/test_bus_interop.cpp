@@ -278,10 +278,76 @@ TEST_P(Interop, SamplesOverTheIdlBoundsAreRefusedBeforeWriting) {
   EXPECT_EQ(w_->stats().writes_failed, 0U);
 }
 
+TEST_P(Interop, ThePublishedRunReachesAReaderThatJoinsLaterIntact) {
+  // A place agent publishes the run once; a monitor subscribes afterwards
+  // (transient-local) and gets the scenario text byte for byte.
+  core::ScenarioMsg run;
+  run.publisher = core::place_id(3, 1);
+  for (int i = 0; i < 3000; ++i) run.text += static_cast<char>('a' + i % 26);  // over one small datagram
+  run.text += "\n# non-ASCII: \xc3\xa9\n";
+  run.uavs = 250;
+  run.ticks = 1200;
+  run.seed = 0x123456789ULL;
+  run.tick_rate_hz = 12.5;
+  run.clock = 1;
+  run.lease_ms = 1500;
+  run.standby = true;
+  run.shared_ownership = true;
+  ASSERT_TRUE(w_->publish_scenario(run));
+  std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  r_->subscribe_scenario();
+  const auto got = wait_for<core::ScenarioMsg>([&](auto& v) { r_->take_scenarios(v); });
+  ASSERT_EQ(got.size(), 1U);
+  EXPECT_EQ(got[0].publisher, run.publisher);
+  EXPECT_EQ(got[0].text, run.text);
+  EXPECT_EQ(got[0].uavs, 250U);
+  EXPECT_EQ(got[0].ticks, 1200U);
+  EXPECT_EQ(got[0].seed, run.seed);
+  EXPECT_DOUBLE_EQ(got[0].tick_rate_hz, 12.5);
+  EXPECT_EQ(got[0].clock, 1);
+  EXPECT_EQ(got[0].lease_ms, 1500U);
+  EXPECT_TRUE(got[0].standby);
+  EXPECT_TRUE(got[0].shared_ownership);
+  core::ScenarioMsg big = run;
+  big.text.assign(core::kMaxScenarioBytes + 1, 'x');
+  EXPECT_FALSE(w_->publish_scenario(big));
+  EXPECT_EQ(w_->stats().writes_refused, 1U);
+}
+
 INSTANTIATE_TEST_SUITE_P(Vendors, Interop,
                          testing::Values(Pair{"cyclone", "cyclone"}, Pair{"fastdds", "fastdds"}, Pair{"cyclone", "fastdds"},
                                          Pair{"fastdds", "cyclone"}),
                          pair_name);
+
+TEST(Peers, AddressesAreKeptNamesResolveToTheirAddressesAndUnknownNamesAreListed) {
+  const auto p = bus::resolve_peers(" 10.0.0.2, localhost,10.0.0.2,,no-such-host.invalid ");
+  ASSERT_TRUE(static_cast<bool>(p)) << p.error().message;
+  ASSERT_EQ(p->addresses.size(), 2U);  // the repeated address once
+  EXPECT_EQ(p->addresses[0], "10.0.0.2");
+  EXPECT_EQ(p->addresses[1], "127.0.0.1");
+  ASSERT_EQ(p->unresolved.size(), 1U);
+  EXPECT_EQ(p->unresolved[0], "no-such-host.invalid");
+  const auto bad = bus::resolve_peers("10.0.0.1:7400");
+  ASSERT_FALSE(static_cast<bool>(bad));
+  EXPECT_NE(bad.error().message.find("10.0.0.1:7400"), std::string::npos);
+  EXPECT_TRUE(bus::resolve_peers("")->addresses.empty());
+}
+
+TEST(Peers, OnlyTheLanProfilesTakePeersAndABusComesUpWithThem) {
+  bus::BusOptions o;
+  o.domain = 60;
+  o.profile = "onehost";
+  o.peers = {"127.0.0.1"};
+  for (const char* vendor : {"cyclone", "fastdds"}) {
+    o.profile = "onehost";
+    const auto refused = bus::make_bus(vendor, o);
+    ASSERT_FALSE(static_cast<bool>(refused)) << vendor;
+    EXPECT_NE(refused.error().message.find("lan and lan-unicast"), std::string::npos) << refused.error().message;
+    o.profile = "lan-unicast";
+    const auto ok = bus::make_bus(vendor, o);
+    EXPECT_TRUE(static_cast<bool>(ok)) << vendor << ": " << (ok ? "" : ok.error().message);
+  }
+}
 
 TEST(Bus, MixedIsNotAProcessVendorAndUnknownVendorsAreNamed) {
   const auto m = bus::make_bus("mixed", {});

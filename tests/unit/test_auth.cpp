@@ -66,6 +66,23 @@ TEST(Auth, GateAdmitsSignedCommandsInOrderOnce) {
   EXPECT_EQ(keyless.rejected(), 1U);
 }
 
+TEST(Auth, TheEndOfARunIsAdmittedWhenSignedAndKindsBeyondItAreNot) {
+  const ControlKey key = parse_control_key(std::string(64, 'c')).value();
+  CommandGate gate(key);
+  std::vector<core::CommandMsg> in{signed_command(key, 1, core::CommandKind::End)};
+  const auto ok = gate.admit(in);
+  ASSERT_EQ(ok.size(), 1U);
+  EXPECT_EQ(describe(ok[0]), "end of the run");
+  auto unknown = signed_command(key, 2, core::CommandKind::End);
+  unknown.kind = static_cast<uint8_t>(core::CommandKind::End) + 1;
+  sign(unknown, key);
+  std::vector<core::CommandMsg> bad{unknown};
+  std::vector<std::string> why;
+  EXPECT_TRUE(gate.admit(bad, &why).empty());
+  ASSERT_EQ(why.size(), 1U);
+  EXPECT_NE(why[0].find("unknown kind"), std::string::npos);
+}
+
 TEST(Auth, KeyParsingNamesTheProblem) {
   EXPECT_FALSE(parse_control_key("abc").ok());
   EXPECT_NE(parse_control_key(std::string(63, 'a') + "z").error().message.find("character 64"), std::string::npos);

@@ -91,6 +91,7 @@ std::string describe(const core::CommandMsg& m) {
              std::to_string(m.h);
     case core::CommandKind::Target: return "target at (" + std::to_string(m.x) + "," + std::to_string(m.y) + ")";
     case core::CommandKind::Start: return "start";
+    case core::CommandKind::End: return "end of the run";
   }
   return "unknown command kind " + std::to_string(m.kind);
 }
@@ -108,7 +109,7 @@ std::vector<core::CommandMsg> CommandGate::admit(std::vector<core::CommandMsg>& 
       why = "bad signature";
     } else if (last != last_seq_.end() && c.seq <= last->second) {
       why = "replayed or out-of-order seq";
-    } else if (c.kind < 1 || c.kind > 5) {
+    } else if (c.kind < 1 || c.kind > static_cast<uint8_t>(core::CommandKind::End)) {
       why = "unknown kind";
     }
     if (why != nullptr) {

@@ -212,7 +212,7 @@ constexpr auto ignore_invalid = [](const auto& /*sample*/, const dds_sample_info
 class CycloneBus final : public VendorBus {
  public:
   explicit CycloneBus(const BusOptions& o) : VendorBus(o) {
-    const std::string config = cyclone_config(o.profile);
+    const std::string config = cyclone_config(o.profile, o.peers);
     if (!config.empty()) {
       // Returns an error if the domain already exists in this process; that is
       // fine for a second bus in the same process (tests).
@@ -233,6 +233,7 @@ class CycloneBus final : public VendorBus {
     broadcast_topic_ = PHM_DDS(dds_create_topic(participant_, &pheromesh_msg_Broadcast_desc, topic_name(TopicKind::Broadcast), nullptr, nullptr));
     command_topic_ = PHM_DDS(dds_create_topic(participant_, &pheromesh_msg_Command_desc, topic_name(TopicKind::Command), nullptr, nullptr));
     view_topic_ = PHM_DDS(dds_create_topic(participant_, &pheromesh_msg_View_desc, topic_name(TopicKind::View), nullptr, nullptr));
+    scenario_topic_ = PHM_DDS(dds_create_topic(participant_, &pheromesh_msg_RunScenario_desc, topic_name(TopicKind::Scenario), nullptr, nullptr));
     field_topic_ = PHM_DDS(dds_create_topic(participant_, &pheromesh_msg_RegionField_desc, topic_name(TopicKind::Field), nullptr, nullptr));
   }
 
@@ -323,6 +324,56 @@ class CycloneBus final : public VendorBus {
     s.h = m.h;
     std::copy(m.mac.begin(), m.mac.end(), s.mac);
     return write(writer(TopicKind::Command, command_topic_, kCommandPartition), &s);
+  }
+
+  bool publish_scenario(const core::ScenarioMsg& m) override {
+    if (m.text.size() > core::kMaxScenarioBytes) return refuse("scenario bytes", m.text.size());
+    pheromesh_msg_RunScenario s{};
+    s.publisher = m.publisher;
+    // NOLINTNEXTLINE: written, never freed (_release = false)
+    s.text._buffer = reinterpret_cast<uint8_t*>(const_cast<char*>(m.text.data()));
+    s.text._length = static_cast<uint32_t>(m.text.size());
+    s.text._maximum = static_cast<uint32_t>(m.text.size());
+    s.text._release = false;
+    s.uavs = m.uavs;
+    s.ticks = m.ticks;
+    s.seed = m.seed;
+    s.tick_rate_hz = m.tick_rate_hz;
+    s.clock = m.clock;
+    s.lease_ms = m.lease_ms;
+    s.standby = m.standby;
+    s.shared_ownership = m.shared_ownership;
+    return write(writer(TopicKind::Scenario, scenario_topic_, kGroundPartition), &s);
+  }
+
+  void subscribe_scenario() override {
+    scenario_reader_ = make_reader(TopicKind::Scenario, scenario_topic_, {kGroundPartition});
+  }
+
+  void take_scenarios(std::vector<core::ScenarioMsg>& out) override {
+    keep_alive();
+    if (scenario_reader_ == 0) return;
+    take_all<pheromesh_msg_RunScenario>(
+        scenario_reader_,
+        [&](const pheromesh_msg_RunScenario& s) {
+          if (s.text._length > core::kMaxScenarioBytes || (s.text._length > 0 && s.text._buffer == nullptr)) {
+            ++stats_.samples_dropped;
+            return;
+          }
+          core::ScenarioMsg m;
+          m.publisher = s.publisher;
+          m.text.assign(reinterpret_cast<const char*>(s.text._buffer), s.text._length);
+          m.uavs = s.uavs;
+          m.ticks = s.ticks;
+          m.seed = s.seed;
+          m.tick_rate_hz = s.tick_rate_hz;
+          m.clock = s.clock;
+          m.lease_ms = s.lease_ms;
+          m.standby = s.standby;
+          m.shared_ownership = s.shared_ownership;
+          out.push_back(std::move(m));
+        },
+        ignore_invalid);
   }
 
   void subscribe_commands() override {
@@ -800,14 +851,14 @@ class CycloneBus final : public VendorBus {
   dds_entity_t participant_ = 0;
   dds_entity_t tile_topic_ = 0, deposit_topic_ = 0, uav_topic_ = 0, detection_topic_ = 0, event_topic_ = 0,
                health_topic_ = 0, halo_topic_ = 0, clock_topic_ = 0, done_topic_ = 0, broadcast_topic_ = 0,
-               command_topic_ = 0, view_topic_ = 0, field_topic_ = 0;
+               command_topic_ = 0, view_topic_ = 0, field_topic_ = 0, scenario_topic_ = 0;
   std::vector<std::pair<unsigned, dds_entity_t>> conditions_;  // (reader kind, its read condition)
   std::map<uint32_t, dds_entity_t> waitsets_;                   // kinds mask -> wait set
   std::map<std::pair<int, std::string>, WriterEntry> writers_;
   dds_entity_t view_reader_ = 0, field_reader_ = 0, home_uavs_ = 0;
   dds_entity_t deposit_reader_ = 0, halo_reader_ = 0, ground_tiles_ = 0, ground_uavs_ = 0, detection_reader_ = 0,
                event_reader_ = 0, health_reader_ = 0, clock_reader_ = 0, done_reader_ = 0, broadcast_reader_ = 0,
-               command_reader_ = 0;
+               command_reader_ = 0, scenario_reader_ = 0;
 };
 
 }  // namespace

@@ -57,7 +57,29 @@ std::string pick_file(const std::string& profile, const char* vendor, const char
 
 }  // namespace
 
-std::string cyclone_config(const std::string& profile) {
+bool takes_peers(const std::string& profile) { return profile == "lan" || profile == "lan-unicast"; }
+
+void check_peers(const std::string& profile, const std::vector<std::string>& peers) {
+  if (!peers.empty() && !takes_peers(profile)) {
+    throw std::runtime_error("DDS peers (--dds-peers, $PHEROMESH_DDS_PEERS) are for the lan and lan-unicast profiles, not '" +
+                             profile + "'");
+  }
+}
+
+std::string cyclone_config(const std::string& profile, const std::vector<std::string>& peers) {
+  check_peers(profile, peers);
+  if (takes_peers(profile)) {
+    std::string xml = profile == "lan" ? detail::kCycloneLanXml : detail::kCycloneLanUnicastXml;
+    if (peers.empty()) return xml;
+    // One <Peer> per address, into <Discovery> (cyclone-lan-unicast.xml).
+    std::string list = "<Peers>";
+    for (const auto& p : peers) list += "<Peer Address=\"" + p + "\"/>";
+    list += "</Peers>";
+    const std::size_t at = xml.find("</Discovery>");
+    if (at == std::string::npos) throw std::logic_error("built-in profile '" + profile + "' has no <Discovery>");
+    xml.insert(at, list);
+    return xml;
+  }
   // Vendor defaults, plus the keyhash that Fast DDS needs to notice Cyclone's
   // deleted readers (see cyclone-onehost.xml).
   if (profile == "default" || profile.empty()) {
@@ -71,12 +93,16 @@ std::string cyclone_config(const std::string& profile) {
   return text;
 }
 
-FastDdsProfile fastdds_profile(const std::string& profile) {
+FastDdsProfile fastdds_profile(const std::string& profile, const std::vector<std::string>& peers) {
+  check_peers(profile, peers);
   FastDdsProfile p;
+  p.peers = peers;
+  if (profile == "lan") return {detail::kFastDdsLanXml, "pheromesh-lan", "", peers};
+  if (profile == "lan-unicast") return {detail::kFastDdsLanUnicastXml, "pheromesh-lan-unicast", "", peers};
   if (profile == "default" || profile.empty()) return p;
-  if (profile == "onehost") return {detail::kFastDdsOneHostXml, "pheromesh-onehost", ""};
-  if (profile == "onehost-unicast") return {detail::kFastDdsOneHostUnicastXml, "pheromesh-onehost-unicast", ""};
-  if (profile == "netns") return {detail::kFastDdsNetnsXml, "pheromesh-netns", ""};
+  if (profile == "onehost") return {detail::kFastDdsOneHostXml, "pheromesh-onehost", "", {}};
+  if (profile == "onehost-unicast") return {detail::kFastDdsOneHostUnicastXml, "pheromesh-onehost-unicast", "", {}};
+  if (profile == "netns") return {detail::kFastDdsNetnsXml, "pheromesh-netns", "", {}};
   std::string text;
   p.file = pick_file(profile, "Fast DDS", "<dds> or <profiles>",
                      [](const std::string& t) { return is_fastdds_xml(t) && !is_cyclone_xml(t); }, text);

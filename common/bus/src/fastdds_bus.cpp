@@ -33,6 +33,8 @@
 #include <fastdds/dds/subscriber/qos/SubscriberQos.hpp>
 #include <fastdds/dds/topic/Topic.hpp>
 #include <fastdds/dds/topic/TypeSupport.hpp>
+#include <fastdds/rtps/common/Locator.h>
+#include <fastrtps/utils/IPLocator.h>
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
@@ -339,7 +341,7 @@ class FastDdsBus final : public VendorBus {
       fdds::Log::SetVerbosity(level == "info" ? fdds::Log::Info : level == "warning" ? fdds::Log::Warning : fdds::Log::Error);
     }
     fdds::DomainParticipantQos pq = fdds::PARTICIPANT_QOS_DEFAULT;
-    const FastDdsProfile profile = fastdds_profile(o.profile);
+    const FastDdsProfile profile = fastdds_profile(o.profile, o.peers);
     if (!profile.xml.empty()) {
       load_builtin_profile_once(profile);
       if (factory->get_participant_qos_from_profile(profile.name, pq) != ReturnCode_t::RETCODE_OK) {
@@ -354,6 +356,14 @@ class FastDdsBus final : public VendorBus {
       pq = factory->get_default_participant_qos();
     }
     pq.name(o.process_name.empty() ? "pheromesh" : o.process_name);
+    // The lan profiles' unicast peers (fastdds-lan-unicast.xml): each
+    // address, with every participant id up to maxInitialPeersRange.
+    for (const auto& address : profile.peers) {
+      eprosima::fastrtps::rtps::Locator_t peer;
+      peer.kind = LOCATOR_KIND_UDPv4;
+      eprosima::fastrtps::rtps::IPLocator::setIPv4(peer, address);
+      pq.wire_protocol().builtin.initialPeersList.push_back(peer);
+    }
     // A launcher-given participant id fixes this process's ports (7410 +
     // 250 domain + 2 id): no search for free ports, so no limit of about 120
     // participants per host that the search (mutation_tries) imposes.
@@ -376,6 +386,7 @@ class FastDdsBus final : public VendorBus {
     register_topic<msg::CommandPubSubType>(TopicKind::Command);
     register_topic<msg::ViewPubSubType>(TopicKind::View);
     register_topic<msg::RegionFieldPubSubType>(TopicKind::Field);
+    register_topic<msg::RunScenarioPubSubType>(TopicKind::Scenario);
   }
 
   ~FastDdsBus() override {
@@ -639,6 +650,49 @@ class FastDdsBus final : public VendorBus {
     s.h(m.h);
     std::copy(m.mac.begin(), m.mac.end(), s.mac().begin());
     return write(writer(TopicKind::Command, kCommandPartition), &s);
+  }
+
+  bool publish_scenario(const core::ScenarioMsg& m) override {
+    if (m.text.size() > core::kMaxScenarioBytes) return refuse("scenario bytes", m.text.size());
+    msg::RunScenario s;
+    s.publisher(m.publisher);
+    s.text().assign(m.text.begin(), m.text.end());
+    s.uavs(m.uavs);
+    s.ticks(m.ticks);
+    s.seed(m.seed);
+    s.tick_rate_hz(m.tick_rate_hz);
+    s.clock(m.clock);
+    s.lease_ms(m.lease_ms);
+    s.standby(m.standby);
+    s.shared_ownership(m.shared_ownership);
+    return write(writer(TopicKind::Scenario, kGroundPartition), &s);
+  }
+
+  void subscribe_scenario() override { scenario_reader_ = make_reader(TopicKind::Scenario, {kGroundPartition}); }
+
+  void take_scenarios(std::vector<core::ScenarioMsg>& out) override {
+    keep_alive();
+    take_each<msg::RunScenario>(
+        scenario_reader_,
+        [&](const msg::RunScenario& s, const fdds::SampleInfo& /*info*/) {
+          if (s.text().size() > core::kMaxScenarioBytes) {
+            ++stats_.samples_dropped;
+            return;
+          }
+          core::ScenarioMsg m;
+          m.publisher = s.publisher();
+          m.text.assign(s.text().begin(), s.text().end());
+          m.uavs = s.uavs();
+          m.ticks = s.ticks();
+          m.seed = s.seed();
+          m.tick_rate_hz = s.tick_rate_hz();
+          m.clock = s.clock();
+          m.lease_ms = s.lease_ms();
+          m.standby = s.standby();
+          m.shared_ownership = s.shared_ownership();
+          out.push_back(std::move(m));
+        },
+        ignore_invalid);
   }
 
   void take_commands(std::vector<core::CommandMsg>& out) override {
@@ -968,7 +1022,8 @@ class FastDdsBus final : public VendorBus {
   fdds::DataReader *deposit_reader_ = nullptr, *halo_reader_ = nullptr, *ground_tiles_ = nullptr,
                    *ground_uavs_ = nullptr, *detection_reader_ = nullptr, *event_reader_ = nullptr,
                    *health_reader_ = nullptr, *clock_reader_ = nullptr, *done_reader_ = nullptr,
-                   *broadcast_reader_ = nullptr, *command_reader_ = nullptr;
+                   *broadcast_reader_ = nullptr, *command_reader_ = nullptr,
+                   *scenario_reader_ = nullptr;
   // The readers' listeners: the destructor's body deletes the participant
   // (and its readers) before any member is destroyed.
   Departures uav_departures_, region_departures_;

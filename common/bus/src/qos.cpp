@@ -51,6 +51,7 @@ QosSpec topic_qos(TopicKind kind, Endpoint endpoint, std::chrono::milliseconds l
     case TopicKind::Tile:
     case TopicKind::Clock:
     case TopicKind::PhaseDone:
+    case TopicKind::Scenario:
       // Latest value per key, also for late joiners.
       keep_last(1);
       break;
@@ -162,6 +163,7 @@ const char* topic_name(TopicKind kind) {
     case TopicKind::Command: return "pheromesh_command";
     case TopicKind::View: return "pheromesh_view";
     case TopicKind::Field: return "pheromesh_region_field";
+    case TopicKind::Scenario: return "pheromesh_run_scenario";
   }
   throw std::logic_error("unknown topic kind");
 }
@@ -182,6 +184,7 @@ const char* type_name(TopicKind kind) {
     case TopicKind::Command: return "pheromesh::msg::Command";
     case TopicKind::View: return "pheromesh::msg::View";
     case TopicKind::Field: return "pheromesh::msg::RegionField";
+    case TopicKind::Scenario: return "pheromesh::msg::RunScenario";
   }
   throw std::logic_error("unknown topic kind");
 }
@@ -202,6 +205,7 @@ const char* to_string(TopicKind kind) {
     case TopicKind::Command: return "command";
     case TopicKind::View: return "view";
     case TopicKind::Field: return "field";
+    case TopicKind::Scenario: return "scenario";
   }
   return "?";
 }

@@ -34,6 +34,7 @@ std::vector<core::CommandMsg> SwarmCommands::take() {
     if (c.kind == static_cast<uint8_t>(core::CommandKind::Pause)) paused_ = true;
     if (c.kind == static_cast<uint8_t>(core::CommandKind::Resume)) paused_ = false;
     if (c.kind == static_cast<uint8_t>(core::CommandKind::Start)) started_ = true;
+    if (c.kind == static_cast<uint8_t>(core::CommandKind::End)) ended_ = true;
   }
   return ok;
 }

@@ -5,6 +5,8 @@
 #include <spdlog/spdlog.h>
 
 #include <csignal>
+#include <fstream>
+#include <sstream>
 #include <cstdlib>
 #include <thread>
 
@@ -32,11 +34,16 @@ void add_common_options(CLI::App& app, CommonOptions& o) {
       ->capture_default_str();
   app.add_option("--dds-profile", o.dds_profile,
                  "DDS profile: onehost (loopback, multicast discovery, >=100 processes), onehost-unicast (loopback, "
-                 "unicast discovery, <=120 processes), netns (one network namespace per process on a bridge, set up by "
-                 "pheromesh run for network faults), default (vendor defaults) or vendor config files, comma-separated "
-                 "(this process uses the one for its vendor) "
-                 "[env PHEROMESH_DDS_PROFILE]")
+                 "unicast discovery, <=120 processes), lan (several hosts, multicast discovery), lan-unicast (several "
+                 "hosts, discovery through --dds-peers), netns (one network namespace per process on a bridge, set up "
+                 "by pheromesh run for network faults), default (vendor defaults) or vendor config files, "
+                 "comma-separated (this process uses the one for its vendor) [env PHEROMESH_DDS_PROFILE]")
       ->capture_default_str();
+  o.dds_peers = env_or("PHEROMESH_DDS_PEERS", o.dds_peers);
+  app.add_option("--dds-peers", o.dds_peers,
+                 "lan profiles: the hosts to announce this process to, comma-separated IPv4 addresses or host names "
+                 "(a name is resolved at start to all its addresses, e.g. a Kubernetes headless Service); every "
+                 "process of the swarm gets the same list [env PHEROMESH_DDS_PEERS]");
   app.add_option("--domain", o.domain, "DDS domain id [env PHEROMESH_DOMAIN]")->check(CLI::Range(0, 232))->capture_default_str();
   app.add_option("--log-level", o.log_level, "trace, debug, info, warn, error, off")
       ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error", "critical", "off"}))
@@ -58,6 +65,47 @@ void add_common_options(CLI::App& app, CommonOptions& o) {
   app.add_flag("--shared-ownership", o.shared_ownership,
                "With standbys: readers take every replica's output (shared ownership) instead of the owner's only; "
                "pheromesh run sets it for swarms with Fast DDS processes (docs/faults.md)");
+}
+
+core::Result<core::ScenarioMsg> scenario_message(const CommonOptions& o, const core::ScenarioConfig& s, uint32_t publisher) {
+  std::ifstream in(o.scenario, std::ios::binary);
+  if (!in) return core::Error{"cannot read " + o.scenario + " again to publish it"};
+  std::ostringstream text;
+  text << in.rdbuf();
+  core::ScenarioMsg m;
+  m.publisher = publisher;
+  m.text = text.str();
+  if (m.text.size() > core::kMaxScenarioBytes) {
+    return core::Error{o.scenario + " has " + std::to_string(m.text.size()) + " bytes; a published scenario holds at most " +
+                       std::to_string(core::kMaxScenarioBytes) + " (monitors that attach later need --scenario)"};
+  }
+  m.uavs = s.uavs;
+  m.ticks = s.ticks;
+  m.seed = s.seed;
+  m.tick_rate_hz = s.tick_rate_hz;
+  m.clock = o.lockstep() ? 1 : 0;
+  m.lease_ms = o.lease_ms;
+  m.standby = o.standby || s.standby;
+  m.shared_ownership = o.shared_ownership;
+  return m;
+}
+
+core::Result<core::ScenarioConfig> scenario_from_message(const core::ScenarioMsg& m, CommonOptions& o) {
+  auto s = core::parse_scenario(m.text, "the scenario published by place agent " + std::to_string(core::place_id_region(m.publisher)) +
+                                       (core::place_id_replica(m.publisher) > 0
+                                            ? ".r" + std::to_string(core::place_id_replica(m.publisher))
+                                            : std::string()));
+  if (!s) return s;
+  if (m.uavs > 0) s->uavs = m.uavs;
+  if (m.ticks > 0) s->ticks = m.ticks;
+  if (m.seed > 0) s->seed = m.seed;
+  if (m.tick_rate_hz > 0) s->tick_rate_hz = m.tick_rate_hz;
+  o.clock = m.clock == 1 ? "lockstep" : "realtime";
+  if (m.lease_ms >= 50 && m.lease_ms <= 60000) o.lease_ms = m.lease_ms;
+  o.standby = m.standby;
+  o.shared_ownership = m.shared_ownership;
+  o.uavs = s->uavs;
+  return s;
 }
 
 std::shared_ptr<spdlog::logger> make_logger(const std::string& name, const std::string& level) {
@@ -89,8 +137,24 @@ core::Result<core::ScenarioConfig> load_scenario(const CommonOptions& o) {
   return s;
 }
 
-bus::BusOptions bus_options(const CommonOptions& o, const std::string& process_name, bool standby) {
+core::Result<bus::BusOptions> bus_options(const CommonOptions& o, const std::string& process_name, bool standby,
+                                          spdlog::logger* log) {
   bus::BusOptions b;
+  if (!o.dds_peers.empty()) {
+    auto peers = bus::resolve_peers(o.dds_peers);
+    if (!peers) return peers.error();
+    if (log != nullptr && !peers->unresolved.empty()) {
+      std::string names;
+      for (const auto& n : peers->unresolved) names += (names.empty() ? "" : ", ") + n;
+      log->warn("DDS peers {} do not resolve (yet): left out; processes there find this one when they start", names);
+    }
+    if (log != nullptr) {
+      std::string list;
+      for (const auto& a : peers->addresses) list += (list.empty() ? "" : ", ") + a;
+      log->debug("DDS peers: {}", list.empty() ? "none resolved" : list);
+    }
+    b.peers = std::move(peers->addresses);
+  }
   b.replication.exclusive = (standby || o.standby) && !o.shared_ownership;
   if (b.replication.exclusive && o.place_replica >= 0) {
     b.replication.strength = std::max(1, kPrimaryStrength - o.place_replica);
@@ -116,7 +180,12 @@ int run_process(const std::string& name, const CommonOptions& o, const AppBody& 
     return 2;
   }
   install_shutdown_handlers();
-  auto bus = bus::make_bus(o.dds, bus_options(o, name, scenario->standby));
+  auto options = bus_options(o, name, scenario->standby, log.get());
+  if (!options) {
+    log->error("{}", options.error().message);
+    return 3;
+  }
+  auto bus = bus::make_bus(o.dds, options.value());
   if (!bus) {
     log->error("{}", bus.error().message);
     return 3;

@@ -40,8 +40,13 @@ struct BusOptions {
   // per host), "onehost-unicast" (loopback, unicast discovery, up to 120),
   // "netns" (one network namespace per process on a bridge, multicast
   // discovery on its phm0 interface: pheromesh run's network faults),
-  // "default" (vendor defaults) or a path to a vendor configuration file.
+  // "lan" (several hosts, multicast discovery), "lan-unicast" (several
+  // hosts, discovery through `peers`), "default" (vendor defaults) or a path
+  // to a vendor configuration file.
   std::string profile = "onehost";
+  // IPv4 addresses of unicast discovery peers, for the lan profiles
+  // (resolve_peers turns --dds-peers into these).
+  std::vector<std::string> peers;
   std::chrono::milliseconds liveliness_lease{1000};
   // Fast DDS participant id (ports 7410 + 250 domain + 2 id) given by the
   // launcher so that no two processes search for free ports; -1: search.
@@ -92,6 +97,11 @@ class Bus {
   // --- ground-station commands (pause, pop-ups): the ground station
   // writes, every UAV and place agent reads, late joiners get the history.
   virtual bool publish_command(const core::CommandMsg& m) = 0;
+  // --- the run's scenario (place agents publish it once, transient-local;
+  // a monitor that attaches with only the domain id reads it)
+  virtual bool publish_scenario(const core::ScenarioMsg& m) = 0;
+  virtual void subscribe_scenario() = 0;
+  virtual void take_scenarios(std::vector<core::ScenarioMsg>& out) = 0;
   virtual void subscribe_commands() = 0;
   virtual void take_commands(std::vector<core::CommandMsg>& out) = 0;
 
@@ -163,5 +173,17 @@ std::vector<std::string> available_vendors();
 // The vendor chosen by --dds, else $PHEROMESH_DDS, else "cyclone".
 std::string default_vendor();
 core::Result<std::unique_ptr<Bus>> make_bus(const std::string& vendor, const BusOptions& options);
+
+// The lan profiles' discovery peers from a comma-separated list of IPv4
+// addresses and host names (--dds-peers, $PHEROMESH_DDS_PEERS): every IPv4
+// address of each name, in order, without repeats. A name that does not
+// resolve (yet: a Kubernetes pod not started) is left out and named in
+// `unresolved`; an entry that is neither an address nor a host name is an
+// error.
+struct ResolvedPeers {
+  std::vector<std::string> addresses;
+  std::vector<std::string> unresolved;
+};
+core::Result<ResolvedPeers> resolve_peers(const std::string& list);
 
 }  // namespace pheromesh::bus

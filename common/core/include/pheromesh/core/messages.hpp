@@ -126,10 +126,28 @@ enum class BroadcastKind : uint8_t {
 inline constexpr uint8_t kBroadcastKindCount = 3;
 inline constexpr std::size_t kMaxBroadcastValues = 64;  // idl bound
 
+// The run as its place agents run it (idl RunScenario), for monitors that
+// attach with only the domain id.
+inline constexpr std::size_t kMaxScenarioBytes = 65536;  // idl MAX_SCENARIO_BYTES
+struct ScenarioMsg {
+  uint32_t publisher = 0;  // place id
+  std::string text;        // the scenario file, protobuf text format
+  uint32_t uavs = 0;
+  uint32_t ticks = 0;
+  uint64_t seed = 0;
+  double tick_rate_hz = 0;
+  uint8_t clock = 0;  // 0 realtime, 1 lockstep
+  uint32_t lease_ms = 0;
+  bool standby = false;
+  bool shared_ownership = false;
+};
+
 // A ground-station command (idl Command; authenticated by runtime/control.hpp).
 // Start: the ground station heard every UAV and place agent (realtime runs
 // fly from then on, all together; see runtime::SwarmCommands::started).
-enum class CommandKind : uint8_t { Pause = 1, Resume = 2, Obstacle = 3, Target = 4, Start = 5 };
+// End: the run is over (pheromesh-ground --until-done, once every UAV finished);
+// place agents finish and exit.
+enum class CommandKind : uint8_t { Pause = 1, Resume = 2, Obstacle = 3, Target = 4, Start = 5, End = 6 };
 struct CommandMsg {
   uint32_t issuer = 0;
   uint32_t seq = 0;

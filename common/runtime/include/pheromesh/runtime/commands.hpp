@@ -25,6 +25,8 @@ class SwarmCommands {
   // The ground station's start arrived (it is transient-local: a process
   // started late, or restarted, gets it at once).
   [[nodiscard]] bool started() const { return started_; }
+  // The ground station ended the run (pheromesh-ground --until-done).
+  [[nodiscard]] bool ended() const { return ended_; }
   // False without a control key: no command can be admitted, so no start.
   [[nodiscard]] bool can_start() const { return gate_.has_key(); }
   [[nodiscard]] uint64_t rejected() const { return gate_.rejected(); }
@@ -36,6 +38,7 @@ class SwarmCommands {
   std::vector<core::CommandMsg> inbox_;
   bool paused_ = false;
   bool started_ = false;
+  bool ended_ = false;
 };
 
 }  // namespace pheromesh::runtime

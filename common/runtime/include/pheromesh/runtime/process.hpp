@@ -25,6 +25,7 @@ struct CommonOptions {
   std::string scenario;        // path of the scenario file
   std::string dds;             // vendor
   std::string dds_profile = "onehost";
+  std::string dds_peers;       // lan profiles: discovery peers, comma-separated addresses or host names
   uint32_t domain = 0;
   std::string log_level = "info";
   double rate_hz = 0.0;        // 0: the scenario's tick_rate_hz
@@ -57,6 +58,15 @@ core::Result<core::ScenarioConfig> load_scenario(const CommonOptions& o);
 // set them once.
 void add_common_options(CLI::App& app, CommonOptions& o);
 
+// The run as this process runs it (core::ScenarioMsg): the scenario file's
+// text and the overrides of `o` applied to `s`; an error if the file cannot be
+// read again or is larger than a RunScenario sample holds.
+core::Result<core::ScenarioMsg> scenario_message(const CommonOptions& o, const core::ScenarioConfig& s, uint32_t publisher);
+// The other way round, for a monitor that attached with only the domain id:
+// the scenario (its overrides applied) and the options of the run into `o`
+// (clock, lease, standby, shared ownership, uavs, ticks, seed, rate).
+core::Result<core::ScenarioConfig> scenario_from_message(const core::ScenarioMsg& m, CommonOptions& o);
+
 // One named logger per component, level from the flag.
 std::shared_ptr<spdlog::logger> make_logger(const std::string& name, const std::string& level);
 
@@ -66,7 +76,10 @@ void install_shutdown_handlers();
 void request_shutdown();  // for tests and internal stops
 
 // `standby`: the swarm runs hot-standby place agents (the flag or the scenario).
-bus::BusOptions bus_options(const CommonOptions& o, const std::string& process_name, bool standby = false);
+// The peers (--dds-peers) are resolved here: names that do not resolve are
+// logged on `log` and left out; a malformed list is an error.
+core::Result<bus::BusOptions> bus_options(const CommonOptions& o, const std::string& process_name, bool standby = false,
+                                          spdlog::logger* log = nullptr);
 // Ownership strength of place replica 0 (the primary); replica N has this - N.
 inline constexpr int32_t kPrimaryStrength = 1000;
 

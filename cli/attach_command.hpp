@@ -1,0 +1,28 @@
+// `pheromesh attach`: a monitor for a running swarm, found by its domain id
+// alone (pheromesh-ground --attach; docs/deployment.md).
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+
+namespace pheromesh::cli {
+
+struct AttachOptions {
+  uint32_t domain = 0;
+  std::string dds;
+  std::string dds_profile = "onehost";
+  std::string dds_peers;
+  std::string out_dir = "out/attach";
+  std::optional<uint16_t> http_port;
+  std::string http_bind = "127.0.0.1";
+  std::string record;
+  double timeout_s = 60;
+  double progress_s = 1.0;
+  std::string log_level = "info";
+};
+
+// Replaces this process with pheromesh-ground --attach; returns only on error.
+int run_attach(AttachOptions o);
+
+}  // namespace pheromesh::cli

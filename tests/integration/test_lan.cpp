@@ -1,0 +1,226 @@
+// One swarm over several "hosts": network namespaces joined by a bridge,
+// each with its own address, as LAN hosts are (docs/deployment.md). Every
+// host runs `pheromesh run --hosts 3 --host-index I`; a monitor in a fourth
+// namespace attaches mid-run with only the domain id. Discovery by multicast
+// (profile lan) and by unicast peers (lan-unicast, with multicast dropped on
+// the bridge so that nothing else can work). Traffic stays in the
+// namespaces this test makes. Domains 70-71; needs root (ip netns).
+#include <unistd.h>
+
+#include <regex>
+
+#include "harness.hpp"
+
+using namespace pheromesh::itest;  // NOLINT: the test helpers
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+using nlohmann::json;
+
+namespace {
+
+constexpr int kHosts = 3;
+const std::string kPrefix = "phlan";  // namespaces phlan-sw, phlan-h0 .. phlan-h3
+
+std::string ns(int i) { return kPrefix + "-h" + std::to_string(i); }
+std::string address(int i) { return "10.78.0." + std::to_string(i + 1); }
+
+// Runs `cmd`; fails the test (with its output) if it does not exit 0.
+void must(const std::string& cmd) {
+  const Output o = run(cmd);
+  ASSERT_EQ(o.exit_code, 0) << cmd << "\n" << o.text;
+}
+
+// A switch namespace with a bridge, and hosts 0..3, each with eth0 on it.
+class LanNet {
+ public:
+  explicit LanNet(bool drop_multicast) {
+    teardown();
+    const std::string sw = kPrefix + "-sw";
+    must("ip netns add " + sw);
+    must("ip -n " + sw + " link add br0 type bridge mcast_snooping 0");
+    must("ip -n " + sw + " link set br0 up");
+    for (int i = 0; i <= kHosts; ++i) {
+      must("ip netns add " + ns(i));
+      must("ip -n " + sw + " link add p" + std::to_string(i) + " type veth peer name eth0 netns " + ns(i));
+      must("ip -n " + sw + " link set p" + std::to_string(i) + " master br0 up");
+      must("ip -n " + ns(i) + " addr add " + address(i) + "/24 dev eth0");
+      must("ip -n " + ns(i) + " link set eth0 up");
+      must("ip -n " + ns(i) + " link set lo up");
+      // A default route: the host sends its multicast there, as a LAN host does.
+      must("ip -n " + ns(i) + " route add default dev eth0");
+    }
+    if (drop_multicast) {
+      must("ip netns exec " + sw + " nft add table bridge phlan");
+      must("ip netns exec " + sw +
+           " nft add chain bridge phlan multicast_drop '{ type filter hook forward priority 0; policy accept; }'");
+      must("ip netns exec " + sw + " nft add rule bridge phlan multicast_drop ip daddr 224.0.0.0/4 counter drop");
+    }
+    ready_ = !::testing::Test::HasFatalFailure();
+  }
+  ~LanNet() { teardown(); }
+  LanNet(const LanNet&) = delete;
+  LanNet& operator=(const LanNet&) = delete;
+  [[nodiscard]] bool ready() const { return ready_; }
+  // Multicast frames the bridge dropped (unicast runs).
+  [[nodiscard]] static uint64_t multicast_dropped() {
+    const Output o = run("ip netns exec " + kPrefix + "-sw nft list table bridge phlan");
+    std::smatch m;
+    if (std::regex_search(o.text, m, std::regex("packets ([0-9]+)"))) return std::stoull(m[1]);
+    return 0;
+  }
+
+ private:
+  static void teardown() {
+    for (int i = 0; i <= kHosts; ++i) run("ip netns del " + ns(i) + " 2>/dev/null");
+    run("ip netns del " + kPrefix + "-sw 2>/dev/null");
+  }
+  bool ready_ = false;
+};
+
+// `seconds` into the run, a number from a log line matching `re` (group 1).
+std::optional<double> number_in(const std::string& text, const std::string& re) {
+  std::smatch m;
+  if (std::regex_search(text, m, std::regex(re))) return std::stod(m[1]);
+  return std::nullopt;
+}
+
+// The three hosts' launchers, then a monitor in the fourth namespace once the
+// swarm flies; checks the swarm's metrics, each host's share and the monitor.
+void run_split_swarm(const std::string& tag, int domain, const std::string& profile_args) {
+  if (geteuid() != 0) GTEST_SKIP() << "network namespaces need root";
+  LanNet net(profile_args.find("lan-unicast") != std::string::npos);
+  ASSERT_TRUE(net.ready());
+  const std::string out = out_dir(tag);
+  const std::string key = run(kBin + "/pheromesh key").text.substr(0, 64);
+  ASSERT_EQ(key.size(), 64U);
+  const std::string common = " --hosts " + std::to_string(kHosts) + " --domain " + std::to_string(domain) +
+                             " --uavs 6 --ticks 250 --rate 25 --progress 0.5 " + profile_args;
+  std::vector<Background> hosts;
+  const auto t0 = Clock::now();
+  for (int i = 0; i < kHosts; ++i) {
+    const std::string cmd = "ip netns exec " + ns(i) + " env PHEROMESH_CONTROL_KEY=" + key + " " + kBin +
+                            "/pheromesh run " + kSrc + "/scenarios/small-test.textproto --host-index " + std::to_string(i) +
+                            " --out " + out + "/host" + std::to_string(i) + common + " 2>&1";
+    hosts.push_back(start({"/bin/sh", "-c", cmd}, out + "/host" + std::to_string(i) + ".txt"));
+  }
+  // The monitor joins once the ground station has started the swarm.
+  const std::string ground_log = out + "/host0/logs/ground.log";
+  const std::string ground_txt = out + "/host0.txt";
+  const auto started = [&] { return slurp(ground_txt).find("sent to the swarm") != std::string::npos; };
+  while (!started() && Clock::now() - t0 < std::chrono::seconds(60)) std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  ASSERT_TRUE(started()) << slurp(ground_txt);
+  std::this_thread::sleep_for(std::chrono::seconds(2));  // mid-flight: the flight takes 10 s
+  std::string peers;
+  if (profile_args.find("--dds-peers") != std::string::npos) {
+    peers = " --dds-peers " + address(0) + "," + address(1) + "," + address(2);
+  }
+  const std::string profile = profile_args.find("lan-unicast") != std::string::npos ? "lan-unicast" : "lan";
+  const Background monitor = start({"/bin/sh", "-c",
+                                    "ip netns exec " + ns(kHosts) + " " + kBin + "/pheromesh attach --domain " +
+                                        std::to_string(domain) + " --dds-profile " + profile + peers + " --out " + out +
+                                        "/monitor --timeout 30 2>&1"},
+                                   out + "/monitor.txt");
+  std::vector<int> codes;
+  for (const auto& h : hosts) codes.push_back(wait_exit(h.pid, std::chrono::seconds(180)));
+  const int monitor_code = wait_exit(monitor.pid, std::chrono::seconds(60));
+  for (int i = 0; i < kHosts; ++i) {
+    EXPECT_EQ(codes[static_cast<std::size_t>(i)], 0) << "host " << i << ":\n" << slurp(out + "/host" + std::to_string(i) + ".txt");
+  }
+
+  // The swarm: every UAV of every host flew, every deposit is accounted for.
+  const json m = read_metrics(out + "/host0");
+  ASSERT_FALSE(m.is_null()) << slurp(ground_txt);
+  EXPECT_EQ(m["uavs"], 6);
+  EXPECT_EQ(m["place_agents_finished"], 4) << m.dump(2);
+  EXPECT_EQ(m["hosts"], kHosts);
+  expect_accounting(m);
+  EXPECT_EQ(m["deposits_lost"], 0);
+  EXPECT_GT(m["coverage"].get<double>(), 0.3);
+  EXPECT_EQ(m["processes_crashed"], 0);
+  // Host 0 ran the ground station, place agents 0 and 3, UAVs 0 and 3.
+  EXPECT_EQ(m["processes"].size(), 5U) << m["processes"].dump(2);
+  for (int i = 1; i < kHosts; ++i) {
+    std::ifstream in(out + "/host" + std::to_string(i) + "/host-" + std::to_string(i) + ".json");
+    json h;
+    ASSERT_TRUE(static_cast<bool>(in)) << "host " << i << " wrote no host-" << i << ".json";
+    in >> h;
+    EXPECT_EQ(h["host_index"], i);
+    EXPECT_EQ(h["processes_crashed"], 0) << h.dump(2);
+    // Host 1: place agent 1, UAVs 1 and 4; host 2: place agent 2, UAVs 2 and 5.
+    EXPECT_EQ(h["processes"].size(), 3U) << h["processes"].dump(2);
+  }
+  const std::string ground = slurp(ground_txt);
+  const auto discovery = number_in(ground, "discovery complete: .* heard ([0-9.]+) s after the launch");
+  ASSERT_TRUE(discovery.has_value()) << ground;
+  ::testing::Test::RecordProperty("discovery_s", std::to_string(*discovery));
+  std::printf("[lan] %s: discovery of 3 hosts %.2f s, wall %.1f s\n", tag.c_str(), *discovery,
+              std::chrono::duration<double>(Clock::now() - t0).count());
+
+  // The monitor found the swarm by its domain alone, showed all of it, and
+  // saw the run end.
+  const std::string mon = slurp(out + "/monitor.txt");
+  EXPECT_EQ(monitor_code, 0) << mon;
+  EXPECT_NE(mon.find("found run 'small-test'"), std::string::npos) << mon;
+  const auto shown = number_in(mon, "attached: the whole swarm is shown .* ([0-9.]+) s after the monitor started");
+  ASSERT_TRUE(shown.has_value()) << mon;
+  EXPECT_NE(mon.find("every place agent finished: the run is over"), std::string::npos) << mon;
+  const json mm = read_metrics(out + "/monitor");
+  ASSERT_FALSE(mm.is_null()) << mon;
+  EXPECT_EQ(mm["deposits_sent"], m["deposits_sent"]) << "the monitor's accounting is the processes' totals";
+  EXPECT_EQ(mm["deposits_applied"], m["deposits_applied"]);
+  std::printf("[lan] %s: the late monitor showed the whole swarm %.2f s after it started\n", tag.c_str(), *shown);
+  if (profile == "lan-unicast") {
+    std::printf("[lan] %s: multicast frames dropped on the bridge: %llu\n", tag.c_str(),
+                static_cast<unsigned long long>(LanNet::multicast_dropped()));
+  }
+}
+
+}  // namespace
+
+TEST(Lan, ASwarmOverThreeHostsWithMulticastDiscoveryCompletesAndALateMonitorAttaches) {
+  run_split_swarm("lan-multicast", 70, "--dds-profile lan");
+}
+
+TEST(Lan, ASwarmOverThreeHostsWithUnicastPeersCompletesWithoutMulticastAndALateMonitorAttaches) {
+  run_split_swarm("lan-unicast", 71,
+                  "--dds-profile lan-unicast --dds-peers " + address(0) + "," + address(1) + "," + address(2));
+}
+
+// What a swarm over several hosts cannot do is refused before anything
+// starts, and the message says what to do instead.
+TEST(Cli, SeveralHostsRefuseWhatCannotWorkAndSayWhatToDo) {
+  const std::string base = kBin + "/pheromesh run " + kSrc + "/scenarios/small-test.textproto --out " +
+                           out_dir("lan-cli") + " --domain 72 ";
+  const std::string key = "PHEROMESH_CONTROL_KEY=" + std::string(64, 'a') + " ";
+  struct Case {
+    std::string env, args, says;
+  };
+  const std::vector<Case> cases{
+      {key, "--hosts 3 --host-index 3 --dds-profile lan", "--host-index 3 is not below --hosts 3"},
+      {key, "--hosts 3 --ground-host 5 --dds-profile lan", "--ground-host 5"},
+      {key, "--hosts 2", "use --dds-profile lan"},
+      {key, "--hosts 2 --dds-profile lan-unicast", "needs --dds-peers"},
+      {"env -u PHEROMESH_CONTROL_KEY ", "--hosts 2 --dds-profile lan", "pheromesh key"},
+      {key, "--hosts 2 --host-index 1 --dds-profile lan --http 0", "runs on host 0"},
+      {key, "--hosts 2 --host-index 1 --dds-profile lan --faults 'kill uav:0 @2s'", "uav-0 does not run on host 1"},
+      {key, "--hosts 2 --dds-profile lan --faults 'loss 10% @1s for 1s'", "do not work with --hosts"},
+  };
+  for (const auto& c : cases) {
+    const Output o = run("env " + c.env + base + c.args);
+    EXPECT_EQ(o.exit_code, 2) << c.args << "\n" << o.text;
+    EXPECT_NE(o.text.find(c.says), std::string::npos) << c.args << "\n" << o.text;
+  }
+  // A key for every host.
+  const Output k = run(kBin + "/pheromesh key");
+  EXPECT_EQ(k.exit_code, 0);
+  EXPECT_TRUE(std::regex_match(k.text, std::regex("[0-9a-f]{64}\n"))) << k.text;
+}
+
+TEST(Cli, AMonitorWithNoSwarmOnItsDomainSaysSoAndAGroundStationNeedsAScenarioOrAttach) {
+  const Output a = run(kBin + "/pheromesh attach --domain 73 --timeout 1 --out " + out_dir("attach-none"));
+  EXPECT_EQ(a.exit_code, 2) << a.text;
+  EXPECT_NE(a.text.find("no place agent published a run on domain 73"), std::string::npos) << a.text;
+  const Output g = run(kBin + "/pheromesh-ground --domain 73");
+  EXPECT_NE(g.exit_code, 0);
+  EXPECT_NE(g.text.find("--scenario is required (or --attach"), std::string::npos) << g.text;
+}
