@@ -13,7 +13,7 @@ packages=(
   libcpp-httplib-dev libssl-dev zlib1g-dev libbrotli-dev  # web console server (gzip/brotli), command HMAC
   chromium prometheus curl                 # web console end-to-end test (headless browser, promtool)
   iproute2 nftables util-linux             # network faults: namespaces, veth, bridge (ip), partition/loss (nft); setpriv in a test
-  podman runc debootstrap                  # container tests: the base image (debootstrap), the images, compose and kube play
+  podman runc debootstrap podman-compose catatonit python3-yaml  # container tests: the base image (debootstrap), the image, compose, kube play (its pause image needs catatonit; expand-statefulsets reads YAML)
   containernetworking-plugins golang-github-containernetworking-plugin-dnsname  # podman networks with DNS between containers
 )
 # The web front-end is built with npm at build time: Debian's nodejs + npm

@@ -21,7 +21,7 @@
 #                          so the processes' own default, onehost, is never right here)
 #   PHEROMESH_DDS_PEERS    unicast peers, host names or addresses  (read by the processes)
 #   PHEROMESH_CONTROL_KEY  the swarm's shared command key, 64 hex digits (read by the processes)
-#   PHEROMESH_OUT          ground: folder for metrics.json (default /var/lib/pheromesh/out)
+#   PHEROMESH_OUT          ground, monitor: folder for metrics.json (default /var/lib/pheromesh/out)
 #   PHEROMESH_HTTP         ground/monitor: serve the web console on this port, on every interface
 #   PHEROMESH_ARGS         more flags, split on spaces, before the command line's
 #   PHEROMESH_WAIT_PEERS   wait (up to PHEROMESH_WAIT_PEERS_S, 120 s) until the names of
@@ -34,7 +34,7 @@
 #                          agent would otherwise be started again and fly a second time.
 set -euo pipefail
 
-prefix=/opt/pheromesh
+prefix="${PHEROMESH_PREFIX:-/opt/pheromesh}" # another prefix only for tests
 die() {
   echo "pheromesh-entrypoint: $*" >&2
   exit 64
@@ -110,7 +110,7 @@ case "$role" in
     cmd=("$prefix/bin/pheromesh-ground" --scenario "$(scenario)" --out "${PHEROMESH_OUT:-/var/lib/pheromesh/out}" "${http[@]}")
     ;;
   monitor)
-    cmd=("$prefix/bin/pheromesh-ground" --attach "${http[@]}")
+    cmd=("$prefix/bin/pheromesh-ground" --attach --out "${PHEROMESH_OUT:-/var/lib/pheromesh/out}" "${http[@]}")
     ;;
 esac
 cmd+=("${extra[@]}" "$@")
