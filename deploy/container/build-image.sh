@@ -19,14 +19,29 @@ if [ ! -s "$ca" ]; then
 fi
 trap '[ -z "$empty" ] || rm -f "$empty"' EXIT
 podman_() { "$here/scripts/podman.sh" "$@"; }
-old="$(podman_ image inspect --format '{{.Id}}' "$image" 2> /dev/null || true)"
+id_of() { podman_ image inspect --format '{{.Id}}' "$1" 2> /dev/null || true; }
+# Drops the image OLD if the build left it without a name (and no container uses it).
+drop_if_orphaned() {
+  if [ -n "$1" ] && [ "$(podman_ image inspect --format '{{len .RepoTags}}' "$1" 2> /dev/null)" = 0 ]; then
+    podman_ rmi "$1" > /dev/null 2>&1 || true
+  fi
+}
+build() {  # TAG [--target STAGE]
+  local tag=$1
+  shift
+  podman_ build --network host --secret "id=ca,src=$ca" "$@" -f "$here/deploy/container/Containerfile" -t "$tag" "$here"
+}
+# The build stage is tagged too (IMAGE-build): its size can be read, and
+# `podman image prune` does not take the layers the next build reuses.
+build_image="${image%:*}-build"
+[ "$build_image" != "$image" ] || build_image="$image-build"
+[[ "$image" == *:* ]] && build_image="$build_image:${image##*:}"
+old="$(id_of "$image")" old_build="$(id_of "$build_image")"
 t0=$(date +%s)
-podman_ build --network host --secret "id=ca,src=$ca" \
-  -f "$here/deploy/container/Containerfile" -t "$image" "$here"
-# The image this one replaced, if nothing else names it (no tag, no container).
-new="$(podman_ image inspect --format '{{.Id}}' "$image")"
-if [ -n "$old" ] && [ "$old" != "$new" ] && [ "$(podman_ image inspect --format '{{len .RepoTags}}' "$old" 2> /dev/null)" = 0 ]; then
-  podman_ rmi "$old" > /dev/null 2>&1 || true
-fi
+build "$image"
+build "$build_image" --target build > /dev/null
+drop_if_orphaned "$old"
+drop_if_orphaned "$old_build"
 size="$(podman_ image inspect --format '{{.Size}}' "$image")"
-echo "build-image: $image built in $(($(date +%s) - t0)) s, $((size / 1000000)) MB"
+build_size="$(podman_ image inspect --format '{{.Size}}' "$build_image")"
+echo "build-image: $image built in $(($(date +%s) - t0)) s: $((size / 1000000)) MB; build stage $build_image $((build_size / 1000000)) MB"

@@ -79,6 +79,14 @@ save_logs() {  # CONTAINER...
   for c in "$@"; do P logs "$c" > "$OUT/logs/$c.log" 2>&1 || true; done
 }
 
+# Each process ran on the domain and over the vendor its role was given.
+check_vendors() {  # PLACE_CONTAINER UAV_CONTAINER GROUND_CONTAINER
+  save_logs "$@"
+  grep -q "over $DDS_PLACE\b" "$OUT/logs/$1.log" || fail "$1 did not run over $DDS_PLACE"
+  grep -q "over $DDS_UAV\b" "$OUT/logs/$2.log" || fail "$2 did not run over $DDS_UAV"
+  grep -q "on domain $DOMAIN over $DDS_GROUND\b" "$OUT/logs/$3.log" || fail "$3 did not run on domain $DOMAIN over $DDS_GROUND"
+}
+
 # Waits for a container to exit; its exit code.
 wait_exit() {  # CONTAINER TIMEOUT_S
   timeout "$2" "$PODMAN" wait "$1" 2> /dev/null | tail -n 1
@@ -132,6 +140,8 @@ if [ "$MODE" = compose ]; then
     [ "$rc" = 0 ] || { save_logs "$c"; tail -n 20 "$OUT/logs/$c.log"; fail "$c exited with $rc"; }
   done
 
+  check_vendors "${NAME}_place-1_1" "${NAME}_uav-2_1" "${NAME}_ground_1"
+
   step "metrics.json from the volume ${NAME}_out"
   volume_dir=$(P volume inspect --format '{{.Mountpoint}}' "${NAME}_out")
   cp "$volume_dir/metrics.json" "$OUT/metrics.json" || fail "no metrics.json in the volume ${NAME}_out"
@@ -147,13 +157,19 @@ NET=$NAME
 SECRET=${PREFIX}pheromesh-control
 NFT=phmc_kube_$DOMAIN
 PLAY="$OUT/pods.yaml"
+MON="$OUT/monitor.yaml"
+MONITOR=${PREFIX}monitor-pod-0-monitor # podman names a Deployment's pod NAME-pod-0
 pods=(place-0 place-1 place-2 place-3 uav-0 uav-1 uav-2 uav-3)
 cleanup() {
   local c
   for c in "${pods[@]}"; do save_logs "$PREFIX$c-${c%-*}"; done
-  save_logs "${PREFIX}ground-ground"
-  if [ -f "$PLAY" ]; then P kube down "$PLAY" > "$OUT/down.log" 2>&1 || true; fi
-  if P volume exists "${PREFIX}pheromesh-out" 2> /dev/null; then P volume rm "${PREFIX}pheromesh-out" > /dev/null || true; fi
+  save_logs "${PREFIX}ground-ground" "$MONITOR"
+  if [ -f "$MON" ]; then P kube down "$MON" >> "$OUT/down.log" 2>&1 || true; fi
+  if [ -f "$PLAY" ]; then P kube down "$PLAY" >> "$OUT/down.log" 2>&1 || true; fi
+  local v
+  for v in "${PREFIX}pheromesh-out" "${PREFIX}pheromesh-monitor-out"; do
+    if P volume exists "$v" 2> /dev/null; then P volume rm "$v" > /dev/null || true; fi
+  done
   if P secret inspect "$SECRET" > /dev/null 2>&1; then P secret rm "$SECRET" > /dev/null || true; fi
   if P network exists "$NET" 2> /dev/null; then P network rm "$NET" > /dev/null || true; fi
   nft delete table bridge "$NFT" > /dev/null 2>&1 || true
@@ -165,6 +181,9 @@ step "expand-statefulsets deploy/k8s/swarm.yaml (prefix $PREFIX)"
 "$SRC/deploy/k8s/expand-statefulsets" --prefix "$PREFIX" --image "$IMAGE" --env "PHEROMESH_DOMAIN=$DOMAIN" \
   "$SRC/deploy/k8s/swarm.yaml" > "$PLAY" 2> "$OUT/expand.log" || { cat "$OUT/expand.log"; fail "expand-statefulsets failed"; }
 [ "$(grep -c '^kind: Pod$' "$PLAY")" = 9 ] || fail "expected 9 pods in $PLAY"
+"$SRC/deploy/k8s/expand-statefulsets" --prefix "$PREFIX" --image "$IMAGE" --env "PHEROMESH_DOMAIN=$DOMAIN" \
+  --env "PHEROMESH_DDS=$DDS_GROUND" --configmaps-from "$SRC/deploy/k8s/swarm.yaml" "$SRC/deploy/k8s/monitor.yaml" > "$MON" 2>> "$OUT/expand.log" ||
+  { cat "$OUT/expand.log"; fail "expand-statefulsets failed on monitor.yaml"; }
 # Each role's vendor, set in its pods (the ConfigMap sets one for all).
 python3 - "$PLAY" "$DDS_PLACE" "$DDS_UAV" "$DDS_GROUND" << 'PY'
 import sys, yaml
@@ -195,6 +214,9 @@ step "podman kube play: 9 pods over $VENDORS, the headless Service as the alias 
 t=$(now)
 P kube play --network "$NET:alias=pheromesh-swarm" "$PLAY" > "$OUT/play.log" 2>&1 || { cat "$OUT/play.log"; fail "podman kube play failed"; }
 record "kube $VENDORS: played in $(since "$t") s"
+step "podman kube play deploy/k8s/monitor.yaml (a Deployment, played by podman itself): a monitor that knows only the domain"
+P kube play --network "$NET:alias=pheromesh-swarm" "$MON" > "$OUT/play-monitor.log" 2>&1 ||
+  { cat "$OUT/play-monitor.log"; fail "podman kube play of the monitor failed"; }
 
 step "every pod has the hostname the StatefulSet controller gives it"
 for c in "${pods[@]}"; do
@@ -220,10 +242,32 @@ for c in "${pods[@]}"; do
   [ "$(P inspect --format '{{.RestartCount}}' "$container")" = 0 ] || fail "$container was restarted"
 done
 
+check_vendors "${PREFIX}place-1-place" "${PREFIX}uav-2-uav" "${PREFIX}ground-ground"
+
+step "the monitor attached, saw the end and holds"
+ok=""
+for _ in $(seq 1 60); do
+  if P logs "$MONITOR" 2>&1 | grep -q "finished; holding until stopped"; then ok=1; break; fi
+  [ "$(P inspect --format '{{.State.Running}}' "$MONITOR")" = true ] || break
+  sleep 1
+done
+[ -n "$ok" ] || { save_logs "$MONITOR"; tail -n 20 "$OUT/logs/$MONITOR.log"; fail "the monitor did not end cleanly"; }
+P logs "$MONITOR" 2>&1 | grep -q "attached: the whole swarm is shown" || fail "the monitor never showed the whole swarm"
+P logs "$MONITOR" 2>&1 | grep -q "on domain $DOMAIN over $DDS_GROUND" || fail "the monitor did not look on domain $DOMAIN"
+
 step "metrics.json from the claim ${PREFIX}pheromesh-out"
 volume_dir=$(P volume inspect --format '{{.Mountpoint}}' "${PREFIX}pheromesh-out")
 cp "$volume_dir/metrics.json" "$OUT/metrics.json" || fail "no metrics.json in the volume ${PREFIX}pheromesh-out"
 python3 "$SRC/tests/container/check_metrics.py" "$OUT/metrics.json" "$UAVS" "$PLACES"
+volume_dir=$(P volume inspect --format '{{.Mountpoint}}' "${PREFIX}pheromesh-monitor-out")
+cp "$volume_dir/metrics.json" "$OUT/monitor-metrics.json" || fail "no metrics.json in the volume ${PREFIX}pheromesh-monitor-out"
+python3 - "$OUT/metrics.json" "$OUT/monitor-metrics.json" << 'PY' || fail "the monitor's accounting differs from the ground station's"
+import json, sys
+g, m = (json.load(open(p)) for p in sys.argv[1:])
+keys = ("deposits_sent", "deposits_applied", "deposits_rejected", "deposits_lost")
+print("monitor:", {k: m.get(k) for k in keys})
+sys.exit(0 if all(g[k] == m.get(k) for k in keys) else 1)
+PY
 dropped=$(nft list table bridge "$NFT" | grep -o 'packets [0-9]*' | awk '{print $2}')
 record "kube $VENDORS: total $(since "$t") s; multicast frames dropped on the bridge: ${dropped:-?}"
 
