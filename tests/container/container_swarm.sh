@@ -79,6 +79,13 @@ save_logs() {  # CONTAINER...
   for c in "$@"; do P logs "$c" > "$OUT/logs/$c.log" 2>&1 || true; done
 }
 
+# Whether CONTAINER's log has PATTERN (read whole: `podman logs | grep -q`
+# fails under pipefail when grep stops early).
+log_has() {  # CONTAINER PATTERN
+  P logs "$1" > "$OUT/logs/.probe" 2>&1 || true
+  grep -q -- "$2" "$OUT/logs/.probe"
+}
+
 # Each process ran on the domain and over the vendor its role was given.
 check_vendors() {  # PLACE_CONTAINER UAV_CONTAINER GROUND_CONTAINER
   save_logs "$@"
@@ -234,7 +241,7 @@ for c in "${pods[@]}"; do
   container="$PREFIX$c-${c%-*}"
   ok=""
   for _ in $(seq 1 60); do
-    if P logs "$container" 2>&1 | grep -q "finished; holding until stopped"; then ok=1; break; fi
+    if log_has "$container" "finished; holding until stopped"; then ok=1; break; fi
     [ "$(P inspect --format '{{.State.Running}}' "$container")" = true ] || break
     sleep 1
   done
@@ -247,13 +254,13 @@ check_vendors "${PREFIX}place-1-place" "${PREFIX}uav-2-uav" "${PREFIX}ground-gro
 step "the monitor attached, saw the end and holds"
 ok=""
 for _ in $(seq 1 60); do
-  if P logs "$MONITOR" 2>&1 | grep -q "finished; holding until stopped"; then ok=1; break; fi
+  if log_has "$MONITOR" "finished; holding until stopped"; then ok=1; break; fi
   [ "$(P inspect --format '{{.State.Running}}' "$MONITOR")" = true ] || break
   sleep 1
 done
 [ -n "$ok" ] || { save_logs "$MONITOR"; tail -n 20 "$OUT/logs/$MONITOR.log"; fail "the monitor did not end cleanly"; }
-P logs "$MONITOR" 2>&1 | grep -q "attached: the whole swarm is shown" || fail "the monitor never showed the whole swarm"
-P logs "$MONITOR" 2>&1 | grep -q "on domain $DOMAIN over $DDS_GROUND" || fail "the monitor did not look on domain $DOMAIN"
+log_has "$MONITOR" "attached: the whole swarm is shown" || fail "the monitor never showed the whole swarm"
+log_has "$MONITOR" "on domain $DOMAIN over $DDS_GROUND" || fail "the monitor did not look on domain $DOMAIN"
 
 step "metrics.json from the claim ${PREFIX}pheromesh-out"
 volume_dir=$(P volume inspect --format '{{.Mountpoint}}' "${PREFIX}pheromesh-out")
