@@ -86,7 +86,9 @@ std::optional<double> number_in(const std::string& text, const std::string& re) 
 
 // The three hosts' launchers, then a monitor in the fourth namespace once the
 // swarm flies; checks the swarm's metrics, each host's share and the monitor.
-void run_split_swarm(const std::string& tag, int domain, const std::string& profile_args) {
+// `standby`: every region has a standby on the next host, and host 0 kills
+// place agent 0 (its primary) mid-flight.
+void run_split_swarm(const std::string& tag, int domain, const std::string& profile_args, bool standby = false) {
   if (geteuid() != 0) GTEST_SKIP() << "network namespaces need root";
   LanNet net(profile_args.find("lan-unicast") != std::string::npos);
   ASSERT_TRUE(net.ready());
@@ -94,13 +96,14 @@ void run_split_swarm(const std::string& tag, int domain, const std::string& prof
   const std::string key = run(kBin + "/pheromesh key").text.substr(0, 64);
   ASSERT_EQ(key.size(), 64U);
   const std::string common = " --hosts " + std::to_string(kHosts) + " --domain " + std::to_string(domain) +
-                             " --uavs 6 --ticks 250 --rate 25 --progress 0.5 " + profile_args;
+                             " --uavs 6 --ticks 250 --rate 25 --progress 0.5 " + profile_args + (standby ? " --standby" : "");
   std::vector<Background> hosts;
   const auto t0 = Clock::now();
   for (int i = 0; i < kHosts; ++i) {
     const std::string cmd = "ip netns exec " + ns(i) + " env PHEROMESH_CONTROL_KEY=" + key + " " + kBin +
                             "/pheromesh run " + kSrc + "/scenarios/small-test.textproto --host-index " + std::to_string(i) +
-                            " --out " + out + "/host" + std::to_string(i) + common + " 2>&1";
+                            " --out " + out + "/host" + std::to_string(i) + common +
+                            (standby && i == 0 ? " --faults 'kill place:0 @5s'" : "") + " 2>&1";
     hosts.push_back(start({"/bin/sh", "-c", cmd}, out + "/host" + std::to_string(i) + ".txt"));
   }
   // The monitor joins once the ground station has started the swarm.
@@ -137,8 +140,15 @@ void run_split_swarm(const std::string& tag, int domain, const std::string& prof
   EXPECT_EQ(m["deposits_lost"], 0);
   EXPECT_GT(m["coverage"].get<double>(), 0.3);
   EXPECT_EQ(m["processes_crashed"], 0);
-  // Host 0 ran the ground station, place agents 0 and 3, UAVs 0 and 3.
-  EXPECT_EQ(m["processes"].size(), 5U) << m["processes"].dump(2);
+  // Host 0 ran the ground station, place agents 0 and 3, UAVs 0 and 3 (and
+  // the standby of region 2); host 1 place agent 1, UAVs 1 and 4 (standbys
+  // of regions 0 and 3); host 2 place agent 2, UAVs 2 and 5 (standby of 1).
+  const std::vector<std::size_t> share = standby ? std::vector<std::size_t>{6, 5, 4} : std::vector<std::size_t>{5, 3, 3};
+  EXPECT_EQ(m["processes"].size(), share[0]) << m["processes"].dump(2);
+  if (standby) {
+    EXPECT_EQ(m["processes_killed"], 1);
+    EXPECT_NE(slurp(ground_txt).find("region 0 is served by standby 1"), std::string::npos) << slurp(ground_txt);
+  }
   for (int i = 1; i < kHosts; ++i) {
     std::ifstream in(out + "/host" + std::to_string(i) + "/host-" + std::to_string(i) + ".json");
     json h;
@@ -146,8 +156,7 @@ void run_split_swarm(const std::string& tag, int domain, const std::string& prof
     in >> h;
     EXPECT_EQ(h["host_index"], i);
     EXPECT_EQ(h["processes_crashed"], 0) << h.dump(2);
-    // Host 1: place agent 1, UAVs 1 and 4; host 2: place agent 2, UAVs 2 and 5.
-    EXPECT_EQ(h["processes"].size(), 3U) << h["processes"].dump(2);
+    EXPECT_EQ(h["processes"].size(), share[static_cast<std::size_t>(i)]) << h["processes"].dump(2);
   }
   const std::string ground = slurp(ground_txt);
   const auto discovery = number_in(ground, "discovery complete: .* heard ([0-9.]+) s after the launch");
@@ -223,4 +232,8 @@ TEST(Cli, AMonitorWithNoSwarmOnItsDomainSaysSoAndAGroundStationNeedsAScenarioOrA
   const Output g = run(kBin + "/pheromesh-ground --domain 73");
   EXPECT_NE(g.exit_code, 0);
   EXPECT_NE(g.text.find("--scenario is required (or --attach"), std::string::npos) << g.text;
+}
+
+TEST(Lan, AStandbyOnAnotherHostServesARegionWhoseHostKilledItsPrimary) {
+  run_split_swarm("lan-standby", 74, "--dds-profile lan", true);
 }
