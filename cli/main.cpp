@@ -6,15 +6,15 @@
 #include <CLI/CLI.hpp>
 #include <cstdio>
 
-#include "bench_scale.hpp"
 #include "attach_command.hpp"
-#include "launcher.hpp"
-#include "replay_command.hpp"
+#include "bench_scale.hpp"
 #include "experiment_command.hpp"
-#include "sim_command.hpp"
+#include "launcher.hpp"
 #include "pheromesh/auth/control.hpp"
 #include "pheromesh/bus/bus.hpp"
 #include "pheromesh/core/scenario.hpp"
+#include "replay_command.hpp"
+#include "sim_command.hpp"
 
 namespace {
 
@@ -159,8 +159,9 @@ int main(int argc, char** argv) {
   r->add_option("--dds-peers", ro.dds_peers,
                 "lan profiles: every host of the swarm, comma-separated addresses or names (unicast discovery) "
                 "[env PHEROMESH_DDS_PEERS]");
-  r->add_option("--hosts", ro.hosts, "Hosts the swarm is split over; each runs this command with its --host-index "
-                                     "(see SEVERAL HOSTS below)")
+  r->add_option("--hosts", ro.hosts,
+                "Hosts the swarm is split over; each runs this command with its --host-index "
+                "(see SEVERAL HOSTS below)")
       ->check(CLI::Range(1U, 1000U))
       ->capture_default_str();
   r->add_option("--host-index", ro.host_index, "This host's index, 0 .. hosts-1")->capture_default_str();
@@ -261,22 +262,26 @@ int main(int argc, char** argv) {
   bs->add_option("--extra", bso.extra, "More arguments for `pheromesh run`, in one string, e.g. \"--dds-profile default\"");
   bs->footer(cli::kBenchScaleFooter);
 
-  auto* key = app.add_subcommand("key", "Print a new random control key (64 hex digits) for $PHEROMESH_CONTROL_KEY: "
-                                        "every host of a swarm over several hosts exports the same one");
+  auto* key = app.add_subcommand("key",
+                                 "Print a new random control key (64 hex digits) for $PHEROMESH_CONTROL_KEY: "
+                                 "every host of a swarm over several hosts exports the same one");
 
   cli::AttachOptions ao;
   ao.dds = bus::default_vendor();
   if (const char* p = std::getenv("PHEROMESH_DDS_PROFILE"); p != nullptr && *p != '\0') ao.dds_profile = p;
   if (const char* p = std::getenv("PHEROMESH_DDS_PEERS"); p != nullptr) ao.dds_peers = p;
-  auto* at = app.add_subcommand("attach", "Monitor a running swarm from this host, found by its domain id alone: "
-                                          "progress lines, metrics, and with --http the web console");
+  auto* at = app.add_subcommand("attach",
+                                "Monitor a running swarm from this host, found by its domain id alone: "
+                                "progress lines, metrics, and with --http the web console");
   at->add_option("--domain", ao.domain, "DDS domain id of the swarm")->check(CLI::Range(0, 232))->capture_default_str();
   at->add_option("--dds", ao.dds, "DDS vendor of the monitor: cyclone or fastdds (either reaches any swarm)")
       ->capture_default_str();
-  at->add_option("--dds-profile", ao.dds_profile,
-                 "DDS profile that reaches the swarm: onehost (same host), lan, lan-unicast (with --dds-peers), or files")
+  at->add_option(
+        "--dds-profile", ao.dds_profile,
+        "DDS profile that reaches the swarm: onehost (same host), lan, lan-unicast (with --dds-peers), or files")
       ->capture_default_str();
-  at->add_option("--dds-peers", ao.dds_peers, "lan profiles: the swarm's hosts, comma-separated [env PHEROMESH_DDS_PEERS]");
+  at->add_option("--dds-peers", ao.dds_peers,
+                 "lan profiles: the swarm's hosts, comma-separated [env PHEROMESH_DDS_PEERS]");
   at->add_option("--out", ao.out_dir, "Output folder (metrics.json, console recording)")->capture_default_str();
   at->add_option("--http", ao.http_port, "Serve the web console on this port (0: any free port)");
   at->add_option("--http-bind", ao.http_bind, "Address the console listens on (0.0.0.0: every interface)")

@@ -408,9 +408,10 @@ void GroundApp::note_full_state() {
     return;
   }
   full_state_logged_ = true;
-  log_->info("attached: the whole swarm is shown (every uav of {}, every place agent of {}, every region's field) {:.2f} s "
-             "after the monitor started",
-             cfg_.expect_uavs, geo_.region_count(), static_cast<double>(unix_ms_now() - run_t0_unix_ms_) / 1000.0);
+  log_->info(
+      "attached: the whole swarm is shown (every uav of {}, every place agent of {}, every region's field) {:.2f} s "
+      "after the monitor started",
+      cfg_.expect_uavs, geo_.region_count(), static_cast<double>(unix_ms_now() - run_t0_unix_ms_) / 1000.0);
 }
 
 bool GroundApp::uavs_done() const {

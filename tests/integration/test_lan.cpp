@@ -96,13 +96,14 @@ void run_split_swarm(const std::string& tag, int domain, const std::string& prof
   const std::string key = run(kBin + "/pheromesh key").text.substr(0, 64);
   ASSERT_EQ(key.size(), 64U);
   const std::string common = " --hosts " + std::to_string(kHosts) + " --domain " + std::to_string(domain) +
-                             " --uavs 6 --ticks 250 --rate 25 --progress 0.5 " + profile_args + (standby ? " --standby" : "");
+                             " --uavs 6 --ticks 250 --rate 25 --progress 0.5 " + profile_args +
+                             (standby ? " --standby" : "");
   std::vector<Background> hosts;
   const auto t0 = Clock::now();
   for (int i = 0; i < kHosts; ++i) {
     const std::string cmd = "ip netns exec " + ns(i) + " env PHEROMESH_CONTROL_KEY=" + key + " " + kBin +
-                            "/pheromesh run " + kSrc + "/scenarios/small-test.textproto --host-index " + std::to_string(i) +
-                            " --out " + out + "/host" + std::to_string(i) + common +
+                            "/pheromesh run " + kSrc + "/scenarios/small-test.textproto --host-index " +
+                            std::to_string(i) + " --out " + out + "/host" + std::to_string(i) + common +
                             (standby && i == 0 ? " --faults 'kill place:0 @5s'" : "") + " 2>&1";
     hosts.push_back(start({"/bin/sh", "-c", cmd}, out + "/host" + std::to_string(i) + ".txt"));
   }
@@ -110,7 +111,8 @@ void run_split_swarm(const std::string& tag, int domain, const std::string& prof
   const std::string ground_log = out + "/host0/logs/ground.log";
   const std::string ground_txt = out + "/host0.txt";
   const auto started = [&] { return slurp(ground_txt).find("sent to the swarm") != std::string::npos; };
-  while (!started() && Clock::now() - t0 < std::chrono::seconds(60)) std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  while (!started() && Clock::now() - t0 < std::chrono::seconds(60))
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
   ASSERT_TRUE(started()) << slurp(ground_txt);
   std::this_thread::sleep_for(std::chrono::seconds(2));  // mid-flight: the flight takes 10 s
   std::string peers;
@@ -118,16 +120,17 @@ void run_split_swarm(const std::string& tag, int domain, const std::string& prof
     peers = " --dds-peers " + address(0) + "," + address(1) + "," + address(2);
   }
   const std::string profile = profile_args.find("lan-unicast") != std::string::npos ? "lan-unicast" : "lan";
-  const Background monitor = start({"/bin/sh", "-c",
-                                    "ip netns exec " + ns(kHosts) + " " + kBin + "/pheromesh attach --domain " +
-                                        std::to_string(domain) + " --dds-profile " + profile + peers + " --out " + out +
-                                        "/monitor --timeout 30 2>&1"},
-                                   out + "/monitor.txt");
+  const Background monitor =
+      start({"/bin/sh", "-c",
+             "ip netns exec " + ns(kHosts) + " " + kBin + "/pheromesh attach --domain " + std::to_string(domain) +
+                 " --dds-profile " + profile + peers + " --out " + out + "/monitor --timeout 30 2>&1"},
+            out + "/monitor.txt");
   std::vector<int> codes;
   for (const auto& h : hosts) codes.push_back(wait_exit(h.pid, std::chrono::seconds(180)));
   const int monitor_code = wait_exit(monitor.pid, std::chrono::seconds(60));
   for (int i = 0; i < kHosts; ++i) {
-    EXPECT_EQ(codes[static_cast<std::size_t>(i)], 0) << "host " << i << ":\n" << slurp(out + "/host" + std::to_string(i) + ".txt");
+    EXPECT_EQ(codes[static_cast<std::size_t>(i)], 0) << "host " << i << ":\n"
+                                                     << slurp(out + "/host" + std::to_string(i) + ".txt");
   }
 
   // The swarm: every UAV of every host flew, every deposit is accounted for.
@@ -143,7 +146,8 @@ void run_split_swarm(const std::string& tag, int domain, const std::string& prof
   // Host 0 ran the ground station, place agents 0 and 3, UAVs 0 and 3 (and
   // the standby of region 2); host 1 place agent 1, UAVs 1 and 4 (standbys
   // of regions 0 and 3); host 2 place agent 2, UAVs 2 and 5 (standby of 1).
-  const std::vector<std::size_t> share = standby ? std::vector<std::size_t>{6, 5, 4} : std::vector<std::size_t>{5, 3, 3};
+  const std::vector<std::size_t> share =
+      standby ? std::vector<std::size_t>{6, 5, 4} : std::vector<std::size_t>{5, 3, 3};
   EXPECT_EQ(m["processes"].size(), share[0]) << m["processes"].dump(2);
   if (standby) {
     EXPECT_EQ(m["processes_killed"], 1);
@@ -198,8 +202,8 @@ TEST(Lan, ASwarmOverThreeHostsWithUnicastPeersCompletesWithoutMulticastAndALateM
 // What a swarm over several hosts cannot do is refused before anything
 // starts, and the message says what to do instead.
 TEST(Cli, SeveralHostsRefuseWhatCannotWorkAndSayWhatToDo) {
-  const std::string base = kBin + "/pheromesh run " + kSrc + "/scenarios/small-test.textproto --out " +
-                           out_dir("lan-cli") + " --domain 72 ";
+  const std::string base =
+      kBin + "/pheromesh run " + kSrc + "/scenarios/small-test.textproto --out " + out_dir("lan-cli") + " --domain 72 ";
   const std::string key = "PHEROMESH_CONTROL_KEY=" + std::string(64, 'a') + " ";
   struct Case {
     std::string env, args, says;
