@@ -8,7 +8,8 @@
 set(CPACK_PACKAGE_NAME pheromesh)
 set(CPACK_PACKAGE_VENDOR "pheromesh")
 set(CPACK_PACKAGE_VERSION ${PROJECT_VERSION})
-set(CPACK_PACKAGE_DESCRIPTION_SUMMARY "UAV swarm coordinating through digital pheromones over DDS")
+# No CPACK_PACKAGE_DESCRIPTION_SUMMARY: CPack would put it before both
+# packages' descriptions; the first line of each description is its summary.
 set(PHEROMESH_PACKAGE_MAINTAINER "pheromesh maintainers <maintainers@users.noreply.h-seed-e68ae258.example>"
   CACHE STRING "Maintainer field of the Debian packages")
 set(CPACK_PACKAGE_CONTACT ${PHEROMESH_PACKAGE_MAINTAINER})

@@ -48,7 +48,7 @@ step "the installed pheromesh finds shipped scenarios by name, from another dire
 mkdir "$work/elsewhere"
 out="$(cd "$work/elsewhere" && "$prefix/bin/pheromesh" validate small-test)"
 grep -qF "$prefix/share/pheromesh/scenarios/small-test.textproto: OK" <<<"$out" || fail "validate small-test said: $out"
-out="$(cd "$work/elsewhere" && "$prefix/bin/pheromesh" sim small-test.textproto --ticks 5 --quiet --out sim)"
+out="$(cd "$work/elsewhere" && "$prefix/bin/pheromesh" sim small-test.textproto --ticks 5 --quiet --out sim 2>&1)"
 [ -f "$work/elsewhere/sim/metrics.json" ] || fail "sim wrote no sim/metrics.json relative to the current directory: $out"
 if out="$(cd "$work/elsewhere" && "$prefix/bin/pheromesh" run no-such-scenario 2>&1)"; then fail "an unknown name was accepted"; fi
 grep -qF "'no-such-scenario' is neither a file nor a shipped scenario" <<<"$out" || fail "unknown name: $out"
