@@ -37,8 +37,8 @@ std::string describe_dirs(const std::vector<fs::path>& dirs) {
 // The file of `name` (with or without the extension) in the first folder
 // that has it, or empty.
 fs::path find_shipped(const std::string& name, const std::vector<fs::path>& dirs) {
-  const bool has_ext = name.size() > std::char_traits<char>::length(kScenarioExtension) &&
-                       name.ends_with(kScenarioExtension);
+  const bool has_ext =
+      name.size() > std::char_traits<char>::length(kScenarioExtension) && name.ends_with(kScenarioExtension);
   const std::string file = has_ext ? name : name + kScenarioExtension;
   for (const auto& d : dirs) {
     if (is_file(d / file)) return d / file;
@@ -79,9 +79,9 @@ core::Result<std::string> resolve_scenario(const std::string& arg, const std::ve
     std::error_code ec;
     if (fs::is_directory(d, ec)) existing.push_back(d);
   }
-  const std::string shipped =
-      names.empty() ? "no shipped scenarios found in " + describe_dirs(dirs)
-                    : "shipped scenarios (in " + describe_dirs(existing) + "): " + join_names(names);
+  const std::string shipped = names.empty()
+                                  ? "no shipped scenarios found in " + describe_dirs(dirs)
+                                  : "shipped scenarios (in " + describe_dirs(existing) + "): " + join_names(names);
   if (arg.find('/') != std::string::npos) {
     // A path: never quietly replaced by a shipped file of the same name, but
     // say that one exists (e.g. scenarios/small-test.textproto run from
@@ -89,8 +89,8 @@ core::Result<std::string> resolve_scenario(const std::string& arg, const std::ve
     std::string msg = "'" + arg + "': no such file";
     const std::string base = fs::path(arg).filename().string();
     if (!base.empty() && !find_shipped(base, dirs).empty()) {
-      msg += " (a shipped scenario has that name: give it without the folder, '" +
-             fs::path(base).stem().string() + "')";
+      msg +=
+          " (a shipped scenario has that name: give it without the folder, '" + fs::path(base).stem().string() + "')";
     }
     return core::Error{msg};
   }

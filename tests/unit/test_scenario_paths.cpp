@@ -149,7 +149,8 @@ TEST_F(ScenarioPaths, OnlyTheProgramInTheBuildTreeSearchesTheSourceTree) {
 TEST(ScenarioPathsOfThisBuild, AProgramInTheBuildTreeFindsTheSourceTreesScenariosByName) {
   const auto r = resolve_scenario("small-test", default_scenario_dirs());
   ASSERT_TRUE(r.ok()) << r.error().message;
-  EXPECT_TRUE(fs::equivalent(r.value(), fs::path(PHEROMESH_SOURCE_DIR) / "scenarios/small-test.textproto")) << r.value();
+  EXPECT_TRUE(fs::equivalent(r.value(), fs::path(PHEROMESH_SOURCE_DIR) / "scenarios/small-test.textproto"))
+      << r.value();
   EXPECT_TRUE(fs::equivalent(shipped_scenario("shao2020-50x50.textproto"),
                              fs::path(PHEROMESH_SOURCE_DIR) / "scenarios/shao2020-50x50.textproto"));
 }

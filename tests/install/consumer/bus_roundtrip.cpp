@@ -67,8 +67,8 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "the deposit did not arrive intact (%zu received)\n", got.size());
     return 1;
   }
-  std::printf("deposit %s -> %s: seq %u, cell (%d, %d), amount %.2f\n", uav->vendor().c_str(),
-              place->vendor().c_str(), got[0].seq, got[0].cell.x, got[0].cell.y, static_cast<double>(got[0].amount));
+  std::printf("deposit %s -> %s: seq %u, cell (%d, %d), amount %.2f\n", uav->vendor().c_str(), place->vendor().c_str(),
+              got[0].seq, got[0].cell.x, got[0].cell.y, static_cast<double>(got[0].amount));
   uav.reset();  // closes the Fast DDS participant
   place.reset();
   std::printf("buses closed\n");
