@@ -2,6 +2,8 @@
 #   make demo   run the default swarm (Shao 2020 50x50) with the ground station
 #               and its web console (the URL is printed; DEMO_HTTP=port)
 #   make test   run the whole test suite (unit + integration)
+#   make package  build the Debian packages pheromesh_<version>_<arch>.deb and
+#               pheromesh-dev_... into $(BUILD)/ (docs/install.md)
 BUILD ?= build
 JOBS ?= $(shell nproc)
 DEMO_SCENARIO ?= scenarios/shao2020-50x50.textproto
@@ -10,7 +12,7 @@ DEMO_OUT ?= out/demo
 DEMO_HTTP ?= 8080
 SCALE_MAX ?= 400
 
-.PHONY: all deps build demo test bench bench-scale clean
+.PHONY: all deps build demo test package bench bench-scale clean
 
 all: build
 
@@ -28,6 +30,9 @@ demo: build
 
 test: build
 	cd $(BUILD) && ctest --output-on-failure -j2 --timeout 900
+
+package: build
+	cd $(BUILD) && cpack -G DEB
 
 bench: build
 	$(BUILD)/bin/pheromesh_bench_layers

@@ -20,15 +20,24 @@ int run_attach(AttachOptions o) {
     spdlog::info("the monitor is one process: it runs on Fast DDS (either vendor reaches a mixed swarm)");
   }
   const std::string exe = executable_dir() + "/pheromesh-ground";
+  // clang-format off: flag, value
   std::vector<std::string> args{exe,
                                 "--attach",
-                                "--domain", std::to_string(o.domain),
-                                "--dds", o.dds,
-                                "--dds-profile", o.dds_profile,
-                                "--out", o.out_dir,
-                                "--attach-timeout", std::to_string(o.timeout_s),
-                                "--progress", std::to_string(o.progress_s),
-                                "--log-level", o.log_level};
+                                "--domain",
+                                std::to_string(o.domain),
+                                "--dds",
+                                o.dds,
+                                "--dds-profile",
+                                o.dds_profile,
+                                "--out",
+                                o.out_dir,
+                                "--attach-timeout",
+                                std::to_string(o.timeout_s),
+                                "--progress",
+                                std::to_string(o.progress_s),
+                                "--log-level",
+                                o.log_level};
+  // clang-format on
   if (!o.dds_peers.empty()) args.insert(args.end(), {"--dds-peers", o.dds_peers});
   if (o.http_port) args.insert(args.end(), {"--http", std::to_string(*o.http_port), "--http-bind", o.http_bind});
   if (!o.record.empty()) args.insert(args.end(), {"--record", o.record});

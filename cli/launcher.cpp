@@ -129,8 +129,8 @@ void Launcher::spawn(const std::string& role, uint32_t index, const std::vector<
   // unicast discovery probes (lan-unicast); a restarted process gets its old
   // id (its ports are free).
   const auto known = participant_of_.find(c.name);
-  const uint32_t participant = known != participant_of_.end() ? known->second
-                                                              : static_cast<uint32_t>(participant_of_.size());
+  const uint32_t participant =
+      known != participant_of_.end() ? known->second : static_cast<uint32_t>(participant_of_.size());
   participant_of_[c.name] = participant;
   std::string participant_env = "PHEROMESH_PARTICIPANT_ID=" + std::to_string(participant);
   // Network faults: the process runs in its own network namespace.
@@ -522,13 +522,16 @@ std::optional<std::string> Launcher::check_multi_host(const core::ScenarioConfig
   }
   auto key = auth::control_key_from_env();
   if (!key || !key.value()) {
-    return std::string("--hosts ") + std::to_string(o_.hosts) + ": every host of one swarm needs the same control key in $" +
-           auth::kControlKeyEnv + " (the ground station signs the start and the end of the run with it); make one with " +
-           "`pheromesh key` and export it on every host" + (key ? "" : " (the one set is malformed: " + key.error().message + ")");
+    return std::string("--hosts ") + std::to_string(o_.hosts) +
+           ": every host of one swarm needs the same control key in $" + auth::kControlKeyEnv +
+           " (the ground station signs the start and the end of the run with it); make one with " +
+           "`pheromesh key` and export it on every host" +
+           (key ? "" : " (the one set is malformed: " + key.error().message + ")");
   }
   if (o_.discovery_server) return "--discovery-server runs on one host; it does not work with --hosts";
   if (o_.http_port && !on_this_host("ground", 0)) {
-    return "--http: the web console is served by the ground station, which runs on host " + std::to_string(o_.ground_host) +
+    return "--http: the web console is served by the ground station, which runs on host " +
+           std::to_string(o_.ground_host) +
            " (--ground-host); give --http there, or attach a monitor anywhere with `pheromesh attach --http PORT`";
   }
   if (faults_) {
@@ -544,7 +547,8 @@ std::optional<std::string> Launcher::check_multi_host(const core::ScenarioConfig
     for (const auto& e : faults_->schedule().events) {
       for (const auto& t : e.targets) {
         bool here = false;
-        for (uint32_t k = 0; k < (t.role == "place" ? replicas : 1); ++k) here = here || on_this_host(t.role, t.index, k);
+        for (uint32_t k = 0; k < (t.role == "place" ? replicas : 1); ++k)
+          here = here || on_this_host(t.role, t.index, k);
         if (!here) {
           return "fault schedule: '" + e.text + "': " + t.process_name() + " does not run on host " +
                  std::to_string(o_.host_index) + " (--hosts " + std::to_string(o_.hosts) +
@@ -613,8 +617,8 @@ int Launcher::run() {
       for (uint32_t k = 0; k < replicas; ++k) places_here += on_this_host("place", r, k) ? 1 : 0;
     }
     for (uint32_t u = 0; u < uavs; ++u) uavs_here += on_this_host("uav", u) ? 1 : 0;
-    spdlog::info("host {} of {}: {} place agents, {} uavs{} here; the ground station {}", o_.host_index, o_.hosts, places_here,
-                 uavs_here, o_.dds_peers.empty() ? "" : fmt::format(" (DDS peers {})", o_.dds_peers),
+    spdlog::info("host {} of {}: {} place agents, {} uavs{} here; the ground station {}", o_.host_index, o_.hosts,
+                 places_here, uavs_here, o_.dds_peers.empty() ? "" : fmt::format(" (DDS peers {})", o_.dds_peers),
                  on_this_host("ground", 0) ? "too (it ends the run)" : fmt::format("on host {}", o_.ground_host));
   }
 
@@ -858,8 +862,8 @@ void Launcher::finish_metrics(int& exit_code) {
   // Over several hosts the swarm's metrics.json is the ground station's host's;
   // every other host writes what it ran to host-I.json.
   const bool ground_here = on_this_host("ground", 0);
-  const fs::path path =
-      fs::path(o_.out_dir) / (ground_here ? std::string("metrics.json") : "host-" + std::to_string(o_.host_index) + ".json");
+  const fs::path path = fs::path(o_.out_dir) /
+                        (ground_here ? std::string("metrics.json") : "host-" + std::to_string(o_.host_index) + ".json");
   nlohmann::json m;
   std::ifstream in(ground_here ? path : fs::path());
   if (in) {

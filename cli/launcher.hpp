@@ -37,7 +37,7 @@ struct RunOptions {
   std::string netns_subnet = "10.77.0.0/16";  // the processes' addresses when network faults need namespaces
   std::string dds;             // a DdsPlan spec: cyclone, fastdds, mixed or ROLE=VENDOR,...
   std::string dds_profile = "onehost";
-  std::string dds_peers;       // lan profiles: discovery peers (every process gets them)
+  std::string dds_peers;  // lan profiles: discovery peers (every process gets them)
   uint32_t domain = 0;
   // One swarm over several hosts (docs/deployment.md): each host runs
   // `pheromesh run` with the same scenario and options and its own index,

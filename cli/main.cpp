@@ -6,15 +6,16 @@
 #include <CLI/CLI.hpp>
 #include <cstdio>
 
-#include "bench_scale.hpp"
 #include "attach_command.hpp"
-#include "launcher.hpp"
-#include "replay_command.hpp"
+#include "bench_scale.hpp"
+#include "scenario_paths.hpp"
 #include "experiment_command.hpp"
-#include "sim_command.hpp"
+#include "launcher.hpp"
 #include "pheromesh/auth/control.hpp"
 #include "pheromesh/bus/bus.hpp"
 #include "pheromesh/core/scenario.hpp"
+#include "replay_command.hpp"
+#include "sim_command.hpp"
 
 namespace {
 
@@ -115,20 +116,25 @@ int main(int argc, char** argv) {
 
   std::string validate_path;
   auto* v = app.add_subcommand("validate", "Check a scenario file; errors name the file, line and field");
-  v->add_option("SCENARIO", validate_path, "Scenario file (protobuf text format)")->required();
+  v->add_option("SCENARIO", validate_path, cli::kScenarioArgHelp)
+      ->required()
+      ->transform(CLI::Validator(cli::resolve_scenario_argument, "FILE|NAME"));
 
   cli::RunOptions ro;
   ro.dds = bus::default_vendor();
   if (const char* p = std::getenv("PHEROMESH_DDS_PROFILE"); p != nullptr && *p != '\0') ro.dds_profile = p;
   auto* r = app.add_subcommand("run", "Run a swarm on this host: one process per place agent and UAV, plus the "
                                       "ground station; writes OUT/metrics.json and OUT/logs/");
-  r->add_option("SCENARIO", ro.scenario, "Scenario file (protobuf text format)")->required()->check(CLI::ExistingFile);
+  r->add_option("SCENARIO", ro.scenario, cli::kScenarioArgHelp)
+      ->required()
+      ->transform(CLI::Validator(cli::resolve_scenario_argument, "FILE|NAME"));
   r->add_option("--uavs", ro.uavs, "Number of UAV processes (default: the scenario's swarm.uavs)");
   auto* ticks = r->add_option("--ticks", ro.ticks, "Ticks each UAV flies (default: the scenario's run.ticks)");
   r->add_option("--duration", ro.duration_s, "Seconds to fly instead of --ticks [s]")->excludes(ticks);
   r->add_option("--seed", ro.seed, "Run seed (default: the scenario's run.seed)");
   r->add_option("--rate", ro.rate_hz, "Tick rate of every process [Hz] (default: the scenario's run.tick_rate_hz)");
-  r->add_option("--out", ro.out_dir, "Output folder (metrics.json, logs/)")->capture_default_str();
+  r->add_option("--out", ro.out_dir, "Output folder (metrics.json, logs/), relative to the current directory")
+      ->capture_default_str();
   r->add_option("--faults", ro.faults_spec,
                 "Faults to inject, ';'-separated (added to the scenario's `fault:` lines), e.g. \"kill uav:3 @5s; "
                 "stop place:1 @10s for 5s\". See FAULTS below and docs/faults.md");
@@ -159,8 +165,9 @@ int main(int argc, char** argv) {
   r->add_option("--dds-peers", ro.dds_peers,
                 "lan profiles: every host of the swarm, comma-separated addresses or names (unicast discovery) "
                 "[env PHEROMESH_DDS_PEERS]");
-  r->add_option("--hosts", ro.hosts, "Hosts the swarm is split over; each runs this command with its --host-index "
-                                     "(see SEVERAL HOSTS below)")
+  r->add_option("--hosts", ro.hosts,
+                "Hosts the swarm is split over; each runs this command with its --host-index "
+                "(see SEVERAL HOSTS below)")
       ->check(CLI::Range(1U, 1000U))
       ->capture_default_str();
   r->add_option("--host-index", ro.host_index, "This host's index, 0 .. hosts-1")->capture_default_str();
@@ -202,11 +209,13 @@ int main(int argc, char** argv) {
   auto* sim = app.add_subcommand("sim", "Run the whole swarm in this process, deterministically (no DDS): the same "
                                         "core code and lockstep schedule as `run --clock lockstep`, the same "
                                         "OUT/metrics.json and OUT/final_field.txt");
-  sim->add_option("SCENARIO", so.scenario, "Scenario file (protobuf text format)")->required()->check(CLI::ExistingFile);
+  sim->add_option("SCENARIO", so.scenario, cli::kScenarioArgHelp)
+      ->required()
+      ->transform(CLI::Validator(cli::resolve_scenario_argument, "FILE|NAME"));
   sim->add_option("--seed", so.seed, "Run seed (default: the scenario's run.seed)");
   sim->add_option("--ticks", so.ticks, "Ticks to simulate (default: the scenario's run.ticks)");
   sim->add_option("--uavs", so.uavs, "Number of UAVs (default: the scenario's swarm.uavs)");
-  sim->add_option("--out", so.out_dir, "Output folder")->capture_default_str();
+  sim->add_option("--out", so.out_dir, "Output folder, relative to the current directory")->capture_default_str();
   sim->add_flag("--quiet", so.quiet, "No progress lines");
   sim->add_option("--faults", so.faults,
                   "Fault schedule timed in ticks, e.g. \"kill uav:3 @40t; kill place:1 @60t\" (docs/faults.md); "
@@ -239,7 +248,7 @@ int main(int argc, char** argv) {
   bs->add_option("SCENARIO", bso.scenario, "Scenario file, e.g. scenarios/scale-100x100.textproto (its start area "
                                            "must hold the largest size)")
       ->required()
-      ->check(CLI::ExistingFile);
+      ->transform(CLI::Validator(cli::resolve_scenario_argument, "FILE|NAME"));
   bs->add_option("--sizes", bso.sizes, "UAV counts to run, comma-separated")->capture_default_str();
   bs->add_option("--max", bso.max_uavs, "Leave out the sizes above this many UAVs (0: none)")->capture_default_str();
   bs->add_option("--dds", bso.dds, "Vendors, comma-separated among cyclone, fastdds, mixed: each size runs once per vendor")
@@ -261,22 +270,26 @@ int main(int argc, char** argv) {
   bs->add_option("--extra", bso.extra, "More arguments for `pheromesh run`, in one string, e.g. \"--dds-profile default\"");
   bs->footer(cli::kBenchScaleFooter);
 
-  auto* key = app.add_subcommand("key", "Print a new random control key (64 hex digits) for $PHEROMESH_CONTROL_KEY: "
-                                        "every host of a swarm over several hosts exports the same one");
+  auto* key = app.add_subcommand("key",
+                                 "Print a new random control key (64 hex digits) for $PHEROMESH_CONTROL_KEY: "
+                                 "every host of a swarm over several hosts exports the same one");
 
   cli::AttachOptions ao;
   ao.dds = bus::default_vendor();
   if (const char* p = std::getenv("PHEROMESH_DDS_PROFILE"); p != nullptr && *p != '\0') ao.dds_profile = p;
   if (const char* p = std::getenv("PHEROMESH_DDS_PEERS"); p != nullptr) ao.dds_peers = p;
-  auto* at = app.add_subcommand("attach", "Monitor a running swarm from this host, found by its domain id alone: "
-                                          "progress lines, metrics, and with --http the web console");
+  auto* at = app.add_subcommand("attach",
+                                "Monitor a running swarm from this host, found by its domain id alone: "
+                                "progress lines, metrics, and with --http the web console");
   at->add_option("--domain", ao.domain, "DDS domain id of the swarm")->check(CLI::Range(0, 232))->capture_default_str();
   at->add_option("--dds", ao.dds, "DDS vendor of the monitor: cyclone or fastdds (either reaches any swarm)")
       ->capture_default_str();
-  at->add_option("--dds-profile", ao.dds_profile,
-                 "DDS profile that reaches the swarm: onehost (same host), lan, lan-unicast (with --dds-peers), or files")
+  at->add_option(
+        "--dds-profile", ao.dds_profile,
+        "DDS profile that reaches the swarm: onehost (same host), lan, lan-unicast (with --dds-peers), or files")
       ->capture_default_str();
-  at->add_option("--dds-peers", ao.dds_peers, "lan profiles: the swarm's hosts, comma-separated [env PHEROMESH_DDS_PEERS]");
+  at->add_option("--dds-peers", ao.dds_peers,
+                 "lan profiles: the swarm's hosts, comma-separated [env PHEROMESH_DDS_PEERS]");
   at->add_option("--out", ao.out_dir, "Output folder (metrics.json, console recording)")->capture_default_str();
   at->add_option("--http", ao.http_port, "Serve the web console on this port (0: any free port)");
   at->add_option("--http-bind", ao.http_bind, "Address the console listens on (0.0.0.0: every interface)")

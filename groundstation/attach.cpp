@@ -37,16 +37,18 @@ int attach(GroundConfig cfg, double timeout_s) {
       return 3;
     }
     bus.value()->subscribe_scenario();
-    log->info("looking for a swarm on domain {} over {} (profile {}), up to {:.0f} s", cfg.common.domain, bus.value()->vendor(),
-              cfg.common.dds_profile, timeout_s);
-    const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(static_cast<int64_t>(timeout_s * 1000));
+    log->info("looking for a swarm on domain {} over {} (profile {}), up to {:.0f} s", cfg.common.domain,
+              bus.value()->vendor(), cfg.common.dds_profile, timeout_s);
+    const auto deadline =
+        std::chrono::steady_clock::now() + std::chrono::milliseconds(static_cast<int64_t>(timeout_s * 1000));
     std::vector<core::ScenarioMsg> got;
     while (got.empty()) {
       if (runtime::shutdown_requested()) return 130;
       if (std::chrono::steady_clock::now() > deadline) {
-        log->error("no place agent published a run on domain {} within {:.0f} s (is the swarm on this domain, with a "
-                   "profile that reaches this host: --dds-profile lan / lan-unicast --dds-peers?)",
-                   cfg.common.domain, timeout_s);
+        log->error(
+            "no place agent published a run on domain {} within {:.0f} s (is the swarm on this domain, with a "
+            "profile that reaches this host: --dds-profile lan / lan-unicast --dds-peers?)",
+            cfg.common.domain, timeout_s);
         return 2;
       }
       bus.value()->wait({bus::TopicKind::Scenario}, std::chrono::steady_clock::now() + std::chrono::milliseconds(100));
@@ -60,8 +62,8 @@ int attach(GroundConfig cfg, double timeout_s) {
     return 2;
   }
   const double found_s = std::chrono::duration<double>(std::chrono::system_clock::now() - t0).count();
-  log->info("found run '{}' {:.2f} s after the start: {} uavs, {} ticks, {} clock{}", scenario->name, found_s, scenario->uavs,
-            scenario->ticks, cfg.common.clock, cfg.common.standby ? ", standby place agents" : "");
+  log->info("found run '{}' {:.2f} s after the start: {} uavs, {} ticks, {} clock{}", scenario->name, found_s,
+            scenario->uavs, scenario->ticks, cfg.common.clock, cfg.common.standby ? ", standby place agents" : "");
   cfg.expect_uavs = scenario->uavs;
   cfg.until_done = false;
   cfg.launcher_fd = -1;

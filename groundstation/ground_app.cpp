@@ -386,9 +386,17 @@ bool GroundApp::conduct() {
 }
 
 bool GroundApp::places_finished() const {
+  // Every replica heard of every region reported its final health or is
+  // gone (a killed primary whose standby finished counts as done).
+  std::vector<bool> heard(geo_.region_count(), false);
+  for (const auto& [id, h] : rec_.replica_health()) {
+    const core::RegionId r = core::place_id_region(id);
+    if (r >= heard.size()) continue;
+    heard[r] = true;
+    if (!h.finished && !rec_.place_departed(id)) return false;
+  }
   for (core::RegionId r = 0; r < geo_.region_count(); ++r) {
-    auto it = rec_.health().find(r);
-    if (!((it != rec_.health().end() && it->second.finished) || rec_.region_departed(r))) return false;
+    if (!heard[r] && !rec_.region_departed(r)) return false;
   }
   return true;
 }
@@ -400,9 +408,10 @@ void GroundApp::note_full_state() {
     return;
   }
   full_state_logged_ = true;
-  log_->info("attached: the whole swarm is shown (every uav of {}, every place agent of {}, every region's field) {:.2f} s "
-             "after the monitor started",
-             cfg_.expect_uavs, geo_.region_count(), static_cast<double>(unix_ms_now() - run_t0_unix_ms_) / 1000.0);
+  log_->info(
+      "attached: the whole swarm is shown (every uav of {}, every place agent of {}, every region's field) {:.2f} s "
+      "after the monitor started",
+      cfg_.expect_uavs, geo_.region_count(), static_cast<double>(unix_ms_now() - run_t0_unix_ms_) / 1000.0);
 }
 
 bool GroundApp::uavs_done() const {
@@ -431,12 +440,7 @@ int GroundApp::finish() {
   const auto deadline = Clock::now() + std::chrono::seconds(ended_ ? 10 : 3);
   for (;;) {
     poll();
-    uint32_t done = 0;
-    for (core::RegionId r = 0; r < geo_.region_count(); ++r) {
-      auto it = rec_.health().find(r);
-      done += ((it != rec_.health().end() && it->second.finished) || rec_.region_departed(r)) ? 1 : 0;
-    }
-    if (done >= geo_.region_count() || Clock::now() > deadline) break;
+    if (places_finished() || Clock::now() > deadline) break;
     wait_for_data(std::min(deadline, Clock::now() + std::chrono::milliseconds(20)));
   }
   print_progress();

@@ -60,7 +60,9 @@ int main(int argc, char** argv) {
   cfg.scenario_path = cfg.common.scenario;
   if (cfg.attach) return groundstation::attach(cfg, attach_timeout_s);
   if (cfg.common.scenario.empty()) {
-    std::fprintf(stderr, "--scenario is required (or --attach, to monitor a running swarm)\nRun with --help for more information.\n");
+    std::fprintf(
+        stderr,
+        "--scenario is required (or --attach, to monitor a running swarm)\nRun with --help for more information.\n");
     return 106;
   }
 

@@ -5,6 +5,7 @@ set -euo pipefail
 
 packages=(
   build-essential cmake pkg-config
+  dpkg-dev                               # make package: dpkg-shlibdeps writes the .deb's Depends (also in build-essential)
   cyclonedds-dev cyclonedds-tools        # DDS (C API, idlc, ddsperf)
   libfastrtps-dev libfastcdr-dev fastddsgen fastdds-tools  # Fast DDS (C++ API, fastddsgen, fastdds shm clean)
   libprotobuf-dev protobuf-compiler      # scenario schema

@@ -1,13 +1,14 @@
 #include <stdexcept>
 
 #include "experiment.hpp"
+#include "scenario_paths.hpp"
 #include "pheromesh/core/scenario.hpp"
 #include "pheromesh/core/simulator.hpp"
 
 namespace pheromesh::cli::experiments {
 
 std::vector<std::map<std::string, double>> simulate_scenario(const std::string& file, uint32_t runs) {
-  auto loaded = core::load_scenario(std::string(PHEROMESH_SCENARIO_DIR) + "/" + file);
+  auto loaded = core::load_scenario(shipped_scenario(file));
   if (!loaded) throw std::runtime_error(loaded.error().message);
   std::vector<std::map<std::string, double>> out;
   for (uint32_t run = 0; run < runs; ++run) {

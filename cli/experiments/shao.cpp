@@ -7,6 +7,7 @@
 #include <string>
 
 #include "experiment.hpp"
+#include "scenario_paths.hpp"
 #include "pheromesh/core/metrics.hpp"
 #include "pheromesh/core/scenario.hpp"
 #include "pheromesh/core/simulator.hpp"
@@ -18,7 +19,7 @@ namespace {
 
 using core::Cell;
 
-std::string scenario_path(const std::string& file) { return std::string(PHEROMESH_SCENARIO_DIR) + "/" + file; }
+std::string scenario_path(const std::string& file) { return shipped_scenario(file); }
 
 // Exhaustive search with fixed routes (the paper's Shao 2020 Fig. 6 baseline, which it
 // does not specify): UAV i sweeps its own horizontal band of the map back and

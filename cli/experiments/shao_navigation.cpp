@@ -8,6 +8,7 @@
 #include <string>
 
 #include "experiment.hpp"
+#include "scenario_paths.hpp"
 #include "pheromesh/core/messages.hpp"
 #include "pheromesh/core/scenario.hpp"
 #include "pheromesh/core/simulator.hpp"
@@ -69,7 +70,7 @@ Report run_fig10(uint32_t runs, const Progress& progress) {
   rep.csv_header = {"leg", "seed", "arrival_iterations", "mean_follower_distance_cells"};
   uint32_t done = 0;
   for (const Leg& leg : legs) {
-    auto loaded = core::load_scenario(std::string(PHEROMESH_SCENARIO_DIR) + "/" + leg.file);
+    auto loaded = core::load_scenario(shipped_scenario(leg.file));
     if (!loaded) throw std::runtime_error(loaded.error().message);
     std::vector<double> arrivals, distances;
     for (uint32_t run = 0; run < runs; ++run) {

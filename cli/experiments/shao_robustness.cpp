@@ -15,6 +15,7 @@
 #include <tuple>
 
 #include "experiment.hpp"
+#include "scenario_paths.hpp"
 #include "pheromesh/core/scenario.hpp"
 #include "pheromesh/shao/robustness.hpp"
 
@@ -143,7 +144,7 @@ std::string verdict(const std::map<Key, Cell>& cells, uint32_t kill_tick) {
 
 Report run_robustness_experiment(uint32_t runs, const Progress& progress) {
   const std::string file = "shao2020-50x50.textproto";
-  auto loaded = core::load_scenario(std::string(PHEROMESH_SCENARIO_DIR) + "/" + file);
+  auto loaded = core::load_scenario(shipped_scenario(file));
   if (!loaded) throw std::runtime_error(loaded.error().message);
   const core::ScenarioConfig base = loaded.value();
   const uint32_t horizon = base.ticks;

@@ -86,7 +86,9 @@ std::optional<double> number_in(const std::string& text, const std::string& re) 
 
 // The three hosts' launchers, then a monitor in the fourth namespace once the
 // swarm flies; checks the swarm's metrics, each host's share and the monitor.
-void run_split_swarm(const std::string& tag, int domain, const std::string& profile_args) {
+// `standby`: every region has a standby on the next host, and host 0 kills
+// place agent 0 (its primary) mid-flight.
+void run_split_swarm(const std::string& tag, int domain, const std::string& profile_args, bool standby = false) {
   if (geteuid() != 0) GTEST_SKIP() << "network namespaces need root";
   LanNet net(profile_args.find("lan-unicast") != std::string::npos);
   ASSERT_TRUE(net.ready());
@@ -94,20 +96,23 @@ void run_split_swarm(const std::string& tag, int domain, const std::string& prof
   const std::string key = run(kBin + "/pheromesh key").text.substr(0, 64);
   ASSERT_EQ(key.size(), 64U);
   const std::string common = " --hosts " + std::to_string(kHosts) + " --domain " + std::to_string(domain) +
-                             " --uavs 6 --ticks 250 --rate 25 --progress 0.5 " + profile_args;
+                             " --uavs 6 --ticks 250 --rate 25 --progress 0.5 " + profile_args +
+                             (standby ? " --standby" : "");
   std::vector<Background> hosts;
   const auto t0 = Clock::now();
   for (int i = 0; i < kHosts; ++i) {
     const std::string cmd = "ip netns exec " + ns(i) + " env PHEROMESH_CONTROL_KEY=" + key + " " + kBin +
-                            "/pheromesh run " + kSrc + "/scenarios/small-test.textproto --host-index " + std::to_string(i) +
-                            " --out " + out + "/host" + std::to_string(i) + common + " 2>&1";
+                            "/pheromesh run " + kSrc + "/scenarios/small-test.textproto --host-index " +
+                            std::to_string(i) + " --out " + out + "/host" + std::to_string(i) + common +
+                            (standby && i == 0 ? " --faults 'kill place:0 @5s'" : "") + " 2>&1";
     hosts.push_back(start({"/bin/sh", "-c", cmd}, out + "/host" + std::to_string(i) + ".txt"));
   }
   // The monitor joins once the ground station has started the swarm.
   const std::string ground_log = out + "/host0/logs/ground.log";
   const std::string ground_txt = out + "/host0.txt";
   const auto started = [&] { return slurp(ground_txt).find("sent to the swarm") != std::string::npos; };
-  while (!started() && Clock::now() - t0 < std::chrono::seconds(60)) std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  while (!started() && Clock::now() - t0 < std::chrono::seconds(60))
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
   ASSERT_TRUE(started()) << slurp(ground_txt);
   std::this_thread::sleep_for(std::chrono::seconds(2));  // mid-flight: the flight takes 10 s
   std::string peers;
@@ -115,16 +120,17 @@ void run_split_swarm(const std::string& tag, int domain, const std::string& prof
     peers = " --dds-peers " + address(0) + "," + address(1) + "," + address(2);
   }
   const std::string profile = profile_args.find("lan-unicast") != std::string::npos ? "lan-unicast" : "lan";
-  const Background monitor = start({"/bin/sh", "-c",
-                                    "ip netns exec " + ns(kHosts) + " " + kBin + "/pheromesh attach --domain " +
-                                        std::to_string(domain) + " --dds-profile " + profile + peers + " --out " + out +
-                                        "/monitor --timeout 30 2>&1"},
-                                   out + "/monitor.txt");
+  const Background monitor =
+      start({"/bin/sh", "-c",
+             "ip netns exec " + ns(kHosts) + " " + kBin + "/pheromesh attach --domain " + std::to_string(domain) +
+                 " --dds-profile " + profile + peers + " --out " + out + "/monitor --timeout 30 2>&1"},
+            out + "/monitor.txt");
   std::vector<int> codes;
   for (const auto& h : hosts) codes.push_back(wait_exit(h.pid, std::chrono::seconds(180)));
   const int monitor_code = wait_exit(monitor.pid, std::chrono::seconds(60));
   for (int i = 0; i < kHosts; ++i) {
-    EXPECT_EQ(codes[static_cast<std::size_t>(i)], 0) << "host " << i << ":\n" << slurp(out + "/host" + std::to_string(i) + ".txt");
+    EXPECT_EQ(codes[static_cast<std::size_t>(i)], 0) << "host " << i << ":\n"
+                                                     << slurp(out + "/host" + std::to_string(i) + ".txt");
   }
 
   // The swarm: every UAV of every host flew, every deposit is accounted for.
@@ -137,8 +143,16 @@ void run_split_swarm(const std::string& tag, int domain, const std::string& prof
   EXPECT_EQ(m["deposits_lost"], 0);
   EXPECT_GT(m["coverage"].get<double>(), 0.3);
   EXPECT_EQ(m["processes_crashed"], 0);
-  // Host 0 ran the ground station, place agents 0 and 3, UAVs 0 and 3.
-  EXPECT_EQ(m["processes"].size(), 5U) << m["processes"].dump(2);
+  // Host 0 ran the ground station, place agents 0 and 3, UAVs 0 and 3 (and
+  // the standby of region 2); host 1 place agent 1, UAVs 1 and 4 (standbys
+  // of regions 0 and 3); host 2 place agent 2, UAVs 2 and 5 (standby of 1).
+  const std::vector<std::size_t> share =
+      standby ? std::vector<std::size_t>{6, 5, 4} : std::vector<std::size_t>{5, 3, 3};
+  EXPECT_EQ(m["processes"].size(), share[0]) << m["processes"].dump(2);
+  if (standby) {
+    EXPECT_EQ(m["processes_killed"], 1);
+    EXPECT_NE(slurp(ground_txt).find("region 0 is served by standby 1"), std::string::npos) << slurp(ground_txt);
+  }
   for (int i = 1; i < kHosts; ++i) {
     std::ifstream in(out + "/host" + std::to_string(i) + "/host-" + std::to_string(i) + ".json");
     json h;
@@ -146,8 +160,7 @@ void run_split_swarm(const std::string& tag, int domain, const std::string& prof
     in >> h;
     EXPECT_EQ(h["host_index"], i);
     EXPECT_EQ(h["processes_crashed"], 0) << h.dump(2);
-    // Host 1: place agent 1, UAVs 1 and 4; host 2: place agent 2, UAVs 2 and 5.
-    EXPECT_EQ(h["processes"].size(), 3U) << h["processes"].dump(2);
+    EXPECT_EQ(h["processes"].size(), share[static_cast<std::size_t>(i)]) << h["processes"].dump(2);
   }
   const std::string ground = slurp(ground_txt);
   const auto discovery = number_in(ground, "discovery complete: .* heard ([0-9.]+) s after the launch");
@@ -189,8 +202,8 @@ TEST(Lan, ASwarmOverThreeHostsWithUnicastPeersCompletesWithoutMulticastAndALateM
 // What a swarm over several hosts cannot do is refused before anything
 // starts, and the message says what to do instead.
 TEST(Cli, SeveralHostsRefuseWhatCannotWorkAndSayWhatToDo) {
-  const std::string base = kBin + "/pheromesh run " + kSrc + "/scenarios/small-test.textproto --out " +
-                           out_dir("lan-cli") + " --domain 72 ";
+  const std::string base =
+      kBin + "/pheromesh run " + kSrc + "/scenarios/small-test.textproto --out " + out_dir("lan-cli") + " --domain 72 ";
   const std::string key = "PHEROMESH_CONTROL_KEY=" + std::string(64, 'a') + " ";
   struct Case {
     std::string env, args, says;
@@ -223,4 +236,8 @@ TEST(Cli, AMonitorWithNoSwarmOnItsDomainSaysSoAndAGroundStationNeedsAScenarioOrA
   const Output g = run(kBin + "/pheromesh-ground --domain 73");
   EXPECT_NE(g.exit_code, 0);
   EXPECT_NE(g.text.find("--scenario is required (or --attach"), std::string::npos) << g.text;
+}
+
+TEST(Lan, AStandbyOnAnotherHostServesARegionWhoseHostKilledItsPrimary) {
+  run_split_swarm("lan-standby", 74, "--dds-profile lan", true);
 }

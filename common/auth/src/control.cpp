@@ -91,7 +91,8 @@ std::string describe(const core::CommandMsg& m) {
              std::to_string(m.h);
     case core::CommandKind::Target: return "target at (" + std::to_string(m.x) + "," + std::to_string(m.y) + ")";
     case core::CommandKind::Start: return "start";
-    case core::CommandKind::End: return "end of the run";
+    case core::CommandKind::End:
+      return "end of the run";
   }
   return "unknown command kind " + std::to_string(m.kind);
 }

@@ -233,7 +233,8 @@ class CycloneBus final : public VendorBus {
     broadcast_topic_ = PHM_DDS(dds_create_topic(participant_, &pheromesh_msg_Broadcast_desc, topic_name(TopicKind::Broadcast), nullptr, nullptr));
     command_topic_ = PHM_DDS(dds_create_topic(participant_, &pheromesh_msg_Command_desc, topic_name(TopicKind::Command), nullptr, nullptr));
     view_topic_ = PHM_DDS(dds_create_topic(participant_, &pheromesh_msg_View_desc, topic_name(TopicKind::View), nullptr, nullptr));
-    scenario_topic_ = PHM_DDS(dds_create_topic(participant_, &pheromesh_msg_RunScenario_desc, topic_name(TopicKind::Scenario), nullptr, nullptr));
+    scenario_topic_ = PHM_DDS(dds_create_topic(participant_, &pheromesh_msg_RunScenario_desc,
+                                               topic_name(TopicKind::Scenario), nullptr, nullptr));
     field_topic_ = PHM_DDS(dds_create_topic(participant_, &pheromesh_msg_RegionField_desc, topic_name(TopicKind::Field), nullptr, nullptr));
   }
 

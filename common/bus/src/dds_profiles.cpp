@@ -61,8 +61,9 @@ bool takes_peers(const std::string& profile) { return profile == "lan" || profil
 
 void check_peers(const std::string& profile, const std::vector<std::string>& peers) {
   if (!peers.empty() && !takes_peers(profile)) {
-    throw std::runtime_error("DDS peers (--dds-peers, $PHEROMESH_DDS_PEERS) are for the lan and lan-unicast profiles, not '" +
-                             profile + "'");
+    throw std::runtime_error(
+        "DDS peers (--dds-peers, $PHEROMESH_DDS_PEERS) are for the lan and lan-unicast profiles, not '" + profile +
+        "'");
   }
 }
 

@@ -14,6 +14,9 @@
 //    killed process leaves nothing in /dev/shm.
 #include "fastdds_bus.hpp"
 
+#include <fastdds/rtps/common/Locator.h>
+#include <fastrtps/utils/IPLocator.h>
+#include <spdlog/spdlog.h>
 #include <fastdds/dds/core/condition/StatusCondition.hpp>
 #include <fastdds/dds/core/condition/WaitSet.hpp>
 #include <fastdds/dds/core/policy/QosPolicies.hpp>
@@ -33,9 +36,6 @@
 #include <fastdds/dds/subscriber/qos/SubscriberQos.hpp>
 #include <fastdds/dds/topic/Topic.hpp>
 #include <fastdds/dds/topic/TypeSupport.hpp>
-#include <fastdds/rtps/common/Locator.h>
-#include <fastrtps/utils/IPLocator.h>
-#include <spdlog/spdlog.h>
 
 #include <algorithm>
 #include <cstdlib>
@@ -1022,8 +1022,7 @@ class FastDdsBus final : public VendorBus {
   fdds::DataReader *deposit_reader_ = nullptr, *halo_reader_ = nullptr, *ground_tiles_ = nullptr,
                    *ground_uavs_ = nullptr, *detection_reader_ = nullptr, *event_reader_ = nullptr,
                    *health_reader_ = nullptr, *clock_reader_ = nullptr, *done_reader_ = nullptr,
-                   *broadcast_reader_ = nullptr, *command_reader_ = nullptr,
-                   *scenario_reader_ = nullptr;
+                   *broadcast_reader_ = nullptr, *command_reader_ = nullptr, *scenario_reader_ = nullptr;
   // The readers' listeners: the destructor's body deletes the participant
   // (and its readers) before any member is destroyed.
   Departures uav_departures_, region_departures_;

@@ -23,9 +23,8 @@ std::string trim(const std::string& s) {
 // RFC 1123 host name: labels of letters, digits and '-', dots between.
 bool is_host_name(const std::string& s) {
   if (s.empty() || s.size() > 253 || s.front() == '.' || s.front() == '-') return false;
-  return std::all_of(s.begin(), s.end(), [](char c) {
-    return std::isalnum(static_cast<unsigned char>(c)) != 0 || c == '-' || c == '.';
-  });
+  return std::all_of(s.begin(), s.end(),
+                     [](char c) { return std::isalnum(static_cast<unsigned char>(c)) != 0 || c == '-' || c == '.'; });
 }
 
 }  // namespace
@@ -44,7 +43,8 @@ core::Result<ResolvedPeers> resolve_peers(const std::string& list) {
       if (inet_pton(AF_INET, item.c_str(), &numeric) == 1) {
         add(item);
       } else if (!is_host_name(item)) {
-        return core::Error{"DDS peer '" + item + "' is neither an IPv4 address nor a host name (expected e.g. 10.0.0.2 or "
+        return core::Error{"DDS peer '" + item +
+                           "' is neither an IPv4 address nor a host name (expected e.g. 10.0.0.2 or "
                            "uav-host-1, comma-separated, no ports)"};
       } else {
         addrinfo hints{};

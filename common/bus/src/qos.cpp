@@ -163,7 +163,8 @@ const char* topic_name(TopicKind kind) {
     case TopicKind::Command: return "pheromesh_command";
     case TopicKind::View: return "pheromesh_view";
     case TopicKind::Field: return "pheromesh_region_field";
-    case TopicKind::Scenario: return "pheromesh_run_scenario";
+    case TopicKind::Scenario:
+      return "pheromesh_run_scenario";
   }
   throw std::logic_error("unknown topic kind");
 }
@@ -184,7 +185,8 @@ const char* type_name(TopicKind kind) {
     case TopicKind::Command: return "pheromesh::msg::Command";
     case TopicKind::View: return "pheromesh::msg::View";
     case TopicKind::Field: return "pheromesh::msg::RegionField";
-    case TopicKind::Scenario: return "pheromesh::msg::RunScenario";
+    case TopicKind::Scenario:
+      return "pheromesh::msg::RunScenario";
   }
   throw std::logic_error("unknown topic kind");
 }
@@ -205,7 +207,8 @@ const char* to_string(TopicKind kind) {
     case TopicKind::Command: return "command";
     case TopicKind::View: return "view";
     case TopicKind::Field: return "field";
-    case TopicKind::Scenario: return "scenario";
+    case TopicKind::Scenario:
+      return "scenario";
   }
   return "?";
 }

@@ -5,9 +5,9 @@
 #include <spdlog/spdlog.h>
 
 #include <csignal>
+#include <cstdlib>
 #include <fstream>
 #include <sstream>
-#include <cstdlib>
 #include <thread>
 
 namespace pheromesh::runtime {
@@ -67,7 +67,8 @@ void add_common_options(CLI::App& app, CommonOptions& o) {
                "pheromesh run sets it for swarms with Fast DDS processes (docs/faults.md)");
 }
 
-core::Result<core::ScenarioMsg> scenario_message(const CommonOptions& o, const core::ScenarioConfig& s, uint32_t publisher) {
+core::Result<core::ScenarioMsg> scenario_message(const CommonOptions& o, const core::ScenarioConfig& s,
+                                                 uint32_t publisher) {
   std::ifstream in(o.scenario, std::ios::binary);
   if (!in) return core::Error{"cannot read " + o.scenario + " again to publish it"};
   std::ostringstream text;
@@ -76,8 +77,9 @@ core::Result<core::ScenarioMsg> scenario_message(const CommonOptions& o, const c
   m.publisher = publisher;
   m.text = text.str();
   if (m.text.size() > core::kMaxScenarioBytes) {
-    return core::Error{o.scenario + " has " + std::to_string(m.text.size()) + " bytes; a published scenario holds at most " +
-                       std::to_string(core::kMaxScenarioBytes) + " (monitors that attach later need --scenario)"};
+    return core::Error{o.scenario + " has " + std::to_string(m.text.size()) +
+                       " bytes; a published scenario holds at most " + std::to_string(core::kMaxScenarioBytes) +
+                       " (monitors that attach later need --scenario)"};
   }
   m.uavs = s.uavs;
   m.ticks = s.ticks;
@@ -91,10 +93,10 @@ core::Result<core::ScenarioMsg> scenario_message(const CommonOptions& o, const c
 }
 
 core::Result<core::ScenarioConfig> scenario_from_message(const core::ScenarioMsg& m, CommonOptions& o) {
-  auto s = core::parse_scenario(m.text, "the scenario published by place agent " + std::to_string(core::place_id_region(m.publisher)) +
-                                       (core::place_id_replica(m.publisher) > 0
-                                            ? ".r" + std::to_string(core::place_id_replica(m.publisher))
-                                            : std::string()));
+  auto s = core::parse_scenario(
+      m.text, "the scenario published by place agent " + std::to_string(core::place_id_region(m.publisher)) +
+                  (core::place_id_replica(m.publisher) > 0 ? ".r" + std::to_string(core::place_id_replica(m.publisher))
+                                                           : std::string()));
   if (!s) return s;
   if (m.uavs > 0) s->uavs = m.uavs;
   if (m.ticks > 0) s->ticks = m.ticks;

@@ -33,10 +33,9 @@ enum class TopicKind : uint8_t {
   Scenario,
 };
 inline constexpr TopicKind kAllTopicKinds[] = {
-    TopicKind::Tile,   TopicKind::Deposit,     TopicKind::UavState, TopicKind::UavHome,
-    TopicKind::Detection, TopicKind::TargetEvent, TopicKind::Health,
-    TopicKind::Halo,   TopicKind::Clock,       TopicKind::PhaseDone, TopicKind::Broadcast,
-    TopicKind::Command, TopicKind::View,      TopicKind::Field,     TopicKind::Scenario};
+    TopicKind::Tile,        TopicKind::Deposit, TopicKind::UavState, TopicKind::UavHome, TopicKind::Detection,
+    TopicKind::TargetEvent, TopicKind::Health,  TopicKind::Halo,     TopicKind::Clock,   TopicKind::PhaseDone,
+    TopicKind::Broadcast,   TopicKind::Command, TopicKind::View,     TopicKind::Field,   TopicKind::Scenario};
 
 enum class Endpoint : uint8_t { Writer, Reader };
 

@@ -25,7 +25,7 @@ struct CommonOptions {
   std::string scenario;        // path of the scenario file
   std::string dds;             // vendor
   std::string dds_profile = "onehost";
-  std::string dds_peers;       // lan profiles: discovery peers, comma-separated addresses or host names
+  std::string dds_peers;  // lan profiles: discovery peers, comma-separated addresses or host names
   uint32_t domain = 0;
   std::string log_level = "info";
   double rate_hz = 0.0;        // 0: the scenario's tick_rate_hz
@@ -61,7 +61,8 @@ void add_common_options(CLI::App& app, CommonOptions& o);
 // The run as this process runs it (core::ScenarioMsg): the scenario file's
 // text and the overrides of `o` applied to `s`; an error if the file cannot be
 // read again or is larger than a RunScenario sample holds.
-core::Result<core::ScenarioMsg> scenario_message(const CommonOptions& o, const core::ScenarioConfig& s, uint32_t publisher);
+core::Result<core::ScenarioMsg> scenario_message(const CommonOptions& o, const core::ScenarioConfig& s,
+                                                 uint32_t publisher);
 // The other way round, for a monitor that attached with only the domain id:
 // the scenario (its overrides applied) and the options of the run into `o`
 // (clock, lease, standby, shared ownership, uavs, ticks, seed, rate).

@@ -1,0 +1,56 @@
+# CPack: `cpack -G DEB` in the build folder (`make package`) makes two Debian
+# packages from the two install components (cmake/Install.cmake):
+#   pheromesh_<version>_<arch>.deb      the programs, scenarios, profiles, docs
+#   pheromesh-dev_<version>_<arch>.deb  headers, static libraries, CMake package
+# The programs' Depends come from dpkg-shlibdeps (dpkg-dev), so they name
+# exactly the shared libraries this build linked. tests/package checks the
+# package on a clean Debian bookworm (docs/install.md).
+set(CPACK_PACKAGE_NAME pheromesh)
+set(CPACK_PACKAGE_VENDOR "pheromesh")
+set(CPACK_PACKAGE_VERSION ${PROJECT_VERSION})
+# No CPACK_PACKAGE_DESCRIPTION_SUMMARY: CPack would put it before both
+# packages' descriptions; the first line of each description is its summary.
+set(PHEROMESH_PACKAGE_MAINTAINER "pheromesh maintainers <maintainers@users.noreply.h-seed-e68ae258.example>"
+  CACHE STRING "Maintainer field of the Debian packages")
+set(CPACK_PACKAGE_CONTACT ${PHEROMESH_PACKAGE_MAINTAINER})
+set(CPACK_STRIP_FILES ON)  # as Debian ships programs; the build tree keeps the debug info
+set(CPACK_PACKAGE_FILE_NAME "${CPACK_PACKAGE_NAME}-${PROJECT_VERSION}")  # only non-DEB generators use it
+
+set(CPACK_DEB_COMPONENT_INSTALL ON)
+set(CPACK_COMPONENTS_ALL runtime development)
+set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)  # <name>_<version>_<arch>.deb
+set(CPACK_DEBIAN_PACKAGE_MAINTAINER ${PHEROMESH_PACKAGE_MAINTAINER})
+set(CPACK_DEBIAN_PACKAGE_SECTION science)
+set(CPACK_DEBIAN_PACKAGE_PRIORITY optional)
+
+set(CPACK_DEBIAN_RUNTIME_PACKAGE_NAME pheromesh)
+set(CPACK_DEBIAN_RUNTIME_PACKAGE_SHLIBDEPS ON)
+# `pheromesh run` with partition or loss faults drives ip and nft; with
+# --discovery-server it starts fast-discovery-server (docs/faults.md, README).
+set(CPACK_DEBIAN_RUNTIME_PACKAGE_RECOMMENDS "iproute2, nftables")
+set(CPACK_DEBIAN_RUNTIME_PACKAGE_SUGGESTS "fastdds-tools")
+set(CPACK_COMPONENT_RUNTIME_DESCRIPTION
+  "UAV swarm coordinating through digital pheromones over DDS
+Every UAV is its own process; every map region is a place agent process that
+owns the pheromone tiles of its region, aggregating, evaporating and diffusing
+the deposits the UAVs make. Processes talk over DDS (Cyclone DDS or Fast DDS,
+or both mixed) and a ground station watches, with a web console.
+.
+`pheromesh run small-test` starts a swarm of a shipped scenario on this host;
+`pheromesh sim` runs the same deterministically in one process; `pheromesh
+experiment` reproduces the experiments of the papers implemented (Shao 2020,
+Liu 2022, Duan 2009, Shostak 2024, Ravankar 2016).")
+
+set(CPACK_DEBIAN_DEVELOPMENT_PACKAGE_NAME pheromesh-dev)
+set(CPACK_DEBIAN_DEVELOPMENT_PACKAGE_SECTION libdevel)
+# Static libraries: what find_package(pheromesh) finds again (pheromeshConfig.cmake).
+set(CPACK_DEBIAN_DEVELOPMENT_PACKAGE_DEPENDS
+  "libeigen3-dev, libprotobuf-dev, libspdlog-dev, cyclonedds-dev, libfastrtps-dev, libfastcdr-dev")
+set(CPACK_COMPONENT_DEVELOPMENT_DESCRIPTION
+  "UAV swarm coordinating through digital pheromones over DDS - development files
+Headers, static libraries and the CMake package of pheromesh:
+find_package(pheromesh CONFIG) gives pheromesh::core (scenarios, pheromone
+layers, the papers' policies, the simulator; no DDS) and pheromesh::bus (the
+vendor-neutral bus over Cyclone DDS and Fast DDS).")
+
+include(CPack)
