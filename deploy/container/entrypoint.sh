@@ -74,11 +74,11 @@ index() {  # VAR WHAT
 scenario() {
   local s="${PHEROMESH_SCENARIO:-}"
   if [ -z "$s" ]; then
-    local names=("$prefix"/scenarios/*.textproto)
+    local names=("$prefix"/share/pheromesh/scenarios/*.textproto)
     names=("${names[@]##*/}")
     die "$role: no scenario: set \$PHEROMESH_SCENARIO to a file or one of: ${names[*]%.textproto}"
   fi
-  if [ ! -e "$s" ] && [ "${s#*/}" = "$s" ]; then s="$prefix/scenarios/${s%.textproto}.textproto"; fi
+  if [ ! -e "$s" ] && [ "${s#*/}" = "$s" ]; then s="$prefix/share/pheromesh/scenarios/${s%.textproto}.textproto"; fi
   [ -f "$s" ] || die "$role: scenario $s does not exist"
   echo "$s"
 }

@@ -9,7 +9,7 @@ ENTRY="$SRC/deploy/container/entrypoint.sh"
 fail() { echo "FAIL: $*" >&2; exit 1; }
 [ "$(id -u)" = 0 ] || { echo "SKIP: needs root for unshare --uts"; exit 77; }
 rm -rf "$OUT"
-mkdir -p "$OUT/prefix/bin" "$OUT/prefix/scenarios"
+mkdir -p "$OUT/prefix/bin" "$OUT/prefix/share/pheromesh/scenarios"
 for p in pheromesh-place pheromesh-uav pheromesh-ground; do
   cat > "$OUT/prefix/bin/$p" << 'STUB'
 #!/usr/bin/env bash
@@ -18,8 +18,8 @@ exit "${STUB_EXIT:-0}"
 STUB
   chmod +x "$OUT/prefix/bin/$p"
 done
-: > "$OUT/prefix/scenarios/small-test.textproto"
-S="$OUT/prefix/scenarios/small-test.textproto"
+: > "$OUT/prefix/share/pheromesh/scenarios/small-test.textproto"
+S="$OUT/prefix/share/pheromesh/scenarios/small-test.textproto"
 
 # run HOSTNAME [VAR=VALUE...] -- ARGS...: the entrypoint's output and exit code.
 run() {
@@ -52,7 +52,7 @@ expect "... with exit code 64" "$out" "rc=64"
 out=$(run place-1 -- place)
 expect "no scenario is an error that lists the shipped ones" "$out" "one of: small-test"
 out=$(run place-1 PHEROMESH_SCENARIO=nope -- place)
-expect "an unknown scenario is an error" "$out" "scenario $OUT/prefix/scenarios/nope.textproto does not exist"
+expect "an unknown scenario is an error" "$out" "scenario $OUT/prefix/share/pheromesh/scenarios/nope.textproto does not exist"
 out=$(run uav-1 PHEROMESH_SCENARIO=small-test PHEROMESH_DDS_PEERS=a,b -- uav)
 expect "peers make the default profile lan-unicast" "$out" "[profile=lan-unicast]"
 out=$(run uav-1 PHEROMESH_SCENARIO=small-test PHEROMESH_DDS_PROFILE=onehost -- uav)
