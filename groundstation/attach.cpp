@@ -6,6 +6,7 @@
 
 #include <chrono>
 #include <cstdlib>
+#include <memory>
 #include <string>
 #include <thread>
 
@@ -24,21 +25,29 @@ int attach(GroundConfig cfg, double timeout_s) {
   // A monitor signs nothing, even with the swarm's key in its environment.
   unsetenv(auth::kControlKeyEnv);
 
-  core::ScenarioMsg run;
-  {
-    auto options = runtime::bus_options(cfg.common, "ground-attach", false, log.get());
+  // The monitor's bus with the options in cfg.common; null (logged) if it
+  // cannot be made.
+  const auto make_bus = [&](bool standby) -> std::unique_ptr<bus::Bus> {
+    auto options = runtime::bus_options(cfg.common, "ground-attach", standby, log.get());
     if (!options) {
       log->error("{}", options.error().message);
-      return 3;
+      return nullptr;
     }
-    auto bus = bus::make_bus(cfg.common.dds, options.value());
-    if (!bus) {
-      log->error("{}", bus.error().message);
-      return 3;
+    auto made = bus::make_bus(cfg.common.dds, options.value());
+    if (!made) {
+      log->error("{}", made.error().message);
+      return nullptr;
     }
-    bus.value()->subscribe_scenario();
-    log->info("looking for a swarm on domain {} over {} (profile {}), up to {:.0f} s", cfg.common.domain,
-              bus.value()->vendor(), cfg.common.dds_profile, timeout_s);
+    return std::move(made).value();
+  };
+
+  core::ScenarioMsg run;
+  {
+    const auto bus = make_bus(false);
+    if (!bus) return 3;
+    bus->subscribe_scenario();
+    log->info("looking for a swarm on domain {} over {} (profile {}), up to {:.0f} s", cfg.common.domain, bus->vendor(),
+              cfg.common.dds_profile, timeout_s);
     const auto deadline =
         std::chrono::steady_clock::now() + std::chrono::milliseconds(static_cast<int64_t>(timeout_s * 1000));
     std::vector<core::ScenarioMsg> got;
@@ -51,8 +60,8 @@ int attach(GroundConfig cfg, double timeout_s) {
             cfg.common.domain, timeout_s);
         return 2;
       }
-      bus.value()->wait({bus::TopicKind::Scenario}, std::chrono::steady_clock::now() + std::chrono::milliseconds(100));
-      bus.value()->take_scenarios(got);
+      bus->wait({bus::TopicKind::Scenario}, std::chrono::steady_clock::now() + std::chrono::milliseconds(100));
+      bus->take_scenarios(got);
     }
     run = got.front();
   }
@@ -69,18 +78,10 @@ int attach(GroundConfig cfg, double timeout_s) {
   cfg.launcher_fd = -1;
   cfg.fault_ticks.clear();
   cfg.scenario_path = "(published by the swarm)";
-  auto options = runtime::bus_options(cfg.common, "ground-attach", scenario->standby, log.get());
-  if (!options) {
-    log->error("{}", options.error().message);
-    return 3;
-  }
-  auto bus = bus::make_bus(cfg.common.dds, options.value());
-  if (!bus) {
-    log->error("{}", bus.error().message);
-    return 3;
-  }
+  auto bus = make_bus(scenario->standby);
+  if (!bus) return 3;
   try {
-    return GroundApp(cfg, std::move(scenario).value(), std::move(bus).value()).run();
+    return GroundApp(cfg, std::move(scenario).value(), std::move(bus)).run();
   } catch (const std::exception& e) {
     log->critical("fatal: {}", e.what());
     return 4;
