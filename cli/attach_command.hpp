@@ -20,6 +20,7 @@ struct AttachOptions {
   double timeout_s = 60;
   double progress_s = 1.0;
   std::string log_level = "info";
+  std::string secure;  // DDS Security directory: the monitor uses its read-only identity there
 };
 
 // Replaces this process with pheromesh-ground --attach; returns only on error.

@@ -1,5 +1,7 @@
 #include "launcher.hpp"
 
+#include "pheromesh/bus/security.hpp"
+
 #include <fcntl.h>
 #include <sched.h>
 #include <spdlog/spdlog.h>
@@ -110,6 +112,7 @@ void Launcher::spawn(const std::string& role, uint32_t index, const std::vector<
                                 "--clock", o_.clock,
                                 "--lease-ms", std::to_string(o_.lease_ms)};
   if (!o_.dds_peers.empty()) args.insert(args.end(), {"--dds-peers", o_.dds_peers});
+  if (!o_.secure.empty()) args.insert(args.end(), {"--secure", o_.secure});
   if (o_.uavs > 0) args.insert(args.end(), {"--uavs", std::to_string(o_.uavs)});
   if (o_.seed > 0) args.insert(args.end(), {"--seed", std::to_string(o_.seed)});
   if (o_.rate_hz > 0) args.insert(args.end(), {"--rate", std::to_string(o_.rate_hz)});
@@ -502,6 +505,27 @@ void Launcher::stop_role(const std::string& role, std::chrono::seconds grace) {
   }
 }
 
+std::optional<std::string> Launcher::check_secure(uint32_t uavs, uint32_t regions) const {
+  if (o_.secure.empty()) return std::nullopt;
+  // Every process this host starts needs its identity: say which is missing
+  // before starting any (a missing one would stop that process at start).
+  std::vector<std::string> names;
+  if (on_this_host("ground", 0)) names.emplace_back("ground");
+  for (uint32_t r = 0; r < regions; ++r) {
+    for (uint32_t k = 0; k < (standby_ ? 2U : 1U); ++k) {
+      if (on_this_host("place", r, k)) names.push_back(process_name("place", r, k));
+    }
+  }
+  for (uint32_t u = 0; u < uavs; ++u) {
+    if (on_this_host("uav", u)) names.push_back(process_name("uav", u, 0));
+  }
+  for (const auto& n : names) {
+    auto f = bus::find_security_files(o_.secure, n);
+    if (!f) return f.error().message;
+  }
+  return std::nullopt;
+}
+
 std::optional<std::string> Launcher::check_multi_host(const core::ScenarioConfig& s) const {
   if (o_.hosts == 0) return "--hosts must be at least 1";
   if (o_.host_index >= o_.hosts) {
@@ -592,6 +616,10 @@ int Launcher::run() {
     }
   }
   if (auto err = prepare_faults(s, uavs, regions)) {
+    spdlog::error("{}", *err);
+    return 2;
+  }
+  if (auto err = check_secure(uavs, regions)) {
     spdlog::error("{}", *err);
     return 2;
   }

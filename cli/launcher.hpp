@@ -58,6 +58,7 @@ struct RunOptions {
   std::string http_bind = "127.0.0.1";
   std::string record;              // default with --http: OUT/console.phrec
   bool no_record = false;
+  std::string secure;              // DDS Security: the directory of `pheromesh security init` (docs/security.md)
 };
 
 struct ChildProcess {
@@ -124,6 +125,8 @@ class Launcher {
   [[nodiscard]] bool on_this_host(const std::string& role, uint32_t index, uint32_t replica = 0) const;
   [[nodiscard]] bool multi_host() const { return o_.hosts > 1; }
   // --hosts: what a swarm over several hosts cannot do; an error message.
+  // With --secure: an error naming the first process of this host without its identity.
+  std::optional<std::string> check_secure(uint32_t uavs, uint32_t regions) const;
   std::optional<std::string> check_multi_host(const core::ScenarioConfig& s) const;
   std::map<std::string, uint32_t> participant_of_;  // process name -> Fast DDS participant id on this host
   // The process a fault target means now: uav-I, ground, and for place:R the

@@ -11,6 +11,7 @@
 #include "scenario_paths.hpp"
 #include "experiment_command.hpp"
 #include "launcher.hpp"
+#include "security_command.hpp"
 #include "pheromesh/auth/control.hpp"
 #include "pheromesh/bus/bus.hpp"
 #include "pheromesh/core/scenario.hpp"
@@ -202,6 +203,11 @@ int main(int argc, char** argv) {
                 "OUT/console.phrec for `pheromesh replay`");
   r->add_option("--http-bind", ro.http_bind, "Address the console listens on (0.0.0.0: every interface)")
       ->capture_default_str();
+  if (const char* p = std::getenv("PHEROMESH_SECURE"); p != nullptr) ro.secure = p;
+  r->add_option("--secure", ro.secure,
+                "DDS Security: the directory made by `pheromesh security init` for this swarm; every process "
+                "authenticates with its own identity there, and the permissions, access control and the "
+                "governance's encryption apply (docs/security.md) [env PHEROMESH_SECURE]");
   r->add_option("--record", ro.record, "Where the console records the run (default OUT/console.phrec)");
   r->add_flag("--no-record", ro.no_record, "Do not record the console");
 
@@ -298,7 +304,34 @@ int main(int argc, char** argv) {
   at->add_option("--timeout", ao.timeout_s, "Longest wait for a running swarm [s]")->capture_default_str();
   at->add_option("--progress", ao.progress_s, "Seconds between progress lines")->capture_default_str();
   at->add_option("--process-log-level", ao.log_level, "Log level of the monitor")->capture_default_str();
+  if (const char* p = std::getenv("PHEROMESH_SECURE"); p != nullptr) ao.secure = p;
+  at->add_option("--secure", ao.secure,
+                 "DDS Security: the swarm's directory of `pheromesh security init`; the monitor authenticates with "
+                 "its read-only identity 'monitor' there (docs/security.md) [env PHEROMESH_SECURE]");
   at->footer(kAttachFooter);
+
+  cli::SecurityInitOptions sio;
+  auto* sec = app.add_subcommand("security", "DDS Security for a swarm: authentication, access control, encryption "
+                                             "(docs/security.md)");
+  sec->require_subcommand(1);
+  auto* si = sec->add_subcommand("init", "Make a swarm's CA, one identity per process (UAVs, place agents, ground "
+                                         "station, read-only monitor), the governance and the signed permissions "
+                                         "in DIR, for `pheromesh run --secure DIR`");
+  si->add_option("DIR", sio.dir, "Directory to make (mode 0700)")->required();
+  si->add_option("--scenario", sio.scenario, "The swarm's scenario: its UAVs, regions and standby setting")
+      ->transform(CLI::Validator(cli::resolve_scenario_argument, "FILE|NAME"));
+  si->add_option("--uavs", sio.uavs, "UAV identities to make (default: the scenario's swarm.uavs)");
+  si->add_option("--regions", sio.regions, "Place-agent identities to make (default: the scenario's regions)");
+  si->add_flag("--standby", sio.standby, "Also an identity for each place agent's standby (place-R.r1)");
+  si->add_option("--probes", sio.probes, "Also identities probe-0 .. probe-N-1 for pheromesh-test-probe and benches");
+  si->add_option("--protection", sio.protection,
+                 "What the governance does to the traffic: encrypt (AES-GCM), sign (GMAC, readable) or none "
+                 "(authentication and access control only)")
+      ->check(CLI::IsMember({"encrypt", "sign", "none"}))
+      ->capture_default_str();
+  si->add_option("--days", sio.days, "Validity of the certificates and permissions [days]")->capture_default_str();
+  si->add_flag("--force", sio.force, "Replace the files of an earlier `security init` in DIR");
+  si->footer(cli::kSecurityFooter);
 
   CLI11_PARSE(app, argc, argv);
   auto logger = spdlog::stderr_color_mt("pheromesh");
@@ -312,6 +345,7 @@ int main(int argc, char** argv) {
     return 0;
   }
   if (at->parsed()) return cli::run_attach(ao);
+  if (si->parsed()) return cli::run_security_init(sio);
   if (sim->parsed()) return cli::run_sim(so);
   if (ex->parsed()) return cli::run_experiment_command(eo);
   if (rp->parsed()) return cli::run_replay(rpo);

@@ -12,6 +12,7 @@
 
 #include "ground_app.hpp"
 #include "pheromesh/auth/control.hpp"
+#include "pheromesh/bus/security.hpp"
 
 namespace pheromesh::groundstation {
 
@@ -33,6 +34,8 @@ int attach(GroundConfig cfg, double timeout_s) {
       log->error("{}", options.error().message);
       return nullptr;
     }
+    // Under DDS Security the monitor has its own read-only identity.
+    options->identity = bus::kMonitorIdentity;
     auto made = bus::make_bus(cfg.common.dds, options.value());
     if (!made) {
       log->error("{}", made.error().message);

@@ -9,10 +9,21 @@
 //   idle --id I --regions R      a UAV's endpoints and nothing else, until
 //                                SIGTERM: what discovery alone costs
 //                                (bench/discovery_idle.sh).
+//   snoop --seconds S            read every pheromesh topic for S seconds
+//                                (ends early with --until-tiles/--until-clocks)
+//                                and try to inject a deposit into region 0;
+//                                print what it read and how many readers
+//                                matched its writer (DDS Security tests).
+//   offend --topic tile|clock    write one tile / one clock sample and stay
+//                                --linger seconds; print "refused: ..." if the
+//                                bus would not make the writer (permissions).
+// --secure DIR [--identity NAME]: DDS Security with an identity of DIR
+// (default probe-<id>).
 #include <spdlog/spdlog.h>
 
 #include <CLI/CLI.hpp>
 #include <chrono>
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -117,6 +128,92 @@ int idle(bus::Bus& b, uint32_t id, uint32_t regions) {
   return 0;
 }
 
+int snoop(bus::Bus& b, double seconds, uint64_t until_tiles, uint64_t until_clocks) {
+  b.subscribe_ground();
+  b.subscribe_broadcasts();
+  b.subscribe_scenario();
+  b.subscribe_commands();
+  b.subscribe_clock();
+  b.subscribe_phase_done();
+  std::vector<core::TileMsg> tiles;
+  std::vector<core::FieldMsg> fields;
+  std::vector<core::UavStateMsg> states;
+  std::vector<core::DetectionMsg> detections;
+  std::vector<core::TargetEventMsg> events;
+  std::vector<core::HealthMsg> health;
+  std::vector<core::BroadcastMsg> broadcasts;
+  std::vector<core::ScenarioMsg> scenarios;
+  std::vector<core::CommandMsg> commands;
+  std::vector<core::ClockMsg> clocks;
+  std::vector<core::PhaseDoneMsg> dones;
+  const auto deadline = Clock::now() + std::chrono::milliseconds(static_cast<int64_t>(seconds * 1000));
+  uint32_t injected = 0, most_matched = 0;
+  // A deposit into region 0 from a UAV the swarm does not have, every 200 ms:
+  // a place agent that accepted it would count it as rejected (unknown UAV's
+  // sequence) or applied, and the run's accounting would show it.
+  // A secure identity without the right (the monitor) cannot even make the
+  // writer: then it only reads.
+  uint32_t seq = 0;
+  bool can_write = true;
+  while (!runtime::shutdown_requested() && Clock::now() < deadline) {
+    if (can_write) {
+      try {
+        most_matched = std::max(most_matched, b.matched_deposit_readers(0));
+        injected += b.publish_deposit({900001, ++seq, 1, 0, 0, 0, {1, 1}, 1.0F, {}}, 0) ? 1 : 0;
+      } catch (const std::exception& e) {
+        std::printf("deposit writer refused: %s\n", e.what());
+        can_write = false;
+      }
+    }
+    b.take_tiles(tiles);
+    b.take_fields(fields);
+    b.take_uav_states(states);
+    b.take_detections(detections);
+    b.take_target_events(events);
+    b.take_health(health);
+    b.take_broadcasts(broadcasts);
+    b.take_scenarios(scenarios);
+    b.take_commands(commands);
+    b.take_clock(clocks);
+    b.take_phase_done(dones);
+    if ((until_tiles > 0 || until_clocks > 0) && tiles.size() >= until_tiles && clocks.size() >= until_clocks) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  }
+  const std::size_t total = tiles.size() + fields.size() + states.size() + detections.size() + events.size() +
+                            health.size() + broadcasts.size() + scenarios.size() + commands.size() + clocks.size() +
+                            dones.size();
+  std::printf("snooped %zu samples: tiles %zu fields %zu states %zu detections %zu events %zu health %zu broadcasts %zu "
+              "scenarios %zu commands %zu clocks %zu phase_done %zu; deposits written %u, most readers matched %u\n",
+              total, tiles.size(), fields.size(), states.size(), detections.size(), events.size(), health.size(),
+              broadcasts.size(), scenarios.size(), commands.size(), clocks.size(), dones.size(), injected, most_matched);
+  std::fflush(stdout);
+  return 0;
+}
+
+int offend(bus::Bus& b, const std::string& what, double linger_s) {
+  bool written = false;
+  try {
+    if (what == "tile") {
+      written = b.publish_tile({0, {0, 0}, 7, 0, 1, 1, {42.0F}});
+    } else if (what == "clock") {
+      written = b.publish_clock({7, 0, 0, {}, {}, {}});
+    } else {
+      std::fprintf(stderr, "unknown --topic %s\n", what.c_str());
+      return 2;
+    }
+  } catch (const std::exception& e) {
+    std::printf("refused: %s\n", e.what());
+    std::fflush(stdout);
+    return 0;
+  }
+  std::printf("%s %s\n", what.c_str(), written ? "written" : "not written");
+  std::fflush(stdout);
+  // Transient-local: a reader that matches while this writer lives gets it.
+  const auto until = Clock::now() + std::chrono::milliseconds(static_cast<int64_t>(linger_s * 1000));
+  while (!runtime::shutdown_requested() && Clock::now() < until) std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -140,6 +237,19 @@ int main(int argc, char** argv) {
   auto* h = app.add_subcommand("hostile", "send malformed samples");
   h->add_option("--region", region);
   h->add_option("--map-width", width);
+  double seconds = 10, linger_s = 10;
+  uint64_t until_tiles = 0, until_clocks = 0;
+  auto* sn = app.add_subcommand("snoop", "read every topic, try to inject deposits");
+  sn->add_option("--seconds", seconds);
+  sn->add_option("--until-tiles", until_tiles);
+  sn->add_option("--until-clocks", until_clocks);
+  std::string what;
+  auto* of = app.add_subcommand("offend", "write a tile or a clock sample");
+  of->add_option("--topic", what)->required();
+  of->add_option("--linger", linger_s);
+  std::string secure, identity;
+  app.add_option("--secure", secure);
+  app.add_option("--identity", identity);
   CLI11_PARSE(app, argc, argv);
   spdlog::set_level(spdlog::level::warn);
   runtime::install_shutdown_handlers();
@@ -147,6 +257,8 @@ int main(int argc, char** argv) {
   o.process_name = "probe";
   o.domain = domain;
   o.profile = profile;
+  o.secure_dir = secure;
+  o.identity = identity.empty() ? "probe-" + std::to_string(id) : identity;
   // Under PHEROMESH_DDS=mixed the probes alternate vendors by id.
   if (dds == "mixed") dds = id % 2 == 0 ? "cyclone" : "fastdds";
   auto b = bus::make_bus(dds, o);
@@ -156,5 +268,7 @@ int main(int argc, char** argv) {
   }
   if (d->parsed()) return discover(*b.value(), id, expect, timeout_s);
   if (i->parsed()) return idle(*b.value(), id, regions);
+  if (sn->parsed()) return snoop(*b.value(), seconds, until_tiles, until_clocks);
+  if (of->parsed()) return offend(*b.value(), what, linger_s);
   return hostile(*b.value(), region, width);
 }

@@ -14,6 +14,8 @@
 //    killed process leaves nothing in /dev/shm.
 #include "fastdds_bus.hpp"
 
+#include "pheromesh/bus/security.hpp"
+
 #include <fastdds/rtps/common/Locator.h>
 #include <fastrtps/utils/IPLocator.h>
 #include <spdlog/spdlog.h>
@@ -38,6 +40,7 @@
 #include <fastdds/dds/topic/TypeSupport.hpp>
 
 #include <algorithm>
+#include <filesystem>
 #include <cstdlib>
 #include <filesystem>
 #include <map>
@@ -368,6 +371,7 @@ class FastDdsBus final : public VendorBus {
     // 250 domain + 2 id): no search for free ports, so no limit of about 120
     // participants per host that the search (mutation_tries) imposes.
     if (o.participant_id >= 0) pq.wire_protocol().participant_id = o.participant_id;
+    if (!o.secure_dir.empty()) set_security(pq, o);
     participant_ = factory->create_participant(o.domain, pq);
     if (participant_ == nullptr) {
       throw std::runtime_error("cannot create a participant on domain " + std::to_string(o.domain) +
@@ -920,12 +924,37 @@ class FastDdsBus final : public VendorBus {
     if (ts.register_type(participant_) != ReturnCode_t::RETCODE_OK) {
       throw std::runtime_error(std::string("cannot register type ") + type_name(k));
     }
+  }
+
+  // Topics are created when a process first writes or reads one, as in the
+  // Cyclone bus: under DDS Security a participant may create only the topics
+  // its permissions name.
+  fdds::Topic* topic(TopicKind k) {
+    if (auto it = topics_.find(topic_name(k)); it != topics_.end()) return it->second;
     fdds::Topic* t = participant_->create_topic(topic_name(k), type_name(k), fdds::TOPIC_QOS_DEFAULT);
     if (t == nullptr) throw std::runtime_error(std::string("cannot create topic ") + topic_name(k));
     topics_[topic_name(k)] = t;
+    return t;
   }
 
-  fdds::Topic* topic(TopicKind k) { return topics_.at(topic_name(k)); }
+  // DDS Security through the participant's properties (Fast DDS's builtin
+  // plugins; docs/security.md).
+  static void set_security(fdds::DomainParticipantQos& pq, const BusOptions& o) {
+    auto f = find_security_files(o.secure_dir, o.identity.empty() ? o.process_name : o.identity);
+    if (!f) throw std::runtime_error(f.error().message);
+    // Fast DDS takes "file://" + path (PKIDH.cpp refuses "file:/path").
+    const auto file = [](const std::string& path) { return "file://" + std::filesystem::absolute(path).string(); };
+    auto& props = pq.properties().properties();
+    props.emplace_back("dds.sec.auth.plugin", "builtin.PKI-DH");
+    props.emplace_back("dds.sec.auth.builtin.PKI-DH.identity_ca", file(f->ca));
+    props.emplace_back("dds.sec.auth.builtin.PKI-DH.identity_certificate", file(f->cert));
+    props.emplace_back("dds.sec.auth.builtin.PKI-DH.private_key", file(f->key));
+    props.emplace_back("dds.sec.access.plugin", "builtin.Access-Permissions");
+    props.emplace_back("dds.sec.access.builtin.Access-Permissions.permissions_ca", file(f->ca));
+    props.emplace_back("dds.sec.access.builtin.Access-Permissions.governance", file(f->governance));
+    props.emplace_back("dds.sec.access.builtin.Access-Permissions.permissions", file(f->permissions));
+    props.emplace_back("dds.sec.crypto.plugin", "builtin.AES-GCM-GMAC");
+  }
 
   // A View or a RegionField: `head` fills the fields before the nested tiles
   // and states and returns the region the tiles belong to; a sample over a
@@ -980,7 +1009,10 @@ class FastDdsBus final : public VendorBus {
     e.publisher = participant_->create_publisher(pq);
     if (e.publisher == nullptr) throw std::runtime_error("cannot create a publisher for partition " + partition);
     e.writer = e.publisher->create_datawriter(topic(k), to_fastdds_writer(endpoint_qos(k, Endpoint::Writer, opt_.liveliness_lease, opt_.replication)));
-    if (e.writer == nullptr) throw std::runtime_error(std::string("cannot create a writer of ") + to_string(k));
+    if (e.writer == nullptr) {
+      throw std::runtime_error(std::string("cannot create a writer of ") + to_string(k) + " in partition " + partition +
+                               (opt_.secure_dir.empty() ? "" : " (refused by this identity's DDS Security permissions?)"));
+    }
     writers_.emplace(key, e);
     return e.writer;
   }
@@ -997,7 +1029,10 @@ class FastDdsBus final : public VendorBus {
     const fdds::StatusMask mask = listener != nullptr ? fdds::StatusMask::liveliness_changed() : fdds::StatusMask::none();
     fdds::DataReader* r =
         s->create_datareader(topic(k), to_fastdds_reader(endpoint_qos(k, Endpoint::Reader, opt_.liveliness_lease, opt_.replication)), listener, mask);
-    if (r == nullptr) throw std::runtime_error(std::string("cannot create a reader of ") + to_string(k));
+    if (r == nullptr) {
+      throw std::runtime_error(std::string("cannot create a reader of ") + to_string(k) +
+                               (opt_.secure_dir.empty() ? "" : " (refused by this identity's DDS Security permissions?)"));
+    }
     // Every reader can wake wait(): its data-available status condition.
     r->get_statuscondition().set_enabled_statuses(fdds::StatusMask::data_available());
     const auto kind = static_cast<unsigned>(k);

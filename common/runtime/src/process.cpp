@@ -62,6 +62,11 @@ void add_common_options(CLI::App& app, CommonOptions& o) {
   app.add_flag("--standby", o.standby,
                "The swarm runs a hot-standby replica of every place agent (every process of it needs this flag, or "
                "the scenario's run.standby: true): exclusive ownership of place-agent output");
+  o.secure = env_or("PHEROMESH_SECURE", o.secure);
+  app.add_option("--secure", o.secure,
+                 "DDS Security: the directory made by `pheromesh security init`; this process authenticates with "
+                 "its own identity there (uav-N, place-R, ground), and its permissions, the governance's "
+                 "encryption and access control apply (docs/security.md) [env PHEROMESH_SECURE]");
   app.add_flag("--shared-ownership", o.shared_ownership,
                "With standbys: readers take every replica's output (shared ownership) instead of the owner's only; "
                "pheromesh run sets it for swarms with Fast DDS processes (docs/faults.md)");
@@ -165,6 +170,7 @@ core::Result<bus::BusOptions> bus_options(const CommonOptions& o, const std::str
   b.domain = o.domain;
   b.profile = o.dds_profile;
   b.liveliness_lease = std::chrono::milliseconds(o.lease_ms);
+  b.secure_dir = o.secure;
   // Given by `pheromesh run` to each process it spawns (Fast DDS ports).
   if (const char* id = std::getenv("PHEROMESH_PARTICIPANT_ID"); id != nullptr && *id != '\0') {
     char* end = nullptr;

@@ -53,6 +53,11 @@ struct BusOptions {
   int32_t participant_id = -1;
   // Hot-standby place agents in this swarm (qos.hpp, docs/faults.md).
   Replication replication;
+  // DDS Security (security.hpp, docs/security.md): the directory `pheromesh
+  // security init` made, and the identity in it this process uses (empty:
+  // its process_name). Empty secure_dir: no security, the open profile.
+  std::string secure_dir;
+  std::string identity;
 };
 
 // Samples dropped by the bus itself (structurally malformed: sequence bounds,

@@ -47,6 +47,10 @@ struct CommonOptions {
   // A place agent's replica number (0 the primary, 1.. standbys); -1 for
   // every other process. Its ownership strength is kMaxStrength - replica.
   int32_t place_replica = -1;
+  // DDS Security: the directory of `pheromesh security init` (empty: none).
+  // The process uses the identity named after it (uav-3, place-0, ground;
+  // the monitor: "monitor").
+  std::string secure;
 };
 
 // Loads the scenario and applies the overrides of the common flags (--rate,
