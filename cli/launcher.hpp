@@ -127,6 +127,9 @@ class Launcher {
   // --hosts: what a swarm over several hosts cannot do; an error message.
   // With --secure: an error naming the first process of this host without its identity.
   std::optional<std::string> check_secure(uint32_t uavs, uint32_t regions) const;
+  // --secure over Fast DDS: processes start this far apart (spawn()).
+  static constexpr std::chrono::milliseconds kSecureFastDdsSpawnGap{300};
+  std::chrono::steady_clock::time_point last_secure_spawn_{};
   std::optional<std::string> check_multi_host(const core::ScenarioConfig& s) const;
   std::map<std::string, uint32_t> participant_of_;  // process name -> Fast DDS participant id on this host
   // The process a fault target means now: uav-I, ground, and for place:R the
