@@ -10,7 +10,12 @@
 // agent's tick. The figure therefore includes up to one tick of waiting
 // (1 ms at the default 1000 Hz) besides the two DDS hops.
 //
-//   pheromesh-bench-latency [--samples N] [--rate HZ] [--domain D] [--json FILE]
+// With --security the same is measured per vendor without DDS Security and
+// with it at each governance protection (none: authenticated and
+// access-controlled only; sign: GMAC; encrypt: AES-GCM), all in one run
+// (docs/security.md).
+//
+//   pheromesh-bench-latency [--samples N] [--rate HZ] [--domain D] [--json FILE] [--security]
 #include <fcntl.h>
 #include <signal.h>
 #include <spdlog/spdlog.h>
@@ -22,6 +27,7 @@
 #include <array>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -64,10 +70,13 @@ double percentile(std::vector<double> v, double p) {
 constexpr int32_t kMapSide = 32;   // bench/latency.textproto
 constexpr int32_t kTileSide = 16;
 
-int client(const std::string& vendor, uint32_t domain, int samples) {
+int client(const std::string& vendor, uint32_t domain, int samples, const std::string& secure) {
   bus::BusOptions o;
   o.process_name = "bench-client";
   o.domain = domain;
+  // A test identity that may deposit and read fields (security.hpp).
+  o.secure_dir = secure;
+  o.identity = "probe-0";
   auto made = bus::make_bus(vendor, o);
   if (!made) {
     std::fprintf(stderr, "%s\n", made.error().message.c_str());
@@ -183,6 +192,7 @@ double field(const std::string& text, const std::string& key) {
 
 struct Row {
   std::string name, place, client;
+  std::string secure;  // DDS Security directory of both processes, or none
   double p50 = -1, p99 = -1, mean = -1;
   int n = 0, lost = 0;
   long place_rss_kb = -1, client_rss_kb = -1;
@@ -190,13 +200,19 @@ struct Row {
 
 Row measure(const std::string& self, const std::string& bin, const std::string& tmp, Row row, uint32_t domain, int samples,
             double rate) {
-  const pid_t place = spawn({bin + "/pheromesh-place", "--scenario", kScenario, "--region", "0", "--dds", row.place,
-                             "--domain", std::to_string(domain), "--rate", std::to_string(rate), "--log-level", "warn"},
-                            tmp + "/place-" + row.name + ".log");
-  const std::string client_out = tmp + "/client-" + row.name + ".txt";
-  const pid_t cl = spawn({self, "client", "--dds", row.client, "--domain", std::to_string(domain), "--samples",
-                          std::to_string(samples)},
-                         client_out);
+  std::vector<std::string> place_args{bin + "/pheromesh-place", "--scenario", kScenario, "--region", "0", "--dds",
+                                      row.place, "--domain", std::to_string(domain), "--rate", std::to_string(rate),
+                                      "--log-level", "warn"};
+  std::vector<std::string> client_args{self, "client", "--dds", row.client, "--domain", std::to_string(domain),
+                                       "--samples", std::to_string(samples)};
+  if (!row.secure.empty()) {
+    place_args.insert(place_args.end(), {"--secure", row.secure});
+    client_args.insert(client_args.end(), {"--secure", row.secure});
+  }
+  const std::string tag = std::to_string(domain);
+  const pid_t place = spawn(place_args, tmp + "/place-" + tag + ".log");
+  const std::string client_out = tmp + "/client-" + tag + ".txt";
+  const pid_t cl = spawn(client_args, client_out);
   const int rc = wait_for(cl, std::chrono::seconds(180));
   row.place_rss_kb = rss_kb(place);
   kill(place, SIGTERM);
@@ -254,14 +270,19 @@ int main(int argc, char** argv) {
   app.add_option("--rate", rate, "Tick rate of the place agent [Hz]")->check(CLI::Range(1.0, 1000.0))->capture_default_str();
   app.add_option("--domain", domain, "DDS domain id of the benchmark")->check(CLI::Range(0, 232))->capture_default_str();
   app.add_option("--json", json_path, "Also write the figures as JSON to this file");
-  std::string vendor;
+  bool security = false;
+  app.add_flag("--security", security,
+               "Per vendor: without DDS Security, then with it at protection none, sign and encrypt (instead of the "
+               "vendor pairs)");
+  std::string vendor, secure;
   auto* cl = app.add_subcommand("client", "(internal) the depositing side of one measurement");
   cl->add_option("--dds", vendor)->required();
+  cl->add_option("--secure", secure);
   cl->add_option("--domain", domain);
   cl->add_option("--samples", samples);
   CLI11_PARSE(app, argc, argv);
   spdlog::set_level(spdlog::level::warn);
-  if (cl->parsed()) return client(vendor, domain, samples);
+  if (cl->parsed()) return client(vendor, domain, samples, secure);
 
   const std::string self = fs::read_symlink("/proc/self/exe").string();
   const std::string bin = fs::path(self).parent_path().string();
@@ -269,10 +290,29 @@ int main(int argc, char** argv) {
   fs::create_directories(tmp);
   std::printf("deposit -> tile update, place agent at %.0f Hz (up to %.2f ms of tick wait included), %d samples each\n",
               rate, 1000.0 / rate, samples);
-  const std::vector<Row> plan = {{"cyclone", "cyclone", "cyclone"},
-                                 {"fastdds", "fastdds", "fastdds"},
-                                 {"mixed (cyclone place, fastdds uav)", "cyclone", "fastdds"},
-                                 {"mixed (fastdds place, cyclone uav)", "fastdds", "cyclone"}};
+  std::vector<Row> plan = {{"cyclone", "cyclone", "cyclone", ""},
+                           {"fastdds", "fastdds", "fastdds", ""},
+                           {"mixed (cyclone place, fastdds uav)", "cyclone", "fastdds", ""},
+                           {"mixed (fastdds place, cyclone uav)", "fastdds", "cyclone", ""}};
+  if (security) {
+    // The baseline and the three protections, per vendor, in this one run.
+    plan.clear();
+    for (const char* protection : {"none", "sign", "encrypt"}) {
+      const std::string dir = tmp + "/sec-" + protection;
+      const std::string cmd = bin + "/pheromesh security init " + dir + " --scenario " + kScenario +
+                              " --probes 1 --protection " + protection + " > /dev/null";
+      if (std::system(cmd.c_str()) != 0) {
+        std::fprintf(stderr, "cannot make the identities: %s\n", cmd.c_str());
+        return 3;
+      }
+    }
+    for (const char* v : {"cyclone", "fastdds"}) {
+      plan.push_back({std::string(v) + ", no security", v, v, ""});
+      for (const char* protection : {"none", "sign", "encrypt"}) {
+        plan.push_back({std::string(v) + ", secure, protection " + protection, v, v, tmp + "/sec-" + protection});
+      }
+    }
+  }
   std::vector<Row> rows;
   for (const auto& p : plan) {
     rows.push_back(measure(self, bin, tmp, p, domain, samples, rate));

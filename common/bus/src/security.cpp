@@ -87,7 +87,11 @@ Grant ground_grant() {
 Grant monitor_grant() { return {kMonitorIdentity, "", {}, read_everything()}; }
 
 Grant probe_grant(uint32_t n) {
-  return {"probe-" + std::to_string(n), "", {{topic(TopicKind::Health), {kGroundPartition}}}, read_everything()};
+  // Health records (discovery probes) and deposits (the latency bench's
+  // client, the hostile probe): test tools, never a swarm process.
+  return {"probe-" + std::to_string(n), "",
+          {{topic(TopicKind::Health), {kGroundPartition}}, {topic(TopicKind::Deposit), {"r.*"}}},
+          read_everything()};
 }
 
 void xml_escape_into(std::string& out, const std::string& s) {

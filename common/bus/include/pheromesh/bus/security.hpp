@@ -59,7 +59,8 @@ struct SwarmShape {
   uint32_t regions = 0;
   uint32_t standby = 0;  // standby replicas per place agent (0 or 1 today)
   // Identities probe-0 .. probe-(N-1) for pheromesh-test-probe and the
-  // benches: they read everything and publish only health records.
+  // benches: they read everything and publish only health records and
+  // deposits.
   uint32_t probes = 0;
 };
 

@@ -1,0 +1,94 @@
+// DDS Security material without DDS: the role grants (bus/security.hpp) and
+// the OpenSSL PKI (auth/pki.hpp). The processes that enforce them are in
+// tests/integration/test_security.cpp.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+
+#include "pheromesh/auth/pki.hpp"
+#include "pheromesh/bus/security.hpp"
+
+using namespace pheromesh;  // NOLINT
+
+namespace {
+
+bool allows(const std::vector<bus::TopicRule>& rules, const std::string& topic, const std::string& partition) {
+  return std::any_of(rules.begin(), rules.end(), [&](const bus::TopicRule& r) {
+    return r.topic == topic && std::find(r.partitions.begin(), r.partitions.end(), partition) != r.partitions.end();
+  });
+}
+
+bool names_topic(const std::vector<bus::TopicRule>& rules, const std::string& topic) {
+  return std::any_of(rules.begin(), rules.end(), [&](const bus::TopicRule& r) { return r.topic == topic; });
+}
+
+}  // namespace
+
+TEST(SecurityGrants, AUavWritesOnlyItsOwnStateAndDepositsToItsHomeAndNeverTilesClockOrCommands) {
+  const bus::SwarmShape shape{10, 4, 0, 0};
+  const auto g = bus::grant_for("uav-6", shape);  // home region 6 mod 4 = 2
+  ASSERT_TRUE(g.ok()) << g.error().message;
+  EXPECT_EQ(g->subject, "CN=uav-6");
+  EXPECT_TRUE(allows(g->publish, "pheromesh_uav_state", "s.2"));
+  EXPECT_TRUE(allows(g->publish, "pheromesh_deposit", "r.2"));
+  EXPECT_FALSE(allows(g->publish, "pheromesh_deposit", "r.*"));
+  EXPECT_FALSE(allows(g->publish, "pheromesh_uav_state", "s.*"));
+  for (const char* t : {"pheromesh_tile", "pheromesh_clock", "pheromesh_command", "pheromesh_region_field",
+                        "pheromesh_view", "pheromesh_halo"}) {
+    EXPECT_FALSE(names_topic(g->publish, t)) << t;
+  }
+  EXPECT_TRUE(allows(g->subscribe, "pheromesh_view", "u.6"));
+}
+
+TEST(SecurityGrants, OnlyTheGroundStationWritesTheClockAndCommandsAndTheMonitorWritesNothing) {
+  const bus::SwarmShape shape{3, 2, 1, 0};
+  for (const auto& g : bus::swarm_grants(shape)) {
+    const bool ground = g.name == "ground";
+    EXPECT_EQ(names_topic(g.publish, "pheromesh_clock"), ground) << g.name;
+    EXPECT_EQ(names_topic(g.publish, "pheromesh_command"), ground) << g.name;
+    if (g.name == bus::kMonitorIdentity) {
+      EXPECT_TRUE(g.publish.empty());
+    }
+  }
+  EXPECT_EQ(bus::swarm_grants(shape).size(), 2U * 2 + 3 + 2);  // places and standbys, UAVs, ground, monitor
+  EXPECT_TRUE(bus::grant_for("place-1.r1", shape).ok());
+  EXPECT_FALSE(bus::grant_for("place-1.r2", shape).ok());
+  EXPECT_FALSE(bus::grant_for("uav-3", shape).ok());
+  EXPECT_FALSE(bus::grant_for("probe-0", shape).ok());
+}
+
+TEST(SecurityDocuments, PermissionsDenyByDefaultAndTheGovernanceFollowsTheProtection) {
+  const auto g = bus::grant_for("place-0", {1, 1, 0, 0}).value();
+  const std::string p = bus::permissions_xml(g, "2026-01-01T00:00:00", "2027-01-01T00:00:00");
+  EXPECT_NE(p.find("<subject_name>CN=place-0</subject_name>"), std::string::npos);
+  EXPECT_NE(p.find("<default>DENY</default>"), std::string::npos);
+  EXPECT_NE(p.find("<partition>h.0</partition>"), std::string::npos);
+  EXPECT_NE(bus::governance_xml(bus::Protection::Encrypt).find("<data_protection_kind>ENCRYPT"), std::string::npos);
+  EXPECT_NE(bus::governance_xml(bus::Protection::Sign).find("<data_protection_kind>SIGN"), std::string::npos);
+  EXPECT_NE(bus::governance_xml(bus::Protection::None).find("<data_protection_kind>NONE"), std::string::npos);
+  EXPECT_NE(bus::governance_xml(bus::Protection::None).find("<allow_unauthenticated_participants>false"),
+            std::string::npos);
+  EXPECT_FALSE(bus::parse_protection("rot13").ok());
+}
+
+TEST(SecurityPki, ASignedDocumentVerifiesAgainstItsCaAndATamperedOneDoesNot) {
+  const auto v = auth::validity_from_now(2);
+  const auto ca = auth::make_ca("test CA", v);
+  ASSERT_TRUE(ca.ok()) << ca.error().message;
+  const auto id = auth::make_identity(ca.value(), "uav-0", v);
+  ASSERT_TRUE(id.ok()) << id.error().message;
+  EXPECT_NE(id->key.find("PRIVATE KEY"), std::string::npos);
+  const std::string doc = "<dds><permissions/></dds>\n";
+  const auto signed_doc = auth::smime_sign(ca.value(), doc);
+  ASSERT_TRUE(signed_doc.ok()) << signed_doc.error().message;
+  std::string content;
+  EXPECT_TRUE(auth::smime_verify(ca->cert, signed_doc.value(), &content));
+  EXPECT_NE(content.find("<permissions/>"), std::string::npos);
+  // The guard: one changed byte of the document, or another CA, fails.
+  std::string tampered = signed_doc.value();
+  tampered.replace(tampered.find("<permissions/>"), 14, "<permissionz/>");
+  EXPECT_FALSE(auth::smime_verify(ca->cert, tampered));
+  const auto other = auth::make_ca("other CA", v);
+  ASSERT_TRUE(other.ok());
+  EXPECT_FALSE(auth::smime_verify(other->cert, signed_doc.value()));
+}
