@@ -11,7 +11,7 @@ packages=(
   libprotobuf-dev protobuf-compiler      # scenario schema
   libeigen3-dev libspdlog-dev libfmt-dev libcli11-dev nlohmann-json3-dev
   libgtest-dev libgmock-dev libbenchmark-dev
-  libcpp-httplib-dev libssl-dev zlib1g-dev libbrotli-dev  # web console server (gzip/brotli), command HMAC
+  libcpp-httplib-dev libssl-dev zlib1g-dev libbrotli-dev  # web console server (gzip/brotli), command HMAC, DDS Security PKI (security init)
   chromium prometheus curl                 # web console end-to-end test (headless browser, promtool)
   iproute2 nftables util-linux             # network faults: namespaces, veth, bridge (ip), partition/loss (nft); setpriv in a test
   podman runc debootstrap podman-compose catatonit python3-yaml  # container tests: the base image (debootstrap), the image, compose, kube play (its pause image needs catatonit; expand-statefulsets reads YAML)
