@@ -59,6 +59,16 @@ std::string swarm_metrics_text(const ConsoleState& st, const SwarmCounters& c) {
     e.family("pheromesh_console_http_body_bytes_total", "counter", "Response body bytes before compression.");
     e.sample("pheromesh_console_http_body_bytes_total", d(*c.http_body_bytes));
   }
+  if (c.http_refused) {
+    e.family("pheromesh_console_http_refused_total", "counter", "HTTP requests and connections the console refused, by reason.");
+    for (std::size_t i = 0; i < kRefusalKinds; ++i) {
+      e.sample("pheromesh_console_http_refused_total", {{"reason", refusal_name(static_cast<Refusal>(i))}}, d((*c.http_refused)[i]));
+    }
+  }
+  if (c.http_connections) {
+    e.family("pheromesh_console_http_connections", "gauge", "Open connections to the console.");
+    e.sample("pheromesh_console_http_connections", d(*c.http_connections));
+  }
   if (c.recording_bytes) {
     e.family("pheromesh_recording_bytes_total", "counter", "Bytes written to the console recording.");
     e.sample("pheromesh_recording_bytes_total", d(*c.recording_bytes));

@@ -7,6 +7,7 @@
 #include <optional>
 #include <string>
 
+#include "pheromesh/console/request.hpp"
 #include "pheromesh/console/state.hpp"
 
 namespace pheromesh::console {
@@ -20,6 +21,8 @@ struct SwarmCounters {
   uint64_t frames = 0;
   uint64_t commands_ok = 0, commands_refused = 0;
   std::optional<uint64_t> http_requests, http_body_bytes;  // with the HTTP server
+  std::optional<RefusalCounts> http_refused;               // by Refusal
+  std::optional<uint64_t> http_connections;                // open now
   std::optional<uint64_t> recording_bytes;                 // with a recording
 };
 
