@@ -38,6 +38,7 @@ bench: build
 	$(BUILD)/bin/pheromesh_bench_layers
 	$(BUILD)/bin/pheromesh-bench-latency
 	bench/console_bench.sh $(BUILD)
+	bench/console_limits.sh $(BUILD)
 
 # Swarms of 25 UAVs up to SCALE_MAX, one process each: what a size costs
 # (out/bench-scale/scale.md). Keep the host otherwise idle.
