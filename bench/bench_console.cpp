@@ -76,7 +76,9 @@ Figures measure(const std::string& host, uint16_t port, int n) {
     std::this_thread::sleep_for(std::chrono::milliseconds(20));  // a scraper, not a flood
   }
   std::sort(v.begin(), v.end());
-  const auto at = [&v](double q) { return v[std::min(v.size() - 1, static_cast<std::size_t>(q * static_cast<double>(v.size())))]; };
+  const auto at = [&v](double q) {
+    return v[std::min(v.size() - 1, static_cast<std::size_t>(q * static_cast<double>(v.size())))];
+  };
   f.p50 = at(0.5);
   f.p99 = at(0.99);
   f.max = v.back();
@@ -93,7 +95,9 @@ int main(int argc, char** argv) {
   app.add_option("--host", host)->capture_default_str();
   app.add_option("--port", port)->required();
   app.add_option("--slow", slow, "Slow or idle connections held open")->capture_default_str();
-  app.add_option("--requests", requests, "/metrics requests per measurement")->capture_default_str()->check(CLI::Range(1, 100000));
+  app.add_option("--requests", requests, "/metrics requests per measurement")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 100000));
   CLI11_PARSE(app, argc, argv);
 
   const Figures base = measure(host, port, requests);
@@ -131,10 +135,11 @@ int main(int argc, char** argv) {
   for (const int fd : fds) ::close(fd);
 
   std::printf("console /metrics latency, %d requests each, %s:%u\n", requests, host.c_str(), port);
-  std::printf("  no other clients:          p50 %7.2f ms  p99 %7.2f ms  max %7.2f ms  failed %d\n", base.p50, base.p99, base.max,
-              base.failed);
-  std::printf("  %3zu slow/idle connections: p50 %7.2f ms  p99 %7.2f ms  max %7.2f ms  failed %d (slow ones reopened: %d)\n",
-              fds.size(), loaded.p50, loaded.p99, loaded.max, loaded.failed, reopened.load());
+  std::printf("  no other clients:          p50 %7.2f ms  p99 %7.2f ms  max %7.2f ms  failed %d\n", base.p50, base.p99,
+              base.max, base.failed);
+  std::printf(
+      "  %3zu slow/idle connections: p50 %7.2f ms  p99 %7.2f ms  max %7.2f ms  failed %d (slow ones reopened: %d)\n",
+      fds.size(), loaded.p50, loaded.p99, loaded.max, loaded.failed, reopened.load());
   std::printf("  ratio loaded/baseline: p50 %.2f  p99 %.2f\n", loaded.p50 / std::max(base.p50, 1e-6),
               loaded.p99 / std::max(base.p99, 1e-6));
   return loaded.failed == 0 && base.failed == 0 ? 0 : 1;

@@ -19,8 +19,10 @@ TEST(ConsoleLimits, AFloodOfCommandsWithoutTheTokenIsCountedInFullButLoggedAndRe
     if (!up) std::this_thread::sleep_for(std::chrono::milliseconds(200));
   }
   ASSERT_TRUE(up) << slurp(b.out_path);
-  const Output flood = run("for i in $(seq 30); do curl -s -o /dev/null -w '%{http_code} ' -X POST "
-                           "-H 'Content-Type: application/json' -d '{\"kind\":\"pause\"}' " + url + "/api/command; done");
+  const Output flood =
+      run("for i in $(seq 30); do curl -s -o /dev/null -w '%{http_code} ' -X POST "
+          "-H 'Content-Type: application/json' -d '{\"kind\":\"pause\"}' " +
+          url + "/api/command; done");
   std::string all401;
   for (int i = 0; i < 30; ++i) all401 += "401 ";
   EXPECT_EQ(flood.text, all401);
@@ -34,6 +36,13 @@ TEST(ConsoleLimits, AFloodOfCommandsWithoutTheTokenIsCountedInFullButLoggedAndRe
   EXPECT_TRUE(counted) << metrics;
   EXPECT_NE(metrics.find("pheromesh_console_commands_total{result=\"refused\"} 30\n"), std::string::npos) << metrics;
   ASSERT_EQ(wait_exit(b.pid, std::chrono::seconds(120)), 0) << slurp(b.out_path);
+
+  const std::string log = slurp(b.out_path);  // the ground station logs through the launcher
+  std::size_t lines = 0;
+  for (auto p = log.find("console request from"); p != std::string::npos; p = log.find("console request from", p + 1))
+    ++lines;
+  EXPECT_EQ(lines, 5U) << log;
+  EXPECT_NE(log.find("console: suppressed 25 refused requests"), std::string::npos) << log;
 
   // The final state is built from the same frames as the recording.
   std::ifstream in(out + "/console_final.json");

@@ -82,11 +82,11 @@ TEST(ConsoleRequestFrameQuery, ReadsEachFieldAndRefusesWhatDoesNotFit) {
   EXPECT_EQ(q->since, 0U);
   EXPECT_FALSE(q->wait);
   EXPECT_FALSE(q->t);
-  for (const QueryParams& bad : {QueryParams{{"layer", "65536"}}, QueryParams{{"layer", "4294967296"}},
-                                 QueryParams{{"layer", "-1"}}, QueryParams{{"since", "-1"}},
-                                 QueryParams{{"since", "18446744073709551616"}}, QueryParams{{"t", "nan"}},
-                                 QueryParams{{"t", "inf"}}, QueryParams{{"t", "1x"}}, QueryParams{{"t", ""}},
-                                 QueryParams{{"since", "1"}, {"since", "2"}}}) {
+  for (const QueryParams& bad :
+       {QueryParams{{"layer", "65536"}}, QueryParams{{"layer", "4294967296"}}, QueryParams{{"layer", "-1"}},
+        QueryParams{{"since", "-1"}}, QueryParams{{"since", "18446744073709551616"}}, QueryParams{{"t", "nan"}},
+        QueryParams{{"t", "inf"}}, QueryParams{{"t", "1x"}}, QueryParams{{"t", ""}},
+        QueryParams{{"since", "1"}, {"since", "2"}}}) {
     EXPECT_FALSE(parse_frame_query(bad)) << bad.begin()->first << "=" << bad.begin()->second;
   }
 }

@@ -170,8 +170,10 @@ TEST(ConsoleServerLimits, AHugePostWithoutTheTokenIsRefusedBeforeItsBodyIsRead) 
   ASSERT_GE(fd, 0);
   // 1 GiB announced, 8 KiB sent: a server that reads the body first waits
   // for the rest (and would answer 400 after its read timeout, not 401).
-  ASSERT_TRUE(send_all(fd, "POST /api/command HTTP/1.1\r\nHost: t\r\nContent-Type: application/json\r\n"
-                           "Content-Length: 1073741824\r\n\r\n" + std::string(8192, 'x')));
+  ASSERT_TRUE(send_all(fd,
+                       "POST /api/command HTTP/1.1\r\nHost: t\r\nContent-Type: application/json\r\n"
+                       "Content-Length: 1073741824\r\n\r\n" +
+                           std::string(8192, 'x')));
   const std::string a = read_answer(fd);
   EXPECT_EQ(status_of(a), 401) << a;
   EXPECT_NE(a.find("Connection: close"), std::string::npos) << "the unread body is not a request: the connection ends";
@@ -199,7 +201,9 @@ TEST(ConsoleServerLimits, WithTheTokenABodyOverTheCapGets413UnreadAndOneUnderItI
   EXPECT_EQ(status_of(read_answer(fd)), 413);
   ::close(fd);
   std::string a;
-  EXPECT_EQ(request(c.port, post_command("{\"kind\":\"pause\",\"pad\":\"" + std::string(1000, 'p') + "\"}", kToken), &a), 413);
+  EXPECT_EQ(
+      request(c.port, post_command("{\"kind\":\"pause\",\"pad\":\"" + std::string(1000, 'p') + "\"}", kToken), &a),
+      413);
   EXPECT_EQ(request(c.port, post_command(R"({"kind":"pause"})", kToken), &a), 200) << a;
   // A body without a length (chunked) is not read either.
   EXPECT_EQ(request(c.port, "POST /api/command HTTP/1.1\r\nHost: t\r\nAuthorization: Bearer " + kToken +

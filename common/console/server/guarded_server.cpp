@@ -19,7 +19,9 @@ using Clock = std::chrono::steady_clock;
 namespace {
 thread_local bool t_close_after_answer = false;
 
-Clock::duration seconds(double s) { return std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(s)); }
+Clock::duration seconds(double s) {
+  return std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(s));
+}
 
 int ms_until(Clock::time_point deadline, Clock::time_point now) {
   if (deadline <= now) return 0;
@@ -74,7 +76,13 @@ class ConnStream final : public httplib::Stream {
  public:
   ConnStream(int fd, std::string& buf, const std::string& ip, int port, const std::string& local_ip, int local_port,
              const HttpLimits& l)
-      : fd_(fd), buf_(buf), ip_(ip), local_ip_(local_ip), port_(port), local_port_(local_port), limits_(l),
+      : fd_(fd),
+        buf_(buf),
+        ip_(ip),
+        local_ip_(local_ip),
+        port_(port),
+        local_port_(local_port),
+        limits_(l),
         deadline_(Clock::now() + seconds(2 * (l.read_timeout_s + l.write_timeout_s))),
         socket_budget_(l.max_body + 1) {}
 
@@ -132,7 +140,8 @@ class ConnStream final : public httplib::Stream {
     for (;;) {
       pollfd p{fd_, events, 0};
       const auto left = until - Clock::now();
-      const int ms = static_cast<int>(std::max<int64_t>(0, std::chrono::duration_cast<std::chrono::milliseconds>(left).count()));
+      const int ms =
+          static_cast<int>(std::max<int64_t>(0, std::chrono::duration_cast<std::chrono::milliseconds>(left).count()));
       const int r = ::poll(&p, 1, ms);
       if (r > 0) return true;
       if (r == 0 || errno != EINTR) return false;
@@ -177,6 +186,9 @@ unsigned GuardedServer::open_connections() const {
 }
 
 void GuardedServer::start_workers() {
+  // listen() again on a listening socket only sets its backlog (Linux).
+  const socket_t listening = svr_sock_;
+  if (listening != INVALID_SOCKET) (void)::listen(listening, static_cast<int>(limits_.max_connections));
   wake_fd_ = ::eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC);
   poller_ = std::thread([this] { poll_loop(); });
   for (unsigned i = 0; i < limits_.threads; ++i) workers_.emplace_back([this] { work_loop(); });
@@ -354,13 +366,15 @@ void GuardedServer::poll_loop() {
         if (c->drained > 1024 * 1024) close_conn(std::move(c));
         continue;
       }
-      if (c->buf.empty() && c->served > 0) c->deadline = now + seconds(limits_.head_timeout_s);  // a keep-alive request begins
+      if (c->buf.empty() && c->served > 0)
+        c->deadline = now + seconds(limits_.head_timeout_s);  // a keep-alive request begins
       const std::size_t from = c->buf.size() < 3 ? 0 : c->buf.size() - 3;
       c->buf.append(tmp, static_cast<std::size_t>(n));
       const std::size_t end = c->buf.find("\r\n\r\n", from);
       if ((end == std::string::npos && c->buf.size() > limits_.max_head) ||
           (end != std::string::npos && end + 4 > limits_.max_head)) {
-        hook_(Refusal::HeadTooLarge, 431, c->who(), "request line and headers above " + std::to_string(limits_.max_head) + " bytes");
+        hook_(Refusal::HeadTooLarge, 431, c->who(),
+              "request line and headers above " + std::to_string(limits_.max_head) + " bytes");
         send_now(c->fd, short_answer(431, "Request Header Fields Too Large", "request line and headers too large"));
         c->buf.clear();
         ::shutdown(c->fd, SHUT_WR);

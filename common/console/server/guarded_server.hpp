@@ -41,7 +41,11 @@ class GuardedServer final : public httplib::Server {
   GuardedServer(const GuardedServer&) = delete;
   GuardedServer& operator=(const GuardedServer&) = delete;
 
-  // The poller and the workers; before listen_after_bind().
+  // The poller and the workers; after binding, before listen_after_bind().
+  // Also lengthens the listen backlog: the library's is 5, so a burst of
+  // connections (a client opening many, a browser reconnecting) overflows it
+  // and the kernel drops new connections' SYNs, which clients retry only
+  // after a second, before the accepting thread can take them.
   void start_workers();
   // After Server::stop() and the end of listen_after_bind(): answers in
   // progress finish, every connection is closed.

@@ -10,15 +10,24 @@ namespace pheromesh::console {
 
 const char* refusal_name(Refusal r) {
   switch (r) {
-    case Refusal::Unauthorised: return "unauthorised";
-    case Refusal::BodyTooLarge: return "body_too_large";
-    case Refusal::LengthRequired: return "length_required";
-    case Refusal::UnsupportedEncoding: return "unsupported_encoding";
-    case Refusal::BadRequest: return "bad_request";
-    case Refusal::TooManyLongPolls: return "too_many_long_polls";
-    case Refusal::HeadTooLarge: return "head_too_large";
-    case Refusal::HeadTimeout: return "head_timeout";
-    case Refusal::TooManyConnections: return "too_many_connections";
+    case Refusal::Unauthorised:
+      return "unauthorised";
+    case Refusal::BodyTooLarge:
+      return "body_too_large";
+    case Refusal::LengthRequired:
+      return "length_required";
+    case Refusal::UnsupportedEncoding:
+      return "unsupported_encoding";
+    case Refusal::BadRequest:
+      return "bad_request";
+    case Refusal::TooManyLongPolls:
+      return "too_many_long_polls";
+    case Refusal::HeadTooLarge:
+      return "head_too_large";
+    case Refusal::HeadTimeout:
+      return "head_timeout";
+    case Refusal::TooManyConnections:
+      return "too_many_connections";
   }
   return "unknown";
 }
