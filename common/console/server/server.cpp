@@ -29,7 +29,7 @@ struct ConsoleServer::Impl {
 
   void refuse(Refusal reason, int status, const std::string& who, const std::string& what) {
     ++refused[static_cast<std::size_t>(reason)];
-    source->refused(reason, status, who, what);
+    source->refused(reason, status, who, what.substr(0, 200));  // a path may be 8 KiB long
   }
   bool take_poll(const std::string& client) {
     std::lock_guard lock(polls_mu);
