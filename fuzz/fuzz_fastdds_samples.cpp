@@ -19,7 +19,6 @@
 #include "fastdds_samples.hpp"
 #include "pheromesh/core/messages.hpp"
 #include "pheromesh/core/scenario.hpp"
-#include "pheromeshPubSubTypes.h"  // generated in the fuzz tree
 
 using namespace pheromesh;
 namespace in = bus::fastdds_samples;
@@ -35,7 +34,7 @@ bool deserialize(const uint8_t* data, std::size_t size, T& out) {
   eprosima::fastrtps::rtps::SerializedPayload_t payload(static_cast<uint32_t>(size));
   if (size > 0) std::memcpy(payload.data, data, size);
   payload.length = static_cast<uint32_t>(size);
-  PubSub type;
+  in::SafePubSub<PubSub> type;  // what the bus registers
   return type.deserialize(&payload, &out);
 }
 

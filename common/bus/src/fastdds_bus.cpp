@@ -291,7 +291,7 @@ void load_builtin_profile_once(const FastDdsProfile& profile) {
 
 template <typename PubSub>
 fdds::TypeSupport type_support() {
-  fdds::TypeSupport ts(new PubSub());
+  fdds::TypeSupport ts(new in::SafePubSub<PubSub>());
   // Cyclone rejects endpoints that carry Fast DDS type objects.
   ts->auto_fill_type_object(false);
   ts->auto_fill_type_information(false);
