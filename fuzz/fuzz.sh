@@ -9,6 +9,7 @@
 #   --seconds N   run time per harness (default 60; FUZZ_SECONDS)
 #   --only NAMES  these harnesses only (e.g. fuzz_scenario,fuzz_recording)
 #   --no-build    run what DIR holds
+#   --fresh       start each harness from its seeds only (forget DIR/corpus)
 #
 # One harness at a time, one process each (-jobs=1, the machine is shared).
 # New inputs the fuzzer finds go to DIR/corpus/<harness> (kept between runs;
@@ -20,13 +21,15 @@ build="$root/build-fuzz"
 seconds="${FUZZ_SECONDS:-60}"
 only=""
 do_build=1
+fresh=0
 while [ $# -gt 0 ]; do
   case "$1" in
     --build) build="$2"; shift 2 ;;
     --seconds) seconds="$2"; shift 2 ;;
     --only) only="$2"; shift 2 ;;
     --no-build) do_build=0; shift ;;
-    -h|--help) sed -n '2,17p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    --fresh) fresh=1; shift ;;
+    -h|--help) sed -n '2,18p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "fuzz.sh: unknown argument '$1' (see --help)" >&2; exit 2 ;;
   esac
 done
@@ -68,6 +71,7 @@ for name in "${harnesses[@]}"; do
   corpus="$build/corpus/$name"
   artifacts="$build/artifacts/$name"
   log="$build/logs/$name.log"
+  [ "$fresh" -eq 1 ] && rm -rf "$corpus"
   mkdir -p "$corpus" "$artifacts" "$(dirname "$log")"
   seeds="$root/fuzz/corpus/$name"
   [ -d "$seeds" ] || seeds=""

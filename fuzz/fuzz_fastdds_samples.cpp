@@ -6,17 +6,24 @@
 // semantic checks, against the small-test map (30 x 30, 2 x 2 regions).
 // The first input byte picks the topic type, the rest is the payload.
 //
+// With PHEROMESH_FUZZ_WRITE_SEEDS=DIR, the harness first writes one
+// well-formed sample of each type to DIR (how fuzz/corpus/
+// fuzz_fastdds_samples/seed-* were made).
+//
 // Cyclone's receive path is not covered: its deserialisation needs a
 // sertype, which the C API makes only with a participant and a topic
 // (docs/fuzzing.md).
 #include <cstddef>
 #include <cstdint>
+#include <cstdlib>
 #include <cstring>
+#include <fstream>
 #include <string>
 
 #include <fastdds/rtps/common/SerializedPayload.h>
 
 #include "fastdds_samples.hpp"
+#include "pheromesh/core/layers.hpp"
 #include "pheromesh/core/messages.hpp"
 #include "pheromesh/core/scenario.hpp"
 
@@ -43,7 +50,134 @@ void check_nested(const std::vector<core::TileMsg>& tiles, const std::vector<cor
   for (const auto& u : uavs) (void)core::check_uav_state(u, kGeo);
 }
 
+template <typename PubSub, typename T>
+void write_seed(const std::string& dir, const char* name, uint8_t selector, T sample) {
+  PubSub type;
+  eprosima::fastrtps::rtps::SerializedPayload_t payload(type.getSerializedSizeProvider(&sample)());
+  if (!type.serialize(&sample, &payload)) std::abort();
+  std::ofstream out(dir + "/seed-" + name, std::ios::binary);
+  out.put(static_cast<char>(selector));
+  out.write(reinterpret_cast<const char*>(payload.data), payload.length);
+}
+
+msg::TilePatch patch() {
+  msg::TilePatch t;
+  t.layer(1);
+  t.tx(1);
+  t.ty(0);
+  t.width(6);
+  t.height(6);
+  t.values(std::vector<float>(36, 0.25F));
+  return t;
+}
+
+msg::UavState state() {
+  msg::UavState u;
+  u.uav(2);
+  u.tick(5);
+  u.x(4.0);
+  u.y(7.5);
+  u.vx(1.0);
+  u.heading(3);
+  u.view_x(4);
+  u.view_y(7);
+  return u;
+}
+
+void write_seeds(const std::string& dir) {
+  msg::Deposit d;
+  d.uav(1);
+  d.seq(4);
+  d.region(0);
+  d.kind(1);
+  d.x(3);
+  d.y(3);
+  d.amount(1.0F);
+  write_seed<msg::DepositPubSubType>(dir, "deposit", 0, d);
+  msg::TileState t;
+  t.layer(0);
+  t.tx(2);
+  t.ty(1);
+  t.region(1);
+  t.width(6);
+  t.height(6);
+  t.values(std::vector<float>(36, 0.5F));
+  write_seed<msg::TileStatePubSubType>(dir, "tile", 1, t);
+  write_seed<msg::UavStatePubSubType>(dir, "uav-state", 2, state());
+  msg::RegionField f;
+  f.region(1);
+  f.chunks(1);
+  f.tiles({patch()});
+  f.uavs({state()});
+  write_seed<msg::RegionFieldPubSubType>(dir, "field", 3, f);
+  msg::View v;
+  v.uav(2);
+  v.tiles({patch(), patch()});
+  v.uavs({state()});
+  write_seed<msg::ViewPubSubType>(dir, "view", 4, v);
+  msg::Halo h;
+  h.region(0);
+  h.target(std::vector<float>(core::ring_size(kGeo.region_rect(0)), 0.1F));
+  h.obstacle(std::vector<float>(core::ring_size(kGeo.region_rect(0)), 0.0F));
+  write_seed<msg::HaloPubSubType>(dir, "halo", 5, h);
+  msg::Broadcast b;
+  b.uav(1);
+  b.kind(0);
+  b.values({1.0, 2.0, 0.5, 0.5, 0.0});
+  write_seed<msg::BroadcastPubSubType>(dir, "broadcast", 6, b);
+  msg::ClockCommand c;
+  c.tick(3);
+  c.phase(1);
+  msg::TileCount tc;
+  tc.tx(1);
+  tc.count(2);
+  c.occupancy({tc});
+  msg::RegionCount rc;
+  rc.region(1);
+  rc.count(5);
+  c.deposits({rc});
+  c.absent({2});
+  write_seed<msg::ClockCommandPubSubType>(dir, "clock", 7, c);
+  msg::PhaseDone pd;
+  pd.process(core::process_key(core::kRoleUav, 2));
+  pd.deposits({rc});
+  write_seed<msg::PhaseDonePubSubType>(dir, "phase-done", 8, pd);
+  msg::RunScenario rs;
+  const std::string text = "map { width: 30 height: 30 tile_size: 6 regions_x: 2 regions_y: 2 }\nswarm { uavs: 4 }\n";
+  rs.text(std::vector<uint8_t>(text.begin(), text.end()));
+  rs.uavs(4);
+  write_seed<msg::RunScenarioPubSubType>(dir, "run-scenario", 9, rs);
+  msg::Command k;
+  k.kind(3);
+  k.x(2);
+  k.y(2);
+  k.w(3);
+  k.h(1);
+  write_seed<msg::CommandPubSubType>(dir, "command", 10, k);
+  msg::Detection det;
+  det.uav(1);
+  det.target(0);
+  det.x(22);
+  det.y(8);
+  write_seed<msg::DetectionPubSubType>(dir, "detection", 11, det);
+  msg::TargetEvent te;
+  te.kind(1);
+  te.x(22);
+  te.y(8);
+  write_seed<msg::TargetEventPubSubType>(dir, "target-event", 12, te);
+  msg::PlaceHealth ph;
+  ph.region(1);
+  ph.deposits_received(9);
+  write_seed<msg::PlaceHealthPubSubType>(dir, "health", 13, ph);
+  write_seed<msg::TilePatchPubSubType>(dir, "tile-patch", 14, patch());
+}
+
 }  // namespace
+
+extern "C" int LLVMFuzzerInitialize(int* /*argc*/, char*** /*argv*/) {
+  if (const char* dir = std::getenv("PHEROMESH_FUZZ_WRITE_SEEDS"); dir != nullptr) write_seeds(dir);
+  return 0;
+}
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, std::size_t size) {
   if (size == 0) return 0;
