@@ -3,7 +3,7 @@
 // check_*) and a place agent's intake (PlaceCore: deposits checked, ordered
 // and applied by the scenario policy's PlaceModel, halos accepted, the layer
 // update, the tiles it then publishes). One input = a policy, a region and a
-// sequence of hostile samples, read with FuzzedDataProvider.
+// sequence of hostile samples over a few ticks, read with FuzzedDataProvider.
 //
 // The scenarios are the shipped small ones, one per policy, all on 2 x 2
 // regions (read once from the source tree).
@@ -109,8 +109,35 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, std::size_t size) {
   core::PlaceCore place(scenario, region);
 
   std::vector<core::DepositMsg> deposits;
-  for (int op = 0; op < 64 && in.remaining_bytes() > 0; ++op) {
-    switch (in.ConsumeIntegralInRange<int>(0, 4)) {
+  std::vector<core::TargetEventMsg> events;
+  std::vector<std::string> rejections;
+  uint32_t tick = 0;
+  uint64_t sent = 0;
+  // Pheromone accounting (DESIGN.md): every deposit is applied or rejected
+  // with a reason, and what a place agent publishes passes its peers' checks.
+  const auto end_tick = [&] {
+    sent += deposits.size();
+    const std::size_t before = rejections.size();
+    (void)place.begin_tick(deposits, tick, events, &rejections);
+    place.finish_tick();
+    deposits.clear();
+    const core::DepositLedger& l = place.ledger();
+    if (l.received != sent || l.applied + l.rejected() != sent || rejections.size() != l.rejected() ||
+        rejections.size() < before) {
+      __builtin_trap();
+    }
+    std::vector<core::TileMsg> tiles;
+    place.tiles(tick + 1, false, tiles);
+    for (const auto& t : tiles) {
+      if (auto why = core::check_tile(t, geo, layers)) {
+        std::fprintf(stderr, "fuzz_messages: a published tile fails check_tile: %s\n", why->c_str());
+        __builtin_trap();
+      }
+    }
+    tick += in.ConsumeIntegralInRange<uint32_t>(1, 3);
+  };
+  for (int op = 0; op < 96 && in.remaining_bytes() > 0; ++op) {
+    switch (in.ConsumeIntegralInRange<int>(0, 5)) {
       case 0: {
         const core::DepositMsg d = deposit(in, region);
         (void)core::check_deposit(d, geo, in.ConsumeBool() ? region : in.ConsumeIntegral<uint32_t>(), layers);
@@ -150,25 +177,10 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, std::size_t size) {
         (void)core::check_broadcast(b);
         break;
       }
+      default: end_tick(); break;  // several ticks: timers, revisits, point pheromones
     }
   }
 
-  std::vector<core::TargetEventMsg> events;
-  std::vector<std::string> rejections;
-  const std::size_t n = deposits.size();
-  (void)place.begin_tick(deposits, in.ConsumeIntegralInRange<uint32_t>(0, 64), events, &rejections);
-  place.finish_tick();
-  std::vector<core::TileMsg> tiles;
-  place.tiles(1, false, tiles);
-  // Pheromone accounting (DESIGN.md): every deposit is applied or rejected
-  // with a reason, and what a place agent publishes passes its peers' checks.
-  const core::DepositLedger& l = place.ledger();
-  if (l.received != n || l.applied + l.rejected() != n || rejections.size() != l.rejected()) __builtin_trap();
-  for (const auto& t : tiles) {
-    if (auto why = core::check_tile(t, geo, layers)) {
-      std::fprintf(stderr, "fuzz_messages: a published tile fails check_tile: %s\n", why->c_str());
-      __builtin_trap();
-    }
-  }
+  end_tick();
   return 0;
 }
