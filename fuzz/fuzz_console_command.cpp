@@ -48,7 +48,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, std::size_t size) {
       case console::ConsoleCommand::Kind::Obstacle:
         if (c.rect.w < 1 || c.rect.h < 1 || c.rect.w > ctx.width || c.rect.h > ctx.height) __builtin_trap();
         break;
-      default: break;
+      default:
+        break;
     }
     (void)console::swarm_command(c);
   } else if (p.refusal.status < 400 || p.refusal.message.empty()) {

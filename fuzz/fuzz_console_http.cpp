@@ -105,11 +105,13 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, std::size_t size) {
   const std::string payload(reinterpret_cast<const char*>(data + 1), size - 1);
   const auto request = [&]() -> httplib::Result {
     switch (data[0] % 3) {
-      case 0: return f.client->Get(("/api/frame?" + query_encode(data + 1, size - 1)).c_str());
+      case 0:
+        return f.client->Get(("/api/frame?" + query_encode(data + 1, size - 1)).c_str());
       case 1:
         return f.client->Post("/api/command", httplib::Headers{{"Authorization", std::string("Bearer ") + kToken}},
                               payload, "application/json");
-      default: return f.client->Post("/api/command", payload, "application/json");
+      default:
+        return f.client->Post("/api/command", payload, "application/json");
     }
   };
   const httplib::Result res = request();

@@ -34,7 +34,7 @@ namespace msg = pheromesh::msg;
 namespace {
 
 const core::MapGeometry kGeo{30, 30, 6, 2, 2};  // scenarios/small-test.textproto
-constexpr int kLayers = 3;                       // the Shao search's
+constexpr int kLayers = 3;                      // the Shao search's
 
 template <typename PubSub, typename T>
 bool deserialize(const uint8_t* data, std::size_t size, T& out) {

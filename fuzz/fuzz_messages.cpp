@@ -30,8 +30,8 @@ namespace {
 const std::vector<core::ScenarioConfig>& scenarios() {
   static const std::vector<core::ScenarioConfig> all = [] {
     std::vector<core::ScenarioConfig> v;
-    for (const char* name : {"small-test", "small-navigation", "liu2022-small", "shostak-small", "ravankar2016-small",
-                             "duan2009-small"}) {
+    for (const char* name :
+         {"small-test", "small-navigation", "liu2022-small", "shostak-small", "ravankar2016-small", "duan2009-small"}) {
       auto s = core::load_scenario(std::string(PHEROMESH_SOURCE_DIR) + "/scenarios/" + name + ".textproto");
       if (!s) {
         std::fprintf(stderr, "fuzz_messages: %s\n", s.error().message.c_str());
@@ -156,7 +156,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, std::size_t size) {
         (void)core::check_tile(t, geo, layers);
         break;
       }
-      case 2: (void)core::check_uav_state(uav_state(in), geo); break;
+      case 2:
+        (void)core::check_uav_state(uav_state(in), geo);
+        break;
       case 3: {
         core::HaloMsg h;
         h.region = small_or_any<uint32_t>(in, 4);
@@ -177,7 +179,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, std::size_t size) {
         (void)core::check_broadcast(b);
         break;
       }
-      default: end_tick(); break;  // several ticks: timers, revisits, point pheromones
+      default:
+        end_tick();
+        break;  // several ticks: timers, revisits, point pheromones
     }
   }
 

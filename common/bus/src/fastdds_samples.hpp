@@ -57,11 +57,22 @@ inline std::vector<core::RegionCount> region_counts_in(const std::vector<msg::Re
 }
 
 inline core::UavStateMsg state_in(const msg::UavState& s) {
-  core::UavStateMsg m{s.uav(),     s.tick(),          s.x(),
-                      s.y(),       s.vx(),            s.vy(),
-                      s.heading(), s.role(),          s.deposits_sent(),
-                      s.tile_samples_received(), s.samples_received(), s.ticks_late(), {s.view_x(), s.view_y()}, s.finished(),
-                      s.tick_gap_max_ms(), s.tick_gaps_over_2()};
+  core::UavStateMsg m{s.uav(),
+                      s.tick(),
+                      s.x(),
+                      s.y(),
+                      s.vx(),
+                      s.vy(),
+                      s.heading(),
+                      s.role(),
+                      s.deposits_sent(),
+                      s.tile_samples_received(),
+                      s.samples_received(),
+                      s.ticks_late(),
+                      {s.view_x(), s.view_y()},
+                      s.finished(),
+                      s.tick_gap_max_ms(),
+                      s.tick_gaps_over_2()};
   m.deposits_unconfirmed = s.deposits_unconfirmed();
   return m;
 }
@@ -76,7 +87,8 @@ bool unpack(const Msg& s, std::size_t max_tiles, std::size_t max_uavs, uint32_t 
   }
   tiles.reserve(s.tiles().size());
   for (const auto& p : s.tiles()) {
-    tiles.push_back({static_cast<uint8_t>(p.layer()), {p.tx(), p.ty()}, tick, region, p.width(), p.height(), p.values()});
+    tiles.push_back(
+        {static_cast<uint8_t>(p.layer()), {p.tx(), p.ty()}, tick, region, p.width(), p.height(), p.values()});
   }
   uavs.reserve(s.uavs().size());
   for (const auto& u : s.uavs()) uavs.push_back(state_in(u));
@@ -156,8 +168,9 @@ inline core::CommandMsg command_in(const msg::Command& s) {
 }
 
 inline core::DepositMsg deposit_in(const msg::Deposit& s) {
-  return {s.uav(), s.seq(), s.tick(), s.region(), s.kind(), s.layer(), {s.x(), s.y()}, s.amount(),
-          {s.spread()[0], s.spread()[1], s.spread()[2]}};
+  return {s.uav(),        s.seq(),    s.tick(),
+          s.region(),     s.kind(),   s.layer(),
+          {s.x(), s.y()}, s.amount(), {s.spread()[0], s.spread()[1], s.spread()[2]}};
 }
 
 inline std::optional<core::HaloMsg> halo_in(const msg::Halo& s) {
@@ -167,8 +180,8 @@ inline std::optional<core::HaloMsg> halo_in(const msg::Halo& s) {
 
 inline std::optional<core::TileMsg> tile_in(const msg::TileState& s) {
   if (s.values().size() > core::kMaxTileCells || s.layer() > 255) return std::nullopt;
-  return core::TileMsg{static_cast<uint8_t>(s.layer()), {s.tx(), s.ty()}, s.tick(), s.region(), s.width(), s.height(),
-                       s.values()};
+  return core::TileMsg{
+      static_cast<uint8_t>(s.layer()), {s.tx(), s.ty()}, s.tick(), s.region(), s.width(), s.height(), s.values()};
 }
 
 inline std::optional<core::BroadcastMsg> broadcast_in(const msg::Broadcast& s) {
@@ -176,15 +189,19 @@ inline std::optional<core::BroadcastMsg> broadcast_in(const msg::Broadcast& s) {
   return core::BroadcastMsg{s.uav(), s.tick(), s.kind(), s.values()};
 }
 
-inline core::DetectionMsg detection_in(const msg::Detection& s) { return {s.uav(), s.tick(), s.target(), {s.x(), s.y()}}; }
+inline core::DetectionMsg detection_in(const msg::Detection& s) {
+  return {s.uav(), s.tick(), s.target(), {s.x(), s.y()}};
+}
 
 inline core::TargetEventMsg target_event_in(const msg::TargetEvent& s) {
   return {s.region(), s.tick(), s.kind(), {s.x(), s.y()}, s.response_ticks()};
 }
 
 inline core::HealthMsg health_in(const msg::PlaceHealth& s) {
-  core::HealthMsg h{s.region(),           s.tick(),     s.tick_rate_hz(),    s.deposits_received(),
-                    s.deposits_applied(), s.deposits_rejected(), s.halos_missing(), s.finished(),
+  core::HealthMsg h{s.region(),           s.tick(),
+                    s.tick_rate_hz(),     s.deposits_received(),
+                    s.deposits_applied(), s.deposits_rejected(),
+                    s.halos_missing(),    s.finished(),
                     s.tick_gap_max_ms(),  s.tick_gaps_over_2()};
   h.replica = s.replica();
   h.deposits_duplicate = s.deposits_duplicate();
