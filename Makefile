@@ -2,6 +2,8 @@
 #   make demo   run the default swarm (Shao 2020 50x50) with the ground station
 #               and its web console (the URL is printed; DEMO_HTTP=port)
 #   make test   run the whole test suite (unit + integration)
+#   make fuzz  build the libFuzzer harnesses (clang, build-fuzz/) and run each
+#               for FUZZ_SECONDS (default 60) on its corpus (docs/fuzzing.md)
 #   make package  build the Debian packages pheromesh_<version>_<arch>.deb and
 #               pheromesh-dev_... into $(BUILD)/ (docs/install.md)
 BUILD ?= build
@@ -11,8 +13,9 @@ DEMO_TICKS ?= 600
 DEMO_OUT ?= out/demo
 DEMO_HTTP ?= 8080
 SCALE_MAX ?= 400
+FUZZ_SECONDS ?= 60
 
-.PHONY: all deps build demo test package bench bench-scale clean
+.PHONY: all deps build demo test package bench bench-scale fuzz clean
 
 all: build
 
@@ -45,5 +48,9 @@ bench: build
 bench-scale: build
 	$(BUILD)/bin/pheromesh bench scale scenarios/scale-100x100.textproto --max $(SCALE_MAX)
 
+# Each harness in turn, one process (the fuzz tree is separate from $(BUILD)).
+fuzz: deps
+	./fuzz/fuzz.sh --seconds $(FUZZ_SECONDS)
+
 clean:
-	rm -rf $(BUILD) out
+	rm -rf $(BUILD) build-fuzz out

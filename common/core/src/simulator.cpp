@@ -44,7 +44,9 @@ Result<std::vector<std::string>> Simulator::set_faults(const FaultSchedule& sche
   for (const auto& [u, k] : schedule.uav_kills()) uav_kill_[u] = k;
   for (const auto& [r, k] : schedule.place_kills()) {
     const bool covered =
-        standby || std::any_of(schedule.events.begin(), schedule.events.end(), [&](const FaultEvent& e) {
+        // Captured by copy: clang before 16 cannot capture structured
+        // bindings, and the fuzz tree (docs/fuzzing.md) is built with clang 14.
+        standby || std::any_of(schedule.events.begin(), schedule.events.end(), [r = r, k = k](const FaultEvent& e) {
           return e.action == FaultAction::Standby && e.at_tick && *e.at_tick < k &&
                  std::find(e.targets.begin(), e.targets.end(), FaultTarget{"place", r}) != e.targets.end();
         });
