@@ -14,6 +14,7 @@
 #include "pheromesh/auth/control.hpp"
 #include "pheromesh/bus/bus.hpp"
 #include "pheromesh/core/scenario.hpp"
+#include "pheromesh/core/scenario_limits.hpp"
 #include "replay_command.hpp"
 #include "sim_command.hpp"
 
@@ -79,7 +80,13 @@ void print_faults(const pheromesh::core::FaultSchedule& f) {
 }
 
 int validate(const std::string& path) {
-  auto s = pheromesh::core::load_scenario(path);
+  auto env_limits = pheromesh::core::ScenarioLimits::from_environment();
+  if (!env_limits) {
+    std::fprintf(stderr, "%s\n", env_limits.error().message.c_str());
+    return 2;
+  }
+  const pheromesh::core::ScenarioLimits limits = env_limits.value();
+  auto s = pheromesh::core::load_scenario(path, limits);
   if (!s) {
     std::fprintf(stderr, "%s\n", s.error().message.c_str());
     return 2;
@@ -92,6 +99,14 @@ int validate(const std::string& path) {
               geo.region_count(), s->regions_x, s->regions_y, s->obstacles.size(), s->targets.size(), s->uavs, s->ticks,
               s->tick_rate_hz, static_cast<unsigned long long>(s->seed), s->aco.revisit_period);
   print_faults(s->faults);
+  // The figures the limits are checked against (scenario_limits.hpp).
+  const auto cost = pheromesh::core::estimate_cost(s.value());
+  std::printf("  processes   %lld (limit %lld, $%s)\n  memory      ~%.0f MiB for the largest process, the %s "
+              "(limit %lld MiB, $%s); ~%.0f MiB for the swarm (limit %lld MiB, $%s)\n",
+              static_cast<long long>(cost.processes), static_cast<long long>(limits.max_processes),
+              pheromesh::core::kMaxProcessesEnv, cost.largest_mib(), cost.largest_role(),
+              static_cast<long long>(limits.max_process_mib), pheromesh::core::kMaxProcessMibEnv, cost.swarm_mib,
+              static_cast<long long>(limits.max_swarm_mib), pheromesh::core::kMaxSwarmMibEnv);
   return 0;
 }
 
@@ -115,7 +130,11 @@ int main(int argc, char** argv) {
   app.add_option("--log-level", log_level, "Launcher log level")->capture_default_str();
 
   std::string validate_path;
-  auto* v = app.add_subcommand("validate", "Check a scenario file; errors name the file, line and field");
+  auto* v = app.add_subcommand(
+      "validate",
+      "Check a scenario file; errors name the file, line and field. Also refused: strings that are not UTF-8, and "
+      "scenarios beyond the limits on map cells, regions, processes and estimated memory (raise them with "
+      "$PHEROMESH_MAX_MAP_CELLS, _REGIONS, _PROCESSES, _PROCESS_MIB, _SWARM_MIB; docs/scenario-format.md)");
   v->add_option("SCENARIO", validate_path, cli::kScenarioArgHelp)
       ->required()
       ->transform(CLI::Validator(cli::resolve_scenario_argument, "FILE|NAME"));
