@@ -8,6 +8,7 @@
 
 #include "attach_command.hpp"
 #include "bench_scale.hpp"
+#include "bench_soak.hpp"
 #include "scenario_paths.hpp"
 #include "experiment_command.hpp"
 #include "launcher.hpp"
@@ -289,6 +290,30 @@ int main(int argc, char** argv) {
   bs->add_option("--extra", bso.extra, "More arguments for `pheromesh run`, in one string, e.g. \"--dds-profile default\"");
   bs->footer(cli::kBenchScaleFooter);
 
+  cli::BenchSoakOptions bko;
+  auto* bk = bench->add_subcommand(
+      "soak", "Run one swarm for a long time with a fault every so often, and report the RSS, open file descriptors "
+              "and threads of every role (uav, place, ground, launcher) over time, with growth per hour");
+  bk->add_option("SCENARIO", bko.scenario, cli::kScenarioArgHelp)
+      ->required()
+      ->transform(CLI::Validator(cli::resolve_scenario_argument, "FILE|NAME"));
+  bk->add_option("--processes", bko.processes, "UAVs + place agents + the ground station (the UAVs fill the rest)")
+      ->check(CLI::Range(3U, 5000U))
+      ->capture_default_str();
+  bk->add_option("--duration", bko.duration, "How long the swarm runs: 1h, 10m, 90s")->capture_default_str();
+  bk->add_option("--fault-every", bko.fault_every, "One fault per period (0: none)")->capture_default_str();
+  bk->add_option("--sample-every", bko.sample_every, "Sampling period of /proc")->capture_default_str();
+  bk->add_option("--warmup", bko.warmup, "Samples before this are left out of the growth fits")->capture_default_str();
+  bk->add_option("--rate", bko.rate_hz, "Tick rate of every process [Hz]")->check(CLI::PositiveNumber)->capture_default_str();
+  bk->add_option("--lease-ms", bko.lease_ms, "Liveliness lease [ms] (generous: a loaded host stalls)")
+      ->check(CLI::Range(50, 60000))
+      ->capture_default_str();
+  bk->add_option("--dds", bko.dds, "DDS vendor(s) as `pheromesh run --dds` takes them")->capture_default_str();
+  bk->add_option("--domain", bko.domain, "DDS domain id of the run")->check(CLI::Range(0, 232))->capture_default_str();
+  bk->add_option("--out", bko.out_dir, "Output folder: soak.md, soak.csv, soak-processes.csv, run/")->capture_default_str();
+  bk->add_option("--extra", bko.extra, "More arguments for `pheromesh run`, in one string");
+  bk->footer(cli::kBenchSoakFooter);
+
   auto* key = app.add_subcommand("key",
                                  "Print a new random control key (64 hex digits) for $PHEROMESH_CONTROL_KEY: "
                                  "every host of a swarm over several hosts exports the same one");
@@ -335,6 +360,7 @@ int main(int argc, char** argv) {
   if (ex->parsed()) return cli::run_experiment_command(eo);
   if (rp->parsed()) return cli::run_replay(rpo);
   if (bs->parsed()) return cli::run_bench_scale(bso);
+  if (bk->parsed()) return cli::run_bench_soak(bko);
   try {
     return cli::Launcher(ro).run();
   } catch (const std::exception& e) {
