@@ -12,7 +12,7 @@ DEMO_OUT ?= out/demo
 DEMO_HTTP ?= 8080
 SCALE_MAX ?= 400
 
-.PHONY: all deps build demo test package bench bench-scale clean
+.PHONY: all deps build demo test package bench bench-scale soak clean
 
 all: build
 
@@ -43,6 +43,15 @@ bench: build
 # (out/bench-scale/scale.md). Keep the host otherwise idle.
 bench-scale: build
 	$(BUILD)/bin/pheromesh bench scale scenarios/scale-100x100.textproto --max $(SCALE_MAX)
+
+# One swarm of SOAK_PROCESSES processes for SOAK_DURATION with a fault every
+# minute: RSS, file descriptors and threads per role over time, and their
+# growth per hour (out/bench-soak/soak.md). Keep the host otherwise idle.
+SOAK_PROCESSES ?= 200
+SOAK_DURATION ?= 1h
+soak: build
+	$(BUILD)/bin/pheromesh bench soak scenarios/scale-100x100.textproto --processes $(SOAK_PROCESSES) \
+	    --duration $(SOAK_DURATION) --fault-every 60s --sample-every 10s
 
 clean:
 	rm -rf $(BUILD) out
