@@ -370,8 +370,11 @@ int run_bench_soak(const BenchSoakOptions& o) {
   std::string proc_csv = "t_s,role,pid,rss_mib,fds,threads\n";
   std::map<std::string, std::vector<RoleSample>> series;
   const auto start = Clock::now();
-  // The launcher bounds its own run; this only guards against a hung one.
-  const auto deadline = start + std::chrono::duration<double>(duration_s + 0.5 * o.processes + 300.0);
+  // The launcher bounds its own run by ticks; this only guards against a hung
+  // one. Generous: on an overloaded host ticks run late and the swarm's
+  // flight takes longer than --duration (measured: 200 processes on 2 shared
+  // cores flew 600 s worth of ticks in ~1000 s).
+  const auto deadline = start + std::chrono::duration<double>(2.0 * duration_s + 0.5 * o.processes + 300.0);
   auto next_sample = start + std::chrono::seconds(2);
   int status = 0;
   bool exited = false, forwarded = false, ended = false;
@@ -417,7 +420,10 @@ int run_bench_soak(const BenchSoakOptions& o) {
         std::printf("[%6.0f s] %s\n", t, line.c_str());
         std::fflush(stdout);
       }
-      next_sample += std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(sample_s));
+      // A sample that took longer than the period (a loaded host) is not
+      // followed by a burst of catch-up samples.
+      next_sample = std::max(next_sample + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(sample_s)),
+                             Clock::now());
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(200));
   }
