@@ -15,7 +15,7 @@ DEMO_HTTP ?= 8080
 SCALE_MAX ?= 400
 FUZZ_SECONDS ?= 60
 
-.PHONY: all deps build demo test package bench bench-scale fuzz clean
+.PHONY: all deps build demo test package bench bench-scale soak fuzz clean
 
 all: build
 
@@ -51,6 +51,15 @@ bench-scale: build
 # Each harness in turn, one process (the fuzz tree is separate from $(BUILD)).
 fuzz: deps
 	./fuzz/fuzz.sh --seconds $(FUZZ_SECONDS)
+
+# One swarm of SOAK_PROCESSES processes for SOAK_DURATION with a fault every
+# minute: RSS, file descriptors and threads per role over time, and their
+# growth per hour (out/bench-soak/soak.md). Keep the host otherwise idle.
+SOAK_PROCESSES ?= 200
+SOAK_DURATION ?= 1h
+soak: build
+	$(BUILD)/bin/pheromesh bench soak scenarios/scale-100x100.textproto --processes $(SOAK_PROCESSES) \
+	    --duration $(SOAK_DURATION) --fault-every 60s --sample-every 10s
 
 clean:
 	rm -rf $(BUILD) build-fuzz out

@@ -452,7 +452,14 @@ int GroundApp::finish() {
     std::string error;
     if (!runtime::write_json(cfg_.out_dir, "console_final.json", final_json, error)) log_->error("{}", error);
     if (server_) server_->stop();
-    if (recording_) log_->info("recorded {} console frames ({} bytes) in {}", frames_, recording_->bytes_written(), recording_->path());
+    if (recording_) {
+      // The recording appears under its name only now, complete (recording.hpp).
+      if (auto closed = recording_->close(); !closed) {
+        log_->error("{}", closed.error().message);
+      } else {
+        log_->info("recorded {} console frames ({} bytes) in {}", frames_, closed.value(), recording_->path());
+      }
+    }
   }
   const auto field_value = [&](int layer, core::Cell c) {
     const core::TileCoord t = geo_.tile_of(c);

@@ -1,5 +1,7 @@
 #include "pheromesh/runtime/process.hpp"
 
+#include "pheromesh/core/scenario_limits.hpp"
+
 #include <algorithm>
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
@@ -136,6 +138,14 @@ core::Result<core::ScenarioConfig> load_scenario(const CommonOptions& o) {
   if (o.ticks > 0) s->ticks = o.ticks;
   if (o.seed > 0) s->seed = o.seed;
   if (o.uavs > 0) s->uavs = o.uavs;
+  if (o.uavs > 0 || o.standby) {
+    // The flags change what the scenario asks of the machine: check again.
+    core::ScenarioConfig asked = s.value();
+    asked.standby = asked.standby || o.standby;
+    auto limits = core::ScenarioLimits::from_environment();
+    if (!limits) return limits.error();
+    if (auto ok = core::check_limits(asked, limits.value(), o.scenario + " with --uavs/--standby"); !ok) return ok.error();
+  }
   return s;
 }
 
