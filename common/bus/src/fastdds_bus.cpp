@@ -200,7 +200,19 @@ msg::UavState state_out(const core::UavStateMsg& m) {
   s.deposits_unconfirmed(m.deposits_unconfirmed);
   s.tick_gap_max_ms(m.tick_gap_max_ms);
   s.tick_gaps_over_2(m.tick_gaps_over_2);
+  std::copy(m.refused.begin(), m.refused.end(), s.refused().begin());
   return s;
+}
+
+// The writer's GUID (the publication handle is the GUID's 16 bytes), folded
+// to 64 bits (FNV-1a) for core::ClockMsg::writer.
+uint64_t writer_id(const fdds::InstanceHandle_t& h) {
+  uint64_t x = 14695981039346656037ULL;
+  for (std::size_t i = 0; i < 16; ++i) {
+    x ^= h.value[i];
+    x *= 1099511628211ULL;
+  }
+  return x;
 }
 
 core::UavStateMsg state_in(const msg::UavState& s) {
@@ -210,6 +222,7 @@ core::UavStateMsg state_in(const msg::UavState& s) {
                       s.tile_samples_received(), s.samples_received(), s.ticks_late(), {s.view_x(), s.view_y()}, s.finished(),
                       s.tick_gap_max_ms(), s.tick_gaps_over_2()};
   m.deposits_unconfirmed = s.deposits_unconfirmed();
+  std::copy(s.refused().begin(), s.refused().end(), m.refused.begin());
   return m;
 }
 
@@ -508,6 +521,7 @@ class FastDdsBus final : public VendorBus {
     s.deposits_duplicate(m.deposits_duplicate);
     s.tick_gap_max_ms(m.tick_gap_max_ms);
     s.tick_gaps_over_2(m.tick_gaps_over_2);
+    std::copy(m.refused.begin(), m.refused.end(), s.refused().begin());
     return write(writer(TopicKind::Health, kGroundPartition), &s);
   }
 
@@ -564,7 +578,7 @@ class FastDdsBus final : public VendorBus {
     keep_alive();
     take_each<msg::ClockCommand>(
         clock_reader_,
-        [&](const msg::ClockCommand& s, const fdds::SampleInfo& /*info*/) {
+        [&](const msg::ClockCommand& s, const fdds::SampleInfo& info) {
           if (s.occupancy().size() > core::kMaxOccupancy || !region_counts_ok(s.deposits()) ||
               s.absent().size() > core::kMaxRegionCounts) {
             ++stats_.samples_dropped;
@@ -577,6 +591,7 @@ class FastDdsBus final : public VendorBus {
           c.deposits = region_counts_in(s.deposits());
           c.absent.assign(s.absent().begin(), s.absent().end());
           for (const auto& t : s.occupancy()) c.occupancy.push_back({{t.tx(), t.ty()}, t.count()});
+          c.writer = writer_id(info.publication_handle);
           out.push_back(std::move(c));
         },
         ignore_invalid);
@@ -838,6 +853,7 @@ class FastDdsBus final : public VendorBus {
                             s.deposits_rejected(), s.halos_missing(), s.finished(), s.tick_gap_max_ms(), s.tick_gaps_over_2()};
           h.replica = s.replica();
           h.deposits_duplicate = s.deposits_duplicate();
+          std::copy(s.refused().begin(), s.refused().end(), h.refused.begin());
           out.push_back(h);
         },
         [&](const fdds::SampleInfo& info) { region_departures_.on_invalid(info, departed_regions_); });
