@@ -252,7 +252,8 @@ TEST(PlacePlausibility, HaloRingsOutsideTheLayersRangeAreRefused) {
 
 struct Rig {
   ScenarioConfig scenario = small_test();
-  World world{scenario.geometry(), scenario.obstacles, scenario.targets};
+  MapGeometry geo = scenario.geometry();  // the world keeps a pointer to it
+  World world{geo, scenario.obstacles, scenario.targets};
   RunRecorder rec{scenario, world};
 };
 
@@ -261,6 +262,7 @@ TEST(RecorderPlausibility, ForgedStatesMoveNeitherCoverageNorTheUavs) {
   const Cell start = start_cell(r.scenario, 0);
   ASSERT_TRUE(r.rec.on_uav_state(state_at(0, 0, start.x, start.y)));
   const double before = r.rec.coverage().coverage();
+  ASSERT_GT(before, 0.0);
   EXPECT_FALSE(r.rec.on_uav_state(state_at(900000, 1, 20, 20)));       // not a UAV of the swarm
   EXPECT_FALSE(r.rec.on_uav_state(state_at(0, 1, 25, 25)));            // a jump across the map
   r.rec.set_tick_ceiling(50);
