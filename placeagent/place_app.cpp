@@ -82,7 +82,8 @@ void PlaceApp::keep_conductor_clock(std::vector<core::ClockMsg>& cmds) {
   std::erase_if(cmds, [&](const core::ClockMsg& c) {
     if (!conductor_) conductor_ = c.writer;
     if (c.writer == *conductor_) return false;
-    refuse(core::Refusal::ForeignClock, fmt::format("a clock sample of tick {} phase {} from another writer", c.tick, c.phase));
+    refuse(core::Refusal::ForeignClock,
+           fmt::format("a clock sample of tick {} phase {} from another writer", c.tick, c.phase));
     return true;
   });
 }

@@ -13,7 +13,7 @@ using nlohmann::json;
 
 namespace {
 
-const char* const kReasons[] = {"unknown_uav",  "seq_far_ahead",         "tick_far_ahead",   "value_out_of_range",
+const char* const kReasons[] = {"unknown_uav",   "seq_far_ahead",         "tick_far_ahead",   "value_out_of_range",
                                 "foreign_clock", "implausible_detection", "implausible_state"};
 
 std::string forge(int domain, bool lockstep) {
@@ -39,7 +39,8 @@ TEST(Plausibility, ForgedSamplesLeaveALockstepRunTheSimulatorsAndEachIsRefusedAn
   EXPECT_NE(f.text.find("forged 13 samples"), std::string::npos) << f.text;
   // The forged Stop did not end the run: it finishes every tick, exit 0.
   ASSERT_EQ(wait_exit(swarm.pid, std::chrono::seconds(300)), 0) << slurp(swarm.out_path);
-  const Output s = run(kBin + "/pheromesh sim " + kSrc + "/scenarios/small-test.textproto --quiet --out " + sim_out + " " + args);
+  const Output s =
+      run(kBin + "/pheromesh sim " + kSrc + "/scenarios/small-test.textproto --quiet --out " + sim_out + " " + args);
   ASSERT_EQ(s.exit_code, 0) << s.text;
   const json a = read_metrics(run_out);
   const json b = read_metrics(sim_out);
@@ -51,7 +52,8 @@ TEST(Plausibility, ForgedSamplesLeaveALockstepRunTheSimulatorsAndEachIsRefusedAn
     EXPECT_EQ(a[key], b[key]) << key;
   }
   for (const auto& [id, u] : b["uav_status"].items()) {
-    for (const char* key : {"x", "y", "last_tick"}) EXPECT_EQ(a["uav_status"][id][key], u[key]) << "uav " << id << " " << key;
+    for (const char* key : {"x", "y", "last_tick"})
+      EXPECT_EQ(a["uav_status"][id][key], u[key]) << "uav " << id << " " << key;
   }
   const std::string field = slurp(run_out + "/final_field.txt");
   EXPECT_GT(field.size(), 1000U);

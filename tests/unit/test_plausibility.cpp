@@ -71,7 +71,7 @@ TEST(Plausibility, TheTickCeilingFollowsTheTimeSinceTheLaunch) {
   // (seconds + 30) * rate + 50.
   EXPECT_EQ(realtime_tick_ceiling(0.0, 25.0), 800U);
   EXPECT_EQ(realtime_tick_ceiling(60.0, 10.0), 950U);
-  EXPECT_EQ(realtime_tick_ceiling(-5.0, 10.0), 350U);  // a clock behind the launcher's counts as 0 s
+  EXPECT_EQ(realtime_tick_ceiling(-5.0, 10.0), 350U);    // a clock behind the launcher's counts as 0 s
   EXPECT_EQ(realtime_tick_ceiling(1.0, 0.0), kMaxSeq);   // no rate: no ceiling
   EXPECT_EQ(realtime_tick_ceiling(1e12, 1e6), kMaxSeq);  // saturates
   EXPECT_EQ(lockstep_tick_ceiling(7), 8U);
@@ -131,7 +131,7 @@ TEST(Plausibility, AStateFurtherThanTheUavFliesIsRefused) {
   expect_reason(check_state_motion(state_at(0, 0, 25, 25), nullptr, start, 1.5, false), "1.5");
   // From the last state: 2 ticks, 1.5 * 2 + 1.5 = 4.5 cells.
   const UavStateMsg last = state_at(0, 10, 10, 10);
-  EXPECT_FALSE(check_state_motion(state_at(0, 12, 13, 13), &last, start, 1.5, false));  // 4.24
+  EXPECT_FALSE(check_state_motion(state_at(0, 12, 13, 13), &last, start, 1.5, false));                     // 4.24
   expect_reason(check_state_motion(state_at(0, 12, 14, 14), &last, start, 1.5, false), "its last state");  // 5.66
   EXPECT_FALSE(check_state_motion(state_at(0, 10, 10, 10), &last, start, 1.5, false));  // the same state again
   // A tick that went back, near the start: a restarted UAV, only if it may be one.
@@ -263,10 +263,10 @@ TEST(RecorderPlausibility, ForgedStatesMoveNeitherCoverageNorTheUavs) {
   ASSERT_TRUE(r.rec.on_uav_state(state_at(0, 0, start.x, start.y)));
   const double before = r.rec.coverage().coverage();
   ASSERT_GT(before, 0.0);
-  EXPECT_FALSE(r.rec.on_uav_state(state_at(900000, 1, 20, 20)));       // not a UAV of the swarm
-  EXPECT_FALSE(r.rec.on_uav_state(state_at(0, 1, 25, 25)));            // a jump across the map
+  EXPECT_FALSE(r.rec.on_uav_state(state_at(900000, 1, 20, 20)));  // not a UAV of the swarm
+  EXPECT_FALSE(r.rec.on_uav_state(state_at(0, 1, 25, 25)));       // a jump across the map
   r.rec.set_tick_ceiling(50);
-  EXPECT_FALSE(r.rec.on_uav_state(state_at(0, 4000000, 25, 25)));      // a tick the run cannot have reached
+  EXPECT_FALSE(r.rec.on_uav_state(state_at(0, 4000000, 25, 25)));  // a tick the run cannot have reached
   EXPECT_EQ(r.rec.coverage().coverage(), before);
   EXPECT_EQ(r.rec.uavs().at(0).last.tick, 0U);
   EXPECT_EQ(r.rec.uavs().count(900000), 0U);
@@ -292,7 +292,7 @@ TEST(RecorderPlausibility, ForgedDetectionsDoNotCountAsTargetsFound) {
   Rig r;
   const Cell start = start_cell(r.scenario, 2);
   ASSERT_TRUE(r.rec.on_uav_state(state_at(2, 5, start.x, start.y)));
-  const Cell far = r.scenario.targets[2];  // (25, 26): far from the start area
+  const Cell far = r.scenario.targets[2];                 // (25, 26): far from the start area
   EXPECT_FALSE(r.rec.on_detection({900000, 5, 2, far}));  // a UAV that does not exist
   EXPECT_TRUE(r.rec.on_detection({2, 5, 2, far}));        // judged now: the state of its tick is here
   r.rec.judge_pending_detections();
@@ -336,7 +336,7 @@ TEST(HonestRuns, SimulatedRunsOfEveryScenarioRefuseNothing) {
     for (const auto& [region, h] : rec.health()) {
       for (std::size_t i = 0; i < kRefusalCount; ++i) {
         EXPECT_EQ(h.refused[i], 0U) << entry.path() << " region " << region << " "
-                                     << refusal_name(static_cast<Refusal>(i));
+                                    << refusal_name(static_cast<Refusal>(i));
       }
       EXPECT_EQ(h.deposits_rejected, 0U) << entry.path() << " region " << region;
     }

@@ -115,9 +115,16 @@ std::vector<core::RegionCount> region_counts_in(const dds_sequence_pheromesh_msg
 }
 
 pheromesh_msg_UavState state_out(const core::UavStateMsg& m) {
-  pheromesh_msg_UavState s{m.uav,  m.tick, m.x,          m.y,          m.vx,  m.vy, m.heading, m.role, m.deposits_sent, m.tile_samples_received,
-          m.samples_received, m.ticks_late, m.view.x, m.view.y, m.finished, m.tick_gap_max_ms, m.tick_gaps_over_2,
-          m.deposits_unconfirmed, {}};
+  pheromesh_msg_UavState s{m.uav,           m.tick,
+                           m.x,             m.y,
+                           m.vx,            m.vy,
+                           m.heading,       m.role,
+                           m.deposits_sent, m.tile_samples_received,
+                           m.samples_received, m.ticks_late,
+                           m.view.x,        m.view.y,
+                           m.finished,      m.tick_gap_max_ms,
+                           m.tick_gaps_over_2, m.deposits_unconfirmed,
+                           {}};
   std::copy(m.refused.begin(), m.refused.end(), s.refused);
   return s;
 }

@@ -50,7 +50,9 @@ std::string swarm_metrics_text(const ConsoleState& st, const SwarmCounters& c) {
     e.family("pheromesh_samples_refused_total", "counter",
              "Well-formed samples refused as implausible, by who refused them and why (docs/architecture.md).");
     for (const auto& [by, reasons] : c.samples_refused) {
-      for (const auto& [reason, n] : reasons) e.sample("pheromesh_samples_refused_total", {{"by", by}, {"reason", reason}}, d(n));
+      for (const auto& [reason, n] : reasons) {
+        e.sample("pheromesh_samples_refused_total", {{"by", by}, {"reason", reason}}, d(n));
+      }
     }
   }
   e.family("pheromesh_console_frames_total", "counter", "Console frames built.");

@@ -8,13 +8,20 @@ namespace pheromesh::core {
 
 const char* refusal_name(Refusal r) {
   switch (r) {
-    case Refusal::UnknownUav: return "unknown_uav";
-    case Refusal::SeqFarAhead: return "seq_far_ahead";
-    case Refusal::TickFarAhead: return "tick_far_ahead";
-    case Refusal::ValueOutOfRange: return "value_out_of_range";
-    case Refusal::ForeignClock: return "foreign_clock";
-    case Refusal::ImplausibleDetection: return "implausible_detection";
-    case Refusal::ImplausibleState: return "implausible_state";
+    case Refusal::UnknownUav:
+      return "unknown_uav";
+    case Refusal::SeqFarAhead:
+      return "seq_far_ahead";
+    case Refusal::TickFarAhead:
+      return "tick_far_ahead";
+    case Refusal::ValueOutOfRange:
+      return "value_out_of_range";
+    case Refusal::ForeignClock:
+      return "foreign_clock";
+    case Refusal::ImplausibleDetection:
+      return "implausible_detection";
+    case Refusal::ImplausibleState:
+      return "implausible_state";
   }
   return "unknown";
 }
@@ -57,7 +64,7 @@ uint32_t realtime_tick_ceiling(double seconds_since_launch, double rate_hz) {
   const double t = std::max(seconds_since_launch, 0.0) + kTickSlackSeconds;
   const double c = t * rate_hz + kTickSlackTicks;
   return c >= static_cast<double>(std::numeric_limits<uint32_t>::max()) ? std::numeric_limits<uint32_t>::max()
-                                                                         : static_cast<uint32_t>(c);
+                                                                        : static_cast<uint32_t>(c);
 }
 
 std::optional<std::string> check_tick_reachable(uint32_t tick, uint32_t ceiling, const char* what) {
@@ -86,8 +93,8 @@ namespace {
 double distance(double x0, double y0, double x1, double y1) { return std::hypot(x1 - x0, y1 - y0); }
 }  // namespace
 
-std::optional<std::string> check_state_motion(const UavStateMsg& s, const UavStateMsg* last, Cell start, double max_step,
-                                              bool may_restart) {
+std::optional<std::string> check_state_motion(const UavStateMsg& s, const UavStateMsg* last, Cell start,
+                                              double max_step, bool may_restart) {
   const auto reachable = [&](double x, double y, uint32_t ticks) {
     return distance(x, y, s.x, s.y) <= max_step * static_cast<double>(ticks) + kMotionSlackCells;
   };
@@ -103,8 +110,8 @@ std::optional<std::string> check_state_motion(const UavStateMsg& s, const UavSta
          " than it can fly at " + std::to_string(max_step) + " cells per tick";
 }
 
-std::optional<std::string> check_detection(const DetectionMsg& d, std::span<const Cell> targets, const UavStateMsg* seen,
-                                           double sensor_radius, double max_step) {
+std::optional<std::string> check_detection(const DetectionMsg& d, std::span<const Cell> targets,
+                                           const UavStateMsg* seen, double sensor_radius, double max_step) {
   if (d.target < 0 || static_cast<std::size_t>(d.target) >= targets.size()) {
     return "detection of target " + std::to_string(d.target) + ", not one of the " + std::to_string(targets.size());
   }

@@ -94,12 +94,12 @@ inline constexpr double kMotionSlackCells = 1.5;
 // last state in the ticks between them (either way: a repeated older state
 // too) - or, with `may_restart` and a tick that went back, from the start cell
 // (a restarted process flies again from there, counting ticks from 0).
-std::optional<std::string> check_state_motion(const UavStateMsg& s, const UavStateMsg* last, Cell start, double max_step,
-                                              bool may_restart);
+std::optional<std::string> check_state_motion(const UavStateMsg& s, const UavStateMsg* last, Cell start,
+                                              double max_step, bool may_restart);
 // `targets`: the scenario's targets (and those added during the run); `seen`:
 // the reporting UAV's accepted state nearest in time (nullptr: none);
 // `sensor_radius` [cell].
-std::optional<std::string> check_detection(const DetectionMsg& d, std::span<const Cell> targets, const UavStateMsg* seen,
-                                           double sensor_radius, double max_step);
+std::optional<std::string> check_detection(const DetectionMsg& d, std::span<const Cell> targets,
+                                           const UavStateMsg* seen, double sensor_radius, double max_step);
 
 }  // namespace pheromesh::core
