@@ -73,6 +73,12 @@ class GroundApp {
 
  private:
   void poll();
+  // Plausibility (core/plausibility.hpp): the highest tick a sample can carry
+  // now, and a refusal counted for metrics.json.
+  [[nodiscard]] uint32_t tick_ceiling() const;
+  void note_refused(core::Refusal r, const std::string& what);
+  // Logs and shows targets acquired for the first time.
+  void note_acquisitions();
   // Until data arrives on any reader poll() takes, or `until`.
   void wait_for_data(std::chrono::steady_clock::time_point until);
   void progress_if_due();
@@ -135,6 +141,8 @@ class GroundApp {
   std::vector<core::PhaseDoneMsg> dones_;
   std::vector<core::BroadcastMsg> broadcasts_;
   int layers_ = 0;
+  std::vector<core::ValueRange> layer_ranges_;  // physical range per layer (tiles out of it are refused)
+  uint32_t conducted_tick_ = 0;                 // lockstep: the tick the conductor announced last
 
   // --- web console
   std::unique_ptr<LiveConsole> console_;
@@ -157,6 +165,7 @@ class GroundApp {
   // Discovery: the launch time ($PHEROMESH_RUN_T0_MS, else this process's
   // start) and how long until every expected process was heard.
   int64_t run_t0_unix_ms_ = 0;
+  bool launch_known_ = false;  // run_t0_unix_ms_ came from the launcher
   std::optional<double> discovery_s_;
   bool start_sent_ = false;
   bool ended_ = false;  // --until-done: the End went out

@@ -137,6 +137,13 @@ std::string GroundApp::metrics_text() const {
   c.targets_total = world_.targets().size();
   c.deposits_sent = rec_.deposits_sent();
   c.samples_rejected = rec_.samples_rejected() + bus_->stats().samples_dropped;
+  const core::RefusalCounts by_places = rec_.refused_by_places(), by_uavs = rec_.refused_by_uavs();
+  for (std::size_t i = 0; i < core::kRefusalCount; ++i) {
+    const auto why = static_cast<core::Refusal>(i);
+    c.samples_refused["places"][core::refusal_name(why)] = by_places[why];
+    c.samples_refused["uavs"][core::refusal_name(why)] = by_uavs[why];
+    c.samples_refused["ground"][core::refusal_name(why)] = rec_.refused()[why];
+  }
   c.frames = frames_;
   c.commands_ok = commands_ok_;
   c.commands_refused = commands_refused_;

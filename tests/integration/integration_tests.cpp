@@ -2,8 +2,9 @@
 // Each test uses its own DDS domain so tests can run in parallel. Domains
 // 21-30 are used here; each test_policy_<name>.cpp takes its own:
 // shao_navigation 31, liu 32, shostak 33, ravankar 34, duan 35; vendors
-// 36-37; faults 45-49; lan 70-74; console limits 85 (port 18660). The Cli
-// tests of scenario limits start no DDS participant and use none.
+// 36-37; faults 45-49; lan 70-74; plausibility (test_plausibility.cpp)
+// 80-81; console limits 85 (port 18660). The Cli tests of scenario limits
+// start no DDS participant and use none.
 #include "harness.hpp"
 
 #include <fstream>
@@ -245,13 +246,16 @@ TEST(BadInput, MalformedSamplesAreRejectedAndCountedAndNothingCrashes) {
   const json m = read_metrics(out);
   ASSERT_FALSE(m.is_null());
   EXPECT_EQ(m["processes_crashed"], 0);
-  // Every hostile deposit is received and either applied (the single valid
-  // one) or rejected with a reason; the UAVs' own deposits are all applied.
-  EXPECT_EQ(m["deposits_rejected"], 5) << m.dump(2);
-  EXPECT_EQ(m["deposits_applied"].get<uint64_t>(), m["deposits_sent"].get<uint64_t>() + 1);
+  // Every hostile deposit is received and rejected with a reason: the
+  // malformed ones as such, the well-formed one and its replay because the
+  // probe's UAV id is no UAV of the swarm (refused as implausible,
+  // test_plausibility.cpp); the UAVs' own deposits are all applied.
+  EXPECT_EQ(m["deposits_rejected"], 6) << m.dump(2);
+  EXPECT_EQ(m["deposits_applied"].get<uint64_t>(), m["deposits_sent"].get<uint64_t>());
+  EXPECT_EQ(m["refused_by"]["places"]["unknown_uav"], 2) << m["refused_by"].dump(2);
   EXPECT_GE(m["samples_rejected_by_ground"].get<int>(), 3);
   const std::string place0 = slurp(out + "/logs/place-0.log");
-  for (const char* reason : {"not finite", "outside the map", "duplicate or out-of-order"}) {
+  for (const char* reason : {"not finite", "outside the map", "uav id outside the swarm"}) {
     EXPECT_NE(place0.find(reason), std::string::npos) << reason << "\n" << place0;
   }
 }

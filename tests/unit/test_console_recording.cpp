@@ -174,6 +174,7 @@ std::vector<Frame> make_frames() {
               {9, 20.0, 5.0, 2, 0, 3, Liveness::Finished, {}}};
     f.regions = {{0, Liveness::Alive, 3, 12.5F, 31.5, 100, 98, 2},
                  {1, Liveness::Dead, 0, 0.0F, 0.0, 0, 0, 0}};
+    f.regions[0].samples_refused = 5;  // refused as implausible (core/plausibility.hpp)
     f.targets = {{{5, 6}, TargetStatus::NotFound, -1, 0, false},
                  {{30, 7}, TargetStatus::Found, 0, 3, false},
                  {{12, 20}, TargetStatus::RevisitDue, 7, 2, true}};
@@ -267,6 +268,7 @@ void expect_region_eq(const RegionView& a, const RegionView& b) {
   EXPECT_EQ(a.deposits_received, b.deposits_received);
   EXPECT_EQ(a.deposits_applied, b.deposits_applied);
   EXPECT_EQ(a.deposits_rejected, b.deposits_rejected);
+  EXPECT_EQ(a.samples_refused, b.samples_refused);
 }
 
 void expect_target_eq(const TargetView& a, const TargetView& b) {

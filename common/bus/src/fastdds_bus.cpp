@@ -195,7 +195,19 @@ msg::UavState state_out(const core::UavStateMsg& m) {
   s.deposits_unconfirmed(m.deposits_unconfirmed);
   s.tick_gap_max_ms(m.tick_gap_max_ms);
   s.tick_gaps_over_2(m.tick_gaps_over_2);
+  std::copy(m.refused.begin(), m.refused.end(), s.refused().begin());
   return s;
+}
+
+// The writer's GUID (the publication handle is the GUID's 16 bytes), folded
+// to 64 bits (FNV-1a) for core::ClockMsg::writer.
+uint64_t writer_id(const fdds::InstanceHandle_t& h) {
+  uint64_t x = 14695981039346656037ULL;
+  for (std::size_t i = 0; i < 16; ++i) {
+    x ^= h.value[i];
+    x *= 1099511628211ULL;
+  }
+  return x;
 }
 
 std::vector<msg::UavState> states_out(const std::vector<core::UavStateMsg>& states) {
@@ -476,6 +488,7 @@ class FastDdsBus final : public VendorBus {
     s.deposits_duplicate(m.deposits_duplicate);
     s.tick_gap_max_ms(m.tick_gap_max_ms);
     s.tick_gaps_over_2(m.tick_gaps_over_2);
+    std::copy(m.refused.begin(), m.refused.end(), s.refused().begin());
     return write(writer(TopicKind::Health, kGroundPartition), &s);
   }
 
@@ -532,8 +545,9 @@ class FastDdsBus final : public VendorBus {
     keep_alive();
     take_each<msg::ClockCommand>(
         clock_reader_,
-        [&](const msg::ClockCommand& s, const fdds::SampleInfo& /*info*/) {
+        [&](const msg::ClockCommand& s, const fdds::SampleInfo& info) {
           if (auto c = in::clock_in(s)) {
+            c->writer = writer_id(info.publication_handle);
             out.push_back(std::move(*c));
           } else {
             ++stats_.samples_dropped;

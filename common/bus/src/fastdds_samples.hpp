@@ -74,6 +74,7 @@ inline core::UavStateMsg state_in(const msg::UavState& s) {
                       s.tick_gap_max_ms(),
                       s.tick_gaps_over_2()};
   m.deposits_unconfirmed = s.deposits_unconfirmed();
+  std::copy(s.refused().begin(), s.refused().end(), m.refused.begin());
   return m;
 }
 
@@ -205,6 +206,7 @@ inline core::HealthMsg health_in(const msg::PlaceHealth& s) {
                     s.tick_gap_max_ms(),  s.tick_gaps_over_2()};
   h.replica = s.replica();
   h.deposits_duplicate = s.deposits_duplicate();
+  std::copy(s.refused().begin(), s.refused().end(), h.refused.begin());
   return h;
 }
 

@@ -178,6 +178,7 @@ void to_pb(const Frame& f, pb::Frame* out) {
     v->set_deposits_received(r.deposits_received);
     v->set_deposits_applied(r.deposits_applied);
     v->set_deposits_rejected(r.deposits_rejected);
+    v->set_samples_refused(r.samples_refused);
     v->set_replica(r.replica);
     v->set_replicas_alive(r.replicas_alive);
   }
@@ -332,6 +333,7 @@ std::string from_pb(const pb::Frame& in, Frame& f) {
     v.deposits_received = r.deposits_received();
     v.deposits_applied = r.deposits_applied();
     v.deposits_rejected = r.deposits_rejected();
+    v.samples_refused = r.samples_refused();
     if (r.replica() > 0xFFFFU) return "region " + std::to_string(r.id()) + ": replica " + std::to_string(r.replica()) + " out of range";
     v.replica = static_cast<uint16_t>(r.replica());
     v.replicas_alive = r.replicas_alive();

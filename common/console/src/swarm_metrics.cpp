@@ -46,6 +46,15 @@ std::string swarm_metrics_text(const ConsoleState& st, const SwarmCounters& c) {
   }
   e.family("pheromesh_samples_rejected_total", "counter", "Malformed samples the ground station dropped.");
   e.sample("pheromesh_samples_rejected_total", d(c.samples_rejected));
+  if (!c.samples_refused.empty()) {
+    e.family("pheromesh_samples_refused_total", "counter",
+             "Well-formed samples refused as implausible, by who refused them and why (docs/architecture.md).");
+    for (const auto& [by, reasons] : c.samples_refused) {
+      for (const auto& [reason, n] : reasons) {
+        e.sample("pheromesh_samples_refused_total", {{"by", by}, {"reason", reason}}, d(n));
+      }
+    }
+  }
   e.family("pheromesh_console_frames_total", "counter", "Console frames built.");
   e.sample("pheromesh_console_frames_total", d(c.frames));
   e.family("pheromesh_console_commands_total", "counter", "Console commands by result.");

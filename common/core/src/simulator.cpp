@@ -99,7 +99,9 @@ void Simulator::step(uint32_t tick) {
     if (frozen) {
       // Its last health record: the ledger as it stopped.
       const auto& l = places_[r]->ledger();
-      recorder_.on_health({r, tick == 0 ? 0 : tick - 1, 0.0F, l.received, l.applied, l.rejected(), 0, false});
+      HealthMsg h{r, tick == 0 ? 0 : tick - 1, 0.0F, l.received, l.applied, l.rejected(), 0, false};
+      h.refused = l.refused.n;
+      recorder_.on_health(h);
     }
   }
   // UAV phase: every UAV sees the tiles of its neighbourhood as the place
@@ -213,7 +215,9 @@ void Simulator::run(const std::function<void(uint32_t)>& on_tick) {
   for (const auto& p : places_) {
     if (region_dead(p->region(), scenario_.ticks)) continue;
     const auto& l = p->ledger();
-    recorder_.on_health({p->region(), scenario_.ticks, 0.0F, l.received, l.applied, l.rejected(), 0, true});
+    HealthMsg h{p->region(), scenario_.ticks, 0.0F, l.received, l.applied, l.rejected(), 0, true};
+    h.refused = l.refused.n;
+    recorder_.on_health(h);
   }
   for (std::size_t i = 0; i < uavs_.size(); ++i) {
     if (uav_gone(static_cast<uint32_t>(i), scenario_.ticks)) continue;  // its last state stays the last it sent

@@ -6,11 +6,16 @@
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
+#include <chrono>
 #include <csignal>
 #include <cstdlib>
 #include <fstream>
+#include <limits>
+#include <optional>
 #include <sstream>
 #include <thread>
+
+#include "pheromesh/core/plausibility.hpp"
 
 namespace pheromesh::runtime {
 namespace {
@@ -118,6 +123,21 @@ std::shared_ptr<spdlog::logger> make_logger(const std::string& name, const std::
   logger->set_pattern("%H:%M:%S.%e %^%-5l%$ [%n] %v");
   spdlog::set_default_logger(logger);
   return logger;
+}
+
+uint32_t realtime_tick_ceiling(double rate_hz) {
+  static const std::optional<int64_t> t0 = []() -> std::optional<int64_t> {
+    const char* v = std::getenv("PHEROMESH_RUN_T0_MS");
+    if (v == nullptr) return std::nullopt;
+    char* end = nullptr;
+    const long long ms = std::strtoll(v, &end, 10);
+    if (end == v || *end != '\0' || ms <= 0) return std::nullopt;
+    return ms;
+  }();
+  if (!t0) return std::numeric_limits<uint32_t>::max();
+  const int64_t now =
+      std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::system_clock::now().time_since_epoch()).count();
+  return core::realtime_tick_ceiling(static_cast<double>(now - *t0) / 1000.0, rate_hz);
 }
 
 void install_shutdown_handlers() {

@@ -65,6 +65,22 @@ nlohmann::json metrics_json(const core::RunRecorder& r, const RunInfo& info) {
   j["places_killed"] = r.places_killed();
   j["regions_frozen"] = r.regions_frozen();
   j["samples_rejected_by_ground"] = r.samples_rejected();
+  // Well-formed samples refused as implausible (core/plausibility.hpp), per
+  // reason: in total and by who refused them.
+  const core::RefusalCounts by_places = r.refused_by_places(), by_uavs = r.refused_by_uavs();
+  nlohmann::json refused = nlohmann::json::object();
+  nlohmann::json refused_by = {{"places", nlohmann::json::object()}, {"uavs", nlohmann::json::object()},
+                               {"ground", nlohmann::json::object()}};
+  for (std::size_t i = 0; i < core::kRefusalCount; ++i) {
+    const auto why = static_cast<core::Refusal>(i);
+    const std::string name = core::refusal_name(why);
+    refused[name] = uint64_t{by_places[why]} + by_uavs[why] + r.refused()[why];
+    refused_by["places"][name] = by_places[why];
+    refused_by["uavs"][name] = by_uavs[why];
+    refused_by["ground"][name] = r.refused()[why];
+  }
+  j["refused"] = refused;
+  j["refused_by"] = refused_by;
   // The launcher owns process accounting and overwrites these two.
   j["processes_killed"] = 0;
   j["processes_crashed"] = 0;

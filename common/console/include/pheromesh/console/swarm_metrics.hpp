@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <map>
 #include <optional>
 #include <string>
 
@@ -18,6 +19,9 @@ struct SwarmCounters {
   uint64_t targets_found = 0, targets_total = 0;
   uint64_t deposits_sent = 0;
   uint64_t samples_rejected = 0;  // malformed samples dropped by the ground station
+  // Well-formed samples refused as implausible (core/plausibility.hpp): by
+  // who refused them ("places", "uavs", "ground"), then by reason.
+  std::map<std::string, std::map<std::string, uint64_t>> samples_refused;
   uint64_t frames = 0;
   uint64_t commands_ok = 0, commands_refused = 0;
   std::optional<uint64_t> http_requests, http_body_bytes;  // with the HTTP server
