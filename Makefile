@@ -2,6 +2,8 @@
 #   make demo   run the default swarm (Shao 2020 50x50) with the ground station
 #               and its web console (the URL is printed; DEMO_HTTP=port)
 #   make test   run the whole test suite (unit + integration)
+#   make fuzz  build the libFuzzer harnesses (clang, build-fuzz/) and run each
+#               for FUZZ_SECONDS (default 60) on its corpus (docs/fuzzing.md)
 #   make package  build the Debian packages pheromesh_<version>_<arch>.deb and
 #               pheromesh-dev_... into $(BUILD)/ (docs/install.md)
 BUILD ?= build
@@ -11,8 +13,9 @@ DEMO_TICKS ?= 600
 DEMO_OUT ?= out/demo
 DEMO_HTTP ?= 8080
 SCALE_MAX ?= 400
+FUZZ_SECONDS ?= 60
 
-.PHONY: all deps build demo test package bench bench-scale clean
+.PHONY: all deps build demo test package bench bench-scale soak fuzz clean
 
 all: build
 
@@ -38,11 +41,25 @@ bench: build
 	$(BUILD)/bin/pheromesh_bench_layers
 	$(BUILD)/bin/pheromesh-bench-latency
 	bench/console_bench.sh $(BUILD)
+	bench/console_limits.sh $(BUILD)
 
 # Swarms of 25 UAVs up to SCALE_MAX, one process each: what a size costs
 # (out/bench-scale/scale.md). Keep the host otherwise idle.
 bench-scale: build
 	$(BUILD)/bin/pheromesh bench scale scenarios/scale-100x100.textproto --max $(SCALE_MAX)
 
+# Each harness in turn, one process (the fuzz tree is separate from $(BUILD)).
+fuzz: deps
+	./fuzz/fuzz.sh --seconds $(FUZZ_SECONDS)
+
+# One swarm of SOAK_PROCESSES processes for SOAK_DURATION with a fault every
+# minute: RSS, file descriptors and threads per role over time, and their
+# growth per hour (out/bench-soak/soak.md). Keep the host otherwise idle.
+SOAK_PROCESSES ?= 200
+SOAK_DURATION ?= 1h
+soak: build
+	$(BUILD)/bin/pheromesh bench soak scenarios/scale-100x100.textproto --processes $(SOAK_PROCESSES) \
+	    --duration $(SOAK_DURATION) --fault-every 60s --sample-every 10s
+
 clean:
-	rm -rf $(BUILD) out
+	rm -rf $(BUILD) build-fuzz out

@@ -30,15 +30,37 @@ UavApp::UavApp(UavConfig cfg, core::ScenarioConfig scenario, std::unique_ptr<bus
       home_(core::home_region(cfg_.id, geo_.region_count())) {
   standby_ = cfg_.common.standby || scenario_.standby;
   resend_.resend_deposits(standby_);
+  layer_ranges_ = core::policy_traits(scenario_).layer_ranges;
+}
+
+uint32_t UavApp::tick_ceiling() const {
+  return cfg_.common.lockstep() ? core::lockstep_tick_ceiling(clock_tick_)
+                                : runtime::realtime_tick_ceiling(scenario_.tick_rate_hz);
+}
+
+void UavApp::refuse(core::Refusal r, const std::string& what) {
+  refused_.add(r);
+  if (refused_.total() <= 5) log_->warn("refused {} ({})", what, core::refusal_name(r));
 }
 
 void UavApp::receive() {
   view_inbox_.clear();
   bus_->take_views(view_inbox_);
   samples_received_ += view_inbox_.size();
+  const uint32_t ceiling = tick_ceiling();
   for (const auto& v : view_inbox_) {
     if (v.uav != cfg_.id) {
       if (++samples_rejected_ <= 3) log_->warn("dropped a view addressed to uav {}", v.uav);
+      continue;
+    }
+    if (auto reason = core::check_tick_reachable(v.tick, ceiling, "view")) {
+      refuse(core::Refusal::TickFarAhead, *reason);
+      continue;
+    }
+    const auto out_of_range = std::find_if(v.tiles.begin(), v.tiles.end(),
+                                           [&](const auto& t) { return core::check_tile_range(t, layer_ranges_); });
+    if (out_of_range != v.tiles.end()) {
+      refuse(core::Refusal::ValueOutOfRange, *core::check_tile_range(*out_of_range, layer_ranges_));
       continue;
     }
     view_tick_ = std::max(view_tick_.value_or(0), v.tick);
@@ -56,6 +78,10 @@ void UavApp::receive() {
         if (++samples_rejected_ <= 3) log_->warn("dropped state of uav {}: {}", s.uav, *reason);
         continue;
       }
+      if (auto reason = core::check_uav_id(s.uav, scenario_.uavs)) {
+        refuse(core::Refusal::UnknownUav, "a neighbour's state: " + *reason);
+        continue;
+      }
       core_.receive_neighbour(s);
     }
   }
@@ -65,6 +91,10 @@ void UavApp::receive() {
   for (const auto& b : broadcast_inbox_) {
     if (auto reason = core::check_broadcast(b)) {
       if (++samples_rejected_ <= 3) log_->warn("dropped broadcast of uav {}: {}", b.uav, *reason);
+      continue;
+    }
+    if (auto reason = core::check_uav_id(b.uav, scenario_.uavs)) {
+      refuse(core::Refusal::UnknownUav, "a broadcast: " + *reason);
       continue;
     }
     core_.receive_broadcast(b);
@@ -136,6 +166,7 @@ void UavApp::step(uint32_t tick, bool finished) {
   s.finished = finished;
   s.deposits_unconfirmed = receipts_.unconfirmed() + deposits_undeliverable_;
   s.view = core_.cell();  // the home place agent composes the next view around it
+  s.refused = refused_.n;
   bus_->publish_uav_state(s);
 }
 
@@ -230,6 +261,17 @@ int UavApp::run_realtime(uint32_t ticks) {
 bool UavApp::take_clock() {
   const std::size_t before = clock_inbox_.size();
   bus_->take_clock(clock_inbox_);
+  // The first clock sample names the conductor: a clock written by anyone
+  // else (a forged Stop would end the run) is refused, whatever it carries.
+  std::erase_if(clock_inbox_, [&](const core::ClockMsg& c) {
+    if (!conductor_) conductor_ = c.writer;
+    if (c.writer == *conductor_) {
+      clock_tick_ = std::max(clock_tick_, c.tick);
+      return false;
+    }
+    refuse(core::Refusal::ForeignClock, fmt::format("a clock sample of tick {} phase {} from another writer", c.tick, c.phase));
+    return true;
+  });
   const auto now = Clock::now();
   if (clock_inbox_.size() > before) watch_.on_clock(now);
   return !watch_.lost(now);

@@ -10,11 +10,13 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "pheromesh/bus/bus.hpp"
 #include "pheromesh/core/receipts.hpp"
 #include "pheromesh/core/conductor.hpp"
+#include "pheromesh/core/plausibility.hpp"
 #include "pheromesh/core/scenario.hpp"
 #include "pheromesh/core/tick_gaps.hpp"
 #include "pheromesh/core/uav_core.hpp"
@@ -95,6 +97,15 @@ class UavApp {
   uint32_t home_absent_since_ = 0;  // that tick: its views of earlier ticks exist
   bool conductor_lost_ = false;  // lockstep: no clock for ConductorWatch's limit
   std::unique_ptr<runtime::SwarmCommands> commands_;
+  // Plausibility (core/plausibility.hpp): samples refused (reported in the
+  // state), the layers' ranges, the conductor's clock writer latched from its
+  // first sample and the newest tick it announced.
+  core::RefusalCounts refused_;
+  std::vector<core::ValueRange> layer_ranges_;
+  std::optional<uint64_t> conductor_;
+  uint32_t clock_tick_ = 0;
+  [[nodiscard]] uint32_t tick_ceiling() const;
+  void refuse(core::Refusal r, const std::string& what);
 };
 
 }  // namespace pheromesh::agent

@@ -26,7 +26,9 @@
 #include "experiments/experiment.hpp"
 #include "launcher.hpp"
 #include "pheromesh/bus/bus.hpp"
+#include "pheromesh/core/atomic_file.hpp"
 #include "pheromesh/runtime/process.hpp"
+#include "pheromesh/runtime/report.hpp"
 
 namespace pheromesh::cli {
 
@@ -270,7 +272,10 @@ bool write_results(const Plan& p, const std::vector<Row>& rows, const std::vecto
   Json summary = Json::object();
   const auto lines = summary_lines(rows, p.vendors, summary);
 
-  std::ofstream md(dir / "scale.md");
+  // Built in memory, written atomically (core/atomic_file.hpp): a bench
+  // killed while writing leaves the previous run's results whole.
+  std::vector<std::pair<std::string, std::string>> files;
+  std::ostringstream md;
   md << "# pheromesh bench scale\n\n"
      << "*Scenario:* " << p.o.scenario << "  \n*Per run:* " << p.o.ticks << " ticks at " << p.o.rate_hz << " Hz, lease "
      << p.o.lease_ms << " ms, domain " << p.o.domain
@@ -284,7 +289,7 @@ bool write_results(const Plan& p, const std::vector<Row>& rows, const std::vecto
      << kBenchScaleFooter << "```\n\n"
      << "Each run's own output: `V-N/run.txt`, its metrics: `V-N/metrics.json`, its processes' logs: `V-N/logs/`.\n";
 
-  std::ofstream csv(dir / "scale.csv");
+  std::ostringstream csv;
   csv << "vendor,uavs,exit_code";
   for (const auto& c : columns()) csv << "," << c.key;
   csv << "\n";
@@ -315,7 +320,9 @@ bool write_results(const Plan& p, const std::vector<Row>& rows, const std::vecto
                   {"lease_ms", p.o.lease_ms}, {"domain", p.o.domain}, {"extra", p.o.extra},
                   {"host", p.host},           {"rows", j_rows},       {"summary", summary},
                   {"skipped", skipped}};
-  std::ofstream(dir / "scale.json") << j.dump(2) << "\n";
+  files.emplace_back("scale.md", md.str());
+  files.emplace_back("scale.csv", csv.str());
+  files.emplace_back("scale.json", runtime::json_text(j, 2) + "\n");
 
   // One line per vendor; a missing figure leaves a gap (the SVG writer skips it).
   auto plot = [&](const char* file, const char* title, const char* y_label, const char* key) {
@@ -329,16 +336,18 @@ bool write_results(const Plan& p, const std::vector<Row>& rows, const std::vecto
       }
       pl.series.push_back(std::move(s));
     }
-    std::ofstream(dir / file) << experiments::svg_plot(pl);
+    files.emplace_back(file, experiments::svg_plot(pl));
   };
   plot("late_share.svg", "Late UAV ticks vs swarm size", "late ticks [%]", "late_pct");
   plot("cpu_per_uav_tick.svg", "CPU of the whole swarm per UAV tick", "CPU user+sys [ms / UAV tick]",
        "swarm_cpu_ms_per_tick");
   plot("pss_per_uav.svg", "Memory per UAV process (PSS, mean)", "PSS [MiB]", "pss_uav_mib");
   plot("discovery.svg", "Discovery: launch to every process heard", "discovery [s]", "discovery_s");
-  if (!md || !csv) {
-    error = "cannot write the results into " + p.o.out_dir;
-    return false;
+  for (const auto& [name, text] : files) {
+    if (auto written = core::write_file_atomically((dir / name).string(), text); !written) {
+      error = written.error().message;
+      return false;
+    }
   }
   return true;
 }

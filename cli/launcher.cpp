@@ -26,8 +26,11 @@
 #include "pheromesh/bus/bus.hpp"
 #include "pheromesh/auth/control.hpp"
 #include "pheromesh/console/server.hpp"
+#include "pheromesh/core/atomic_file.hpp"
 #include "pheromesh/core/scenario.hpp"
+#include "pheromesh/core/scenario_limits.hpp"
 #include "pheromesh/runtime/process.hpp"
+#include "pheromesh/runtime/report.hpp"
 
 namespace pheromesh::cli {
 
@@ -621,6 +624,18 @@ int Launcher::run() {
   uavs_ = uavs;
   standby_from_scenario_ = s.standby;
   standby_ = o_.standby || s.standby;
+  {
+    // --uavs and --standby change what the scenario asks of the machine.
+    core::ScenarioConfig asked = s;
+    asked.uavs = uavs;
+    asked.standby = standby_;
+    auto limits = core::ScenarioLimits::from_environment();
+    auto ok = limits ? core::check_limits(asked, limits.value(), o_.scenario) : core::Result<bool>(limits.error());
+    if (!ok) {
+      spdlog::error("the swarm asked for exceeds a limit:\n{}", ok.error().message);
+      return 2;
+    }
+  }
   auto plan = parse_dds_plan(o_.dds, bus::available_vendors());
   if (!plan) {
     spdlog::error("{}", plan.error().message);
@@ -955,7 +970,12 @@ void Launcher::finish_metrics(int& exit_code) {
       udp ? nlohmann::json(udp_end_->in_datagrams - udp_start_->in_datagrams) : nlohmann::json(nullptr);
   m["udp_out_datagrams"] =
       udp ? nlohmann::json(udp_end_->out_datagrams - udp_start_->out_datagrams) : nlohmann::json(nullptr);
-  std::ofstream(path) << m.dump(2) << "\n";
+  // Written over the ground station's file atomically: a launcher killed here
+  // leaves the ground station's metrics.json, not half of the merged one.
+  if (auto written = core::write_file_atomically(path.string(), runtime::json_text(m, 2) + "\n"); !written) {
+    spdlog::error("{}", written.error().message);
+    exit_code = 1;
+  }
   if (crashed > 0) exit_code = 1;
   if (!ground_here) {
     spdlog::info("done on host {}: {} processes, killed {}, crashed {} -> {} (the swarm's metrics.json is on host {})",

@@ -8,6 +8,7 @@
 
 #include "attach_command.hpp"
 #include "bench_scale.hpp"
+#include "bench_soak.hpp"
 #include "scenario_paths.hpp"
 #include "experiment_command.hpp"
 #include "launcher.hpp"
@@ -15,6 +16,7 @@
 #include "pheromesh/auth/control.hpp"
 #include "pheromesh/bus/bus.hpp"
 #include "pheromesh/core/scenario.hpp"
+#include "pheromesh/core/scenario_limits.hpp"
 #include "replay_command.hpp"
 #include "sim_command.hpp"
 
@@ -80,7 +82,13 @@ void print_faults(const pheromesh::core::FaultSchedule& f) {
 }
 
 int validate(const std::string& path) {
-  auto s = pheromesh::core::load_scenario(path);
+  auto env_limits = pheromesh::core::ScenarioLimits::from_environment();
+  if (!env_limits) {
+    std::fprintf(stderr, "%s\n", env_limits.error().message.c_str());
+    return 2;
+  }
+  const pheromesh::core::ScenarioLimits limits = env_limits.value();
+  auto s = pheromesh::core::load_scenario(path, limits);
   if (!s) {
     std::fprintf(stderr, "%s\n", s.error().message.c_str());
     return 2;
@@ -93,6 +101,14 @@ int validate(const std::string& path) {
               geo.region_count(), s->regions_x, s->regions_y, s->obstacles.size(), s->targets.size(), s->uavs, s->ticks,
               s->tick_rate_hz, static_cast<unsigned long long>(s->seed), s->aco.revisit_period);
   print_faults(s->faults);
+  // The figures the limits are checked against (scenario_limits.hpp).
+  const auto cost = pheromesh::core::estimate_cost(s.value());
+  std::printf("  processes   %lld (limit %lld, $%s)\n  memory      ~%.0f MiB for the largest process, the %s "
+              "(limit %lld MiB, $%s); ~%.0f MiB for the swarm (limit %lld MiB, $%s)\n",
+              static_cast<long long>(cost.processes), static_cast<long long>(limits.max_processes),
+              pheromesh::core::kMaxProcessesEnv, cost.largest_mib(), cost.largest_role(),
+              static_cast<long long>(limits.max_process_mib), pheromesh::core::kMaxProcessMibEnv, cost.swarm_mib,
+              static_cast<long long>(limits.max_swarm_mib), pheromesh::core::kMaxSwarmMibEnv);
   return 0;
 }
 
@@ -116,7 +132,11 @@ int main(int argc, char** argv) {
   app.add_option("--log-level", log_level, "Launcher log level")->capture_default_str();
 
   std::string validate_path;
-  auto* v = app.add_subcommand("validate", "Check a scenario file; errors name the file, line and field");
+  auto* v = app.add_subcommand(
+      "validate",
+      "Check a scenario file; errors name the file, line and field. Also refused: strings that are not UTF-8, and "
+      "scenarios beyond the limits on map cells, regions, processes and estimated memory (raise them with "
+      "$PHEROMESH_MAX_MAP_CELLS, _REGIONS, _PROCESSES, _PROCESS_MIB, _SWARM_MIB; docs/scenario-format.md)");
   v->add_option("SCENARIO", validate_path, cli::kScenarioArgHelp)
       ->required()
       ->transform(CLI::Validator(cli::resolve_scenario_argument, "FILE|NAME"));
@@ -276,6 +296,30 @@ int main(int argc, char** argv) {
   bs->add_option("--extra", bso.extra, "More arguments for `pheromesh run`, in one string, e.g. \"--dds-profile default\"");
   bs->footer(cli::kBenchScaleFooter);
 
+  cli::BenchSoakOptions bko;
+  auto* bk = bench->add_subcommand(
+      "soak", "Run one swarm for a long time with a fault every so often, and report the RSS, open file descriptors "
+              "and threads of every role (uav, place, ground, launcher) over time, with growth per hour");
+  bk->add_option("SCENARIO", bko.scenario, cli::kScenarioArgHelp)
+      ->required()
+      ->transform(CLI::Validator(cli::resolve_scenario_argument, "FILE|NAME"));
+  bk->add_option("--processes", bko.processes, "UAVs + place agents + the ground station (the UAVs fill the rest)")
+      ->check(CLI::Range(3U, 5000U))
+      ->capture_default_str();
+  bk->add_option("--duration", bko.duration, "How long the swarm runs: 1h, 10m, 90s")->capture_default_str();
+  bk->add_option("--fault-every", bko.fault_every, "One fault per period (0: none)")->capture_default_str();
+  bk->add_option("--sample-every", bko.sample_every, "Sampling period of /proc")->capture_default_str();
+  bk->add_option("--warmup", bko.warmup, "Samples before this are left out of the growth fits")->capture_default_str();
+  bk->add_option("--rate", bko.rate_hz, "Tick rate of every process [Hz]")->check(CLI::PositiveNumber)->capture_default_str();
+  bk->add_option("--lease-ms", bko.lease_ms, "Liveliness lease [ms] (generous: a loaded host stalls)")
+      ->check(CLI::Range(50, 60000))
+      ->capture_default_str();
+  bk->add_option("--dds", bko.dds, "DDS vendor(s) as `pheromesh run --dds` takes them")->capture_default_str();
+  bk->add_option("--domain", bko.domain, "DDS domain id of the run")->check(CLI::Range(0, 232))->capture_default_str();
+  bk->add_option("--out", bko.out_dir, "Output folder: soak.md, soak.csv, soak-processes.csv, run/")->capture_default_str();
+  bk->add_option("--extra", bko.extra, "More arguments for `pheromesh run`, in one string");
+  bk->footer(cli::kBenchSoakFooter);
+
   auto* key = app.add_subcommand("key",
                                  "Print a new random control key (64 hex digits) for $PHEROMESH_CONTROL_KEY: "
                                  "every host of a swarm over several hosts exports the same one");
@@ -350,6 +394,7 @@ int main(int argc, char** argv) {
   if (ex->parsed()) return cli::run_experiment_command(eo);
   if (rp->parsed()) return cli::run_replay(rpo);
   if (bs->parsed()) return cli::run_bench_scale(bso);
+  if (bk->parsed()) return cli::run_bench_soak(bko);
   try {
     return cli::Launcher(ro).run();
   } catch (const std::exception& e) {

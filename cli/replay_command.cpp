@@ -46,6 +46,13 @@ class ReplaySource final : public console::ConsoleSource {
     return {503, "this is a replay of a recording; it takes no commands"};
   }
 
+  void refused(console::Refusal reason, int status, const std::string& who, const std::string& what) override {
+    std::lock_guard lock(log_mu_);
+    const double now = std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+    if (const auto k = log_limit_.take_suppressed(now)) spdlog::warn("suppressed {} refused requests", *k);
+    if (log_limit_.admit(now)) spdlog::warn("request from {} refused ({}, {}): {}", who, status, console::refusal_name(reason), what);
+  }
+
   std::string metrics() override {
     console::Exposition e;
     e.family("pheromesh_replay_frames", "gauge", "Frames in the recording being replayed.");
@@ -60,6 +67,8 @@ class ReplaySource final : public console::ConsoleSource {
   std::mutex mu_;
   std::optional<console::ConsoleState> cached_;
   double cached_t_ = 0;
+  std::mutex log_mu_;
+  console::RefusalLimiter log_limit_{5, 10.0};  // as the ground station's
 };
 
 }  // namespace

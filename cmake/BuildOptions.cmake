@@ -3,10 +3,12 @@ option(PHEROMESH_BUILD_TESTS "Build unit and integration tests" ON)
 option(PHEROMESH_BUILD_BENCH "Build benchmarks" ON)
 option(PHEROMESH_CORE_ONLY "Build only the DDS-free core, its unit tests and benchmarks" OFF)
 option(PHEROMESH_WERROR "Treat warnings as errors" OFF)
+option(PHEROMESH_FUZZ "Build the libFuzzer harnesses of fuzz/ (clang only; docs/fuzzing.md)" OFF)
 set(PHEROMESH_SANITIZER "" CACHE STRING "Sanitizers to build with: '', 'address,undefined' or 'thread'")
 set_property(CACHE PHEROMESH_SANITIZER PROPERTY STRINGS "" "address,undefined" "thread")
 
-foreach(opt PHEROMESH_BUILD_TESTS PHEROMESH_BUILD_BENCH PHEROMESH_CORE_ONLY PHEROMESH_WERROR PHEROMESH_SANITIZER CMAKE_BUILD_TYPE)
+foreach(opt PHEROMESH_BUILD_TESTS PHEROMESH_BUILD_BENCH PHEROMESH_CORE_ONLY PHEROMESH_WERROR PHEROMESH_SANITIZER PHEROMESH_FUZZ
+    CMAKE_BUILD_TYPE)
   message(STATUS "pheromesh option ${opt} = ${${opt}}")
 endforeach()
 
@@ -20,4 +22,19 @@ target_compile_options(pheromesh_build_options INTERFACE
 if(PHEROMESH_SANITIZER)
   target_compile_options(pheromesh_build_options INTERFACE -fsanitize=${PHEROMESH_SANITIZER} -fno-omit-frame-pointer)
   target_link_options(pheromesh_build_options INTERFACE -fsanitize=${PHEROMESH_SANITIZER})
+endif()
+
+# Fuzzing: every pheromesh library gets libFuzzer's coverage instrumentation
+# and ASan + UBSan, so the harnesses (fuzz/, linked with -fsanitize=fuzzer)
+# see the edges of the code they feed; any undefined behaviour aborts, which
+# the fuzzer reports as a crash instead of printing a line and going on.
+if(PHEROMESH_FUZZ)
+  if(NOT CMAKE_CXX_COMPILER_ID STREQUAL "Clang")
+    message(FATAL_ERROR "PHEROMESH_FUZZ needs clang (libFuzzer): configure with -DCMAKE_CXX_COMPILER=clang++ "
+                        "-DCMAKE_C_COMPILER=clang (fuzz/fuzz.sh does)")
+  endif()
+  set(PHEROMESH_FUZZ_FLAGS -fsanitize=fuzzer-no-link,address,undefined -fno-sanitize-recover=undefined
+    -fno-omit-frame-pointer)
+  target_compile_options(pheromesh_build_options INTERFACE ${PHEROMESH_FUZZ_FLAGS})
+  target_link_options(pheromesh_build_options INTERFACE -fsanitize=address,undefined)
 endif()

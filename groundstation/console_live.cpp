@@ -1,6 +1,7 @@
 #include "console_live.hpp"
 
 #include <chrono>
+#include <utility>
 
 #include "pheromesh/console/view.hpp"
 
@@ -70,6 +71,21 @@ console::ConsoleSource::Answer LiveConsole::command(const nlohmann::json& body, 
     return {503, "the ground station did not handle the command within 10 s"};
   }
   return fut.get();
+}
+
+void LiveConsole::refused(console::Refusal reason, int status, const std::string& who, const std::string& what) {
+  std::lock_guard lock(refused_mu_);
+  if (refused_.size() >= kMaxQueuedRefusals) {
+    ++refused_overflow_;
+    return;
+  }
+  refused_.push_back({reason, status, who, what.substr(0, 200)});
+}
+
+std::vector<LiveConsole::Refused> LiveConsole::take_refused(uint64_t& overflowed) {
+  std::lock_guard lock(refused_mu_);
+  overflowed = std::exchange(refused_overflow_, 0);
+  return std::exchange(refused_, {});
 }
 
 std::string LiveConsole::metrics() {

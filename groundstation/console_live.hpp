@@ -37,6 +37,14 @@ class LiveConsole final : public console::ConsoleSource {
     std::promise<Answer> done;
   };
   std::vector<std::unique_ptr<Pending>> take_pending();
+  struct Refused {
+    console::Refusal reason;
+    int status;
+    std::string who, what;
+  };
+  // The refusals queued since the last call, and how many did not fit in
+  // the queue (counted, not described).
+  std::vector<Refused> take_refused(uint64_t& overflowed);
   void close();  // answers every waiting request; no more commands
 
   // --- HTTP threads
@@ -44,6 +52,7 @@ class LiveConsole final : public console::ConsoleSource {
   nlohmann::json frame(uint16_t layer, uint64_t since, std::optional<double> t, bool wait) override;
   Answer command(const nlohmann::json& body, const std::string& who) override;
   std::string metrics() override;
+  void refused(console::Refusal reason, int status, const std::string& who, const std::string& what) override;
 
  private:
   console::ConsoleInfo info_;
@@ -54,6 +63,13 @@ class LiveConsole final : public console::ConsoleSource {
   std::string metrics_;
   std::deque<std::unique_ptr<Pending>> pending_;
   bool closed_ = false;
+  // Refused requests for the main thread to log, under their own lock so
+  // that a flood of them never waits for a frame being served. Bounded: a
+  // flood is summarised, not queued.
+  static constexpr std::size_t kMaxQueuedRefusals = 256;
+  std::mutex refused_mu_;
+  std::vector<Refused> refused_;
+  uint64_t refused_overflow_ = 0;
 };
 
 }  // namespace pheromesh::groundstation

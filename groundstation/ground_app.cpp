@@ -45,7 +45,8 @@ GroundApp::GroundApp(GroundConfig cfg, core::ScenarioConfig scenario, std::uniqu
                   std::chrono::milliseconds(static_cast<int64_t>(cfg_.departed_grace_s * 1000)),
                   (cfg_.common.standby || scenario_.standby) ? 1U : 0U,
                   std::chrono::milliseconds(static_cast<int64_t>(cfg_.start_timeout_s * 1000))}),
-      layers_(static_cast<int>(core::policy_traits(scenario_).layers.size())) {
+      layers_(static_cast<int>(core::policy_traits(scenario_).layers.size())),
+      layer_ranges_(core::policy_traits(scenario_).layer_ranges) {
   if (cfg_.expect_uavs == 0) cfg_.expect_uavs = scenario_.uavs;
   // Place agents have standby replicas (--standby, common to every process, or run.standby).
   cfg_.standby = cfg_.common.standby || scenario_.standby;
@@ -53,7 +54,10 @@ GroundApp::GroundApp(GroundConfig cfg, core::ScenarioConfig scenario, std::uniqu
   if (const char* t0 = std::getenv("PHEROMESH_RUN_T0_MS"); t0 != nullptr) {
     char* end = nullptr;
     const long long v = std::strtoll(t0, &end, 10);
-    if (end != t0 && *end == '\0' && v > 0) run_t0_unix_ms_ = v;
+    if (end != t0 && *end == '\0' && v > 0) {
+      run_t0_unix_ms_ = v;
+      launch_known_ = true;
+    }
   }
 }
 
@@ -87,12 +91,40 @@ void GroundApp::note_discovery() {
   }
 }
 
+void GroundApp::note_acquisitions() {
+  for (const auto& d : rec_.take_first_acquisitions()) {
+    frame_builder_.target_found(d.target, d.uav, d.tick);
+    log_->info("target {} at ({},{}) first acquired by uav {} at tick {} ({}/{})", d.target, d.cell.x, d.cell.y, d.uav,
+               d.tick, rec_.acquisitions().found(), world_.targets().size());
+  }
+}
+
+uint32_t GroundApp::tick_ceiling() const {
+  // Lockstep: the conductor's own clock. Realtime: the launch time shared by
+  // every process of the run; a monitor attached later does not know it.
+  if (cfg_.common.lockstep() && !cfg_.attach) return core::lockstep_tick_ceiling(conducted_tick_);
+  if (cfg_.attach || !launch_known_) return std::numeric_limits<uint32_t>::max();
+  return core::realtime_tick_ceiling(static_cast<double>(unix_ms_now() - run_t0_unix_ms_) / 1000.0, scenario_.tick_rate_hz);
+}
+
+void GroundApp::note_refused(core::Refusal r, const std::string& what) {
+  rec_.count_refused(r);
+  if (rec_.refused().total() <= 5) log_->warn("refused {} ({})", what, core::refusal_name(r));
+}
+
 void GroundApp::poll() {
+  const uint32_t ceiling = tick_ceiling();
+  rec_.set_tick_ceiling(ceiling);
   states_.clear();
   bus_->take_uav_states(states_);
   for (const auto& s : states_) {
+    const uint64_t refused_before = rec_.refused().total();
     if (!rec_.on_uav_state(s)) {
-      if (rec_.samples_rejected() <= 3) log_->warn("dropped state of uav {}", s.uav);
+      if (rec_.samples_rejected() <= 3 && rec_.refused().total() == refused_before) {
+        log_->warn("dropped state of uav {}", s.uav);
+      } else if (rec_.refused().total() <= 5) {
+        log_->warn("refused state of uav {} at tick {} ({}, {}): implausible", s.uav, s.tick, s.x, s.y);
+      }
       continue;
     }
     conductor_.heard_from(s.uav, Clock::now());
@@ -109,12 +141,17 @@ void GroundApp::poll() {
       rec_.count_rejected_sample();
       continue;
     }
+    if (core::check_uav_id(b.uav, scenario_.uavs)) {
+      note_refused(core::Refusal::UnknownUav, "a broadcast of uav " + std::to_string(b.uav));
+      continue;
+    }
     conductor_.on_broadcast(b.uav, b.tick);
     conductor_.heard_from(b.uav, Clock::now());
   }
   std::vector<uint32_t> gone;
   bus_->take_departed_uavs(gone);
   for (uint32_t id : gone) {
+    if (core::check_uav_id(id, scenario_.uavs)) continue;  // a forger's writer left, not a UAV
     auto it = rec_.uavs().find(id);
     const bool finished = it != rec_.uavs().end() && it->second.finished;
     if (conductor_.on_uav_departed(id, Clock::now()) && !finished) {
@@ -124,13 +161,8 @@ void GroundApp::poll() {
   }
   detections_.clear();
   bus_->take_detections(detections_);
-  for (const auto& d : detections_) {
-    if (rec_.on_detection(d) && rec_.first_acquisition()) {
-      frame_builder_.target_found(d.target, d.uav, d.tick);
-      log_->info("target {} at ({},{}) first acquired by uav {} at tick {} ({}/{})", d.target, d.cell.x, d.cell.y, d.uav,
-                 d.tick, rec_.acquisitions().found(), world_.targets().size());
-    }
-  }
+  for (const auto& d : detections_) rec_.on_detection(d);
+  note_acquisitions();
   events_.clear();
   bus_->take_target_events(events_);
   for (const auto& e : events_) {
@@ -158,6 +190,18 @@ void GroundApp::poll() {
   fields_.clear();
   bus_->take_fields(fields_);
   for (auto& f : fields_) {
+    // A forged chunk must not enter the field nor the count of chunks the
+    // last tick waits for (holds_last_fields).
+    if (auto reason = core::check_tick_reachable(f.tick, ceiling, "field")) {
+      note_refused(core::Refusal::TickFarAhead, *reason);
+      continue;
+    }
+    const auto out_of_range = std::find_if(f.tiles.begin(), f.tiles.end(),
+                                           [&](const auto& t) { return core::check_tile_range(t, layer_ranges_); });
+    if (out_of_range != f.tiles.end()) {
+      note_refused(core::Refusal::ValueOutOfRange, "a field chunk: " + *core::check_tile_range(*out_of_range, layer_ranges_));
+      continue;
+    }
     if (f.region < geo_.region_count()) {
       auto& [tick, chunks] = field_ticks_[f.region];
       if (f.tick > tick || chunks.empty()) {
@@ -173,6 +217,15 @@ void GroundApp::poll() {
     if (auto reason = core::check_tile(t, geo_, layers_)) {
       rec_.count_rejected_sample();
       if (rec_.samples_rejected() <= 3) log_->warn("dropped tile ({},{}): {}", t.tile.tx, t.tile.ty, *reason);
+      continue;
+    }
+    // Forged values must not reach the final field (plausibility.hpp).
+    if (auto reason = core::check_tick_reachable(t.tick, ceiling, "tile")) {
+      note_refused(core::Refusal::TickFarAhead, *reason);
+      continue;
+    }
+    if (auto reason = core::check_tile_range(t, layer_ranges_)) {
+      note_refused(core::Refusal::ValueOutOfRange, *reason);
       continue;
     }
     auto& slot = tiles_latest_[{t.layer, {t.tile.tx, t.tile.ty}}];
@@ -234,6 +287,7 @@ void GroundApp::progress_if_due() {
 }
 
 bool GroundApp::run_phase(uint32_t tick, core::ClockPhase phase) {
+  conducted_tick_ = std::max(conducted_tick_, tick);
   poll();
   resend_.begin_tick();
   const auto t0 = Clock::now();
@@ -443,6 +497,8 @@ int GroundApp::finish() {
     if (places_finished() || Clock::now() > deadline) break;
     wait_for_data(std::min(deadline, Clock::now() + std::chrono::milliseconds(20)));
   }
+  rec_.judge_pending_detections();
+  note_acquisitions();
   print_progress();
   if (console_) {
     // The last frame holds the final state; a replay ends with it too.
@@ -452,7 +508,14 @@ int GroundApp::finish() {
     std::string error;
     if (!runtime::write_json(cfg_.out_dir, "console_final.json", final_json, error)) log_->error("{}", error);
     if (server_) server_->stop();
-    if (recording_) log_->info("recorded {} console frames ({} bytes) in {}", frames_, recording_->bytes_written(), recording_->path());
+    if (recording_) {
+      // The recording appears under its name only now, complete (recording.hpp).
+      if (auto closed = recording_->close(); !closed) {
+        log_->error("{}", closed.error().message);
+      } else {
+        log_->info("recorded {} console frames ({} bytes) in {}", frames_, closed.value(), recording_->path());
+      }
+    }
   }
   const auto field_value = [&](int layer, core::Cell c) {
     const core::TileCoord t = geo_.tile_of(c);

@@ -45,6 +45,7 @@ struct GroundConfig {
   // Web console (docs/console.md): served when http_port is set (0: any free port).
   std::optional<uint16_t> http_port;
   std::string http_bind = "127.0.0.1";
+  console::HttpLimits http_limits;  // --http-threads, --http-max-body
   double console_hz = 5.0;   // frames per second
   std::string record_path;   // record the console frames here (empty: no recording)
   int launcher_fd = -1;      // control socket from `pheromesh run` (kill / restart)
@@ -72,6 +73,12 @@ class GroundApp {
 
  private:
   void poll();
+  // Plausibility (core/plausibility.hpp): the highest tick a sample can carry
+  // now, and a refusal counted for metrics.json.
+  [[nodiscard]] uint32_t tick_ceiling() const;
+  void note_refused(core::Refusal r, const std::string& what);
+  // Logs and shows targets acquired for the first time.
+  void note_acquisitions();
   // Until data arrives on any reader poll() takes, or `until`.
   void wait_for_data(std::chrono::steady_clock::time_point until);
   void progress_if_due();
@@ -108,6 +115,7 @@ class GroundApp {
   console::ConsoleSource::Answer apply(const console::ConsoleCommand& c);
   console::ConsoleSource::Answer publish_swarm_command(core::CommandMsg c);
   void log_command(const std::string& who, const std::string& what, const console::ConsoleSource::Answer& a);
+  void log_refusals();  // the server's, rate-limited
   GroundConfig cfg_;
   console::LauncherLink launcher_;  // kill / restart, and pause so the launcher extends its deadline
   core::ScenarioConfig scenario_;
@@ -133,6 +141,8 @@ class GroundApp {
   std::vector<core::PhaseDoneMsg> dones_;
   std::vector<core::BroadcastMsg> broadcasts_;
   int layers_ = 0;
+  std::vector<core::ValueRange> layer_ranges_;  // physical range per layer (tiles out of it are refused)
+  uint32_t conducted_tick_ = 0;                 // lockstep: the tick the conductor announced last
 
   // --- web console
   std::unique_ptr<LiveConsole> console_;
@@ -145,11 +155,17 @@ class GroundApp {
   std::vector<console::CommandLogEntry> command_log_;           // for the next frame
   uint32_t command_seq_ = 0;
   uint64_t commands_ok_ = 0, commands_refused_ = 0, frames_ = 0;
+  // Refused commands and requests reach the log and the recording at most 5
+  // times in 10 s; the rest are summarised ("suppressed K").
+  static constexpr uint32_t kRefusalsLogged = 5;
+  static constexpr double kRefusalWindowS = 10.0;
+  console::RefusalLimiter refusal_log_{kRefusalsLogged, kRefusalWindowS};
   bool paused_ = false;
   bool recording_failed_ = false;
   // Discovery: the launch time ($PHEROMESH_RUN_T0_MS, else this process's
   // start) and how long until every expected process was heard.
   int64_t run_t0_unix_ms_ = 0;
+  bool launch_known_ = false;  // run_t0_unix_ms_ came from the launcher
   std::optional<double> discovery_s_;
   bool start_sent_ = false;
   bool ended_ = false;  // --until-done: the End went out

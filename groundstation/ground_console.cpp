@@ -83,6 +83,7 @@ void GroundApp::start_console() {
     o.port = *cfg_.http_port;
     const char* token = std::getenv("PHEROMESH_CONSOLE_TOKEN");
     o.token = token != nullptr && *token != '\0' ? token : console::random_token();
+    o.limits = cfg_.http_limits;
     server_ = std::make_unique<console::ConsoleServer>(*console_, o);
     auto port = server_->start();
     if (!port) {
@@ -98,6 +99,7 @@ void GroundApp::start_console() {
 void GroundApp::service() {
   if (!console_) return;
   for (auto& p : console_->take_pending()) p->done.set_value(execute(p->body, p->who));
+  log_refusals();
   const auto now = Clock::now();
   if (now < next_frame_) return;
   build_frame();
@@ -135,6 +137,13 @@ std::string GroundApp::metrics_text() const {
   c.targets_total = world_.targets().size();
   c.deposits_sent = rec_.deposits_sent();
   c.samples_rejected = rec_.samples_rejected() + bus_->stats().samples_dropped;
+  const core::RefusalCounts by_places = rec_.refused_by_places(), by_uavs = rec_.refused_by_uavs();
+  for (std::size_t i = 0; i < core::kRefusalCount; ++i) {
+    const auto why = static_cast<core::Refusal>(i);
+    c.samples_refused["places"][core::refusal_name(why)] = by_places[why];
+    c.samples_refused["uavs"][core::refusal_name(why)] = by_uavs[why];
+    c.samples_refused["ground"][core::refusal_name(why)] = rec_.refused()[why];
+  }
   c.frames = frames_;
   c.commands_ok = commands_ok_;
   c.commands_refused = commands_refused_;
@@ -142,6 +151,9 @@ std::string GroundApp::metrics_text() const {
     const auto s = server_->stats();
     c.http_requests = s.requests;
     c.http_body_bytes = s.body_bytes;
+    c.http_refused = s.refused;
+    c.http_connections = s.open_connections;
+    c.commands_refused += s.commands_unauthorised;  // refused before their body was read
   }
   if (recording_) c.recording_bytes = recording_->bytes_written();
   return console::swarm_metrics_text(console_->state(), c);
@@ -150,12 +162,33 @@ std::string GroundApp::metrics_text() const {
 void GroundApp::log_command(const std::string& who, const std::string& what, const Answer& a) {
   const bool ok = a.status == 200;
   (ok ? commands_ok_ : commands_refused_)++;
+  const double t = seconds_since(console_t0_);
   if (ok) {
     log_->info("console command from {}: {} -> {}", who, what, a.message);
   } else {
+    log_refusals();  // an ended window's summary before this one
+    if (!refusal_log_.admit(t)) return;
     log_->warn("console command from {}: {} refused ({}): {}", who, what, a.status, a.message);
   }
-  command_log_.push_back({0, seconds_since(console_t0_), who, what, ok, a.message});
+  command_log_.push_back({0, t, who, what, ok, a.message});
+}
+
+void GroundApp::log_refusals() {
+  const double t = seconds_since(console_t0_);
+  uint64_t overflowed = 0;
+  for (const auto& r : console_->take_refused(overflowed)) {
+    if (!refusal_log_.admit(t)) continue;
+    const std::string message = std::string("refused (") + std::to_string(r.status) + "): " + console::refusal_name(r.reason);
+    log_->warn("console request from {}: {} {}", r.who, r.what, message);
+    command_log_.push_back({0, t, r.who, r.what, false, message});
+  }
+  if (overflowed > 0) refusal_log_.suppress(overflowed, t);
+  if (const auto k = refusal_log_.take_suppressed(t)) {
+    const std::string what = "suppressed " + std::to_string(*k) + " refused requests";
+    log_->warn("console: {} in the last {} s (at most {} are logged per window; all are counted in /metrics)", what,
+               kRefusalWindowS, kRefusalsLogged);
+    command_log_.push_back({0, t, "http", what, false, "not logged one by one; counted in /metrics"});
+  }
 }
 
 Answer GroundApp::publish_swarm_command(core::CommandMsg c) {

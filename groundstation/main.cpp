@@ -35,6 +35,14 @@ int main(int argc, char** argv) {
   app.add_option("--http", cfg.http_port, "Serve the web console and /metrics on this port (0: any free port)");
   app.add_option("--http-bind", cfg.http_bind, "Address the console listens on (0.0.0.0: every interface)")
       ->capture_default_str();
+  app.add_option("--http-threads", cfg.http_limits.threads,
+                 "Console requests served at once; slow and idle connections wait without a thread (docs/console.md, Limits)")
+      ->capture_default_str()
+      ->check(CLI::Range(1U, 64U));
+  app.add_option("--http-max-body", cfg.http_limits.max_body,
+                 "Largest request body the console reads [byte]; larger ones get 413 unread")
+      ->capture_default_str()
+      ->check(CLI::Range(std::size_t{256}, std::size_t{16} << 20));
   app.add_option("--console-hz", cfg.console_hz, "Console frames per second")->capture_default_str()->check(CLI::Range(0.2, 50.0));
   app.add_option("--record", cfg.record_path, "Record the console frames to this file (read by `pheromesh replay`)");
   app.add_flag("--until-done", cfg.until_done,

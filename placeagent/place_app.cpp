@@ -21,7 +21,10 @@ PlaceApp::PlaceApp(PlaceConfig cfg, core::ScenarioConfig scenario, std::unique_p
       core_(scenario_, cfg_.region),
       rate_(scenario_.tick_rate_hz),
       gaps_(std::chrono::nanoseconds(static_cast<int64_t>(1e9 / scenario_.tick_rate_hz))),
-      views_(geo_, static_cast<int>(core::policy_traits(scenario_).layers.size()), core::policy_traits(scenario_).view_radius) {
+      views_(geo_, static_cast<int>(core::policy_traits(scenario_).layers.size()), core::policy_traits(scenario_).view_radius),
+      traits_(core::policy_traits(scenario_)),
+      layer_ranges_(traits_.layer_ranges),
+      max_step_(traits_.max_step) {
   for (uint32_t u = 0; u < scenario_.uavs; ++u) {
     if (core::home_region(u, geo_.region_count()) == cfg_.region) home_uavs_.push_back(u);
   }
@@ -63,6 +66,28 @@ constexpr uint32_t kNeighbourAge = 4;
 constexpr std::size_t kSeenSeqs = 4096;
 }  // namespace
 
+uint32_t PlaceApp::tick_ceiling() const {
+  return exact_ ? core::lockstep_tick_ceiling(current_tick_) : runtime::realtime_tick_ceiling(scenario_.tick_rate_hz);
+}
+
+void PlaceApp::refuse(core::Refusal r, const std::string& what) {
+  refused_.add(r);
+  if (refused_.total() <= 5) log_->warn("refused {} ({})", what, core::refusal_name(r));
+}
+
+void PlaceApp::keep_conductor_clock(std::vector<core::ClockMsg>& cmds) {
+  // The first clock sample names the conductor: on an open domain anyone can
+  // write a clock (a forged Stop would end the run), but no one can write
+  // through another process's DDS writer.
+  std::erase_if(cmds, [&](const core::ClockMsg& c) {
+    if (!conductor_) conductor_ = c.writer;
+    if (c.writer == *conductor_) return false;
+    refuse(core::Refusal::ForeignClock,
+           fmt::format("a clock sample of tick {} phase {} from another writer", c.tick, c.phase));
+    return true;
+  });
+}
+
 bool PlaceApp::duplicate(const core::DepositMsg& d) {
   // Only swarms with standbys send copies; elsewhere a repeated sequence
   // number is a replay, which PlaceCore rejects with its reason.
@@ -78,9 +103,13 @@ void PlaceApp::take_deposits() {
   bus_->take_deposits(taken_);
   for (const auto& d : taken_) {
     // What this replica received from its own UAVs, confirmed in their views.
-    if (core::home_region(d.uav, geo_.region_count()) == cfg_.region) {
-      auto& a = acked_[d.uav];
-      a = std::max(a, d.seq);
+    // Only a seq the UAV can have reached: one forged far ahead would confirm
+    // every deposit the UAV sends from then on (core/plausibility.hpp).
+    if (core::home_region(d.uav, geo_.region_count()) == cfg_.region && !core::check_uav_id(d.uav, scenario_.uavs)) {
+      auto it = acked_.find(d.uav);
+      const auto last = it == acked_.end() ? std::nullopt : std::optional<uint32_t>(it->second.first);
+      const uint32_t since = current_tick_ - (it == acked_.end() ? 0 : std::min(it->second.second, current_tick_));
+      if ((!last || d.seq > *last) && !core::check_seq_reachable(d.seq, last, since)) acked_[d.uav] = {d.seq, current_tick_};
     }
     if (duplicate(d)) {
       ++duplicates_;
@@ -110,13 +139,28 @@ void PlaceApp::take_deposits() {
 void PlaceApp::take_home_states(uint32_t tick) {
   state_inbox_.clear();
   bus_->take_uav_states(state_inbox_);
+  const uint32_t ceiling = tick_ceiling();
   for (const auto& st : state_inbox_) {
+    if (auto reason = core::check_uav_id(st.uav, scenario_.uavs)) {
+      refuse(core::Refusal::UnknownUav, "a state: " + *reason);
+      continue;
+    }
     if (core::home_region(st.uav, geo_.region_count()) != cfg_.region) continue;  // not ours (a stray writer)
     if (auto reason = core::check_uav_state(st, geo_)) {
       if (++samples_rejected_ <= 3) log_->warn("dropped state of uav {}: {}", st.uav, *reason);
       continue;
     }
+    if (auto reason = core::check_tick_reachable(st.tick, ceiling, "state")) {
+      refuse(core::Refusal::TickFarAhead, *reason);
+      continue;
+    }
     const core::UavStateMsg* before = views_.state(st.uav);
+    // The place agent cannot tell a restarted UAV from a forger: a state whose
+    // tick went back may start again from the UAV's start cell.
+    if (auto reason = core::check_state_motion(st, before, core::uav_start(scenario_, traits_, st.uav), max_step_, true)) {
+      refuse(core::Refusal::ImplausibleState, *reason);
+      continue;
+    }
     if (before == nullptr || st.tick > before->tick) heard_at_[st.uav] = tick;
     views_.update_state(st);
   }
@@ -138,6 +182,7 @@ void PlaceApp::serve_views(uint32_t tick, bool exact) {
   for (;;) {
     field_inbox_.clear();
     bus_->take_fields(field_inbox_);
+    const uint32_t ceiling = tick_ceiling();
     for (const auto& f : field_inbox_) {
       if (f.region == cfg_.region) continue;
       bool ok = f.region < geo_.region_count();
@@ -145,6 +190,22 @@ void PlaceApp::serve_views(uint32_t tick, bool exact) {
       for (const auto& st : f.uavs) ok = ok && !core::check_uav_state(st, geo_);
       if (!ok) {
         if (++samples_rejected_ <= 3) log_->warn("dropped a malformed field chunk of region {}", f.region);
+        continue;
+      }
+      if (auto reason = core::check_tick_reachable(f.tick, ceiling, "field chunk")) {
+        refuse(core::Refusal::TickFarAhead, *reason);
+        continue;
+      }
+      const auto out_of_range = std::find_if(f.tiles.begin(), f.tiles.end(),
+                                             [&](const auto& t) { return core::check_tile_range(t, layer_ranges_); });
+      if (out_of_range != f.tiles.end()) {
+        refuse(core::Refusal::ValueOutOfRange, *core::check_tile_range(*out_of_range, layer_ranges_));
+        continue;
+      }
+      const auto stranger = std::find_if(f.uavs.begin(), f.uavs.end(),
+                                         [&](const auto& st) { return core::check_uav_id(st.uav, scenario_.uavs); });
+      if (stranger != f.uavs.end()) {
+        refuse(core::Refusal::UnknownUav, "a field chunk with " + *core::check_uav_id(stranger->uav, scenario_.uavs));
         continue;
       }
       views_.update_field(f);
@@ -164,20 +225,26 @@ void PlaceApp::serve_views(uint32_t tick, bool exact) {
     if (!exact && tick - heard_at_[u] > kViewsAfterSilence) continue;
     if (views_.compose(u, tick, exact ? 0 : kNeighbourAge, view_)) {
       auto a = acked_.find(u);
-      view_.deposit_ack = a == acked_.end() ? 0 : a->second;
+      view_.deposit_ack = a == acked_.end() ? 0 : a->second.first;
       resend_.view(view_);
     }
   }
 }
 
 void PlaceApp::step(uint32_t tick, bool exact, std::optional<uint32_t> expected_deposits) {
+  current_tick_ = tick;
+  exact_ = exact;
   resend_.begin_tick();
   inbox_.clear();
   take_deposits();
   if (expected_deposits) {
     const auto deadline = Clock::now() + std::chrono::seconds(30);
+    // Forged deposits carrying this tick must not stand in for real ones
+    // (the place would apply the tick before all of them arrived).
     const auto of_tick = [&] {
-      return static_cast<uint32_t>(std::count_if(inbox_.begin(), inbox_.end(), [&](const auto& d) { return d.tick == tick; }));
+      return static_cast<uint32_t>(std::count_if(inbox_.begin(), inbox_.end(), [&](const auto& d) {
+        return d.tick == tick && !core_.refuses(d, tick);
+      }));
     };
     while (of_tick() < *expected_deposits) {
       if (Clock::now() > deadline || runtime::shutdown_requested()) {
@@ -212,10 +279,15 @@ void PlaceApp::step(uint32_t tick, bool exact, std::optional<uint32_t> expected_
   for (;;) {
     halo_inbox_.clear();
     bus_->take_halos(halo_inbox_);
+    const uint32_t ceiling = tick_ceiling();
     for (const auto& h : halo_inbox_) {
       if (exact && (h.tick != tick || is_absent(h.region))) continue;
+      if (auto reason = core::check_tick_reachable(h.tick, ceiling, "halo")) {
+        refuse(core::Refusal::TickFarAhead, *reason);
+        continue;
+      }
       if (!core_.accept_halo(h)) {
-        log_->warn("dropped malformed halo from region {}", h.region);
+        log_->warn("dropped malformed or out-of-range halo from region {}", h.region);
         continue;
       }
       fresh.insert(h.region);
@@ -242,6 +314,9 @@ void PlaceApp::publish_health(uint32_t tick, bool finished) {
                     finished, gaps_.max_gap_ms(), gaps_.gaps_over_2()};
   h.replica = cfg_.replica;
   h.deposits_duplicate = duplicates_;
+  core::RefusalCounts all = refused_;
+  for (std::size_t i = 0; i < core::kRefusalCount; ++i) all.add(static_cast<core::Refusal>(i), l.refused.n[i]);
+  h.refused = all.n;
   bus_->publish_health(h);
 }
 
@@ -254,6 +329,10 @@ void PlaceApp::log_summary(uint32_t tick) {
              resend_.resends(),
              deposits_lost_ > 0 ? fmt::format("; {} deposits for absent regions lost", deposits_lost_) : std::string());
   for (const auto& [reason, n] : l.rejected_by_reason) log_->info("  rejected {}: {}", n, reason);
+  for (std::size_t i = 0; i < core::kRefusalCount; ++i) {
+    const uint64_t n = uint64_t{refused_.n[i]} + l.refused.n[i];
+    if (n > 0) log_->info("  refused as implausible ({}): {}", core::refusal_name(static_cast<core::Refusal>(i)), n);
+  }
   if (!cfg_.common.lockstep()) {
     log_->info("region {} kept its clock: longest gap between tick starts {} ms ({:.2f} periods), {} gaps over 2 periods",
                cfg_.region, gaps_.max_gap_ms(), gaps_.max_gap_periods(), gaps_.gaps_over_2());
@@ -313,6 +392,7 @@ int PlaceApp::run_lockstep() {
     }
     cmds.clear();
     bus_->take_clock(cmds);
+    keep_conductor_clock(cmds);
     if (!cmds.empty()) watch.on_clock(Clock::now());
     for (const auto& c : cmds) {
       note_absent(c);

@@ -16,6 +16,7 @@
 #include "pheromesh/bus/bus.hpp"
 #include "pheromesh/core/place_core.hpp"
 #include "pheromesh/core/conductor.hpp"
+#include "pheromesh/core/plausibility.hpp"
 #include "pheromesh/core/scenario.hpp"
 #include "pheromesh/core/tick_gaps.hpp"
 #include "pheromesh/core/view_server.hpp"
@@ -83,6 +84,9 @@ class PlaceApp {
   std::unique_ptr<runtime::SwarmCommands> commands_;  // pause / resume
   // Home UAVs and views.
   core::ViewServer views_;
+  core::PolicyTraits traits_;
+  std::vector<core::ValueRange> layer_ranges_;  // physical range per layer (plausibility.hpp)
+  double max_step_;                             // [cell/tick] the farthest a UAV flies in one tick
   std::vector<uint32_t> home_uavs_;
   std::vector<core::RegionId> other_regions_;
   std::map<uint32_t, uint32_t> heard_at_;  // home UAV -> place tick of its newest state
@@ -95,11 +99,24 @@ class PlaceApp {
   bool replicated_ = false;                          // --standby swarm
   std::map<uint32_t, std::set<uint32_t>> seen_seq_;  // replicated: per UAV, the newest deposit seqs received
   uint64_t duplicates_ = 0;
-  std::map<uint32_t, uint32_t> acked_;  // home UAV -> highest deposit seq received from it (its views carry it)
+  // home UAV -> highest deposit seq received from it (its views carry it), and
+  // the place tick it came at (a seq far ahead of it is not acknowledged).
+  std::map<uint32_t, std::pair<uint32_t, uint32_t>> acked_;
   uint64_t deposits_lost_ = 0;  // lockstep: home UAVs' deposits for absent regions, not forwarded
   std::set<core::RegionId> absent_;
   std::vector<core::RegionId> present_others_;  // other_regions_ without the absent ones
   uint64_t samples_rejected_ = 0;  // malformed home states and field chunks, dropped
+  // Plausibility (core/plausibility.hpp): samples refused here (deposits and
+  // halo rings are counted by core_), the tick the place agent is at, and
+  // the conductor's clock writer, latched from its first sample.
+  core::RefusalCounts refused_;
+  uint32_t current_tick_ = 0;
+  bool exact_ = false;  // lockstep
+  std::optional<uint64_t> conductor_;
+  [[nodiscard]] uint32_t tick_ceiling() const;
+  void refuse(core::Refusal r, const std::string& what);
+  // Lockstep: drops clock samples of writers other than the conductor's.
+  void keep_conductor_clock(std::vector<core::ClockMsg>& cmds);
 };
 
 }  // namespace pheromesh::placeagent

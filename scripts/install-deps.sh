@@ -11,6 +11,7 @@ packages=(
   libprotobuf-dev protobuf-compiler      # scenario schema
   libeigen3-dev libspdlog-dev libfmt-dev libcli11-dev nlohmann-json3-dev
   libgtest-dev libgmock-dev libbenchmark-dev
+  clang libclang-rt-14-dev               # fuzzing: libFuzzer + ASan/UBSan (make fuzz, ctest -L fuzz; docs/fuzzing.md)
   libcpp-httplib-dev libssl-dev zlib1g-dev libbrotli-dev  # web console server (gzip/brotli), command HMAC, DDS Security PKI (security init)
   chromium prometheus curl                 # web console end-to-end test (headless browser, promtool)
   iproute2 nftables util-linux             # network faults: namespaces, veth, bridge (ip), partition/loss (nft); setpriv in a test

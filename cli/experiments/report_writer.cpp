@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "experiment.hpp"
+#include "pheromesh/core/atomic_file.hpp"
 
 namespace pheromesh::cli::experiments {
 
@@ -118,7 +119,9 @@ bool write_report(const Report& r, const std::string& out_dir, double wall_secon
   std::error_code ec;
   std::filesystem::create_directories(out_dir, ec);
   const std::filesystem::path dir(out_dir);
-  std::ofstream md(dir / "report.md");
+  // Built in memory and written atomically (core/atomic_file.hpp), so an
+  // interrupted experiment leaves the previous report or none, never half.
+  std::ostringstream md;
   md << "# " << r.title << "\n\n";
   md << "*Source:* " << r.source << "  \n*Setup:* " << r.setup << "  \n*Wall time:* " << num(wall_seconds, 1) << " s\n\n";
   md << "| metric | paper | ours (mean ± sd) | runs | ours / paper | note |\n|---|---|---|---|---|---|\n";
@@ -136,17 +139,20 @@ bool write_report(const Report& r, const std::string& out_dir, double wall_secon
     for (const auto& n : r.notes) md << "* " << n << "\n";
   }
   md << "\nRaw per-run values: [results.csv](results.csv)\n";
-  std::ofstream csv(dir / "results.csv");
+  std::ostringstream csv;
   for (std::size_t i = 0; i < r.csv_header.size(); ++i) csv << (i ? "," : "") << csv_escape(r.csv_header[i]);
   csv << "\n";
   for (const auto& row : r.csv_rows) {
     for (std::size_t i = 0; i < row.size(); ++i) csv << (i ? "," : "") << csv_escape(row[i]);
     csv << "\n";
   }
-  for (const auto& p : r.plots) std::ofstream(dir / p.file) << svg_plot(p);
-  if (!md || !csv) {
-    error = "cannot write the report into " + out_dir;
-    return false;
+  std::vector<std::pair<std::string, std::string>> files{{"report.md", md.str()}, {"results.csv", csv.str()}};
+  for (const auto& p : r.plots) files.emplace_back(p.file, svg_plot(p));
+  for (const auto& [name, text] : files) {
+    if (auto written = core::write_file_atomically((dir / name).string(), text); !written) {
+      error = written.error().message;
+      return false;
+    }
   }
   return true;
 }

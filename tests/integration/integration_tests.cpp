@@ -2,9 +2,12 @@
 // Each test uses its own DDS domain so tests can run in parallel. Domains
 // 21-30 are used here; each test_policy_<name>.cpp takes its own:
 // shao_navigation 31, liu 32, shostak 33, ravankar 34, duan 35; vendors
-// 36-37; faults 45-49; lan 70-74; security 90-93.
+// 36-37; faults 45-49; lan 70-74; plausibility (test_plausibility.cpp)
+// 80-81; console limits 85 (port 18660); security 90-93. The Cli tests of
+// scenario limits start no DDS participant and use none.
 #include "harness.hpp"
 
+#include <fstream>
 #include <set>
 
 using namespace pheromesh::itest;  // NOLINT: the test helpers
@@ -243,13 +246,16 @@ TEST(BadInput, MalformedSamplesAreRejectedAndCountedAndNothingCrashes) {
   const json m = read_metrics(out);
   ASSERT_FALSE(m.is_null());
   EXPECT_EQ(m["processes_crashed"], 0);
-  // Every hostile deposit is received and either applied (the single valid
-  // one) or rejected with a reason; the UAVs' own deposits are all applied.
-  EXPECT_EQ(m["deposits_rejected"], 5) << m.dump(2);
-  EXPECT_EQ(m["deposits_applied"].get<uint64_t>(), m["deposits_sent"].get<uint64_t>() + 1);
+  // Every hostile deposit is received and rejected with a reason: the
+  // malformed ones as such, the well-formed one and its replay because the
+  // probe's UAV id is no UAV of the swarm (refused as implausible,
+  // test_plausibility.cpp); the UAVs' own deposits are all applied.
+  EXPECT_EQ(m["deposits_rejected"], 6) << m.dump(2);
+  EXPECT_EQ(m["deposits_applied"].get<uint64_t>(), m["deposits_sent"].get<uint64_t>());
+  EXPECT_EQ(m["refused_by"]["places"]["unknown_uav"], 2) << m["refused_by"].dump(2);
   EXPECT_GE(m["samples_rejected_by_ground"].get<int>(), 3);
   const std::string place0 = slurp(out + "/logs/place-0.log");
-  for (const char* reason : {"not finite", "outside the map", "duplicate or out-of-order"}) {
+  for (const char* reason : {"not finite", "outside the map", "uav id outside the swarm"}) {
     EXPECT_NE(place0.find(reason), std::string::npos) << reason << "\n" << place0;
   }
 }
@@ -265,6 +271,63 @@ TEST(Cli, MalformedScenarioIsRejectedNamingFileLineAndField) {
   EXPECT_NE(r.text.find("map.tile_size"), std::string::npos) << r.text;
   const Output u = run(kBin + "/pheromesh-uav --scenario " + bad + " --id 0");
   EXPECT_EQ(u.exit_code, 2) << u.text;
+}
+
+// Issue 16: a scenario beyond a limit, or with a name that is not UTF-8, is
+// refused by every command and every process that loads it, before any DDS
+// participant exists (so these tests need no domain), and a raised limit is
+// honoured by all of them.
+TEST(Cli, AScenarioOverALimitIsRefusedByEveryProgramAndAcceptedOnceTheLimitIsRaised) {
+  const std::string out = out_dir("over-limit");
+  fs::create_directories(out);
+  const std::string scen = out + "/big-map.textproto";
+  // 2100 x 2100 = 4410000 cells, just over the default 2048 x 2048.
+  std::ofstream(scen) << "map { width: 2100 height: 2100 tile_size: 32 }\nswarm { uavs: 2 }\n";
+  const std::string cmds[] = {
+      kBin + "/pheromesh validate " + scen,
+      kBin + "/pheromesh run " + scen + " --out " + out + "/run --duration 5",
+      kBin + "/pheromesh sim " + scen + " --out " + out + "/sim",
+      kBin + "/pheromesh-uav --scenario " + scen + " --id 0",
+      kBin + "/pheromesh-place --scenario " + scen + " --region 0",
+      kBin + "/pheromesh-ground --scenario " + scen,
+  };
+  for (const auto& cmd : cmds) {
+    const Output o = run(cmd);
+    EXPECT_EQ(o.exit_code, 2) << cmd << "\n" << o.text;
+    EXPECT_NE(o.text.find("big-map.textproto:1:7: field 'map.width': the map has 2100 x 2100 = 4410000 cells, more "
+                          "than the limit of 4194304 cells; set $PHEROMESH_MAX_MAP_CELLS to raise it"),
+              std::string::npos)
+        << cmd << "\n" << o.text;
+  }
+  EXPECT_FALSE(fs::exists(out + "/run/metrics.json"));
+  const Output raised = run("PHEROMESH_MAX_MAP_CELLS=5000000 " + kBin + "/pheromesh validate " + scen);
+  EXPECT_EQ(raised.exit_code, 0) << raised.text;
+  EXPECT_NE(raised.text.find("memory      ~"), std::string::npos) << raised.text;
+}
+
+TEST(Cli, MoreUavsThanTheProcessLimitAllowsAreRefusedBeforeAnythingStarts) {
+  const std::string out = out_dir("over-process-limit");
+  const Output o = run("PHEROMESH_MAX_PROCESSES=10 " + kBin + "/pheromesh run " + kSrc +
+                       "/scenarios/small-test.textproto --uavs 6 --duration 5 --out " + out);
+  EXPECT_EQ(o.exit_code, 2) << o.text;
+  EXPECT_NE(o.text.find("the swarm needs 11 processes (6 UAVs + 4 place agents + 1 ground station), more than the "
+                        "limit of 10; set $PHEROMESH_MAX_PROCESSES to raise it"),
+            std::string::npos)
+      << o.text;
+  EXPECT_FALSE(fs::exists(out + "/metrics.json"));
+}
+
+TEST(Cli, AScenarioNameThatIsNotUtf8IsRefusedNamingItsLine) {
+  const std::string bad = kSrc + "/tests/data/bad-utf8-name.textproto";
+  const std::string out = out_dir("bad-utf8");
+  for (const std::string& cmd : {kBin + "/pheromesh validate " + bad, kBin + "/pheromesh run " + bad + " --out " + out,
+                                 kBin + "/pheromesh-ground --scenario " + bad}) {
+    const Output o = run(cmd);
+    EXPECT_EQ(o.exit_code, 2) << cmd << "\n" << o.text;
+    EXPECT_NE(o.text.find("bad-utf8-name.textproto:3:1: field 'name': is not valid UTF-8"), std::string::npos)
+        << cmd << "\n" << o.text;
+  }
+  EXPECT_FALSE(fs::exists(out + "/metrics.json"));
 }
 
 TEST(Cli, MalformedKillSpecIsRejectedBeforeAnythingStarts) {

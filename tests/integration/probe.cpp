@@ -6,6 +6,12 @@
 //                                then stay until SIGTERM (bounded).
 //   hostile --region R           send malformed deposits and tiles into a
 //                                running swarm; print what it sent.
+//   forge --scenario F --uavs N  well-formed but forged samples (issue 16, the
+//                                attacks docs/architecture.md "What a receiver
+//                                refuses" lists) into a running swarm, once
+//                                its lockstep clock passed tick 5 (--lockstep)
+//                                or its place agent 0 is matched; print what
+//                                it sent.
 //   idle --id I --regions R      a UAV's endpoints and nothing else, until
 //                                SIGTERM: what discovery alone costs
 //                                (bench/discovery_idle.sh).
@@ -31,6 +37,8 @@
 #include <thread>
 
 #include "pheromesh/bus/bus.hpp"
+#include "pheromesh/core/layers.hpp"
+#include "pheromesh/core/scenario.hpp"
 #include "pheromesh/runtime/process.hpp"
 
 using namespace pheromesh;
@@ -107,6 +115,104 @@ int hostile(bus::Bus& b, uint32_t region, uint32_t map_width) {
   // Acknowledged samples are in the readers' caches, but deleting our writers
   // at exit disposes their instances, which can replace a sample the ground
   // station has not taken yet (it polls every 20 ms). Stay a moment.
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  return 0;
+}
+
+int forge(bus::Bus& b, const std::string& scenario_path, uint32_t uavs, bool lockstep) {
+  auto loaded = core::load_scenario(scenario_path);
+  if (!loaded) {
+    std::printf("%s\n", loaded.error().message.c_str());
+    return 2;
+  }
+  core::ScenarioConfig s = loaded.value();
+  if (uavs > 0) s.uavs = uavs;
+  const core::MapGeometry geo = s.geometry();
+  const uint32_t stranger = 900000;  // no UAV of the swarm
+  // States go into the partition of the last region: in a swarm of fewer
+  // UAVs than regions no real UAV is homed there, so the forged samples of a
+  // real UAV's instance (kept last-1 by a home place agent) cannot push the
+  // real ones out; the ground station keeps every state.
+  const core::RegionId state_home = geo.region_count() - 1;
+  b.join_uav(stranger, state_home);
+  b.subscribe_clock();
+  // Wait until the swarm runs: every receiver has latched its conductor.
+  uint32_t tick = 1;
+  const auto deadline = Clock::now() + std::chrono::seconds(90);
+  std::vector<core::ClockMsg> clock;
+  for (;;) {
+    if (Clock::now() > deadline || runtime::shutdown_requested()) {
+      std::printf("the swarm did not start\n");
+      return 1;
+    }
+    if (lockstep) {
+      clock.clear();
+      b.take_clock(clock);
+      for (const auto& c : clock) tick = std::max(tick, c.tick);
+      if (tick >= 5) break;
+    } else if (b.matched_deposit_readers(0) > 0) {
+      std::this_thread::sleep_for(std::chrono::seconds(1));
+      break;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  const uint32_t far_tick = 1U << 31U;
+  constexpr float kHuge = 1e30F;
+  int sent = 0;
+  const auto count = [&](bool ok) { sent += ok ? 1 : 0; };
+  const core::Rect r0 = geo.region_rect(0);
+  // Deposits: a phantom target mark from a UAV that does not exist, and the
+  // sequence number 2^32-1 under UAV 0's id (homed on region 0).
+  core::DepositMsg mark{stranger, 1, tick + 1, 0, static_cast<uint8_t>(core::DepositKind::TargetMark), 0,
+                        {r0.x0 + 1, r0.y0 + 1}, 1.0F, {}};
+  count(b.publish_deposit(mark, 0));
+  core::DepositMsg latch{0, std::numeric_limits<uint32_t>::max(), tick + 1, 0, static_cast<uint8_t>(core::DepositKind::PathVisit),
+                         0, {r0.x0 + 1, r0.y0 + 1}, 1.0F, {}};
+  count(b.publish_deposit(latch, 0));
+  // Tiles to the ground station: 1e30 values, and a tick far ahead.
+  const core::Rect t00 = geo.tile_rect({0, 0});
+  const auto cells = static_cast<std::size_t>(t00.area());
+  const auto w = static_cast<uint16_t>(t00.w), h = static_cast<uint16_t>(t00.h);
+  count(b.publish_tile({0, {0, 0}, tick, 0, w, h, std::vector<float>(cells, kHuge)}));
+  count(b.publish_tile({1, {0, 0}, far_tick, 0, w, h, std::vector<float>(cells, 0.5F)}));
+  // Field chunks of region 0 (on chunk instances its place agent does not
+  // write): 1e30 values, and a tick far ahead.
+  core::TileMsg patch{0, {0, 0}, tick, 0, w, h, std::vector<float>(cells, kHuge)};
+  count(b.publish_field({0, 5, 6, tick, {patch}, {}, 0}));
+  patch.values.assign(cells, 0.5F);
+  patch.tick = far_tick;
+  count(b.publish_field({0, 4, 6, far_tick, {patch}, {}, 0}));
+  // A halo ring of region 0 with 1e30 for the next place phase.
+  const std::size_t ring = core::ring_size(r0);
+  count(b.publish_halo({0, tick + 1, std::vector<float>(ring, kHuge), std::vector<float>(ring, 0.0F)}));
+  // States: UAV 0 across the map, a UAV that does not exist, UAV 1 far ahead in time.
+  core::UavStateMsg st;
+  st.uav = 0;
+  st.tick = tick;
+  st.x = geo.width() - 2;
+  st.y = geo.height() - 2;
+  st.view = {geo.width() - 2, geo.height() - 2};
+  count(b.publish_uav_state(st));
+  st.uav = stranger;
+  count(b.publish_uav_state(st));
+  st.uav = s.uavs > 1 ? 1 : 0;
+  st.tick = far_tick;
+  count(b.publish_uav_state(st));
+  // Detections: UAV 0 reports the last target, far from it; a UAV that does not exist reports one.
+  if (!s.targets.empty()) {
+    const auto last = static_cast<int32_t>(s.targets.size() - 1);
+    count(b.publish_detection({0, tick, last, s.targets.back()}));
+    count(b.publish_detection({stranger, tick, last, s.targets.back()}));
+  }
+  // A clock that stops the run, from this process's own writer.
+  core::ClockMsg stop;
+  stop.tick = tick;
+  stop.phase = static_cast<uint8_t>(core::ClockPhase::Stop);
+  count(b.publish_clock(stop));
+  b.flush(std::chrono::seconds(5));
+  std::printf("forged %d samples at tick %u\n", sent, tick);
+  std::fflush(stdout);
+  // Leave the samples time to be taken before our writers go (see hostile).
   std::this_thread::sleep_for(std::chrono::milliseconds(500));
   return 0;
 }
@@ -250,6 +356,13 @@ int main(int argc, char** argv) {
   std::string secure, identity;
   app.add_option("--secure", secure);
   app.add_option("--identity", identity);
+  std::string scenario;
+  uint32_t uavs = 0;
+  bool lockstep = false;
+  auto* f = app.add_subcommand("forge", "send well-formed forged samples");
+  f->add_option("--scenario", scenario)->required();
+  f->add_option("--uavs", uavs);
+  f->add_flag("--lockstep", lockstep);
   CLI11_PARSE(app, argc, argv);
   spdlog::set_level(spdlog::level::warn);
   runtime::install_shutdown_handlers();
@@ -270,5 +383,6 @@ int main(int argc, char** argv) {
   if (i->parsed()) return idle(*b.value(), id, regions);
   if (sn->parsed()) return snoop(*b.value(), seconds, until_tiles, until_clocks);
   if (of->parsed()) return offend(*b.value(), what, linger_s);
+  if (f->parsed()) return forge(*b.value(), scenario, uavs, lockstep);
   return hostile(*b.value(), region, width);
 }

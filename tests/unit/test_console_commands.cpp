@@ -107,6 +107,29 @@ TEST(ConsoleCommands, TargetsMustBeFreeCellsInsideTheMap) {
   EXPECT_EQ(p.refusal.message, "that cell is an obstacle");
 }
 
+TEST(ConsoleCommands, NumbersBeyond32BitsAreRefusedNotWrapped) {
+  const auto ctx = ctx20x10();
+  // 2^32 + 3 narrowed to 32 bits would be 3, a cell inside the map.
+  const auto big = json::parse(R"({"kind":"target","x":4294967299,"y":1})");
+  auto p = parse_command(big, ctx);
+  EXPECT_FALSE(p.command);
+  EXPECT_EQ(p.refusal.status, 400);
+  p = parse_command(json::parse(R"({"kind":"kill_uav","uav":4294967297})"), ctx);
+  EXPECT_FALSE(p.command);
+  EXPECT_EQ(p.refusal.status, 400);
+  // Above 2^63 - 1 JSON keeps the number unsigned; read as int64 it would be
+  // -1, and an obstacle at x0 = -1, 3 wide, lies partly inside the map (the
+  // guard: that is what the wrap gives, and such an obstacle is accepted).
+  const auto huge = json::parse(R"({"kind":"obstacle","x0":18446744073709551615,"y0":0,"w":3,"h":1})");
+  ASSERT_EQ(huge["x0"].get<int64_t>(), -1);
+  ASSERT_TRUE(parse_command(json{{"kind", "obstacle"}, {"x0", -1}, {"y0", 0}, {"w", 3}, {"h", 1}}, ctx).command);
+  p = parse_command(huge, ctx);
+  EXPECT_FALSE(p.command);
+  EXPECT_EQ(p.refusal.status, 400);
+  EXPECT_FALSE(parse_command(json::parse(R"({"kind":"target","x":9223372036854775808,"y":0})"), ctx).command);
+  EXPECT_FALSE(parse_command(json::parse(R"({"kind":"kill_place","region":18446744073709551616})"), ctx).command);
+}
+
 TEST(ConsoleCommands, UnknownKindsAndMissingTokensAreRefusedAndNamed) {
   const auto ctx = ctx20x10();
   auto p = parse_command(json{{"kind", "unauthorised"}}, ctx);

@@ -52,6 +52,13 @@ TEST(SwarmMetrics, CountsUavsAndPlaceAgentsByLivenessAndShowsOptionalFamiliesOnl
   const std::string u = swarm_metrics_text(st, c);
   EXPECT_TRUE(has_line(u, "pheromesh_console_http_requests_total 5"));
   EXPECT_TRUE(has_line(u, "pheromesh_recording_bytes_total 1000"));
+  // Samples refused as implausible, by who and why (core/plausibility.hpp).
+  EXPECT_EQ(u.find("pheromesh_samples_refused_total"), std::string::npos) << "none counted, no family";
+  c.samples_refused["places"]["unknown_uav"] = 3;
+  c.samples_refused["uavs"]["foreign_clock"] = 0;
+  const std::string v = swarm_metrics_text(st, c);
+  EXPECT_TRUE(has_line(v, "pheromesh_samples_refused_total{by=\"places\",reason=\"unknown_uav\"} 3")) << v;
+  EXPECT_TRUE(has_line(v, "pheromesh_samples_refused_total{by=\"uavs\",reason=\"foreign_clock\"} 0")) << v;
 }
 
 struct Pair {

@@ -174,6 +174,7 @@ std::vector<Frame> make_frames() {
               {9, 20.0, 5.0, 2, 0, 3, Liveness::Finished, {}}};
     f.regions = {{0, Liveness::Alive, 3, 12.5F, 31.5, 100, 98, 2},
                  {1, Liveness::Dead, 0, 0.0F, 0.0, 0, 0, 0}};
+    f.regions[0].samples_refused = 5;  // refused as implausible (core/plausibility.hpp)
     f.targets = {{{5, 6}, TargetStatus::NotFound, -1, 0, false},
                  {{30, 7}, TargetStatus::Found, 0, 3, false},
                  {{12, 20}, TargetStatus::RevisitDue, 7, 2, true}};
@@ -267,6 +268,7 @@ void expect_region_eq(const RegionView& a, const RegionView& b) {
   EXPECT_EQ(a.deposits_received, b.deposits_received);
   EXPECT_EQ(a.deposits_applied, b.deposits_applied);
   EXPECT_EQ(a.deposits_rejected, b.deposits_rejected);
+  EXPECT_EQ(a.samples_refused, b.samples_refused);
 }
 
 void expect_target_eq(const TargetView& a, const TargetView& b) {
@@ -372,7 +374,9 @@ void write_recording(const std::string& path, const ConsoleInfo& info, const std
   auto w = RecordingWriter::open(path, info);
   ASSERT_TRUE(w.ok()) << w.error().message;
   for (const auto& f : frames) ASSERT_TRUE(w.value()->write(f)) << "frame " << f.version;
-  EXPECT_EQ(w.value()->bytes_written(), fs::file_size(path));
+  const auto closed = w.value()->close();
+  ASSERT_TRUE(closed.ok()) << closed.error().message;
+  EXPECT_EQ(closed.value(), fs::file_size(path));
 }
 
 // ------------------------------------------------------------- recordings --
@@ -409,23 +413,34 @@ TEST(ConsoleRecording, FileStartsWithMagicThenHeaderThenOneRecordPerFrame) {
   EXPECT_EQ(records.back().end(), bytes.size());
 }
 
-TEST(ConsoleRecording, WriterFlushesEveryFrameWhileStillOpen) {
+TEST(ConsoleRecording, WriterFlushesEveryFrameToItsTemporaryFileWhileStillOpen) {
   TempDir dir;
   const std::string path = dir.file("live.phmrec");
   const auto frames = make_frames();
   auto w = RecordingWriter::open(path, make_info());
   ASSERT_TRUE(w.ok()) << w.error().message;
   EXPECT_EQ(w.value()->path(), path);
+  const std::string temp = w.value()->temp_path();
+  ASSERT_NE(temp, path);
+  EXPECT_EQ(fs::path(temp).parent_path(), fs::path(path).parent_path());
   for (std::size_t n = 1; n <= frames.size(); ++n) {
     ASSERT_TRUE(w.value()->write(frames[n - 1]));
-    // Read while the writer is open, as after a SIGKILL: nothing may sit in a buffer.
-    const auto rec = read_recording(path);
+    // Read while the writer is open, as after a SIGKILL: nothing may sit in a
+    // buffer, and the final name must not exist yet.
+    EXPECT_FALSE(fs::exists(path));
+    const auto rec = read_recording(temp);
     ASSERT_TRUE(rec.ok()) << rec.error().message;
     EXPECT_FALSE(rec->truncated) << rec->warning;
     ASSERT_EQ(rec->frames.size(), n);
     expect_frame_eq(rec->frames.back(), frames[n - 1]);
-    EXPECT_EQ(w.value()->bytes_written(), fs::file_size(path));
+    EXPECT_EQ(w.value()->bytes_written(), fs::file_size(temp));
   }
+  ASSERT_TRUE(w.value()->close().ok());
+  EXPECT_FALSE(fs::exists(temp));
+  const auto rec = read_recording(path);
+  ASSERT_TRUE(rec.ok()) << rec.error().message;
+  EXPECT_EQ(rec->frames.size(), frames.size());
+  EXPECT_FALSE(w.value()->write(frames.back()));
 }
 
 TEST(ConsoleRecording, WriterRefusesFramesWhoseVersionDoesNotIncrease) {
@@ -445,6 +460,7 @@ TEST(ConsoleRecording, WriterRefusesFramesWhoseVersionDoesNotIncrease) {
   EXPECT_EQ(w.value()->bytes_written(), size);
   f.version = 4;
   EXPECT_TRUE(w.value()->write(f));
+  ASSERT_TRUE(w.value()->close().ok());
   const auto rec = read_recording(path);
   ASSERT_TRUE(rec.ok()) << rec.error().message;
   ASSERT_EQ(rec->frames.size(), 2U);

@@ -158,7 +158,14 @@ TEST(FrameBuilder, TargetsShowWhoFoundThemRevisitsDueAndPopUps) {
   Rig rig;
   FrameBuilder b(rig.geo);
   const auto t0 = Clock::time_point{} + 100s;
+  // The recorder judges a detection by the UAV's state (core/plausibility.hpp):
+  // UAV 2 flew next to target 1.
+  core::UavStateMsg near = state(2, 20);
+  near.x = rig.scenario.targets[1].x;
+  near.y = rig.scenario.targets[1].y - 1;
+  ASSERT_TRUE(rig.rec->on_uav_state(near));
   ASSERT_TRUE(rig.rec->on_detection({2, 9, 1, rig.scenario.targets[1]}));
+  EXPECT_EQ(rig.rec->take_first_acquisitions().size(), 1U);
   b.target_found(1, 2, 9);
   b.revisit(rig.scenario.targets[2], true);
   rig.world->add_target({1, 28});

@@ -39,8 +39,9 @@ struct Rig {
   void sent(uint32_t uav, uint64_t n, uint64_t unconfirmed = 0) {
     UavStateMsg st;
     st.uav = uav;
-    st.x = 1;
-    st.y = 1;
+    // At its start cell: the recorder refuses a state the UAV cannot have flown to.
+    st.x = start_cell(s, uav).x;
+    st.y = start_cell(s, uav).y;
     st.deposits_sent = n;
     st.deposits_unconfirmed = unconfirmed;
     rec.on_uav_state(st);

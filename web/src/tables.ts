@@ -164,7 +164,7 @@ export class RegionTable {
         setText(a, fmtInt(r.deposits_applied));
         setText(b!, fmtInt(r.deposits_rejected));
         setAttr(b!, "class", (r.deposits_rejected ?? 0) > 0 ? "rejected warn" : "rejected");
-        setAttr(rej, "title", `received ${fmtInt(r.deposits_received)}, applied ${fmtInt(r.deposits_applied)}, rejected ${fmtInt(r.deposits_rejected)}`);
+        setAttr(rej, "title", `received ${fmtInt(r.deposits_received)}, applied ${fmtInt(r.deposits_applied)}, rejected ${fmtInt(r.deposits_rejected)}, samples refused as implausible ${fmtInt(r.samples_refused)}`);
         updateButtons(tr, this.controls());
       },
     );

@@ -88,6 +88,7 @@ export interface RegionMsg {
   deposits_received?: number;
   deposits_applied?: number;
   deposits_rejected?: number;
+  samples_refused?: number; // well-formed samples its place agent refused as implausible
 }
 
 export interface TargetMsg {

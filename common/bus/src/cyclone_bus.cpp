@@ -13,6 +13,7 @@
 #include <set>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 #include <utility>
 
 #include "dds_profiles.hpp"
@@ -116,15 +117,25 @@ std::vector<core::RegionCount> region_counts_in(const dds_sequence_pheromesh_msg
 }
 
 pheromesh_msg_UavState state_out(const core::UavStateMsg& m) {
-  return {m.uav,  m.tick, m.x,          m.y,          m.vx,  m.vy, m.heading, m.role, m.deposits_sent, m.tile_samples_received,
-          m.samples_received, m.ticks_late, m.view.x, m.view.y, m.finished, m.tick_gap_max_ms, m.tick_gaps_over_2,
-          m.deposits_unconfirmed};
+  pheromesh_msg_UavState s{m.uav,           m.tick,
+                           m.x,             m.y,
+                           m.vx,            m.vy,
+                           m.heading,       m.role,
+                           m.deposits_sent, m.tile_samples_received,
+                           m.samples_received, m.ticks_late,
+                           m.view.x,        m.view.y,
+                           m.finished,      m.tick_gap_max_ms,
+                           m.tick_gaps_over_2, m.deposits_unconfirmed,
+                           {}};
+  std::copy(m.refused.begin(), m.refused.end(), s.refused);
+  return s;
 }
 
 core::UavStateMsg state_in(const pheromesh_msg_UavState& s) {
   core::UavStateMsg m{s.uav,     s.tick, s.x,  s.y,  s.vx, s.vy, s.heading, s.role, s.deposits_sent, s.tile_samples_received,
                       s.samples_received, s.ticks_late, {s.view_x, s.view_y}, s.finished, s.tick_gap_max_ms, s.tick_gaps_over_2};
   m.deposits_unconfirmed = s.deposits_unconfirmed;
+  std::copy(std::begin(s.refused), std::end(s.refused), m.refused.begin());
   return m;
 }
 
@@ -197,7 +208,11 @@ void take_all(dds_entity_t reader, Valid&& on_valid, Invalid&& on_invalid) {
     for (int i = 0; i < n; ++i) {
       const auto& s = *static_cast<const C*>(buf[i]);
       if (info[i].valid_data) {
-        on_valid(s);
+        if constexpr (std::is_invocable_v<Valid, const C&, const dds_sample_info_t&>) {
+          on_valid(s, info[i]);
+        } else {
+          on_valid(s);
+        }
       } else {
         on_invalid(s, info[i]);
       }
@@ -439,6 +454,7 @@ class CycloneBus final : public VendorBus {
     s.deposits_duplicate = m.deposits_duplicate;
     s.tick_gap_max_ms = m.tick_gap_max_ms;
     s.tick_gaps_over_2 = m.tick_gaps_over_2;
+    std::copy(m.refused.begin(), m.refused.end(), s.refused);
     return write(writer(TopicKind::Health, topic(TopicKind::Health), kGroundPartition), &s);
   }
 
@@ -502,7 +518,7 @@ class CycloneBus final : public VendorBus {
     if (clock_reader_ == 0) return;
     take_all<pheromesh_msg_ClockCommand>(
         clock_reader_,
-        [&](const pheromesh_msg_ClockCommand& s) {
+        [&](const pheromesh_msg_ClockCommand& s, const dds_sample_info_t& info) {
           if (s.occupancy._length > core::kMaxOccupancy || (s.occupancy._length > 0 && s.occupancy._buffer == nullptr) ||
               !region_counts_ok(s.deposits) || !seq_ok(s.absent, core::kMaxRegionCounts)) {
             ++stats_.samples_dropped;
@@ -514,6 +530,9 @@ class CycloneBus final : public VendorBus {
           c.broadcasts = s.broadcasts;
           c.deposits = region_counts_in(s.deposits);
           c.absent.assign(s.absent._buffer, s.absent._buffer + s.absent._length);
+          // The writer's instance handle in this participant: one per matched
+          // DataWriter, chosen locally, so no remote writer can claim another's.
+          c.writer = info.publication_handle;
           for (uint32_t i = 0; i < s.occupancy._length; ++i) {
             const auto& t = s.occupancy._buffer[i];
             c.occupancy.push_back({{t.tx, t.ty}, t.count});
@@ -681,6 +700,7 @@ class CycloneBus final : public VendorBus {
                             s.halos_missing, s.finished, s.tick_gap_max_ms, s.tick_gaps_over_2};
           h.replica = s.replica;
           h.deposits_duplicate = s.deposits_duplicate;
+          std::copy(std::begin(s.refused), std::end(s.refused), h.refused.begin());
           out.push_back(h);
         },
         [&](const pheromesh_msg_PlaceHealth& s, const dds_sample_info_t& info) {

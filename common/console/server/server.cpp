@@ -1,12 +1,15 @@
 #include <httplib.h>
 
+#include <array>
 #include <atomic>
-#include <fstream>
+#include <map>
 #include <mutex>
 
+#include "guarded_server.hpp"
 #include "pheromesh/auth/control.hpp"
-#include "pheromesh/console/server.hpp"
 #include "pheromesh/console/prometheus.hpp"
+#include "pheromesh/console/request.hpp"
+#include "pheromesh/console/server.hpp"
 #include "pheromesh/web/assets.hpp"
 
 namespace pheromesh::console {
@@ -14,22 +17,54 @@ namespace pheromesh::console {
 struct ConsoleServer::Impl {
   ConsoleSource* source;
   ServerOptions opt;
-  httplib::Server http;
+  std::unique_ptr<detail::GuardedServer> http;
   std::thread thread;
   uint16_t port = 0;
-  std::atomic<uint64_t> requests{0}, frame_requests{0}, body_bytes{0}, unauthorised{0};
+  std::atomic<uint64_t> requests{0}, frame_requests{0}, body_bytes{0};
+  std::array<std::atomic<uint64_t>, kRefusalKinds> refused{};
+  // Long-polls held now, by client address and in all.
+  std::mutex polls_mu;
+  std::map<std::string, unsigned> polls_by_client;
+  unsigned polls = 0;
+
+  void refuse(Refusal reason, int status, const std::string& who, const std::string& what) {
+    ++refused[static_cast<std::size_t>(reason)];
+    source->refused(reason, status, who, what.substr(0, 200));  // a path may be 8 KiB long
+  }
+  bool take_poll(const std::string& client) {
+    std::lock_guard lock(polls_mu);
+    const unsigned mine = polls_by_client.count(client) ? polls_by_client[client] : 0;
+    if (mine >= opt.limits.long_polls_per_client || polls >= max_polls()) return false;
+    ++polls_by_client[client];
+    ++polls;
+    return true;
+  }
+  void give_poll(const std::string& client) {
+    std::lock_guard lock(polls_mu);
+    --polls;
+    if (--polls_by_client[client] == 0) polls_by_client.erase(client);
+  }
+  // Long-polls may hold at most all workers but two, so that /metrics,
+  // /api/info and commands always find one.
+  [[nodiscard]] unsigned max_polls() const { return opt.limits.threads > 2 ? opt.limits.threads - 2 : 1; }
 };
 
 namespace {
 std::string dump(const nlohmann::json& j) { return j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace); }
 
-bool same_token(const std::string& a, const std::string& b) {
-  // Constant time in the token's length.
-  if (a.size() != b.size() || a.empty()) return false;
-  unsigned char d = 0;
-  for (std::size_t i = 0; i < a.size(); ++i) d |= static_cast<unsigned char>(a[i] ^ b[i]);
-  return d == 0;
+std::string who(const httplib::Request& req) { return "http " + req.remote_addr + ":" + std::to_string(req.remote_port); }
+
+void answer_json(httplib::Response& res, int status, const std::string& message) {
+  res.status = status;
+  res.set_content(dump({{"ok", false}, {"message", message}}), "application/json");
 }
+
+std::optional<std::string_view> header(const httplib::Request& req, const char* name) {
+  const auto it = req.headers.find(name);
+  if (it == req.headers.end()) return std::nullopt;
+  return std::string_view(it->second);
+}
+
 }  // namespace
 
 std::string random_token() { return auth::random_hex(16); }
@@ -43,16 +78,39 @@ ConsoleServer::~ConsoleServer() { stop(); }
 
 core::Result<uint16_t> ConsoleServer::start() {
   Impl& m = *impl_;
-  auto& http = m.http;
+  m.http = std::make_unique<detail::GuardedServer>(
+      m.opt.limits, [&m](Refusal reason, int status, const std::string& who, const std::string& what) {
+        m.refuse(reason, status, who, what);
+      });
+  auto& http = *m.http;
   const auto count = [&m](httplib::Response& res) {
     ++m.requests;
     m.body_bytes += res.body.size();
+  };
+  // Before the body is read: a request refused on its head (no token, a body
+  // too large or of unknown length, compressed) is answered at once, its
+  // body never read, and its connection closed after the answer.
+  const auto refuse_head = [&m, count](const httplib::Request& req, httplib::Response& res) {
+    const RequestHead head{req.method, req.path, header(req, "Content-Length"), header(req, "Transfer-Encoding"),
+                           header(req, "Content-Encoding"), header(req, "Authorization")};
+    const auto verdict = check_request_head(head, m.opt.token, m.opt.limits.max_body);
+    if (!verdict) return false;
+    answer_json(res, verdict->status, verdict->message);
+    detail::GuardedServer::close_after_answer();
+    // The library answers "Connection: close" when the request asked for it.
+    const_cast<httplib::Request&>(req).set_header("Connection", "close");  // the server's own object, not const
+    std::string what = req.method + " " + req.path;
+    if (head.content_length) what += " (Content-Length " + std::string(*head.content_length).substr(0, 24) + ")";
+    m.refuse(verdict->reason, verdict->status, who(req), what);
+    count(res);
+    return true;
   };
   // gzip, never brotli: the packaged cpp-httplib compresses brotli at quality
   // 11, which took 8.7 s for one 47 KB frame on a loaded 2-core host (gzip:
   // 0.3 s) and held the browser's updates below 1 per second. The library
   // picks brotli whenever "br" appears in Accept-Encoding, so it is taken out.
-  http.set_pre_routing_handler([](const httplib::Request& req, httplib::Response&) {
+  http.set_pre_routing_handler([refuse_head](const httplib::Request& req, httplib::Response& res) {
+    if (refuse_head(req, res)) return httplib::Server::HandlerResponse::Handled;
     auto& headers = const_cast<httplib::Request&>(req).headers;  // the server's own object, not const
     auto [first, last] = headers.equal_range("Accept-Encoding");
     for (auto it = first; it != last; ++it) {
@@ -60,62 +118,56 @@ core::Result<uint16_t> ConsoleServer::start() {
     }
     return httplib::Server::HandlerResponse::Unhandled;
   });
+  // A client that asks before sending its body ("Expect: 100-continue", as
+  // curl does for large bodies) gets the refusal instead of "continue".
+  http.set_expect_100_continue_handler([refuse_head](const httplib::Request& req, httplib::Response& res) {
+    return refuse_head(req, res) ? res.status : 100;
+  });
   http.Get("/api/info", [&m, count](const httplib::Request&, httplib::Response& res) {
     res.set_content(dump(m.source->info()), "application/json");
     res.set_header("Cache-Control", "no-store");
     count(res);
   });
   http.Get("/api/frame", [&m, count](const httplib::Request& req, httplib::Response& res) {
-    uint64_t since = 0;
-    long layer = 0;
-    std::optional<double> t;
+    const auto q = parse_frame_query(req.params);
+    if (!q) {
+      answer_json(res, 400, q.error().message);
+      m.refuse(Refusal::BadRequest, 400, who(req), "GET /api/frame: " + q.error().message);
+      count(res);
+      return;
+    }
+    bool held = false;
+    if (q->wait) {
+      held = m.take_poll(req.remote_addr);
+      if (!held) {
+        answer_json(res, 429, "too many long-polls from this client (or in all); ask again without wait=1 or later");
+        res.set_header("Retry-After", "1");
+        m.refuse(Refusal::TooManyLongPolls, 429, who(req), "GET /api/frame?wait=1");
+        count(res);
+        return;
+      }
+    }
     try {
-      if (req.has_param("since")) since = std::stoull(req.get_param_value("since"));
-      if (req.has_param("layer")) layer = std::stol(req.get_param_value("layer"));
-      if (req.has_param("t")) t = std::stod(req.get_param_value("t"));
-    } catch (const std::exception&) {
-      res.status = 400;
-      res.set_content(R"({"ok":false,"message":"since, layer and t must be numbers"})", "application/json");
-      count(res);
-      return;
+      res.set_content(dump(m.source->frame(q->layer, q->since, q->t, q->wait)), "application/json");
+    } catch (...) {
+      if (held) m.give_poll(req.remote_addr);
+      throw;
     }
-    if (layer < 0 || layer > 65535) {
-      res.status = 400;
-      res.set_content(R"({"ok":false,"message":"layer out of range"})", "application/json");
-      count(res);
-      return;
-    }
-    const bool wait = req.has_param("wait") && req.get_param_value("wait") == "1";
-    res.set_content(dump(m.source->frame(static_cast<uint16_t>(layer), since, t, wait)), "application/json");
+    if (held) m.give_poll(req.remote_addr);
     res.set_header("Cache-Control", "no-store");
     ++m.frame_requests;
     count(res);
   });
   http.Post("/api/command", [&m, count](const httplib::Request& req, httplib::Response& res) {
-    const std::string who = "http " + req.remote_addr + ":" + std::to_string(req.remote_port);
-    std::string token;
-    const std::string auth = req.get_header_value("Authorization");
-    if (auth.rfind("Bearer ", 0) == 0) token = auth.substr(7);
-    nlohmann::json answer;
-    if (!same_token(token, m.opt.token)) {
-      ++m.unauthorised;
-      res.status = 401;
-      answer = {{"ok", false}, {"message", m.opt.token.empty() ? "this console takes no commands"
-                                                               : "missing or wrong token (use the URL the ground station printed)"}};
-      // Logged by the source too, so an operator sees refused attempts.
-      m.source->command(nlohmann::json{{"kind", "unauthorised"}, {"body", req.body.substr(0, 200)}}, who);
+    // The token was checked before the body was read (refuse_head).
+    const auto body = parse_command_body(req.body);
+    if (!body) {
+      answer_json(res, 400, body.error().message);
     } else {
-      nlohmann::json body = nlohmann::json::parse(req.body, nullptr, false);
-      if (body.is_discarded() || !body.is_object()) {
-        res.status = 400;
-        answer = {{"ok", false}, {"message", "the body must be a JSON object, e.g. {\"kind\":\"pause\"}"}};
-      } else {
-        const auto a = m.source->command(body, who);
-        res.status = a.status;
-        answer = {{"ok", a.status == 200}, {"message", a.message}};
-      }
+      const auto a = m.source->command(body.value(), who(req));
+      res.status = a.status;
+      res.set_content(dump({{"ok", a.status == 200}, {"message", a.message}}), "application/json");
     }
-    res.set_content(dump(answer), "application/json");
     count(res);
   });
   http.Get("/metrics", [&m, count](const httplib::Request&, httplib::Response& res) {
@@ -145,18 +197,27 @@ core::Result<uint16_t> ConsoleServer::start() {
                        " (in use, or not an address of this host)"};
   }
   m.port = static_cast<uint16_t>(port);
+  http.start_workers();
   m.thread = std::thread([&http] { http.listen_after_bind(); });
   return m.port;
 }
 
 void ConsoleServer::stop() {
-  if (!impl_) return;
-  impl_->http.stop();
+  if (!impl_ || !impl_->http) return;
+  impl_->http->stop();
   if (impl_->thread.joinable()) impl_->thread.join();
+  impl_->http->stop_workers();
 }
 
 ServerStats ConsoleServer::stats() const {
-  return {impl_->requests.load(), impl_->frame_requests.load(), impl_->body_bytes.load(), impl_->unauthorised.load()};
+  ServerStats s;
+  s.requests = impl_->requests.load();
+  s.frame_requests = impl_->frame_requests.load();
+  s.body_bytes = impl_->body_bytes.load();
+  for (std::size_t i = 0; i < kRefusalKinds; ++i) s.refused[i] = impl_->refused[i].load();
+  s.commands_unauthorised = s.refused[static_cast<std::size_t>(Refusal::Unauthorised)];
+  s.open_connections = impl_->http ? impl_->http->open_connections() : 0;
+  return s;
 }
 
 std::string ConsoleServer::url() const {

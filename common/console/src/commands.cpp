@@ -1,13 +1,23 @@
 #include "pheromesh/console/commands.hpp"
 
+#include <limits>
+
 namespace pheromesh::console {
 
 namespace {
 using Answer = ConsoleSource::Answer;
 
+// The value as a 64-bit integer, range-checked by the caller before any
+// narrowing. JSON keeps integers above 2^63 - 1 as unsigned; read as int64
+// they would wrap to negative numbers (2^64 - 3 -> -3, a valid x0), so they
+// are refused here.
 std::optional<int64_t> integer(const nlohmann::json& body, const char* name) {
   if (!body.contains(name) || !body[name].is_number_integer()) return std::nullopt;
-  return body[name].get<int64_t>();
+  const auto& v = body[name];
+  if (v.is_number_unsigned() && v.get<uint64_t>() > static_cast<uint64_t>(std::numeric_limits<int64_t>::max())) {
+    return std::nullopt;
+  }
+  return v.get<int64_t>();
 }
 
 std::string range(uint32_t n) { return "0.." + std::to_string(n == 0 ? 0 : n - 1); }

@@ -61,6 +61,7 @@ Frame FrameBuilder::build(const ConsoleState& last, const Sources& s, Clock::tim
       v.deposits_received = h->second.deposits_received;
       v.deposits_applied = h->second.deposits_applied;
       v.deposits_rejected = h->second.deposits_rejected;
+      for (uint32_t n : h->second.refused) v.samples_refused += n;
       v.replica = s.rec.region_owner(r).value_or(h->second.replica);
       v.replicas_alive = s.rec.replicas_alive(r);
       auto& rate = region_rate_[r];

@@ -9,6 +9,7 @@
 #include <cstring>
 #include <ctime>
 #include <filesystem>
+#include <fstream>
 #include <limits>
 #include <set>
 #include <string_view>
@@ -177,6 +178,7 @@ void to_pb(const Frame& f, pb::Frame* out) {
     v->set_deposits_received(r.deposits_received);
     v->set_deposits_applied(r.deposits_applied);
     v->set_deposits_rejected(r.deposits_rejected);
+    v->set_samples_refused(r.samples_refused);
     v->set_replica(r.replica);
     v->set_replicas_alive(r.replicas_alive);
   }
@@ -240,13 +242,6 @@ std::string now_utc() {
   char buf[32];
   std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", &tm);
   return buf;
-}
-
-// The version of the last frame written, kept on the stream itself (the
-// header gives the writer no member for it).
-int last_version_slot() {
-  static const int slot = std::ios_base::xalloc();
-  return slot;
 }
 
 // ---------------------------------------------------------------- decoding --
@@ -338,6 +333,7 @@ std::string from_pb(const pb::Frame& in, Frame& f) {
     v.deposits_received = r.deposits_received();
     v.deposits_applied = r.deposits_applied();
     v.deposits_rejected = r.deposits_rejected();
+    v.samples_refused = r.samples_refused();
     if (r.replica() > 0xFFFFU) return "region " + std::to_string(r.id()) + ": replica " + std::to_string(r.replica()) + " out of range";
     v.replica = static_cast<uint16_t>(r.replica());
     v.replicas_alive = r.replicas_alive();
@@ -432,12 +428,14 @@ std::string at(const std::string& path, uint64_t offset) {
 
 core::Result<std::unique_ptr<RecordingWriter>> RecordingWriter::open(const std::string& path,
                                                                       const ConsoleInfo& info) {
+  if (const auto dir = std::filesystem::path(path).parent_path(); !dir.empty() && !std::filesystem::is_directory(dir)) {
+    return Error{path + ": cannot create the recording: no such directory " + dir.string()};
+  }
+  auto file = core::AtomicFile::create(path);
+  if (!file) return Error{path + ": cannot create the recording: " + file.error().message};
   std::unique_ptr<RecordingWriter> w(new RecordingWriter());
   w->path_ = path;
-  w->out_.open(path, std::ios::binary | std::ios::out | std::ios::trunc);
-  if (!w->out_.is_open()) {
-    return Error{path + ": cannot create the recording: " + std::strerror(errno)};
-  }
+  w->file_.emplace(std::move(file).value());
   pb::Header h;
   h.set_magic(std::string(kHeaderMagic));
   h.set_format_version(kFormatVersion);
@@ -447,33 +445,42 @@ core::Result<std::unique_ptr<RecordingWriter>> RecordingWriter::open(const std::
   *h.mutable_schema() = schema();
   std::string bytes(kFileMagic);
   bytes += record(kHeaderTag, h.SerializeAsString());
-  w->out_.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-  w->out_.flush();
-  if (!w->out_.good()) {
+  if (!w->file_->write(bytes) || !w->file_->flush()) {
     return Error{path + ": cannot write the recording's header: " + std::strerror(errno)};
   }
   w->bytes_ = bytes.size();
-  w->out_.iword(last_version_slot()) = 0;
   return w;
 }
 
-RecordingWriter::~RecordingWriter() = default;
+RecordingWriter::~RecordingWriter() { (void)close(); }
+
+core::Result<uint64_t> RecordingWriter::close() {
+  if (!file_) return bytes_;
+  auto done = file_->commit();
+  file_.reset();
+  if (!done) return Error{done.error().message};
+  return bytes_;
+}
+
+const std::string& RecordingWriter::temp_path() const {
+  static const std::string none;
+  return file_ ? file_->temp_path() : none;
+}
 
 bool RecordingWriter::write(const Frame& f) {
-  if (!out_.good()) return false;
+  if (!file_) return false;
   // A frame the reader would refuse is not written: versions must increase
   // and a record must stay within the reader's limit.
-  long& last = out_.iword(last_version_slot());
-  if (f.version <= static_cast<uint64_t>(last)) return false;
+  if (f.version <= last_version_) return false;
   pb::Frame m;
   to_pb(f, &m);
   if (m.ByteSizeLong() > kMaxRecordBytes) return false;
   const std::string bytes = record(kFrameTag, m.SerializeAsString());
-  out_.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-  out_.flush();  // a killed ground station leaves every complete frame
-  if (!out_.good()) return false;
+  // Flushed to the OS, so a killed ground station leaves every complete
+  // frame in the temporary file.
+  if (!file_->write(bytes) || !file_->flush()) return false;
   bytes_ += bytes.size();
-  last = static_cast<long>(f.version);
+  last_version_ = f.version;
   return true;
 }
 

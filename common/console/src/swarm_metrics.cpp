@@ -46,6 +46,15 @@ std::string swarm_metrics_text(const ConsoleState& st, const SwarmCounters& c) {
   }
   e.family("pheromesh_samples_rejected_total", "counter", "Malformed samples the ground station dropped.");
   e.sample("pheromesh_samples_rejected_total", d(c.samples_rejected));
+  if (!c.samples_refused.empty()) {
+    e.family("pheromesh_samples_refused_total", "counter",
+             "Well-formed samples refused as implausible, by who refused them and why (docs/architecture.md).");
+    for (const auto& [by, reasons] : c.samples_refused) {
+      for (const auto& [reason, n] : reasons) {
+        e.sample("pheromesh_samples_refused_total", {{"by", by}, {"reason", reason}}, d(n));
+      }
+    }
+  }
   e.family("pheromesh_console_frames_total", "counter", "Console frames built.");
   e.sample("pheromesh_console_frames_total", d(c.frames));
   e.family("pheromesh_console_commands_total", "counter", "Console commands by result.");
@@ -58,6 +67,16 @@ std::string swarm_metrics_text(const ConsoleState& st, const SwarmCounters& c) {
   if (c.http_body_bytes) {
     e.family("pheromesh_console_http_body_bytes_total", "counter", "Response body bytes before compression.");
     e.sample("pheromesh_console_http_body_bytes_total", d(*c.http_body_bytes));
+  }
+  if (c.http_refused) {
+    e.family("pheromesh_console_http_refused_total", "counter", "HTTP requests and connections the console refused, by reason.");
+    for (std::size_t i = 0; i < kRefusalKinds; ++i) {
+      e.sample("pheromesh_console_http_refused_total", {{"reason", refusal_name(static_cast<Refusal>(i))}}, d((*c.http_refused)[i]));
+    }
+  }
+  if (c.http_connections) {
+    e.family("pheromesh_console_http_connections", "gauge", "Open connections to the console.");
+    e.sample("pheromesh_console_http_connections", d(*c.http_connections));
   }
   if (c.recording_bytes) {
     e.family("pheromesh_recording_bytes_total", "counter", "Bytes written to the console recording.");

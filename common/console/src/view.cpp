@@ -110,6 +110,7 @@ nlohmann::json frame_json(const ConsoleState& s, const ConsoleInfo& info, uint16
                        {"tick_rate_hz", r.tick_rate_hz}, {"deposits_per_s", r.deposits_per_s},
                        {"deposits_received", r.deposits_received}, {"deposits_applied", r.deposits_applied},
                        {"deposits_rejected", r.deposits_rejected},
+                       {"samples_refused", r.samples_refused},
                        {"replica", r.replica},
                        {"replicas_alive", r.replicas_alive}});
   }

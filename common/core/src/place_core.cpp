@@ -1,6 +1,7 @@
 #include "pheromesh/core/place_core.hpp"
 
 #include <algorithm>
+#include <limits>
 #include <numeric>
 
 namespace pheromesh::core {
@@ -16,7 +17,13 @@ PlaceCore::PlaceCore(const ScenarioConfig& scenario, RegionId region)
       layers_(static_cast<int>(policy_traits(scenario).layers.size())),
       model_(make_place_model(scenario, geo_, region)),
       tiles_(geo_.region_tiles(region)),
-      neighbours_(geo_.neighbour_regions(region)) {}
+      neighbours_(geo_.neighbour_regions(region)),
+      swarm_(scenario.uavs) {
+  const auto ranges = policy_traits(scenario).layer_ranges;
+  ring_range_ = ranges.empty() ? ValueRange{-std::numeric_limits<float>::max(), std::numeric_limits<float>::max()}
+                               : ranges.front();
+  for (const auto& r : ranges) ring_range_ = {std::min(ring_range_.lo, r.lo), std::max(ring_range_.hi, r.hi)};
+}
 
 HaloRing PlaceCore::begin_tick(std::vector<DepositMsg>& deposits, uint32_t tick, std::vector<TargetEventMsg>& events,
                                std::vector<std::string>* rejections) {
@@ -26,12 +33,21 @@ HaloRing PlaceCore::begin_tick(std::vector<DepositMsg>& deposits, uint32_t tick,
   for (const auto& d : deposits) {
     ++ledger_.received;
     std::optional<std::string> reason = check_deposit(d, geo_, region_, layers_);
-    if (!reason) {
-      auto it = last_seq_.find(d.uav);
-      if (it != last_seq_.end() && d.seq <= it->second) reason = "duplicate or out-of-order sequence number";
+    // Plausibility (plausibility.hpp): refused, and kept out of last_seq_, so
+    // that a forger cannot lock a real UAV out.
+    if (!reason && check_uav_id(d.uav, swarm_)) {
+      reason = "uav id outside the swarm";
+      ledger_.refused.add(Refusal::UnknownUav);
+    }
+    auto it = last_seq_.find(d.uav);
+    const std::optional<uint32_t> last = it == last_seq_.end() ? std::nullopt : std::optional<uint32_t>(it->second.seq);
+    if (!reason && last && d.seq <= *last) reason = "duplicate or out-of-order sequence number";
+    if (!reason && check_seq_reachable(d.seq, last, tick - (last ? std::min(it->second.tick, tick) : 0))) {
+      reason = "sequence number far ahead of the uav's";
+      ledger_.refused.add(Refusal::SeqFarAhead);
     }
     if (!reason) {
-      last_seq_[d.uav] = d.seq;
+      last_seq_[d.uav] = {d.seq, tick};
       reason = model_->apply(d, tick, events);
     }
     if (reason) {
@@ -46,6 +62,13 @@ HaloRing PlaceCore::begin_tick(std::vector<DepositMsg>& deposits, uint32_t tick,
   return model_->begin_step(tick, events);
 }
 
+bool PlaceCore::refuses(const DepositMsg& d, uint32_t tick) const {
+  if (check_uav_id(d.uav, swarm_)) return true;
+  auto it = last_seq_.find(d.uav);
+  if (it == last_seq_.end()) return check_seq_reachable(d.seq, std::nullopt, tick).has_value();
+  return check_seq_reachable(d.seq, it->second.seq, tick - std::min(it->second.tick, tick)).has_value();
+}
+
 void PlaceCore::reject(const std::vector<DepositMsg>& deposits, const std::string& reason) {
   ledger_.received += deposits.size();
   if (!deposits.empty()) ledger_.rejected_by_reason[reason] += deposits.size();
@@ -53,6 +76,10 @@ void PlaceCore::reject(const std::vector<DepositMsg>& deposits, const std::strin
 
 bool PlaceCore::accept_halo(const HaloMsg& h) {
   if (check_halo(h, geo_)) return false;
+  if (check_values_in_range(h.target, ring_range_, "halo") || check_values_in_range(h.obstacle, ring_range_, "halo")) {
+    ledger_.refused.add(Refusal::ValueOutOfRange);
+    return false;
+  }
   if (h.target.empty() && h.obstacle.empty()) return true;  // a policy without diffusion
   const HaloRing ring{h.region, h.target, h.obstacle};
   model_->accept_halo(geo_.region_rect(h.region), ring);

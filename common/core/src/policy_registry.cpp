@@ -34,7 +34,12 @@ PolicyTraits policy_traits(const ScenarioConfig& s) {
   // The leader's state (Shao 2020 Sec. 5), "target found" (Shostak), the ETA
   // intervals (Duan 2009 eq. (4)); the other policies never broadcast.
   t.broadcasts = s.policy == PolicyKind::ShaoNavigation || s.policy == PolicyKind::Shostak || s.policy == PolicyKind::Duan;
+  t.layer_ranges.resize(t.layers.size(), ValueRange{0.0F, kMaxLayerValue});
   return t;
+}
+
+Cell uav_start(const ScenarioConfig& s, const PolicyTraits& traits, uint32_t id) {
+  return id < traits.starts.size() ? traits.starts[id] : start_cell(s, id);
 }
 
 std::unique_ptr<UavPolicy> make_uav_policy(const ScenarioConfig& s, const MapGeometry& geo, const World& world,

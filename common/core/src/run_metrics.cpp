@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <tuple>
 
 #include "pheromesh/core/policy.hpp"
@@ -19,14 +20,37 @@ RunRecorder::RunRecorder(const ScenarioConfig& scenario, const World& world)
       world_(&world),
       geo_(scenario.geometry()),
       coverage_(world, all_starts(scenario), policy_traits(scenario).sensor_radius),
-      acquisitions_(scenario.targets.size()) {}
+      acquisitions_(scenario.targets.size()),
+      traits_(policy_traits(scenario)),
+      max_step_(traits_.max_step),
+      sensor_radius_(traits_.sensor_radius),
+      tick_ceiling_(std::numeric_limits<uint32_t>::max()) {}
 
 bool RunRecorder::on_uav_state(const UavStateMsg& s) {
   if (check_uav_state(s, geo_)) {
     ++samples_rejected_;
     return false;
   }
+  // Forged states must not move coverage (plausibility.hpp).
+  if (check_uav_id(s.uav, scenario_->uavs)) {
+    refused_.add(Refusal::UnknownUav);
+    return false;
+  }
+  if (check_tick_reachable(s.tick, tick_ceiling_, "state")) {
+    refused_.add(Refusal::TickFarAhead);
+    return false;
+  }
+  auto found = uavs_.find(s.uav);
+  const bool known = found != uavs_.end() && found->second.heard;
+  // Only a UAV lost before may start again from its start cell (a restart).
+  const UavStateMsg* before = known ? &found->second.last : nullptr;
+  const bool may_restart = !known || !found->second.alive;
+  if (check_state_motion(s, before, uav_start(*scenario_, traits_, s.uav), max_step_, may_restart)) {
+    refused_.add(Refusal::ImplausibleState);
+    return false;
+  }
   auto& u = uavs_[s.uav];
+  u.heard = true;
   // Shao 2020 Sec. 5: the leader hands over to the search at the target region.
   if (!leader_arrival_ && u.last.role == static_cast<uint8_t>(Role::Leader) &&
       s.role == static_cast<uint8_t>(Role::Searcher)) {
@@ -40,17 +64,73 @@ bool RunRecorder::on_uav_state(const UavStateMsg& s) {
   u.finished = u.finished || s.finished;
   max_tick_ = std::max(max_tick_, s.tick);
   coverage_.observe({static_cast<int32_t>(std::lround(s.x)), static_cast<int32_t>(std::lround(s.y))});
+  // The detections of this UAV that waited for this state.
+  auto ready = std::stable_partition(pending_.begin(), pending_.end(),
+                                     [&](const DetectionMsg& d) { return d.uav != s.uav || d.tick > s.tick; });
+  std::vector<DetectionMsg> now(ready, pending_.end());
+  pending_.erase(ready, pending_.end());
+  for (const auto& d : now) judge(d, &u.last);
   return true;
 }
 
+void RunRecorder::judge(const DetectionMsg& d, const UavStateMsg* seen) {
+  if (check_detection(d, world_->targets(), seen, sensor_radius_, max_step_)) {
+    refused_.add(Refusal::ImplausibleDetection);
+    return;
+  }
+  if (acquisitions_.acquire(d.target, d.tick)) first_acquisitions_.push_back(d);
+}
+
 bool RunRecorder::on_detection(const DetectionMsg& d) {
-  last_was_first_ = false;
   if (d.target < 0 || static_cast<std::size_t>(d.target) >= acquisitions_.size()) {
     ++samples_rejected_;
     return false;
   }
-  last_was_first_ = acquisitions_.acquire(d.target, d.tick);
+  if (check_uav_id(d.uav, scenario_->uavs)) {
+    refused_.add(Refusal::UnknownUav);
+    return false;
+  }
+  auto it = uavs_.find(d.uav);
+  const bool seen = it != uavs_.end() && it->second.heard && it->second.last.tick >= d.tick;
+  // Bounded: a flood of detections ahead of every state is judged at once.
+  constexpr std::size_t kMaxPending = 4096;
+  if (!seen && pending_.size() < kMaxPending) {
+    pending_.push_back(d);
+    return true;
+  }
+  judge(d, it != uavs_.end() && it->second.heard ? &it->second.last : nullptr);
   return true;
+}
+
+void RunRecorder::judge_pending_detections() {
+  std::vector<DetectionMsg> left;
+  left.swap(pending_);
+  for (const auto& d : left) {
+    auto it = uavs_.find(d.uav);
+    judge(d, it != uavs_.end() && it->second.heard ? &it->second.last : nullptr);
+  }
+}
+
+RefusalCounts RunRecorder::refused_by_places() const {
+  RefusalCounts c;
+  for (const auto& [id, h] : replica_health_) {
+    for (std::size_t i = 0; i < kRefusalCount; ++i) c.add(static_cast<Refusal>(i), h.refused[i]);
+  }
+  return c;
+}
+
+RefusalCounts RunRecorder::refused_by_uavs() const {
+  RefusalCounts c;
+  for (const auto& [id, u] : uavs_) {
+    for (std::size_t i = 0; i < kRefusalCount; ++i) c.add(static_cast<Refusal>(i), u.last.refused[i]);
+  }
+  return c;
+}
+
+std::vector<DetectionMsg> RunRecorder::take_first_acquisitions() {
+  std::vector<DetectionMsg> out;
+  out.swap(first_acquisitions_);
+  return out;
 }
 
 void RunRecorder::on_target_event(const TargetEventMsg& e) {
@@ -129,7 +209,10 @@ uint64_t RunRecorder::deposits_unconfirmed_by_uavs() const {
   return n;
 }
 
-void RunRecorder::on_uav_departed(uint32_t uav) { uavs_[uav].alive = false; }
+void RunRecorder::on_uav_departed(uint32_t uav) {
+  if (check_uav_id(uav, scenario_->uavs)) return;  // no UAV of the swarm
+  uavs_[uav].alive = false;
+}
 
 void RunRecorder::on_place_departed(uint32_t place) { departed_places_[place] = true; }
 

@@ -25,6 +25,7 @@
 #include <system_error>
 #include <utility>
 
+#include "pheromesh/core/scenario_limits.hpp"
 #include "scenario_internal.hpp"
 
 namespace pheromesh::core {
@@ -194,11 +195,70 @@ void build_faults(const pb::Scenario& msg, const Node& root, Validator& v, Scena
   }
 }
 
+// Every string of the scenario (its name, fault lines, policy choices) may end
+// up in JSON, in recordings and on the web console; one that is not UTF-8
+// made nlohmann::json throw at the end of a run and left a 0-byte
+// metrics.json. Refused here, at its line, without echoing the bad bytes.
+void check_utf8(const Message& msg, const Node& n, Validator& v) {
+  const auto* refl = msg.GetReflection();
+  std::vector<const FieldDescriptor*> fields;
+  refl->ListFields(msg, &fields);
+  const auto complain = [&](const FieldDescriptor* fd, const std::string& value, int index) {
+    std::size_t at = 0;
+    if (valid_utf8(value, &at)) return;
+    v.fail(n, fd->name().c_str(),
+           "is not valid UTF-8 (byte " + std::to_string(at + 1) + " of " + std::to_string(value.size()) +
+               "); strings of a scenario end up in JSON output and must be UTF-8",
+           index);
+  };
+  for (const FieldDescriptor* fd : fields) {
+    if (fd->cpp_type() == FieldDescriptor::CPPTYPE_STRING) {
+      if (fd->is_repeated()) {
+        for (int i = 0; i < refl->FieldSize(msg, fd); ++i) complain(fd, refl->GetRepeatedString(msg, fd, i), i);
+      } else {
+        complain(fd, refl->GetString(msg, fd), -1);
+      }
+    } else if (fd->cpp_type() == FieldDescriptor::CPPTYPE_MESSAGE) {
+      if (fd->is_repeated()) {
+        for (int i = 0; i < refl->FieldSize(msg, fd); ++i) {
+          check_utf8(refl->GetRepeatedMessage(msg, fd, i), n.child(fd->name().c_str(), i), v);
+        }
+      } else {
+        check_utf8(refl->GetMessage(msg, fd), n.child(fd->name().c_str()), v);
+      }
+    }
+  }
+}
+
+// The limits of scenario_limits.hpp, each reported at the field that asks for it.
+void check_scenario_limits(const Node& root, const ScenarioConfig& cfg, const ScenarioLimits& limits, Validator& v) {
+  const Node mn = root.child("map");
+  const Node sn = root.child("swarm");
+  for (const auto& x : limit_violations(cfg, limits)) {
+    switch (x.kind) {
+      case LimitKind::MapCells:
+      case LimitKind::ProcessMemory:
+        v.fail(mn, "width", x.what);
+        break;
+      case LimitKind::Regions:
+        v.fail(mn, "regions_x", x.what);
+        break;
+      case LimitKind::Processes:
+      case LimitKind::SwarmMemory:
+        v.fail(sn, "uavs", x.what);
+        break;
+    }
+  }
+}
+
 ScenarioConfig build(const pb::Scenario& msg, const TextFormat::ParseInfoTree& tree, const std::string& display_name,
-                     Validator& v) {
+                     const ScenarioLimits& limits, Validator& v) {
   ScenarioConfig cfg;
   const Node root(pb::Scenario::descriptor(), &tree, Loc{1, 1}, "");
   cfg.name = msg.has_name() ? msg.name() : std::filesystem::path(display_name).stem().string();
+  if (!msg.has_name() && !valid_utf8(cfg.name)) {
+    v.fail(root, "name", "is not set, and the file name is not valid UTF-8 to stand in for it; set name: \"...\"");
+  }
 
   // --- map -------------------------------------------------------------------
   const Node mn = root.child("map");
@@ -226,11 +286,12 @@ ScenarioConfig build(const pb::Scenario& msg, const TextFormat::ParseInfoTree& t
                                      "a tile must fit one DDS sample of <= 1024 cells");
   if (m.has_regions_x()) cfg.regions_x = m.regions_x();
   if (m.has_regions_y()) cfg.regions_y = m.regions_y();
+  bool regions_ok = false;
   if (map && tile_ok) {
     const int32_t tiles_x = (cfg.width + cfg.tile_size - 1) / cfg.tile_size;
     const int32_t tiles_y = (cfg.height + cfg.tile_size - 1) / cfg.tile_size;
-    v.int_between(mn, "regions_x", cfg.regions_x, 1, tiles_x, "at most one region per tile column (tiles across = ceil(width / tile_size))");
-    v.int_between(mn, "regions_y", cfg.regions_y, 1, tiles_y, "at most one region per tile row (tiles down = ceil(height / tile_size))");
+    regions_ok = v.int_between(mn, "regions_x", cfg.regions_x, 1, tiles_x, "at most one region per tile column (tiles across = ceil(width / tile_size))");
+    regions_ok = v.int_between(mn, "regions_y", cfg.regions_y, 1, tiles_y, "at most one region per tile row (tiles down = ceil(height / tile_size))") && regions_ok;
   } else {
     v.int_between(mn, "regions_x", cfg.regions_x, 1, kMaxMapSide);
     v.int_between(mn, "regions_y", cfg.regions_y, 1, kMaxMapSide);
@@ -368,6 +429,7 @@ ScenarioConfig build(const pb::Scenario& msg, const TextFormat::ParseInfoTree& t
   }
   build_policy(msg, root, v, cfg);
   build_faults(msg, root, v, cfg);
+  if (map && tile_ok && regions_ok && uavs_ok) check_scenario_limits(root, cfg, limits, v);
   return cfg;
 }
 
@@ -383,6 +445,13 @@ using scenario_detail::TextFormat;
 namespace pb = scenario_detail::pb;
 
 Result<ScenarioConfig> parse_scenario(std::string_view text, const std::string& display_name) {
+  auto limits = ScenarioLimits::from_environment();
+  if (!limits) return Error{display_name + ": " + limits.error().message};
+  return parse_scenario(text, display_name, limits.value());
+}
+
+Result<ScenarioConfig> parse_scenario(std::string_view text, const std::string& display_name,
+                                      const ScenarioLimits& limits) {
   pb::Scenario msg;
   TextFormat::ParseInfoTree tree;
   CollectingErrorCollector collector(display_name);
@@ -399,12 +468,23 @@ Result<ScenarioConfig> parse_scenario(std::string_view text, const std::string& 
     return Error{out};
   }
   Validator v(display_name);
-  ScenarioConfig cfg = build(msg, tree, display_name, v);
+  const scenario_detail::Node root(pb::Scenario::descriptor(), &tree, scenario_detail::Loc{1, 1}, "");
+  scenario_detail::check_utf8(msg, root, v);
+  // The checks below quote strings of the scenario in their messages: not
+  // with bytes that are not UTF-8.
+  if (!v.empty()) return Error{v.joined()};
+  ScenarioConfig cfg = build(msg, tree, display_name, limits, v);
   if (!v.empty()) return Error{v.joined()};
   return cfg;
 }
 
 Result<ScenarioConfig> load_scenario(const std::string& path) {
+  auto limits = ScenarioLimits::from_environment();
+  if (!limits) return Error{path + ": " + limits.error().message};
+  return load_scenario(path, limits.value());
+}
+
+Result<ScenarioConfig> load_scenario(const std::string& path, const ScenarioLimits& limits) {
   const auto fail = [&path](int err) {
     return Error{path + ": cannot read file: " + std::error_code(err, std::generic_category()).message()};
   };
@@ -415,7 +495,7 @@ Result<ScenarioConfig> load_scenario(const std::string& path) {
   std::size_t n = 0;
   while ((n = std::fread(buf, 1, sizeof buf, f.get())) > 0) text.append(buf, n);
   if (std::ferror(f.get()) != 0) return fail(errno != 0 ? errno : EIO);
-  auto res = parse_scenario(text, path);
+  auto res = parse_scenario(text, path, limits);
   if (res) res->source_path = path;
   return res;
 }

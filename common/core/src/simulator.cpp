@@ -44,7 +44,9 @@ Result<std::vector<std::string>> Simulator::set_faults(const FaultSchedule& sche
   for (const auto& [u, k] : schedule.uav_kills()) uav_kill_[u] = k;
   for (const auto& [r, k] : schedule.place_kills()) {
     const bool covered =
-        standby || std::any_of(schedule.events.begin(), schedule.events.end(), [&](const FaultEvent& e) {
+        // Captured by copy: clang before 16 cannot capture structured
+        // bindings, and the fuzz tree (docs/fuzzing.md) is built with clang 14.
+        standby || std::any_of(schedule.events.begin(), schedule.events.end(), [r = r, k = k](const FaultEvent& e) {
           return e.action == FaultAction::Standby && e.at_tick && *e.at_tick < k &&
                  std::find(e.targets.begin(), e.targets.end(), FaultTarget{"place", r}) != e.targets.end();
         });
@@ -97,7 +99,9 @@ void Simulator::step(uint32_t tick) {
     if (frozen) {
       // Its last health record: the ledger as it stopped.
       const auto& l = places_[r]->ledger();
-      recorder_.on_health({r, tick == 0 ? 0 : tick - 1, 0.0F, l.received, l.applied, l.rejected(), 0, false});
+      HealthMsg h{r, tick == 0 ? 0 : tick - 1, 0.0F, l.received, l.applied, l.rejected(), 0, false};
+      h.refused = l.refused.n;
+      recorder_.on_health(h);
     }
   }
   // UAV phase: every UAV sees the tiles of its neighbourhood as the place
@@ -211,7 +215,9 @@ void Simulator::run(const std::function<void(uint32_t)>& on_tick) {
   for (const auto& p : places_) {
     if (region_dead(p->region(), scenario_.ticks)) continue;
     const auto& l = p->ledger();
-    recorder_.on_health({p->region(), scenario_.ticks, 0.0F, l.received, l.applied, l.rejected(), 0, true});
+    HealthMsg h{p->region(), scenario_.ticks, 0.0F, l.received, l.applied, l.rejected(), 0, true};
+    h.refused = l.refused.n;
+    recorder_.on_health(h);
   }
   for (std::size_t i = 0; i < uavs_.size(); ++i) {
     if (uav_gone(static_cast<uint32_t>(i), scenario_.ticks)) continue;  // its last state stays the last it sent

@@ -1,14 +1,21 @@
 #include "pheromesh/runtime/process.hpp"
 
+#include "pheromesh/core/scenario_limits.hpp"
+
 #include <algorithm>
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
+#include <chrono>
 #include <csignal>
 #include <cstdlib>
 #include <fstream>
+#include <limits>
+#include <optional>
 #include <sstream>
 #include <thread>
+
+#include "pheromesh/core/plausibility.hpp"
 
 namespace pheromesh::runtime {
 namespace {
@@ -123,6 +130,21 @@ std::shared_ptr<spdlog::logger> make_logger(const std::string& name, const std::
   return logger;
 }
 
+uint32_t realtime_tick_ceiling(double rate_hz) {
+  static const std::optional<int64_t> t0 = []() -> std::optional<int64_t> {
+    const char* v = std::getenv("PHEROMESH_RUN_T0_MS");
+    if (v == nullptr) return std::nullopt;
+    char* end = nullptr;
+    const long long ms = std::strtoll(v, &end, 10);
+    if (end == v || *end != '\0' || ms <= 0) return std::nullopt;
+    return ms;
+  }();
+  if (!t0) return std::numeric_limits<uint32_t>::max();
+  const int64_t now =
+      std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::system_clock::now().time_since_epoch()).count();
+  return core::realtime_tick_ceiling(static_cast<double>(now - *t0) / 1000.0, rate_hz);
+}
+
 void install_shutdown_handlers() {
   struct sigaction sa {};
   sa.sa_handler = on_signal;
@@ -141,6 +163,14 @@ core::Result<core::ScenarioConfig> load_scenario(const CommonOptions& o) {
   if (o.ticks > 0) s->ticks = o.ticks;
   if (o.seed > 0) s->seed = o.seed;
   if (o.uavs > 0) s->uavs = o.uavs;
+  if (o.uavs > 0 || o.standby) {
+    // The flags change what the scenario asks of the machine: check again.
+    core::ScenarioConfig asked = s.value();
+    asked.standby = asked.standby || o.standby;
+    auto limits = core::ScenarioLimits::from_environment();
+    if (!limits) return limits.error();
+    if (auto ok = core::check_limits(asked, limits.value(), o.scenario + " with --uavs/--standby"); !ok) return ok.error();
+  }
   return s;
 }
 

@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 
+#include "pheromesh/core/atomic_file.hpp"
 #include "pheromesh/core/policy.hpp"
 #include "pheromesh/core/tick_gaps.hpp"
 
@@ -65,6 +65,22 @@ nlohmann::json metrics_json(const core::RunRecorder& r, const RunInfo& info) {
   j["places_killed"] = r.places_killed();
   j["regions_frozen"] = r.regions_frozen();
   j["samples_rejected_by_ground"] = r.samples_rejected();
+  // Well-formed samples refused as implausible (core/plausibility.hpp), per
+  // reason: in total and by who refused them.
+  const core::RefusalCounts by_places = r.refused_by_places(), by_uavs = r.refused_by_uavs();
+  nlohmann::json refused = nlohmann::json::object();
+  nlohmann::json refused_by = {{"places", nlohmann::json::object()}, {"uavs", nlohmann::json::object()},
+                               {"ground", nlohmann::json::object()}};
+  for (std::size_t i = 0; i < core::kRefusalCount; ++i) {
+    const auto why = static_cast<core::Refusal>(i);
+    const std::string name = core::refusal_name(why);
+    refused[name] = uint64_t{by_places[why]} + by_uavs[why] + r.refused()[why];
+    refused_by["places"][name] = by_places[why];
+    refused_by["uavs"][name] = by_uavs[why];
+    refused_by["ground"][name] = r.refused()[why];
+  }
+  j["refused"] = refused;
+  j["refused_by"] = refused_by;
   // The launcher owns process accounting and overwrites these two.
   j["processes_killed"] = 0;
   j["processes_crashed"] = 0;
@@ -137,8 +153,11 @@ nlohmann::json metrics_json(const core::RunRecorder& r, const RunInfo& info) {
 
 bool write_field(const std::string& path, const core::MapGeometry& geo, const std::vector<std::string>& layers,
                  const FieldReader& value) {
-  FILE* f = std::fopen(path.c_str(), "w");
-  if (f == nullptr) return false;
+  // A 1024 x 1024 map makes ~30 MB of text: a crash half-way must not leave
+  // a field that looks complete but stops at some row.
+  auto out = core::AtomicFile::create(path);
+  if (!out) return false;
+  FILE* f = out->stream();
   std::fprintf(f, "# pheromesh final field %d x %d\n", geo.width(), geo.height());
   for (int l = 0; l < static_cast<int>(layers.size()); ++l) {
     std::fprintf(f, "layer %s\n", layers[static_cast<std::size_t>(l)].c_str());
@@ -147,17 +166,20 @@ bool write_field(const std::string& path, const core::MapGeometry& geo, const st
       std::fputc('\n', f);
     }
   }
-  return std::fclose(f) == 0;
+  return out->commit().ok();
+}
+
+std::string json_text(const nlohmann::json& j, int indent) {
+  // Strings reach here from scenarios and DDS samples; an invalid UTF-8 byte
+  // must not throw type_error 316 at the end of a run and lose the file.
+  return j.dump(indent, ' ', false, nlohmann::json::error_handler_t::replace);
 }
 
 bool write_json(const std::string& dir, const std::string& file, const nlohmann::json& j, std::string& error) {
-  std::error_code ec;
-  std::filesystem::create_directories(dir, ec);
   const std::string path = (std::filesystem::path(dir) / file).string();
-  std::ofstream out(path);
-  out << j.dump(2) << "\n";
-  if (!out) {
-    error = "cannot write " + path;
+  auto written = core::write_file_atomically(path, json_text(j, 2) + "\n");
+  if (!written) {
+    error = written.error().message;
     return false;
   }
   return true;

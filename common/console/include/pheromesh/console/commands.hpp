@@ -43,8 +43,10 @@ struct ParsedCommand {
   ConsoleSource::Answer refusal;          // status (400, 401, 409) and message if not
 };
 
-// The server marks a body without a valid token as kind "unauthorised"; it
-// is refused with 401 here so that it is logged like every other command.
+// Kind "unauthorised" is refused with 401 (the server itself refuses a
+// request without the token on its headers, before reading its body, and
+// reports it through ConsoleSource::refused). Integers are range-checked as
+// 64-bit values before they are narrowed.
 ParsedCommand parse_command(const nlohmann::json& body, const CommandContext& ctx);
 
 // The idl Command of a swarm-wide console command (pause, resume, obstacle,

@@ -3,12 +3,13 @@
 #pragma once
 
 #include <cstdint>
-#include <fstream>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "pheromesh/console/state.hpp"
+#include "pheromesh/core/atomic_file.hpp"
 #include "pheromesh/core/result.hpp"
 
 namespace pheromesh::console {
@@ -24,8 +25,13 @@ struct Recording {
 
 class RecordingWriter {
  public:
-  // Creates (truncates) `path` and writes the header.
+  // Starts the recording `path` and writes the header. The frames go to a
+  // temporary file next to it (temp_path(), core/atomic_file.hpp) that
+  // becomes `path` when the writer is closed, so `path` is never a cut file;
+  // a ground station killed mid-run leaves its frames in the temporary file,
+  // which `pheromesh replay` reads like any recording cut short.
   static core::Result<std::unique_ptr<RecordingWriter>> open(const std::string& path, const ConsoleInfo& info);
+  // close(), errors ignored.
   ~RecordingWriter();
   RecordingWriter(const RecordingWriter&) = delete;
   RecordingWriter& operator=(const RecordingWriter&) = delete;
@@ -35,12 +41,18 @@ class RecordingWriter {
   bool write(const Frame& f);
   [[nodiscard]] uint64_t bytes_written() const { return bytes_; }
   [[nodiscard]] const std::string& path() const { return path_; }
+  // Where the frames are until close(); "" once closed.
+  [[nodiscard]] const std::string& temp_path() const;
+  // Syncs the file to the disk and renames it to path(); the bytes written,
+  // or why it failed. Further writes return false.
+  core::Result<uint64_t> close();
 
  private:
   RecordingWriter() = default;
   std::string path_;
-  std::ofstream out_;
+  std::optional<core::AtomicFile> file_;
   uint64_t bytes_ = 0;
+  uint64_t last_version_ = 0;
 };
 
 // Reads a whole recording. Errors name the file, the byte offset and what is

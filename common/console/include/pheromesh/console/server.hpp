@@ -11,6 +11,7 @@
 #include <string>
 #include <thread>
 
+#include "pheromesh/console/request.hpp"
 #include "pheromesh/core/result.hpp"
 
 namespace pheromesh::console {
@@ -29,19 +30,27 @@ class ConsoleSource {
   // POST /api/command, already authorised; `who` names the client.
   virtual Answer command(const nlohmann::json& body, const std::string& who) = 0;
   virtual std::string metrics() = 0;
+  // A request the server refused (no token, too large, too many long-polls,
+  // too slow, ...), already counted in ServerStats. Called from the
+  // server's threads, which it must not hold up: a source that logs or
+  // records refusals queues them and rate-limits (RefusalLimiter).
+  virtual void refused(Refusal /*reason*/, int /*status*/, const std::string& /*who*/, const std::string& /*what*/) {}
 };
 
 struct ServerOptions {
   std::string bind = "127.0.0.1";
   uint16_t port = 0;   // 0: any free port
   std::string token;   // required for POST /api/command; empty: commands refused
+  HttpLimits limits;   // docs/console.md, "Limits"
 };
 
 struct ServerStats {
   uint64_t requests = 0;
   uint64_t frame_requests = 0;
   uint64_t body_bytes = 0;  // response bodies before compression
-  uint64_t commands_unauthorised = 0;
+  uint64_t commands_unauthorised = 0;  // = refused[Refusal::Unauthorised]
+  RefusalCounts refused{};              // by Refusal
+  uint64_t open_connections = 0;
 };
 
 class ConsoleServer {

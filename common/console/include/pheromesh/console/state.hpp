@@ -78,6 +78,7 @@ struct RegionView {
   uint64_t deposits_rejected = 0;
   uint16_t replica = 0;         // the replica serving the region: 0 its primary, > 0 a standby that took over
   uint32_t replicas_alive = 0;  // live replicas (with --standby: 2 while primary and standby run)
+  uint64_t samples_refused = 0;  // well-formed samples its place agent refused as implausible (core/plausibility.hpp)
 };
 
 enum class TargetStatus : uint8_t { NotFound, Found, RevisitDue };

@@ -4,9 +4,11 @@
 #pragma once
 
 #include <cstdint>
+#include <map>
 #include <optional>
 #include <string>
 
+#include "pheromesh/console/request.hpp"
 #include "pheromesh/console/state.hpp"
 
 namespace pheromesh::console {
@@ -17,9 +19,14 @@ struct SwarmCounters {
   uint64_t targets_found = 0, targets_total = 0;
   uint64_t deposits_sent = 0;
   uint64_t samples_rejected = 0;  // malformed samples dropped by the ground station
+  // Well-formed samples refused as implausible (core/plausibility.hpp): by
+  // who refused them ("places", "uavs", "ground"), then by reason.
+  std::map<std::string, std::map<std::string, uint64_t>> samples_refused;
   uint64_t frames = 0;
   uint64_t commands_ok = 0, commands_refused = 0;
   std::optional<uint64_t> http_requests, http_body_bytes;  // with the HTTP server
+  std::optional<RefusalCounts> http_refused;               // by Refusal
+  std::optional<uint64_t> http_connections;                // open now
   std::optional<uint64_t> recording_bytes;                 // with a recording
 };
 

@@ -14,6 +14,7 @@ namespace pheromesh::core {
 
 inline constexpr std::size_t kMaxTileCells = 1024;  // 32 x 32, idl bound
 inline constexpr std::size_t kMaxRingCells = 4096;  // idl bound
+inline constexpr std::size_t kRefusalCount = 7;     // core::Refusal (plausibility.hpp), idl REFUSAL_REASONS
 
 struct TileMsg {
   uint8_t layer = 0;
@@ -67,6 +68,8 @@ struct UavStateMsg {
   uint32_t tick_gap_max_ms = 0;   // [ms] realtime: longest gap between two tick starts (core/tick_gaps.hpp)
   uint32_t tick_gaps_over_2 = 0;  // realtime: gaps between tick starts longer than two periods
   uint64_t deposits_unconfirmed = 0;  // sent, but not (yet) confirmed received by its home place agent
+  // Samples this UAV refused as implausible, per core::Refusal (plausibility.hpp).
+  std::array<uint32_t, kRefusalCount> refused{};
 };
 
 struct DetectionMsg {
@@ -101,6 +104,9 @@ struct HealthMsg {
   uint32_t tick_gaps_over_2 = 0;  // realtime: gaps between tick starts longer than two periods
   uint16_t replica = 0;             // 0 the primary, 1.. standbys
   uint64_t deposits_duplicate = 0;  // copies of a deposit already received, dropped
+  // Samples this place agent refused as implausible, per core::Refusal
+  // (plausibility.hpp; deposits among them are counted in deposits_rejected too).
+  std::array<uint32_t, kRefusalCount> refused{};
 };
 
 // A place replica in one 32-bit id (departures): replica << 16 | region.
@@ -192,6 +198,10 @@ struct ClockMsg {
   // "kill place:R @kt"), from the tick it was killed at: no one waits for
   // their field, halo or views; their field stays as it was (frozen).
   std::vector<RegionId> absent;
+  // Not on the wire: who wrote the sample, as the receiving bus identifies
+  // the DDS writer (Cyclone: its publication handle; Fast DDS: its GUID,
+  // folded). A forger can copy every field but not this (plausibility.hpp).
+  uint64_t writer = 0;
 };
 inline constexpr uint32_t kRoleUav = 1;
 inline constexpr uint32_t kRolePlace = 2;

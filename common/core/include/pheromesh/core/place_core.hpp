@@ -13,6 +13,7 @@
 
 #include "pheromesh/core/layers.hpp"
 #include "pheromesh/core/messages.hpp"
+#include "pheromesh/core/plausibility.hpp"
 #include "pheromesh/core/policy.hpp"
 #include "pheromesh/core/scenario.hpp"
 
@@ -23,6 +24,10 @@ struct DepositLedger {
   uint64_t received = 0;
   uint64_t applied = 0;
   std::map<std::string, uint64_t> rejected_by_reason;
+  // Samples refused as implausible (plausibility.hpp): of the rejected
+  // deposits those of forged UAV ids and sequence numbers far ahead; halo rings
+  // out of range.
+  RefusalCounts refused;
   [[nodiscard]] uint64_t rejected() const;
 };
 
@@ -40,10 +45,15 @@ class PlaceCore {
   // `rejections` (if given) one line per rejected deposit.
   HaloRing begin_tick(std::vector<DepositMsg>& deposits, uint32_t tick, std::vector<TargetEventMsg>& events,
                       std::vector<std::string>* rejections = nullptr);
+  // Whether begin_tick at `tick` would refuse `d` as implausible (a UAV id
+  // outside the swarm, a sequence number far ahead): lockstep place agents
+  // count only the others toward the deposits a tick announced.
+  [[nodiscard]] bool refuses(const DepositMsg& d, uint32_t tick) const;
   // Deposits that can no longer be applied (they arrived after the last
   // lockstep tick): counted as rejected with `reason`.
   void reject(const std::vector<DepositMsg>& deposits, const std::string& reason);
-  // A neighbour's ring (checked; false if malformed and ignored).
+  // A neighbour's ring (checked; false if malformed or out of its layers'
+  // range - counted in ledger().refused - and ignored).
   bool accept_halo(const HaloMsg& h);
   // Phase 2: the policy's layer update (e.g. Shao 2020 eq. (1), Shao 2020 eq. (2), Shao 2020 eq. (3), Shao 2020 eq. (4), Shao 2020 eq. (5), Shao 2020 eq. (6), Shao 2020 eq. (7), Shao 2020 eq. (8)).
   void finish_tick();
@@ -66,7 +76,13 @@ class PlaceCore {
   std::unique_ptr<PlaceModel> model_;
   std::vector<TileCoord> tiles_;
   std::vector<RegionId> neighbours_;
-  std::map<uint32_t, uint32_t> last_seq_;  // per UAV: highest applied deposit seq
+  uint32_t swarm_;  // UAV ids are 0..swarm_-1
+  ValueRange ring_range_;  // what a halo ring value can be (the widest range of the layers)
+  struct SeqMark {
+    uint32_t seq = 0;
+    uint32_t tick = 0;  // receiver tick it was accepted at
+  };
+  std::map<uint32_t, SeqMark> last_seq_;  // per UAV: highest applied deposit seq
   std::map<std::pair<std::size_t, int>, std::vector<float>> published_;  // (tile, layer) -> values last sent
   DepositLedger ledger_;
 };

@@ -26,6 +26,7 @@
 #include "pheromesh/core/grid.hpp"
 #include "pheromesh/core/layers.hpp"
 #include "pheromesh/core/messages.hpp"
+#include "pheromesh/core/plausibility.hpp"
 #include "pheromesh/core/scenario.hpp"
 #include "pheromesh/core/world.hpp"
 
@@ -37,7 +38,17 @@ struct PolicyTraits {
   double sensor_radius = 4.0;       // [cell] for the coverage metric
   double view_radius = 5.0;         // [cell] tiles (and the UAVs over them) a UAV reads
   bool broadcasts = false;          // its UAVs may broadcast to the swarm (a UAV then creates its writer at start)
+  // Plausibility (plausibility.hpp): the farthest a UAV flies in one tick
+  // [cell/tick], and each layer's physical range (index = layer).
+  double max_step = 1.5;
+  std::vector<ValueRange> layer_ranges;  // policy_traits fills [0, kMaxLayerValue] where a policy gives none
+  std::vector<Cell> starts;              // UAV i's start cell, if the policy does not use start_cell(s, i)
 };
+// A pheromone layer without a range of its own holds nonnegative values
+// below the largest deposit (messages.cpp): 1e30 is no pheromone.
+inline constexpr float kMaxLayerValue = 1e6F;
+// Where UAV `id` starts flying (traits.starts, else start_cell).
+Cell uav_start(const ScenarioConfig& s, const PolicyTraits& traits, uint32_t id);
 PolicyTraits policy_traits(const ScenarioConfig& s);
 
 // The pheromone tiles a UAV has received, by tile and layer.

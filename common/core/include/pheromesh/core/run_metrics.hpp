@@ -13,6 +13,8 @@
 #include "pheromesh/core/messages.hpp"
 #include "pheromesh/core/marks.hpp"
 #include "pheromesh/core/metrics.hpp"
+#include "pheromesh/core/plausibility.hpp"
+#include "pheromesh/core/policy.hpp"
 #include "pheromesh/core/scenario.hpp"
 #include "pheromesh/core/world.hpp"
 
@@ -23,6 +25,7 @@ std::vector<Cell> all_starts(const ScenarioConfig& s);
 
 struct UavStatus {
   UavStateMsg last{};
+  bool heard = false;  // `last` holds a state of this UAV
   bool alive = true;
   bool finished = false;
   uint64_t earlier_lives_deposits = 0;  // deposits sent by earlier processes of this UAV (restarts)
@@ -32,9 +35,28 @@ class RunRecorder {
  public:
   RunRecorder(const ScenarioConfig& scenario, const World& world);
 
-  // Each returns false if the sample was malformed and ignored (counted).
+  // Each returns false if the sample was malformed (counted in
+  // samples_rejected) or implausible (counted in refused(), plausibility.hpp)
+  // and ignored.
   bool on_uav_state(const UavStateMsg& s);
-  bool on_detection(const DetectionMsg& d);  // true also for repeats; see first_acquisition
+  // A detection is judged against the reporting UAV's state of its tick or
+  // later; until one arrives it waits (true). Detections of targets found
+  // for the first time collect in take_first_acquisitions().
+  bool on_detection(const DetectionMsg& d);
+  // Judges the detections still waiting against the last states (end of a run).
+  void judge_pending_detections();
+  // The first acquisitions of targets since the last call.
+  std::vector<DetectionMsg> take_first_acquisitions();
+  // Realtime or lockstep: states of a tick above this are refused
+  // (plausibility.hpp, realtime_tick_ceiling); unlimited by default.
+  void set_tick_ceiling(uint32_t ceiling) { tick_ceiling_ = ceiling; }
+  // A sample refused by the process that feeds this recorder (tiles, fields).
+  void count_refused(Refusal r) { refused_.add(r); }
+  [[nodiscard]] const RefusalCounts& refused() const { return refused_; }
+  // What the place agents (every replica's latest health) and the UAVs (their
+  // latest states) report they refused.
+  [[nodiscard]] RefusalCounts refused_by_places() const;
+  [[nodiscard]] RefusalCounts refused_by_uavs() const;
   void on_target_event(const TargetEventMsg& e);
   // One replica's health. Returns true if that replica had been lost and is
   // heard again (a stopped process that resumed).
@@ -58,9 +80,6 @@ class RunRecorder {
   [[nodiscard]] const std::map<std::string, double>& field_summary() const { return field_summary_; }
   // Appends (max tick, coverage) to the coverage series.
   void sample_coverage();
-
-  // The last detection was a target's first acquisition.
-  [[nodiscard]] bool first_acquisition() const { return last_was_first_; }
 
   [[nodiscard]] const ScenarioConfig& scenario() const { return *scenario_; }
   [[nodiscard]] uint32_t max_tick() const { return max_tick_; }
@@ -119,7 +138,15 @@ class RunRecorder {
   uint32_t max_tick_ = 0;
   uint64_t samples_rejected_ = 0;
   uint32_t uavs_killed_ = 0, places_killed_ = 0, regions_frozen_ = 0;
-  bool last_was_first_ = false;
+  // Plausibility (plausibility.hpp).
+  PolicyTraits traits_;
+  double max_step_;       // [cell/tick]
+  double sensor_radius_;  // [cell]
+  uint32_t tick_ceiling_;
+  RefusalCounts refused_;
+  std::vector<DetectionMsg> pending_;  // detections waiting for their UAV's state of their tick
+  std::vector<DetectionMsg> first_acquisitions_;
+  void judge(const DetectionMsg& d, const UavStateMsg* seen);
 };
 
 }  // namespace pheromesh::core

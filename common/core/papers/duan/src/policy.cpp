@@ -548,6 +548,11 @@ PolicyTraits duan_traits(const ScenarioConfig& s) {
   // limit bound it), and Duan 2009 eq. (10) needs the others' point pheromone wherever
   // it goes: every UAV reads the whole map.
   t.view_radius = static_cast<double>(std::max(s.width, s.height));
+  // V_max for one tick on the mesh, twice for margin [node/tick]; UAVs start
+  // at their missions' start nodes (Duan 2009 Table 2).
+  const DuanConfig& c = s.config_of<DuanConfig>();
+  t.max_step = 2.0 * c.speeds.max_mps * c.dt_s / (c.node_spacing_km * 1000.0);
+  for (uint32_t i = 0; i < s.uavs; ++i) t.starts.push_back(i < c.uavs.size() ? c.uavs[i].start : Cell{});
   return t;
 }
 

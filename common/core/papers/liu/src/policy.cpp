@@ -301,6 +301,9 @@ PolicyTraits liu_traits(const ScenarioConfig& s) {
   t.sensor_radius = 0.5;
   const LiuConfig& c = s.config_of<LiuConfig>();
   t.view_radius = c.view_radius_cells ? *c.view_radius_cells : liu_view_radius_cells(c.params);
+  // One cycle at the maximum speed (Liu 2022 Sec. 5), twice for margin [cell/tick].
+  t.max_step = 2.0 * c.params.max_speed_mps * c.params.cycle_s / c.params.cell_size_m;
+  t.layer_ranges = {{0.0F, 1.0F}, {0.0F, 1.0F}, {0.0F, 1.0F}};  // a probability (Liu 2022 eq. (3)) and two flags
   return t;
 }
 

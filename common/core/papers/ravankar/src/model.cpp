@@ -178,7 +178,9 @@ RavankarDeposit ravankar_spread(const Eigen::Vector2d& position_m, const Eigen::
   const double range2 = p.sensor_range_m * p.sensor_range_m;
 
   // e^(-q) at the centre of the cell (dx, dy) cells away from the centre cell; 0 out of range.
-  auto weight = [&](int64_t dx, int64_t dy) {
+  // a1, a2 captured by copy: clang before 16 cannot capture structured
+  // bindings (the fuzz tree, docs/fuzzing.md, is built with clang 14).
+  auto weight = [&, a1 = a1, a2 = a2](int64_t dx, int64_t dy) {
     const double ox = static_cast<double>(dx) * s;
     const double oy = static_cast<double>(dy) * s;
     if (ox * ox + oy * oy > range2) {

@@ -129,6 +129,10 @@ PolicyTraits shao_navigation_traits(const ScenarioConfig& s) {
   PolicyTraits t = shao_search_traits(s);
   const auto& p = s.config_of<ShaoNavigationConfig>().params;
   t.view_radius = std::max({t.view_radius, std::ceil(p.leader_sensor_radius) + 1.0, std::ceil(p.follower_range) + 1.0});
+  // Followers' speed is not bounded (navigation.cpp: Shao 2020 gives no limit;
+  // honest followers jump 30 cells and more in a tick at the border): any
+  // position on the map is a plausible next one.
+  t.max_step = std::hypot(static_cast<double>(s.width), static_cast<double>(s.height));
   return t;
 }
 

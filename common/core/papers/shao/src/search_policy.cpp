@@ -191,6 +191,7 @@ PolicyTraits shao_search_traits(const ScenarioConfig& s) {
   t.sensor_radius = s.aco.sensor_radius;
   // The tiles within the sensor radius plus one step.
   t.view_radius = std::ceil(s.aco.sensor_radius) + 1.0;
+  t.max_step = 1.5;  // [cell/tick] one grid step, √2 on a diagonal (Shao 2020 eq. (9) headings)
   return t;
 }
 

@@ -72,6 +72,12 @@ core::Result<core::ScenarioMsg> scenario_message(const CommonOptions& o, const c
 // (clock, lease, standby, shared ownership, uavs, ticks, seed, rate).
 core::Result<core::ScenarioConfig> scenario_from_message(const core::ScenarioMsg& m, CommonOptions& o);
 
+// The highest tick a sample of a realtime run can carry now
+// (core::realtime_tick_ceiling), from the launch time `pheromesh run` gives
+// every process ($PHEROMESH_RUN_T0_MS); unlimited for a process started
+// without it.
+uint32_t realtime_tick_ceiling(double rate_hz);
+
 // One named logger per component, level from the flag.
 std::shared_ptr<spdlog::logger> make_logger(const std::string& name, const std::string& level);
 

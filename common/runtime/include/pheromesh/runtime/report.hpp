@@ -26,12 +26,17 @@ nlohmann::json metrics_json(const core::RunRecorder& r, const RunInfo& info);
 
 // The final pheromone field, every layer, in a text form that round-trips
 // floats exactly ("%.9g"): `layer NAME` then one line per row. `value` may
-// return NaN for cells it does not know.
+// return NaN for cells it does not know. Written atomically.
 using FieldReader = std::function<float(int layer, core::Cell c)>;
 bool write_field(const std::string& path, const core::MapGeometry& geo, const std::vector<std::string>& layers,
                  const FieldReader& value);
 
-// Writes `j` to DIR/metrics.json; false (and a message in `error`) on failure.
+// The JSON text of `j`; invalid UTF-8 in its strings becomes U+FFFD instead
+// of an exception. Every JSON file and answer pheromesh writes goes through it.
+std::string json_text(const nlohmann::json& j, int indent = 2);
+
+// Writes `j` to DIR/FILE atomically (core/atomic_file.hpp), creating DIR;
+// false (and a message in `error`) on failure.
 bool write_json(const std::string& dir, const std::string& file, const nlohmann::json& j, std::string& error);
 
 }  // namespace pheromesh::runtime

@@ -1,0 +1,99 @@
+// Forged samples from a real process on an open domain (issue 16, deliverable
+// 2; docs/architecture.md "What a receiver refuses"): pheromesh-test-probe
+// forge writes each attack of the issue into a running swarm - a phantom
+// target mark from a UAV that does not exist, the sequence number 2^32-1
+// under a real UAV's id, tiles, field chunks and a halo with 1e30 or a tick
+// far ahead, states and detections that would move coverage and "targets
+// found", a lockstep clock Stop - and the run must not notice, while every
+// refusal is counted per reason in metrics.json. Domains 80-81.
+#include "harness.hpp"
+
+using namespace pheromesh::itest;  // NOLINT: the test helpers
+using nlohmann::json;
+
+namespace {
+
+const char* const kReasons[] = {"unknown_uav",   "seq_far_ahead",         "tick_far_ahead",   "value_out_of_range",
+                                "foreign_clock", "implausible_detection", "implausible_state"};
+
+std::string forge(int domain, bool lockstep) {
+  return kBin + "/pheromesh-test-probe --domain " + std::to_string(domain) + " forge --scenario " + kSrc +
+         "/scenarios/small-test.textproto --uavs 2" + (lockstep ? " --lockstep" : "");
+}
+
+void expect_refused(const json& m, const char* reason) {
+  ASSERT_TRUE(m["refused"].contains(reason)) << m["refused"].dump();
+  EXPECT_GT(m["refused"][reason].get<uint64_t>(), 0U) << reason << "\n" << m["refused_by"].dump(2);
+}
+
+}  // namespace
+
+TEST(Plausibility, ForgedSamplesLeaveALockstepRunTheSimulatorsAndEachIsRefusedAndCounted) {
+  const std::string args = "--uavs 2 --ticks 150 --seed 3";
+  const std::string run_out = out_dir("plaus-lockstep");
+  const std::string sim_out = out_dir("plaus-sim");
+  const Background swarm = start_run("small-test.textproto", run_out, 80, "--clock lockstep " + args);
+  const Output f = run(forge(80, true));
+  ASSERT_EQ(f.exit_code, 0) << f.text;
+  // 2 deposits, 2 tiles, 2 field chunks, 1 halo, 3 states, 2 detections, 1 clock.
+  EXPECT_NE(f.text.find("forged 13 samples"), std::string::npos) << f.text;
+  // The forged Stop did not end the run: it finishes every tick, exit 0.
+  ASSERT_EQ(wait_exit(swarm.pid, std::chrono::seconds(300)), 0) << slurp(swarm.out_path);
+  const Output s =
+      run(kBin + "/pheromesh sim " + kSrc + "/scenarios/small-test.textproto --quiet --out " + sim_out + " " + args);
+  ASSERT_EQ(s.exit_code, 0) << s.text;
+  const json a = read_metrics(run_out);
+  const json b = read_metrics(sim_out);
+  ASSERT_FALSE(a.is_null()) << slurp(swarm.out_path);
+  // Exactly the simulator's run: no coverage, target, deposit or field value
+  // of the forger's got in.
+  for (const char* key : {"ticks", "uavs", "coverage", "covered_cells", "targets_found", "acquisition_ticks",
+                          "revisit_response_ticks", "deposits_sent", "deposits_applied", "field"}) {
+    EXPECT_EQ(a[key], b[key]) << key;
+  }
+  for (const auto& [id, u] : b["uav_status"].items()) {
+    for (const char* key : {"x", "y", "last_tick"})
+      EXPECT_EQ(a["uav_status"][id][key], u[key]) << "uav " << id << " " << key;
+  }
+  const std::string field = slurp(run_out + "/final_field.txt");
+  EXPECT_GT(field.size(), 1000U);
+  EXPECT_TRUE(field == slurp(sim_out + "/final_field.txt")) << "final pheromone fields differ";
+  EXPECT_EQ(field.find("e+30"), std::string::npos);
+  // UAV 0 kept delivering after the forged 2^32-1: every deposit the UAVs
+  // sent was applied; the two forged ones were rejected.
+  EXPECT_EQ(a["deposits_applied"], a["deposits_sent"]);
+  EXPECT_EQ(a["deposits_rejected"], 2) << a.dump(2);
+  EXPECT_EQ(a["deposits_lost"], 0);
+  EXPECT_EQ(a["uavs"], 2);  // the forger's UAV id is nobody's status
+  for (const char* reason : kReasons) expect_refused(a, reason);
+  // Who refused what: the clock by UAVs and place agents, the deposits by
+  // place agent 0, the detections by the ground station.
+  EXPECT_GE(a["refused_by"]["uavs"]["foreign_clock"].get<uint64_t>(), 2U);
+  EXPECT_GE(a["refused_by"]["places"]["foreign_clock"].get<uint64_t>(), 4U);
+  EXPECT_EQ(a["refused_by"]["places"]["seq_far_ahead"], 1);
+  EXPECT_EQ(a["refused_by"]["ground"]["implausible_detection"], 1);
+  EXPECT_EQ(b["refused"]["unknown_uav"], 0);  // the simulator's honest swarm refuses nothing
+}
+
+TEST(Plausibility, ForgedSamplesInARealtimeRunAreRefusedAndTheAttackedUavKeepsDelivering) {
+  const std::string out = out_dir("plaus-realtime");
+  const Background swarm = start_run("small-test.textproto", out, 81, "--uavs 2 --ticks 150 --rate 25");
+  const Output f = run(forge(81, false));
+  ASSERT_EQ(f.exit_code, 0) << f.text;
+  EXPECT_NE(f.text.find("forged 13 samples"), std::string::npos) << f.text;
+  ASSERT_EQ(wait_exit(swarm.pid, std::chrono::seconds(120)), 0) << slurp(swarm.out_path);
+  const json m = read_metrics(out);
+  ASSERT_FALSE(m.is_null()) << slurp(swarm.out_path);
+  EXPECT_EQ(m["processes_crashed"], 0);
+  EXPECT_EQ(m["uavs"], 2);
+  for (const char* id : {"0", "1"}) EXPECT_EQ(m["uav_status"][id]["last_tick"], 150) << id;
+  EXPECT_EQ(m["deposits_applied"], m["deposits_sent"]);
+  EXPECT_EQ(m["deposits_rejected"], 2) << m.dump(2);
+  EXPECT_EQ(m["deposits_unconfirmed_by_uavs"], 0);
+  EXPECT_EQ(slurp(out + "/final_field.txt").find("e+30"), std::string::npos);
+  // No clock in realtime; every other reason shows.
+  for (const char* reason : kReasons) {
+    if (std::string(reason) != "foreign_clock") expect_refused(m, reason);
+  }
+  EXPECT_EQ(m["refused"]["foreign_clock"], 0);
+}
