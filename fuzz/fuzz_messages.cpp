@@ -16,10 +16,12 @@
 #include <cstdio>
 #include <cstdlib>
 #include <string>
+#include <optional>
 #include <vector>
 
 #include "pheromesh/core/messages.hpp"
 #include "pheromesh/core/place_core.hpp"
+#include "pheromesh/core/plausibility.hpp"
 #include "pheromesh/core/policy.hpp"
 #include "pheromesh/core/scenario.hpp"
 
@@ -137,7 +139,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, std::size_t size) {
     tick += in.ConsumeIntegralInRange<uint32_t>(1, 3);
   };
   for (int op = 0; op < 64 && in.remaining_bytes() > 0; ++op) {
-    switch (in.ConsumeIntegralInRange<int>(0, 5)) {
+    switch (in.ConsumeIntegralInRange<int>(0, 6)) {
       case 0: {
         const core::DepositMsg d = deposit(in, region);
         (void)core::check_deposit(d, geo, in.ConsumeBool() ? region : in.ConsumeIntegral<uint32_t>(), layers);
@@ -167,7 +169,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, std::size_t size) {
         h.target = floats(in, 70);
         h.obstacle = in.ConsumeBool() ? std::vector<float>(h.target.size(), 0.0F) : floats(in, 70);
         const bool ok = !core::check_halo(h, geo);
-        if (place.accept_halo(h) != ok) __builtin_trap();  // the intake refuses exactly what the check refuses
+        // The intake refuses what the check refuses, and more (values out of
+        // the layer's range, plausibility.hpp): never accepts what it refuses.
+        if (place.accept_halo(h) && !ok) __builtin_trap();
         break;
       }
       case 4: {
@@ -177,6 +181,28 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, std::size_t size) {
         b.values.resize(in.ConsumeIntegralInRange<std::size_t>(0, 70));
         for (auto& v : b.values) v = any_double(in);
         (void)core::check_broadcast(b);
+        break;
+      }
+      case 5: {
+        // The plausibility checks (plausibility.hpp) on hostile numbers.
+        (void)core::check_uav_id(in.ConsumeIntegral<uint32_t>(), small_or_any<uint32_t>(in, 64));
+        std::optional<uint32_t> last;
+        if (in.ConsumeBool()) last = in.ConsumeIntegral<uint32_t>();
+        (void)core::check_seq_reachable(in.ConsumeIntegral<uint32_t>(), last, in.ConsumeIntegral<uint32_t>());
+        (void)core::check_tick_reachable(in.ConsumeIntegral<uint32_t>(),
+                                         core::realtime_tick_ceiling(any_double(in), any_double(in)), "state");
+        const std::vector<float> v = floats(in, 40);
+        (void)core::check_values_in_range(v, {in.ConsumeFloatingPoint<float>(), in.ConsumeFloatingPoint<float>()}, "tile");
+        const core::UavStateMsg a = uav_state(in), b = uav_state(in);
+        (void)core::check_state_motion(a, in.ConsumeBool() ? &b : nullptr, {any_coord(in), any_coord(in)}, any_double(in),
+                                       in.ConsumeBool());
+        core::DetectionMsg d;
+        d.uav = in.ConsumeIntegral<uint32_t>();
+        d.tick = in.ConsumeIntegral<uint32_t>();
+        d.target = in.ConsumeIntegral<int32_t>();
+        d.cell = {any_coord(in), any_coord(in)};
+        const std::vector<core::Cell> targets{{any_coord(in), any_coord(in)}, {any_coord(in), any_coord(in)}};
+        (void)core::check_detection(d, targets, in.ConsumeBool() ? &a : nullptr, any_double(in), any_double(in));
         break;
       }
       default:
