@@ -40,7 +40,6 @@
 #include <fastdds/dds/topic/TypeSupport.hpp>
 
 #include <algorithm>
-#include <filesystem>
 #include <cstdlib>
 #include <filesystem>
 #include <map>
