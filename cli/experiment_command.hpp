@@ -9,6 +9,11 @@ struct ExperimentOptions {
   uint32_t runs = 0;  // 0: the paper's run count
   std::string out_dir;  // default out/experiments/NAME
   bool list = false;
+  // --distributed: each checked run is also flown by real processes in
+  // lockstep (experiments/flight.hpp) and must give the simulator's numbers.
+  bool distributed = false;
+  std::string dds = "cyclone";
+  uint32_t domain = 0;
 };
 
 // `pheromesh experiment`: list, or run one experiment and write its report.

@@ -255,6 +255,17 @@ int main(int argc, char** argv) {
   ex->add_flag("--list", eo.list, "List the experiments");
   ex->add_option("--runs", eo.runs, "Monte Carlo runs (default: the paper's count)");
   ex->add_option("--out", eo.out_dir, "Output folder (default out/experiments/NAME)");
+  ex->add_flag("--distributed", eo.distributed,
+               "Also fly each run of the Monte Carlo as real processes (pheromesh run --clock lockstep) and check "
+               "that its numbers equal the simulator's for the same seed; use a small --runs");
+  ex->add_option("--dds", eo.dds, "With --distributed: the vendor(s) of the processes (cyclone, fastdds, mixed)")
+      ->capture_default_str();
+  ex->add_option("--domain", eo.domain, "With --distributed: the DDS domain of the processes (0: the launcher's)");
+  ex->footer(R"(Examples:
+  pheromesh experiment --list                       every experiment and our verdict on the paper's claims
+  pheromesh experiment shao-50x50 --runs 30         Monte Carlo in the simulator, report in out/experiments/shao-50x50
+  pheromesh experiment shao-50x50 --runs 3 --distributed --dds mixed
+                                                    the same runs flown by real processes, checked against the simulator)");
 
   cli::ReplayOptions rpo;
   auto* rp = app.add_subcommand("replay", "Serve the web console from a recording (OUT/console.phrec of `run --http`), "

@@ -21,7 +21,46 @@ struct Row {
   std::vector<double> ours;    // one sample per run (a single value for deterministic rows)
   std::string unit;            // "tick", "s", "km", ...
   std::string note;            // why we differ, where the number comes from, ...
+  // Our verdict on the paper's figure, a column of its own: "reproduced",
+  // "differs: WHY" or "reversed: WHY" (a comparison the paper wins one way
+  // and we find the other way). Empty on a row with a paper figure: the
+  // writer fills in auto_verdict(). Rows without a paper figure show "–".
+  std::string verdict;
 };
+
+// "reproduced" when the paper's figure lies in the 95 % confidence interval
+// of our mean or within 15 % of it, else "differs: ours is X % higher/lower"
+// (the row's note says why).
+std::string auto_verdict(const Row& r);
+
+// Two-sided 95 % confidence interval of the mean (Student t; {m, m} for a
+// single sample).
+struct Interval {
+  double lo = 0, hi = 0;
+};
+Interval ci95(const std::vector<double>& v);
+
+// A named variant of ours against the paper's policy on one metric, measured
+// in the same experiment run (Row-like: one sample per run each).
+struct Comparison {
+  std::string metric;     // "time to find all 5 targets"
+  std::string unit;       // "tick"
+  std::string baseline;   // "shao_search (the paper's policy)"
+  std::string variant;    // "shao_search_sweep (ours, docs/policies/shao.md)"
+  bool lower_is_better = true;
+  std::vector<double> baseline_samples, variant_samples;
+  std::string note;
+};
+// Gain of the variant over the baseline, as a share of the baseline mean
+// (positive = better): (b - v) / b when lower is better, (v - b) / b
+// otherwise; its 95 % interval is a percentile bootstrap over runs
+// (10 000 resamples of each side, a fixed seed: the same data give the same
+// interval).
+struct Gain {
+  double gain = 0;
+  Interval ci;
+};
+Gain gain_of(const Comparison& c);
 
 struct Series {
   std::string name;
@@ -44,6 +83,12 @@ struct Report {
   std::vector<std::vector<std::string>> csv_rows;
   std::vector<std::string> notes;                    // choices and differences, one paragraph each
   std::string tables;  // optional Markdown after the rows (cross tables the rows cannot show)
+  // The named variants against the paper's policy (a table of their gains).
+  std::vector<Comparison> comparisons;
+  // The investigation of a reversed or unexplained result: Markdown, written
+  // after the rows (second reading, unstated quantities, sensitivity study,
+  // conclusion). docs/policies/ holds the same text for readers.
+  std::string investigation;
 };
 
 struct Experiment {
@@ -51,6 +96,10 @@ struct Experiment {
   std::string description;  // one line
   uint32_t paper_runs = 1;  // run count the paper used (the default)
   std::function<Report(uint32_t runs, const Progress& progress)> run;
+  // Our verdict on the paper's claims this experiment reproduces, one line,
+  // shown by `pheromesh experiment --list`; the report gives it row by row,
+  // computed from its runs.
+  std::string verdict;
 };
 
 // Runs a scenario file of scenarios/ through the in-process simulator (the

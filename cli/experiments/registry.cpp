@@ -1,6 +1,7 @@
 #include <stdexcept>
 
 #include "experiment.hpp"
+#include "flight.hpp"
 #include "scenario_paths.hpp"
 #include "pheromesh/core/scenario.hpp"
 #include "pheromesh/core/simulator.hpp"
@@ -14,9 +15,7 @@ std::vector<std::map<std::string, double>> simulate_scenario(const std::string& 
   for (uint32_t run = 0; run < runs; ++run) {
     core::ScenarioConfig s = loaded.value();
     s.seed = run + 1;
-    core::Simulator sim(s);
-    sim.run();
-    out.push_back(sim.recorder().field_summary());
+    out.push_back(fly(s).field);
   }
   return out;
 }

@@ -7,7 +7,9 @@
 #include <sstream>
 
 #include "experiment.hpp"
+#include "flight.hpp"
 #include "pheromesh/core/atomic_file.hpp"
+#include "pheromesh/core/rng.hpp"
 
 namespace pheromesh::cli::experiments {
 
@@ -24,6 +26,73 @@ double stddev(const std::vector<double>& v) {
   double s = 0;
   for (double x : v) s += (x - m) * (x - m);
   return std::sqrt(s / static_cast<double>(v.size() - 1));
+}
+
+namespace {
+
+// Two-sided 97.5 % quantile of Student's t with `df` degrees of freedom.
+double t975(std::size_t df) {
+  static const double table[] = {12.706, 4.303, 3.182, 2.776, 2.571, 2.447, 2.365, 2.306, 2.262, 2.228,
+                                 2.201,  2.179, 2.160, 2.145, 2.131, 2.120, 2.110, 2.101, 2.093, 2.086,
+                                 2.080,  2.074, 2.069, 2.064, 2.060, 2.056, 2.052, 2.048, 2.045, 2.042};
+  if (df == 0) return std::numeric_limits<double>::quiet_NaN();
+  if (df <= 30) return table[df - 1];
+  if (df <= 60) return 2.042 + (2.000 - 2.042) * static_cast<double>(df - 30) / 30.0;
+  if (df <= 120) return 2.000 + (1.980 - 2.000) * static_cast<double>(df - 60) / 60.0;
+  return 1.960;
+}
+
+}  // namespace
+
+Interval ci95(const std::vector<double>& v) {
+  const double m = mean(v);
+  if (v.size() < 2) return {m, m};
+  const double h = t975(v.size() - 1) * stddev(v) / std::sqrt(static_cast<double>(v.size()));
+  return {m - h, m + h};
+}
+
+std::string auto_verdict(const Row& r) {
+  if (!r.paper) return "";
+  const double m = mean(r.ours);
+  if (!std::isfinite(m)) return "differs: no run produced it";
+  const Interval ci = ci95(r.ours);
+  const double p = *r.paper;
+  if ((p >= ci.lo && p <= ci.hi) || (p != 0 && std::fabs(m / p - 1) <= 0.15) || (p == 0 && m == 0)) return "reproduced";
+  char b[96];
+  if (p != 0) {
+    std::snprintf(b, sizeof b, "differs: ours is %.0f %% %s", std::fabs(m / p - 1) * 100, m > p ? "higher" : "lower");
+  } else {
+    std::snprintf(b, sizeof b, "differs: ours is %.3g, the paper's 0", m);
+  }
+  return b;
+}
+
+Gain gain_of(const Comparison& c) {
+  auto g = [&](double b, double v) { return b == 0 ? std::numeric_limits<double>::quiet_NaN() : (c.lower_is_better ? (b - v) / b : (v - b) / b); };
+  Gain out;
+  out.gain = g(mean(c.baseline_samples), mean(c.variant_samples));
+  if (c.baseline_samples.size() < 2 || c.variant_samples.size() < 2) {
+    out.ci = {out.gain, out.gain};
+    return out;
+  }
+  core::Rng rng(0x5eed'9a1f'c0ffeeULL);
+  constexpr int kResamples = 10000;
+  std::vector<double> gains;
+  gains.reserve(kResamples);
+  auto resample_mean = [&](const std::vector<double>& v) {
+    double s = 0;
+    for (std::size_t i = 0; i < v.size(); ++i) s += v[rng.uniform_below(static_cast<uint32_t>(v.size()))];
+    return s / static_cast<double>(v.size());
+  };
+  for (int i = 0; i < kResamples; ++i) {
+    const double x = g(resample_mean(c.baseline_samples), resample_mean(c.variant_samples));
+    if (std::isfinite(x)) gains.push_back(x);
+  }
+  std::sort(gains.begin(), gains.end());
+  if (gains.empty()) return out;
+  out.ci = {gains[static_cast<std::size_t>(0.025 * static_cast<double>(gains.size() - 1))],
+            gains[static_cast<std::size_t>(0.975 * static_cast<double>(gains.size() - 1))]};
+  return out;
 }
 
 namespace {
@@ -123,16 +192,57 @@ bool write_report(const Report& r, const std::string& out_dir, double wall_secon
   // interrupted experiment leaves the previous report or none, never half.
   std::ostringstream md;
   md << "# " << r.title << "\n\n";
-  md << "*Source:* " << r.source << "  \n*Setup:* " << r.setup << "  \n*Wall time:* " << num(wall_seconds, 1) << " s\n\n";
-  md << "| metric | paper | ours (mean ± sd) | runs | ours / paper | note |\n|---|---|---|---|---|---|\n";
+  md << "*Source:* " << r.source << "  \n*Setup:* " << r.setup << "  \n*Wall time:* " << num(wall_seconds, 1) << " s"
+     << (distributed_checks().empty() ? "" : " (with the runs on real processes)") << "\n\n";
+  md << "| metric | paper | ours (mean ± sd) | 95 % CI | runs | ours / paper | verdict | note |\n"
+        "|---|---|---|---|---|---|---|---|\n";
   for (const auto& row : r.rows) {
     const double m = mean(row.ours);
+    const Interval ci = ci95(row.ours);
+    std::string verdict = row.verdict.empty() ? auto_verdict(row) : row.verdict;
+    if (verdict.empty()) verdict = "–";
     md << "| " << row.metric << (row.unit.empty() ? "" : " [" + row.unit + "]") << " | "
        << (row.paper ? num(*row.paper) : "–") << " | " << num(m)
-       << (row.ours.size() > 1 ? " ± " + num(stddev(row.ours)) : "") << " | " << row.ours.size() << " | "
-       << (row.paper && *row.paper != 0 && std::isfinite(m) ? num(m / *row.paper, 3) : "–") << " | " << row.note << " |\n";
+       << (row.ours.size() > 1 ? " ± " + num(stddev(row.ours)) : "") << " | "
+       << (row.ours.size() > 1 ? num(ci.lo) + " – " + num(ci.hi) : "–") << " | " << row.ours.size() << " | "
+       << (row.paper && *row.paper != 0 && std::isfinite(m) ? num(m / *row.paper, 3) : "–") << " | " << verdict << " | "
+       << row.note << " |\n";
+  }
+  if (!r.comparisons.empty()) {
+    md << "\n## Our variants against the paper's policy\n\n"
+          "Gain = improvement on the paper's policy as a share of its mean; its 95 % interval is a percentile "
+          "bootstrap over the runs (10 000 resamples).\n\n"
+          "| metric | paper's policy: mean [95 % CI] | variant: mean [95 % CI] | runs | gain [95 % CI] | ≥ 20 %? | note |\n"
+          "|---|---|---|---|---|---|---|\n";
+    for (const auto& c : r.comparisons) {
+      const Interval cb = ci95(c.baseline_samples), cv = ci95(c.variant_samples);
+      const Gain g = gain_of(c);
+      const std::string meets = g.ci.lo >= 0.2 ? "yes (whole interval)" : g.gain >= 0.2 ? "mean only" : "no";
+      md << "| " << c.metric << (c.unit.empty() ? "" : " [" + c.unit + "]") << " | " << c.baseline << ": "
+         << num(mean(c.baseline_samples)) << " [" << num(cb.lo) << ", " << num(cb.hi) << "] | " << c.variant << ": "
+         << num(mean(c.variant_samples)) << " [" << num(cv.lo) << ", " << num(cv.hi) << "] | "
+         << c.baseline_samples.size() << " / " << c.variant_samples.size() << " | " << num(100 * g.gain, 1) << " % ["
+         << num(100 * g.ci.lo, 1) << ", " << num(100 * g.ci.hi, 1) << "] | " << meets << " | " << c.note << " |\n";
+    }
   }
   if (!r.tables.empty()) md << "\n" << r.tables << "\n";
+  if (!r.investigation.empty()) md << "\n" << r.investigation << "\n";
+  if (const auto& checks = distributed_checks(); !checks.empty()) {
+    std::size_t equal = 0;
+    for (const auto& c : checks) equal += c.equal ? 1 : 0;
+    md << "\n## The same runs on real processes (`--distributed`)\n\n" << equal << " of " << checks.size()
+       << " runs flown by real processes (`pheromesh run --clock lockstep --dds " << distributed_options().dds
+       << "`) gave exactly the simulator's numbers for the same scenario text and seed (metrics.json: ticks, "
+          "coverage, covered cells, targets found, acquisition ticks, revisit responses, leader arrival, deposits "
+          "sent, and every field summary).\n\n| run | equal | simulator [s] | processes [s] | differences |\n"
+          "|---|---|---|---|---|\n";
+    for (const auto& c : checks) {
+      std::string d = c.differences;
+      for (auto& ch : d) ch = ch == '\n' ? ';' : ch == '|' ? '/' : ch;
+      md << "| " << c.label << " | " << (c.equal ? "yes" : "**no**") << " | " << num(c.sim_seconds, 2) << " | "
+         << num(c.process_seconds, 1) << " | " << (d.empty() ? "–" : d) << " |\n";
+    }
+  }
   for (const auto& p : r.plots) md << "\n![" << p.title << "](" << p.file << ")\n";
   if (!r.notes.empty()) {
     md << "\n## Notes\n\n";

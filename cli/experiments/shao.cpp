@@ -7,6 +7,7 @@
 #include <string>
 
 #include "experiment.hpp"
+#include "flight.hpp"
 #include "scenario_paths.hpp"
 #include "pheromesh/core/metrics.hpp"
 #include "pheromesh/core/scenario.hpp"
@@ -80,16 +81,19 @@ Report run_family(const FamilySpec& f, uint32_t runs, const Progress& progress) 
   for (uint32_t run = 0; run < runs; ++run) {
     core::ScenarioConfig s = base;
     s.seed = run + 1;
-    core::Simulator sim(s);
     std::vector<double> cov;
     cov.reserve(s.ticks + 1);
-    sim.run([&](uint32_t) { cov.push_back(sim.recorder().coverage().coverage()); });
-    const auto ticks = sim.recorder().acquisitions().acquisition_ticks();
+    std::vector<core::TargetEventMsg> revisits;
+    const RunNumbers n = fly(s, [&](const core::Simulator& sim, uint32_t k) {
+      cov.push_back(sim.recorder().coverage().coverage());
+      if (k == s.ticks) revisits = sim.recorder().revisit_events();
+    });
+    const auto& ticks = n.acquisition_ticks;
     for (std::size_t k = 0; k < ticks.size(); ++k) acq[k].push_back(ticks[k]);
     // j-th revisit of each target: response times grouped by ordinal.
     std::map<std::pair<int32_t, int32_t>, std::size_t> count;
     std::string rev;
-    for (const auto& e : sim.recorder().revisit_events()) {
+    for (const auto& e : revisits) {
       const std::size_t j = ++count[{e.cell.x, e.cell.y}];
       revisit_by_ordinal[j].push_back(e.response_ticks);
       rev += (rev.empty() ? "" : " ") + std::to_string(e.response_ticks);

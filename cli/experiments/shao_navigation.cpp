@@ -8,6 +8,7 @@
 #include <string>
 
 #include "experiment.hpp"
+#include "flight.hpp"
 #include "scenario_paths.hpp"
 #include "pheromesh/core/messages.hpp"
 #include "pheromesh/core/scenario.hpp"
@@ -34,13 +35,14 @@ LegRun run_leg(const core::ScenarioConfig& base, uint64_t seed) {
   core::ScenarioConfig s = base;
   s.seed = seed;
   const uint32_t hold = s.config_of<core::ShaoNavigationConfig>().hold_ticks;
-  core::Simulator sim(s);
   LegRun r;
-  for (uint32_t k = 0; k <= s.ticks && !r.arrival; ++k) {
-    sim.step(k);
+  // The whole run is flown (a run on real processes cannot stop early); the
+  // leader's track and the followers' distance are taken until it arrives.
+  fly(s, [&](const core::Simulator& sim, uint32_t k) {
+    if (r.arrival) return;
     const auto& uavs = sim.recorder().uavs();
     auto leader = uavs.find(0);
-    if (leader == uavs.end()) continue;
+    if (leader == uavs.end()) return;
     if (k >= hold) r.track.points.emplace_back(leader->second.last.x, leader->second.last.y);
     if (sim.recorder().leader_arrival_tick()) {
       r.arrival = *sim.recorder().leader_arrival_tick() - hold;
@@ -53,7 +55,7 @@ LegRun run_leg(const core::ScenarioConfig& base, uint64_t seed) {
       }
       r.follower_distance = n > 0 ? sum / n : 0.0;
     }
-  }
+  });
   return r;
 }
 

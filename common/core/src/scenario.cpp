@@ -475,7 +475,28 @@ Result<ScenarioConfig> parse_scenario(std::string_view text, const std::string& 
   if (!v.empty()) return Error{v.joined()};
   ScenarioConfig cfg = build(msg, tree, display_name, limits, v);
   if (!v.empty()) return Error{v.joined()};
+  cfg.source_text = std::string(text);
   return cfg;
+}
+
+Result<ScenarioConfig> patch_scenario(const ScenarioConfig& base, std::string_view patch, const std::string& display_name) {
+  pb::Scenario msg;
+  if (!TextFormat::ParseFromString(base.source_text, &msg)) {
+    return Error{display_name + ": the base scenario's text does not parse (was it built in memory?)"};
+  }
+  CollectingErrorCollector collector(display_name + " (patch)");
+  TextFormat::Parser parser;
+  parser.RecordErrorsTo(&collector);
+  if (!parser.MergeFromString(std::string(patch), &msg)) {
+    std::string out;
+    for (const auto& e : collector.errors()) out += (out.empty() ? "" : "\n") + e;
+    return Error{out.empty() ? display_name + ": cannot parse the patch" : out};
+  }
+  std::string text;
+  TextFormat::PrintToString(msg, &text);
+  auto res = parse_scenario(text, display_name);
+  if (res) res->source_path = base.source_path;
+  return res;
 }
 
 Result<ScenarioConfig> load_scenario(const std::string& path) {

@@ -42,6 +42,11 @@ struct PolicyConfig {
 struct ScenarioConfig {
   std::string name;
   std::string source_path;  // file it was loaded from ("" for text)
+  // The text it was parsed from. What a program changes in the config
+  // afterwards is not in it: a program that must hand the same scenario to
+  // real processes (`pheromesh experiment --distributed`) changes the text
+  // (patch_scenario) and parses it again.
+  std::string source_text;
   // map
   int32_t width = 0, height = 0;  // [cell]
   int32_t tile_size = 10;         // [cell], 4..32 (a tile fits one DDS sample)
@@ -89,6 +94,13 @@ struct ScenarioConfig {
 Result<ScenarioConfig> load_scenario(const std::string& path);
 // `display_name` is used in error messages in place of a path.
 Result<ScenarioConfig> parse_scenario(std::string_view text, const std::string& display_name);
+
+// `base`'s text with `patch` (textproto of the same Scenario message) merged
+// in: scalars of the patch replace the base's, messages merge field by field,
+// repeated fields are appended (`map { obstacles {...} }` adds an obstacle).
+// Returns the merged text, parsed again (so it is validated like a file;
+// errors name `display_name`), with source_path kept.
+Result<ScenarioConfig> patch_scenario(const ScenarioConfig& base, std::string_view patch, const std::string& display_name);
 
 // Start cell of UAV `id` (0-based): deterministic for the scenario (free cells
 // of start_area in row-major order, distributed round-robin).
