@@ -25,7 +25,7 @@ struct Row {
   // "differs: WHY" or "reversed: WHY" (a comparison the paper wins one way
   // and we find the other way). Empty on a row with a paper figure: the
   // writer fills in auto_verdict(). Rows without a paper figure show "–".
-  std::string verdict;
+  std::string verdict{};
 };
 
 // "reproduced" when the paper's figure lies in the 95 % confidence interval
@@ -84,11 +84,11 @@ struct Report {
   std::vector<std::string> notes;                    // choices and differences, one paragraph each
   std::string tables;  // optional Markdown after the rows (cross tables the rows cannot show)
   // The named variants against the paper's policy (a table of their gains).
-  std::vector<Comparison> comparisons;
+  std::vector<Comparison> comparisons{};
   // The investigation of a reversed or unexplained result: Markdown, written
   // after the rows (second reading, unstated quantities, sensitivity study,
   // conclusion). docs/policies/ holds the same text for readers.
-  std::string investigation;
+  std::string investigation{};
 };
 
 struct Experiment {
@@ -99,7 +99,7 @@ struct Experiment {
   // Our verdict on the paper's claims this experiment reproduces, one line,
   // shown by `pheromesh experiment --list`; the report gives it row by row,
   // computed from its runs.
-  std::string verdict;
+  std::string verdict{};
 };
 
 // Runs a scenario file of scenarios/ through the in-process simulator (the
