@@ -803,6 +803,17 @@ int Launcher::run() {
       for (const auto i : faults_->take_due_at(fault_clock_s())) execute_fault(i, std::nullopt);
     }
     end_due_faults();
+    // A lockstep swarm whose conductor crashed would wait out the phase
+    // timeout (minutes) before its processes notice: stop it now.
+    if (o_.clock == "lockstep" && !interrupted &&
+        std::any_of(children_.begin(), children_.end(), [](const auto& c) {
+          return c.role == "ground" && !c.running && !c.killed_on_purpose && !c.asked_to_stop;
+        })) {
+      spdlog::error("the ground station (the lockstep conductor) ended: stopping the swarm");
+      interrupted = true;
+      end_open_faults();
+      stop_here();
+    }
     if (runtime::shutdown_requested() && !interrupted) {
       spdlog::warn("interrupted: stopping the swarm");
       interrupted = true;

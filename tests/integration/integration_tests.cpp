@@ -2,7 +2,7 @@
 // Each test uses its own DDS domain so tests can run in parallel. Domains
 // 21-30 are used here; each test_policy_<name>.cpp takes its own:
 // shao_navigation 31, liu 32, shostak 33, ravankar 34, duan 35; vendors
-// 36-37; faults 45-49; lan 70-74; plausibility (test_plausibility.cpp)
+// 36-37; experiment --distributed 38; faults 45-49; lan 70-74; plausibility (test_plausibility.cpp)
 // 80-81; console limits 85 (port 18660); security 90-93. The Cli tests of
 // scenario limits start no DDS participant and use none.
 #include "harness.hpp"
@@ -229,6 +229,35 @@ TEST(Experiment, ListNamesEveryExperimentAndARunWritesAReportBesideThePapersNumb
   const Output bad = run(kBin + "/pheromesh experiment no-such-thing");
   EXPECT_EQ(bad.exit_code, 2);
   EXPECT_NE(bad.text.find("--list"), std::string::npos);
+}
+
+// Issue 17: `pheromesh experiment NAME --distributed` flies each run of its
+// Monte Carlo as real processes in lockstep too (one swarm per run, this
+// test's vendor) and checks the ground station's numbers against the
+// simulator's for the same seed. Two runs of the Duan experiment's
+// distributed policy (3 UAVs, 300 ticks) must both be equal; the guard is the
+// unit test DistributedCheck.* (a difference or an in-memory change fails).
+TEST(Distributed, AnExperimentsRunsOnRealProcessesGiveTheSimulatorsNumbersSeedBySeed) {
+  const char* env = std::getenv("PHEROMESH_DDS");
+  const std::string vendor = env != nullptr ? env : "cyclone";
+  const std::string out = out_dir("experiment-distributed");
+  const Output e = run(kBin + "/pheromesh experiment duan-table3 --runs 2 --distributed --dds " + vendor +
+                       " --domain 38 --out " + out);
+  ASSERT_EQ(e.exit_code, 0) << e.text;
+  EXPECT_NE(e.text.find("distributed: 2 of 2 runs on real processes equal the simulator"), std::string::npos) << e.text;
+  const std::string md = slurp(out + "/report.md");
+  EXPECT_NE(md.find("2 of 2 runs flown by real processes (`pheromesh run --clock lockstep --dds " + vendor + "`)"),
+            std::string::npos)
+      << md;
+  for (const char* run : {"run-001", "run-002"}) {
+    const json m = read_metrics(out + "/distributed/" + run + "/out");
+    ASSERT_FALSE(m.is_null()) << run;
+    EXPECT_EQ(m["processes_crashed"], 0) << run;
+    EXPECT_EQ(m["uavs"], 3) << run;
+  }
+  // Each run has its own seed (1 and 2), so the swarms really differ.
+  EXPECT_NE(slurp(out + "/distributed/run-001/scenario.textproto").find("seed: 1"), std::string::npos);
+  EXPECT_NE(slurp(out + "/distributed/run-002/scenario.textproto").find("seed: 2"), std::string::npos);
 }
 
 TEST(BadInput, MalformedSamplesAreRejectedAndCountedAndNothingCrashes) {
