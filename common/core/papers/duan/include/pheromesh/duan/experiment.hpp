@@ -54,6 +54,9 @@ struct DuanTable3Options {
   // 18 only shows the UAVs "marching"). 30 s ≈ 9 km flown: in the paper's
   // scenario every UAV is still at least 5 km outside the pop-up ranges.
   double popup_time_s = 30.0;  // [s]
+  // How T_a is chosen from S (Duan 2009 Fig. 6's min S by default; the text of Duan 2009 Sec. 3.3 also
+  // speaks of the T_a "that minimizes the total coordination cost", Duan 2009 eq. (8)).
+  EtaOptions eta;
 };
 
 // One UAV in one run. Fields after `planned` are set only when the run had a
@@ -79,6 +82,9 @@ struct DuanTable3Run {
   uint64_t seed = 0;
   bool eta_found = false;  // all colonies found a path and S ≠ ∅
   EtaPlan plan;
+  // T_a (min S) of the candidates held after each planning iteration; +inf
+  // while a colony has none or S is empty. Its last entry is plan.eta_s.
+  std::vector<double> eta_history;
   bool replan_eta_found = false;
   EtaPlan replan;  // eta_s counted from the replanning instant
   double eta_after_replan_s = 0.0;  // from take-off: popup_time_s + replan.eta_s
