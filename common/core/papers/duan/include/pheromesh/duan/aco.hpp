@@ -204,7 +204,7 @@ double updated_pheromone(double tau, double delta, double rho, double tau_min, d
 // ---------------------------------------------------------------------------
 
 // Duan 2009 eq. (2) on a straight segment of any length: the segment is cut into
-// ceil(L / max_piece_km) equal pieces and eq. (2) is summed over them, so a long
+// ceil(L / max_piece_km) equal pieces and Duan 2009 eq. (2) is summed over them, so a long
 // segment is sampled at least as densely as a mesh edge (5 points per piece)
 // and cannot jump over a threat between two sample points.
 double segment_threat_cost(std::span<const Threat> threats, PointKm a, PointKm b, double max_piece_km);
@@ -226,7 +226,7 @@ std::vector<NodeId> line_of_sight_shortcut(const ThreatMesh& mesh, std::span<con
 
 // Threat exposure of a polyline, planner-neutral: Duan 2009 eq. (1)'s line integral of
 // Σ w_k / d^4 (inside each range) by the midpoint rule with pieces of at most
-// step_km. Used to compare planners whose trajectories eq. (2) samples
+// step_km. Used to compare planners whose trajectories Duan 2009 eq. (2) samples
 // differently (mesh edges vs long segments).
 double threat_exposure(std::span<const Threat> threats, std::span<const PointKm> polyline, double step_km);
 
