@@ -25,7 +25,11 @@ constexpr double kQuarterPi = std::numbers::pi / 4.0;
 
 // A mesh with 2 km spacing over [0, w] x [0, h] km.
 ThreatMesh mesh_of(double w_km, double h_km, std::vector<Threat> threats = {}) {
-  return ThreatMesh(MeshSpec{{0.0, 0.0}, w_km, h_km, static_cast<int32_t>(w_km / 2.0), static_cast<int32_t>(h_km / 2.0),
+  return ThreatMesh(MeshSpec{{0.0, 0.0},
+                             w_km,
+                             h_km,
+                             static_cast<int32_t>(w_km / 2.0),
+                             static_cast<int32_t>(h_km / 2.0),
                              kDuanThreatWeight},
                     std::move(threats));
 }
@@ -111,8 +115,7 @@ TEST(DuanLineOfSight, TheTurnLimitHoldsAgainstThePreviousNode) {
   // Heading east at (2, 0) (previous node (0, 0)); walk (2,0) (4,0) (6,2) (6,4) (6,6).
   const std::vector<NodeId> walk{at(m, 2, 0), at(m, 4, 0), at(m, 6, 2), at(m, 6, 4), at(m, 6, 6)};
   // Free start: straight to (6, 6).
-  EXPECT_EQ(line_of_sight_shortcut(m, walk, std::nullopt, kQuarterPi),
-            (std::vector<NodeId>{at(m, 2, 0), at(m, 6, 6)}));
+  EXPECT_EQ(line_of_sight_shortcut(m, walk, std::nullopt, kQuarterPi), (std::vector<NodeId>{at(m, 2, 0), at(m, 6, 6)}));
   // From heading east, (2,0) -> (6,6) turns atan(6/4) = 56.3° > 45°: refused;
   // (2,0) -> (6,4) turns 45°, then north at (6,4) turns 45°: kept.
   const auto cut = line_of_sight_shortcut(m, walk, at(m, 0, 0), kQuarterPi);

@@ -6,10 +6,9 @@
 //    {B, L_i1, ..., A} are read as walks on this grid with 8-neighbour edges:
 //    the lengths of Duan 2009 Table 3 are all of the form 2·(a + b·√2) km (51.31 =
 //    2(20 + 4√2), 47.80 = 2(14 + 7√2), 52.14 = 2(19 + 5√2)) and every
-//    coordinate of Duan 2009 Table 1, Duan 2009 Table 2, Duan 2009 Table 4 is even, so the paper's mesh is the 60 x 70 km
-//    region with 2 km spacing (m = 30, n = 35) and straight + diagonal edges.
-//    Edges are directed for the pheromone (start -> goal walks); costs are
-//    symmetric.
+//    coordinate of Duan 2009 Table 1, Duan 2009 Table 2, Duan 2009 Table 4 is even, so the paper's mesh is the 60 x 70
+//    km region with 2 km spacing (m = 30, n = 35) and straight + diagonal edges. Edges are directed for the pheromone
+//    (start -> goal walks); costs are symmetric.
 //  * Duan 2009 eq. (1) is not used; Duan 2009 eq. (2) is implemented as printed: L_ij times the sum
 //    of w_k / d^4 at the 1/10, 3/10, ..., 9/10 points (not L/5 times it), with
 //    d in km. N_t ("threats that can pose threat to the edge") is read per
@@ -31,7 +30,8 @@
 //  * Duan 2009 eq. (10): τ_i,su = τ^e_i,su · (N-1) / Σ_{j≠i} τ^p_{j,u}: a node rich in
 //    the other UAVs' point pheromone (their good paths) is penalised, a node
 //    they left at τ_min is favoured; N = 1 gives a factor of 1.
-//  * Duan 2009 eq. (12), Duan 2009 eq. (13), Duan 2009 eq. (14), Duan 2009 eq. (15), Duan 2009 eq. (16), Duan 2009 eq. (17): evaporation with ρ on every edge and node, then deposits
+//  * Duan 2009 eq. (12), Duan 2009 eq. (13), Duan 2009 eq. (14), Duan 2009 eq. (15), Duan 2009 eq. (16), Duan 2009 eq.
+//  (17): evaporation with ρ on every edge and node, then deposits
 //    Q / J_i,k by the ants allowed by Duan 2009 Sec. 3.2 (1) on every edge and every
 //    node (start and goal included) of their walk. Duan 2009 Sec. 3.2 (1) defines the
 //    average J_ave(t) and then says "J_k(t) <= J_min(t)"; we read J_ave
@@ -46,7 +46,8 @@
 //  * Replanning (Duan 2009 Sec. 2.5, steps 1-4): add the pop-up threats to the mesh
 //    (edge costs recomputed) and plan again from the current node with a fresh
 //    pheromone, passing the previous node so the turn constraint holds.
-//  * ETA (Duan 2009 eq. (4), Duan 2009 eq. (5), Duan 2009 eq. (6), Duan 2009 eq. (7), Duan 2009 eq. (8)): S_i is the union of the candidates' intervals, S the
+//  * ETA (Duan 2009 eq. (4), Duan 2009 eq. (5), Duan 2009 eq. (6), Duan 2009 eq. (7), Duan 2009 eq. (8)): S_i is the
+//  union of the candidates' intervals, S the
 //    intersection; T_a = min S (Duan 2009 Fig. 6), or optionally the T in S minimising
 //    Duan 2009 eq. (8) = Σ_i (f1·J_i + f2·T) with each UAV's cheapest feasible candidate
 //    (Duan 2009 eq. (8) sums over j too, which we read as the candidate actually flown).

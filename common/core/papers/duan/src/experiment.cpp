@@ -114,15 +114,16 @@ DuanTable3Result duan_table3(const Duan2009Scenario& sc, const DuanTable3Options
     const auto planned = plan_team(team, tasks, [&](uint32_t) {
       std::vector<PathResult> now;
       for (const DuanColony& c : team) now.push_back(c.result());
-      const auto eta = all_found(now)
-                           ? coordinate_eta(duan_eta_candidates(now, std::vector<double>(uav_count, 0.0)), sc.speeds, options.eta)
-                           : Result<EtaPlan>(Error{"a colony found no path"});
+      const auto eta = all_found(now) ? coordinate_eta(duan_eta_candidates(now, std::vector<double>(uav_count, 0.0)),
+                                                       sc.speeds, options.eta)
+                                      : Result<EtaPlan>(Error{"a colony found no path"});
       run.eta_history.push_back(eta.ok() ? eta->eta_s : std::numeric_limits<double>::infinity());
     });
     // Duan 2009 eq. (4), Duan 2009 eq. (5), Duan 2009 eq. (6), Duan 2009 eq. (7), Duan 2009 eq. (8): T_a = min S over 4 candidates per UAV.
-    const auto plan = all_found(planned)
-                          ? coordinate_eta(duan_eta_candidates(planned, std::vector<double>(uav_count, 0.0)), sc.speeds, options.eta)
-                          : Result<EtaPlan>(Error{"a colony found no path"});
+    const auto plan =
+        all_found(planned)
+            ? coordinate_eta(duan_eta_candidates(planned, std::vector<double>(uav_count, 0.0)), sc.speeds, options.eta)
+            : Result<EtaPlan>(Error{"a colony found no path"});
     for (std::size_t i = 0; i < uav_count; ++i) {
       DuanTable3Uav& u = run.uavs[i];
       u.planned = planned[i];
@@ -157,7 +158,8 @@ DuanTable3Result duan_table3(const Duan2009Scenario& sc, const DuanTable3Options
       const std::vector<NodeId> nodes = u.flown;  // a copy: u.flown is cut below
       const double at_km = plan->speed_mps[i] * options.popup_time_s / 1000.0;
       bool mesh_walk = true;
-      for (std::size_t j = 1; j < nodes.size(); ++j) mesh_walk = mesh_walk && mesh.direction(nodes[j - 1], nodes[j]) >= 0;
+      for (std::size_t j = 1; j < nodes.size(); ++j)
+        mesh_walk = mesh_walk && mesh.direction(nodes[j - 1], nodes[j]) >= 0;
       std::vector<NodeId> rest;
       if (mesh_walk) {
         // First node at or past the UAV's position; never the goal itself.
@@ -206,8 +208,9 @@ DuanTable3Result duan_table3(const Duan2009Scenario& sc, const DuanTable3Options
       run.old_threat_sum += u.old_remaining_threat;
     }
     const auto replanned = plan_team(team, tasks);
-    const auto plan2 = all_found(replanned) ? coordinate_eta(duan_eta_candidates(replanned, offset), sc.speeds, options.eta)
-                                            : Result<EtaPlan>(Error{"a colony found no path"});
+    const auto plan2 = all_found(replanned)
+                           ? coordinate_eta(duan_eta_candidates(replanned, offset), sc.speeds, options.eta)
+                           : Result<EtaPlan>(Error{"a colony found no path"});
     for (std::size_t i = 0; i < uav_count; ++i) run.uavs[i].replanned = replanned[i];
     run.replan_eta_found = plan2.ok();
     if (run.replan_eta_found) {

@@ -289,7 +289,8 @@ class DuanUav final : public UavPolicy {
         begin_phase(tick, plan_from_, prev_for_plan_);
         return;
       case Mode::Flying:
-        if (!waypoints_.empty() && mesh_->direction(last_node_, waypoints_.front()) < 0 && last_node_ != waypoints_.front()) {
+        if (!waypoints_.empty() && mesh_->direction(last_node_, waypoints_.front()) < 0 &&
+            last_node_ != waypoints_.front()) {
           // A line-of-sight segment (planner "line_of_sight"): the neighbouring
           // node of Step 3 is the mesh node nearest to the point one node
           // spacing ahead on the segment (not past its end), as in duan_table3.
