@@ -1,8 +1,7 @@
-// Duan, Zhang, Wu, Ma 2009, Duan 2009 Sec. 4 second experiment (Duan 2009 Table 3, Duan 2009 Fig. 15, Duan 2009 Fig. 16, Duan 2009 Fig. 17, Duan 2009 Fig. 18, Duan 2009 Fig. 19) as a
-// library: the per-UAV optimum under the turn constraint (a Dijkstra over
-// node x heading) and the Monte Carlo loop behind `pheromesh experiment
-// duan-table3` — team planning, ETA, the Duan 2009 Table 4 pop-ups and replanning —
-// returning plain numbers. The CLI only formats them.
+// Duan, Zhang, Wu, Ma 2009, Duan 2009 Sec. 4 second experiment (Duan 2009 Table 3, Duan 2009 Fig. 15, Duan 2009 Fig.
+// 16, Duan 2009 Fig. 17, Duan 2009 Fig. 18, Duan 2009 Fig. 19) as a library: the per-UAV optimum under the turn
+// constraint (a Dijkstra over node x heading) and the Monte Carlo loop behind `pheromesh experiment duan-table3` — team
+// planning, ETA, the Duan 2009 Table 4 pop-ups and replanning — returning plain numbers. The CLI only formats them.
 //
 // Reading of the paper for the loop (the planning itself is read in
 // duan_aco.cpp):
@@ -13,6 +12,10 @@
 //    and replans from there with a fresh team of colonies, the node before it
 //    kept as heading for the turn constraint. The new ETA counts the stretch
 //    to that node (offset) at the new speed.
+//  * Trajectories of the line_of_sight planner (DuanPlanner::LineOfSight, ours)
+//    have segments longer than a mesh edge: such a UAV replans from the mesh
+//    node nearest to the point one node spacing ahead of its position on its
+//    segment (never its target), reached straight from where it is.
 //  * Random numbers: run r (0-based) uses seed r + 1; colony i draws from
 //    stream_seed(seed, "duan", i), the same colony (and stream) for planning
 //    and replanning.
