@@ -6,10 +6,9 @@
 //    {B, L_i1, ..., A} are read as walks on this grid with 8-neighbour edges:
 //    the lengths of Duan 2009 Table 3 are all of the form 2·(a + b·√2) km (51.31 =
 //    2(20 + 4√2), 47.80 = 2(14 + 7√2), 52.14 = 2(19 + 5√2)) and every
-//    coordinate of Duan 2009 Table 1, Duan 2009 Table 2, Duan 2009 Table 4 is even, so the paper's mesh is the 60 x 70 km
-//    region with 2 km spacing (m = 30, n = 35) and straight + diagonal edges.
-//    Edges are directed for the pheromone (start -> goal walks); costs are
-//    symmetric.
+//    coordinate of Duan 2009 Table 1, Duan 2009 Table 2, Duan 2009 Table 4 is even, so the paper's mesh is the 60 x 70
+//    km region with 2 km spacing (m = 30, n = 35) and straight + diagonal edges. Edges are directed for the pheromone
+//    (start -> goal walks); costs are symmetric.
 //  * Duan 2009 eq. (1) is not used; Duan 2009 eq. (2) is implemented as printed: L_ij times the sum
 //    of w_k / d^4 at the 1/10, 3/10, ..., 9/10 points (not L/5 times it), with
 //    d in km. N_t ("threats that can pose threat to the edge") is read per
@@ -31,7 +30,8 @@
 //  * Duan 2009 eq. (10): τ_i,su = τ^e_i,su · (N-1) / Σ_{j≠i} τ^p_{j,u}: a node rich in
 //    the other UAVs' point pheromone (their good paths) is penalised, a node
 //    they left at τ_min is favoured; N = 1 gives a factor of 1.
-//  * Duan 2009 eq. (12), Duan 2009 eq. (13), Duan 2009 eq. (14), Duan 2009 eq. (15), Duan 2009 eq. (16), Duan 2009 eq. (17): evaporation with ρ on every edge and node, then deposits
+//  * Duan 2009 eq. (12), Duan 2009 eq. (13), Duan 2009 eq. (14), Duan 2009 eq. (15), Duan 2009 eq. (16), Duan 2009 eq.
+//  (17): evaporation with ρ on every edge and node, then deposits
 //    Q / J_i,k by the ants allowed by Duan 2009 Sec. 3.2 (1) on every edge and every
 //    node (start and goal included) of their walk. Duan 2009 Sec. 3.2 (1) defines the
 //    average J_ave(t) and then says "J_k(t) <= J_min(t)"; we read J_ave
@@ -46,11 +46,16 @@
 //  * Replanning (Duan 2009 Sec. 2.5, steps 1-4): add the pop-up threats to the mesh
 //    (edge costs recomputed) and plan again from the current node with a fresh
 //    pheromone, passing the previous node so the turn constraint holds.
-//  * ETA (Duan 2009 eq. (4), Duan 2009 eq. (5), Duan 2009 eq. (6), Duan 2009 eq. (7), Duan 2009 eq. (8)): S_i is the union of the candidates' intervals, S the
+//  * ETA (Duan 2009 eq. (4), Duan 2009 eq. (5), Duan 2009 eq. (6), Duan 2009 eq. (7), Duan 2009 eq. (8)): S_i is the
+//  union of the candidates' intervals, S the
 //    intersection; T_a = min S (Duan 2009 Fig. 6), or optionally the T in S minimising
 //    Duan 2009 eq. (8) = Σ_i (f1·J_i + f2·T) with each UAV's cheapest feasible candidate
 //    (Duan 2009 eq. (8) sums over j too, which we read as the candidate actually flown).
 //    Only interval lower bounds can be optimal, so only they are tried.
+//  * Not the paper: DuanPlanner::LineOfSight (policy name "duan_los") shortcuts
+//    each ant's walk before it is offered as a candidate; the colony's
+//    pheromone (deposits on the walk's edges and nodes, costs of the walk) is
+//    left as the paper's. See line_of_sight_shortcut below.
 #include "pheromesh/duan/aco.hpp"
 
 #include <algorithm>
@@ -120,6 +125,89 @@ double edge_threat_cost(std::span<const Threat> threats, PointKm a, PointKm b) {
 
 double edge_cost(double threat_cost, double length_km, double f) {
   return f * threat_cost + (1.0 - f) * length_km;  // Duan 2009 eq. (3)
+}
+
+// --------------------------------------------------- line-of-sight shortcut
+
+double segment_threat_cost(std::span<const Threat> threats, PointKm a, PointKm b, double max_piece_km) {
+  const double length = distance_km(a, b);
+  const double pieces = std::max(1.0, std::ceil(length / max_piece_km - 1e-9));
+  double sum = 0.0;
+  for (double k = 0.0; k < pieces; k += 1.0) {
+    const double s0 = k / pieces, s1 = (k + 1.0) / pieces;
+    sum += edge_threat_cost(threats, PointKm{a.x + s0 * (b.x - a.x), a.y + s0 * (b.y - a.y)},
+                            PointKm{a.x + s1 * (b.x - a.x), a.y + s1 * (b.y - a.y)});  // Duan 2009 eq. (2) per piece
+  }
+  return sum;
+}
+
+ThreatMesh::PathCost polyline_cost(const ThreatMesh& mesh, std::span<const NodeId> nodes) {
+  ThreatMesh::PathCost c;
+  const double piece = std::min(mesh.step_x_km(), mesh.step_y_km());
+  for (std::size_t i = 1; i < nodes.size(); ++i) {
+    const int d = mesh.direction(nodes[i - 1], nodes[i]);
+    double length = 0.0, threat = 0.0;
+    if (d >= 0) {
+      length = mesh.edge_length_km(nodes[i - 1], d);
+      threat = mesh.edge_threat_cost(nodes[i - 1], d);
+    } else {
+      length = distance_km(mesh.position(nodes[i - 1]), mesh.position(nodes[i]));
+      threat = segment_threat_cost(mesh.threats(), mesh.position(nodes[i - 1]), mesh.position(nodes[i]), piece);
+    }
+    c.length_km += length;
+    c.threat += threat;
+    c.cost += edge_cost(threat, length, mesh.spec().f);  // Duan 2009 eq. (3)
+  }
+  return c;
+}
+
+std::vector<NodeId> line_of_sight_shortcut(const ThreatMesh& mesh, std::span<const NodeId> walk,
+                                           std::optional<NodeId> previous, double max_turn_rad) {
+  if (walk.size() < 3) return {walk.begin(), walk.end()};
+  const double piece = std::min(mesh.step_x_km(), mesh.step_y_km());
+  // prefix[i]: J of the walk from walk[0] to walk[i].
+  std::vector<double> prefix(walk.size(), 0.0);
+  for (std::size_t i = 1; i < walk.size(); ++i) {
+    prefix[i] = prefix[i - 1] + polyline_cost(mesh, walk.subspan(i - 1, 2)).cost;
+  }
+  auto turn_ok = [&](std::optional<NodeId> a, NodeId b, NodeId c) {
+    return !a || *a == b || turn_allowed(mesh.position(*a), mesh.position(b), mesh.position(c), max_turn_rad);
+  };
+  std::vector<NodeId> out{walk[0]};
+  std::size_t i = 0;
+  const std::size_t last = walk.size() - 1;
+  while (i < last) {
+    const std::optional<NodeId> before = out.size() >= 2 ? std::optional<NodeId>(out[out.size() - 2]) : previous;
+    std::size_t next = i + 1;  // the walk's own edge: its turns were checked by the ant
+    for (std::size_t j = last; j >= i + 2; --j) {
+      const PointKm a = mesh.position(walk[i]), b = mesh.position(walk[j]);
+      if (!turn_ok(before, walk[i], walk[j])) continue;
+      if (j < last && !turn_ok(walk[i], walk[j], walk[j + 1])) continue;
+      const double length = distance_km(a, b);
+      const double cost = edge_cost(segment_threat_cost(mesh.threats(), a, b, piece), length, mesh.spec().f);
+      if (cost <= prefix[j] - prefix[i]) {
+        next = j;
+        break;
+      }
+    }
+    out.push_back(walk[next]);
+    i = next;
+  }
+  return out;
+}
+
+double threat_exposure(std::span<const Threat> threats, std::span<const PointKm> polyline, double step_km) {
+  double sum = 0.0;
+  for (std::size_t i = 1; i < polyline.size(); ++i) {
+    const PointKm a = polyline[i - 1], b = polyline[i];
+    const double length = distance_km(a, b);
+    const double pieces = std::max(1.0, std::ceil(length / step_km - 1e-9));
+    for (double k = 0.0; k < pieces; k += 1.0) {
+      const double s = (k + 0.5) / pieces;  // midpoint of the piece
+      sum += threat_intensity(threats, PointKm{a.x + s * (b.x - a.x), a.y + s * (b.y - a.y)}) * length / pieces;
+    }
+  }
+  return sum;  // Duan 2009 eq. (1)
 }
 
 // -------------------------------------------------------------------- mesh
@@ -296,6 +384,7 @@ void DuanColony::begin(NodeId start, NodeId goal, std::optional<NodeId> previous
   goal_ = goal;
   previous_ = previous;
   result_ = PathResult{};
+  shortcuts_.clear();
   const std::size_t nodes = mesh.node_count();
   tau_edge_.assign(nodes * ThreatMesh::kDirections, params_.tau_initial);
   tau_point_.assign(nodes, params_.tau_point_initial);
@@ -407,7 +496,7 @@ void DuanColony::offer_candidate(const std::vector<NodeId>& path, double cost) {
   if (std::any_of(cands.begin(), cands.end(), [&](const Trajectory& t) { return t.nodes == path; })) {
     return;
   }
-  const ThreatMesh::PathCost c = mesh_->path_cost(path);
+  const ThreatMesh::PathCost c = polyline_cost(*mesh_, path);
   Trajectory t{path, c.length_km, c.threat, cost};
   const auto pos = std::upper_bound(cands.begin(), cands.end(), cost,
                                     [](double v, const Trajectory& x) { return v < x.cost; });
@@ -415,6 +504,14 @@ void DuanColony::offer_candidate(const std::vector<NodeId>& path, double cost) {
   if (cands.size() > k) {
     cands.pop_back();
   }
+}
+
+const std::vector<NodeId>& DuanColony::shortcut_of(const std::vector<NodeId>& walk) {
+  auto it = shortcuts_.find(walk);
+  if (it == shortcuts_.end()) {
+    it = shortcuts_.emplace(walk, line_of_sight_shortcut(*mesh_, walk, previous_, params_.max_turn_rad)).first;
+  }
+  return it->second;
 }
 
 void DuanColony::iterate(const PointPheromone& others) {
@@ -471,7 +568,13 @@ void DuanColony::iterate(const PointPheromone& others) {
     t = std::clamp(t, params_.tau_min, params_.tau_max);
   }
   for (std::size_t k = 0; k < params_.ants; ++k) {
-    if (costs[k] < std::numeric_limits<double>::infinity()) {
+    if (!(costs[k] < std::numeric_limits<double>::infinity())) {
+      continue;
+    }
+    if (params_.planner == DuanPlanner::LineOfSight) {
+      const std::vector<NodeId>& cut = shortcut_of(paths[k]);
+      offer_candidate(cut, polyline_cost(mesh, cut).cost);
+    } else {
       offer_candidate(paths[k], costs[k]);
     }
   }
@@ -490,7 +593,8 @@ PathResult DuanColony::plan(NodeId start, NodeId goal, const PointPheromone& oth
   return result_;
 }
 
-std::vector<PathResult> plan_team(std::span<DuanColony> colonies, std::span<const UavTask> tasks) {
+std::vector<PathResult> plan_team(std::span<DuanColony> colonies, std::span<const UavTask> tasks,
+                                  const std::function<void(uint32_t iteration)>& after_iteration) {
   assert(colonies.size() == tasks.size());
   const std::size_t n = std::min(colonies.size(), tasks.size());
   uint32_t iterations = 0;
@@ -515,6 +619,7 @@ std::vector<PathResult> plan_team(std::span<DuanColony> colonies, std::span<cons
       }
       colonies[i].iterate(others);
     }
+    if (after_iteration) after_iteration(t);
   }
   std::vector<PathResult> out;
   out.reserve(n);

@@ -3,8 +3,10 @@
 #include "pheromesh/duan/experiment.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <queue>
+#include <span>
 #include <string>
 #include <utility>
 
@@ -109,11 +111,19 @@ DuanTable3Result duan_table3(const Duan2009Scenario& sc, const DuanTable3Options
       tasks.push_back({*mesh.nearest_node(sc.uavs[i].start), *mesh.nearest_node(sc.uavs[i].target), {}});
     }
     // Duan 2009 Fig. 12: the colonies plan in lockstep, exchanging point pheromone.
-    const auto planned = plan_team(team, tasks);
+    const auto planned = plan_team(team, tasks, [&](uint32_t) {
+      std::vector<PathResult> now;
+      for (const DuanColony& c : team) now.push_back(c.result());
+      const auto eta = all_found(now) ? coordinate_eta(duan_eta_candidates(now, std::vector<double>(uav_count, 0.0)),
+                                                       sc.speeds, options.eta)
+                                      : Result<EtaPlan>(Error{"a colony found no path"});
+      run.eta_history.push_back(eta.ok() ? eta->eta_s : std::numeric_limits<double>::infinity());
+    });
     // Duan 2009 eq. (4), Duan 2009 eq. (5), Duan 2009 eq. (6), Duan 2009 eq. (7), Duan 2009 eq. (8): T_a = min S over 4 candidates per UAV.
-    const auto plan = all_found(planned)
-                          ? coordinate_eta(duan_eta_candidates(planned, std::vector<double>(uav_count, 0.0)), sc.speeds)
-                          : Result<EtaPlan>(Error{"a colony found no path"});
+    const auto plan =
+        all_found(planned)
+            ? coordinate_eta(duan_eta_candidates(planned, std::vector<double>(uav_count, 0.0)), sc.speeds, options.eta)
+            : Result<EtaPlan>(Error{"a colony found no path"});
     for (std::size_t i = 0; i < uav_count; ++i) {
       DuanTable3Uav& u = run.uavs[i];
       u.planned = planned[i];
@@ -145,27 +155,62 @@ DuanTable3Result duan_table3(const Duan2009Scenario& sc, const DuanTable3Options
     std::vector<double> offset(uav_count, 0.0);
     for (std::size_t i = 0; i < uav_count; ++i) {
       DuanTable3Uav& u = run.uavs[i];
-      const std::vector<NodeId>& nodes = u.flown;
+      const std::vector<NodeId> nodes = u.flown;  // a copy: u.flown is cut below
       const double at_km = plan->speed_mps[i] * options.popup_time_s / 1000.0;
-      // First node at or past the UAV's position; never the goal itself.
-      double cum = 0.0;
-      std::size_t k = 0;
-      while (k + 2 < nodes.size() && cum < at_km) {
-        cum += mesh.edge_length_km(nodes[k], mesh.direction(nodes[k], nodes[k + 1]));
-        ++k;
+      bool mesh_walk = true;
+      for (std::size_t j = 1; j < nodes.size(); ++j)
+        mesh_walk = mesh_walk && mesh.direction(nodes[j - 1], nodes[j]) >= 0;
+      std::vector<NodeId> rest;
+      if (mesh_walk) {
+        // First node at or past the UAV's position; never the goal itself.
+        double cum = 0.0;
+        std::size_t k = 0;
+        while (k + 2 < nodes.size() && cum < at_km) {
+          cum += mesh.edge_length_km(nodes[k], mesh.direction(nodes[k], nodes[k + 1]));
+          ++k;
+        }
+        offset[i] = std::max(0.0, cum - at_km);
+        u.flown_km = cum;
+        tasks[i] = UavTask{nodes[k], tasks[i].goal, k > 0 ? std::optional<NodeId>(nodes[k - 1]) : std::nullopt};
+        rest.assign(nodes.begin() + static_cast<std::ptrdiff_t>(k), nodes.end());
+        u.flown.resize(k + 1);
+      } else {
+        // Line-of-sight trajectory (segments longer than a mesh edge): the UAV
+        // is at P on segment k; its "neighbouring node" (Step 3) is the mesh
+        // node nearest to the point one mesh spacing ahead of P, reached
+        // straight from P; the goal itself is never taken.
+        double cum = 0.0;
+        std::size_t k = 0;
+        auto seg = [&](std::size_t j) {
+          const PointKm a = mesh.position(nodes[j]), b = mesh.position(nodes[j + 1]);
+          return std::hypot(b.x - a.x, b.y - a.y);
+        };
+        while (k + 2 < nodes.size() && cum + seg(k) < at_km) cum += seg(k++);
+        const PointKm a = mesh.position(nodes[k]), b = mesh.position(nodes[k + 1]);
+        const double len = seg(k);
+        const double along = std::min(at_km - cum, len);
+        const double ahead = std::min(along + std::min(mesh.step_x_km(), mesh.step_y_km()), len);
+        const PointKm p{a.x + along / len * (b.x - a.x), a.y + along / len * (b.y - a.y)};
+        NodeId r = *mesh.nearest_node({a.x + ahead / len * (b.x - a.x), a.y + ahead / len * (b.y - a.y)});
+        if (r == tasks[i].goal) r = nodes[k];
+        const PointKm rp = mesh.position(r);
+        offset[i] = std::hypot(rp.x - p.x, rp.y - p.y);
+        u.flown_km = cum + along + offset[i];
+        u.flown.resize(k + 1);
+        if (r != nodes[k]) u.flown.push_back(r);
+        const std::size_t m = u.flown.size();
+        tasks[i] = UavTask{r, tasks[i].goal, m >= 2 ? std::optional<NodeId>(u.flown[m - 2]) : std::nullopt};
+        rest.push_back(r);
+        rest.insert(rest.end(), nodes.begin() + static_cast<std::ptrdiff_t>(k + 1), nodes.end());
       }
-      offset[i] = std::max(0.0, cum - at_km);
       u.offset_km = offset[i];
-      u.flown_km = cum;
-      tasks[i] = UavTask{nodes[k], tasks[i].goal, k > 0 ? std::optional<NodeId>(nodes[k - 1]) : std::nullopt};
-      const std::vector<NodeId> rest(nodes.begin() + static_cast<std::ptrdiff_t>(k), nodes.end());
-      u.old_remaining_threat = mesh.path_cost(rest).threat;  // Duan 2009 eq. (2)
+      u.old_remaining_threat = polyline_cost(mesh, rest).threat;  // Duan 2009 eq. (2)
       run.old_threat_sum += u.old_remaining_threat;
-      u.flown.resize(k + 1);
     }
     const auto replanned = plan_team(team, tasks);
-    const auto plan2 = all_found(replanned) ? coordinate_eta(duan_eta_candidates(replanned, offset), sc.speeds)
-                                            : Result<EtaPlan>(Error{"a colony found no path"});
+    const auto plan2 = all_found(replanned)
+                           ? coordinate_eta(duan_eta_candidates(replanned, offset), sc.speeds, options.eta)
+                           : Result<EtaPlan>(Error{"a colony found no path"});
     for (std::size_t i = 0; i < uav_count; ++i) run.uavs[i].replanned = replanned[i];
     run.replan_eta_found = plan2.ok();
     if (run.replan_eta_found) {

@@ -289,6 +289,19 @@ class DuanUav final : public UavPolicy {
         begin_phase(tick, plan_from_, prev_for_plan_);
         return;
       case Mode::Flying:
+        if (!waypoints_.empty() && mesh_->direction(last_node_, waypoints_.front()) < 0 &&
+            last_node_ != waypoints_.front()) {
+          // A line-of-sight segment (planner "line_of_sight"): the neighbouring
+          // node of Step 3 is the mesh node nearest to the point one node
+          // spacing ahead on the segment (not past its end), as in duan_table3.
+          const Point w = point_of(waypoints_.front());
+          const double left = std::hypot(w.x - pos_.x, w.y - pos_.y);  // [cell]
+          const double ahead = std::min(1.0, left) / std::max(left, 1e-12);
+          const Cell c{static_cast<int32_t>(std::lround(pos_.x + ahead * (w.x - pos_.x))),
+                       static_cast<int32_t>(std::lround(pos_.y + ahead * (w.y - pos_.y)))};
+          const NodeId r = node_of({std::clamp(c.x, 0, geo_->width() - 1), std::clamp(c.y, 0, geo_->height() - 1)});
+          if (r != goal_) waypoints_.insert(waypoints_.begin(), r);
+        }
         if (!waypoints_.empty() && waypoints_.front() != goal_) {
           // Step 3: fly on to the next node of the trajectory and replan from there.
           const NodeId next = waypoints_.front();

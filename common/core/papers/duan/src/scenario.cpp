@@ -119,6 +119,16 @@ void build_duan(const pb::DuanPolicy& msg, const Node& n, Validator& v, Scenario
     }
   }
 
+  if (msg.has_planner()) {
+    if (msg.planner() == "paper") {
+      a.planner = DuanPlanner::Paper;
+    } else if (msg.planner() == "line_of_sight") {
+      a.planner = DuanPlanner::LineOfSight;
+    } else {
+      v.fail(n, "planner", "must be \"paper\" or \"line_of_sight\" (got \"" + msg.planner() + "\")");
+    }
+  }
+
   for (int i = 0; i < msg.threats_size(); ++i) {
     if (auto t = build_threat(msg.threats(i), n.child("threats", i), v, false, cfg.ticks)) c.threats.push_back(t->threat);
   }

@@ -13,7 +13,9 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <limits>
+#include <map>
 #include <numbers>
 #include <optional>
 #include <span>
@@ -152,6 +154,12 @@ enum class DepositRule : uint8_t {
   IterationBest,  // the literal "J_k <= J_min(t)": only the iteration-best ants
 };
 
+// Which planner turns the colony's walks into candidate trajectories.
+enum class DuanPlanner : uint8_t {
+  Paper,        // Duan 2009 as printed: the ants' mesh walks are the candidates
+  LineOfSight,  // ours ("duan_los", docs/policies/duan.md): each walk shortcut by line_of_sight_shortcut
+};
+
 struct DuanAcoParams {
   double alpha = 3.0;        // α, trail exponent of Duan 2009 eq. (11)
   double beta = 2.0;         // β, visibility exponent of Duan 2009 eq. (11)
@@ -166,6 +174,9 @@ struct DuanAcoParams {
   double max_turn_rad = std::numbers::pi / 4.0;  // Duan 2009 Fig. 4 (not given numerically)
   DepositRule deposit = DepositRule::BelowAverage;
   uint32_t candidate_count = 4;  // candidate trajectories per UAV for the ETA (Duan 2009 Sec. 3.3)
+  // Not in the paper: our variant shortcuts every walk (the colony's pheromone
+  // dynamics stay the paper's; only the candidates change).
+  DuanPlanner planner = DuanPlanner::Paper;
 };
 
 // Σ_{j≠i} τ^p_{j,u} over the other UAVs of Duan 2009 eq. (10), per node, and their number
@@ -188,8 +199,41 @@ std::vector<double> transition_probabilities(std::span<const double> tau, std::s
 // Duan 2009 eq. (12)/(13) then Duan 2009 eq. (18): clamp((1 - ρ)·τ + Δτ, τ_min, τ_max).
 double updated_pheromone(double tau, double delta, double rho, double tau_min, double tau_max);
 
+// ---------------------------------------------------------------------------
+// Line-of-sight shortcut (ours, not in the paper; docs/policies/duan.md)
+// ---------------------------------------------------------------------------
+
+// Duan 2009 eq. (2) on a straight segment of any length: the segment is cut into
+// ceil(L / max_piece_km) equal pieces and Duan 2009 eq. (2) is summed over them, so a long
+// segment is sampled at least as densely as a mesh edge (5 points per piece)
+// and cannot jump over a threat between two sample points.
+double segment_threat_cost(std::span<const Threat> threats, PointKm a, PointKm b, double max_piece_km);
+
+// Σ over a polyline of mesh nodes: consecutive neighbours cost their mesh
+// edge (identical to ThreatMesh::path_cost); other pairs cost the straight
+// segment by segment_threat_cost with pieces no longer than the mesh spacing
+// (min of step_x, step_y), and Duan 2009 eq. (3) with the mesh's f.
+ThreatMesh::PathCost polyline_cost(const ThreatMesh& mesh, std::span<const NodeId> nodes);
+
+// Greedy line-of-sight pruning of a walk: from each kept node, jump to the
+// farthest later node of the walk whose straight segment costs (Duan 2009 eq. (3), by
+// polyline_cost) no more than the stretch of walk it replaces, provided the
+// turn limit holds at both ends of the new segment (at the first node against
+// `previous` if given, else free, as for the ants). The result keeps the
+// walk's first and last node, never costs more, and obeys the turn limit.
+std::vector<NodeId> line_of_sight_shortcut(const ThreatMesh& mesh, std::span<const NodeId> walk,
+                                           std::optional<NodeId> previous, double max_turn_rad);
+
+// Threat exposure of a polyline, planner-neutral: Duan 2009 eq. (1)'s line integral of
+// Σ w_k / d^4 (inside each range) by the midpoint rule with pieces of at most
+// step_km. Used to compare planners whose trajectories Duan 2009 eq. (2) samples
+// differently (mesh edges vs long segments).
+double threat_exposure(std::span<const Threat> threats, std::span<const PointKm> polyline, double step_km);
+
 struct Trajectory {
-  std::vector<NodeId> nodes;  // start ... goal
+  // start ... goal: mesh neighbours (DuanPlanner::Paper) or, after the
+  // line-of-sight shortcut, any nodes joined by straight segments.
+  std::vector<NodeId> nodes;
   double length_km = 0.0;
   double threat_cost = 0.0;  // Σ J_threat
   double cost = 0.0;         // J_i,k = Σ J_su (Duan 2009 eq. (3) summed)
@@ -233,6 +277,9 @@ class DuanColony {
   // Walks one ant; false if it got stuck (no allowed, unvisited neighbour).
   bool walk(const PointPheromone& others, std::vector<NodeId>& path);
   void offer_candidate(const std::vector<NodeId>& path, double cost);
+  // DuanPlanner::LineOfSight: the walk shortcut, memoised per walk (stagnating
+  // colonies repeat their walks).
+  const std::vector<NodeId>& shortcut_of(const std::vector<NodeId>& walk);
 
   const ThreatMesh* mesh_;
   DuanAcoParams params_;
@@ -244,6 +291,7 @@ class DuanColony {
   std::vector<uint32_t> visited_;  // stamp per node
   uint32_t stamp_ = 0;
   std::array<std::array<bool, ThreatMesh::kDirections>, ThreatMesh::kDirections> turn_ok_{};
+  std::map<std::vector<NodeId>, std::vector<NodeId>> shortcuts_;  // walk -> shortcut, reset by begin()
   PathResult result_;
 };
 
@@ -256,7 +304,10 @@ struct UavTask {
 // Duan 2009 Fig. 12: the colonies of all UAVs iterate in lockstep; before each
 // iteration every colony receives the summed point pheromone of the others
 // from the previous iteration (Step 6). colonies.size() == tasks.size().
-std::vector<PathResult> plan_team(std::span<DuanColony> colonies, std::span<const UavTask> tasks);
+// after_iteration(t), if given, is called after lockstep iteration t (0-based)
+// of every colony, e.g. to read the candidates as they improve.
+std::vector<PathResult> plan_team(std::span<DuanColony> colonies, std::span<const UavTask> tasks,
+                                  const std::function<void(uint32_t iteration)>& after_iteration = {});
 
 // ---------------------------------------------------------------------------
 // ETA coordination (Duan 2009 Sec. 2.3 (2), 2.4)

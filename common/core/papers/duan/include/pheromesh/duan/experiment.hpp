@@ -1,8 +1,7 @@
-// Duan, Zhang, Wu, Ma 2009, Duan 2009 Sec. 4 second experiment (Duan 2009 Table 3, Duan 2009 Fig. 15, Duan 2009 Fig. 16, Duan 2009 Fig. 17, Duan 2009 Fig. 18, Duan 2009 Fig. 19) as a
-// library: the per-UAV optimum under the turn constraint (a Dijkstra over
-// node x heading) and the Monte Carlo loop behind `pheromesh experiment
-// duan-table3` — team planning, ETA, the Duan 2009 Table 4 pop-ups and replanning —
-// returning plain numbers. The CLI only formats them.
+// Duan, Zhang, Wu, Ma 2009, Duan 2009 Sec. 4 second experiment (Duan 2009 Table 3, Duan 2009 Fig. 15, Duan 2009 Fig.
+// 16, Duan 2009 Fig. 17, Duan 2009 Fig. 18, Duan 2009 Fig. 19) as a library: the per-UAV optimum under the turn
+// constraint (a Dijkstra over node x heading) and the Monte Carlo loop behind `pheromesh experiment duan-table3` — team
+// planning, ETA, the Duan 2009 Table 4 pop-ups and replanning — returning plain numbers. The CLI only formats them.
 //
 // Reading of the paper for the loop (the planning itself is read in
 // duan_aco.cpp):
@@ -13,6 +12,10 @@
 //    and replans from there with a fresh team of colonies, the node before it
 //    kept as heading for the turn constraint. The new ETA counts the stretch
 //    to that node (offset) at the new speed.
+//  * Trajectories of the line_of_sight planner (DuanPlanner::LineOfSight, ours)
+//    have segments longer than a mesh edge: such a UAV replans from the mesh
+//    node nearest to the point one node spacing ahead of its position on its
+//    segment (never its target), reached straight from where it is.
 //  * Random numbers: run r (0-based) uses seed r + 1; colony i draws from
 //    stream_seed(seed, "duan", i), the same colony (and stream) for planning
 //    and replanning.
@@ -54,6 +57,9 @@ struct DuanTable3Options {
   // 18 only shows the UAVs "marching"). 30 s ≈ 9 km flown: in the paper's
   // scenario every UAV is still at least 5 km outside the pop-up ranges.
   double popup_time_s = 30.0;  // [s]
+  // How T_a is chosen from S (Duan 2009 Fig. 6's min S by default; the text of Duan 2009 Sec. 3.3 also
+  // speaks of the T_a "that minimizes the total coordination cost", Duan 2009 eq. (8)).
+  EtaOptions eta;
 };
 
 // One UAV in one run. Fields after `planned` are set only when the run had a
@@ -79,6 +85,9 @@ struct DuanTable3Run {
   uint64_t seed = 0;
   bool eta_found = false;  // all colonies found a path and S ≠ ∅
   EtaPlan plan;
+  // T_a (min S) of the candidates held after each planning iteration; +inf
+  // while a colony has none or S is empty. Its last entry is plan.eta_s.
+  std::vector<double> eta_history;
   bool replan_eta_found = false;
   EtaPlan replan;  // eta_s counted from the replanning instant
   double eta_after_replan_s = 0.0;  // from take-off: popup_time_s + replan.eta_s
