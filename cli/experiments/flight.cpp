@@ -131,6 +131,9 @@ void check_on_processes(const core::ScenarioConfig& s, const RunNumbers& sim, do
   const std::string scenario = (dir / "scenario.textproto").string();
   if (auto w = core::write_file_atomically(scenario, text_config->source_text); !w) return fail(w.error().message);
   const std::string program = g_options.program.empty() ? fs::read_symlink("/proc/self/exe", ec).string() : g_options.program;
+  if (program.ends_with(" (deleted)")) {
+    return fail("this pheromesh binary was replaced while the experiment ran (rebuilt?): " + program);
+  }
   std::vector<std::string> args{program,   "run",   scenario,           "--clock", "lockstep",
                                 "--out",   (dir / "out").string(),      "--dds",   g_options.dds,
                                 "--no-record", "--progress", "10"};
