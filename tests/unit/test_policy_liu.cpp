@@ -408,4 +408,19 @@ TEST(LiuScenario, ErrorsNameTheLineAndTheField) {
 }
 
 }  // namespace
+TEST(LiuScenario, TheDisperseVariantLoadsAsItsOwnSearchWithTable1Parameters) {
+  auto r = load_scenario(source_path("scenarios/liu2022-table2-disperse.textproto"));
+  ASSERT_TRUE(r.ok()) << r.error().message;
+  const ScenarioConfig& s = r.value();
+  EXPECT_EQ(s.config_of<LiuConfig>().search, LiuPolicy::kEsustpmDisperse);
+  EXPECT_DOUBLE_EQ(s.config_of<LiuConfig>().params.k[0], -80.0);
+  EXPECT_DOUBLE_EQ(s.config_of<LiuConfig>().params.c[3], 120.0);
+  EXPECT_EQ(s.uavs, 10U);
+  EXPECT_EQ(s.targets.size(), 3U);
+  // The paper's table2 scenario is unchanged: ESUSTPM.
+  auto paper = load_scenario(source_path("scenarios/liu2022-table2.textproto"));
+  ASSERT_TRUE(paper.ok());
+  EXPECT_EQ(paper.value().config_of<LiuConfig>().search, LiuPolicy::kEsustpm);
+}
+
 }  // namespace pheromesh::core
