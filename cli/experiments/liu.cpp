@@ -165,21 +165,32 @@ std::vector<double> esustpm_rank(const std::vector<const std::vector<double>*>& 
 // cause when it differs. EU: the metric only spans ~40–53 bit over every
 // search (50 = the untouched map), so auto_verdict's 15 % band would call
 // almost anything reproduced; reproduced here means within 1 bit (2 % of 50)
-// or the paper's figure inside our 95 % CI.
+// or the paper's figure inside our 95 % CI (5 runs or more).
 enum class Metric : uint8_t { kVisited, kEu, kFound };
 std::string table2_verdict(const Row& r, Metric metric, LiuPolicy policy, LiuSensor sensor) {
   if (metric == Metric::kEu) {
     const double m = mean(r.ours), p = *r.paper;
     const Interval ci = ci95(r.ours);
-    if ((p >= ci.lo && p <= ci.hi) || std::fabs(m - p) <= 1.0) return "reproduced";
+    const bool in_ci = r.ours.size() >= 5 && p >= ci.lo && p <= ci.hi;
+    if (in_ci || std::fabs(m - p) <= 1.0) return "reproduced";
     const std::string by = fmt(std::fabs(m - p), 1) + " bit " + (m > p ? "higher" : "lower");
     if (policy == LiuPolicy::kEsustpm) {
       return "differs: " + by + "; no search with ESUSTPM's look budget can reach it (investigation)";
     }
-    if (policy == LiuPolicy::kLawnmower) return "differs: " + by + "; false alarms lower it (noisy sensor)";
+    if (policy == LiuPolicy::kLawnmower) {
+      return "differs: " + by + (sensor == LiuSensor::kNoisy ? "; false alarms (P = 0.75) lower it"
+                                                              : "; its 3 target cells are detected twice (P = 0.9)");
+    }
     return "differs: " + by + "; this EU rewards re-entering few cells (investigation)";
   }
-  const std::string a = auto_verdict(r);
+  // auto_verdict's test, but with fewer than 5 runs (a --distributed check)
+  // the t interval is too wide to mean anything: the 15 % band alone.
+  std::string a = auto_verdict(r);
+  if (r.ours.size() < 5 && a == "reproduced" && *r.paper != 0.0 && std::fabs(mean(r.ours) / *r.paper - 1) > 0.15) {
+    Row no_ci = r;
+    no_ci.ours.assign(1, mean(r.ours));
+    a = auto_verdict(no_ci);
+  }
   if (a == "reproduced") return a;
   if (metric == Metric::kFound) {
     if (sensor == LiuSensor::kNoisy) return a + ": printed eq. (5) holds a target cell's P near 0.4, θ is rarely passed";
@@ -354,7 +365,7 @@ std::string table2_investigation(const Samples& samples, const LookBudget& b, co
   const auto m = [&](std::size_t si, std::size_t mi, const std::vector<double> MethodSamples::*f) {
     return fmt(mean(samples[si][mi][0].*f), 2);
   };
-  std::string md;
+  std::string md = "## Investigation: Table 2's ranking, examined (issue 17)\n\n";
   md += "### The claim\n\n"
         "Table 2 (and Figs. 11–12, 20–22, 28–30) ranks ESUSTPM first: the lowest EU (40.23 bit with targets, 40.24 "
         "without), the most targets found (3, the only method to find all), and second only to the mower on visited "
@@ -654,12 +665,12 @@ Report run_table2(uint32_t runs, const Progress& progress) {
   };
   const std::vector<Flown> flown{
       {"ESUSTPM", "", "policy `liu`, scenarios/liu2022-table2.textproto (noisy sensor)", true},
-      {"ESUSTPM-disperse (ours)", "policy { liu { search: \"esustpm_disperse\" } }",
+      {"ESUSTPM-disperse (ours)", "name: \"liu2022-table2-disperse\" policy { liu { search: \"esustpm_disperse\" } }",
        "policy `liu`, scenarios/liu2022-table2-disperse.textproto (noisy sensor)", false},
-      {"ESUSTPM [Alg. 1 sensor]", "policy { liu { sensor: \"algorithm1\" } }",
+      {"ESUSTPM [Alg. 1 sensor]", "name: \"liu2022-table2-alg1\" policy { liu { sensor: \"algorithm1\" } }",
        "policy `liu`, liu2022-table2 with sensor \"algorithm1\"", true},
       {"ESUSTPM-disperse (ours) [Alg. 1 sensor]",
-       "policy { liu { search: \"esustpm_disperse\" sensor: \"algorithm1\" } }",
+       "name: \"liu2022-table2-disperse-alg1\" policy { liu { search: \"esustpm_disperse\" sensor: \"algorithm1\" } }",
        "policy `liu`, liu2022-table2 with search \"esustpm_disperse\", sensor \"algorithm1\"", false},
   };
   std::vector<std::vector<std::map<std::string, double>>> dist;
