@@ -17,10 +17,10 @@
 
 #include "experiment.hpp"
 #include "flight.hpp"
-#include "scenario_paths.hpp"
 #include "pheromesh/core/scenario.hpp"
 #include "pheromesh/liu/swarm.hpp"
 #include "pheromesh/liu/tpm.hpp"
+#include "scenario_paths.hpp"
 
 namespace pheromesh::cli::experiments {
 
@@ -178,8 +178,9 @@ std::string table2_verdict(const Row& r, Metric metric, LiuPolicy policy, LiuSen
       return "differs: " + by + "; no search with ESUSTPM's look budget can reach it (investigation)";
     }
     if (policy == LiuPolicy::kLawnmower) {
-      return "differs: " + by + (sensor == LiuSensor::kNoisy ? "; false alarms (P = 0.75) lower it"
-                                                              : "; its 3 target cells are detected twice (P = 0.9)");
+      return "differs: " + by +
+             (sensor == LiuSensor::kNoisy ? "; false alarms (P = 0.75) lower it"
+                                          : "; its 3 target cells are detected twice (P = 0.9)");
     }
     return "differs: " + by + "; this EU rewards re-entering few cells (investigation)";
   }
@@ -193,15 +194,21 @@ std::string table2_verdict(const Row& r, Metric metric, LiuPolicy policy, LiuSen
   }
   if (a == "reproduced") return a;
   if (metric == Metric::kFound) {
-    if (sensor == LiuSensor::kNoisy) return a + ": printed eq. (5) holds a target cell's P near 0.4, θ is rarely passed";
+    if (sensor == LiuSensor::kNoisy)
+      return a + ": printed eq. (5) holds a target cell's P near 0.4, θ is rarely passed";
     return a + ": with a noiseless sensor three entries confirm a target cell";
   }
   switch (policy) {
-    case LiuPolicy::kEsustpm: return a + ": Table 1's neighbour rules hold a rigid lattice that drifts as one body";
-    case LiuPolicy::kBoids: return a + ": Boids rule weights not given (ours equal)";
-    case LiuPolicy::kGuidedBoids: return a + ": Boids rule weights not given (ours equal)";
-    case LiuPolicy::kRandom: return a + ": cause not found (random collision avoidance not specified)";
-    default: return a;
+    case LiuPolicy::kEsustpm:
+      return a + ": Table 1's neighbour rules hold a rigid lattice that drifts as one body";
+    case LiuPolicy::kBoids:
+      return a + ": Boids rule weights not given (ours equal)";
+    case LiuPolicy::kGuidedBoids:
+      return a + ": Boids rule weights not given (ours equal)";
+    case LiuPolicy::kRandom:
+      return a + ": cause not found (random collision avoidance not specified)";
+    default:
+      return a;
   }
 }
 
@@ -227,7 +234,8 @@ const std::vector<Setting>& settings() {
       {"confirmed cells keep guiding", [](LiuSwarmConfig& c) { c.release_confirmed_cells = false; }},
       {"Boids separation weight 2", [](LiuSwarmConfig& c) { c.params.boids_separation_weight = 2.0; }},
       {"Boids guidance weight 2", [](LiuSwarmConfig& c) { c.params.boids_guidance_weight = 2.0; }},
-      {"cycle 2 s + Bayesian miss", [](LiuSwarmConfig& c) {
+      {"cycle 2 s + Bayesian miss",
+       [](LiuSwarmConfig& c) {
          c.params.cycle_s = 2.0;
          c.params.miss_update = core::MissUpdate::kBayes;
        }},
@@ -253,12 +261,12 @@ Study sensitivity_study(uint32_t runs, const Progress& progress, uint32_t& done,
   const auto& ms = methods();
   for (const SensorSpec& sp : sensors()) {
     md += "\n**" + std::string(sp.sensor == LiuSensor::kNoisy ? "Noisy sensor" : "Algorithm 1 sensor") +
-          "**, three targets, " + std::to_string(runs) +
-          " runs per cell (seeds 1.." + std::to_string(runs) +
+          "**, three targets, " + std::to_string(runs) + " runs per cell (seeds 1.." + std::to_string(runs) +
           "), mean ± sd; ranks are ESUSTPM's among the paper's five per run (1 = best), mean. Table 2's ranks: "
           "visited 2 (after the mower), EU 1, found 1.\n\n"
           "| setting | ESUSTPM visited | ESUSTPM EU [bit] | ESUSTPM found | rank visited | rank EU | rank EU as Σ H(P) "
-          "| rank found | lowest EU (method) | mower EU (Table 2: 52.34) | ESUSTPM looks | disperse visited | disperse EU "
+          "| rank found | lowest EU (method) | mower EU (Table 2: 52.34) | ESUSTPM looks | disperse visited | disperse "
+          "EU "
           "| disperse found |\n"
           "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     for (const Setting& st : settings()) {
@@ -288,8 +296,8 @@ Study sensitivity_study(uint32_t runs, const Progress& progress, uint32_t& done,
             fmt(mean(esustpm_rank(vis, false)), 1) + " | " + fmt(mean(esustpm_rank(eu, true)), 1) + " | " +
             fmt(mean(esustpm_rank(eub, true)), 1) + " | " + fmt(mean(esustpm_rank(found, false)), 1) + " | " +
             fmt(mean(s[lowest].eu), 2) + " (" + ms[lowest].name + ") | " + pm(s[1].eu, 2) + " | " +
-            fmt(mean(s[0].observations), 0) + " | " + pm(s[kDisperse].visited) + " | " +
-            pm(s[kDisperse].eu, 2) + " | " + pm(s[kDisperse].found) + " |\n";
+            fmt(mean(s[0].observations), 0) + " | " + pm(s[kDisperse].visited) + " | " + pm(s[kDisperse].eu, 2) +
+            " | " + pm(s[kDisperse].found) + " |\n";
       out.cells.push_back({st.name, sp.file, mean(esustpm_rank(vis, false)), mean(esustpm_rank(eu, true)),
                            mean(esustpm_rank(eub, true)), mean(esustpm_rank(found, false)), mean(s[0].visited),
                            mean(s[0].eu), mean(s[1].eu), mean(s[kDisperse].visited)});
@@ -316,8 +324,8 @@ std::vector<std::string> table2_notes(const Samples& samples) {
       "Pf = 0.1 elsewhere. Algorithm 1 instead branches on the truth (eq. 4 if the cell holds a target, eq. 5 if "
       "not) and §5 says \"When the UAV and the target are in the same cell ... the target is considered to be "
       "detected\", so the paper's sensor looks noiseless, Pd and Pf entering only the equations. Both are reported; "
-      "rows marked [Alg. 1 sensor] use the paper's reading. Mean targets found, noisy: " + found_of(0) +
-          "; Alg. 1: " + found_of(1) + " (paper 3, 0, 0, 1, 2).",
+      "rows marked [Alg. 1 sensor] use the paper's reading. Mean targets found, noisy: " +
+          found_of(0) + "; Alg. 1: " + found_of(1) + " (paper 3, 0, 0, 1, 2).",
       "Why the noisy sensor finds almost nothing: with the printed eq. (5) a miss multiplies P by 7/9 wherever P "
       "is, so on a target cell (30 % detections, odds x3) P does not rise towards 1 but hovers around 0.4 (long-run "
       "mean 0.37); passing θ = 0.95 needs about three detections in a row. A target cell observed 20 times is "
@@ -325,7 +333,8 @@ std::vector<std::string> table2_notes(const Samples& samples) {
       "(MissUpdate::kBayes) would not cap P like this; we keep the printed equation.",
       "Mower with targets, Algorithm 1 sensor: 51.19, not 52.34 — its three target cells are entered twice, both "
       "times detected (P = 0.9, below θ), which lowers the EU by 1.15 bit. Table 2 prints 52.34 for both variants.",
-      "EU is -Σ P log2 P over the 100 cells (pheromesh/liu/tpm.hpp: the paper names the metric but never defines it; this "
+      "EU is -Σ P log2 P over the 100 cells (pheromesh/liu/tpm.hpp: the paper names the metric but never defines it; "
+      "this "
       "sum fits Table 2's range, 50 for an even map). Under it the EU rises after one or two misses per cell "
       "(0.53 and 0.52 bit vs 0.50) and falls only after three, so a method's EU depends on how often it re-enters "
       "cells, not only on coverage. With Algorithm 1's sensor the no-target mower gives 52.34 exactly, Table 2's "
@@ -366,91 +375,101 @@ std::string table2_investigation(const Samples& samples, const LookBudget& b, co
     return fmt(mean(samples[si][mi][0].*f), 2);
   };
   std::string md = "## Investigation: Table 2's ranking, examined (issue 17)\n\n";
-  md += "### The claim\n\n"
-        "Table 2 (and Figs. 11–12, 20–22, 28–30) ranks ESUSTPM first: the lowest EU (40.23 bit with targets, 40.24 "
-        "without), the most targets found (3, the only method to find all), and second only to the mower on visited "
-        "cells (89 / 95). Ours, 10x10, ten UAVs, 200 cycles, the same sensor and TPM for every method: ESUSTPM's EU "
-        "is " + m(0, 0, &MethodSamples::eu) + " bit (noisy sensor) and " + m(1, 0, &MethodSamples::eu) +
-        " (Algorithm 1's), against random search's " + m(0, 2, &MethodSamples::eu) + " / " +
-        m(1, 2, &MethodSamples::eu) + "; it visits " + m(0, 0, &MethodSamples::visited) + " / " +
-        m(1, 0, &MethodSamples::visited) + " cells against unguided Boids' " + m(0, 3, &MethodSamples::visited) +
-        " / " + m(1, 3, &MethodSamples::visited) + " and guided Boids' " + m(0, 4, &MethodSamples::visited) + " / " +
-        m(1, 4, &MethodSamples::visited) + "; with Algorithm 1's sensor it confirms " +
-        m(1, 0, &MethodSamples::found) + " targets against guided Boids' " + m(1, 4, &MethodSamples::found) +
-        ", with the noisy sensor nobody confirms more than a fraction of one. The rank rows above give the verdicts.\n\n";
+  md +=
+      "### The claim\n\n"
+      "Table 2 (and Figs. 11–12, 20–22, 28–30) ranks ESUSTPM first: the lowest EU (40.23 bit with targets, 40.24 "
+      "without), the most targets found (3, the only method to find all), and second only to the mower on visited "
+      "cells (89 / 95). Ours, 10x10, ten UAVs, 200 cycles, the same sensor and TPM for every method: ESUSTPM's EU "
+      "is " +
+      m(0, 0, &MethodSamples::eu) + " bit (noisy sensor) and " + m(1, 0, &MethodSamples::eu) +
+      " (Algorithm 1's), against random search's " + m(0, 2, &MethodSamples::eu) + " / " + m(1, 2, &MethodSamples::eu) +
+      "; it visits " + m(0, 0, &MethodSamples::visited) + " / " + m(1, 0, &MethodSamples::visited) +
+      " cells against unguided Boids' " + m(0, 3, &MethodSamples::visited) + " / " + m(1, 3, &MethodSamples::visited) +
+      " and guided Boids' " + m(0, 4, &MethodSamples::visited) + " / " + m(1, 4, &MethodSamples::visited) +
+      "; with Algorithm 1's sensor it confirms " + m(1, 0, &MethodSamples::found) + " targets against guided Boids' " +
+      m(1, 4, &MethodSamples::found) +
+      ", with the noisy sensor nobody confirms more than a fraction of one. The rank rows above give the verdicts.\n\n";
 
-  md += "### Second, independent reading of eqs. (1)–(14) against the code\n\n"
-        "| paper | what it says | code | agrees? |\n|---|---|---|---|\n"
-        "| eq. (1) | bivariate Gaussian density of a target, σ1, σ2, ρ | `gaussian_mixture_prior` (liu/src/tpm.cpp) | "
-        "yes; σ0 and ρ unstated (ours σ0 = 1 cell, ρ = 0); not used by Table 2 (uniform prior) |\n"
-        "| eq. (2) | P_mn = Σ α_i ∬_cell f_i | `gaussian_mixture_prior` | yes; α_i unstated (1), clipped to [0, 1] |\n"
-        "| eq. (3) | an unsearched cell keeps P | only entered cells are updated (`run_liu_swarm`, `LiuPlace::apply`) | "
-        "yes |\n"
-        "| eq. (4) | detection: P' = Pd P / ((Pd − Pf) P + Pf) | `tpm_after_detection` | yes (hand-worked tests "
-        "in test_liu_tpm.cpp) |\n"
-        "| eq. (5) | miss: P' = (1 − Pd) P / (1 − Pf) as printed | `tpm_after_miss`, `MissUpdate::kAsPrinted` | yes; "
-        "the print is not the Bayesian posterior (that is `kBayes`, in the study) |\n"
-        "| Alg. 1 | update branches on whether the cell holds a target | `LiuSensor::kAlgorithm1` | yes; the "
-        "`noisy` reading draws detections with Pd / Pf instead (both reported) |\n"
-        "| §2.4 | the sensor reads P of its cell and the 8 around; senses a target only in its own cell | one "
-        "update per cell *entered*; the 8 neighbours only guide rule 4 | yes; \"when the UAV arrives\" read as "
-        "entering a cell (the start cell is visited, not observed) |\n"
-        "| eq. (6) | mvel = ¼ Σ β_i F_i/‖F_i‖ over 3 nearest neighbours and the best nearby cell | "
-        "`esustpm_objective_velocity` | yes; F_i points from the neighbour to the UAV, so β > 0 (d < c) repels "
-        "(§5 \"repel each other when the distance ... is less than the safe distance\"); rule 4 uses |β_4| towards "
-        "the cell (literally β_4 < 0 at 141 m would push the UAV *away* from a diagonal best cell) |\n"
-        "| eqs. (7)–(9) | g = t(1 − e^{−(d−c)²/δ'²}), a = k(d−c)e^{−(d−c)²/δ²}, β = a g | `liu_gain` | yes "
-        "(hand-worked in test_liu_tpm.cpp) |\n"
-        "| eqs. (10)–(11) | P += mvel Δt | `advance_uav`, clipped to 10 m/s, reflected at the border (§2.2) | yes |\n"
-        "| eqs. (12)–(13) | random direction rnd(2,1)/‖·‖, step S = 10 | `random_direction`, "
-        "`random_search_step` | yes; a new direction each cycle; the collision avoidance §5.1.2 mentions is not "
-        "specified and not modelled |\n"
-        "| eq. (14) | mower P += b l Δt, b reversed at the border, l = 10 | `mower_advance` | yes; one row per "
-        "UAV (10 rows, 10 UAVs), each from its row's west end |\n"
-        "| §5.1.4–5.1.5 | Boids with / without guidance, safe distance 120 m | `boids_step`, "
-        "`boids_guided_step` | the rule weights are not given (ours equal; weights 2 in the study) |\n"
-        "| Table 2 \"environmental uncertainty\" | not defined | `environmental_uncertainty` = −Σ P log2 P | "
-        "unstated; fits: our no-target mower with Algorithm 1's sensor gives exactly " + fmt(b.mower_eu, 2) +
-        " (Table 2: 52.34). Σ H(P) (binary entropy) cannot fit: an untouched 10x10 map alone is 100 bit |\n"
-        "| Table 2 \"visited grid number\" | not defined | `VisitedCells`: cells any UAV has been over, start "
-        "cells included | unstated |\n"
-        "| the baselines' sensing | not said | every method runs the same loop: same sensor draw per cell "
-        "entered, same eqs. (4)–(5), same θ, same visited and EU bookkeeping (`run_liu_swarm`; "
-        "`LiuUavPolicy::observe` on the real swarm); only the velocity decision differs | fair baselines by "
-        "construction |\n\n"
-        "No bug was found on this second reading: the code computes what the equations say, and every departure "
-        "is a choice where the paper is silent, each in the list below and in the study.\n\n";
+  md +=
+      "### Second, independent reading of eqs. (1)–(14) against the code\n\n"
+      "| paper | what it says | code | agrees? |\n|---|---|---|---|\n"
+      "| eq. (1) | bivariate Gaussian density of a target, σ1, σ2, ρ | `gaussian_mixture_prior` (liu/src/tpm.cpp) | "
+      "yes; σ0 and ρ unstated (ours σ0 = 1 cell, ρ = 0); not used by Table 2 (uniform prior) |\n"
+      "| eq. (2) | P_mn = Σ α_i ∬_cell f_i | `gaussian_mixture_prior` | yes; α_i unstated (1), clipped to [0, 1] |\n"
+      "| eq. (3) | an unsearched cell keeps P | only entered cells are updated (`run_liu_swarm`, `LiuPlace::apply`) | "
+      "yes |\n"
+      "| eq. (4) | detection: P' = Pd P / ((Pd − Pf) P + Pf) | `tpm_after_detection` | yes (hand-worked tests "
+      "in test_liu_tpm.cpp) |\n"
+      "| eq. (5) | miss: P' = (1 − Pd) P / (1 − Pf) as printed | `tpm_after_miss`, `MissUpdate::kAsPrinted` | yes; "
+      "the print is not the Bayesian posterior (that is `kBayes`, in the study) |\n"
+      "| Alg. 1 | update branches on whether the cell holds a target | `LiuSensor::kAlgorithm1` | yes; the "
+      "`noisy` reading draws detections with Pd / Pf instead (both reported) |\n"
+      "| §2.4 | the sensor reads P of its cell and the 8 around; senses a target only in its own cell | one "
+      "update per cell *entered*; the 8 neighbours only guide rule 4 | yes; \"when the UAV arrives\" read as "
+      "entering a cell (the start cell is visited, not observed) |\n"
+      "| eq. (6) | mvel = ¼ Σ β_i F_i/‖F_i‖ over 3 nearest neighbours and the best nearby cell | "
+      "`esustpm_objective_velocity` | yes; F_i points from the neighbour to the UAV, so β > 0 (d < c) repels "
+      "(§5 \"repel each other when the distance ... is less than the safe distance\"); rule 4 uses |β_4| towards "
+      "the cell (literally β_4 < 0 at 141 m would push the UAV *away* from a diagonal best cell) |\n"
+      "| eqs. (7)–(9) | g = t(1 − e^{−(d−c)²/δ'²}), a = k(d−c)e^{−(d−c)²/δ²}, β = a g | `liu_gain` | yes "
+      "(hand-worked in test_liu_tpm.cpp) |\n"
+      "| eqs. (10)–(11) | P += mvel Δt | `advance_uav`, clipped to 10 m/s, reflected at the border (§2.2) | yes |\n"
+      "| eqs. (12)–(13) | random direction rnd(2,1)/‖·‖, step S = 10 | `random_direction`, "
+      "`random_search_step` | yes; a new direction each cycle; the collision avoidance §5.1.2 mentions is not "
+      "specified and not modelled |\n"
+      "| eq. (14) | mower P += b l Δt, b reversed at the border, l = 10 | `mower_advance` | yes; one row per "
+      "UAV (10 rows, 10 UAVs), each from its row's west end |\n"
+      "| §5.1.4–5.1.5 | Boids with / without guidance, safe distance 120 m | `boids_step`, "
+      "`boids_guided_step` | the rule weights are not given (ours equal; weights 2 in the study) |\n"
+      "| Table 2 \"environmental uncertainty\" | not defined | `environmental_uncertainty` = −Σ P log2 P | "
+      "unstated; fits: our no-target mower with Algorithm 1's sensor gives exactly " +
+      fmt(b.mower_eu, 2) +
+      " (Table 2: 52.34). Σ H(P) (binary entropy) cannot fit: an untouched 10x10 map alone is 100 bit |\n"
+      "| Table 2 \"visited grid number\" | not defined | `VisitedCells`: cells any UAV has been over, start "
+      "cells included | unstated |\n"
+      "| the baselines' sensing | not said | every method runs the same loop: same sensor draw per cell "
+      "entered, same eqs. (4)–(5), same θ, same visited and EU bookkeeping (`run_liu_swarm`; "
+      "`LiuUavPolicy::observe` on the real swarm); only the velocity decision differs | fair baselines by "
+      "construction |\n\n"
+      "No bug was found on this second reading: the code computes what the equations say, and every departure "
+      "is a choice where the paper is silent, each in the list below and in the study.\n\n";
 
-  md += "### Quantities the paper leaves unstated\n\n"
-        "Map 10x10 (stated), cell size 100 m (inferred from §5's coordinates), 10 UAVs (stated), speed 10 m/s "
-        "(stated), Δt = 10 ms (stated), 200 cycles (stated), Pd = 0.3 / Pf = 0.1 (stated), targets and start "
-        "positions (stated), Table 1's rule constants (stated). **Unstated:** the length of a time cycle (ours 1 s: "
-        "how many Δt a cycle holds), whether the sensor is noisy or Algorithm 1's truth branch, whether eq. (5) is "
-        "meant as printed or as the Bayesian posterior, θ (ours 0.95), the start velocity (ours max speed, random "
-        "heading), the communication range (ours unlimited), how \"the three closest neighbours chosen by the "
-        "distance and TPM\" weighs the TPM (ours: distance only), whether a confirmed cell keeps attracting rule 4 "
-        "(ours: no, §4), the Boids rule weights (ours equal), the EU formula, what counts as visited, and how many "
-        "runs Table 2 shows (ours 10, as §5.4).\n\n";
+  md +=
+      "### Quantities the paper leaves unstated\n\n"
+      "Map 10x10 (stated), cell size 100 m (inferred from §5's coordinates), 10 UAVs (stated), speed 10 m/s "
+      "(stated), Δt = 10 ms (stated), 200 cycles (stated), Pd = 0.3 / Pf = 0.1 (stated), targets and start "
+      "positions (stated), Table 1's rule constants (stated). **Unstated:** the length of a time cycle (ours 1 s: "
+      "how many Δt a cycle holds), whether the sensor is noisy or Algorithm 1's truth branch, whether eq. (5) is "
+      "meant as printed or as the Bayesian posterior, θ (ours 0.95), the start velocity (ours max speed, random "
+      "heading), the communication range (ours unlimited), how \"the three closest neighbours chosen by the "
+      "distance and TPM\" weighs the TPM (ours: distance only), whether a confirmed cell keeps attracting rule 4 "
+      "(ours: no, §4), the Boids rule weights (ours equal), the EU formula, what counts as visited, and how many "
+      "runs Table 2 shows (ours 10, as §5.4).\n\n";
 
-  md += "### The look budget: Table 2's ESUSTPM row is out of reach\n\n"
-        "Under −Σ P log2 P with printed eq. (5), a cell's EU *rises* after one or two misses (0.50 → 0.53 → 0.52 "
-        "bit) and falls only after three or more: the EU of a search is set by how many looks it makes and how "
-        "it spreads them. Without targets and with Algorithm 1's sensor every look is a miss, so the lowest EU "
-        "any search can leave with 95 visited cells (85 of them looked at: the 10 start cells are visited without "
-        "a look) is an exact minimum over allocations of the looks (`liu_lowest_eu`, dynamic programming). "
-        "ESUSTPM made " + std::to_string(b.looks_mean) + " looks per run on average (most " +
-        std::to_string(b.looks_max) + "; its zig-zag enters more cells per metre than the mower's " +
-        fmt(b.mower_looks, 0) + "): the lowest reachable EU is " + fmt(b.bound_mean, 2) + " bit with " +
-        std::to_string(b.looks_mean) + " looks and " + fmt(b.bound_max, 2) + " with " + std::to_string(b.looks_max) +
-        ", above Table 2's 40.24, which needs at least " + std::to_string(b.needed) +
-        " looks perfectly spread. A longer cycle gives more looks, but the same cycle gives the mower more looks "
-        "too, and Table 2's mower EU of 52.34 — which our 1 s cycle reproduces exactly — fixes the mower at about "
-        "two looks per cell. So the two rows of Table 2 cannot both hold under one cycle length with this EU.\n\n";
+  md +=
+      "### The look budget: Table 2's ESUSTPM row is out of reach\n\n"
+      "Under −Σ P log2 P with printed eq. (5), a cell's EU *rises* after one or two misses (0.50 → 0.53 → 0.52 "
+      "bit) and falls only after three or more: the EU of a search is set by how many looks it makes and how "
+      "it spreads them. Without targets and with Algorithm 1's sensor every look is a miss, so the lowest EU "
+      "any search can leave with 95 visited cells (85 of them looked at: the 10 start cells are visited without "
+      "a look) is an exact minimum over allocations of the looks (`liu_lowest_eu`, dynamic programming). "
+      "ESUSTPM made " +
+      std::to_string(b.looks_mean) + " looks per run on average (most " + std::to_string(b.looks_max) +
+      "; its zig-zag enters more cells per metre than the mower's " + fmt(b.mower_looks, 0) +
+      "): the lowest reachable EU is " + fmt(b.bound_mean, 2) + " bit with " + std::to_string(b.looks_mean) +
+      " looks and " + fmt(b.bound_max, 2) + " with " + std::to_string(b.looks_max) +
+      ", above Table 2's 40.24, which needs at least " + std::to_string(b.needed) +
+      " looks perfectly spread. A longer cycle gives more looks, but the same cycle gives the mower more looks "
+      "too, and Table 2's mower EU of 52.34 — which our 1 s cycle reproduces exactly — fixes the mower at about "
+      "two looks per cell. So the two rows of Table 2 cannot both hold under one cycle length with this EU.\n\n";
 
-  md += "### Sensitivity study\n\n"
-        "Each unstated quantity varied alone from our reading (and one pair), " + std::to_string(study_runs) +
-        " runs per setting, every method with the same seeds; the \"rank EU as Σ H(P)\" column ranks by the "
-        "binary-entropy EU of the same final maps.\n" + study.md + "\n";
+  md +=
+      "### Sensitivity study\n\n"
+      "Each unstated quantity varied alone from our reading (and one pair), " +
+      std::to_string(study_runs) +
+      " runs per setting, every method with the same seeds; the \"rank EU as Σ H(P)\" column ranks by the "
+      "binary-entropy EU of the same final maps.\n" +
+      study.md + "\n";
 
   // Conclusion, from the study's numbers.
   double min_rank_eu = 1e9, min_rank_eu_b = 1e9;
@@ -472,25 +491,26 @@ std::string table2_investigation(const Samples& samples, const LookBudget& b, co
   }
   std::string vis_list;
   for (const auto& v : vis_ok) vis_list += (vis_list.empty() ? "" : "; ") + v;
-  md += "### Conclusion\n\n"
-        "**Not reproducible under any fair reading.** In none of the " + std::to_string(study.cells.size()) +
-        " settings × sensors is ESUSTPM first on EU: its best mean rank is " + fmt(min_rank_eu, 1) + " (" + at_eu +
-        "), and " + fmt(min_rank_eu_b, 1) + " (" + at_eu_b +
-        ") if EU is read as the binary entropy. It reaches Table 2's visited-cell rank (2, after the mower) only in: " +
-        (vis_list.empty() ? std::string("no setting") : vis_list) +
-        " — settings whose mower EU is far from Table 2's 52.34, which our reading reproduces. The look budget "
-        "above shows why no reading of the cycle can give both. The ranking the paper reports is not a matter of "
-        "our reading or a bug of ours: with its own equations, Table 1's constants and the same sensor for "
-        "every method, ESUSTPM's swarm holds a lattice (|β| ≈ 6000 m/s within 20 m of c = 120 m, as strong as "
-        "rule 4) and drifts as one body, and the EU metric that fits the mower rewards re-entering few cells, "
-        "which random search and Boids do more. The parts that are reproduced: the mower (100 cells; 52.34 bit "
-        "exactly with Algorithm 1's sensor), random search's EU, guided Boids' visited cells, and, with "
-        "Algorithm 1's sensor, ESUSTPM confirming nearly all three targets (row above).\n\n"
-        "**A variant that does what the paper wanted.** ESUSTPM-disperse (`search: \"esustpm_disperse\"`, "
-        "docs/policies/liu.md) keeps eqs. (6)–(9) and rule 4 but drops the attracting half of the neighbour rules "
-        "(β_i < 0, i ≤ 3). Same sensor, TPM, speed and seeds: see the variants table (visited cells at cycle 200, "
-        "and the distributed policy). It pays for it in this EU (it spreads its looks even more), the price of "
-        "the metric's reward for re-entry.\n";
+  md +=
+      "### Conclusion\n\n"
+      "**Not reproducible under any fair reading.** In none of the " +
+      std::to_string(study.cells.size()) + " settings × sensors is ESUSTPM first on EU: its best mean rank is " +
+      fmt(min_rank_eu, 1) + " (" + at_eu + "), and " + fmt(min_rank_eu_b, 1) + " (" + at_eu_b +
+      ") if EU is read as the binary entropy. It reaches Table 2's visited-cell rank (2, after the mower) only in: " +
+      (vis_list.empty() ? std::string("no setting") : vis_list) +
+      " — settings whose mower EU is far from Table 2's 52.34, which our reading reproduces. The look budget "
+      "above shows why no reading of the cycle can give both. The ranking the paper reports is not a matter of "
+      "our reading or a bug of ours: with its own equations, Table 1's constants and the same sensor for "
+      "every method, ESUSTPM's swarm holds a lattice (|β| ≈ 6000 m/s within 20 m of c = 120 m, as strong as "
+      "rule 4) and drifts as one body, and the EU metric that fits the mower rewards re-entering few cells, "
+      "which random search and Boids do more. The parts that are reproduced: the mower (100 cells; 52.34 bit "
+      "exactly with Algorithm 1's sensor), random search's EU, guided Boids' visited cells, and, with "
+      "Algorithm 1's sensor, ESUSTPM confirming nearly all three targets (row above).\n\n"
+      "**A variant that does what the paper wanted.** ESUSTPM-disperse (`search: \"esustpm_disperse\"`, "
+      "docs/policies/liu.md) keeps eqs. (6)–(9) and rule 4 but drops the attracting half of the neighbour rules "
+      "(β_i < 0, i ≤ 3). Same sensor, TPM, speed and seeds: see the variants table (visited cells at cycle 200, "
+      "and the distributed policy). It pays for it in this EU (it spreads its looks even more), the price of "
+      "the metric's reward for re-entry.\n";
   return md;
 }
 // The distributed `liu` policy on a shipped scenario, optionally patched
@@ -609,8 +629,8 @@ Report run_table2(uint32_t runs, const Progress& progress) {
         } else {
           verdict = "differs: mean rank " + fmt(mr, 1) + ", no baseline significantly better; " + why;
         }
-        rep.rows.push_back({"ESUSTPM's rank on " + what + nt + tag + " (1 = best of the five)", paper,
-                            std::move(ranks), "rank", "per run, ties share their mean rank", verdict});
+        rep.rows.push_back({"ESUSTPM's rank on " + what + nt + tag + " (1 = best of the five)", paper, std::move(ranks),
+                            "rank", "per run, ties share their mean rank", verdict});
       };
       rank_row("EU", 1, eu, true, "this EU falls only where a cell is looked at ≥ 3 times");
       rank_row("visited cells", 2, vis, false, "Table 1's rules hold a lattice that drifts as one body");
@@ -650,11 +670,10 @@ Report run_table2(uint32_t runs, const Progress& progress) {
                                d.visited, "Table 2's first column"});
     rep.comparisons.push_back({"EU at cycle 200, 3 targets" + tag, "bit", base, var, true, e.eu, d.eu,
                                "Table 2's second column (lower is better)"});
-    rep.comparisons.push_back({"targets found by cycle 200" + tag, "target", base, var, false, e.found, d.found,
-                               "Table 2's third column"});
-    rep.comparisons.push_back({"cycles to confirm all three targets" + tag, "cycle", base, var, true,
-                               e.all_found_cycle, d.all_found_cycle,
-                               "a run that never confirms all three counts as 200 (censored)"});
+    rep.comparisons.push_back(
+        {"targets found by cycle 200" + tag, "target", base, var, false, e.found, d.found, "Table 2's third column"});
+    rep.comparisons.push_back({"cycles to confirm all three targets" + tag, "cycle", base, var, true, e.all_found_cycle,
+                               d.all_found_cycle, "a run that never confirms all three counts as 200 (censored)"});
   }
   // The same searches as the distributed `liu` policy: the TPM in the place
   // agents, one sensor stream per UAV, neighbours from the UAV's view.
@@ -682,14 +701,13 @@ Report run_table2(uint32_t runs, const Progress& progress) {
       return v;
     };
     const std::string via = f.via + ", in-process simulator = lockstep run of the processes";
-    for (auto [key, label, pv, unit] :
-         std::vector<std::tuple<std::string, std::string, double, std::string>>{
+    for (auto [key, label, pv, unit] : std::vector<std::tuple<std::string, std::string, double, std::string>>{
              {"visited_cells", "visited cells", 89, "cell"},
              {"environmental_uncertainty", "EU", 40.23, "bit"},
              {"real_targets_confirmed", "targets found", 3, "target"}}) {
       Row row{f.name + " " + label + ", distributed policy", paper(pv), field_samples(r, key), unit, via, ""};
       if (f.paper) {
-        const Metric kind = key == "visited_cells" ? Metric::kVisited
+        const Metric kind = key == "visited_cells"            ? Metric::kVisited
                             : key == "real_targets_confirmed" ? Metric::kFound
                                                               : Metric::kEu;
         row.verdict = table2_verdict(row, kind, LiuPolicy::kEsustpm,
@@ -698,14 +716,14 @@ Report run_table2(uint32_t runs, const Progress& progress) {
       rep.rows.push_back(std::move(row));
     }
   }
-  rep.comparisons.push_back({"visited cells at tick 200, distributed policy (noisy sensor)", "cell",
-                             "ESUSTPM (policy liu, search esustpm)", "ESUSTPM-disperse (policy liu, search esustpm_disperse)",
-                             false, field_samples(dist[0], "visited_cells"), field_samples(dist[1], "visited_cells"),
-                             "the real-swarm policy: place agents hold the TPM"});
-  rep.comparisons.push_back({"visited cells at tick 200, distributed policy [Alg. 1 sensor]", "cell",
-                             "ESUSTPM (policy liu, search esustpm)", "ESUSTPM-disperse (policy liu, search esustpm_disperse)",
-                             false, field_samples(dist[2], "visited_cells"), field_samples(dist[3], "visited_cells"),
-                             "the real-swarm policy: place agents hold the TPM"});
+  rep.comparisons.push_back(
+      {"visited cells at tick 200, distributed policy (noisy sensor)", "cell", "ESUSTPM (policy liu, search esustpm)",
+       "ESUSTPM-disperse (policy liu, search esustpm_disperse)", false, field_samples(dist[0], "visited_cells"),
+       field_samples(dist[1], "visited_cells"), "the real-swarm policy: place agents hold the TPM"});
+  rep.comparisons.push_back(
+      {"visited cells at tick 200, distributed policy [Alg. 1 sensor]", "cell", "ESUSTPM (policy liu, search esustpm)",
+       "ESUSTPM-disperse (policy liu, search esustpm_disperse)", false, field_samples(dist[2], "visited_cells"),
+       field_samples(dist[3], "visited_cells"), "the real-swarm policy: place agents hold the TPM"});
 
   // The look budget: how low can EU go at all, having visited Table 2's cells?
   const core::LiuParams lp;
@@ -719,16 +737,19 @@ Report run_table2(uint32_t runs, const Progress& progress) {
   const double bound_max = core::liu_lowest_eu(85, 100, looks_max, lp);
   int needed = looks_max;
   while (needed < 2000 && core::liu_lowest_eu(85, 100, needed, lp) > 40.24) needed += 10;
-  rep.rows.push_back({"lowest EU any search can reach with 95 cells visited and ESUSTPM's look budget, no targets "
-                      "[Alg. 1 sensor]",
-                      40.24, {bound_max}, "bit",
-                      "exact minimum over every allocation of the " + std::to_string(looks_max) +
-                          " looks (the most ESUSTPM made in a run; mean " + std::to_string(looks_mean) + " → " +
-                          fmt(bound_mean, 2) + " bit); Table 2's 40.24 needs ≥ " + std::to_string(needed) +
-                          " looks. Mower looks per run: " + fmt(mean(m_nt.observations), 0),
-                      bound_max > 40.24 ? "differs: Table 2's pair (95 cells, 40.24 bit) is out of reach of any search "
-                                          "with these looks"
-                                        : "reproduced: the pair is within reach of these looks"});
+  rep.rows.push_back(
+      {"lowest EU any search can reach with 95 cells visited and ESUSTPM's look budget, no targets "
+       "[Alg. 1 sensor]",
+       40.24,
+       {bound_max},
+       "bit",
+       "exact minimum over every allocation of the " + std::to_string(looks_max) +
+           " looks (the most ESUSTPM made in a run; mean " + std::to_string(looks_mean) + " → " + fmt(bound_mean, 2) +
+           " bit); Table 2's 40.24 needs ≥ " + std::to_string(needed) +
+           " looks. Mower looks per run: " + fmt(mean(m_nt.observations), 0),
+       bound_max > 40.24 ? "differs: Table 2's pair (95 cells, 40.24 bit) is out of reach of any search "
+                           "with these looks"
+                         : "reproduced: the pair is within reach of these looks"});
 
   // The sensitivity study.
   const Study study = sensitivity_study(study_runs, progress, done, total);
