@@ -492,5 +492,71 @@ TEST(LiuMetrics, StartPositionsOfSection5FallInTheLowerLeftCells) {
   EXPECT_EQ(cell_of(kLiuTargets[2], p), (Cell{7, 5}));
 }
 
+// --- ESUSTPM-disperse (ours, not the paper's) --------------------------------------
+
+TpmLookup no_tpm() {
+  return [](Cell) -> std::optional<double> { return std::nullopt; };
+}
+
+TEST(LiuDisperse, ANeighbourBeyondTheGivenDistanceNoLongerPulls) {
+  // One neighbour 200 m east, no TPM (rule 4 silent). ESUSTPM: β(200) = -586.10
+  // along F = (-1, 0) pulls east, mvel = 586.10 / 4 = 146.52 m/s. The variant
+  // drops the pull: mvel = 0, and a UAV at rest stays at rest (no heading).
+  const LiuParams p;
+  const LiuUav self{{550.0, 550.0}, {}};
+  const std::vector<LiuUav> others{{{750.0, 550.0}, {}}};
+  const Vec2 esustpm = esustpm_objective_velocity(self, others, no_tpm(), p);
+  EXPECT_NEAR(esustpm.x, 146.52, 1e-2);
+  EXPECT_NEAR(esustpm.y, 0.0, kEps);
+  const Vec2 disperse = esustpm_disperse_objective_velocity(self, others, no_tpm(), p);
+  EXPECT_NEAR(disperse.x, 0.0, kEps);
+  EXPECT_NEAR(disperse.y, 0.0, kEps);
+  EXPECT_FALSE(esustpm_disperse_step(self, others, no_tpm(), p).heading.has_value());
+  // Moving east at 10 m/s, it keeps that velocity (as esustpm_step does with mvel = 0).
+  const LiuMove keep = esustpm_disperse_step({{550.0, 550.0}, {10.0, 0.0}}, others, no_tpm(), p);
+  EXPECT_NEAR(keep.velocity.x, 10.0, kEps);
+  EXPECT_EQ(keep.next, (Cell{6, 5}));
+}
+
+TEST(LiuDisperse, ANeighbourWithinTheGivenDistanceRepelsAsInEsustpm) {
+  // Neighbour 100 m west: β(100) = 6116.29 pushes east in both, mvel = 1529.07.
+  const LiuParams p;
+  const LiuUav self{{550.0, 550.0}, {}};
+  const std::vector<LiuUav> others{{{450.0, 550.0}, {}}};
+  EXPECT_NEAR(esustpm_objective_velocity(self, others, no_tpm(), p).x, 1529.07, 1e-2);
+  EXPECT_NEAR(esustpm_disperse_objective_velocity(self, others, no_tpm(), p).x, 1529.07, 1e-2);
+}
+
+TEST(LiuDisperse, RuleFourGuidesAsInEsustpm) {
+  // The lone UAV of ALoneUavHeadsForTheMostProbableNeighbouringCell: the best
+  // cell 100 m north gives |β(100)| / 4 = 1529.07 north in both.
+  std::vector<double> map(100, 0.2);
+  map[6 * 10 + 5] = 0.4;
+  const LiuParams p;
+  const LiuUav self{{550.0, 550.0}, {10.0, 0.0}};
+  const Vec2 v = esustpm_disperse_objective_velocity(self, {}, lookup_of(map), p);
+  EXPECT_NEAR(v.x, 0.0, kEps);
+  EXPECT_NEAR(v.y, 1529.07, 1e-2);
+}
+
+// --- the look budget (liu_lowest_eu) ---------------------------------------------------
+
+TEST(LiuLookBudget, LowestEuMatchesHandWorkedAllocations) {
+  const LiuParams p;  // q = 0.7 / 0.9 = 7/9, P0 = 0.5
+  // Nothing looked at: 100 cells of -0.5 log2 0.5 = 50 bit.
+  EXPECT_NEAR(liu_lowest_eu(0, 100, 0, p), 50.0, kEps);
+  // One cell, one miss: P = 7/18 = 0.388889, -P log2 P = 0.529888.
+  EXPECT_NEAR(liu_lowest_eu(1, 1, 1, p), 0.529888, 1e-6);
+  // Two cells, at most three looks: (1, 2) gives 0.529888 + 0.521802 = 1.051690,
+  // better than (1, 1) = 1.059777.
+  EXPECT_NEAR(liu_lowest_eu(2, 2, 3, p), 1.051690, 1e-6);
+  // One of two cells, up to ten looks: all ten on it, P = 0.5 (7/9)^10 = 0.040371,
+  // 0.187371 + 0.5 for the other cell.
+  EXPECT_NEAR(liu_lowest_eu(1, 2, 10, p), 0.687371, 1e-6);
+  // Fewer looks than cells to look at: impossible.
+  EXPECT_TRUE(std::isinf(liu_lowest_eu(2, 2, 1, p)));
+  EXPECT_TRUE(std::isnan(liu_lowest_eu(3, 2, 5, p)));
+}
+
 }  // namespace
 }  // namespace pheromesh::core

@@ -132,6 +132,7 @@ class LiuUavPolicy final : public UavPolicy {
       case LiuPolicy::kRandom: move = random_search_step(uav_, rng_, p_); break;          // Liu 2022 eq. (12), Liu 2022 eq. (13)
       case LiuPolicy::kBoids: move = boids_step(uav_, others_, p_); break;                // Liu 2022 Sec. 5.1.4
       case LiuPolicy::kGuidedBoids: move = boids_guided_step(uav_, others_, tpm, p_); break;  // Liu 2022 Sec. 5.1.5
+      case LiuPolicy::kEsustpmDisperse: move = esustpm_disperse_step(uav_, others_, tpm, p_); break;  // ours
       case LiuPolicy::kLawnmower: return;
     }
     uav_.velocity = move.velocity;

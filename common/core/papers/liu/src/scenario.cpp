@@ -32,12 +32,13 @@ void build_liu(const pb::LiuPolicy& msg, const Node& n, Validator& v, ScenarioCo
   LiuConfig c;
   LiuParams& p = c.params;
 
-  read_choice<LiuPolicy, 5>(v, n, "search", msg.has_search(), msg.search(),
+  read_choice<LiuPolicy, 6>(v, n, "search", msg.has_search(), msg.search(),
                             {{{"esustpm", LiuPolicy::kEsustpm},
                               {"lawnmower", LiuPolicy::kLawnmower},
                               {"random", LiuPolicy::kRandom},
                               {"boids", LiuPolicy::kBoids},
-                              {"guided_boids", LiuPolicy::kGuidedBoids}}},
+                              {"guided_boids", LiuPolicy::kGuidedBoids},
+                              {"esustpm_disperse", LiuPolicy::kEsustpmDisperse}}},
                             c.search);
   read_choice<LiuPrior, 3>(v, n, "prior", msg.has_prior(), msg.prior(),
                            {{{"uniform", LiuPrior::kUniform}, {"accurate", LiuPrior::kAccurate}, {"wrong", LiuPrior::kWrong}}},

@@ -104,6 +104,7 @@ std::string_view to_string(LiuPolicy p) {
     case LiuPolicy::kRandom: return "random";
     case LiuPolicy::kBoids: return "Boids";
     case LiuPolicy::kGuidedBoids: return "guided Boids";
+    case LiuPolicy::kEsustpmDisperse: return "ESUSTPM-disperse";
   }
   return "?";
 }
@@ -212,6 +213,7 @@ Result<LiuSwarmResult> run_liu_swarm(const LiuSwarmConfig& config, uint64_t seed
           case LiuPolicy::kRandom: move = random_search_step(uavs[i], uav_rng[i], p); break;
           case LiuPolicy::kBoids: move = boids_step(uavs[i], others, p); break;
           case LiuPolicy::kGuidedBoids: move = boids_guided_step(uavs[i], others, lookup, p); break;
+          case LiuPolicy::kEsustpmDisperse: move = esustpm_disperse_step(uavs[i], others, lookup, p); break;
           case LiuPolicy::kLawnmower: break;
         }
         velocity[i] = move.velocity;

@@ -22,9 +22,11 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <string>
 #include <utility>
+#include <vector>
 
 namespace pheromesh::core {
 
@@ -364,19 +366,55 @@ LiuUav advance_uav(const LiuUav& uav, Vec2 velocity, double dt_s, const LiuParam
   return out;
 }
 
+double liu_lowest_eu(int32_t looked_cells, int32_t cells, int32_t looks, const LiuParams& params) {
+  if (looked_cells < 0 || looks < 0 || looked_cells > cells) {
+    return std::numeric_limits<double>::quiet_NaN();
+  }
+  if (looked_cells > looks) {
+    return std::numeric_limits<double>::infinity();
+  }
+  const double q = (1.0 - params.p_detection) / (1.0 - params.p_false_alarm);  // Liu 2022 eq. (5) as printed
+  const auto h = [](double x) { return x <= 0.0 ? 0.0 : -x * std::log2(x); };
+  const auto n_looks = static_cast<std::size_t>(looks);
+  std::vector<double> cell_eu(n_looks + 1);  // EU of one cell after n misses
+  for (std::size_t n = 0; n <= n_looks; ++n) {
+    cell_eu[n] = h(params.initial_probability * std::pow(q, static_cast<double>(n)));
+  }
+  const double inf = std::numeric_limits<double>::infinity();
+  // best[u]: lowest EU of the cells placed so far using exactly u looks.
+  std::vector<double> best(n_looks + 1, inf);
+  best[0] = 0.0;
+  for (int32_t c = 0; c < looked_cells; ++c) {
+    std::vector<double> next(n_looks + 1, inf);
+    for (std::size_t used = 0; used <= n_looks; ++used) {
+      if (best[used] == inf) continue;
+      for (std::size_t n = 1; used + n <= n_looks; ++n) {
+        next[used + n] = std::min(next[used + n], best[used] + cell_eu[n]);
+      }
+    }
+    best = std::move(next);
+  }
+  return *std::min_element(best.begin(), best.end()) + (cells - looked_cells) * h(params.initial_probability);
+}
+
 // ---------------------------------------------------------------------------
 // ESUSTPM
 // ---------------------------------------------------------------------------
 
-Vec2 esustpm_objective_velocity(const LiuUav& self, std::span<const LiuUav> others, const TpmLookup& tpm,
-                                const LiuParams& params) {
+namespace {
+
+// Liu 2022 eq. (6) with rules 1-3 as given, or (repel_only) with their
+// attracting half dropped (ESUSTPM-disperse).
+Vec2 objective_velocity(const LiuUav& self, std::span<const LiuUav> others, const TpmLookup& tpm,
+                        const LiuParams& params, bool repel_only) {
   Vec2 sum{};
   const std::vector<std::size_t> nn = nearest_neighbours(self.position, others, params);
   for (std::size_t rule = 0; rule < nn.size() && rule < 3; ++rule) {
     const Vec2 f = self.position - others[nn[rule]].position;  // F_i: from the neighbour to the UAV
     const double d = norm(f);
     if (d > 0.0) {
-      sum = sum + f * (liu_gain(rule, d, params) / d);
+      const double beta = liu_gain(rule, d, params);
+      sum = sum + f * ((repel_only ? std::max(beta, 0.0) : beta) / d);
     }
   }
   const std::optional<Cell> guide =
@@ -391,13 +429,33 @@ Vec2 esustpm_objective_velocity(const LiuUav& self, std::span<const LiuUav> othe
   return sum * 0.25;  // Liu 2022 eq. (6)
 }
 
-LiuMove esustpm_step(const LiuUav& self, std::span<const LiuUav> others, const TpmLookup& tpm,
-                     const LiuParams& params) {
-  Vec2 v = esustpm_objective_velocity(self, others, tpm, params);
+LiuMove step_towards(const LiuUav& self, Vec2 v, const LiuParams& params) {
   if (norm(v) < kTiny) {
     v = self.velocity;
   }
   return grid_move(self.position, clip_speed(v, params.max_speed_mps), params);
+}
+
+}  // namespace
+
+Vec2 esustpm_objective_velocity(const LiuUav& self, std::span<const LiuUav> others, const TpmLookup& tpm,
+                                const LiuParams& params) {
+  return objective_velocity(self, others, tpm, params, false);
+}
+
+LiuMove esustpm_step(const LiuUav& self, std::span<const LiuUav> others, const TpmLookup& tpm,
+                     const LiuParams& params) {
+  return step_towards(self, esustpm_objective_velocity(self, others, tpm, params), params);
+}
+
+Vec2 esustpm_disperse_objective_velocity(const LiuUav& self, std::span<const LiuUav> others, const TpmLookup& tpm,
+                                         const LiuParams& params) {
+  return objective_velocity(self, others, tpm, params, true);
+}
+
+LiuMove esustpm_disperse_step(const LiuUav& self, std::span<const LiuUav> others, const TpmLookup& tpm,
+                              const LiuParams& params) {
+  return step_towards(self, esustpm_disperse_objective_velocity(self, others, tpm, params), params);
 }
 
 // ---------------------------------------------------------------------------

@@ -40,6 +40,9 @@ enum class LiuPolicy : uint8_t {
   kRandom,       // Liu 2022 eq. (12), Liu 2022 eq. (13), random_search_step
   kBoids,        // Liu 2022 Sec. 5.1.4, boids_step
   kGuidedBoids,  // Liu 2022 Sec. 5.1.5, boids_guided_step
+  // Ours, not the paper's: ESUSTPM whose neighbour rules only repel
+  // (esustpm_disperse_step, docs/policies/liu.md).
+  kEsustpmDisperse,
 };
 std::string_view to_string(LiuPolicy p);
 

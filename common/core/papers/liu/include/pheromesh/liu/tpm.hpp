@@ -212,6 +212,19 @@ double environmental_uncertainty(std::span<const double> probabilities);
 // Not the paper's metric (see above); kept for comparison.
 double binary_entropy_bits(std::span<const double> probabilities);
 
+// The lowest EU (environmental_uncertainty, bit) a search can leave on a map
+// of `cells` cells at P0 = params.initial_probability when `looked_cells` of
+// them were each looked at at least once and every look was a miss (no
+// targets and Liu 2022 Algorithm 1's sensor, or a noisy sensor that never false-alarms),
+// with at most `looks` looks in all; the other cells keep P0. A miss is
+// printed Liu 2022 eq. (5) (P -> q P, q = (1 - Pd) / (1 - Pf)) whatever params.miss_update
+// says. Exact minimum over every allocation of the looks (dynamic
+// programming). +inf if looked_cells > looks; needs 0 <= looked_cells <= cells.
+// What it is for: the liu-table2 investigation shows that Liu 2022 Table 2's
+// ESUSTPM pair (visited cells, EU) cannot be reached with the looks ten UAVs
+// make in 200 cycles.
+double liu_lowest_eu(int32_t looked_cells, int32_t cells, int32_t looks, const LiuParams& params);
+
 // ---------------------------------------------------------------------------
 // UAV state and grid helpers
 // ---------------------------------------------------------------------------
@@ -291,6 +304,25 @@ Vec2 esustpm_objective_velocity(const LiuUav& self, std::span<const LiuUav> othe
 // grid_move. No randomness: the paper has none here.
 LiuMove esustpm_step(const LiuUav& self, std::span<const LiuUav> others, const TpmLookup& tpm,
                      const LiuParams& params);
+
+// ---------------------------------------------------------------------------
+// ESUSTPM-disperse: a variant of ours, not the paper's (docs/policies/liu.md)
+// ---------------------------------------------------------------------------
+
+// ESUSTPM with the attracting half of the neighbour rules dropped: for the
+// three nearest neighbours only β_i(d) > 0 (d < c_i, "repel each other when
+// the distance between them is less than the safe distance", Liu 2022 Sec. 5)
+// is kept; the pull back towards c_i of a neighbour farther than c_i is 0.
+// Rule 4 (the TPM guidance) is ESUSTPM's. Why: with Liu 2022 Table 1's
+// constants the pull holds the ten UAVs in a rigid lattice that drifts as one
+// body (the liu-table2 investigation), so the swarm enters few new cells;
+// without it the UAVs keep their spacing at close range and otherwise follow
+// the TPM apart. Same sensor, TPM update and speed as ESUSTPM.
+Vec2 esustpm_disperse_objective_velocity(const LiuUav& self, std::span<const LiuUav> others, const TpmLookup& tpm,
+                                         const LiuParams& params);
+// One ESUSTPM-disperse decision: as esustpm_step with the objective above.
+LiuMove esustpm_disperse_step(const LiuUav& self, std::span<const LiuUav> others, const TpmLookup& tpm,
+                              const LiuParams& params);
 
 // ---------------------------------------------------------------------------
 // Baselines of Liu 2022 Sec. 5
