@@ -29,7 +29,7 @@ struct Row {
 };
 
 // "reproduced" when the paper's figure lies in the 95 % confidence interval
-// of our mean or within 15 % of it, else "differs: ours is X % higher/lower"
+// of our mean (from 5 runs on) or within 15 % of it, else "differs: ours is X % higher/lower"
 // (the row's note says why).
 std::string auto_verdict(const Row& r);
 

@@ -31,7 +31,15 @@ TEST(ExperimentStats, TheAutomaticVerdictReproducesWithinFifteenPercentOrTheInte
   EXPECT_EQ(ex::auto_verdict(r), "reproduced");  // 12 % above
   r.ours = {140, 150, 160};                         // 50 % above, CI 125.2-174.8
   EXPECT_EQ(ex::auto_verdict(r), "differs: ours is 50 % higher");
-  r.ours = {20, 100, 180};  // mean 100: inside (and equal)
+  r.ours = {20, 100, 180};  // mean 100: equal
+  EXPECT_EQ(ex::auto_verdict(r), "reproduced");
+  // Inside a wide interval of few runs is not enough: 3 runs, mean 60,
+  // CI 60 ± 4.303 * 40 / sqrt(3) = -39.4 .. 159.4 holds 100.
+  r.ours = {20, 60, 100};
+  EXPECT_EQ(ex::auto_verdict(r), "differs: ours is 40 % lower");
+  // From 5 runs on it is: 6 runs, mean 80 (20 % low), sd sqrt(7000 / 5) =
+  // 37.42, CI 80 ± 2.571 * 37.42 / sqrt(6) = 40.7 .. 119.3 holds 100.
+  r.ours = {30, 50, 70, 90, 110, 130};
   EXPECT_EQ(ex::auto_verdict(r), "reproduced");
   r.ours = {40, 60, 50};  // 50 % below; CI 25.2-74.8 excludes 100
   EXPECT_EQ(ex::auto_verdict(r), "differs: ours is 50 % lower");
