@@ -9,6 +9,7 @@ struct ExperimentOptions {
   uint32_t runs = 0;  // 0: the paper's run count
   std::string out_dir;  // default out/experiments/NAME
   bool list = false;
+  bool all = false;  // --all: every experiment, and OUT/summary.md (OUT default out/experiments)
   // --distributed: each checked run is also flown by real processes in
   // lockstep (experiments/flight.hpp) and must give the simulator's numbers.
   bool distributed = false;

@@ -252,7 +252,11 @@ int main(int argc, char** argv) {
   auto* ex = app.add_subcommand("experiment", "Run one of the papers' experiments as Monte Carlo with the simulator and "
                                               "write a report (Markdown + CSV + SVG) with our numbers beside the paper's");
   ex->add_option("NAME", eo.name, "Experiment (see --list)");
-  ex->add_flag("--list", eo.list, "List the experiments");
+  ex->add_flag("--list", eo.list, "List the experiments and our verdict on each paper claim");
+  ex->add_flag("--all", eo.all,
+               "Run every experiment (each with --runs or its paper's count) and write OUT/summary.md: every paper "
+               "figure beside ours with its verdict, the variants' gains and the wall times (OUT: --out, default "
+               "out/experiments)");
   ex->add_option("--runs", eo.runs, "Monte Carlo runs (default: the paper's count)");
   ex->add_option("--out", eo.out_dir, "Output folder (default out/experiments/NAME)");
   ex->add_flag("--distributed", eo.distributed,
@@ -265,7 +269,8 @@ int main(int argc, char** argv) {
   pheromesh experiment --list                       every experiment and our verdict on the paper's claims
   pheromesh experiment shao-50x50 --runs 30         Monte Carlo in the simulator, report in out/experiments/shao-50x50
   pheromesh experiment shao-50x50 --runs 3 --distributed --dds mixed
-                                                    the same runs flown by real processes, checked against the simulator)");
+                                                    the same runs flown by real processes, checked against the simulator
+  pheromesh experiment --all                        every experiment; out/experiments/summary.md sums them up)");
 
   cli::ReplayOptions rpo;
   auto* rp = app.add_subcommand("replay", "Serve the web console from a recording (OUT/console.phrec of `run --http`), "
