@@ -8,7 +8,10 @@
 #include <string>
 
 #include "experiment.hpp"
+#include "flight.hpp"
 #include "pheromesh/ravankar/model.hpp"
+#include "pheromesh/ravankar/policy.hpp"
+#include "scenario_paths.hpp"
 
 namespace pheromesh::cli::experiments {
 
@@ -214,6 +217,60 @@ Report run_trails(uint32_t /*runs*/, const Progress& progress) {
   return rep;
 }
 
+
+// ------------------------------------------------------------ the corridor swarm
+
+// What one corridor run says about the followers (true positions, metres).
+struct CorridorRun {
+  std::vector<double> reach_m;        // per follower: farthest x along the corridor
+  std::vector<double> final_gap_m;    // per follower: distance to the leader at the end
+  std::vector<double> arrival_s;      // per follower: first time within 2 m of the route's end (NaN: never)
+  double leader_x_m = 0.0;
+};
+
+CorridorRun fly_corridor(const core::ScenarioConfig& s, bool check) {
+  const auto& c = s.config_of<core::RavankarConfig>();
+  const double cs = c.cell_size_m;
+  const Eigen::Vector2d goal((c.route.back().x + 0.5) * cs, (c.route.back().y + 0.5) * cs);
+  CorridorRun out;
+  const uint32_t followers = s.uavs - c.leaders;
+  out.reach_m.assign(followers, 0.0);
+  out.final_gap_m.assign(followers, 0.0);
+  out.arrival_s.assign(followers, std::nan(""));
+  fly(s, [&](const core::Simulator& sim, uint32_t k) {
+    const auto& l = sim.uav(0).last_state();
+    const Eigen::Vector2d lp((l.x + 0.5) * cs, (l.y + 0.5) * cs);
+    out.leader_x_m = lp.x();
+    for (uint32_t f = 0; f < followers; ++f) {
+      const auto& st = sim.uav(c.leaders + f).last_state();
+      const Eigen::Vector2d p((st.x + 0.5) * cs, (st.y + 0.5) * cs);
+      out.reach_m[f] = std::max(out.reach_m[f], p.x());
+      out.final_gap_m[f] = (p - lp).norm();
+      if (std::isnan(out.arrival_s[f]) && (p - goal).norm() <= 2.0) out.arrival_s[f] = k * c.dt_s;
+    }
+  }, check);
+  return out;
+}
+
+Report run_corridor(uint32_t runs, const Progress& progress) {
+  auto loaded = core::load_scenario(shipped_scenario("ravankar2016-corridor.textproto"));
+  if (!loaded) throw std::runtime_error(loaded.error().message);
+  const core::ScenarioConfig base = loaded.value();
+  Report rep;
+  rep.title = "probe";
+  for (uint32_t run = 0; run < runs; ++run) {
+    core::ScenarioConfig s = base;
+    s.seed = run + 1;
+    const CorridorRun r = fly_corridor(s, true);
+    std::string line = "seed " + std::to_string(s.seed) + " leader " + fmt(r.leader_x_m, 1);
+    for (std::size_t f = 0; f < r.reach_m.size(); ++f)
+      line += " | reach " + fmt(r.reach_m[f], 1) + " gap " + fmt(r.final_gap_m[f], 1) + " arr " + fmt(r.arrival_s[f], 0);
+    rep.notes.push_back(line);
+    progress(run + 1, runs);
+  }
+  return rep;
+}
+
 }  // namespace
 
 std::vector<Experiment> ravankar_experiments() {
@@ -224,6 +281,7 @@ std::vector<Experiment> ravankar_experiments() {
       {"ravankar-trails",
        "Ravankar 2016 Fig. 23 / Table 2: follower rejects trails below δ·P0 and adapts its speed", 1,
        [](uint32_t runs, const Progress& p) { return run_trails(runs, p); }},
+      {"ravankar-corridor", "probe", 10, [](uint32_t runs, const Progress& p) { return run_corridor(runs, p); }},
   };
 }
 
