@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <optional>
+#include <stdexcept>
 #include <string>
 
 #include "experiment.hpp"
@@ -255,19 +256,83 @@ CorridorRun fly_corridor(const core::ScenarioConfig& s, bool check) {
 Report run_corridor(uint32_t runs, const Progress& progress) {
   auto loaded = core::load_scenario(shipped_scenario("ravankar2016-corridor.textproto"));
   if (!loaded) throw std::runtime_error(loaded.error().message);
-  const core::ScenarioConfig base = loaded.value();
+  const core::ScenarioConfig paper = loaded.value();
+  auto patched = core::patch_scenario(paper, "policy { ravankar { reject_explore: \"retreat\" } }",
+                                      "ravankar2016-corridor-retreat");
+  if (!patched) throw std::runtime_error(patched.error().message);
+  const core::ScenarioConfig retreat = patched.value();
+  const auto& c = paper.config_of<core::RavankarConfig>();
+  // Where the leader's last position fix can happen: the end of fix_area [m].
+  const double lost_from_m = c.fix_area ? (c.fix_area->x0 + c.fix_area->w) * c.cell_size_m : 0.0;
+
   Report rep;
-  rep.title = "probe";
+  rep.title = "Ravankar 2016 Figs. 22–24 — followers in the corridor once the leader is lost: onward vs ravankar_retreat";
+  rep.source = "Ravankar et al. 2016, eq. (24), Figs. 22–24 (L11 / L12, locations A and B) and Table 2";
+  rep.setup = "scenarios/ravankar2016-corridor.textproto (1 leader + 4 followers 10 s apart, 44 x 8 cells of 1 m, "
+              "3 place agents, the leader fixed only while x < " + fmt(lost_from_m, 0) + " m, 300 ticks of 1 s) for "
+              "seeds 1.." + std::to_string(runs) + ", each flown twice through fly(): as shipped (reject_explore: "
+              "onward, our reading of the paper) and with `policy { ravankar { reject_explore: \"retreat\" } }`; "
+              "in-process simulator (the code and schedule of `pheromesh run --clock lockstep`); true positions";
+
+  std::vector<double> reach_o, reach_r, depth_o, depth_r, gap_o, gap_r, arrive_o, arrive_r, leader_x;
+  rep.csv_header = {"seed", "leader_x_m", "mean_reach_onward_m", "mean_reach_retreat_m", "mean_depth_onward_m",
+                    "mean_depth_retreat_m", "arrived_onward", "arrived_retreat"};
+  const auto summarise = [&](const CorridorRun& r, std::vector<double>& reach, std::vector<double>& depth,
+                             std::vector<double>& gap, std::vector<double>& arrive) {
+    double sr = 0, sd = 0, sg = 0, sa = 0;
+    for (std::size_t f = 0; f < r.reach_m.size(); ++f) {
+      sr += r.reach_m[f];
+      sd += std::max(0.0, r.reach_m[f] - lost_from_m);
+      sg += r.final_gap_m[f];
+      sa += std::isnan(r.arrival_s[f]) ? 0.0 : 1.0;
+    }
+    const auto n = static_cast<double>(std::max<std::size_t>(r.reach_m.size(), 1));
+    reach.push_back(sr / n);
+    depth.push_back(sd / n);
+    gap.push_back(sg / n);
+    arrive.push_back(sa / n);
+  };
   for (uint32_t run = 0; run < runs; ++run) {
-    core::ScenarioConfig s = base;
-    s.seed = run + 1;
-    const CorridorRun r = fly_corridor(s, true);
-    std::string line = "seed " + std::to_string(s.seed) + " leader " + fmt(r.leader_x_m, 1);
-    for (std::size_t f = 0; f < r.reach_m.size(); ++f)
-      line += " | reach " + fmt(r.reach_m[f], 1) + " gap " + fmt(r.final_gap_m[f], 1) + " arr " + fmt(r.arrival_s[f], 0);
-    rep.notes.push_back(line);
+    core::ScenarioConfig so = paper, sr = retreat;
+    so.seed = sr.seed = run + 1;
+    const CorridorRun o = fly_corridor(so, true);
+    const CorridorRun r = fly_corridor(sr, true);
+    leader_x.push_back(o.leader_x_m);
+    summarise(o, reach_o, depth_o, gap_o, arrive_o);
+    summarise(r, reach_r, depth_r, gap_r, arrive_r);
+    rep.csv_rows.push_back({std::to_string(so.seed), fmt(o.leader_x_m, 2), fmt(reach_o.back(), 2),
+                            fmt(reach_r.back(), 2), fmt(depth_o.back(), 2), fmt(depth_r.back(), 2),
+                            fmt(arrive_o.back(), 2), fmt(arrive_r.back(), 2)});
     progress(run + 1, runs);
   }
+  const std::string lost = fmt(lost_from_m, 0) + " m";
+  rep.rows = {
+      {"leader's true x at the end (route end 38.5 m)", std::nullopt, leader_x, "m",
+       "the leader believes it reached the end; its wheel noise and the lost fixes put it short", ""},
+      {"followers' farthest x, onward (our reading of the paper)", std::nullopt, reach_o, "m",
+       "mean over the 4 followers of a run", ""},
+      {"followers' depth beyond the last fix (" + lost + "), onward", std::nullopt, depth_o, "m",
+       "Fig. 24: the paper's follower turns away at L12 and explores B, not the lost leader's A", ""},
+      {"followers' depth beyond the last fix (" + lost + "), ravankar_retreat (ours)", std::nullopt, depth_r, "m",
+       "the trail is rejected at the same place; the walk then starts back along the trail", ""},
+      {"followers' final distance to the leader, onward", std::nullopt, gap_o, "m", "", ""},
+      {"followers' final distance to the leader, ravankar_retreat", std::nullopt, gap_r, "m",
+       "the cost of the variant: the followers stay farther from where the leader ended", ""},
+      {"followers within 2 m of the route's end at some time, onward", std::nullopt, arrive_o, "share",
+       "reached only by walking on through the zone the paper wants avoided", ""},
+      {"followers within 2 m of the route's end at some time, ravankar_retreat", std::nullopt, arrive_r, "share", "",
+       ""},
+  };
+  Comparison cmp;
+  cmp.metric = "followers' depth into the zone where the leader was lost (x beyond its last fix, " + lost + ")";
+  cmp.unit = "m";
+  cmp.baseline = "ravankar, reject_explore: onward (our reading of the paper's \"its own exploration\")";
+  cmp.variant = "ravankar_retreat (ours, docs/policies/ravankar.md)";
+  cmp.lower_is_better = true;
+  cmp.baseline_samples = depth_o;
+  cmp.variant_samples = depth_r;
+  cmp.note = "paired by seed; one sample per run = the mean over its 4 followers";
+  rep.comparisons.push_back(cmp);
   return rep;
 }
 
@@ -281,7 +346,10 @@ std::vector<Experiment> ravankar_experiments() {
       {"ravankar-trails",
        "Ravankar 2016 Fig. 23 / Table 2: follower rejects trails below δ·P0 and adapts its speed", 1,
        [](uint32_t runs, const Progress& p) { return run_trails(runs, p); }},
-      {"ravankar-corridor", "probe", 10, [](uint32_t runs, const Progress& p) { return run_corridor(runs, p); }},
+      {"ravankar-corridor",
+       "Ravankar 2016 Figs. 22–24 on the UAV and place cores (ravankar2016-corridor): followers once the leader is "
+       "lost, the paper's policy vs ravankar_retreat",
+       20, [](uint32_t runs, const Progress& p) { return run_corridor(runs, p); }},
   };
 }
 
