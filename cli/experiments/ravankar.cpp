@@ -371,8 +371,9 @@ Report run_corridor(uint32_t runs, const Progress& progress) {
       "**Second reading.** The paper's claim (Figs. 22–24): the leader deposits γ = τ/(λ1·λ2) (eq. (12)) over its "
       "error ellipse (eq. (14)); once it is lost its trail falls below δ·P0 = 10 (L12: 8.15), the follower rejects "
       "it (eq. (24)) and \"carries its own exploration\", going to B and not to the lost leader's A. Our followers "
-      "reject the trail where the paper's does: about 2–3 m past the leader's last position fix (the depth rows), "
-      "where the ellipse has grown enough. What the follower does next the paper leaves open. Our reading of it "
+      "reject the trail where the paper's does, a few metres past the leader's last position fix, where its "
+      "ellipse has grown and the trail falls below 10 (x ≈ 31–32 m; the retreat rows bound it: those followers "
+      "turn back there). What the follower does next the paper leaves open. Our reading of it "
       "(onward) is a correlated random walk that starts from the follower's current heading, which points on "
       "into the lost leader's zone; so our followers still drift about 6 m deep into it, a part of the way "
       "toward A, and some reach the route's end.\n\n"
@@ -406,7 +407,7 @@ std::vector<Experiment> ravankar_experiments() {
        "Ravankar 2016 Figs. 22–24 on the UAV and place cores (ravankar2016-corridor): followers once the leader is "
        "lost, the paper's policy vs ravankar_retreat",
        40, [](uint32_t runs, const Progress& p) { return run_corridor(runs, p); },
-       "Fig. 24 reproduced in kind: followers reject the trail ≈2 m past the leader's last fix; ravankar_retreat "
+       "Fig. 24 reproduced in kind: followers reject the trail a few metres past the leader's last fix; ravankar_retreat "
        "keeps them ≈50 % less deep in the lost leader's zone (whole 95 % CI above 20 %)"},
   };
 }
