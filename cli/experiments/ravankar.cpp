@@ -1,7 +1,10 @@
 // Ravankar 2016: evaporation toward the ambient level (Ravankar 2016 eq. (17), Ravankar 2016 eq. (18), Ravankar 2016 eq. (19), Ravankar 2016 eq. (20), Ravankar 2016 eq. (21), Ravankar 2016 eq. (22), Ravankar 2016 eq. (23), Ravankar 2016 eq. (24), Ravankar 2016 eq. (25), Ravankar 2016 eq. (26),
 // Ravankar 2016 Fig. 6, Ravankar 2016 Fig. 7, Ravankar 2016 Fig. 8) and what a follower does with a trail (threshold δ·P0 of
-// Ravankar 2016 eq. (24), Ravankar 2016 Fig. 23, speed bands of Ravankar 2016 Table 2). Closed-form and deterministic:
-// every experiment is a single run.
+// Ravankar 2016 eq. (24), Ravankar 2016 Fig. 23, speed bands of Ravankar 2016 Table 2). Those two are closed-form and
+// deterministic: a single run each. ravankar-corridor flies the corridor
+// scenario through fly() (the UAV and place cores, so --distributed can check
+// it on real processes): followers once the leader is lost (Ravankar 2016 Fig. 24), the
+// paper's policy beside ravankar_retreat.
 #include <cmath>
 #include <cstdio>
 #include <optional>
@@ -263,8 +266,9 @@ Report run_corridor(uint32_t runs, const Progress& progress) {
   auto loaded = core::load_scenario(shipped_scenario("ravankar2016-corridor.textproto"));
   if (!loaded) throw std::runtime_error(loaded.error().message);
   const core::ScenarioConfig paper = loaded.value();
-  auto patched = core::patch_scenario(paper, "policy { ravankar { reject_explore: \"retreat\" } }",
-                                      "ravankar2016-corridor-retreat");
+  auto patched = core::patch_scenario(
+      paper, "name: \"ravankar2016-corridor-retreat\" policy { ravankar { reject_explore: \"retreat\" } }",
+      "ravankar2016-corridor-retreat");
   if (!patched) throw std::runtime_error(patched.error().message);
   const core::ScenarioConfig retreat = patched.value();
   const auto& c = paper.config_of<core::RavankarConfig>();
