@@ -339,6 +339,52 @@ TEST(RavankarUav, FollowerRejectsAWeakTrailAndExploresAtItsOwnSpeed) {
   EXPECT_GE(moved, 0.5 * std::sin(M_PI / 8.0) / (M_PI / 8.0) - 1e-12);
 }
 
+TEST(RavankarRetreat, RejectHeadingIsTheTrailHeadingOrItsReverse) {
+  using M = RavankarConfig::RejectExplore;
+  EXPECT_DOUBLE_EQ(ravankar_reject_heading(0.5, M::Onward), 0.5);
+  EXPECT_NEAR(ravankar_reject_heading(0.5, M::Retreat), 0.5 + M_PI, 1e-12);
+  EXPECT_NEAR(ravankar_reject_heading(4.0, M::Retreat), 4.0 + M_PI - 2.0 * M_PI, 1e-12);  // wrapped to [0, 2π)
+}
+
+TEST(RavankarRetreat, AFollowerThatRejectsTheTrailWalksBackAlongItOnwardWalksOn) {
+  // The follower at (11, 6) facing +x follows the trail cell (12, 6) at tick 1
+  // (70 → 1 m/s: x = 12). Then the trail is gone (all 0): it rejects it and
+  // walks at 0.5 m/s. Retreat starts the walk at heading π: after a turn on
+  // the spot it heads west; onward keeps heading east (turns of ≤ 45° a tick).
+  for (const bool retreat : {false, true}) {
+    for (uint64_t seed = 1; seed <= 5; ++seed) {
+      Harness h(std::string("wheel_noise_m2_per_m: 0 explore_speed_mps: 0.5") +
+                (retreat ? " reject_explore: \"retreat\"" : ""));
+      h.s.seed = seed;
+      auto follower = h.uav(1);
+      const TileCache trail = cache_with(h.geo, {{{12, 6}, 70.0F}});
+      const TileCache gone = cache_with(h.geo, {});
+      step(*follower, 0, trail);
+      EXPECT_NEAR(step(*follower, 1, trail).state.x, 12.0, 1e-9);
+      UavActions a;
+      for (uint32_t t = 2; t <= 5; ++t) a = step(*follower, t, gone);
+      if (retreat) {
+        EXPECT_LT(a.state.x, 12.0) << "seed " << seed;
+      } else {
+        EXPECT_GT(a.state.x, 12.0) << "seed " << seed;
+      }
+    }
+  }
+}
+
+TEST(RavankarRetreat, TheDefaultIsOnwardAndOnlyTwoNamesParse) {
+  EXPECT_EQ(scenario("").config_of<RavankarConfig>().reject_explore, RavankarConfig::RejectExplore::Onward);
+  EXPECT_EQ(scenario("reject_explore: \"retreat\"").config_of<RavankarConfig>().reject_explore,
+            RavankarConfig::RejectExplore::Retreat);
+  const auto r = parse_scenario(
+      "map { width: 24 height: 24 tile_size: 6 }\nswarm { uavs: 2 }\npolicy { ravankar {\n  route { x: 3 y: 3 }\n"
+      "  reject_explore: \"back\"\n} }\n",
+      "t.textproto");
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.error().message.find("t.textproto:5:3:"), std::string::npos) << r.error().message;
+  EXPECT_NE(r.error().message.find("policy.ravankar.reject_explore"), std::string::npos) << r.error().message;
+}
+
 TEST(RavankarUav, FollowerHoldsAtAFreshTrailEndAndWaitsForItsStartTick) {
   {
     Harness h("wheel_noise_m2_per_m: 0");

@@ -359,6 +359,82 @@ TEST(ShostakUav, ATargetFoundBroadcastTurnsTheUavFromItsLegAndBringsItToTheTarge
   }
 }
 
+// --- the shostak_beeline variant (ours, converge: "beeline") ---------------------------
+
+TEST(ShostakBeeline, WaypointIsOneStepOfDStraightTowardTheTargetAtTheUavsAltitude) {
+  // From (0, 0, 10) to (30, 40, 0): 50 m away, so one step of 15 m along
+  // (0.6, 0.8) = (9, 12), altitude kept at 10.
+  const auto w = shostak_beeline_waypoint({0.0, 0.0, 10.0}, {30.0, 40.0, 0.0}, 15.0);
+  ASSERT_TRUE(w.has_value());
+  EXPECT_NEAR(w->x(), 9.0, 1e-12);
+  EXPECT_NEAR(w->y(), 12.0, 1e-12);
+  EXPECT_DOUBLE_EQ(w->z(), 10.0);
+  // 10 m away (6, 8): the target itself, not beyond it.
+  const auto near = shostak_beeline_waypoint({0.0, 0.0, 10.0}, {6.0, 8.0, 0.0}, 15.0);
+  ASSERT_TRUE(near.has_value());
+  EXPECT_NEAR(near->x(), 6.0, 1e-12);
+  EXPECT_NEAR(near->y(), 8.0, 1e-12);
+  // Over the target: no waypoint (the UAV hovers).
+  EXPECT_FALSE(shostak_beeline_waypoint({6.0, 8.0, 10.0}, {6.0, 8.0, 0.0}, 15.0).has_value());
+}
+
+TEST(ShostakBeeline, ABroadcastTargetIsFlownToInAStraightLineAtOneMetrePerTick) {
+  // UAV 0 of 1 at cell (9, 9) starts its eastward leg; at tick 1 it hears of a
+  // target at cell (2, 9), 35 m west. Beeline: 1 m = 0.2 cell west every tick
+  // from tick 1, y unchanged, over the target at tick 35, hovering after.
+  for (uint64_t seed = 1; seed <= 3; ++seed) {
+    ScenarioConfig sc = scenario(20, 1, {9, 9}, "", "converge: \"beeline\"");
+    sc.seed = seed;
+    OneUav u(sc, 0);
+    BroadcastMsg b;
+    b.uav = 7;
+    b.kind = static_cast<uint8_t>(BroadcastKind::TargetFound);
+    b.values = {2.0, 9.0};
+    const std::vector<BroadcastMsg> heard{b};
+    u.step(0);
+    UavActions a = u.step(1, heard);
+    EXPECT_NEAR(a.state.x, 8.8, 1e-9);
+    for (uint32_t k = 2; k <= 40; ++k) {
+      a = u.step(k);
+      EXPECT_NEAR(a.state.y, 9.0, 1e-9) << "tick " << k;
+      EXPECT_NEAR(a.state.x, std::max(2.0, 9.0 - 0.2 * k), 1e-9) << "tick " << k << " seed " << seed;
+    }
+  }
+}
+
+TEST(ShostakBeeline, TheDefaultIsThePapersRouletteAndOnlyTwoNamesParse) {
+  EXPECT_EQ(scenario(20, 1, {9, 9}).config_of<ShostakConfig>().converge, ShostakConfig::Converge::Roulette);
+  EXPECT_EQ(scenario(20, 1, {9, 9}, "", "converge: \"roulette\"").config_of<ShostakConfig>().converge,
+            ShostakConfig::Converge::Roulette);
+  EXPECT_EQ(scenario(20, 1, {9, 9}, "", "converge: \"beeline\"").config_of<ShostakConfig>().converge,
+            ShostakConfig::Converge::Beeline);
+  const auto r = parse_scenario("map { width: 20 height: 20 }\nswarm { uavs: 1 }\npolicy {\n  shostak {\n"
+                                "    converge: \"straight\"\n  }\n}\n",
+                                "bad.textproto");
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.error().message.find("bad.textproto:5:"), std::string::npos) << r.error().message;
+  EXPECT_NE(r.error().message.find("policy.shostak.converge"), std::string::npos) << r.error().message;
+  EXPECT_NE(r.error().message.find("must be \"roulette\" or \"beeline\""), std::string::npos) << r.error().message;
+}
+
+TEST(ShostakBeeline, BeforeAnyBroadcastTheSwarmFliesExactlyThePapersSearch) {
+  // The variant changes nothing before a target is known: on the 40 x 40
+  // scenario both find the target at the same tick with the same coverage.
+  auto r = load_scenario(std::string(PHEROMESH_SOURCE_DIR) + "/scenarios/shostak-40x40.textproto");
+  ASSERT_TRUE(r.ok()) << r.error().message;
+  auto b = patch_scenario(r.value(), "policy { shostak { converge: \"beeline\" } }", "beeline");
+  ASSERT_TRUE(b.ok()) << b.error().message;
+  for (uint64_t seed = 1; seed <= 2; ++seed) {
+    ScenarioConfig sp = r.value(), sb = b.value();
+    sp.seed = sb.seed = seed;
+    Simulator p(sp), v(sb);
+    p.run();
+    v.run();
+    ASSERT_EQ(p.recorder().acquisitions().acquisition_ticks().size(), 1U) << seed;
+    EXPECT_EQ(p.recorder().acquisitions().acquisition_ticks(), v.recorder().acquisitions().acquisition_ticks()) << seed;
+  }
+}
+
 TEST(ShostakUav, DriftPutsExploredDepositsUnderTheEstimateNotTheTrueCell) {
   // With ideal pose (the default) every deposit lands on the true cell; with
   // odometry noise of 1 m²/m (σ = 1 m per axis per 1 m step) the estimate

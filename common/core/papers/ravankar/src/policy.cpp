@@ -66,6 +66,8 @@ class RavankarUav final : public UavPolicy {
     belief_.mean = truth_;
     belief_.covariance.setZero();
     explore_heading_ = heading;
+    trail_heading_ = heading;
+    last_trail_position_ = p;
   }
 
   void step(const UavView& view, UavActions& out) override {
@@ -116,24 +118,40 @@ class RavankarUav final : public UavPolicy {
       if (v >= threshold) {
         sensed_ = v;
         drive_to(centre_m(target_, s), ravankar_speed(sensed_, c_->follower));
+        note_trail_heading();
         return;
       }
     }
     const RavankarChoice choice = ravankar_follower_choice(at, value, visited, c_->follower);
+    const bool was_on_trail = mode_ == RavankarFollowerMode::Following || mode_ == RavankarFollowerMode::Holding;
     mode_ = choice.mode;
     sensed_ = choice.sensed;
     switch (choice.mode) {
       case RavankarFollowerMode::Following:
         target_ = choice.target;
         drive_to(centre_m(target_, s), ravankar_speed(sensed_, c_->follower));  // Ravankar 2016 Table 2
+        note_trail_heading();
         return;
       case RavankarFollowerMode::Holding:
       case RavankarFollowerMode::Waiting:
         return;
       case RavankarFollowerMode::Exploring:
+        // The tick the trail is rejected: the retreat variant turns the walk
+        // back along the trail; the paper's policy (onward) keeps its heading.
+        if (was_on_trail && c_->reject_explore == RavankarConfig::RejectExplore::Retreat) {
+          explore_heading_ = ravankar_reject_heading(trail_heading_, c_->reject_explore);
+        }
         explore();
         return;
     }
+  }
+
+  // The heading of the follower's estimate after a move along the trail
+  // (a turn on the spot does not count: it is not yet a direction of travel).
+  void note_trail_heading() {
+    const Eigen::Vector2d p = belief_.mean.head<2>();
+    if ((p - last_trail_position_).norm() > 1e-9) trail_heading_ = belief_.mean.z();
+    last_trail_position_ = p;
   }
 
   // The trail was rejected: a correlated random walk at explore_speed (ours;
@@ -241,6 +259,8 @@ class RavankarUav final : public UavPolicy {
   Cell target_{};
   double sensed_ = 0.0;
   double explore_heading_ = 0.0;  // [rad]
+  double trail_heading_ = 0.0;    // [rad] direction of the last move along the trail (estimate)
+  Eigen::Vector2d last_trail_position_ = Eigen::Vector2d::Zero();
   std::set<std::pair<int32_t, int32_t>> visited_;
   uint8_t heading_ = 0;
 };
@@ -324,6 +344,10 @@ RavankarChoice ravankar_follower_choice(Cell at, const std::function<std::option
   out.sensed = here;
   out.mode = ravankar_follows(here, p) ? RavankarFollowerMode::Holding : RavankarFollowerMode::Exploring;
   return out;
+}
+
+double ravankar_reject_heading(double heading_rad, RavankarConfig::RejectExplore mode) {
+  return wrap_two_pi(mode == RavankarConfig::RejectExplore::Retreat ? heading_rad + kPi : heading_rad);
 }
 
 PolicyTraits ravankar_traits(const ScenarioConfig& s) {

@@ -108,6 +108,15 @@ void build_ravankar(const pb::RavankarPolicy& msg, const Node& n, Validator& v, 
              c.follower_delay_ticks);
   if (msg.has_explore_speed_mps()) c.explore_speed_mps = msg.explore_speed_mps();
   v.real_in(n, "explore_speed_mps", c.explore_speed_mps, 0.0, true, kMaxSpeedMps, false);
+  if (msg.has_reject_explore()) {
+    if (msg.reject_explore() == "onward") {
+      c.reject_explore = RavankarConfig::RejectExplore::Onward;
+    } else if (msg.reject_explore() == "retreat") {
+      c.reject_explore = RavankarConfig::RejectExplore::Retreat;
+    } else {
+      v.fail(n, "reject_explore", "must be \"onward\" or \"retreat\" (got \"" + msg.reject_explore() + "\")");
+    }
+  }
   cfg.set_policy_config(std::move(c));
 }
 

@@ -147,6 +147,23 @@ class ShostakUav final : public UavPolicy {
     return azimuth;
   }
 
+  // The nearest known target in the local frame (z = 0), or nullopt.
+  [[nodiscard]] std::optional<Vec3> nearest_target_local() const {
+    const double cs = cfg_->layers.cell_size_m;
+    const Vec3& p = est_.position_local;
+    std::optional<Vec3> best;
+    double best_d = std::numeric_limits<double>::infinity();
+    for (const auto& t : known_targets_) {
+      const Vec3 tl = shostak_world_to_local(frame_, cell_centre_m(t.x(), t.y(), cs));
+      const double d = std::hypot(tl.x() - p.x(), tl.y() - p.y());
+      if (d < best_d) {
+        best_d = d;
+        best = tl;
+      }
+    }
+    return best;
+  }
+
   // Shostak 2024 Sec. 3.4, Shostak 2024 Sec. 3.5 in the UAV's own frame: candidates around the estimated
   // position (Shostak 2024 eq. (4)), each scored at the map cell it falls in (through the
   // frame) by Shostak 2024 eq. (3) and Shostak 2024 eq. (5), one drawn by Shostak 2024 eq. (6).
@@ -159,6 +176,13 @@ class ShostakUav final : public UavPolicy {
       if (!e || !h || !t) return std::nullopt;
       return ShostakCellValues{*e, *h, *t};
     };
+    // The shostak_beeline variant (ours): with a target known, straight to it.
+    if (cfg_->converge == ShostakConfig::Converge::Beeline && !known_targets_.empty()) {
+      if (const auto t = nearest_target_local()) {
+        waypoint_ = shostak_beeline_waypoint(est_.position_local, *t, cfg_->aco.step_m);
+        return;
+      }
+    }
     const double preferred = preferred_azimuth_local();
     const auto candidates = shostak_candidates(est_.position_local, cfg_->aco, rng_);
     std::vector<double> scores(candidates.size(), 0.0);
@@ -301,6 +325,15 @@ class ShostakPlace final : public PlaceModel {
 };
 
 }  // namespace
+
+std::optional<Eigen::Vector3d> shostak_beeline_waypoint(const Eigen::Vector3d& from, const Eigen::Vector3d& target,
+                                                        double step_m) {
+  const Eigen::Vector2d to(target.x() - from.x(), target.y() - from.y());
+  const double dist = to.norm();
+  if (dist <= 1e-6) return std::nullopt;
+  const Eigen::Vector2d step = std::min(step_m, dist) / dist * to;
+  return Eigen::Vector3d(from.x() + step.x(), from.y() + step.y(), from.z());
+}
 
 PolicyTraits shostak_traits(const ScenarioConfig& s) {
   const ShostakConfig& c = s.config_of<ShostakConfig>();

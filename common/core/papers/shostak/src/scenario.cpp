@@ -103,6 +103,15 @@ void build_shostak(const pb::ShostakPolicy& msg, const Node& n, Validator& v, Sc
   if (msg.has_yaw_noise_rad2_per_m()) c.drift.yaw_noise_rad2_per_m = msg.yaw_noise_rad2_per_m();
   v.real_in(n, "position_noise_m2_per_m", c.drift.position_noise_m2_per_m, 0.0, false, kInf, false);
   v.real_in(n, "yaw_noise_rad2_per_m", c.drift.yaw_noise_rad2_per_m, 0.0, false, kInf, false);
+  if (msg.has_converge()) {
+    if (msg.converge() == "roulette") {
+      c.converge = ShostakConfig::Converge::Roulette;
+    } else if (msg.converge() == "beeline") {
+      c.converge = ShostakConfig::Converge::Beeline;
+    } else {
+      v.fail(n, "converge", "must be \"roulette\" or \"beeline\" (got \"" + msg.converge() + "\")");
+    }
+  }
   cfg.set_policy_config(std::move(c));
 }
 

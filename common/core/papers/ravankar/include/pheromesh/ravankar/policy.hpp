@@ -37,7 +37,19 @@ struct RavankarConfig final : PolicyConfig {
   bool followers_deposit = false;
   uint32_t follower_delay_ticks = 0;  // [tick]
   double explore_speed_mps = 0.5;     // [m/s]
+  // Where a follower's own exploration starts when it rejects a trail (the
+  // paper: it "carries its own exploration", direction unstated). Onward:
+  // the correlated walk goes on from the heading it had. Retreat (ours, the
+  // ravankar_retreat variant, docs/policies/ravankar.md): the walk starts
+  // turned by π from the direction in which the follower last moved along the
+  // trail, away from where the trail became unreliable (Ravankar 2016 Fig. 24: explore B, not A).
+  enum class RejectExplore : uint8_t { Onward = 0, Retreat = 1 };
+  RejectExplore reject_explore = RejectExplore::Onward;
 };
+
+// The heading [rad, in [0, 2π)] a follower's exploration starts from when it
+// rejects a trail: `heading` (Onward) or heading + π (Retreat).
+double ravankar_reject_heading(double heading_rad, RavankarConfig::RejectExplore mode);
 
 // What a follower does in a tick (exposed for the unit tests).
 enum class RavankarFollowerMode : uint8_t { Waiting = 0, Following = 1, Holding = 2, Exploring = 3 };

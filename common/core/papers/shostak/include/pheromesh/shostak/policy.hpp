@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -45,7 +46,21 @@ struct ShostakConfig final : PolicyConfig {
   // Yaw of UAV i's local frame in the map frame [rad], fixed at take-off
   // (Shostak 2024 Sec. 4.1); UAVs beyond the list use 0.
   std::vector<double> frame_yaw_rad;
+
+  // How a UAV flies to a reported target. Roulette: the paper, eqs. (4)–(6)
+  // with η preferring the bearing to the target (Shostak 2024 Sec. 5). Beeline: ours, the
+  // shostak_beeline variant (docs/policies/shostak.md): once a target is known,
+  // each waypoint is a step of d straight toward the nearest one; the search
+  // before any report is the paper's.
+  enum class Converge : uint8_t { Roulette = 0, Beeline = 1 };
+  Converge converge = Converge::Roulette;
 };
+
+// The beeline waypoint (ours): from `from` toward `target` (local frame, the
+// target's z ignored), a horizontal step of min(step_m, distance) at the
+// altitude of `from`; nullopt when already over the target (within 1e-6 m).
+std::optional<Eigen::Vector3d> shostak_beeline_waypoint(const Eigen::Vector3d& from, const Eigen::Vector3d& target,
+                                                        double step_m);
 
 // --- the policy (policy.cpp), dispatched by core/src/policy_registry.cpp
 PolicyTraits shostak_traits(const ScenarioConfig& s);
