@@ -20,9 +20,12 @@
 //    leader has no reference and does not move.
 //  * Sectors (Shao 2020 Fig. 8 is not readable): eight 45° sectors centred on the
 //    compass headings E, NE, ..., SE (Heading order), as the ACO of Shao 2020 Sec. 4 uses.
-//  * "s_t = max_d s_d^t": the maximum of vectors, read as the s_d of largest
-//    Euclidean norm (the strongest weighted gradient, whichever way it
-//    points). Ties (within 1e-12 relative) go to the lowest Heading index.
+//  * "s_t = max_d s_d^t": the maximum of vectors, read by default as the s_d
+//    of largest Euclidean norm (the strongest weighted gradient, whichever way
+//    it points); VectorSectorChoice::Projection reads it as the s_d of largest
+//    component along its own sector's bisector (shao-fig10 flies both:
+//    docs/policies/shao-navigation.md). Ties (within 1e-12 relative) go to the
+//    lowest Heading index.
 //    All s_d = 0 (flat or unknown field): no direction, the leader stays
 //    (v = 0); Shao 2020 Algorithm 2 lists v_t^L as an input but Shao 2020 eq. (15) never uses it.
 //    Consequence of "max over sectors": on a smooth field s_d ≈ Σ_j (∇τ·u_j)u_j
@@ -35,10 +38,12 @@
 //    sector the mean over J(d) of λTa τ_j + λTh ε_j + λTr σ_j (the same
 //    fusion as Shao 2020 eq. (9) of Shao 2020 Sec. 4), the sector of the largest mean wins (ties to
 //    the lowest index; sectors without a known cell take no part), and the
-//    leader moves ρ along that sector's bisector. (If the paper's scalar
-//    leader instead moved one lattice step per iteration, as the UAVs of Shao 2020 Sec. 4
-//    do, that alone would explain 102 vs 67 ticks: 2·67/102 ≈ 1.31 cells per
-//    tick, between a straight and a diagonal step. We do not assume it.)
+//    leader moves ρ along that sector's bisector. ScalarSectorScore (sum,
+//    max) and ScalarLeaderStep (one lattice step per iteration, as the UAVs
+//    of Shao 2020 Sec. 4 move) are the other readings shao-fig10 flies.
+//    On a flat field (every sector's score equal) the scalar leader moves
+//    along the lowest index (E) where the vector leader stays: a float
+//    target pheromone below ~1e-16 of the path term λTr σ0 is flat to it.
 //  * Shao 2020 Algorithm 2 lines 1-4: once the centre is within sensorLD (inclusive)
 //    the leader "goes there" at speed at most ρ (Shao 2020 eq. (15)'s speed), and becomes
 //    a follower on the tick it arrives. The paper does not say how fast "go
