@@ -41,6 +41,7 @@ constexpr double kPaperScalar = 102;  // Shao 2020 Fig. 10b [iteration]
 constexpr const char* kVectorLeg = R"(policy { shao_navigation { leader_pheromones: "vector" vector_choice: "norm" } })";
 constexpr const char* kScalarLeg = R"(policy { shao_navigation { leader_pheromones: "scalar" scalar_score: "mean" } })";
 constexpr const char* kGradientLeg = R"(policy { shao_navigation { leader_pheromones: "gradient" } })";
+constexpr const char* kPullLeg = R"(policy { shao_navigation { leader_pheromones: "pull" } })";
 
 std::string fixed(double v, int digits = 1) {
   char buf[64];
@@ -275,6 +276,7 @@ Report run_fig10(uint32_t runs, const Progress& progress) {
       {"leader reading", "scalar, sector sum, one lattice step per iteration", R"(policy { shao_navigation { leader_pheromones: "scalar" scalar_score: "sum" scalar_step: "lattice" } })", true, -1},
       {"leader reading", "scalar, sector max, one lattice step per iteration", R"(policy { shao_navigation { leader_pheromones: "scalar" scalar_score: "max" scalar_step: "lattice" } })", true, -1},
       {"leader reading", "gradient (our variant, not the paper's)", kGradientLeg, true, 2},
+      {"leader reading", "pull (our variant, not the paper's)", kPullLeg, true, 2},
   };
   for (const auto& [label, patch] : fields) {
     const int scalar = static_cast<int>(sweep.size()) + 2;
@@ -288,6 +290,7 @@ Report run_fig10(uint32_t runs, const Progress& progress) {
     sweep.push_back({"layout", "vector (projection), no obstacles", vproj, false, scalar});
     sweep.push_back({"layout", "scalar (mean), no obstacles", kScalarLeg, false, -1});
     sweep.push_back({"layout", "gradient (ours), no obstacles", kGradientLeg, false, scalar});
+    sweep.push_back({"layout", "pull (ours), no obstacles", kPullLeg, false, scalar});
   }
   {
     const int scalar = static_cast<int>(sweep.size()) + 2;
@@ -296,8 +299,9 @@ Report run_fig10(uint32_t runs, const Progress& progress) {
     sweep.push_back({"layout", "vector (projection), " + wide, vproj, true, scalar, true});
     sweep.push_back({"layout", "scalar (mean), " + wide, kScalarLeg, true, -1, true});
     sweep.push_back({"layout", "gradient (ours), " + wide, kGradientLeg, true, scalar, true});
+    sweep.push_back({"layout", "pull (ours), " + wide, kPullLeg, true, scalar, true});
   }
-  constexpr std::size_t kVec = 0, kVecProj = 1, kSca = 2, kScaLattice = 5, kGrad = 8;
+  constexpr std::size_t kVec = 0, kVecProj = 1, kSca = 2, kScaLattice = 5, kGrad = 8, kPull = 9;
   const uint32_t total = static_cast<uint32_t>(sweep.size()) * (layouts + 1) + 3;
   uint32_t done = 0;
   const auto tick = [&] { progress(++done, total); };
@@ -333,7 +337,7 @@ Report run_fig10(uint32_t runs, const Progress& progress) {
     const SweepLeg& leg = sweep[i];
     // The paper's legs and the variant are the headline: checked on the real
     // swarm with --distributed. The rest only explores.
-    const bool headline = i == kVec || i == kSca || i == kGrad;
+    const bool headline = i == kVec || i == kSca || i == kGrad || i == kPull;
     if (leg.group == "leader reading" && leg.with_obstacles) {
       // The shipped layout's value of the same leader (already flown for the three headline legs).
       if (i == kVec) results[i].shipped = shipped[0].second.arrival;
@@ -421,6 +425,12 @@ Report run_fig10(uint32_t runs, const Progress& progress) {
     c.note = "layouts 1.." + std::to_string(layouts) + "; vector never arrived on " + std::to_string(never(vec)) +
              ", gradient on " + std::to_string(never(grad)) + " (left out of the samples)";
     rep.comparisons.push_back(c);
+    Comparison pull = c;
+    pull.variant = "leader_pheromones: \"pull\" (ours: the s_d that pull into their own sector, summed)";
+    pull.variant_samples = results[kPull].arrivals;
+    pull.note = "layouts 1.." + std::to_string(layouts) + "; vector never arrived on " + std::to_string(never(vec)) +
+                ", pull on " + std::to_string(never(results[kPull])) + " (left out of the samples)";
+    rep.comparisons.push_back(pull);
     // Not a variant: the other fair reading of "s_t = max_d s_d", for scale.
     Comparison r = c;
     r.variant = "vector leader, s_t = the s_d of largest component along its sector (a reading of the paper, not ours)";

@@ -85,7 +85,7 @@ TEST(ShaoNavigationPolicy, BadValuesNameTheLineAndTheField) {
   const std::string& e = r.error().message;
   EXPECT_NE(e.find("n.textproto:3:19: field 'policy.shao_navigation.region_centre.x': must be between 0 and 19"),
             std::string::npos) << e;
-  EXPECT_NE(e.find("n.textproto:4:3: field 'policy.shao_navigation.leader_pheromones': must be \"vector\", \"scalar\" or \"gradient\""),
+  EXPECT_NE(e.find("n.textproto:4:3: field 'policy.shao_navigation.leader_pheromones': must be \"vector\", \"scalar\", \"gradient\" or \"pull\""),
             std::string::npos) << e;
   EXPECT_NE(e.find("n.textproto:5:3: field 'policy.shao_navigation.rho': must be > 0"), std::string::npos) << e;
   const auto missing = parse_scenario("map { width: 20 height: 20 }\npolicy { shao_navigation { } }\n", "m.textproto");

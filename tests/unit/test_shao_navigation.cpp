@@ -200,6 +200,28 @@ TEST(ShaoNav, GradientVariantFliesAlongTheSumOfAllSectorVectors) {
   expect_near(flat.v, 0.0, 0.0);
 }
 
+TEST(ShaoNav, PullVariantSumsOnlyTheSectorVectorsThatPullOutwards) {
+  const ShaoNavParams p;
+  // s_E = (1.65, 0.5) pulls into E (1.65 > 0); s_N = (0, -1.8) pushes back out of N:
+  // left out, so v = ρ s_E/‖s_E‖ = (1.91404880886694710, 0.58001479056574154).
+  const LeaderStep s = leader_pull_step(Vector2d::Zero(), sparse(hand_neighbourhood(12.0F)), p);
+  EXPECT_FALSE(s.sector.has_value());
+  EXPECT_NEAR(s.sector_scores[static_cast<std::size_t>(Heading::N)], -1.8, kTol);
+  expect_near(s.v, 1.91404880886694710, 0.58001479056574154);
+  // Two sectors pull: A = (3,1) τ = 6 gives s_E = (1.5, 0.5); (0,2) τ = 3 gives
+  // τ_ij = (1 - 3)/4 · (0, -2) = (0, 1) = s_N. Sum (1.5, 1.5): v = 2·(1, 1)/√2 = (√2, √2).
+  const auto two = sparse({{{0, 0}, {1.0F, 0.0F, 0.0F}}, {{3, 1}, {6.0F, 0.0F, 0.0F}}, {{0, 2}, {3.0F, 0.0F, 0.0F}}});
+  const LeaderStep t = leader_pull_step(Vector2d::Zero(), two, p);
+  expect_near(t.v, std::numbers::sqrt2, std::numbers::sqrt2);
+  const LeaderStep a =
+      leader_algorithm2_step(Vector2d::Zero(), Vector2d{50.0, 50.0}, two, p, LeaderPheromones::Pull);
+  expect_near(a.v, std::numbers::sqrt2, std::numbers::sqrt2);
+  // On a peak nothing pulls outwards: the leader stays.
+  const LeaderStep peak =
+      leader_pull_step(Vector2d::Zero(), sparse({{{0, 0}, {2.0F, 0.0F, 0.0F}}, {{1, 0}, {1.0F, 0.0F, 0.0F}}}), p);
+  expect_near(peak.v, 0.0, 0.0);
+}
+
 // Sectors E, N and W with target pheromone only (λTa = 1):
 //   E: (4,0) = 5                    -> mean 5, sum 5,  max 5
 //   N: (0,2), (0,3), (1,4) = 4 each -> mean 4, sum 12, max 4

@@ -270,6 +270,28 @@ LeaderStep leader_gradient_step(const Eigen::Vector2d& q, const PheromoneLookup&
   return s;
 }
 
+LeaderStep leader_pull_step(const Eigen::Vector2d& q, const PheromoneLookup& pheromones, const ShaoNavParams& p) {
+  LeaderStep s;
+  s.q = q;
+  if (!usable_position(q) || !pheromones || !sector_vectors(q, pheromones, p, s)) {
+    return s;
+  }
+  Eigen::Vector2d total = Eigen::Vector2d::Zero();
+  for (std::size_t d = 0; d < kNavSectorCount; ++d) {
+    s.sector_scores[d] = s.sector_sums[d].dot(bisector(d));
+    if (s.sector_scores[d] > 0.0 && std::isfinite(s.sector_scores[d])) {
+      total += s.sector_sums[d];
+    }
+  }
+  const double norm = total.norm();
+  if (!(norm > 0.0) || !std::isfinite(norm)) {
+    return s;  // nothing pulls: stay
+  }
+  s.v = p.rho * total / norm;  // the speed of Shao 2020 eq. (15)
+  s.q = q + s.v;
+  return s;
+}
+
 LeaderStep leader_scalar_step(const Eigen::Vector2d& q, const PheromoneLookup& pheromones,
                               const ShaoNavParams& p) {
   LeaderStep s;
@@ -334,6 +356,8 @@ LeaderStep leader_algorithm2_step(const Eigen::Vector2d& q, const Eigen::Vector2
         return leader_scalar_step(q, pheromones, p);
       case LeaderPheromones::Gradient:
         return leader_gradient_step(q, pheromones, p);
+      case LeaderPheromones::Pull:
+        return leader_pull_step(q, pheromones, p);
       case LeaderPheromones::Vector:
         break;
     }

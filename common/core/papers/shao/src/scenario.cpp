@@ -22,9 +22,11 @@ void build_shao_navigation(const pb::ShaoNavigationPolicy& msg, const Node& n, V
       c.leader = LeaderPheromones::Scalar;
     } else if (msg.leader_pheromones() == "gradient") {
       c.leader = LeaderPheromones::Gradient;  // our variant (navigation.hpp)
+    } else if (msg.leader_pheromones() == "pull") {
+      c.leader = LeaderPheromones::Pull;  // our variant (navigation.hpp)
     } else {
       v.fail(n, "leader_pheromones",
-             "must be \"vector\", \"scalar\" or \"gradient\" (got \"" + msg.leader_pheromones() + "\")");
+             "must be \"vector\", \"scalar\", \"gradient\" or \"pull\" (got \"" + msg.leader_pheromones() + "\")");
     }
   }
   // Readings of Shao 2020 Sec. 5.1.1 the paper leaves open (navigation.hpp).

@@ -119,12 +119,18 @@ LeaderStep leader_scalar_step(const Eigen::Vector2d& q, const PheromoneLookup& p
 // over the whole sensor disk. No sector is chosen (sector stays nullopt).
 LeaderStep leader_gradient_step(const Eigen::Vector2d& q, const PheromoneLookup& pheromones,
                                 const ShaoNavParams& p);
+// Our variant "pull" (not the paper's): the sum of the s_d that pull the
+// leader into their own sector (s_d·u_d > 0 along the sector's bisector u_d,
+// the candidates of VectorSectorChoice::Projection), ρ along it. The s_d of a
+// sector whose pheromone pushes the leader back out of it (an obstacle's,
+// under λTh < 0) is left out; no sector pulls: the leader stays.
+LeaderStep leader_pull_step(const Eigen::Vector2d& q, const PheromoneLookup& pheromones, const ShaoNavParams& p);
 
 // Shao 2020 Algorithm 2 line 1: the centre of the target region is within sensorLD.
 bool leader_reaches_centre(const Eigen::Vector2d& q, const Eigen::Vector2d& centre, const ShaoNavParams& p);
 
-// Vector and Scalar are Shao 2020 Fig. 10's two leaders; Gradient is our variant.
-enum class LeaderPheromones : uint8_t { Vector = 0, Scalar = 1, Gradient = 2 };
+// Vector and Scalar are Shao 2020 Fig. 10's two leaders; Gradient and Pull are our variants.
+enum class LeaderPheromones : uint8_t { Vector = 0, Scalar = 1, Gradient = 2, Pull = 3 };
 // Shao 2020 Algorithm 2: go towards the centre (at most ρ per tick) once it is within
 // sensorLD, else one pheromone step of the chosen kind.
 LeaderStep leader_algorithm2_step(const Eigen::Vector2d& q, const Eigen::Vector2d& centre,
