@@ -1,8 +1,9 @@
 // Shao 2020 Sec. 5.2, Shao 2020 Fig. 10: iterations for the leader to reach the centre of
-// the target region with vector pheromones (Shao 2020 eq. (12), Shao 2020 eq. (13), Shao 2020 eq. (14), Shao 2020 eq. (15)) and with scalar
-// pheromones, the followers flocking behind it (Shao 2020 eq. (17), Shao 2020 eq. (18), Shao 2020 eq. (19), Shao 2020 eq. (20), Shao 2020 eq. (21), Shao 2020 eq. (22), Shao 2020 eq. (23), Shao 2020 eq. (24)). Runs the
-// navigation scenarios through the in-process simulator (the same code and
-// schedule as `pheromesh run --clock lockstep`).
+// the target region with vector pheromones (Shao 2020 eq. (12), Shao 2020 eq. (13), Shao 2020 eq. (14), Shao 2020 eq.
+// (15)) and with scalar pheromones, the followers flocking behind it (Shao 2020 eq. (17), Shao 2020 eq. (18), Shao 2020
+// eq. (19), Shao 2020 eq. (20), Shao 2020 eq. (21), Shao 2020 eq. (22), Shao 2020 eq. (23), Shao 2020 eq. (24)). Runs
+// the navigation scenarios through the in-process simulator (the same code and schedule as `pheromesh run --clock
+// lockstep`).
 //
 // The leader has no random element, so seeds cannot be the Monte Carlo
 // dimension: layouts are. Run k flies layout k, drawn from the seed k (start
@@ -23,12 +24,12 @@
 
 #include "experiment.hpp"
 #include "flight.hpp"
-#include "scenario_paths.hpp"
 #include "pheromesh/core/messages.hpp"
 #include "pheromesh/core/rng.hpp"
 #include "pheromesh/core/scenario.hpp"
 #include "pheromesh/core/simulator.hpp"
 #include "pheromesh/shao/policy.hpp"
+#include "scenario_paths.hpp"
 
 namespace pheromesh::cli::experiments {
 
@@ -38,7 +39,8 @@ constexpr double kPaperVector = 67;   // Shao 2020 Fig. 10a [iteration]
 constexpr double kPaperScalar = 102;  // Shao 2020 Fig. 10b [iteration]
 
 // The leader settings of the paper's two legs and of our variant.
-constexpr const char* kVectorLeg = R"(policy { shao_navigation { leader_pheromones: "vector" vector_choice: "norm" } })";
+constexpr const char* kVectorLeg =
+    R"(policy { shao_navigation { leader_pheromones: "vector" vector_choice: "norm" } })";
 constexpr const char* kScalarLeg = R"(policy { shao_navigation { leader_pheromones: "scalar" scalar_score: "mean" } })";
 constexpr const char* kGradientLeg = R"(policy { shao_navigation { leader_pheromones: "gradient" } })";
 constexpr const char* kPullLeg = R"(policy { shao_navigation { leader_pheromones: "pull" } })";
@@ -122,7 +124,8 @@ Layout draw_layout(uint64_t k) {
       o.x = std::clamp(o.x, 0, 100 - w);
       o.y = std::clamp(o.y, 0, 100 - h);
       if (overlaps(o, l.start, 3) || distance_to_rect(l.cx, l.cy, o) < 10) continue;
-      if (std::any_of(l.obstacles.begin(), l.obstacles.end(), [&o](const RectI& p) { return overlaps(o, p, 1); })) continue;
+      if (std::any_of(l.obstacles.begin(), l.obstacles.end(), [&o](const RectI& p) { return overlaps(o, p, 1); }))
+        continue;
       l.obstacles.push_back(o);
       break;
     }
@@ -219,7 +222,7 @@ struct SweepLeg {
   std::string label;    // what differs from the paper reading
   std::string setting;  // patch text
   bool with_obstacles = true;
-  int partner = -1;     // the scalar leg it is compared with on each layout (-1: none)
+  int partner = -1;           // the scalar leg it is compared with on each layout (-1: none)
   bool wide_targets = false;  // the shipped file's target pattern
 };
 
@@ -270,11 +273,18 @@ Report run_fig10(uint32_t runs, const Progress& progress) {
       {"leader reading", "vector, s_t = largest ‖s_d‖ (paper reading, default)", kVectorLeg, true, 2},
       {"leader reading", "vector, s_t = largest s_d along its own sector", vproj, true, 2},
       {"leader reading", "scalar, sector mean, ρ per iteration (paper reading, default)", kScalarLeg, true, -1},
-      {"leader reading", "scalar, sector sum", R"(policy { shao_navigation { leader_pheromones: "scalar" scalar_score: "sum" } })", true, -1},
-      {"leader reading", "scalar, sector max", R"(policy { shao_navigation { leader_pheromones: "scalar" scalar_score: "max" } })", true, -1},
-      {"leader reading", "scalar, sector mean, one lattice step per iteration", R"(policy { shao_navigation { leader_pheromones: "scalar" scalar_step: "lattice" } })", true, -1},
-      {"leader reading", "scalar, sector sum, one lattice step per iteration", R"(policy { shao_navigation { leader_pheromones: "scalar" scalar_score: "sum" scalar_step: "lattice" } })", true, -1},
-      {"leader reading", "scalar, sector max, one lattice step per iteration", R"(policy { shao_navigation { leader_pheromones: "scalar" scalar_score: "max" scalar_step: "lattice" } })", true, -1},
+      {"leader reading", "scalar, sector sum",
+       R"(policy { shao_navigation { leader_pheromones: "scalar" scalar_score: "sum" } })", true, -1},
+      {"leader reading", "scalar, sector max",
+       R"(policy { shao_navigation { leader_pheromones: "scalar" scalar_score: "max" } })", true, -1},
+      {"leader reading", "scalar, sector mean, one lattice step per iteration",
+       R"(policy { shao_navigation { leader_pheromones: "scalar" scalar_step: "lattice" } })", true, -1},
+      {"leader reading", "scalar, sector sum, one lattice step per iteration",
+       R"(policy { shao_navigation { leader_pheromones: "scalar" scalar_score: "sum" scalar_step: "lattice" } })", true,
+       -1},
+      {"leader reading", "scalar, sector max, one lattice step per iteration",
+       R"(policy { shao_navigation { leader_pheromones: "scalar" scalar_score: "max" scalar_step: "lattice" } })", true,
+       -1},
       {"leader reading", "gradient (our variant, not the paper's)", kGradientLeg, true, 2},
       {"leader reading", "pull (our variant, not the paper's)", kPullLeg, true, 2},
   };
@@ -309,12 +319,15 @@ Report run_fig10(uint32_t runs, const Progress& progress) {
   Report rep;
   rep.title = "Shao 2020 Fig. 10 — leader navigation with vector vs scalar pheromones";
   rep.source = "Shao et al. 2020, §5.1.1 eqs. (12)-(15), Algorithm 2, §5.2, Table 2, Figs. 9-10";
-  rep.setup = "6 UAVs (leader + 5 followers), Shao 2020 Table 2 parameters, our field (Eτ = 0.01, built for 1000 ticks on the drawn layouts, 300 on the shipped one). "
-              "The leader is deterministic: the Monte Carlo runs over " + std::to_string(layouts) +
-              " drawn layouts (run k = layout k: shao2020-navigation-layout.textproto patched with a start area, a "
-              "target region 55-75 cells away and three obstacles near the line between them), plus the shipped "
-              "layout (shao2020-navigation.textproto / -scalar / -gradient). In-process simulator; the headline runs "
-              "also fly as processes with --distributed.";
+  rep.setup =
+      "6 UAVs (leader + 5 followers), Shao 2020 Table 2 parameters, our field (Eτ = 0.01, built for 1000 ticks on the "
+      "drawn layouts, 300 on the shipped one). "
+      "The leader is deterministic: the Monte Carlo runs over " +
+      std::to_string(layouts) +
+      " drawn layouts (run k = layout k: shao2020-navigation-layout.textproto patched with a start area, a "
+      "target region 55-75 cells away and three obstacles near the line between them), plus the shipped "
+      "layout (shao2020-navigation.textproto / -scalar / -gradient). In-process simulator; the headline runs "
+      "also fly as processes with --distributed.";
   rep.csv_header = {"group", "setting", "layout", "arrival_iterations"};
 
   // The shipped layout: Fig. 10's paths, and the followers' distance.
@@ -340,16 +353,21 @@ Report run_fig10(uint32_t runs, const Progress& progress) {
     const bool headline = i == kVec || i == kSca || i == kGrad || i == kPull;
     if (leg.group == "leader reading" && leg.with_obstacles) {
       // The shipped layout's value of the same leader (already flown for the three headline legs).
-      if (i == kVec) results[i].shipped = shipped[0].second.arrival;
-      else if (i == kSca) results[i].shipped = shipped[1].second.arrival;
-      else if (i == kGrad) results[i].shipped = shipped[2].second.arrival;
-      else results[i].shipped = run_leg(patched(shipped_vector, leg.setting, "shao2020-navigation"), false).arrival;
+      if (i == kVec)
+        results[i].shipped = shipped[0].second.arrival;
+      else if (i == kSca)
+        results[i].shipped = shipped[1].second.arrival;
+      else if (i == kGrad)
+        results[i].shipped = shipped[2].second.arrival;
+      else
+        results[i].shipped = run_leg(patched(shipped_vector, leg.setting, "shao2020-navigation"), false).arrival;
     } else if (leg.with_obstacles && !leg.wide_targets) {
       results[i].shipped = run_leg(patched(shipped_vector, leg.setting, "shao2020-navigation"), false).arrival;
     }
     tick();
     for (uint32_t k = 1; k <= layouts; ++k) {
-      const LegRun r = run_leg(layout_scenario(layout_base, k, leg.setting, leg.with_obstacles, leg.wide_targets), headline);
+      const LegRun r =
+          run_leg(layout_scenario(layout_base, k, leg.setting, leg.with_obstacles, leg.wide_targets), headline);
       results[i].per_layout.push_back(r.arrival);
       if (r.arrival) results[i].arrivals.push_back(*r.arrival);
       rep.csv_rows.push_back({leg.group, leg.label, std::to_string(k), r.arrival ? fixed(*r.arrival, 0) : ""});
@@ -372,18 +390,26 @@ Report run_fig10(uint32_t runs, const Progress& progress) {
     // The claim is the order: reversed when the vector leader is significantly slower.
     const bool reversed = !diff.empty() && ci.lo > 0;
     const std::string order = "vector " + fixed(vm) + " vs scalar " + fixed(sm);
-    Row vr{"iterations to the centre, vector pheromones, " + reading, kPaperVector, v.arrivals, "iteration", v_note, ""};
+    Row vr{
+        "iterations to the centre, vector pheromones, " + reading, kPaperVector, v.arrivals, "iteration", v_note, ""};
     if (never(v) > 0) vr.note += "; " + std::to_string(never(v)) + " layout(s) never arrived";
     if (reversed) vr.verdict = "reversed: slower than the scalar leader (" + order + ")";
-    Row sr{"iterations to the centre, scalar pheromones, " + reading, kPaperScalar, sc.arrivals, "iteration", s_note, ""};
+    Row sr{
+        "iterations to the centre, scalar pheromones, " + reading, kPaperScalar, sc.arrivals, "iteration", s_note, ""};
     if (never(sc) > 0) sr.note += "; " + std::to_string(never(sc)) + " layout(s) never arrived";
     if (reversed) sr.verdict = "reversed: faster than the vector leader (" + order + ")";
-    Row dr{"vector minus scalar, paired per layout, " + reading, kPaperVector - kPaperScalar, diff, "iteration", "", ""};
-    dr.note = "layouts where both arrived; negative = vector sooner; 95 % CI [" + fixed(ci.lo) + ", " + fixed(ci.hi) + "]";
-    if (diff.empty()) dr.verdict = "differs: no layout where both arrived";
-    else if (reversed) dr.verdict = "reversed: the vector leader is slower";
-    else if (ci.hi < 0) dr.verdict = "reproduced in sign: the vector leader is sooner";
-    else dr.verdict = "differs: no significant difference either way";
+    Row dr{
+        "vector minus scalar, paired per layout, " + reading, kPaperVector - kPaperScalar, diff, "iteration", "", ""};
+    dr.note =
+        "layouts where both arrived; negative = vector sooner; 95 % CI [" + fixed(ci.lo) + ", " + fixed(ci.hi) + "]";
+    if (diff.empty())
+      dr.verdict = "differs: no layout where both arrived";
+    else if (reversed)
+      dr.verdict = "reversed: the vector leader is slower";
+    else if (ci.hi < 0)
+      dr.verdict = "reproduced in sign: the vector leader is sooner";
+    else
+      dr.verdict = "differs: no significant difference either way";
     rep.rows.push_back(vr);
     rep.rows.push_back(sr);
     rep.rows.push_back(dr);
@@ -395,14 +421,22 @@ Report run_fig10(uint32_t runs, const Progress& progress) {
   const std::optional<double>& sv = shipped[0].second.arrival;
   const std::optional<double>& ss = shipped[1].second.arrival;
   {
-    Row row{"iterations to the centre, vector pheromones (shipped layout)", kPaperVector,
-            sv ? std::vector<double>{*sv} : std::vector<double>{}, "iteration", "one deterministic run", ""};
+    Row row{"iterations to the centre, vector pheromones (shipped layout)",
+            kPaperVector,
+            sv ? std::vector<double>{*sv} : std::vector<double>{},
+            "iteration",
+            "one deterministic run",
+            ""};
     if (sv && ss && *sv >= *ss) row.verdict = "reversed: slower than the scalar leader on this layout";
     rep.rows.push_back(row);
   }
   {
-    Row row{"iterations to the centre, scalar pheromones (shipped layout)", kPaperScalar,
-            ss ? std::vector<double>{*ss} : std::vector<double>{}, "iteration", "one deterministic run", ""};
+    Row row{"iterations to the centre, scalar pheromones (shipped layout)",
+            kPaperScalar,
+            ss ? std::vector<double>{*ss} : std::vector<double>{},
+            "iteration",
+            "one deterministic run",
+            ""};
     if (sv && ss && *sv >= *ss) row.verdict = "reversed: faster than the vector leader on this layout";
     rep.rows.push_back(row);
   }
@@ -445,9 +479,11 @@ Report run_fig10(uint32_t runs, const Progress& progress) {
   t += "Arrival in iterations after the hold: mean ± sd [95 % CI] over layouts 1.." + std::to_string(layouts) +
        " that arrived (within the run's 500 iterations), the shipped layout's value, and how often the setting "
        "arrives before the paper-reading scalar leader (default) on the same layout. Every other quantity is the "
-       "paper reading: Table 2, Eτ = 0.01, Gε = 0.2, hold 1000, three obstacles, targets within 2.8 cells of the centre. The shipped layout keeps its file's "
+       "paper reading: Table 2, Eτ = 0.01, Gε = 0.2, hold 1000, three obstacles, targets within 2.8 cells of the "
+       "centre. The shipped layout keeps its file's "
        "hold of 300.\n\n";
-  t += "| group | setting | drawn layouts | shipped layout | sooner than the scalar (mean) leader of its group |\n|---|---|---|---|---|\n";
+  t += "| group | setting | drawn layouts | shipped layout | sooner than the scalar (mean) leader of its group "
+       "|\n|---|---|---|---|---|\n";
   for (std::size_t i = 0; i < sweep.size(); ++i) {
     std::string sooner = "–";
     if (sweep[i].partner >= 0) {
@@ -462,7 +498,8 @@ Report run_fig10(uint32_t runs, const Progress& progress) {
       sooner = std::to_string(wins) + "/" + std::to_string(either);
     }
     t += "| " + sweep[i].group + " | " + sweep[i].label + " | " + mean_ci_cell(results[i].arrivals, layouts) + " | " +
-         (sweep[i].with_obstacles && !sweep[i].wide_targets ? arrival_cell(results[i].shipped) : "–") + " | " + sooner + " |\n";
+         (sweep[i].with_obstacles && !sweep[i].wide_targets ? arrival_cell(results[i].shipped) : "–") + " | " + sooner +
+         " |\n";
   }
   const auto cell = [&](std::size_t i) { return mean_ci_cell(results[i].arrivals, layouts); };
   const auto leg_of = [&sweep](const std::string& label) {
@@ -475,37 +512,45 @@ Report run_fig10(uint32_t runs, const Progress& progress) {
   const std::size_t hold300_sca = leg_of("scalar (mean), hold 300 ticks (the shipped file's)");
   std::string head;
   head += "### Second reading\n\n";
-  head += "Eqs. (12)-(15) and Algorithm 2 were read again line by line against navigation.cpp "
-          "(docs/policies/shao-navigation.md has the table). Eq. (12)'s vector points up the gradient of each layer, "
-          "eq. (13) sums it per 45° sector within sensorLD, eq. (14) weighs the layers with Table 2's λ, eq. (15) moves "
-          "ρ = 2 along the chosen s_d: the code does exactly that; no bug was found. What the paper does not fix: which "
-          "s_d \"max_d s_d\" is (a maximum of vectors), what its scalar leader is, and the whole layout and field. The "
-          "followers do not act on the leader (it reads only the field; nobody deposits while navigating), so eqs. "
-          "(17)-(24) cannot change Fig. 10's iterations.\n\n";
+  head +=
+      "Eqs. (12)-(15) and Algorithm 2 were read again line by line against navigation.cpp "
+      "(docs/policies/shao-navigation.md has the table). Eq. (12)'s vector points up the gradient of each layer, "
+      "eq. (13) sums it per 45° sector within sensorLD, eq. (14) weighs the layers with Table 2's λ, eq. (15) moves "
+      "ρ = 2 along the chosen s_d: the code does exactly that; no bug was found. What the paper does not fix: which "
+      "s_d \"max_d s_d\" is (a maximum of vectors), what its scalar leader is, and the whole layout and field. The "
+      "followers do not act on the leader (it reads only the field; nobody deposits while navigating), so eqs. "
+      "(17)-(24) cannot change Fig. 10's iterations.\n\n";
   head += "### Unstated quantities\n\n";
-  head += "start area; target region (centre and spread of its targets); obstacles; field parameters (Eτ, Gτ, Eε, "
-          "Gε of the §4 layers, which the paper gives for §4 only) and how long it was built before the leader "
-          "moves (hold); the order behind \"max_d s_d\" (norm or component along the sector); the scalar leader "
-          "(how a sector is scored: mean, sum or max; how far it moves per iteration: ρ or one lattice step); sector "
-          "boundaries (Fig. 8 unreadable; ours are centred on the compass headings, not swept); what \"reach the "
-          "centre\" counts (ours: the tick the leader is on the centre after Algorithm 2's \"go there\", at most "
-          "⌈sensorLD/ρ⌉ = 3 iterations after it first sees it, not swept). Stated and kept: sensorLD = 5, ρ = 2, λ = "
-          "(1, -0.3, 0.3), eight sectors, 500 iterations.\n\n";
+  head +=
+      "start area; target region (centre and spread of its targets); obstacles; field parameters (Eτ, Gτ, Eε, "
+      "Gε of the §4 layers, which the paper gives for §4 only) and how long it was built before the leader "
+      "moves (hold); the order behind \"max_d s_d\" (norm or component along the sector); the scalar leader "
+      "(how a sector is scored: mean, sum or max; how far it moves per iteration: ρ or one lattice step); sector "
+      "boundaries (Fig. 8 unreadable; ours are centred on the compass headings, not swept); what \"reach the "
+      "centre\" counts (ours: the tick the leader is on the centre after Algorithm 2's \"go there\", at most "
+      "⌈sensorLD/ρ⌉ = 3 iterations after it first sees it, not swept). Stated and kept: sensorLD = 5, ρ = 2, λ = "
+      "(1, -0.3, 0.3), eight sectors, 500 iterations.\n\n";
   head += "### Conclusion\n\n";
   head += "Paper reading (norm, scalar mean at ρ): vector " + cell(kVec) + " against scalar " + cell(kSca) +
           " iterations: reversed. The vector leader loses only where obstacles are: on the same layouts without "
-          "obstacles vector " + cell(open_vec) + ", scalar " + cell(open_sca) + ". Under the norm reading the sector an obstacle "
+          "obstacles vector " +
+          cell(open_vec) + ", scalar " + cell(open_sca) +
+          ". Under the norm reading the sector an obstacle "
           "lies in has the largest ‖s_d‖ (the obstacle pheromone has travelled 10-20 cells, the targets' 55-75) and "
           "its s_d points straight back out, so the leader flees each obstacle; the scalar leader only avoids the "
-          "obstacle's sector. Reading the maximum as the largest component along the sector removes that: "
-          + cell(kVecProj) + ", level with the scalar leader. The paper's order appears only when the scalar leader "
-          "moves one lattice step per iteration, as the UAVs of §4 do (reading X: " + cell(kVecProj) + " against " +
-          cell(kScaLattice) + "): a fair reading of \"the conventional individual decision scheme\", but then the "
+          "obstacle's sector. Reading the maximum as the largest component along the sector removes that: " +
+          cell(kVecProj) +
+          ", level with the scalar leader. The paper's order appears only when the scalar leader "
+          "moves one lattice step per iteration, as the UAVs of §4 do (reading X: " +
+          cell(kVecProj) + " against " + cell(kScaLattice) +
+          "): a fair reading of \"the conventional individual decision scheme\", but then the "
           "gain is the step length (2 cells against 1-1.41), not the pheromone kind. Fig. 10's 67 and 102 iterations "
           "are not reproduced under any reading tried (ours are 38-45 % lower in reading X on our layouts; the paper's "
           "layout is unknown). The field's build-up (hold) decides whether the scalar leader senses the target at "
-          "all: at hold 300, " + std::to_string(results[hold300_sca].arrivals.size()) + " of " +
-          std::to_string(layouts) + " drawn layouts; with the default 20 layouts, hold 1000 (the drawn layouts' base) is the shortest hold tried where both paper-reading leaders arrive on at least 19.\n\n";
+          "all: at hold 300, " +
+          std::to_string(results[hold300_sca].arrivals.size()) + " of " + std::to_string(layouts) +
+          " drawn layouts; with the default 20 layouts, hold 1000 (the drawn layouts' base) is the shortest hold tried "
+          "where both paper-reading leaders arrive on at least 19.\n\n";
   rep.investigation = head + t;
 
   rep.notes = {
@@ -525,11 +570,12 @@ Report run_fig10(uint32_t runs, const Progress& progress) {
 }  // namespace
 
 std::vector<Experiment> shao_navigation_experiments() {
-  return {{"shao-fig10", "Shao 2020 Fig. 10: leader to the target region with vector vs scalar pheromones", 20,
-           [](uint32_t runs, const Progress& p) { return run_fig10(runs, p); },
-           "Fig. 10 reversed under the paper's reading (vector leader sooner on 0 of 20 layouts); its order "
-           "holds only if the scalar leader steps one cell per iteration, a speed difference (reading X); no bug found; "
-           "our variant pull arrives 36 % sooner than the paper's vector leader"}};
+  return {
+      {"shao-fig10", "Shao 2020 Fig. 10: leader to the target region with vector vs scalar pheromones", 20,
+       [](uint32_t runs, const Progress& p) { return run_fig10(runs, p); },
+       "Fig. 10 reversed under the paper's reading (vector leader sooner on 0 of 20 layouts); its order "
+       "holds only if the scalar leader steps one cell per iteration, a speed difference (reading X); no bug found; "
+       "our variant pull arrives 36 % sooner than the paper's vector leader"}};
 }
 
 }  // namespace pheromesh::cli::experiments

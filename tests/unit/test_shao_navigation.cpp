@@ -191,8 +191,8 @@ TEST(ShaoNav, GradientVariantFliesAlongTheSumOfAllSectorVectors) {
   expect_near(s.v, 1.5709833444550712, -1.2377444532070259);
   expect_near(s.q, 1.5709833444550712, -1.2377444532070259);
   // Shao 2020 Algorithm 2 hands the step to it when asked for the variant.
-  const LeaderStep a = leader_algorithm2_step(Vector2d::Zero(), Vector2d{50.0, 50.0},
-                                              sparse(hand_neighbourhood(12.0F)), p, LeaderPheromones::Gradient);
+  const LeaderStep a = leader_algorithm2_step(Vector2d::Zero(), Vector2d{50.0, 50.0}, sparse(hand_neighbourhood(12.0F)),
+                                              p, LeaderPheromones::Gradient);
   expect_near(a.v, 1.5709833444550712, -1.2377444532070259);
   // A flat field has no gradient: the leader stays.
   const LeaderStep flat =
@@ -213,8 +213,7 @@ TEST(ShaoNav, PullVariantSumsOnlyTheSectorVectorsThatPullOutwards) {
   const auto two = sparse({{{0, 0}, {1.0F, 0.0F, 0.0F}}, {{3, 1}, {6.0F, 0.0F, 0.0F}}, {{0, 2}, {3.0F, 0.0F, 0.0F}}});
   const LeaderStep t = leader_pull_step(Vector2d::Zero(), two, p);
   expect_near(t.v, std::numbers::sqrt2, std::numbers::sqrt2);
-  const LeaderStep a =
-      leader_algorithm2_step(Vector2d::Zero(), Vector2d{50.0, 50.0}, two, p, LeaderPheromones::Pull);
+  const LeaderStep a = leader_algorithm2_step(Vector2d::Zero(), Vector2d{50.0, 50.0}, two, p, LeaderPheromones::Pull);
   expect_near(a.v, std::numbers::sqrt2, std::numbers::sqrt2);
   // On a peak nothing pulls outwards: the leader stays.
   const LeaderStep peak =
@@ -227,7 +226,7 @@ TEST(ShaoNav, PullVariantSumsOnlyTheSectorVectorsThatPullOutwards) {
 //   N: (0,2), (0,3), (1,4) = 4 each -> mean 4, sum 12, max 4
 //   W: (-2,0) = 8, (-3,0) = 0       -> mean 4, sum 8,  max 8
 std::map<std::pair<int32_t, int32_t>, Values> three_sector_neighbourhood() {
-  return {{{4, 0}, {5.0F, 0.0F, 0.0F}}, {{0, 2}, {4.0F, 0.0F, 0.0F}}, {{0, 3}, {4.0F, 0.0F, 0.0F}},
+  return {{{4, 0}, {5.0F, 0.0F, 0.0F}}, {{0, 2}, {4.0F, 0.0F, 0.0F}},  {{0, 3}, {4.0F, 0.0F, 0.0F}},
           {{1, 4}, {4.0F, 0.0F, 0.0F}}, {{-2, 0}, {8.0F, 0.0F, 0.0F}}, {{-3, 0}, {0.0F, 0.0F, 0.0F}}};
 }
 

@@ -223,8 +223,7 @@ Eigen::Vector2d bisector(std::size_t d) {
 
 }  // namespace
 
-LeaderStep leader_vector_step(const Eigen::Vector2d& q, const PheromoneLookup& pheromones,
-                              const ShaoNavParams& p) {
+LeaderStep leader_vector_step(const Eigen::Vector2d& q, const PheromoneLookup& pheromones, const ShaoNavParams& p) {
   LeaderStep s;
   s.q = q;
   if (!usable_position(q) || !pheromones || !sector_vectors(q, pheromones, p, s)) {
@@ -233,8 +232,7 @@ LeaderStep leader_vector_step(const Eigen::Vector2d& q, const PheromoneLookup& p
   std::array<bool, kNavSectorCount> eligible{};
   for (std::size_t d = 0; d < kNavSectorCount; ++d) {
     const double norm = s.sector_sums[d].norm();
-    s.sector_scores[d] =
-        p.vector_choice == VectorSectorChoice::Norm ? norm : s.sector_sums[d].dot(bisector(d));
+    s.sector_scores[d] = p.vector_choice == VectorSectorChoice::Norm ? norm : s.sector_sums[d].dot(bisector(d));
     // A zero s_d has no direction for Shao 2020 eq. (15); under Projection a sector whose
     // s_d points back out of it (score <= 0) is no candidate either.
     eligible[d] = norm > 0.0 && s.sector_scores[d] > 0.0 && std::isfinite(s.sector_scores[d]);
@@ -249,8 +247,7 @@ LeaderStep leader_vector_step(const Eigen::Vector2d& q, const PheromoneLookup& p
   return s;
 }
 
-LeaderStep leader_gradient_step(const Eigen::Vector2d& q, const PheromoneLookup& pheromones,
-                                const ShaoNavParams& p) {
+LeaderStep leader_gradient_step(const Eigen::Vector2d& q, const PheromoneLookup& pheromones, const ShaoNavParams& p) {
   LeaderStep s;
   s.q = q;
   if (!usable_position(q) || !pheromones || !sector_vectors(q, pheromones, p, s)) {

@@ -117,8 +117,7 @@ LeaderStep leader_scalar_step(const Eigen::Vector2d& q, const PheromoneLookup& p
 // summed over all eight sectors instead of taking one sector's, and the
 // leader moves ρ along that resultant, the λ-weighted pheromone gradient
 // over the whole sensor disk. No sector is chosen (sector stays nullopt).
-LeaderStep leader_gradient_step(const Eigen::Vector2d& q, const PheromoneLookup& pheromones,
-                                const ShaoNavParams& p);
+LeaderStep leader_gradient_step(const Eigen::Vector2d& q, const PheromoneLookup& pheromones, const ShaoNavParams& p);
 // Our variant "pull" (not the paper's): the sum of the s_d that pull the
 // leader into their own sector (s_d·u_d > 0 along the sector's bisector u_d,
 // the candidates of VectorSectorChoice::Projection), ρ along it. The s_d of a
