@@ -44,6 +44,40 @@ TEST(ShaoNavigationPolicy, ParsesTheTable2ParametersAndTheCentre) {
   EXPECT_STREQ(policy_name(s.policy), "shao_navigation");
 }
 
+TEST(ShaoNavigationPolicy, ReadingsAndTheGradientVariantAreSelectableInTheScenarioFile) {
+  const auto r = parse_scenario(
+      "map { width: 20 height: 20 }\npolicy { shao_navigation { region_centre { x: 15 y: 15 } leader_pheromones: "
+      "\"gradient\" vector_choice: \"projection\" scalar_score: \"max\" scalar_step: \"lattice\" } }\n",
+      "r.textproto");
+  ASSERT_TRUE(r.ok()) << r.error().message;
+  const auto& c = r.value().config_of<ShaoNavigationConfig>();
+  EXPECT_EQ(c.leader, LeaderPheromones::Gradient);
+  EXPECT_EQ(c.params.vector_choice, VectorSectorChoice::Projection);
+  EXPECT_EQ(c.params.scalar_score, ScalarSectorScore::Max);
+  EXPECT_EQ(c.params.scalar_step, ScalarLeaderStep::Lattice);
+  const auto d = parse_scenario(
+      "map { width: 20 height: 20 }\npolicy { shao_navigation { region_centre { x: 15 y: 15 } } }\n", "d.textproto");
+  ASSERT_TRUE(d.ok()) << d.error().message;
+  const auto& dc = d.value().config_of<ShaoNavigationConfig>();
+  EXPECT_EQ(dc.params.vector_choice, VectorSectorChoice::Norm);
+  EXPECT_EQ(dc.params.scalar_score, ScalarSectorScore::Mean);
+  EXPECT_EQ(dc.params.scalar_step, ScalarLeaderStep::Rho);
+  const auto bad = parse_scenario(
+      "map { width: 20 height: 20 }\npolicy { shao_navigation { region_centre { x: 15 y: 15 }\n  vector_choice: "
+      "\"sum\"\n  scalar_score: \"median\"\n  scalar_step: \"hop\" } }\n",
+      "b.textproto");
+  ASSERT_FALSE(bad.ok());
+  const std::string& e = bad.error().message;
+  EXPECT_NE(e.find("b.textproto:3:3: field 'policy.shao_navigation.vector_choice': must be \"norm\" or \"projection\""),
+            std::string::npos)
+      << e;
+  EXPECT_NE(e.find("field 'policy.shao_navigation.scalar_score': must be \"mean\", \"sum\" or \"max\""),
+            std::string::npos)
+      << e;
+  EXPECT_NE(e.find("field 'policy.shao_navigation.scalar_step': must be \"rho\" or \"lattice\""), std::string::npos)
+      << e;
+}
+
 TEST(ShaoNavigationPolicy, BadValuesNameTheLineAndTheField) {
   const auto r = parse_scenario(
       "map { width: 20 height: 20 }\npolicy { shao_navigation {\n  region_centre { x: 25 y: 3 }\n  leader_pheromones: "
@@ -53,8 +87,10 @@ TEST(ShaoNavigationPolicy, BadValuesNameTheLineAndTheField) {
   const std::string& e = r.error().message;
   EXPECT_NE(e.find("n.textproto:3:19: field 'policy.shao_navigation.region_centre.x': must be between 0 and 19"),
             std::string::npos) << e;
-  EXPECT_NE(e.find("n.textproto:4:3: field 'policy.shao_navigation.leader_pheromones': must be \"vector\" or \"scalar\""),
-            std::string::npos) << e;
+  EXPECT_NE(e.find("n.textproto:4:3: field 'policy.shao_navigation.leader_pheromones': must be \"vector\", \"scalar\", "
+                   "\"gradient\" or \"pull\""),
+            std::string::npos)
+      << e;
   EXPECT_NE(e.find("n.textproto:5:3: field 'policy.shao_navigation.rho': must be > 0"), std::string::npos) << e;
   const auto missing = parse_scenario("map { width: 20 height: 20 }\npolicy { shao_navigation { } }\n", "m.textproto");
   ASSERT_FALSE(missing.ok());

@@ -149,6 +149,121 @@ TEST(ShaoNav, ScalarLeaderOfHandBuiltNeighbourhoodTakesTheBestSectorMean) {
   expect_near(s.v, 2.0, 0.0);  // ρ along the sector's bisector
 }
 
+TEST(ShaoNav, ProjectionReadingSkipsASectorWhoseVectorPointsBackOutOfIt) {
+  ShaoNavParams p;
+  p.vector_choice = VectorSectorChoice::Projection;
+  // The neighbourhood of StrongObstaclePheromoneDrivesVectorLeaderAwayFromIt:
+  // s_E = (1.65, 0.5), s_N = (0, -1.8). Along the bisectors (1, 0) and (0, 1):
+  // s_E·u_E = 1.65, s_N·u_N = -1.8 (s_N points back out of N: no candidate).
+  const LeaderStep s = leader_vector_step(Vector2d::Zero(), sparse(hand_neighbourhood(12.0F)), p);
+  EXPECT_NEAR(s.sector_scores[static_cast<std::size_t>(Heading::E)], 1.65, kTol);
+  EXPECT_NEAR(s.sector_scores[static_cast<std::size_t>(Heading::N)], -1.8, kTol);
+  ASSERT_TRUE(s.sector.has_value());
+  EXPECT_EQ(*s.sector, Heading::E);
+  // Shao 2020 eq. (15) along s_E itself, as under the norm reading of the ε = 4 case.
+  expect_near(s.v, 1.91404880886694710, 0.58001479056574154);
+}
+
+TEST(ShaoNav, ProjectionReadingStaysWhenNoSectorPullsOutwards) {
+  ShaoNavParams p;
+  p.vector_choice = VectorSectorChoice::Projection;
+  // The leader sits on a peak: its one neighbour E has less target pheromone,
+  // τ_ij = (2 - 1)/1 · (-1, 0) = (-1, 0) points back out of E (score -1).
+  const LeaderStep s =
+      leader_vector_step(Vector2d::Zero(), sparse({{{0, 0}, {2.0F, 0.0F, 0.0F}}, {{1, 0}, {1.0F, 0.0F, 0.0F}}}), p);
+  EXPECT_NEAR(s.sector_scores[static_cast<std::size_t>(Heading::E)], -1.0, kTol);
+  EXPECT_FALSE(s.sector.has_value());
+  expect_near(s.v, 0.0, 0.0);
+  // The norm reading takes that sector anyway and moves back over the peak.
+  const LeaderStep n =
+      leader_vector_step(Vector2d::Zero(), sparse({{{0, 0}, {2.0F, 0.0F, 0.0F}}, {{1, 0}, {1.0F, 0.0F, 0.0F}}}), {});
+  ASSERT_TRUE(n.sector.has_value());
+  expect_near(n.v, -2.0, 0.0);
+}
+
+TEST(ShaoNav, GradientVariantFliesAlongTheSumOfAllSectorVectors) {
+  const ShaoNavParams p;
+  // s_E + s_N = (1.65, 0.5) + (0, -1.8) = (1.65, -1.3), norm √4.4125 = 2.10059515376;
+  // v = 2·(1.65, -1.3)/2.10059515376 = (1.57098334446, -1.23774445321).
+  const LeaderStep s = leader_gradient_step(Vector2d::Zero(), sparse(hand_neighbourhood(12.0F)), p);
+  EXPECT_FALSE(s.sector.has_value());
+  expect_near(s.sector_sums[static_cast<std::size_t>(Heading::N)], 0.0, -1.8);
+  expect_near(s.v, 1.5709833444550712, -1.2377444532070259);
+  expect_near(s.q, 1.5709833444550712, -1.2377444532070259);
+  // Shao 2020 Algorithm 2 hands the step to it when asked for the variant.
+  const LeaderStep a = leader_algorithm2_step(Vector2d::Zero(), Vector2d{50.0, 50.0}, sparse(hand_neighbourhood(12.0F)),
+                                              p, LeaderPheromones::Gradient);
+  expect_near(a.v, 1.5709833444550712, -1.2377444532070259);
+  // A flat field has no gradient: the leader stays.
+  const LeaderStep flat =
+      leader_gradient_step(Vector2d::Zero(), sparse({{{0, 0}, {1.0F, 0.0F, 0.0F}}, {{1, 0}, {1.0F, 0.0F, 0.0F}}}), p);
+  expect_near(flat.v, 0.0, 0.0);
+}
+
+TEST(ShaoNav, PullVariantSumsOnlyTheSectorVectorsThatPullOutwards) {
+  const ShaoNavParams p;
+  // s_E = (1.65, 0.5) pulls into E (1.65 > 0); s_N = (0, -1.8) pushes back out of N:
+  // left out, so v = ρ s_E/‖s_E‖ = (1.91404880886694710, 0.58001479056574154).
+  const LeaderStep s = leader_pull_step(Vector2d::Zero(), sparse(hand_neighbourhood(12.0F)), p);
+  EXPECT_FALSE(s.sector.has_value());
+  EXPECT_NEAR(s.sector_scores[static_cast<std::size_t>(Heading::N)], -1.8, kTol);
+  expect_near(s.v, 1.91404880886694710, 0.58001479056574154);
+  // Two sectors pull: A = (3,1) τ = 6 gives s_E = (1.5, 0.5); (0,2) τ = 3 gives
+  // τ_ij = (1 - 3)/4 · (0, -2) = (0, 1) = s_N. Sum (1.5, 1.5): v = 2·(1, 1)/√2 = (√2, √2).
+  const auto two = sparse({{{0, 0}, {1.0F, 0.0F, 0.0F}}, {{3, 1}, {6.0F, 0.0F, 0.0F}}, {{0, 2}, {3.0F, 0.0F, 0.0F}}});
+  const LeaderStep t = leader_pull_step(Vector2d::Zero(), two, p);
+  expect_near(t.v, std::numbers::sqrt2, std::numbers::sqrt2);
+  const LeaderStep a = leader_algorithm2_step(Vector2d::Zero(), Vector2d{50.0, 50.0}, two, p, LeaderPheromones::Pull);
+  expect_near(a.v, std::numbers::sqrt2, std::numbers::sqrt2);
+  // On a peak nothing pulls outwards: the leader stays.
+  const LeaderStep peak =
+      leader_pull_step(Vector2d::Zero(), sparse({{{0, 0}, {2.0F, 0.0F, 0.0F}}, {{1, 0}, {1.0F, 0.0F, 0.0F}}}), p);
+  expect_near(peak.v, 0.0, 0.0);
+}
+
+// Sectors E, N and W with target pheromone only (λTa = 1):
+//   E: (4,0) = 5                    -> mean 5, sum 5,  max 5
+//   N: (0,2), (0,3), (1,4) = 4 each -> mean 4, sum 12, max 4
+//   W: (-2,0) = 8, (-3,0) = 0       -> mean 4, sum 8,  max 8
+std::map<std::pair<int32_t, int32_t>, Values> three_sector_neighbourhood() {
+  return {{{4, 0}, {5.0F, 0.0F, 0.0F}}, {{0, 2}, {4.0F, 0.0F, 0.0F}},  {{0, 3}, {4.0F, 0.0F, 0.0F}},
+          {{1, 4}, {4.0F, 0.0F, 0.0F}}, {{-2, 0}, {8.0F, 0.0F, 0.0F}}, {{-3, 0}, {0.0F, 0.0F, 0.0F}}};
+}
+
+TEST(ShaoNav, ScalarSectorScoresMeanSumAndMaxPickDifferentSectors) {
+  ShaoNavParams p;
+  const auto field = sparse(three_sector_neighbourhood());
+  const LeaderStep mean = leader_scalar_step(Vector2d::Zero(), field, p);
+  EXPECT_NEAR(mean.sector_scores[static_cast<std::size_t>(Heading::W)], 4.0, kTol);
+  ASSERT_TRUE(mean.sector.has_value());
+  EXPECT_EQ(*mean.sector, Heading::E);
+  p.scalar_score = ScalarSectorScore::Sum;
+  const LeaderStep sum = leader_scalar_step(Vector2d::Zero(), field, p);
+  EXPECT_NEAR(sum.sector_scores[static_cast<std::size_t>(Heading::N)], 12.0, kTol);
+  ASSERT_TRUE(sum.sector.has_value());
+  EXPECT_EQ(*sum.sector, Heading::N);
+  expect_near(sum.v, 0.0, 2.0);
+  p.scalar_score = ScalarSectorScore::Max;
+  const LeaderStep max = leader_scalar_step(Vector2d::Zero(), field, p);
+  EXPECT_NEAR(max.sector_scores[static_cast<std::size_t>(Heading::W)], 8.0, kTol);
+  ASSERT_TRUE(max.sector.has_value());
+  EXPECT_EQ(*max.sector, Heading::W);
+  expect_near(max.v, -2.0, 0.0);
+}
+
+TEST(ShaoNav, ScalarLatticeStepIsOneCellOnAnAxisAndTwoRootTwoHalvesOnADiagonal) {
+  ShaoNavParams p;
+  p.scalar_step = ScalarLeaderStep::Lattice;
+  const LeaderStep axis = leader_scalar_step(Vector2d::Zero(), sparse(three_sector_neighbourhood()), p);
+  expect_near(axis.v, 1.0, 0.0);  // E, one cell
+  // Only NE known: √2 along 45°, i.e. one cell in x and in y.
+  const LeaderStep diag = leader_scalar_step(Vector2d{0.5, 0.0}, sparse({{{2, 2}, {1.0F, 0.0F, 0.0F}}}), p);
+  ASSERT_TRUE(diag.sector.has_value());
+  EXPECT_EQ(*diag.sector, Heading::NE);
+  expect_near(diag.v, 1.0, 1.0);
+  expect_near(diag.q, 1.5, 1.0);
+}
+
 TEST(ShaoNav, ScalarLeaderIgnoresSectorsWithoutKnownCells) {
   const ShaoNavParams p;
   // Only an obstacle-laden cell north is known: its mean -0.3·4 = -1.2 < 0 still wins over

@@ -20,9 +20,12 @@
 //    leader has no reference and does not move.
 //  * Sectors (Shao 2020 Fig. 8 is not readable): eight 45° sectors centred on the
 //    compass headings E, NE, ..., SE (Heading order), as the ACO of Shao 2020 Sec. 4 uses.
-//  * "s_t = max_d s_d^t": the maximum of vectors, read as the s_d of largest
-//    Euclidean norm (the strongest weighted gradient, whichever way it
-//    points). Ties (within 1e-12 relative) go to the lowest Heading index.
+//  * "s_t = max_d s_d^t": the maximum of vectors, read by default as the s_d
+//    of largest Euclidean norm (the strongest weighted gradient, whichever way
+//    it points); VectorSectorChoice::Projection reads it as the s_d of largest
+//    component along its own sector's bisector (shao-fig10 flies both:
+//    docs/policies/shao-navigation.md). Ties (within 1e-12 relative) go to the
+//    lowest Heading index.
 //    All s_d = 0 (flat or unknown field): no direction, the leader stays
 //    (v = 0); Shao 2020 Algorithm 2 lists v_t^L as an input but Shao 2020 eq. (15) never uses it.
 //    Consequence of "max over sectors": on a smooth field s_d ≈ Σ_j (∇τ·u_j)u_j
@@ -35,10 +38,12 @@
 //    sector the mean over J(d) of λTa τ_j + λTh ε_j + λTr σ_j (the same
 //    fusion as Shao 2020 eq. (9) of Shao 2020 Sec. 4), the sector of the largest mean wins (ties to
 //    the lowest index; sectors without a known cell take no part), and the
-//    leader moves ρ along that sector's bisector. (If the paper's scalar
-//    leader instead moved one lattice step per iteration, as the UAVs of Shao 2020 Sec. 4
-//    do, that alone would explain 102 vs 67 ticks: 2·67/102 ≈ 1.31 cells per
-//    tick, between a straight and a diagonal step. We do not assume it.)
+//    leader moves ρ along that sector's bisector. ScalarSectorScore (sum,
+//    max) and ScalarLeaderStep (one lattice step per iteration, as the UAVs
+//    of Shao 2020 Sec. 4 move) are the other readings shao-fig10 flies.
+//    On a flat field (every sector's score equal) the scalar leader moves
+//    along the lowest index (E) where the vector leader stays: a float
+//    target pheromone below ~1e-16 of the path term λTr σ0 is flat to it.
 //  * Shao 2020 Algorithm 2 lines 1-4: once the centre is within sensorLD (inclusive)
 //    the leader "goes there" at speed at most ρ (Shao 2020 eq. (15)'s speed), and becomes
 //    a follower on the tick it arrives. The paper does not say how fast "go
@@ -177,18 +182,16 @@ double bump(double z, double h) {
 
 double phi_alpha(double z) { return 1.0 / z; }
 
-LeaderStep leader_vector_step(const Eigen::Vector2d& q, const PheromoneLookup& pheromones,
-                              const ShaoNavParams& p) {
-  LeaderStep s;
-  s.q = q;
-  if (!usable_position(q) || !pheromones) {
-    return s;
-  }
+namespace {
+
+// Σ_{j∈J(d)} of Shao 2020 eq. (12) per sector and layer (Shao 2020 eq. (13)), weighted into
+// s_d by Shao 2020 eq. (14). False if τ(i) is unknown (no reference value).
+bool sector_vectors(const Eigen::Vector2d& q, const PheromoneLookup& pheromones, const ShaoNavParams& p,
+                    LeaderStep& s) {
   const auto own = known(pheromones, nearest_cell(q));
   if (!own) {
-    return s;  // no τ(i): Shao 2020 eq. (12) has no reference value
+    return false;
   }
-  // Per sector and layer, Σ_{j∈J(d)} of Shao 2020 eq. (12): Shao 2020 eq. (13).
   std::array<std::array<Eigen::Vector2d, 3>, kNavSectorCount> layer_sums;
   for (auto& sector : layer_sums) {
     sector.fill(Eigen::Vector2d::Zero());
@@ -206,20 +209,82 @@ LeaderStep leader_vector_step(const Eigen::Vector2d& q, const PheromoneLookup& p
     }
     ++s.sector_cells[d];
   });
-
   const Eigen::Vector3d lam = lambdas(p);
-  std::array<bool, kNavSectorCount> eligible{};
   for (std::size_t d = 0; d < kNavSectorCount; ++d) {
     s.sector_sums[d] = lam(0) * layer_sums[d][0] + lam(1) * layer_sums[d][1] + lam(2) * layer_sums[d][2];  // Shao 2020 eq. (14)
-    s.sector_scores[d] = s.sector_sums[d].norm();
-    eligible[d] = s.sector_scores[d] > 0.0 && std::isfinite(s.sector_scores[d]);
+  }
+  return true;
+}
+
+Eigen::Vector2d bisector(std::size_t d) {
+  const double angle = heading_angle(static_cast<Heading>(d));
+  return {std::cos(angle), std::sin(angle)};
+}
+
+}  // namespace
+
+LeaderStep leader_vector_step(const Eigen::Vector2d& q, const PheromoneLookup& pheromones, const ShaoNavParams& p) {
+  LeaderStep s;
+  s.q = q;
+  if (!usable_position(q) || !pheromones || !sector_vectors(q, pheromones, p, s)) {
+    return s;
+  }
+  std::array<bool, kNavSectorCount> eligible{};
+  for (std::size_t d = 0; d < kNavSectorCount; ++d) {
+    const double norm = s.sector_sums[d].norm();
+    s.sector_scores[d] = p.vector_choice == VectorSectorChoice::Norm ? norm : s.sector_sums[d].dot(bisector(d));
+    // A zero s_d has no direction for Shao 2020 eq. (15); under Projection a sector whose
+    // s_d points back out of it (score <= 0) is no candidate either.
+    eligible[d] = norm > 0.0 && s.sector_scores[d] > 0.0 && std::isfinite(s.sector_scores[d]);
   }
   const auto best = best_sector(s.sector_scores, eligible);
   if (!best) {
     return s;
   }
   s.sector = static_cast<Heading>(*best);
-  s.v = p.rho * s.sector_sums[*best] / s.sector_scores[*best];  // Shao 2020 eq. (15)
+  s.v = p.rho * s.sector_sums[*best] / s.sector_sums[*best].norm();  // Shao 2020 eq. (15)
+  s.q = q + s.v;
+  return s;
+}
+
+LeaderStep leader_gradient_step(const Eigen::Vector2d& q, const PheromoneLookup& pheromones, const ShaoNavParams& p) {
+  LeaderStep s;
+  s.q = q;
+  if (!usable_position(q) || !pheromones || !sector_vectors(q, pheromones, p, s)) {
+    return s;
+  }
+  Eigen::Vector2d total = Eigen::Vector2d::Zero();
+  for (std::size_t d = 0; d < kNavSectorCount; ++d) {
+    s.sector_scores[d] = s.sector_sums[d].norm();
+    total += s.sector_sums[d];
+  }
+  const double norm = total.norm();
+  if (!(norm > 0.0) || !std::isfinite(norm)) {
+    return s;  // flat or unknown field: stay, as the vector leader does
+  }
+  s.v = p.rho * total / norm;  // the speed of Shao 2020 eq. (15)
+  s.q = q + s.v;
+  return s;
+}
+
+LeaderStep leader_pull_step(const Eigen::Vector2d& q, const PheromoneLookup& pheromones, const ShaoNavParams& p) {
+  LeaderStep s;
+  s.q = q;
+  if (!usable_position(q) || !pheromones || !sector_vectors(q, pheromones, p, s)) {
+    return s;
+  }
+  Eigen::Vector2d total = Eigen::Vector2d::Zero();
+  for (std::size_t d = 0; d < kNavSectorCount; ++d) {
+    s.sector_scores[d] = s.sector_sums[d].dot(bisector(d));
+    if (s.sector_scores[d] > 0.0 && std::isfinite(s.sector_scores[d])) {
+      total += s.sector_sums[d];
+    }
+  }
+  const double norm = total.norm();
+  if (!(norm > 0.0) || !std::isfinite(norm)) {
+    return s;  // nothing pulls: stay
+  }
+  s.v = p.rho * total / norm;  // the speed of Shao 2020 eq. (15)
   s.q = q + s.v;
   return s;
 }
@@ -233,27 +298,44 @@ LeaderStep leader_scalar_step(const Eigen::Vector2d& q, const PheromoneLookup& p
   }
   const Eigen::Vector3d lam = lambdas(p);
   std::array<double, kNavSectorCount> sums{};
+  std::array<double, kNavSectorCount> maxima{};
   for_each_cell_in_disk(q, p.leader_sensor_radius, [&](Cell c, const Eigen::Vector2d& to_j) {
     const auto val = known(pheromones, c);
     if (!val) {
       return;
     }
     const auto d = static_cast<std::size_t>(nav_sector_of(to_j));
-    sums[d] += lam.dot(*val);
+    const double w = lam.dot(*val);  // the fusion of Shao 2020 eq. (9)
+    sums[d] += w;
+    maxima[d] = s.sector_cells[d] == 0 ? w : std::max(maxima[d], w);
     ++s.sector_cells[d];
   });
   std::array<bool, kNavSectorCount> eligible{};
   for (std::size_t d = 0; d < kNavSectorCount; ++d) {
     eligible[d] = s.sector_cells[d] > 0;
-    s.sector_scores[d] = eligible[d] ? sums[d] / s.sector_cells[d] : 0.0;
+    if (!eligible[d]) {
+      continue;
+    }
+    switch (p.scalar_score) {
+      case ScalarSectorScore::Mean:
+        s.sector_scores[d] = sums[d] / s.sector_cells[d];
+        break;
+      case ScalarSectorScore::Sum:
+        s.sector_scores[d] = sums[d];
+        break;
+      case ScalarSectorScore::Max:
+        s.sector_scores[d] = maxima[d];
+        break;
+    }
   }
   const auto best = best_sector(s.sector_scores, eligible);
   if (!best) {
     return s;
   }
   s.sector = static_cast<Heading>(*best);
-  const double angle = heading_angle(*s.sector);
-  s.v = p.rho * Eigen::Vector2d{std::cos(angle), std::sin(angle)};
+  // A lattice step is 1 cell on an axis and √2 on a diagonal (odd Heading index).
+  const double speed = p.scalar_step == ScalarLeaderStep::Rho ? p.rho : (*best % 2 == 0 ? 1.0 : std::numbers::sqrt2);
+  s.v = speed * bisector(*best);
   s.q = q + s.v;
   return s;
 }
@@ -266,8 +348,17 @@ LeaderStep leader_algorithm2_step(const Eigen::Vector2d& q, const Eigen::Vector2
                                   const PheromoneLookup& pheromones, const ShaoNavParams& p,
                                   LeaderPheromones kind) {
   if (!leader_reaches_centre(q, centre, p)) {
-    return kind == LeaderPheromones::Vector ? leader_vector_step(q, pheromones, p)
-                                            : leader_scalar_step(q, pheromones, p);
+    switch (kind) {
+      case LeaderPheromones::Scalar:
+        return leader_scalar_step(q, pheromones, p);
+      case LeaderPheromones::Gradient:
+        return leader_gradient_step(q, pheromones, p);
+      case LeaderPheromones::Pull:
+        return leader_pull_step(q, pheromones, p);
+      case LeaderPheromones::Vector:
+        break;
+    }
+    return leader_vector_step(q, pheromones, p);
   }
   // Shao 2020 Algorithm 2 lines 1-4: go there, at most ρ per tick.
   LeaderStep s;

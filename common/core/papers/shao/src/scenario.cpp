@@ -20,8 +20,43 @@ void build_shao_navigation(const pb::ShaoNavigationPolicy& msg, const Node& n, V
       c.leader = LeaderPheromones::Vector;
     } else if (msg.leader_pheromones() == "scalar") {
       c.leader = LeaderPheromones::Scalar;
+    } else if (msg.leader_pheromones() == "gradient") {
+      c.leader = LeaderPheromones::Gradient;  // our variant (navigation.hpp)
+    } else if (msg.leader_pheromones() == "pull") {
+      c.leader = LeaderPheromones::Pull;  // our variant (navigation.hpp)
     } else {
-      v.fail(n, "leader_pheromones", "must be \"vector\" or \"scalar\" (got \"" + msg.leader_pheromones() + "\")");
+      v.fail(n, "leader_pheromones",
+             "must be \"vector\", \"scalar\", \"gradient\" or \"pull\" (got \"" + msg.leader_pheromones() + "\")");
+    }
+  }
+  // Readings of Shao 2020 Sec. 5.1.1 the paper leaves open (navigation.hpp).
+  if (msg.has_vector_choice()) {
+    if (msg.vector_choice() == "norm") {
+      c.params.vector_choice = VectorSectorChoice::Norm;
+    } else if (msg.vector_choice() == "projection") {
+      c.params.vector_choice = VectorSectorChoice::Projection;
+    } else {
+      v.fail(n, "vector_choice", "must be \"norm\" or \"projection\" (got \"" + msg.vector_choice() + "\")");
+    }
+  }
+  if (msg.has_scalar_score()) {
+    if (msg.scalar_score() == "mean") {
+      c.params.scalar_score = ScalarSectorScore::Mean;
+    } else if (msg.scalar_score() == "sum") {
+      c.params.scalar_score = ScalarSectorScore::Sum;
+    } else if (msg.scalar_score() == "max") {
+      c.params.scalar_score = ScalarSectorScore::Max;
+    } else {
+      v.fail(n, "scalar_score", "must be \"mean\", \"sum\" or \"max\" (got \"" + msg.scalar_score() + "\")");
+    }
+  }
+  if (msg.has_scalar_step()) {
+    if (msg.scalar_step() == "rho") {
+      c.params.scalar_step = ScalarLeaderStep::Rho;
+    } else if (msg.scalar_step() == "lattice") {
+      c.params.scalar_step = ScalarLeaderStep::Lattice;
+    } else {
+      v.fail(n, "scalar_step", "must be \"rho\" or \"lattice\" (got \"" + msg.scalar_step() + "\")");
     }
   }
   if (msg.has_neighbour_gradient()) {

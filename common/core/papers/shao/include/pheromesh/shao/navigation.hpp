@@ -33,6 +33,25 @@ enum class NeighbourGradient : uint8_t { TowardsNeighbour = 0, AwayFromNeighbour
 // ε = 0.1), inside N_k.
 enum class AdjacencyScale : uint8_t { SigmaRange = 0, LiteralRange = 1 };
 
+// How "s_t = max_d s_d^t" (Shao 2020 Sec. 5.1.1, after Shao 2020 eq. (14)) picks the
+// sector of the vector leader. A maximum of vectors needs an order the paper
+// does not give. Norm takes the s_d of largest Euclidean norm (the strongest
+// weighted gradient, whichever way it points: an obstacle's repulsion felt in
+// a sector counts as much as a target's pull). Projection takes the s_d with
+// the largest component along its own sector's bisector (the sector the
+// field pulls the leader into most; a sector whose s_d points back out of it
+// scores negative). Both move along s_d itself, Shao 2020 eq. (15).
+enum class VectorSectorChoice : uint8_t { Norm = 0, Projection = 1 };
+
+// How the scalar leader of Shao 2020 Fig. 10b (not specified in the paper) scores a
+// sector from λTa τ_j + λTh ε_j + λTr σ_j over its known cells J(d).
+enum class ScalarSectorScore : uint8_t { Mean = 0, Sum = 1, Max = 2 };
+
+// How far the scalar leader moves per iteration along its sector's bisector:
+// ρ as the vector leader (Shao 2020 eq. (15)), or one lattice step (1 cell on
+// an axis, √2 on a diagonal) as the UAVs of Shao 2020 Sec. 4 move.
+enum class ScalarLeaderStep : uint8_t { Rho = 0, Lattice = 1 };
+
 // Shao 2020 Table 2 values unless stated otherwise.
 struct ShaoNavParams {
   double leader_sensor_radius = 5.0;  // sensorLD [cell]
@@ -50,6 +69,9 @@ struct ShaoNavParams {
   double follower_range = 4.0;
   NeighbourGradient neighbour_gradient = NeighbourGradient::TowardsNeighbour;
   AdjacencyScale adjacency_scale = AdjacencyScale::SigmaRange;
+  VectorSectorChoice vector_choice = VectorSectorChoice::Norm;
+  ScalarSectorScore scalar_score = ScalarSectorScore::Mean;
+  ScalarLeaderStep scalar_step = ScalarLeaderStep::Rho;
 };
 
 // Target, obstacle and path pheromone at a cell; nullopt if unknown (no tile).
@@ -70,8 +92,10 @@ struct LeaderStep {
   std::optional<Heading> sector;                // chosen sector d; nullopt: no move from pheromones
   // Vector leader: s_d of Shao 2020 eq. (14). Scalar leader: zero.
   SectorVectors sector_sums = zero_sector_vectors();
-  // Selection criterion per sector: ‖s_d‖ (vector leader) or the mean of the
-  // λ-weighted scalar sum (scalar leader; 0 where sector_cells is 0).
+  // Selection criterion per sector: ‖s_d‖ or s_d·u_d (vector leader, see
+  // VectorSectorChoice), the mean / sum / max of the λ-weighted scalar values
+  // (scalar leader, see ScalarSectorScore; 0 where sector_cells is 0), or
+  // ‖s_d‖ (gradient leader).
   std::array<double, kNavSectorCount> sector_scores{};
   std::array<int, kNavSectorCount> sector_cells{};  // known cells used per sector
   bool heading_to_centre = false;  // Shao 2020 Algorithm 2 line 2 ("go there") drove this step
@@ -89,11 +113,23 @@ LeaderStep leader_vector_step(const Eigen::Vector2d& q, const PheromoneLookup& p
 // Our baseline reading of the scalar-pheromone leader of Shao 2020 Fig. 10b.
 LeaderStep leader_scalar_step(const Eigen::Vector2d& q, const PheromoneLookup& pheromones,
                               const ShaoNavParams& p);
+// Our variant "gradient" (not the paper's): the s_d of Shao 2020 eq. (12), Shao 2020 eq. (13), Shao 2020 eq. (14) are
+// summed over all eight sectors instead of taking one sector's, and the
+// leader moves ρ along that resultant, the λ-weighted pheromone gradient
+// over the whole sensor disk. No sector is chosen (sector stays nullopt).
+LeaderStep leader_gradient_step(const Eigen::Vector2d& q, const PheromoneLookup& pheromones, const ShaoNavParams& p);
+// Our variant "pull" (not the paper's): the sum of the s_d that pull the
+// leader into their own sector (s_d·u_d > 0 along the sector's bisector u_d,
+// the candidates of VectorSectorChoice::Projection), ρ along it. The s_d of a
+// sector whose pheromone pushes the leader back out of it (an obstacle's,
+// under λTh < 0) is left out; no sector pulls: the leader stays.
+LeaderStep leader_pull_step(const Eigen::Vector2d& q, const PheromoneLookup& pheromones, const ShaoNavParams& p);
 
 // Shao 2020 Algorithm 2 line 1: the centre of the target region is within sensorLD.
 bool leader_reaches_centre(const Eigen::Vector2d& q, const Eigen::Vector2d& centre, const ShaoNavParams& p);
 
-enum class LeaderPheromones : uint8_t { Vector = 0, Scalar = 1 };
+// Vector and Scalar are Shao 2020 Fig. 10's two leaders; Gradient and Pull are our variants.
+enum class LeaderPheromones : uint8_t { Vector = 0, Scalar = 1, Gradient = 2, Pull = 3 };
 // Shao 2020 Algorithm 2: go towards the centre (at most ρ per tick) once it is within
 // sensorLD, else one pheromone step of the chosen kind.
 LeaderStep leader_algorithm2_step(const Eigen::Vector2d& q, const Eigen::Vector2d& centre,
