@@ -242,7 +242,8 @@ bool write_report(const Report& r, const std::string& out_dir, double wall_secon
     for (const auto& c : checks) {
       std::string d = c.differences;
       for (auto& ch : d) ch = ch == '\n' ? ';' : ch == '|' ? '/' : ch;
-      md << "| " << c.label << " | " << (c.equal ? "yes" : "**no**") << " | " << num(c.sim_seconds, 2) << " | "
+      const std::string dir = c.run_dir.empty() ? "" : std::filesystem::path(c.run_dir).filename().string() + ": ";
+      md << "| " << dir << c.label << " | " << (c.equal ? "yes" : "**no**") << " | " << num(c.sim_seconds, 2) << " | "
          << num(c.process_seconds, 1) << " | " << (d.empty() ? "–" : d) << " |\n";
     }
   }
