@@ -56,6 +56,9 @@
 //    each ant's walk before it is offered as a candidate; the colony's
 //    pheromone (deposits on the walk's edges and nodes, costs of the walk) is
 //    left as the paper's. See line_of_sight_shortcut below.
+//  * Not the paper: DuanPlanner::SafeLineOfSight (planner "safe_line_of_sight")
+//    does the same but takes a shortcut only if it does not raise the Duan 2009
+//    eq. (1) exposure either. See safe_line_of_sight_shortcut below.
 #include "pheromesh/duan/aco.hpp"
 
 #include <algorithm>
@@ -161,14 +164,24 @@ ThreatMesh::PathCost polyline_cost(const ThreatMesh& mesh, std::span<const NodeI
   return c;
 }
 
-std::vector<NodeId> line_of_sight_shortcut(const ThreatMesh& mesh, std::span<const NodeId> walk,
-                                           std::optional<NodeId> previous, double max_turn_rad) {
+namespace {
+
+// Both shortcut planners: `keep_exposure` adds the exposure test of
+// safe_line_of_sight_shortcut.
+std::vector<NodeId> shortcut_walk(const ThreatMesh& mesh, std::span<const NodeId> walk, std::optional<NodeId> previous,
+                                  double max_turn_rad, bool keep_exposure) {
   if (walk.size() < 3) return {walk.begin(), walk.end()};
   const double piece = std::min(mesh.step_x_km(), mesh.step_y_km());
   // prefix[i]: J of the walk from walk[0] to walk[i].
   std::vector<double> prefix(walk.size(), 0.0);
+  // exposed[i]: Duan 2009 eq. (1) exposure of the walk from walk[0] to walk[i] (only if keep_exposure).
+  std::vector<double> exposed(walk.size(), 0.0);
   for (std::size_t i = 1; i < walk.size(); ++i) {
     prefix[i] = prefix[i - 1] + polyline_cost(mesh, walk.subspan(i - 1, 2)).cost;
+    if (keep_exposure) {
+      const std::array<PointKm, 2> edge{mesh.position(walk[i - 1]), mesh.position(walk[i])};
+      exposed[i] = exposed[i - 1] + threat_exposure(mesh.threats(), edge, kSafeShortcutExposureStepKm);
+    }
   }
   auto turn_ok = [&](std::optional<NodeId> a, NodeId b, NodeId c) {
     return !a || *a == b || turn_allowed(mesh.position(*a), mesh.position(b), mesh.position(c), max_turn_rad);
@@ -185,15 +198,33 @@ std::vector<NodeId> line_of_sight_shortcut(const ThreatMesh& mesh, std::span<con
       if (j < last && !turn_ok(walk[i], walk[j], walk[j + 1])) continue;
       const double length = distance_km(a, b);
       const double cost = edge_cost(segment_threat_cost(mesh.threats(), a, b, piece), length, mesh.spec().f);
-      if (cost <= prefix[j] - prefix[i]) {
-        next = j;
-        break;
+      if (!(cost <= prefix[j] - prefix[i])) continue;
+      if (keep_exposure) {
+        // Relative slack: a segment that retraces the walk's own edges must
+        // not fail on rounding of the two sums.
+        const std::array<PointKm, 2> segment{a, b};
+        const double exposure = threat_exposure(mesh.threats(), segment, kSafeShortcutExposureStepKm);
+        if (exposure > (exposed[j] - exposed[i]) * (1.0 + 1e-12)) continue;
       }
+      next = j;
+      break;
     }
     out.push_back(walk[next]);
     i = next;
   }
   return out;
+}
+
+}  // namespace
+
+std::vector<NodeId> line_of_sight_shortcut(const ThreatMesh& mesh, std::span<const NodeId> walk,
+                                           std::optional<NodeId> previous, double max_turn_rad) {
+  return shortcut_walk(mesh, walk, previous, max_turn_rad, false);
+}
+
+std::vector<NodeId> safe_line_of_sight_shortcut(const ThreatMesh& mesh, std::span<const NodeId> walk,
+                                                std::optional<NodeId> previous, double max_turn_rad) {
+  return shortcut_walk(mesh, walk, previous, max_turn_rad, true);
 }
 
 double threat_exposure(std::span<const Threat> threats, std::span<const PointKm> polyline, double step_km) {
@@ -509,7 +540,11 @@ void DuanColony::offer_candidate(const std::vector<NodeId>& path, double cost) {
 const std::vector<NodeId>& DuanColony::shortcut_of(const std::vector<NodeId>& walk) {
   auto it = shortcuts_.find(walk);
   if (it == shortcuts_.end()) {
-    it = shortcuts_.emplace(walk, line_of_sight_shortcut(*mesh_, walk, previous_, params_.max_turn_rad)).first;
+    it = shortcuts_
+             .emplace(walk, params_.planner == DuanPlanner::SafeLineOfSight
+                                ? safe_line_of_sight_shortcut(*mesh_, walk, previous_, params_.max_turn_rad)
+                                : line_of_sight_shortcut(*mesh_, walk, previous_, params_.max_turn_rad))
+             .first;
   }
   return it->second;
 }
@@ -571,7 +606,7 @@ void DuanColony::iterate(const PointPheromone& others) {
     if (!(costs[k] < std::numeric_limits<double>::infinity())) {
       continue;
     }
-    if (params_.planner == DuanPlanner::LineOfSight) {
+    if (params_.planner != DuanPlanner::Paper) {
       const std::vector<NodeId>& cut = shortcut_of(paths[k]);
       offer_candidate(cut, polyline_cost(mesh, cut).cost);
     } else {

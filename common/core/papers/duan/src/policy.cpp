@@ -291,7 +291,7 @@ class DuanUav final : public UavPolicy {
       case Mode::Flying:
         if (!waypoints_.empty() && mesh_->direction(last_node_, waypoints_.front()) < 0 &&
             last_node_ != waypoints_.front()) {
-          // A line-of-sight segment (planner "line_of_sight"): the neighbouring
+          // A line-of-sight segment (planners "line_of_sight", "safe_line_of_sight"): the neighbouring
           // node of Step 3 is the mesh node nearest to the point one node
           // spacing ahead on the segment (not past its end), as in duan_table3.
           const Point w = point_of(waypoints_.front());

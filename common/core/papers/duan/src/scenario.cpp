@@ -124,8 +124,11 @@ void build_duan(const pb::DuanPolicy& msg, const Node& n, Validator& v, Scenario
       a.planner = DuanPlanner::Paper;
     } else if (msg.planner() == "line_of_sight") {
       a.planner = DuanPlanner::LineOfSight;
+    } else if (msg.planner() == "safe_line_of_sight") {
+      a.planner = DuanPlanner::SafeLineOfSight;
     } else {
-      v.fail(n, "planner", "must be \"paper\" or \"line_of_sight\" (got \"" + msg.planner() + "\")");
+      v.fail(n, "planner",
+             "must be \"paper\", \"line_of_sight\" or \"safe_line_of_sight\" (got \"" + msg.planner() + "\")");
     }
   }
 

@@ -158,6 +158,9 @@ enum class DepositRule : uint8_t {
 enum class DuanPlanner : uint8_t {
   Paper,        // Duan 2009 as printed: the ants' mesh walks are the candidates
   LineOfSight,  // ours ("duan_los", docs/policies/duan.md): each walk shortcut by line_of_sight_shortcut
+  // ours (docs/policies/duan.md): as LineOfSight, but a shortcut is taken only
+  // if it raises neither Duan 2009 eq. (3)'s J nor Duan 2009 eq. (1)'s exposure
+  SafeLineOfSight,
 };
 
 struct DuanAcoParams {
@@ -223,6 +226,17 @@ ThreatMesh::PathCost polyline_cost(const ThreatMesh& mesh, std::span<const NodeI
 // walk's first and last node, never costs more, and obeys the turn limit.
 std::vector<NodeId> line_of_sight_shortcut(const ThreatMesh& mesh, std::span<const NodeId> walk,
                                            std::optional<NodeId> previous, double max_turn_rad);
+
+// Step of the midpoint rule for the exposure test of safe_line_of_sight_shortcut
+// (the same step the duan-table3 experiment measures exposure with).
+inline constexpr double kSafeShortcutExposureStepKm = 0.05;
+
+// As line_of_sight_shortcut, but a straight segment must also have a Duan 2009
+// eq. (1) exposure (threat_exposure with kSafeShortcutExposureStepKm) no
+// higher than the stretch of walk it replaces: the result never costs more
+// and is never more exposed than the walk.
+std::vector<NodeId> safe_line_of_sight_shortcut(const ThreatMesh& mesh, std::span<const NodeId> walk,
+                                                std::optional<NodeId> previous, double max_turn_rad);
 
 // Threat exposure of a polyline, planner-neutral: Duan 2009 eq. (1)'s line integral of
 // Σ w_k / d^4 (inside each range) by the midpoint rule with pieces of at most

@@ -12,8 +12,8 @@
 //    and replans from there with a fresh team of colonies, the node before it
 //    kept as heading for the turn constraint. The new ETA counts the stretch
 //    to that node (offset) at the new speed.
-//  * Trajectories of the line_of_sight planner (DuanPlanner::LineOfSight, ours)
-//    have segments longer than a mesh edge: such a UAV replans from the mesh
+//  * Trajectories of the line_of_sight planners (DuanPlanner::LineOfSight and
+//    DuanPlanner::SafeLineOfSight, ours) have segments longer than a mesh edge: such a UAV replans from the mesh
 //    node nearest to the point one node spacing ahead of its position on its
 //    segment (never its target), reached straight from where it is.
 //  * Random numbers: run r (0-based) uses seed r + 1; colony i draws from
