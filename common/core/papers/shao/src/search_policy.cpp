@@ -1,6 +1,7 @@
 // The Shao 2020 search policy (Shao 2020 Sec. 4): ACO decisions on semantic pheromones
 // (Shao 2020 eq. (9), Shao 2020 eq. (10), Shao 2020 eq. (11)), target and obstacle marks, path pheromone around the UAV
 // (Shao 2020 eq. (5), Shao 2020 eq. (6), Shao 2020 eq. (7)), and the place agents' layers (Shao 2020 eq. (1), Shao 2020 eq. (2), Shao 2020 eq. (3), Shao 2020 eq. (4), Shao 2020 eq. (5), Shao 2020 eq. (6), Shao 2020 eq. (7), Shao 2020 eq. (8)) with revisit timers.
+#include <algorithm>
 #include <cmath>
 #include <set>
 
@@ -19,20 +20,33 @@ std::pair<int32_t, int32_t> key(Cell c) { return {c.x, c.y}; }
 // A target mark is re-sent at most this often while the place agent has not
 // yet published the target as marked (its tile may lag a tick or two).
 constexpr uint32_t kMarkResendTicks = 5;
+// shao_search_frontier: a sector mean of target pheromone above this is a
+// revisit signal in sight (the layer is exactly 0 where no target emits).
+constexpr double kTargetInSight = 1e-6;
+// A path pheromone this far below σ0 marks a cell as visited (float rounding
+// of the place agent's update stays far below it; the smallest decrease, at
+// D = 1, is 0.12 σ0, Shao 2020 eq. (7)).
+constexpr float kPathTouched = 1e-3F;
+constexpr uint32_t kFrontierRecheckTicks = 25;
 
 class ShaoSearchUav final : public UavPolicy {
  public:
-  ShaoSearchUav(const ScenarioConfig& s, const MapGeometry& geo, const World& world, uint32_t id)
-      : s_(&s), geo_(&geo), world_(&world), rng_(stream_seed(s.seed, "uav", id)) {
+  ShaoSearchUav(const ScenarioConfig& s, const MapGeometry& geo, const World& world, uint32_t id, bool frontier = false)
+      : s_(&s), geo_(&geo), world_(&world), rng_(stream_seed(s.seed, "uav", id)), frontier_(frontier) {
     pos_ = start_cell(s, id);
     heading_ = static_cast<Heading>(rng_.uniform_below(8));
+    if (frontier_) {
+      visited_.width = geo.width();
+      visited_.height = geo.height();
+      visited_.visited.assign(static_cast<std::size_t>(geo.width()) * static_cast<std::size_t>(geo.height()), 0);
+    }
   }
   ShaoSearchUav(const ScenarioConfig& s, const MapGeometry& geo, const World& world, uint32_t id, Cell at,
                 Heading heading)
       : s_(&s), geo_(&geo), world_(&world), rng_(stream_seed(s.seed, "uav-search", id)), pos_(at), heading_(heading) {}
 
   void step(const UavView& view, UavActions& out) override {
-    if (view.tick > 0) move(*view.tiles);
+    if (view.tick > 0) move(*view.tiles, view.tick);
     sense_and_deposit(view, out);
     out.state.x = pos_.x;
     out.state.y = pos_.y;
@@ -44,7 +58,7 @@ class ShaoSearchUav final : public UavPolicy {
   [[nodiscard]] Cell cell() const override { return pos_; }
 
  private:
-  void move(const TileCache& tiles) {
+  void move(const TileCache& tiles, uint32_t tick) {
     LocalView view;
     view.pheromones = [&tiles](Cell c) -> std::optional<std::array<float, 3>> {
       auto t = tiles.value(static_cast<int>(Layer::Target), c);
@@ -54,6 +68,7 @@ class ShaoSearchUav final : public UavPolicy {
       return std::array<float, 3>{*t, *o, *p};
     };
     view.blocked = [this](Cell c) { return !geo_->in_map(c) || known_obstacles_.contains(key(c)); };
+    if (frontier_ && frontier_move(tiles, view, tick)) return;
     const Decision d = decide(pos_, heading_, view, s_->aco, rng_);
     if (d.chosen) {
       last_step_ = step_of(d.chosen->heading);
@@ -75,6 +90,54 @@ class ShaoSearchUav final : public UavPolicy {
       }
     }
     last_step_ = {0, 0};
+  }
+
+  // shao_search_frontier (docs/policies/shao.md): unless a target pheromone
+  // is in one of the five forward sectors (a revisit signal, followed with the
+  // paper's rule), fly towards the nearest cell this UAV does not know to be
+  // visited. False: no such cell or no forward way to it; the paper's rule
+  // decides.
+  bool frontier_move(const TileCache& tiles, const LocalView& view, uint32_t tick) {
+    remember_visited(tiles);
+    for (const Candidate& c : evaluate_candidates(pos_, heading_, view, s_->aco)) {
+      if (c.accessible && c.tau > kTargetInSight) return false;
+    }
+    if (tick < exhausted_until_) return false;
+    const auto goal = nearest_unvisited(pos_, visited_, view.blocked);
+    if (!goal) {
+      // Everything reachable is visited: recheck now and then (new obstacles
+      // known, or a cell we missed), not every tick.
+      exhausted_until_ = tick + kFrontierRecheckTicks;
+      return false;
+    }
+    const auto i = frontier_candidate(pos_, heading_, *goal, geo_->width(), geo_->height(), view.blocked);
+    if (!i) return false;
+    heading_ = rotate(heading_, static_cast<int>(*i) - 2);
+    last_step_ = step_of(heading_);
+    pos_ = Cell{pos_.x + last_step_.x, pos_.y + last_step_.y};
+    return true;
+  }
+
+  // Cells within the sensor radius of the UAV, and every cell of the tiles
+  // it holds whose path pheromone is below σ0, are visited.
+  void remember_visited(const TileCache& tiles) {
+    const double sd = s_->aco.sensor_radius;
+    const auto r = static_cast<int32_t>(std::floor(sd));
+    for (int32_t dy = -r; dy <= r; ++dy) {
+      for (int32_t dx = -r; dx <= r; ++dx) {
+        const Cell c{pos_.x + dx, pos_.y + dy};
+        if (geo_->in_map(c) && static_cast<double>(dx * dx + dy * dy) <= sd * sd) visited_.visited[geo_->index(c)] = 1;
+      }
+    }
+    const auto reach = static_cast<int32_t>(std::ceil(sd)) + 1 + geo_->tile_size();
+    const auto below = static_cast<float>(s_->layers.sigma0) - kPathTouched;
+    for (int32_t y = std::max(0, pos_.y - reach); y <= std::min(geo_->height() - 1, pos_.y + reach); ++y) {
+      for (int32_t x = std::max(0, pos_.x - reach); x <= std::min(geo_->width() - 1, pos_.x + reach); ++x) {
+        const Cell c{x, y};
+        const auto v = tiles.value(static_cast<int>(Layer::Path), c);
+        if (v && *v < below) visited_.visited[geo_->index(c)] = 1;
+      }
+    }
   }
 
   void deposit(DepositKind kind, Cell c, RegionId region, UavActions& out) {
@@ -126,6 +189,10 @@ class ShaoSearchUav final : public UavPolicy {
   std::set<std::pair<int32_t, int32_t>> marked_obstacles_;
   std::map<int32_t, uint32_t> mark_sent_tick_;  // target index -> tick of the last mark sent
   std::set<int32_t> targets_in_range_;
+  // shao_search_frontier only
+  bool frontier_ = false;
+  VisitedMap visited_;
+  uint32_t exhausted_until_ = 0;
 };
 
 class ShaoPlace final : public PlaceModel {
@@ -202,7 +269,14 @@ ShaoRoute shao_route(const ScenarioConfig& s) {
 
 std::unique_ptr<UavPolicy> make_shao_search_uav(const ScenarioConfig& s, const MapGeometry& geo, const World& world,
                                                 uint32_t id) {
-  if (shao_route(s) == ShaoRoute::LawnmowerTransit) return make_shao_lawnmower_uav(s, geo, world, id);
+  switch (shao_route(s)) {
+    case ShaoRoute::LawnmowerTransit:
+      return make_shao_lawnmower_uav(s, geo, world, id);
+    case ShaoRoute::Frontier:
+      return std::make_unique<ShaoSearchUav>(s, geo, world, id, /*frontier=*/true);
+    case ShaoRoute::Pheromone:
+      break;
+  }
   return std::make_unique<ShaoSearchUav>(s, geo, world, id);
 }
 

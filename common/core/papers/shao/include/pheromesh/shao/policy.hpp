@@ -25,14 +25,15 @@ struct ShaoNavigationConfig final : PolicyConfig {
 };
 
 // --- Shao 2020 Sec. 4 search (search_policy.cpp): it reads
-// ScenarioConfig::layers and ::aco. A scenario file gives it no config
-// (policy_config stays null: the pheromone search); a program may set a
-// ShaoSearchConfig to fly the exhaustive fixed-route baseline of
-// Shao 2020 Sec. 4.3.3 instead (lawnmower.hpp), with the same place agents,
-// sensor and speed.
+// ScenarioConfig::layers and ::aco. Without a config (policy_config null)
+// it is the paper's pheromone search; `policy { shao_search { search: ... } }`
+// (or a program) sets a ShaoSearchConfig to fly the exhaustive fixed-route
+// baseline of Shao 2020 Sec. 4.3.3 instead (lawnmower.hpp) or our variant
+// shao_search_frontier, with the same place agents, sensor and speed.
 enum class ShaoRoute : uint8_t {
-  Pheromone,         // Shao 2020 Algorithm 1
-  LawnmowerTransit,  // fixed boustrophedon strips, flown from the start area
+  Pheromone,         // Shao 2020 Algorithm 1 ("pheromone")
+  LawnmowerTransit,  // fixed boustrophedon strips, flown from the start area ("lawnmower_transit")
+  Frontier,          // shao_search_frontier, ours ("frontier", docs/policies/shao.md)
 };
 struct ShaoSearchConfig final : PolicyConfig {
   static constexpr PolicyKind kKind = PolicyKind::ShaoSearch;
