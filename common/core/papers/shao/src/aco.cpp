@@ -253,6 +253,37 @@ std::optional<Cell> breadth_first(Cell from, int32_t width, int32_t height, cons
 
 }  // namespace
 
+int32_t coverage_gain(Cell next, const VisitedMap& m, double sd) {
+  if (!(sd >= 0.0)) return 0;
+  const auto r = static_cast<int32_t>(std::floor(std::min(sd, 4096.0)));
+  int32_t gain = 0;
+  for (int32_t dy = -r; dy <= r; ++dy) {
+    for (int32_t dx = -r; dx <= r; ++dx) {
+      const Cell c{next.x + dx, next.y + dy};
+      if (static_cast<double>(dx * dx + dy * dy) <= sd * sd && m.in_map(c) && !m.is_visited(c)) ++gain;
+    }
+  }
+  return gain;
+}
+
+std::optional<std::size_t> coverage_candidate(Cell pos, Heading heading, const VisitedMap& m, double sd,
+                                              const std::function<bool(Cell)>& blocked) {
+  std::optional<std::size_t> best;
+  int32_t best_gain = 0;
+  // Candidates in order of |turn| (0, -1, 1, -2, 2): the first strict maximum wins ties.
+  for (const int turn : {0, -1, 1, -2, 2}) {
+    const Cell st = step_of(rotate(heading, turn));
+    const Cell next{pos.x + st.x, pos.y + st.y};
+    if (!m.in_map(next) || blocked(next)) continue;
+    const int32_t g = coverage_gain(next, m, sd);
+    if (g > best_gain) {
+      best = static_cast<std::size_t>(turn + kMaxTurn);
+      best_gain = g;
+    }
+  }
+  return best;
+}
+
 std::optional<Cell> nearest_unvisited(Cell pos, const VisitedMap& m, const std::function<bool(Cell)>& blocked) {
   if (!m.in_map(pos) || m.visited.size() != static_cast<std::size_t>(m.width) * static_cast<std::size_t>(m.height)) {
     return std::nullopt;

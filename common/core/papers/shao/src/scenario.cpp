@@ -8,9 +8,16 @@
 namespace pheromesh::core::scenario_detail {
 
 void build_shao_search(const pb::ShaoSearchPolicy& msg, const Node& n, Validator& v, ScenarioConfig& cfg) {
-  if (!msg.has_search()) return;  // the paper's pheromone search (no config)
+  if (!msg.has_search() && !msg.has_mark()) return;  // the paper's pheromone search (no config)
   ShaoSearchConfig c;
-  if (msg.search() == "pheromone") {
+  if (msg.has_mark()) {
+    if (msg.mark() == "on_arrival") {
+      c.mark_on_arrival = true;
+    } else if (msg.mark() != "in_range") {
+      v.fail(n, "mark", "must be \"in_range\" or \"on_arrival\" (got \"" + msg.mark() + "\")");
+    }
+  }
+  if (!msg.has_search() || msg.search() == "pheromone") {
     c.route = ShaoRoute::Pheromone;
   } else if (msg.search() == "lawnmower_transit") {
     c.route = ShaoRoute::LawnmowerTransit;

@@ -39,9 +39,15 @@ struct ShaoSearchConfig final : PolicyConfig {
   static constexpr PolicyKind kKind = PolicyKind::ShaoSearch;
   [[nodiscard]] PolicyKind kind() const override { return kKind; }
   ShaoRoute route = ShaoRoute::Pheromone;
+  // Shao 2020 Algorithm 1 line 4, "go there, mark them": false (default, our
+  // reading) marks a target as soon as it is within the sensor radius; true
+  // flies onto the target's cell first (`mark: "on_arrival"`). Acquisition
+  // (first detection) is the same in both.
+  bool mark_on_arrival = false;
 };
 // The route of a Shao search scenario (Pheromone without a config).
 ShaoRoute shao_route(const ScenarioConfig& s);
+bool shao_mark_on_arrival(const ScenarioConfig& s);
 
 PolicyTraits shao_search_traits(const ScenarioConfig& s);
 std::unique_ptr<UavPolicy> make_shao_search_uav(const ScenarioConfig& s, const MapGeometry& geo, const World& world,
