@@ -229,7 +229,7 @@ class ShaoSearchUav final : public UavPolicy {
   std::set<std::pair<int32_t, int32_t>> marked_obstacles_;
   std::map<int32_t, uint32_t> mark_sent_tick_;  // target index -> tick of the last mark sent
   std::set<int32_t> targets_in_range_;
-  // mark on arrival (Algorithm 1 line 4 read literally): the target flown to
+  // mark on arrival (Shao 2020 Algorithm 1 line 4 read literally): the target flown to
   bool mark_on_arrival_ = false;
   std::optional<int32_t> going_to_;
   // shao_search_frontier only

@@ -56,7 +56,7 @@ Decision decide(Cell pos, Heading heading, const LocalView& view, const ShaoAcoP
 
 // --- shao_search_frontier (ours, not the paper's; docs/policies/shao.md) ---
 // The paper's path pheromone starts at σ0 everywhere and only decreases
-// within D0 of a UAV (Shao 2020 eq. (5)-(8), no recovery term), and D0 = SD in
+// within D0 of a UAV (Shao 2020 eq. (5), Shao 2020 eq. (7), no recovery term), and D0 = SD in
 // Shao 2020 Table 1: a cell whose σ is below σ0 has been inside some UAV's sensor
 // range. The variant reads it as a shared visited map and flies to the
 // forward heading that brings the most unvisited cells into its sensor
