@@ -99,6 +99,13 @@ class ShaoSearchUav final : public UavPolicy {
     last_step_ = {0, 0};
   }
 
+  // One step to forward candidate i (0..4 = turn -2..2 eighths, as evaluate_candidates).
+  void take_candidate(std::size_t i) {
+    heading_ = rotate(heading_, static_cast<int>(i) - 2);
+    last_step_ = step_of(heading_);
+    pos_ = Cell{pos_.x + last_step_.x, pos_.y + last_step_.y};
+  }
+
   // Shao 2020 Algorithm 1 line 4 read literally ("go there, mark them"): one
   // step towards the target to mark, forward headings only. False if no
   // forward step leads there (the paper's rule decides this tick).
@@ -106,9 +113,7 @@ class ShaoSearchUav final : public UavPolicy {
     const Cell goal = world_->targets()[static_cast<std::size_t>(*going_to_)];
     const auto i = frontier_candidate(pos_, heading_, goal, geo_->width(), geo_->height(), view.blocked);
     if (!i) return false;
-    heading_ = rotate(heading_, static_cast<int>(*i) - 2);
-    last_step_ = step_of(heading_);
-    pos_ = Cell{pos_.x + last_step_.x, pos_.y + last_step_.y};
+    take_candidate(*i);
     return true;
   }
 
@@ -124,9 +129,7 @@ class ShaoSearchUav final : public UavPolicy {
       if (c.accessible && c.tau > kTargetInSight) return false;
     }
     if (const auto i = coverage_candidate(pos_, heading_, visited_, s_->aco.sensor_radius, view.blocked)) {
-      heading_ = rotate(heading_, static_cast<int>(*i) - 2);
-      last_step_ = step_of(heading_);
-      pos_ = Cell{pos_.x + last_step_.x, pos_.y + last_step_.y};
+      take_candidate(*i);
       return true;
     }
     if (tick < exhausted_until_) return false;
@@ -139,9 +142,7 @@ class ShaoSearchUav final : public UavPolicy {
     }
     const auto i = frontier_candidate(pos_, heading_, *goal, geo_->width(), geo_->height(), view.blocked);
     if (!i) return false;
-    heading_ = rotate(heading_, static_cast<int>(*i) - 2);
-    last_step_ = step_of(heading_);
-    pos_ = Cell{pos_.x + last_step_.x, pos_.y + last_step_.y};
+    take_candidate(*i);
     return true;
   }
 
