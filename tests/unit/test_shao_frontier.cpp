@@ -39,7 +39,8 @@ std::function<bool(Cell)> blocking(std::vector<Cell> cells) {
 // A one-region map with one UAV at `start`, sensor radius `sd` = D0 (as in
 // Shao 2020 Table 1, where both are 4), and the given policy lines (text, so the
 // scenario is what a file would give).
-ScenarioConfig tiny(const std::string& policy, Cell start, int32_t w, int32_t h, double sd, const std::string& extra = "") {
+ScenarioConfig tiny(const std::string& policy, Cell start, int32_t w, int32_t h, double sd,
+                    const std::string& extra = "") {
   const std::string text = "name: \"tiny\" map { width: " + std::to_string(w) + " height: " + std::to_string(h) +
                            " tile_size: " + std::to_string(h) + " regions_x: 1 regions_y: 1 " + extra +
                            " } swarm { uavs: 1 start_area { x: " + std::to_string(start.x) +
@@ -126,16 +127,18 @@ TEST(ShaoFrontier, TheScenarioSelectsTheRouteAndTheMarkingAndRejectsOtherNames) 
   const ScenarioConfig a = tiny(R"(policy { shao_search { mark: "on_arrival" } })", {0, 0}, 12, 4, 1);
   EXPECT_EQ(shao_route(a), ShaoRoute::Pheromone);
   EXPECT_TRUE(shao_mark_on_arrival(a));
-  auto bad = parse_scenario("name: \"x\" map { width: 12 height: 4 tile_size: 4 regions_x: 1 regions_y: 1 } "
-                            "swarm { uavs: 1 start_area { x: 0 y: 0 w: 1 h: 1 } } "
-                            "policy { shao_search { search: \"spiral\" } }",
-                            "x");
+  auto bad = parse_scenario(
+      "name: \"x\" map { width: 12 height: 4 tile_size: 4 regions_x: 1 regions_y: 1 } "
+      "swarm { uavs: 1 start_area { x: 0 y: 0 w: 1 h: 1 } } "
+      "policy { shao_search { search: \"spiral\" } }",
+      "x");
   ASSERT_FALSE(bad.ok());
   EXPECT_NE(bad.error().message.find("search"), std::string::npos) << bad.error().message;
-  auto bad_mark = parse_scenario("name: \"x\" map { width: 12 height: 4 tile_size: 4 regions_x: 1 regions_y: 1 } "
-                                 "swarm { uavs: 1 start_area { x: 0 y: 0 w: 1 h: 1 } } "
-                                 "policy { shao_search { mark: \"later\" } }",
-                                 "x");
+  auto bad_mark = parse_scenario(
+      "name: \"x\" map { width: 12 height: 4 tile_size: 4 regions_x: 1 regions_y: 1 } "
+      "swarm { uavs: 1 start_area { x: 0 y: 0 w: 1 h: 1 } } "
+      "policy { shao_search { mark: \"later\" } }",
+      "x");
   ASSERT_FALSE(bad_mark.ok());
 }
 
