@@ -184,10 +184,14 @@ Report run_family(const FamilySpec& f, uint32_t runs, const Progress& progress) 
   auto loaded = core::load_scenario(scenario_path(f.file));
   if (!loaded) throw std::runtime_error(loaded.error().message);
   const core::ScenarioConfig base = loaded.value();
-  const core::ScenarioConfig frontier = patched(base, kFrontierPatch, "shao_search_frontier");
+  // Named apart, so the --distributed checks say which policy each run flew.
+  const core::ScenarioConfig frontier =
+      patched(base, std::string(kFrontierPatch) + " name: \"" + base.name + "-frontier\"", "shao_search_frontier");
   const uint32_t lawn_ticks = std::min(base.ticks, f.lawnmower_ticks);
   const core::ScenarioConfig lawnmower =
-      patched(base, std::string(kLawnmowerPatch) + " run { ticks: " + std::to_string(lawn_ticks) + " }",
+      patched(base,
+              std::string(kLawnmowerPatch) + " run { ticks: " + std::to_string(lawn_ticks) + " } name: \"" +
+                  base.name + "-lawnmower-transit\"",
               "lawnmower with transit");
   const std::size_t targets = base.targets.size();
   const uint32_t sweep_runs = std::min(runs, f.max_sweep_runs);
