@@ -122,6 +122,9 @@ void build_policy(const pb::Scenario& msg, const Node& root, Validator& v, Scena
   const pb::Policy& p = msg.policy();
   switch (p.kind_case()) {
     case pb::Policy::kShaoSearch:
+      cfg.policy = PolicyKind::ShaoSearch;
+      build_shao_search(p.shao_search(), pn.child("shao_search"), v, cfg);
+      break;
     case pb::Policy::KIND_NOT_SET:
       cfg.policy = PolicyKind::ShaoSearch;
       break;

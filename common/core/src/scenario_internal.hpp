@@ -187,6 +187,7 @@ std::optional<Rect> check_rect(Validator& v, const Node& n, const pb::Rect& r, s
 std::optional<Cell> check_cell(Validator& v, const Node& n, const pb::Cell& c, std::optional<MapSize> map);
 
 // Per-policy parsers: read `msg` (the policy's message at node `n`) into `cfg`.
+void build_shao_search(const pb::ShaoSearchPolicy& msg, const Node& n, Validator& v, ScenarioConfig& cfg);
 void build_shao_navigation(const pb::ShaoNavigationPolicy& msg, const Node& n, Validator& v, ScenarioConfig& cfg);
 void build_liu(const pb::LiuPolicy& msg, const Node& n, Validator& v, ScenarioConfig& cfg);
 void build_shostak(const pb::ShostakPolicy& msg, const Node& n, Validator& v, ScenarioConfig& cfg);

@@ -24,6 +24,7 @@
 #include <cmath>
 #include <cstddef>
 #include <limits>
+#include <deque>
 #include <numbers>
 #include <vector>
 
@@ -218,6 +219,115 @@ Decision decide(Cell pos, Heading heading, const LocalView& view, const ShaoAcoP
   }
   d.chosen = cands[accessible.back()];  // rounding left u just above the total
   return d;
+}
+
+namespace {
+
+constexpr int32_t kUnreached = -1;
+
+// 8-connected breadth-first distances from `from` over unblocked cells of a
+// width x height map; stops as soon as `done(cell)` holds for a settled cell
+// (returned) or every reachable cell is settled (nullopt).
+std::optional<Cell> breadth_first(Cell from, int32_t width, int32_t height, const std::function<bool(Cell)>& blocked,
+                                  std::vector<int32_t>& dist, const std::function<bool(Cell)>& done) {
+  const auto idx = [width](Cell c) {
+    return static_cast<std::size_t>(c.y) * static_cast<std::size_t>(width) + static_cast<std::size_t>(c.x);
+  };
+  dist.assign(static_cast<std::size_t>(width) * static_cast<std::size_t>(height), kUnreached);
+  std::deque<Cell> queue{from};
+  dist[idx(from)] = 0;
+  while (!queue.empty()) {
+    const Cell c = queue.front();
+    queue.pop_front();
+    if (done(c)) return c;
+    for (int h = 0; h < kHeadingCount; ++h) {
+      const Cell st = step_of(static_cast<Heading>(h));
+      const Cell n{c.x + st.x, c.y + st.y};
+      if (n.x < 0 || n.y < 0 || n.x >= width || n.y >= height || dist[idx(n)] != kUnreached || blocked(n)) continue;
+      dist[idx(n)] = dist[idx(c)] + 1;
+      queue.push_back(n);
+    }
+  }
+  return std::nullopt;
+}
+
+}  // namespace
+
+int32_t coverage_gain(Cell next, const VisitedMap& m, double sd) {
+  if (!(sd >= 0.0)) return 0;
+  const auto r = static_cast<int32_t>(std::floor(std::min(sd, 4096.0)));
+  int32_t gain = 0;
+  for (int32_t dy = -r; dy <= r; ++dy) {
+    for (int32_t dx = -r; dx <= r; ++dx) {
+      const Cell c{next.x + dx, next.y + dy};
+      if (static_cast<double>(dx * dx + dy * dy) <= sd * sd && m.in_map(c) && !m.is_visited(c)) ++gain;
+    }
+  }
+  return gain;
+}
+
+std::optional<std::size_t> coverage_candidate(Cell pos, Heading heading, const VisitedMap& m, double sd,
+                                              const std::function<bool(Cell)>& blocked) {
+  std::optional<std::size_t> best;
+  int32_t best_gain = 0;
+  // Candidates in order of |turn| (0, -1, 1, -2, 2): the first strict maximum wins ties.
+  for (const int turn : {0, -1, 1, -2, 2}) {
+    const Cell st = step_of(rotate(heading, turn));
+    const Cell next{pos.x + st.x, pos.y + st.y};
+    if (!m.in_map(next) || blocked(next)) continue;
+    const int32_t g = coverage_gain(next, m, sd);
+    if (g > best_gain) {
+      best = static_cast<std::size_t>(turn + kMaxTurn);
+      best_gain = g;
+    }
+  }
+  return best;
+}
+
+std::optional<Cell> nearest_unvisited(Cell pos, const VisitedMap& m, const std::function<bool(Cell)>& blocked) {
+  if (!m.in_map(pos) || m.visited.size() != static_cast<std::size_t>(m.width) * static_cast<std::size_t>(m.height)) {
+    return std::nullopt;
+  }
+  std::vector<int32_t> dist;
+  return breadth_first(pos, m.width, m.height, blocked, dist, [&m](Cell c) { return !m.is_visited(c); });
+}
+
+std::optional<std::size_t> frontier_candidate(Cell pos, Heading heading, Cell goal, int32_t width, int32_t height,
+                                              const std::function<bool(Cell)>& blocked) {
+  if (goal.x < 0 || goal.y < 0 || goal.x >= width || goal.y >= height) return std::nullopt;
+  std::array<Cell, 5> next{};
+  for (int turn = -kMaxTurn; turn <= kMaxTurn; ++turn) {
+    const Cell st = step_of(rotate(heading, turn));
+    next[static_cast<std::size_t>(turn + kMaxTurn)] = Cell{pos.x + st.x, pos.y + st.y};
+  }
+  const auto usable = [&](Cell c) { return c.x >= 0 && c.y >= 0 && c.x < width && c.y < height && !blocked(c); };
+  // Distances from the goal, searched until every usable candidate is settled.
+  std::vector<int32_t> dist;
+  const auto idx = [width](Cell c) {
+    return static_cast<std::size_t>(c.y) * static_cast<std::size_t>(width) + static_cast<std::size_t>(c.x);
+  };
+  std::size_t wanted = 0;
+  for (const Cell& c : next) wanted += usable(c) ? 1U : 0U;
+  std::size_t settled = 0;
+  breadth_first(goal, width, height, blocked, dist, [&](Cell c) {
+    for (const Cell& n : next) {
+      if (n.x == c.x && n.y == c.y && usable(n)) ++settled;
+    }
+    return settled >= wanted;
+  });
+  std::optional<std::size_t> best;
+  int32_t best_dist = 0;
+  // Candidates in order of |turn| (0, -1, 1, -2, 2): the first strict minimum wins ties.
+  for (const std::size_t i : {std::size_t{2}, std::size_t{1}, std::size_t{3}, std::size_t{0}, std::size_t{4}}) {
+    if (!usable(next[i])) continue;
+    const int32_t d = dist[idx(next[i])];
+    if (d == kUnreached) continue;
+    if (!best || d < best_dist) {
+      best = i;
+      best_dist = d;
+    }
+  }
+  return best;
 }
 
 }  // namespace pheromesh::core

@@ -1,3 +1,4 @@
+// scenario.policy.shao_search (Shao 2020 Sec. 4, its baseline and our variant) and
 // scenario.policy.shao_navigation (Shao 2020 Sec. 5, Shao 2020 Table 2).
 #include <utility>
 
@@ -5,6 +6,30 @@
 #include "scenario_internal.hpp"
 
 namespace pheromesh::core::scenario_detail {
+
+void build_shao_search(const pb::ShaoSearchPolicy& msg, const Node& n, Validator& v, ScenarioConfig& cfg) {
+  if (!msg.has_search() && !msg.has_mark()) return;  // the paper's pheromone search (no config)
+  ShaoSearchConfig c;
+  if (msg.has_mark()) {
+    if (msg.mark() == "on_arrival") {
+      c.mark_on_arrival = true;
+    } else if (msg.mark() != "in_range") {
+      v.fail(n, "mark", "must be \"in_range\" or \"on_arrival\" (got \"" + msg.mark() + "\")");
+    }
+  }
+  if (!msg.has_search() || msg.search() == "pheromone") {
+    c.route = ShaoRoute::Pheromone;
+  } else if (msg.search() == "lawnmower_transit") {
+    c.route = ShaoRoute::LawnmowerTransit;
+  } else if (msg.search() == "frontier") {
+    c.route = ShaoRoute::Frontier;
+  } else {
+    v.fail(n, "search",
+           "must be \"pheromone\", \"lawnmower_transit\" or \"frontier\" (got \"" + msg.search() + "\")");
+    return;
+  }
+  cfg.set_policy_config(std::move(c));
+}
 
 void build_shao_navigation(const pb::ShaoNavigationPolicy& msg, const Node& n, Validator& v, ScenarioConfig& cfg) {
   ShaoNavigationConfig c;

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <functional>
 #include <optional>
+#include <vector>
 
 #include "pheromesh/core/grid.hpp"
 #include "pheromesh/core/heading.hpp"
@@ -52,5 +53,43 @@ struct Decision {
 // information sub-group takes the most probable candidate (ties broken by
 // the stream) and the random sub-group draws by physical costs only.
 Decision decide(Cell pos, Heading heading, const LocalView& view, const ShaoAcoParams& p, Rng& rng);
+
+// --- shao_search_frontier (ours, not the paper's; docs/policies/shao.md) ---
+// The paper's path pheromone starts at σ0 everywhere and only decreases
+// within D0 of a UAV (Shao 2020 eq. (5), Shao 2020 eq. (7), no recovery term), and D0 = SD in
+// Shao 2020 Table 1: a cell whose σ is below σ0 has been inside some UAV's sensor
+// range. The variant reads it as a shared visited map and flies to the
+// forward heading that brings the most unvisited cells into its sensor
+// range, or, when none does, towards the nearest unvisited cell, with the
+// paper's kinematics (the five forward headings of Shao 2020 eq. (10)).
+struct VisitedMap {
+  int32_t width = 0, height = 0;
+  std::vector<uint8_t> visited;  // row-major, 1 = known visited
+  [[nodiscard]] bool in_map(Cell c) const { return c.x >= 0 && c.y >= 0 && c.x < width && c.y < height; }
+  [[nodiscard]] bool is_visited(Cell c) const {
+    return visited[static_cast<std::size_t>(c.y) * static_cast<std::size_t>(width) + static_cast<std::size_t>(c.x)] != 0;
+  }
+};
+// New cells a step to `next` brings into the sensor disk (radius sd,
+// Euclidean): the unvisited in-map cells within sd of `next`.
+int32_t coverage_gain(Cell next, const VisitedMap& m, double sd);
+// The forward candidate (index 0..4 = turn -2..2 eighths, as
+// evaluate_candidates) with the largest coverage_gain among those not
+// `blocked`; ties go to the smaller |turn|, then the clockwise (negative)
+// turn. nullopt when no candidate gains a cell (then fly to the nearest
+// unvisited cell).
+std::optional<std::size_t> coverage_candidate(Cell pos, Heading heading, const VisitedMap& m, double sd,
+                                              const std::function<bool(Cell)>& blocked);
+// The nearest (8-connected steps through cells not `blocked`) unvisited cell
+// from `pos`; among equally near ones the first reached in breadth-first
+// order with neighbours taken E, NE, N, NW, W, SW, S, SE. nullopt if every
+// reachable cell is visited.
+std::optional<Cell> nearest_unvisited(Cell pos, const VisitedMap& m, const std::function<bool(Cell)>& blocked);
+// Which of the five forward candidates (index 0..4 = turn -2..2 eighths, as
+// evaluate_candidates) brings the UAV nearest to `goal` by 8-connected steps
+// through unblocked cells; ties go to the smaller |turn|, then the
+// clockwise (negative) turn. nullopt if no accessible candidate can reach it.
+std::optional<std::size_t> frontier_candidate(Cell pos, Heading heading, Cell goal, int32_t width, int32_t height,
+                                              const std::function<bool(Cell)>& blocked);
 
 }  // namespace pheromesh::core

@@ -25,22 +25,29 @@ struct ShaoNavigationConfig final : PolicyConfig {
 };
 
 // --- Shao 2020 Sec. 4 search (search_policy.cpp): it reads
-// ScenarioConfig::layers and ::aco. A scenario file gives it no config
-// (policy_config stays null: the pheromone search); a program may set a
-// ShaoSearchConfig to fly the exhaustive fixed-route baseline of
-// Shao 2020 Sec. 4.3.3 instead (lawnmower.hpp), with the same place agents,
-// sensor and speed.
+// ScenarioConfig::layers and ::aco. Without a config (policy_config null)
+// it is the paper's pheromone search; `policy { shao_search { search: ... } }`
+// (or a program) sets a ShaoSearchConfig to fly the exhaustive fixed-route
+// baseline of Shao 2020 Sec. 4.3.3 instead (lawnmower.hpp) or our variant
+// shao_search_frontier, with the same place agents, sensor and speed.
 enum class ShaoRoute : uint8_t {
-  Pheromone,         // Shao 2020 Algorithm 1
-  LawnmowerTransit,  // fixed boustrophedon strips, flown from the start area
+  Pheromone,         // Shao 2020 Algorithm 1 ("pheromone")
+  LawnmowerTransit,  // fixed boustrophedon strips, flown from the start area ("lawnmower_transit")
+  Frontier,          // shao_search_frontier, ours ("frontier", docs/policies/shao.md)
 };
 struct ShaoSearchConfig final : PolicyConfig {
   static constexpr PolicyKind kKind = PolicyKind::ShaoSearch;
   [[nodiscard]] PolicyKind kind() const override { return kKind; }
   ShaoRoute route = ShaoRoute::Pheromone;
+  // Shao 2020 Algorithm 1 line 4, "go there, mark them": false (default, our
+  // reading) marks a target as soon as it is within the sensor radius; true
+  // flies onto the target's cell first (`mark: "on_arrival"`). Acquisition
+  // (first detection) is the same in both.
+  bool mark_on_arrival = false;
 };
 // The route of a Shao search scenario (Pheromone without a config).
 ShaoRoute shao_route(const ScenarioConfig& s);
+bool shao_mark_on_arrival(const ScenarioConfig& s);
 
 PolicyTraits shao_search_traits(const ScenarioConfig& s);
 std::unique_ptr<UavPolicy> make_shao_search_uav(const ScenarioConfig& s, const MapGeometry& geo, const World& world,
