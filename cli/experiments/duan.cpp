@@ -413,10 +413,10 @@ Report run_table3(uint32_t runs, const Progress& progress) {
 
   // Our second variant (DuanPlanner::SafeLineOfSight, planner
   // "safe_line_of_sight"): the same colonies and seeds; a walk is shortcut only
-  // where the straight segment raises neither eq. (3)'s J nor eq. (1)'s
+  // where the straight segment raises neither Duan 2009 eq. (3)'s J nor Duan 2009 eq. (1)'s
   // exposure. Side by side with the paper's planner and line_of_sight.
   const std::vector<double> team_cost_paper = team_numbers(sc, res).cost;
-  // Σ J's floor: J ≥ (1 − f)·L (eq. (3), J_threat ≥ 0) and L ≥ the straight line.
+  // Σ J's floor: J ≥ (1 − f)·L (Duan 2009 eq. (3), J_threat ≥ 0) and L ≥ the straight line.
   double straight_km = 0.0;
   for (const core::Duan2009Uav& u : sc.uavs) straight_km += std::hypot(u.target.x - u.start.x, u.target.y - u.start.y);
   const double cost_floor = (1.0 - sc.mesh.f) * straight_km;

@@ -104,7 +104,7 @@ struct MethodSpec {
 
 constexpr double kNone = std::numeric_limits<double>::quiet_NaN();
 
-// The paper's five (the first five, Table 2's order) and our variant.
+// The paper's five (the first five, Liu 2022 Table 2's order) and our variant.
 const std::vector<MethodSpec>& methods() {
   static const std::vector<MethodSpec> m{
       {LiuPolicy::kEsustpm, "ESUSTPM", true, 89, 40.23, 3, 95, 40.24},
@@ -161,7 +161,7 @@ std::vector<double> esustpm_rank(const std::vector<const std::vector<double>*>& 
   return out;
 }
 
-// Verdict of a Table 2 row. visited / found: auto_verdict's test with the
+// Verdict of a Liu 2022 Table 2 row. visited / found: auto_verdict's test with the
 // cause when it differs. EU: the metric only spans ~40–53 bit over every
 // search (50 = the untouched map), so auto_verdict's 15 % band would call
 // almost anything reproduced; reproduced here means within 1 bit (2 % of 50)
@@ -362,13 +362,13 @@ std::vector<std::string> table2_notes(const Samples& samples) {
 }
 
 struct LookBudget {
-  int looks_mean, looks_max;  // ESUSTPM's looks per run, no targets, Algorithm 1 sensor
+  int looks_mean, looks_max;  // ESUSTPM's looks per run, no targets, Liu 2022 Algorithm 1 sensor
   double bound_mean, bound_max;
   int needed;
   double mower_looks, mower_eu;
 };
 
-// The investigation of Table 2 (docs/policies/liu.md holds the same text).
+// The investigation of Liu 2022 Table 2 (docs/policies/liu.md holds the same text).
 // Every number in it is computed from this report's runs.
 std::string table2_investigation(const Samples& samples, const LookBudget& b, const Study& study, uint32_t study_runs) {
   const auto m = [&](std::size_t si, std::size_t mi, const std::vector<double> MethodSamples::*f) {
@@ -594,7 +594,7 @@ Report run_table2(uint32_t runs, const Progress& progress) {
       add("visited, no targets", m.visited_nt, wo.visited, "cell", "", Metric::kVisited);
       add("EU, no targets", m.eu_nt, wo.eu, "bit", "", Metric::kEu);
     }
-    // Table 2's claim is a ranking: ESUSTPM's rank among the five, per run.
+    // Liu 2022 Table 2's claim is a ranking: ESUSTPM's rank among the five, per run.
     for (int variant = 0; variant < 2; ++variant) {
       const auto v = static_cast<std::size_t>(variant);
       std::vector<const std::vector<double>*> vis, eu, found;
@@ -725,14 +725,14 @@ Report run_table2(uint32_t runs, const Progress& progress) {
        "ESUSTPM-disperse (policy liu, search esustpm_disperse)", false, field_samples(dist[2], "visited_cells"),
        field_samples(dist[3], "visited_cells"), "the real-swarm policy: place agents hold the TPM"});
 
-  // The look budget: how low can EU go at all, having visited Table 2's cells?
+  // The look budget: how low can EU go at all, having visited Liu 2022 Table 2's cells?
   const core::LiuParams lp;
-  const MethodSamples& e_nt = samples[1][0][1];  // ESUSTPM, Algorithm 1 sensor, no targets
+  const MethodSamples& e_nt = samples[1][0][1];  // ESUSTPM, Liu 2022 Algorithm 1 sensor, no targets
   const MethodSamples& m_nt = samples[1][1][1];  // mower, the same
   const auto looks_max = static_cast<int>(*std::max_element(e_nt.observations.begin(), e_nt.observations.end()));
   const int looks_mean = static_cast<int>(std::lround(mean(e_nt.observations)));
   // Start cells are visited without a look (a UAV "arrives" only in cells it
-  // enters); Table 2's 95 no-target cells then need >= 85 looked-at cells.
+  // enters); Liu 2022 Table 2's 95 no-target cells then need >= 85 looked-at cells.
   const double bound_mean = core::liu_lowest_eu(85, 100, looks_mean, lp);
   const double bound_max = core::liu_lowest_eu(85, 100, looks_max, lp);
   int needed = looks_max;

@@ -1,7 +1,6 @@
 // Shao 2020 Sec. 5.2, Shao 2020 Fig. 10: iterations for the leader to reach the centre of
-// the target region with vector pheromones (Shao 2020 eq. (12), Shao 2020 eq. (13), Shao 2020 eq. (14), Shao 2020 eq.
-// (15)) and with scalar pheromones, the followers flocking behind it (Shao 2020 eq. (17), Shao 2020 eq. (18), Shao 2020
-// eq. (19), Shao 2020 eq. (20), Shao 2020 eq. (21), Shao 2020 eq. (22), Shao 2020 eq. (23), Shao 2020 eq. (24)). Runs
+// the target region with vector pheromones (Shao 2020 eq. (12) to Shao 2020 eq. (15)) and with
+// scalar pheromones, the followers flocking behind it (Shao 2020 eq. (17) to Shao 2020 eq. (24)). Runs
 // the navigation scenarios through the in-process simulator (the same code and schedule as `pheromesh run --clock
 // lockstep`).
 //
@@ -330,7 +329,7 @@ Report run_fig10(uint32_t runs, const Progress& progress) {
       "also fly as processes with --distributed.";
   rep.csv_header = {"group", "setting", "layout", "arrival_iterations"};
 
-  // The shipped layout: Fig. 10's paths, and the followers' distance.
+  // The shipped layout: Shao 2020 Fig. 10's paths, and the followers' distance.
   Plot paths{"fig10.svg", "Leader paths on the shipped layout (Fig. 10)", "x [cell]", "y [cell]", {}};
   std::vector<std::pair<std::string, LegRun>> shipped;
   for (const auto& [name, s] : {std::pair<std::string, const core::ScenarioConfig*>{"vector", &shipped_vector},
@@ -380,7 +379,7 @@ Report run_fig10(uint32_t runs, const Progress& progress) {
   const SweepResult& sca = results[kSca];
   const SweepResult& grad = results[kGrad];
   const auto never = [](const SweepResult& r) { return r.per_layout.size() - r.arrivals.size(); };
-  // The rows of one reading of Fig. 10: both leaders and their paired difference.
+  // The rows of one reading of Shao 2020 Fig. 10: both leaders and their paired difference.
   const auto fig10_rows = [&](const std::string& reading, const SweepResult& v, const std::string& v_note,
                               const SweepResult& sc, const std::string& s_note) {
     const double vm = mean_of(v.arrivals);

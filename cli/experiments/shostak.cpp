@@ -346,7 +346,7 @@ Report run_swarm(uint32_t runs, const Progress& progress) {
   rep.comparisons.push_back(cmp);
 
   // Sensitivity to the quantity the paper leaves open that drives the
-  // roulette's convergence: the floor of our η (eq. (5) names η but does not
+  // roulette's convergence: the floor of our η (Shostak 2024 eq. (5) names η but does not
   // define it). Simulator only (check = false), 20 seeds per setting.
   std::string sens =
       "| η floor (ours; shipped 0.1) | runs detected | paper's roulette: converge [s] mean ± sd | shostak_beeline [s] "

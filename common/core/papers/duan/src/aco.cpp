@@ -58,7 +58,7 @@
 //    left as the paper's. See line_of_sight_shortcut below.
 //  * Not the paper: DuanPlanner::SafeLineOfSight (planner "safe_line_of_sight")
 //    does the same but takes a shortcut only if it does not raise the Duan 2009
-//    eq. (1) exposure either. See safe_line_of_sight_shortcut below.
+//    Duan 2009 eq. (1) exposure either. See safe_line_of_sight_shortcut below.
 #include "pheromesh/duan/aco.hpp"
 
 #include <algorithm>

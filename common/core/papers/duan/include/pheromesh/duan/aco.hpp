@@ -232,7 +232,7 @@ std::vector<NodeId> line_of_sight_shortcut(const ThreatMesh& mesh, std::span<con
 inline constexpr double kSafeShortcutExposureStepKm = 0.05;
 
 // As line_of_sight_shortcut, but a straight segment must also have a Duan 2009
-// eq. (1) exposure (threat_exposure with kSafeShortcutExposureStepKm) no
+// Duan 2009 eq. (1) exposure (threat_exposure with kSafeShortcutExposureStepKm) no
 // higher than the stretch of walk it replaces: the result never costs more
 // and is never more exposed than the walk.
 std::vector<NodeId> safe_line_of_sight_shortcut(const ThreatMesh& mesh, std::span<const NodeId> walk,

@@ -47,7 +47,7 @@ struct ShostakConfig final : PolicyConfig {
   // (Shostak 2024 Sec. 4.1); UAVs beyond the list use 0.
   std::vector<double> frame_yaw_rad;
 
-  // How a UAV flies to a reported target. Roulette: the paper, eqs. (4)–(6)
+  // How a UAV flies to a reported target. Roulette: the paper, Shostak 2024 eq. (4) to Shostak 2024 eq. (6)
   // with η preferring the bearing to the target (Shostak 2024 Sec. 5). Beeline: ours, the
   // shostak_beeline variant (docs/policies/shostak.md): once a target is known,
   // each waypoint is a step of d straight toward the nearest one; the search
