@@ -135,23 +135,6 @@ Series eta_per_iteration(const std::string& name, const core::DuanTable3Result& 
   return s;
 }
 
-// The shipped Duan 2009 Table 3 scenario with a patch, for seeds 1..runs through fly()
-// (so `--distributed` flies the same text as processes).
-std::vector<std::map<std::string, double>> fly_table3(const std::string& patch, const std::string& name,
-                                                      uint32_t runs) {
-  auto base = core::load_scenario(shipped_scenario("duan2009-table3.textproto"));
-  if (!base) throw std::runtime_error(base.error().message);
-  auto patched = patch.empty() ? base : core::patch_scenario(base.value(), patch, name);
-  if (!patched) throw std::runtime_error(patched.error().message);
-  std::vector<std::map<std::string, double>> out;
-  for (uint32_t run = 0; run < runs; ++run) {
-    core::ScenarioConfig s = patched.value();
-    s.seed = run + 1;
-    out.push_back(fly(s).field);
-  }
-  return out;
-}
-
 std::string mean_sd(const std::vector<double>& v, int prec = 1) {
   return fmt(mean(v), prec) + " ± " + fmt(stddev(v), prec);
 }
@@ -334,7 +317,7 @@ Report run_table3(uint32_t runs, const Progress& progress) {
     rep.plots.push_back(fig17);
   }
 
-  const auto distributed_paper = fly_table3("", "duan2009-table3", runs);
+  const auto distributed_paper = simulate_scenario("duan2009-table3.textproto", runs);
   // The same planning as the distributed `duan` policy: a colony in each UAV
   // process, point pheromone summed by the place agents, ETA over broadcasts.
   {
@@ -403,8 +386,9 @@ Report run_table3(uint32_t runs, const Progress& progress) {
     rep.plots.push_back(conv);
     los_eta = b.eta;
     // The same two planners as UAV processes (policy duan; --distributed flies both).
-    const auto dist_los = fly_table3("name: \"duan2009-table3-los\" policy { duan { planner: \"line_of_sight\" } }",
-                                     "duan2009-table3-los", runs);
+    const auto dist_los = simulate_scenario(
+        "duan2009-table3.textproto", runs, "name: \"duan2009-table3-los\" policy { duan { planner: \"line_of_sight\" } }",
+        "duan2009-table3-los");
     rep.comparisons.push_back({"ETA T_a, distributed policy", "s", "policy duan, planner paper",
                                "policy duan, planner line_of_sight", true,
                                field_samples(distributed_paper, "uav1_eta_s"), field_samples(dist_los, "uav1_eta_s"),
@@ -454,8 +438,9 @@ Report run_table3(uint32_t runs, const Progress& progress) {
     rep.comparisons.push_back({"ETA after replanning (from take-off)", "s", base, var, true, a.eta_after_replan,
                                b.eta_after_replan, "Table 4 pop-ups at t = " + fmt(options.popup_time_s, 0) + " s"});
     const auto dist_safe =
-        fly_table3("name: \"duan2009-table3-safe\" policy { duan { planner: \"safe_line_of_sight\" } }",
-                   "duan2009-table3-safe", runs);
+        simulate_scenario("duan2009-table3.textproto", runs,
+                          "name: \"duan2009-table3-safe\" policy { duan { planner: \"safe_line_of_sight\" } }",
+                          "duan2009-table3-safe");
     rep.comparisons.push_back(
         {"ETA T_a, distributed policy", "s", "policy duan, planner paper", "policy duan, planner safe_line_of_sight",
          true, field_samples(distributed_paper, "uav1_eta_s"), field_samples(dist_safe, "uav1_eta_s"),

@@ -105,7 +105,11 @@ struct Experiment {
 // Runs a scenario file of scenarios/ through the in-process simulator (the
 // same code and schedule as `pheromesh run --clock lockstep`) for seeds
 // 1..runs and returns each run's field summary (metrics.json "field").
-std::vector<std::map<std::string, double>> simulate_scenario(const std::string& file, uint32_t runs);
+// `patch` (textproto, core::patch_scenario) changes the scenario's text
+// first, so --distributed hands the processes the same scenario; `name`
+// names it in errors (default: file + patch).
+std::vector<std::map<std::string, double>> simulate_scenario(const std::string& file, uint32_t runs,
+                                                             const std::string& patch = "", const std::string& name = "");
 // The samples of one field-summary key over those runs (runs without it left out).
 std::vector<double> field_samples(const std::vector<std::map<std::string, double>>& runs, const std::string& key);
 

@@ -513,22 +513,6 @@ std::string table2_investigation(const Samples& samples, const LookBudget& b, co
       "the metric's reward for re-entry.\n";
   return md;
 }
-// The distributed `liu` policy on a shipped scenario, optionally patched
-// (the text goes to the processes with --distributed).
-std::vector<std::map<std::string, double>> fly_liu(const std::string& file, const std::string& patch, uint32_t runs) {
-  if (patch.empty()) return simulate_scenario(file, runs);
-  auto base = core::load_scenario(shipped_scenario(file));
-  if (!base) throw std::runtime_error(base.error().message);
-  auto patched = core::patch_scenario(base.value(), patch, file + " + " + patch);
-  if (!patched) throw std::runtime_error(patched.error().message);
-  std::vector<std::map<std::string, double>> out;
-  for (uint32_t run = 0; run < runs; ++run) {
-    core::ScenarioConfig s = patched.value();
-    s.seed = run + 1;
-    out.push_back(fly(s).field);
-  }
-  return out;
-}
 
 Report run_table2(uint32_t runs, const Progress& progress) {
   Report rep;
@@ -694,7 +678,7 @@ Report run_table2(uint32_t runs, const Progress& progress) {
   };
   std::vector<std::vector<std::map<std::string, double>>> dist;
   for (const Flown& f : flown) {
-    dist.push_back(fly_liu(file, f.patch, runs));
+    dist.push_back(simulate_scenario(file, runs, f.patch));  // the text goes to the processes with --distributed
     const auto& r = dist.back();
     const auto paper = [&](double v) -> std::optional<double> {
       if (!f.paper) return std::nullopt;

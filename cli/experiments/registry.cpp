@@ -8,9 +8,14 @@
 
 namespace pheromesh::cli::experiments {
 
-std::vector<std::map<std::string, double>> simulate_scenario(const std::string& file, uint32_t runs) {
+std::vector<std::map<std::string, double>> simulate_scenario(const std::string& file, uint32_t runs,
+                                                             const std::string& patch, const std::string& name) {
   auto loaded = core::load_scenario(shipped_scenario(file));
   if (!loaded) throw std::runtime_error(loaded.error().message);
+  if (!patch.empty()) {
+    loaded = core::patch_scenario(loaded.value(), patch, name.empty() ? file + " + " + patch : name);
+    if (!loaded) throw std::runtime_error(loaded.error().message);
+  }
   std::vector<std::map<std::string, double>> out;
   for (uint32_t run = 0; run < runs; ++run) {
     core::ScenarioConfig s = loaded.value();

@@ -50,21 +50,6 @@ std::string fixed(double v, int digits = 1) {
   return buf;
 }
 
-double mean_of(const std::vector<double>& v) {
-  if (v.empty()) return std::nan("");
-  double s = 0;
-  for (double x : v) s += x;
-  return s / static_cast<double>(v.size());
-}
-
-double sd_of(const std::vector<double>& v) {
-  if (v.size() < 2) return 0;
-  const double m = mean_of(v);
-  double s = 0;
-  for (double x : v) s += (x - m) * (x - m);
-  return std::sqrt(s / static_cast<double>(v.size() - 1));
-}
-
 struct RectI {
   int x = 0, y = 0, w = 0, h = 0;
 };
@@ -236,7 +221,7 @@ std::string arrival_cell(const std::optional<double>& a) { return a ? fixed(*a, 
 std::string mean_ci_cell(const std::vector<double>& v, uint32_t layouts) {
   if (v.empty()) return "never (0/" + std::to_string(layouts) + ")";
   const Interval ci = ci95(v);
-  std::string s = fixed(mean_of(v)) + " ± " + fixed(sd_of(v)) + " [" + fixed(ci.lo) + ", " + fixed(ci.hi) + "]";
+  std::string s = fixed(mean(v)) + " ± " + fixed(stddev(v)) + " [" + fixed(ci.lo) + ", " + fixed(ci.hi) + "]";
   if (v.size() < layouts) s += " (" + std::to_string(v.size()) + "/" + std::to_string(layouts) + " arrived)";
   return s;
 }
@@ -382,8 +367,8 @@ Report run_fig10(uint32_t runs, const Progress& progress) {
   // The rows of one reading of Shao 2020 Fig. 10: both leaders and their paired difference.
   const auto fig10_rows = [&](const std::string& reading, const SweepResult& v, const std::string& v_note,
                               const SweepResult& sc, const std::string& s_note) {
-    const double vm = mean_of(v.arrivals);
-    const double sm = mean_of(sc.arrivals);
+    const double vm = mean(v.arrivals);
+    const double sm = mean(sc.arrivals);
     const std::vector<double> diff = paired_difference(v.per_layout, sc.per_layout);
     const Interval ci = ci95(diff);
     // The claim is the order: reversed when the vector leader is significantly slower.

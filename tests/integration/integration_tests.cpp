@@ -244,30 +244,35 @@ TEST(Experiment, ListNamesEveryExperimentAndARunWritesAReportBesideThePapersNumb
 // Issue 17: `pheromesh experiment NAME --distributed` flies each run of its
 // Monte Carlo as real processes in lockstep too (one swarm per run, this
 // test's vendor) and checks the ground station's numbers against the
-// simulator's for the same seed. Two runs of the Duan experiment's
-// distributed policy (3 UAVs, 300 ticks) must both be equal; the guard is the
-// unit test DistributedCheck.* (a difference or an in-memory change fails).
-TEST(Distributed, AnExperimentsRunsOnRealProcessesGiveTheSimulatorsNumbersSeedBySeed) {
+// simulator's for the same scenario text and seed. One run of the Duan
+// experiment flies its distributed policy with each of the three planners
+// (the paper's and our two variants, patched into the scenario's text: 3
+// UAVs, 300 ticks each); all three must be equal. The guard is the unit test
+// DistributedCheck.* (a difference or an in-memory change fails).
+TEST(Distributed, AnExperimentsRunsOnRealProcessesGiveTheSimulatorsNumbersRunByRun) {
   const char* env = std::getenv("PHEROMESH_DDS");
   const std::string vendor = env != nullptr ? env : "cyclone";
   const std::string out = out_dir("experiment-distributed");
-  const Output e = run(kBin + "/pheromesh experiment duan-table3 --runs 2 --distributed --dds " + vendor +
+  const Output e = run(kBin + "/pheromesh experiment duan-table3 --runs 1 --distributed --dds " + vendor +
                        " --domain 38 --out " + out);
   ASSERT_EQ(e.exit_code, 0) << e.text;
-  EXPECT_NE(e.text.find("distributed: 2 of 2 runs on real processes equal the simulator"), std::string::npos) << e.text;
+  EXPECT_NE(e.text.find("distributed: 3 of 3 runs on real processes equal the simulator"), std::string::npos) << e.text;
   const std::string md = slurp(out + "/report.md");
-  EXPECT_NE(md.find("2 of 2 runs flown by real processes (`pheromesh run --clock lockstep --dds " + vendor + "`)"),
+  EXPECT_NE(md.find("3 of 3 runs flown by real processes (`pheromesh run --clock lockstep --dds " + vendor + "`)"),
             std::string::npos)
       << md;
-  for (const char* run : {"run-001", "run-002"}) {
+  for (const char* run : {"run-001", "run-002", "run-003"}) {
     const json m = read_metrics(out + "/distributed/" + run + "/out");
     ASSERT_FALSE(m.is_null()) << run;
     EXPECT_EQ(m["processes_crashed"], 0) << run;
     EXPECT_EQ(m["uavs"], 3) << run;
+    EXPECT_EQ(m["seed"], 1) << run;
   }
-  // Each run has its own seed (1 and 2), so the swarms really differ.
-  EXPECT_NE(slurp(out + "/distributed/run-001/scenario.textproto").find("seed: 1"), std::string::npos);
-  EXPECT_NE(slurp(out + "/distributed/run-002/scenario.textproto").find("seed: 2"), std::string::npos);
+  // The processes were handed the patched texts: each run flew its planner.
+  EXPECT_EQ(slurp(out + "/distributed/run-001/scenario.textproto").find("line_of_sight"), std::string::npos);
+  EXPECT_NE(slurp(out + "/distributed/run-002/scenario.textproto").find("planner: \"line_of_sight\""), std::string::npos);
+  EXPECT_NE(slurp(out + "/distributed/run-003/scenario.textproto").find("planner: \"safe_line_of_sight\""),
+            std::string::npos);
 }
 
 TEST(BadInput, MalformedSamplesAreRejectedAndCountedAndNothingCrashes) {

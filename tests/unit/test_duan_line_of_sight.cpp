@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "duan_test_mesh.hpp"
 #include "pheromesh/core/policy.hpp"
 #include "pheromesh/core/rng.hpp"
 #include "pheromesh/core/scenario.hpp"
@@ -20,32 +21,11 @@
 namespace pheromesh::core {
 namespace {
 
-constexpr double kEps = 1e-9;
-constexpr double kQuarterPi = std::numbers::pi / 4.0;
-
-// A mesh with 2 km spacing over [0, w] x [0, h] km.
-ThreatMesh mesh_of(double w_km, double h_km, std::vector<Threat> threats = {}) {
-  return ThreatMesh(MeshSpec{{0.0, 0.0},
-                             w_km,
-                             h_km,
-                             static_cast<int32_t>(w_km / 2.0),
-                             static_cast<int32_t>(h_km / 2.0),
-                             kDuanThreatWeight},
-                    std::move(threats));
-}
-
-// Node at (x, y) km.
-NodeId at(const ThreatMesh& m, double x_km, double y_km) { return *m.nearest_node({x_km, y_km}); }
-
-bool turns_within(const ThreatMesh& m, const std::vector<NodeId>& p, std::optional<NodeId> previous, double limit) {
-  std::vector<NodeId> q;
-  if (previous) q.push_back(*previous);
-  q.insert(q.end(), p.begin(), p.end());
-  for (std::size_t i = 2; i < q.size(); ++i) {
-    if (!turn_allowed(m.position(q[i - 2]), m.position(q[i - 1]), m.position(q[i]), limit)) return false;
-  }
-  return true;
-}
+using duan_test::at;
+using duan_test::kEps;
+using duan_test::kQuarterPi;
+using duan_test::mesh_of;
+using duan_test::turns_within;
 
 TEST(DuanLineOfSight, SegmentThreatCostSumsEquationTwoOverPiecesNoLongerThanTheSpacing) {
   const std::vector<Threat> threats{{{0.0, 0.0}, 10.0, 2.0}};

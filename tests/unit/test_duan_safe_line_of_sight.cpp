@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "duan_test_mesh.hpp"
 #include "pheromesh/core/policy.hpp"
 #include "pheromesh/core/rng.hpp"
 #include "pheromesh/core/scenario.hpp"
@@ -20,21 +21,10 @@
 namespace pheromesh::core {
 namespace {
 
-constexpr double kEps = 1e-9;
-constexpr double kQuarterPi = std::numbers::pi / 4.0;
-
-// A mesh with 2 km spacing over [0, w] x [0, h] km.
-ThreatMesh mesh_of(double w_km, double h_km, std::vector<Threat> threats = {}) {
-  return ThreatMesh(MeshSpec{{0.0, 0.0},
-                             w_km,
-                             h_km,
-                             static_cast<int32_t>(w_km / 2.0),
-                             static_cast<int32_t>(h_km / 2.0),
-                             kDuanThreatWeight},
-                    std::move(threats));
-}
-
-NodeId at(const ThreatMesh& m, double x_km, double y_km) { return *m.nearest_node({x_km, y_km}); }
+using duan_test::at;
+using duan_test::kEps;
+using duan_test::kQuarterPi;
+using duan_test::mesh_of;
 
 std::vector<PointKm> points(const ThreatMesh& m, const std::vector<NodeId>& nodes) {
   std::vector<PointKm> p;
@@ -47,10 +37,7 @@ double exposure(const ThreatMesh& m, const std::vector<NodeId>& nodes) {
 }
 
 bool turns_within(const ThreatMesh& m, const std::vector<NodeId>& p, double limit) {
-  for (std::size_t i = 2; i < p.size(); ++i) {
-    if (!turn_allowed(m.position(p[i - 2]), m.position(p[i - 1]), m.position(p[i]), limit)) return false;
-  }
-  return true;
+  return duan_test::turns_within(m, p, std::nullopt, limit);
 }
 
 TEST(DuanSafeLineOfSight, AShortcutThatIsCheaperButMoreExposedIsRefused) {
