@@ -27,6 +27,7 @@
 #include "pheromesh/auth/control.hpp"
 #include "pheromesh/console/server.hpp"
 #include "pheromesh/core/atomic_file.hpp"
+#include "pheromesh/core/conductor.hpp"
 #include "pheromesh/core/scenario.hpp"
 #include "pheromesh/core/scenario_limits.hpp"
 #include "pheromesh/runtime/process.hpp"
@@ -767,6 +768,11 @@ int Launcher::run() {
   const auto sample_at = t0 + std::chrono::milliseconds(static_cast<int64_t>(600.0 * ticks / rate));
   bool sampled = false;
   bool interrupted = false;
+  // Lockstep: when the conductor ended, and how long its processes get to
+  // notice by themselves (their ConductorWatch limit, plus slack for a busy host).
+  std::optional<Clock::time_point> conductor_gone_at;
+  const auto conductor_grace = std::chrono::milliseconds(int64_t{o_.lease_ms} * core::ConductorWatch::kLeases) +
+                               std::chrono::seconds(15);
   // Over several hosts this host's place agents and ground station end by
   // themselves, on the ground station's End, after every UAV of the swarm.
   const auto flying = [&] {
@@ -803,13 +809,21 @@ int Launcher::run() {
       for (const auto i : faults_->take_due_at(fault_clock_s())) execute_fault(i, std::nullopt);
     }
     end_due_faults();
-    // A lockstep swarm whose conductor crashed would wait out the phase
-    // timeout (minutes) before its processes notice: stop it now.
-    if (o_.clock == "lockstep" && !interrupted &&
+    // A lockstep swarm whose conductor crashed: every UAV and place agent
+    // that has had a clock ends by itself, with an error naming the
+    // conductor, once the clock has been silent for its ConductorWatch limit
+    // (kLeases leases). One still waiting for its first clock would wait
+    // kFirstClock (minutes): past the limit and some slack, stop the rest.
+    if (o_.clock == "lockstep" && !conductor_gone_at &&
         std::any_of(children_.begin(), children_.end(), [](const auto& c) {
           return c.role == "ground" && !c.running && !c.killed_on_purpose && !c.asked_to_stop;
         })) {
-      spdlog::error("the ground station (the lockstep conductor) ended: stopping the swarm");
+      spdlog::error("the ground station (the lockstep conductor) ended: the swarm's processes end within {} ms",
+                    conductor_grace.count());
+      conductor_gone_at = now;
+    }
+    if (conductor_gone_at && !interrupted && now - *conductor_gone_at > conductor_grace) {
+      spdlog::error("processes still running {} ms after the conductor ended: stopping them", conductor_grace.count());
       interrupted = true;
       end_open_faults();
       stop_here();

@@ -1,7 +1,7 @@
 // Lockstep runs that survive their faults (issue 14): the conductor dies, the
 // network loses 30 % of the packets, processes are killed at a tick. Each test
 // runs once per backend (cyclone, fastdds, mixed) and is bounded in time.
-// Domains 61-63 (the loss test runs in a network namespace of its own).
+// Domains 61-64 (the loss test runs in a network namespace of its own).
 #include <fcntl.h>
 #include <poll.h>
 #include <sys/socket.h>
@@ -290,6 +290,44 @@ TEST(LockstepFaults, WhenTheConductorDiesEveryProcessStopsWithAnErrorNamingIt) {
     if (name == "ground") continue;
     EXPECT_EQ(p["status"], "exited with 7") << name;
     EXPECT_NE(slurp(out + "/logs/" + name + ".log").find("the conductor (ground station) is gone"), std::string::npos) << name;
+    ++ended;
+  }
+  EXPECT_EQ(ended, 3U + 4U);
+}
+
+TEST(LockstepFaults, AConductorThatDiesBeforeItsFirstClockHasTheSwarmStoppedWithinSeconds) {
+  const std::string out = out_dir("lockstep-conductor-death-at-start");
+  const int domain = 64;
+  // The ground station is SIGKILLed as soon as it exists, before it has
+  // conducted: the others would wait minutes for a first clock
+  // (core::ConductorWatch::kFirstClock); the launcher stops them 6 leases +
+  // 15 s after the conductor ended.
+  LauncherGroup launcher("small-test.textproto", out, domain, "--clock lockstep --uavs 3 --ticks 100000" + backend_args());
+  pid_t ground = -1;
+  const auto appear_by = Clock::now() + std::chrono::seconds(60);
+  while ((ground = find_process({"pheromesh-ground", "--domain " + std::to_string(domain) + " "})) <= 0 &&
+         Clock::now() < appear_by) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
+  ASSERT_GT(ground, 0) << slurp(launcher.out_path);
+  const auto killed_at = Clock::now();
+  ASSERT_EQ(kill(ground, SIGKILL), 0);
+  const int rc = wait_exit(launcher.pid, std::chrono::seconds(90));
+  if (rc != -1) launcher.pid = -1;
+  const double stop_s = std::chrono::duration<double>(Clock::now() - killed_at).count();
+  std::printf("every process stopped %.1f s after the conductor died at start-up\n", stop_s);
+  ASSERT_NE(rc, -1) << "the swarm did not stop within 90 s";
+  EXPECT_NE(rc, 0) << slurp(launcher.out_path);
+  EXPECT_LT(stop_s, 60.0) << slurp(launcher.out_path);
+  EXPECT_NE(slurp(launcher.out_path).find("the ground station (the lockstep conductor) ended"), std::string::npos)
+      << slurp(launcher.out_path);
+  // Every UAV and place agent ended: by itself (it had a clock) or stopped.
+  const json m = read_metrics(out);
+  ASSERT_FALSE(m.is_null()) << slurp(launcher.out_path);
+  uint32_t ended = 0;
+  for (const auto& p : m["processes"]) {
+    if (p["name"] == "ground") continue;
+    EXPECT_NE(p["status"], "running") << p.dump();
     ++ended;
   }
   EXPECT_EQ(ended, 3U + 4U);
