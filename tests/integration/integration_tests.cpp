@@ -219,7 +219,7 @@ TEST(Experiment, ListNamesEveryExperimentAndARunWritesAReportBesideThePapersNumb
   const std::string csv = slurp(out + "/results.csv");
   // header + 2 runs of the paper's policy + 2 of shao_search_frontier + the lawnmower once
   EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 6);
-  // Fig. 6 has its verdict against the fair baseline, the variant its comparison.
+  // Shao 2020 Fig. 6 has its verdict against the fair baseline, the variant its comparison.
   EXPECT_NE(md.find("coverage at iteration 50, lawnmower with transit (fair baseline)"), std::string::npos) << md;
   // (with 2 runs the CI may be too wide for "reversed"; either way the verdict names the lawnmower's figure)
   const std::size_t fig6 = md.find("| coverage at iteration 50, paper's policy");

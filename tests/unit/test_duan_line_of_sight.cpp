@@ -1,6 +1,6 @@
 // Our variant of the Duan 2009 planner, DuanPlanner::LineOfSight (planner
 // "line_of_sight", docs/policies/duan.md): Duan 2009 eq. (2) on long segments, the
-// line-of-sight shortcut, the Duan 2009 eq. (1) exposure measure, the colony, the Table 3
+// line-of-sight shortcut, the Duan 2009 eq. (1) exposure measure, the colony, the Duan 2009 Table 3
 // loop and the distributed policy with it. Numbers worked by hand in the comments.
 #include <gtest/gtest.h>
 
@@ -36,7 +36,7 @@ TEST(DuanLineOfSight, SegmentThreatCostSumsEquationTwoOverPiecesNoLongerThanTheS
   // 0.0344222, times w = 2 and L = 2: 0.1376889. Together 0.9421007.
   EXPECT_NEAR(segment_threat_cost(threats, {0.0, 2.0}, {4.0, 2.0}, 2.0), 0.9421007, 1e-7);
   // Why the pieces: a small threat at (3, 0.2), radius 0.5, on a 20 km segment
-  // along y = 0. Eq. (2) on the whole segment samples x = 2, 6, 10, 14, 18, all
+  // along y = 0. Duan 2009 eq. (2) on the whole segment samples x = 2, 6, 10, 14, 18, all
   // outside the radius: 0. Cut into 2 km pieces, the piece (2, 0) -> (4, 0)
   // samples x = 2.6, 3.0, 3.4 inside it: d² = 0.2, 0.04, 0.2, 1/d⁴ = 25 + 625 + 25,
   // times L = 2: 1350.
@@ -64,7 +64,7 @@ TEST(DuanLineOfSight, OnAnOpenMeshAStaircaseBecomesOneStraightSegment) {
   const std::vector<NodeId> walk{at(m, 0, 0), at(m, 2, 0), at(m, 4, 2), at(m, 6, 2), at(m, 8, 4)};
   const auto cut = line_of_sight_shortcut(m, walk, std::nullopt, kQuarterPi);
   EXPECT_EQ(cut, (std::vector<NodeId>{at(m, 0, 0), at(m, 8, 4)}));
-  // √80 = 8.944 km; without threats J = 0.25 · L = 2.236 (eq. (3)) against 2.414 for the walk.
+  // √80 = 8.944 km; without threats J = 0.25 · L = 2.236 (Duan 2009 eq. (3)) against 2.414 for the walk.
   EXPECT_NEAR(polyline_cost(m, cut).length_km, std::sqrt(80.0), kEps);
   EXPECT_NEAR(polyline_cost(m, cut).cost, 0.25 * std::sqrt(80.0), kEps);
   EXPECT_NEAR(m.path_cost(walk).cost, 0.25 * (4.0 + 4.0 * std::sqrt(2.0)), kEps);
