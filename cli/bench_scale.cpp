@@ -1,7 +1,6 @@
 #include "bench_scale.hpp"
 
 #include <fcntl.h>
-#include <sys/prctl.h>
 #include <sys/utsname.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -23,6 +22,7 @@
 #include <thread>
 #include <vector>
 
+#include "child_spawn.hpp"
 #include "experiments/experiment.hpp"
 #include "launcher.hpp"
 #include "pheromesh/bus/bus.hpp"
@@ -389,26 +389,13 @@ int run_swarm(const Plan& p, const std::string& vendor, uint32_t uavs, const fs:
     if (write(fd, cmd.data(), cmd.size()) < 0) { /* the command line is only a courtesy */
     }
   }
-  const pid_t parent = getpid();
-  const pid_t pid = fork();
+  // Stays in our process group, so a Ctrl-C at the terminal reaches the
+  // launcher, which stops its swarm in order; dies with us otherwise.
+  const pid_t pid = spawn_logged_child(exe, args, fd, /*default_signals=*/false);
   if (pid < 0) {
     std::fprintf(stderr, "fork failed: %s\n", std::strerror(errno));
     close(fd);
     return -1;
-  }
-  if (pid == 0) {
-    // Stays in our process group, so a Ctrl-C at the terminal reaches the
-    // launcher, which stops its swarm in order; dies with us otherwise.
-    prctl(PR_SET_PDEATHSIG, SIGTERM);
-    if (getppid() != parent) _exit(127);
-    dup2(fd, STDOUT_FILENO);
-    dup2(fd, STDERR_FILENO);
-    std::vector<char*> argv;
-    for (auto& a : args) argv.push_back(a.data());
-    argv.push_back(nullptr);
-    execv(exe.c_str(), argv.data());
-    dprintf(STDERR_FILENO, "cannot execute %s: %s\n", exe.c_str(), std::strerror(errno));
-    _exit(127);
   }
   close(fd);
   // The launcher bounds its own run; this only guards against a hung one:

@@ -2,7 +2,6 @@
 
 #include <dirent.h>
 #include <fcntl.h>
-#include <sys/prctl.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -22,6 +21,7 @@
 #include <thread>
 #include <vector>
 
+#include "child_spawn.hpp"
 #include "launcher.hpp"
 #include "pheromesh/core/atomic_file.hpp"
 #include "pheromesh/core/scenario.hpp"
@@ -344,26 +344,11 @@ int run_bench_soak(const BenchSoakOptions& o) {
   sigaction(SIGINT, &sa, nullptr);
   sigaction(SIGTERM, &sa, nullptr);
 
-  const pid_t parent = getpid();
-  const pid_t pid = fork();
+  const pid_t pid = spawn_logged_child(exe, args, fd, /*default_signals=*/true);
   if (pid < 0) {
     std::fprintf(stderr, "fork failed: %s\n", std::strerror(errno));
     close(fd);
     return 5;
-  }
-  if (pid == 0) {
-    prctl(PR_SET_PDEATHSIG, SIGTERM);  // never outlives the bench
-    if (getppid() != parent) _exit(127);
-    signal(SIGINT, SIG_DFL);
-    signal(SIGTERM, SIG_DFL);
-    dup2(fd, STDOUT_FILENO);
-    dup2(fd, STDERR_FILENO);
-    std::vector<char*> argv;
-    for (auto& a : args) argv.push_back(a.data());
-    argv.push_back(nullptr);
-    execv(exe.c_str(), argv.data());
-    dprintf(STDERR_FILENO, "cannot execute %s: %s\n", exe.c_str(), std::strerror(errno));
-    _exit(127);
   }
   close(fd);
 

@@ -1,0 +1,21 @@
+// Starting `pheromesh run` as the child of a bench (bench scale, bench soak):
+// its output goes to a log file, and it dies with the bench.
+#pragma once
+
+#include <sys/types.h>
+
+#include <string>
+#include <vector>
+
+namespace pheromesh::cli {
+
+// Forks and executes `exe` with `args` (args[0] is the program name), its
+// stdout and stderr on `log_fd`. The child gets SIGTERM when the calling
+// process ends (PR_SET_PDEATHSIG) and stays in the caller's process group.
+// With `default_signals`, SIGINT and SIGTERM are reset to their default
+// action in the child (for a caller that installed handlers of its own).
+// Returns the child's pid, or -1 (errno set) when fork failed. The caller
+// still owns `log_fd`.
+pid_t spawn_logged_child(const std::string& exe, std::vector<std::string> args, int log_fd, bool default_signals);
+
+}  // namespace pheromesh::cli
