@@ -2,6 +2,9 @@
 
 #include <spdlog/spdlog.h>
 
+#include "pheromesh/runtime/await.hpp"
+#include "pheromesh/runtime/lockstep_loop.hpp"
+
 #include <algorithm>
 #include <chrono>
 #include <thread>
@@ -22,8 +25,10 @@ UavApp::UavApp(UavConfig cfg, core::ScenarioConfig scenario, std::unique_ptr<bus
       world_(geo_, scenario_.obstacles, scenario_.targets),
       bus_(std::move(bus)),
       resend_(*bus_, cfg_.common.lockstep()),
-      watch_(core::ConductorWatch::for_lease(std::chrono::milliseconds(cfg_.common.lease_ms), Clock::now())),
+      follower_(core::ClockPhase::Uav,
+                core::ConductorWatch::for_lease(std::chrono::milliseconds(cfg_.common.lease_ms), Clock::now())),
       log_(spdlog::default_logger()),
+      audit_(log_),
       core_(scenario_, world_, cfg_.id, cfg_.common.lockstep()),
       gaps_(std::chrono::nanoseconds(static_cast<int64_t>(1e9 / scenario_.tick_rate_hz))),
       layers_(static_cast<int>(core::policy_traits(scenario_).layers.size())),
@@ -34,102 +39,61 @@ UavApp::UavApp(UavConfig cfg, core::ScenarioConfig scenario, std::unique_ptr<bus
 }
 
 uint32_t UavApp::tick_ceiling() const {
-  return cfg_.common.lockstep() ? core::lockstep_tick_ceiling(clock_tick_)
+  return cfg_.common.lockstep() ? core::lockstep_tick_ceiling(follower_.newest_tick())
                                 : runtime::realtime_tick_ceiling(scenario_.tick_rate_hz);
-}
-
-void UavApp::refuse(core::Refusal r, const std::string& what) {
-  refused_.add(r);
-  if (refused_.total() <= 5) log_->warn("refused {} ({})", what, core::refusal_name(r));
 }
 
 void UavApp::receive() {
   view_inbox_.clear();
   bus_->take_views(view_inbox_);
   samples_received_ += view_inbox_.size();
+  const core::IntakeRules rules{geo_, layers_, layer_ranges_, scenario_.uavs};
   const uint32_t ceiling = tick_ceiling();
   for (const auto& v : view_inbox_) {
-    if (v.uav != cfg_.id) {
-      if (++samples_rejected_ <= 3) log_->warn("dropped a view addressed to uav {}", v.uav);
-      continue;
-    }
-    if (auto reason = core::check_tick_reachable(v.tick, ceiling, "view")) {
-      refuse(core::Refusal::TickFarAhead, *reason);
-      continue;
-    }
-    const auto out_of_range = std::find_if(v.tiles.begin(), v.tiles.end(),
-                                           [&](const auto& t) { return core::check_tile_range(t, layer_ranges_); });
-    if (out_of_range != v.tiles.end()) {
-      refuse(core::Refusal::ValueOutOfRange, *core::check_tile_range(*out_of_range, layer_ranges_));
-      continue;
-    }
+    if (!audit_.admit(core::check_view(v, cfg_.id, ceiling, rules))) continue;
     view_tick_ = std::max(view_tick_.value_or(0), v.tick);
     receipts_.confirmed(v.deposit_ack);
     tile_samples_received_ += v.tiles.size();
     for (const auto& t : v.tiles) {
-      if (auto reason = core::check_tile(t, geo_, layers_)) {
-        if (++samples_rejected_ <= 3) log_->warn("dropped tile ({},{}) layer {}: {}", t.tile.tx, t.tile.ty, t.layer, *reason);
-        continue;
-      }
-      core_.receive_tile(t);
+      if (audit_.admit(core::check_view_tile(t, rules))) core_.receive_tile(t);
     }
-    for (const auto& s : v.uavs) {
-      if (auto reason = core::check_uav_state(s, geo_)) {
-        if (++samples_rejected_ <= 3) log_->warn("dropped state of uav {}: {}", s.uav, *reason);
-        continue;
-      }
-      if (auto reason = core::check_uav_id(s.uav, scenario_.uavs)) {
-        refuse(core::Refusal::UnknownUav, "a neighbour's state: " + *reason);
-        continue;
-      }
-      core_.receive_neighbour(s);
+    for (const auto& st : v.uavs) {
+      if (audit_.admit(core::check_neighbour(st, rules))) core_.receive_neighbour(st);
     }
   }
   broadcast_inbox_.clear();
   bus_->take_broadcasts(broadcast_inbox_);
   samples_received_ += broadcast_inbox_.size();
   for (const auto& b : broadcast_inbox_) {
-    if (auto reason = core::check_broadcast(b)) {
-      if (++samples_rejected_ <= 3) log_->warn("dropped broadcast of uav {}: {}", b.uav, *reason);
-      continue;
-    }
-    if (auto reason = core::check_uav_id(b.uav, scenario_.uavs)) {
-      refuse(core::Refusal::UnknownUav, "a broadcast: " + *reason);
-      continue;
-    }
-    core_.receive_broadcast(b);
+    if (audit_.admit(core::check_broadcast_from(b, rules))) core_.receive_broadcast(b);
   }
 }
 
 void UavApp::wait_for_tick(uint32_t tick, const core::ClockMsg& announced) {
-  const auto deadline = Clock::now() + std::chrono::seconds(30);
-  for (;;) {
-    receive();
-    if (!take_clock()) return;  // the conductor is gone: run_lockstep says so and ends
-    // The home composed the views of the ticks before it was killed; from
-    // then on this UAV reads empty views (core/faults.hpp).
-    const bool view = (home_absent_ && tick >= home_absent_since_) || (view_tick_ && *view_tick_ >= tick);
-    const bool broadcasts = core_.holds_tick(tick, {}, announced.broadcasts);
-    if (view && broadcasts) return;
-    if (Clock::now() > deadline || runtime::shutdown_requested()) {
-      log_->error("tick {}: {}{} did not arrive; deciding without", tick, view ? "" : "the view of the neighbourhood",
-                  broadcasts ? "" : (view ? "the announced broadcasts" : " and the announced broadcasts"));
-      return;
-    }
-    // The last PhaseDone again after a quiet second: the conductor takes it as
-    // a sign of life while this UAV waits (its liveliness may lapse under loss).
-    resend_.resend_if_quiet();
-    bus_->wait({bus::TopicKind::View, bus::TopicKind::Broadcast}, std::min(deadline, Clock::now() + std::chrono::milliseconds(100)));
-  }
+  // The home composed the views of the ticks before it was killed; from then
+  // on this UAV reads empty views (core/faults.hpp).
+  const auto absent = follower_.absent_since(home_);
+  const auto view = [&] { return (absent && tick >= *absent) || (view_tick_ && *view_tick_ >= tick); };
+  const auto broadcasts = [&] { return core_.holds_tick(tick, {}, announced.broadcasts); };
+  // The last PhaseDone goes out again after a quiet second: the conductor
+  // takes it as a sign of life while this UAV waits.
+  const auto r = runtime::await_samples(
+      *bus_, {bus::TopicKind::View, bus::TopicKind::Broadcast}, {}, &resend_, [&] { receive(); },
+      [&] { return !runtime::take_clock(*bus_, follower_, audit_) || (view() && broadcasts()); });
+  if (r == runtime::Awaited::Done) return;  // or the conductor is gone: run_lockstep says so and ends
+  log_->error("tick {}: {}{} did not arrive; deciding without", tick, view() ? "" : "the view of the neighbourhood",
+              broadcasts() ? "" : (view() ? "the announced broadcasts" : " and the announced broadcasts"));
 }
 
-void UavApp::step(uint32_t tick, bool finished) {
+void UavApp::step(uint32_t tick, StepKind kind) {
+  const bool finished = kind == StepKind::Finish;
   written_.clear();
   broadcast_written_ = false;
   if (!finished) {
     core_.step(tick, out_);
+    const bool home_absent = follower_.absent_since(home_).has_value();
     for (const auto& d : out_.deposits) {
-      if (home_absent_) {
+      if (home_absent) {
         // Lockstep, home killed without a standby (core/faults.hpp): the
         // deposit is made and lost on the way; the conductor counts it lost.
         ++deposits_sent_;
@@ -153,8 +117,8 @@ void UavApp::step(uint32_t tick, bool finished) {
   }
   core::UavStateMsg s = core_.last_state();
   if (!finished) {
-    log_->debug("tick {} at ({:.9g}, {:.9g}) v ({:.9g}, {:.9g}) role {}: saw {} neighbours, {} broadcasts, {} tiles", tick,
-                s.x, s.y, s.vx, s.vy, s.role, core_.last_view_neighbours(), core_.last_view_broadcasts(),
+    log_->debug("tick {} at ({:.9g}, {:.9g}) v ({:.9g}, {:.9g}) role {}: saw {} neighbours, {} broadcasts, {} tiles",
+                tick, s.x, s.y, s.vx, s.vy, s.role, core_.last_view_neighbours(), core_.last_view_broadcasts(),
                 core_.neighbourhood().size());
   }
   s.deposits_sent = deposits_sent_;
@@ -166,16 +130,14 @@ void UavApp::step(uint32_t tick, bool finished) {
   s.finished = finished;
   s.deposits_unconfirmed = receipts_.unconfirmed() + deposits_undeliverable_;
   s.view = core_.cell();  // the home place agent composes the next view around it
-  s.refused = refused_.n;
+  s.refused = audit_.refused().n;
   bus_->publish_uav_state(s);
 }
 
 void UavApp::wait_for_receipts(std::chrono::milliseconds bound) {
-  const auto deadline = Clock::now() + bound;
-  while (receipts_.unconfirmed() > 0 && Clock::now() < deadline && !runtime::shutdown_requested()) {
-    receive();
-    bus_->wait({bus::TopicKind::View}, std::min(deadline, Clock::now() + std::chrono::milliseconds(50)));
-  }
+  (void)runtime::await_samples(
+      *bus_, {bus::TopicKind::View}, {bound, std::chrono::milliseconds(50)}, nullptr, [&] { receive(); },
+      [&] { return receipts_.unconfirmed() == 0; });
 }
 
 void UavApp::handle_commands() {
@@ -236,16 +198,12 @@ void UavApp::wait_for_start() {
 }
 
 int UavApp::run_realtime(uint32_t ticks) {
-  step(0, false);
+  step(0, StepKind::Fly);
   runtime::TickClock clock(scenario_.tick_rate_hz);
   uint32_t tick = 0;
   while (tick < ticks && clock.wait_next()) {
     ticks_late_ = clock.late_ticks();
-    if (const auto gap = gaps_.on_tick_start(Clock::now()); gap && gaps_.gaps_over_2() <= 10) {
-      log_->warn("tick {} started {} ms after the one before ({:.1f} tick periods)", tick + 1,
-                 std::chrono::duration_cast<std::chrono::milliseconds>(*gap).count(),
-                 static_cast<double>(gap->count()) / static_cast<double>(gaps_.period().count()));
-    }
+    runtime::note_tick_start(gaps_, *log_, tick + 1);
     handle_commands();
     if (commands_->paused()) {
       receive();  // keeps the inboxes drained and the liveliness asserted
@@ -253,114 +211,69 @@ int UavApp::run_realtime(uint32_t ticks) {
     }
     ++tick;
     receive();
-    step(tick, false);
+    step(tick, StepKind::Fly);
   }
   return static_cast<int>(tick);
 }
 
-bool UavApp::take_clock() {
-  const std::size_t before = clock_inbox_.size();
-  bus_->take_clock(clock_inbox_);
-  // The first clock sample names the conductor: a clock written by anyone
-  // else (a forged Stop would end the run) is refused, whatever it carries.
-  std::erase_if(clock_inbox_, [&](const core::ClockMsg& c) {
-    if (!conductor_) conductor_ = c.writer;
-    if (c.writer == *conductor_) {
-      clock_tick_ = std::max(clock_tick_, c.tick);
-      return false;
-    }
-    refuse(core::Refusal::ForeignClock, fmt::format("a clock sample of tick {} phase {} from another writer", c.tick, c.phase));
-    return true;
-  });
-  const auto now = Clock::now();
-  if (clock_inbox_.size() > before) watch_.on_clock(now);
-  return !watch_.lost(now);
+void UavApp::report_ready_once() {
+  // Before tick 0: Ready once this UAV's home place agent reads its deposits
+  // and state (and the ground station its state); the conductor starts tick
+  // 0 when every process is ready.
+  if (ready_ || follower_.last_done() || bus_->matched_deposit_readers(home_) < 1 || bus_->matched_state_readers() < 2)
+    return;
+  resend_.phase_done(
+      {core::process_key(core::kRoleUav, cfg_.id), 0, static_cast<uint8_t>(core::ClockPhase::Ready), 0, {}});
+  ready_ = true;
+  log_->debug("matched home place agent {} and the ground station: ready", home_);
 }
 
-bool UavApp::flush_watching(std::initializer_list<bus::TopicKind> kinds, std::chrono::milliseconds timeout) {
-  // In slices: a reader that never acknowledges (the dead conductor's) must
-  // not hide the conductor's death for the whole timeout.
-  const auto deadline = Clock::now() + timeout;
-  while (!bus_->flush(kinds, std::chrono::milliseconds(250))) {
-    if (!take_clock() || Clock::now() > deadline || runtime::shutdown_requested()) return false;
+void UavApp::run_uav_phase(const core::ClockMsg& c, uint32_t ticks) {
+  if (!ready_) {
+    log_->warn("tick {} starts before home place agent {} was matched: deposits may be undeliverable", c.tick, home_);
+    ready_ = true;
   }
-  return true;
+  if (follower_.absent_since(home_) == c.tick) {
+    log_->warn(
+        "tick {}: home place agent {} is gone (no standby): from now on this UAV acts on empty views and its "
+        "deposits are lost",
+        c.tick, home_);
+  }
+  // UAV phase of tick k: read the tiles of place tick k-1, decide, move,
+  // deposit. No wait for acknowledgements: the place phase announces how
+  // many deposits and states of this tick each place agent must hold, and it
+  // waits for those exact samples (an acknowledgement waits for the writer's
+  // next heartbeat, ~100 ms on Cyclone 0.10; docs/dds.md).
+  if (c.tick > 0) wait_for_tick(c.tick - 1, c);
+  handle_commands();
+  resend_.begin_tick();
+  step(c.tick, StepKind::Fly);
+  // Report what this phase wrote: the conductor announces it to the place
+  // agents (deposits) and to the UAVs (broadcasts), which wait for it.
+  core::PhaseDoneMsg report{
+      core::process_key(core::kRoleUav, cfg_.id), c.tick, c.phase, broadcast_written_ ? 1U : 0U, {}};
+  for (const auto& [region, n] : written_) report.deposits.push_back({region, n});
+  resend_.phase_done(report);
+  // After the last UAV phase this UAV waits for the conductor's stop, which
+  // comes after the last place phase: the launcher stops the place agents
+  // once every UAV has ended, and they must have finished it.
+  if (c.tick >= ticks) log_->debug("tick {}: the last UAV phase; waiting for the conductor's stop", c.tick);
 }
 
 int UavApp::run_lockstep(uint32_t ticks) {
-  std::vector<core::ClockMsg> cmds;
-  int64_t done = -1;
-  bool stop = false;
-  bool ready = false;
-  while (!stop && !runtime::shutdown_requested()) {
-    // Before tick 0: report Ready once this UAV's home place agent reads its
-    // deposits and state (and the ground station its state); the conductor
-    // starts tick 0 when every process is ready.
-    if (!ready && done < 0 && bus_->matched_deposit_readers(home_) >= 1 && bus_->matched_state_readers() >= 2) {
-      resend_.phase_done({core::process_key(core::kRoleUav, cfg_.id), 0, static_cast<uint8_t>(core::ClockPhase::Ready), 0, {}});
-      ready = true;
-      log_->debug("matched home place agent {} and the ground station: ready", home_);
-    }
-    cmds.clear();
-    take_clock();
-    cmds.swap(clock_inbox_);  // with what arrived while the last phase was under way
-    for (const auto& c : cmds) {
-      if (c.phase == static_cast<uint8_t>(core::ClockPhase::Stop)) stop = true;
-      if (c.phase != static_cast<uint8_t>(core::ClockPhase::Uav) || static_cast<int64_t>(c.tick) <= done) continue;
-      if (!ready) {
-        log_->warn("tick {} starts before home place agent {} was matched: deposits may be undeliverable", c.tick, home_);
-        ready = true;
-      }
-      if (!home_absent_ && std::find(c.absent.begin(), c.absent.end(), home_) != c.absent.end()) {
-        home_absent_ = true;
-        home_absent_since_ = c.tick;
-        log_->warn("tick {}: home place agent {} is gone (no standby): from now on this UAV acts on empty views and its "
-                   "deposits are lost",
-                   c.tick, home_);
-      }
-      // UAV phase of tick k: read the tiles of place tick k-1, decide, move,
-      // deposit; acknowledged deposits are in the place agents' queues before
-      // we report done.
-      if (c.tick > 0) wait_for_tick(c.tick - 1, c);
-      handle_commands();
-      resend_.begin_tick();
-      step(c.tick, false);
-      // The home place agent must hold this tick's deposits and state before
-      // the place phase (the conductor waits for the state too). Only those
-      // writers: every other reader waits for exact samples, and a flush of
-      // all writers would also wait for the readers of a killed process,
-      // which stay matched until its participant lease ends (docs/dds.md).
-      // Not in swarms with standbys: a killed primary of the home never
-      // acknowledges; its standby drops re-sent copies instead.
-      if (!home_absent_ && !standby_ && !flush_watching({bus::TopicKind::Deposit, bus::TopicKind::UavState}, std::chrono::seconds(10))) {
-        log_->warn("tick {}: deposits and state not acknowledged in 10 s", c.tick);
-      }
-      // Report what this phase wrote: the conductor announces it to the
-      // place agents (deposits) and to the UAVs (broadcasts), which wait for it.
-      core::PhaseDoneMsg report{core::process_key(core::kRoleUav, cfg_.id), c.tick, c.phase, broadcast_written_ ? 1U : 0U,
-                              {}};
-      for (const auto& [region, n] : written_) report.deposits.push_back({region, n});
-      resend_.phase_done(report);
-      done = c.tick;
-      // After the last UAV phase this UAV waits for the conductor's stop,
-      // which comes after the last place phase: the launcher stops the place
-      // agents once every UAV has ended, and they must have finished it.
-      if (c.tick >= ticks) log_->debug("tick {}: the last UAV phase; waiting for the conductor's stop", c.tick);
-    }
-    if (cmds.empty()) {
-      if (watch_.lost(Clock::now())) {
-        log_->error("the conductor (ground station) is gone: no lockstep clock for {:.1f} s ({} leases of {} ms) after tick {}; "
-                    "stopping",
-                    std::chrono::duration<double>(watch_.silence(Clock::now())).count(),
-                    watch_.limit() / std::chrono::milliseconds(cfg_.common.lease_ms), cfg_.common.lease_ms, done);
-        conductor_lost_ = true;
-        break;
-      }
-      if (resend_.resend_if_quiet()) log_->debug("tick {}: nothing new for 1 s; re-sent PhaseDone", done);
-      bus_->wait({bus::TopicKind::Clock}, Clock::now() + std::chrono::milliseconds(100));
-    }
-  }
-  return static_cast<int>(std::max<int64_t>(done, 0));
+  runtime::LockstepLoop loop{*bus_,
+                             follower_,
+                             resend_,
+                             audit_,
+                             *log_,
+                             cfg_.common.lease_ms,
+                             [&] { report_ready_once(); },
+                             [&](const core::ClockMsg& c) {
+                               run_uav_phase(c, ticks);
+                               return runtime::PhaseOutcome::Continue;
+                             }};
+  conductor_lost_ = loop.run() == runtime::LockstepEnd::ConductorLost;
+  return static_cast<int>(follower_.last_done().value_or(0));
 }
 
 int UavApp::run() {
@@ -382,19 +295,19 @@ int UavApp::run() {
   // The home confirms the last deposits in its next view: wait for it (a
   // dead home never does; those deposits are counted unconfirmed).
   wait_for_receipts(std::chrono::milliseconds(std::max<uint32_t>(2 * cfg_.common.lease_ms, 1000)));
-  step(static_cast<uint32_t>(last), true);
+  step(static_cast<uint32_t>(last), StepKind::Finish);
   const bool acked = bus_->flush(std::chrono::seconds(5));
-  log_->info("uav {} finished at tick {} at ({},{}): deposits sent {}, unconfirmed by its home place agent {}, "
-             "undeliverable {}, samples rejected {}{}",
-             cfg_.id, last, core_.cell().x, core_.cell().y, deposits_sent_, receipts_.unconfirmed(), deposits_undeliverable_,
-             samples_rejected_, acked ? "" : " (not every sample was acknowledged)");
+  log_->info(
+      "uav {} finished at tick {} at ({},{}): deposits sent {}, unconfirmed by its home place agent {}, "
+      "undeliverable {}, samples rejected {}{}",
+      cfg_.id, last, core_.cell().x, core_.cell().y, deposits_sent_, receipts_.unconfirmed(), deposits_undeliverable_,
+      audit_.dropped(), acked ? "" : " (not every sample was acknowledged)");
   if (receipts_.unconfirmed() > 0) {
-    log_->warn("uav {}: {} deposits were never confirmed by place agent {} (counted lost)", cfg_.id, receipts_.unconfirmed(),
-               home_);
+    log_->warn("uav {}: {} deposits were never confirmed by place agent {} (counted lost)", cfg_.id,
+               receipts_.unconfirmed(), home_);
   }
   if (!cfg_.common.lockstep()) {
-    log_->info("uav {} kept its clock: longest gap between tick starts {} ms ({:.2f} periods), {} gaps over 2 periods, {} late ticks",
-               cfg_.id, gaps_.max_gap_ms(), gaps_.max_gap_periods(), gaps_.gaps_over_2(), ticks_late_);
+    runtime::log_clock_kept(gaps_, *log_, fmt::format("uav {}", cfg_.id), fmt::format(", {} late ticks", ticks_late_));
   }
   return 0;
 }

@@ -14,16 +14,18 @@
 #include <vector>
 
 #include "pheromesh/bus/bus.hpp"
-#include "pheromesh/core/receipts.hpp"
+#include "pheromesh/bus/resend.hpp"
 #include "pheromesh/core/conductor.hpp"
+#include "pheromesh/core/lockstep_follower.hpp"
 #include "pheromesh/core/plausibility.hpp"
+#include "pheromesh/core/receipts.hpp"
 #include "pheromesh/core/scenario.hpp"
 #include "pheromesh/core/tick_gaps.hpp"
 #include "pheromesh/core/uav_core.hpp"
 #include "pheromesh/core/world.hpp"
 #include "pheromesh/runtime/commands.hpp"
 #include "pheromesh/runtime/process.hpp"
-#include "pheromesh/bus/resend.hpp"
+#include "pheromesh/runtime/sample_audit.hpp"
 
 namespace spdlog {
 class logger;
@@ -52,12 +54,12 @@ class UavApp {
   // around this UAV and the states of the UAVs over them) and the broadcasts
   // the clock announced of UAV tick `tick` have arrived.
   void wait_for_tick(uint32_t tick, const core::ClockMsg& announced);
-  void step(uint32_t tick, bool finished);
-  // Lockstep: takes the conductor's clock samples into clock_inbox_ (the
-  // loop handles them) and feeds watch_; false once the conductor is gone.
-  bool take_clock();
-  // Lockstep: Bus::flush of `kinds`, given up early when the conductor is gone.
-  bool flush_watching(std::initializer_list<bus::TopicKind> kinds, std::chrono::milliseconds timeout);
+  // Fly: decide, move, deposit and publish the state of `tick`. Finish: only
+  // the last state, marked finished.
+  enum class StepKind : uint8_t { Fly, Finish };
+  void step(uint32_t tick, StepKind kind);
+  void report_ready_once();
+  void run_uav_phase(const core::ClockMsg& c, uint32_t ticks);
   // Ground-station commands: pop-ups change this UAV's world; pause is kept by commands_.
   void handle_commands();
   int run_realtime(uint32_t ticks);
@@ -68,10 +70,11 @@ class UavApp {
   core::MapGeometry geo_;
   core::World world_;
   std::unique_ptr<bus::Bus> bus_;
-  bus::LatestResender resend_;  // lockstep: this tick's PhaseDone
-  core::ConductorWatch watch_;   // lockstep: is the conductor still there?
-  std::vector<core::ClockMsg> clock_inbox_;
+  bus::LatestResender resend_;       // lockstep: this tick's PhaseDone
+  core::LockstepFollower follower_;  // lockstep: the conductor's clock, the phases to run
+  bool ready_ = false;               // lockstep: Ready reported (or tick 0 began without it)
   std::shared_ptr<spdlog::logger> log_;
+  runtime::SampleAudit audit_;  // received samples dropped and refused (the refusals go out in the state)
   core::UavCore core_;
   core::UavCore::Output out_;
   uint64_t deposits_sent_ = 0;
@@ -79,11 +82,10 @@ class UavApp {
   core::DepositReceipts receipts_;  // deposits its home place agent has not confirmed yet
   // Before the last state: wait (bounded) until the home confirmed every deposit.
   void wait_for_receipts(std::chrono::milliseconds bound);
-  uint64_t samples_rejected_ = 0;
   uint64_t tile_samples_received_ = 0;
   uint64_t samples_received_ = 0;  // views + broadcasts + commands taken
-  uint32_t ticks_late_ = 0;  // realtime: ticks that started more than one period late
-  core::TickGaps gaps_;      // realtime: gaps between tick starts (reported in the state)
+  uint32_t ticks_late_ = 0;        // realtime: ticks that started more than one period late
+  core::TickGaps gaps_;            // realtime: gaps between tick starts (reported in the state)
   std::vector<core::ViewMsg> view_inbox_;
   std::optional<uint32_t> view_tick_;  // tick of the newest view received
   std::vector<core::BroadcastMsg> broadcast_inbox_;
@@ -93,19 +95,10 @@ class UavApp {
   std::map<core::RegionId, uint32_t> written_;
   bool broadcast_written_ = false;
   bool standby_ = false;         // the swarm runs standby place agents
-  bool home_absent_ = false;     // lockstep: the home place agent was killed at a tick, no standby
-  uint32_t home_absent_since_ = 0;  // that tick: its views of earlier ticks exist
   bool conductor_lost_ = false;  // lockstep: no clock for ConductorWatch's limit
   std::unique_ptr<runtime::SwarmCommands> commands_;
-  // Plausibility (core/plausibility.hpp): samples refused (reported in the
-  // state), the layers' ranges, the conductor's clock writer latched from its
-  // first sample and the newest tick it announced.
-  core::RefusalCounts refused_;
-  std::vector<core::ValueRange> layer_ranges_;
-  std::optional<uint64_t> conductor_;
-  uint32_t clock_tick_ = 0;
+  std::vector<core::ValueRange> layer_ranges_;  // physical range per layer (core/intake.hpp)
   [[nodiscard]] uint32_t tick_ceiling() const;
-  void refuse(core::Refusal r, const std::string& what);
 };
 
 }  // namespace pheromesh::agent

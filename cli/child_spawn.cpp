@@ -1,12 +1,16 @@
 #include "child_spawn.hpp"
 
+#include <fcntl.h>
 #include <sys/prctl.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <cerrno>
+#include <chrono>
 #include <csignal>
 #include <cstdio>
 #include <cstring>
+#include <thread>
 
 namespace pheromesh::cli {
 
@@ -29,6 +33,44 @@ pid_t spawn_logged_child(const std::string& exe, std::vector<std::string> args, 
   execv(exe.c_str(), argv.data());
   dprintf(STDERR_FILENO, "cannot execute %s: %s\n", exe.c_str(), std::strerror(errno));
   _exit(127);
+}
+
+int run_bounded(const std::vector<std::string>& args, const std::string& log, double timeout_s, bool& timed_out) {
+  using Clock = std::chrono::steady_clock;
+  timed_out = false;
+  const pid_t pid = fork();
+  if (pid < 0) return -1;
+  if (pid == 0) {
+    setpgid(0, 0);
+    const int fd = open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+    if (fd >= 0) {
+      dup2(fd, STDOUT_FILENO);
+      dup2(fd, STDERR_FILENO);
+    }
+    std::vector<char*> argv;
+    for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+    argv.push_back(nullptr);
+    execv(argv[0], argv.data());
+    _exit(127);
+  }
+  setpgid(pid, pid);
+  const auto deadline = Clock::now() + std::chrono::duration<double>(timeout_s);
+  int st = 0;
+  for (;;) {
+    const pid_t r = waitpid(pid, &st, WNOHANG);
+    if (r == pid) break;
+    if (r < 0 && errno != EINTR) return -1;
+    if (Clock::now() > deadline) {
+      timed_out = true;
+      kill(-pid, SIGTERM);
+      std::this_thread::sleep_for(std::chrono::seconds(5));
+      kill(-pid, SIGKILL);
+      waitpid(pid, &st, 0);
+      break;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  return WIFEXITED(st) ? WEXITSTATUS(st) : 128 + WTERMSIG(st);
 }
 
 }  // namespace pheromesh::cli

@@ -18,4 +18,11 @@ namespace pheromesh::cli {
 // still owns `log_fd`.
 pid_t spawn_logged_child(const std::string& exe, std::vector<std::string> args, int log_fd, bool default_signals);
 
+// Runs args (args[0] is the program's path) with stdout and stderr into the
+// file `log`, in a process group of its own, and waits for it; after
+// `timeout_s` it sends the group SIGTERM, then SIGKILL 5 s later, and sets
+// `timed_out`. Returns the exit status (128 + signal), or -1 if it could not
+// start.
+int run_bounded(const std::vector<std::string>& args, const std::string& log, double timeout_s, bool& timed_out);
+
 }  // namespace pheromesh::cli

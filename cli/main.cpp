@@ -7,6 +7,7 @@
 #include <cstdio>
 
 #include "attach_command.hpp"
+#include "bench_lockstep.hpp"
 #include "bench_scale.hpp"
 #include "bench_soak.hpp"
 #include "scenario_paths.hpp"
@@ -17,6 +18,7 @@
 #include "pheromesh/bus/bus.hpp"
 #include "pheromesh/core/scenario.hpp"
 #include "pheromesh/core/scenario_limits.hpp"
+#include "pheromesh/runtime/process.hpp"
 #include "replay_command.hpp"
 #include "sim_command.hpp"
 
@@ -125,7 +127,9 @@ int main(int argc, char** argv) {
       "for 3s\"\n"
       "  pheromesh sim scenarios/shao2020-100x100.textproto --seed 7 --out out/sim\n"
       "  pheromesh run scenarios/small-test.textproto --clock lockstep --ticks 100   # same numbers as sim\n"
-      "  pheromesh bench scale scenarios/scale-100x100.textproto --max 400            # cost per swarm size\n",
+      "  pheromesh bench scale scenarios/scale-100x100.textproto --max 400            # cost per swarm size\n"
+      "  pheromesh bench lockstep --swarms small-test:10 --dds cyclone                 # where a lockstep tick's time "
+      "goes\n",
       "pheromesh"};
   app.require_subcommand(1);
   std::string log_level = "info";
@@ -312,6 +316,34 @@ int main(int argc, char** argv) {
   bs->add_option("--extra", bso.extra, "More arguments for `pheromesh run`, in one string, e.g. \"--dds-profile default\"");
   bs->footer(cli::kBenchScaleFooter);
 
+  cli::BenchLockstepOptions blo;
+  auto* bl = bench->add_subcommand(
+      "lockstep",
+      "Where a lockstep tick's time goes: ticks/s and the time of each UAV and place phase of `pheromesh run "
+      "--clock lockstep`, per swarm and DDS vendor, against the in-process simulator and the round trip of "
+      "one sample between two processes, all measured in one run");
+  bl->add_option("--swarms", blo.swarms,
+                 "SCENARIO[:UAVS] entries, comma-separated (a shipped scenario's name or a path; UAVS sets swarm.uavs)")
+      ->capture_default_str();
+  bl->add_option("--dds", blo.dds, "Vendors, comma-separated among cyclone, fastdds, mixed")->capture_default_str();
+  bl->add_option("--ticks", blo.ticks, "Lockstep ticks per run (sets run.ticks)")
+      ->check(CLI::Range(1U, 100000U))
+      ->capture_default_str();
+  bl->add_option("--pings", blo.pings, "Round trips per vendor pairing for the floor")
+      ->check(CLI::Range(10U, 100000U))
+      ->capture_default_str();
+  bl->add_option("--domain", blo.domain, "DDS domain of the runs (the floor uses the next one)")
+      ->check(CLI::Range(0, 231))
+      ->capture_default_str();
+  bl->add_option("--out", blo.out_dir, "Output folder: lockstep.md, lockstep.json, one folder per swarm and run")
+      ->capture_default_str();
+  bl->footer(cli::kBenchLockstepFooter);
+  cli::LockstepEchoOptions leo;
+  auto* le = bench->add_subcommand("lockstep-echo", "The other end of bench lockstep's floor measurement");
+  le->group("");  // hidden: bench lockstep starts it
+  le->add_option("--dds", leo.dds)->check(CLI::IsMember({"cyclone", "fastdds"}));
+  le->add_option("--domain", leo.domain)->check(CLI::Range(0, 232));
+
   cli::BenchSoakOptions bko;
   auto* bk = bench->add_subcommand(
       "soak", "Run one swarm for a long time with a fault every so often, and report the RSS, open file descriptors "
@@ -410,6 +442,10 @@ int main(int argc, char** argv) {
   if (ex->parsed()) return cli::run_experiment_command(eo);
   if (rp->parsed()) return cli::run_replay(rpo);
   if (bs->parsed()) return cli::run_bench_scale(bso);
+  if (bl->parsed() || le->parsed()) {
+    runtime::install_shutdown_handlers();
+    return bl->parsed() ? cli::run_bench_lockstep(blo) : cli::run_lockstep_echo(leo);
+  }
   if (bk->parsed()) return cli::run_bench_soak(bko);
   try {
     return cli::Launcher(ro).run();

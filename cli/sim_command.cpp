@@ -83,7 +83,10 @@ int simulate(const core::ScenarioConfig& s, const core::FaultSchedule& faults, c
   const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
   std::string error;
-  const runtime::RunInfo info{"none (in-process simulator)", "lockstep", s.uavs, std::nullopt};  // no discovery in-process
+  runtime::RunInfo info;  // no discovery in-process
+  info.transport = "none (in-process simulator)";
+  info.clock = "lockstep";
+  info.uavs_expected = s.uavs;
   auto j = runtime::metrics_json(sim.recorder(), info);
   // The launcher counts killed processes; the simulator counts the kills it ran.
   j["processes_killed"] = sim.recorder().uavs_killed() + sim.recorder().places_killed();

@@ -526,7 +526,12 @@ int GroundApp::finish() {
   };
   rec_.set_field_summary(core::field_summary(scenario_, field_value));
   std::string error;
-  const runtime::RunInfo info{bus_->vendor(), cfg_.common.clock, cfg_.expect_uavs, discovery_s_};
+  const runtime::RunInfo info{bus_->vendor(),
+                              cfg_.common.clock,
+                              cfg_.expect_uavs,
+                              discovery_s_,
+                              conductor_.phase_times().uav_ms,
+                              conductor_.phase_times().place_ms};
   if (!runtime::write_json(cfg_.out_dir, "metrics.json", runtime::metrics_json(rec_, info), error)) {
     log_->error("{}", error);
     return 5;

@@ -14,15 +14,18 @@
 #include <vector>
 
 #include "pheromesh/bus/bus.hpp"
+#include "pheromesh/bus/resend.hpp"
+#include "pheromesh/core/intake.hpp"
+#include "pheromesh/core/lockstep_follower.hpp"
 #include "pheromesh/core/place_core.hpp"
-#include "pheromesh/core/conductor.hpp"
-#include "pheromesh/core/plausibility.hpp"
+#include "pheromesh/core/receipts.hpp"
 #include "pheromesh/core/scenario.hpp"
 #include "pheromesh/core/tick_gaps.hpp"
 #include "pheromesh/core/view_server.hpp"
 #include "pheromesh/runtime/commands.hpp"
+#include "pheromesh/runtime/lockstep_loop.hpp"
 #include "pheromesh/runtime/process.hpp"
-#include "pheromesh/bus/resend.hpp"
+#include "pheromesh/runtime/sample_audit.hpp"
 
 namespace spdlog {
 class logger;
@@ -43,28 +46,43 @@ class PlaceApp {
   int run();
 
  private:
+  // Lockstep: what the place phase of a tick must hold before it applies the
+  // tick, as its clock announced (core/conductor.hpp).
+  struct TickDemand {
+    uint32_t deposits = 0;  // of this tick, for this region
+    uint32_t states = 0;    // of this tick, of the home UAVs
+  };
+  enum class HealthKind : uint8_t { Running, Final };
+
   int run_realtime();
   int run_lockstep();
-  // One tick. `exact` (lockstep): wait (bounded) for every neighbour's ring
-  // of this tick and every region's field of this tick; otherwise use the
-  // latest received. `expected_deposits` (lockstep): wait (bounded) until
-  // this many deposits of `tick` for this region have arrived.
-  void step(uint32_t tick, bool exact, std::optional<uint32_t> expected_deposits = {});
-  // Takes deposits into inbox_ (this region's) and forwards the others to
-  // their owner's place agent (or counts them rejected if it is unreachable).
-  void take_deposits();
-  void take_home_states(uint32_t tick);
+  void report_ready_once();
+  runtime::PhaseOutcome run_place_phase(const core::ClockMsg& c);
+  // One tick. With a demand (lockstep) it waits (bounded) for exactly the
+  // deposits and home states announced, every neighbour's ring of this tick
+  // and every region's field of this tick; without (realtime) it uses the
+  // latest received.
+  void step(uint32_t tick, std::optional<TickDemand> demand);
+  void take_inputs(uint32_t tick);
+  void exchange_halos(uint32_t tick);
   // Publishes this region's field of `tick` and sends the home UAVs their views.
-  void serve_views(uint32_t tick, bool exact);
-  void publish_health(uint32_t tick, bool finished);
-  // A replicated swarm: the same deposit can come twice (forwarded by both
-  // replicas of its UAV's home). True if this one was seen before.
-  bool duplicate(const core::DepositMsg& d);
+  void serve_views(uint32_t tick);
+  // Takes deposits into inbox_ and forwards the others to their owner's place
+  // agent (or counts them rejected if it is unreachable).
+  void take_deposits();
+  void forward(const core::DepositMsg& d);
+  void take_home_states(uint32_t tick);
+  // Home UAVs whose newest state is of `tick` or later.
+  [[nodiscard]] uint32_t home_states_of(uint32_t tick) const;
+  void publish_health(uint32_t tick, HealthKind kind);
+  // The final health, flushed, and the summary in the log.
+  void finish(uint32_t tick);
   void log_summary(uint32_t tick);
-  // Lockstep: the clock's absent regions (place agents killed at a tick,
-  // without a standby) join absent_; nobody waits for them any more.
-  void note_absent(const core::ClockMsg& c);
+  // The clocks' absent regions (place agents killed at a tick, without a
+  // standby) join absent_; nobody waits for them any more.
+  void note_absent();
   [[nodiscard]] bool is_absent(core::RegionId r) const { return absent_.contains(r); }
+  [[nodiscard]] uint32_t tick_ceiling() const;
 
   PlaceConfig cfg_;
   core::ScenarioConfig scenario_;
@@ -72,51 +90,39 @@ class PlaceApp {
   std::unique_ptr<bus::Bus> bus_;
   bus::LatestResender resend_;  // lockstep: this tick's fields, views, halo, PhaseDone
   std::shared_ptr<spdlog::logger> log_;
+  runtime::SampleAudit audit_;       // received samples dropped and refused (deposits and rings: core_)
+  core::LockstepFollower follower_;  // lockstep: the conductor's clock, the phases to run
   core::PlaceCore core_;
-  uint64_t halos_missing_ = 0;
   double rate_ = 0.0;
   core::TickGaps gaps_;  // realtime: gaps between tick starts (reported in the health)
-  std::vector<core::DepositMsg> inbox_;
+  core::PolicyTraits traits_;
+  core::ViewServer views_;   // home UAVs' states and every region's field, composed into views
+  core::IntakeRules rules_;  // what a received sample is checked against
+  core::DepositDesk desk_;   // where each taken deposit goes; what the home UAVs' views confirm
+  std::unique_ptr<runtime::SwarmCommands> commands_;  // pause / resume
+  std::vector<uint32_t> home_uavs_;
+  std::vector<core::RegionId> other_regions_;
+  std::vector<core::RegionId> present_others_;  // other_regions_ without the absent ones
+  std::set<core::RegionId> absent_;
+  std::size_t absent_seen_ = 0;  // follower_.absent() entries handled
+  bool replicated_ = false;      // --standby swarm
+  bool ready_ = false;           // lockstep: Ready reported (or tick 0 began without it)
+  uint32_t current_tick_ = 0;
+  std::optional<TickDemand> demand_;       // the tick under way's (lockstep)
+  std::map<uint32_t, uint32_t> heard_at_;  // home UAV -> place tick of its newest state
+  // Reusable inboxes and outboxes.
+  std::vector<core::DepositMsg> taken_, inbox_;
+  std::vector<core::UavStateMsg> state_inbox_, home_states_;
+  std::vector<core::FieldMsg> field_inbox_;
   std::vector<core::HaloMsg> halo_inbox_;
   std::vector<core::TargetEventMsg> events_;
   std::vector<core::TileMsg> tiles_out_;
   std::vector<std::string> rejections_;
-  std::unique_ptr<runtime::SwarmCommands> commands_;  // pause / resume
-  // Home UAVs and views.
-  core::ViewServer views_;
-  core::PolicyTraits traits_;
-  std::vector<core::ValueRange> layer_ranges_;  // physical range per layer (plausibility.hpp)
-  double max_step_;                             // [cell/tick] the farthest a UAV flies in one tick
-  std::vector<uint32_t> home_uavs_;
-  std::vector<core::RegionId> other_regions_;
-  std::map<uint32_t, uint32_t> heard_at_;  // home UAV -> place tick of its newest state
-  std::vector<core::DepositMsg> taken_;
-  std::vector<core::UavStateMsg> state_inbox_;
-  std::vector<core::FieldMsg> field_inbox_;
-  std::vector<core::UavStateMsg> home_states_;
   core::ViewMsg view_;
+  // Counts for the health and the summary.
+  uint64_t halos_missing_ = 0;
   uint64_t deposits_forwarded_ = 0;
-  bool replicated_ = false;                          // --standby swarm
-  std::map<uint32_t, std::set<uint32_t>> seen_seq_;  // replicated: per UAV, the newest deposit seqs received
-  uint64_t duplicates_ = 0;
-  // home UAV -> highest deposit seq received from it (its views carry it), and
-  // the place tick it came at (a seq far ahead of it is not acknowledged).
-  std::map<uint32_t, std::pair<uint32_t, uint32_t>> acked_;
   uint64_t deposits_lost_ = 0;  // lockstep: home UAVs' deposits for absent regions, not forwarded
-  std::set<core::RegionId> absent_;
-  std::vector<core::RegionId> present_others_;  // other_regions_ without the absent ones
-  uint64_t samples_rejected_ = 0;  // malformed home states and field chunks, dropped
-  // Plausibility (core/plausibility.hpp): samples refused here (deposits and
-  // halo rings are counted by core_), the tick the place agent is at, and
-  // the conductor's clock writer, latched from its first sample.
-  core::RefusalCounts refused_;
-  uint32_t current_tick_ = 0;
-  bool exact_ = false;  // lockstep
-  std::optional<uint64_t> conductor_;
-  [[nodiscard]] uint32_t tick_ceiling() const;
-  void refuse(core::Refusal r, const std::string& what);
-  // Lockstep: drops clock samples of writers other than the conductor's.
-  void keep_conductor_clock(std::vector<core::ClockMsg>& cmds);
 };
 
 }  // namespace pheromesh::placeagent

@@ -1,10 +1,5 @@
 #include "flight.hpp"
 
-#include <fcntl.h>
-#include <signal.h>
-#include <sys/wait.h>
-#include <unistd.h>
-
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -14,6 +9,7 @@
 #include <sstream>
 #include <thread>
 
+#include "child_spawn.hpp"
 #include "pheromesh/core/atomic_file.hpp"
 
 namespace pheromesh::cli::experiments {
@@ -39,45 +35,6 @@ std::string list(const std::vector<T>& v) {
   std::string s;
   for (const auto& x : v) s += (s.empty() ? "" : " ") + std::to_string(x);
   return "[" + s + "]";
-}
-
-// Runs argv with stdout+stderr into `log`, in its own process group; kills the
-// group after `timeout_s`. Returns the exit status (128+signal), or -1 if it
-// could not start.
-int run_bounded(const std::vector<std::string>& args, const std::string& log, double timeout_s, bool& timed_out) {
-  timed_out = false;
-  const pid_t pid = fork();
-  if (pid < 0) return -1;
-  if (pid == 0) {
-    setpgid(0, 0);
-    const int fd = open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-    if (fd >= 0) {
-      dup2(fd, STDOUT_FILENO);
-      dup2(fd, STDERR_FILENO);
-    }
-    std::vector<char*> argv;
-    for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-    argv.push_back(nullptr);
-    execv(argv[0], argv.data());
-    _exit(127);
-  }
-  setpgid(pid, pid);
-  const auto deadline = Clock::now() + std::chrono::duration<double>(timeout_s);
-  int st = 0;
-  for (;;) {
-    const pid_t r = waitpid(pid, &st, WNOHANG);
-    if (r == pid) break;
-    if (Clock::now() > deadline) {
-      timed_out = true;
-      kill(-pid, SIGTERM);
-      std::this_thread::sleep_for(std::chrono::seconds(5));
-      kill(-pid, SIGKILL);
-      waitpid(pid, &st, 0);
-      break;
-    }
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));
-  }
-  return WIFEXITED(st) ? WEXITSTATUS(st) : 128 + WTERMSIG(st);
 }
 
 // The fields of the config the processes rebuild from the text, compared

@@ -208,6 +208,7 @@ TEST_P(Interop, EveryMessageArrivesIntact) {
   clk.occupancy = {{{1, 2}, 3}, {{4, 5}, 6}};
   clk.deposits = {{0, 10}, {7, 20}};
   clk.absent = {2, 9};
+  clk.states = {{1, 3}, {6, 2}};
   ASSERT_TRUE(w_->publish_clock(clk));
   const auto clks = wait_for<core::ClockMsg>([&](auto& v) { r_->take_clock(v); });
   ASSERT_EQ(clks.size(), 1U);
@@ -222,6 +223,9 @@ TEST_P(Interop, EveryMessageArrivesIntact) {
   EXPECT_EQ(clks[0].deposits[1].region, 7U);
   EXPECT_EQ(clks[0].deposits[1].count, 20U);
   EXPECT_EQ(clks[0].absent, (std::vector<core::RegionId>{2, 9}));
+  ASSERT_EQ(clks[0].states.size(), 2U);
+  EXPECT_EQ(clks[0].states[1].region, 6U);
+  EXPECT_EQ(clks[0].states[1].count, 2U);
 
   ASSERT_TRUE(w_->publish_phase_done({(1U << 24) | 5U, 18, 0, 1, {{7, 3}, {8, 1}}}));
   const auto dones = wait_for<core::PhaseDoneMsg>([&](auto& v) { r_->take_phase_done(v); });

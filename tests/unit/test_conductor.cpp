@@ -53,6 +53,13 @@ TEST(Conductor, AUavPhaseCompletesWithEveryReportStateAndBroadcastAndAnnouncesWh
   EXPECT_EQ(place.deposits[0].count, 1U);
   EXPECT_EQ(place.deposits[1].region, 1U);
   EXPECT_EQ(place.deposits[1].count, 2U);
+  // ... and the states each home place agent must hold: uav 0 is homed on
+  // region 0, uav 1 on region 1 (uav mod regions).
+  ASSERT_EQ(place.states.size(), 2U);
+  EXPECT_EQ(place.states[0].region, 0U);
+  EXPECT_EQ(place.states[0].count, 1U);
+  EXPECT_EQ(place.states[1].region, 1U);
+  EXPECT_EQ(place.states[1].count, 1U);
   c.on_phase_done(place_done(0, 0));
   c.on_phase_done(place_done(1, 0));
   EXPECT_TRUE(c.status(t0).complete);
@@ -63,6 +70,33 @@ TEST(Conductor, AUavPhaseCompletesWithEveryReportStateAndBroadcastAndAnnouncesWh
   EXPECT_EQ(next.occupancy[0].count, 2U);
   EXPECT_EQ(next.broadcasts, 1U);
   EXPECT_FALSE(c.status(t0).complete) << "the reports of tick 0 do not count for tick 1";
+}
+
+TEST(Conductor, EachPhaseIsTimedFromItsClockToTheStatusThatFoundItComplete) {
+  C c(two_uavs_two_regions());
+  const auto t0 = C::Clock::time_point{} + 100s;
+  c.begin_phase(0, ClockPhase::Ready, t0);
+  for (uint32_t u : {0U, 1U})
+    c.on_phase_done({process_key(kRoleUav, u), 0, static_cast<uint8_t>(ClockPhase::Ready), 0, {}});
+  for (RegionId r : {0U, 1U})
+    c.on_phase_done({process_key(kRolePlace, r), 0, static_cast<uint8_t>(ClockPhase::Ready), 0, {}});
+  ASSERT_TRUE(c.status(t0 + 7s).complete);
+  c.begin_phase(0, ClockPhase::Uav, t0 + 10s);
+  EXPECT_FALSE(c.status(t0 + 10s + 1ms).complete);
+  for (uint32_t u : {0U, 1U}) {
+    c.on_phase_done(uav_done(u, 0));
+    c.on_uav_state(u, 0, {0, 0});
+  }
+  ASSERT_TRUE(c.status(t0 + 10s + 3ms).complete);
+  EXPECT_TRUE(c.status(t0 + 10s + 9ms).complete) << "asking again records nothing more";
+  c.begin_phase(0, ClockPhase::Place, t0 + 11s);
+  c.on_phase_done(place_done(0, 0));
+  c.on_phase_done(place_done(1, 0));
+  ASSERT_TRUE(c.status(t0 + 11s + 500us).complete);
+  ASSERT_EQ(c.phase_times().uav_ms.size(), 1U) << "the Ready phase is not a tick's";
+  EXPECT_DOUBLE_EQ(c.phase_times().uav_ms[0], 3.0);
+  ASSERT_EQ(c.phase_times().place_ms.size(), 1U);
+  EXPECT_DOUBLE_EQ(c.phase_times().place_ms[0], 0.5);
 }
 
 TEST(Conductor, ALatePhaseDoneIsWaitedForAndAnOldOneDoesNotCount) {
@@ -255,6 +289,11 @@ TEST(ConductorFaults, AnAbsentRegionIsListedNotWaitedForAndItsDepositsAreCounted
   EXPECT_EQ(place.deposits[0].region, 0U);
   EXPECT_EQ(place.deposits[0].count, 3U);
   EXPECT_EQ(place.absent, (std::vector<RegionId>{1}));
+  // States: uavs 0 and 2 are homed on region 0; nobody waits for those of
+  // uavs 1 and 3 (their home is absent).
+  ASSERT_EQ(place.states.size(), 1U);
+  EXPECT_EQ(place.states[0].region, 0U);
+  EXPECT_EQ(place.states[0].count, 2U);
   EXPECT_EQ(c.deposits_lost(), 7U);
   c.on_phase_done(place_report(0, 9));
   EXPECT_TRUE(c.status(t0).complete) << "region 1 is not waited for";

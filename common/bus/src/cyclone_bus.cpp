@@ -482,6 +482,8 @@ class CycloneBus final : public VendorBus {
     std::vector<pheromesh_msg_RegionCount> deps = region_counts_out(m.deposits);
     if (m.absent.size() > core::kMaxRegionCounts) return refuse("clock absent regions", m.absent.size());
     std::vector<uint32_t> absent(m.absent.begin(), m.absent.end());
+    if (m.states.size() > core::kMaxRegionCounts) return refuse("clock state counts", m.states.size());
+    std::vector<pheromesh_msg_RegionCount> states = region_counts_out(m.states);
     pheromesh_msg_ClockCommand s{};
     s.tick = m.tick;
     s.phase = m.phase;
@@ -492,6 +494,7 @@ class CycloneBus final : public VendorBus {
     s.occupancy._release = false;
     set_region_counts(s.deposits, deps);
     borrow(s.absent, absent);
+    set_region_counts(s.states, states);
     return write(writer(TopicKind::Clock, topic(TopicKind::Clock), kClockPartition), &s);
   }
 
@@ -520,7 +523,8 @@ class CycloneBus final : public VendorBus {
         clock_reader_,
         [&](const pheromesh_msg_ClockCommand& s, const dds_sample_info_t& info) {
           if (s.occupancy._length > core::kMaxOccupancy || (s.occupancy._length > 0 && s.occupancy._buffer == nullptr) ||
-              !region_counts_ok(s.deposits) || !seq_ok(s.absent, core::kMaxRegionCounts)) {
+              !region_counts_ok(s.deposits) || !seq_ok(s.absent, core::kMaxRegionCounts) ||
+              !region_counts_ok(s.states)) {
             ++stats_.samples_dropped;
             return;
           }
@@ -530,6 +534,7 @@ class CycloneBus final : public VendorBus {
           c.broadcasts = s.broadcasts;
           c.deposits = region_counts_in(s.deposits);
           c.absent.assign(s.absent._buffer, s.absent._buffer + s.absent._length);
+          c.states = region_counts_in(s.states);
           // The writer's instance handle in this participant: one per matched
           // DataWriter, chosen locally, so no remote writer can claim another's.
           c.writer = info.publication_handle;

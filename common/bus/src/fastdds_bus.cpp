@@ -511,6 +511,7 @@ class FastDdsBus final : public VendorBus {
     if (m.occupancy.size() > core::kMaxOccupancy) return refuse("clock occupancy", m.occupancy.size());
     if (m.deposits.size() > core::kMaxRegionCounts) return refuse("clock deposit counts", m.deposits.size());
     if (m.absent.size() > core::kMaxRegionCounts) return refuse("clock absent regions", m.absent.size());
+    if (m.states.size() > core::kMaxRegionCounts) return refuse("clock state counts", m.states.size());
     msg::ClockCommand s;
     s.tick(m.tick);
     s.phase(m.phase);
@@ -527,6 +528,7 @@ class FastDdsBus final : public VendorBus {
     s.occupancy(std::move(occ));
     s.deposits(region_counts_out(m.deposits));
     s.absent(std::vector<uint32_t>(m.absent.begin(), m.absent.end()));
+    s.states(region_counts_out(m.states));
     return write(writer(TopicKind::Clock, kClockPartition), &s);
   }
 

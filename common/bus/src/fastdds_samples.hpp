@@ -120,7 +120,7 @@ inline std::optional<core::ViewMsg> view_in(const msg::View& s) {
 
 inline std::optional<core::ClockMsg> clock_in(const msg::ClockCommand& s) {
   if (s.occupancy().size() > core::kMaxOccupancy || !region_counts_ok(s.deposits()) ||
-      s.absent().size() > core::kMaxRegionCounts) {
+      s.absent().size() > core::kMaxRegionCounts || !region_counts_ok(s.states())) {
     return std::nullopt;
   }
   core::ClockMsg c;
@@ -129,6 +129,7 @@ inline std::optional<core::ClockMsg> clock_in(const msg::ClockCommand& s) {
   c.broadcasts = s.broadcasts();
   c.deposits = region_counts_in(s.deposits());
   c.absent.assign(s.absent().begin(), s.absent().end());
+  c.states = region_counts_in(s.states());
   for (const auto& t : s.occupancy()) c.occupancy.push_back({{t.tx(), t.ty()}, t.count()});
   return c;
 }

@@ -98,6 +98,8 @@ ClockMsg LockstepConductor::begin_phase(uint32_t tick, ClockPhase phase, Clock::
   tick_ = tick;
   phase_ = phase;
   deadline_ = now + (phase == ClockPhase::Ready ? o_.start_timeout : o_.phase_timeout);
+  begun_at_ = now;
+  timed_ = false;
   // The UAV phase just completed: what it reported for absent regions is lost.
   if (phase == ClockPhase::Place) deposits_lost_ += std::exchange(lost_this_tick_, 0);
   if (phase == ClockPhase::Uav) lost_this_tick_ = 0;
@@ -117,8 +119,10 @@ ClockMsg LockstepConductor::announce(uint32_t tick, ClockPhase phase) const {
   m.phase = static_cast<uint8_t>(phase);
   m.absent.assign(absent_.begin(), absent_.end());
   if (phase == ClockPhase::Place) {
-    // The deposits of this tick each region must apply, as the UAVs reported.
+    // The deposits of this tick each region must apply, as the UAVs reported,
+    // and the states of this tick each region's place agent must hold.
     for (const auto& [region, n] : deposits_reported_) m.deposits.push_back({region, n});
+    for (const auto& [region, n] : states_reported_) m.states.push_back({region, n});
     return m;
   }
   if (phase != ClockPhase::Uav || tick == 0) return m;
@@ -179,6 +183,7 @@ LockstepConductor::Status LockstepConductor::status(Clock::time_point now) {
     // before the next announcements are computed from them.
     uint32_t broadcasts = 0;
     deposits_reported_.clear();
+    states_reported_.clear();
     lost_this_tick_ = 0;
     auto pos = positions_.find(tick_);
     for (uint32_t id = 0; id < count; ++id) {
@@ -188,6 +193,7 @@ LockstepConductor::Status LockstepConductor::status(Clock::time_point now) {
       // A UAV's deposits go through its home place agent; an absent home
       // forwards nothing, an absent owner applies nothing.
       const bool home_absent = absent_.contains(home_region(id, o_.regions));
+      if (!home_absent) ++states_reported_[home_region(id, o_.regions)];
       for (const auto& rc : it->second.deposits) {
         if (home_absent || absent_.contains(rc.region)) {
           lost_this_tick_ += rc.count;
@@ -202,6 +208,11 @@ LockstepConductor::Status LockstepConductor::status(Clock::time_point now) {
   }
   s.complete = s.waiting == 0;
   s.timed_out = !s.complete && now > deadline_;
+  if (s.complete && !timed_) {
+    timed_ = true;
+    (uav_phase ? times_.uav_ms : times_.place_ms)
+        .push_back(std::chrono::duration<double, std::milli>(now - begun_at_).count());
+  }
   return s;
 }
 

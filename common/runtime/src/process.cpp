@@ -264,4 +264,17 @@ bool TickClock::wait_next() {
   return !shutdown_requested();
 }
 
+void note_tick_start(core::TickGaps& gaps, spdlog::logger& log, uint32_t tick) {
+  const auto gap = gaps.on_tick_start(std::chrono::steady_clock::now());
+  if (!gap || gaps.gaps_over_2() > 10) return;
+  log.warn("tick {} started {} ms after the one before ({:.1f} tick periods)", tick,
+           std::chrono::duration_cast<std::chrono::milliseconds>(*gap).count(),
+           static_cast<double>(gap->count()) / static_cast<double>(gaps.period().count()));
+}
+
+void log_clock_kept(const core::TickGaps& gaps, spdlog::logger& log, const std::string& who, const std::string& extra) {
+  log.info("{} kept its clock: longest gap between tick starts {} ms ({:.2f} periods), {} gaps over 2 periods{}", who,
+           gaps.max_gap_ms(), gaps.max_gap_periods(), gaps.gaps_over_2(), extra);
+}
+
 }  // namespace pheromesh::runtime

@@ -6,9 +6,16 @@
 
 #include "pheromesh/core/atomic_file.hpp"
 #include "pheromesh/core/policy.hpp"
+#include "pheromesh/core/sample_summary.hpp"
 #include "pheromesh/core/tick_gaps.hpp"
 
 namespace pheromesh::runtime {
+
+nlohmann::json duration_summary(std::vector<double> ms) {
+  const core::SampleSummary s = core::summarize(std::move(ms));
+  if (s.n == 0) return {{"n", 0}};
+  return {{"n", s.n}, {"mean", s.mean}, {"p50", s.p50}, {"p90", s.p90}, {"p99", s.p99}, {"max", s.max}};
+}
 
 nlohmann::json metrics_json(const core::RunRecorder& r, const RunInfo& info) {
   const auto& s = r.scenario();
@@ -137,6 +144,17 @@ nlohmann::json metrics_json(const core::RunRecorder& r, const RunInfo& info) {
   j["place_tick_gaps_over_2"] = place_gaps;
   j["place_tick_gaps"] = place_gap_by_region;
   j["discovery_s"] = info.discovery_s ? nlohmann::json(*info.discovery_s) : nlohmann::json();
+  if (!info.uav_phase_ms.empty() || !info.place_phase_ms.empty()) {
+    double conducted_ms = 0;
+    for (double v : info.uav_phase_ms) conducted_ms += v;
+    for (double v : info.place_phase_ms) conducted_ms += v;
+    j["lockstep"] = {
+        {"uav_phase_ms", duration_summary(info.uav_phase_ms)},
+        {"place_phase_ms", duration_summary(info.place_phase_ms)},
+        {"conducted_s", conducted_ms / 1000.0},
+        {"ticks_per_s",
+         conducted_ms > 0 ? 1000.0 * static_cast<double>(info.place_phase_ms.size()) / conducted_ms : 0.0}};
+  }
   // Neighbourhood traffic: tile samples a UAV received per tick, on average.
   j["tile_samples_per_uav_tick"] =
       uav_ticks > 0 ? static_cast<double>(tile_samples) / static_cast<double>(uav_ticks) : 0.0;

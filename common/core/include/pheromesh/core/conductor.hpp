@@ -8,7 +8,12 @@
 // place agent reported Ready: it matched the readers it deposits to. A phase
 // of tick k is complete when every expected process reported PhaseDone for
 // exactly (k, phase); a UAV phase also needs every reporting
-// UAV's state of tick k and as many broadcasts of tick k as were reported. A
+// UAV's state of tick k and as many broadcasts of tick k as were reported.
+// The place phase of tick k announces, per region, the deposits of tick k it
+// must apply and the states of tick k of its home UAVs it must hold: every
+// place agent waits for those exact samples, so no UAV waits for
+// acknowledgements (an acknowledgement waits for the writer's heartbeat:
+// ~100 ms on Cyclone 0.10, docs/dds.md "Lockstep at network speed"). A
 // UAV whose liveliness lapsed is still waited for during a grace period (a
 // stalled, overloaded process is not a dead one); after it, it is not. A
 // place agent is waited for unless it is absent (below): without it the tick
@@ -115,6 +120,14 @@ class LockstepConductor {
   // The clock that ends the run after `ticks`.
   [[nodiscard]] static ClockMsg stop(uint32_t ticks);
 
+  // Where the conducted time went: for every UAV and place phase, the time
+  // from begin_phase to the first status that found it complete [ms].
+  struct PhaseTimes {
+    std::vector<double> uav_ms;
+    std::vector<double> place_ms;
+  };
+  [[nodiscard]] const PhaseTimes& phase_times() const { return times_; }
+
   // A departed UAV that has not come back within the grace period.
   [[nodiscard]] bool gone_for_good(uint32_t uav, Clock::time_point now) const;
 
@@ -127,6 +140,9 @@ class LockstepConductor {
   }
 
   Options o_;
+  PhaseTimes times_;
+  Clock::time_point begun_at_{};
+  bool timed_ = false;  // the phase begun last is complete and its time recorded
   uint32_t tick_ = 0;
   ClockPhase phase_ = ClockPhase::Uav;
   Clock::time_point deadline_{};
@@ -134,6 +150,7 @@ class LockstepConductor {
   std::map<uint32_t, std::map<uint32_t, TileCoord>> positions_;  // tick -> uav -> tile
   std::map<uint32_t, std::set<uint32_t>> broadcasters_;   // tick -> UAVs that broadcast
   std::map<RegionId, uint32_t> deposits_reported_;        // current tick's UAV phase
+  std::map<RegionId, uint32_t> states_reported_;          // current tick's UAV phase: states per home region
   std::map<uint32_t, Clock::time_point> departed_since_;  // departed UAVs
   std::set<uint32_t> places_gone_;                         // departed place replicas (place_id)
   std::map<uint32_t, Clock::time_point> heard_;           // UAV -> its latest sample

@@ -7,6 +7,11 @@
 #include <cstddef>
 #include <cstdint>
 #include <deque>
+#include <map>
+#include <optional>
+#include <set>
+
+#include "pheromesh/core/messages.hpp"
 
 namespace pheromesh::core {
 
@@ -22,6 +27,59 @@ class DepositReceipts {
 
  private:
   std::deque<uint32_t> pending_;
+};
+
+// The place agent's side: the highest deposit seq received from each home
+// UAV, which its views confirm (View.deposit_ack). Only a seq the UAV can
+// have reached counts (core/plausibility.hpp check_seq_reachable): one forged
+// far ahead would confirm every deposit the UAV sends from then on.
+class HomeAcks {
+ public:
+  // A deposit of `uav` with `seq` arrived at place tick `tick`.
+  void received(uint32_t uav, uint32_t seq, uint32_t tick);
+  // What the next view of `uav` confirms (0: nothing yet).
+  [[nodiscard]] uint32_t ack(uint32_t uav) const;
+
+ private:
+  std::map<uint32_t, std::pair<uint32_t, uint32_t>> last_;  // uav -> (seq, tick it came at)
+};
+
+// A swarm with standbys sees the same deposit twice (both replicas of a home
+// forward it; lockstep UAVs re-send theirs after a quiet spell); the copies
+// arrive within a tick or so. Remembers the newest `window` seqs per UAV.
+class SeenDeposits {
+ public:
+  explicit SeenDeposits(std::size_t window = 4096) : window_(window) {}
+  // True if (uav, seq) was seen before; remembers it otherwise.
+  bool seen_before(uint32_t uav, uint32_t seq);
+
+ private:
+  std::size_t window_;
+  std::map<uint32_t, std::set<uint32_t>> seen_;
+};
+
+// Where a place agent sends each deposit it takes: apply it here (its own
+// region's, or one for no region at all, which PlaceCore rejects with the
+// reason), forward it to the owner's place agent, or drop it as a copy taken
+// before (swarms with standbys only; elsewhere a repeated sequence number is
+// a replay, which PlaceCore rejects with its reason). It also notes what the
+// home UAVs' views confirm.
+enum class DepositRoute : uint8_t { Apply, Forward, Copy };
+class DepositDesk {
+ public:
+  DepositDesk(uint32_t region, uint32_t regions, uint32_t swarm, bool replicated)
+      : region_(region), regions_(regions), swarm_(swarm), replicated_(replicated) {}
+  // A deposit taken at place tick `tick`.
+  DepositRoute take(const DepositMsg& d, uint32_t tick);
+  [[nodiscard]] uint32_t ack(uint32_t uav) const { return acks_.ack(uav); }
+  [[nodiscard]] uint64_t copies() const { return copies_; }
+
+ private:
+  uint32_t region_, regions_, swarm_;
+  bool replicated_;
+  HomeAcks acks_;
+  SeenDeposits seen_;
+  uint64_t copies_ = 0;
 };
 
 }  // namespace pheromesh::core

@@ -13,6 +13,7 @@
 
 #include "pheromesh/bus/bus.hpp"
 #include "pheromesh/core/scenario.hpp"
+#include "pheromesh/core/tick_gaps.hpp"
 
 namespace spdlog {
 class logger;
@@ -122,5 +123,12 @@ class TickClock {
   double measured_rate_ = 0.0;
   uint32_t late_ticks_ = 0;
 };
+
+// A realtime loop's tick `tick` starts now: feeds `gaps` and logs a gap over
+// two periods (the first ten of them).
+void note_tick_start(core::TickGaps& gaps, spdlog::logger& log, uint32_t tick);
+// The loop's summary line: "<who> kept its clock: longest gap ...".
+void log_clock_kept(const core::TickGaps& gaps, spdlog::logger& log, const std::string& who,
+                    const std::string& extra = "");
 
 }  // namespace pheromesh::runtime

@@ -20,7 +20,15 @@ struct RunInfo {
   // Seconds from the launch ($PHEROMESH_RUN_T0_MS) until the ground station
   // had heard every expected UAV and place agent; unset if it never did.
   std::optional<double> discovery_s;
+  // Lockstep: how long each conducted UAV and place phase took [ms]
+  // (core::LockstepConductor::phase_times); metrics.json "lockstep".
+  std::vector<double> uav_phase_ms;
+  std::vector<double> place_phase_ms;
 };
+
+// {"n", "mean", "p50", "p90", "p99", "max"} of durations [ms] (nearest-rank
+// percentiles); {"n": 0} when there are none.
+nlohmann::json duration_summary(std::vector<double> ms);
 
 nlohmann::json metrics_json(const core::RunRecorder& r, const RunInfo& info);
 

@@ -1,0 +1,426 @@
+#include "bench_lockstep.hpp"
+
+#include <fcntl.h>
+#include <spdlog/spdlog.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "child_spawn.hpp"
+#include "experiments/flight.hpp"
+#include "launcher.hpp"
+#include "pheromesh/bus/bus.hpp"
+#include "pheromesh/core/atomic_file.hpp"
+#include "pheromesh/core/conductor.hpp"
+#include "pheromesh/core/sample_summary.hpp"
+#include "pheromesh/core/simulator.hpp"
+#include "pheromesh/runtime/process.hpp"
+#include "scenario_paths.hpp"
+
+namespace pheromesh::cli {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+const char* const kBenchLockstepFooter =
+    "\nWhat is measured, per swarm (SCENARIO:UAVS) and vendor:\n"
+    "  sim      the in-process simulator flying the same scenario text (ms per tick, one core)\n"
+    "  run      `pheromesh run FILE --clock lockstep --dds V` (FILE: the scenario with swarm.uavs and run.ticks set,\n"
+    "           in OUT/<swarm>/scenario.textproto; its output in OUT/<swarm>/<V>/). ticks/s and the UAV and place\n"
+    "           phase times come from the conductor (metrics.json \"lockstep\": from the clock it publishes to the\n"
+    "           phase's completion); wall is the whole run, discovery and shutdown included\n"
+    "  floor    the round trip of one pheromesh sample (clock -> PhaseDone) between this process and a child\n"
+    "           process, per vendor pairing (mixed: cyclone -> fastdds), on loopback; a lockstep tick is at least\n"
+    "           7 sequential hops (clock to the UAVs, their PhaseDone, clock to the place agents, halo rings,\n"
+    "           fields, PhaseDone; the views travel while the next clock does), so floor = 7 x RTT/2\n"
+    "  = sim    whether the run's numbers (ticks, coverage, targets, revisits, deposits, field summary) equal\n"
+    "           the simulator's\n"
+    "Results: OUT/lockstep.md and OUT/lockstep.json. Keep the host otherwise idle.\n";
+
+namespace {
+
+constexpr double kHopsPerTick = 7.0;
+
+struct Swarm {
+  std::string label;  // "small-test:10"
+  core::ScenarioConfig scenario;
+};
+
+struct Floor {
+  std::string pairing;  // "cyclone", "fastdds", "mixed"
+  core::SampleSummary rtt_ms;
+  uint32_t lost = 0;
+  std::string error;
+};
+
+struct Row {
+  std::string swarm, vendor;
+  double sim_ms_per_tick = 0;
+  double wall_s = 0;
+  double ticks_per_s = 0;  // conducted
+  core::SampleSummary uav_ms, place_ms;
+  bool equal = false;
+  std::string error;  // the run failed, or how it differed
+};
+
+std::vector<std::string> split(const std::string& list) {
+  std::vector<std::string> out;
+  std::stringstream in(list);
+  std::string item;
+  while (std::getline(in, item, ',')) {
+    if (!item.empty()) out.push_back(item);
+  }
+  return out;
+}
+
+core::Result<Swarm> load_swarm(const std::string& entry, uint32_t ticks) {
+  const auto colon = entry.rfind(':');
+  const std::string name = colon == std::string::npos ? entry : entry.substr(0, colon);
+  auto path = resolve_scenario(name, default_scenario_dirs());
+  if (!path) return path.error();
+  auto base = core::load_scenario(path.value());
+  if (!base) return base.error();
+  uint32_t uavs = base->uavs;
+  if (colon != std::string::npos) {
+    try {
+      std::size_t used = 0;
+      const unsigned long n = std::stoul(entry.substr(colon + 1), &used);
+      if (used != entry.size() - colon - 1 || n == 0 || n > 5000) throw std::invalid_argument("range");
+      uavs = static_cast<uint32_t>(n);
+    } catch (const std::exception&) {
+      return core::Error{"--swarms entry '" + entry + "': UAVS after ':' must be a whole number from 1 to 5000"};
+    }
+  }
+  const std::string patch = "swarm { uavs: " + std::to_string(uavs) + " } run { ticks: " + std::to_string(ticks) + " }";
+  auto patched = core::patch_scenario(base.value(), patch, base->name);
+  if (!patched) return core::Error{"--swarms entry '" + entry + "': " + patched.error().message};
+  return Swarm{base->name + ":" + std::to_string(uavs), std::move(patched.value())};
+}
+
+std::string slurp(const fs::path& p) {
+  std::ifstream f(p, std::ios::binary);
+  std::ostringstream o;
+  o << f.rdbuf();
+  return o.str();
+}
+
+// The floor for one pairing: this process writes clocks with `mine`, the
+// echo child answers with `theirs`.
+Floor measure_floor(const std::string& pairing, const BenchLockstepOptions& o) {
+  Floor f;
+  f.pairing = pairing;
+  const std::string mine = pairing == "fastdds" ? "fastdds" : "cyclone";
+  const std::string theirs = pairing == "cyclone" ? "cyclone" : "fastdds";
+  const uint32_t domain = o.domain + 1;
+  bus::BusOptions bo;
+  bo.process_name = "bench-lockstep";
+  bo.domain = domain;
+  auto made = bus::make_bus(mine, bo);
+  if (!made) {
+    f.error = made.error().message;
+    return f;
+  }
+  auto& b = *made.value();
+  b.subscribe_phase_done();
+  const fs::path log = fs::path(o.out_dir) / ("echo-" + pairing + ".log");
+  const std::string exe = executable_dir() + "/pheromesh";
+  const int fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (fd < 0) {
+    f.error = "cannot write " + log.string();
+    return f;
+  }
+  const pid_t child = spawn_logged_child(
+      exe, {exe, "bench", "lockstep-echo", "--dds", theirs, "--domain", std::to_string(domain)}, fd, true);
+  ::close(fd);
+  if (child < 0) {
+    f.error = "cannot start the echo process";
+    return f;
+  }
+  std::vector<core::PhaseDoneMsg> dones;
+  // One ping: true when the answer of `tick` came before `bound`.
+  const auto ping = [&](uint32_t tick, std::chrono::milliseconds bound) {
+    core::ClockMsg c;
+    c.tick = tick;
+    c.phase = static_cast<uint8_t>(core::ClockPhase::Uav);
+    b.publish_clock(c);
+    const auto deadline = Clock::now() + bound;
+    while (Clock::now() < deadline) {
+      dones.clear();
+      b.take_phase_done(dones);
+      for (const auto& d : dones) {
+        if (d.tick == tick) return true;
+      }
+      b.wait({bus::TopicKind::PhaseDone}, deadline);
+    }
+    return false;
+  };
+  // Discovery: tick 0 until it is answered (30 s at most).
+  bool up = false;
+  for (int i = 0; i < 300 && !up && !runtime::shutdown_requested(); ++i) up = ping(0, std::chrono::milliseconds(100));
+  if (!up) {
+    f.error = "the echo process did not answer within 30 s (" + log.string() + ")";
+  } else {
+    std::vector<double> rtt;
+    for (uint32_t i = 1; i <= o.pings && !runtime::shutdown_requested(); ++i) {
+      const auto t0 = Clock::now();
+      if (ping(i, std::chrono::seconds(2))) {
+        rtt.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
+      } else {
+        ++f.lost;
+      }
+    }
+    f.rtt_ms = core::summarize(std::move(rtt));
+  }
+  b.publish_clock(core::LockstepConductor::stop(0));
+  int status = 0;
+  for (int i = 0; i < 100 && waitpid(child, &status, WNOHANG) == 0; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  if (waitpid(child, &status, WNOHANG) == 0) {
+    kill(child, SIGKILL);
+    waitpid(child, &status, 0);
+  }
+  return f;
+}
+
+Row fly_swarm(const Swarm& s, const std::string& vendor, double sim_ms, const experiments::RunNumbers& sim,
+              const BenchLockstepOptions& o) {
+  Row r;
+  r.swarm = s.label;
+  r.vendor = vendor;
+  r.sim_ms_per_tick = sim_ms;
+  const fs::path dir =
+      fs::path(o.out_dir) / s.label.substr(0, s.label.find(':')) / (std::to_string(s.scenario.uavs) + "-" + vendor);
+  std::error_code ec;
+  fs::remove_all(dir, ec);
+  fs::create_directories(dir, ec);
+  const fs::path file = dir / "scenario.textproto";
+  if (auto w = core::write_file_atomically(file.string(), s.scenario.source_text); !w) {
+    r.error = w.error().message;
+    return r;
+  }
+  const std::string exe = executable_dir() + "/pheromesh";
+  const std::vector<std::string> args{exe,
+                                      "run",
+                                      file.string(),
+                                      "--clock",
+                                      "lockstep",
+                                      "--dds",
+                                      vendor,
+                                      "--domain",
+                                      std::to_string(o.domain),
+                                      "--out",
+                                      (dir / "out").string(),
+                                      "--no-record",
+                                      "--progress",
+                                      "10"};
+  const double timeout_s = 300.0 + 0.5 * s.scenario.ticks * (1.0 + s.scenario.uavs / 10.0);
+  bool timed_out = false;
+  const auto t0 = Clock::now();
+  const int status = run_bounded(args, (dir / "run.log").string(), timeout_s, timed_out);
+  r.wall_s = std::chrono::duration<double>(Clock::now() - t0).count();
+  if (timed_out || status != 0) {
+    r.error = timed_out ? "did not end within " + std::to_string(static_cast<int>(timeout_s)) + " s"
+                        : "pheromesh run exited with " + std::to_string(status);
+    r.error += " (" + (dir / "run.log").string() + ")";
+    return r;
+  }
+  const std::string text = slurp(dir / "out" / "metrics.json");
+  experiments::RunNumbers proc;
+  std::string error;
+  if (!experiments::numbers_from_metrics_json(text, proc, error)) {
+    r.error = error;
+    return r;
+  }
+  r.error = experiments::differences(sim, proc);
+  r.equal = r.error.empty();
+  const auto j = nlohmann::json::parse(text, nullptr, false);
+  if (j.is_object() && j.contains("lockstep")) {
+    const auto& l = j["lockstep"];
+    r.ticks_per_s = l.value("ticks_per_s", 0.0);
+    const auto read = [](const nlohmann::json& p) {
+      core::SampleSummary m;
+      m.n = p.value("n", std::size_t{0});
+      m.mean = p.value("mean", 0.0);
+      m.p50 = p.value("p50", 0.0);
+      m.p90 = p.value("p90", 0.0);
+      m.p99 = p.value("p99", 0.0);
+      m.max = p.value("max", 0.0);
+      return m;
+    };
+    r.uav_ms = read(l.value("uav_phase_ms", nlohmann::json::object()));
+    r.place_ms = read(l.value("place_phase_ms", nlohmann::json::object()));
+  }
+  return r;
+}
+
+std::string fmt_ms(double v) { return fmt::format("{:.2f}", v); }
+
+std::string report(const std::vector<Floor>& floors, const std::vector<Row>& rows, const BenchLockstepOptions& o) {
+  std::string md =
+      fmt::format("# pheromesh bench lockstep\n\n{} ticks per run, {} round trips per pairing.\n\n", o.ticks, o.pings);
+  md += "## Floor: one pheromesh sample there and back between two processes\n\n";
+  md +=
+      "| pairing | RTT p50 [ms] | RTT p99 [ms] | lost | floor per tick (7 hops) [ms] | floor [ticks/s] "
+      "|\n|---|---|---|---|---|---|\n";
+  for (const auto& f : floors) {
+    if (!f.error.empty()) {
+      md += fmt::format("| {} | – | – | – | – | {} |\n", f.pairing, f.error);
+      continue;
+    }
+    const double floor_ms = kHopsPerTick * f.rtt_ms.p50 / 2.0;
+    md += fmt::format("| {} | {} | {} | {} | {} | {:.0f} |\n", f.pairing, fmt_ms(f.rtt_ms.p50), fmt_ms(f.rtt_ms.p99),
+                      f.lost, fmt_ms(floor_ms), floor_ms > 0 ? 1000.0 / floor_ms : 0.0);
+  }
+  md +=
+      "\n## Lockstep runs\n\n| swarm | dds | ticks/s | ms/tick | UAV phase p50 / p99 [ms] | place phase p50 / p99 [ms] "
+      "| sim "
+      "[ms/tick] | × sim | × floor | wall [s] | = sim |\n|---|---|---|---|---|---|---|---|---|---|---|\n";
+  for (const auto& r : rows) {
+    const double ms = r.ticks_per_s > 0 ? 1000.0 / r.ticks_per_s : 0.0;
+    double floor_ms = 0;
+    for (const auto& f : floors) {
+      if (f.pairing == r.vendor && f.error.empty()) floor_ms = kHopsPerTick * f.rtt_ms.p50 / 2.0;
+    }
+    const std::string verdict = r.equal ? "yes" : "NO: " + r.error;
+    if (ms == 0) {
+      md += fmt::format("| {} | {} | – | – | – | – | {} | – | – | {:.1f} | {} |\n", r.swarm, r.vendor,
+                        fmt_ms(r.sim_ms_per_tick), r.wall_s, verdict);
+      continue;
+    }
+    md += fmt::format("| {} | {} | {:.0f} | {} | {} / {} | {} / {} | {} | {:.0f} | {} | {:.1f} | {} |\n", r.swarm,
+                      r.vendor, r.ticks_per_s, fmt_ms(ms), fmt_ms(r.uav_ms.p50), fmt_ms(r.uav_ms.p99),
+                      fmt_ms(r.place_ms.p50), fmt_ms(r.place_ms.p99), fmt_ms(r.sim_ms_per_tick),
+                      r.sim_ms_per_tick > 0 ? ms / r.sim_ms_per_tick : 0.0,
+                      floor_ms > 0 ? fmt::format("{:.1f}", ms / floor_ms) : std::string("–"), r.wall_s, verdict);
+  }
+  return md;
+}
+
+nlohmann::json summary_json(const core::SampleSummary& s) {
+  return {{"n", s.n}, {"mean", s.mean}, {"p50", s.p50}, {"p90", s.p90}, {"p99", s.p99}, {"max", s.max}};
+}
+
+nlohmann::json results_json(const std::vector<Floor>& floors, const std::vector<Row>& rows,
+                            const BenchLockstepOptions& o) {
+  nlohmann::json j{{"ticks", o.ticks}, {"pings", o.pings}, {"hops_per_tick", kHopsPerTick}};
+  for (const auto& f : floors) {
+    j["floor"].push_back(
+        {{"pairing", f.pairing}, {"rtt_ms", summary_json(f.rtt_ms)}, {"lost", f.lost}, {"error", f.error}});
+  }
+  for (const auto& r : rows) {
+    j["runs"].push_back({{"swarm", r.swarm},
+                         {"dds", r.vendor},
+                         {"ticks_per_s", r.ticks_per_s},
+                         {"uav_phase_ms", summary_json(r.uav_ms)},
+                         {"place_phase_ms", summary_json(r.place_ms)},
+                         {"sim_ms_per_tick", r.sim_ms_per_tick},
+                         {"wall_s", r.wall_s},
+                         {"equal_to_sim", r.equal},
+                         {"error", r.error}});
+  }
+  return j;
+}
+
+}  // namespace
+
+int run_bench_lockstep(const BenchLockstepOptions& o) {
+  std::vector<Swarm> swarms;
+  for (const auto& entry : split(o.swarms)) {
+    auto s = load_swarm(entry, o.ticks);
+    if (!s) {
+      std::fprintf(stderr, "pheromesh bench lockstep: %s\n", s.error().message.c_str());
+      return 2;
+    }
+    swarms.push_back(std::move(s.value()));
+  }
+  const auto vendors = split(o.dds);
+  for (const auto& v : vendors) {
+    if (v != "cyclone" && v != "fastdds" && v != "mixed") {
+      std::fprintf(stderr, "pheromesh bench lockstep: --dds '%s': each vendor must be cyclone, fastdds or mixed\n",
+                   v.c_str());
+      return 2;
+    }
+  }
+  if (swarms.empty() || vendors.empty()) {
+    std::fprintf(stderr, "pheromesh bench lockstep: --swarms and --dds must each name at least one\n");
+    return 2;
+  }
+  std::error_code ec;
+  fs::create_directories(o.out_dir, ec);
+  std::vector<Floor> floors;
+  for (const auto& v : vendors) {
+    std::printf("floor %s: %u round trips ...\n", v.c_str(), o.pings);
+    std::fflush(stdout);
+    floors.push_back(measure_floor(v, o));
+    if (runtime::shutdown_requested()) return 130;
+  }
+  std::vector<Row> rows;
+  bool all_equal = true;
+  for (const auto& s : swarms) {
+    const auto t0 = Clock::now();
+    core::Simulator sim(s.scenario);
+    sim.run();
+    const double sim_ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count() / (s.scenario.ticks + 1);
+    const auto numbers = experiments::numbers_of(sim.recorder());
+    for (const auto& v : vendors) {
+      std::printf("%s over %s: %u lockstep ticks ...\n", s.label.c_str(), v.c_str(), s.scenario.ticks);
+      std::fflush(stdout);
+      rows.push_back(fly_swarm(s, v, sim_ms, numbers, o));
+      all_equal = all_equal && rows.back().equal;
+      if (runtime::shutdown_requested()) return 130;
+    }
+  }
+  const std::string md = report(floors, rows, o);
+  std::printf("\n%s", md.c_str());
+  const fs::path dir(o.out_dir);
+  if (auto w = core::write_file_atomically((dir / "lockstep.md").string(), md); !w) {
+    std::fprintf(stderr, "%s\n", w.error().message.c_str());
+    return 5;
+  }
+  if (auto w =
+          core::write_file_atomically((dir / "lockstep.json").string(), results_json(floors, rows, o).dump(2) + "\n");
+      !w) {
+    std::fprintf(stderr, "%s\n", w.error().message.c_str());
+    return 5;
+  }
+  return all_equal ? 0 : 4;
+}
+
+int run_lockstep_echo(const LockstepEchoOptions& o) {
+  bus::BusOptions bo;
+  bo.process_name = "bench-lockstep-echo";
+  bo.domain = o.domain;
+  auto made = bus::make_bus(o.dds, bo);
+  if (!made) {
+    spdlog::error("{}", made.error().message);
+    return 2;
+  }
+  auto& b = *made.value();
+  b.subscribe_clock();
+  std::vector<core::ClockMsg> clocks;
+  const auto deadline =
+      Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(o.timeout_s));
+  while (Clock::now() < deadline && !runtime::shutdown_requested()) {
+    clocks.clear();
+    b.take_clock(clocks);
+    for (const auto& c : clocks) {
+      if (c.phase == static_cast<uint8_t>(core::ClockPhase::Stop)) return 0;
+      b.publish_phase_done({core::process_key(core::kRoleUav, 0), c.tick, c.phase, 0, {}});
+    }
+    b.wait({bus::TopicKind::Clock}, std::min(deadline, Clock::now() + std::chrono::milliseconds(100)));
+  }
+  return runtime::shutdown_requested() ? 0 : 1;
+}
+
+}  // namespace pheromesh::cli

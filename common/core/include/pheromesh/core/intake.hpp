@@ -1,0 +1,58 @@
+// The checks a received view or field chunk passes before a shell hands it
+// to the core, the same in every process (docs/architecture.md, "What a
+// receiver refuses"). Each returns a verdict: take it, drop it as malformed
+// (counted as rejected), or refuse it as implausible (counted by reason,
+// core/plausibility.hpp). Pure functions, no I/O.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <string>
+
+#include "pheromesh/core/grid.hpp"
+#include "pheromesh/core/messages.hpp"
+#include "pheromesh/core/plausibility.hpp"
+
+namespace pheromesh::core {
+
+struct IntakeVerdict {
+  enum class Kind : uint8_t { Take, Drop, Refuse };
+  Kind kind = Kind::Take;
+  Refusal refusal = Refusal::UnknownUav;  // Refuse only
+  std::string reason;                     // Drop and Refuse
+
+  static IntakeVerdict take() { return {}; }
+  static IntakeVerdict drop(std::string why) { return {Kind::Drop, Refusal::UnknownUav, std::move(why)}; }
+  static IntakeVerdict refuse(Refusal r, std::string why) { return {Kind::Refuse, r, std::move(why)}; }
+  [[nodiscard]] bool taken() const { return kind == Kind::Take; }
+};
+
+// What the receiver knows of the swarm that runs.
+struct IntakeRules {
+  const MapGeometry& geo;
+  int layers = 0;
+  std::span<const ValueRange> ranges;  // per layer
+  uint32_t swarm = 0;                  // UAVs
+};
+
+// A view as a whole, for UAV `me`: addressed to it, of a tick the sender can
+// have reached (`ceiling`), no tile value outside its layer's range. The
+// tiles and states inside are checked one by one (check_view_tile,
+// check_neighbour): a bad one drops only itself.
+IntakeVerdict check_view(const ViewMsg& v, uint32_t me, uint32_t ceiling, const IntakeRules& r);
+IntakeVerdict check_view_tile(const TileMsg& t, const IntakeRules& r);
+IntakeVerdict check_neighbour(const UavStateMsg& s, const IntakeRules& r);
+// Another UAV's broadcast: well formed, from a UAV of the swarm.
+IntakeVerdict check_broadcast_from(const BroadcastMsg& b, const IntakeRules& r);
+// A home UAV's state at its place agent: a UAV of the swarm, well formed, of
+// a reachable tick, and no further from its last accepted state `before`
+// (nullptr: none yet; then from its start cell) than it can fly in the ticks
+// between. The place agent cannot tell a restarted UAV from a forger: a state
+// whose tick went back may start again from the start cell.
+IntakeVerdict check_home_state(const UavStateMsg& s, const UavStateMsg* before, Cell start, double max_step,
+                               uint32_t ceiling, const IntakeRules& r);
+// A field chunk of another region, as a whole: well formed (its region, every
+// tile and state), of a reachable tick, values in range, UAVs of the swarm.
+IntakeVerdict check_field_chunk(const FieldMsg& f, uint32_t ceiling, const IntakeRules& r);
+
+}  // namespace pheromesh::core

@@ -1,0 +1,72 @@
+// A UAV's or place agent's side of the lockstep protocol, without DDS
+// (docs/architecture.md, "Time"): the conductor's LockstepConductor has its
+// counterpart here. The shell hands it every clock sample it takes from the
+// bus, whenever it takes them (also while it waits inside a phase), and asks
+// it which phase to run next. Time is passed in, so tests drive it by hand.
+//
+// * The first clock sample names the conductor (the DDS writer the bus
+//   identifies, ClockMsg::writer): a clock written by anyone else is refused
+//   and counted, whatever it carries (a forged Stop would end the run;
+//   core/plausibility.hpp).
+// * Every accepted sample, a re-sent one too, tells the ConductorWatch that
+//   the conductor lives; a silence past its limit means it is gone.
+// * Each phase of this process's kind runs once, in tick order: a clock of a
+//   tick already done (a re-send) is not a new phase.
+// * Regions a clock lists as absent (a place agent killed at a tick without
+//   a standby, core/faults.hpp) are remembered with the first tick listing them.
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <deque>
+#include <map>
+#include <optional>
+#include <vector>
+
+#include "pheromesh/core/conductor.hpp"
+#include "pheromesh/core/messages.hpp"
+
+namespace pheromesh::core {
+
+class LockstepFollower {
+ public:
+  using Clock = std::chrono::steady_clock;
+
+  // `mine`: ClockPhase::Uav for a UAV, ClockPhase::Place for a place agent.
+  LockstepFollower(ClockPhase mine, ConductorWatch watch) : mine_(mine), watch_(watch) {}
+
+  // Clock samples as taken from the bus (moved out of `taken`, which is left
+  // empty). Returns those refused as another writer's.
+  std::vector<ClockMsg> offer(std::vector<ClockMsg>& taken, Clock::time_point now);
+
+  // The next phase of this process's kind to run, oldest first, or nothing.
+  // A Stop among the samples before it ends the run (stopped()).
+  std::optional<ClockMsg> next_phase();
+  // Marks the phase of `tick` done: later clocks of it or of older ticks are re-sends.
+  void done(uint32_t tick) { done_ = tick; }
+  [[nodiscard]] std::optional<uint32_t> last_done() const { return done_; }
+  // The clock the phase of `tick` came with skips ticks after the last one
+  // this process ran (a replica that was stopped while the swarm went on).
+  [[nodiscard]] bool skips(uint32_t tick) const { return done_ && tick > *done_ + 1; }
+
+  [[nodiscard]] bool stopped() const { return stopped_; }
+  [[nodiscard]] bool conductor_lost(Clock::time_point now) const { return watch_.lost(now); }
+  [[nodiscard]] const ConductorWatch& watch() const { return watch_; }
+  // The highest tick the conductor announced (the plausibility ceiling of received samples).
+  [[nodiscard]] uint32_t newest_tick() const { return newest_tick_; }
+  // The tick of the first clock that listed region `r` as absent.
+  [[nodiscard]] std::optional<uint32_t> absent_since(RegionId r) const;
+  [[nodiscard]] const std::map<RegionId, uint32_t>& absent() const { return absent_; }
+
+ private:
+  ClockPhase mine_;
+  ConductorWatch watch_;
+  std::optional<uint64_t> conductor_;
+  std::deque<ClockMsg> pending_;
+  std::optional<uint32_t> done_;
+  bool stopped_ = false;
+  uint32_t newest_tick_ = 0;
+  std::map<RegionId, uint32_t> absent_;
+};
+
+}  // namespace pheromesh::core

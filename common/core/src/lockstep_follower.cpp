@@ -1,0 +1,44 @@
+#include "pheromesh/core/lockstep_follower.hpp"
+
+namespace pheromesh::core {
+
+std::vector<ClockMsg> LockstepFollower::offer(std::vector<ClockMsg>& taken, Clock::time_point now) {
+  std::vector<ClockMsg> refused;
+  bool accepted = false;
+  for (auto& c : taken) {
+    if (!conductor_) conductor_ = c.writer;
+    if (c.writer != *conductor_) {
+      refused.push_back(std::move(c));
+      continue;
+    }
+    accepted = true;
+    newest_tick_ = std::max(newest_tick_, c.tick);
+    for (RegionId r : c.absent) absent_.emplace(r, c.tick);
+    pending_.push_back(std::move(c));
+  }
+  taken.clear();
+  if (accepted) watch_.on_clock(now);
+  return refused;
+}
+
+std::optional<ClockMsg> LockstepFollower::next_phase() {
+  while (!pending_.empty() && !stopped_) {
+    ClockMsg c = std::move(pending_.front());
+    pending_.pop_front();
+    if (c.phase == static_cast<uint8_t>(ClockPhase::Stop)) {
+      stopped_ = true;
+      break;
+    }
+    if (c.phase != static_cast<uint8_t>(mine_) || (done_ && c.tick <= *done_)) continue;
+    return c;
+  }
+  return std::nullopt;
+}
+
+std::optional<uint32_t> LockstepFollower::absent_since(RegionId r) const {
+  auto it = absent_.find(r);
+  if (it == absent_.end()) return std::nullopt;
+  return it->second;
+}
+
+}  // namespace pheromesh::core

@@ -1,0 +1,48 @@
+// The run loop of a lockstep UAV or place agent, written once: take the
+// conductor's clock (core::LockstepFollower latches the conductor and watches
+// it), run each new phase of this process's kind, and between clocks re-send
+// this tick's samples after a quiet spell (bus/resend.hpp) and sleep on the
+// clock reader - until the conductor's Stop, its death, a shutdown request,
+// or a phase that asks to leave.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+
+#include "pheromesh/bus/bus.hpp"
+#include "pheromesh/bus/resend.hpp"
+#include "pheromesh/core/lockstep_follower.hpp"
+#include "pheromesh/runtime/sample_audit.hpp"
+
+namespace spdlog {
+class logger;
+}
+
+namespace pheromesh::runtime {
+
+// Takes the clock samples the bus holds and hands them to `follower`; a
+// sample of another writer is refused (counted in `audit`). False once the
+// conductor is gone.
+bool take_clock(bus::Bus& bus, core::LockstepFollower& follower, SampleAudit& audit);
+
+enum class LockstepEnd : uint8_t { Stopped, ConductorLost, ShutDown, Left };
+enum class PhaseOutcome : uint8_t { Continue, Leave };
+
+struct LockstepLoop {
+  bus::Bus& bus;
+  core::LockstepFollower& follower;
+  bus::LatestResender& resend;
+  SampleAudit& audit;
+  spdlog::logger& log;
+  uint32_t lease_ms = 1000;
+  // Called before every round, e.g. to report Ready once the process matched its peers.
+  std::function<void()> before_round;
+  // Runs one phase; the loop marks it done unless it returns Leave.
+  std::function<PhaseOutcome(const core::ClockMsg&)> run_phase;
+
+  // Logs the conductor's death ("the conductor (ground station) is gone: ...").
+  LockstepEnd run();
+};
+
+}  // namespace pheromesh::runtime

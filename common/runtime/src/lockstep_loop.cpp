@@ -1,0 +1,56 @@
+#include "pheromesh/runtime/lockstep_loop.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <chrono>
+
+#include "pheromesh/runtime/process.hpp"
+
+namespace pheromesh::runtime {
+
+using Clock = std::chrono::steady_clock;
+
+bool take_clock(bus::Bus& bus, core::LockstepFollower& follower, SampleAudit& audit) {
+  std::vector<core::ClockMsg> taken;
+  bus.take_clock(taken);
+  // The first clock sample names the conductor: on an open domain anyone can
+  // write a clock (a forged Stop would end the run), but no one can write
+  // through another process's DDS writer.
+  for (const auto& c : follower.offer(taken, Clock::now())) {
+    audit.refuse(core::Refusal::ForeignClock,
+                 fmt::format("a clock sample of tick {} phase {} from another writer", c.tick, c.phase));
+  }
+  return !follower.conductor_lost(Clock::now());
+}
+
+LockstepEnd LockstepLoop::run() {
+  while (!follower.stopped()) {
+    if (shutdown_requested()) return LockstepEnd::ShutDown;
+    if (before_round) before_round();
+    take_clock(bus, follower, audit);
+    bool ran = false;
+    while (auto c = follower.next_phase()) {
+      if (run_phase(*c) == PhaseOutcome::Leave) return LockstepEnd::Left;
+      follower.done(c->tick);
+      ran = true;
+    }
+    if (ran || follower.stopped()) continue;
+    if (follower.conductor_lost(Clock::now())) {
+      const auto& w = follower.watch();
+      const auto last = follower.last_done();
+      log.error(
+          "the conductor (ground station) is gone: no lockstep clock for {:.1f} s ({} leases of {} ms) after tick {}; "
+          "stopping",
+          std::chrono::duration<double>(w.silence(Clock::now())).count(),
+          w.limit() / std::chrono::milliseconds(lease_ms), lease_ms, last ? static_cast<int64_t>(*last) : -1);
+      return LockstepEnd::ConductorLost;
+    }
+    if (resend.resend_if_quiet()) {
+      log.debug("tick {}: nothing new for 1 s; re-sent this tick's samples", follower.last_done().value_or(0));
+    }
+    bus.wait({bus::TopicKind::Clock}, Clock::now() + std::chrono::milliseconds(100));
+  }
+  return LockstepEnd::Stopped;
+}
+
+}  // namespace pheromesh::runtime

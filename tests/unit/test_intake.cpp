@@ -1,0 +1,146 @@
+// What the shells do with a received view, field chunk or home UAV state
+// (core/intake.hpp), and the place agent's deposit desk (core/receipts.hpp):
+// hand-worked cases on small-test (30 x 30 cells, tiles of 6, 2 x 2 regions,
+// 4 UAVs, three Shao layers).
+#include <gtest/gtest.h>
+
+#include <string>
+#include <vector>
+
+#include "pheromesh/core/intake.hpp"
+#include "pheromesh/core/policy.hpp"
+#include "pheromesh/core/receipts.hpp"
+#include "pheromesh/core/scenario.hpp"
+
+namespace pheromesh::core {
+namespace {
+
+ScenarioConfig small_test() {
+  auto s = load_scenario(std::string(PHEROMESH_SOURCE_DIR) + "/scenarios/small-test.textproto");
+  if (!s) throw std::runtime_error(s.error().message);
+  return s.value();
+}
+
+struct Rig {
+  ScenarioConfig s = small_test();
+  MapGeometry geo = s.geometry();
+  PolicyTraits traits = policy_traits(s);
+  IntakeRules rules{geo, static_cast<int>(traits.layers.size()), traits.layer_ranges, s.uavs};
+
+  TileMsg tile(uint32_t tick, float value) const {
+    TileMsg t;
+    t.layer = 0;
+    t.tile = {1, 1};
+    t.tick = tick;
+    t.width = 6;
+    t.height = 6;
+    t.values.assign(36, value);
+    return t;
+  }
+  UavStateMsg state(uint32_t uav, uint32_t tick) const {
+    UavStateMsg st;
+    st.uav = uav;
+    st.tick = tick;
+    st.x = 3.5;
+    st.y = 3.5;
+    st.view = {3, 3};
+    return st;
+  }
+};
+
+TEST(Intake, AViewForAnotherUavIsDroppedAndOneOfATickFarAheadIsRefused) {
+  Rig r;
+  ViewMsg v;
+  v.uav = 2;
+  v.tick = 10;
+  v.tiles = {r.tile(10, 0.5F)};
+  EXPECT_TRUE(check_view(v, 2, 11, r.rules).taken());
+  const auto other = check_view(v, 1, 11, r.rules);
+  EXPECT_EQ(other.kind, IntakeVerdict::Kind::Drop);
+  EXPECT_NE(other.reason.find("addressed to uav 2"), std::string::npos) << other.reason;
+  const auto ahead = check_view(v, 2, 9, r.rules);
+  EXPECT_EQ(ahead.kind, IntakeVerdict::Kind::Refuse);
+  EXPECT_EQ(ahead.refusal, Refusal::TickFarAhead);
+  v.tiles[0].values[7] = 1e30F;
+  const auto range = check_view(v, 2, 11, r.rules);
+  EXPECT_EQ(range.kind, IntakeVerdict::Kind::Refuse);
+  EXPECT_EQ(range.refusal, Refusal::ValueOutOfRange);
+}
+
+TEST(Intake, ATileOrNeighbourInsideAViewIsJudgedAlone) {
+  Rig r;
+  TileMsg bad = r.tile(3, 0.5F);
+  bad.values.resize(35);  // 6 x 6 cells need 36 values
+  EXPECT_EQ(check_view_tile(bad, r.rules).kind, IntakeVerdict::Kind::Drop);
+  EXPECT_TRUE(check_view_tile(r.tile(3, 0.5F), r.rules).taken());
+  EXPECT_TRUE(check_neighbour(r.state(3, 3), r.rules).taken());
+  const auto stranger = check_neighbour(r.state(4, 3), r.rules);  // the swarm has UAVs 0..3
+  EXPECT_EQ(stranger.kind, IntakeVerdict::Kind::Refuse);
+  EXPECT_EQ(stranger.refusal, Refusal::UnknownUav);
+}
+
+TEST(Intake, AFieldChunkIsMalformedForANonexistentRegionAndRefusedWithAStranger) {
+  Rig r;
+  FieldMsg f;
+  f.region = 3;
+  f.tick = 5;
+  f.tiles = {r.tile(5, 0.25F)};
+  f.uavs = {r.state(1, 5)};
+  EXPECT_TRUE(check_field_chunk(f, 6, r.rules).taken());
+  FieldMsg nowhere = f;
+  nowhere.region = 4;  // 2 x 2 regions: 0..3
+  EXPECT_EQ(check_field_chunk(nowhere, 6, r.rules).kind, IntakeVerdict::Kind::Drop);
+  FieldMsg stranger = f;
+  stranger.uavs[0].uav = 9;
+  const auto v = check_field_chunk(stranger, 6, r.rules);
+  EXPECT_EQ(v.kind, IntakeVerdict::Kind::Refuse);
+  EXPECT_EQ(v.refusal, Refusal::UnknownUav);
+  EXPECT_EQ(check_field_chunk(f, 4, r.rules).refusal, Refusal::TickFarAhead);
+}
+
+TEST(Intake, AHomeStateThatJumpsFurtherThanTheUavFliesIsRefused) {
+  Rig r;
+  const UavStateMsg before = r.state(1, 5);
+  UavStateMsg next = r.state(1, 6);
+  next.x = 4.5;  // one cell in one tick
+  EXPECT_TRUE(check_home_state(next, &before, {0, 0}, r.traits.max_step, 7, r.rules).taken());
+  next.x = 25.5;  // 22 cells in one tick
+  const auto v = check_home_state(next, &before, {0, 0}, r.traits.max_step, 7, r.rules);
+  EXPECT_EQ(v.kind, IntakeVerdict::Kind::Refuse);
+  EXPECT_EQ(v.refusal, Refusal::ImplausibleState);
+}
+
+DepositMsg deposit(uint32_t uav, uint32_t seq, RegionId region) {
+  DepositMsg d;
+  d.uav = uav;
+  d.seq = seq;
+  d.region = region;
+  return d;
+}
+
+TEST(DepositDesk, OwnDepositsAreAppliedOthersForwardedAndCopiesDroppedOnlyWithStandbys) {
+  // Region 1 of 4, 4 UAVs: UAV 1 is homed on it (uav mod regions).
+  DepositDesk desk(1, 4, 4, /*replicated=*/true);
+  EXPECT_EQ(desk.take(deposit(1, 1, 1), 0), DepositRoute::Apply);
+  EXPECT_EQ(desk.take(deposit(1, 2, 3), 0), DepositRoute::Forward);
+  EXPECT_EQ(desk.take(deposit(1, 2, 3), 0), DepositRoute::Copy) << "the second replica's forward";
+  EXPECT_EQ(desk.take(deposit(2, 7, 9), 0), DepositRoute::Apply) << "no region 9: PlaceCore rejects it with the reason";
+  EXPECT_EQ(desk.copies(), 1U);
+  EXPECT_EQ(desk.ack(1), 2U) << "its views confirm seq 2";
+  EXPECT_EQ(desk.ack(2), 0U) << "UAV 2 is not homed here";
+  DepositDesk plain(1, 4, 4, /*replicated=*/false);
+  EXPECT_EQ(plain.take(deposit(1, 5, 1), 0), DepositRoute::Apply);
+  EXPECT_EQ(plain.take(deposit(1, 5, 1), 0), DepositRoute::Apply) << "a replay: PlaceCore rejects it with its reason";
+}
+
+TEST(DepositDesk, ASequenceNumberForgedFarAheadConfirmsNothing) {
+  DepositDesk desk(1, 4, 4, false);
+  desk.take(deposit(1, 3, 1), 0);
+  desk.take(deposit(1, 4000000, 1), 1);  // more than the UAV can have deposited in a tick
+  EXPECT_EQ(desk.ack(1), 3U);
+  desk.take(deposit(1, 4, 1), 1);
+  EXPECT_EQ(desk.ack(1), 4U);
+}
+
+}  // namespace
+}  // namespace pheromesh::core

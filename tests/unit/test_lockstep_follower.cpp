@@ -1,0 +1,101 @@
+// A UAV's and a place agent's side of the lockstep protocol without DDS
+// (core/lockstep_follower.hpp): the latched conductor, phases once and in
+// order, Stop, the watch on the conductor, absent regions. Time by hand.
+#include <gtest/gtest.h>
+
+#include "pheromesh/core/lockstep_follower.hpp"
+
+namespace pheromesh::core {
+namespace {
+
+using namespace std::chrono_literals;
+using F = LockstepFollower;
+
+ClockMsg clock_of(uint32_t tick, ClockPhase phase, uint64_t writer = 7, std::vector<RegionId> absent = {}) {
+  ClockMsg c;
+  c.tick = tick;
+  c.phase = static_cast<uint8_t>(phase);
+  c.writer = writer;
+  c.absent = std::move(absent);
+  return c;
+}
+
+F uav_follower(F::Clock::time_point t0) { return F(ClockPhase::Uav, ConductorWatch(6s, 300s, t0)); }
+
+TEST(LockstepFollower, EachPhaseOfItsKindRunsOnceInTickOrderAndReSentClocksAreNotNewPhases) {
+  const auto t0 = F::Clock::time_point{} + 100s;
+  F f = uav_follower(t0);
+  std::vector<ClockMsg> taken{clock_of(0, ClockPhase::Uav), clock_of(0, ClockPhase::Place),
+                              clock_of(1, ClockPhase::Uav)};
+  EXPECT_TRUE(f.offer(taken, t0).empty());
+  EXPECT_TRUE(taken.empty()) << "the samples are moved out";
+  auto p = f.next_phase();
+  ASSERT_TRUE(p);
+  EXPECT_EQ(p->tick, 0U);
+  f.done(0);
+  // Tick 0's UAV clock again (re-sent while the UAV ran its phase).
+  taken = {clock_of(0, ClockPhase::Uav)};
+  f.offer(taken, t0 + 1s);
+  p = f.next_phase();
+  ASSERT_TRUE(p) << "tick 1 was queued before the re-send";
+  EXPECT_EQ(p->tick, 1U);
+  f.done(1);
+  EXPECT_FALSE(f.next_phase()) << "the place phase is not a UAV's and tick 0 is done";
+  EXPECT_EQ(f.last_done(), 1U);
+  EXPECT_EQ(f.newest_tick(), 1U);
+}
+
+TEST(LockstepFollower, TheFirstWriterIsTheConductorAndAnotherWritersClockIsRefusedEvenAStop) {
+  const auto t0 = F::Clock::time_point{} + 100s;
+  F f = uav_follower(t0);
+  std::vector<ClockMsg> taken{clock_of(0, ClockPhase::Uav, 7), clock_of(5, ClockPhase::Stop, 99),
+                              clock_of(50, ClockPhase::Uav, 99)};
+  const auto refused = f.offer(taken, t0);
+  ASSERT_EQ(refused.size(), 2U);
+  EXPECT_EQ(refused[0].phase, static_cast<uint8_t>(ClockPhase::Stop));
+  EXPECT_EQ(f.newest_tick(), 0U) << "a forged tick does not raise the ceiling";
+  ASSERT_TRUE(f.next_phase());
+  f.done(0);
+  EXPECT_FALSE(f.next_phase());
+  EXPECT_FALSE(f.stopped());
+  taken = {clock_of(0, ClockPhase::Stop, 7)};
+  f.offer(taken, t0);
+  EXPECT_FALSE(f.next_phase());
+  EXPECT_TRUE(f.stopped()) << "the conductor's own Stop ends the run";
+}
+
+TEST(LockstepFollower, ASilentConductorIsLostAfterTheWatchsLimitAndAForgedClockDoesNotKeepItAlive) {
+  const auto t0 = F::Clock::time_point{} + 100s;
+  F f = uav_follower(t0);
+  EXPECT_FALSE(f.conductor_lost(t0 + 299s)) << "before the first clock the bound is the discovery one";
+  EXPECT_TRUE(f.conductor_lost(t0 + 301s));
+  std::vector<ClockMsg> taken{clock_of(3, ClockPhase::Uav, 7)};
+  f.offer(taken, t0 + 301s);
+  EXPECT_FALSE(f.conductor_lost(t0 + 306s));
+  taken = {clock_of(4, ClockPhase::Uav, 8)};
+  EXPECT_EQ(f.offer(taken, t0 + 306s).size(), 1U);
+  EXPECT_TRUE(f.conductor_lost(t0 + 308s)) << "6 s after the conductor's last clock";
+}
+
+TEST(LockstepFollower, AnAbsentRegionIsRememberedFromTheFirstTickThatListedIt) {
+  const auto t0 = F::Clock::time_point{} + 100s;
+  F f(ClockPhase::Place, ConductorWatch(6s, 300s, t0));
+  std::vector<ClockMsg> taken{clock_of(8, ClockPhase::Place), clock_of(9, ClockPhase::Uav, 7, {2}),
+                              clock_of(9, ClockPhase::Place, 7, {2}), clock_of(10, ClockPhase::Uav, 7, {1, 2})};
+  f.offer(taken, t0);
+  EXPECT_FALSE(f.absent_since(0));
+  EXPECT_EQ(f.absent_since(2), 9U);
+  EXPECT_EQ(f.absent_since(1), 10U);
+  auto p = f.next_phase();
+  ASSERT_TRUE(p);
+  EXPECT_EQ(p->tick, 8U);
+  f.done(8);
+  p = f.next_phase();
+  ASSERT_TRUE(p);
+  EXPECT_EQ(p->tick, 9U) << "a place agent runs place phases only";
+  EXPECT_FALSE(f.skips(9));
+  EXPECT_TRUE(f.skips(11)) << "a clock of tick 11 after tick 8 skipped ticks";
+}
+
+}  // namespace
+}  // namespace pheromesh::core
