@@ -9,10 +9,11 @@
 int main(int argc, char** argv) {
   using namespace pheromesh;
   agent::UavConfig cfg;
-  CLI::App app{"pheromesh UAV agent: one UAV running the Shao 2020 ACO search. It reads the pheromone tiles around "
-               "it, decides, moves, senses targets and obstacles, deposits to the place agents there and publishes "
-               "its state.",
-               "pheromesh-uav"};
+  CLI::App app{
+      "pheromesh UAV agent: one UAV running the Shao 2020 ACO search. It reads the pheromone tiles around "
+      "it, decides, moves, senses targets and obstacles, deposits to the place agents there and publishes "
+      "its state.",
+      "pheromesh-uav"};
   runtime::add_common_options(app, cfg.common);
   app.add_option("--id", cfg.id, "UAV id (0-based; also picks its start cell and random stream)")->required();
   app.add_option("--wait-for-places", cfg.wait_for_places_s, "Seconds to wait at start for every place agent [s]")
@@ -21,8 +22,9 @@ int main(int argc, char** argv) {
                  "Realtime: seconds to wait for the ground station's start (sent once every process is heard) "
                  "before flying anyway [s]")
       ->capture_default_str();
-  app.add_option("--seq-base", cfg.seq_base,
-                 "Number deposits from this value + 1 (pheromesh run gives a restarted UAV a base above its earlier life's)");
+  app.add_option(
+      "--seq-base", cfg.seq_base,
+      "Number deposits from this value + 1 (pheromesh run gives a restarted UAV a base above its earlier life's)");
   CLI11_PARSE(app, argc, argv);
 
   const std::string name = "uav-" + std::to_string(cfg.id);

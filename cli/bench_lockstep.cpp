@@ -65,6 +65,7 @@ struct Floor {
 
 struct Row {
   std::string swarm, vendor;
+  std::string build = "this";  // or "baseline" (--baseline)
   double sim_ms_per_tick = 0;
   double wall_s = 0;
   double ticks_per_s = 0;  // conducted
@@ -194,13 +195,14 @@ Floor measure_floor(const std::string& pairing, const BenchLockstepOptions& o) {
 }
 
 Row fly_swarm(const Swarm& s, const std::string& vendor, double sim_ms, const experiments::RunNumbers& sim,
-              const BenchLockstepOptions& o) {
+              const BenchLockstepOptions& o, const std::string& build) {
   Row r;
   r.swarm = s.label;
   r.vendor = vendor;
+  r.build = build;
   r.sim_ms_per_tick = sim_ms;
-  const fs::path dir =
-      fs::path(o.out_dir) / s.label.substr(0, s.label.find(':')) / (std::to_string(s.scenario.uavs) + "-" + vendor);
+  const fs::path dir = fs::path(o.out_dir) / s.label.substr(0, s.label.find(':')) /
+                       (std::to_string(s.scenario.uavs) + "-" + vendor + (build == "this" ? "" : "-" + build));
   std::error_code ec;
   fs::remove_all(dir, ec);
   fs::create_directories(dir, ec);
@@ -209,7 +211,7 @@ Row fly_swarm(const Swarm& s, const std::string& vendor, double sim_ms, const ex
     r.error = w.error().message;
     return r;
   }
-  const std::string exe = executable_dir() + "/pheromesh";
+  const std::string exe = build == "this" ? executable_dir() + "/pheromesh" : o.baseline;
   const std::vector<std::string> args{exe,
                                       "run",
                                       file.string(),
@@ -283,9 +285,10 @@ std::string report(const std::vector<Floor>& floors, const std::vector<Row>& row
                       f.lost, fmt_ms(floor_ms), floor_ms > 0 ? 1000.0 / floor_ms : 0.0);
   }
   md +=
-      "\n## Lockstep runs\n\n| swarm | dds | ticks/s | ms/tick | UAV phase p50 / p99 [ms] | place phase p50 / p99 [ms] "
-      "| sim "
-      "[ms/tick] | × sim | × floor | wall [s] | = sim |\n|---|---|---|---|---|---|---|---|---|---|---|\n";
+      "\n## Lockstep runs\n\n| swarm | dds | build | ticks/s | ms/tick | UAV phase p50 / p99 [ms] | place phase p50 / "
+      "p99 "
+      "[ms] | sim [ms/tick] | × sim | × floor | wall [s] | = sim "
+      "|\n|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const auto& r : rows) {
     const double ms = r.ticks_per_s > 0 ? 1000.0 / r.ticks_per_s : 0.0;
     double floor_ms = 0;
@@ -294,15 +297,32 @@ std::string report(const std::vector<Floor>& floors, const std::vector<Row>& row
     }
     const std::string verdict = r.equal ? "yes" : "NO: " + r.error;
     if (ms == 0) {
-      md += fmt::format("| {} | {} | – | – | – | – | {} | – | – | {:.1f} | {} |\n", r.swarm, r.vendor,
-                        fmt_ms(r.sim_ms_per_tick), r.wall_s, verdict);
+      // A build whose ground station does not time its phases: the wall time
+      // of the whole run (start-up and shutdown included) per tick.
+      const double wall_ms = 1000.0 * r.wall_s / (o.ticks + 1);
+      md += fmt::format("| {} | {} | {} | {:.0f} (wall) | {} (wall) | – | – | {} | {:.0f} | {} | {:.1f} | {} |\n",
+                        r.swarm, r.vendor, r.build, 1000.0 / wall_ms, fmt_ms(wall_ms), fmt_ms(r.sim_ms_per_tick),
+                        r.sim_ms_per_tick > 0 ? wall_ms / r.sim_ms_per_tick : 0.0,
+                        floor_ms > 0 ? fmt::format("{:.1f}", wall_ms / floor_ms) : std::string("–"), r.wall_s, verdict);
       continue;
     }
-    md += fmt::format("| {} | {} | {:.0f} | {} | {} / {} | {} / {} | {} | {:.0f} | {} | {:.1f} | {} |\n", r.swarm,
-                      r.vendor, r.ticks_per_s, fmt_ms(ms), fmt_ms(r.uav_ms.p50), fmt_ms(r.uav_ms.p99),
+    md += fmt::format("| {} | {} | {} | {:.0f} | {} | {} / {} | {} / {} | {} | {:.0f} | {} | {:.1f} | {} |\n", r.swarm,
+                      r.vendor, r.build, r.ticks_per_s, fmt_ms(ms), fmt_ms(r.uav_ms.p50), fmt_ms(r.uav_ms.p99),
                       fmt_ms(r.place_ms.p50), fmt_ms(r.place_ms.p99), fmt_ms(r.sim_ms_per_tick),
                       r.sim_ms_per_tick > 0 ? ms / r.sim_ms_per_tick : 0.0,
                       floor_ms > 0 ? fmt::format("{:.1f}", ms / floor_ms) : std::string("–"), r.wall_s, verdict);
+  }
+  if (!o.baseline.empty()) {
+    md += "\n## This build against the baseline (" + o.baseline + "): wall time of the same run\n\n";
+    md += "| swarm | dds | baseline [s] | this build [s] | speed-up |\n|---|---|---|---|---|\n";
+    for (const auto& b : rows) {
+      if (b.build != "baseline") continue;
+      for (const auto& r : rows) {
+        if (r.build != "this" || r.swarm != b.swarm || r.vendor != b.vendor) continue;
+        md += fmt::format("| {} | {} | {:.1f} | {:.1f} | {:.1f}× |\n", r.swarm, r.vendor, b.wall_s, r.wall_s,
+                          r.wall_s > 0 ? b.wall_s / r.wall_s : 0.0);
+      }
+    }
   }
   return md;
 }
@@ -321,6 +341,7 @@ nlohmann::json results_json(const std::vector<Floor>& floors, const std::vector<
   for (const auto& r : rows) {
     j["runs"].push_back({{"swarm", r.swarm},
                          {"dds", r.vendor},
+                         {"build", r.build},
                          {"ticks_per_s", r.ticks_per_s},
                          {"uav_phase_ms", summary_json(r.uav_ms)},
                          {"place_phase_ms", summary_json(r.place_ms)},
@@ -352,6 +373,11 @@ int run_bench_lockstep(const BenchLockstepOptions& o) {
       return 2;
     }
   }
+  if (!o.baseline.empty() && access(o.baseline.c_str(), X_OK) != 0) {
+    std::fprintf(stderr, "pheromesh bench lockstep: --baseline '%s' is not an executable pheromesh\n",
+                 o.baseline.c_str());
+    return 2;
+  }
   if (swarms.empty() || vendors.empty()) {
     std::fprintf(stderr, "pheromesh bench lockstep: --swarms and --dds must each name at least one\n");
     return 2;
@@ -376,7 +402,13 @@ int run_bench_lockstep(const BenchLockstepOptions& o) {
     for (const auto& v : vendors) {
       std::printf("%s over %s: %u lockstep ticks ...\n", s.label.c_str(), v.c_str(), s.scenario.ticks);
       std::fflush(stdout);
-      rows.push_back(fly_swarm(s, v, sim_ms, numbers, o));
+      rows.push_back(fly_swarm(s, v, sim_ms, numbers, o, "this"));
+      all_equal = all_equal && rows.back().equal;
+      if (runtime::shutdown_requested()) return 130;
+      if (o.baseline.empty()) continue;
+      std::printf("%s over %s with the baseline build ...\n", s.label.c_str(), v.c_str());
+      std::fflush(stdout);
+      rows.push_back(fly_swarm(s, v, sim_ms, numbers, o, "baseline"));
       all_equal = all_equal && rows.back().equal;
       if (runtime::shutdown_requested()) return 130;
     }

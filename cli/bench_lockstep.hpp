@@ -22,6 +22,9 @@ struct BenchLockstepOptions {
   uint32_t pings = 500;  // round trips per vendor pairing for the floor
   uint32_t domain = 44;
   std::string out_dir = "out/bench-lockstep";
+  // Another build's `pheromesh` (e.g. of the commit before a change): every
+  // run is flown with it too, in the same bench, and compared by wall time.
+  std::string baseline;
 };
 
 // The other end of the floor measurement (`pheromesh bench lockstep-echo`,

@@ -337,6 +337,9 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   bl->add_option("--out", blo.out_dir, "Output folder: lockstep.md, lockstep.json, one folder per swarm and run")
       ->capture_default_str();
+  bl->add_option("--baseline", blo.baseline,
+                 "Another build's pheromesh (e.g. of the commit before a change): each run is flown with it too and the "
+                 "two compared by wall time");
   bl->footer(cli::kBenchLockstepFooter);
   cli::LockstepEchoOptions leo;
   auto* le = bench->add_subcommand("lockstep-echo", "The other end of bench lockstep's floor measurement");

@@ -3,16 +3,17 @@
 
 #include <CLI/CLI.hpp>
 
-#include "place_app.hpp"
 #include "pheromesh/core/scenario.hpp"
+#include "place_app.hpp"
 
 int main(int argc, char** argv) {
   using namespace pheromesh;
   placeagent::PlaceConfig cfg;
-  CLI::App app{"pheromesh place agent: owns the pheromone tiles of one map region, applies the deposits UAVs send it, "
-               "evaporates and diffuses them (exchanging border halos with neighbouring regions) and publishes its "
-               "tiles and health.",
-               "pheromesh-place"};
+  CLI::App app{
+      "pheromesh place agent: owns the pheromone tiles of one map region, applies the deposits UAVs send it, "
+      "evaporates and diffuses them (exchanging border halos with neighbouring regions) and publishes its "
+      "tiles and health.",
+      "pheromesh-place"};
   runtime::add_common_options(app, cfg.common);
   app.add_option("--region", cfg.region, "Region id owned by this process (0 .. regions_x*regions_y-1)")->required();
   app.add_option("--max-ticks", cfg.max_ticks, "Stop after this many ticks (0: run until SIGINT/SIGTERM)")
@@ -35,9 +36,10 @@ int main(int argc, char** argv) {
       return 2;
     }
     if (replica > 0 && !(cfg.common.standby || scenario.standby)) {
-      spdlog::error("--replica {} needs a swarm with standbys: pass --standby to every process (or set run.standby in "
-                    "the scenario)",
-                    replica);
+      spdlog::error(
+          "--replica {} needs a swarm with standbys: pass --standby to every process (or set run.standby in "
+          "the scenario)",
+          replica);
       return 2;
     }
     return placeagent::PlaceApp(cfg, std::move(scenario), std::move(bus)).run();

@@ -27,6 +27,9 @@ namespace pheromesh::runtime {
 bool take_clock(bus::Bus& bus, core::LockstepFollower& follower, SampleAudit& audit);
 
 enum class LockstepEnd : uint8_t { Stopped, ConductorLost, ShutDown, Left };
+// The exit code of a UAV or place agent whose conductor vanished
+// (runtime::run_process uses 2-4; the launcher names it).
+inline constexpr int kExitConductorLost = 7;
 enum class PhaseOutcome : uint8_t { Continue, Leave };
 
 struct LockstepLoop {

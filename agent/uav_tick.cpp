@@ -1,0 +1,113 @@
+// One tick of a UAV: what it receives (its view and the broadcasts, checked
+// by core/intake.hpp), the lockstep wait for exactly the view and the
+// broadcasts of the tick before, and the step itself: decide, move,
+// deposit through its home place agent, publish its state.
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <chrono>
+
+#include "pheromesh/runtime/await.hpp"
+#include "pheromesh/runtime/lockstep_loop.hpp"
+#include "uav_app.hpp"
+
+namespace pheromesh::agent {
+
+void UavApp::receive() {
+  view_inbox_.clear();
+  bus_->take_views(view_inbox_);
+  samples_received_ += view_inbox_.size();
+  const core::IntakeRules rules{geo_, layers_, layer_ranges_, scenario_.uavs};
+  const uint32_t ceiling = tick_ceiling();
+  for (const auto& v : view_inbox_) {
+    if (!audit_.admit(core::check_view(v, cfg_.id, ceiling, rules))) continue;
+    view_tick_ = std::max(view_tick_.value_or(0), v.tick);
+    receipts_.confirmed(v.deposit_ack);
+    tile_samples_received_ += v.tiles.size();
+    for (const auto& t : v.tiles) {
+      if (audit_.admit(core::check_view_tile(t, rules))) core_.receive_tile(t);
+    }
+    for (const auto& st : v.uavs) {
+      if (audit_.admit(core::check_neighbour(st, rules))) core_.receive_neighbour(st);
+    }
+  }
+  broadcast_inbox_.clear();
+  bus_->take_broadcasts(broadcast_inbox_);
+  samples_received_ += broadcast_inbox_.size();
+  for (const auto& b : broadcast_inbox_) {
+    if (audit_.admit(core::check_broadcast_from(b, rules))) core_.receive_broadcast(b);
+  }
+}
+
+void UavApp::wait_for_tick(uint32_t tick, const core::ClockMsg& announced) {
+  // The home composed the views of the ticks before it was killed; from then
+  // on this UAV reads empty views (core/faults.hpp).
+  const auto absent = follower_.absent_since(home_);
+  const auto view = [&] { return (absent && tick >= *absent) || (view_tick_ && *view_tick_ >= tick); };
+  const auto broadcasts = [&] { return core_.holds_tick(tick, {}, announced.broadcasts); };
+  // The last PhaseDone goes out again after a quiet second: the conductor
+  // takes it as a sign of life while this UAV waits.
+  const auto r = runtime::await_samples(
+      *bus_, {bus::TopicKind::View, bus::TopicKind::Broadcast}, {}, &resend_, [&] { receive(); },
+      [&] { return !runtime::take_clock(*bus_, follower_, audit_) || (view() && broadcasts()); });
+  if (r == runtime::Awaited::Done) return;  // or the conductor is gone: run_lockstep says so and ends
+  log_->error("tick {}: {}{} did not arrive; deciding without", tick, view() ? "" : "the view of the neighbourhood",
+              broadcasts() ? "" : (view() ? "the announced broadcasts" : " and the announced broadcasts"));
+}
+
+void UavApp::step(uint32_t tick, StepKind kind) {
+  const bool finished = kind == StepKind::Finish;
+  written_.clear();
+  broadcast_written_ = false;
+  if (!finished) {
+    core_.step(tick, out_);
+    const bool home_absent = follower_.absent_since(home_).has_value();
+    for (const auto& d : out_.deposits) {
+      if (home_absent) {
+        // Lockstep, home killed without a standby (core/faults.hpp): the
+        // deposit is made and lost on the way; the conductor counts it lost.
+        ++deposits_sent_;
+        ++written_[d.region];
+        continue;
+      }
+      // A deposit written while no place agent of that region is matched
+      // would be lost silently; count it as undeliverable instead of sent.
+      if (bus_->matched_deposit_readers(home_) == 0) {
+        ++deposits_undeliverable_;
+      } else if (resend_.deposit(d, home_)) {
+        ++deposits_sent_;
+        ++written_[d.region];
+        receipts_.sent(d.seq);
+      } else {
+        ++deposits_undeliverable_;
+      }
+    }
+    for (const auto& d : out_.detections) bus_->publish_detection(d);
+    if (out_.broadcast) broadcast_written_ = bus_->publish_broadcast(*out_.broadcast);
+  }
+  core::UavStateMsg s = core_.last_state();
+  if (!finished) {
+    log_->debug("tick {} at ({:.9g}, {:.9g}) v ({:.9g}, {:.9g}) role {}: saw {} neighbours, {} broadcasts, {} tiles",
+                tick, s.x, s.y, s.vx, s.vy, s.role, core_.last_view_neighbours(), core_.last_view_broadcasts(),
+                core_.neighbourhood().size());
+  }
+  s.deposits_sent = deposits_sent_;
+  s.tile_samples_received = tile_samples_received_;
+  s.ticks_late = ticks_late_;
+  s.tick_gap_max_ms = gaps_.max_gap_ms();
+  s.tick_gaps_over_2 = gaps_.gaps_over_2();
+  s.samples_received = samples_received_;
+  s.finished = finished;
+  s.deposits_unconfirmed = receipts_.unconfirmed() + deposits_undeliverable_;
+  s.view = core_.cell();  // the home place agent composes the next view around it
+  s.refused = audit_.refused().n;
+  bus_->publish_uav_state(s);
+}
+
+void UavApp::wait_for_receipts(std::chrono::milliseconds bound) {
+  (void)runtime::await_samples(
+      *bus_, {bus::TopicKind::View}, {bound, std::chrono::milliseconds(50)}, nullptr, [&] { receive(); },
+      [&] { return receipts_.unconfirmed() == 0; });
+}
+
+}  // namespace pheromesh::agent

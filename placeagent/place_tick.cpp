@@ -1,0 +1,199 @@
+// One tick of a place agent: its inputs (deposits, forwarded to their
+// owners or applied here, and its home UAVs' states), the exchange of border
+// rings with its neighbours, and its field and its home UAVs' views. In
+// lockstep every input is waited for exactly as the clock announced it;
+// in realtime the latest received is used.
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <chrono>
+#include <set>
+
+#include "pheromesh/runtime/await.hpp"
+#include "place_app.hpp"
+
+namespace pheromesh::placeagent {
+
+namespace {
+// Realtime: a home UAV not heard for this many place ticks gets no more
+// views (it died or finished); in lockstep every view is sent.
+constexpr uint32_t kViewsAfterSilence = 20;
+// Realtime: neighbour states at most this many ticks older than the UAV's
+// own go into its view (UavCore keeps the same window).
+constexpr uint32_t kNeighbourAge = 4;
+}  // namespace
+
+void PlaceApp::take_deposits() {
+  taken_.clear();
+  bus_->take_deposits(taken_);
+  for (const auto& d : taken_) {
+    switch (desk_.take(d, current_tick_)) {
+      case core::DepositRoute::Apply:
+        inbox_.push_back(d);
+        break;
+      case core::DepositRoute::Forward:
+        forward(d);
+        break;
+      case core::DepositRoute::Copy:
+        break;
+    }
+  }
+}
+
+void PlaceApp::forward(const core::DepositMsg& d) {
+  // A home UAV's deposit for another region: to the owner's place agent.
+  if (is_absent(d.region)) {
+    ++deposits_lost_;  // the conductor counts it lost (deposits_lost)
+  } else if (bus_->matched_deposit_readers(d.region) == 0) {
+    core_.reject({d}, "owner place agent of region " + std::to_string(d.region) + " not reachable to forward to");
+  } else if (bus_->publish_deposit(d, d.region)) {
+    ++deposits_forwarded_;
+  } else {
+    core_.reject({d}, "forwarding to region " + std::to_string(d.region) + " failed");
+  }
+}
+
+void PlaceApp::take_home_states(uint32_t tick) {
+  state_inbox_.clear();
+  bus_->take_uav_states(state_inbox_);
+  const uint32_t ceiling = tick_ceiling();
+  for (const auto& st : state_inbox_) {
+    const bool known = !core::check_uav_id(st.uav, scenario_.uavs);
+    if (known && core::home_region(st.uav, geo_.region_count()) != cfg_.region) continue;  // not ours (a stray writer)
+    const core::UavStateMsg* before = views_.state(st.uav);
+    const core::Cell start = core::uav_start(scenario_, traits_, st.uav);
+    if (!audit_.admit(core::check_home_state(st, before, start, traits_.max_step, ceiling, rules_))) continue;
+    if (before == nullptr || st.tick > before->tick) heard_at_[st.uav] = tick;
+    views_.update_state(st);
+  }
+}
+
+uint32_t PlaceApp::home_states_of(uint32_t tick) const {
+  return static_cast<uint32_t>(std::count_if(home_uavs_.begin(), home_uavs_.end(), [&](uint32_t u) {
+    const core::UavStateMsg* st = views_.state(u);
+    return st != nullptr && st->tick >= tick;
+  }));
+}
+
+void PlaceApp::take_inputs(uint32_t tick) {
+  inbox_.clear();
+  take_deposits();
+  take_home_states(tick);
+  if (!demand_) return;
+  // Lockstep: exactly the deposits the UAVs reported for this region and the
+  // states of the home UAVs that took part in the UAV phase, as the clock
+  // announced. Waiting for these exact samples replaces the UAVs' wait for
+  // acknowledgements. Forged deposits carrying this tick must not stand in
+  // for real ones (the place would apply the tick before all of them arrived).
+  const auto deposits = [&] {
+    return static_cast<uint32_t>(std::count_if(
+        inbox_.begin(), inbox_.end(), [&](const auto& d) { return d.tick == tick && !core_.refuses(d, tick); }));
+  };
+  const auto r = runtime::await_samples(
+      *bus_, {bus::TopicKind::Deposit, bus::TopicKind::UavHome}, {}, nullptr,
+      [&] {
+        take_deposits();
+        take_home_states(tick);
+      },
+      [&] { return deposits() >= demand_->deposits && home_states_of(tick) >= demand_->states; });
+  if (r != runtime::Awaited::Done) {
+    log_->error("tick {}: {} of {} announced deposits and {} of {} home UAV states arrived; applying those", tick,
+                deposits(), demand_->deposits, home_states_of(tick), demand_->states);
+  }
+}
+
+void PlaceApp::exchange_halos(uint32_t tick) {
+  // Neighbour rings. Realtime: whatever arrived (a neighbour that sent
+  // nothing new leaves its last ring in the halo, counted as missing).
+  // Lockstep: exactly the rings of this tick; an absent neighbour's last ring
+  // stays in the halo (frozen).
+  std::set<core::RegionId> fresh;
+  const auto& neighbours = core_.neighbours();
+  const auto awaited = static_cast<std::size_t>(
+      std::count_if(neighbours.begin(), neighbours.end(), [&](core::RegionId n) { return !is_absent(n); }));
+  const auto take = [&] {
+    halo_inbox_.clear();
+    bus_->take_halos(halo_inbox_);
+    const uint32_t ceiling = tick_ceiling();
+    for (const auto& h : halo_inbox_) {
+      if (demand_ && (h.tick != tick || is_absent(h.region))) continue;
+      if (auto reason = core::check_tick_reachable(h.tick, ceiling, "halo")) {
+        audit_.refuse(core::Refusal::TickFarAhead, *reason);
+      } else if (!core_.accept_halo(h)) {
+        log_->warn("dropped malformed or out-of-range halo from region {}", h.region);
+      } else {
+        fresh.insert(h.region);
+      }
+    }
+  };
+  const auto r = runtime::await_samples(*bus_, {bus::TopicKind::Halo}, {}, &resend_, take,
+                                        [&] { return !demand_ || fresh.size() >= awaited; });
+  if (r != runtime::Awaited::Done) {
+    log_->error("tick {}: rings of {} of {} neighbours did not arrive", tick, awaited - std::min(awaited, fresh.size()),
+                awaited);
+  }
+  halos_missing_ += awaited - std::min(fresh.size(), awaited);
+}
+
+void PlaceApp::serve_views(uint32_t tick) {
+  // This region's field and its home UAVs' latest states, to every place agent and the ground.
+  home_states_.clear();
+  for (uint32_t u : home_uavs_) {
+    if (const core::UavStateMsg* st = views_.state(u)) home_states_.push_back(*st);
+  }
+  for (const auto& t : tiles_out_) views_.update_tile(t);
+  for (auto& f : core::make_field_chunks(cfg_.region, tick, tiles_out_, home_states_)) {
+    f.replica = cfg_.replica;
+    resend_.field(f);
+  }
+  // Every other region's field: exactly this tick's (lockstep), or the latest.
+  const auto take = [&] {
+    field_inbox_.clear();
+    bus_->take_fields(field_inbox_);
+    const uint32_t ceiling = tick_ceiling();
+    for (const auto& f : field_inbox_) {
+      if (f.region != cfg_.region && audit_.admit(core::check_field_chunk(f, ceiling, rules_))) views_.update_field(f);
+    }
+  };
+  const auto r = runtime::await_samples(*bus_, {bus::TopicKind::Field}, {}, &resend_, take,
+                                        [&] { return !demand_ || views_.holds_fields(tick, present_others_); });
+  if (r != runtime::Awaited::Done) {
+    log_->error("tick {}: the fields of some regions did not arrive ({}); views use the latest", tick,
+                views_.missing_fields(tick, present_others_));
+  }
+  for (uint32_t u : home_uavs_) {
+    const core::UavStateMsg* st = views_.state(u);
+    if (st == nullptr || st->finished) continue;
+    if (!demand_ && tick - heard_at_[u] > kViewsAfterSilence) continue;
+    if (views_.compose(u, tick, demand_ ? 0 : kNeighbourAge, view_)) {
+      view_.deposit_ack = desk_.ack(u);
+      resend_.view(view_);
+    }
+  }
+}
+
+void PlaceApp::step(uint32_t tick, std::optional<TickDemand> demand) {
+  current_tick_ = tick;
+  demand_ = demand;
+  resend_.begin_tick();
+  take_inputs(tick);
+  events_.clear();
+  rejections_.clear();
+  const core::HaloRing ring = core_.begin_tick(inbox_, tick, events_, &rejections_);
+  for (const auto& r : rejections_) {
+    if (core_.ledger().rejected() <= 20) log_->warn("rejected deposit from {}", r);
+  }
+  for (const auto& e : events_) {
+    bus_->publish_target_event(e);
+    log_->info("target at ({},{}) {} at tick {}", e.cell.x, e.cell.y,
+               core::to_string(static_cast<core::TargetEventKind>(e.kind)), tick);
+  }
+  resend_.halo({cfg_.region, tick, ring.target, ring.obstacle});
+  exchange_halos(tick);
+  core_.finish_tick();
+  tiles_out_.clear();
+  core_.tiles(tick, false, tiles_out_);
+  serve_views(tick);
+}
+
+}  // namespace pheromesh::placeagent
