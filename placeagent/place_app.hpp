@@ -74,6 +74,8 @@ class PlaceApp {
   void take_home_states(uint32_t tick);
   // Home UAVs whose newest state is of `tick` or later.
   [[nodiscard]] uint32_t home_states_of(uint32_t tick) const;
+  // Every deposit the home UAVs with a state of `tick` wrote was taken (applied or forwarded).
+  [[nodiscard]] bool holds_home_deposits(uint32_t tick) const;
   void publish_health(uint32_t tick, HealthKind kind);
   // The final health, flushed, and the summary in the log.
   void finish(uint32_t tick);

@@ -126,11 +126,14 @@ TEST(DepositDesk, OwnDepositsAreAppliedOthersForwardedAndCopiesDroppedOnlyWithSt
   EXPECT_EQ(desk.take(deposit(1, 2, 3), 0), DepositRoute::Copy) << "the second replica's forward";
   EXPECT_EQ(desk.take(deposit(2, 7, 9), 0), DepositRoute::Apply) << "no region 9: PlaceCore rejects it with the reason";
   EXPECT_EQ(desk.copies(), 1U);
+  EXPECT_EQ(desk.taken_from(1), 2U) << "seqs 1 and 2 of its home UAV, whether applied or forwarded; the copy not again";
+  EXPECT_EQ(desk.taken_from(2), 0U) << "UAV 2 is homed on region 2";
   EXPECT_EQ(desk.ack(1), 2U) << "its views confirm seq 2";
   EXPECT_EQ(desk.ack(2), 0U) << "UAV 2 is not homed here";
   DepositDesk plain(1, 4, 4, /*replicated=*/false);
   EXPECT_EQ(plain.take(deposit(1, 5, 1), 0), DepositRoute::Apply);
   EXPECT_EQ(plain.take(deposit(1, 5, 1), 0), DepositRoute::Apply) << "a replay: PlaceCore rejects it with its reason";
+  EXPECT_EQ(plain.taken_from(1), 1U) << "a replayed seq is not a second deposit of the UAV";
 }
 
 TEST(DepositDesk, ASequenceNumberForgedFarAheadConfirmsNothing) {

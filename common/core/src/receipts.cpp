@@ -26,13 +26,21 @@ bool SeenDeposits::seen_before(uint32_t uav, uint32_t seq) {
 }
 
 DepositRoute DepositDesk::take(const DepositMsg& d, uint32_t tick) {
+  const bool home = home_region(d.uav, regions_) == region_ && !check_uav_id(d.uav, swarm_);
   // What this replica received from its own UAVs, confirmed in their views.
-  if (home_region(d.uav, regions_) == region_ && !check_uav_id(d.uav, swarm_)) acks_.received(d.uav, d.seq, tick);
-  if (replicated_ && seen_.seen_before(d.uav, d.seq)) {
+  if (home) acks_.received(d.uav, d.seq, tick);
+  const bool copy = seen_.seen_before(d.uav, d.seq);
+  if (home && !copy) ++taken_from_[d.uav];
+  if (copy && replicated_) {
     ++copies_;
     return DepositRoute::Copy;
   }
   return d.region == region_ || d.region >= regions_ ? DepositRoute::Apply : DepositRoute::Forward;
+}
+
+uint64_t DepositDesk::taken_from(uint32_t uav) const {
+  auto it = taken_from_.find(uav);
+  return it == taken_from_.end() ? 0 : it->second;
 }
 
 }  // namespace pheromesh::core

@@ -73,6 +73,10 @@ class DepositDesk {
   DepositRoute take(const DepositMsg& d, uint32_t tick);
   [[nodiscard]] uint32_t ack(uint32_t uav) const { return acks_.ack(uav); }
   [[nodiscard]] uint64_t copies() const { return copies_; }
+  // Distinct deposits taken from home UAV `uav` so far. Lockstep: a home
+  // place agent holds every deposit its UAV wrote up to tick k (to apply or
+  // to forward) once this reaches the deposits_sent of the UAV's state of k.
+  [[nodiscard]] uint64_t taken_from(uint32_t uav) const;
 
  private:
   uint32_t region_, regions_, swarm_;
@@ -80,6 +84,7 @@ class DepositDesk {
   HomeAcks acks_;
   SeenDeposits seen_;
   uint64_t copies_ = 0;
+  std::map<uint32_t, uint64_t> taken_from_;  // home UAV -> distinct deposits
 };
 
 }  // namespace pheromesh::core
