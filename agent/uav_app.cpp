@@ -28,8 +28,7 @@ UavApp::UavApp(UavConfig cfg, core::ScenarioConfig scenario, std::unique_ptr<bus
       gaps_(std::chrono::nanoseconds(static_cast<int64_t>(1e9 / scenario_.tick_rate_hz))),
       layers_(static_cast<int>(core::policy_traits(scenario_).layers.size())),
       home_(core::home_region(cfg_.id, geo_.region_count())) {
-  standby_ = cfg_.common.standby || scenario_.standby;
-  resend_.resend_deposits(standby_);
+  resend_.resend_deposits(true);  // lockstep only (the re-sender is off in realtime)
   layer_ranges_ = core::policy_traits(scenario_).layer_ranges;
 }
 

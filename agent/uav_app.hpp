@@ -94,7 +94,6 @@ class UavApp {
   // What the last step wrote (lockstep reports it with PhaseDone).
   std::map<core::RegionId, uint32_t> written_;
   bool broadcast_written_ = false;
-  bool standby_ = false;         // the swarm runs standby place agents
   bool conductor_lost_ = false;  // lockstep: no clock for ConductorWatch's limit
   std::unique_ptr<runtime::SwarmCommands> commands_;
   std::vector<core::ValueRange> layer_ranges_;  // physical range per layer (core/intake.hpp)

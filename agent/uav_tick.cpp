@@ -101,7 +101,7 @@ void UavApp::step(uint32_t tick, StepKind kind) {
   s.deposits_unconfirmed = receipts_.unconfirmed() + deposits_undeliverable_;
   s.view = core_.cell();  // the home place agent composes the next view around it
   s.refused = audit_.refused().n;
-  bus_->publish_uav_state(s);
+  resend_.uav_state(s);  // lockstep: re-sent with the deposits after a quiet spell
 }
 
 void UavApp::wait_for_receipts(std::chrono::milliseconds bound) {

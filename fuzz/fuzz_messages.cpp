@@ -129,7 +129,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, std::size_t size) {
       __builtin_trap();
     }
     std::vector<core::TileMsg> tiles;
-    place.tiles(tick + 1, false, tiles);
+    place.tiles(tick + 1, core::PlaceCore::TileSelection::All, tiles);
     for (const auto& t : tiles) {
       if (auto why = core::check_tile(t, geo, layers)) {
         std::fprintf(stderr, "fuzz_messages: a published tile fails check_tile: %s\n", why->c_str());

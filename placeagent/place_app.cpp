@@ -33,7 +33,8 @@ PlaceApp::PlaceApp(PlaceConfig cfg, core::ScenarioConfig scenario, std::unique_p
       traits_(core::policy_traits(scenario_)),
       views_(geo_, static_cast<int>(traits_.layers.size()), traits_.view_radius),
       rules_{geo_, core_.layer_count(), traits_.layer_ranges, scenario_.uavs},
-      desk_(cfg_.region, geo_.region_count(), scenario_.uavs, cfg_.common.standby || scenario_.standby) {
+      desk_(cfg_.region, geo_.region_count(), scenario_.uavs,
+            cfg_.common.standby || scenario_.standby || cfg_.common.lockstep()) {
   for (uint32_t u = 0; u < scenario_.uavs; ++u) {
     if (core::home_region(u, geo_.region_count()) == cfg_.region) home_uavs_.push_back(u);
   }
@@ -41,6 +42,7 @@ PlaceApp::PlaceApp(PlaceConfig cfg, core::ScenarioConfig scenario, std::unique_p
     if (r != cfg_.region) other_regions_.push_back(r);
   }
   replicated_ = cfg_.common.standby || scenario_.standby;
+  resend_.resend_deposits(true);  // lockstep only: the forwarded ones (the owners drop copies)
   present_others_ = other_regions_;
 }
 

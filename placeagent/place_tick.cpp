@@ -46,7 +46,7 @@ void PlaceApp::forward(const core::DepositMsg& d) {
     ++deposits_lost_;  // the conductor counts it lost (deposits_lost)
   } else if (bus_->matched_deposit_readers(d.region) == 0) {
     core_.reject({d}, "owner place agent of region " + std::to_string(d.region) + " not reachable to forward to");
-  } else if (bus_->publish_deposit(d, d.region)) {
+  } else if (resend_.deposit(d, d.region)) {
     ++deposits_forwarded_;
   } else {
     core_.reject({d}, "forwarding to region " + std::to_string(d.region) + " failed");
@@ -192,7 +192,7 @@ void PlaceApp::step(uint32_t tick, std::optional<TickDemand> demand) {
   exchange_halos(tick);
   core_.finish_tick();
   tiles_out_.clear();
-  core_.tiles(tick, false, tiles_out_);
+  core_.tiles(tick, core::PlaceCore::TileSelection::All, tiles_out_);
   serve_views(tick);
 }
 

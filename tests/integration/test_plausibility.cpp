@@ -29,7 +29,10 @@ void expect_refused(const json& m, const char* reason) {
 }  // namespace
 
 TEST(Plausibility, ForgedSamplesLeaveALockstepRunTheSimulatorsAndEachIsRefusedAndCounted) {
-  const std::string args = "--uavs 2 --ticks 150 --seed 3";
+  // Long enough (about 3 ms a tick) that the forger, which starts once the
+  // clock is at tick 5 and must have its writers discovered, forges while
+  // every process still takes clocks.
+  const std::string args = "--uavs 2 --ticks 2000 --seed 3";
   const std::string run_out = out_dir("plaus-lockstep");
   const std::string sim_out = out_dir("plaus-sim");
   const Background swarm = start_run("small-test.textproto", run_out, 80, "--clock lockstep " + args);

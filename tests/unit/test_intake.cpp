@@ -118,9 +118,9 @@ DepositMsg deposit(uint32_t uav, uint32_t seq, RegionId region) {
   return d;
 }
 
-TEST(DepositDesk, OwnDepositsAreAppliedOthersForwardedAndCopiesDroppedOnlyWithStandbys) {
+TEST(DepositDesk, OwnDepositsAreAppliedOthersForwardedAndCopiesDroppedOnlyWhenAsked) {
   // Region 1 of 4, 4 UAVs: UAV 1 is homed on it (uav mod regions).
-  DepositDesk desk(1, 4, 4, /*replicated=*/true);
+  DepositDesk desk(1, 4, 4, /*drop_copies=*/true);
   EXPECT_EQ(desk.take(deposit(1, 1, 1), 0), DepositRoute::Apply);
   EXPECT_EQ(desk.take(deposit(1, 2, 3), 0), DepositRoute::Forward);
   EXPECT_EQ(desk.take(deposit(1, 2, 3), 0), DepositRoute::Copy) << "the second replica's forward";
@@ -130,7 +130,7 @@ TEST(DepositDesk, OwnDepositsAreAppliedOthersForwardedAndCopiesDroppedOnlyWithSt
   EXPECT_EQ(desk.taken_from(2), 0U) << "UAV 2 is homed on region 2";
   EXPECT_EQ(desk.ack(1), 2U) << "its views confirm seq 2";
   EXPECT_EQ(desk.ack(2), 0U) << "UAV 2 is not homed here";
-  DepositDesk plain(1, 4, 4, /*replicated=*/false);
+  DepositDesk plain(1, 4, 4, /*drop_copies=*/false);
   EXPECT_EQ(plain.take(deposit(1, 5, 1), 0), DepositRoute::Apply);
   EXPECT_EQ(plain.take(deposit(1, 5, 1), 0), DepositRoute::Apply) << "a replay: PlaceCore rejects it with its reason";
   EXPECT_EQ(plain.taken_from(1), 1U) << "a replayed seq is not a second deposit of the UAV";

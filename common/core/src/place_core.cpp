@@ -88,7 +88,7 @@ bool PlaceCore::accept_halo(const HaloMsg& h) {
 
 void PlaceCore::finish_tick() { model_->finish_step(); }
 
-void PlaceCore::tiles(uint32_t tick, bool changed_only, std::vector<TileMsg>& out) {
+void PlaceCore::tiles(uint32_t tick, TileSelection which, std::vector<TileMsg>& out) {
   for (std::size_t ti = 0; ti < tiles_.size(); ++ti) {
     const Rect tr = geo_.tile_rect(tiles_[ti]);
     for (int l = 0; l < layers_; ++l) {
@@ -104,7 +104,7 @@ void PlaceCore::tiles(uint32_t tick, bool changed_only, std::vector<TileMsg>& ou
         for (int32_t x = tr.x0; x < tr.x0 + tr.w; ++x) m.values.push_back(model_->value(l, {x, y}));
       }
       auto& last = published_[{ti, l}];
-      if (changed_only && last == m.values) continue;
+      if (which == TileSelection::Changed && last == m.values) continue;
       last = m.values;
       out.push_back(std::move(m));
     }

@@ -31,7 +31,7 @@ DepositRoute DepositDesk::take(const DepositMsg& d, uint32_t tick) {
   if (home) acks_.received(d.uav, d.seq, tick);
   const bool copy = seen_.seen_before(d.uav, d.seq);
   if (home && !copy) ++taken_from_[d.uav];
-  if (copy && replicated_) {
+  if (copy && drop_copies_) {
     ++copies_;
     return DepositRoute::Copy;
   }

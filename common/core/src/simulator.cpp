@@ -195,7 +195,7 @@ void Simulator::step(uint32_t tick) {
       continue;
     }
     const std::size_t from = tiles.size();
-    places_[r]->tiles(tick, false, tiles);
+    places_[r]->tiles(tick, PlaceCore::TileSelection::All, tiles);
     if (region_kill_tick(region)) {
       last_tiles_[region].assign(tiles.begin() + static_cast<std::ptrdiff_t>(from), tiles.end());
     }

@@ -59,8 +59,9 @@ class PlaceCore {
   void finish_tick();
 
   // Tiles of this region at `tick`: every tile and layer, or only those that
-  // changed since the last call with changed_only.
-  void tiles(uint32_t tick, bool changed_only, std::vector<TileMsg>& out);
+  // changed since the last call with Changed.
+  enum class TileSelection : uint8_t { All, Changed };
+  void tiles(uint32_t tick, TileSelection which, std::vector<TileMsg>& out);
 
   [[nodiscard]] const DepositLedger& ledger() const { return ledger_; }
   [[nodiscard]] float value(int layer, Cell c) const { return model_->value(layer, c); }  // c in the region

@@ -61,14 +61,16 @@ class SeenDeposits {
 // Where a place agent sends each deposit it takes: apply it here (its own
 // region's, or one for no region at all, which PlaceCore rejects with the
 // reason), forward it to the owner's place agent, or drop it as a copy taken
-// before (swarms with standbys only; elsewhere a repeated sequence number is
-// a replay, which PlaceCore rejects with its reason). It also notes what the
+// before (`drop_copies`: swarms with standbys, whose replicas both forward,
+// and lockstep runs, whose UAVs and place agents re-send deposits after a
+// quiet spell, bus/resend.hpp; elsewhere a repeated sequence number is a
+// replay, which PlaceCore rejects with its reason). It also notes what the
 // home UAVs' views confirm.
 enum class DepositRoute : uint8_t { Apply, Forward, Copy };
 class DepositDesk {
  public:
-  DepositDesk(uint32_t region, uint32_t regions, uint32_t swarm, bool replicated)
-      : region_(region), regions_(regions), swarm_(swarm), replicated_(replicated) {}
+  DepositDesk(uint32_t region, uint32_t regions, uint32_t swarm, bool drop_copies)
+      : region_(region), regions_(regions), swarm_(swarm), drop_copies_(drop_copies) {}
   // A deposit taken at place tick `tick`.
   DepositRoute take(const DepositMsg& d, uint32_t tick);
   [[nodiscard]] uint32_t ack(uint32_t uav) const { return acks_.ack(uav); }
@@ -80,7 +82,7 @@ class DepositDesk {
 
  private:
   uint32_t region_, regions_, swarm_;
-  bool replicated_;
+  bool drop_copies_;
   HomeAcks acks_;
   SeenDeposits seen_;
   uint64_t copies_ = 0;
