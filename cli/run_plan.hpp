@@ -102,8 +102,8 @@ struct PlannedProcess {
 
 // Above kStaggerAbove processes the UAVs start in batches.
 struct Stagger {
-  uint32_t batch = 1;               // UAVs per batch: a tenth of a second's worth of --start-rate
-  std::chrono::milliseconds pause;  // before each batch (the first: the place agents' head start)
+  uint32_t batch = 1;                  // UAVs per batch: a tenth of a second's worth of --start-rate
+  std::chrono::milliseconds pause{0};  // before each batch (the first: the place agents' head start)
 };
 
 // Counted from the moment every process of this host has been started.
@@ -111,21 +111,21 @@ struct RunDeadlines {
   // UAVs still flying then are stopped: twice the flight (a year in
   // lockstep, which the conductor bounds instead), 45 s, and 200 ms per
   // process of this host.
-  std::chrono::milliseconds uavs_end;
+  std::chrono::milliseconds uavs_end{0};
   // Over several hosts: a minute more for the End of a ground station on
   // another host (it waits for the slowest host's UAVs).
-  std::chrono::milliseconds other_hosts;
+  std::chrono::milliseconds other_hosts{0};
   // The one resource sample: at 60 % of the flight (ticks / rate).
-  std::chrono::milliseconds resource_sample;
+  std::chrono::milliseconds resource_sample{0};
   // Lockstep: after the conductor ended, how long its processes get to end
   // by themselves (their ConductorWatch limit, and slack for a busy host).
-  std::chrono::milliseconds conductor_grace;
+  std::chrono::milliseconds conductor_grace{0};
 };
 
 // Stop every running process of `role` with SIGTERM; SIGKILL after `grace`.
 struct StopStep {
   std::string role;
-  std::chrono::seconds grace;
+  std::chrono::seconds grace{0};
 };
 
 // Something the plan says before the run starts.

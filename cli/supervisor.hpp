@@ -39,6 +39,8 @@ class Supervisor {
   ~Supervisor();
   Supervisor(const Supervisor&) = delete;
   Supervisor& operator=(const Supervisor&) = delete;
+  Supervisor(Supervisor&&) = delete;
+  Supervisor& operator=(Supervisor&&) = delete;
 
   // Network namespaces for partition and loss, made before anything starts;
   // an error message if they cannot be.
@@ -63,7 +65,7 @@ class Supervisor {
   void wait_spawn_gap();
   // The Fast DDS participant id of a process: its earlier life's, or the
   // next of this host's numbering.
-  uint32_t participant_for(const std::string& name) const;
+  [[nodiscard]] uint32_t participant_for(const std::string& name) const;
   void spawn_place(uint32_t region, uint32_t replica);
   // Starts the place agents and then the UAVs, in batches when the plan
   // staggers them. Returns false if interrupted before all were started.
@@ -106,7 +108,8 @@ class Supervisor {
   std::string handle_control(const std::string& line);
   std::string control_process(const std::string& verb, const std::string& role, uint32_t index);
 
-  // Fault injection (docs/faults.md; supervisor_faults.cpp).
+  // Fault injection (docs/faults.md; supervisor_faults.cpp). `i` is an
+  // event's index in the schedule (core::FaultPlan::event).
   enum class FaultEnd : uint8_t { Due, RunOver };
   // What an injection did: the processes it acted on, notes for metrics.json.
   struct FaultActs {
@@ -117,18 +120,18 @@ class Supervisor {
   // The process a fault target means now: uav-I, ground, and for place:R the
   // live replica of R with the lowest replica number (null if none runs).
   ChildProcess* resolve(const core::FaultTarget& t);
-  void execute_fault(std::size_t event, std::optional<uint32_t> tick);
+  void execute_fault(std::size_t i, std::optional<uint32_t> tick);
   void inject_kill(const core::FaultEvent& e, const std::string& when, FaultActs& acts);
   void inject_stop(const core::FaultEvent& e, const std::string& when, FaultActs& acts);
   void inject_standby(const core::FaultEvent& e, const std::string& when, FaultActs& acts);
-  void inject_network(std::size_t event, const core::FaultEvent& e, const std::string& when, FaultActs& acts);
-  void fault_not_running(const core::FaultEvent& e, const core::FaultTarget& t, const std::string& when,
-                         FaultActs& acts) const;
+  void inject_network(std::size_t i, const core::FaultEvent& e, const std::string& when, FaultActs& acts);
+  static void fault_not_running(const core::FaultEvent& e, const core::FaultTarget& t, const std::string& when,
+                                FaultActs& acts);
   void fault_failed(const core::FaultEvent& e, const std::string& err, FaultActs& acts);
-  void end_fault(std::size_t event, FaultEnd end);
-  void continue_stopped(std::size_t event, double now, FaultEnd end);
-  void lift_network(std::size_t event, double now, FaultEnd end, std::vector<std::string>& notes);
-  void restart_killed(std::size_t event, double now, FaultEnd end, std::vector<std::string>& notes);
+  void end_fault(std::size_t i, FaultEnd end);
+  void continue_stopped(std::size_t i, double now, FaultEnd end);
+  void lift_network(std::size_t i, double now, FaultEnd end, std::vector<std::string>& notes);
+  void restart_killed(std::size_t i, double now, FaultEnd end, std::vector<std::string>& notes);
   void end_due_faults();
   void end_open_faults();                              // the run is over: continue, remove, give up
   std::string answer_faults(uint32_t tick);            // `faults K` from the lockstep conductor

@@ -6,13 +6,13 @@
 // runs by the conductor's `faults K` line (Supervisor::answer_faults). The
 // schedule itself is merged and checked by the plan (cli/run_plan.cpp).
 #include <fmt/format.h>
-#include <signal.h>
 #include <spdlog/spdlog.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <csignal>
 #include <nlohmann/json.hpp>
 
 #include "supervisor.hpp"
@@ -77,7 +77,7 @@ ChildProcess* Supervisor::resolve(const core::FaultTarget& t) {
 }
 
 void Supervisor::fault_not_running(const core::FaultEvent& e, const core::FaultTarget& t, const std::string& when,
-                                   FaultActs& acts) const {
+                                   FaultActs& acts) {
   spdlog::warn("fault '{}': {} is not running {}; nothing to do for it", e.text, t.process_name(), when);
   acts.notes.push_back(t.process_name() + " was not running");
 }
