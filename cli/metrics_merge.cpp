@@ -1,0 +1,143 @@
+#include "metrics_merge.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <map>
+
+namespace pheromesh::cli {
+
+namespace {
+
+// Three decimals are plenty for seconds and MiB, and keep metrics.json readable.
+double round3(double v) { return std::round(v * 1000.0) / 1000.0; }
+
+nlohmann::json opt_json(const std::optional<double>& v) {
+  return v ? nlohmann::json(round3(*v)) : nlohmann::json(nullptr);
+}
+
+std::optional<double> mean_of(const std::vector<double>& v) {
+  if (v.empty()) return std::nullopt;
+  double sum = 0;
+  for (double x : v) sum += x;
+  return sum / static_cast<double>(v.size());
+}
+
+std::optional<double> max_of(const std::vector<double>& v) {
+  if (v.empty()) return std::nullopt;
+  return *std::max_element(v.begin(), v.end());
+}
+
+nlohmann::json process_json(const ChildProcess& c) {
+  nlohmann::json p = {
+      {"name", c.name}, {"pid", c.pid}, {"dds", c.dds}, {"status", c.describe()}, {"crashed", c.crashed()}};
+  p["cpu_user_s"] = c.reaped ? nlohmann::json(round3(c.cpu_user_s)) : nlohmann::json(nullptr);
+  p["cpu_sys_s"] = c.reaped ? nlohmann::json(round3(c.cpu_sys_s)) : nlohmann::json(nullptr);
+  p["max_rss_mib"] = c.reaped ? nlohmann::json(round3(c.max_rss_mib)) : nlohmann::json(nullptr);
+  p["pss_mib"] = opt_json(c.sample ? c.sample->pss_mib : std::nullopt);
+  p["rss_mib"] = opt_json(c.sample ? c.sample->rss_mib : std::nullopt);
+  p["threads"] = c.sample && c.sample->threads ? nlohmann::json(*c.sample->threads) : nlohmann::json(nullptr);
+  return p;
+}
+
+// Per role: sums of CPU, means over the processes sampled mid-flight.
+struct RoleTotals {
+  uint32_t count = 0, reaped = 0, sampled = 0;
+  double user_s = 0, sys_s = 0, max_rss_sum = 0;
+  std::vector<double> pss, rss, threads;
+
+  void add(const ChildProcess& c) {
+    ++count;
+    if (c.reaped) {
+      ++reaped;
+      user_s += c.cpu_user_s;
+      sys_s += c.cpu_sys_s;
+      max_rss_sum += c.max_rss_mib;
+    }
+    if (!c.sample) return;
+    ++sampled;
+    if (c.sample->pss_mib) pss.push_back(*c.sample->pss_mib);
+    if (c.sample->rss_mib) rss.push_back(*c.sample->rss_mib);
+    if (c.sample->threads) threads.push_back(static_cast<double>(*c.sample->threads));
+  }
+
+  [[nodiscard]] nlohmann::json json() const {
+    return {
+        {"count", count},
+        {"cpu_user_s", round3(user_s)},
+        {"cpu_sys_s", round3(sys_s)},
+        {"sampled", sampled},
+        {"pss_mib_mean", opt_json(mean_of(pss))},
+        {"pss_mib_max", opt_json(max_of(pss))},
+        {"rss_mib_mean", opt_json(mean_of(rss))},
+        {"max_rss_mib_mean", opt_json(reaped > 0 ? std::optional<double>(max_rss_sum / reaped) : std::nullopt)},
+        {"threads_mean", opt_json(mean_of(threads))},
+    };
+  }
+};
+
+nlohmann::json resources_json(std::span<const ChildProcess> processes) {
+  std::map<std::string, RoleTotals> roles{{"uav", {}}, {"place", {}}, {"ground", {}}};
+  for (const auto& c : processes) roles[c.role].add(c);
+  nlohmann::json resources = nlohmann::json::object();
+  for (const auto& [role, t] : roles) resources[role] = t.json();
+  return resources;
+}
+
+// /proc/net/snmp counts the IPv4 UDP datagrams of the whole host (its
+// network namespace), not only this swarm's: anything else sending UDP
+// meanwhile (another swarm, DNS, ...) is included. IPv6 is not counted
+// (/proc/net/snmp6); the onehost profiles use IPv4 loopback.
+void add_udp(nlohmann::json& m, const std::optional<UdpCounters>& start, const std::optional<UdpCounters>& end) {
+  const bool udp =
+      start && end && end->in_datagrams >= start->in_datagrams && end->out_datagrams >= start->out_datagrams;
+  m["udp_in_datagrams"] = udp ? nlohmann::json(end->in_datagrams - start->in_datagrams) : nlohmann::json(nullptr);
+  m["udp_out_datagrams"] = udp ? nlohmann::json(end->out_datagrams - start->out_datagrams) : nlohmann::json(nullptr);
+}
+
+}  // namespace
+
+std::string metrics_path(const std::string& out_dir, const HostShare& share) {
+  const bool ground_here = share.runs("ground", 0);
+  return (std::filesystem::path(out_dir) /
+          (ground_here ? std::string("metrics.json") : "host-" + std::to_string(share.host_index) + ".json"))
+      .string();
+}
+
+MergedMetrics merge_metrics(nlohmann::json ground, const RunRecord& run, const std::string& path) {
+  MergedMetrics out;
+  nlohmann::json& m = out.metrics;
+  m = std::move(ground);
+  if (m.is_null()) {
+    if (run.share.runs("ground", 0)) out.errors.push_back("the ground station left no " + path);
+    m = nlohmann::json::object();
+  }
+  if (run.share.multi_host()) {
+    m["hosts"] = run.share.hosts;
+    m["host_index"] = run.share.host_index;
+    m["ground_host"] = run.share.ground_host;
+  }
+  for (const auto& [key, value] : run.faults.items()) m[key] = value;
+  if (run.fault_failures > 0) {
+    out.errors.push_back(std::to_string(run.fault_failures) +
+                         " fault events could not be injected (metrics.json \"faults\")");
+  }
+  nlohmann::json procs = nlohmann::json::array();
+  for (const auto& c : run.processes) {
+    out.killed += c.killed_on_purpose ? 1 : 0;
+    out.crashed += c.crashed() ? 1 : 0;
+    procs.push_back(process_json(c));
+  }
+  m["processes_killed"] = out.killed;
+  m["processes_crashed"] = out.crashed;
+  m["processes"] = std::move(procs);
+  m["dds"] = run.dds;
+  m["resources"] = resources_json(run.processes);
+  m["resources_sampled_at_s"] = opt_json(run.resources_sampled_at_s);
+  m["wall_s"] = opt_json(run.wall_s);
+  m["run_t0_unix_ms"] = run.run_t0_unix_ms;
+  add_udp(m, run.udp_start, run.udp_end);
+  return out;
+}
+
+}  // namespace pheromesh::cli

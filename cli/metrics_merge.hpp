@@ -1,0 +1,50 @@
+// The end of `pheromesh run`: the ground station's metrics.json merged with
+// what the launcher saw (every process and how it ended, the faults, the
+// resources), and the run's verdict. Pure: the launcher reads and writes the
+// files (tests/unit/test_metrics_merge.cpp).
+#pragma once
+
+#include <cstdint>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "child_process.hpp"
+#include "proc_stats.hpp"
+#include "run_plan.hpp"
+
+namespace pheromesh::cli {
+
+// What the launcher knows at the end of the run.
+struct RunRecord {
+  std::span<const ChildProcess> processes;  // every process started, restarts included
+  nlohmann::json faults;                    // "faults", "faults_failed", "netns" (Supervisor::fault_metrics)
+  uint32_t fault_failures = 0;              // fault events that could not be injected
+  std::string dds;                          // DdsPlan::describe()
+  HostShare share;
+  std::optional<double> resources_sampled_at_s;  // [s] after the first spawn
+  std::optional<double> wall_s;                  // [s] first spawn -> every process ended
+  int64_t run_t0_unix_ms = 0;                    // the first spawn, Unix time [ms]
+  std::optional<UdpCounters> udp_start, udp_end;
+};
+
+struct MergedMetrics {
+  nlohmann::json metrics;
+  uint32_t killed = 0;              // on purpose (faults, the console)
+  uint32_t crashed = 0;             // ChildProcess::crashed
+  std::vector<std::string> errors;  // each fails the run; to be logged in this order
+  // 1 if there is an error or a crashed process, else 0.
+  [[nodiscard]] int exit_code() const { return errors.empty() && crashed == 0 ? 0 : 1; }
+};
+
+// Over several hosts the swarm's metrics.json is the ground station's host's;
+// every other host writes what it ran to OUT/host-I.json.
+std::string metrics_path(const std::string& out_dir, const HostShare& share);
+
+// `ground`: the ground station's metrics.json, null if it left none (or
+// runs on another host); `path`: where the merge goes (for messages).
+MergedMetrics merge_metrics(nlohmann::json ground, const RunRecord& run, const std::string& path);
+
+}  // namespace pheromesh::cli

@@ -1,0 +1,373 @@
+#include "run_plan.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+
+#include "pheromesh/auth/control.hpp"
+#include "pheromesh/core/conductor.hpp"
+#include "pheromesh/core/fault_plan.hpp"
+
+namespace pheromesh::cli {
+
+namespace fs = std::filesystem;
+using std::chrono::milliseconds;
+using std::chrono::seconds;
+
+namespace {
+
+// Above this many processes the UAVs start at --start-rate per second: every
+// new participant is discovered by every other one (SPDP/SEDP), and when a
+// few hundred arrive at once on a small host the discovery traffic starves
+// the processes that must acknowledge it, their peers repeat it, and the
+// storm lasts (measured, docs/dds.md "Scale").
+constexpr std::size_t kStaggerAbove = 64;
+// Each process adds discovery and shutdown work; the UAV deadline grows by
+// this much per process.
+constexpr milliseconds kDeadlinePerProcess{200};
+// --secure over Fast DDS: Fast DDS 2.9.1 leaves some pairs of secure
+// participants that start within the same instant unauthenticated for good
+// (measured: 4 of 10 probes started together never saw one peer in 120 s;
+// none when started 300 ms apart; docs/security.md). Start them apart.
+constexpr milliseconds kSecureFastDdsSpawnGap{300};
+
+bool onehost_profile(const std::string& profile) { return profile == "onehost" || profile == "onehost-unicast"; }
+
+// The arguments every process gets, before its role's own.
+std::vector<std::string> common_args(const RunPlan& p, const PlannedProcess& c, const std::string& exe) {
+  const RunOptions& o = p.options;
+  std::vector<std::string> args{exe};
+  const auto flag = [&](const char* name, std::string value) {
+    args.emplace_back(name);
+    args.push_back(std::move(value));
+  };
+  flag("--scenario", o.scenario);
+  flag("--dds", c.dds);
+  flag("--dds-profile", o.dds_profile);
+  flag("--domain", std::to_string(o.domain));
+  flag("--log-level", o.log_level);
+  flag("--clock", o.clock);
+  flag("--lease-ms", std::to_string(o.lease_ms));
+  if (!o.dds_peers.empty()) flag("--dds-peers", o.dds_peers);
+  if (!o.secure.empty()) flag("--secure", o.secure);
+  if (o.uavs > 0) flag("--uavs", std::to_string(o.uavs));
+  if (o.seed > 0) flag("--seed", std::to_string(o.seed));
+  if (o.rate_hz > 0) flag("--rate", std::to_string(o.rate_hz));
+  const bool standby = p.standby != Standby::Off;
+  if (standby) args.emplace_back("--standby");
+  // Fast DDS 2.9 keeps an instance with its dead owner (docs/faults.md):
+  // exclusive ownership only in all-Cyclone swarms.
+  if (standby && !(p.dds.single_vendor() && p.dds.ground == "cyclone")) args.emplace_back("--shared-ownership");
+  if (c.replica > 0) args.insert(args.end(), {"--replica", std::to_string(c.replica)});
+  return args;
+}
+
+PlannedProcess planned(const RunPlan& p, const std::string& role, uint32_t index, uint32_t replica,
+                       const std::vector<std::string>& role_args, uint32_t participant_id) {
+  PlannedProcess c;
+  c.role = role;
+  c.index = index;
+  c.replica = replica;
+  c.name = process_name(role, index, replica);
+  c.dds = p.dds.vendor_of(role, index);
+  c.argv = common_args(p, c, p.bin_dir + "/pheromesh-" + role);
+  c.argv.insert(c.argv.end(), role_args.begin(), role_args.end());
+  c.participant_id = participant_id;
+  c.env = {"PHEROMESH_PARTICIPANT_ID=" + std::to_string(participant_id)};
+  c.log_path = (fs::path(p.options.out_dir) / "logs" / (c.name + ".log")).string();
+  return c;
+}
+
+PlannedProcess uav(const RunPlan& p, uint32_t index, uint32_t participant_id) {
+  return planned(p, "uav", index, 0, {"--id", std::to_string(index), "--ticks", std::to_string(p.ticks)},
+                 participant_id);
+}
+
+PlannedProcess ground(const RunPlan& p, uint32_t participant_id) {
+  const RunOptions& o = p.options;
+  std::vector<std::string> args{"--out",         o.out_dir,
+                                "--progress",    std::to_string(o.progress_s),
+                                "--ticks",       std::to_string(p.ticks),
+                                "--expect-uavs", std::to_string(p.uavs)};
+  // No launcher sees every process: the ground station ends the run.
+  if (p.multi_host()) args.emplace_back("--until-done");
+  // The ground station's line to us: the console's kill / restart requests,
+  // and the lockstep conductor's `faults K`.
+  const bool control = o.http_port || p.lockstep_faults();
+  if (control) args.insert(args.end(), {"--launcher-fd", "3"});
+  if (p.lockstep_faults()) {
+    std::string list;
+    for (const uint32_t k : core::FaultPlan(*p.faults).fault_ticks())
+      list += (list.empty() ? "" : ",") + std::to_string(k);
+    args.insert(args.end(), {"--fault-ticks", list});
+  }
+  if (o.http_port) {
+    const std::string record = o.no_record         ? ""
+                               : !o.record.empty() ? o.record
+                                                   : (fs::path(o.out_dir) / "console.phrec").string();
+    args.insert(args.end(), {"--http", std::to_string(*o.http_port), "--http-bind", o.http_bind});
+    if (!record.empty()) args.insert(args.end(), {"--record", record});
+  }
+  PlannedProcess c = planned(p, "ground", 0, 0, args, participant_id);
+  c.stderr_to = StderrTo::Launcher;
+  c.control = control ? ControlLine::Fd3 : ControlLine::None;
+  return c;
+}
+
+// Numbered in the order this host starts them, so that a host's
+// participant ids stay below the 120 that unicast discovery probes
+// (lan-unicast); standbys and restarts started later continue the numbering
+// (Supervisor::participant_for).
+std::vector<PlannedProcess> start_order(const RunPlan& p) {
+  std::vector<PlannedProcess> list;
+  const auto next_id = [&] { return static_cast<uint32_t>(list.size()); };
+  if (p.share.runs("ground", 0)) list.push_back(ground(p, next_id()));
+  for (uint32_t k = 0; k < p.replicas_at_start(); ++k) {
+    for (uint32_t r = 0; r < p.regions; ++r) {
+      if (p.share.runs("place", r, k)) list.push_back(p.place(r, k, next_id()));
+    }
+  }
+  for (uint32_t u = 0; u < p.uavs; ++u) {
+    if (p.share.runs("uav", u)) list.push_back(uav(p, u, next_id()));
+  }
+  return list;
+}
+
+std::optional<Stagger> stagger(const RunPlan& p) {
+  const double rate = p.options.start_rate;
+  if (1 + std::size_t{p.regions} + p.uavs <= kStaggerAbove || rate <= 0) return std::nullopt;
+  Stagger s;
+  s.batch = std::max<uint32_t>(1, static_cast<uint32_t>(rate / 10.0));
+  s.pause = milliseconds(static_cast<int64_t>(1000.0 * s.batch / std::max(rate, 1e-3)));
+  return s;
+}
+
+RunDeadlines deadlines(const RunPlan& p) {
+  // Generous bound on the UAV phase: the run itself, discovery, and slack
+  // for a loaded machine, growing with the swarm. A lockstep run has no such
+  // bound: it goes as fast as its slowest process (under packet loss,
+  // seconds per tick), the conductor bounds each phase (--phase-timeout) and
+  // every UAV and place agent ends when the conductor's clock falls silent
+  // (core::ConductorWatch).
+  const double flight_s = p.lockstep() ? 365.0 * 24 * 3600 : p.ticks / p.rate_hz * 2.0;
+  RunDeadlines d;
+  d.uavs_end = milliseconds(static_cast<int64_t>(1000.0 * flight_s)) + seconds(45) +
+               kDeadlinePerProcess * static_cast<int64_t>(p.processes.size());
+  d.other_hosts = p.multi_host() ? seconds(60) : seconds(0);
+  d.resource_sample = milliseconds(static_cast<int64_t>(600.0 * p.ticks / p.rate_hz));
+  d.conductor_grace = milliseconds(int64_t{p.options.lease_ms} * core::ConductorWatch::kLeases) + seconds(15);
+  return d;
+}
+
+// --faults, --kill and the scenario's schedule, each checked on its own so
+// that an error names it.
+core::Result<core::FaultSchedule> merged_faults(const RunOptions& o, const core::ScenarioConfig& s, const RunSize& n) {
+  const bool lockstep = o.clock == "lockstep";
+  core::FaultSchedule schedule;
+  if (auto err = core::check_fault_schedule(s.faults, n.uavs, n.regions, lockstep)) {
+    return core::Error{o.scenario + ": fault: " + *err};
+  }
+  core::merge_fault_schedules(schedule, s.faults);
+  for (const auto& [spec, where] : {std::pair{o.kill_spec, "--kill"}, std::pair{o.faults_spec, "--faults"}}) {
+    if (spec.empty()) continue;
+    auto parsed = core::parse_fault_schedule(spec, where);
+    if (!parsed) return parsed.error();
+    if (auto err = core::check_fault_schedule(parsed.value(), n.uavs, n.regions, lockstep)) {
+      return core::Error{std::string(where) + ": " + *err};
+    }
+    core::merge_fault_schedules(schedule, parsed.value());
+  }
+  return schedule;
+}
+
+// What a non-empty schedule asks of the run: network namespaces (and their
+// DDS profile), standbys; an error if the run cannot give it.
+std::optional<std::string> settle_faults(RunPlan& p, core::FaultSchedule schedule) {
+  using core::FaultAction;
+  bool standby = false;
+  for (const auto& e : schedule.events) {
+    standby = standby || e.action == FaultAction::Standby;
+    const bool ends_it = e.action == FaultAction::Kill || e.action == FaultAction::Restart;
+    for (const auto& t : e.targets) {
+      if (t.role == "ground" && ends_it) {
+        return "fault schedule: '" + e.text +
+               "': the ground station cannot be killed or restarted (it conducts the "
+               "run and writes metrics.json); stop, partition and loss may target it";
+      }
+    }
+  }
+  RunOptions& o = p.options;
+  if (schedule.has_network()) {
+    if (o.http_port) {
+      return "fault schedule: partition and loss run the ground station in a network namespace of its own, where "
+             "the web console (--http) cannot be reached from this host; leave out --http or the network faults";
+    }
+    if (o.discovery_server) {
+      return "fault schedule: partition and loss do not work with --discovery-server (the server listens on this "
+             "host's loopback, outside the processes' network namespaces)";
+    }
+    // The one-host profiles speak on loopback only; in a namespace of its
+    // own each process must speak on its veth (deploy/dds/*-netns.xml).
+    if (onehost_profile(o.dds_profile)) {
+      o.dds_profile = "netns";
+    } else if (o.dds_profile != "netns") {
+      p.notes.push_back({PlanNote::Level::Warn,
+                         "network faults: every process runs in its own network namespace; DDS profile '" +
+                             o.dds_profile +
+                             "' must not limit it to the loopback interface (the netns profile is made for this)"});
+    }
+  }
+  // A standby started later needs a swarm whose processes all run with
+  // --standby (the QoS of the place agents' output): the run becomes one.
+  if (standby && p.standby == Standby::Off) {
+    p.notes.push_back({PlanNote::Level::Info, "fault schedule: 'standby' events: every process runs with --standby"});
+    p.standby = Standby::OnFault;
+  }
+  p.faults = std::move(schedule);
+  return std::nullopt;
+}
+
+}  // namespace
+
+std::string process_name(const std::string& role, uint32_t index, uint32_t replica) {
+  if (role == "ground") return role;
+  std::string n = role + "-" + std::to_string(index);
+  if (replica > 0) n += ".r" + std::to_string(replica);
+  return n;
+}
+
+bool HostShare::runs(const std::string& role, uint32_t index, uint32_t replica) const {
+  if (hosts <= 1) return true;
+  if (role == "ground") return host_index == ground_host;
+  if (role == "place") return (index + replica) % hosts == host_index;
+  return index % hosts == host_index;
+}
+
+PlannedProcess RunPlan::place(uint32_t region, uint32_t replica, uint32_t participant_id) const {
+  // --ticks only so that the run the place agent publishes for monitors
+  // (RunScenario) is the UAVs'; a realtime place agent runs until the end.
+  return planned(*this, "place", region, replica,
+                 {"--region", std::to_string(region), "--ticks", std::to_string(ticks)}, participant_id);
+}
+
+PlannedProcess RunPlan::restarted_uav(uint32_t index, uint32_t ticks_left, uint32_t seq_base,
+                                      uint32_t participant_id) const {
+  return planned(
+      *this, "uav", index, 0,
+      {"--id", std::to_string(index), "--ticks", std::to_string(ticks_left), "--seq-base", std::to_string(seq_base)},
+      participant_id);
+}
+
+std::vector<std::string> RunPlan::identities() const {
+  std::vector<std::string> names;
+  if (share.runs("ground", 0)) names.emplace_back("ground");
+  for (uint32_t r = 0; r < regions; ++r) {
+    for (uint32_t k = 0; k < (standby != Standby::Off ? 2U : 1U); ++k) {
+      if (share.runs("place", r, k)) names.push_back(process_name("place", r, k));
+    }
+  }
+  for (uint32_t u = 0; u < uavs; ++u) {
+    if (share.runs("uav", u)) names.push_back(process_name("uav", u, 0));
+  }
+  return names;
+}
+
+RunSize run_size(const RunOptions& o, const core::ScenarioConfig& s) {
+  RunSize n;
+  n.rate_hz = o.rate_hz > 0 ? o.rate_hz : s.tick_rate_hz;
+  n.ticks = o.duration_s > 0 ? static_cast<uint32_t>(std::ceil(o.duration_s * n.rate_hz))
+            : o.ticks > 0    ? o.ticks
+                             : s.ticks;
+  n.uavs = o.uavs > 0 ? o.uavs : s.uavs;
+  n.regions = s.geometry().region_count();
+  return n;
+}
+
+core::Result<RunPlan> make_run_plan(const RunOptions& o, const core::ScenarioConfig& s, const DdsPlan& dds,
+                                    const std::string& bin_dir) {
+  const RunSize n = run_size(o, s);
+  RunPlan p;
+  p.options = o;
+  if (o.duration_s > 0) p.options.ticks = n.ticks;
+  p.dds = dds;
+  p.bin_dir = bin_dir;
+  p.share = {o.hosts, o.host_index, o.ground_host};
+  p.clock = o.clock == "lockstep" ? RunClock::Lockstep : RunClock::Realtime;
+  p.ticks = n.ticks;
+  p.uavs = n.uavs;
+  p.regions = n.regions;
+  p.rate_hz = n.rate_hz;
+  p.standby = o.standby || s.standby ? Standby::FromStart : Standby::Off;
+  auto schedule = merged_faults(o, s, n);
+  if (!schedule) return schedule.error();
+  if (!schedule->empty()) {
+    if (auto err = settle_faults(p, std::move(schedule).value())) return core::Error{*err};
+  }
+  p.processes = start_order(p);
+  p.stagger = stagger(p);
+  if (!o.secure.empty() && dds.ground == "fastdds") p.spawn_gap = kSecureFastDdsSpawnGap;
+  p.deadlines = deadlines(p);
+  p.stop_early = {{"uav", seconds(10)}};
+  if (p.multi_host()) p.stop_early.insert(p.stop_early.end(), {{"place", seconds(15)}, {"ground", seconds(15)}});
+  p.stop_final = {{"place", seconds(15)}, {"ground", seconds(15)}};
+  return p;
+}
+
+std::optional<std::string> check_multi_host(const RunPlan& plan, ControlKey key, const std::string& key_error) {
+  const RunOptions& o = plan.options;
+  if (o.hosts == 0) return "--hosts must be at least 1";
+  if (o.host_index >= o.hosts) {
+    return "--host-index " + std::to_string(o.host_index) + " is not below --hosts " + std::to_string(o.hosts) +
+           " (hosts are numbered 0.." + std::to_string(o.hosts - 1) + ")";
+  }
+  if (o.ground_host >= o.hosts) {
+    return "--ground-host " + std::to_string(o.ground_host) + " is not below --hosts " + std::to_string(o.hosts);
+  }
+  if (!plan.multi_host()) return std::nullopt;
+  if (onehost_profile(o.dds_profile) || o.dds_profile == "netns") {
+    return "--hosts " + std::to_string(o.hosts) + ": DDS profile '" + o.dds_profile +
+           "' keeps traffic on this host; use --dds-profile lan (multicast discovery) or lan-unicast --dds-peers "
+           "HOST,HOST,... (docs/deployment.md)";
+  }
+  if (o.dds_profile == "lan-unicast" && o.dds_peers.empty()) {
+    return "--dds-profile lan-unicast needs --dds-peers: the address or name of every host of the swarm";
+  }
+  if (key != ControlKey::Set) {
+    return std::string("--hosts ") + std::to_string(o.hosts) +
+           ": every host of one swarm needs the same control key in $" + auth::kControlKeyEnv +
+           " (the ground station signs the start and the end of the run with it); make one with " +
+           "`pheromesh key` and export it on every host" +
+           (key == ControlKey::Unset ? "" : " (the one set is malformed: " + key_error + ")");
+  }
+  if (o.discovery_server) return "--discovery-server runs on one host; it does not work with --hosts";
+  if (o.http_port && !plan.share.runs("ground", 0)) {
+    return "--http: the web console is served by the ground station, which runs on host " +
+           std::to_string(o.ground_host) +
+           " (--ground-host); give --http there, or attach a monitor anywhere with `pheromesh attach --http PORT`";
+  }
+  if (!plan.faults) return std::nullopt;
+  if (plan.faults->has_network()) {
+    return "fault schedule: partition and loss put every process of one host in its own network namespace; they do "
+           "not work with --hosts (use them on one host, or shape the LAN itself)";
+  }
+  if (plan.lockstep()) {
+    return "fault schedule: a lockstep run injects faults through the conductor's line to its launcher, on one host; "
+           "with --hosts give the faults to a realtime run";
+  }
+  for (const auto& e : plan.faults->events) {
+    for (const auto& t : e.targets) {
+      bool here = false;
+      for (uint32_t k = 0; k < (t.role == "place" ? plan.replicas_at_start() : 1); ++k)
+        here = here || plan.share.runs(t.role, t.index, k);
+      if (!here) {
+        return "fault schedule: '" + e.text + "': " + t.process_name() + " does not run on host " +
+               std::to_string(o.host_index) + " (--hosts " + std::to_string(o.hosts) +
+               ": place agent R on host R % hosts, its standby on the next, UAV U on host U % hosts, the ground "
+               "station on --ground-host); give this fault to that host's pheromesh run";
+      }
+    }
+  }
+  return std::nullopt;
+}
+
+}  // namespace pheromesh::cli

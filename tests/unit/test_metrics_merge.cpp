@@ -1,0 +1,134 @@
+// The end of `pheromesh run` (cli/metrics_merge.hpp): the ground station's
+// metrics.json merged with the processes the launcher saw end, and the
+// run's exit code from how they ended.
+#include <gtest/gtest.h>
+
+#include <csignal>
+#include <vector>
+
+#include "../../cli/metrics_merge.hpp"
+
+namespace pheromesh::cli {
+namespace {
+
+ChildProcess ended(const std::string& name, const std::string& role, int exit_code, int term_signal = 0) {
+  ChildProcess c;
+  c.name = name;
+  c.role = role;
+  c.dds = "cyclone";
+  c.pid = 100;
+  c.running = false;
+  c.reaped = true;
+  c.exit_code = exit_code;
+  c.term_signal = term_signal;
+  return c;
+}
+
+nlohmann::json ground_metrics() { return {{"coverage", 0.5}, {"targets_found", 2}}; }
+
+RunRecord record_of(const std::vector<ChildProcess>& processes) {
+  RunRecord r;
+  r.processes = processes;
+  r.faults = {{"faults", nlohmann::json::array()}, {"faults_failed", 0}};
+  r.dds = "cyclone";
+  return r;
+}
+
+TEST(MetricsMerge, AProcessKilledOnPurposeCountsAsKilledAndTheRunSucceeds) {
+  std::vector<ChildProcess> ps{ended("ground", "ground", 0), ended("uav-0", "uav", 0),
+                               ended("uav-1", "uav", -1, SIGKILL)};
+  ps[2].killed_on_purpose = true;
+  const MergedMetrics m = merge_metrics(ground_metrics(), record_of(ps), "out/metrics.json");
+  EXPECT_EQ(m.exit_code(), 0);
+  EXPECT_EQ(m.killed, 1U);
+  EXPECT_EQ(m.crashed, 0U);
+  EXPECT_TRUE(m.errors.empty());
+  EXPECT_EQ(m.metrics["processes_killed"], 1);
+  EXPECT_EQ(m.metrics["processes_crashed"], 0);
+  EXPECT_EQ(m.metrics["processes"][2]["status"], std::string("killed by ") + strsignal(SIGKILL) + " (on purpose)");
+  EXPECT_EQ(m.metrics["processes"][2]["crashed"], false);
+  // The ground station's figures are kept.
+  EXPECT_EQ(m.metrics["coverage"], 0.5);
+  EXPECT_EQ(m.metrics["targets_found"], 2);
+}
+
+TEST(MetricsMerge, AProcessKilledByASignalNobodySentFailsTheRun) {
+  std::vector<ChildProcess> ps{ended("ground", "ground", 0), ended("uav-0", "uav", -1, SIGKILL)};
+  const MergedMetrics m = merge_metrics(ground_metrics(), record_of(ps), "out/metrics.json");
+  EXPECT_EQ(m.exit_code(), 1);
+  EXPECT_EQ(m.crashed, 1U);
+  EXPECT_EQ(m.killed, 0U);
+  EXPECT_EQ(m.metrics["processes"][1]["crashed"], true);
+  EXPECT_EQ(m.metrics["processes"][1]["status"], std::string("killed by ") + strsignal(SIGKILL));
+}
+
+TEST(MetricsMerge, AProcessThatExitedWithAnErrorFailsTheRunAndOneAskedToStopDoesNot) {
+  std::vector<ChildProcess> ps{ended("ground", "ground", 0), ended("place-1", "place", 4)};
+  EXPECT_EQ(merge_metrics(ground_metrics(), record_of(ps), "m.json").exit_code(), 1);
+  ps[1].exit_code = 0;
+  ps[1].asked_to_stop = true;
+  EXPECT_EQ(merge_metrics(ground_metrics(), record_of(ps), "m.json").exit_code(), 0);
+}
+
+TEST(MetricsMerge, AMissingGroundStationFileFailsTheRunOnlyOnTheGroundStationsHost) {
+  const std::vector<ChildProcess> ps{ended("uav-1", "uav", 0)};
+  RunRecord r = record_of(ps);
+  const MergedMetrics here = merge_metrics(nullptr, r, "out/metrics.json");
+  EXPECT_EQ(here.exit_code(), 1);
+  EXPECT_EQ(here.errors, (std::vector<std::string>{"the ground station left no out/metrics.json"}));
+
+  r.share = {3, 1, 0};
+  EXPECT_EQ(metrics_path("out", r.share), "out/host-1.json");
+  EXPECT_EQ(metrics_path("out", {3, 0, 0}), "out/metrics.json");
+  const MergedMetrics elsewhere = merge_metrics(nullptr, r, "out/host-1.json");
+  EXPECT_EQ(elsewhere.exit_code(), 0);
+  EXPECT_EQ(elsewhere.metrics["hosts"], 3);
+  EXPECT_EQ(elsewhere.metrics["host_index"], 1);
+  EXPECT_EQ(elsewhere.metrics["ground_host"], 0);
+}
+
+TEST(MetricsMerge, AFaultThatCouldNotBeInjectedFailsTheRun) {
+  const std::vector<ChildProcess> ps{ended("ground", "ground", 0)};
+  RunRecord r = record_of(ps);
+  r.faults["faults_failed"] = 2;
+  r.fault_failures = 2;
+  const MergedMetrics m = merge_metrics(ground_metrics(), r, "m.json");
+  EXPECT_EQ(m.exit_code(), 1);
+  EXPECT_EQ(m.errors, (std::vector<std::string>{"2 fault events could not be injected (metrics.json \"faults\")"}));
+  EXPECT_EQ(m.metrics["faults_failed"], 2);
+}
+
+TEST(MetricsMerge, ResourcesSumCpuPerRoleAndAverageTheSampledProcesses) {
+  std::vector<ChildProcess> ps{ended("uav-0", "uav", 0), ended("uav-1", "uav", 0), ended("place-0", "place", 0)};
+  ps[0].cpu_user_s = 1.5;
+  ps[1].cpu_user_s = 0.25;
+  ps[0].max_rss_mib = 30;
+  ps[1].max_rss_mib = 50;
+  ps[0].sample = ProcessSample{10.0, 20.0, 12U};
+  ps[1].sample = ProcessSample{20.0, 40.0, 14U};
+  RunRecord r = record_of(ps);
+  r.udp_start = UdpCounters{100, 200};
+  r.udp_end = UdpCounters{150, 260};
+  r.wall_s = 6.12345;
+  const MergedMetrics m = merge_metrics(ground_metrics(), r, "m.json");
+  const nlohmann::json& uav = m.metrics["resources"]["uav"];
+  EXPECT_EQ(uav["count"], 2);
+  EXPECT_DOUBLE_EQ(uav["cpu_user_s"].get<double>(), 1.75);
+  EXPECT_DOUBLE_EQ(uav["pss_mib_mean"].get<double>(), 15.0);
+  EXPECT_DOUBLE_EQ(uav["pss_mib_max"].get<double>(), 20.0);
+  EXPECT_DOUBLE_EQ(uav["rss_mib_mean"].get<double>(), 30.0);
+  EXPECT_DOUBLE_EQ(uav["threads_mean"].get<double>(), 13.0);
+  EXPECT_DOUBLE_EQ(uav["max_rss_mib_mean"].get<double>(), 40.0);
+  EXPECT_EQ(m.metrics["resources"]["place"]["sampled"], 0);
+  EXPECT_TRUE(m.metrics["resources"]["place"]["pss_mib_mean"].is_null());
+  EXPECT_EQ(m.metrics["resources"]["ground"]["count"], 0);
+  EXPECT_EQ(m.metrics["udp_in_datagrams"], 50);
+  EXPECT_EQ(m.metrics["udp_out_datagrams"], 60);
+  EXPECT_DOUBLE_EQ(m.metrics["wall_s"].get<double>(), 6.123);
+  // Counters that went backwards (another namespace, a reset) are no figure.
+  r.udp_end = UdpCounters{90, 260};
+  EXPECT_TRUE(merge_metrics(ground_metrics(), r, "m.json").metrics["udp_in_datagrams"].is_null());
+}
+
+}  // namespace
+}  // namespace pheromesh::cli

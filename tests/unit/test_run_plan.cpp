@@ -1,0 +1,391 @@
+// `pheromesh run`'s plan (cli/run_plan.hpp): which processes a host starts,
+// with which arguments, and the deadlines of the run, from the options and
+// the scenario alone. The figures are the launcher's as it was before the
+// plan was lifted out of it.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <string>
+#include <vector>
+
+#include "../../cli/run_plan.hpp"
+#include "pheromesh/core/scenario.hpp"
+
+namespace pheromesh::cli {
+namespace {
+
+using std::chrono::milliseconds;
+using std::chrono::seconds;
+using Args = std::vector<std::string>;
+
+const std::string kBin = "/opt/phm/bin";
+
+std::string small_test_path() { return std::string(PHEROMESH_SOURCE_DIR) + "/scenarios/small-test.textproto"; }
+
+// small-test: 2 x 2 regions, 4 UAVs, 300 ticks at 50 Hz.
+core::ScenarioConfig small_test() {
+  auto s = core::load_scenario(small_test_path());
+  EXPECT_TRUE(s.ok()) << s.error().message;
+  return s.value();
+}
+
+RunOptions options() {
+  RunOptions o;
+  o.scenario = small_test_path();
+  o.dds = "cyclone";
+  return o;
+}
+
+DdsPlan dds(const std::string& spec) {
+  auto d = parse_dds_plan(spec, {"cyclone", "fastdds"});
+  EXPECT_TRUE(d.ok()) << d.error().message;
+  return d.value();
+}
+
+RunPlan plan_of(const RunOptions& o, const std::string& vendors = "cyclone") {
+  auto p = make_run_plan(o, small_test(), dds(vendors), kBin);
+  EXPECT_TRUE(p.ok()) << p.error().message;
+  return p.value();
+}
+
+std::string plan_error(const RunOptions& o) {
+  auto p = make_run_plan(o, small_test(), dds("cyclone"), kBin);
+  EXPECT_FALSE(p.ok()) << "the plan was accepted";
+  return p.ok() ? std::string() : p.error().message;
+}
+
+std::vector<std::string> names(const RunPlan& p) {
+  std::vector<std::string> n;
+  for (const auto& c : p.processes) n.push_back(c.name);
+  return n;
+}
+
+const PlannedProcess& process(const RunPlan& p, const std::string& name) {
+  const auto it = std::find_if(p.processes.begin(), p.processes.end(), [&](const auto& c) { return c.name == name; });
+  if (it == p.processes.end()) throw std::runtime_error("no " + name + " in the plan");
+  return *it;
+}
+
+// The arguments after the common ones (--lease-ms N and what follows it).
+Args tail_after_lease(const PlannedProcess& c) {
+  const auto it = std::find(c.argv.begin(), c.argv.end(), "--lease-ms");
+  if (it == c.argv.end() || it + 1 == c.argv.end()) return {};
+  return Args(it + 2, c.argv.end());
+}
+
+bool has(const PlannedProcess& c, const std::string& arg) {
+  return std::find(c.argv.begin(), c.argv.end(), arg) != c.argv.end();
+}
+
+std::string value_of(const PlannedProcess& c, const std::string& flag) {
+  const auto it = std::find(c.argv.begin(), c.argv.end(), flag);
+  return it == c.argv.end() || it + 1 == c.argv.end() ? std::string("(none)") : *(it + 1);
+}
+
+TEST(RunPlan, AFourRegionTenUavLockstepRunStartsTheGroundStationFourPlaceAgentsAndTenUavsInThatOrder) {
+  RunOptions o = options();
+  o.uavs = 10;
+  o.ticks = 50;
+  o.clock = "lockstep";
+  const RunPlan p = plan_of(o);
+  EXPECT_EQ(names(p),
+            (std::vector<std::string>{"ground", "place-0", "place-1", "place-2", "place-3", "uav-0", "uav-1", "uav-2",
+                                      "uav-3", "uav-4", "uav-5", "uav-6", "uav-7", "uav-8", "uav-9"}));
+  EXPECT_EQ(p.ticks, 50U);
+  EXPECT_EQ(p.regions, 4U);
+  EXPECT_TRUE(p.lockstep());
+  const Args common{kBin + "/pheromesh-ground",
+                    "--scenario",
+                    small_test_path(),
+                    "--dds",
+                    "cyclone",
+                    "--dds-profile",
+                    "onehost",
+                    "--domain",
+                    "0",
+                    "--log-level",
+                    "info",
+                    "--clock",
+                    "lockstep",
+                    "--lease-ms",
+                    "1000"};
+  Args ground = common;
+  ground.insert(ground.end(),
+                {"--uavs", "10", "--out", "out/run", "--progress", "1.000000", "--ticks", "50", "--expect-uavs", "10"});
+  EXPECT_EQ(process(p, "ground").argv, ground);
+  EXPECT_EQ(tail_after_lease(process(p, "place-2")), (Args{"--uavs", "10", "--region", "2", "--ticks", "50"}));
+  EXPECT_EQ(tail_after_lease(process(p, "uav-7")), (Args{"--uavs", "10", "--id", "7", "--ticks", "50"}));
+  EXPECT_EQ(process(p, "uav-7").executable(), kBin + "/pheromesh-uav");
+  EXPECT_EQ(process(p, "place-2").executable(), kBin + "/pheromesh-place");
+}
+
+TEST(RunPlan, ParticipantIdsLogFilesAndStandardErrorFollowTheStartOrder) {
+  RunOptions o = options();
+  o.uavs = 10;
+  o.out_dir = "/tmp/r";
+  const RunPlan p = plan_of(o);
+  for (uint32_t i = 0; i < p.processes.size(); ++i) EXPECT_EQ(p.processes[i].participant_id, i) << p.processes[i].name;
+  const PlannedProcess& uav7 = process(p, "uav-7");
+  EXPECT_EQ(uav7.env, (Args{"PHEROMESH_PARTICIPANT_ID=12"}));  // ground 0, place agents 1..4, uav-0 5
+  EXPECT_EQ(uav7.log_path, "/tmp/r/logs/uav-7.log");
+  EXPECT_EQ(uav7.stderr_to, StderrTo::Log);
+  EXPECT_EQ(process(p, "ground").stderr_to, StderrTo::Launcher);
+  EXPECT_EQ(process(p, "ground").control, ControlLine::None);
+}
+
+TEST(RunPlan, OptionsGivenArePassedOnAndOptionsLeftOutAreNot) {
+  RunOptions o = options();
+  const Args bare = tail_after_lease(process(plan_of(o), "uav-1"));
+  EXPECT_EQ(bare, (Args{"--id", "1", "--ticks", "300"}));
+  o.seed = 7;
+  o.rate_hz = 10;
+  o.dds_peers = "a,b";
+  o.secure = "/etc/phm";
+  o.domain = 9;
+  const PlannedProcess uav = process(plan_of(o), "uav-1");
+  EXPECT_EQ(tail_after_lease(uav), (Args{"--dds-peers", "a,b", "--secure", "/etc/phm", "--seed", "7", "--rate",
+                                         "10.000000", "--id", "1", "--ticks", "300"}));
+  EXPECT_EQ(value_of(uav, "--domain"), "9");
+}
+
+TEST(RunPlan, StandbyStartsAReplicaOfEveryRegionAfterThePrimariesAndEveryProcessTakesStandby) {
+  RunOptions o = options();
+  o.standby = true;
+  const RunPlan p = plan_of(o);
+  EXPECT_EQ(p.standby, Standby::FromStart);
+  EXPECT_EQ(names(p),
+            (std::vector<std::string>{"ground", "place-0", "place-1", "place-2", "place-3", "place-0.r1", "place-1.r1",
+                                      "place-2.r1", "place-3.r1", "uav-0", "uav-1", "uav-2", "uav-3"}));
+  EXPECT_EQ(tail_after_lease(process(p, "place-1.r1")),
+            (Args{"--standby", "--replica", "1", "--region", "1", "--ticks", "300"}));
+  for (const auto& c : p.processes) {
+    EXPECT_TRUE(has(c, "--standby")) << c.name;
+    // Exclusive ownership in an all-Cyclone swarm.
+    EXPECT_FALSE(has(c, "--shared-ownership")) << c.name;
+  }
+  const RunPlan fast = plan_of(o, "fastdds");
+  for (const auto& c : fast.processes) EXPECT_TRUE(has(c, "--shared-ownership")) << c.name;
+}
+
+TEST(RunPlan, TheScenariosStandbyStartsReplicasLikeTheFlag) {
+  core::ScenarioConfig s = small_test();
+  s.standby = true;
+  auto p = make_run_plan(options(), s, dds("cyclone"), kBin);
+  ASSERT_TRUE(p.ok());
+  EXPECT_EQ(p->processes.size(), 13U);
+  EXPECT_EQ(p->replicas_at_start(), 2U);
+}
+
+TEST(RunPlan, AMixedVendorRunAlternatesPlaceAgentsFromCycloneAndUavsFromFastDds) {
+  RunOptions o = options();
+  o.standby = true;
+  const RunPlan p = plan_of(o, "mixed");
+  const std::vector<std::pair<std::string, std::string>> expected{
+      {"ground", "cyclone"},  {"place-0", "cyclone"},    {"place-1", "fastdds"},    {"place-2", "cyclone"},
+      {"place-3", "fastdds"}, {"place-0.r1", "cyclone"}, {"place-1.r1", "fastdds"}, {"uav-0", "fastdds"},
+      {"uav-1", "cyclone"},   {"uav-2", "fastdds"},      {"uav-3", "cyclone"}};
+  for (const auto& [name, vendor] : expected) {
+    EXPECT_EQ(process(p, name).dds, vendor) << name;
+    EXPECT_EQ(value_of(process(p, name), "--dds"), vendor) << name;
+  }
+  // Not one vendor: shared ownership for every process.
+  for (const auto& c : p.processes) EXPECT_TRUE(has(c, "--shared-ownership")) << c.name;
+}
+
+TEST(RunPlan, AHostOfAMultiHostSwarmStartsOnlyItsShare) {
+  RunOptions o = options();
+  o.uavs = 10;
+  o.standby = true;
+  o.hosts = 3;
+  o.host_index = 1;
+  o.ground_host = 0;
+  o.dds_profile = "lan";
+  const RunPlan p = plan_of(o);
+  // Place agent R replica N on host (R + N) % 3, UAV U on host U % 3.
+  EXPECT_EQ(names(p), (std::vector<std::string>{"place-1", "place-0.r1", "place-3.r1", "uav-1", "uav-4", "uav-7"}));
+  EXPECT_EQ(p.processes.front().participant_id, 0U);
+  EXPECT_EQ(p.processes.back().participant_id, 5U);
+  EXPECT_EQ(p.deadlines.other_hosts, seconds(60));
+  ASSERT_EQ(p.stop_early.size(), 3U);
+  EXPECT_EQ(p.stop_early[1].role, "place");
+  EXPECT_EQ(p.stop_early[2].role, "ground");
+  EXPECT_EQ(p.stop_early[2].grace, seconds(15));
+
+  o.host_index = 0;
+  const RunPlan ground_host = plan_of(o);
+  EXPECT_EQ(ground_host.processes.front().name, "ground");
+  EXPECT_TRUE(has(ground_host.processes.front(), "--until-done"));
+  // The ground station; place-0, place-3; place-2.r1; uav-0, 3, 6, 9.
+  EXPECT_EQ(ground_host.processes.size(), 1U + 2U + 1U + 4U);
+}
+
+TEST(RunPlan, MultiHostChecksNameTheProfileTheKeyAndAFaultOfAnotherHost) {
+  RunOptions o = options();
+  o.hosts = 2;
+  o.host_index = 1;
+  EXPECT_NE(check_multi_host(plan_of(o), ControlKey::Set).value_or("").find("keeps traffic on this host"),
+            std::string::npos);
+  o.dds_profile = "lan";
+  EXPECT_EQ(check_multi_host(plan_of(o), ControlKey::Set), std::nullopt);
+  const auto unset = check_multi_host(plan_of(o), ControlKey::Unset).value_or("");
+  EXPECT_NE(unset.find("$PHEROMESH_CONTROL_KEY"), std::string::npos) << unset;
+  EXPECT_EQ(unset.find("malformed"), std::string::npos) << unset;
+  EXPECT_NE(
+      check_multi_host(plan_of(o), ControlKey::Malformed, "odd length").value_or("").find("malformed: odd length"),
+      std::string::npos);
+  o.faults_spec = "kill uav:0 @2s";
+  EXPECT_NE(check_multi_host(plan_of(o), ControlKey::Set).value_or("").find("uav-0 does not run on host 1"),
+            std::string::npos);
+  o.host_index = 2;
+  EXPECT_EQ(check_multi_host(plan_of(o), ControlKey::Set).value_or(""),
+            "--host-index 2 is not below --hosts 2 (hosts are numbered 0..1)");
+}
+
+TEST(RunPlan, RealtimeDeadlinesComeFromTicksRateAndTheNumberOfProcesses) {
+  const RunPlan p = plan_of(options());
+  // Twice 300 ticks at 50 Hz, 45 s, 200 ms for each of the 9 processes.
+  EXPECT_EQ(p.deadlines.uavs_end, milliseconds(12000 + 45000 + 9 * 200));
+  EXPECT_EQ(p.deadlines.resource_sample, milliseconds(3600));  // 60 % of 6 s
+  EXPECT_EQ(p.deadlines.conductor_grace, milliseconds(6 * 1000 + 15000));
+  EXPECT_EQ(p.deadlines.other_hosts, seconds(0));
+  ASSERT_EQ(p.stop_early.size(), 1U);
+  EXPECT_EQ(p.stop_early[0].role, "uav");
+  EXPECT_EQ(p.stop_early[0].grace, seconds(10));
+  ASSERT_EQ(p.stop_final.size(), 2U);
+  EXPECT_EQ(p.stop_final[0].role, "place");
+  EXPECT_EQ(p.stop_final[1].role, "ground");
+
+  RunOptions slow = options();
+  slow.rate_hz = 10;
+  slow.lease_ms = 2000;
+  const RunPlan q = plan_of(slow);
+  EXPECT_EQ(q.deadlines.uavs_end, milliseconds(60000 + 45000 + 9 * 200));
+  EXPECT_EQ(q.deadlines.resource_sample, milliseconds(18000));
+  EXPECT_EQ(q.deadlines.conductor_grace, milliseconds(12000 + 15000));
+}
+
+TEST(RunPlan, ALockstepRunHasAYearForItsUavsTheConductorBoundsIt) {
+  RunOptions o = options();
+  o.clock = "lockstep";
+  const RunPlan p = plan_of(o);
+  EXPECT_EQ(p.deadlines.uavs_end, milliseconds(int64_t{365} * 24 * 3600 * 1000 + 45000 + 9 * 200));
+}
+
+TEST(RunPlan, DurationBecomesTicksAtTheRunsRate) {
+  RunOptions o = options();
+  o.duration_s = 2.01;
+  const RunPlan p = plan_of(o);
+  EXPECT_EQ(p.ticks, 101U);  // ceil(2.01 s x 50 Hz)
+  EXPECT_EQ(p.options.ticks, 101U);
+  EXPECT_EQ(value_of(process(p, "uav-0"), "--ticks"), "101");
+  EXPECT_EQ(value_of(process(p, "ground"), "--ticks"), "101");
+}
+
+TEST(RunPlan, MoreThanSixtyFourProcessesStartTheUavsInBatchesAtTheStartRate) {
+  RunOptions o = options();
+  o.uavs = 59;  // 1 + 4 + 59 = 64: all at once
+  EXPECT_FALSE(plan_of(o).stagger.has_value());
+  o.uavs = 60;
+  const auto s = plan_of(o).stagger;
+  ASSERT_TRUE(s.has_value());
+  EXPECT_EQ(s->batch, 5U);  // a tenth of a second of 50 per second
+  EXPECT_EQ(s->pause, milliseconds(100));
+  o.start_rate = 7;
+  EXPECT_EQ(plan_of(o).stagger->batch, 1U);
+  EXPECT_EQ(plan_of(o).stagger->pause, milliseconds(142));
+  o.start_rate = 0;
+  EXPECT_FALSE(plan_of(o).stagger.has_value());
+}
+
+TEST(RunPlan, LockstepFaultsGiveTheGroundStationTheControlLineAndTheirTicks) {
+  RunOptions o = options();
+  o.clock = "lockstep";
+  o.faults_spec = "stop place:2 @8t for 1s; kill uav:1 @5t";
+  const RunPlan p = plan_of(o);
+  ASSERT_TRUE(p.faults.has_value());
+  EXPECT_EQ(p.faults->events.size(), 2U);
+  const PlannedProcess& g = process(p, "ground");
+  EXPECT_EQ(g.control, ControlLine::Fd3);
+  EXPECT_EQ(value_of(g, "--launcher-fd"), "3");
+  EXPECT_EQ(value_of(g, "--fault-ticks"), "5,8");
+}
+
+TEST(RunPlan, TheWebConsoleRecordsToTheOutputFolderUnlessToldOtherwise) {
+  RunOptions o = options();
+  o.http_port = 8080;
+  const PlannedProcess g = process(plan_of(o), "ground");
+  EXPECT_EQ(g.control, ControlLine::Fd3);
+  const Args tail(std::find(g.argv.begin(), g.argv.end(), "--launcher-fd"), g.argv.end());
+  EXPECT_EQ(tail, (Args{"--launcher-fd", "3", "--http", "8080", "--http-bind", "127.0.0.1", "--record",
+                        "out/run/console.phrec"}));
+  o.no_record = true;
+  EXPECT_FALSE(has(process(plan_of(o), "ground"), "--record"));
+  o.no_record = false;
+  o.record = "/tmp/x.phrec";
+  EXPECT_EQ(value_of(process(plan_of(o), "ground"), "--record"), "/tmp/x.phrec");
+}
+
+TEST(RunPlan, AStandbyFaultMakesEveryProcessAStandbyRunWithoutStartingReplicas) {
+  RunOptions o = options();
+  o.faults_spec = "standby place:1 @2s";
+  const RunPlan p = plan_of(o);
+  EXPECT_EQ(p.standby, Standby::OnFault);
+  EXPECT_EQ(p.processes.size(), 9U);
+  for (const auto& c : p.processes) EXPECT_TRUE(has(c, "--standby")) << c.name;
+  ASSERT_EQ(p.notes.size(), 1U);
+  EXPECT_EQ(p.notes[0].text, "fault schedule: 'standby' events: every process runs with --standby");
+  // --secure: the standbys a fault may start need their identities too.
+  const auto ids = p.identities();
+  EXPECT_EQ(ids.size(), 1U + 8U + 4U);
+  EXPECT_NE(std::find(ids.begin(), ids.end(), "place-3.r1"), ids.end());
+}
+
+TEST(RunPlan, NetworkFaultsMoveTheOneHostProfileToNetnsAndRefuseTheWebConsole) {
+  RunOptions o = options();
+  o.faults_spec = "loss 20% @1s for 2s";
+  const RunPlan p = plan_of(o);
+  EXPECT_EQ(p.options.dds_profile, "netns");
+  EXPECT_EQ(value_of(process(p, "uav-0"), "--dds-profile"), "netns");
+  EXPECT_TRUE(p.notes.empty());
+  o.dds_profile = "lan";
+  const RunPlan lan = plan_of(o);
+  EXPECT_EQ(lan.options.dds_profile, "lan");
+  ASSERT_EQ(lan.notes.size(), 1U);
+  EXPECT_EQ(lan.notes[0].level, PlanNote::Level::Warn);
+  o.http_port = 8080;
+  EXPECT_NE(plan_error(o).find("leave out --http or the network faults"), std::string::npos);
+}
+
+TEST(RunPlan, AScheduleThatCannotRunIsRefusedNamingWhereItCameFrom) {
+  RunOptions o = options();
+  o.faults_spec = "kill ground @1s";
+  EXPECT_NE(plan_error(o).find("the ground station cannot be killed or restarted"), std::string::npos);
+  o.faults_spec = "kill uav:9 @1s";
+  EXPECT_EQ(plan_error(o).rfind("--faults: ", 0), 0U);
+  o.faults_spec.clear();
+  o.kill_spec = "uav:2@5t";  // ticks in a realtime run
+  EXPECT_EQ(plan_error(o).rfind("--kill: ", 0), 0U);
+}
+
+TEST(RunPlan, ARestartedUavFliesTheTicksLeftWithItsDepositsNumberedAboveItsEarlierLives) {
+  const RunPlan p = plan_of(options());
+  const PlannedProcess again = p.restarted_uav(2, 40, 1U << 24U, 6);
+  EXPECT_EQ(again.name, "uav-2");
+  EXPECT_EQ(tail_after_lease(again), (Args{"--id", "2", "--ticks", "40", "--seq-base", "16777216"}));
+  EXPECT_EQ(again.env, (Args{"PHEROMESH_PARTICIPANT_ID=6"}));
+  const PlannedProcess standby = p.place(3, 2, 9);
+  EXPECT_EQ(standby.name, "place-3.r2");
+  EXPECT_EQ(value_of(standby, "--replica"), "2");
+}
+
+TEST(RunPlan, SecureFastDdsProcessesStartThreeHundredMillisecondsApart) {
+  RunOptions o = options();
+  o.secure = "/etc/phm";
+  EXPECT_EQ(plan_of(o, "fastdds").spawn_gap, milliseconds(300));
+  EXPECT_EQ(plan_of(o, "cyclone").spawn_gap, milliseconds(0));
+  o.secure.clear();
+  EXPECT_EQ(plan_of(o, "fastdds").spawn_gap, milliseconds(0));
+}
+
+}  // namespace
+}  // namespace pheromesh::cli
