@@ -41,13 +41,15 @@ LockstepConductor conductor(uint32_t regions) {
 
 struct Recorder {
   ScenarioConfig scenario;
+  MapGeometry geo{1, 1, 1, 1, 1};  // outlives the world, which keeps a pointer to it
   std::unique_ptr<World> world;
   std::unique_ptr<RunRecorder> rec;
   Recorder() {
     auto s = load_scenario(std::string(PHEROMESH_SOURCE_DIR) + "/scenarios/small-test.textproto");
     EXPECT_TRUE(s.ok());
     scenario = s.value();
-    world = std::make_unique<World>(scenario.geometry(), scenario.obstacles, scenario.targets);
+    geo = scenario.geometry();
+    world = std::make_unique<World>(geo, scenario.obstacles, scenario.targets);
     rec = std::make_unique<RunRecorder>(scenario, *world);
   }
 };
