@@ -80,7 +80,7 @@ GroundApp::GroundApp(GroundConfig cfg, core::ScenarioConfig scenario, std::uniqu
 
 void GroundApp::note_discovery(Clock::time_point now) {
   using StartNow = core::RunBook::StartNow;
-  const auto d = book_.note_discovery({frame_builder_.uavs_heard(), frame_builder_.regions_heard()}, now);
+  const auto d = book_.note_discovery(heard(), now);
   if (d.complete_s) {
     log_->info("discovery complete: every UAV ({}) and place agent ({}) heard {:.1f} s after the launch",
                cfg_.expect_uavs, geo_.region_count(), *d.complete_s);
@@ -211,25 +211,23 @@ int GroundApp::write_results() {
   return 0;
 }
 
-bool GroundApp::run_over() {
-  if (cfg_.attach) {
-    if (const auto shown_s =
-            book_.note_full_state({frame_builder_.uavs_heard(), frame_builder_.regions_heard()}, Clock::now())) {
-      log_->info(
-          "attached: the whole swarm is shown (every uav of {}, every place agent of {}, every region's field) {:.2f} "
-          "s "
-          "after the monitor started",
-          cfg_.expect_uavs, geo_.region_count(), *shown_s);
-    }
-    if (book_.places_finished(rec_)) {
-      log_->info("every place agent finished: the run is over");
-      return true;
-    }
+core::RunBook::Heard GroundApp::heard() const { return {frame_builder_.uavs_heard(), frame_builder_.regions_heard()}; }
+
+void GroundApp::note_full_state() {
+  if (const auto shown_s = book_.note_full_state(heard(), Clock::now())) {
+    log_->info(
+        "attached: the whole swarm is shown (every uav of {}, every place agent of {}, every region's field) {:.2f} s "
+        "after the monitor started",
+        cfg_.expect_uavs, geo_.region_count(), *shown_s);
   }
-  if (cfg_.until_done && !ended_ && book_.uavs_done(rec_)) {
-    end_run();
+}
+
+bool GroundApp::end_if_over() {
+  if (cfg_.attach && book_.places_finished(rec_)) {
+    log_->info("every place agent finished: the run is over");
     return true;
   }
+  if (cfg_.until_done && !ended_ && book_.uavs_done(rec_)) end_run();
   return ended_;
 }
 
@@ -243,7 +241,9 @@ int GroundApp::run() {
   bool ok = true;
   if (cfg_.common.lockstep() && !cfg_.attach) ok = conduct();
   if (cfg_.until_done && cfg_.common.lockstep()) end_run();
-  while (!runtime::shutdown_requested() && !run_over()) {
+  while (!runtime::shutdown_requested()) {
+    if (cfg_.attach) note_full_state();
+    if (end_if_over()) break;
     poll();
     progress_if_due();
     service();

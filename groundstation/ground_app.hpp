@@ -84,9 +84,14 @@ class GroundApp {
   void wait_for_data(Clock::time_point until);
   void progress_if_due();
   void print_progress();
-  // The run is over (--attach: every place agent finished; --until-done:
-  // every UAV finished, and the End went out).
-  bool run_over();
+  [[nodiscard]] core::RunBook::Heard heard() const;  // by the frame builder
+  // --attach: logs once when every UAV and place agent was heard and every
+  // region's field arrived.
+  void note_full_state();
+  // Ends the run if it is over for this ground station (--attach: every
+  // place agent finished; --until-done: every UAV finished, then the End
+  // goes out); true if it is.
+  bool end_if_over();
 
   // --- lockstep (ground_lockstep.cpp)
   // The conductor: returns false if a phase timed out.

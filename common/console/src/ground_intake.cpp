@@ -143,8 +143,8 @@ void GroundIntake::on_target_events(const std::vector<core::TargetEventMsg>& eve
   for (const auto& e : events) {
     p_.rec.on_target_event(e);
     // Shao 2020 revisits (marks.hpp).
-    if (e.kind == static_cast<uint8_t>(core::TargetEventKind::RevisitDue)) p_.frames.revisit(e.cell, true);
-    if (e.kind == static_cast<uint8_t>(core::TargetEventKind::Revisited)) p_.frames.revisit(e.cell, false);
+    if (e.kind == static_cast<uint8_t>(core::TargetEventKind::RevisitDue)) p_.frames.revisit(e.cell, /*due=*/true);
+    if (e.kind == static_cast<uint8_t>(core::TargetEventKind::Revisited)) p_.frames.revisit(e.cell, /*due=*/false);
   }
 }
 
