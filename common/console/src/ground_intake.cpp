@@ -1,6 +1,7 @@
 #include "pheromesh/console/ground_intake.hpp"
 
 #include <algorithm>
+#include <array>
 #include <charconv>
 #include <limits>
 #include <type_traits>
@@ -18,9 +19,9 @@ using Level = IntakeNote::Level;
 
 // The shortest text that reads back as `v` ("2.5", "3"), as the log's {} prints it.
 void append(std::string& out, double v) {
-  char buf[32];
-  const auto r = std::to_chars(buf, buf + sizeof buf, v);
-  out.append(buf, r.ptr);
+  std::array<char, 32> buf{};
+  const auto r = std::to_chars(buf.data(), buf.data() + buf.size(), v);
+  out.append(buf.data(), r.ptr);
 }
 void append(std::string& out, const std::string& s) { out += s; }
 void append(std::string& out, const char* s) { out += s; }
@@ -85,7 +86,9 @@ float GroundIntake::field_value(int layer, core::Cell c) const {
   auto it = tiles_.find({layer, {t.tx, t.ty}});
   if (it == tiles_.end()) return std::numeric_limits<float>::quiet_NaN();
   const core::Rect r = geo_.tile_rect(t);
-  return it->second.values[static_cast<std::size_t>((c.y - r.y0) * r.w + (c.x - r.x0))];
+  const auto row = static_cast<std::size_t>(c.y - r.y0);
+  const auto column = static_cast<std::size_t>(c.x - r.x0);
+  return it->second.values[row * static_cast<std::size_t>(r.w) + column];
 }
 
 void GroundIntake::on_states(const std::vector<core::UavStateMsg>& states, Clock::time_point now) {

@@ -107,7 +107,7 @@ class GroundIntake {
   void on_phase_dones(const std::vector<core::PhaseDoneMsg>& dones, Clock::time_point now);
   void note_acquisitions();
   void refuse(core::Refusal r, const std::string& what);
-  void note(IntakeNote::Kind kind, IntakeNote::Level level, std::string text);
+  void note(IntakeNote::Kind kind, IntakeNote::Level level, std::string line);
 
   Parts p_;
   Standby standby_;
