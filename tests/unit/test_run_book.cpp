@@ -175,7 +175,7 @@ TEST(RunBook, AMonitorShowsTheFullStateOnceEveryProcessAndEveryRegionsFieldArriv
   EXPECT_FALSE(book.note_full_state({4, 2}, t0 + 1s)) << "region 1's field has not arrived";
   book.on_field_chunk(1, 3, 0, 1);
   EXPECT_FALSE(book.note_full_state({3, 2}, t0 + 2s)) << "one UAV not heard";
-  EXPECT_DOUBLE_EQ(book.note_full_state({4, 2}, t0 + 2250ms).value_or(-1), 2.25);
+  EXPECT_DOUBLE_EQ(book.note_full_state({4, 2}, t0 + 2250ms + 999us).value_or(-1), 2.25) << "to the millisecond";
   EXPECT_FALSE(book.note_full_state({4, 2}, t0 + 3s)) << "once";
 }
 

@@ -89,7 +89,9 @@ uint32_t RunBook::tick_ceiling(Clock::time_point now) const {
 }
 
 double RunBook::seconds_since_launch(Clock::time_point now) const {
-  return std::chrono::duration<double>(now - o_.launched.value_or(o_.started)).count();
+  // Whole milliseconds, as the launch time is given.
+  const auto elapsed = std::chrono::duration_cast<std::chrono::milliseconds>(now - o_.launched.value_or(o_.started));
+  return static_cast<double>(elapsed.count()) / 1000.0;
 }
 
 }  // namespace pheromesh::core

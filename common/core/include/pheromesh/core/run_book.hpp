@@ -99,6 +99,7 @@ class RunBook {
   // (lockstep); the launch time shared by every process of the run
   // (realtime); unlimited for a monitor, which does not know the launch.
   [[nodiscard]] uint32_t tick_ceiling(Clock::time_point now) const;
+  // [s], to the millisecond.
   [[nodiscard]] double seconds_since_launch(Clock::time_point now) const;
 
  private:
