@@ -46,7 +46,7 @@ int attach(GroundConfig cfg, double timeout_s) {
 
   core::ScenarioMsg run;
   {
-    const auto bus = make_bus(false);
+    const auto bus = make_bus(/*standby=*/false);  // only to read the run
     if (!bus) return 3;
     bus->subscribe_scenario();
     log->info("looking for a swarm on domain {} over {} (profile {}), up to {:.0f} s", cfg.common.domain, bus->vendor(),

@@ -11,6 +11,7 @@
 #include "pheromesh/console/view.hpp"
 #include "pheromesh/core/policy.hpp"
 #include "pheromesh/core/uav_core.hpp"
+#include "pheromesh/runtime/report.hpp"
 
 namespace pheromesh::groundstation {
 
@@ -22,7 +23,8 @@ double seconds_since(Clock::time_point t0) { return std::chrono::duration<double
 
 uint64_t wall_ms() {
   return static_cast<uint64_t>(
-      std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::system_clock::now().time_since_epoch()).count());
+      std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::system_clock::now().time_since_epoch())
+          .count());
 }
 }  // namespace
 
@@ -40,6 +42,18 @@ void GroundApp::start_console() {
   }
   if (!cfg_.http_port && cfg_.record_path.empty()) return;
 
+  const console::ConsoleInfo info = console_info();
+  uncertainty_ =
+      std::make_unique<console::UncertaintyTracker>(geo_, world_.reachable_from(core::all_starts(scenario_)),
+                                                    info.sensor_radius, std::max(1.0, scenario_.ticks / 10.0));
+  intake_.set_uncertainty(uncertainty_.get());
+  console_ = std::make_unique<LiveConsole>(info, control_status());
+  if (!cfg_.record_path.empty()) start_recording(info);
+  if (cfg_.http_port) start_server();
+  build_frame();
+}
+
+console::ConsoleInfo GroundApp::console_info() const {
   console::ConsoleInfo info;
   info.scenario_name = scenario_.name;
   info.scenario_path = cfg_.scenario_path;
@@ -56,44 +70,64 @@ void GroundApp::start_console() {
   info.sensor_radius = core::policy_traits(scenario_).sensor_radius;
   info.clock = cfg_.common.clock;
   info.dds = bus_->vendor();
+  return info;
+}
 
+ControlStatus GroundApp::control_status() const {
   ControlStatus control;
   control.enabled = cfg_.http_port.has_value();
   control.process_control = launcher_.connected();
-  if (!control.process_control) control.reason = "kill and restart need the launcher: start the swarm with `pheromesh run --http PORT`";
+  if (!control.process_control)
+    control.reason = "kill and restart need the launcher: start the swarm with `pheromesh run --http PORT`";
   if (!control_key_) {
-    control.reason += std::string(control.reason.empty() ? "" : "; ") + "pause and pop-ups need $" + auth::kControlKeyEnv +
-                      " (set by pheromesh run)";
+    control.reason += std::string(control.reason.empty() ? "" : "; ") + "pause and pop-ups need $" +
+                      auth::kControlKeyEnv + " (set by pheromesh run)";
   }
-  uncertainty_ = std::make_unique<console::UncertaintyTracker>(
-      geo_, world_.reachable_from(core::all_starts(scenario_)), info.sensor_radius, std::max(1.0, scenario_.ticks / 10.0));
-  console_ = std::make_unique<LiveConsole>(info, control);
-  if (!cfg_.record_path.empty()) {
-    auto w = console::RecordingWriter::open(cfg_.record_path, info);
-    if (!w) {
-      log_->error("cannot record the console: {}", w.error().message);
-    } else {
-      recording_ = std::move(w).value();
-      log_->info("recording the console to {}", cfg_.record_path);
-    }
+  return control;
+}
+
+void GroundApp::start_recording(const console::ConsoleInfo& info) {
+  auto w = console::RecordingWriter::open(cfg_.record_path, info);
+  if (!w) {
+    log_->error("cannot record the console: {}", w.error().message);
+    return;
   }
-  if (cfg_.http_port) {
-    console::ServerOptions o;
-    o.bind = cfg_.http_bind;
-    o.port = *cfg_.http_port;
-    const char* token = std::getenv("PHEROMESH_CONSOLE_TOKEN");
-    o.token = token != nullptr && *token != '\0' ? token : console::random_token();
-    o.limits = cfg_.http_limits;
-    server_ = std::make_unique<console::ConsoleServer>(*console_, o);
-    auto port = server_->start();
-    if (!port) {
-      log_->error("web console: {}", port.error().message);
-      server_.reset();
-    } else {
-      log_->info("web console at {}", server_->url());
-    }
+  recording_ = std::move(w).value();
+  log_->info("recording the console to {}", cfg_.record_path);
+}
+
+void GroundApp::start_server() {
+  console::ServerOptions o;
+  o.bind = cfg_.http_bind;
+  o.port = *cfg_.http_port;
+  const char* token = std::getenv("PHEROMESH_CONSOLE_TOKEN");
+  o.token = token != nullptr && *token != '\0' ? token : console::random_token();
+  o.limits = cfg_.http_limits;
+  server_ = std::make_unique<console::ConsoleServer>(*console_, o);
+  auto port = server_->start();
+  if (!port) {
+    log_->error("web console: {}", port.error().message);
+    server_.reset();
+  } else {
+    log_->info("web console at {}", server_->url());
   }
+}
+
+void GroundApp::close_console() {
+  // The last frame holds the final state; a replay ends with it too.
   build_frame();
+  console_->close();
+  const auto final_json = console::frame_json(console_->state(), console_->console_info(), 0, 0);
+  std::string error;
+  if (!runtime::write_json(cfg_.out_dir, "console_final.json", final_json, error)) log_->error("{}", error);
+  if (server_) server_->stop();
+  if (!recording_) return;
+  // The recording appears under its name only now, complete (recording.hpp).
+  if (auto closed = recording_->close(); !closed) {
+    log_->error("{}", closed.error().message);
+  } else {
+    log_->info("recorded {} console frames ({} bytes) in {}", frames_, closed.value(), recording_->path());
+  }
 }
 
 void GroundApp::service() {
@@ -111,11 +145,15 @@ void GroundApp::service() {
 void GroundApp::build_frame() {
   const auto now = Clock::now();
   const console::FrameBuilder::Sources sources{
-      tiles_latest_, rec_, world_, scenario_.targets.size(), scenario_.obstacles, popup_obstacles_, paused_};
+      intake_.tiles(), rec_, world_, scenario_.targets.size(), scenario_.obstacles, popup_obstacles_, paused_};
   console::Frame f = frame_builder_.build(console_->state(), sources, now, seconds_since(console_t0_));
   if (now >= next_series_ && uncertainty_) {
-    f.series = console::SeriesPoint{0, f.t_s, f.tick, rec_.coverage().coverage(),
-                                    static_cast<uint32_t>(rec_.acquisitions().found()), uncertainty_->mean(f.tick)};
+    f.series = console::SeriesPoint{0,
+                                    f.t_s,
+                                    f.tick,
+                                    rec_.coverage().coverage(),
+                                    static_cast<uint32_t>(rec_.acquisitions().found()),
+                                    uncertainty_->mean(f.tick)};
     next_series_ = now + std::chrono::seconds(1);
   }
   f.commands = std::move(command_log_);
@@ -178,7 +216,8 @@ void GroundApp::log_refusals() {
   uint64_t overflowed = 0;
   for (const auto& r : console_->take_refused(overflowed)) {
     if (!refusal_log_.admit(t)) continue;
-    const std::string message = std::string("refused (") + std::to_string(r.status) + "): " + console::refusal_name(r.reason);
+    const std::string message =
+        std::string("refused (") + std::to_string(r.status) + "): " + console::refusal_name(r.reason);
     log_->warn("console request from {}: {} {}", r.who, r.what, message);
     command_log_.push_back({0, t, r.who, r.what, false, message});
   }
@@ -239,7 +278,8 @@ Answer GroundApp::apply(const console::ConsoleCommand& c) {
         a = publish_swarm_command(*console::swarm_command(c));
         if (a.status == 200) paused_ = pause;
       }
-      if (a.status == 200 && launcher_.connected()) launcher_.ask(pause ? "pause" : "resume");  // the launcher extends its deadline
+      if (a.status == 200 && launcher_.connected())
+        launcher_.ask(pause ? "pause" : "resume");  // the launcher extends its deadline
       return a;
     }
     case K::KillUav: {
@@ -248,7 +288,8 @@ Answer GroundApp::apply(const console::ConsoleCommand& c) {
       if (a.status == 200 && cfg_.common.lockstep()) drop_uav(c.id, rec_.max_tick());
       return a;
     }
-    case K::RestartUav: return launcher_.ask("restart uav " + std::to_string(c.id));
+    case K::RestartUav:
+      return launcher_.ask("restart uav " + std::to_string(c.id));
     case K::KillPlace: {
       auto a = launcher_.ask("kill place " + std::to_string(c.id));
       if (a.status == 200 && cfg_.common.lockstep()) drop_region(c.id, rec_.max_tick());

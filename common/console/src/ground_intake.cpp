@@ -1,0 +1,260 @@
+#include "pheromesh/console/ground_intake.hpp"
+
+#include <algorithm>
+#include <array>
+#include <charconv>
+#include <limits>
+#include <type_traits>
+#include <utility>
+
+#include "pheromesh/core/policy.hpp"
+#include "pheromesh/core/uav_core.hpp"
+
+namespace pheromesh::console {
+
+namespace {
+
+using Kind = IntakeNote::Kind;
+using Level = IntakeNote::Level;
+
+// The shortest text that reads back as `v` ("2.5", "3"), as the log's {} prints it.
+void append(std::string& out, double v) {
+  std::array<char, 32> buf{};
+  const auto r = std::to_chars(buf.data(), buf.data() + buf.size(), v);
+  out.append(buf.data(), r.ptr);
+}
+void append(std::string& out, const std::string& s) { out += s; }
+void append(std::string& out, const char* s) { out += s; }
+template <typename T>
+requires std::is_integral_v<T>
+void append(std::string& out, T v) { out += std::to_string(v); }
+
+template <typename... Parts>
+std::string text(const Parts&... parts) {
+  std::string out;
+  (append(out, parts), ...);
+  return out;
+}
+
+}  // namespace
+
+void GroundSamples::clear() {
+  states.clear();
+  broadcasts.clear();
+  departed_uavs.clear();
+  detections.clear();
+  target_events.clear();
+  healths.clear();
+  fields.clear();
+  tiles.clear();
+  departed_places.clear();
+  phase_dones.clear();
+}
+
+GroundIntake::GroundIntake(const core::ScenarioConfig& scenario, Parts parts, Standby standby)
+    : p_(parts),
+      standby_(standby),
+      geo_(scenario.geometry()),
+      swarm_(scenario.uavs),
+      layers_(static_cast<int>(core::policy_traits(scenario).layers.size())),
+      layer_ranges_(core::policy_traits(scenario).layer_ranges) {}
+
+GroundIntake::Notes GroundIntake::take(GroundSamples& in, uint32_t tick_ceiling, Clock::time_point now) {
+  p_.rec.set_tick_ceiling(tick_ceiling);
+  on_states(in.states, now);
+  on_broadcasts(in.broadcasts, now);
+  on_departed_uavs(in.departed_uavs, now);
+  for (const auto& d : in.detections) p_.rec.on_detection(d);
+  note_acquisitions();
+  on_target_events(in.target_events);
+  on_healths(in.healths, now);
+  on_fields(in.fields, in.tiles, tick_ceiling);
+  on_tiles(in.tiles, tick_ceiling);
+  on_departed_places(in.departed_places);
+  on_phase_dones(in.phase_dones, now);
+  return std::exchange(notes_, {});
+}
+
+GroundIntake::Notes GroundIntake::judge_pending() {
+  p_.rec.judge_pending_detections();
+  note_acquisitions();
+  return std::exchange(notes_, {});
+}
+
+float GroundIntake::field_value(int layer, core::Cell c) const {
+  const core::TileCoord t = geo_.tile_of(c);
+  auto it = tiles_.find({layer, {t.tx, t.ty}});
+  if (it == tiles_.end()) return std::numeric_limits<float>::quiet_NaN();
+  const core::Rect r = geo_.tile_rect(t);
+  const auto row = static_cast<std::size_t>(c.y - r.y0);
+  const auto column = static_cast<std::size_t>(c.x - r.x0);
+  return it->second.values[row * static_cast<std::size_t>(r.w) + column];
+}
+
+void GroundIntake::on_states(const std::vector<core::UavStateMsg>& states, Clock::time_point now) {
+  for (const auto& s : states) {
+    const uint64_t refused_before = p_.rec.refused().total();
+    if (!p_.rec.on_uav_state(s)) {
+      const bool refused = p_.rec.refused().total() > refused_before;  // else malformed
+      if (!refused && p_.rec.samples_rejected() <= 3) {
+        note(Kind::StateDropped, Level::Warn, text("dropped state of uav ", s.uav));
+      } else if (refused && p_.rec.refused().total() <= 5) {
+        note(Kind::StateRefused, Level::Warn,
+             text("refused state of uav ", s.uav, " at tick ", s.tick, " (", s.x, ", ", s.y, "): implausible"));
+      }
+      continue;
+    }
+    p_.conductor.heard_from(s.uav, now);
+    const bool back = s.finished ? p_.conductor.on_uav_finished(s.uav)
+                                 : p_.conductor.on_uav_state(s.uav, s.tick, geo_.tile_of(core::state_cell(s)));
+    if (back && !s.finished) note(Kind::UavBack, Level::Info, text("uav ", s.uav, " is back at tick ", s.tick));
+    p_.frames.heard_uav(s.uav, now);
+    if (uncertainty_ != nullptr && !s.finished) uncertainty_->observe(core::state_cell(s), s.tick);
+  }
+}
+
+void GroundIntake::on_broadcasts(const std::vector<core::BroadcastMsg>& broadcasts, Clock::time_point now) {
+  for (const auto& b : broadcasts) {
+    if (core::check_broadcast(b)) {
+      p_.rec.count_rejected_sample();
+      continue;
+    }
+    if (core::check_uav_id(b.uav, swarm_)) {
+      refuse(core::Refusal::UnknownUav, text("a broadcast of uav ", b.uav));
+      continue;
+    }
+    p_.conductor.on_broadcast(b.uav, b.tick);
+    p_.conductor.heard_from(b.uav, now);
+  }
+}
+
+void GroundIntake::on_departed_uavs(const std::vector<uint32_t>& gone, Clock::time_point now) {
+  for (uint32_t id : gone) {
+    if (core::check_uav_id(id, swarm_)) continue;  // a forger's writer left, not a UAV
+    auto it = p_.rec.uavs().find(id);
+    const bool known = it != p_.rec.uavs().end();
+    const bool finished = known && it->second.finished;
+    if (p_.conductor.on_uav_departed(id, now) && !finished) {
+      note(Kind::UavLost, Level::Warn,
+           text("uav ", id, " lost (liveliness) at tick ", known ? it->second.last.tick : 0U));
+    }
+    p_.rec.on_uav_departed(id);
+  }
+}
+
+void GroundIntake::on_target_events(const std::vector<core::TargetEventMsg>& events) {
+  for (const auto& e : events) {
+    p_.rec.on_target_event(e);
+    // Shao 2020 revisits (marks.hpp).
+    if (e.kind == static_cast<uint8_t>(core::TargetEventKind::RevisitDue)) p_.frames.revisit(e.cell, /*due=*/true);
+    if (e.kind == static_cast<uint8_t>(core::TargetEventKind::Revisited)) p_.frames.revisit(e.cell, /*due=*/false);
+  }
+}
+
+void GroundIntake::on_healths(const std::vector<core::HealthMsg>& healths, Clock::time_point now) {
+  for (const auto& h : healths) {
+    const auto owner_before = p_.rec.region_owner(h.region);
+    if (p_.rec.on_health(h)) {
+      note(Kind::PlaceBack, Level::Warn,
+           text("place agent ", h.region, h.replica > 0 ? text(" (standby ", h.replica, ")") : std::string(),
+                " is back at tick ", h.tick));
+    }
+    const auto owner = p_.rec.region_owner(h.region);
+    if (owner_before && owner && *owner < *owner_before) {
+      note(Kind::OwnerRegained, Level::Info, text("region ", h.region, ": replica ", *owner, " owns it again"));
+    }
+    p_.frames.heard_region(h.region, now);
+  }
+}
+
+void GroundIntake::on_fields(std::vector<core::FieldMsg>& fields, std::vector<core::TileMsg>& tiles, uint32_t ceiling) {
+  for (auto& f : fields) {
+    // A forged chunk must not enter the field nor the count of chunks the
+    // last tick waits for (RunBook::holds_last_fields).
+    if (auto reason = core::check_tick_reachable(f.tick, ceiling, "field")) {
+      refuse(core::Refusal::TickFarAhead, *reason);
+      continue;
+    }
+    const auto out_of_range = std::find_if(f.tiles.begin(), f.tiles.end(),
+                                           [&](const auto& t) { return core::check_tile_range(t, layer_ranges_); });
+    if (out_of_range != f.tiles.end()) {
+      refuse(core::Refusal::ValueOutOfRange, "a field chunk: " + *core::check_tile_range(*out_of_range, layer_ranges_));
+      continue;
+    }
+    p_.book.on_field_chunk(f.region, f.tick, f.chunk, f.chunks);
+    for (auto& t : f.tiles) tiles.push_back(std::move(t));
+  }
+}
+
+void GroundIntake::on_tiles(std::vector<core::TileMsg>& tiles, uint32_t ceiling) {
+  for (auto& t : tiles) {
+    if (auto reason = core::check_tile(t, geo_, layers_)) {
+      p_.rec.count_rejected_sample();
+      if (p_.rec.samples_rejected() <= 3) {
+        note(Kind::TileDropped, Level::Warn, text("dropped tile (", t.tile.tx, ",", t.tile.ty, "): ", *reason));
+      }
+      continue;
+    }
+    // Forged values must not reach the final field (plausibility.hpp).
+    if (auto reason = core::check_tick_reachable(t.tick, ceiling, "tile")) {
+      refuse(core::Refusal::TickFarAhead, *reason);
+      continue;
+    }
+    if (auto reason = core::check_tile_range(t, layer_ranges_)) {
+      refuse(core::Refusal::ValueOutOfRange, *reason);
+      continue;
+    }
+    auto& slot = tiles_[{t.layer, {t.tile.tx, t.tile.ty}}];
+    if (slot.values.empty() || t.tick >= slot.tick) slot = std::move(t);
+  }
+}
+
+void GroundIntake::on_departed_places(const std::vector<uint32_t>& gone) {
+  for (uint32_t id : gone) {
+    const core::RegionId r = core::place_id_region(id);
+    const uint16_t replica = core::place_id_replica(id);
+    auto it = p_.rec.replica_health().find(id);
+    const bool finished = it != p_.rec.replica_health().end() && it->second.finished;
+    p_.rec.on_place_departed(id);
+    if (finished) continue;
+    if (standby_ == Standby::Hot) p_.conductor.on_place_departed(id);
+    const std::string who = replica > 0 ? text("standby ", replica, " of region ", r) : text("place agent ", r);
+    if (auto owner = p_.rec.region_owner(r)) {
+      note(Kind::PlaceLost, Level::Warn,
+           text(who, " lost (liveliness); region ", r, " is served by ",
+                *owner == 0 ? std::string("its primary") : text("standby ", *owner)));
+    } else {
+      note(Kind::PlaceLost, Level::Warn,
+           text(who, " lost (liveliness); region ", r, " has no live place agent: deposits into it are lost"));
+    }
+  }
+}
+
+void GroundIntake::on_phase_dones(const std::vector<core::PhaseDoneMsg>& dones, Clock::time_point now) {
+  for (const auto& d : dones) {
+    p_.conductor.on_phase_done(d);
+    if (d.process >> 24U == core::kRoleUav) p_.conductor.heard_from(d.process & 0xFFFFFFU, now);
+  }
+}
+
+void GroundIntake::note_acquisitions() {
+  for (const auto& d : p_.rec.take_first_acquisitions()) {
+    p_.frames.target_found(d.target, d.uav, d.tick);
+    note(Kind::TargetAcquired, Level::Info,
+         text("target ", d.target, " at (", d.cell.x, ",", d.cell.y, ") first acquired by uav ", d.uav, " at tick ",
+              d.tick, " (", p_.rec.acquisitions().found(), "/", p_.world.targets().size(), ")"));
+  }
+}
+
+void GroundIntake::refuse(core::Refusal r, const std::string& what) {
+  p_.rec.count_refused(r);
+  if (p_.rec.refused().total() <= 5) {
+    note(Kind::SampleRefused, Level::Warn, text("refused ", what, " (", core::refusal_name(r), ")"));
+  }
+}
+
+void GroundIntake::note(IntakeNote::Kind kind, IntakeNote::Level level, std::string line) {
+  notes_.push_back({kind, level, std::move(line)});
+}
+
+}  // namespace pheromesh::console

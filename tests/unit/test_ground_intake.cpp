@@ -1,0 +1,330 @@
+// The ground station's intake of received samples (console/ground_intake.hpp):
+// each kind checked, refused or dropped with a count, and handed to the
+// recorder, the conductor, the run book and the frame builder; the notes the
+// ground station logs. No DDS: samples are built by hand, time is driven by
+// hand. The scenario is small-test (30x30 cells, tiles of 6, 2x2 regions,
+// 4 UAVs starting in (1,1)-(4,4), 3 targets, the first at (22,8)).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "pheromesh/console/ground_intake.hpp"
+#include "pheromesh/core/scenario.hpp"
+
+namespace pheromesh::console {
+namespace {
+
+using namespace std::chrono_literals;
+using Clock = GroundIntake::Clock;
+using Kind = IntakeNote::Kind;
+using Notes = GroundIntake::Notes;
+
+const Clock::time_point t0 = Clock::time_point{} + 1000s;
+constexpr uint32_t kUnlimited = std::numeric_limits<uint32_t>::max();
+
+struct Rig {
+  core::ScenarioConfig scenario;
+  core::MapGeometry geo{1, 1, 1, 1, 1};
+  std::unique_ptr<core::World> world;
+  std::unique_ptr<core::RunRecorder> rec;
+  std::unique_ptr<core::LockstepConductor> conductor;
+  std::unique_ptr<core::RunBook> book;
+  std::unique_ptr<FrameBuilder> frames;
+  std::unique_ptr<GroundIntake> intake;
+
+  explicit Rig(GroundIntake::Standby standby = GroundIntake::Standby::None) {
+    auto s = core::load_scenario(std::string(PHEROMESH_SOURCE_DIR) + "/scenarios/small-test.textproto");
+    EXPECT_TRUE(s.ok());
+    scenario = s.value();
+    geo = scenario.geometry();
+    world = std::make_unique<core::World>(geo, scenario.obstacles, scenario.targets);
+    rec = std::make_unique<core::RunRecorder>(scenario, *world);
+    core::LockstepConductor::Options c;
+    c.uavs = scenario.uavs;
+    c.regions = geo.region_count();
+    c.departed_grace = 5s;
+    c.standbys = standby == GroundIntake::Standby::Hot ? 1 : 0;
+    conductor = std::make_unique<core::LockstepConductor>(c);
+    core::RunBook::Options b;
+    b.role = core::RunBook::Role::Conductor;
+    b.uavs = scenario.uavs;
+    b.regions = geo.region_count();
+    book = std::make_unique<core::RunBook>(b);
+    frames = std::make_unique<FrameBuilder>(geo);
+    intake = std::make_unique<GroundIntake>(scenario, GroundIntake::Parts{*rec, *conductor, *book, *frames, *world},
+                                            standby);
+  }
+  Notes take(GroundSamples s, uint32_t ceiling = kUnlimited, Clock::time_point now = t0) {
+    return intake->take(s, ceiling, now);
+  }
+};
+
+GroundSamples states(std::vector<core::UavStateMsg> v) {
+  GroundSamples s;
+  s.states = std::move(v);
+  return s;
+}
+
+core::UavStateMsg state(uint32_t uav, uint32_t tick, double x = 2, double y = 2) {
+  core::UavStateMsg s;
+  s.uav = uav;
+  s.tick = tick;
+  s.x = x;
+  s.y = y;
+  return s;
+}
+
+core::UavStateMsg finished(uint32_t uav, uint32_t tick) {
+  auto s = state(uav, tick);
+  s.finished = true;
+  return s;
+}
+
+// A tile of layer 0 with every value `v`.
+core::TileMsg tile(int32_t tx, int32_t ty, uint32_t tick, float v) {
+  core::TileMsg t;
+  t.tile = {tx, ty};
+  t.tick = tick;
+  t.width = 6;
+  t.height = 6;
+  t.values.assign(36, v);
+  return t;
+}
+
+core::FieldMsg chunk(core::RegionId r, uint32_t tick, uint16_t chunk, uint16_t chunks) {
+  core::FieldMsg f;
+  f.region = r;
+  f.tick = tick;
+  f.chunk = chunk;
+  f.chunks = chunks;
+  return f;
+}
+
+core::HealthMsg health(core::RegionId r, uint16_t replica, uint32_t tick = 10) {
+  core::HealthMsg h;
+  h.region = r;
+  h.replica = replica;
+  h.tick = tick;
+  return h;
+}
+
+std::vector<std::string> texts(const Notes& notes, Kind kind) {
+  std::vector<std::string> out;
+  for (const auto& n : notes) {
+    if (n.kind == kind) out.push_back(n.text);
+  }
+  return out;
+}
+
+using Texts = std::vector<std::string>;
+
+TEST(GroundIntake, AStateOfAUavOutsideTheSwarmIsRefusedAsUnknownAndNobodyHearsOfIt) {
+  Rig rig;
+  const Notes notes = rig.take(states({state(4, 1, 2.5, 2)}));
+  EXPECT_EQ(rig.rec->refused()[core::Refusal::UnknownUav], 1U);
+  EXPECT_EQ(texts(notes, Kind::StateRefused), Texts{"refused state of uav 4 at tick 1 (2.5, 2): implausible"});
+  EXPECT_EQ(rig.frames->uavs_heard(), 0U);
+  EXPECT_TRUE(rig.rec->uavs().empty());
+}
+
+TEST(GroundIntake, MalformedStatesAreReportedAsDroppedThreeTimesAndNeverAsImplausible) {
+  Rig rig;
+  std::vector<core::UavStateMsg> outside;
+  for (uint32_t u = 0; u < 4; ++u) outside.push_back(state(u, 1, -5, 2));  // west of the map
+  outside.push_back(state(0, 1, 2, 31));                                   // south of it
+  const Notes notes = rig.take(states(outside));
+  EXPECT_EQ(rig.rec->samples_rejected(), 5U);
+  EXPECT_EQ(rig.rec->refused().total(), 0U);
+  EXPECT_EQ(texts(notes, Kind::StateDropped),
+            (Texts{"dropped state of uav 0", "dropped state of uav 1", "dropped state of uav 2"}));
+  EXPECT_TRUE(texts(notes, Kind::StateRefused).empty()) << "a malformed state is not an implausible one";
+}
+
+TEST(GroundIntake, ATileTwoTicksAheadOfTheLockstepClockIsRefusedAsTickFarAhead) {
+  Rig rig;
+  GroundSamples s;
+  s.tiles = {tile(0, 0, 6, 1.0F), tile(1, 0, 5, 2.0F)};
+  const Notes notes = rig.take(std::move(s), core::lockstep_tick_ceiling(4));
+  EXPECT_EQ(rig.rec->refused()[core::Refusal::TickFarAhead], 1U);
+  ASSERT_EQ(texts(notes, Kind::SampleRefused).size(), 1U);
+  EXPECT_NE(texts(notes, Kind::SampleRefused)[0].find("(tick_far_ahead)"), std::string::npos) << notes[0].text;
+  EXPECT_EQ(rig.intake->tiles().size(), 1U) << "tick 5, one ahead of clock 4, is reachable";
+  EXPECT_TRUE(std::isnan(rig.intake->field_value(0, {0, 0})));
+  EXPECT_EQ(rig.intake->field_value(0, {6, 0}), 2.0F);
+}
+
+TEST(GroundIntake, ANewerTileReplacesTheFieldValueAndAnOlderOneDoesNot) {
+  Rig rig;
+  GroundSamples s;
+  auto newer = tile(1, 0, 3, 1.0F);
+  newer.values[13] = 4.5F;  // cell (7,2): row 2, column 1 of the tile at (6,0)
+  s.tiles = {newer, tile(1, 0, 2, 7.0F)};
+  rig.take(std::move(s));
+  EXPECT_EQ(rig.intake->field_value(0, {7, 2}), 4.5F);
+  EXPECT_EQ(rig.intake->field_value(0, {6, 0}), 1.0F);
+  EXPECT_TRUE(std::isnan(rig.intake->field_value(1, {7, 2}))) << "no tile of layer 1 arrived";
+}
+
+TEST(GroundIntake, ATileOutOfItsLayersRangeIsRefusedAndAMalformedOneDropped) {
+  Rig rig;
+  GroundSamples s;
+  auto narrow = tile(0, 0, 1, 0.0F);
+  narrow.width = 5;
+  s.tiles = {tile(0, 1, 1, -1.0F), narrow};
+  const Notes notes = rig.take(std::move(s));
+  EXPECT_EQ(rig.rec->refused()[core::Refusal::ValueOutOfRange], 1U);
+  EXPECT_EQ(rig.rec->samples_rejected(), 1U);
+  EXPECT_EQ(texts(notes, Kind::TileDropped), Texts{"dropped tile (0,0): tile size 5x6 does not match 6x6"});
+  EXPECT_TRUE(rig.intake->tiles().empty());
+}
+
+TEST(GroundIntake, AFieldChunkCountsTowardsTheLastFieldOnlyWhenEveryChunkOfItsTickArrivedAndIsPlausible) {
+  Rig rig;
+  GroundSamples first;
+  for (core::RegionId r = 0; r < 4; ++r) first.fields.push_back(chunk(r, 3, 0, 2));
+  first.fields[0].tiles = {tile(0, 0, 3, 1.5F)};
+  rig.take(std::move(first), core::lockstep_tick_ceiling(3));
+  EXPECT_FALSE(rig.book->holds_last_fields(3, *rig.conductor)) << "chunk 1 of 2 missing everywhere";
+  EXPECT_EQ(rig.intake->field_value(0, {0, 0}), 1.5F) << "a field's tiles reach the final field";
+
+  GroundSamples forged;
+  for (core::RegionId r = 0; r < 4; ++r) forged.fields.push_back(chunk(r, 3, 1, 2));
+  forged.fields[0].tick = 9;                        // far ahead of clock 3
+  forged.fields[1].tiles = {tile(4, 0, 3, -2.0F)};  // out of range
+  rig.take(std::move(forged), core::lockstep_tick_ceiling(3));
+  EXPECT_EQ(rig.rec->refused()[core::Refusal::TickFarAhead], 1U);
+  EXPECT_EQ(rig.rec->refused()[core::Refusal::ValueOutOfRange], 1U);
+  EXPECT_FALSE(rig.book->holds_last_fields(3, *rig.conductor)) << "regions 0 and 1 sent refused chunks only";
+
+  GroundSamples rest;
+  rest.fields = {chunk(0, 3, 1, 2), chunk(1, 3, 1, 2)};
+  rig.take(std::move(rest), core::lockstep_tick_ceiling(3));
+  EXPECT_TRUE(rig.book->holds_last_fields(3, *rig.conductor));
+}
+
+TEST(GroundIntake, AFinishedUavsLastStateDoesNotCountAsBackButAFlyingOnesDoes) {
+  Rig rig;
+  rig.take(states({state(0, 10), state(1, 10)}));
+  GroundSamples gone;
+  gone.departed_uavs = {0, 1, 9};  // 9: a forger's writer, no UAV
+  const Notes lost = rig.take(std::move(gone));
+  EXPECT_EQ(texts(lost, Kind::UavLost),
+            (Texts{"uav 0 lost (liveliness) at tick 10", "uav 1 lost (liveliness) at tick 10"}));
+  const Notes back = rig.take(states({finished(0, 11), state(1, 11)}));
+  EXPECT_EQ(texts(back, Kind::UavBack), Texts{"uav 1 is back at tick 11"});
+  EXPECT_FALSE(rig.conductor->departed(0)) << "the conductor takes the finished UAV's state as its end, not a loss";
+  GroundSamples again;
+  again.departed_uavs = {0};
+  EXPECT_TRUE(texts(rig.take(std::move(again)), Kind::UavLost).empty()) << "a finished UAV that leaves is not lost";
+}
+
+TEST(GroundIntake, ADepartedPlaceReplicaIsReportedWithTheReplicaThatServesItsRegionNow) {
+  Rig rig;
+  GroundSamples heard;
+  heard.healths = {health(0, 0), health(0, 1), health(1, 0), health(1, 1), health(2, 0), health(3, 0)};
+  heard.healths.back().finished = true;
+  rig.take(std::move(heard));
+  EXPECT_EQ(rig.frames->regions_heard(), 4U);
+  GroundSamples gone;
+  gone.departed_places = {core::place_id(0, 1), core::place_id(1, 0), core::place_id(2, 0), core::place_id(3, 0)};
+  const Notes notes = rig.take(std::move(gone));
+  EXPECT_EQ(texts(notes, Kind::PlaceLost),
+            (Texts{"standby 1 of region 0 lost (liveliness); region 0 is served by its primary",
+                   "place agent 1 lost (liveliness); region 1 is served by standby 1",
+                   "place agent 2 lost (liveliness); region 2 has no live place agent: deposits into it are lost"}))
+      << "region 3's place agent finished before it left";
+  EXPECT_TRUE(rig.rec->place_departed(core::place_id(3, 0)));
+}
+
+TEST(GroundIntake, WithHotStandbysALostReplicaIsNoLongerWaitedForInAPlacePhase) {
+  Rig rig(GroundIntake::Standby::Hot);
+  rig.conductor->begin_phase(0, core::ClockPhase::Place, t0);
+  EXPECT_EQ(rig.conductor->status(t0).waiting, 8U) << "4 regions, a primary and a standby each";
+  GroundSamples gone;
+  gone.departed_places = {core::place_id(2, 1)};
+  rig.take(std::move(gone));
+  EXPECT_EQ(rig.conductor->status(t0).waiting, 7U);
+}
+
+TEST(GroundIntake, APlaceReplicaHeardAgainIsBackAndTheLowerReplicaOwnsItsRegionAgain) {
+  Rig rig;
+  GroundSamples heard;
+  heard.healths = {health(0, 0), health(0, 1)};
+  rig.take(std::move(heard));
+  GroundSamples gone;
+  gone.departed_places = {core::place_id(0, 0)};
+  rig.take(std::move(gone));
+  EXPECT_EQ(rig.rec->region_owner(0), std::optional<uint16_t>(1));
+  GroundSamples primary;
+  primary.healths = {health(0, 0, 12)};
+  const Notes notes = rig.take(std::move(primary));
+  EXPECT_EQ(texts(notes, Kind::PlaceBack), Texts{"place agent 0 is back at tick 12"});
+  EXPECT_EQ(texts(notes, Kind::OwnerRegained), Texts{"region 0: replica 0 owns it again"});
+  GroundSamples standby_gone;
+  standby_gone.departed_places = {core::place_id(0, 1)};
+  rig.take(std::move(standby_gone));
+  GroundSamples standby;
+  standby.healths = {health(0, 1, 13)};
+  const Notes again = rig.take(std::move(standby));
+  EXPECT_EQ(texts(again, Kind::PlaceBack), Texts{"place agent 0 (standby 1) is back at tick 13"});
+  EXPECT_TRUE(texts(again, Kind::OwnerRegained).empty()) << "the primary owned region 0 throughout";
+}
+
+TEST(GroundIntake, ABroadcastOfAUavOutsideTheSwarmIsRefusedAndOneOfAnUnknownKindRejected) {
+  Rig rig;
+  GroundSamples s;
+  s.broadcasts = {{7, 1, 0, {}}, {0, 1, 99, {}}, {1, 1, 0, {1.0, 2.0}}};
+  const Notes notes = rig.take(std::move(s));
+  EXPECT_EQ(texts(notes, Kind::SampleRefused), Texts{"refused a broadcast of uav 7 (unknown_uav)"});
+  EXPECT_EQ(rig.rec->refused()[core::Refusal::UnknownUav], 1U);
+  EXPECT_EQ(rig.rec->samples_rejected(), 1U);
+}
+
+TEST(GroundIntake, OnlyTheFirstFiveRefusalsAreNotedAndEveryOneIsCounted) {
+  Rig rig;
+  GroundSamples s;
+  for (uint32_t k = 0; k < 7; ++k) s.broadcasts.push_back({10 + k, 1, 0, {}});
+  const Notes notes = rig.take(std::move(s));
+  EXPECT_EQ(texts(notes, Kind::SampleRefused).size(), 5U);
+  EXPECT_EQ(rig.rec->refused()[core::Refusal::UnknownUav], 7U);
+}
+
+TEST(GroundIntake, APhaseDoneOfADepartedUavIsASignOfLifeThatHoldsOffItsDrop) {
+  Rig rig;
+  rig.take(states({state(0, 10), state(1, 10)}), kUnlimited, t0);
+  GroundSamples gone;
+  gone.departed_uavs = {0, 1};
+  rig.take(std::move(gone), kUnlimited, t0);
+  GroundSamples done;
+  done.phase_dones = {{core::process_key(core::kRoleUav, 0), 10, static_cast<uint8_t>(core::ClockPhase::Uav), 0, {}}};
+  rig.take(std::move(done), kUnlimited, t0 + 4s);
+  EXPECT_FALSE(rig.conductor->gone_for_good(0, t0 + 6s)) << "heard 2 s ago, grace 5 s";
+  EXPECT_TRUE(rig.conductor->gone_for_good(1, t0 + 6s)) << "silent for 6 s since it left";
+}
+
+TEST(GroundIntake, TheFirstDetectionOfATargetIsNotedWithHowManyOfTheTargetsAreFound) {
+  Rig rig;
+  rig.take(states({state(0, 100, 22, 8), state(1, 100, 22, 9)}));
+  GroundSamples s;
+  s.detections = {{0, 100, 0, {22, 8}}, {1, 100, 0, {22, 8}}};
+  const Notes notes = rig.take(std::move(s));
+  EXPECT_EQ(texts(notes, Kind::TargetAcquired), Texts{"target 0 at (22,8) first acquired by uav 0 at tick 100 (1/3)"});
+  EXPECT_TRUE(rig.intake->judge_pending().empty()) << "nothing was waiting";
+}
+
+TEST(GroundIntake, ADetectionAheadOfItsUavsStateIsJudgedAtTheEndOfTheRun) {
+  Rig rig;
+  rig.take(states({state(0, 100, 22, 8)}));
+  GroundSamples s;
+  s.detections = {{0, 101, 0, {22, 8}}};
+  EXPECT_TRUE(texts(rig.take(std::move(s)), Kind::TargetAcquired).empty()) << "waits for the state of tick 101";
+  EXPECT_EQ(texts(rig.intake->judge_pending(), Kind::TargetAcquired),
+            Texts{"target 0 at (22,8) first acquired by uav 0 at tick 101 (1/3)"});
+}
+
+}  // namespace
+}  // namespace pheromesh::console
