@@ -302,7 +302,7 @@ int offend(bus::Bus& b, const std::string& what, double linger_s) {
     if (what == "tile") {
       written = b.publish_tile({0, {0, 0}, 7, 0, 1, 1, {42.0F}});
     } else if (what == "clock") {
-      written = b.publish_clock({7, 0, 0, {}, {}, {}});
+      written = b.publish_clock({7, 0, 0, {}, {}, {}, {}});
     } else {
       std::fprintf(stderr, "unknown --topic %s\n", what.c_str());
       return 2;

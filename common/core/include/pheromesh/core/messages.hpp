@@ -198,6 +198,11 @@ struct ClockMsg {
   // "kill place:R @kt"), from the tick it was killed at: no one waits for
   // their field, halo or views; their field stays as it was (frozen).
   std::vector<RegionId> absent;
+  // Place phase k: how many UAV states of tick k each region's place agent
+  // must hold before it composes the views (its home UAVs that took part in
+  // UAV phase k). It waits for these exact samples instead of the UAVs
+  // waiting for acknowledgements.
+  std::vector<RegionCount> states;
   // Not on the wire: who wrote the sample, as the receiving bus identifies
   // the DDS writer (Cyclone: its publication handle; Fast DDS: its GUID,
   // folded). A forger can copy every field but not this (plausibility.hpp).
