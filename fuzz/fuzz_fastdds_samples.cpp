@@ -1,9 +1,10 @@
 // Fuzz harness: a sample as it arrives from the network at a Fast DDS reader
 // of pheromesh — serialized bytes (CDR encapsulation + body) -> fastddsgen's
 // deserialize into the generated type (what the DataReader runs before take)
-// -> the bus's conversion and structure checks (common/bus/src/
-// fastdds_samples.hpp: Convert<M>::in, the code the Fast DDS transport's take runs) -> the core's
-// semantic checks, against the small-test map (30 x 30, 2 x 2 regions).
+// -> the bus's conversion and structure checks (Convert<M>::in in
+// common/bus/src/fastdds_samples.hpp, the code the Fast DDS transport's take
+// runs) -> the core's semantic checks, against the small-test map (30 x 30,
+// 2 x 2 regions).
 // The first input byte picks the topic type, the rest is the payload.
 //
 // With PHEROMESH_FUZZ_WRITE_SEEDS=DIR, the harness first writes one

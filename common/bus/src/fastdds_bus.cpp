@@ -238,8 +238,8 @@ fdds::TypeSupport type_support() {
 
 class FastDdsTransport;
 
-// What the transport does with one message type M: registering its type
-// support, writing and taking through fastdds_samples::Convert<M>.
+// What the transport does with one message type M: writing and taking
+// through fastdds_samples::Convert<M> (register_types registers every type).
 struct Codec {
   bool (*write)(FastDdsTransport& t, fdds::DataWriter* writer, const void* message) = nullptr;
   void (*take)(FastDdsTransport& t, fdds::DataReader* reader, TakeSink& sink) = nullptr;

@@ -61,7 +61,8 @@ template <>
 struct Topic<core::TileMsg> {
   static constexpr TopicKind kind = TopicKind::Tile;
   static uint64_t key(const core::TileMsg& m) {
-    return detail::pack(m.layer, static_cast<uint64_t>(m.tile.tx) << 16U | (m.tile.ty & 0xFFFFU));
+    return detail::pack(
+        m.layer, (static_cast<uint64_t>(static_cast<uint16_t>(m.tile.tx)) << 16U) | static_cast<uint16_t>(m.tile.ty));
   }
   static std::string partition(const core::TileMsg& m) { return routing::tile_partition(m.tile); }
   static BoundCheck oversize(const core::TileMsg& m) {
