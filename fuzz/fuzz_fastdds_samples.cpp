@@ -1,9 +1,10 @@
 // Fuzz harness: a sample as it arrives from the network at a Fast DDS reader
 // of pheromesh — serialized bytes (CDR encapsulation + body) -> fastddsgen's
 // deserialize into the generated type (what the DataReader runs before take)
-// -> the bus's conversion and structure checks (common/bus/src/
-// fastdds_samples.hpp, the code FastDdsBus::take_* runs) -> the core's
-// semantic checks, against the small-test map (30 x 30, 2 x 2 regions).
+// -> the bus's conversion and structure checks (Convert<M>::in in
+// common/bus/src/fastdds_samples.hpp, the code the Fast DDS transport's take
+// runs) -> the core's semantic checks, against the small-test map (30 x 30,
+// 2 x 2 regions).
 // The first input byte picks the topic type, the rest is the payload.
 //
 // With PHEROMESH_FUZZ_WRITE_SEEDS=DIR, the harness first writes one
@@ -187,87 +188,89 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, std::size_t size) {
     case 0: {
       msg::Deposit s;
       if (!deserialize<msg::DepositPubSubType>(p, n, s)) return 0;
-      const core::DepositMsg d = in::deposit_in(s);
-      (void)core::check_deposit(d, kGeo, d.region < kGeo.region_count() ? d.region : 0, kLayers);
+      if (auto d = in::Convert<core::DepositMsg>::in(s)) {
+        (void)core::check_deposit(*d, kGeo, d->region < kGeo.region_count() ? d->region : 0, kLayers);
+      }
       break;
     }
     case 1: {
       msg::TileState s;
       if (!deserialize<msg::TileStatePubSubType>(p, n, s)) return 0;
-      if (auto t = in::tile_in(s)) (void)core::check_tile(*t, kGeo, kLayers);
+      if (auto t = in::Convert<core::TileMsg>::in(s)) (void)core::check_tile(*t, kGeo, kLayers);
       break;
     }
     case 2: {
       msg::UavState s;
       if (!deserialize<msg::UavStatePubSubType>(p, n, s)) return 0;
-      (void)core::check_uav_state(in::state_in(s), kGeo);
+      if (auto u = in::Convert<core::UavStateMsg>::in(s)) (void)core::check_uav_state(*u, kGeo);
       break;
     }
     case 3: {
       msg::RegionField s;
       if (!deserialize<msg::RegionFieldPubSubType>(p, n, s)) return 0;
-      if (auto f = in::field_in(s)) check_nested(f->tiles, f->uavs);
+      if (auto f = in::Convert<core::FieldMsg>::in(s)) check_nested(f->tiles, f->uavs);
       break;
     }
     case 4: {
       msg::View s;
       if (!deserialize<msg::ViewPubSubType>(p, n, s)) return 0;
-      if (auto v = in::view_in(s)) check_nested(v->tiles, v->uavs);
+      if (auto v = in::Convert<core::ViewMsg>::in(s)) check_nested(v->tiles, v->uavs);
       break;
     }
     case 5: {
       msg::Halo s;
       if (!deserialize<msg::HaloPubSubType>(p, n, s)) return 0;
-      if (auto h = in::halo_in(s)) (void)core::check_halo(*h, kGeo);
+      if (auto h = in::Convert<core::HaloMsg>::in(s)) (void)core::check_halo(*h, kGeo);
       break;
     }
     case 6: {
       msg::Broadcast s;
       if (!deserialize<msg::BroadcastPubSubType>(p, n, s)) return 0;
-      if (auto b = in::broadcast_in(s)) (void)core::check_broadcast(*b);
+      if (auto b = in::Convert<core::BroadcastMsg>::in(s)) (void)core::check_broadcast(*b);
       break;
     }
     case 7: {
       msg::ClockCommand s;
       if (!deserialize<msg::ClockCommandPubSubType>(p, n, s)) return 0;
-      (void)in::clock_in(s);
+      (void)in::Convert<core::ClockMsg>::in(s);
       break;
     }
     case 8: {
       msg::PhaseDone s;
       if (!deserialize<msg::PhaseDonePubSubType>(p, n, s)) return 0;
-      (void)in::phase_done_in(s);
+      (void)in::Convert<core::PhaseDoneMsg>::in(s);
       break;
     }
     case 9: {
       msg::RunScenario s;
       if (!deserialize<msg::RunScenarioPubSubType>(p, n, s)) return 0;
       // A monitor (pheromesh attach) runs the scenario it receives.
-      if (auto m = in::scenario_in(s)) (void)core::parse_scenario(m->text, "RunScenario");
+      if (auto m = in::Convert<core::ScenarioMsg>::in(s)) (void)core::parse_scenario(m->text, "RunScenario");
       break;
     }
     case 10: {
       msg::Command s;
       if (!deserialize<msg::CommandPubSubType>(p, n, s)) return 0;
-      (void)in::command_in(s);
+      (void)in::Convert<core::CommandMsg>::in(s);
       break;
     }
     case 11: {
       msg::Detection s;
       if (!deserialize<msg::DetectionPubSubType>(p, n, s)) return 0;
-      (void)in::detection_in(s);
+      (void)in::Convert<core::DetectionMsg>::in(s);
       break;
     }
     case 12: {
       msg::TargetEvent s;
       if (!deserialize<msg::TargetEventPubSubType>(p, n, s)) return 0;
-      (void)core::to_string(static_cast<core::TargetEventKind>(in::target_event_in(s).kind));
+      if (auto e = in::Convert<core::TargetEventMsg>::in(s))
+        (void)core::to_string(static_cast<core::TargetEventKind>(e->kind));
       break;
     }
     case 13: {
       msg::PlaceHealth s;
       if (!deserialize<msg::PlaceHealthPubSubType>(p, n, s)) return 0;
-      (void)in::health_in(s);
+      (void)in::Convert<core::HealthMsg>::in(s);
       break;
     }
     default: {

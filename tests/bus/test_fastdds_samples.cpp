@@ -59,14 +59,15 @@ TEST(FastDdsSamples, AWellFormedDepositDeserializesAndConverts) {
   msg::Deposit out;
   SafePubSub<msg::DepositPubSubType> type;
   ASSERT_TRUE(type.deserialize(&payload, &out));
-  const core::DepositMsg d = deposit_in(out);
-  EXPECT_EQ(d.uav, 3U);
-  EXPECT_EQ(d.seq, 7U);
-  EXPECT_EQ(d.region, 1U);
-  EXPECT_EQ(d.kind, 2);
-  EXPECT_EQ(d.cell.x, 12);
-  EXPECT_EQ(d.cell.y, -4);
-  EXPECT_FLOAT_EQ(d.amount, 0.5F);
+  const auto d = Convert<core::DepositMsg>::in(out);
+  ASSERT_TRUE(d.has_value());
+  EXPECT_EQ(d->uav, 3U);
+  EXPECT_EQ(d->seq, 7U);
+  EXPECT_EQ(d->region, 1U);
+  EXPECT_EQ(d->kind, 2);
+  EXPECT_EQ(d->cell.x, 12);
+  EXPECT_EQ(d->cell.y, -4);
+  EXPECT_FLOAT_EQ(d->amount, 0.5F);
 }
 
 }  // namespace

@@ -1,29 +1,251 @@
+// The role wiring of the bus, once for every transport: which endpoints a
+// UAV, a place agent, the ground station and the conductor open, and the
+// thin publish_* / take_* wrappers of those typed endpoints.
 #include "pheromesh/bus/bus.hpp"
 
-#include <cstdlib>
+#include <spdlog/spdlog.h>
 
-#include "cyclone_bus.hpp"
-#include "fastdds_bus.hpp"
+#include <algorithm>
+#include <optional>
+#include <utility>
+
+#include "pheromesh/bus/routing.hpp"
+#include "pheromesh/bus/typed.hpp"
 
 namespace pheromesh::bus {
 
-std::vector<std::string> available_vendors() { return {"cyclone", "fastdds"}; }
+using namespace routing;  // NOLINT: partition names
 
-std::string default_vendor() {
-  if (const char* v = std::getenv("PHEROMESH_DDS"); v != nullptr && *v != '\0') return v;
-  return "cyclone";
+struct Bus::Roles {
+  explicit Roles(Bus& b)
+      : tiles(b),
+        deposits(b),
+        states(b),
+        views(b),
+        fields(b),
+        detections(b),
+        events(b),
+        health(b),
+        halos(b),
+        broadcasts(b),
+        clock(b),
+        phase_done(b),
+        commands(b),
+        scenarios(b) {}
+
+  Writer<core::TileMsg> tiles;
+  Writer<core::DepositMsg> deposits;
+  Writer<core::UavStateMsg> states;
+  Writer<core::ViewMsg> views;
+  Writer<core::FieldMsg> fields;
+  Writer<core::DetectionMsg> detections;
+  Writer<core::TargetEventMsg> events;
+  Writer<core::HealthMsg> health;
+  Writer<core::HaloMsg> halos;
+  Writer<core::BroadcastMsg> broadcasts;
+  Writer<core::ClockMsg> clock;
+  Writer<core::PhaseDoneMsg> phase_done;
+  Writer<core::CommandMsg> commands;
+  Writer<core::ScenarioMsg> scenarios;
+
+  std::optional<core::RegionId> home;  // a UAV's home place agent (join_uav)
+
+  std::optional<Reader<core::ViewMsg>> view_in;
+  std::optional<Reader<core::FieldMsg>> field_in;
+  std::optional<Reader<core::UavStateMsg>> home_states_in, ground_states_in;
+  std::optional<Reader<core::DepositMsg>> deposit_in;
+  std::optional<Reader<core::HaloMsg>> halo_in;
+  std::optional<Reader<core::TileMsg>> tile_in;
+  std::optional<Reader<core::DetectionMsg>> detection_in;
+  std::optional<Reader<core::TargetEventMsg>> event_in;
+  std::optional<Reader<core::HealthMsg>> health_in;
+  std::optional<Reader<core::ClockMsg>> clock_in;
+  std::optional<Reader<core::PhaseDoneMsg>> done_in;
+  std::optional<Reader<core::BroadcastMsg>> broadcast_in;
+  std::optional<Reader<core::CommandMsg>> command_in;
+  std::optional<Reader<core::ScenarioMsg>> scenario_in;
+
+  std::vector<uint32_t> departed_uavs;
+  std::vector<uint32_t> departed_regions;  // core::place_id
+};
+
+Bus::Bus(std::unique_ptr<Transport> transport)
+    : transport_(std::move(transport)), roles_(std::make_unique<Roles>(*this)) {}
+
+// The roles' endpoints before the transport that made them.
+Bus::~Bus() { roles_.reset(); }
+
+std::string Bus::vendor() const { return transport_->vendor(); }
+
+bool Bus::refuse(const Oversize& o) {
+  ++writes_refused_;
+  spdlog::default_logger()->warn("refusing to write {} with {} elements: over the IDL bound", o.what, o.n);
+  return false;
 }
 
-core::Result<std::unique_ptr<Bus>> make_bus(const std::string& vendor, const BusOptions& options) {
-  if (vendor == "cyclone") return make_cyclone_bus(options);
-  if (vendor == "fastdds") return make_fastdds_bus(options);
-  std::string known;
-  for (const auto& v : available_vendors()) known += (known.empty() ? "" : ", ") + v;
-  if (vendor == "mixed") {
-    return core::Error{"DDS vendor 'mixed' is for pheromesh run, which gives each process one vendor; a process takes one of: " +
-                       known};
+void Bus::opened(TopicKind kind, Endpoint endpoint, EndpointId id) {
+  (endpoint == Endpoint::Writer ? writers_ : readers_).emplace_back(kind, id);
+}
+
+BusStats Bus::stats() const {
+  BusStats s = transport_->stats();
+  s.writes_refused += writes_refused_;
+  return s;
+}
+
+// ------------------------------------------------------------------ publish
+bool Bus::publish_tile(const core::TileMsg& m) { return roles_->tiles.write(m); }
+bool Bus::publish_deposit(const core::DepositMsg& m, core::RegionId via) {
+  return roles_->deposits.write(m, region_partition(via));
+}
+bool Bus::publish_uav_state(const core::UavStateMsg& m) {
+  if (!roles_->home) throw BusMisuse("publish_uav_state before join_uav");
+  return roles_->states.write(m, home_partition(*roles_->home));
+}
+bool Bus::publish_view(const core::ViewMsg& m) { return roles_->views.write(m); }
+bool Bus::publish_field(const core::FieldMsg& m) { return roles_->fields.write(m); }
+bool Bus::publish_detection(const core::DetectionMsg& m) { return roles_->detections.write(m); }
+bool Bus::publish_target_event(const core::TargetEventMsg& m) { return roles_->events.write(m); }
+bool Bus::publish_health(const core::HealthMsg& m) { return roles_->health.write(m); }
+bool Bus::publish_halo(const core::HaloMsg& m) { return roles_->halos.write(m); }
+bool Bus::publish_broadcast(const core::BroadcastMsg& m) { return roles_->broadcasts.write(m); }
+bool Bus::publish_clock(const core::ClockMsg& m) { return roles_->clock.write(m); }
+bool Bus::publish_phase_done(const core::PhaseDoneMsg& m) { return roles_->phase_done.write(m); }
+bool Bus::publish_command(const core::CommandMsg& m) { return roles_->commands.write(m); }
+bool Bus::publish_scenario(const core::ScenarioMsg& m) { return roles_->scenarios.write(m); }
+
+// ------------------------------------------------------------------- roles
+void Bus::join_uav(uint32_t uav, core::RegionId home, bool broadcasts) {
+  roles_->home = home;
+  roles_->states.offer(home_partition(home));
+  roles_->deposits.offer(region_partition(home));
+  roles_->detections.offer(kGroundPartition);
+  if (broadcasts) roles_->broadcasts.offer(kBroadcastPartition);
+  roles_->view_in.emplace(*this, std::vector<std::string>{view_partition(uav)});
+}
+
+void Bus::subscribe_deposits(core::RegionId own) {
+  roles_->deposit_in.emplace(*this, std::vector<std::string>{region_partition(own)});
+}
+
+void Bus::subscribe_home_states(core::RegionId own) {
+  // The home place agent's reader of the UAVs' state writers: its own QoS row.
+  roles_->home_states_in.emplace(*this, std::vector<std::string>{home_partition(own)}, TopicKind::UavHome);
+}
+
+void Bus::subscribe_fields() { roles_->field_in.emplace(*this, std::vector<std::string>{kFieldPartition}); }
+
+void Bus::offer_views(std::span<const uint32_t> uavs) {
+  for (uint32_t u : uavs) roles_->views.offer(view_partition(u));
+}
+
+void Bus::subscribe_halos(std::span<const core::RegionId> neighbours) {
+  std::vector<std::string> parts;
+  for (auto r : neighbours) parts.push_back(halo_partition(r));
+  if (!parts.empty()) roles_->halo_in.emplace(*this, parts);
+}
+
+void Bus::subscribe_ground() {
+  const std::vector<std::string> ground{kGroundPartition};
+  roles_->tile_in.emplace(*this, std::vector<std::string>{kAllTiles});
+  roles_->ground_states_in.emplace(*this, std::vector<std::string>{kAllHomes}, TopicKind::UavState,
+                                   Watch::SamplesAndDepartures);
+  roles_->detection_in.emplace(*this, ground);
+  roles_->event_in.emplace(*this, ground);
+  roles_->health_in.emplace(*this, ground, TopicKind::Health, Watch::SamplesAndDepartures);
+  subscribe_fields();
+}
+
+void Bus::subscribe_broadcasts() { roles_->broadcast_in.emplace(*this, std::vector<std::string>{kBroadcastPartition}); }
+void Bus::subscribe_clock() { roles_->clock_in.emplace(*this, std::vector<std::string>{kClockPartition}); }
+void Bus::subscribe_phase_done() { roles_->done_in.emplace(*this, std::vector<std::string>{kClockPartition}); }
+void Bus::subscribe_commands() { roles_->command_in.emplace(*this, std::vector<std::string>{kCommandPartition}); }
+void Bus::subscribe_scenario() { roles_->scenario_in.emplace(*this, std::vector<std::string>{kGroundPartition}); }
+
+// -------------------------------------------------------------------- take
+namespace {
+// Takes from `reader` if the role subscribed it; keeps the writers alive
+// either way (every take_* call does, qos.hpp).
+template <typename M>
+void take_from(Transport& t, std::optional<Reader<M>>& reader, std::vector<M>& out) {
+  if (reader) {
+    reader->take(out);
+  } else {
+    t.keep_alive();
   }
-  return core::Error{"unknown DDS vendor '" + vendor + "' (this build has: " + known + ")"};
+}
+}  // namespace
+
+void Bus::take_deposits(std::vector<core::DepositMsg>& out) { take_from(*transport_, roles_->deposit_in, out); }
+void Bus::take_halos(std::vector<core::HaloMsg>& out) { take_from(*transport_, roles_->halo_in, out); }
+void Bus::take_tiles(std::vector<core::TileMsg>& out) { take_from(*transport_, roles_->tile_in, out); }
+void Bus::take_fields(std::vector<core::FieldMsg>& out) { take_from(*transport_, roles_->field_in, out); }
+void Bus::take_views(std::vector<core::ViewMsg>& out) { take_from(*transport_, roles_->view_in, out); }
+void Bus::take_detections(std::vector<core::DetectionMsg>& out) { take_from(*transport_, roles_->detection_in, out); }
+void Bus::take_target_events(std::vector<core::TargetEventMsg>& out) { take_from(*transport_, roles_->event_in, out); }
+void Bus::take_broadcasts(std::vector<core::BroadcastMsg>& out) { take_from(*transport_, roles_->broadcast_in, out); }
+void Bus::take_clock(std::vector<core::ClockMsg>& out) { take_from(*transport_, roles_->clock_in, out); }
+void Bus::take_phase_done(std::vector<core::PhaseDoneMsg>& out) { take_from(*transport_, roles_->done_in, out); }
+void Bus::take_commands(std::vector<core::CommandMsg>& out) { take_from(*transport_, roles_->command_in, out); }
+void Bus::take_scenarios(std::vector<core::ScenarioMsg>& out) { take_from(*transport_, roles_->scenario_in, out); }
+
+void Bus::take_uav_states(std::vector<core::UavStateMsg>& out) {
+  take_from(*transport_, roles_->home_states_in, out);
+  if (roles_->ground_states_in) roles_->ground_states_in->take(out, roles_->departed_uavs);
+}
+
+void Bus::take_health(std::vector<core::HealthMsg>& out) {
+  if (roles_->health_in) {
+    roles_->health_in->take(out, roles_->departed_regions);
+  } else {
+    transport_->keep_alive();
+  }
+}
+
+void Bus::take_departed_uavs(std::vector<uint32_t>& out) {
+  out.insert(out.end(), roles_->departed_uavs.begin(), roles_->departed_uavs.end());
+  roles_->departed_uavs.clear();
+}
+
+void Bus::take_departed_regions(std::vector<uint32_t>& out) {
+  out.insert(out.end(), roles_->departed_regions.begin(), roles_->departed_regions.end());
+  roles_->departed_regions.clear();
+}
+
+// ------------------------------------------------------- wait, flush, match
+namespace {
+std::vector<EndpointId> of_kinds(const std::vector<std::pair<TopicKind, EndpointId>>& endpoints,
+                                 std::initializer_list<TopicKind> kinds) {
+  std::vector<EndpointId> ids;
+  for (const auto& [kind, id] : endpoints) {
+    if (std::find(kinds.begin(), kinds.end(), kind) != kinds.end()) ids.push_back(id);
+  }
+  return ids;
+}
+}  // namespace
+
+bool Bus::wait(std::initializer_list<TopicKind> kinds, std::chrono::steady_clock::time_point deadline) {
+  return transport_->wait(of_kinds(readers_, kinds), deadline);
+}
+
+bool Bus::flush(std::chrono::milliseconds timeout) {
+  std::vector<EndpointId> ids;
+  for (const auto& [kind, id] : writers_) ids.push_back(id);
+  return transport_->flush(ids, timeout);
+}
+
+bool Bus::flush(std::initializer_list<TopicKind> kinds, std::chrono::milliseconds timeout) {
+  return transport_->flush(of_kinds(writers_, kinds), timeout);
+}
+
+uint32_t Bus::matched_deposit_readers(core::RegionId region) {
+  roles_->deposits.offer(region_partition(region));
+  return roles_->deposits.matched(region_partition(region));
+}
+
+uint32_t Bus::matched_state_readers() {
+  if (!roles_->home) return 0;
+  return roles_->states.matched(home_partition(*roles_->home));
 }
 
 }  // namespace pheromesh::bus

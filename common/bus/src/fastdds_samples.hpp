@@ -1,13 +1,16 @@
-// What the Fast DDS bus makes of a received sample: the generated type (as
-// fastddsgen's deserialize left it) -> the core message, or nullopt when the
-// sample breaks a structural bound (an IDL sequence bound a foreign writer
-// did not enforce, a layer past 255), which the bus drops and counts. The
-// core's check_* functions then judge the values.
+// Fast DDS's conversions: one Convert<M> per message type between the core
+// message and fastddsgen's C++ class. `in` is what the Fast DDS transport
+// makes of a received sample (the generated type as fastddsgen's deserialize
+// left it): the core message, or nullopt when the sample breaks a structural
+// bound (an IDL sequence bound a foreign writer did not enforce, a layer past
+// 255), which the transport drops and counts. The core's check_* functions
+// then judge the values. `out` fills the generated type (the IDL bounds were
+// checked before, once for every transport: topic.hpp).
 //
 // Kept apart from fastdds_bus.cpp, and free of any participant, so that the
 // fuzz harness fuzz/fuzz_fastdds_samples.cpp runs exactly this code on
 // hostile bytes (docs/fuzzing.md). Includes the generated header: for the
-// Fast DDS bus and that harness only.
+// Fast DDS transport and that harness only.
 #pragma once
 
 #include <algorithm>
@@ -47,12 +50,27 @@ class SafePubSub final : public PubSub {
   }
 };
 
+template <typename M>
+struct Convert;  // one specialisation per message type of bus::Messages
+
 inline bool region_counts_ok(const std::vector<msg::RegionCount>& v) { return v.size() <= core::kMaxRegionCounts; }
 
 inline std::vector<core::RegionCount> region_counts_in(const std::vector<msg::RegionCount>& v) {
   std::vector<core::RegionCount> out;
   out.reserve(v.size());
   for (const auto& c : v) out.push_back({c.region(), c.count()});
+  return out;
+}
+
+inline std::vector<msg::RegionCount> region_counts_out(const std::vector<core::RegionCount>& v) {
+  std::vector<msg::RegionCount> out;
+  out.reserve(v.size());
+  for (const auto& c : v) {
+    msg::RegionCount r;
+    r.region(c.region);
+    r.count(c.count);
+    out.push_back(r);
+  }
   return out;
 }
 
@@ -78,6 +96,51 @@ inline core::UavStateMsg state_in(const msg::UavState& s) {
   return m;
 }
 
+inline msg::UavState state_out(const core::UavStateMsg& m) {
+  msg::UavState s;
+  s.uav(m.uav);
+  s.tick(m.tick);
+  s.x(m.x);
+  s.y(m.y);
+  s.vx(m.vx);
+  s.vy(m.vy);
+  s.heading(m.heading);
+  s.role(m.role);
+  s.deposits_sent(m.deposits_sent);
+  s.tile_samples_received(m.tile_samples_received);
+  s.samples_received(m.samples_received);
+  s.ticks_late(m.ticks_late);
+  s.view_x(m.view.x);
+  s.view_y(m.view.y);
+  s.finished(m.finished);
+  s.deposits_unconfirmed(m.deposits_unconfirmed);
+  s.tick_gap_max_ms(m.tick_gap_max_ms);
+  s.tick_gaps_over_2(m.tick_gaps_over_2);
+  std::copy(m.refused.begin(), m.refused.end(), s.refused().begin());
+  return s;
+}
+
+inline std::vector<msg::UavState> states_out(const std::vector<core::UavStateMsg>& states) {
+  std::vector<msg::UavState> out;
+  out.reserve(states.size());
+  for (const auto& u : states) out.push_back(state_out(u));
+  return out;
+}
+
+inline std::vector<msg::TilePatch> patches_out(const std::vector<core::TileMsg>& tiles) {
+  std::vector<msg::TilePatch> out(tiles.size());
+  for (std::size_t i = 0; i < tiles.size(); ++i) {
+    const auto& t = tiles[i];
+    out[i].layer(t.layer);
+    out[i].tx(static_cast<uint16_t>(t.tile.tx));
+    out[i].ty(static_cast<uint16_t>(t.tile.ty));
+    out[i].width(t.width);
+    out[i].height(t.height);
+    out[i].values(t.values);
+  }
+  return out;
+}
+
 // Tiles and states of a received view or field; false if malformed.
 template <typename Msg>
 bool unpack(const Msg& s, std::size_t max_tiles, std::size_t max_uavs, uint32_t tick, core::RegionId region,
@@ -96,119 +159,346 @@ bool unpack(const Msg& s, std::size_t max_tiles, std::size_t max_uavs, uint32_t 
   return true;
 }
 
-inline std::optional<core::FieldMsg> field_in(const msg::RegionField& s) {
-  core::FieldMsg f;
-  f.region = s.region();
-  f.chunk = s.chunk();
-  f.chunks = s.chunks();
-  f.tick = s.tick();
-  f.replica = s.replica();
-  if (!unpack(s, core::kMaxFieldTiles, core::kMaxFieldUavs, f.tick, f.region, f.tiles, f.uavs)) return std::nullopt;
-  return f;
-}
-
-inline std::optional<core::ViewMsg> view_in(const msg::View& s) {
-  core::ViewMsg v;
-  v.uav = s.uav();
-  v.tick = s.tick();
-  v.deposit_ack = s.deposit_ack();
-  if (!unpack(s, core::kMaxViewTiles, core::kMaxViewUavs, v.tick, core::RegionId{0}, v.tiles, v.uavs)) {
-    return std::nullopt;
+template <>
+struct Convert<core::TileMsg> {
+  using Sample = msg::TileState;
+  using PubSub = msg::TileStatePubSubType;
+  static Sample out(const core::TileMsg& m) {
+    Sample s;
+    s.layer(m.layer);
+    s.tx(static_cast<uint16_t>(m.tile.tx));
+    s.ty(static_cast<uint16_t>(m.tile.ty));
+    s.tick(m.tick);
+    s.region(m.region);
+    s.width(m.width);
+    s.height(m.height);
+    s.values(m.values);
+    return s;
   }
-  return v;
-}
-
-inline std::optional<core::ClockMsg> clock_in(const msg::ClockCommand& s) {
-  if (s.occupancy().size() > core::kMaxOccupancy || !region_counts_ok(s.deposits()) ||
-      s.absent().size() > core::kMaxRegionCounts || !region_counts_ok(s.states())) {
-    return std::nullopt;
+  static std::optional<core::TileMsg> in(const Sample& s) {
+    if (s.values().size() > core::kMaxTileCells || s.layer() > 255) return std::nullopt;
+    return core::TileMsg{
+        static_cast<uint8_t>(s.layer()), {s.tx(), s.ty()}, s.tick(), s.region(), s.width(), s.height(), s.values()};
   }
-  core::ClockMsg c;
-  c.tick = s.tick();
-  c.phase = s.phase();
-  c.broadcasts = s.broadcasts();
-  c.deposits = region_counts_in(s.deposits());
-  c.absent.assign(s.absent().begin(), s.absent().end());
-  c.states = region_counts_in(s.states());
-  for (const auto& t : s.occupancy()) c.occupancy.push_back({{t.tx(), t.ty()}, t.count()});
-  return c;
-}
+};
 
-inline std::optional<core::PhaseDoneMsg> phase_done_in(const msg::PhaseDone& s) {
-  if (!region_counts_ok(s.deposits())) return std::nullopt;
-  return core::PhaseDoneMsg{s.process(), s.tick(), s.phase(), s.broadcasts(), region_counts_in(s.deposits())};
-}
+template <>
+struct Convert<core::DepositMsg> {
+  using Sample = msg::Deposit;
+  using PubSub = msg::DepositPubSubType;
+  static Sample out(const core::DepositMsg& m) {
+    Sample s;
+    s.uav(m.uav);
+    s.seq(m.seq);
+    s.tick(m.tick);
+    s.region(m.region);
+    s.kind(m.kind);
+    s.layer(m.layer);
+    s.x(m.cell.x);
+    s.y(m.cell.y);
+    s.amount(m.amount);
+    s.spread({m.spread[0], m.spread[1], m.spread[2]});
+    return s;
+  }
+  static std::optional<core::DepositMsg> in(const Sample& s) {
+    return core::DepositMsg{s.uav(),        s.seq(),    s.tick(),
+                            s.region(),     s.kind(),   s.layer(),
+                            {s.x(), s.y()}, s.amount(), {s.spread()[0], s.spread()[1], s.spread()[2]}};
+  }
+};
 
-inline std::optional<core::ScenarioMsg> scenario_in(const msg::RunScenario& s) {
-  if (s.text().size() > core::kMaxScenarioBytes) return std::nullopt;
-  core::ScenarioMsg m;
-  m.publisher = s.publisher();
-  m.text.assign(s.text().begin(), s.text().end());
-  m.uavs = s.uavs();
-  m.ticks = s.ticks();
-  m.seed = s.seed();
-  m.tick_rate_hz = s.tick_rate_hz();
-  m.clock = s.clock();
-  m.lease_ms = s.lease_ms();
-  m.standby = s.standby();
-  m.shared_ownership = s.shared_ownership();
-  return m;
-}
+template <>
+struct Convert<core::UavStateMsg> {
+  using Sample = msg::UavState;
+  using PubSub = msg::UavStatePubSubType;
+  static Sample out(const core::UavStateMsg& m) { return state_out(m); }
+  static std::optional<core::UavStateMsg> in(const Sample& s) { return state_in(s); }
+};
 
-inline core::CommandMsg command_in(const msg::Command& s) {
-  core::CommandMsg c;
-  c.issuer = s.issuer();
-  c.seq = s.seq();
-  c.issued_ms = s.issued_ms();
-  c.kind = s.kind();
-  c.x = s.x();
-  c.y = s.y();
-  c.w = s.w();
-  c.h = s.h();
-  std::copy(s.mac().begin(), s.mac().end(), c.mac.begin());
-  return c;
-}
+template <>
+struct Convert<core::ViewMsg> {
+  using Sample = msg::View;
+  using PubSub = msg::ViewPubSubType;
+  static Sample out(const core::ViewMsg& m) {
+    Sample s;
+    s.uav(m.uav);
+    s.tick(m.tick);
+    s.deposit_ack(m.deposit_ack);
+    s.tiles(patches_out(m.tiles));
+    s.uavs(states_out(m.uavs));
+    return s;
+  }
+  static std::optional<core::ViewMsg> in(const Sample& s) {
+    core::ViewMsg v;
+    v.uav = s.uav();
+    v.tick = s.tick();
+    v.deposit_ack = s.deposit_ack();
+    if (!unpack(s, core::kMaxViewTiles, core::kMaxViewUavs, v.tick, core::RegionId{0}, v.tiles, v.uavs)) {
+      return std::nullopt;
+    }
+    return v;
+  }
+};
 
-inline core::DepositMsg deposit_in(const msg::Deposit& s) {
-  return {s.uav(),        s.seq(),    s.tick(),
-          s.region(),     s.kind(),   s.layer(),
-          {s.x(), s.y()}, s.amount(), {s.spread()[0], s.spread()[1], s.spread()[2]}};
-}
+template <>
+struct Convert<core::FieldMsg> {
+  using Sample = msg::RegionField;
+  using PubSub = msg::RegionFieldPubSubType;
+  static Sample out(const core::FieldMsg& m) {
+    Sample s;
+    s.region(m.region);
+    s.chunk(m.chunk);
+    s.chunks(m.chunks);
+    s.tick(m.tick);
+    s.replica(m.replica);
+    s.tiles(patches_out(m.tiles));
+    s.uavs(states_out(m.uavs));
+    return s;
+  }
+  static std::optional<core::FieldMsg> in(const Sample& s) {
+    core::FieldMsg f;
+    f.region = s.region();
+    f.chunk = s.chunk();
+    f.chunks = s.chunks();
+    f.tick = s.tick();
+    f.replica = s.replica();
+    if (!unpack(s, core::kMaxFieldTiles, core::kMaxFieldUavs, f.tick, f.region, f.tiles, f.uavs)) return std::nullopt;
+    return f;
+  }
+};
 
-inline std::optional<core::HaloMsg> halo_in(const msg::Halo& s) {
-  if (s.target().size() > core::kMaxRingCells || s.obstacle().size() > core::kMaxRingCells) return std::nullopt;
-  return core::HaloMsg{s.region(), s.tick(), s.target(), s.obstacle()};
-}
+template <>
+struct Convert<core::DetectionMsg> {
+  using Sample = msg::Detection;
+  using PubSub = msg::DetectionPubSubType;
+  static Sample out(const core::DetectionMsg& m) {
+    Sample s;
+    s.uav(m.uav);
+    s.tick(m.tick);
+    s.target(m.target);
+    s.x(m.cell.x);
+    s.y(m.cell.y);
+    return s;
+  }
+  static std::optional<core::DetectionMsg> in(const Sample& s) {
+    return core::DetectionMsg{s.uav(), s.tick(), s.target(), {s.x(), s.y()}};
+  }
+};
 
-inline std::optional<core::TileMsg> tile_in(const msg::TileState& s) {
-  if (s.values().size() > core::kMaxTileCells || s.layer() > 255) return std::nullopt;
-  return core::TileMsg{
-      static_cast<uint8_t>(s.layer()), {s.tx(), s.ty()}, s.tick(), s.region(), s.width(), s.height(), s.values()};
-}
+template <>
+struct Convert<core::TargetEventMsg> {
+  using Sample = msg::TargetEvent;
+  using PubSub = msg::TargetEventPubSubType;
+  static Sample out(const core::TargetEventMsg& m) {
+    Sample s;
+    s.region(m.region);
+    s.tick(m.tick);
+    s.kind(m.kind);
+    s.x(m.cell.x);
+    s.y(m.cell.y);
+    s.response_ticks(m.response_ticks);
+    return s;
+  }
+  static std::optional<core::TargetEventMsg> in(const Sample& s) {
+    return core::TargetEventMsg{s.region(), s.tick(), s.kind(), {s.x(), s.y()}, s.response_ticks()};
+  }
+};
 
-inline std::optional<core::BroadcastMsg> broadcast_in(const msg::Broadcast& s) {
-  if (s.values().size() > core::kMaxBroadcastValues) return std::nullopt;
-  return core::BroadcastMsg{s.uav(), s.tick(), s.kind(), s.values()};
-}
+template <>
+struct Convert<core::HealthMsg> {
+  using Sample = msg::PlaceHealth;
+  using PubSub = msg::PlaceHealthPubSubType;
+  static Sample out(const core::HealthMsg& m) {
+    Sample s;
+    s.region(m.region);
+    s.replica(m.replica);
+    s.tick(m.tick);
+    s.tick_rate_hz(m.tick_rate_hz);
+    s.deposits_received(m.deposits_received);
+    s.deposits_applied(m.deposits_applied);
+    s.deposits_rejected(m.deposits_rejected);
+    s.halos_missing(m.halos_missing);
+    s.finished(m.finished);
+    s.deposits_duplicate(m.deposits_duplicate);
+    s.tick_gap_max_ms(m.tick_gap_max_ms);
+    s.tick_gaps_over_2(m.tick_gaps_over_2);
+    std::copy(m.refused.begin(), m.refused.end(), s.refused().begin());
+    return s;
+  }
+  static std::optional<core::HealthMsg> in(const Sample& s) {
+    core::HealthMsg h{s.region(),           s.tick(),
+                      s.tick_rate_hz(),     s.deposits_received(),
+                      s.deposits_applied(), s.deposits_rejected(),
+                      s.halos_missing(),    s.finished(),
+                      s.tick_gap_max_ms(),  s.tick_gaps_over_2()};
+    h.replica = s.replica();
+    h.deposits_duplicate = s.deposits_duplicate();
+    std::copy(s.refused().begin(), s.refused().end(), h.refused.begin());
+    return h;
+  }
+};
 
-inline core::DetectionMsg detection_in(const msg::Detection& s) {
-  return {s.uav(), s.tick(), s.target(), {s.x(), s.y()}};
-}
+template <>
+struct Convert<core::HaloMsg> {
+  using Sample = msg::Halo;
+  using PubSub = msg::HaloPubSubType;
+  static Sample out(const core::HaloMsg& m) {
+    Sample s;
+    s.region(m.region);
+    s.tick(m.tick);
+    s.target(m.target);
+    s.obstacle(m.obstacle);
+    return s;
+  }
+  static std::optional<core::HaloMsg> in(const Sample& s) {
+    if (s.target().size() > core::kMaxRingCells || s.obstacle().size() > core::kMaxRingCells) return std::nullopt;
+    return core::HaloMsg{s.region(), s.tick(), s.target(), s.obstacle()};
+  }
+};
 
-inline core::TargetEventMsg target_event_in(const msg::TargetEvent& s) {
-  return {s.region(), s.tick(), s.kind(), {s.x(), s.y()}, s.response_ticks()};
-}
+template <>
+struct Convert<core::BroadcastMsg> {
+  using Sample = msg::Broadcast;
+  using PubSub = msg::BroadcastPubSubType;
+  static Sample out(const core::BroadcastMsg& m) {
+    Sample s;
+    s.uav(m.uav);
+    s.tick(m.tick);
+    s.kind(m.kind);
+    s.values(m.values);
+    return s;
+  }
+  static std::optional<core::BroadcastMsg> in(const Sample& s) {
+    if (s.values().size() > core::kMaxBroadcastValues) return std::nullopt;
+    return core::BroadcastMsg{s.uav(), s.tick(), s.kind(), s.values()};
+  }
+};
 
-inline core::HealthMsg health_in(const msg::PlaceHealth& s) {
-  core::HealthMsg h{s.region(),           s.tick(),
-                    s.tick_rate_hz(),     s.deposits_received(),
-                    s.deposits_applied(), s.deposits_rejected(),
-                    s.halos_missing(),    s.finished(),
-                    s.tick_gap_max_ms(),  s.tick_gaps_over_2()};
-  h.replica = s.replica();
-  h.deposits_duplicate = s.deposits_duplicate();
-  std::copy(s.refused().begin(), s.refused().end(), h.refused.begin());
-  return h;
-}
+template <>
+struct Convert<core::ClockMsg> {
+  using Sample = msg::ClockCommand;
+  using PubSub = msg::ClockCommandPubSubType;
+  static Sample out(const core::ClockMsg& m) {
+    Sample s;
+    s.tick(m.tick);
+    s.phase(m.phase);
+    s.broadcasts(m.broadcasts);
+    std::vector<msg::TileCount> occupancy;
+    occupancy.reserve(m.occupancy.size());
+    for (const auto& t : m.occupancy) {
+      msg::TileCount c;
+      c.tx(static_cast<uint16_t>(t.tile.tx));
+      c.ty(static_cast<uint16_t>(t.tile.ty));
+      c.count(static_cast<uint16_t>(std::min<uint32_t>(t.count, UINT16_MAX)));
+      occupancy.push_back(c);
+    }
+    s.occupancy(std::move(occupancy));
+    s.deposits(region_counts_out(m.deposits));
+    s.absent(std::vector<uint32_t>(m.absent.begin(), m.absent.end()));
+    s.states(region_counts_out(m.states));
+    return s;
+  }
+  static std::optional<core::ClockMsg> in(const Sample& s) {
+    if (s.occupancy().size() > core::kMaxOccupancy || !region_counts_ok(s.deposits()) ||
+        s.absent().size() > core::kMaxRegionCounts || !region_counts_ok(s.states())) {
+      return std::nullopt;
+    }
+    core::ClockMsg c;
+    c.tick = s.tick();
+    c.phase = s.phase();
+    c.broadcasts = s.broadcasts();
+    c.deposits = region_counts_in(s.deposits());
+    c.absent.assign(s.absent().begin(), s.absent().end());
+    c.states = region_counts_in(s.states());
+    for (const auto& t : s.occupancy()) c.occupancy.push_back({{t.tx(), t.ty()}, t.count()});
+    return c;
+  }
+};
+
+template <>
+struct Convert<core::PhaseDoneMsg> {
+  using Sample = msg::PhaseDone;
+  using PubSub = msg::PhaseDonePubSubType;
+  static Sample out(const core::PhaseDoneMsg& m) {
+    Sample s;
+    s.process(m.process);
+    s.tick(m.tick);
+    s.phase(m.phase);
+    s.broadcasts(m.broadcasts);
+    s.deposits(region_counts_out(m.deposits));
+    return s;
+  }
+  static std::optional<core::PhaseDoneMsg> in(const Sample& s) {
+    if (!region_counts_ok(s.deposits())) return std::nullopt;
+    return core::PhaseDoneMsg{s.process(), s.tick(), s.phase(), s.broadcasts(), region_counts_in(s.deposits())};
+  }
+};
+
+template <>
+struct Convert<core::CommandMsg> {
+  using Sample = msg::Command;
+  using PubSub = msg::CommandPubSubType;
+  static Sample out(const core::CommandMsg& m) {
+    Sample s;
+    s.issuer(m.issuer);
+    s.seq(m.seq);
+    s.issued_ms(m.issued_ms);
+    s.kind(m.kind);
+    s.x(m.x);
+    s.y(m.y);
+    s.w(m.w);
+    s.h(m.h);
+    std::copy(m.mac.begin(), m.mac.end(), s.mac().begin());
+    return s;
+  }
+  static std::optional<core::CommandMsg> in(const Sample& s) {
+    core::CommandMsg c;
+    c.issuer = s.issuer();
+    c.seq = s.seq();
+    c.issued_ms = s.issued_ms();
+    c.kind = s.kind();
+    c.x = s.x();
+    c.y = s.y();
+    c.w = s.w();
+    c.h = s.h();
+    std::copy(s.mac().begin(), s.mac().end(), c.mac.begin());
+    return c;
+  }
+};
+
+template <>
+struct Convert<core::ScenarioMsg> {
+  using Sample = msg::RunScenario;
+  using PubSub = msg::RunScenarioPubSubType;
+  static Sample out(const core::ScenarioMsg& m) {
+    Sample s;
+    s.publisher(m.publisher);
+    s.text().assign(m.text.begin(), m.text.end());
+    s.uavs(m.uavs);
+    s.ticks(m.ticks);
+    s.seed(m.seed);
+    s.tick_rate_hz(m.tick_rate_hz);
+    s.clock(m.clock);
+    s.lease_ms(m.lease_ms);
+    s.standby(m.standby);
+    s.shared_ownership(m.shared_ownership);
+    return s;
+  }
+  static std::optional<core::ScenarioMsg> in(const Sample& s) {
+    if (s.text().size() > core::kMaxScenarioBytes) return std::nullopt;
+    core::ScenarioMsg m;
+    m.publisher = s.publisher();
+    m.text.assign(s.text().begin(), s.text().end());
+    m.uavs = s.uavs();
+    m.ticks = s.ticks();
+    m.seed = s.seed();
+    m.tick_rate_hz = s.tick_rate_hz();
+    m.clock = s.clock();
+    m.lease_ms = s.lease_ms();
+    m.standby = s.standby();
+    m.shared_ownership = s.shared_ownership();
+    return m;
+  }
+};
 
 }  // namespace pheromesh::bus::fastdds_samples

@@ -4,7 +4,7 @@
 
 #include "pheromesh/bus/qos.hpp"
 #include "pheromesh/core/messages.hpp"
-#include "routing.hpp"
+#include "pheromesh/bus/routing.hpp"
 
 namespace pheromesh::bus {
 namespace {

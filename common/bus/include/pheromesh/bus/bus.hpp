@@ -1,5 +1,13 @@
-// The pheromesh bus: one small, vendor-neutral interface for the pheromesh
-// topics. Nothing above this header includes a DDS vendor header.
+// The pheromesh bus: one vendor-neutral bus for the pheromesh topics over
+// one small vendor seam (transport.hpp). Nothing above this header includes
+// a DDS vendor header.
+//
+//   bus.hpp       Bus: the roles' wiring and thin publish_* / take_* wrappers
+//   typed.hpp     Writer<M>, Reader<M>: typed endpoints, IDL bounds checked once
+//   topic.hpp     Topic<M>: kind (names, QoS), key, routing rule, bounds;
+//                 how to add a topic (one trait + one Convert<M> per vendor)
+//   transport.hpp Transport: the 10 virtual methods a vendor implements
+//   memory.hpp    the in-memory transport, for unit tests
 //
 // Routing (writer-side matching through DDS partitions, so a process receives
 // only what it subscribed to). Every endpoint is created once, when a process
@@ -24,12 +32,15 @@
 #include <memory>
 #include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
+#include "pheromesh/bus/qos.hpp"
+#include "pheromesh/bus/topic.hpp"
+#include "pheromesh/bus/transport.hpp"
 #include "pheromesh/core/grid.hpp"
 #include "pheromesh/core/messages.hpp"
 #include "pheromesh/core/result.hpp"
-#include "pheromesh/bus/qos.hpp"
 
 namespace pheromesh::bus {
 
@@ -60,117 +71,136 @@ struct BusOptions {
   std::string identity;
 };
 
-// Samples dropped by the bus itself (structurally malformed: sequence bounds,
-// unknown enum values) and writes it refused.
-struct BusStats {
-  uint64_t samples_dropped = 0;
-  uint64_t writes_refused = 0;
-  uint64_t writes_failed = 0;
-};
-
+// The pheromesh bus of one process: the typed endpoints of the roles a
+// process plays, over one Transport (a DDS vendor, or the in-memory bus of
+// the unit tests). No method is virtual: the vendor seam is Transport
+// (transport.hpp), the types are Topic<M> (topic.hpp) and Writer<M> /
+// Reader<M> (typed.hpp), which any process may also use directly.
+//
+// The role methods below (join_uav, subscribe_*, offer_views) are the wiring
+// of who writes and reads what (bus.cpp, once for every transport); publish_*
+// and take_* are thin wrappers of that role's Writer<M> / Reader<M>.
 class Bus {
  public:
-  virtual ~Bus() = default;
-  Bus() = default;
+  explicit Bus(std::unique_ptr<Transport> transport);
+  ~Bus();
   Bus(const Bus&) = delete;
   Bus& operator=(const Bus&) = delete;
 
-  [[nodiscard]] virtual std::string vendor() const = 0;
+  [[nodiscard]] std::string vendor() const;
+  [[nodiscard]] Transport& transport() { return *transport_; }
 
   // --- publishing; false if the sample was refused (bounds) or the write failed
-  virtual bool publish_tile(const core::TileMsg& m) = 0;
+  bool publish_tile(const core::TileMsg& m);
   // Into the deposit partition of `via`: a UAV's home place agent, or the
   // owner m.region when a place agent forwards it.
-  virtual bool publish_deposit(const core::DepositMsg& m, core::RegionId via) = 0;
-  virtual bool publish_uav_state(const core::UavStateMsg& m) = 0;  // to the home given to join_uav
-  virtual bool publish_view(const core::ViewMsg& m) = 0;           // to UAV m.uav
-  virtual bool publish_field(const core::FieldMsg& m) = 0;
-  virtual bool publish_detection(const core::DetectionMsg& m) = 0;
-  virtual bool publish_target_event(const core::TargetEventMsg& m) = 0;
-  virtual bool publish_health(const core::HealthMsg& m) = 0;
-  virtual bool publish_halo(const core::HaloMsg& m) = 0;
-  virtual bool publish_broadcast(const core::BroadcastMsg& m) = 0;  // to partition "b"
+  bool publish_deposit(const core::DepositMsg& m, core::RegionId via);
+  bool publish_uav_state(const core::UavStateMsg& m);  // to the home given to join_uav; BusMisuse before
+  bool publish_view(const core::ViewMsg& m);           // to UAV m.uav
+  bool publish_field(const core::FieldMsg& m);
+  bool publish_detection(const core::DetectionMsg& m);
+  bool publish_target_event(const core::TargetEventMsg& m);
+  bool publish_health(const core::HealthMsg& m);
+  bool publish_halo(const core::HaloMsg& m);
+  bool publish_broadcast(const core::BroadcastMsg& m);  // to partition "b"
 
   // --- lockstep clock
-  virtual bool publish_clock(const core::ClockMsg& m) = 0;       // conductor
-  virtual bool publish_phase_done(const core::PhaseDoneMsg& m) = 0;
-  virtual void subscribe_clock() = 0;                             // UAVs and place agents
-  virtual void subscribe_phase_done() = 0;                        // conductor
-  virtual void take_clock(std::vector<core::ClockMsg>& out) = 0;
-  virtual void take_phase_done(std::vector<core::PhaseDoneMsg>& out) = 0;
+  bool publish_clock(const core::ClockMsg& m);  // conductor
+  bool publish_phase_done(const core::PhaseDoneMsg& m);
+  void subscribe_clock();       // UAVs and place agents
+  void subscribe_phase_done();  // conductor
+  void take_clock(std::vector<core::ClockMsg>& out);
+  void take_phase_done(std::vector<core::PhaseDoneMsg>& out);
 
   // --- ground-station commands (pause, pop-ups): the ground station
   // writes, every UAV and place agent reads, late joiners get the history.
-  virtual bool publish_command(const core::CommandMsg& m) = 0;
+  bool publish_command(const core::CommandMsg& m);
   // --- the run's scenario (place agents publish it once, transient-local;
   // a monitor that attaches with only the domain id reads it)
-  virtual bool publish_scenario(const core::ScenarioMsg& m) = 0;
-  virtual void subscribe_scenario() = 0;
-  virtual void take_scenarios(std::vector<core::ScenarioMsg>& out) = 0;
-  virtual void subscribe_commands() = 0;
-  virtual void take_commands(std::vector<core::CommandMsg>& out) = 0;
+  bool publish_scenario(const core::ScenarioMsg& m);
+  void subscribe_scenario();
+  void take_scenarios(std::vector<core::ScenarioMsg>& out);
+  void subscribe_commands();
+  void take_commands(std::vector<core::CommandMsg>& out);
 
   // --- joining and subscribing (each once per process)
   // A UAV: its state writer and deposit writer towards its home place agent,
   // its view reader, its detection writer and (if its policy broadcasts) its
   // broadcast writer: every endpoint it writes with, before it flies.
-  virtual void join_uav(uint32_t uav, core::RegionId home, bool broadcasts = false) = 0;
+  void join_uav(uint32_t uav, core::RegionId home, bool broadcasts = false);
   // A place agent: deposits for `own` (from its UAVs and forwarded), the
   // states of the UAVs homed on it, and every region's field.
-  virtual void subscribe_deposits(core::RegionId own) = 0;
-  virtual void subscribe_home_states(core::RegionId own) = 0;
-  virtual void subscribe_fields() = 0;
+  void subscribe_deposits(core::RegionId own);
+  void subscribe_home_states(core::RegionId own);
+  void subscribe_fields();
   // A place agent: the view writers of the UAVs homed on it, created before
   // they fly (publish_view would otherwise create one on first use).
-  virtual void offer_views(std::span<const uint32_t> uavs) = 0;
-  virtual void subscribe_halos(std::span<const core::RegionId> neighbours) = 0;
+  void offer_views(std::span<const uint32_t> uavs);
+  void subscribe_halos(std::span<const core::RegionId> neighbours);
   // Everything the ground station needs: every region's field, all UAV
   // states, detections, target events, health.
-  virtual void subscribe_ground() = 0;
+  void subscribe_ground();
   // Every UAV's broadcasts (UAVs and the ground station).
-  virtual void subscribe_broadcasts() = 0;
+  void subscribe_broadcasts();
 
-  // --- taking: append what arrived since the last call
-  virtual void take_deposits(std::vector<core::DepositMsg>& out) = 0;
-  virtual void take_halos(std::vector<core::HaloMsg>& out) = 0;
+  // --- taking: append what arrived since the last call (a role not
+  // subscribed takes nothing). Every take keeps this process's
+  // manual-by-topic writers alive (Transport::keep_alive).
+  void take_deposits(std::vector<core::DepositMsg>& out);
+  void take_halos(std::vector<core::HaloMsg>& out);
   // Tiles of the fields (and of TileState writers), ground station only.
-  virtual void take_tiles(std::vector<core::TileMsg>& out) = 0;
-  virtual void take_fields(std::vector<core::FieldMsg>& out) = 0;
-  virtual void take_views(std::vector<core::ViewMsg>& out) = 0;
-  virtual void take_uav_states(std::vector<core::UavStateMsg>& out) = 0;
-  virtual void take_detections(std::vector<core::DetectionMsg>& out) = 0;
-  virtual void take_target_events(std::vector<core::TargetEventMsg>& out) = 0;
-  virtual void take_health(std::vector<core::HealthMsg>& out) = 0;
-  virtual void take_broadcasts(std::vector<core::BroadcastMsg>& out) = 0;
+  void take_tiles(std::vector<core::TileMsg>& out);
+  void take_fields(std::vector<core::FieldMsg>& out);
+  void take_views(std::vector<core::ViewMsg>& out);
+  void take_uav_states(std::vector<core::UavStateMsg>& out);
+  void take_detections(std::vector<core::DetectionMsg>& out);
+  void take_target_events(std::vector<core::TargetEventMsg>& out);
+  void take_health(std::vector<core::HealthMsg>& out);
+  void take_broadcasts(std::vector<core::BroadcastMsg>& out);
   // UAVs (ground subscription) whose every writer vanished (liveliness lost or
   // process ended) since the last call.
-  virtual void take_departed_uavs(std::vector<uint32_t>& out) = 0;
+  void take_departed_uavs(std::vector<uint32_t>& out);
   // Place replicas (ground subscription) whose health writer vanished, as
   // core::place_id(region, replica).
-  virtual void take_departed_regions(std::vector<uint32_t>& out) = 0;
+  void take_departed_regions(std::vector<uint32_t>& out);
 
   // Block until one of this process's readers of `kinds` holds a sample not
   // yet taken (or a departure notice), or `deadline` passes; true if one
   // does. Backed by the vendor's own wait set, so no process polls. Wait only
   // on kinds the caller then takes, or the wait returns at once.
-  virtual bool wait(std::initializer_list<TopicKind> kinds, std::chrono::steady_clock::time_point deadline) = 0;
+  bool wait(std::initializer_list<TopicKind> kinds, std::chrono::steady_clock::time_point deadline);
 
   // Block until every reliable sample written so far is acknowledged by the
   // matched readers, or the timeout passes. Returns true if all were acked.
-  virtual bool flush(std::chrono::milliseconds timeout) = 0;
+  bool flush(std::chrono::milliseconds timeout);
   // The same for this process's writers of `kinds` only (lockstep: the
   // samples a phase must have delivered; a killed process's readers stay
   // matched until its participant lease ends and never acknowledge).
-  virtual bool flush(std::initializer_list<TopicKind> kinds, std::chrono::milliseconds timeout) = 0;
+  bool flush(std::initializer_list<TopicKind> kinds, std::chrono::milliseconds timeout);
 
   // Readers matched by this process's deposit writer into the partition of
-  // `region` (a UAV: its home place agent before depositing).
-  [[nodiscard]] virtual uint32_t matched_deposit_readers(core::RegionId region) = 0;
+  // `region` (a UAV: its home place agent before depositing). Opens that
+  // writer if this process has none yet (a place agent's forwarding writers
+  // are made this way before the swarm flies).
+  [[nodiscard]] uint32_t matched_deposit_readers(core::RegionId region);
   // Readers matched by this UAV's state writer (its home place agent and the
   // ground station; 0 before join_uav).
-  [[nodiscard]] virtual uint32_t matched_state_readers() = 0;
+  [[nodiscard]] uint32_t matched_state_readers();
 
-  [[nodiscard]] virtual BusStats stats() const = 0;
+  [[nodiscard]] BusStats stats() const;
+
+  // --- for Writer<M> / Reader<M> (typed.hpp)
+  // Counts and logs a sample not written because it is over an IDL bound.
+  bool refuse(const Oversize& o);
+  // Every endpoint opened through this bus, by kind (wait and flush by kind).
+  void opened(TopicKind kind, Endpoint endpoint, EndpointId id);
+
+ private:
+  struct Roles;  // the role endpoints (bus.cpp)
+  std::unique_ptr<Transport> transport_;
+  std::unique_ptr<Roles> roles_;
+  std::vector<std::pair<TopicKind, EndpointId>> writers_, readers_;
+  uint64_t writes_refused_ = 0;
 };
 
 // Vendors compiled into this build, e.g. {"cyclone"}.
@@ -178,6 +208,8 @@ std::vector<std::string> available_vendors();
 // The vendor chosen by --dds, else $PHEROMESH_DDS, else "cyclone".
 std::string default_vendor();
 core::Result<std::unique_ptr<Bus>> make_bus(const std::string& vendor, const BusOptions& options);
+// The vendor's transport alone (make_bus wraps it in a Bus).
+core::Result<std::unique_ptr<Transport>> make_transport(const std::string& vendor, const BusOptions& options);
 
 // The lan profiles' discovery peers from a comma-separated list of IPv4
 // addresses and host names (--dds-peers, $PHEROMESH_DDS_PEERS): every IPv4

@@ -1,5 +1,5 @@
-// How pheromesh routes samples through DDS partitions (see bus.hpp), shared
-// by every vendor's bus so that they match each other.
+// How pheromesh routes samples through DDS partitions (see bus.hpp): the
+// same on every transport, so that processes of both vendors match.
 #pragma once
 
 #include <string>
@@ -8,7 +8,9 @@
 
 namespace pheromesh::bus::routing {
 
-inline std::string tile_partition(core::TileCoord t) { return "t." + std::to_string(t.tx) + "." + std::to_string(t.ty); }
+inline std::string tile_partition(core::TileCoord t) {
+  return "t." + std::to_string(t.tx) + "." + std::to_string(t.ty);
+}
 inline std::string region_partition(core::RegionId r) { return "r." + std::to_string(r); }
 inline std::string halo_partition(core::RegionId r) { return "h." + std::to_string(r); }
 inline std::string home_partition(core::RegionId r) { return "s." + std::to_string(r); }

@@ -1,0 +1,108 @@
+// The vendor seam of the bus: what a DDS vendor (or the in-memory bus) must
+// provide, type-erased. Endpoints are opened per TopicKind (its QoS, from
+// the table in qos.cpp) and partitions; samples cross as the core message of
+// the endpoint's topic (topic.hpp), which each transport converts with its
+// Convert<M> into its own generated type. Everything typed, every bound
+// check before writing and every role's wiring lives above this seam, once
+// for all transports (typed.hpp, bus.hpp).
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <span>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "pheromesh/bus/qos.hpp"
+
+namespace pheromesh::bus {
+
+// A vendor call failed (entity creation, a refused permission, a bad
+// profile). Each vendor turns its return codes into this in exactly one
+// place, which names the call, the file and the line.
+class DdsError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// The bus was used out of order (e.g. a UAV state published before
+// join_uav): the same error on every transport, thrown above the seam.
+class BusMisuse : public std::logic_error {
+ public:
+  using std::logic_error::logic_error;
+};
+
+// Samples dropped by the bus itself (structurally malformed: sequence bounds,
+// unknown enum values) and writes it refused or that failed.
+struct BusStats {
+  uint64_t samples_dropped = 0;
+  uint64_t writes_refused = 0;
+  uint64_t writes_failed = 0;
+};
+
+// An endpoint a transport opened (index into its own table).
+enum class EndpointId : uint32_t {};
+
+// Whether a reader reports the departure of its writers (their liveliness
+// lost, their process ended) besides their samples.
+enum class Watch : uint8_t { Samples, SamplesAndDepartures };
+
+// Who a taken sample came from, as this participant identifies them.
+struct SampleInfo {
+  uint64_t writer = 0;    // the DDS writer (Cyclone: publication handle; Fast DDS: GUID folded to 64 bits)
+  uint64_t instance = 0;  // the instance (its key), 0 if unknown
+};
+
+// What take() hands over; `message` points to the core message of the
+// reader's topic, valid during the call only.
+class TakeSink {
+ public:
+  virtual ~TakeSink() = default;
+  virtual void sample(const void* message, const SampleInfo& info) = 0;
+  // Every writer of an instance, or one writer, is gone (Watch::
+  // SamplesAndDepartures readers only). `key_message` holds the instance's
+  // key fields when the vendor delivers them, else nullptr: then `info`
+  // names the instance or the writer.
+  virtual void gone(const void* key_message, const SampleInfo& info) = 0;
+};
+
+class Transport {
+ public:
+  virtual ~Transport() = default;
+  Transport() = default;
+  Transport(const Transport&) = delete;
+  Transport& operator=(const Transport&) = delete;
+
+  [[nodiscard]] virtual std::string vendor() const = 0;
+
+  // A writer of `kind`'s topic and QoS into one partition, and a reader of
+  // it from several (DDS fnmatch patterns). Throw DdsError if the vendor
+  // refuses (e.g. DDS Security permissions).
+  virtual EndpointId open_writer(TopicKind kind, const std::string& partition) = 0;
+  virtual EndpointId open_reader(TopicKind kind, const std::vector<std::string>& partitions, Watch watch) = 0;
+
+  // `message`: the core message of the writer's topic, within the IDL bounds
+  // (checked above the seam). False if the vendor's write failed (counted).
+  virtual bool write(EndpointId writer, const void* message) = 0;
+  // Everything the reader holds; a sample over a bound is dropped and counted.
+  virtual void take(EndpointId reader, TakeSink& sink) = 0;
+  // Asserts the manual-by-topic writers (qos.hpp), at most four times per
+  // liveliness lease: called by every take of the bus, so that a hung
+  // process loses its liveliness too.
+  virtual void keep_alive() = 0;
+
+  // Block until one of `readers` holds a sample not yet taken (or a
+  // departure notice) or `deadline` passes; true if one does.
+  virtual bool wait(std::span<const EndpointId> readers, std::chrono::steady_clock::time_point deadline) = 0;
+  // Block until the matched readers acknowledged every sample `writers` wrote,
+  // or `timeout` passes; true if all were.
+  virtual bool flush(std::span<const EndpointId> writers, std::chrono::milliseconds timeout) = 0;
+  // Readers matched by `writer` now.
+  [[nodiscard]] virtual uint32_t matched(EndpointId writer) = 0;
+
+  // Samples dropped and writes failed (writes_refused is counted above).
+  [[nodiscard]] virtual BusStats stats() const = 0;
+};
+
+}  // namespace pheromesh::bus

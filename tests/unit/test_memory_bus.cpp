@@ -1,0 +1,276 @@
+// The in-memory bus (bus/memory.hpp): the same Bus, role wiring and typed
+// endpoints as the DDS vendors, in one process without DDS. Several buses of
+// one MemoryDomain play the processes of a small swarm.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <thread>
+
+#include "pheromesh/bus/bus.hpp"
+#include "pheromesh/bus/memory.hpp"
+#include "pheromesh/bus/resend.hpp"
+#include "pheromesh/bus/typed.hpp"
+
+namespace pheromesh::bus {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+core::DepositMsg deposit(uint32_t uav, uint32_t seq, core::RegionId region) {
+  return {uav, seq, 4, region, static_cast<uint8_t>(core::DepositKind::LayerAdd), 1, {3, 5}, 0.5F, {}};
+}
+
+core::UavStateMsg state(uint32_t uav, uint32_t tick) {
+  core::UavStateMsg s;
+  s.uav = uav;
+  s.tick = tick;
+  s.x = 2.5;
+  return s;
+}
+
+class MemoryBus : public testing::Test {
+ protected:
+  std::shared_ptr<MemoryDomain> domain_ = make_memory_domain();
+};
+
+TEST_F(MemoryBus, ADepositReachesThePlaceAgentOfItsRegionAndNotThatOfAnother) {
+  auto uav = make_memory_bus(domain_);
+  auto place1 = make_memory_bus(domain_);
+  auto place2 = make_memory_bus(domain_);
+  place1->subscribe_deposits(1);
+  place2->subscribe_deposits(2);
+  uav->join_uav(7, 1);
+  EXPECT_EQ(uav->matched_deposit_readers(1), 1U);
+  ASSERT_TRUE(uav->publish_deposit(deposit(7, 1, 1), 1));
+  std::vector<core::DepositMsg> got1, got2;
+  place1->take_deposits(got1);
+  place2->take_deposits(got2);
+  ASSERT_EQ(got1.size(), 1U);
+  EXPECT_EQ(got1[0].uav, 7U);
+  EXPECT_EQ(got1[0].seq, 1U);
+  EXPECT_EQ(got1[0].cell.y, 5);
+  EXPECT_TRUE(got2.empty());
+  // Forwarded by place agent 1 into region 2's partition: now 2 has it.
+  ASSERT_TRUE(place1->publish_deposit(deposit(7, 2, 2), 2));
+  place2->take_deposits(got2);
+  ASSERT_EQ(got2.size(), 1U);
+  EXPECT_EQ(got2[0].seq, 2U);
+  EXPECT_EQ(uav->vendor(), "memory");
+}
+
+TEST_F(MemoryBus, AUavsStateReachesItsHomePlaceAgentAndTheGroundStationThroughTheWildcard) {
+  auto uav = make_memory_bus(domain_);
+  auto home = make_memory_bus(domain_);
+  auto other = make_memory_bus(domain_);
+  auto ground = make_memory_bus(domain_);
+  home->subscribe_home_states(3);
+  other->subscribe_home_states(4);
+  ground->subscribe_ground();
+  uav->join_uav(9, 3);
+  EXPECT_EQ(uav->matched_state_readers(), 2U);  // "s.3" and "s.*"
+  ASSERT_TRUE(uav->publish_uav_state(state(9, 11)));
+  std::vector<core::UavStateMsg> at_home, at_other, at_ground;
+  home->take_uav_states(at_home);
+  other->take_uav_states(at_other);
+  ground->take_uav_states(at_ground);
+  ASSERT_EQ(at_home.size(), 1U);
+  EXPECT_EQ(at_home[0].tick, 11U);
+  EXPECT_DOUBLE_EQ(at_home[0].x, 2.5);
+  EXPECT_TRUE(at_other.empty());
+  ASSERT_EQ(at_ground.size(), 1U);
+  EXPECT_EQ(at_ground[0].uav, 9U);
+}
+
+TEST_F(MemoryBus, AViewReachesOnlyTheUavItIsFor) {
+  auto place = make_memory_bus(domain_);
+  auto uav5 = make_memory_bus(domain_);
+  auto uav6 = make_memory_bus(domain_);
+  uav5->join_uav(5, 0);
+  uav6->join_uav(6, 0);
+  const std::vector<uint32_t> homed{5, 6};
+  place->offer_views(homed);
+  ASSERT_TRUE(place->publish_view({5, 3, {core::TileMsg{0, {1, 2}, 0, 0, 1, 1, {4.0F}}}, {}, 17}));
+  std::vector<core::ViewMsg> v5, v6;
+  uav5->take_views(v5);
+  uav6->take_views(v6);
+  ASSERT_EQ(v5.size(), 1U);
+  EXPECT_EQ(v5[0].tick, 3U);
+  EXPECT_EQ(v5[0].deposit_ack, 17U);
+  ASSERT_EQ(v5[0].tiles.size(), 1U);
+  EXPECT_EQ(v5[0].tiles[0].values, std::vector<float>{4.0F});
+  EXPECT_TRUE(v6.empty());
+}
+
+TEST_F(MemoryBus, ALateReaderGetsTheLatestChunkOfEachRegionsFieldOnly) {
+  // Transient-local, keep-last 1 per instance (region, chunk).
+  auto place = make_memory_bus(domain_);
+  for (uint32_t tick = 1; tick <= 3; ++tick) {
+    ASSERT_TRUE(place->publish_field({0, 0, 2, tick, {}, {}}));
+    ASSERT_TRUE(place->publish_field({0, 1, 2, tick, {}, {}}));
+  }
+  auto late = make_memory_bus(domain_);
+  late->subscribe_fields();
+  std::vector<core::FieldMsg> got;
+  late->take_fields(got);
+  ASSERT_EQ(got.size(), 2U);
+  for (const auto& f : got) EXPECT_EQ(f.tick, 3U) << "chunk " << f.chunk;
+  EXPECT_NE(got[0].chunk, got[1].chunk);
+}
+
+TEST_F(MemoryBus, EveryDepositIsKeptForAReaderThatTakesLate) {
+  // Deposit readers keep all (pheromone accounting): none is replaced.
+  auto uav = make_memory_bus(domain_);
+  auto place = make_memory_bus(domain_);
+  place->subscribe_deposits(0);
+  uav->join_uav(1, 0);
+  for (uint32_t seq = 1; seq <= 5; ++seq) ASSERT_TRUE(uav->publish_deposit(deposit(1, seq, 0), 0));
+  std::vector<core::DepositMsg> got;
+  place->take_deposits(got);
+  ASSERT_EQ(got.size(), 5U);
+  for (uint32_t i = 0; i < 5; ++i) EXPECT_EQ(got[i].seq, i + 1);
+}
+
+TEST_F(MemoryBus, TheGroundStationHearsThatAUavAndAPlaceReplicaWhoseBusesEndedDeparted) {
+  auto ground = make_memory_bus(domain_);
+  ground->subscribe_ground();
+  auto uav = make_memory_bus(domain_);
+  auto place = make_memory_bus(domain_);
+  uav->join_uav(12, 1);
+  ASSERT_TRUE(uav->publish_uav_state(state(12, 1)));
+  core::HealthMsg h;
+  h.region = 1;
+  h.replica = 1;
+  ASSERT_TRUE(place->publish_health(h));
+  std::vector<core::UavStateMsg> states;
+  std::vector<core::HealthMsg> health;
+  std::vector<uint32_t> uavs_gone, places_gone;
+  ground->take_uav_states(states);
+  ground->take_health(health);
+  ground->take_departed_uavs(uavs_gone);
+  ground->take_departed_regions(places_gone);
+  EXPECT_EQ(states.size(), 1U);
+  EXPECT_EQ(health.size(), 1U);
+  EXPECT_TRUE(uavs_gone.empty());
+  EXPECT_TRUE(places_gone.empty());
+  uav.reset();
+  place.reset();
+  ground->take_uav_states(states);
+  ground->take_health(health);
+  ground->take_departed_uavs(uavs_gone);
+  ground->take_departed_regions(places_gone);
+  EXPECT_EQ(uavs_gone, std::vector<uint32_t>{12});
+  EXPECT_EQ(places_gone, std::vector<uint32_t>{core::place_id(1, 1)});
+  // Reported once.
+  ground->take_departed_uavs(uavs_gone);
+  EXPECT_EQ(uavs_gone.size(), 1U);
+}
+
+TEST_F(MemoryBus, SamplesOverTheIdlBoundsAreRefusedAndCountedBeforeAnyTransportSeesThem) {
+  auto w = make_memory_bus(domain_);
+  auto r = make_memory_bus(domain_);
+  r->subscribe_clock();
+  core::ClockMsg clock;
+  clock.states.resize(core::kMaxRegionCounts + 1);
+  EXPECT_FALSE(w->publish_clock(clock));
+  EXPECT_FALSE(w->publish_tile({0, {0, 0}, 1, 0, 40, 40, std::vector<float>(1600, 1.0F)}));
+  EXPECT_FALSE(w->publish_halo({0, 1, {}, std::vector<float>(core::kMaxRingCells + 1, 0.0F)}));
+  EXPECT_EQ(w->stats().writes_refused, 3U);
+  EXPECT_EQ(w->stats().writes_failed, 0U);
+  std::vector<core::ClockMsg> got;
+  r->take_clock(got);
+  EXPECT_TRUE(got.empty());
+  clock.states.resize(2);  // within the bound: written
+  EXPECT_TRUE(w->publish_clock(clock));
+  r->take_clock(got);
+  ASSERT_EQ(got.size(), 1U);
+  EXPECT_EQ(got[0].states.size(), 2U);
+}
+
+TEST_F(MemoryBus, PublishingAStateBeforeJoiningIsAMisuseOnEveryTransport) {
+  auto uav = make_memory_bus(domain_);
+  EXPECT_THROW(uav->publish_uav_state(state(1, 1)), BusMisuse);
+  EXPECT_EQ(uav->matched_state_readers(), 0U);
+}
+
+TEST_F(MemoryBus, AClockCarriesTheIdentityOfItsWriterWhichTwoWritersDoNotShare) {
+  auto conductor = make_memory_bus(domain_);
+  auto forger = make_memory_bus(domain_);
+  auto uav = make_memory_bus(domain_);
+  uav->subscribe_clock();
+  core::ClockMsg c;
+  c.tick = 4;
+  ASSERT_TRUE(conductor->publish_clock(c));
+  ASSERT_TRUE(forger->publish_clock(c));
+  std::vector<core::ClockMsg> got;
+  uav->take_clock(got);
+  // Keep-last 1 of one instance: the forger's replaced the conductor's.
+  ASSERT_EQ(got.size(), 1U);
+  const uint64_t forger_id = got[0].writer;
+  ASSERT_TRUE(conductor->publish_clock(c));
+  uav->take_clock(got);
+  ASSERT_EQ(got.size(), 2U);
+  EXPECT_NE(got[1].writer, 0U);
+  EXPECT_NE(got[1].writer, forger_id);
+}
+
+TEST_F(MemoryBus, AWaitRunsToItsDeadlineWithoutDataAndEndsWhenASampleArrives) {
+  auto place = make_memory_bus(domain_);
+  auto ground = make_memory_bus(domain_);
+  ground->subscribe_fields();
+  const auto t0 = Clock::now();
+  EXPECT_FALSE(ground->wait({TopicKind::Field}, t0 + std::chrono::milliseconds(50)));
+  EXPECT_GE(Clock::now() - t0, std::chrono::milliseconds(49));
+  std::thread writer([&] {
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    (void)place->publish_field({2, 0, 1, 8, {}, {}});
+  });
+  EXPECT_TRUE(ground->wait({TopicKind::Field}, Clock::now() + std::chrono::seconds(20)));
+  writer.join();
+  std::vector<core::FieldMsg> got;
+  ground->take_fields(got);
+  ASSERT_EQ(got.size(), 1U);
+  EXPECT_EQ(got[0].region, 2U);
+  EXPECT_TRUE(place->flush(std::chrono::milliseconds(1)));
+}
+
+TEST_F(MemoryBus, TheLockstepResenderWritesTheTicksSamplesAgainAfterAQuietSpell) {
+  auto place = make_memory_bus(domain_);
+  auto other = make_memory_bus(domain_);
+  other->subscribe_fields();
+  LatestResender resend(*place, true, std::chrono::milliseconds(5));
+  ASSERT_TRUE(resend.field({1, 0, 1, 6, {}, {}}));
+  std::vector<core::FieldMsg> got;
+  other->take_fields(got);
+  ASSERT_EQ(got.size(), 1U);
+  std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  EXPECT_TRUE(resend.resend_if_quiet());
+  other->take_fields(got);
+  ASSERT_EQ(got.size(), 2U);
+  EXPECT_EQ(got[1].tick, 6U);
+}
+
+TEST(TypedBus, AWriterAndAReaderOfATopicNeedNoMethodOfTheBus) {
+  // What a new topic gets for free: Writer<M> / Reader<M> over any bus.
+  auto domain = make_memory_domain();
+  auto a = make_memory_bus(domain);
+  auto b = make_memory_bus(domain);
+  Reader<core::BroadcastMsg> reader(*b, {routing::kBroadcastPartition});
+  Writer<core::BroadcastMsg> writer(*a);
+  EXPECT_EQ(writer.matched(routing::kBroadcastPartition), 0U);  // not offered yet
+  writer.offer(routing::kBroadcastPartition);
+  EXPECT_EQ(writer.matched(routing::kBroadcastPartition), 1U);
+  ASSERT_TRUE(writer.write({3, 9, static_cast<uint8_t>(core::BroadcastKind::TargetFound), {4.0, 5.0}}));
+  EXPECT_FALSE(writer.write({3, 9, 0, std::vector<double>(core::kMaxBroadcastValues + 1, 0.0)}));
+  EXPECT_EQ(a->stats().writes_refused, 1U);
+  std::vector<core::BroadcastMsg> got;
+  reader.take(got);
+  ASSERT_EQ(got.size(), 1U);
+  EXPECT_EQ(got[0].values, (std::vector<double>{4.0, 5.0}));
+  // Routed elsewhere ("b.other"): not for this reader.
+  ASSERT_TRUE(writer.write({3, 10, 0, {}}, "b.other"));
+  reader.take(got);
+  EXPECT_EQ(got.size(), 1U);
+}
+
+}  // namespace
+}  // namespace pheromesh::bus
