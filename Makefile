@@ -2,6 +2,8 @@
 #   make demo   run the default swarm (Shao 2020 50x50) with the ground station
 #               and its web console (the URL is printed; DEMO_HTTP=port)
 #   make test   run the whole test suite (unit + integration)
+#   make test-quick  the unit and bus tests only (a few minutes with the build):
+#               the loop to run while changing code
 #   make fuzz  build the libFuzzer harnesses (clang, build-fuzz/) and run each
 #               for FUZZ_SECONDS (default 60) on its corpus (docs/fuzzing.md)
 #   make package  build the Debian packages pheromesh_<version>_<arch>.deb and
@@ -15,7 +17,7 @@ DEMO_HTTP ?= 8080
 SCALE_MAX ?= 400
 FUZZ_SECONDS ?= 60
 
-.PHONY: all deps build demo test package bench bench-scale soak fuzz clean
+.PHONY: all deps build demo test test-quick package bench bench-scale soak fuzz clean
 
 all: build
 
@@ -33,6 +35,9 @@ demo: build
 
 test: build
 	cd $(BUILD) && ctest --output-on-failure -j2 --timeout 900
+
+test-quick: build
+	cd $(BUILD) && ctest --output-on-failure -j2 --timeout 300 -L 'unit|bus'
 
 package: build
 	cd $(BUILD) && cpack -G DEB

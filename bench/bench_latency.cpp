@@ -107,6 +107,7 @@ int client(const std::string& vendor, uint32_t domain, int samples, const std::s
     }
     return v;
   };
+  b.offer_deposits(std::vector<core::RegionId>{0});
   const auto deadline = Clock::now() + std::chrono::seconds(60);
   while ((b.matched_deposit_readers(0) == 0 || latest.size() < 4) && Clock::now() < deadline) {
     receive();

@@ -220,7 +220,7 @@ int PlaceApp::run() {
   bus_->subscribe_home_states(cfg_.region);
   bus_->subscribe_fields();
   bus_->subscribe_halos(core_.neighbours());
-  for (core::RegionId r : other_regions_) (void)bus_->matched_deposit_readers(r);  // creates the forwarding writer
+  bus_->offer_deposits(other_regions_);
   bus_->offer_views(home_uavs_);
   commands_ = std::make_unique<runtime::SwarmCommands>(*bus_, log_);
   // The run, for monitors that attach with only the domain id.

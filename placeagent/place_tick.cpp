@@ -85,12 +85,15 @@ void PlaceApp::take_inputs(uint32_t tick) {
   // announced. Waiting for these exact samples replaces the UAVs' wait for
   // acknowledgements. Forged deposits carrying this tick must not stand in
   // for real ones (the place would apply the tick before all of them arrived).
+  // Meanwhile the deposits forwarded so far go out again after a quiet spell:
+  // two place agents each waiting for the other's lost forward would
+  // otherwise wait for each other.
   const auto deposits = [&] {
     return static_cast<uint32_t>(std::count_if(
         inbox_.begin(), inbox_.end(), [&](const auto& d) { return d.tick == tick && !core_.refuses(d, tick); }));
   };
   const auto r = runtime::await_samples(
-      *bus_, {bus::TopicKind::Deposit, bus::TopicKind::UavHome}, {}, nullptr,
+      *bus_, {bus::TopicKind::Deposit, bus::TopicKind::UavHome}, {}, &resend_,
       [&] {
         take_deposits();
         take_home_states(tick);

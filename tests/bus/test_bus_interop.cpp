@@ -65,6 +65,7 @@ TEST_P(Interop, EveryMessageArrivesIntact) {
   r_->subscribe_clock();
   r_->subscribe_phase_done();
   r_->subscribe_commands();
+  w_->offer_deposits(std::vector<core::RegionId>{7});
   const auto deadline = Clock::now() + std::chrono::seconds(15);
   while (w_->matched_deposit_readers(7) == 0 && Clock::now() < deadline) std::this_thread::sleep_for(std::chrono::milliseconds(20));
   ASSERT_EQ(w_->matched_deposit_readers(7), 1U);

@@ -79,6 +79,7 @@ int discover(bus::Bus& b, uint32_t id, uint32_t expect, double timeout_s) {
 }
 
 int hostile(bus::Bus& b, uint32_t region, uint32_t map_width) {
+  b.offer_deposits(std::vector<core::RegionId>{region});
   const auto deadline = Clock::now() + std::chrono::seconds(20);
   while (b.matched_deposit_readers(region) == 0) {
     if (Clock::now() > deadline || runtime::shutdown_requested()) {
@@ -135,6 +136,7 @@ int forge(bus::Bus& b, const std::string& scenario_path, uint32_t uavs, bool loc
   // real ones out; the ground station keeps every state.
   const core::RegionId state_home = geo.region_count() - 1;
   b.join_uav(stranger, state_home);
+  b.offer_deposits(std::vector<core::RegionId>{0});  // the forged deposits go to region 0
   b.subscribe_clock();
   // Wait until the swarm runs: every receiver has latched its conductor.
   uint32_t tick = 1;
@@ -264,6 +266,7 @@ int snoop(bus::Bus& b, double seconds, uint64_t until_tiles, uint64_t until_cloc
   while (!runtime::shutdown_requested() && Clock::now() < deadline) {
     if (can_write) {
       try {
+        b.offer_deposits(std::vector<core::RegionId>{0});
         most_matched = std::max(most_matched, b.matched_deposit_readers(0));
         injected += b.publish_deposit({900001, ++seq, 1, 0, 0, 0, {1, 1}, 1.0F, {}}, 0) ? 1 : 0;
       } catch (const std::exception& e) {

@@ -238,9 +238,12 @@ bool Bus::flush(std::initializer_list<TopicKind> kinds, std::chrono::millisecond
   return transport_->flush(of_kinds(writers_, kinds), timeout);
 }
 
-uint32_t Bus::matched_deposit_readers(core::RegionId region) {
-  roles_->deposits.offer(region_partition(region));
+uint32_t Bus::matched_deposit_readers(core::RegionId region) const {
   return roles_->deposits.matched(region_partition(region));
+}
+
+void Bus::offer_deposits(std::span<const core::RegionId> regions) {
+  for (core::RegionId r : regions) roles_->deposits.offer(region_partition(r));
 }
 
 uint32_t Bus::matched_state_readers() {

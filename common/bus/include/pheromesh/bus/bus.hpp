@@ -136,6 +136,9 @@ class Bus {
   // A place agent: the view writers of the UAVs homed on it, created before
   // they fly (publish_view would otherwise create one on first use).
   void offer_views(std::span<const uint32_t> uavs);
+  // Deposit writers into these regions' partitions, opened now (a place
+  // agent forwards its home UAVs' deposits with them; made before the swarm flies).
+  void offer_deposits(std::span<const core::RegionId> regions);
   void subscribe_halos(std::span<const core::RegionId> neighbours);
   // Everything the ground station needs: every region's field, all UAV
   // states, detections, target events, health.
@@ -179,10 +182,10 @@ class Bus {
   bool flush(std::initializer_list<TopicKind> kinds, std::chrono::milliseconds timeout);
 
   // Readers matched by this process's deposit writer into the partition of
-  // `region` (a UAV: its home place agent before depositing). Opens that
-  // writer if this process has none yet (a place agent's forwarding writers
-  // are made this way before the swarm flies).
-  [[nodiscard]] uint32_t matched_deposit_readers(core::RegionId region);
+  // `region` (a UAV: its home place agent before depositing); 0 if it has no
+  // such writer. A query only: the writers are opened by join_uav and
+  // offer_deposits.
+  [[nodiscard]] uint32_t matched_deposit_readers(core::RegionId region) const;
   // Readers matched by this UAV's state writer (its home place agent and the
   // ground station; 0 before join_uav).
   [[nodiscard]] uint32_t matched_state_readers();
