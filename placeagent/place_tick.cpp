@@ -27,7 +27,10 @@ void PlaceApp::take_deposits() {
   taken_.clear();
   bus_->take_deposits(taken_);
   for (const auto& d : taken_) {
-    switch (desk_.take(d, current_tick_)) {
+    const auto route = desk_.take(d, current_tick_);
+    log_->debug("took deposit uav {} seq {} tick {} region {}: {}", d.uav, d.seq, d.tick, d.region,
+                static_cast<int>(route));
+    switch (route) {
       case core::DepositRoute::Apply:
         inbox_.push_back(d);
         break;
@@ -75,6 +78,16 @@ uint32_t PlaceApp::home_states_of(uint32_t tick) const {
   }));
 }
 
+bool PlaceApp::holds_home_deposits(uint32_t tick) const {
+  // A home UAV's state of this tick counts every deposit it wrote so far;
+  // those for other regions must be forwarded in this phase too, or their
+  // owners wait for them while this place agent waits for their fields.
+  return std::all_of(home_uavs_.begin(), home_uavs_.end(), [&](uint32_t u) {
+    const core::UavStateMsg* st = views_.state(u);
+    return st == nullptr || st->tick < tick || desk_.taken_from(u) >= st->deposits_sent;
+  });
+}
+
 void PlaceApp::take_inputs(uint32_t tick) {
   inbox_.clear();
   take_deposits();
@@ -82,7 +95,8 @@ void PlaceApp::take_inputs(uint32_t tick) {
   if (!demand_) return;
   // Lockstep: exactly the deposits the UAVs reported for this region and the
   // states of the home UAVs that took part in the UAV phase, as the clock
-  // announced. Waiting for these exact samples replaces the UAVs' wait for
+  // announced, and every deposit those home UAVs wrote (some to forward,
+  // holds_home_deposits). Waiting for these exact samples replaces the UAVs' wait for
   // acknowledgements. Forged deposits carrying this tick must not stand in
   // for real ones (the place would apply the tick before all of them arrived).
   // Meanwhile the deposits forwarded so far go out again after a quiet spell:
@@ -98,10 +112,13 @@ void PlaceApp::take_inputs(uint32_t tick) {
         take_deposits();
         take_home_states(tick);
       },
-      [&] { return deposits() >= demand_->deposits && home_states_of(tick) >= demand_->states; });
+      [&] {
+        return deposits() >= demand_->deposits && home_states_of(tick) >= demand_->states && holds_home_deposits(tick);
+      });
   if (r != runtime::Awaited::Done) {
-    log_->error("tick {}: {} of {} announced deposits and {} of {} home UAV states arrived; applying those", tick,
-                deposits(), demand_->deposits, home_states_of(tick), demand_->states);
+    log_->error("tick {}: {} of {} announced deposits and {} of {} home UAV states arrived{}; applying those", tick,
+                deposits(), demand_->deposits, home_states_of(tick), demand_->states,
+                holds_home_deposits(tick) ? "" : ", not every deposit of the home UAVs to forward");
   }
 }
 
