@@ -1,0 +1,147 @@
+// The shells' lockstep run loop and bounded wait (runtime/lockstep_loop.hpp,
+// runtime/await.hpp) on the in-memory bus: a conductor played by the test
+// drives a follower's loop in another thread, tick by tick, as the ground
+// station drives a UAV.
+#include <gtest/gtest.h>
+#include <spdlog/sinks/null_sink.h>
+#include <spdlog/spdlog.h>
+
+#include <atomic>
+#include <chrono>
+#include <thread>
+#include <vector>
+
+#include "pheromesh/bus/memory.hpp"
+#include "pheromesh/runtime/await.hpp"
+#include "pheromesh/runtime/lockstep_loop.hpp"
+
+namespace pheromesh::runtime {
+namespace {
+
+using namespace std::chrono_literals;
+using Clock = std::chrono::steady_clock;
+
+std::shared_ptr<spdlog::logger> quiet_logger() {
+  return std::make_shared<spdlog::logger>("test", std::make_shared<spdlog::sinks::null_sink_mt>());
+}
+
+core::ClockMsg clock_of(uint32_t tick, core::ClockPhase phase) {
+  core::ClockMsg c;
+  c.tick = tick;
+  c.phase = static_cast<uint8_t>(phase);
+  return c;
+}
+
+// Waits (bounded) until `conductor` takes a PhaseDone of `tick`.
+bool done_of(bus::Bus& conductor, uint32_t tick) {
+  std::vector<core::PhaseDoneMsg> dones;
+  const auto deadline = Clock::now() + 5s;
+  while (Clock::now() < deadline) {
+    conductor.take_phase_done(dones);
+    for (const auto& d : dones) {
+      if (d.tick == tick) return true;
+    }
+    conductor.wait({bus::TopicKind::PhaseDone}, Clock::now() + 50ms);
+  }
+  return false;
+}
+
+TEST(LockstepLoop, RunsEachUavPhaseTheConductorAnnouncesOnceAndEndsOnItsStop) {
+  auto domain = bus::make_memory_domain();
+  auto conductor = bus::make_memory_bus(domain);
+  auto uav = bus::make_memory_bus(domain);
+  conductor->subscribe_phase_done();
+  uav->subscribe_clock();
+  auto log = quiet_logger();
+  bus::LatestResender resend(*uav, true);
+  SampleAudit audit(log);
+  core::LockstepFollower follower(core::ClockPhase::Uav, core::ConductorWatch(6s, 300s, Clock::now()));
+  std::vector<uint32_t> ran;
+  std::atomic<int> end{-1};
+  std::thread t([&] {
+    LockstepLoop loop{*uav,
+                      follower,
+                      resend,
+                      audit,
+                      *log,
+                      1000,
+                      [] {},
+                      [&](const core::ClockMsg& c) {
+                        ran.push_back(c.tick);
+                        resend.phase_done({core::process_key(core::kRoleUav, 0), c.tick, c.phase, 0, {}});
+                        return PhaseOutcome::Continue;
+                      }};
+    end = static_cast<int>(loop.run());
+  });
+  for (uint32_t k = 0; k < 3; ++k) {
+    ASSERT_TRUE(conductor->publish_clock(clock_of(k, core::ClockPhase::Uav)));
+    ASSERT_TRUE(done_of(*conductor, k)) << "tick " << k;
+    // The place phase and a re-sent clock of the same tick are not UAV phases.
+    ASSERT_TRUE(conductor->publish_clock(clock_of(k, core::ClockPhase::Place)));
+    ASSERT_TRUE(conductor->publish_clock(clock_of(k, core::ClockPhase::Uav)));
+  }
+  ASSERT_TRUE(conductor->publish_clock(core::LockstepConductor::stop(3)));
+  t.join();
+  EXPECT_EQ(end.load(), static_cast<int>(LockstepEnd::Stopped));
+  EXPECT_EQ(ran, (std::vector<uint32_t>{0, 1, 2}));
+  EXPECT_EQ(follower.last_done(), 2U);
+}
+
+TEST(LockstepLoop, AConductorThatFallsSilentEndsTheLoopAfterTheWatchsLimit) {
+  auto domain = bus::make_memory_domain();
+  auto conductor = bus::make_memory_bus(domain);
+  auto place = bus::make_memory_bus(domain);
+  place->subscribe_clock();
+  auto log = quiet_logger();
+  bus::LatestResender resend(*place, true);
+  SampleAudit audit(log);
+  core::LockstepFollower follower(core::ClockPhase::Place, core::ConductorWatch(300ms, 300ms, Clock::now()));
+  ASSERT_TRUE(conductor->publish_clock(clock_of(0, core::ClockPhase::Place)));
+  uint32_t phases = 0;
+  LockstepLoop loop{*place,
+                    follower,
+                    resend,
+                    audit,
+                    *log,
+                    50,
+                    [] {},
+                    [&](const core::ClockMsg&) {
+                      ++phases;
+                      return PhaseOutcome::Continue;
+                    }};
+  const auto t0 = Clock::now();
+  EXPECT_EQ(loop.run(), LockstepEnd::ConductorLost);
+  EXPECT_EQ(phases, 1U);
+  EXPECT_GE(Clock::now() - t0, 300ms) << "not before the limit";
+}
+
+TEST(AwaitSamples, TakesUntilTheAwaitedSampleArrivesAndGivesUpAtTheBound) {
+  auto domain = bus::make_memory_domain();
+  auto ground = bus::make_memory_bus(domain);
+  auto place = bus::make_memory_bus(domain);
+  ground->subscribe_ground();
+  std::vector<core::HealthMsg> health;
+  std::thread writer([&] {
+    std::this_thread::sleep_for(50ms);
+    core::HealthMsg h;
+    h.region = 2;
+    h.tick = 7;
+    place->publish_health(h);
+  });
+  const auto r = await_samples(
+      *ground, {bus::TopicKind::Health}, {2000ms, 20ms}, nullptr, [&] { ground->take_health(health); },
+      [&] { return !health.empty(); });
+  writer.join();
+  EXPECT_EQ(r, Awaited::Done);
+  ASSERT_EQ(health.size(), 1U);
+  EXPECT_EQ(health[0].tick, 7U);
+  const auto t0 = Clock::now();
+  const auto none = await_samples(
+      *ground, {bus::TopicKind::Health}, {100ms, 20ms}, nullptr, [&] { ground->take_health(health); },
+      [&] { return health.size() > 1; });
+  EXPECT_EQ(none, Awaited::TimedOut);
+  EXPECT_GE(Clock::now() - t0, 100ms) << "not before its bound";
+}
+
+}  // namespace
+}  // namespace pheromesh::runtime
