@@ -70,9 +70,11 @@ TEST(Qos, TheTableSaysWhatThePheromoneAccountingNeeds) {
   EXPECT_EQ(dr.reliability, QosSpec::Reliability::Reliable);
   EXPECT_EQ(dr.history, QosSpec::History::KeepAll);
   EXPECT_EQ(topic_qos(TopicKind::Deposit, Endpoint::Writer, lease).depth, 4096);
-  // Late joiners get the latest tile and the clock.
-  for (const TopicKind k : {TopicKind::Tile, TopicKind::Clock, TopicKind::Health, TopicKind::View, TopicKind::Field,
-                            TopicKind::UavHome}) {
+  // Late joiners get the latest tile and the clock; a clock reader keeps
+  // every sample until taken (a forged one is refused, not overwritten).
+  EXPECT_EQ(topic_qos(TopicKind::Clock, Endpoint::Writer, lease).depth, 1);
+  EXPECT_EQ(topic_qos(TopicKind::Clock, Endpoint::Reader, lease).depth, 16);
+  for (const TopicKind k : {TopicKind::Tile, TopicKind::Health, TopicKind::View, TopicKind::Field, TopicKind::UavHome}) {
     const QosSpec q = topic_qos(k, Endpoint::Reader, lease);
     EXPECT_EQ(q.durability, QosSpec::Durability::TransientLocal) << to_string(k);
     EXPECT_EQ(q.history, QosSpec::History::KeepLast) << to_string(k);

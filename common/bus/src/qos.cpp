@@ -49,11 +49,19 @@ QosSpec topic_qos(TopicKind kind, Endpoint endpoint, std::chrono::milliseconds l
       keep_last(1);
       break;
     case TopicKind::Tile:
-    case TopicKind::Clock:
     case TopicKind::PhaseDone:
     case TopicKind::Scenario:
       // Latest value per key, also for late joiners.
       keep_last(1);
+      break;
+    case TopicKind::Clock:
+      // A late joiner gets the latest clock. A reader keeps every clock
+      // sample until it is taken: every writer's sample of the one instance
+      // would otherwise replace the one before, and a forged clock (a Stop)
+      // written between two of the conductor's - a few ms apart in lockstep
+      // - would vanish uncounted instead of being refused
+      // (core::LockstepFollower, plausibility.hpp).
+      keep_last(reader ? 16 : 1);
       break;
     case TopicKind::Halo:
       keep_last(1);
