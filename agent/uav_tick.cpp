@@ -21,8 +21,10 @@ void UavApp::receive() {
   const uint32_t ceiling = tick_ceiling();
   for (const auto& v : view_inbox_) {
     if (!audit_.admit(core::check_view(v, cfg_.id, ceiling, rules))) continue;
-    view_tick_ = std::max(view_tick_.value_or(0), v.tick);
     receipts_.confirmed(v.deposit_ack);
+    if (view_tick_ && v.tick <= *view_tick_) continue;  // an older view, or a copy re-sent
+    view_tick_ = v.tick;
+    core_.begin_view();
     tile_samples_received_ += v.tiles.size();
     for (const auto& t : v.tiles) {
       if (audit_.admit(core::check_view_tile(t, rules))) core_.receive_tile(t);

@@ -3,6 +3,7 @@
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
+#include <cmath>
 #include <chrono>
 #include <thread>
 
@@ -44,6 +45,9 @@ PlaceApp::PlaceApp(PlaceConfig cfg, core::ScenarioConfig scenario, std::unique_p
   replicated_ = cfg_.common.standby || scenario_.standby;
   resend_.resend_deposits(true);  // lockstep only: the forwarded ones (the owners drop copies)
   present_others_ = other_regions_;
+  // Realtime: a tile no owner sent for two seconds (at least 10 ticks) is
+  // left out of views; the owner is gone, and its region is dark.
+  tiles_stale_after_ = std::max<uint32_t>(10, static_cast<uint32_t>(std::ceil(2.0 * scenario_.tick_rate_hz)));
 }
 
 uint32_t PlaceApp::tick_ceiling() const {
@@ -70,6 +74,7 @@ void PlaceApp::publish_health(uint32_t tick, HealthKind kind) {
                     l.rejected(), halos_missing_, kind == HealthKind::Final, gaps_.max_gap_ms(), gaps_.gaps_over_2()};
   h.replica = cfg_.replica;
   h.deposits_duplicate = desk_.copies();
+  h.bytes_received = bus_->stats().bytes_taken;
   core::RefusalCounts all = audit_.refused();
   for (std::size_t i = 0; i < core::kRefusalCount; ++i) all.add(static_cast<core::Refusal>(i), l.refused.n[i]);
   h.refused = all.n;
@@ -215,13 +220,15 @@ int PlaceApp::run_lockstep() {
 
 int PlaceApp::run() {
   // Every endpoint this place agent runs with, created once: deposits for
-  // this region, its home UAVs' states, every region's field, halos, and the
-  // writers of forwarded deposits, of fields and of its home UAVs' views.
+  // this region, its home UAVs' states, the other place agents' served UAVs
+  // and the tiles they send for its views, halos, and the writers of
+  // forwarded deposits, of served UAVs and tiles, and of its home UAVs' views.
   bus_->subscribe_deposits(cfg_.region);
   bus_->subscribe_home_states(cfg_.region);
-  bus_->subscribe_fields();
+  bus_->subscribe_place_exchange(cfg_.region);
   bus_->subscribe_halos(core_.neighbours());
   bus_->offer_deposits(other_regions_);
+  bus_->offer_place_exchange(other_regions_);
   bus_->offer_views(home_uavs_);
   commands_ = std::make_unique<runtime::SwarmCommands>(*bus_, log_);
   // The run, for monitors that attach with only the domain id.

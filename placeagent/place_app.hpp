@@ -65,8 +65,20 @@ class PlaceApp {
   void step(uint32_t tick, std::optional<TickDemand> demand);
   void take_inputs(uint32_t tick);
   void exchange_halos(uint32_t tick);
-  // Publishes this region's field of `tick` and sends the home UAVs their views.
+  // The home UAVs served this tick (served_) and their states, to the other place agents.
+  void publish_served(uint32_t tick);
+  // Publishes this region's field of `tick` to the ground station, exchanges
+  // tiles for views with the other place agents and sends the served home
+  // UAVs their views.
   void serve_views(uint32_t tick);
+  // To each other place agent the tiles of this region its UAVs' views need.
+  void send_tiles(uint32_t tick);
+  // The tiles the served UAVs' views need from the other regions.
+  void receive_tiles(uint32_t tick);
+  [[nodiscard]] std::vector<core::RegionId> owners_for_views() const;
+  // Realtime: owners send the tiles within one more cell, as a UAV has moved
+  // since the state they used; lockstep: exactly the view's tiles.
+  [[nodiscard]] int32_t tile_margin() const { return demand_ ? 0 : 1; }
   // Takes deposits into inbox_ and forwards the others to their owner's place
   // agent (or counts them rejected if it is unreachable).
   void take_deposits();
@@ -114,7 +126,10 @@ class PlaceApp {
   std::map<uint32_t, uint32_t> heard_at_;  // home UAV -> place tick of its newest state
   // Reusable inboxes and outboxes.
   std::vector<core::DepositMsg> taken_, inbox_;
-  std::vector<core::UavStateMsg> state_inbox_, home_states_;
+  std::vector<core::UavStateMsg> state_inbox_, home_states_, served_states_;
+  std::vector<uint32_t> served_;  // home UAVs that get a view this tick
+  std::vector<core::TileMsg> tiles_for_;
+  uint32_t tiles_stale_after_ = 10;  // realtime: place ticks a tile not sent again is still shown
   std::vector<core::FieldMsg> field_inbox_;
   std::vector<core::HaloMsg> halo_inbox_;
   std::vector<core::TargetEventMsg> events_;

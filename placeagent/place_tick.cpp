@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <map>
 #include <set>
 
 #include "pheromesh/runtime/await.hpp"
@@ -155,37 +156,109 @@ void PlaceApp::exchange_halos(uint32_t tick) {
   halos_missing_ += awaited - std::min(fresh.size(), awaited);
 }
 
+void PlaceApp::publish_served(uint32_t tick) {
+  // The home UAVs that get a view this tick and where they are, to every
+  // other place agent: each owner sends back the tiles their views need.
+  // Lockstep: those that took part in this tick's UAV phase.
+  served_.clear();
+  served_states_.clear();
+  for (uint32_t u : home_uavs_) {
+    const core::UavStateMsg* st = views_.state(u);
+    if (st == nullptr || st->finished) continue;
+    if (demand_ ? st->tick != tick : tick - heard_at_[u] > kViewsAfterSilence) continue;
+    served_.push_back(u);
+    served_states_.push_back(*st);
+  }
+  for (auto& f : core::make_field_chunks(cfg_.region, tick, {}, served_states_)) {
+    f.replica = cfg_.replica;
+    resend_.served(f);
+  }
+}
+
+void PlaceApp::send_tiles(uint32_t tick) {
+  // Which UAVs every other place agent serves: exactly this tick's (lockstep).
+  const auto take = [&] {
+    field_inbox_.clear();
+    bus_->take_served(field_inbox_);
+    const uint32_t ceiling = tick_ceiling();
+    for (const auto& f : field_inbox_) {
+      if (f.region != cfg_.region && audit_.admit(core::check_field_chunk(f, ceiling, rules_))) views_.update_served(f);
+    }
+  };
+  const auto r = runtime::await_samples(*bus_, {bus::TopicKind::Field}, {}, &resend_, take,
+                                        [&] { return !demand_ || views_.holds_served(tick, present_others_); });
+  if (r != runtime::Awaited::Done) {
+    log_->error("tick {}: the served UAVs of some regions did not arrive ({}); sending tiles for the latest", tick,
+                views_.missing_served(tick, present_others_));
+  }
+  // To each of them the tiles of this region their UAVs' views need, and nothing else.
+  std::map<std::pair<int32_t, int32_t>, std::vector<std::size_t>> by_tile;
+  for (std::size_t i = 0; i < tiles_out_.size(); ++i) by_tile[{tiles_out_[i].tile.tx, tiles_out_[i].tile.ty}].push_back(i);
+  for (core::RegionId home : present_others_) {
+    const std::vector<uint32_t> uavs = views_.served_by(home);
+    tiles_for_.clear();
+    for (const core::TileCoord t : views_.needed_tiles(uavs, tile_margin())) {
+      auto it = by_tile.find({t.tx, t.ty});
+      if (it == by_tile.end()) continue;  // another region's tile
+      for (std::size_t i : it->second) tiles_for_.push_back(tiles_out_[i]);
+    }
+    if (tiles_for_.empty()) continue;
+    for (auto& f : core::make_field_chunks(cfg_.region, tick, tiles_for_, {})) {
+      f.replica = cfg_.replica;
+      resend_.tiles_for(f, home);
+    }
+  }
+}
+
+std::vector<core::RegionId> PlaceApp::owners_for_views() const {
+  // The other present regions whose tiles the served UAVs' views need: they
+  // send them (send_tiles above, from the same served states).
+  std::set<core::RegionId> owners;
+  for (const core::TileCoord t : views_.needed_tiles(served_, tile_margin())) {
+    const core::RegionId r = geo_.region_of_tile(t);
+    if (r != cfg_.region && !is_absent(r)) owners.insert(r);
+  }
+  return {owners.begin(), owners.end()};
+}
+
+void PlaceApp::receive_tiles(uint32_t tick) {
+  const std::vector<core::RegionId> owners = owners_for_views();
+  const auto take = [&] {
+    field_inbox_.clear();
+    bus_->take_tiles_for_views(field_inbox_);
+    const uint32_t ceiling = tick_ceiling();
+    for (const auto& f : field_inbox_) {
+      if (f.region == cfg_.region || !audit_.admit(core::check_field_chunk(f, ceiling, rules_))) continue;
+      // Lockstep shows a tile of this tick only; realtime one that arrived lately.
+      views_.update_tiles(f, demand_ ? f.tick : tick);
+    }
+  };
+  const auto r = runtime::await_samples(*bus_, {bus::TopicKind::Field}, {}, &resend_, take,
+                                        [&] { return !demand_ || views_.holds_tiles(tick, owners); });
+  if (r != runtime::Awaited::Done) {
+    log_->error("tick {}: the tiles of some regions did not arrive ({}); views go without them", tick,
+                views_.missing_tiles(tick, owners));
+  }
+}
+
 void PlaceApp::serve_views(uint32_t tick) {
-  // This region's field and its home UAVs' latest states, to every place agent and the ground.
+  // This region's field and its home UAVs' latest states, to the ground station.
   home_states_.clear();
   for (uint32_t u : home_uavs_) {
     if (const core::UavStateMsg* st = views_.state(u)) home_states_.push_back(*st);
   }
-  for (const auto& t : tiles_out_) views_.update_tile(t);
+  for (const auto& t : tiles_out_) views_.update_tile(t, tick);
   for (auto& f : core::make_field_chunks(cfg_.region, tick, tiles_out_, home_states_)) {
     f.replica = cfg_.replica;
     resend_.field(f);
   }
-  // Every other region's field: exactly this tick's (lockstep), or the latest.
-  const auto take = [&] {
-    field_inbox_.clear();
-    bus_->take_fields(field_inbox_);
-    const uint32_t ceiling = tick_ceiling();
-    for (const auto& f : field_inbox_) {
-      if (f.region != cfg_.region && audit_.admit(core::check_field_chunk(f, ceiling, rules_))) views_.update_field(f);
-    }
-  };
-  const auto r = runtime::await_samples(*bus_, {bus::TopicKind::Field}, {}, &resend_, take,
-                                        [&] { return !demand_ || views_.holds_fields(tick, present_others_); });
-  if (r != runtime::Awaited::Done) {
-    log_->error("tick {}: the fields of some regions did not arrive ({}); views use the latest", tick,
-                views_.missing_fields(tick, present_others_));
-  }
-  for (uint32_t u : home_uavs_) {
-    const core::UavStateMsg* st = views_.state(u);
-    if (st == nullptr || st->finished) continue;
-    if (!demand_ && tick - heard_at_[u] > kViewsAfterSilence) continue;
-    if (views_.compose(u, tick, demand_ ? 0 : kNeighbourAge, view_)) {
+  send_tiles(tick);
+  receive_tiles(tick);
+  // Lockstep: tiles of this tick only; realtime: tiles an owner sent lately
+  // (a dead owner's region goes dark after that).
+  const uint32_t min_tile_tick = demand_ ? tick : (tick > tiles_stale_after_ ? tick - tiles_stale_after_ : 0);
+  for (uint32_t u : served_) {
+    if (views_.compose(u, tick, demand_ ? 0 : kNeighbourAge, min_tile_tick, view_)) {
       view_.deposit_ack = desk_.ack(u);
       resend_.view(view_);
     }
@@ -197,6 +270,7 @@ void PlaceApp::step(uint32_t tick, std::optional<TickDemand> demand) {
   demand_ = demand;
   resend_.begin_tick();
   take_inputs(tick);
+  publish_served(tick);
   events_.clear();
   rejections_.clear();
   const core::HaloRing ring = core_.begin_tick(inbox_, tick, events_, &rejections_);

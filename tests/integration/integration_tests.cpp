@@ -117,22 +117,30 @@ TEST(Swarm, AProcessThatDiesUnexpectedlyIsReportedAsACrash) {
   for (const auto& f : fastdds_shm_files()) EXPECT_TRUE(shm_before.contains(f)) << "/dev/shm/" << f << " left behind";
 }
 
-TEST(Swarm, AUavReceivesTrafficOfItsNeighbourhoodNotOfTheWholeMap) {
-  // Same tile size and swarm on a map with 4x the tiles (and 4x the place
-  // agents): the tile samples a UAV receives per tick must not grow with it.
-  double per_tick[2] = {0, 0};
-  const char* scenarios[2] = {"shao2020-50x50.textproto", "shao2020-100x100.textproto"};
+TEST(Swarm, NeitherAUavNorAPlaceAgentReceivesTrafficThatGrowsWithTheMap) {
+  // The same swarm, tiles and 16 place agents on a map of 16x the area
+  // (scale-400x400 is scale-100x100 scaled by 4): the tile samples a UAV
+  // receives per tick must not grow with it, and neither must what a place
+  // agent receives (payload bytes) - but for its neighbours' border rings,
+  // which are as long as a region's side (x4). Before issue 25 every place
+  // agent received every region's field: x15 (193 kB -> 2900 kB per tick).
+  double uav_tiles[2] = {0, 0}, place_bytes[2] = {0, 0};
+  const char* scenarios[2] = {"scale-100x100.textproto", "scale-400x400.textproto"};
   for (int i = 0; i < 2; ++i) {
     const std::string out = out_dir(std::string("traffic-") + std::to_string(i));
-    const Output o = run(pheromesh_run(scenarios[i], out, 27 + i, "--uavs 3 --ticks 120 --rate 20"));
+    const Output o = run(pheromesh_run(scenarios[i], out, 27 + i, "--uavs 3 --ticks 80 --rate 20"));
     ASSERT_EQ(o.exit_code, 0) << o.text;
     const json m = read_metrics(out);
-    per_tick[i] = m["tile_samples_per_uav_tick"].get<double>();
-    std::printf("%s: %.2f tile samples per UAV per tick, %d place agents\n", scenarios[i], per_tick[i],
-                m["place_agents"].get<int>());
+    uav_tiles[i] = m["tile_samples_per_uav_tick"].get<double>();
+    place_bytes[i] = m["place_bytes_received_per_tick"].get<double>();
+    std::printf("%s: %.2f tile samples per UAV and tick, %.0f bytes per place agent and tick, %d place agents\n",
+                scenarios[i], uav_tiles[i], place_bytes[i], m["place_agents"].get<int>());
+    EXPECT_EQ(m["deposits_sent"], m["deposits_applied"]);
   }
-  EXPECT_GT(per_tick[0], 0.0);
-  EXPECT_LT(per_tick[1], 1.5 * per_tick[0]);
+  EXPECT_GT(uav_tiles[0], 0.0);
+  EXPECT_LT(uav_tiles[1], 1.5 * uav_tiles[0]);
+  EXPECT_GT(place_bytes[0], 0.0);
+  EXPECT_LT(place_bytes[1], 4.0 * place_bytes[0]);
 }
 
 TEST(Swarm, AUavReceivesTheSameTrafficWhateverTheSwarmSize) {

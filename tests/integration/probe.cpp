@@ -137,6 +137,7 @@ int forge(bus::Bus& b, const std::string& scenario_path, uint32_t uavs, bool loc
   const core::RegionId state_home = geo.region_count() - 1;
   b.join_uav(stranger, state_home);
   b.offer_deposits(std::vector<core::RegionId>{0});  // the forged deposits go to region 0
+  b.offer_place_exchange(std::vector<core::RegionId>{geo.region_count() > 1 ? 1U : 0U});
   b.subscribe_clock();
   // Wait until the swarm runs: every receiver has latched its conductor.
   uint32_t tick = 1;
@@ -181,6 +182,14 @@ int forge(bus::Bus& b, const std::string& scenario_path, uint32_t uavs, bool loc
   // write): 1e30 values, and a tick far ahead.
   core::TileMsg patch{0, {0, 0}, tick, 0, w, h, std::vector<float>(cells, kHuge)};
   count(b.publish_field({0, 5, 6, tick, {patch}, {}, 0}));
+  // The same 1e30 tile as region 0's tiles for region 1's views, and a
+  // served-UAVs chunk of region 0 naming a UAV that does not exist (what the
+  // place agents exchange among themselves).
+  count(b.publish_tiles_for({0, 5, 6, tick, {patch}, {}, 0}, geo.region_count() > 1 ? 1 : 0));
+  core::UavStateMsg ghost;
+  ghost.uav = stranger;
+  ghost.tick = tick;
+  count(b.publish_served({0, 5, 6, tick, {}, {ghost}, 0}));
   patch.values.assign(cells, 0.5F);
   patch.tick = far_tick;
   count(b.publish_field({0, 4, 6, far_tick, {patch}, {}, 0}));

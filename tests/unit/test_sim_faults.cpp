@@ -225,8 +225,10 @@ TEST(SimFaults, TheHomeUavsOfADeadRegionGetEmptyViewsAndVanishFromTheOthers) {
   // samples and the other UAV. Region 1 killed at tick 3: its last views
   // are those of tick 2, which UAV 1 reads at tick 3; from tick 4 it reads
   // none. UAV 1's state of tick 3 on would be published by region 1, so from
-  // tick 4 UAV 0 no longer sees it. UAV 0 keeps reading 16 tile samples per
-  // tick (region 1's frozen tiles among them).
+  // tick 4 UAV 0 no longer sees it. Region 1 is dark from its views of tick
+  // 3 on: UAV 0 reads 16 tile samples at ticks 1..3 and only region 0's 2
+  // tiles x 4 layers = 8 at ticks 4..10, and its cache holds nothing of
+  // region 1 any more.
   ScenarioConfig s = tiny(8, 8, 2, 2, {0, 0, 2, 1}, 10);
   Simulator sim(s);
   set_faults(sim, "kill place:1 @3t");
@@ -241,7 +243,9 @@ TEST(SimFaults, TheHomeUavsOfADeadRegionGetEmptyViewsAndVanishFromTheOthers) {
   EXPECT_EQ(seen0, expected);
   EXPECT_EQ(seen1, expected);
   const auto& uavs = sim.recorder().uavs();
-  EXPECT_EQ(uavs.at(0).last.tile_samples_received, 16U * 10U);  // ticks 1..10
+  EXPECT_EQ(uavs.at(0).last.tile_samples_received, 16U * 3U + 8U * 7U);  // ticks 1..3, 4..10
+  for (const Cell c : {Cell{4, 0}, Cell{7, 7}}) EXPECT_FALSE(sim.uav(0).tiles().value(0, c)) << c.x << "," << c.y;
+  EXPECT_TRUE(sim.uav(0).tiles().value(0, {3, 3}));
   EXPECT_EQ(uavs.at(1).last.tile_samples_received, 16U * 3U);   // ticks 1..3
   // It still flies and the ground still hears it: it stepped every tick.
   EXPECT_EQ(uavs.at(1).last.tick, 10U);

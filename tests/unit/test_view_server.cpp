@@ -30,14 +30,14 @@ TEST(ViewServer, AViewHoldsTheTilesWithinTheRadiusOfTheViewCellAndTheUavsOverThe
   ViewServer vs(g, 2, 3.0);
   for (int32_t tx = 0; tx < 4; ++tx) {
     for (int32_t ty = 0; ty < 4; ++ty) {
-      for (int l = 0; l < 2; ++l) vs.update_tile(tile(l, {tx, ty}, 5, static_cast<float>(tx * 10 + ty)));
+      for (int l = 0; l < 2; ++l) vs.update_tile(tile(l, {tx, ty}, 5, static_cast<float>(tx * 10 + ty)), 5);
     }
   }
   vs.update_state(uav(1, 5, 11, 11));  // view cell (11,11): radius 3 reaches tiles (0..1, 0..1)
   vs.update_state(uav(2, 5, 8, 8));    // over tile (0,0): a neighbour
   vs.update_state(uav(3, 5, 35, 35));  // over tile (3,3): far away
   ViewMsg v;
-  ASSERT_TRUE(vs.compose(1, 5, 0, v));
+  ASSERT_TRUE(vs.compose(1, 5, 0, 5, v));
   EXPECT_EQ(v.uav, 1U);
   EXPECT_EQ(v.tick, 5U);
   // 2 x 2 tiles x 2 layers, as UavCore's neighbourhood of (11,11) with radius 3.
@@ -50,7 +50,7 @@ TEST(ViewServer, AViewHoldsTheTilesWithinTheRadiusOfTheViewCellAndTheUavsOverThe
   }
   ASSERT_EQ(v.uavs.size(), 1U);  // not itself, not UAV 3
   EXPECT_EQ(v.uavs[0].uav, 2U);
-  EXPECT_FALSE(vs.compose(9, 5, 0, v)) << "no state of UAV 9 is known";
+  EXPECT_FALSE(vs.compose(9, 5, 0, 5, v)) << "no state of UAV 9 is known";
 }
 
 TEST(ViewServer, NeighboursFollowTheirNewestStateAndOldOrFinishedOnesAreLeftOut) {
@@ -58,25 +58,25 @@ TEST(ViewServer, NeighboursFollowTheirNewestStateAndOldOrFinishedOnesAreLeftOut)
   vs.update_state(uav(1, 10, 5, 5));
   vs.update_state(uav(2, 9, 6, 6));
   ViewMsg v;
-  ASSERT_TRUE(vs.compose(1, 10, 0, v));
+  ASSERT_TRUE(vs.compose(1, 10, 0, 0, v));
   EXPECT_TRUE(v.uavs.empty()) << "UAV 2's state is a tick older than UAV 1's and max_age is 0";
-  ASSERT_TRUE(vs.compose(1, 10, 1, v));
+  ASSERT_TRUE(vs.compose(1, 10, 1, 0, v));
   EXPECT_EQ(v.uavs.size(), 1U);
   // UAV 2 moves away (its newer state), then an older state arrives late: ignored.
   vs.update_state(uav(2, 10, 35, 35));
   vs.update_state(uav(2, 8, 6, 6));
-  ASSERT_TRUE(vs.compose(1, 10, 4, v));
+  ASSERT_TRUE(vs.compose(1, 10, 4, 0, v));
   EXPECT_TRUE(v.uavs.empty());
   EXPECT_EQ(vs.state(2)->tick, 10U);
   // A finished UAV is not a neighbour.
   UavStateMsg done = uav(3, 10, 4, 4);
   done.finished = true;
   vs.update_state(done);
-  ASSERT_TRUE(vs.compose(1, 10, 4, v));
+  ASSERT_TRUE(vs.compose(1, 10, 4, 0, v));
   EXPECT_TRUE(v.uavs.empty());
 }
 
-TEST(ViewServer, FieldsOfATickAreHeldOnlyWhenEveryChunkOfEveryRegionArrived) {
+TEST(ViewServer, TilesAndServedStatesOfATickAreHeldOnlyWhenEveryChunkOfEveryRegionArrived) {
   ViewServer vs(geo(), 1, 3.0);
   const std::vector<RegionId> regions{1, 2};
   std::vector<TileMsg> many;
@@ -85,18 +85,76 @@ TEST(ViewServer, FieldsOfATickAreHeldOnlyWhenEveryChunkOfEveryRegionArrived) {
   ASSERT_EQ(chunks.size(), 2U);
   EXPECT_EQ(chunks[0].tiles.size(), kMaxFieldTiles);
   EXPECT_EQ(chunks[1].tiles.size(), 300U - kMaxFieldTiles);
-  vs.update_field(chunks[0]);
-  for (const auto& f : make_field_chunks(2, 4, {}, {uav(7, 4, 30, 30)})) vs.update_field(f);
-  EXPECT_FALSE(vs.holds_fields(4, regions)) << "chunk 1 of region 1 is missing";
-  EXPECT_EQ(vs.missing_fields(4, regions), "region 1: tick 4, 1 of 2 chunks");
-  vs.update_field(chunks[1]);
-  EXPECT_TRUE(vs.holds_fields(4, regions));
-  EXPECT_EQ(vs.missing_fields(4, regions), "");
-  EXPECT_FALSE(vs.holds_fields(5, regions));
-  EXPECT_EQ(vs.missing_fields(5, std::vector<RegionId>{2, 9}), "region 2: tick 4, 1 of 1 chunks; region 9: none");
-  ASSERT_NE(vs.state(7), nullptr) << "a field carries its home UAVs' states";
-  // An empty region still sends one chunk.
-  EXPECT_EQ(make_field_chunks(3, 1, {}, {}).size(), 1U);
+  vs.update_tiles(chunks[0], 4);
+  for (const auto& f : make_field_chunks(2, 4, many, {})) vs.update_tiles(f, 4);
+  EXPECT_FALSE(vs.holds_tiles(4, regions)) << "chunk 1 of region 1 is missing";
+  EXPECT_EQ(vs.missing_tiles(4, regions), "region 1: tick 4, 1 of 2 chunks");
+  vs.update_tiles(chunks[1], 4);
+  EXPECT_TRUE(vs.holds_tiles(4, regions));
+  EXPECT_EQ(vs.missing_tiles(4, regions), "");
+  EXPECT_FALSE(vs.holds_tiles(5, regions));
+  EXPECT_EQ(vs.missing_tiles(5, std::vector<RegionId>{2, 9}), "region 2: tick 4, 2 of 2 chunks; region 9: none");
+  // Served states are counted apart from tiles; an empty region still sends one chunk.
+  EXPECT_FALSE(vs.holds_served(4, regions));
+  for (const auto& f : make_field_chunks(2, 4, {}, {uav(7, 4, 30, 30)})) vs.update_served(f);
+  vs.update_served(make_field_chunks(1, 4, {}, {}).at(0));
+  EXPECT_TRUE(vs.holds_served(4, regions));
+  ASSERT_NE(vs.state(7), nullptr) << "a served chunk carries the states";
+  EXPECT_EQ(vs.served_by(2), std::vector<uint32_t>{7});
+  EXPECT_TRUE(vs.served_by(1).empty());
+}
+
+TEST(ViewServer, AServedListIsReplacedOnlyOnceEveryChunkOfANewerTickArrived) {
+  ViewServer vs(geo(), 1, 3.0);
+  std::vector<UavStateMsg> states;
+  for (uint32_t u = 0; u < kMaxFieldUavs + 1; ++u) states.push_back(uav(u, 6, 5, 5));
+  for (const auto& f : make_field_chunks(3, 5, {}, {uav(1, 5, 5, 5)})) vs.update_served(f);
+  const auto chunks = make_field_chunks(3, 6, {}, states);
+  ASSERT_EQ(chunks.size(), 2U);
+  vs.update_served(chunks[1]);
+  EXPECT_EQ(vs.served_by(3), std::vector<uint32_t>{1}) << "tick 6 is not complete: tick 5's list stands";
+  vs.update_served(chunks[1]);  // a copy (re-sent) counts once
+  vs.update_served(chunks[0]);
+  EXPECT_EQ(vs.served_by(3).size(), kMaxFieldUavs + 1);
+  vs.update_served(make_field_chunks(3, 5, {}, {}).at(0));  // older: ignored
+  EXPECT_EQ(vs.served_by(3).size(), kMaxFieldUavs + 1);
+}
+
+TEST(ViewServer, NeededTilesAreTheUnionOfTheServedUavsNeighbourhoods) {
+  // 40 x 40 cells, tiles of 10, radius 3: a view cell at (11,11) needs tiles
+  // (0..1, 0..1); one at (35,4) tile (3, 0); a margin of 2 cells at (35,4)
+  // reaches x = 30..39, y = 0..9: still (3, 0); at (33,4) it reaches x = 28
+  // and so also (2, 0).
+  ViewServer vs(geo(), 1, 3.0);
+  vs.update_state(uav(1, 2, 11, 11));
+  vs.update_state(uav(2, 2, 35, 4));
+  vs.update_state(uav(3, 2, 33, 4));
+  const std::vector<uint32_t> a{1, 2, 9};  // 9: unknown, adds nothing
+  const std::vector<TileCoord> want{{0, 0}, {0, 1}, {1, 0}, {1, 1}, {3, 0}};
+  EXPECT_EQ(vs.needed_tiles(a), want);
+  const std::vector<uint32_t> b{2};
+  EXPECT_EQ(vs.needed_tiles(b, 2), (std::vector<TileCoord>{{3, 0}}));
+  const std::vector<uint32_t> c{3};
+  EXPECT_EQ(vs.needed_tiles(c, 0), (std::vector<TileCoord>{{3, 0}}));
+  EXPECT_EQ(vs.needed_tiles(c, 2), (std::vector<TileCoord>{{2, 0}, {3, 0}}));
+}
+
+TEST(ViewServer, ATileThatStoppedArrivingIsLeftOutOfViews) {
+  // A dead owner sends nothing: its last tiles are not shown (dark, not frozen).
+  ViewServer vs(geo(), 1, 3.0);
+  vs.update_state(uav(1, 7, 11, 11));
+  vs.update_tile(tile(0, {0, 0}, 7, 1.0F), 7);
+  vs.update_tile(tile(0, {1, 1}, 3, 2.0F), 3);  // arrived at tick 3, not since
+  ViewMsg v;
+  ASSERT_TRUE(vs.compose(1, 7, 0, 7, v));
+  ASSERT_EQ(v.tiles.size(), 1U);
+  EXPECT_EQ(v.tiles[0].tile, (TileCoord{0, 0}));
+  ASSERT_TRUE(vs.compose(1, 7, 0, 3, v));
+  EXPECT_EQ(v.tiles.size(), 2U);
+  // A newer tile replaces the older and carries its own arrival.
+  vs.update_tile(tile(0, {1, 1}, 7, 3.0F), 7);
+  ASSERT_TRUE(vs.compose(1, 7, 0, 7, v));
+  EXPECT_EQ(v.tiles.size(), 2U);
 }
 
 }  // namespace

@@ -51,7 +51,7 @@ struct Bus::Roles {
   std::optional<core::RegionId> home;  // a UAV's home place agent (join_uav)
 
   std::optional<Reader<core::ViewMsg>> view_in;
-  std::optional<Reader<core::FieldMsg>> field_in;
+  std::optional<Reader<core::FieldMsg>> field_in, served_in, tiles_in;
   std::optional<Reader<core::UavStateMsg>> home_states_in, ground_states_in;
   std::optional<Reader<core::DepositMsg>> deposit_in;
   std::optional<Reader<core::HaloMsg>> halo_in;
@@ -90,6 +90,8 @@ void Bus::opened(TopicKind kind, Endpoint endpoint, EndpointId id) {
 BusStats Bus::stats() const {
   BusStats s = transport_->stats();
   s.writes_refused += writes_refused_;
+  s.samples_taken += samples_taken_;
+  s.bytes_taken += bytes_taken_;
   return s;
 }
 
@@ -104,6 +106,10 @@ bool Bus::publish_uav_state(const core::UavStateMsg& m) {
 }
 bool Bus::publish_view(const core::ViewMsg& m) { return roles_->views.write(m); }
 bool Bus::publish_field(const core::FieldMsg& m) { return roles_->fields.write(m); }
+bool Bus::publish_served(const core::FieldMsg& m) { return roles_->fields.write(m, kServedPartition); }
+bool Bus::publish_tiles_for(const core::FieldMsg& m, core::RegionId home) {
+  return roles_->fields.write(m, tiles_for_partition(home));
+}
 bool Bus::publish_detection(const core::DetectionMsg& m) { return roles_->detections.write(m); }
 bool Bus::publish_target_event(const core::TargetEventMsg& m) { return roles_->events.write(m); }
 bool Bus::publish_health(const core::HealthMsg& m) { return roles_->health.write(m); }
@@ -134,6 +140,16 @@ void Bus::subscribe_home_states(core::RegionId own) {
 }
 
 void Bus::subscribe_fields() { roles_->field_in.emplace(*this, std::vector<std::string>{kFieldPartition}); }
+
+void Bus::subscribe_place_exchange(core::RegionId own) {
+  roles_->served_in.emplace(*this, std::vector<std::string>{kServedPartition});
+  roles_->tiles_in.emplace(*this, std::vector<std::string>{tiles_for_partition(own)});
+}
+
+void Bus::offer_place_exchange(std::span<const core::RegionId> others) {
+  roles_->fields.offer(kServedPartition);
+  for (auto r : others) roles_->fields.offer(tiles_for_partition(r));
+}
 
 void Bus::offer_views(std::span<const uint32_t> uavs) {
   for (uint32_t u : uavs) roles_->views.offer(view_partition(u));
@@ -180,6 +196,8 @@ void Bus::take_deposits(std::vector<core::DepositMsg>& out) { take_from(*transpo
 void Bus::take_halos(std::vector<core::HaloMsg>& out) { take_from(*transport_, roles_->halo_in, out); }
 void Bus::take_tiles(std::vector<core::TileMsg>& out) { take_from(*transport_, roles_->tile_in, out); }
 void Bus::take_fields(std::vector<core::FieldMsg>& out) { take_from(*transport_, roles_->field_in, out); }
+void Bus::take_served(std::vector<core::FieldMsg>& out) { take_from(*transport_, roles_->served_in, out); }
+void Bus::take_tiles_for_views(std::vector<core::FieldMsg>& out) { take_from(*transport_, roles_->tiles_in, out); }
 void Bus::take_views(std::vector<core::ViewMsg>& out) { take_from(*transport_, roles_->view_in, out); }
 void Bus::take_detections(std::vector<core::DetectionMsg>& out) { take_from(*transport_, roles_->detection_in, out); }
 void Bus::take_target_events(std::vector<core::TargetEventMsg>& out) { take_from(*transport_, roles_->event_in, out); }

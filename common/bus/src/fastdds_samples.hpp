@@ -320,6 +320,7 @@ struct Convert<core::HealthMsg> {
     s.halos_missing(m.halos_missing);
     s.finished(m.finished);
     s.deposits_duplicate(m.deposits_duplicate);
+    s.bytes_received(m.bytes_received);
     s.tick_gap_max_ms(m.tick_gap_max_ms);
     s.tick_gaps_over_2(m.tick_gaps_over_2);
     std::copy(m.refused.begin(), m.refused.end(), s.refused().begin());
@@ -333,6 +334,7 @@ struct Convert<core::HealthMsg> {
                       s.tick_gap_max_ms(),  s.tick_gaps_over_2()};
     h.replica = s.replica();
     h.deposits_duplicate = s.deposits_duplicate();
+    h.bytes_received = s.bytes_received();
     std::copy(s.refused().begin(), s.refused().end(), h.refused.begin());
     return h;
   }

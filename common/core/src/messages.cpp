@@ -153,4 +153,33 @@ std::optional<std::string> check_broadcast(const BroadcastMsg& b) {
   return std::nullopt;
 }
 
+std::size_t payload_bytes(const TileMsg& m) { return sizeof(m) + m.values.size() * sizeof(float); }
+
+std::size_t payload_bytes(const ViewMsg& m) {
+  std::size_t n = sizeof(m) + m.uavs.size() * sizeof(UavStateMsg);
+  for (const auto& t : m.tiles) n += payload_bytes(t);
+  return n;
+}
+
+std::size_t payload_bytes(const FieldMsg& m) {
+  std::size_t n = sizeof(m) + m.uavs.size() * sizeof(UavStateMsg);
+  for (const auto& t : m.tiles) n += payload_bytes(t);
+  return n;
+}
+
+std::size_t payload_bytes(const HaloMsg& m) {
+  return sizeof(m) + (m.target.size() + m.obstacle.size()) * sizeof(float);
+}
+
+std::size_t payload_bytes(const BroadcastMsg& m) { return sizeof(m) + m.values.size() * sizeof(double); }
+
+std::size_t payload_bytes(const ClockMsg& m) {
+  return sizeof(m) + m.occupancy.size() * sizeof(TileCount) +
+         (m.deposits.size() + m.states.size()) * sizeof(RegionCount) + m.absent.size() * sizeof(RegionId);
+}
+
+std::size_t payload_bytes(const PhaseDoneMsg& m) { return sizeof(m) + m.deposits.size() * sizeof(RegionCount); }
+
+std::size_t payload_bytes(const ScenarioMsg& m) { return sizeof(m) + m.text.size(); }
+
 }  // namespace pheromesh::core

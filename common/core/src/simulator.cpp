@@ -122,6 +122,7 @@ void Simulator::step(uint32_t tick) {
     const bool blind = tick > 0 && region_dead(home, tick - 1);
     if (tick > 0) {
       if (!blind) {
+        u.begin_view();
         for (const TileCoord& t : u.neighbourhood()) {
           auto it = tiles_.find({t.tx, t.ty});
           if (it != tiles_.end()) {
@@ -160,8 +161,8 @@ void Simulator::step(uint32_t tick) {
   }
   broadcasts_ = std::move(broadcasts);
   // Place phase: deposits of tick k, rings of tick k, update, tiles of tick k.
-  // A dead region does none of it: its last ring and tiles stay what the
-  // others use.
+  // A dead region does none of it: its last ring stays what its neighbours'
+  // diffusion uses; its tiles are in no view from now on.
   std::vector<TargetEventMsg> events;
   std::vector<HaloMsg> rings;
   rings.reserve(places_.size());
@@ -186,19 +187,11 @@ void Simulator::step(uint32_t tick) {
     p.finish_tick();
   }
   for (const auto& e : events) recorder_.on_target_event(e);
+  // A dead region's tiles are in no view (its region is dark; core/faults.hpp).
   std::vector<TileMsg> tiles;
   for (std::size_t r = 0; r < places_.size(); ++r) {
-    const auto region = static_cast<RegionId>(r);
-    if (region_dead(region, tick)) {
-      const auto& last = last_tiles_[region];
-      tiles.insert(tiles.end(), last.begin(), last.end());
-      continue;
-    }
-    const std::size_t from = tiles.size();
+    if (region_dead(static_cast<RegionId>(r), tick)) continue;
     places_[r]->tiles(tick, PlaceCore::TileSelection::All, tiles);
-    if (region_kill_tick(region)) {
-      last_tiles_[region].assign(tiles.begin() + static_cast<std::ptrdiff_t>(from), tiles.end());
-    }
   }
   tiles_.clear();
   for (auto& t : tiles) tiles_[{t.tile.tx, t.tile.ty}].push_back(std::move(t));

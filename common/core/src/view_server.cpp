@@ -10,9 +10,9 @@ namespace pheromesh::core {
 ViewServer::ViewServer(const MapGeometry& geo, int layers, double view_radius)
     : geo_(geo), layers_(layers), radius_(static_cast<int32_t>(std::ceil(view_radius))) {}
 
-void ViewServer::update_tile(const TileMsg& t) {
-  auto [it, fresh] = tiles_.try_emplace({t.tile.tx, t.tile.ty, static_cast<int>(t.layer)}, t);
-  if (!fresh && t.tick >= it->second.tick) it->second = t;
+void ViewServer::update_tile(const TileMsg& t, uint32_t arrived) {
+  auto [it, fresh] = tiles_.try_emplace({t.tile.tx, t.tile.ty, static_cast<int>(t.layer)}, Held{t, arrived});
+  if (!fresh && t.tick >= it->second.tile.tick) it->second = Held{t, std::max(arrived, it->second.arrived)};
 }
 
 void ViewServer::update_state(const UavStateMsg& s) {
@@ -29,38 +29,86 @@ void ViewServer::update_state(const UavStateMsg& s) {
   over_[{now.tx, now.ty}].insert(s.uav);
 }
 
-void ViewServer::update_field(const FieldMsg& f) {
-  for (const auto& t : f.tiles) update_tile(t);
-  for (const auto& s : f.uavs) update_state(s);
-  Arrived& a = fields_[f.region];
+bool ViewServer::arrive(std::map<RegionId, Arrived>& to, const FieldMsg& f) {
+  Arrived& a = to[f.region];
   if (f.tick != a.tick || a.chunks != f.chunks) {
-    if (f.tick < a.tick) return;
-    a = Arrived{f.tick, f.chunks, {}};
+    if (f.tick < a.tick) return false;
+    a = Arrived{f.tick, f.chunks, {}, {}, std::move(a.served)};
   }
-  a.seen.insert(f.chunk);
+  return a.seen.insert(f.chunk).second;
 }
 
-bool ViewServer::holds_fields(uint32_t tick, std::span<const RegionId> regions) const {
+void ViewServer::update_served(const FieldMsg& f) {
+  for (const auto& s : f.uavs) update_state(s);
+  if (!arrive(served_, f)) return;
+  Arrived& a = served_[f.region];
+  for (const auto& s : f.uavs) a.uavs.push_back(s.uav);
+  if (a.complete(a.tick)) a.served = a.uavs;
+}
+
+void ViewServer::update_tiles(const FieldMsg& f, uint32_t arrived) {
+  for (const auto& t : f.tiles) update_tile(t, arrived);
+  arrive(tiles_from_, f);
+}
+
+bool ViewServer::holds_served(uint32_t tick, std::span<const RegionId> regions) const {
   return std::all_of(regions.begin(), regions.end(), [&](RegionId r) {
-    auto it = fields_.find(r);
-    return it != fields_.end() && it->second.tick == tick && it->second.seen.size() >= it->second.chunks;
+    auto it = served_.find(r);
+    return it != served_.end() && it->second.complete(tick);
   });
 }
 
-std::string ViewServer::missing_fields(uint32_t tick, std::span<const RegionId> regions) const {
+bool ViewServer::holds_tiles(uint32_t tick, std::span<const RegionId> owners) const {
+  return std::all_of(owners.begin(), owners.end(), [&](RegionId r) {
+    auto it = tiles_from_.find(r);
+    return it != tiles_from_.end() && it->second.complete(tick);
+  });
+}
+
+std::string ViewServer::missing(const std::map<RegionId, Arrived>& from, uint32_t tick,
+                                std::span<const RegionId> regions) {
   std::string out;
   for (RegionId r : regions) {
-    auto it = fields_.find(r);
-    if (it != fields_.end() && it->second.tick == tick && it->second.seen.size() >= it->second.chunks) continue;
+    auto it = from.find(r);
+    if (it != from.end() && it->second.complete(tick)) continue;
     if (!out.empty()) out += "; ";
     out += "region " + std::to_string(r) + ": ";
-    if (it == fields_.end()) {
+    if (it == from.end()) {
       out += "none";
     } else {
       out += "tick " + std::to_string(it->second.tick) + ", " + std::to_string(it->second.seen.size()) + " of " +
              std::to_string(it->second.chunks) + " chunks";
     }
   }
+  return out;
+}
+
+std::string ViewServer::missing_served(uint32_t tick, std::span<const RegionId> regions) const {
+  return missing(served_, tick, regions);
+}
+
+std::string ViewServer::missing_tiles(uint32_t tick, std::span<const RegionId> owners) const {
+  return missing(tiles_from_, tick, owners);
+}
+
+std::vector<uint32_t> ViewServer::served_by(RegionId region) const {
+  auto it = served_.find(region);
+  return it == served_.end() ? std::vector<uint32_t>{} : it->second.served;
+}
+
+Cell ViewServer::view_centre(const UavStateMsg& s) const { return geo_.in_map(s.view) ? s.view : state_cell(s); }
+
+std::vector<TileCoord> ViewServer::needed_tiles(std::span<const uint32_t> uavs, int32_t margin) const {
+  std::set<std::pair<int32_t, int32_t>> seen;
+  std::vector<TileCoord> out;
+  for (uint32_t u : uavs) {
+    const UavStateMsg* s = state(u);
+    if (s == nullptr) continue;
+    for (const TileCoord t : geo_.tiles_within(view_centre(*s), radius_ + margin)) {
+      if (seen.insert({t.tx, t.ty}).second) out.push_back(t);
+    }
+  }
+  std::sort(out.begin(), out.end(), [](TileCoord a, TileCoord b) { return std::pair(a.tx, a.ty) < std::pair(b.tx, b.ty); });
   return out;
 }
 
@@ -71,17 +119,19 @@ const UavStateMsg* ViewServer::state(uint32_t uav) const {
   return it == states_.end() ? nullptr : &it->second;
 }
 
-bool ViewServer::compose(uint32_t uav, uint32_t tick, uint32_t max_age, ViewMsg& out) const {
+bool ViewServer::compose(uint32_t uav, uint32_t tick, uint32_t max_age, uint32_t min_tile_tick, ViewMsg& out) const {
   const UavStateMsg* self = state(uav);
   if (self == nullptr) return false;
   out.uav = uav;
   out.tick = tick;
   out.tiles.clear();
   out.uavs.clear();
-  const Cell centre = geo_.in_map(self->view) ? self->view : state_cell(*self);
-  for (const TileCoord t : neighbourhood(centre)) {
+  for (const TileCoord t : neighbourhood(view_centre(*self))) {
     for (int l = 0; l < layers_; ++l) {
-      if (auto it = tiles_.find({t.tx, t.ty, l}); it != tiles_.end()) out.tiles.push_back(it->second);
+      // An older tile is one its owner no longer sends: the owner is gone
+      // (its region is dark) or this UAV's view did not need it last tick.
+      auto it = tiles_.find({t.tx, t.ty, l});
+      if (it != tiles_.end() && it->second.arrived >= min_tile_tick) out.tiles.push_back(it->second.tile);
     }
     auto o = over_.find({t.tx, t.ty});
     if (o == over_.end()) continue;

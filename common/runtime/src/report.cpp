@@ -63,9 +63,15 @@ nlohmann::json metrics_json(const core::RunRecorder& r, const RunInfo& info) {
     replicas[name] = {{"region", h.region},        {"replica", h.replica},
                       {"tick", h.tick},            {"finished", h.finished},
                       {"lost", r.place_departed(id) && !h.finished}, {"deposits_received", h.deposits_received},
-                      {"deposits_applied", h.deposits_applied}, {"deposits_duplicate", h.deposits_duplicate}};
+                      {"deposits_applied", h.deposits_applied}, {"deposits_duplicate", h.deposits_duplicate},
+                      {"bytes_received", h.bytes_received}};
   }
   j["deposits_duplicate_dropped"] = duplicates;
+  // What a place agent receives per tick (payload bytes, core::payload_bytes),
+  // the mean over the primaries: local traffic does not grow with the map.
+  double place_bytes = 0.0;
+  for (const auto& [region, h] : r.health()) place_bytes += static_cast<double>(h.bytes_received) / (h.tick + 1.0);
+  j["place_bytes_received_per_tick"] = r.health().empty() ? 0.0 : place_bytes / static_cast<double>(r.health().size());
   j["place_replicas"] = replicas;
   j["place_agents_alive"] = r.regions_alive();
   j["uavs_killed"] = r.uavs_killed();

@@ -17,7 +17,9 @@
 //   deposits     -> "r.<region>": a UAV writes to its home place agent, which
 //                   forwards those for other regions to their owner
 //   views        -> "u.<uav>": from the home place agent to that UAV only
-//   region fields (tiles + home UAV states) -> "f": place agents, ground
+//   region fields (tiles + home UAV states) -> "f": the ground station
+//   served UAV states -> "p": every other place agent
+//   tiles for a home's views -> "f.<home>": that place agent only
 //   halo rings   -> "h.<region>" of the sender
 //   UAV broadcasts (to the whole swarm) -> "b"
 //   lockstep clock and phase reports  -> "c"
@@ -97,7 +99,12 @@ class Bus {
   bool publish_deposit(const core::DepositMsg& m, core::RegionId via);
   bool publish_uav_state(const core::UavStateMsg& m);  // to the home given to join_uav; BusMisuse before
   bool publish_view(const core::ViewMsg& m);           // to UAV m.uav
-  bool publish_field(const core::FieldMsg& m);
+  bool publish_field(const core::FieldMsg& m);  // to the ground station ("f")
+  // Place agents among themselves: the states of the UAVs one serves this
+  // tick, to every other ("p"), and the tiles of its region another's UAVs'
+  // views need, to that one ("f.<home>").
+  bool publish_served(const core::FieldMsg& m);
+  bool publish_tiles_for(const core::FieldMsg& m, core::RegionId home);
   bool publish_detection(const core::DetectionMsg& m);
   bool publish_target_event(const core::TargetEventMsg& m);
   bool publish_health(const core::HealthMsg& m);
@@ -132,7 +139,11 @@ class Bus {
   // states of the UAVs homed on it, and every region's field.
   void subscribe_deposits(core::RegionId own);
   void subscribe_home_states(core::RegionId own);
-  void subscribe_fields();
+  void subscribe_fields();  // the ground station
+  // A place agent: the other place agents' served states and the tiles sent
+  // for its own UAVs' views; and its writers of both, opened now.
+  void subscribe_place_exchange(core::RegionId own);
+  void offer_place_exchange(std::span<const core::RegionId> others);
   // A place agent: the view writers of the UAVs homed on it, created before
   // they fly (publish_view would otherwise create one on first use).
   void offer_views(std::span<const uint32_t> uavs);
@@ -154,6 +165,8 @@ class Bus {
   // Tiles of the fields (and of TileState writers), ground station only.
   void take_tiles(std::vector<core::TileMsg>& out);
   void take_fields(std::vector<core::FieldMsg>& out);
+  void take_served(std::vector<core::FieldMsg>& out);
+  void take_tiles_for_views(std::vector<core::FieldMsg>& out);
   void take_views(std::vector<core::ViewMsg>& out);
   void take_uav_states(std::vector<core::UavStateMsg>& out);
   void take_detections(std::vector<core::DetectionMsg>& out);
@@ -195,6 +208,11 @@ class Bus {
   // --- for Writer<M> / Reader<M> (typed.hpp)
   // Counts and logs a sample not written because it is over an IDL bound.
   bool refuse(const Oversize& o);
+  // Counts samples a typed reader took and their payload bytes (BusStats).
+  void taken(std::size_t samples, std::size_t bytes) {
+    samples_taken_ += samples;
+    bytes_taken_ += bytes;
+  }
   // Every endpoint opened through this bus, by kind (wait and flush by kind).
   void opened(TopicKind kind, Endpoint endpoint, EndpointId id);
 
@@ -204,6 +222,7 @@ class Bus {
   std::unique_ptr<Roles> roles_;
   std::vector<std::pair<TopicKind, EndpointId>> writers_, readers_;
   uint64_t writes_refused_ = 0;
+  uint64_t samples_taken_ = 0, bytes_taken_ = 0;
 };
 
 // Vendors compiled into this build, e.g. {"cyclone"}.

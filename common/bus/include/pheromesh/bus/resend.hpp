@@ -65,7 +65,11 @@ class LatestResender {
   }
 
   // Publish and remember (the result is that of the bus's publish).
-  bool field(const core::FieldMsg& m) { return remember(fields_, m, bus_.publish_field(m)); }
+  bool field(const core::FieldMsg& m) { return keep_field(m, 0, 0, bus_.publish_field(m)); }
+  bool served(const core::FieldMsg& m) { return keep_field(m, 1, 0, bus_.publish_served(m)); }
+  bool tiles_for(const core::FieldMsg& m, core::RegionId home) {
+    return keep_field(m, 2, home, bus_.publish_tiles_for(m, home));
+  }
   bool view(const core::ViewMsg& m) { return remember(views_, m, bus_.publish_view(m)); }
   bool halo(const core::HaloMsg& m) { return remember(halo_, m, bus_.publish_halo(m)); }
   bool clock(const core::ClockMsg& m) { return remember(clock_, m, bus_.publish_clock(m)); }
@@ -81,7 +85,7 @@ class LatestResender {
       return false;
     }
     for (const auto& [m, via] : deposits_) bus_.publish_deposit(m, via);
-    for (const auto& m : fields_) bus_.publish_field(m);
+    for (const auto& f : fields_) publish(f);
     for (const auto& m : views_) bus_.publish_view(m);
     if (halo_) bus_.publish_halo(*halo_);
     if (clock_) bus_.publish_clock(*clock_);
@@ -96,6 +100,25 @@ class LatestResender {
   [[nodiscard]] uint64_t resends() const { return resends_; }
 
  private:
+  // A field chunk and where it went: 0 the ground station, 1 every other
+  // place agent (served states), 2 the place agent `home` (tiles for its views).
+  struct Field {
+    core::FieldMsg m;
+    int to = 0;
+    core::RegionId home = 0;
+  };
+  bool keep_field(const core::FieldMsg& m, int to, core::RegionId home, bool ok) {
+    if (!enabled_) return ok;
+    fields_.push_back(Field{m, to, home});
+    last_ = Clock::now();
+    return ok;
+  }
+  bool publish(const Field& f) {
+    if (f.to == 1) return bus_.publish_served(f.m);
+    if (f.to == 2) return bus_.publish_tiles_for(f.m, f.home);
+    return bus_.publish_field(f.m);
+  }
+
   template <typename M>
   bool remember(std::vector<M>& to, const M& m, bool ok) {
     if (!enabled_) return ok;
@@ -115,7 +138,7 @@ class LatestResender {
   bool enabled_;
   std::chrono::milliseconds quiet_;
   Clock::time_point last_ = Clock::now();
-  std::vector<core::FieldMsg> fields_;
+  std::vector<Field> fields_;
   std::vector<core::ViewMsg> views_;
   std::optional<core::HaloMsg> halo_;
   std::optional<core::ClockMsg> clock_;

@@ -15,6 +15,11 @@ inline std::string region_partition(core::RegionId r) { return "r." + std::to_st
 inline std::string halo_partition(core::RegionId r) { return "h." + std::to_string(r); }
 inline std::string home_partition(core::RegionId r) { return "s." + std::to_string(r); }
 inline std::string view_partition(uint32_t uav) { return "u." + std::to_string(uav); }
+// Local traffic (docs/architecture.md, "Views"): the tiles an owner sends
+// one home place agent for its UAVs' views, and the states every place agent
+// serves, to the others.
+inline std::string tiles_for_partition(core::RegionId home) { return "f." + std::to_string(home); }
+inline constexpr const char* kServedPartition = "p";
 inline constexpr const char* kAllHomes = "s.*";
 inline constexpr const char* kFieldPartition = "f";
 inline constexpr const char* kAllTiles = "t.*";

@@ -39,6 +39,10 @@ struct BusStats {
   uint64_t samples_dropped = 0;
   uint64_t writes_refused = 0;
   uint64_t writes_failed = 0;
+  // Samples taken through the typed readers and their payload bytes
+  // (core::payload_bytes: the same measure on every transport).
+  uint64_t samples_taken = 0;
+  uint64_t bytes_taken = 0;
 };
 
 // An endpoint a transport opened (index into its own table).

@@ -73,7 +73,11 @@ class Reader {
   void take(std::vector<M>& out, std::vector<uint32_t>& departed) {
     bus_->transport().keep_alive();
     Sink sink(out, departed, watch_ == Watch::SamplesAndDepartures ? &departures_ : nullptr);
+    const std::size_t before = out.size();
     bus_->transport().take(id_, sink);
+    std::size_t bytes = 0;
+    for (std::size_t i = before; i < out.size(); ++i) bytes += core::payload_bytes(out[i]);
+    bus_->taken(out.size() - before, bytes);
   }
 
   bool wait(std::chrono::steady_clock::time_point deadline) {

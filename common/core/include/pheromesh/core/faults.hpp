@@ -20,11 +20,14 @@
 //   kill uav:U @kt     UAV U acts in ticks 0..k-1 only; from tick k it is gone
 //                      (no state in any view, no deposits, no coverage).
 //   kill place:R @kt   with a standby: nothing changes (the standby takes
-//                      over). Without: region R's field stays as it was after
-//                      tick k-1 (frozen), every deposit into R from tick k on
-//                      is lost (counted), and the UAVs homed on R get empty
-//                      views (no tiles, no neighbours) from tick k on; their
-//                      deposits are lost too (they go through their home).
+//                      over). Without: region R goes dark - its tiles are in
+//                      no view from the views of tick k on (UAV phase k+1),
+//                      every deposit into R from tick k on is lost (counted);
+//                      its neighbours' diffusion keeps its last ring, and the
+//                      final field keeps its values after tick k-1. The UAVs
+//                      homed on R get empty views (no tiles, no neighbours)
+//                      from tick k on; their deposits are lost too (they go
+//                      through their home).
 //   stop / partition / loss in lockstep: slower, same numbers.
 #pragma once
 

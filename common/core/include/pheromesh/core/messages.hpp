@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "pheromesh/core/grid.hpp"
@@ -107,6 +108,7 @@ struct HealthMsg {
   // Samples this place agent refused as implausible, per core::Refusal
   // (plausibility.hpp; deposits among them are counted in deposits_rejected too).
   std::array<uint32_t, kRefusalCount> refused{};
+  uint64_t bytes_received = 0;  // payload bytes of every sample it took (payload_bytes)
 };
 
 // A place replica in one 32-bit id (departures): replica << 16 | region.
@@ -196,7 +198,7 @@ struct ClockMsg {
   std::vector<RegionCount> deposits;
   // Regions whose place agent is gone without a standby (core/faults.hpp,
   // "kill place:R @kt"), from the tick it was killed at: no one waits for
-  // their field, halo or views; their field stays as it was (frozen).
+  // their tiles, halo or views; their tiles are in no view (dark).
   std::vector<RegionId> absent;
   // Place phase k: how many UAV states of tick k each region's place agent
   // must hold before it composes the views (its home UAVs that took part in
@@ -265,5 +267,24 @@ std::optional<std::string> check_uav_state(const UavStateMsg& s, const MapGeomet
 // Rings are either both empty (a policy without diffusion) or both the
 // size of the sender's border ring.
 std::optional<std::string> check_halo(const HaloMsg& h, const MapGeometry& geo);
+
+// A process's received traffic, measured the same way on every transport:
+// the bytes of a message's fields as the core holds them (its fixed part,
+// sizeof, plus the elements of its sequences and strings). DDS and UDP
+// headers are left out, so the figure compares designs, not vendors.
+std::size_t payload_bytes(const TileMsg& m);
+std::size_t payload_bytes(const ViewMsg& m);
+std::size_t payload_bytes(const FieldMsg& m);
+std::size_t payload_bytes(const HaloMsg& m);
+std::size_t payload_bytes(const BroadcastMsg& m);
+std::size_t payload_bytes(const ClockMsg& m);
+std::size_t payload_bytes(const PhaseDoneMsg& m);
+std::size_t payload_bytes(const ScenarioMsg& m);
+// Messages without sequences: their fixed part.
+template <typename M>
+  requires std::is_trivially_copyable_v<M>
+std::size_t payload_bytes(const M& /*m*/) {
+  return sizeof(M);
+}
 
 }  // namespace pheromesh::core

@@ -60,6 +60,7 @@ class TileCache {
   // Tick of the oldest layer held for tile t (nullopt if a layer is missing).
   [[nodiscard]] std::optional<uint32_t> oldest_tick(TileCoord t) const;
   void forget_except(const std::vector<TileCoord>& keep);
+  void clear() { tiles_.clear(); }
   [[nodiscard]] int layers() const { return layers_; }
 
  private:

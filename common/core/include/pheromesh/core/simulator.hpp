@@ -98,8 +98,7 @@ class Simulator {
   std::map<uint32_t, uint32_t> uav_kill_;
   std::map<RegionId, uint32_t> region_kill_;
   std::set<RegionId> standby_;  // killed regions a standby took over: they live on
-  // A region that will die keeps its last tiles and ring (what others see of it).
-  std::map<RegionId, std::vector<TileMsg>> last_tiles_;
+  // A region that will die keeps its last ring (what its neighbours' diffusion uses).
   std::map<RegionId, HaloMsg> last_ring_;
 
   [[nodiscard]] bool uav_gone(uint32_t u, uint32_t tick) const;

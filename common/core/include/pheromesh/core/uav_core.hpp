@@ -30,6 +30,10 @@ class UavCore {
   UavCore(const UavCore&) = delete;
   UavCore& operator=(const UavCore&) = delete;
 
+  // A view arrived: it replaces what the tile cache held, so a tile its
+  // view no longer carries (a dark region, core/faults.hpp) is not read.
+  // Without a view the cache keeps what it held.
+  void begin_view() { cache_.clear(); }
   void receive_tile(const TileMsg& m) { cache_.update(m); }
   void receive_neighbour(const UavStateMsg& s);   // other UAVs over the neighbourhood tiles
   void receive_broadcast(const BroadcastMsg& b);  // the swarm's broadcasts

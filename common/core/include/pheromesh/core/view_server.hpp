@@ -2,12 +2,16 @@
 //
 // Every UAV has a fixed home place agent (home_region): the UAV writes its
 // state and deposits there and reads one View sample per tick from there,
-// with endpoints that are created once and never change while it flies. The
-// home place agent learns the whole field and every UAV's latest state from
-// the RegionField samples the place agents exchange each tick, and composes
-// for each UAV homed on it exactly what a UAV reading the tiles around it
-// would get: the tiles within its view radius and the states of the other
-// UAVs over those tiles. No DDS here: the place agent shell feeds it.
+// with endpoints that are created once and never change while it flies.
+// Local traffic (issue 25): a home does not hold the whole map. Each tick
+// every place agent tells the others which UAVs it serves and where they
+// are (their states, `p` chunks); each owner then sends each home exactly
+// the tiles of its region that those UAVs' views need (`f.<home>` chunks),
+// and the home composes each view from them and its own tiles: the tiles
+// within the view radius and the states of the other UAVs over those
+// tiles. A tile is shown only if it is of the view's tick (lockstep) or
+// recent (realtime), so a dead owner's tiles are absent, not frozen. No DDS
+// here: the place agent shell feeds it.
 #pragma once
 
 #include <cstdint>
@@ -29,26 +33,42 @@ class ViewServer {
   // within ceil(view_radius) of its view cell, as UavCore does.
   ViewServer(const MapGeometry& geo, int layers, double view_radius);
 
-  // The latest value of a tile layer (an older tick never replaces a newer one).
-  void update_tile(const TileMsg& t);
+  // The latest value of a tile layer (an older tick never replaces a newer
+  // one), which arrived at this place agent's tick `arrived` (compose).
+  void update_tile(const TileMsg& t, uint32_t arrived);
   // A UAV's latest state (an older tick never replaces a newer one).
   void update_state(const UavStateMsg& s);
-  // A field chunk: its tiles and states, and which chunks of which tick of
-  // its region arrived (for holds_fields).
-  void update_field(const FieldMsg& f);
+  // A chunk of the states another place agent serves this tick (`p`): the
+  // states, and which UAVs that region serves (served_by).
+  void update_served(const FieldMsg& f);
+  // A chunk of tiles an owner sent for this place agent's views (`f.<own>`),
+  // arrived at tick `arrived`.
+  void update_tiles(const FieldMsg& f, uint32_t arrived);
 
-  // Lockstep: every chunk of tick `tick` of every region in `regions` arrived.
-  [[nodiscard]] bool holds_fields(uint32_t tick, std::span<const RegionId> regions) const;
-  // What holds_fields misses, for a log line: "region R: tick T, C of N
-  // chunks" per region not complete at `tick` ("none" if nothing arrived).
-  [[nodiscard]] std::string missing_fields(uint32_t tick, std::span<const RegionId> regions) const;
+  // Lockstep: every chunk of tick `tick` of the served states of each region
+  // in `regions` arrived.
+  [[nodiscard]] bool holds_served(uint32_t tick, std::span<const RegionId> regions) const;
+  // Lockstep: every chunk of tick `tick` of tiles from each owner in `owners` arrived.
+  [[nodiscard]] bool holds_tiles(uint32_t tick, std::span<const RegionId> owners) const;
+  // What holds_served / holds_tiles miss, for a log line: "region R: tick T,
+  // C of N chunks" per region not complete at `tick` ("none" if nothing arrived).
+  [[nodiscard]] std::string missing_served(uint32_t tick, std::span<const RegionId> regions) const;
+  [[nodiscard]] std::string missing_tiles(uint32_t tick, std::span<const RegionId> owners) const;
+
+  // The UAVs `region` serves, as its newest complete `p` chunks said.
+  [[nodiscard]] std::vector<uint32_t> served_by(RegionId region) const;
+
+  // The tiles the views of `uavs` need (the union of the neighbourhoods of
+  // their view cells, each widened by `margin` cells), sorted, without repeats;
+  // UAVs whose state is unknown add nothing.
+  [[nodiscard]] std::vector<TileCoord> needed_tiles(std::span<const uint32_t> uavs, int32_t margin = 0) const;
 
   // The view of `uav` at (place) tick `tick` into `out`: the tiles of the
-  // neighbourhood of its latest state's view cell, and the states of the
-  // other UAVs over those tiles that have not finished and whose tick is at
-  // most `max_age` older than that UAV's own state. False (out untouched) if
-  // no state of `uav` is known.
-  bool compose(uint32_t uav, uint32_t tick, uint32_t max_age, ViewMsg& out) const;
+  // neighbourhood of its latest state's view cell that arrived at tick
+  // `min_tile_tick` or later, and the states of the other UAVs over those tiles that
+  // have not finished and whose tick is at most `max_age` older than that
+  // UAV's own state. False (out untouched) if no state of `uav` is known.
+  bool compose(uint32_t uav, uint32_t tick, uint32_t max_age, uint32_t min_tile_tick, ViewMsg& out) const;
 
   // Latest state of `uav`, if any.
   [[nodiscard]] const UavStateMsg* state(uint32_t uav) const;
@@ -57,19 +77,32 @@ class ViewServer {
   [[nodiscard]] std::vector<TileCoord> neighbourhood(Cell c) const;
 
  private:
-  MapGeometry geo_;
-  int layers_;
-  int32_t radius_;
-  std::map<std::tuple<int32_t, int32_t, int>, TileMsg> tiles_;  // (tx, ty, layer)
-  std::map<uint32_t, UavStateMsg> states_;
-  // UAVs by the tile they are over (for the neighbours of a view).
-  std::map<std::pair<int32_t, int32_t>, std::set<uint32_t>> over_;
+  // Which chunks of which tick of a region arrived.
   struct Arrived {
     uint32_t tick = 0;
     uint16_t chunks = 0;
     std::set<uint16_t> seen;
+    std::vector<uint32_t> uavs;    // served states: the UAVs in the chunks of `tick`
+    std::vector<uint32_t> served;  // the UAVs of the newest tick whose every chunk arrived
+    [[nodiscard]] bool complete(uint32_t t) const { return tick == t && seen.size() >= chunks; }
   };
-  std::map<RegionId, Arrived> fields_;
+  // Records chunk f in `to`; false if it is older than what `to` holds.
+  static bool arrive(std::map<RegionId, Arrived>& to, const FieldMsg& f);
+  static std::string missing(const std::map<RegionId, Arrived>& from, uint32_t tick, std::span<const RegionId> regions);
+  [[nodiscard]] Cell view_centre(const UavStateMsg& s) const;
+
+  MapGeometry geo_;
+  int layers_;
+  int32_t radius_;
+  struct Held {
+    TileMsg tile;
+    uint32_t arrived = 0;
+  };
+  std::map<std::tuple<int32_t, int32_t, int>, Held> tiles_;  // (tx, ty, layer)
+  std::map<uint32_t, UavStateMsg> states_;
+  // UAVs by the tile they are over (for the neighbours of a view).
+  std::map<std::pair<int32_t, int32_t>, std::set<uint32_t>> over_;
+  std::map<RegionId, Arrived> served_, tiles_from_;
 };
 
 // Splits a region's tiles and home UAV states of one tick into RegionField
