@@ -56,11 +56,13 @@ Grant uav_grant(uint32_t uav, uint32_t regions) {
 Grant place_grant(const std::string& name, core::RegionId region) {
   Grant g{name, "", {}, {}};
   // Tiles (TileState: no swarm process writes them today, the place agents
-  // own them), its region's field, its halo ring, views to its home UAVs,
+  // own them), its region's field (to the ground station), the UAVs it
+  // serves and the tiles other homes' views need (to the place agents), its
+  // halo ring, views to its home UAVs,
   // deposits forwarded to the other regions' owners, health, target events,
   // the run's scenario, lockstep reports.
   g.publish = {{topic(TopicKind::Tile), {"t.*"}},
-               {topic(TopicKind::Field), {kFieldPartition}},
+               {topic(TopicKind::Field), {kFieldPartition, kServedPartition, kAllTilesFor}},
                {topic(TopicKind::Halo), {halo_partition(region)}},
                {topic(TopicKind::View), {"u.*"}},
                {topic(TopicKind::Deposit), {"r.*"}},
@@ -70,7 +72,7 @@ Grant place_grant(const std::string& name, core::RegionId region) {
                {topic(TopicKind::PhaseDone), {kClockPartition}}};
   g.subscribe = {{topic(TopicKind::Deposit), {region_partition(region)}},
                  {topic(TopicKind::UavState), {home_partition(region)}},
-                 {topic(TopicKind::Field), {kFieldPartition}},
+                 {topic(TopicKind::Field), {kServedPartition, tiles_for_partition(region)}},
                  {topic(TopicKind::Halo), {"h.*"}},
                  {topic(TopicKind::Clock), {kClockPartition}},
                  {topic(TopicKind::Command), {kCommandPartition}}};

@@ -19,6 +19,7 @@ inline std::string view_partition(uint32_t uav) { return "u." + std::to_string(u
 // one home place agent for its UAVs' views, and the states every place agent
 // serves, to the others.
 inline std::string tiles_for_partition(core::RegionId home) { return "f." + std::to_string(home); }
+inline constexpr const char* kAllTilesFor = "f.*";
 inline constexpr const char* kServedPartition = "p";
 inline constexpr const char* kAllHomes = "s.*";
 inline constexpr const char* kFieldPartition = "f";
