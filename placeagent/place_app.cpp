@@ -226,7 +226,7 @@ int PlaceApp::run() {
   bus_->subscribe_deposits(cfg_.region);
   bus_->subscribe_home_states(cfg_.region);
   bus_->subscribe_place_exchange(cfg_.region);
-  bus_->subscribe_halos(core_.neighbours());
+  bus_->subscribe_halos(core_.neighbours(), cfg_.region);
   bus_->offer_deposits(other_regions_);
   bus_->offer_place_exchange(other_regions_);
   bus_->offer_views(home_uavs_);

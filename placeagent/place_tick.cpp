@@ -138,9 +138,10 @@ void PlaceApp::exchange_halos(uint32_t tick) {
     const uint32_t ceiling = tick_ceiling();
     for (const auto& h : halo_inbox_) {
       if (demand_ && (h.tick != tick || is_absent(h.region))) continue;
+      const auto whole = core::expand_halo(h, geo_, cfg_.region);
       if (auto reason = core::check_tick_reachable(h.tick, ceiling, "halo")) {
         audit_.refuse(core::Refusal::TickFarAhead, *reason);
-      } else if (!core_.accept_halo(h)) {
+      } else if (!whole || !core_.accept_halo(*whole)) {
         log_->warn("dropped malformed or out-of-range halo from region {}", h.region);
       } else {
         fresh.insert(h.region);
@@ -282,7 +283,11 @@ void PlaceApp::step(uint32_t tick, std::optional<TickDemand> demand) {
     log_->info("target at ({},{}) {} at tick {}", e.cell.x, e.cell.y,
                core::to_string(static_cast<core::TargetEventKind>(e.kind)), tick);
   }
-  resend_.halo({cfg_.region, tick, ring.target, ring.obstacle});
+  // To each neighbour only the cells of the ring its diffusion reads.
+  const core::HaloMsg full{cfg_.region, tick, ring.target, ring.obstacle};
+  for (core::RegionId n : core_.neighbours()) {
+    if (!is_absent(n)) resend_.halo(core::trim_halo(full, geo_, n), n);
+  }
   exchange_halos(tick);
   core_.finish_tick();
   tiles_out_.clear();

@@ -57,7 +57,7 @@ class Interop : public testing::TestWithParam<Pair> {
 TEST_P(Interop, EveryMessageArrivesIntact) {
   // Subscriptions first, then one match to know both buses are up.
   r_->subscribe_deposits(7);
-  r_->subscribe_halos(std::vector<core::RegionId>{3});
+  r_->subscribe_halos(std::vector<core::RegionId>{3}, 4);
   r_->subscribe_home_states(3);
   r_->join_uav(5, 3);  // the reader is UAV 5 for views
   r_->subscribe_ground();
@@ -190,7 +190,7 @@ TEST_P(Interop, EveryMessageArrivesIntact) {
   EXPECT_EQ(hs[0].tick_gap_max_ms, 250U);
   EXPECT_EQ(hs[0].tick_gaps_over_2, 2U);
 
-  ASSERT_TRUE(w_->publish_halo({3, 16, {1.0F, 2.0F, 3.0F}, {0.0F, 9.0F}}));
+  ASSERT_TRUE(w_->publish_halo({3, 16, {1.0F, 2.0F, 3.0F}, {0.0F, 9.0F}}, 4));
   const auto halos = wait_for<core::HaloMsg>([&](auto& v) { r_->take_halos(v); });
   ASSERT_EQ(halos.size(), 1U);
   EXPECT_EQ(halos[0].target, (std::vector<float>{1.0F, 2.0F, 3.0F}));
@@ -272,7 +272,7 @@ TEST_P(Interop, SamplesOverTheIdlBoundsAreRefusedBeforeWriting) {
   core::TileMsg tile{0, {0, 0}, 1, 0, 40, 40, std::vector<float>(1600, 1.0F)};
   EXPECT_FALSE(w_->publish_tile(tile));
   EXPECT_FALSE(w_->publish_broadcast({0, 1, 0, std::vector<double>(65, 0.0)}));
-  EXPECT_FALSE(w_->publish_halo({0, 1, std::vector<float>(4097, 0.0F), {}}));
+  EXPECT_FALSE(w_->publish_halo({0, 1, std::vector<float>(4097, 0.0F), {}}, 1));
   core::ViewMsg view{0, 1, std::vector<core::TileMsg>(1025), {}};
   EXPECT_FALSE(w_->publish_view(view));
   core::FieldMsg field{0, 0, 1, 1, std::vector<core::TileMsg>(257), {}};

@@ -193,9 +193,11 @@ int forge(bus::Bus& b, const std::string& scenario_path, uint32_t uavs, bool loc
   patch.values.assign(cells, 0.5F);
   patch.tick = far_tick;
   count(b.publish_field({0, 4, 6, far_tick, {patch}, {}, 0}));
-  // A halo ring of region 0 with 1e30 for the next place phase.
-  const std::size_t ring = core::ring_size(r0);
-  count(b.publish_halo({0, tick + 1, std::vector<float>(ring, kHuge), std::vector<float>(ring, 0.0F)}));
+  // Region 0's border ring as its neighbour region 1 reads it, with 1e30, for
+  // the next place phase.
+  const core::RegionId ring_to = geo.region_count() > 1 ? 1 : 0;
+  const std::size_t ring = core::ring_indices_facing(geo, r0, geo.region_rect(ring_to)).size();
+  count(b.publish_halo({0, tick + 1, std::vector<float>(ring, kHuge), std::vector<float>(ring, 0.0F)}, ring_to));
   // States: UAV 0 across the map, a UAV that does not exist, UAV 1 far ahead in time.
   core::UavStateMsg st;
   st.uav = 0;

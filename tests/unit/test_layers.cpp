@@ -12,6 +12,7 @@
 
 #include "pheromesh/core/grid.hpp"
 #include "pheromesh/core/layers.hpp"
+#include "pheromesh/core/place_core.hpp"
 #include "pheromesh/core/rng.hpp"
 
 namespace pheromesh::core {
@@ -406,6 +407,9 @@ TEST(Halo, MissingRingKeepsLastHaloValues) {
 struct SplitRun {
   int steps = 20;
   bool exchange_rings = true;
+  // Each neighbour gets only the ring cells it reads (trim_halo), as the
+  // place agents send them, and fills the rest with 0 (expand_halo).
+  bool trimmed = false;
 };
 
 // Runs the regions of `g` and the whole-map reference side by side from the
@@ -484,10 +488,20 @@ int64_t split_mismatches(const MapGeometry& g, const SplitRun& run) {
     // Regions: publish, exchange every ring with every other region, finish.
     std::vector<HaloRing> rings;
     for (RegionField& f : fields) rings.push_back(f.begin_step());
-    if (run.exchange_rings) {
+    if (run.exchange_rings && !run.trimmed) {
       for (RegionField& f : fields) {
         for (RegionId r = 0; r < g.region_count(); ++r) {
           if (r != f.region()) f.accept_halo(g.region_rect(r), rings[r]);
+        }
+      }
+    }
+    if (run.exchange_rings && run.trimmed) {
+      for (RegionField& f : fields) {
+        for (RegionId r : g.neighbour_regions(f.region())) {
+          const HaloMsg part = trim_halo({r, 0, rings[r].target, rings[r].obstacle}, g, f.region());
+          const auto whole = expand_halo(part, g, f.region());
+          if (!whole) return -1;
+          f.accept_halo(g.region_rect(r), HaloRing{r, whole->target, whole->obstacle});
         }
       }
     }
@@ -528,6 +542,38 @@ TEST(Diffusion, AcrossRegionBorderMatchesUndividedMap) {
   // Uneven splits, thin regions (one tile of 3 cells, last tile 1 cell wide).
   EXPECT_EQ(split_mismatches(MapGeometry(31, 7, 3, 4, 3), SplitRun{}), 0);
   EXPECT_EQ(split_mismatches(MapGeometry(10, 9, 1, 10, 9), SplitRun{.steps = 5}), 0);  // 1-cell regions
+}
+
+TEST(Diffusion, AcrossRegionBorderMatchesUndividedMapWhenEachNeighbourGetsOnlyTheCellsItReads) {
+  EXPECT_EQ(split_mismatches(MapGeometry(37, 29, 5, 3, 2), SplitRun{.trimmed = true}), 0);
+  EXPECT_EQ(split_mismatches(MapGeometry(31, 7, 3, 4, 3), SplitRun{.trimmed = true}), 0);
+  EXPECT_EQ(split_mismatches(MapGeometry(10, 9, 1, 10, 9), SplitRun{.steps = 5, .trimmed = true}), 0);
+}
+
+TEST(Diffusion, ANeighbourReadsOneSideOfARingAndACornerNeighbourOneCell) {
+  // 8 x 8 cells, 2 x 2 regions of 4 x 4. Region 0's ring, row-major over its
+  // border: (0..3,0) 0..3, (0,1) 4, (3,1) 5, (0,2) 6, (3,2) 7, (0..3,3) 8..11.
+  const MapGeometry g(8, 8, 4, 2, 2);
+  const Rect r0 = g.region_rect(0);
+  ASSERT_EQ(ring_size(r0), 12U);
+  EXPECT_EQ(ring_indices_facing(g, r0, g.region_rect(1)), (std::vector<std::size_t>{3, 5, 7, 11}));  // east: x = 3
+  EXPECT_EQ(ring_indices_facing(g, r0, g.region_rect(2)), (std::vector<std::size_t>{8, 9, 10, 11}));  // south: y = 3
+  EXPECT_EQ(ring_indices_facing(g, r0, g.region_rect(3)), (std::vector<std::size_t>{11}));  // the corner (3,3)
+  EXPECT_TRUE(ring_indices_facing(g, r0, r0).empty());
+  // Trimmed for region 1 and expanded again: its 4 cells, 0 elsewhere.
+  std::vector<float> ring(12);
+  for (std::size_t i = 0; i < ring.size(); ++i) ring[i] = static_cast<float>(i + 1);
+  const HaloMsg part = trim_halo({0, 7, ring, ring}, g, 1);
+  EXPECT_EQ(part.target, (std::vector<float>{4, 6, 8, 12}));
+  const auto whole = expand_halo(part, g, 1);
+  ASSERT_TRUE(whole);
+  EXPECT_EQ(whole->target, (std::vector<float>{0, 0, 0, 4, 0, 6, 0, 8, 0, 0, 0, 12}));
+  EXPECT_EQ(whole->tick, 7U);
+  // A part of the wrong size (the whole ring, or a forged one) is refused;
+  // empty rings (no diffusion) pass as empty.
+  EXPECT_FALSE(expand_halo({0, 7, ring, ring}, g, 1));
+  EXPECT_FALSE(expand_halo({9, 7, {}, {}}, g, 1));
+  EXPECT_TRUE(expand_halo({0, 7, {}, {}}, g, 1)->target.empty());
 }
 
 TEST(Diffusion, SingleRegionMatchesUndividedMap) {

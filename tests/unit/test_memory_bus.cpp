@@ -173,7 +173,7 @@ TEST_F(MemoryBus, SamplesOverTheIdlBoundsAreRefusedAndCountedBeforeAnyTransportS
   clock.states.resize(core::kMaxRegionCounts + 1);
   EXPECT_FALSE(w->publish_clock(clock));
   EXPECT_FALSE(w->publish_tile({0, {0, 0}, 1, 0, 40, 40, std::vector<float>(1600, 1.0F)}));
-  EXPECT_FALSE(w->publish_halo({0, 1, {}, std::vector<float>(core::kMaxRingCells + 1, 0.0F)}));
+  EXPECT_FALSE(w->publish_halo({0, 1, {}, std::vector<float>(core::kMaxRingCells + 1, 0.0F)}, 1));
   EXPECT_EQ(w->stats().writes_refused, 3U);
   EXPECT_EQ(w->stats().writes_failed, 0U);
   std::vector<core::ClockMsg> got;

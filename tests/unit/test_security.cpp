@@ -62,7 +62,8 @@ TEST(SecurityDocuments, PermissionsDenyByDefaultAndTheGovernanceFollowsTheProtec
   const std::string p = bus::permissions_xml(g, "2026-01-01T00:00:00", "2027-01-01T00:00:00");
   EXPECT_NE(p.find("<subject_name>CN=place-0</subject_name>"), std::string::npos);
   EXPECT_NE(p.find("<default>DENY</default>"), std::string::npos);
-  EXPECT_NE(p.find("<partition>h.0</partition>"), std::string::npos);
+  EXPECT_NE(p.find("<partition>h.0.*</partition>"), std::string::npos);  // its rings, to any neighbour
+  EXPECT_NE(p.find("<partition>h.*.0</partition>"), std::string::npos);  // its neighbours' rings, to it
   EXPECT_NE(bus::governance_xml(bus::Protection::Encrypt).find("<data_protection_kind>ENCRYPT"), std::string::npos);
   EXPECT_NE(bus::governance_xml(bus::Protection::Sign).find("<data_protection_kind>SIGN"), std::string::npos);
   EXPECT_NE(bus::governance_xml(bus::Protection::None).find("<data_protection_kind>NONE"), std::string::npos);

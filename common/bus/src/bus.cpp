@@ -113,7 +113,9 @@ bool Bus::publish_tiles_for(const core::FieldMsg& m, core::RegionId home) {
 bool Bus::publish_detection(const core::DetectionMsg& m) { return roles_->detections.write(m); }
 bool Bus::publish_target_event(const core::TargetEventMsg& m) { return roles_->events.write(m); }
 bool Bus::publish_health(const core::HealthMsg& m) { return roles_->health.write(m); }
-bool Bus::publish_halo(const core::HaloMsg& m) { return roles_->halos.write(m); }
+bool Bus::publish_halo(const core::HaloMsg& m, core::RegionId to) {
+  return roles_->halos.write(m, halo_partition(m.region, to));
+}
 bool Bus::publish_broadcast(const core::BroadcastMsg& m) { return roles_->broadcasts.write(m); }
 bool Bus::publish_clock(const core::ClockMsg& m) { return roles_->clock.write(m); }
 bool Bus::publish_phase_done(const core::PhaseDoneMsg& m) { return roles_->phase_done.write(m); }
@@ -155,9 +157,9 @@ void Bus::offer_views(std::span<const uint32_t> uavs) {
   for (uint32_t u : uavs) roles_->views.offer(view_partition(u));
 }
 
-void Bus::subscribe_halos(std::span<const core::RegionId> neighbours) {
+void Bus::subscribe_halos(std::span<const core::RegionId> neighbours, core::RegionId own) {
   std::vector<std::string> parts;
-  for (auto r : neighbours) parts.push_back(halo_partition(r));
+  for (auto r : neighbours) parts.push_back(halo_partition(r, own));
   if (!parts.empty()) roles_->halo_in.emplace(*this, parts);
 }
 

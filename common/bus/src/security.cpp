@@ -63,7 +63,7 @@ Grant place_grant(const std::string& name, core::RegionId region) {
   // the run's scenario, lockstep reports.
   g.publish = {{topic(TopicKind::Tile), {"t.*"}},
                {topic(TopicKind::Field), {kFieldPartition, kServedPartition, kAllTilesFor}},
-               {topic(TopicKind::Halo), {halo_partition(region)}},
+               {topic(TopicKind::Halo), {"h." + std::to_string(region) + ".*"}},
                {topic(TopicKind::View), {"u.*"}},
                {topic(TopicKind::Deposit), {"r.*"}},
                {topic(TopicKind::Health), {kGroundPartition}},
@@ -73,7 +73,7 @@ Grant place_grant(const std::string& name, core::RegionId region) {
   g.subscribe = {{topic(TopicKind::Deposit), {region_partition(region)}},
                  {topic(TopicKind::UavState), {home_partition(region)}},
                  {topic(TopicKind::Field), {kServedPartition, tiles_for_partition(region)}},
-                 {topic(TopicKind::Halo), {"h.*"}},
+                 {topic(TopicKind::Halo), {"h.*." + std::to_string(region)}},
                  {topic(TopicKind::Clock), {kClockPartition}},
                  {topic(TopicKind::Command), {kCommandPartition}}};
   return g;

@@ -202,6 +202,28 @@ std::size_t ring_size(const Rect& r) {
   return static_cast<std::size_t>(2 * w + (h - 2) * per_middle_row);
 }
 
+std::vector<std::size_t> ring_indices_facing(const MapGeometry& geo, const Rect& sender, const Rect& receiver) {
+  std::vector<std::size_t> out;
+  const auto add = [&](int64_t x, int64_t y) {
+    if (x < 0 || y < 0 || x >= geo.width() || y >= geo.height()) return;
+    if (auto k = border_index(sender, x, y)) out.push_back(*k);
+  };
+  // The receiver's halo: the cells just outside its rect, walked as accept_halo walks them.
+  const int64_t x0 = int64_t{receiver.x0} - 1, x1 = int64_t{receiver.x0} + receiver.w;
+  const int64_t y0 = int64_t{receiver.y0} - 1, y1 = int64_t{receiver.y0} + receiver.h;
+  for (int64_t x = x0; x <= x1; ++x) {
+    add(x, y0);
+    add(x, y1);
+  }
+  for (int64_t y = y0 + 1; y < y1; ++y) {
+    add(x0, y);
+    add(x1, y);
+  }
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
+}
+
 // ---------------------------------------------------------------------------
 // RegionField
 // ---------------------------------------------------------------------------

@@ -111,4 +111,30 @@ void PlaceCore::tiles(uint32_t tick, TileSelection which, std::vector<TileMsg>& 
   }
 }
 
+HaloMsg trim_halo(const HaloMsg& full, const MapGeometry& geo, RegionId receiver) {
+  HaloMsg part{full.region, full.tick, {}, {}};
+  if (full.target.empty() && full.obstacle.empty()) return part;
+  for (const std::size_t k : ring_indices_facing(geo, geo.region_rect(full.region), geo.region_rect(receiver))) {
+    part.target.push_back(k < full.target.size() ? full.target[k] : 0.0F);
+    part.obstacle.push_back(k < full.obstacle.size() ? full.obstacle[k] : 0.0F);
+  }
+  return part;
+}
+
+std::optional<HaloMsg> expand_halo(const HaloMsg& part, const MapGeometry& geo, RegionId receiver) {
+  if (part.region >= geo.region_count() || receiver >= geo.region_count()) return std::nullopt;
+  HaloMsg full{part.region, part.tick, {}, {}};
+  if (part.target.empty() && part.obstacle.empty()) return full;
+  const Rect sender = geo.region_rect(part.region);
+  const auto facing = ring_indices_facing(geo, sender, geo.region_rect(receiver));
+  if (part.target.size() != facing.size() || part.obstacle.size() != facing.size()) return std::nullopt;
+  full.target.assign(ring_size(sender), 0.0F);
+  full.obstacle.assign(ring_size(sender), 0.0F);
+  for (std::size_t i = 0; i < facing.size(); ++i) {
+    full.target[facing[i]] = part.target[i];
+    full.obstacle[facing[i]] = part.obstacle[i];
+  }
+  return full;
+}
+
 }  // namespace pheromesh::core

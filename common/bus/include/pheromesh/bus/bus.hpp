@@ -20,7 +20,7 @@
 //   region fields (tiles + home UAV states) -> "f": the ground station
 //   served UAV states -> "p": every other place agent
 //   tiles for a home's views -> "f.<home>": that place agent only
-//   halo rings   -> "h.<region>" of the sender
+//   halo rings   -> "h.<from>.<to>": what neighbour <to> reads of <from>'s border ring
 //   UAV broadcasts (to the whole swarm) -> "b"
 //   lockstep clock and phase reports  -> "c"
 //   detections, target events, health -> "g"
@@ -108,7 +108,8 @@ class Bus {
   bool publish_detection(const core::DetectionMsg& m);
   bool publish_target_event(const core::TargetEventMsg& m);
   bool publish_health(const core::HealthMsg& m);
-  bool publish_halo(const core::HaloMsg& m);
+  // To neighbour `to`: m holds only the ring cells `to` reads (core::trim_halo).
+  bool publish_halo(const core::HaloMsg& m, core::RegionId to);
   bool publish_broadcast(const core::BroadcastMsg& m);  // to partition "b"
 
   // --- lockstep clock
@@ -150,7 +151,8 @@ class Bus {
   // Deposit writers into these regions' partitions, opened now (a place
   // agent forwards its home UAVs' deposits with them; made before the swarm flies).
   void offer_deposits(std::span<const core::RegionId> regions);
-  void subscribe_halos(std::span<const core::RegionId> neighbours);
+  // A place agent: what its neighbours send it of their border rings.
+  void subscribe_halos(std::span<const core::RegionId> neighbours, core::RegionId own);
   // Everything the ground station needs: every region's field, all UAV
   // states, detections, target events, health.
   void subscribe_ground();

@@ -47,7 +47,7 @@ class LatestResender {
   void begin_tick() {
     fields_.clear();
     views_.clear();
-    halo_.reset();
+    halos_.clear();
     clock_.reset();
     done_.reset();
     state_.reset();
@@ -71,7 +71,14 @@ class LatestResender {
     return keep_field(m, 2, home, bus_.publish_tiles_for(m, home));
   }
   bool view(const core::ViewMsg& m) { return remember(views_, m, bus_.publish_view(m)); }
-  bool halo(const core::HaloMsg& m) { return remember(halo_, m, bus_.publish_halo(m)); }
+  bool halo(const core::HaloMsg& m, core::RegionId to) {
+    const bool ok = bus_.publish_halo(m, to);
+    if (enabled_) {
+      halos_.emplace_back(m, to);
+      last_ = Clock::now();
+    }
+    return ok;
+  }
   bool clock(const core::ClockMsg& m) { return remember(clock_, m, bus_.publish_clock(m)); }
   bool phase_done(const core::PhaseDoneMsg& m) { return remember(done_, m, bus_.publish_phase_done(m)); }
   bool uav_state(const core::UavStateMsg& m) { return remember(state_, m, bus_.publish_uav_state(m)); }
@@ -81,13 +88,13 @@ class LatestResender {
   bool resend_if_quiet() {
     const auto now = Clock::now();
     if (now - last_ < quiet_ ||
-        (fields_.empty() && views_.empty() && !halo_ && !clock_ && !done_ && !state_ && deposits_.empty())) {
+        (fields_.empty() && views_.empty() && halos_.empty() && !clock_ && !done_ && !state_ && deposits_.empty())) {
       return false;
     }
     for (const auto& [m, via] : deposits_) bus_.publish_deposit(m, via);
     for (const auto& f : fields_) publish(f);
     for (const auto& m : views_) bus_.publish_view(m);
-    if (halo_) bus_.publish_halo(*halo_);
+    for (const auto& [m, to] : halos_) bus_.publish_halo(m, to);
     if (clock_) bus_.publish_clock(*clock_);
     if (state_) bus_.publish_uav_state(*state_);
     if (done_) bus_.publish_phase_done(*done_);
@@ -140,7 +147,7 @@ class LatestResender {
   Clock::time_point last_ = Clock::now();
   std::vector<Field> fields_;
   std::vector<core::ViewMsg> views_;
-  std::optional<core::HaloMsg> halo_;
+  std::vector<std::pair<core::HaloMsg, core::RegionId>> halos_;
   std::optional<core::ClockMsg> clock_;
   std::optional<core::PhaseDoneMsg> done_;
   std::optional<core::UavStateMsg> state_;

@@ -12,7 +12,10 @@ inline std::string tile_partition(core::TileCoord t) {
   return "t." + std::to_string(t.tx) + "." + std::to_string(t.ty);
 }
 inline std::string region_partition(core::RegionId r) { return "r." + std::to_string(r); }
-inline std::string halo_partition(core::RegionId r) { return "h." + std::to_string(r); }
+// A border ring from region `from` to its neighbour `to` (only the cells `to` reads).
+inline std::string halo_partition(core::RegionId from, core::RegionId to) {
+  return "h." + std::to_string(from) + "." + std::to_string(to);
+}
 inline std::string home_partition(core::RegionId r) { return "s." + std::to_string(r); }
 inline std::string view_partition(uint32_t uav) { return "u." + std::to_string(uav); }
 // Local traffic (docs/architecture.md, "Views"): the tiles an owner sends

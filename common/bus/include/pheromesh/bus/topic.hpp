@@ -141,7 +141,6 @@ template <>
 struct Topic<core::HaloMsg> {
   static constexpr TopicKind kind = TopicKind::Halo;
   static uint64_t key(const core::HaloMsg& m) { return m.region; }
-  static std::string partition(const core::HaloMsg& m) { return routing::halo_partition(m.region); }
   static BoundCheck oversize(const core::HaloMsg& m) {
     if (auto o = detail::over("halo target ring", m.target.size(), core::kMaxRingCells)) return o;
     return detail::over("halo obstacle ring", m.obstacle.size(), core::kMaxRingCells);

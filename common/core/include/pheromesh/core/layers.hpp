@@ -36,6 +36,12 @@ struct HaloRing {
   std::vector<float> obstacle;
 };
 std::size_t ring_size(const Rect& r);
+// Local traffic (issue 25): the indices of `sender`'s border ring that lie in
+// `receiver`'s 1-cell halo on the map - the only ring cells the receiver's
+// diffusion reads (RegionField::accept_halo) - in ascending order. A region
+// sends each neighbour only these: a side neighbour one strip as long as the
+// shared side, a corner neighbour one cell.
+std::vector<std::size_t> ring_indices_facing(const MapGeometry& geo, const Rect& sender, const Rect& receiver);
 
 class RegionField {
  public:

@@ -88,4 +88,13 @@ class PlaceCore {
   DepositLedger ledger_;
 };
 
+// A region's border ring as one neighbour receives it (local traffic): only
+// the cells that neighbour's diffusion reads (ring_indices_facing). Empty
+// rings (policies without diffusion) stay empty.
+HaloMsg trim_halo(const HaloMsg& full, const MapGeometry& geo, RegionId receiver);
+// The receiver's side: the full ring again, with 0 where it reads nothing;
+// nullopt if the sender is unknown or the part's sizes are not what the
+// geometry gives (a malformed or forged halo).
+std::optional<HaloMsg> expand_halo(const HaloMsg& part, const MapGeometry& geo, RegionId receiver);
+
 }  // namespace pheromesh::core
