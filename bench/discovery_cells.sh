@@ -26,6 +26,9 @@
 #   DOMAIN    the (first) domain id, default 20.
 #   TIMEOUT_S bound on the wait for discovery, default 180.
 #   SETTLE_S  after discovery, before the window, default 5.
+#   START_RATE spokes started per second (default 0: all at once).
+#   KEEP      1: keep the processes' output (the directory is named on
+#             stderr) to see which hub or spoke did not match.
 # Traffic stays on loopback. Every process it started is stopped at the end,
 # also on an error or an interrupt.
 set -euo pipefail
@@ -38,6 +41,7 @@ mode=${MODE:-domain}
 base=${DOMAIN:-20}
 timeout_s=${TIMEOUT_S:-180}
 settle=${SETTLE_S:-5}
+rate=${START_RATE:-0}
 probe="$build/bin/pheromesh-test-probe"
 hub_vendor=${vendor%%:*}
 spoke_vendor=${vendor##*:}
@@ -60,7 +64,7 @@ stop_all() {
   wait "${pids[@]}" 2> /dev/null || true
   pids=()
 }
-trap 'stop_all; rm -rf "$out"' EXIT
+trap 'stop_all; if [[ ${KEEP:-0} == 1 ]]; then echo "output kept in $out" >&2; else rm -rf "$out"; fi' EXIT
 trap 'exit 130' INT TERM
 udp() { awk '/^Udp:/ && $2 ~ /^[0-9]+$/ {print $2, $6}' /proc/net/snmp; }
 cpu_of() { # summed utime+stime [ticks] of the given pids, read in one pass
@@ -75,10 +79,10 @@ pss_of() { # mean PSS [MiB] of the given pids
 }
 now() { date +%s.%N; }
 load1() { cut -d' ' -f1 /proc/loadavg; }
-printf '| hub:spoke | mode | cells | N | load before | discovered [s] | spokes matched | hubs matched | CPU [cores] | UDP datagrams/s | rcvbuf drops/s | PSS/spoke [MiB] | PSS/hub [MiB] |\n'
+printf '| hub:spoke | mode | cells | N | load before / after | discovered [s] | spokes matched | hubs matched | CPU [cores] | UDP datagrams/s | rcvbuf drops/s | PSS/spoke [MiB] | PSS/hub [MiB] |\n'
 printf '|---|---|---|---|---|---|---|---|---|---|---|---|---|\n'
 for n in $sizes; do
-  rm -f "$out"/*.out "$out"/*.err
+  mkdir -p "$out/$n"
   load=$(load1)
   hub_pids=()
   spoke_pids=()
@@ -91,7 +95,7 @@ for n in $sizes; do
     k=$((n / cells + (c < n % cells ? 1 : 0)))
     if [[ $mode == domain ]]; then dom=$((base + c)) index=0; else dom=$base index=$c; fi
     "$probe" --dds "$hub_vendor" --domain "$dom" --cell-index "$index" \
-      hub --cell "$c" --spokes "$k" --first-uav "$first" > "$out/h$c.out" 2> "$out/h$c.err" &
+      hub --cell "$c" --spokes "$k" --first-uav "$first" > "$out/$n/h$c.out" 2> "$out/$n/h$c.err" &
     pids+=($!)
     hub_pids+=($!)
     first=$((first + k))
@@ -106,9 +110,10 @@ for n in $sizes; do
       # hubs', as pheromesh run does, so that it never takes a hub's port.
       if [[ $mode == domain ]]; then pid_arg=$((1 + j)); else pid_arg=$((cells + u)); fi
       "$probe" --dds "$spoke_vendor" --domain "$dom" --cell-peer "$index" --participant-id "$pid_arg" \
-        spoke --id "$u" --cell "$c" > "$out/s$u.out" 2> "$out/s$u.err" &
+        spoke --id "$u" --cell "$c" > "$out/$n/s$u.out" 2> "$out/$n/s$u.err" &
       pids+=($!)
       spoke_pids+=($!)
+      if ((rate > 0 && (u + 1) % rate == 0)); then sleep 1; fi
     done
     first=$((first + k))
   done
@@ -117,14 +122,14 @@ for n in $sizes; do
   deadline=$(($(date +%s) + timeout_s))
   spokes_ok=0 hubs_ok=0
   while (($(date +%s) < deadline)); do
-    spokes_ok=$(cat "$out"/s*.out 2> /dev/null | grep -c '^spoke .* matched hub' || true)
-    hubs_ok=$(cat "$out"/h*.out 2> /dev/null | grep -c '^hub .* matched' || true)
+    spokes_ok=$(cat "$out/$n"/s*.out 2> /dev/null | grep -c '^spoke .* matched hub' || true)
+    hubs_ok=$(cat "$out/$n"/h*.out 2> /dev/null | grep -c '^hub .* matched' || true)
     ((spokes_ok == n && hubs_ok == cells)) && break
     sleep 0.5
   done
   # The last match as the processes stamped it (epoch seconds), not when
   # this loop noticed it.
-  last=$(cat "$out"/*.out 2> /dev/null | awk '/matched/ {for (i = 1; i < NF; i++) if ($i == "at") t = $(i + 1); if (t > m) m = t} END {printf "%.3f", m}')
+  last=$(cat "$out/$n"/*.out 2> /dev/null | awk '/matched/ {for (i = 1; i < NF; i++) if ($i == "at") t = $(i + 1); if (t > m) m = t} END {printf "%.3f", m}')
   if ((spokes_ok == n && hubs_ok == cells)); then
     disc=$(awk -v a="$t0" -v b="$last" 'BEGIN {printf "%.1f", b - a}')
   else
@@ -138,9 +143,10 @@ for n in $sizes; do
   read -r in1 drop1 < <(udp)
   c1=$(cpu_of "${pids[@]}")
   t2=$(now)
+  load="$load / $(load1)"
   pss_s=$(pss_of "${spoke_pids[@]}")
   pss_h=$(pss_of "${hub_pids[@]}")
-  errors=$(cat "$out"/*.err 2> /dev/null | grep -v '^\s*$' | sort | uniq -c | sort -rn | head -3 || true)
+  errors=$(cat "$out/$n"/*.err 2> /dev/null | grep -v '^\s*$' | sort | uniq -c | sort -rn | head -3 || true)
   stop_all
   awk -v v="$vendor" -v m="$mode" -v cl="$cells" -v n="$n" -v l="$load" -v disc="$disc" -v so="$spokes_ok" -v ho="$hubs_ok" \
     -v c=$((c1 - c0)) -v hz="$hz" -v w="$(awk -v a="$t1" -v b="$t2" 'BEGIN {print b - a}')" \
