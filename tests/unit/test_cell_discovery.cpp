@@ -71,6 +71,7 @@ TEST(CellDiscovery, ACycloneMemberAnnouncesItselfOnlyToItsHubsPortWithoutMultica
   EXPECT_TRUE(has(xml, "<Peers><Peer Address=\"127.0.0.1:8174\"/><Peer Address=\"127.0.0.1:8176\"/></Peers>"));
   EXPECT_FALSE(has(xml, "MaxAutoParticipantIndex"));
   EXPECT_TRUE(has(xml, "<GenerateKeyhash>true</GenerateKeyhash>"));  // mixed swarms need it
+  EXPECT_TRUE(has(xml, "<SPDPInterval>5s</SPDPInterval>"));  // a hub started late is found soon
 }
 
 TEST(CellDiscovery, ACycloneHubHasItsIndexAndNoPeers) {
