@@ -27,11 +27,18 @@
 #   TIMEOUT_S bound on the wait for discovery, default 180.
 #   SETTLE_S  after discovery, before the window, default 5.
 #   START_RATE spokes started per second (default 0: all at once).
+#   NETNS      1: in a network namespace of its own (see below).
 #   KEEP      1: keep the processes' output (the directory is named on
 #             stderr) to see which hub or spoke did not match.
 # Traffic stays on loopback. Every process it started is stopped at the end,
 # also on an error or an interrupt.
 set -euo pipefail
+# NETNS=1: run in a network namespace of its own (root), whose loopback
+# carries only this benchmark's traffic, so that the datagram and drop
+# counters (per namespace) are ours alone on a shared host.
+if [[ ${NETNS:-0} == 1 && -z ${DISCOVERY_CELLS_NETNS:-} ]]; then
+  exec unshare -n env DISCOVERY_CELLS_NETNS=1 bash -c 'ip link set lo up && exec "$0" "$@"' "$0" "$@"
+fi
 build=${1:?usage: discovery_cells.sh BUILD VENDOR "SIZES" CELLS [WINDOW_S]}
 vendor=${2:?usage: discovery_cells.sh BUILD VENDOR "SIZES" CELLS [WINDOW_S]}
 sizes=${3:?usage: discovery_cells.sh BUILD VENDOR "SIZES" CELLS [WINDOW_S]}
