@@ -27,6 +27,8 @@
 #   TIMEOUT_S bound on the wait for discovery, default 180.
 #   SETTLE_S  after discovery, before the window, default 5.
 #   START_RATE spokes started per second (default 0: all at once).
+#   VIEW_WRITERS per-uav (default: a view writer per UAV, as a place agent
+#             has), or none (an experiment: without them).
 #   NETNS      1: in a network namespace of its own (see below).
 #   KEEP      1: keep the processes' output (the directory is named on
 #             stderr) to see which hub or spoke did not match.
@@ -102,7 +104,7 @@ for n in $sizes; do
     k=$((n / cells + (c < n % cells ? 1 : 0)))
     if [[ $mode == domain ]]; then dom=$((base + c)) index=0; else dom=$base index=$c; fi
     "$probe" --dds "$hub_vendor" --domain "$dom" --cell-index "$index" \
-      hub --cell "$c" --spokes "$k" --first-uav "$first" > "$out/$n/h$c.out" 2> "$out/$n/h$c.err" &
+      hub --cell "$c" --spokes "$k" --first-uav "$first" --view-writers "${VIEW_WRITERS:-per-uav}" > "$out/$n/h$c.out" 2> "$out/$n/h$c.err" &
     pids+=($!)
     hub_pids+=($!)
     first=$((first + k))

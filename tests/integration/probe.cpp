@@ -15,7 +15,7 @@
 //   idle --id I --regions R      a UAV's endpoints and nothing else, until
 //                                SIGTERM: what discovery alone costs
 //                                (bench/discovery_idle.sh).
-//   hub --cell C --spokes K --first-uav U
+//   hub --cell C --spokes K --first-uav U [--view-writers per-uav|none]
 //                                the place agent of cell C, gateway of UAVs
 //                                U..U+K-1: the endpoints that match theirs,
 //                                no samples; prints "hub C matched K spokes at
@@ -263,7 +263,11 @@ double seconds_since(Clock::time_point t) { return std::chrono::duration<double>
 // The endpoints a gateway place agent holds for its UAVs: every writer and
 // reader that matches one of a UAV's (idle above), so that the hub discovers
 // exactly what a cell's place agent will.
-int hub(bus::Bus& b, uint32_t cell, uint32_t spokes, uint32_t first_uav, Clock::time_point started) {
+// `view_writers` false: no view writer at all (an experiment: a writer per
+// UAV makes every spoke learn all K of its hub's view writers, K^2 endpoint
+// announcements per cell); then the command writer's matches alone count.
+int hub(bus::Bus& b, uint32_t cell, uint32_t spokes, uint32_t first_uav, bool view_writers,
+        Clock::time_point started) {
   b.subscribe_deposits(cell);
   b.subscribe_home_states(cell);
   std::vector<uint32_t> uavs(spokes);
@@ -276,7 +280,9 @@ int hub(bus::Bus& b, uint32_t cell, uint32_t spokes, uint32_t first_uav, Clock::
   // A view writer per UAV (Bus::offer_views's), held here so that its
   // matches say which spokes are there.
   bus::Writer<core::ViewMsg> views(b);
-  for (uint32_t u : uavs) views.offer(bus::routing::view_partition(u));
+  if (view_writers) {
+    for (uint32_t u : uavs) views.offer(bus::routing::view_partition(u));
+  }
   bool reported = false;
   auto last_progress = Clock::now();
   std::vector<core::DepositMsg> deposits;
@@ -292,7 +298,7 @@ int hub(bus::Bus& b, uint32_t cell, uint32_t spokes, uint32_t first_uav, Clock::
     detections.take(seen);
     if (reported) continue;
     uint32_t matched = 0;
-    for (uint32_t u : uavs) matched += views.matched(bus::routing::view_partition(u)) > 0 ? 1 : 0;
+    for (uint32_t u : uavs) matched += !view_writers || views.matched(bus::routing::view_partition(u)) > 0 ? 1 : 0;
     const uint32_t command_readers = commands.matched(bus::routing::kCommandPartition);
     if (matched == spokes && command_readers >= spokes) {
       std::printf("hub %u matched %u spokes at %.3f after %.2f s\n", cell, spokes, epoch_s(), seconds_since(started));
@@ -468,6 +474,9 @@ int main(int argc, char** argv) {
   hb->add_option("--cell", cell)->required();
   hb->add_option("--spokes", spokes)->required();
   hb->add_option("--first-uav", first_uav)->required();
+  std::string view_writers = "per-uav";
+  hb->add_option("--view-writers", view_writers, "per-uav (a place agent's), or none (an experiment)")
+      ->check(CLI::IsMember({"per-uav", "none"}));
   auto* sp = app.add_subcommand("spoke", "a UAV's endpoints homed on --cell, no samples");
   sp->add_option("--id", id)->required();
   sp->add_option("--cell", cell)->required();
@@ -525,7 +534,7 @@ int main(int argc, char** argv) {
   }
   if (d->parsed()) return discover(*b.value(), id, expect, timeout_s);
   if (i->parsed()) return idle(*b.value(), id, regions);
-  if (hb->parsed()) return hub(*b.value(), cell, spokes, first_uav, started);
+  if (hb->parsed()) return hub(*b.value(), cell, spokes, first_uav, view_writers == "per-uav", started);
   if (sp->parsed()) return spoke(*b.value(), id, cell, started);
   if (sn->parsed()) return snoop(*b.value(), seconds, until_tiles, until_clocks);
   if (of->parsed()) return offend(*b.value(), what, linger_s);
