@@ -71,13 +71,20 @@ TEST(CellDiscovery, ACycloneMemberAnnouncesItselfOnlyToItsHubsPortWithoutMultica
   EXPECT_TRUE(has(xml, "<Peers><Peer Address=\"127.0.0.1:8174\"/><Peer Address=\"127.0.0.1:8176\"/></Peers>"));
   EXPECT_FALSE(has(xml, "MaxAutoParticipantIndex"));
   EXPECT_TRUE(has(xml, "<GenerateKeyhash>true</GenerateKeyhash>"));  // mixed swarms need it
-  EXPECT_TRUE(has(xml, "<SPDPInterval>5s</SPDPInterval>"));  // a hub started late is found soon
+  EXPECT_TRUE(has(xml, "<SPDPInterval>5s</SPDPInterval>"));          // a hub started late is found soon
 }
 
-TEST(CellDiscovery, ACycloneHubHasItsIndexAndNoPeers) {
+TEST(CellDiscovery, ACycloneHubWithoutPeersNamesOnlyItselfSoCycloneAddsNoDefaultPeers) {
   const std::string xml = cyclone_cell_config(hub(3, 7));
   EXPECT_TRUE(has(xml, "<ParticipantIndex>7</ParticipantIndex>"));
-  EXPECT_FALSE(has(xml, "<Peers>"));
+  EXPECT_TRUE(has(xml, "<Peers><Peer Address=\"127.0.0.1:8174\"/></Peers>"));
+}
+
+TEST(CellDiscovery, ACycloneHubWithPeersNamesThemAndNotItself) {
+  CellDiscovery c = hub(3, 7);
+  c.peers.push_back({"127.0.0.1", 8});
+  const std::string xml = cyclone_cell_config(c);
+  EXPECT_TRUE(has(xml, "<Peers><Peer Address=\"127.0.0.1:8176\"/></Peers>"));
 }
 
 TEST(CellDiscovery, AFastDdsMemberHasOnlyUnicastMetatrafficAndItsHubsPortAsInitialPeer) {

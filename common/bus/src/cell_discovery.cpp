@@ -3,6 +3,8 @@
 #include <arpa/inet.h>
 #include <netinet/in.h>
 
+#include <vector>
+
 namespace pheromesh::bus {
 namespace {
 
@@ -56,11 +58,18 @@ std::string cyclone_cell_config(const CellDiscovery& cell) {
   // to, as the hub learns its locators from its announcement.
   const std::string index = cell.index ? std::to_string(*cell.index) : "none";
   std::string peers;
-  for (const auto& p : cell.peers) {
+  // Cyclone gives a participant without multicast and without peers a
+  // default peer, localhost at indices 0..MaxAutoParticipantIndex (9):
+  // measured, two hubs of one domain (indices 0 and 1, no peers) discovered
+  // each other. A hub without peers therefore names itself, which adds no
+  // one.
+  std::vector<CellPeer> named = cell.peers;
+  if (named.empty() && cell.index) named.push_back({cell.interface_address, *cell.index});
+  for (const auto& p : named) {
     // With a port, Cyclone sends to that one port, not to every index up to
     // MaxAutoParticipantIndex.
-    peers += "<Peer Address=\"" + p.address + ":" + std::to_string(unicast_discovery_port(cell.domain, p.index)) +
-             "\"/>";
+    peers +=
+        "<Peer Address=\"" + p.address + ":" + std::to_string(unicast_discovery_port(cell.domain, p.index)) + "\"/>";
   }
   // SPDPInterval 5 s instead of Cyclone's 30 s: a member whose first
   // announcements went out before its hub listened (a Fast DDS hub starts
@@ -104,17 +113,20 @@ FastDdsCellProfile fastdds_cell_profile(const CellDiscovery& cell) {
   std::string xml = R"(<?xml version="1.0" encoding="UTF-8"?>)"
                     R"(<dds xmlns="http://www.eprosima.com/XMLSchemas/fastRTPS_Profiles"><profiles>)"
                     R"(<transport_descriptors><transport_descriptor><transport_id>)" +
-                    name + R"(-udp</transport_id><type>UDPv4</type><receiveBufferSize>4194304</receiveBufferSize>)"
-                           R"(<interfaceWhiteList><address>)" +
-                    cell.interface_address + R"(</address></interfaceWhiteList>)"
-                                             R"(</transport_descriptor></transport_descriptors>)"
-                                             R"(<participant profile_name=")" +
+                    name +
+                    R"(-udp</transport_id><type>UDPv4</type><receiveBufferSize>4194304</receiveBufferSize>)"
+                    R"(<interfaceWhiteList><address>)" +
+                    cell.interface_address +
+                    R"(</address></interfaceWhiteList>)"
+                    R"(</transport_descriptor></transport_descriptors>)"
+                    R"(<participant profile_name=")" +
                     name + R"("><rtps><userTransports><transport_id>)" + name +
                     R"(-udp</transport_id></userTransports><useBuiltinTransports>false</useBuiltinTransports>)" + id +
                     R"(<builtin><discovery_config><leaseDuration><sec>3600</sec></leaseDuration>)"
                     R"(<leaseAnnouncement><sec>5</sec></leaseAnnouncement></discovery_config>)"
                     R"(<avoid_builtin_multicast>true</avoid_builtin_multicast><metatrafficUnicastLocatorList>)" +
-                    locator_open + cell.interface_address + "</address></udpv4></locator></metatrafficUnicastLocatorList>" +
+                    locator_open + cell.interface_address +
+                    "</address></udpv4></locator></metatrafficUnicastLocatorList>" +
                     (peers.empty() ? std::string() : "<initialPeersList>" + peers + "</initialPeersList>") +
                     R"(<mutation_tries>120</mutation_tries></builtin></rtps></participant></profiles></dds>)";
   return {std::move(xml), std::move(name)};

@@ -60,7 +60,8 @@ struct CellDiscovery {
   std::optional<uint32_t> index;
   // The only participants it announces itself to: a member's hub and
   // standby; a hub's fellow hubs and the ground station. A hub with no peers
-  // only answers the members that announce themselves to it.
+  // only answers the members that announce themselves to it (for Cyclone it
+  // names itself: Cyclone would otherwise add localhost at indices 0-9).
   std::vector<CellPeer> peers;
   // The one address it binds and sends from (loopback on one host).
   std::string interface_address = "127.0.0.1";
