@@ -32,8 +32,8 @@ inline constexpr uint32_t kParticipantGain = 2;
 inline constexpr uint32_t kUnicastDiscoveryOffset = 10;
 // The largest domain id the mapping allows (the spec's, and Cyclone's check).
 inline constexpr uint32_t kMaxDomainId = 232;
-// Cyclone refuses a participant index of 120 or more; an index below it
-// also keeps a participant's ports inside its domain's block of 250.
+// Cyclone's configuration takes participant indices below 120; such an
+// index also keeps a participant's ports inside its domain's block of 250.
 inline constexpr uint32_t kMaxParticipantIndex = 119;
 // Linux hands out ports from 32768 up (net.ipv4.ip_local_port_range) to any
 // socket bound to port 0, Cyclone's members among them: a well-known port
