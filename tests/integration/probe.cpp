@@ -15,6 +15,20 @@
 //   idle --id I --regions R      a UAV's endpoints and nothing else, until
 //                                SIGTERM: what discovery alone costs
 //                                (bench/discovery_idle.sh).
+//   hub --cell C --spokes K --first-uav U [--view-writers per-uav|none]
+//                                the place agent of cell C, gateway of UAVs
+//                                U..U+K-1: the endpoints that match theirs,
+//                                no samples; prints "hub C matched K spokes at
+//                                EPOCH after S s" once every spoke's view and
+//                                command readers matched, then stays until
+//                                SIGTERM (bench/discovery_cells.sh).
+//   spoke --id U --cell C        `idle`'s UAV endpoints, homed on C; prints
+//                                "spoke U matched hub at EPOCH after S s" once
+//                                its deposit and state writers matched.
+// --cell-index I, --cell-peer [ADDR:]I (repeatable): discovery scoped to a
+// cell (bus/cell_discovery.hpp) instead of --dds-profile: a fixed participant
+// index (a hub), and the only participants to announce itself to.
+// --participant-id I: a Fast DDS member's ports (as pheromesh run gives).
 //   snoop --seconds S            read every pheromesh topic for S seconds
 //                                (ends early with --until-tiles/--until-clocks)
 //                                and try to inject a deposit into region 0;
@@ -32,11 +46,15 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <optional>
 #include <limits>
 #include <set>
 #include <thread>
 
 #include "pheromesh/bus/bus.hpp"
+#include "pheromesh/bus/routing.hpp"
+#include "pheromesh/bus/typed.hpp"
 #include "pheromesh/core/layers.hpp"
 #include "pheromesh/core/scenario.hpp"
 #include "pheromesh/runtime/process.hpp"
@@ -247,6 +265,101 @@ int idle(bus::Bus& b, uint32_t id, uint32_t regions) {
   return 0;
 }
 
+double epoch_s() {
+  return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
+}
+
+double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+// The endpoints a gateway place agent holds for its UAVs: every writer and
+// reader that matches one of a UAV's (idle above), so that the hub discovers
+// exactly what a cell's place agent will.
+// `view_writers` false: no view writer at all (an experiment: a writer per
+// UAV makes every spoke learn all K of its hub's view writers, K^2 endpoint
+// announcements per cell); then the command writer's matches alone count.
+int hub(bus::Bus& b, uint32_t cell, uint32_t spokes, uint32_t first_uav, bool view_writers,
+        Clock::time_point started) {
+  b.subscribe_deposits(cell);
+  b.subscribe_home_states(cell);
+  std::vector<uint32_t> uavs(spokes);
+  for (uint32_t k = 0; k < spokes; ++k) uavs[k] = first_uav + k;
+  bus::Reader<core::DetectionMsg> detections(b, {bus::routing::kGroundPartition});
+  bus::Writer<core::CommandMsg> commands(b);
+  commands.offer(bus::routing::kCommandPartition);
+  bus::Writer<core::BroadcastMsg> broadcasts(b);
+  broadcasts.offer(bus::routing::kBroadcastPartition);
+  // A view writer per UAV (Bus::offer_views's), held here so that its
+  // matches say which spokes are there.
+  bus::Writer<core::ViewMsg> views(b);
+  if (view_writers) {
+    for (uint32_t u : uavs) views.offer(bus::routing::view_partition(u));
+  }
+  bool reported = false;
+  auto last_progress = Clock::now();
+  std::vector<core::DepositMsg> deposits;
+  std::vector<core::UavStateMsg> states;
+  std::vector<core::DetectionMsg> seen;
+  while (!runtime::shutdown_requested()) {
+    b.wait({bus::TopicKind::Deposit}, Clock::now() + std::chrono::milliseconds(200));
+    deposits.clear();
+    states.clear();
+    seen.clear();
+    b.take_deposits(deposits);
+    b.take_uav_states(states);
+    detections.take(seen);
+    if (reported) continue;
+    uint32_t matched = 0;
+    for (uint32_t u : uavs) matched += !view_writers || views.matched(bus::routing::view_partition(u)) > 0 ? 1 : 0;
+    const uint32_t command_readers = commands.matched(bus::routing::kCommandPartition);
+    if (matched == spokes && command_readers >= spokes) {
+      std::printf("hub %u matched %u spokes at %.3f after %.2f s\n", cell, spokes, epoch_s(), seconds_since(started));
+      std::fflush(stdout);
+      reported = true;
+    } else if (Clock::now() - last_progress > std::chrono::seconds(10)) {
+      std::printf("hub %u: %u of %u spokes' views, %u command readers after %.0f s\n", cell, matched, spokes,
+                  command_readers, seconds_since(started));
+      std::fflush(stdout);
+      last_progress = Clock::now();
+    }
+  }
+  return reported ? 0 : 1;
+}
+
+int spoke(bus::Bus& b, uint32_t id, uint32_t cell, Clock::time_point started) {
+  // Exactly idle's endpoints, homed on the cell's place agent.
+  b.join_uav(id, cell);
+  b.subscribe_broadcasts();
+  b.subscribe_commands();
+  std::vector<core::ViewMsg> views;
+  std::vector<core::CommandMsg> commands;
+  bool reported = false;
+  while (!runtime::shutdown_requested()) {
+    b.wait({bus::TopicKind::View, bus::TopicKind::Command}, Clock::now() + std::chrono::milliseconds(200));
+    views.clear();
+    commands.clear();
+    b.take_views(views);
+    b.take_commands(commands);
+    if (!reported && b.matched_deposit_readers(cell) > 0 && b.matched_state_readers() > 0) {
+      std::printf("spoke %u matched hub at %.3f after %.2f s\n", id, epoch_s(), seconds_since(started));
+      std::fflush(stdout);
+      reported = true;
+    }
+  }
+  return reported ? 0 : 1;
+}
+
+// "[ADDR:]INDEX", the address 127.0.0.1 when left out.
+std::optional<bus::CellPeer> parse_cell_peer(const std::string& text) {
+  const std::size_t colon = text.rfind(':');
+  bus::CellPeer p{colon == std::string::npos ? "127.0.0.1" : text.substr(0, colon), 0};
+  const std::string index = colon == std::string::npos ? text : text.substr(colon + 1);
+  char* end = nullptr;
+  const unsigned long v = std::strtoul(index.c_str(), &end, 10);
+  if (index.empty() || *end != '\0' || v > 100000) return std::nullopt;
+  p.index = static_cast<uint32_t>(v);
+  return p;
+}
+
 int snoop(bus::Bus& b, double seconds, uint64_t until_tiles, uint64_t until_clocks) {
   b.subscribe_ground();
   b.subscribe_broadcasts();
@@ -367,6 +480,22 @@ int main(int argc, char** argv) {
   auto* of = app.add_subcommand("offend", "write a tile or a clock sample");
   of->add_option("--topic", what)->required();
   of->add_option("--linger", linger_s);
+  uint32_t cell = 0, spokes = 0, first_uav = 0;
+  auto* hb = app.add_subcommand("hub", "a cell's place agent: the endpoints matching its UAVs', no samples");
+  hb->add_option("--cell", cell)->required();
+  hb->add_option("--spokes", spokes)->required();
+  hb->add_option("--first-uav", first_uav)->required();
+  std::string view_writers = "per-uav";
+  hb->add_option("--view-writers", view_writers, "per-uav (a place agent's), or none (an experiment)")
+      ->check(CLI::IsMember({"per-uav", "none"}));
+  auto* sp = app.add_subcommand("spoke", "a UAV's endpoints homed on --cell, no samples");
+  sp->add_option("--id", id)->required();
+  sp->add_option("--cell", cell)->required();
+  int32_t cell_index = -1, participant_id = -1;
+  std::vector<std::string> cell_peers;
+  app.add_option("--cell-index", cell_index);
+  app.add_option("--cell-peer", cell_peers);
+  app.add_option("--participant-id", participant_id);
   std::string secure, identity;
   app.add_option("--secure", secure);
   app.add_option("--identity", identity);
@@ -378,6 +507,7 @@ int main(int argc, char** argv) {
   f->add_option("--uavs", uavs);
   f->add_flag("--lockstep", lockstep);
   CLI11_PARSE(app, argc, argv);
+  const auto started = Clock::now();
   spdlog::set_level(spdlog::level::warn);
   runtime::install_shutdown_handlers();
   bus::BusOptions o;
@@ -386,6 +516,26 @@ int main(int argc, char** argv) {
   o.profile = profile;
   o.secure_dir = secure;
   o.identity = identity.empty() ? "probe-" + std::to_string(id) : identity;
+  o.participant_id = participant_id;
+  if (cell_index >= 0 || !cell_peers.empty()) {
+    bus::CellDiscovery c;
+    c.domain = domain;
+    if (cell_index >= 0) c.index = static_cast<uint32_t>(cell_index);
+    for (const auto& text : cell_peers) {
+      auto p = parse_cell_peer(text);
+      if (!p) {
+        std::fprintf(stderr, "--cell-peer '%s': expected [ADDR:]INDEX\n", text.c_str());
+        return 2;
+      }
+      c.peers.push_back(*p);
+    }
+    auto checked = bus::check_cell(c);
+    if (!checked) {
+      std::fprintf(stderr, "%s\n", checked.error().message.c_str());
+      return 2;
+    }
+    o.cell = std::move(checked).value();
+  }
   // Under PHEROMESH_DDS=mixed the probes alternate vendors by id.
   if (dds == "mixed") dds = id % 2 == 0 ? "cyclone" : "fastdds";
   auto b = bus::make_bus(dds, o);
@@ -395,6 +545,8 @@ int main(int argc, char** argv) {
   }
   if (d->parsed()) return discover(*b.value(), id, expect, timeout_s);
   if (i->parsed()) return idle(*b.value(), id, regions);
+  if (hb->parsed()) return hub(*b.value(), cell, spokes, first_uav, view_writers == "per-uav", started);
+  if (sp->parsed()) return spoke(*b.value(), id, cell, started);
   if (sn->parsed()) return snoop(*b.value(), seconds, until_tiles, until_clocks);
   if (of->parsed()) return offend(*b.value(), what, linger_s);
   if (f->parsed()) return forge(*b.value(), scenario, uavs, lockstep);

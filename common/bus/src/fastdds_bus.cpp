@@ -269,7 +269,14 @@ class FastDdsTransport final : public Transport {
                                                    : fdds::Log::Error);
     }
     fdds::DomainParticipantQos pq = fdds::PARTICIPANT_QOS_DEFAULT;
-    const FastDdsProfile profile = fastdds_profile(o.profile, o.peers);
+    FastDdsProfile profile;
+    if (o.cell) {
+      FastDdsCellProfile cell = fastdds_cell_profile(*o.cell);
+      profile.xml = std::move(cell.xml);
+      profile.name = std::move(cell.name);
+    } else {
+      profile = fastdds_profile(o.profile, o.peers);
+    }
     if (!profile.xml.empty()) {
       load_builtin_profile_once(profile);
       PHM_FASTDDS(factory->get_participant_qos_from_profile(profile.name, pq),
@@ -293,7 +300,7 @@ class FastDdsTransport final : public Transport {
     // A launcher-given participant id fixes this process's ports (7410 +
     // 250 domain + 2 id): no search for free ports, so no limit of about 120
     // participants per host that the search (mutation_tries) imposes.
-    if (o.participant_id >= 0) pq.wire_protocol().participant_id = o.participant_id;
+    if (o.participant_id >= 0 && !(o.cell && o.cell->index)) pq.wire_protocol().participant_id = o.participant_id;
     if (!o.secure_dir.empty()) set_security(pq, o);
     participant_ = PHM_FASTDDS(factory->create_participant(o.domain, pq),
                                "cannot create a participant on domain " + std::to_string(o.domain) + " (profile '" +

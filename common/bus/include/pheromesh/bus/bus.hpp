@@ -32,11 +32,13 @@
 #include <cstdint>
 #include <initializer_list>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include "pheromesh/bus/cell_discovery.hpp"
 #include "pheromesh/bus/qos.hpp"
 #include "pheromesh/bus/topic.hpp"
 #include "pheromesh/bus/transport.hpp"
@@ -64,6 +66,11 @@ struct BusOptions {
   // Fast DDS participant id (ports 7410 + 250 domain + 2 id) given by the
   // launcher so that no two processes search for free ports; -1: search.
   int32_t participant_id = -1;
+  // Discovery scoped to a cell (cell_discovery.hpp): when set, it replaces
+  // the profile's discovery (and the profile's other settings: the cell's are
+  // the one-host unicast profile's). A cell's fixed index overrides
+  // participant_id.
+  std::optional<CellDiscovery> cell;
   // Hot-standby place agents in this swarm (qos.hpp, docs/faults.md).
   Replication replication;
   // DDS Security (security.hpp, docs/security.md): the directory `pheromesh
