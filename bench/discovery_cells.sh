@@ -75,19 +75,8 @@ stop_all() {
 }
 trap 'stop_all; if [[ ${KEEP:-0} == 1 ]]; then echo "output kept in $out" >&2; else rm -rf "$out"; fi' EXIT
 trap 'exit 130' INT TERM
-udp() { awk '/^Udp:/ && $2 ~ /^[0-9]+$/ {print $2, $6}' /proc/net/snmp; }
-cpu_of() { # summed utime+stime [ticks] of the given pids, read in one pass
-  local files=()
-  # Only those still there: mawk stops at a file it cannot open.
-  for p in "$@"; do [[ -r /proc/$p/stat ]] && files+=("/proc/$p/stat"); done
-  cat "${files[@]}" 2> /dev/null | awk '{s += $14 + $15} END {printf "%d", s}'
-}
-pss_of() { # mean PSS [MiB] of the given pids
-  for p in "$@"; do awk '/^Pss:/ {print $2}' "/proc/$p/smaps_rollup" 2> /dev/null; done |
-    awk '{s += $1; n++} END {if (n) printf "%.1f", s / n / 1024; else print "n/a"}'
-}
-now() { date +%s.%N; }
-load1() { cut -d' ' -f1 /proc/loadavg; }
+# shellcheck source=lib/host_counters.sh
+source "$(dirname "$0")/lib/host_counters.sh"
 printf '| hub:spoke | mode | cells | N | load before / after | discovered [s] | spokes matched | hubs matched | CPU [cores] | UDP datagrams/s | rcvbuf drops/s | PSS/spoke [MiB] | PSS/hub [MiB] |\n'
 printf '|---|---|---|---|---|---|---|---|---|---|---|---|---|\n'
 for n in $sizes; do
@@ -145,21 +134,14 @@ for n in $sizes; do
     disc="> $timeout_s"
   fi
   sleep "$settle"
-  t1=$(now)
-  read -r in0 drop0 < <(udp)
-  c0=$(cpu_of "${pids[@]}")
-  sleep "$window"
-  read -r in1 drop1 < <(udp)
-  c1=$(cpu_of "${pids[@]}")
-  t2=$(now)
+  read -r w c d e < <(window_counters "$window" "${pids[@]}")
   load="$load / $(load1)"
   pss_s=$(pss_of "${spoke_pids[@]}")
   pss_h=$(pss_of "${hub_pids[@]}")
   errors=$(cat "$out/$n"/*.err 2> /dev/null | grep -v '^\s*$' | sort | uniq -c | sort -rn | head -3 || true)
   stop_all
   awk -v v="$vendor" -v m="$mode" -v cl="$cells" -v n="$n" -v l="$load" -v disc="$disc" -v so="$spokes_ok" -v ho="$hubs_ok" \
-    -v c=$((c1 - c0)) -v hz="$hz" -v w="$(awk -v a="$t1" -v b="$t2" 'BEGIN {print b - a}')" \
-    -v d=$((in1 - in0)) -v e=$((drop1 - drop0)) -v ps="$pss_s" -v ph="$pss_h" \
+    -v c="$c" -v hz="$hz" -v w="$w" -v d="$d" -v e="$e" -v ps="$pss_s" -v ph="$pss_h" \
     'BEGIN {printf "| %s | %s | %d | %d | %s | %s | %d/%d | %d/%d | %.2f | %.0f | %.0f | %s | %s |\n",
             v, m, cl, n, l, disc, so, n, ho, cl, c / hz / w, d / w, e / w, ps, ph}'
   # Messages of processes that failed (to stderr, not into the table).

@@ -22,13 +22,8 @@ settle=${SETTLE_S:-20}
 probe="$build/bin/pheromesh-test-probe"
 domain=${DOMAIN:-60}
 hz=$(getconf CLK_TCK)
-udp() { awk '/^Udp:/ && $2 ~ /^[0-9]+$/ {print $2, $6}' /proc/net/snmp; }
-cpu_of() {  # summed utime+stime [ticks] of the given pids, read in one pass
-  local files=()
-  for p in "$@"; do files+=("/proc/$p/stat"); done
-  awk '{s += $14 + $15} END {print s + 0}' "${files[@]}" 2> /dev/null
-}
-now() { date +%s.%N; }
+# shellcheck source=lib/host_counters.sh
+source "$(dirname "$0")/lib/host_counters.sh"
 printf '| vendor | P | CPU [cores] | UDP datagrams/s | rcvbuf drops/s | PSS/process [MiB] |\n|---|---|---|---|---|---|\n'
 for n in $sizes; do
   pids=()
@@ -39,18 +34,11 @@ for n in $sizes; do
   sleep "$settle"
   # The window is what elapsed between the two readings (a loaded host is
   # slow to take them), not the nominal one.
-  t0=$(now)
-  read -r in0 drop0 < <(udp)
-  c0=$(cpu_of "${pids[@]}")
-  sleep "$window"
-  read -r in1 drop1 < <(udp)
-  c1=$(cpu_of "${pids[@]}")
-  t1=$(now)
-  pss=$(for p in "${pids[@]}"; do awk '/^Pss:/ {print $2}' /proc/$p/smaps_rollup 2>/dev/null; done |
-        awk '{s += $1; n++} END {if (n) printf "%.1f", s / n / 1024; else print "n/a"}')
+  read -r w c d e < <(window_counters "$window" "${pids[@]}")
+  pss=$(pss_of "${pids[@]}")
   kill -TERM "${pids[@]}" 2> /dev/null || true
   wait "${pids[@]}" 2> /dev/null || true
-  awk -v v="$vendor" -v n="$n" -v c=$((c1 - c0)) -v hz="$hz" -v w="$(awk -v a="$t0" -v b="$t1" 'BEGIN {print b - a}')" -v d=$((in1 - in0)) -v e=$((drop1 - drop0)) -v pss="$pss" \
+  awk -v v="$vendor" -v n="$n" -v c="$c" -v hz="$hz" -v w="$w" -v d="$d" -v e="$e" -v pss="$pss" \
     'BEGIN {printf "| %s | %d | %.2f | %.0f | %.0f | %s |\n", v, n, c / hz / w, d / w, e / w, pss}'
   sleep 3
 done

@@ -248,9 +248,12 @@ int forge(bus::Bus& b, const std::string& scenario_path, uint32_t uavs, bool loc
   return 0;
 }
 
-int idle(bus::Bus& b, uint32_t id, uint32_t regions) {
-  // Exactly the endpoints a realtime UAV creates (UavApp::run), no samples.
-  b.join_uav(id, core::home_region(id, regions));
+// Exactly the endpoints a realtime UAV creates (UavApp::run), homed on
+// `home`; then takes what arrives until SIGTERM, calling `each` after every
+// wait (idle and spoke).
+template <typename Each>
+void as_idle_uav(bus::Bus& b, uint32_t id, core::RegionId home, Each each) {
+  b.join_uav(id, home);
   b.subscribe_broadcasts();
   b.subscribe_commands();
   std::vector<core::ViewMsg> views;
@@ -261,7 +264,12 @@ int idle(bus::Bus& b, uint32_t id, uint32_t regions) {
     commands.clear();
     b.take_views(views);
     b.take_commands(commands);
+    each();
   }
+}
+
+int idle(bus::Bus& b, uint32_t id, uint32_t regions) {
+  as_idle_uav(b, id, core::home_region(id, regions), [] {});
   return 0;
 }
 
@@ -327,24 +335,14 @@ int hub(bus::Bus& b, uint32_t cell, uint32_t spokes, uint32_t first_uav, bool vi
 
 int spoke(bus::Bus& b, uint32_t id, uint32_t cell, Clock::time_point started) {
   // Exactly idle's endpoints, homed on the cell's place agent.
-  b.join_uav(id, cell);
-  b.subscribe_broadcasts();
-  b.subscribe_commands();
-  std::vector<core::ViewMsg> views;
-  std::vector<core::CommandMsg> commands;
   bool reported = false;
-  while (!runtime::shutdown_requested()) {
-    b.wait({bus::TopicKind::View, bus::TopicKind::Command}, Clock::now() + std::chrono::milliseconds(200));
-    views.clear();
-    commands.clear();
-    b.take_views(views);
-    b.take_commands(commands);
+  as_idle_uav(b, id, cell, [&] {
     if (!reported && b.matched_deposit_readers(cell) > 0 && b.matched_state_readers() > 0) {
       std::printf("spoke %u matched hub at %.3f after %.2f s\n", id, epoch_s(), seconds_since(started));
       std::fflush(stdout);
       reported = true;
     }
-  }
+  });
   return reported ? 0 : 1;
 }
 

@@ -96,7 +96,7 @@ void run_split_swarm(const std::string& tag, int domain, const std::string& prof
   const std::string key = run(kBin + "/pheromesh key").text.substr(0, 64);
   ASSERT_EQ(key.size(), 64U);
   const std::string common = " --hosts " + std::to_string(kHosts) + " --domain " + std::to_string(domain) +
-                             " --uavs 6 --ticks 250 --rate 25 --progress 0.5 " + profile_args +
+                             " --uavs 6 --ticks 375 --rate 25 --progress 0.5 " + profile_args +
                              (standby ? " --standby" : "");
   std::vector<Background> hosts;
   const auto t0 = Clock::now();
@@ -114,7 +114,10 @@ void run_split_swarm(const std::string& tag, int domain, const std::string& prof
   while (!started() && Clock::now() - t0 < std::chrono::seconds(60))
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
   ASSERT_TRUE(started()) << slurp(ground_txt);
-  std::this_thread::sleep_for(std::chrono::seconds(2));  // mid-flight: the flight takes 10 s
+  // Mid-flight: the flight takes 15 s, so that a monitor that discovers
+  // slowly (Fast DDS over unicast peers, on a host running other tests: it
+  // once heard no place agent for 5 s) still sees the whole swarm fly.
+  std::this_thread::sleep_for(std::chrono::seconds(2));
   std::string peers;
   if (profile_args.find("--dds-peers") != std::string::npos) {
     peers = " --dds-peers " + address(0) + "," + address(1) + "," + address(2);
