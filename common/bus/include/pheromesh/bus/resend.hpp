@@ -65,10 +65,10 @@ class LatestResender {
   }
 
   // Publish and remember (the result is that of the bus's publish).
-  bool field(const core::FieldMsg& m) { return keep_field(m, 0, 0, bus_.publish_field(m)); }
-  bool served(const core::FieldMsg& m) { return keep_field(m, 1, 0, bus_.publish_served(m)); }
+  bool field(const core::FieldMsg& m) { return keep_field(m, FieldTo::Ground, 0, bus_.publish_field(m)); }
+  bool served(const core::FieldMsg& m) { return keep_field(m, FieldTo::Places, 0, bus_.publish_served(m)); }
   bool tiles_for(const core::FieldMsg& m, core::RegionId home) {
-    return keep_field(m, 2, home, bus_.publish_tiles_for(m, home));
+    return keep_field(m, FieldTo::Home, home, bus_.publish_tiles_for(m, home));
   }
   bool view(const core::ViewMsg& m) { return remember(views_, m, bus_.publish_view(m)); }
   bool halo(const core::HaloMsg& m, core::RegionId to) {
@@ -107,22 +107,30 @@ class LatestResender {
   [[nodiscard]] uint64_t resends() const { return resends_; }
 
  private:
-  // A field chunk and where it went: 0 the ground station, 1 every other
-  // place agent (served states), 2 the place agent `home` (tiles for its views).
+  // Where a field chunk went: the ground station (the whole field), every
+  // other place agent (served states), or the place agent `home` (tiles for
+  // its views).
+  enum class FieldTo : uint8_t { Ground, Places, Home };
   struct Field {
     core::FieldMsg m;
-    int to = 0;
+    FieldTo to = FieldTo::Ground;
     core::RegionId home = 0;
   };
-  bool keep_field(const core::FieldMsg& m, int to, core::RegionId home, bool ok) {
+  bool keep_field(const core::FieldMsg& m, FieldTo to, core::RegionId home, bool ok) {
     if (!enabled_) return ok;
     fields_.push_back(Field{m, to, home});
     last_ = Clock::now();
     return ok;
   }
   bool publish(const Field& f) {
-    if (f.to == 1) return bus_.publish_served(f.m);
-    if (f.to == 2) return bus_.publish_tiles_for(f.m, f.home);
+    switch (f.to) {
+      case FieldTo::Places:
+        return bus_.publish_served(f.m);
+      case FieldTo::Home:
+        return bus_.publish_tiles_for(f.m, f.home);
+      case FieldTo::Ground:
+        break;
+    }
     return bus_.publish_field(f.m);
   }
 
