@@ -82,14 +82,21 @@ void GroundApp::note_discovery(Clock::time_point now) {
   using StartNow = core::RunBook::StartNow;
   const auto d = book_.note_discovery(heard(), now);
   if (d.complete_s) {
-    log_->info("discovery complete: every UAV ({}) and place agent ({}) heard {:.1f} s after the launch",
+    log_->info(
+        "discovery complete: every UAV ({}) and place agent ({}) heard {:.1f} s after the launch, every place agent "
+        "matched to every other",
                cfg_.expect_uavs, geo_.region_count(), *d.complete_s);
   }
   if (d.start == StartNow::No) return;
   if (d.start == StartNow::WithoutSomeAfterBound) {
-    log_->warn("starting the swarm without {} of {} UAVs and {} of {} place agents, not heard within {} s",
-               d.uavs_missing, cfg_.expect_uavs, d.regions_missing, geo_.region_count(),
-               book_.start_bound().count() / 1000);
+    log_->warn(
+        "starting the swarm without {} of {} UAVs and {} of {} place agents, not heard within {} s{}", d.uavs_missing,
+        cfg_.expect_uavs, d.regions_missing, geo_.region_count(), book_.start_bound().count() / 1000,
+        d.regions_unlinked == 0
+            ? std::string()
+            : fmt::format("; {} place agents heard have not matched every other region's, and deposits they forward "
+                          "there are rejected until they do",
+                          d.regions_unlinked));
   }
   core::CommandMsg start;
   start.kind = static_cast<uint8_t>(core::CommandKind::Start);

@@ -75,6 +75,7 @@ void PlaceApp::publish_health(uint32_t tick, HealthKind kind) {
   h.replica = cfg_.replica;
   h.deposits_duplicate = desk_.copies();
   h.bytes_received = bus_->stats().bytes_taken;
+  h.linked = linked_;
   core::RefusalCounts all = audit_.refused();
   for (std::size_t i = 0; i < core::kRefusalCount; ++i) all.add(static_cast<core::Refusal>(i), l.refused.n[i]);
   h.refused = all.n;
@@ -119,7 +120,10 @@ int PlaceApp::run_realtime() {
     // Paused from the console: no evaporation, no diffusion, deposits wait
     // in the reader; health still goes out.
     if (!commands_->paused()) step(tick++, std::nullopt);
-    if (Clock::now() - last_health >= std::chrono::milliseconds(500)) {
+    // The ground station starts the UAVs once every region's place agent is
+    // linked: its health says so at once, not at the next half second.
+    const bool just_linked = !linked_ && note_linked();
+    if (just_linked || Clock::now() - last_health >= std::chrono::milliseconds(500)) {
       rate_ = clock.measured_rate() > 0 ? clock.measured_rate() : rate_;
       publish_health(tick, HealthKind::Running);
       last_health = Clock::now();
@@ -133,14 +137,20 @@ int PlaceApp::run_realtime() {
   return 0;
 }
 
+bool PlaceApp::note_linked() {
+  if (!linked_) {
+    linked_ = std::all_of(other_regions_.begin(), other_regions_.end(),
+                          [&](core::RegionId r) { return bus_->matched_deposit_readers(r) >= 1; });
+  }
+  return linked_;
+}
+
 void PlaceApp::report_ready_once() {
   // Before tick 0: Ready once every other region's place agent reads the
   // deposits this one forwards (the conductor starts tick 0 when every
   // process is ready).
   if (ready_ || follower_.last_done()) return;
-  const bool matched = std::all_of(other_regions_.begin(), other_regions_.end(),
-                                   [&](core::RegionId r) { return bus_->matched_deposit_readers(r) >= 1; });
-  if (!matched) return;
+  if (!note_linked()) return;
   resend_.phase_done(
       {core::process_key(core::kRolePlace, cfg_.region), 0, static_cast<uint8_t>(core::ClockPhase::Ready), 0, {}});
   ready_ = true;

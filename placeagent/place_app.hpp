@@ -57,6 +57,9 @@ class PlaceApp {
   int run_realtime();
   int run_lockstep();
   void report_ready_once();
+  // Every other region's place agent reads the deposits this one forwards
+  // (sticky once true; health carries it, and the realtime Start waits for it).
+  bool note_linked();
   runtime::PhaseOutcome run_place_phase(const core::ClockMsg& c);
   // One tick. With a demand (lockstep) it waits (bounded) for exactly the
   // deposits and home states announced, every neighbour's ring of this tick
@@ -121,6 +124,7 @@ class PlaceApp {
   std::size_t absent_seen_ = 0;  // follower_.absent() entries handled
   bool replicated_ = false;      // --standby swarm
   bool ready_ = false;           // lockstep: Ready reported (or tick 0 began without it)
+  bool linked_ = false;          // note_linked()
   uint32_t current_tick_ = 0;
   std::optional<TickDemand> demand_;       // the tick under way's (lockstep)
   std::map<uint32_t, uint32_t> heard_at_;  // home UAV -> place tick of its newest state

@@ -178,7 +178,9 @@ TEST_P(Interop, EveryMessageArrivesIntact) {
   EXPECT_EQ(evs[0].kind, 2);
   EXPECT_EQ(evs[0].response_ticks, 321U);
 
-  ASSERT_TRUE(w_->publish_health({7, 15, 25.5F, 100, 90, 10, 3, true, 250, 2}));
+  core::HealthMsg health{7, 15, 25.5F, 100, 90, 10, 3, true, 250, 2};
+  health.linked = true;
+  ASSERT_TRUE(w_->publish_health(health));
   const auto hs = wait_for<core::HealthMsg>([&](auto& v) { r_->take_health(v); });
   ASSERT_EQ(hs.size(), 1U);
   EXPECT_EQ(hs[0].tick_rate_hz, 25.5F);
@@ -189,6 +191,7 @@ TEST_P(Interop, EveryMessageArrivesIntact) {
   EXPECT_TRUE(hs[0].finished);
   EXPECT_EQ(hs[0].tick_gap_max_ms, 250U);
   EXPECT_EQ(hs[0].tick_gaps_over_2, 2U);
+  EXPECT_TRUE(hs[0].linked);
 
   ASSERT_TRUE(w_->publish_halo({3, 16, {1.0F, 2.0F, 3.0F}, {0.0F, 9.0F}}, 4));
   const auto halos = wait_for<core::HaloMsg>([&](auto& v) { r_->take_halos(v); });

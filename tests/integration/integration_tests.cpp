@@ -135,7 +135,10 @@ TEST(Swarm, NeitherAUavNorAPlaceAgentReceivesTrafficThatGrowsWithTheMap) {
     place_bytes[i] = m["place_bytes_received_per_tick"].get<double>();
     std::printf("%s: %.2f tile samples per UAV and tick, %.0f bytes per place agent and tick, %d place agents\n",
                 scenarios[i], uav_tiles[i], place_bytes[i], m["place_agents"].get<int>());
-    EXPECT_EQ(m["deposits_sent"], m["deposits_applied"]);
+    EXPECT_EQ(m["deposits_sent"], m["deposits_applied"])
+        << "rejected " << m["deposits_rejected"] << ", lost " << m["deposits_lost"] << ", unconfirmed "
+        << m["deposits_unconfirmed_by_uavs"] << "\n"
+        << o.text;
   }
   EXPECT_GT(uav_tiles[0], 0.0);
   EXPECT_LT(uav_tiles[1], 1.5 * uav_tiles[0]);

@@ -77,6 +77,7 @@ TEST(RunBook, AStarterSendsTheStartOnceWhenEveryProcessIsHeardAndTimesDiscoveryF
   auto o = options(Role::Starter, 4, 4);
   o.launched = t0 - 2s;  // pheromesh run launched the swarm 2 s before this process started
   RunBook book(o);
+  for (RegionId r = 0; r < 4; ++r) book.note_linked(r);
   auto d = book.note_discovery({3, 4}, t0 + 1s);
   EXPECT_EQ(d.start, StartNow::No) << "one UAV not heard, and the bound is far";
   EXPECT_FALSE(d.complete_s);
@@ -100,15 +101,48 @@ TEST(RunBook, AStarterWaitsThirtySecondsAndATenthPerUavThenStartsWithoutThoseNot
   EXPECT_EQ(d.start, StartNow::WithoutSomeAfterBound);
   EXPECT_EQ(d.uavs_missing, 2U);
   EXPECT_EQ(d.regions_missing, 1U);
+  EXPECT_EQ(d.regions_unlinked, 3U) << "three place agents heard, none said it matched the others";
   EXPECT_FALSE(d.complete_s);
+  for (RegionId r = 0; r < 4; ++r) book.note_linked(r);
   d = book.note_discovery({20, 4}, t0 + 40s);
   EXPECT_EQ(d.start, StartNow::No) << "already started";
   EXPECT_DOUBLE_EQ(d.complete_s.value_or(-1), 40.0) << "no launch known: timed from this process's start";
 }
 
+TEST(RunBook, AStarterHoldsTheStartUntilEveryPlaceAgentMatchedEveryOther) {
+  // Every process heard, but region 2's place agent has not matched every
+  // other region's yet: a deposit a UAV homed on it made elsewhere would be
+  // rejected as not forwardable. Under load (mixed vendors, CI) this takes
+  // longer than hearing everyone.
+  RunBook book(options(Role::Starter, 4, 4));
+  book.note_linked(0);
+  book.note_linked(1);
+  book.note_linked(3);
+  book.note_linked(7);  // no such region: ignored
+  EXPECT_EQ(book.regions_linked(), 3U);
+  auto d = book.note_discovery({4, 4}, t0 + 1s);
+  EXPECT_EQ(d.start, StartNow::No);
+  EXPECT_FALSE(d.complete_s);
+  book.note_linked(2);
+  d = book.note_discovery({4, 4}, t0 + 2s);
+  EXPECT_EQ(d.start, StartNow::EveryoneHeard);
+  EXPECT_DOUBLE_EQ(d.complete_s.value_or(-1), 2.0);
+}
+
+TEST(RunBook, AStarterStartsAfterTheBoundWithPlaceAgentsNotLinkedAndSaysHowMany) {
+  RunBook book(options(Role::Starter, 2, 4));
+  book.note_linked(1);
+  const auto d = book.note_discovery({2, 4}, t0 + 31s);
+  EXPECT_EQ(d.start, StartNow::WithoutSomeAfterBound);
+  EXPECT_EQ(d.uavs_missing, 0U);
+  EXPECT_EQ(d.regions_missing, 0U);
+  EXPECT_EQ(d.regions_unlinked, 3U);
+}
+
 TEST(RunBook, AConductorAndAMonitorTimeDiscoveryButNeverSendTheStart) {
   for (Role role : {Role::Conductor, Role::Monitor}) {
     RunBook book(options(role, 2, 1));
+    book.note_linked(0);
     EXPECT_EQ(book.note_discovery({0, 0}, t0 + 1h).start, StartNow::No);
     const auto d = book.note_discovery({2, 1}, t0 + 1h + 500ms);
     EXPECT_EQ(d.start, StartNow::No);

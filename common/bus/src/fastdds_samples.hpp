@@ -321,6 +321,7 @@ struct Convert<core::HealthMsg> {
     s.finished(m.finished);
     s.deposits_duplicate(m.deposits_duplicate);
     s.bytes_received(m.bytes_received);
+    s.linked(m.linked);
     s.tick_gap_max_ms(m.tick_gap_max_ms);
     s.tick_gaps_over_2(m.tick_gaps_over_2);
     std::copy(m.refused.begin(), m.refused.end(), s.refused().begin());
@@ -335,6 +336,7 @@ struct Convert<core::HealthMsg> {
     h.replica = s.replica();
     h.deposits_duplicate = s.deposits_duplicate();
     h.bytes_received = s.bytes_received();
+    h.linked = s.linked();
     std::copy(s.refused().begin(), s.refused().end(), h.refused.begin());
     return h;
   }

@@ -164,6 +164,7 @@ void GroundIntake::on_healths(const std::vector<core::HealthMsg>& healths, Clock
       note(Kind::OwnerRegained, Level::Info, text("region ", h.region, ": replica ", *owner, " owns it again"));
     }
     p_.frames.heard_region(h.region, now);
+    if (h.linked) p_.book.note_linked(h.region);
   }
 }
 

@@ -14,7 +14,7 @@ std::chrono::milliseconds RunBook::start_bound() const {
 
 RunBook::Discovery RunBook::note_discovery(Heard heard, Clock::time_point now) {
   Discovery d;
-  const bool all = heard.uavs >= o_.uavs && heard.regions >= o_.regions;
+  const bool all = heard.uavs >= o_.uavs && heard.regions >= o_.regions && linked_.size() >= o_.regions;
   if (all && !discovery_s_) {
     discovery_s_ = seconds_since_launch(now);
     d.complete_s = discovery_s_;
@@ -26,8 +26,14 @@ RunBook::Discovery RunBook::note_discovery(Heard heard, Clock::time_point now) {
   if (!all) {
     d.uavs_missing = o_.uavs - std::min<std::size_t>(o_.uavs, heard.uavs);
     d.regions_missing = o_.regions - std::min<std::size_t>(o_.regions, heard.regions);
+    const std::size_t heard_regions = std::min<std::size_t>(o_.regions, heard.regions);
+    d.regions_unlinked = heard_regions - std::min(heard_regions, linked_.size());
   }
   return d;
+}
+
+void RunBook::note_linked(RegionId r) {
+  if (r < o_.regions) linked_.insert(r);
 }
 
 void RunBook::on_field_chunk(RegionId r, uint32_t tick, uint16_t chunk, uint16_t chunks) {

@@ -109,6 +109,9 @@ struct HealthMsg {
   // (plausibility.hpp; deposits among them are counted in deposits_rejected too).
   std::array<uint32_t, kRefusalCount> refused{};
   uint64_t bytes_received = 0;  // payload bytes of every sample it took (payload_bytes)
+  // It matched every other region's place agent: the deposits it forwards
+  // reach their owners. The realtime Start waits for every region's (RunBook).
+  bool linked = false;
 };
 
 // A place replica in one 32-bit id (departures): replica << 16 | region.

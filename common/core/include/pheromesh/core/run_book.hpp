@@ -57,15 +57,21 @@ class RunBook {
     std::optional<double> complete_s;
     StartNow start = StartNow::No;
     std::size_t uavs_missing = 0, regions_missing = 0;  // with WithoutSomeAfterBound
+    std::size_t regions_unlinked = 0;                    // with WithoutSomeAfterBound: heard, not linked
   };
 
   explicit RunBook(Options o) : o_(o) {}
 
   // --- discovery and the realtime start gate
-  // Realtime UAVs wait for the Start to fly: once every process is heard, or
-  // after start_bound() (one process that never came up does not hold the
-  // others back). A Start is returned once.
+  // Realtime UAVs wait for the Start to fly: once every process is heard and
+  // every region's place agent is linked (note_linked), or after
+  // start_bound() (one process that never came up does not hold the others
+  // back). A Start is returned once.
   Discovery note_discovery(Heard heard, Clock::time_point now);
+  // Region r's place agent matched every other region's (HealthMsg::linked):
+  // a deposit its home UAVs make elsewhere reaches the owner.
+  void note_linked(RegionId r);
+  [[nodiscard]] std::size_t regions_linked() const { return linked_.size(); }
   [[nodiscard]] std::optional<double> discovery_s() const { return discovery_s_; }
   [[nodiscard]] bool start_sent() const { return start_sent_; }
   // 30 s, and 0.1 s more per expected UAV.
@@ -106,6 +112,7 @@ class RunBook {
   Options o_;
   std::optional<double> discovery_s_;
   bool start_sent_ = false;
+  std::set<RegionId> linked_;
   bool full_state_noted_ = false;
   uint32_t conducted_tick_ = 0;
   std::map<RegionId, std::pair<uint32_t, std::set<uint16_t>>> field_ticks_;  // region -> newest tick, its chunks seen
