@@ -222,6 +222,10 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0.0, 10000.0))
       ->capture_default_str();
   r->add_option("--progress", ro.progress_s, "Seconds between the ground station's progress lines")->capture_default_str();
+  r->add_option("--start-timeout", ro.start_timeout_s,
+                "Lockstep: how long the conductor waits before tick 0 for every process to report ready; past it the "
+                "run is refused (exit 1) rather than run without them [s] (default: 60 s + 1 s per process)")
+      ->check(CLI::Range(1.0, 86400.0));
   r->add_option("--http", ro.http_port,
                 "Serve the web console on this port (e.g. 8080) and print its URL; it records the run to "
                 "OUT/console.phrec for `pheromesh replay`");

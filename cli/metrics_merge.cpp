@@ -4,6 +4,7 @@
 #include <cmath>
 #include <filesystem>
 #include <map>
+#include <set>
 
 namespace pheromesh::cli {
 
@@ -121,6 +122,22 @@ MergedMetrics merge_metrics(nlohmann::json ground, const RunRecord& run, const s
   if (run.fault_failures > 0) {
     out.errors.push_back(std::to_string(run.fault_failures) +
                          " fault events could not be injected (metrics.json \"faults\")");
+  }
+  // Honest at the limit: a UAV the ground station never heard, nobody killed
+  // on purpose, means the host did not bring up the swarm asked for; the
+  // figures of the run are not those of that swarm.
+  if (m.contains("uavs") && m.contains("uavs_expected")) {
+    std::set<uint32_t> killed_uavs;
+    for (const auto& c : run.processes) {
+      if (c.role == "uav" && c.killed_on_purpose) killed_uavs.insert(c.index);
+    }
+    const auto heard = m["uavs"].get<uint64_t>(), expected = m["uavs_expected"].get<uint64_t>();
+    if (heard + killed_uavs.size() < expected) {
+      out.errors.push_back(std::to_string(expected - heard) + " of " + std::to_string(expected) +
+                           " UAVs were never heard by the ground station: this run is not the swarm asked for. The "
+                           "host may hold fewer processes (pheromesh bench scale), or they need longer to discover "
+                           "each other (metrics.json discovery_s)");
+    }
   }
   nlohmann::json procs = nlohmann::json::array();
   for (const auto& c : run.processes) {

@@ -43,6 +43,7 @@ struct RunOptions {
   uint32_t ground_host = 0;
   std::string log_level = "info";
   double progress_s = 1.0;
+  double start_timeout_s = 0;      // lockstep: the conductor's wait for every Ready (0: the ground station's default)
   std::string clock = "realtime";  // realtime | lockstep
   uint32_t lease_ms = 1000;        // liveliness lease of every process [ms]
   bool discovery_server = false;   // Fast DDS only: discover through a fast-discovery-server the launcher starts

@@ -29,13 +29,24 @@ GroundConfig settle(GroundConfig cfg, const core::ScenarioConfig& s) {
 }
 
 core::LockstepConductor::Options conductor_options(const GroundConfig& cfg, uint32_t regions) {
+  const uint32_t replicas = cfg.standby ? 2U : 1U;
   return {cfg.expect_uavs,
           regions,
           millis(cfg.phase_timeout_s),
           millis(cfg.departed_grace_s),
-          cfg.standby ? 1U : 0U,
-          millis(cfg.start_timeout_s)};
+          replicas - 1,
+          millis(start_timeout(cfg, cfg.expect_uavs + regions * replicas))};
 }
+
+}  // namespace
+
+double start_timeout(const GroundConfig& cfg, uint32_t processes) {
+  // A flat domain's discovery grows with the square of the processes: 117
+  // Fast DDS processes on a 2-core host took 153 s (docs/dds.md).
+  return cfg.start_timeout_s > 0 ? cfg.start_timeout_s : 60.0 + 1.0 * processes;
+}
+
+namespace {
 
 // The run's launch ($PHEROMESH_RUN_T0_MS, milliseconds since the Unix epoch,
 // set by pheromesh run and by attach) on this process's steady clock.

@@ -31,6 +31,18 @@ const char* phase_name(core::ClockPhase phase) {
   }
 }
 
+// "uav 3, 7; place 2", the first few of each.
+std::string not_ready_list(const core::LockstepConductor::Status& st) {
+  const auto ids = [](const char* role, const std::vector<uint32_t>& v) {
+    if (v.empty()) return std::string();
+    std::string s = role;
+    for (std::size_t i = 0; i < v.size() && i < 10; ++i) s += (i == 0 ? " " : ", ") + std::to_string(v[i]);
+    return v.size() > 10 ? s + fmt::format(" and {} more", v.size() - 10) : s;
+  };
+  const std::string u = ids("uav", st.uavs_not_ready), p = ids("place", st.regions_not_ready);
+  return u.empty() ? p : p.empty() ? u : u + "; " + p;
+}
+
 }  // namespace
 
 bool GroundApp::conduct() {
@@ -97,11 +109,16 @@ bool GroundApp::run_phase(uint32_t tick, core::ClockPhase phase) {
       return true;
     }
     if (st.timed_out && phase == core::ClockPhase::Ready) {
-      log_->warn(
-          "starting tick 0 although {} process(es) did not report ready within {} s (not yet matched: their first "
-          "deposits may be lost)",
-          st.waiting, cfg_.start_timeout_s);
-      return true;
+      // Lockstep without them would neither be the run asked for nor equal
+      // the simulator: refuse, and say who and what to do.
+      log_->error(
+          "lockstep: {} of {} processes did not report ready within {:.0f} s ({}); not starting a run that would "
+          "differ from the one asked for. The host may not hold this many processes in one domain (pheromesh bench "
+          "scale), or discovery needs longer (pheromesh run --start-timeout)",
+          st.waiting, cfg_.expect_uavs + geo_.region_count(),
+          start_timeout(cfg_, cfg_.expect_uavs + geo_.region_count() * (cfg_.standby ? 2 : 1)),
+          not_ready_list(st));
+      return false;
     }
     if (st.timed_out || runtime::shutdown_requested()) {
       log_->error("lockstep tick {} {} phase: {} process(es) did not finish within {} s", tick,

@@ -26,7 +26,9 @@ int main(int argc, char** argv) {
   app.add_option("--phase-timeout", cfg.phase_timeout_s, "Lockstep: longest wait for one phase [s]")->capture_default_str();
   app.add_option("--start-timeout", cfg.start_timeout_s,
                  "Lockstep: longest wait before tick 0 for every UAV and place agent to report that it matched the "
-                 "readers it deposits to (then tick 0 starts anyway) [s]")
+                 "readers it deposits to; past it the run is refused and the ground station exits 1 [s] (0: 60 s + "
+                 "1 s per process)")
+      ->check(CLI::Range(0.0, 86400.0))
       ->capture_default_str();
   app.add_option("--departed-grace", cfg.departed_grace_s,
                  "Lockstep: a UAV whose liveliness lapsed and that sent nothing for this long is no longer waited for "

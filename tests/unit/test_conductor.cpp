@@ -373,7 +373,9 @@ TEST(ConductorStart, TickZeroWaitsForEveryUavAndPlaceAgentToReportReadyThenForNo
   auto s = c.status(t0 + 60s);
   EXPECT_EQ(s.waiting, 2U);
   EXPECT_FALSE(s.timed_out);
-  EXPECT_TRUE(c.status(t0 + 121s).timed_out) << "the ground station then starts anyway, with a warning";
+  EXPECT_EQ(s.uavs_not_ready, std::vector<uint32_t>{1});
+  EXPECT_EQ(s.regions_not_ready, std::vector<uint32_t>{0});
+  EXPECT_TRUE(c.status(t0 + 121s).timed_out) << "the ground station then refuses the run, naming uav 1 and place 0";
   c.on_phase_done(report(kRoleUav, 1));
   c.on_phase_done(report(kRolePlace, 0));
   EXPECT_TRUE(c.status(t0 + 60s).complete);

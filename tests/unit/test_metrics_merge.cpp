@@ -52,6 +52,30 @@ TEST(MetricsMerge, AProcessKilledOnPurposeCountsAsKilledAndTheRunSucceeds) {
   EXPECT_EQ(m.metrics["targets_found"], 2);
 }
 
+TEST(MetricsMerge, UavsTheGroundStationNeverHeardFailTheRunUnlessKilledOnPurpose) {
+  // 4 UAVs asked for, 2 heard: the host did not bring up the swarm (a
+  // 300-UAV run once flew nothing and exited 0).
+  std::vector<ChildProcess> ps{ended("ground", "ground", 0), ended("uav-0", "uav", 0), ended("uav-1", "uav", 0),
+                               ended("uav-2", "uav", 0), ended("uav-3", "uav", -1, SIGKILL)};
+  for (uint32_t u = 0; u < 4; ++u) ps[u + 1].index = u;
+  nlohmann::json g = ground_metrics();
+  g["uavs"] = 2;
+  g["uavs_expected"] = 4;
+  MergedMetrics m = merge_metrics(g, record_of(ps), "out/metrics.json");
+  EXPECT_EQ(m.exit_code(), 1);
+  ASSERT_FALSE(m.errors.empty());
+  EXPECT_NE(m.errors[0].find("2 of 4 UAVs were never heard"), std::string::npos) << m.errors[0];
+  // UAV 3 killed on purpose before it was heard, and UAV 2's silence is
+  // still unexplained.
+  ps[4].killed_on_purpose = true;
+  m = merge_metrics(g, record_of(ps), "out/metrics.json");
+  EXPECT_EQ(m.exit_code(), 1);
+  g["uavs"] = 3;
+  m = merge_metrics(g, record_of(ps), "out/metrics.json");
+  EXPECT_EQ(m.exit_code(), 0) << "three heard, the fourth killed on purpose";
+  EXPECT_TRUE(m.errors.empty());
+}
+
 TEST(MetricsMerge, AProcessKilledByASignalNobodySentFailsTheRun) {
   std::vector<ChildProcess> ps{ended("ground", "ground", 0), ended("uav-0", "uav", -1, SIGKILL)};
   const MergedMetrics m = merge_metrics(ground_metrics(), record_of(ps), "out/metrics.json");

@@ -150,8 +150,13 @@ LockstepConductor::Status LockstepConductor::status(Clock::time_point now) {
       auto it = done_.find(process_key(r, id));
       return it != done_.end() && it->second.phase == static_cast<uint8_t>(ClockPhase::Ready);
     };
-    for (uint32_t id = 0; id < o_.uavs; ++id) s.waiting += dropped_.contains(id) || ready(kRoleUav, id) ? 0 : 1;
-    for (uint32_t id = 0; id < o_.regions; ++id) s.waiting += absent_.contains(id) || ready(kRolePlace, id) ? 0 : 1;
+    for (uint32_t id = 0; id < o_.uavs; ++id) {
+      if (!dropped_.contains(id) && !ready(kRoleUav, id)) s.uavs_not_ready.push_back(id);
+    }
+    for (uint32_t id = 0; id < o_.regions; ++id) {
+      if (!absent_.contains(id) && !ready(kRolePlace, id)) s.regions_not_ready.push_back(id);
+    }
+    s.waiting = static_cast<uint32_t>(s.uavs_not_ready.size() + s.regions_not_ready.size());
     s.complete = s.waiting == 0;
     s.timed_out = !s.complete && now > deadline_;
     return s;

@@ -77,6 +77,8 @@ class LockstepConductor {
     bool complete = false;
     bool timed_out = false;   // the phase's timeout passed before it completed
     uint32_t waiting = 0;     // processes (or missing states/broadcasts) still awaited
+    // The Ready phase: who has not reported ready yet (ids).
+    std::vector<uint32_t> uavs_not_ready, regions_not_ready;
   };
 
   explicit LockstepConductor(Options o) : o_(o) {}
