@@ -177,6 +177,25 @@ int forge(bus::Bus& b, const std::string& scenario_path, uint32_t uavs, bool loc
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
+  // Realtime: forge at UAV 0's tick, so that the forged detection is judged
+  // against a state of about its tick (a UAV that flew for many ticks since
+  // could plausibly have seen any target).
+  std::optional<core::UavStateMsg> uav0;
+  if (!lockstep) {
+    bus::Reader<core::UavStateMsg> states(b, {bus::routing::kAllHomes});
+    std::vector<core::UavStateMsg> got;
+    const auto until = Clock::now() + std::chrono::seconds(10);
+    while (Clock::now() < until && !runtime::shutdown_requested()) {
+      got.clear();
+      states.take(got);
+      for (const auto& st : got) {
+        if (st.uav == 0 && (!uav0 || st.tick > uav0->tick)) uav0 = st;
+      }
+      if (uav0 && uav0->tick > 0) break;
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    if (uav0) tick = std::max(tick, uav0->tick);
+  }
   const uint32_t far_tick = 1U << 31U;
   constexpr float kHuge = 1e30F;
   int sent = 0;
@@ -229,11 +248,23 @@ int forge(bus::Bus& b, const std::string& scenario_path, uint32_t uavs, bool loc
   st.uav = s.uavs > 1 ? 1 : 0;
   st.tick = far_tick;
   count(b.publish_uav_state(st));
-  // Detections: UAV 0 reports the last target, far from it; a UAV that does not exist reports one.
+  // Detections: UAV 0 reports a target far from it (the last one, or in
+  // realtime the farthest from where it is); a UAV that does not exist
+  // reports one.
   if (!s.targets.empty()) {
-    const auto last = static_cast<int32_t>(s.targets.size() - 1);
-    count(b.publish_detection({0, tick, last, s.targets.back()}));
-    count(b.publish_detection({stranger, tick, last, s.targets.back()}));
+    auto far = static_cast<int32_t>(s.targets.size() - 1);
+    if (uav0) {
+      const auto d2 = [&](const core::Cell& c) {
+        const double dx = c.x - uav0->x, dy = c.y - uav0->y;
+        return dx * dx + dy * dy;
+      };
+      for (int32_t k = 0; k < static_cast<int32_t>(s.targets.size()); ++k) {
+        if (d2(s.targets[static_cast<std::size_t>(k)]) > d2(s.targets[static_cast<std::size_t>(far)])) far = k;
+      }
+    }
+    const core::Cell target = s.targets[static_cast<std::size_t>(far)];
+    count(b.publish_detection({0, tick, far, target}));
+    count(b.publish_detection({stranger, tick, far, target}));
   }
   // A clock that stops the run, from this process's own writer.
   core::ClockMsg stop;
