@@ -222,7 +222,8 @@ int GroundApp::write_results() {
                               cfg_.expect_uavs,
                               book_.discovery_s(),
                               conductor_.phase_times().uav_ms,
-                              conductor_.phase_times().place_ms};
+                              conductor_.phase_times().place_ms,
+                              bus_->stats().bytes_taken};
   if (!runtime::write_json(cfg_.out_dir, "metrics.json", runtime::metrics_json(rec_, info), error)) {
     log_->error("{}", error);
     return 5;

@@ -18,6 +18,11 @@ int main(int argc, char** argv) {
   app.add_option("--region", cfg.region, "Region id owned by this process (0 .. regions_x*regions_y-1)")->required();
   app.add_option("--max-ticks", cfg.max_ticks, "Stop after this many ticks (0: run until SIGINT/SIGTERM)")
       ->capture_default_str();
+  app.add_option("--field-hz", cfg.field_hz,
+                 "Realtime: how often the field goes to the ground station [Hz]: the tiles changed since the last "
+                 "time, all of them every 2 s and at the end (lockstep: every tile, every tick)")
+      ->check(CLI::Range(0.1, 1000.0))
+      ->capture_default_str();
   uint32_t replica = 0;
   app.add_option("--replica", replica,
                  "Replica number in a swarm with --standby: 0 the primary, 1.. hot standbys (the lowest live one owns "

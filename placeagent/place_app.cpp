@@ -48,6 +48,7 @@ PlaceApp::PlaceApp(PlaceConfig cfg, core::ScenarioConfig scenario, std::unique_p
   // Realtime: a tile no owner sent for two seconds (at least 10 ticks) is
   // left out of views; the owner is gone, and its region is dark.
   tiles_stale_after_ = std::max<uint32_t>(10, static_cast<uint32_t>(std::ceil(2.0 * scenario_.tick_rate_hz)));
+  if (!cfg_.common.lockstep()) to_ground_ = core::FieldToGround::at_rate(scenario_.tick_rate_hz, cfg_.field_hz);
 }
 
 uint32_t PlaceApp::tick_ceiling() const {
@@ -131,7 +132,9 @@ int PlaceApp::run_realtime() {
     if (!clock.wait_next()) break;
   }
   // Drain: deposits that arrived after the last tick are still applied (or
-  // rejected) and counted before the final health.
+  // rejected) and counted before the final health; the whole field goes to
+  // the ground station.
+  last_tick_ = true;
   step(tick, std::nullopt);
   finish(tick);
   return 0;

@@ -15,6 +15,7 @@
 
 #include "pheromesh/bus/bus.hpp"
 #include "pheromesh/bus/resend.hpp"
+#include "pheromesh/core/field_to_ground.hpp"
 #include "pheromesh/core/intake.hpp"
 #include "pheromesh/core/lockstep_follower.hpp"
 #include "pheromesh/core/place_core.hpp"
@@ -38,6 +39,7 @@ struct PlaceConfig {
   core::RegionId region = 0;
   uint32_t max_ticks = 0;  // 0: run until SIGINT/SIGTERM (realtime clock)
   uint16_t replica = 0;    // 0 the primary, 1.. hot standbys (--standby swarms)
+  double field_hz = 5.0;   // realtime: fields to the ground station per second (core::FieldToGround)
 };
 
 class PlaceApp {
@@ -138,6 +140,9 @@ class PlaceApp {
   std::vector<core::HaloMsg> halo_inbox_;
   std::vector<core::TargetEventMsg> events_;
   std::vector<core::TileMsg> tiles_out_;
+  core::FieldToGround to_ground_;          // what of the field goes to the ground station, when
+  std::vector<core::TileMsg> ground_tiles_;
+  bool last_tick_ = false;                 // realtime: the drain after the last tick (a full field goes out)
   std::vector<std::string> rejections_;
   core::ViewMsg view_;
   // Counts for the health and the summary.

@@ -244,15 +244,21 @@ void PlaceApp::receive_tiles(uint32_t tick) {
 }
 
 void PlaceApp::serve_views(uint32_t tick) {
-  // This region's field and its home UAVs' latest states, to the ground station.
-  home_states_.clear();
-  for (uint32_t u : home_uavs_) {
-    if (const core::UavStateMsg* st = views_.state(u)) home_states_.push_back(*st);
-  }
   for (const auto& t : tiles_out_) views_.update_tile(t, tick);
-  for (auto& f : core::make_field_chunks(cfg_.region, tick, tiles_out_, home_states_)) {
-    f.replica = cfg_.replica;
-    resend_.field(f);
+  // This region's field (core::FieldToGround: lockstep all of it every tick,
+  // realtime what changed at the console's rate) and its home UAVs' latest
+  // states, to the ground station.
+  if (to_ground_.due(tick, last_tick_)) {
+    home_states_.clear();
+    for (uint32_t u : home_uavs_) {
+      if (const core::UavStateMsg* st = views_.state(u)) home_states_.push_back(*st);
+    }
+    ground_tiles_.clear();
+    to_ground_.select(tiles_out_, last_tick_, ground_tiles_);
+    for (auto& f : core::make_field_chunks(cfg_.region, tick, ground_tiles_, home_states_)) {
+      f.replica = cfg_.replica;
+      resend_.field(f);
+    }
   }
   send_tiles(tick);
   receive_tiles(tick);

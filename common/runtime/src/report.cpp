@@ -73,6 +73,10 @@ nlohmann::json metrics_json(const core::RunRecorder& r, const RunInfo& info) {
   for (const auto& [region, h] : r.health()) place_bytes += static_cast<double>(h.bytes_received) / (h.tick + 1.0);
   j["place_bytes_received_per_tick"] = r.health().empty() ? 0.0 : place_bytes / static_cast<double>(r.health().size());
   j["place_replicas"] = replicas;
+  // Per conducted or flown tick (ticks + 1 of them).
+  j["ground_bytes_received_per_tick"] =
+      info.ground_bytes_received ? nlohmann::json(static_cast<double>(*info.ground_bytes_received) / (r.max_tick() + 1.0))
+                                 : nlohmann::json(nullptr);
   j["place_agents_alive"] = r.regions_alive();
   j["uavs_killed"] = r.uavs_killed();
   j["places_killed"] = r.places_killed();

@@ -24,6 +24,8 @@ struct RunInfo {
   // (core::LockstepConductor::phase_times); metrics.json "lockstep".
   std::vector<double> uav_phase_ms;
   std::vector<double> place_phase_ms;
+  // Payload bytes of every sample the ground station took (core::payload_bytes).
+  std::optional<uint64_t> ground_bytes_received;
 };
 
 // {"n", "mean", "p50", "p90", "p99", "max"} of durations [ms] (nearest-rank
