@@ -11,6 +11,11 @@
 #
 #   bench/place_traffic.sh [UAVS] [TICKS] [VENDOR]
 #   bench/place_traffic.sh 50 60 cyclone
+# A second table: what the ground station receives per tick in realtime at
+# 20 Hz (RT_UAVS UAVs, RT_TICKS ticks; default 20 and 120): before, every
+# region's whole field every tick; after, the tiles changed since the last
+# send at the console's 5 Hz (core::FieldToGround). The patch also counts
+# the ground station's bytes (metrics.json ground_bytes_received_per_tick).
 # Payload bytes (core::payload_bytes: the samples' fields, without DDS and
 # UDP headers). Keep the host otherwise idle; each run takes seconds.
 set -euo pipefail
@@ -27,6 +32,8 @@ if [ ! -x "$base/build/bin/pheromesh" ]; then
   cmake -S "$base" -B "$base/build" -DCMAKE_BUILD_TYPE=RelWithDebInfo > /dev/null
   cmake --build "$base/build" -j"$(nproc)" --target pheromesh pheromesh-uav pheromesh-place pheromesh-ground
 fi
+rt_uavs=${RT_UAVS:-20}
+rt_ticks=${RT_TICKS:-120}
 mkdir -p "$root/out"
 measure() {  # BUILD_ROOT SCENARIO OUT -> "bytes per place agent and tick|tile samples per UAV and tick|ticks/s"
   rm -rf "$3"
@@ -51,3 +58,26 @@ for side in before after; do
 done
 echo
 echo "$uavs UAVs, $ticks lockstep ticks, $vendor; before: d362a46 + the byte count; after: this tree."
+measure_ground() {  # BUILD_ROOT SCENARIO OUT -> "ground kB per tick|place agent kB per tick|late share %"
+  rm -rf "$3"
+  "$1/build/bin/pheromesh" run "$root/scenarios/$2.textproto" --uavs "$rt_uavs" --ticks "$rt_ticks" --rate 20 \
+    --dds "$vendor" --out "$3" > "$3.log" 2>&1 || { echo "a run failed: $3.log" >&2; exit 1; }
+  python3 - "$3/metrics.json" <<'PY'
+import json, sys
+m = json.load(open(sys.argv[1]))
+print(f"{m['ground_bytes_received_per_tick'] / 1000:.1f}|{m['place_bytes_received_per_tick'] / 1000:.1f}|{100 * m['uav_late_share']:.1f}")
+PY
+}
+echo
+printf '| build | map | ground station received per tick [kB] | per place agent and tick [kB] | UAV ticks late [%%] |\n|---|---|---|---|---|\n'
+for side in before after; do
+  dir=$([ "$side" = before ] && echo "$base" || echo "$root")
+  for sc in scale-100x100 scale-400x400; do
+    IFS='|' read -r gkb pkb late < <(measure_ground "$dir" "$sc" "$root/out/ground-traffic-$side-$sc")
+    [ "$sc" = scale-100x100 ] && first[g$side]=$gkb
+    growth=$(awk -v a="${first[g$side]}" -v b="$gkb" 'BEGIN {printf "%.1f", b / a}')
+    printf '| %s | %s | %s (x%s) | %s | %s |\n' "$side" "$sc" "$gkb" "$growth" "$pkb" "$late"
+  done
+done
+echo
+echo "$rt_uavs UAVs, $rt_ticks realtime ticks at 20 Hz, $vendor."
