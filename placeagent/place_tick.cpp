@@ -183,7 +183,7 @@ void PlaceApp::send_tiles(uint32_t tick) {
     bus_->take_served(field_inbox_);
     const uint32_t ceiling = tick_ceiling();
     for (const auto& f : field_inbox_) {
-      if (f.region != cfg_.region && audit_.admit(core::check_field_chunk(f, ceiling, rules_))) views_.update_served(f);
+      if (f.region != cfg_.region && audit_.admit(core::check_field_chunk(f, ceiling, rules_))) views_.update_served(f, tick);
     }
   };
   const auto r = runtime::await_samples(*bus_, {bus::TopicKind::Field}, {}, &resend_, take,
@@ -195,8 +195,11 @@ void PlaceApp::send_tiles(uint32_t tick) {
   // To each of them the tiles of this region their UAVs' views need, and nothing else.
   std::map<std::pair<int32_t, int32_t>, std::vector<std::size_t>> by_tile;
   for (std::size_t i = 0; i < tiles_out_.size(); ++i) by_tile[{tiles_out_[i].tile.tx, tiles_out_[i].tile.ty}].push_back(i);
+  // Realtime: not to a place agent not heard of lately (it died: its views
+  // are no one's).
+  const uint32_t heard_since = demand_ || tick < tiles_stale_after_ ? 0 : tick - tiles_stale_after_;
   for (core::RegionId home : present_others_) {
-    const std::vector<uint32_t> uavs = views_.served_by(home);
+    const std::vector<uint32_t> uavs = views_.served_by(home, heard_since);
     tiles_for_.clear();
     for (const core::TileCoord t : views_.needed_tiles(uavs, tile_margin())) {
       auto it = by_tile.find({t.tx, t.ty});

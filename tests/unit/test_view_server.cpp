@@ -120,6 +120,20 @@ TEST(ViewServer, AServedListIsReplacedOnlyOnceEveryChunkOfANewerTickArrived) {
   EXPECT_EQ(vs.served_by(3).size(), kMaxFieldUavs + 1);
 }
 
+TEST(ViewServer, ARegionNotHeardOfSinceAGivenTickServesNobody) {
+  // Realtime: the owners stop sending tiles to a place agent that died (its
+  // last served list would otherwise stand for ever).
+  ViewServer vs(geo(), 1, 3.0);
+  for (const auto& f : make_field_chunks(3, 40, {}, {uav(1, 40, 5, 5)})) vs.update_served(f, /*arrived=*/12);
+  EXPECT_EQ(vs.served_by(3, 12), std::vector<uint32_t>{1});
+  EXPECT_EQ(vs.served_by(3, 2), std::vector<uint32_t>{1});
+  EXPECT_TRUE(vs.served_by(3, 13).empty()) << "nothing of region 3 arrived at tick 13 or later";
+  vs.update_served(make_field_chunks(3, 40, {}, {uav(1, 40, 5, 5)}).at(0), 20);  // a re-sent copy: not news
+  EXPECT_TRUE(vs.served_by(3, 13).empty());
+  for (const auto& f : make_field_chunks(3, 41, {}, {uav(1, 41, 6, 5)})) vs.update_served(f, 21);
+  EXPECT_EQ(vs.served_by(3, 13), std::vector<uint32_t>{1}) << "heard again at tick 21";
+}
+
 TEST(ViewServer, NeededTilesAreTheUnionOfTheServedUavsNeighbourhoods) {
   // 40 x 40 cells, tiles of 10, radius 3: a view cell at (11,11) needs tiles
   // (0..1, 0..1); one at (35,4) tile (3, 0); a margin of 2 cells at (35,4)

@@ -33,15 +33,16 @@ bool ViewServer::arrive(std::map<RegionId, Arrived>& to, const FieldMsg& f) {
   Arrived& a = to[f.region];
   if (f.tick != a.tick || a.chunks != f.chunks) {
     if (f.tick < a.tick) return false;
-    a = Arrived{f.tick, f.chunks, {}, {}, std::move(a.served)};
+    a = Arrived{f.tick, f.chunks, {}, {}, std::move(a.served), a.heard};
   }
   return a.seen.insert(f.chunk).second;
 }
 
-void ViewServer::update_served(const FieldMsg& f) {
+void ViewServer::update_served(const FieldMsg& f, uint32_t arrived) {
   for (const auto& s : f.uavs) update_state(s);
   if (!arrive(served_, f)) return;
   Arrived& a = served_[f.region];
+  a.heard = std::max(a.heard, arrived);
   for (const auto& s : f.uavs) a.uavs.push_back(s.uav);
   if (a.complete(a.tick)) a.served = a.uavs;
 }
@@ -91,9 +92,9 @@ std::string ViewServer::missing_tiles(uint32_t tick, std::span<const RegionId> o
   return missing(tiles_from_, tick, owners);
 }
 
-std::vector<uint32_t> ViewServer::served_by(RegionId region) const {
+std::vector<uint32_t> ViewServer::served_by(RegionId region, uint32_t heard_since) const {
   auto it = served_.find(region);
-  return it == served_.end() ? std::vector<uint32_t>{} : it->second.served;
+  return it == served_.end() || it->second.heard < heard_since ? std::vector<uint32_t>{} : it->second.served;
 }
 
 Cell ViewServer::view_centre(const UavStateMsg& s) const { return geo_.in_map(s.view) ? s.view : state_cell(s); }

@@ -38,9 +38,10 @@ class ViewServer {
   void update_tile(const TileMsg& t, uint32_t arrived);
   // A UAV's latest state (an older tick never replaces a newer one).
   void update_state(const UavStateMsg& s);
-  // A chunk of the states another place agent serves this tick (`p`): the
-  // states, and which UAVs that region serves (served_by).
-  void update_served(const FieldMsg& f);
+  // A chunk of the states another place agent serves this tick (`p`),
+  // arrived at this place agent's tick `arrived`: the states, and which UAVs
+  // that region serves (served_by).
+  void update_served(const FieldMsg& f, uint32_t arrived = 0);
   // A chunk of tiles an owner sent for this place agent's views (`f.<own>`),
   // arrived at tick `arrived`.
   void update_tiles(const FieldMsg& f, uint32_t arrived);
@@ -55,8 +56,10 @@ class ViewServer {
   [[nodiscard]] std::string missing_served(uint32_t tick, std::span<const RegionId> regions) const;
   [[nodiscard]] std::string missing_tiles(uint32_t tick, std::span<const RegionId> owners) const;
 
-  // The UAVs `region` serves, as its newest complete `p` chunks said.
-  [[nodiscard]] std::vector<uint32_t> served_by(RegionId region) const;
+  // The UAVs `region` serves, as its newest complete `p` chunks said; none
+  // if nothing of it arrived at or after tick `heard_since` (realtime: a dead
+  // place agent serves nobody, and no owner sends it tiles).
+  [[nodiscard]] std::vector<uint32_t> served_by(RegionId region, uint32_t heard_since = 0) const;
 
   // The tiles the views of `uavs` need (the union of the neighbourhoods of
   // their view cells, each widened by `margin` cells), sorted, without repeats;
@@ -84,6 +87,7 @@ class ViewServer {
     std::set<uint16_t> seen;
     std::vector<uint32_t> uavs;    // served states: the UAVs in the chunks of `tick`
     std::vector<uint32_t> served;  // the UAVs of the newest tick whose every chunk arrived
+    uint32_t heard = 0;            // the receiver's tick its newest chunk arrived at (update_served)
     [[nodiscard]] bool complete(uint32_t t) const { return tick == t && seen.size() >= chunks; }
   };
   // Records chunk f in `to`; false if it is older than what `to` holds.
