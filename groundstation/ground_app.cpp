@@ -96,7 +96,7 @@ void GroundApp::note_discovery(Clock::time_point now) {
     log_->info(
         "discovery complete: every UAV ({}) and place agent ({}) heard {:.1f} s after the launch, every place agent "
         "matched to every other",
-               cfg_.expect_uavs, geo_.region_count(), *d.complete_s);
+        cfg_.expect_uavs, geo_.region_count(), *d.complete_s);
   }
   if (d.start == StartNow::No) return;
   if (d.start == StartNow::WithoutSomeAfterBound) {

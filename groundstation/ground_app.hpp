@@ -44,11 +44,11 @@ struct GroundConfig {
   std::string out_dir = ".";
   uint32_t expect_uavs = 0;  // 0: the scenario's swarm.uavs
   double progress_period_s = 1.0;
-  double phase_timeout_s = 60.0;   // lockstep: longest wait for one phase [s]
+  double phase_timeout_s = 60.0;  // lockstep: longest wait for one phase [s]
   // Lockstep: longest wait for every process's Ready before tick 0 [s]; 0:
   // 60 s and 1 s more per process (start_timeout()).
   double start_timeout_s = 0.0;
-  double departed_grace_s = 5.0;   // lockstep: a UAV silent this long after its liveliness lapsed is dropped [s]
+  double departed_grace_s = 5.0;  // lockstep: a UAV silent this long after its liveliness lapsed is dropped [s]
   // Web console (docs/console.md): served when http_port is set (0: any free port).
   std::optional<uint16_t> http_port;
   std::string http_bind = "127.0.0.1";

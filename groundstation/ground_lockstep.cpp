@@ -116,8 +116,7 @@ bool GroundApp::run_phase(uint32_t tick, core::ClockPhase phase) {
           "differ from the one asked for. The host may not hold this many processes in one domain (pheromesh bench "
           "scale), or discovery needs longer (pheromesh run --start-timeout)",
           st.waiting, cfg_.expect_uavs + geo_.region_count(),
-          start_timeout(cfg_, cfg_.expect_uavs + geo_.region_count() * (cfg_.standby ? 2 : 1)),
-          not_ready_list(st));
+          start_timeout(cfg_, cfg_.expect_uavs + geo_.region_count() * (cfg_.standby ? 2 : 1)), not_ready_list(st));
       return false;
     }
     if (st.timed_out || runtime::shutdown_requested()) {

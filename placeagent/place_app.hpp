@@ -140,9 +140,9 @@ class PlaceApp {
   std::vector<core::HaloMsg> halo_inbox_;
   std::vector<core::TargetEventMsg> events_;
   std::vector<core::TileMsg> tiles_out_;
-  core::FieldToGround to_ground_;          // what of the field goes to the ground station, when
+  core::FieldToGround to_ground_;  // what of the field goes to the ground station, when
   std::vector<core::TileMsg> ground_tiles_;
-  bool last_tick_ = false;                 // realtime: the drain after the last tick (a full field goes out)
+  bool last_tick_ = false;  // realtime: the drain after the last tick (a full field goes out)
   std::vector<std::string> rejections_;
   core::ViewMsg view_;
   // Counts for the health and the summary.

@@ -183,7 +183,9 @@ void PlaceApp::send_tiles(uint32_t tick) {
     bus_->take_served(field_inbox_);
     const uint32_t ceiling = tick_ceiling();
     for (const auto& f : field_inbox_) {
-      if (f.region != cfg_.region && audit_.admit(core::check_field_chunk(f, ceiling, rules_))) views_.update_served(f, tick);
+      if (f.region != cfg_.region && audit_.admit(core::check_field_chunk(f, ceiling, rules_))) {
+        views_.update_served(f, tick);
+      }
     }
   };
   const auto r = runtime::await_samples(*bus_, {bus::TopicKind::Field}, {}, &resend_, take,

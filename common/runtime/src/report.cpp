@@ -75,8 +75,9 @@ nlohmann::json metrics_json(const core::RunRecorder& r, const RunInfo& info) {
   j["place_replicas"] = replicas;
   // Per conducted or flown tick (ticks + 1 of them).
   j["ground_bytes_received_per_tick"] =
-      info.ground_bytes_received ? nlohmann::json(static_cast<double>(*info.ground_bytes_received) / (r.max_tick() + 1.0))
-                                 : nlohmann::json(nullptr);
+      info.ground_bytes_received
+          ? nlohmann::json(static_cast<double>(*info.ground_bytes_received) / (r.max_tick() + 1.0))
+          : nlohmann::json(nullptr);
   j["place_agents_alive"] = r.regions_alive();
   j["uavs_killed"] = r.uavs_killed();
   j["places_killed"] = r.places_killed();

@@ -57,7 +57,7 @@ class RunBook {
     std::optional<double> complete_s;
     StartNow start = StartNow::No;
     std::size_t uavs_missing = 0, regions_missing = 0;  // with WithoutSomeAfterBound
-    std::size_t regions_unlinked = 0;                    // with WithoutSomeAfterBound: heard, not linked
+    std::size_t regions_unlinked = 0;                   // with WithoutSomeAfterBound: heard, not linked
   };
 
   explicit RunBook(Options o) : o_(o) {}
