@@ -35,49 +35,43 @@ fi
 rt_uavs=${RT_UAVS:-20}
 rt_ticks=${RT_TICKS:-120}
 mkdir -p "$root/out"
-measure() {  # BUILD_ROOT SCENARIO OUT -> "bytes per place agent and tick|tile samples per UAV and tick|ticks/s"
-  rm -rf "$3"
-  "$1/build/bin/pheromesh" run "$root/scenarios/$2.textproto" --uavs "$uavs" --ticks "$ticks" --clock lockstep \
-    --dds "$vendor" --out "$3" > "$3.log" 2>&1 || { echo "a run failed: $3.log" >&2; exit 1; }
-  python3 - "$3/metrics.json" <<'PY'
-import json, sys
-m = json.load(open(sys.argv[1]))
-print(f"{m['place_bytes_received_per_tick'] / 1000:.1f}|{m['tile_samples_per_uav_tick']:.2f}|{m['lockstep']['ticks_per_s']:.1f}")
-PY
+# run_one BUILD_ROOT SCENARIO OUT EXPR ARGS...: one `pheromesh run`; prints the
+# Python expression EXPR of its metrics.json (m).
+run_one() {
+  local build=$1 sc=$2 out=$3 expr=$4
+  shift 4
+  rm -rf "$out"
+  "$build/build/bin/pheromesh" run "$root/scenarios/$sc.textproto" "$@" --dds "$vendor" --out "$out" > "$out.log" 2>&1 ||
+    { echo "a run failed: $out.log" >&2; exit 1; }
+  python3 -c "import json, sys; m = json.load(open(sys.argv[1])); print($expr)" "$out/metrics.json"
 }
-printf '| build | map | place agents | received per place agent and tick [kB] | tile samples per UAV and tick | lockstep ticks/s |\n|---|---|---|---|---|---|\n'
-declare -A first
-for side in before after; do
-  dir=$([ "$side" = before ] && echo "$base" || echo "$root")
-  for sc in scale-100x100 scale-400x400; do
-    IFS='|' read -r kb tiles rate < <(measure "$dir" "$sc" "$root/out/place-traffic-$side-$sc")
-    [ "$sc" = scale-100x100 ] && first[$side]=$kb
-    growth=$(awk -v a="${first[$side]}" -v b="$kb" 'BEGIN {printf "%.1f", b / a}')
-    printf '| %s | %s | 16 | %s (x%s) | %s | %s |\n' "$side" "$sc" "$kb" "$growth" "$tiles" "$rate"
+# table NAME EXPR ARGS...: one row per build and map; EXPR gives "A|B|C", and
+# A's growth from scale-100x100 to scale-400x400 is shown beside it.
+table() {
+  local name=$1 expr=$2
+  shift 2
+  for side in before after; do
+    local dir first=""
+    dir=$([ "$side" = before ] && echo "$base" || echo "$root")
+    for sc in scale-100x100 scale-400x400; do
+      row=$(run_one "$dir" "$sc" "$root/out/$name-$side-$sc" "$expr" "$@")  # set -e: a failed run ends the bench
+      IFS='|' read -r a b c <<< "$row"
+      [ -z "$first" ] && first=$a
+      growth=$(awk -v x="$first" -v y="$a" 'BEGIN {printf "%.1f", y / x}')
+      printf '| %s | %s | %s (x%s) | %s | %s |\n' "$side" "$sc" "$a" "$growth" "$b" "$c"
+    done
   done
-done
-echo
-echo "$uavs UAVs, $ticks lockstep ticks, $vendor; before: d362a46 + the byte count; after: this tree."
-measure_ground() {  # BUILD_ROOT SCENARIO OUT -> "ground kB per tick|place agent kB per tick|late share %"
-  rm -rf "$3"
-  "$1/build/bin/pheromesh" run "$root/scenarios/$2.textproto" --uavs "$rt_uavs" --ticks "$rt_ticks" --rate 20 \
-    --dds "$vendor" --out "$3" > "$3.log" 2>&1 || { echo "a run failed: $3.log" >&2; exit 1; }
-  python3 - "$3/metrics.json" <<'PY'
-import json, sys
-m = json.load(open(sys.argv[1]))
-print(f"{m['ground_bytes_received_per_tick'] / 1000:.1f}|{m['place_bytes_received_per_tick'] / 1000:.1f}|{100 * m['uav_late_share']:.1f}")
-PY
 }
+printf '| build | map | received per place agent and tick [kB] | tile samples per UAV and tick | lockstep ticks/s |\n|---|---|---|---|---|\n'
+table place-traffic \
+  "f\"{m['place_bytes_received_per_tick'] / 1000:.1f}|{m['tile_samples_per_uav_tick']:.2f}|{m['lockstep']['ticks_per_s']:.1f}\"" \
+  --uavs "$uavs" --ticks "$ticks" --clock lockstep
+echo
+echo "$uavs UAVs, $ticks lockstep ticks, 16 place agents, $vendor; before: d362a46 + the byte count; after: this tree."
 echo
 printf '| build | map | ground station received per tick [kB] | per place agent and tick [kB] | UAV ticks late [%%] |\n|---|---|---|---|---|\n'
-for side in before after; do
-  dir=$([ "$side" = before ] && echo "$base" || echo "$root")
-  for sc in scale-100x100 scale-400x400; do
-    IFS='|' read -r gkb pkb late < <(measure_ground "$dir" "$sc" "$root/out/ground-traffic-$side-$sc")
-    [ "$sc" = scale-100x100 ] && first[g$side]=$gkb
-    growth=$(awk -v a="${first[g$side]}" -v b="$gkb" 'BEGIN {printf "%.1f", b / a}')
-    printf '| %s | %s | %s (x%s) | %s | %s |\n' "$side" "$sc" "$gkb" "$growth" "$pkb" "$late"
-  done
-done
+table ground-traffic \
+  "f\"{m['ground_bytes_received_per_tick'] / 1000:.1f}|{m['place_bytes_received_per_tick'] / 1000:.1f}|{100 * m['uav_late_share']:.1f}\"" \
+  --uavs "$rt_uavs" --ticks "$rt_ticks" --rate 20
 echo
 echo "$rt_uavs UAVs, $rt_ticks realtime ticks at 20 Hz, $vendor."
