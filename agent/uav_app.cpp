@@ -27,7 +27,8 @@ UavApp::UavApp(UavConfig cfg, core::ScenarioConfig scenario, std::unique_ptr<bus
       core_(scenario_, world_, cfg_.id, cfg_.common.lockstep()),
       gaps_(std::chrono::nanoseconds(static_cast<int64_t>(1e9 / scenario_.tick_rate_hz))),
       layers_(static_cast<int>(core::policy_traits(scenario_).layers.size())),
-      home_(core::home_region(cfg_.id, geo_.region_count())) {
+      home_(core::home_region(cfg_.id, geo_.region_count())),
+      gateway_(home_) {
   resend_.resend_deposits(true);  // lockstep only (the re-sender is off in realtime)
   layer_ranges_ = core::policy_traits(scenario_).layer_ranges;
 }
@@ -92,20 +93,52 @@ void UavApp::wait_for_start() {
   }
 }
 
+std::optional<core::RegionId> UavApp::gateway_at(uint32_t tick) const {
+  return core::gateway_region(cfg_.id, geo_.region_count(), [&](core::RegionId r) {
+    const auto since = follower_.absent_since(r);
+    return since && tick >= *since;
+  });
+}
+
+void UavApp::switch_gateway(core::RegionId gateway, uint32_t tick) {
+  log_->warn("tick {}: home place agent {} is gone (no standby): state and deposits go to place agent {}, its backup "
+             "gateway, from now on",
+             tick, home_, gateway);
+  gateway_ = gateway;
+  receipts_.abandon();
+  bus_->move_uplink(gateway);
+  if (!cfg_.common.lockstep()) return;
+  // Lockstep: the backup waits for exactly this UAV's state and deposits;
+  // write them once its readers match (the re-sender covers the rest).
+  const auto deadline = Clock::now() + std::chrono::milliseconds(static_cast<int64_t>(cfg_.wait_for_places_s * 1000));
+  while ((bus_->matched_deposit_readers(gateway) < 1 || bus_->matched_state_readers() < 2) &&
+         Clock::now() < deadline && !runtime::shutdown_requested()) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+}
+
 int UavApp::run_realtime(uint32_t ticks) {
   step(0, StepKind::Fly);
   runtime::TickClock clock(scenario_.tick_rate_hz);
   uint32_t tick = 0;
+  last_view_at_ = Clock::now();
   while (tick < ticks && clock.wait_next()) {
     ticks_late_ = clock.late_ticks();
     runtime::note_tick_start(gaps_, *log_, tick + 1);
     handle_commands();
     if (commands_->paused()) {
       receive();  // keeps the inboxes drained and the liveliness asserted
+      last_view_at_ = Clock::now();  // a paused swarm sends no views
       continue;
     }
     ++tick;
     receive();
+    // No view from the home for 2 s (at least two leases): it is gone; the
+    // backup gateway serves this UAV from now on (core/faults.hpp).
+    const auto silence = std::max(std::chrono::milliseconds(2000), std::chrono::milliseconds(2 * cfg_.common.lease_ms));
+    if (gateway_ == home_ && geo_.region_count() > 1 && Clock::now() - last_view_at_ > silence) {
+      switch_gateway(core::backup_region(cfg_.id, geo_.region_count()), tick);
+    }
     step(tick, StepKind::Fly);
   }
   return static_cast<int>(tick);
@@ -128,11 +161,16 @@ void UavApp::run_uav_phase(const core::ClockMsg& c, uint32_t ticks) {
     log_->warn("tick {} starts before home place agent {} was matched: deposits may be undeliverable", c.tick, home_);
     ready_ = true;
   }
-  if (follower_.absent_since(home_) == c.tick) {
-    log_->warn(
-        "tick {}: home place agent {} is gone (no standby): from now on this UAV acts on empty views and its "
-        "deposits are lost",
-        c.tick, home_);
+  if (const auto gateway = gateway_at(c.tick); gateway != gateway_) {
+    if (gateway) {
+      switch_gateway(*gateway, c.tick);
+    } else {
+      gateway_ = std::nullopt;
+      log_->warn(
+          "tick {}: home place agent {} and backup {} are gone (no standby): from now on this UAV acts on empty "
+          "views and its deposits are lost",
+          c.tick, home_, core::backup_region(cfg_.id, geo_.region_count()));
+    }
   }
   // UAV phase of tick k: read the tiles of place tick k-1, decide, move,
   // deposit. No wait for acknowledgements: the place phase announces how
@@ -197,13 +235,13 @@ int UavApp::run() {
   // their participant lease ends (1 h; docs/dds.md, "No waiting on the dead").
   const bool acked = bus_->flush({bus::TopicKind::UavState, bus::TopicKind::Detection}, std::chrono::seconds(5));
   log_->info(
-      "uav {} finished at tick {} at ({},{}): deposits sent {}, unconfirmed by its home place agent {}, "
+      "uav {} finished at tick {} at ({},{}): deposits sent {}, unconfirmed {}, "
       "undeliverable {}, samples rejected {}{}",
       cfg_.id, last, core_.cell().x, core_.cell().y, deposits_sent_, receipts_.unconfirmed(), deposits_undeliverable_,
       audit_.dropped(), acked ? "" : " (not every sample was acknowledged)");
   if (receipts_.unconfirmed() > 0) {
-    log_->warn("uav {}: {} deposits were never confirmed by place agent {} (counted lost)", cfg_.id,
-               receipts_.unconfirmed(), home_);
+    log_->warn("uav {}: {} deposits were never confirmed by the place agent they went to (counted lost)", cfg_.id,
+               receipts_.unconfirmed());
   }
   if (!cfg_.common.lockstep()) {
     runtime::log_clock_kept(gaps_, *log_, fmt::format("uav {}", cfg_.id), fmt::format(", {} late ticks", ticks_late_));

@@ -90,7 +90,16 @@ class UavApp {
   std::optional<uint32_t> view_tick_;  // tick of the newest view received
   std::vector<core::BroadcastMsg> broadcast_inbox_;
   int layers_ = 0;
-  core::RegionId home_ = 0;  // the place agent this UAV talks to
+  core::RegionId home_ = 0;  // the place agent this UAV talks to while it lives
+  // Its gateway: home_, else its backup (core::gateway_region); none when both
+  // are dead. Lockstep: from the clock's absent regions at `tick`.
+  std::optional<core::RegionId> gateway_;
+  [[nodiscard]] std::optional<core::RegionId> gateway_at(uint32_t tick) const;
+  // Moves the state and deposit writers to `gateway` (bounded wait for its
+  // readers in lockstep).
+  void switch_gateway(core::RegionId gateway, uint32_t tick);
+  // Realtime: when the last view arrived; no view for 2 s means a dead home.
+  std::chrono::steady_clock::time_point last_view_at_{};
   // What the last step wrote (lockstep reports it with PhaseDone).
   std::map<core::RegionId, uint32_t> written_;
   bool broadcast_written_ = false;

@@ -21,6 +21,7 @@ void UavApp::receive() {
   const uint32_t ceiling = tick_ceiling();
   for (const auto& v : view_inbox_) {
     if (!audit_.admit(core::check_view(v, cfg_.id, ceiling, rules))) continue;
+    last_view_at_ = std::chrono::steady_clock::now();
     receipts_.confirmed(v.deposit_ack);
     if (view_tick_ && v.tick <= *view_tick_) continue;  // an older view, or a copy re-sent
     view_tick_ = v.tick;
@@ -42,10 +43,10 @@ void UavApp::receive() {
 }
 
 void UavApp::wait_for_tick(uint32_t tick, const core::ClockMsg& announced) {
-  // The home composed the views of the ticks before it was killed; from then
-  // on this UAV reads empty views (core/faults.hpp).
-  const auto absent = follower_.absent_since(home_);
-  const auto view = [&] { return (absent && tick >= *absent) || (view_tick_ && *view_tick_ >= tick); };
+  // The view of place tick `tick` comes from the UAV's gateway then (its
+  // home, else its backup); with neither alive, none comes (core/faults.hpp).
+  const bool blind = !gateway_at(tick);
+  const auto view = [&] { return blind || (view_tick_ && *view_tick_ >= tick); };
   const auto broadcasts = [&] { return core_.holds_tick(tick, {}, announced.broadcasts); };
   // The last PhaseDone goes out again after a quiet second: the conductor
   // takes it as a sign of life while this UAV waits.
@@ -63,20 +64,20 @@ void UavApp::step(uint32_t tick, StepKind kind) {
   broadcast_written_ = false;
   if (!finished) {
     core_.step(tick, out_);
-    const bool home_absent = follower_.absent_since(home_).has_value();
     for (const auto& d : out_.deposits) {
-      if (home_absent) {
-        // Lockstep, home killed without a standby (core/faults.hpp): the
-        // deposit is made and lost on the way; the conductor counts it lost.
+      if (!gateway_) {
+        // Lockstep, home and backup killed without a standby
+        // (core/faults.hpp): the deposit is made and lost on the way; the
+        // conductor counts it lost.
         ++deposits_sent_;
         ++written_[d.region];
         continue;
       }
       // A deposit written while no place agent of that region is matched
       // would be lost silently; count it as undeliverable instead of sent.
-      if (bus_->matched_deposit_readers(home_) == 0) {
+      if (bus_->matched_deposit_readers(*gateway_) == 0) {
         ++deposits_undeliverable_;
-      } else if (resend_.deposit(d, home_)) {
+      } else if (resend_.deposit(d, *gateway_)) {
         ++deposits_sent_;
         ++written_[d.region];
         receipts_.sent(d.seq);
@@ -109,7 +110,7 @@ void UavApp::step(uint32_t tick, StepKind kind) {
 void UavApp::wait_for_receipts(std::chrono::milliseconds bound) {
   (void)runtime::await_samples(
       *bus_, {bus::TopicKind::View}, {bound, std::chrono::milliseconds(50)}, nullptr, [&] { receive(); },
-      [&] { return receipts_.unconfirmed() == 0; });
+      [&] { return receipts_.pending() == 0; });
 }
 
 }  // namespace pheromesh::agent

@@ -149,8 +149,8 @@ void GroundApp::drop_region(core::RegionId r, uint32_t tick) {
     rec_.on_place_killed(/*region_frozen=*/true);
     log_->warn(
         "lockstep tick {}: place agent {} was killed without a standby; region {} is absent from now on (its field "
-        "frozen, deposits into it lost, its UAVs on empty views)",
-        tick, r, r);
+        "frozen, deposits into it lost, its UAVs served by their backup gateway, region {})",
+        tick, r, r, (r + 1) % geo_.region_count());
   }
 }
 

@@ -39,6 +39,7 @@ PlaceApp::PlaceApp(PlaceConfig cfg, core::ScenarioConfig scenario, std::unique_p
   for (uint32_t u = 0; u < scenario_.uavs; ++u) {
     if (core::home_region(u, geo_.region_count()) == cfg_.region) home_uavs_.push_back(u);
   }
+  gateway_uavs_ = home_uavs_;
   for (core::RegionId r = 0; r < geo_.region_count(); ++r) {
     if (r != cfg_.region) other_regions_.push_back(r);
   }
@@ -62,11 +63,27 @@ void PlaceApp::note_absent() {
     if (r == cfg_.region || r >= geo_.region_count() || !absent_.insert(r).second) continue;
     log_->warn("tick {}: the place agent of region {} is gone (no standby); its field and ring stay as they were", tick,
                r);
+    // Its UAVs whose backup this region is talk to this place agent now.
+    for (uint32_t u = 0; u < scenario_.uavs; ++u) {
+      if (core::home_region(u, geo_.region_count()) == r && core::backup_region(u, geo_.region_count()) == cfg_.region) {
+        adopt(u, views_.state(u));
+      }
+    }
   }
   present_others_.clear();
   for (core::RegionId r : other_regions_) {
     if (!absent_.contains(r)) present_others_.push_back(r);
   }
+}
+
+void PlaceApp::adopt(uint32_t uav, const core::UavStateMsg* state_before) {
+  if (adopted_.contains(uav)) return;
+  adopted_[uav] = {state_before != nullptr ? state_before->deposits_sent : 0, desk_.taken_from(uav)};
+  gateway_uavs_.push_back(uav);
+  desk_.serve(uav);
+  bus_->offer_views(std::vector<uint32_t>{uav});
+  log_->warn("uav {} talks to this place agent, its backup gateway, from now on (its home place agent {} is gone)", uav,
+             core::home_region(uav, geo_.region_count()));
 }
 
 void PlaceApp::publish_health(uint32_t tick, HealthKind kind) {

@@ -1,9 +1,10 @@
 // pheromesh-place: owns the pheromone tiles of one region (the software twin
 // of an RFID tag / unattended ground sensor). The logic is core::PlaceCore;
 // this shell wires it to the bus and a clock. It is also the home of the
-// UAVs with core::home_region(uav) == its region: it forwards their deposits
-// for other regions to the owners, and each tick sends each of them its view
-// (core::ViewServer), composed from the fields every place agent publishes.
+// UAVs with core::home_region(uav) == its region, and the backup gateway of
+// those whose home is the previous region once that one died
+// (core::gateway_region): it forwards their deposits for other regions to
+// the owners, and each tick sends each of them its view (core::ViewServer).
 #pragma once
 
 #include <cstdint>
@@ -101,6 +102,11 @@ class PlaceApp {
   // standby) join absent_; nobody waits for them any more.
   void note_absent();
   [[nodiscard]] bool is_absent(core::RegionId r) const { return absent_.contains(r); }
+  // The backup gateway: UAV `uav`, whose backup this region is, talks to this
+  // place agent from now on (lockstep: its home is absent; realtime: its state
+  // came here). `state_before`: its last state its home served (lockstep),
+  // from which this place agent counts the deposits it must hold.
+  void adopt(uint32_t uav, const core::UavStateMsg* state_before);
   [[nodiscard]] uint32_t tick_ceiling() const;
 
   PlaceConfig cfg_;
@@ -120,6 +126,11 @@ class PlaceApp {
   core::DepositDesk desk_;   // where each taken deposit goes; what the home UAVs' views confirm
   std::unique_ptr<runtime::SwarmCommands> commands_;  // pause / resume
   std::vector<uint32_t> home_uavs_;
+  // The UAVs whose gateway this place agent is: its home UAVs, and those it
+  // adopted as their backup (adopt); their deposits-sent count and this
+  // place agent's taken count when adopted.
+  std::vector<uint32_t> gateway_uavs_;
+  std::map<uint32_t, std::pair<uint64_t, uint64_t>> adopted_;
   std::vector<core::RegionId> other_regions_;
   std::vector<core::RegionId> present_others_;  // other_regions_ without the absent ones
   std::set<core::RegionId> absent_;

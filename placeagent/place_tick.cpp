@@ -63,7 +63,14 @@ void PlaceApp::take_home_states(uint32_t tick) {
   const uint32_t ceiling = tick_ceiling();
   for (const auto& st : state_inbox_) {
     const bool known = !core::check_uav_id(st.uav, scenario_.uavs);
-    if (known && core::home_region(st.uav, geo_.region_count()) != cfg_.region) continue;  // not ours (a stray writer)
+    if (known && core::home_region(st.uav, geo_.region_count()) != cfg_.region) {
+      // A UAV whose backup this region is: realtime, it judged its home dead
+      // and came here; lockstep, only once the clock lists its home absent
+      // (note_absent adopted it). Anyone else's: a stray writer.
+      if (core::backup_region(st.uav, geo_.region_count()) != cfg_.region) continue;
+      if (!demand_) adopt(st.uav, nullptr);
+      if (!adopted_.contains(st.uav)) continue;
+    }
     const core::UavStateMsg* before = views_.state(st.uav);
     const core::Cell start = core::uav_start(scenario_, traits_, st.uav);
     if (!audit_.admit(core::check_home_state(st, before, start, traits_.max_step, ceiling, rules_))) continue;
@@ -73,7 +80,7 @@ void PlaceApp::take_home_states(uint32_t tick) {
 }
 
 uint32_t PlaceApp::home_states_of(uint32_t tick) const {
-  return static_cast<uint32_t>(std::count_if(home_uavs_.begin(), home_uavs_.end(), [&](uint32_t u) {
+  return static_cast<uint32_t>(std::count_if(gateway_uavs_.begin(), gateway_uavs_.end(), [&](uint32_t u) {
     const core::UavStateMsg* st = views_.state(u);
     return st != nullptr && st->tick >= tick;
   }));
@@ -83,9 +90,13 @@ bool PlaceApp::holds_home_deposits(uint32_t tick) const {
   // A home UAV's state of this tick counts every deposit it wrote so far;
   // those for other regions must be forwarded in this phase too, or their
   // owners wait for them while this place agent waits for their fields.
-  return std::all_of(home_uavs_.begin(), home_uavs_.end(), [&](uint32_t u) {
+  return std::all_of(gateway_uavs_.begin(), gateway_uavs_.end(), [&](uint32_t u) {
     const core::UavStateMsg* st = views_.state(u);
-    return st == nullptr || st->tick < tick || desk_.taken_from(u) >= st->deposits_sent;
+    if (st == nullptr || st->tick < tick) return true;
+    // An adopted UAV: the deposits it sent since it came here.
+    auto a = adopted_.find(u);
+    const auto [sent_before, taken_before] = a == adopted_.end() ? std::pair<uint64_t, uint64_t>{0, 0} : a->second;
+    return desk_.taken_from(u) - taken_before >= st->deposits_sent - std::min(sent_before, st->deposits_sent);
   });
 }
 
@@ -163,7 +174,7 @@ void PlaceApp::publish_served(uint32_t tick) {
   // Lockstep: those that took part in this tick's UAV phase.
   served_.clear();
   served_states_.clear();
-  for (uint32_t u : home_uavs_) {
+  for (uint32_t u : gateway_uavs_) {
     const core::UavStateMsg* st = views_.state(u);
     if (st == nullptr || st->finished) continue;
     if (demand_ ? st->tick != tick : tick - heard_at_[u] > kViewsAfterSilence) continue;
@@ -255,7 +266,7 @@ void PlaceApp::serve_views(uint32_t tick) {
   // states, to the ground station.
   if (to_ground_.due(tick, last_tick_)) {
     home_states_.clear();
-    for (uint32_t u : home_uavs_) {
+    for (uint32_t u : gateway_uavs_) {
       if (const core::UavStateMsg* st = views_.state(u)) home_states_.push_back(*st);
     }
     ground_tiles_.clear();

@@ -383,7 +383,10 @@ TEST(LockstepFaults, ProcessesKilledAtATickAreDroppedAtOnceAndAGonePlaceAgentsRe
     EXPECT_EQ(m["uav_status"][id]["last_tick"], ticks) << id;
     EXPECT_TRUE(m["uav_status"][id]["finished"].get<bool>()) << id;
   }
-  // Deposits into region 2 and every deposit of UAV 2 from tick 15 on are lost, and counted.
+  // Deposits into region 2 from tick 15 on are lost, and counted; UAV 2's
+  // go through its backup gateway, place agent 3.
+  EXPECT_NE(swarm.log("uav-2").find("go to place agent 3, its backup gateway"), std::string::npos) << swarm.log("uav-2");
+  EXPECT_NE(swarm.log("place-3").find("uav 2 talks to this place agent, its backup gateway"), std::string::npos);
   EXPECT_GT(m["deposits_lost"].get<uint64_t>(), 0U);
   EXPECT_EQ(m["deposits_sent"].get<uint64_t>(), m["deposits_applied"].get<uint64_t>() + m["deposits_rejected"].get<uint64_t>() +
                                                     m["deposits_lost"].get<uint64_t>())

@@ -275,8 +275,8 @@ TEST(ConductorFaults, AnAbsentRegionIsListedNotWaitedForAndItsDepositsAreCounted
   const ClockMsg uav = c.begin_phase(9, ClockPhase::Uav, t0);
   EXPECT_EQ(uav.absent, (std::vector<RegionId>{1})) << "the UAV phase tells the UAVs homed on it";
   // uav 0 (home 0): 2 deposits for region 0, 3 for region 1 (lost: absent owner).
-  // uav 1 (home 1, absent): 4 for region 0 (lost: they go through its home).
-  // uav 2 (home 0): 1 for region 0. uav 3 (home 1): none.
+  // uav 1 (home 1, absent; backup 0): 4 for region 0, through its backup.
+  // uav 2 (home 0): 1 for region 0. uav 3 (home 1; backup 0): none.
   c.on_phase_done(uav_report(0, 9, {{0, 2}, {1, 3}}));
   c.on_phase_done(uav_report(1, 9, {{0, 4}}));
   c.on_phase_done(uav_report(2, 9, {{0, 1}}));
@@ -287,17 +287,17 @@ TEST(ConductorFaults, AnAbsentRegionIsListedNotWaitedForAndItsDepositsAreCounted
   const ClockMsg place = c.begin_phase(9, ClockPhase::Place, t0);
   ASSERT_EQ(place.deposits.size(), 1U);
   EXPECT_EQ(place.deposits[0].region, 0U);
-  EXPECT_EQ(place.deposits[0].count, 3U);
+  EXPECT_EQ(place.deposits[0].count, 7U);
   EXPECT_EQ(place.absent, (std::vector<RegionId>{1}));
-  // States: uavs 0 and 2 are homed on region 0; nobody waits for those of
-  // uavs 1 and 3 (their home is absent).
+  // States: region 0 is the gateway of all four now (home of 0 and 2, backup
+  // of 1 and 3).
   ASSERT_EQ(place.states.size(), 1U);
   EXPECT_EQ(place.states[0].region, 0U);
-  EXPECT_EQ(place.states[0].count, 2U);
-  EXPECT_EQ(c.deposits_lost(), 7U);
+  EXPECT_EQ(place.states[0].count, 4U);
+  EXPECT_EQ(c.deposits_lost(), 3U);
   c.on_phase_done(place_report(0, 9));
   EXPECT_TRUE(c.status(t0).complete) << "region 1 is not waited for";
-  // Nothing lost in a tick without deposits for it.
+  // Nothing lost in a tick without deposits for the absent region.
   c.begin_phase(10, ClockPhase::Uav, t0);
   for (uint32_t u : {0U, 1U, 2U, 3U}) {
     c.on_phase_done(uav_report(u, 10, {{0, 1}}));
@@ -305,7 +305,25 @@ TEST(ConductorFaults, AnAbsentRegionIsListedNotWaitedForAndItsDepositsAreCounted
   }
   ASSERT_TRUE(c.status(t0).complete);
   c.begin_phase(10, ClockPhase::Place, t0);
-  EXPECT_EQ(c.deposits_lost(), 9U) << "uavs 1 and 3 are homed on the absent region";
+  EXPECT_EQ(c.deposits_lost(), 3U) << "uavs 1 and 3 deposit through their backup";
+}
+
+TEST(ConductorFaults, AUavWhoseHomeAndBackupAreBothAbsentHasItsDepositsCountedLost) {
+  // Two regions: each is the other's backup. Both absent: every deposit is lost.
+  C c(four_uavs_two_regions());
+  const auto t0 = C::Clock::time_point{} + 100s;
+  c.drop_region(0);
+  c.drop_region(1);
+  c.begin_phase(9, ClockPhase::Uav, t0);
+  for (uint32_t u : {0U, 1U, 2U, 3U}) {
+    c.on_phase_done(uav_report(u, 9, {{0, 1}}));
+    c.on_uav_state(u, 9, {0, 0});
+  }
+  ASSERT_TRUE(c.status(t0).complete);
+  const ClockMsg place = c.begin_phase(9, ClockPhase::Place, t0);
+  EXPECT_TRUE(place.deposits.empty());
+  EXPECT_TRUE(place.states.empty());
+  EXPECT_EQ(c.deposits_lost(), 4U);
 }
 
 TEST(ConductorFaults, AUavWhoseLivelinessLapsesButThatStillTalksIsNotDropped) {

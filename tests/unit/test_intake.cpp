@@ -136,6 +136,34 @@ TEST(DepositDesk, OwnDepositsAreAppliedOthersForwardedAndCopiesDroppedOnlyWhenAs
   EXPECT_EQ(plain.taken_from(1), 1U) << "a replayed seq is not a second deposit of the UAV";
 }
 
+TEST(DepositDesk, AUavItIsTheBackupGatewayOfIsConfirmedAndCountedLikeAHomeUav) {
+  // Region 2 of 4; UAV 1 (home 1) is served here once its home died.
+  DepositDesk desk(2, 4, 4, true);
+  EXPECT_EQ(desk.take(deposit(1, 8, 3), 0), DepositRoute::Forward);
+  EXPECT_EQ(desk.ack(1), 0U) << "not served here yet";
+  EXPECT_EQ(desk.taken_from(1), 0U);
+  desk.serve(1);
+  EXPECT_EQ(desk.take(deposit(1, 9, 2), 1), DepositRoute::Apply);
+  EXPECT_EQ(desk.take(deposit(1, 10, 0), 1), DepositRoute::Forward);
+  EXPECT_EQ(desk.ack(1), 10U);
+  EXPECT_EQ(desk.taken_from(1), 2U);
+}
+
+TEST(Gateway, TheHomeWhileAliveThenTheNextRegionThenNone) {
+  // 4 regions: UAV 6 is homed on region 2, its backup is region 3; UAV 7's
+  // home is region 3 and its backup wraps to region 0.
+  const auto none_dead = [](RegionId) { return false; };
+  EXPECT_EQ(home_region(6, 4), 2U);
+  EXPECT_EQ(backup_region(6, 4), 3U);
+  EXPECT_EQ(backup_region(7, 4), 0U);
+  EXPECT_EQ(gateway_region(6, 4, none_dead), std::optional<RegionId>(2));
+  EXPECT_EQ(gateway_region(6, 4, [](RegionId r) { return r == 2; }), std::optional<RegionId>(3));
+  EXPECT_EQ(gateway_region(7, 4, [](RegionId r) { return r == 3; }), std::optional<RegionId>(0));
+  EXPECT_EQ(gateway_region(6, 4, [](RegionId r) { return r == 2 || r == 3; }), std::nullopt);
+  EXPECT_EQ(gateway_region(6, 4, [](RegionId r) { return r == 3; }), std::optional<RegionId>(2)) << "home alive";
+  EXPECT_EQ(gateway_region(0, 1, [](RegionId) { return true; }), std::nullopt) << "one region: no backup";
+}
+
 TEST(DepositDesk, ASequenceNumberForgedFarAheadConfirmsNothing) {
   DepositDesk desk(1, 4, 4, false);
   desk.take(deposit(1, 3, 1), 0);

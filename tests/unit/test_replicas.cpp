@@ -126,5 +126,18 @@ TEST(DepositReceipts, ADepositStaysUnconfirmedUntilTheHomeAcknowledgesItsSeq) {
   EXPECT_EQ(r.unconfirmed(), 0U);
 }
 
+TEST(DepositReceipts, WhatADeadHomeNeverConfirmedStaysUnconfirmedWhenTheBackupConfirmsLaterOnes) {
+  DepositReceipts r;
+  for (uint32_t seq : {1U, 2U, 3U}) r.sent(seq);
+  r.confirmed(1);
+  r.abandon();  // the home died with 2 and 3; the UAV moves to its backup
+  EXPECT_EQ(r.unconfirmed(), 2U);
+  EXPECT_EQ(r.pending(), 0U) << "nothing left for the backup to confirm";
+  r.sent(4);
+  r.confirmed(4);  // the backup's cumulative ack covers 4 only
+  EXPECT_EQ(r.unconfirmed(), 2U);
+  EXPECT_EQ(r.pending(), 0U);
+}
+
 }  // namespace
 }  // namespace pheromesh::core

@@ -193,42 +193,44 @@ TEST(SimFaults, AFrozenRegionKeepsItsValuesWhileALiveRegionEvaporates) {
   EXPECT_EQ(alive.field_value(obstacle, {9, 4}), 1.0F - 1.0F / 2048.0F);
 }
 
-TEST(SimFaults, DepositsIntoADeadRegionOrThroughADeadHomeAreLostAndTheLedgerBalances) {
+TEST(SimFaults, DepositsIntoADeadRegionAreLostAndThoseOfItsHomeUavsGoThroughTheirBackup) {
   // Region 1 killed at tick 4 (ticks 0..6, one deposit per UAV and tick):
   //   UAV 0 (home 0, in region 0): 7 applied by region 0;
-  //   UAV 1 (home 1, in region 0): ticks 0..3 applied by region 0 (4), ticks
-  //     4..6 lost: its home is dead and cannot forward them (3);
+  //   UAV 1 (home 1, backup 0, in region 0): ticks 0..3 forwarded by region 1
+  //     and applied by region 0 (4), ticks 4..6 through its backup, region 0
+  //     itself, applied by region 0 (3);
   //   UAV 2 (home 0, in region 1): ticks 0..3 applied by region 1 (4), ticks
   //     4..6 lost: their region is dead (3).
-  // Sent 21 = applied 15 + rejected 0 + lost 6.
+  // Sent 21 = applied 18 + rejected 0 + lost 3. Before the backup gateway
+  // UAV 1's last 3 were lost with its home too (applied 15, lost 6).
   Simulator sim(three_uavs_two_regions());
   set_faults(sim, "kill place:1 @4t");
   sim.run();
   EXPECT_EQ(sim.recorder().deposits_sent(), 21U);
-  EXPECT_EQ(region_applied(sim, 0), 11U);
+  EXPECT_EQ(region_applied(sim, 0), 14U);
   EXPECT_EQ(region_applied(sim, 1), 4U);  // its ledger as it died
   EXPECT_FALSE(sim.recorder().health().at(1).finished);
   EXPECT_TRUE(sim.recorder().health().at(0).finished);
-  EXPECT_EQ(ledger(sim).applied, 15U);
+  EXPECT_EQ(ledger(sim).applied, 18U);
   EXPECT_EQ(ledger(sim).rejected, 0U);
-  EXPECT_EQ(sim.recorder().deposits_lost(), 6U);
+  EXPECT_EQ(sim.recorder().deposits_lost(), 3U);
   EXPECT_EQ(sim.recorder().deposits_sent(),
             ledger(sim).applied + ledger(sim).rejected + sim.recorder().deposits_lost());
   // The UAVs themselves fly on: every one took 7 steps.
   EXPECT_EQ(sim.uav_steps(), 21U);
 }
 
-TEST(SimFaults, TheHomeUavsOfADeadRegionGetEmptyViewsAndVanishFromTheOthers) {
+TEST(SimFaults, ADeadRegionGoesDarkAndItsHomeUavsTalkToTheirBackupGateway) {
   // 8 x 8 cells of 4 tiles, regions 0 (x 0..3) and 1 (x 4..7); two UAVs at
-  // (0,0) (home 0) and (1,0) (home 1). Every UAV's neighbourhood (5 cells
-  // around it) covers all 4 tiles: a view has 4 tiles x 4 layers = 16 tile
-  // samples and the other UAV. Region 1 killed at tick 3: its last views
-  // are those of tick 2, which UAV 1 reads at tick 3; from tick 4 it reads
-  // none. UAV 1's state of tick 3 on would be published by region 1, so from
-  // tick 4 UAV 0 no longer sees it. Region 1 is dark from its views of tick
-  // 3 on: UAV 0 reads 16 tile samples at ticks 1..3 and only region 0's 2
-  // tiles x 4 layers = 8 at ticks 4..10, and its cache holds nothing of
-  // region 1 any more.
+  // (0,0) (home 0, backup 1) and (1,0) (home 1, backup 0). Every UAV's
+  // neighbourhood (5 cells around it) covers all 4 tiles: a view has 4 tiles
+  // x 4 layers = 16 tile samples and the other UAV. Region 1 killed at tick
+  // 3: its last views are those of tick 2, read at tick 3. From tick 3 UAV 1
+  // talks to region 0, its backup, which publishes its states and composes
+  // its views of tick 3 on. Region 1 is dark from its views of tick 3 on:
+  // both UAVs read 16 tile samples at ticks 1..3 and only region 0's 2 tiles
+  // x 4 layers = 8 at ticks 4..10, keep seeing each other, and hold nothing
+  // of region 1 in their caches.
   ScenarioConfig s = tiny(8, 8, 2, 2, {0, 0, 2, 1}, 10);
   Simulator sim(s);
   set_faults(sim, "kill place:1 @3t");
@@ -237,25 +239,46 @@ TEST(SimFaults, TheHomeUavsOfADeadRegionGetEmptyViewsAndVanishFromTheOthers) {
     seen0.push_back(sim.uav(0).last_view_neighbours());
     seen1.push_back(sim.uav(1).last_view_neighbours());
   });
-  const std::vector<std::size_t> before{0, 1, 1, 1}, after(7, 0);
-  std::vector<std::size_t> expected = before;
-  expected.insert(expected.end(), after.begin(), after.end());
-  EXPECT_EQ(seen0, expected);
-  EXPECT_EQ(seen1, expected);
+  const std::vector<std::size_t> every_tick{0, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1};
+  EXPECT_EQ(seen0, every_tick);
+  EXPECT_EQ(seen1, every_tick);
   const auto& uavs = sim.recorder().uavs();
-  EXPECT_EQ(uavs.at(0).last.tile_samples_received, 16U * 3U + 8U * 7U);  // ticks 1..3, 4..10
-  for (const Cell c : {Cell{4, 0}, Cell{7, 7}}) EXPECT_FALSE(sim.uav(0).tiles().value(0, c)) << c.x << "," << c.y;
-  EXPECT_TRUE(sim.uav(0).tiles().value(0, {3, 3}));
-  EXPECT_EQ(uavs.at(1).last.tile_samples_received, 16U * 3U);   // ticks 1..3
-  // It still flies and the ground still hears it: it stepped every tick.
+  for (uint32_t u : {0U, 1U}) {
+    EXPECT_EQ(uavs.at(u).last.tile_samples_received, 16U * 3U + 8U * 7U) << "uav " << u;  // ticks 1..3, 4..10
+    for (const Cell c : {Cell{4, 0}, Cell{7, 7}}) EXPECT_FALSE(sim.uav(u).tiles().value(0, c)) << u << ": " << c.x;
+    EXPECT_TRUE(sim.uav(u).tiles().value(0, {3, 3})) << "uav " << u;
+  }
   EXPECT_EQ(uavs.at(1).last.tick, 10U);
   EXPECT_EQ(sim.uav_steps(), 22U);
-  // Guard: without the kill both see each other at every tick after the first.
+  // Guard: without the kill every view has all 16 tile samples.
   Simulator alive(s);
-  std::vector<std::size_t> alive0;
-  alive.run([&](uint32_t) { alive0.push_back(alive.uav(0).last_view_neighbours()); });
-  EXPECT_EQ(alive0, (std::vector<std::size_t>{0, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1}));
+  alive.run();
   EXPECT_EQ(alive.recorder().uavs().at(1).last.tile_samples_received, 160U);
+}
+
+TEST(SimFaults, AUavWhoseHomeAndBackupAreBothDeadFliesBlindAndVanishesFromTheOthers) {
+  // Three regions of 4 x 4 cells side by side (one tile each); UAV 0 starts
+  // at (3,1) in region 0 (home 0), UAV 1 at (4,1) in region 1 (home 1, backup
+  // 2). Regions 1 and 2 killed at tick 3: UAV 1 has no live gateway. From
+  // tick 4 it reads no view (its tile samples stop growing), its states are
+  // published by nobody (UAV 0 sees no neighbour) and every deposit it makes
+  // from tick 3 on is lost.
+  const ScenarioConfig s = tiny(12, 4, 3, 2, {3, 1, 2, 1}, 10);
+  Simulator sim(s);
+  set_faults(sim, "kill place:1 @3t; kill place:2 @3t");
+  std::vector<std::size_t> seen0;
+  std::vector<uint64_t> samples1;
+  sim.run([&](uint32_t) {
+    seen0.push_back(sim.uav(0).last_view_neighbours());
+    samples1.push_back(sim.recorder().uavs().at(1).last.tile_samples_received);
+  });
+  ASSERT_EQ(samples1.size(), 11U);
+  EXPECT_GT(samples1[3], 0U);
+  for (uint32_t k = 4; k <= 10; ++k) {
+    EXPECT_EQ(seen0[k], 0U) << "tick " << k;
+    EXPECT_EQ(samples1[k], samples1[3]) << "tick " << k;
+  }
+  EXPECT_GT(sim.recorder().deposits_lost(), 0U);
 }
 
 TEST(SimFaults, AStandbyMakesAPlaceKillChangeNothing) {

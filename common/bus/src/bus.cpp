@@ -132,6 +132,13 @@ void Bus::join_uav(uint32_t uav, core::RegionId home, bool broadcasts) {
   roles_->view_in.emplace(*this, std::vector<std::string>{view_partition(uav)});
 }
 
+void Bus::move_uplink(core::RegionId gateway) {
+  if (!roles_->home) throw BusMisuse("move_uplink before join_uav");
+  roles_->home = gateway;
+  roles_->states.offer(home_partition(gateway));
+  roles_->deposits.offer(region_partition(gateway));
+}
+
 void Bus::subscribe_deposits(core::RegionId own) {
   roles_->deposit_in.emplace(*this, std::vector<std::string>{region_partition(own)});
 }

@@ -38,11 +38,18 @@ bool parse_index(const std::string& s, uint32_t& out) {
 
 Grant uav_grant(uint32_t uav, uint32_t regions) {
   const core::RegionId home = core::home_region(uav, regions);
+  const core::RegionId backup = core::backup_region(uav, regions);
   Grant g{"uav-" + std::to_string(uav), "", {}, {}};
-  // Its state and deposits go to its home place agent only; detections to
-  // the ground; broadcasts to the swarm; lockstep reports.
-  g.publish = {{topic(TopicKind::UavState), {home_partition(home)}},
-               {topic(TopicKind::Deposit), {region_partition(home)}},
+  // Its state and deposits go to its home place agent, or its backup while
+  // its home is dead, only; detections to the ground; broadcasts to the
+  // swarm; lockstep reports.
+  std::vector<std::string> states{home_partition(home)}, deposits{region_partition(home)};
+  if (backup != home) {
+    states.push_back(home_partition(backup));
+    deposits.push_back(region_partition(backup));
+  }
+  g.publish = {{topic(TopicKind::UavState), states},
+               {topic(TopicKind::Deposit), deposits},
                {topic(TopicKind::Detection), {kGroundPartition}},
                {topic(TopicKind::Broadcast), {kBroadcastPartition}},
                {topic(TopicKind::PhaseDone), {kClockPartition}}};

@@ -195,12 +195,13 @@ LockstepConductor::Status LockstepConductor::status(Clock::time_point now) {
       auto it = done_.find(process_key(role, id));
       if (!waited_for_uav(id, now) || it == done_.end()) continue;
       broadcasts += it->second.broadcasts;
-      // A UAV's deposits go through its home place agent; an absent home
-      // forwards nothing, an absent owner applies nothing.
-      const bool home_absent = absent_.contains(home_region(id, o_.regions));
-      if (!home_absent) ++states_reported_[home_region(id, o_.regions)];
+      // A UAV's state and deposits go through its gateway (its home, else its
+      // backup); with none alive nothing is forwarded, and an absent owner
+      // applies nothing.
+      const auto gateway = gateway_region(id, o_.regions, [&](RegionId r) { return absent_.contains(r); });
+      if (gateway) ++states_reported_[*gateway];
       for (const auto& rc : it->second.deposits) {
-        if (home_absent || absent_.contains(rc.region)) {
+        if (!gateway || absent_.contains(rc.region)) {
           lost_this_tick_ += rc.count;
         } else {
           deposits_reported_[rc.region] += rc.count;

@@ -26,7 +26,8 @@ bool SeenDeposits::seen_before(uint32_t uav, uint32_t seq) {
 }
 
 DepositRoute DepositDesk::take(const DepositMsg& d, uint32_t tick) {
-  const bool home = home_region(d.uav, regions_) == region_ && !check_uav_id(d.uav, swarm_);
+  const bool home =
+      (home_region(d.uav, regions_) == region_ || served_.contains(d.uav)) && !check_uav_id(d.uav, swarm_);
   // What this replica received from its own UAVs, confirmed in their views.
   if (home) acks_.received(d.uav, d.seq, tick);
   const bool copy = seen_.seen_before(d.uav, d.seq);

@@ -117,9 +117,10 @@ void Simulator::step(uint32_t tick) {
     const auto id = static_cast<uint32_t>(i);
     if (uav_gone(id, tick)) continue;
     UavCore& u = *uavs_[i];
-    const RegionId home = home_region(id, regions);
-    // The view of place tick k-1 comes from the home: empty if it was dead then.
-    const bool blind = tick > 0 && region_dead(home, tick - 1);
+    // The view of place tick k-1 comes from the UAV's gateway then (its home,
+    // else its backup): empty if both were dead.
+    const auto dead_at = [&](uint32_t k) { return [this, k](RegionId r) { return region_dead(r, k); }; };
+    const bool blind = tick > 0 && !gateway_region(id, regions, dead_at(tick - 1));
     if (tick > 0) {
       if (!blind) {
         u.begin_view();
@@ -139,14 +140,15 @@ void Simulator::step(uint32_t tick) {
     }
     u.step(tick, out);
     ++uav_steps_;
-    // The home publishes this state with its field of tick k: not if it is dead.
-    const bool home_dead = region_dead(home, tick);
-    if (!home_dead) states.push_back(out.state);
+    // The gateway publishes this state with its field of tick k; with no
+    // live gateway nobody does.
+    const bool cut_off = !gateway_region(id, regions, dead_at(tick));
+    if (!cut_off) states.push_back(out.state);
     if (out.broadcast) broadcasts.push_back(*out.broadcast);
     for (const DepositMsg& d : out.deposits) {
       // Lost (no place agent to forward or apply it): RunRecorder::deposits_lost
       // counts it, as sent and never received.
-      if (!home_dead && !region_dead(d.region, tick)) inbox_[d.region].push_back(d);
+      if (!cut_off && !region_dead(d.region, tick)) inbox_[d.region].push_back(d);
     }
     deposits_sent_[i] += out.deposits.size();
     for (const DetectionMsg& d : out.detections) recorder_.on_detection(d);

@@ -143,6 +143,9 @@ class Bus {
   // its view reader, its detection writer and (if its policy broadcasts) its
   // broadcast writer: every endpoint it writes with, before it flies.
   void join_uav(uint32_t uav, core::RegionId home, bool broadcasts = false);
+  // A UAV whose home place agent died: its state and deposits go to
+  // `gateway` (its backup) from now on (new writers; the rare endpoint change).
+  void move_uplink(core::RegionId gateway);
   // A place agent: deposits for `own` (from its UAVs and forwarded), the
   // states of the UAVs homed on it, and every region's field.
   void subscribe_deposits(core::RegionId own);

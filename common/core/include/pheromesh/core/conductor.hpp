@@ -111,7 +111,7 @@ class LockstepConductor {
   [[nodiscard]] bool dropped(uint32_t uav) const { return dropped_.contains(uav); }
   [[nodiscard]] bool absent(RegionId r) const { return absent_.contains(r); }
   // Deposits reported in completed UAV phases that no place agent applies:
-  // those for absent regions and those of UAVs homed on absent regions.
+  // those for absent regions and those of UAVs whose home and backup are both absent.
   [[nodiscard]] uint64_t deposits_lost() const { return deposits_lost_; }
 
   // --- the protocol

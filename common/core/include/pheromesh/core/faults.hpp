@@ -25,9 +25,13 @@
 //                      every deposit into R from tick k on is lost (counted);
 //                      its neighbours' diffusion keeps its last ring, and the
 //                      final field keeps its values after tick k-1. The UAVs
-//                      homed on R get empty views (no tiles, no neighbours)
-//                      from tick k on; their deposits are lost too (they go
-//                      through their home).
+//                      homed on R talk to their backup gateway from tick k on
+//                      (core::gateway_region: region R+1): it takes their
+//                      states and deposits (forwarded to the owners as any)
+//                      and composes their views from place tick k on - the
+//                      place agent's death darkens exactly its region. A UAV
+//                      whose home and backup are both dead gets no view and
+//                      its deposits are lost (counted).
 //   stop / partition / loss in lockstep: slower, same numbers.
 #pragma once
 

@@ -233,6 +233,25 @@ inline constexpr RegionId home_region(uint32_t uav, uint32_t region_count) {
   return region_count == 0 ? 0 : uav % region_count;
 }
 
+// The UAV's backup gateway: the place agent its radio link falls back on
+// while its home's is dead (no standby): the next region.
+inline constexpr RegionId backup_region(uint32_t uav, uint32_t region_count) {
+  return region_count <= 1 ? 0 : (home_region(uav, region_count) + 1) % region_count;
+}
+
+// The place agent a UAV talks to while the regions `dead(r)` says are dead:
+// its home, else its backup; none when both are dead (the UAV flies blind and
+// its deposits are lost). Deposits still go to their owners through it, so a
+// dead place agent darkens exactly its region (core/faults.hpp).
+template <typename Dead>
+std::optional<RegionId> gateway_region(uint32_t uav, uint32_t region_count, Dead&& dead) {
+  const RegionId home = home_region(uav, region_count);
+  if (!dead(home)) return home;
+  const RegionId backup = backup_region(uav, region_count);
+  if (backup != home && !dead(backup)) return backup;
+  return std::nullopt;
+}
+
 inline constexpr std::size_t kMaxViewTiles = 1024;  // idl bounds
 inline constexpr std::size_t kMaxViewUavs = 1024;
 inline constexpr std::size_t kMaxFieldTiles = 256;

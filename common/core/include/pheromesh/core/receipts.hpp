@@ -23,10 +23,20 @@ class DepositReceipts {
   void confirmed(uint32_t ack) {
     while (!pending_.empty() && pending_.front() <= ack) pending_.pop_front();
   }
-  [[nodiscard]] std::size_t unconfirmed() const { return pending_.size(); }
+  [[nodiscard]] std::size_t unconfirmed() const { return pending_.size() + abandoned_; }
+  // Those the current place agent may still confirm.
+  [[nodiscard]] std::size_t pending() const { return pending_.size(); }
+  // The place agent these went to is gone (the UAV moves to its backup
+  // gateway): what it did not confirm stays unconfirmed for good - the
+  // backup's acknowledgements cover only what reached the backup.
+  void abandon() {
+    abandoned_ += pending_.size();
+    pending_.clear();
+  }
 
  private:
   std::deque<uint32_t> pending_;
+  std::size_t abandoned_ = 0;
 };
 
 // The place agent's side: the highest deposit seq received from each home
@@ -74,6 +84,9 @@ class DepositDesk {
   // A deposit taken at place tick `tick`.
   DepositRoute take(const DepositMsg& d, uint32_t tick);
   [[nodiscard]] uint32_t ack(uint32_t uav) const { return acks_.ack(uav); }
+  // From now on this place agent is also the gateway of `uav` (its backup):
+  // its deposits are confirmed and counted like a home UAV's.
+  void serve(uint32_t uav) { served_.insert(uav); }
   [[nodiscard]] uint64_t copies() const { return copies_; }
   // Distinct deposits taken from home UAV `uav` so far. Lockstep: a home
   // place agent holds every deposit its UAV wrote up to tick k (to apply or
@@ -87,6 +100,7 @@ class DepositDesk {
   SeenDeposits seen_;
   uint64_t copies_ = 0;
   std::map<uint32_t, uint64_t> taken_from_;  // home UAV -> distinct deposits
+  std::set<uint32_t> served_;                 // UAVs it is the backup gateway of (serve)
 };
 
 }  // namespace pheromesh::core

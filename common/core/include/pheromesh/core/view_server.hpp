@@ -2,7 +2,9 @@
 //
 // Every UAV has a fixed home place agent (home_region): the UAV writes its
 // state and deposits there and reads one View sample per tick from there,
-// with endpoints that are created once and never change while it flies.
+// with endpoints that are created once and never change while it flies -
+// unless its home dies without a standby: then its backup gateway
+// (gateway_region) serves it the same way.
 // Local traffic (issue 25): a home does not hold the whole map. Each tick
 // every place agent tells the others which UAVs it serves and where they
 // are (their states, `p` chunks); each owner then sends each home exactly
