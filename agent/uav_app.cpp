@@ -133,9 +133,12 @@ int UavApp::run_realtime(uint32_t ticks) {
     }
     ++tick;
     receive();
-    // No view from the home for 2 s (at least two leases): it is gone; the
-    // backup gateway serves this UAV from now on (core/faults.hpp).
-    const auto silence = std::max(std::chrono::milliseconds(2000), std::chrono::milliseconds(2 * cfg_.common.lease_ms));
+    // No view from the home for 2 s (at least two leases; four with a hot
+    // standby, which takes over within 1.5): it is gone; the backup gateway
+    // serves this UAV from now on (core/faults.hpp).
+    const bool standby = cfg_.common.standby || scenario_.standby;
+    const auto silence = std::max(std::chrono::milliseconds(2000),
+                                  std::chrono::milliseconds((standby ? 4 : 2) * int64_t{cfg_.common.lease_ms}));
     if (gateway_ == home_ && geo_.region_count() > 1 && Clock::now() - last_view_at_ > silence) {
       switch_gateway(core::backup_region(cfg_.id, geo_.region_count()), tick);
     }
