@@ -101,9 +101,10 @@ std::optional<core::RegionId> UavApp::gateway_at(uint32_t tick) const {
 }
 
 void UavApp::switch_gateway(core::RegionId gateway, uint32_t tick) {
-  log_->warn("tick {}: home place agent {} is gone (no standby): state and deposits go to place agent {}, its backup "
-             "gateway, from now on",
-             tick, home_, gateway);
+  log_->warn(
+      "tick {}: home place agent {} is gone (no standby): state and deposits go to place agent {}, its backup "
+      "gateway, from now on",
+      tick, home_, gateway);
   gateway_ = gateway;
   receipts_.abandon();
   bus_->move_uplink(gateway);
@@ -111,8 +112,8 @@ void UavApp::switch_gateway(core::RegionId gateway, uint32_t tick) {
   // Lockstep: the backup waits for exactly this UAV's state and deposits;
   // write them once its readers match (the re-sender covers the rest).
   const auto deadline = Clock::now() + std::chrono::milliseconds(static_cast<int64_t>(cfg_.wait_for_places_s * 1000));
-  while ((bus_->matched_deposit_readers(gateway) < 1 || bus_->matched_state_readers() < 2) &&
-         Clock::now() < deadline && !runtime::shutdown_requested()) {
+  while ((bus_->matched_deposit_readers(gateway) < 1 || bus_->matched_state_readers() < 2) && Clock::now() < deadline &&
+         !runtime::shutdown_requested()) {
     std::this_thread::sleep_for(std::chrono::milliseconds(5));
   }
 }
@@ -127,7 +128,7 @@ int UavApp::run_realtime(uint32_t ticks) {
     runtime::note_tick_start(gaps_, *log_, tick + 1);
     handle_commands();
     if (commands_->paused()) {
-      receive();  // keeps the inboxes drained and the liveliness asserted
+      receive();                     // keeps the inboxes drained and the liveliness asserted
       last_view_at_ = Clock::now();  // a paused swarm sends no views
       continue;
     }

@@ -100,7 +100,7 @@ class DepositDesk {
   SeenDeposits seen_;
   uint64_t copies_ = 0;
   std::map<uint32_t, uint64_t> taken_from_;  // home UAV -> distinct deposits
-  std::set<uint32_t> served_;                 // UAVs it is the backup gateway of (serve)
+  std::set<uint32_t> served_;                // UAVs it is the backup gateway of (serve)
 };
 
 }  // namespace pheromesh::core
