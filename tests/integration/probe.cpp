@@ -66,8 +66,10 @@ namespace {
 
 int discover(bus::Bus& b, uint32_t id, uint32_t expect, double timeout_s) {
   // Every probe publishes a (transient-local) health record under its own id
-  // and counts the distinct ids it receives.
-  b.subscribe_ground();
+  // and counts the distinct ids it receives: one writer and one reader each,
+  // so that what is measured is the profile's discovery of participants, not
+  // the matching of a ground station's readers (which no probe writes to).
+  b.subscribe_health();
   const auto start = Clock::now();
   const auto deadline = start + std::chrono::milliseconds(static_cast<int64_t>(timeout_s * 1000));
   std::set<uint32_t> seen;
@@ -89,7 +91,16 @@ int discover(bus::Bus& b, uint32_t id, uint32_t expect, double timeout_s) {
     std::this_thread::sleep_for(std::chrono::milliseconds(200));
   }
   if (!reported) {
-    std::printf("timeout: discovered %zu of %u\n", seen.size(), expect);
+    // Which ids it never heard: the same ids missing at every probe point
+    // at those processes, scattered ones at the discovery between pairs.
+    std::string missing;
+    int listed = 0;
+    for (uint32_t i = 0; i < expect && listed < 20; ++i) {
+      if (seen.count(i) == 0) {
+        missing += (listed++ == 0 ? "" : ", ") + std::to_string(i);
+      }
+    }
+    std::printf("timeout: discovered %zu of %u (not heard: %s)\n", seen.size(), expect, missing.c_str());
     std::fflush(stdout);
     return 1;
   }

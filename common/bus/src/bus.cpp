@@ -177,8 +177,13 @@ void Bus::subscribe_ground() {
                                    Watch::SamplesAndDepartures);
   roles_->detection_in.emplace(*this, ground);
   roles_->event_in.emplace(*this, ground);
-  roles_->health_in.emplace(*this, ground, TopicKind::Health, Watch::SamplesAndDepartures);
+  subscribe_health();
   subscribe_fields();
+}
+
+void Bus::subscribe_health() {
+  roles_->health_in.emplace(*this, std::vector<std::string>{kGroundPartition}, TopicKind::Health,
+                            Watch::SamplesAndDepartures);
 }
 
 void Bus::subscribe_broadcasts() { roles_->broadcast_in.emplace(*this, std::vector<std::string>{kBroadcastPartition}); }

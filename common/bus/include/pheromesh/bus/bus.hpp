@@ -166,6 +166,8 @@ class Bus {
   // Everything the ground station needs: every region's field, all UAV
   // states, detections, target events, health.
   void subscribe_ground();
+  // Only the place agents' and UAVs' health (part of subscribe_ground).
+  void subscribe_health();
   // Every UAV's broadcasts (UAVs and the ground station).
   void subscribe_broadcasts();
 
