@@ -187,8 +187,12 @@ void UavApp::run_uav_phase(const core::ClockMsg& c, uint32_t ticks) {
   step(c.tick, StepKind::Fly);
   // Report what this phase wrote: the conductor announces it to the place
   // agents (deposits) and to the UAVs (broadcasts), which wait for it.
-  core::PhaseDoneMsg report{
-      core::process_key(core::kRoleUav, cfg_.id), c.tick, c.phase, broadcast_written_ ? 1U : 0U, {}};
+  core::PhaseDoneMsg report{core::process_key(core::kRoleUav, cfg_.id),
+                            c.tick,
+                            c.phase,
+                            broadcast_written_ ? 1U : 0U,
+                            {},
+                            geo_.tile_of(core_.cell())};
   for (const auto& [region, n] : written_) report.deposits.push_back({region, n});
   resend_.phase_done(report);
   // After the last UAV phase this UAV waits for the conductor's stop, which

@@ -207,7 +207,7 @@ runtime::PhaseOutcome PlaceApp::run_place_phase(const core::ClockMsg& c) {
   // wait for the acknowledgement of every matched reader, also of a killed
   // process, whose readers stay matched until its participant lease ends.
   const uint32_t id = replicated_ ? core::place_id(cfg_.region, cfg_.replica) : cfg_.region;
-  resend_.phase_done({core::process_key(core::kRolePlace, id), c.tick, c.phase, 0, {}});
+  resend_.phase_done({core::process_key(core::kRolePlace, id), c.tick, c.phase, 0, {}, {}});
   return runtime::PhaseOutcome::Continue;
 }
 

@@ -231,7 +231,7 @@ TEST_P(Interop, EveryMessageArrivesIntact) {
   EXPECT_EQ(clks[0].states[1].region, 6U);
   EXPECT_EQ(clks[0].states[1].count, 2U);
 
-  ASSERT_TRUE(w_->publish_phase_done({(1U << 24) | 5U, 18, 0, 1, {{7, 3}, {8, 1}}}));
+  ASSERT_TRUE(w_->publish_phase_done({(1U << 24) | 5U, 18, 0, 1, {{7, 3}, {8, 1}}, {513, 7}}));
   const auto dones = wait_for<core::PhaseDoneMsg>([&](auto& v) { r_->take_phase_done(v); });
   ASSERT_EQ(dones.size(), 1U);
   EXPECT_EQ(dones[0].process, (1U << 24) | 5U);
@@ -240,6 +240,7 @@ TEST_P(Interop, EveryMessageArrivesIntact) {
   ASSERT_EQ(dones[0].deposits.size(), 2U);
   EXPECT_EQ(dones[0].deposits[0].region, 7U);
   EXPECT_EQ(dones[0].deposits[0].count, 3U);
+  EXPECT_EQ(dones[0].tile, (core::TileCoord{513, 7}));
 
   core::CommandMsg cmd;
   cmd.issuer = 3U << 24U;
@@ -433,7 +434,7 @@ TEST_P(Departure, LockstepResenderWritesTheTicksSamplesAgainAfterAQuietSpellOnly
   EXPECT_FALSE(resend.resend_if_quiet()) << "nothing remembered yet";
   const core::FieldMsg field{3, 0, 1, 9, {core::TileMsg{0, {2, 5}, 1, 0, 9, 1, {1.0F}}}, {}};
   ASSERT_TRUE(resend.field(field));
-  ASSERT_TRUE(resend.phase_done({core::process_key(core::kRolePlace, 3), 9, 2, 0, {}}));
+  ASSERT_TRUE(resend.phase_done({core::process_key(core::kRolePlace, 3), 9, 2, 0, {}, {}}));
   EXPECT_FALSE(resend.resend_if_quiet()) << "published just now";
   const auto fields = wait_for<core::FieldMsg>([&](auto& v) { r->take_fields(v); });
   ASSERT_EQ(fields.size(), 1U);
