@@ -6,12 +6,23 @@
 #include "pheromesh/runtime/lockstep_loop.hpp"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <thread>
 
 namespace pheromesh::agent {
 
 using Clock = std::chrono::steady_clock;
+
+namespace {
+// The writers a lockstep UAV hears the clock from (the lockstep tree): the
+// place agents of its home and of its backup region, each with its standby.
+uint32_t clock_relays(const UavConfig& cfg, const core::ScenarioConfig& scenario) {
+  const uint32_t regions = scenario.geometry().region_count();
+  const uint32_t gateways = core::backup_region(cfg.id, regions) == core::home_region(cfg.id, regions) ? 1 : 2;
+  return gateways * (cfg.common.standby || scenario.standby ? 2 : 1);
+}
+}  // namespace
 
 UavApp::UavApp(UavConfig cfg, core::ScenarioConfig scenario, std::unique_ptr<bus::Bus> bus)
     : cfg_(std::move(cfg)),
@@ -21,7 +32,8 @@ UavApp::UavApp(UavConfig cfg, core::ScenarioConfig scenario, std::unique_ptr<bus
       bus_(std::move(bus)),
       resend_(*bus_, cfg_.common.lockstep()),
       follower_(core::ClockPhase::Uav,
-                core::ConductorWatch::for_lease(std::chrono::milliseconds(cfg_.common.lease_ms), Clock::now())),
+                core::ConductorWatch::for_lease(std::chrono::milliseconds(cfg_.common.lease_ms), Clock::now()),
+                clock_relays(cfg_, scenario_)),
       log_(spdlog::default_logger()),
       audit_(log_),
       core_(scenario_, world_, cfg_.id, cfg_.common.lockstep()),
@@ -149,13 +161,14 @@ int UavApp::run_realtime(uint32_t ticks) {
 }
 
 void UavApp::report_ready_once() {
-  // Before tick 0: Ready once this UAV's home place agent reads its deposits
-  // and state (and the ground station its state); the conductor starts tick
-  // 0 when every process is ready.
-  if (ready_ || follower_.last_done() || bus_->matched_deposit_readers(home_) < 1 || bus_->matched_state_readers() < 2)
+  // Before tick 0: Ready once this UAV's home place agent reads its deposits,
+  // state and reports (and the ground station its state); the conductor
+  // starts tick 0 when every process is ready.
+  if (ready_ || follower_.last_done() || bus_->matched_deposit_readers(home_) < 1 ||
+      bus_->matched_state_readers() < 2 || bus_->matched_report_readers() < 1)
     return;
   resend_.phase_done(
-      {core::process_key(core::kRoleUav, cfg_.id), 0, static_cast<uint8_t>(core::ClockPhase::Ready), 0, {}});
+      {core::process_key(core::kRoleUav, cfg_.id), 0, static_cast<uint8_t>(core::ClockPhase::Ready), 0, {}, {}});
   ready_ = true;
   log_->debug("matched home place agent {} and the ground station: ready", home_);
 }
@@ -224,7 +237,11 @@ int UavApp::run() {
   bus_->join_uav(cfg_.id, home_, core::policy_traits(scenario_).broadcasts);
   bus_->subscribe_broadcasts();
   commands_ = std::make_unique<runtime::SwarmCommands>(*bus_, log_);
-  if (cfg_.common.lockstep()) bus_->subscribe_clock();
+  if (cfg_.common.lockstep()) {
+    // The lockstep tree: the clock as its home and its backup relay it.
+    const std::array<core::RegionId, 2> gateways{home_, core::backup_region(cfg_.id, geo_.region_count())};
+    bus_->join_clock_tree(gateways);
+  }
   if (cfg_.seq_base > 0) core_.set_first_seq(cfg_.seq_base);
   if (!cfg_.common.lockstep()) wait_for_home();  // lockstep: the conductor waits for every process's Ready
   log_->info("uav {} ({}) starts at ({},{}) for {} ticks, {} clock, home place agent {}, over {}", cfg_.id,

@@ -172,7 +172,7 @@ void PlaceApp::report_ready_once() {
   if (ready_ || follower_.last_done()) return;
   if (!note_linked()) return;
   resend_.phase_done(
-      {core::process_key(core::kRolePlace, cfg_.region), 0, static_cast<uint8_t>(core::ClockPhase::Ready), 0, {}});
+      {core::process_key(core::kRolePlace, cfg_.region), 0, static_cast<uint8_t>(core::ClockPhase::Ready), 0, {}, {}});
   ready_ = true;
   log_->debug("matched every other region's place agent: ready");
 }
@@ -211,6 +211,32 @@ runtime::PhaseOutcome PlaceApp::run_place_phase(const core::ClockMsg& c) {
   return runtime::PhaseOutcome::Continue;
 }
 
+void PlaceApp::relay_clock(const core::ClockMsg& c) {
+  bus_->relay_clock(c, cfg_.region);
+  ++clocks_relayed_;
+}
+
+void PlaceApp::relay_reports() {
+  // A report goes on as it came (the ground station checks it): the
+  // conductor keys it by its UAV, and with standbys the reader takes the
+  // owning replica's copy (exclusive ownership, bus/qos.hpp).
+  reports_.clear();
+  bus_->take_uav_reports(reports_);
+  for (const auto& m : reports_) {
+    if (m.process >> 24U != core::kRoleUav) continue;  // only UAVs report through a place agent
+    bus_->publish_phase_done(m);
+    ++reports_relayed_;
+  }
+}
+
+void PlaceApp::keep_tree() {
+  if (!cfg_.common.lockstep()) return;
+  std::vector<core::ClockMsg> accepted;
+  runtime::take_clock(*bus_, follower_, audit_, &accepted);
+  for (const auto& c : accepted) relay_clock(c);
+  relay_reports();
+}
+
 int PlaceApp::run_lockstep() {
   bus_->subscribe_clock();
   runtime::LockstepLoop loop{*bus_,
@@ -219,9 +245,17 @@ int PlaceApp::run_lockstep() {
                              audit_,
                              *log_,
                              cfg_.common.lease_ms,
-                             [&] { report_ready_once(); },
+                             [&] {
+                               report_ready_once();
+                               relay_reports();
+                             },
                              [&](const core::ClockMsg& c) { return run_place_phase(c); }};
-  switch (loop.run()) {
+  loop.relay = [&](const core::ClockMsg& c) { relay_clock(c); };
+  loop.wake_on_reports = true;
+  const auto end = loop.run();
+  log_->debug("lockstep tree: relayed {} clocks to the UAVs served and {} of their reports", clocks_relayed_,
+              reports_relayed_);
+  switch (end) {
     case runtime::LockstepEnd::Left:
       return kReplicaBehind;
     case runtime::LockstepEnd::ConductorLost:
@@ -255,6 +289,7 @@ int PlaceApp::run() {
   // forwarded deposits, of served UAVs and tiles, and of its home UAVs' views.
   bus_->subscribe_deposits(cfg_.region);
   bus_->subscribe_home_states(cfg_.region);
+  if (cfg_.common.lockstep()) bus_->subscribe_uav_reports(cfg_.region);  // the lockstep tree
   bus_->subscribe_place_exchange(cfg_.region);
   bus_->subscribe_halos(core_.neighbours(), cfg_.region);
   bus_->offer_deposits(other_regions_);

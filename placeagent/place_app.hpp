@@ -108,6 +108,12 @@ class PlaceApp {
   // from which this place agent counts the deposits it must hold.
   void adopt(uint32_t uav, const core::UavStateMsg* state_before);
   [[nodiscard]] uint32_t tick_ceiling() const;
+  // The lockstep tree: relays every clock this place agent accepted to the
+  // UAVs it serves, and their reports to the conductor. Called from every
+  // lockstep wait, so neither waits while this place agent runs a phase.
+  void relay_clock(const core::ClockMsg& c);
+  void relay_reports();
+  void keep_tree();
 
   PlaceConfig cfg_;
   core::ScenarioConfig scenario_;
@@ -138,6 +144,8 @@ class PlaceApp {
   bool replicated_ = false;      // --standby swarm
   bool ready_ = false;           // lockstep: Ready reported (or tick 0 began without it)
   bool linked_ = false;          // note_linked()
+  std::vector<core::PhaseDoneMsg> reports_;  // relay_reports' inbox
+  uint64_t clocks_relayed_ = 0, reports_relayed_ = 0;
   uint32_t current_tick_ = 0;
   std::optional<TickDemand> demand_;       // the tick under way's (lockstep)
   std::map<uint32_t, uint32_t> heard_at_;  // home UAV -> place tick of its newest state

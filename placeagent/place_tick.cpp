@@ -121,6 +121,7 @@ void PlaceApp::take_inputs(uint32_t tick) {
   const auto r = runtime::await_samples(
       *bus_, {bus::TopicKind::Deposit, bus::TopicKind::UavHome}, {}, &resend_,
       [&] {
+        keep_tree();  // the lockstep tree goes on while this phase waits
         take_deposits();
         take_home_states(tick);
       },
@@ -144,6 +145,7 @@ void PlaceApp::exchange_halos(uint32_t tick) {
   const auto awaited = static_cast<std::size_t>(
       std::count_if(neighbours.begin(), neighbours.end(), [&](core::RegionId n) { return !is_absent(n); }));
   const auto take = [&] {
+    keep_tree();  // the lockstep tree goes on while this phase waits
     halo_inbox_.clear();
     bus_->take_halos(halo_inbox_);
     const uint32_t ceiling = tick_ceiling();
@@ -190,6 +192,7 @@ void PlaceApp::publish_served(uint32_t tick) {
 void PlaceApp::send_tiles(uint32_t tick) {
   // Which UAVs every other place agent serves: exactly this tick's (lockstep).
   const auto take = [&] {
+    keep_tree();  // the lockstep tree goes on while this phase waits
     field_inbox_.clear();
     bus_->take_served(field_inbox_);
     const uint32_t ceiling = tick_ceiling();
@@ -242,6 +245,7 @@ void PlaceApp::receive_tiles(uint32_t tick) {
   // Lockstep waits for exactly these owners; realtime takes what arrived.
   const std::vector<core::RegionId> owners = demand_ ? owners_for_views() : std::vector<core::RegionId>{};
   const auto take = [&] {
+    keep_tree();  // the lockstep tree goes on while this phase waits
     field_inbox_.clear();
     bus_->take_tiles_for_views(field_inbox_);
     const uint32_t ceiling = tick_ceiling();

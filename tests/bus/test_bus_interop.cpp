@@ -64,6 +64,7 @@ TEST_P(Interop, EveryMessageArrivesIntact) {
   r_->subscribe_broadcasts();
   r_->subscribe_clock();
   r_->subscribe_phase_done();
+  r_->subscribe_uav_reports(3);
   r_->subscribe_commands();
   w_->offer_deposits(std::vector<core::RegionId>{7});
   const auto deadline = Clock::now() + std::chrono::seconds(15);
@@ -231,8 +232,11 @@ TEST_P(Interop, EveryMessageArrivesIntact) {
   EXPECT_EQ(clks[0].states[1].region, 6U);
   EXPECT_EQ(clks[0].states[1].count, 2U);
 
+  // The writer joined as UAV 5, homed on 3: in the lockstep tree its report
+  // goes to place agent 3's reader, not to the conductor's.
+  w_->join_clock_tree(std::vector<core::RegionId>{3, 4});
   ASSERT_TRUE(w_->publish_phase_done({(1U << 24) | 5U, 18, 0, 1, {{7, 3}, {8, 1}}, {513, 7}}));
-  const auto dones = wait_for<core::PhaseDoneMsg>([&](auto& v) { r_->take_phase_done(v); });
+  const auto dones = wait_for<core::PhaseDoneMsg>([&](auto& v) { r_->take_uav_reports(v); });
   ASSERT_EQ(dones.size(), 1U);
   EXPECT_EQ(dones[0].process, (1U << 24) | 5U);
   EXPECT_EQ(dones[0].tick, 18U);

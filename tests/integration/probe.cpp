@@ -277,11 +277,13 @@ int forge(bus::Bus& b, const std::string& scenario_path, uint32_t uavs, bool loc
     count(b.publish_detection({0, tick, far, target}));
     count(b.publish_detection({stranger, tick, far, target}));
   }
-  // A clock that stops the run, from this process's own writer.
+  // A clock that stops the run, from this process's own writer: to the place
+  // agents, and as if relayed to every region's UAVs (the lockstep tree).
   core::ClockMsg stop;
   stop.tick = tick;
   stop.phase = static_cast<uint8_t>(core::ClockPhase::Stop);
   count(b.publish_clock(stop));
+  for (core::RegionId r = 0; r < geo.region_count(); ++r) count(b.relay_clock(stop, r));
   b.flush(std::chrono::seconds(5));
   std::printf("forged %d samples at tick %u\n", sent, tick);
   std::fflush(stdout);

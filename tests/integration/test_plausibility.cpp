@@ -39,8 +39,9 @@ TEST(Plausibility, ForgedSamplesLeaveALockstepRunTheSimulatorsAndEachIsRefusedAn
   const Output f = run(forge(80, true));
   ASSERT_EQ(f.exit_code, 0) << f.text;
   // 2 deposits, 2 tiles, 2 field chunks, a tile chunk and a served-UAVs chunk
-  // for the place agents, 1 halo, 3 states, 2 detections, 1 clock.
-  EXPECT_NE(f.text.find("forged 15 samples"), std::string::npos) << f.text;
+  // for the place agents, 1 halo, 3 states, 2 detections, 1 clock to the
+  // place agents and 4 as relayed to each region's UAVs.
+  EXPECT_NE(f.text.find("forged 19 samples"), std::string::npos) << f.text;
   // The forged Stop did not end the run: it finishes every tick, exit 0.
   ASSERT_EQ(wait_exit(swarm.pid, std::chrono::seconds(300)), 0) << slurp(swarm.out_path);
   const Output s =
@@ -84,7 +85,7 @@ TEST(Plausibility, ForgedSamplesInARealtimeRunAreRefusedAndTheAttackedUavKeepsDe
   const Background swarm = start_run("small-test.textproto", out, 81, "--uavs 2 --ticks 150 --rate 25");
   const Output f = run(forge(81, false));
   ASSERT_EQ(f.exit_code, 0) << f.text;
-  EXPECT_NE(f.text.find("forged 15 samples"), std::string::npos) << f.text;
+  EXPECT_NE(f.text.find("forged 19 samples"), std::string::npos) << f.text;
   ASSERT_EQ(wait_exit(swarm.pid, std::chrono::seconds(120)), 0) << slurp(swarm.out_path);
   const json m = read_metrics(out);
   ASSERT_FALSE(m.is_null()) << slurp(swarm.out_path);

@@ -64,6 +64,40 @@ TEST(LockstepFollower, TheFirstWriterIsTheConductorAndAnotherWritersClockIsRefus
   EXPECT_TRUE(f.stopped()) << "the conductor's own Stop ends the run";
 }
 
+TEST(LockstepFollower, AUavAcceptsTheClockOfAsManyRelaysAsMayServeItAndRefusesAWriterHeardAfterThem) {
+  // The lockstep tree: home and backup place agents, each with a standby,
+  // relay every clock from before tick 0 - four writers, heard first.
+  const auto t0 = F::Clock::time_point{} + 100s;
+  F f(ClockPhase::Uav, ConductorWatch(6s, 300s, t0), 4);
+  std::vector<ClockMsg> taken{clock_of(0, ClockPhase::Ready, 11), clock_of(0, ClockPhase::Ready, 12),
+                              clock_of(0, ClockPhase::Ready, 21), clock_of(0, ClockPhase::Ready, 22),
+                              clock_of(0, ClockPhase::Uav, 11), clock_of(0, ClockPhase::Uav, 22)};
+  std::vector<ClockMsg> accepted;
+  EXPECT_TRUE(f.offer(taken, t0, &accepted).empty());
+  EXPECT_EQ(accepted.size(), 6U) << "copies of the accepted samples (a place agent relays them)";
+  ASSERT_TRUE(f.next_phase());
+  f.done(0);
+  EXPECT_FALSE(f.next_phase()) << "tick 0's clock from a second relay is the same phase";
+  // A fifth writer, after them: refused, even a Stop.
+  taken = {clock_of(0, ClockPhase::Stop, 99)};
+  accepted.clear();
+  EXPECT_EQ(f.offer(taken, t0, &accepted).size(), 1U);
+  EXPECT_TRUE(accepted.empty());
+  EXPECT_FALSE(f.next_phase());
+  EXPECT_FALSE(f.stopped());
+  // The backup's standby alone still keeps the watch and ends the run
+  // (its home and the other relays are dead).
+  taken = {clock_of(1, ClockPhase::Uav, 22)};
+  f.offer(taken, t0 + 5s);
+  EXPECT_FALSE(f.conductor_lost(t0 + 10s));
+  taken = {clock_of(1, ClockPhase::Stop, 22)};
+  f.offer(taken, t0 + 10s);
+  ASSERT_TRUE(f.next_phase());
+  f.done(1);
+  EXPECT_FALSE(f.next_phase());
+  EXPECT_TRUE(f.stopped());
+}
+
 TEST(LockstepFollower, ASilentConductorIsLostAfterTheWatchsLimitAndAForgedClockDoesNotKeepItAlive) {
   const auto t0 = F::Clock::time_point{} + 100s;
   F f = uav_follower(t0);

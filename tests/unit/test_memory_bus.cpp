@@ -165,6 +165,60 @@ TEST_F(MemoryBus, TheGroundStationHearsThatAUavAndAPlaceReplicaWhoseBusesEndedDe
   EXPECT_EQ(uavs_gone.size(), 1U);
 }
 
+TEST_F(MemoryBus, TheLockstepTreeCarriesTheClockDownThroughThePlaceAgentsAndTheReportsUpThroughTheGateway) {
+  auto conductor = make_memory_bus(domain_);
+  auto place1 = make_memory_bus(domain_);
+  auto place2 = make_memory_bus(domain_);
+  auto uav = make_memory_bus(domain_);
+  conductor->subscribe_phase_done();
+  place1->subscribe_clock();
+  place2->subscribe_clock();
+  place1->subscribe_uav_reports(1);
+  place2->subscribe_uav_reports(2);
+  uav->join_uav(7, 1);
+  EXPECT_EQ(uav->matched_report_readers(), 0U) << "not in the tree yet (a realtime UAV reports nothing)";
+  uav->join_clock_tree(std::vector<core::RegionId>{1, 2});  // home 1, backup 2
+  EXPECT_EQ(uav->matched_report_readers(), 1U);
+  // Down: the conductor's clock reaches the place agents, not the UAV; each
+  // place agent's relay reaches it.
+  core::ClockMsg c;
+  c.tick = 3;
+  ASSERT_TRUE(conductor->publish_clock(c));
+  std::vector<core::ClockMsg> clocks;
+  uav->take_clock(clocks);
+  EXPECT_TRUE(clocks.empty());
+  place1->take_clock(clocks);
+  ASSERT_EQ(clocks.size(), 1U);
+  ASSERT_TRUE(place1->relay_clock(clocks[0], 1));
+  ASSERT_TRUE(place2->relay_clock(clocks[0], 2));
+  clocks.clear();
+  uav->take_clock(clocks);
+  ASSERT_EQ(clocks.size(), 2U) << "from its home and its backup";
+  EXPECT_NE(clocks[0].writer, clocks[1].writer);
+  // Up: its report reaches its gateway only; the gateway relays it to the conductor.
+  const core::PhaseDoneMsg report{core::process_key(core::kRoleUav, 7), 3, 0, 0, {{1, 2}}, {4, 5}};
+  ASSERT_TRUE(uav->publish_phase_done(report));
+  std::vector<core::PhaseDoneMsg> at_conductor, at1, at2;
+  conductor->take_phase_done(at_conductor);
+  EXPECT_TRUE(at_conductor.empty());
+  place1->take_uav_reports(at1);
+  place2->take_uav_reports(at2);
+  ASSERT_EQ(at1.size(), 1U);
+  EXPECT_TRUE(at2.empty());
+  ASSERT_TRUE(place1->publish_phase_done(at1[0]));
+  conductor->take_phase_done(at_conductor);
+  ASSERT_EQ(at_conductor.size(), 1U);
+  EXPECT_EQ(at_conductor[0].tile, (core::TileCoord{4, 5}));
+  // Its home dead, it reports through its backup.
+  uav->move_uplink(2);
+  ASSERT_TRUE(uav->publish_phase_done(report));
+  at1.clear();
+  place1->take_uav_reports(at1);
+  place2->take_uav_reports(at2);
+  EXPECT_TRUE(at1.empty());
+  EXPECT_EQ(at2.size(), 1U);
+}
+
 TEST_F(MemoryBus, SamplesOverTheIdlBoundsAreRefusedAndCountedBeforeAnyTransportSeesThem) {
   auto w = make_memory_bus(domain_);
   auto r = make_memory_bus(domain_);

@@ -38,13 +38,30 @@ TEST(SecurityGrants, AUavWritesOnlyItsOwnStateAndDepositsToItsHomeAndNeverTilesC
     EXPECT_FALSE(names_topic(g->publish, t)) << t;
   }
   EXPECT_TRUE(allows(g->subscribe, "pheromesh_view", "u.6"));
+  // The lockstep tree: its reports go to its home (2) or backup (3) place
+  // agent only, and it hears the clock only as they relay it.
+  EXPECT_TRUE(allows(g->publish, "pheromesh_phase_done", "d.2"));
+  EXPECT_TRUE(allows(g->publish, "pheromesh_phase_done", "d.3"));
+  EXPECT_FALSE(allows(g->publish, "pheromesh_phase_done", "c"));
+  EXPECT_FALSE(allows(g->publish, "pheromesh_phase_done", "d.1"));
+  EXPECT_TRUE(allows(g->subscribe, "pheromesh_clock", "c.2"));
+  EXPECT_TRUE(allows(g->subscribe, "pheromesh_clock", "c.3"));
+  EXPECT_FALSE(allows(g->subscribe, "pheromesh_clock", "c"));
 }
 
-TEST(SecurityGrants, OnlyTheGroundStationWritesTheClockAndCommandsAndTheMonitorWritesNothing) {
+TEST(SecurityGrants, OnlyTheGroundStationWritesTheClockAPlaceAgentRelaysItToItsOwnUavsAndTheMonitorWritesNothing) {
   const bus::SwarmShape shape{3, 2, 1, 0};
   for (const auto& g : bus::swarm_grants(shape)) {
     const bool ground = g.name == "ground";
-    EXPECT_EQ(names_topic(g.publish, "pheromesh_clock"), ground) << g.name;
+    const bool place = g.name.rfind("place-", 0) == 0;
+    EXPECT_EQ(allows(g.publish, "pheromesh_clock", "c"), ground) << g.name;
+    EXPECT_EQ(names_topic(g.publish, "pheromesh_clock"), ground || place) << g.name;
+    if (place) {
+      const std::string region = g.name.substr(6, 1);  // place-R, place-R.rN (R < 10 here)
+      EXPECT_TRUE(allows(g.publish, "pheromesh_clock", "c." + region)) << g.name;
+      EXPECT_TRUE(allows(g.subscribe, "pheromesh_phase_done", "d." + region)) << g.name;
+      EXPECT_FALSE(allows(g.publish, "pheromesh_clock", "c." + std::string(region == "0" ? "1" : "0"))) << g.name;
+    }
     EXPECT_EQ(names_topic(g.publish, "pheromesh_command"), ground) << g.name;
     if (g.name == bus::kMonitorIdentity) {
       EXPECT_TRUE(g.publish.empty());

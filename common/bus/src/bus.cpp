@@ -49,6 +49,7 @@ struct Bus::Roles {
   Writer<core::ScenarioMsg> scenarios;
 
   std::optional<core::RegionId> home;  // a UAV's home place agent (join_uav)
+  bool clock_tree = false;             // a lockstep UAV (join_clock_tree)
 
   std::optional<Reader<core::ViewMsg>> view_in;
   std::optional<Reader<core::FieldMsg>> field_in, served_in, tiles_in;
@@ -60,7 +61,7 @@ struct Bus::Roles {
   std::optional<Reader<core::TargetEventMsg>> event_in;
   std::optional<Reader<core::HealthMsg>> health_in;
   std::optional<Reader<core::ClockMsg>> clock_in;
-  std::optional<Reader<core::PhaseDoneMsg>> done_in;
+  std::optional<Reader<core::PhaseDoneMsg>> done_in, reports_in;
   std::optional<Reader<core::BroadcastMsg>> broadcast_in;
   std::optional<Reader<core::CommandMsg>> command_in;
   std::optional<Reader<core::ScenarioMsg>> scenario_in;
@@ -118,7 +119,13 @@ bool Bus::publish_halo(const core::HaloMsg& m, core::RegionId to) {
 }
 bool Bus::publish_broadcast(const core::BroadcastMsg& m) { return roles_->broadcasts.write(m); }
 bool Bus::publish_clock(const core::ClockMsg& m) { return roles_->clock.write(m); }
-bool Bus::publish_phase_done(const core::PhaseDoneMsg& m) { return roles_->phase_done.write(m); }
+bool Bus::publish_phase_done(const core::PhaseDoneMsg& m) {
+  if (roles_->clock_tree) return roles_->phase_done.write(m, uav_report_partition(*roles_->home));
+  return roles_->phase_done.write(m);
+}
+bool Bus::relay_clock(const core::ClockMsg& m, core::RegionId own) {
+  return roles_->clock.write(m, uav_clock_partition(own));
+}
 bool Bus::publish_command(const core::CommandMsg& m) { return roles_->commands.write(m); }
 bool Bus::publish_scenario(const core::ScenarioMsg& m) { return roles_->scenarios.write(m); }
 
@@ -137,6 +144,7 @@ void Bus::move_uplink(core::RegionId gateway) {
   roles_->home = gateway;
   roles_->states.offer(home_partition(gateway));
   roles_->deposits.offer(region_partition(gateway));
+  if (roles_->clock_tree) roles_->phase_done.offer(uav_report_partition(gateway));
 }
 
 void Bus::subscribe_deposits(core::RegionId own) {
@@ -188,6 +196,22 @@ void Bus::subscribe_health() {
 
 void Bus::subscribe_broadcasts() { roles_->broadcast_in.emplace(*this, std::vector<std::string>{kBroadcastPartition}); }
 void Bus::subscribe_clock() { roles_->clock_in.emplace(*this, std::vector<std::string>{kClockPartition}); }
+void Bus::join_clock_tree(std::span<const core::RegionId> gateways) {
+  if (!roles_->home) throw BusMisuse("join_clock_tree before join_uav");
+  roles_->clock_tree = true;
+  roles_->phase_done.offer(uav_report_partition(*roles_->home));
+  std::vector<std::string> parts;
+  for (auto r : gateways) {
+    if (std::find(parts.begin(), parts.end(), uav_clock_partition(r)) == parts.end()) {
+      parts.push_back(uav_clock_partition(r));
+    }
+  }
+  roles_->clock_in.emplace(*this, parts);
+}
+void Bus::subscribe_uav_reports(core::RegionId own) {
+  roles_->clock.offer(uav_clock_partition(own));
+  roles_->reports_in.emplace(*this, std::vector<std::string>{uav_report_partition(own)});
+}
 void Bus::subscribe_phase_done() { roles_->done_in.emplace(*this, std::vector<std::string>{kClockPartition}); }
 void Bus::subscribe_commands() { roles_->command_in.emplace(*this, std::vector<std::string>{kCommandPartition}); }
 void Bus::subscribe_scenario() { roles_->scenario_in.emplace(*this, std::vector<std::string>{kGroundPartition}); }
@@ -218,6 +242,7 @@ void Bus::take_target_events(std::vector<core::TargetEventMsg>& out) { take_from
 void Bus::take_broadcasts(std::vector<core::BroadcastMsg>& out) { take_from(*transport_, roles_->broadcast_in, out); }
 void Bus::take_clock(std::vector<core::ClockMsg>& out) { take_from(*transport_, roles_->clock_in, out); }
 void Bus::take_phase_done(std::vector<core::PhaseDoneMsg>& out) { take_from(*transport_, roles_->done_in, out); }
+void Bus::take_uav_reports(std::vector<core::PhaseDoneMsg>& out) { take_from(*transport_, roles_->reports_in, out); }
 void Bus::take_commands(std::vector<core::CommandMsg>& out) { take_from(*transport_, roles_->command_in, out); }
 void Bus::take_scenarios(std::vector<core::ScenarioMsg>& out) { take_from(*transport_, roles_->scenario_in, out); }
 
@@ -281,6 +306,11 @@ void Bus::offer_deposits(std::span<const core::RegionId> regions) {
 uint32_t Bus::matched_state_readers() {
   if (!roles_->home) return 0;
   return roles_->states.matched(home_partition(*roles_->home));
+}
+
+uint32_t Bus::matched_report_readers() {
+  if (!roles_->clock_tree) return 0;
+  return roles_->phase_done.matched(uav_report_partition(*roles_->home));
 }
 
 }  // namespace pheromesh::bus

@@ -40,22 +40,25 @@ Grant uav_grant(uint32_t uav, uint32_t regions) {
   const core::RegionId home = core::home_region(uav, regions);
   const core::RegionId backup = core::backup_region(uav, regions);
   Grant g{"uav-" + std::to_string(uav), "", {}, {}};
-  // Its state and deposits go to its home place agent, or its backup while
-  // its home is dead, only; detections to the ground; broadcasts to the
-  // swarm; lockstep reports.
-  std::vector<std::string> states{home_partition(home)}, deposits{region_partition(home)};
+  // Its state, deposits and lockstep reports go to its home place agent, or
+  // its backup while its home is dead, only, and it hears the lockstep clock
+  // as they relay it; detections to the ground; broadcasts to the swarm.
+  std::vector<std::string> states{home_partition(home)}, deposits{region_partition(home)},
+      reports{uav_report_partition(home)}, clocks{uav_clock_partition(home)};
   if (backup != home) {
     states.push_back(home_partition(backup));
     deposits.push_back(region_partition(backup));
+    reports.push_back(uav_report_partition(backup));
+    clocks.push_back(uav_clock_partition(backup));
   }
   g.publish = {{topic(TopicKind::UavState), states},
                {topic(TopicKind::Deposit), deposits},
                {topic(TopicKind::Detection), {kGroundPartition}},
                {topic(TopicKind::Broadcast), {kBroadcastPartition}},
-               {topic(TopicKind::PhaseDone), {kClockPartition}}};
+               {topic(TopicKind::PhaseDone), reports}};
   g.subscribe = {{topic(TopicKind::View), {view_partition(uav)}},
                  {topic(TopicKind::Broadcast), {kBroadcastPartition}},
-                 {topic(TopicKind::Clock), {kClockPartition}},
+                 {topic(TopicKind::Clock), clocks},
                  {topic(TopicKind::Command), {kCommandPartition}}};
   return g;
 }
@@ -67,7 +70,8 @@ Grant place_grant(const std::string& name, core::RegionId region) {
   // serves and the tiles other homes' views need (to the place agents), its
   // halo ring, views to its home UAVs,
   // deposits forwarded to the other regions' owners, health, target events,
-  // the run's scenario, lockstep reports.
+  // the run's scenario, lockstep reports (its own and its UAVs', relayed),
+  // the lockstep clock relayed to its UAVs.
   g.publish = {{topic(TopicKind::Tile), {"t.*"}},
                {topic(TopicKind::Field), {kFieldPartition, kServedPartition, kAllTilesFor}},
                {topic(TopicKind::Halo), {"h." + std::to_string(region) + ".*"}},
@@ -76,12 +80,14 @@ Grant place_grant(const std::string& name, core::RegionId region) {
                {topic(TopicKind::Health), {kGroundPartition}},
                {topic(TopicKind::TargetEvent), {kGroundPartition}},
                {topic(TopicKind::Scenario), {kGroundPartition}},
-               {topic(TopicKind::PhaseDone), {kClockPartition}}};
+               {topic(TopicKind::PhaseDone), {kClockPartition}},
+               {topic(TopicKind::Clock), {uav_clock_partition(region)}}};
   g.subscribe = {{topic(TopicKind::Deposit), {region_partition(region)}},
                  {topic(TopicKind::UavState), {home_partition(region)}},
                  {topic(TopicKind::Field), {kServedPartition, tiles_for_partition(region)}},
                  {topic(TopicKind::Halo), {"h.*." + std::to_string(region)}},
                  {topic(TopicKind::Clock), {kClockPartition}},
+                 {topic(TopicKind::PhaseDone), {uav_report_partition(region)}},
                  {topic(TopicKind::Command), {kCommandPartition}}};
   return g;
 }

@@ -1,19 +1,25 @@
 #include "pheromesh/core/lockstep_follower.hpp"
 
+#include <algorithm>
+
 namespace pheromesh::core {
 
-std::vector<ClockMsg> LockstepFollower::offer(std::vector<ClockMsg>& taken, Clock::time_point now) {
+std::vector<ClockMsg> LockstepFollower::offer(std::vector<ClockMsg>& taken, Clock::time_point now,
+                                              std::vector<ClockMsg>* accepted_out) {
   std::vector<ClockMsg> refused;
   bool accepted = false;
   for (auto& c : taken) {
-    if (!conductor_) conductor_ = c.writer;
-    if (c.writer != *conductor_) {
-      refused.push_back(std::move(c));
-      continue;
+    if (std::find(latched_.begin(), latched_.end(), c.writer) == latched_.end()) {
+      if (latched_.size() >= sources_) {
+        refused.push_back(std::move(c));
+        continue;
+      }
+      latched_.push_back(c.writer);
     }
     accepted = true;
     newest_tick_ = std::max(newest_tick_, c.tick);
     for (RegionId r : c.absent) absent_.emplace(r, c.tick);
+    if (accepted_out != nullptr) accepted_out->push_back(c);
     pending_.push_back(std::move(c));
   }
   taken.clear();

@@ -10,13 +10,14 @@ namespace pheromesh::runtime {
 
 using Clock = std::chrono::steady_clock;
 
-bool take_clock(bus::Bus& bus, core::LockstepFollower& follower, SampleAudit& audit) {
+bool take_clock(bus::Bus& bus, core::LockstepFollower& follower, SampleAudit& audit,
+                std::vector<core::ClockMsg>* accepted) {
   std::vector<core::ClockMsg> taken;
   bus.take_clock(taken);
   // The first clock sample names the conductor: on an open domain anyone can
   // write a clock (a forged Stop would end the run), but no one can write
   // through another process's DDS writer.
-  for (const auto& c : follower.offer(taken, Clock::now())) {
+  for (const auto& c : follower.offer(taken, Clock::now(), accepted)) {
     audit.refuse(core::Refusal::ForeignClock,
                  fmt::format("a clock sample of tick {} phase {} from another writer", c.tick, c.phase));
   }
@@ -27,7 +28,9 @@ LockstepEnd LockstepLoop::run() {
   while (!follower.stopped()) {
     if (shutdown_requested()) return LockstepEnd::ShutDown;
     if (before_round) before_round();
-    take_clock(bus, follower, audit);
+    std::vector<core::ClockMsg> accepted;
+    take_clock(bus, follower, audit, relay ? &accepted : nullptr);
+    for (const auto& c : accepted) relay(c);
     bool ran = false;
     while (auto c = follower.next_phase()) {
       if (run_phase(*c) == PhaseOutcome::Leave) return LockstepEnd::Left;
@@ -48,7 +51,12 @@ LockstepEnd LockstepLoop::run() {
     if (resend.resend_if_quiet()) {
       log.debug("tick {}: nothing new for 1 s; re-sent this tick's samples", follower.last_done().value_or(0));
     }
-    bus.wait({bus::TopicKind::Clock}, Clock::now() + std::chrono::milliseconds(100));
+    const auto until = Clock::now() + std::chrono::milliseconds(100);
+    if (wake_on_reports) {
+      bus.wait({bus::TopicKind::Clock, bus::TopicKind::PhaseDone}, until);
+    } else {
+      bus.wait({bus::TopicKind::Clock}, until);
+    }
   }
   return LockstepEnd::Stopped;
 }

@@ -119,13 +119,29 @@ class Bus {
   bool publish_halo(const core::HaloMsg& m, core::RegionId to);
   bool publish_broadcast(const core::BroadcastMsg& m);  // to partition "b"
 
-  // --- lockstep clock
+  // --- lockstep clock: a tree (docs/architecture.md, "Time"). The conductor
+  // and the place agents meet in "c"; each place agent relays every clock
+  // it accepted to the UAVs it serves ("c.<region>") and their reports to
+  // the conductor ("d.<region>" -> "c").
   bool publish_clock(const core::ClockMsg& m);  // conductor
+  // A lockstep UAV's report goes to its gateway place agent (join_clock_tree,
+  // move_uplink); anyone else's to the conductor.
   bool publish_phase_done(const core::PhaseDoneMsg& m);
-  void subscribe_clock();       // UAVs and place agents
+  void subscribe_clock();       // place agents: the conductor's clock
   void subscribe_phase_done();  // conductor
   void take_clock(std::vector<core::ClockMsg>& out);
   void take_phase_done(std::vector<core::PhaseDoneMsg>& out);
+  // A lockstep UAV, after join_uav: its report writer to its gateway, and
+  // its reader of the clock as its gateways relay it (its home and its
+  // backup, so that it hears the tick at which its home is listed absent).
+  void join_clock_tree(std::span<const core::RegionId> gateways);
+  // A place agent of `own`: its clock writer to the UAVs it serves and its
+  // reader of their reports, opened now.
+  void subscribe_uav_reports(core::RegionId own);
+  bool relay_clock(const core::ClockMsg& m, core::RegionId own);
+  void take_uav_reports(std::vector<core::PhaseDoneMsg>& out);
+  // Readers matched by this UAV's report writer to its gateway (0 before join_clock_tree).
+  [[nodiscard]] uint32_t matched_report_readers();
 
   // --- ground-station commands (pause, pop-ups): the ground station
   // writes, every UAV and place agent reads, late joiners get the history.

@@ -23,6 +23,11 @@ inline std::string view_partition(uint32_t uav) { return "u." + std::to_string(u
 // serves, to the others.
 inline std::string tiles_for_partition(core::RegionId home) { return "f." + std::to_string(home); }
 inline constexpr const char* kAllTilesFor = "f.*";
+// The lockstep tree (docs/architecture.md, "Time"): the clock a place agent
+// relays to the UAVs it serves, and the reports those UAVs send it to relay
+// to the conductor (whose own clock and reports travel in "c").
+inline std::string uav_clock_partition(core::RegionId gateway) { return "c." + std::to_string(gateway); }
+inline std::string uav_report_partition(core::RegionId gateway) { return "d." + std::to_string(gateway); }
 inline constexpr const char* kServedPartition = "p";
 inline constexpr const char* kAllHomes = "s.*";
 inline constexpr const char* kFieldPartition = "f";

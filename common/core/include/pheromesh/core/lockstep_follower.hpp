@@ -7,7 +7,12 @@
 // * The first clock sample names the conductor (the DDS writer the bus
 //   identifies, ClockMsg::writer): a clock written by anyone else is refused
 //   and counted, whatever it carries (a forged Stop would end the run;
-//   core/plausibility.hpp).
+//   core/plausibility.hpp). A UAV hears the clock as the place agents that
+//   may serve it relay it (the lockstep tree): its home's and its backup's,
+//   each with its standbys - `sources` writers, each relaying every clock
+//   from before tick 0, so the first `sources` writers heard are they and a
+//   writer heard after them is refused. (With DDS Security only a place
+//   agent may write a relayed clock at all: bus/security.cpp.)
 // * Every accepted sample, a re-sent one too, tells the ConductorWatch that
 //   the conductor lives; a silence past its limit means it is gone.
 // * Each phase of this process's kind runs once, in tick order: a clock of a
@@ -32,12 +37,16 @@ class LockstepFollower {
  public:
   using Clock = std::chrono::steady_clock;
 
-  // `mine`: ClockPhase::Uav for a UAV, ClockPhase::Place for a place agent.
-  LockstepFollower(ClockPhase mine, ConductorWatch watch) : mine_(mine), watch_(watch) {}
+  // `mine`: ClockPhase::Uav for a UAV, ClockPhase::Place for a place agent;
+  // `sources`: the writers whose clock it accepts (1: the conductor).
+  LockstepFollower(ClockPhase mine, ConductorWatch watch, uint32_t sources = 1)
+      : mine_(mine), watch_(watch), sources_(sources == 0 ? 1 : sources) {}
 
   // Clock samples as taken from the bus (moved out of `taken`, which is left
-  // empty). Returns those refused as another writer's.
-  std::vector<ClockMsg> offer(std::vector<ClockMsg>& taken, Clock::time_point now);
+  // empty). Returns those refused as another writer's; copies of the
+  // accepted ones go to `accepted` if given (a place agent relays them).
+  std::vector<ClockMsg> offer(std::vector<ClockMsg>& taken, Clock::time_point now,
+                              std::vector<ClockMsg>* accepted = nullptr);
 
   // The next phase of this process's kind to run, oldest first, or nothing.
   // A Stop among the samples before it ends the run (stopped()).
@@ -61,7 +70,8 @@ class LockstepFollower {
  private:
   ClockPhase mine_;
   ConductorWatch watch_;
-  std::optional<uint64_t> conductor_;
+  uint32_t sources_;
+  std::vector<uint64_t> latched_;  // the accepted writers, in the order first heard
   std::deque<ClockMsg> pending_;
   std::optional<uint32_t> done_;
   bool stopped_ = false;

@@ -22,9 +22,10 @@ class logger;
 namespace pheromesh::runtime {
 
 // Takes the clock samples the bus holds and hands them to `follower`; a
-// sample of another writer is refused (counted in `audit`). False once the
-// conductor is gone.
-bool take_clock(bus::Bus& bus, core::LockstepFollower& follower, SampleAudit& audit);
+// sample of another writer is refused (counted in `audit`); copies of the
+// accepted ones go to `accepted` if given. False once the conductor is gone.
+bool take_clock(bus::Bus& bus, core::LockstepFollower& follower, SampleAudit& audit,
+                std::vector<core::ClockMsg>* accepted = nullptr);
 
 enum class LockstepEnd : uint8_t { Stopped, ConductorLost, ShutDown, Left };
 // The exit code of a UAV or place agent whose conductor vanished
@@ -39,10 +40,15 @@ struct LockstepLoop {
   SampleAudit& audit;
   spdlog::logger& log;
   uint32_t lease_ms = 1000;
-  // Called before every round, e.g. to report Ready once the process matched its peers.
+  // Called before every round, e.g. to report Ready once the process matched
+  // its peers, or (a place agent) to relay the clock and its UAVs' reports.
   std::function<void()> before_round;
   // Runs one phase; the loop marks it done unless it returns Leave.
   std::function<PhaseOutcome(const core::ClockMsg&)> run_phase;
+  // A place agent relays every clock it accepts to the UAVs it serves, and
+  // wakes for their reports too (before_round relays them).
+  std::function<void(const core::ClockMsg&)> relay;
+  bool wake_on_reports = false;
 
   // Logs the conductor's death ("the conductor (ground station) is gone: ...").
   LockstepEnd run();
