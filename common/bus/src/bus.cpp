@@ -29,6 +29,7 @@ struct Bus::Roles {
         halos(b),
         broadcasts(b),
         clock(b),
+        relayed_clock(b, TopicKind::RelayedClock),
         phase_done(b),
         commands(b),
         scenarios(b) {}
@@ -44,6 +45,7 @@ struct Bus::Roles {
   Writer<core::HaloMsg> halos;
   Writer<core::BroadcastMsg> broadcasts;
   Writer<core::ClockMsg> clock;
+  Writer<core::ClockMsg> relayed_clock;  // a place agent's, to the UAVs it serves
   Writer<core::PhaseDoneMsg> phase_done;
   Writer<core::CommandMsg> commands;
   Writer<core::ScenarioMsg> scenarios;
@@ -124,7 +126,7 @@ bool Bus::publish_phase_done(const core::PhaseDoneMsg& m) {
   return roles_->phase_done.write(m);
 }
 bool Bus::relay_clock(const core::ClockMsg& m, core::RegionId own) {
-  return roles_->clock.write(m, uav_clock_partition(own));
+  return roles_->relayed_clock.write(m, uav_clock_partition(own));
 }
 bool Bus::publish_command(const core::CommandMsg& m) { return roles_->commands.write(m); }
 bool Bus::publish_scenario(const core::ScenarioMsg& m) { return roles_->scenarios.write(m); }
@@ -206,10 +208,10 @@ void Bus::join_clock_tree(std::span<const core::RegionId> gateways) {
       parts.push_back(uav_clock_partition(r));
     }
   }
-  roles_->clock_in.emplace(*this, parts);
+  roles_->clock_in.emplace(*this, parts, TopicKind::RelayedClock);
 }
 void Bus::subscribe_uav_reports(core::RegionId own) {
-  roles_->clock.offer(uav_clock_partition(own));
+  roles_->relayed_clock.offer(uav_clock_partition(own));
   roles_->reports_in.emplace(*this, std::vector<std::string>{uav_report_partition(own)});
 }
 void Bus::subscribe_phase_done() { roles_->done_in.emplace(*this, std::vector<std::string>{kClockPartition}); }

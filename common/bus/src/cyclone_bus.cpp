@@ -304,7 +304,7 @@ std::array<Codec, kTopicKindCount> codecs(MessageList<M...> /*types*/) {
 
 const Codec& CycloneTransport::codec(TopicKind k) {
   static const std::array<Codec, kTopicKindCount> table = codecs(Messages{});
-  return table[index_of(topic_of(k))];
+  return table[index_of(message_kind(k))];
 }
 
 }  // namespace

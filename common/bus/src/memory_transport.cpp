@@ -43,7 +43,7 @@ std::array<TypeOps, kTopicKindCount> type_ops(MessageList<M...> /*types*/) {
 }
 const TypeOps& ops(TopicKind k) {
   static const std::array<TypeOps, kTopicKindCount> table = type_ops(Messages{});
-  return table[index_of(topic_of(k))];
+  return table[index_of(message_kind(k))];
 }
 
 bool partitions_match(const std::string& a, const std::string& b) {

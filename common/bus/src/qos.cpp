@@ -55,6 +55,7 @@ QosSpec topic_qos(TopicKind kind, Endpoint endpoint, std::chrono::milliseconds l
       keep_last(1);
       break;
     case TopicKind::Clock:
+    case TopicKind::RelayedClock:
       // A late joiner gets the latest clock. A reader keeps every clock
       // sample until it is taken: every writer's sample of the one instance
       // would otherwise replace the one before, and a forged clock (a Stop)
@@ -171,8 +172,9 @@ const char* topic_name(TopicKind kind) {
     case TopicKind::Command: return "pheromesh_command";
     case TopicKind::View: return "pheromesh_view";
     case TopicKind::Field: return "pheromesh_region_field";
-    case TopicKind::Scenario:
-      return "pheromesh_run_scenario";
+    case TopicKind::Scenario: return "pheromesh_run_scenario";
+    case TopicKind::RelayedClock:
+      return "pheromesh_clock_relay";
   }
   throw std::logic_error("unknown topic kind");
 }
@@ -187,7 +189,8 @@ const char* type_name(TopicKind kind) {
     case TopicKind::TargetEvent: return "pheromesh::msg::TargetEvent";
     case TopicKind::Health: return "pheromesh::msg::PlaceHealth";
     case TopicKind::Halo: return "pheromesh::msg::Halo";
-    case TopicKind::Clock: return "pheromesh::msg::ClockCommand";
+    case TopicKind::Clock:
+    case TopicKind::RelayedClock: return "pheromesh::msg::ClockCommand";
     case TopicKind::PhaseDone: return "pheromesh::msg::PhaseDone";
     case TopicKind::Broadcast: return "pheromesh::msg::Broadcast";
     case TopicKind::Command: return "pheromesh::msg::Command";
@@ -215,8 +218,9 @@ const char* to_string(TopicKind kind) {
     case TopicKind::Command: return "command";
     case TopicKind::View: return "view";
     case TopicKind::Field: return "field";
-    case TopicKind::Scenario:
-      return "scenario";
+    case TopicKind::Scenario: return "scenario";
+    case TopicKind::RelayedClock:
+      return "relayed-clock";
   }
   return "?";
 }

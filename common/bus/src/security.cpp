@@ -58,7 +58,7 @@ Grant uav_grant(uint32_t uav, uint32_t regions) {
                {topic(TopicKind::PhaseDone), reports}};
   g.subscribe = {{topic(TopicKind::View), {view_partition(uav)}},
                  {topic(TopicKind::Broadcast), {kBroadcastPartition}},
-                 {topic(TopicKind::Clock), clocks},
+                 {topic(TopicKind::RelayedClock), clocks},
                  {topic(TopicKind::Command), {kCommandPartition}}};
   return g;
 }
@@ -81,7 +81,7 @@ Grant place_grant(const std::string& name, core::RegionId region) {
                {topic(TopicKind::TargetEvent), {kGroundPartition}},
                {topic(TopicKind::Scenario), {kGroundPartition}},
                {topic(TopicKind::PhaseDone), {kClockPartition}},
-               {topic(TopicKind::Clock), {uav_clock_partition(region)}}};
+               {topic(TopicKind::RelayedClock), {uav_clock_partition(region)}}};
   g.subscribe = {{topic(TopicKind::Deposit), {region_partition(region)}},
                  {topic(TopicKind::UavState), {home_partition(region)}},
                  {topic(TopicKind::Field), {kServedPartition, tiles_for_partition(region)}},

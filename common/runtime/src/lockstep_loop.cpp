@@ -55,7 +55,7 @@ LockstepEnd LockstepLoop::run() {
     if (wake_on_reports) {
       bus.wait({bus::TopicKind::Clock, bus::TopicKind::PhaseDone}, until);
     } else {
-      bus.wait({bus::TopicKind::Clock}, until);
+      bus.wait({bus::TopicKind::Clock, bus::TopicKind::RelayedClock}, until);
     }
   }
   return LockstepEnd::Stopped;

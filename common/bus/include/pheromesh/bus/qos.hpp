@@ -14,7 +14,11 @@ namespace pheromesh::bus {
 // One entry per kind of endpoint pheromesh creates. UavState (the UAV's
 // writer and the ground station's reader) and UavHome (the home place
 // agent's reader of the same writer) share the DDS topic
-// "pheromesh_uav_state" but differ in reader QoS.
+// "pheromesh_uav_state" but differ in reader QoS. RelayedClock carries the
+// clock's type on a topic of its own ("pheromesh_clock_relay": a place
+// agent to the UAVs it serves, the lockstep tree), so that permissions name
+// who may write the conductor's clock by topic alone (Fast DDS 2.9 does not
+// check a writer's partitions against them).
 enum class TopicKind : uint8_t {
   Tile,
   Deposit,
@@ -31,11 +35,13 @@ enum class TopicKind : uint8_t {
   View,
   Field,
   Scenario,
+  RelayedClock,
 };
 inline constexpr TopicKind kAllTopicKinds[] = {
     TopicKind::Tile,        TopicKind::Deposit, TopicKind::UavState, TopicKind::UavHome, TopicKind::Detection,
     TopicKind::TargetEvent, TopicKind::Health,  TopicKind::Halo,     TopicKind::Clock,   TopicKind::PhaseDone,
-    TopicKind::Broadcast,   TopicKind::Command, TopicKind::View,     TopicKind::Field,   TopicKind::Scenario};
+    TopicKind::Broadcast,   TopicKind::Command, TopicKind::View,     TopicKind::Field,   TopicKind::Scenario,
+    TopicKind::RelayedClock};
 
 enum class Endpoint : uint8_t { Writer, Reader };
 

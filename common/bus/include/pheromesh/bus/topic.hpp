@@ -218,7 +218,10 @@ concept RoutedByMessage = requires(const M& m) {
 
 // The DDS topic a kind's endpoints use: UavHome readers read UavState.
 constexpr TopicKind topic_of(TopicKind k) { return k == TopicKind::UavHome ? TopicKind::UavState : k; }
-inline constexpr std::size_t kTopicKindCount = static_cast<std::size_t>(TopicKind::Scenario) + 1;
+// The kind whose message type a kind's endpoints carry (Topic<M>::kind):
+// also a relayed clock is a ClockMsg.
+constexpr TopicKind message_kind(TopicKind k) { return k == TopicKind::RelayedClock ? TopicKind::Clock : topic_of(k); }
+inline constexpr std::size_t kTopicKindCount = static_cast<std::size_t>(TopicKind::RelayedClock) + 1;
 constexpr std::size_t index_of(TopicKind k) { return static_cast<std::size_t>(k); }
 
 }  // namespace pheromesh::bus

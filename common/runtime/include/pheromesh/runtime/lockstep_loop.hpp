@@ -47,7 +47,7 @@ struct LockstepLoop {
   std::function<PhaseOutcome(const core::ClockMsg&)> run_phase;
   // A place agent relays every clock it accepts to the UAVs it serves, and
   // wakes for their reports too (before_round relays them).
-  std::function<void(const core::ClockMsg&)> relay;
+  std::function<void(const core::ClockMsg&)> relay{};
   bool wake_on_reports = false;
 
   // Logs the conductor's death ("the conductor (ground station) is gone: ...").
