@@ -168,7 +168,7 @@ void UavApp::report_ready_once() {
       bus_->matched_state_readers() < 2 || bus_->matched_report_readers() < 1)
     return;
   resend_.phase_done(
-      {core::process_key(core::kRoleUav, cfg_.id), 0, static_cast<uint8_t>(core::ClockPhase::Ready), 0, {}, {}});
+      {core::process_key(core::kRoleUav, cfg_.id), 0, static_cast<uint8_t>(core::ClockPhase::Ready), 0, {}});
   ready_ = true;
   log_->debug("matched home place agent {} and the ground station: ready", home_);
 }
@@ -200,12 +200,8 @@ void UavApp::run_uav_phase(const core::ClockMsg& c, uint32_t ticks) {
   step(c.tick, StepKind::Fly);
   // Report what this phase wrote: the conductor announces it to the place
   // agents (deposits) and to the UAVs (broadcasts), which wait for it.
-  core::PhaseDoneMsg report{core::process_key(core::kRoleUav, cfg_.id),
-                            c.tick,
-                            c.phase,
-                            broadcast_written_ ? 1U : 0U,
-                            {},
-                            geo_.tile_of(core_.cell())};
+  core::PhaseDoneMsg report{
+      core::process_key(core::kRoleUav, cfg_.id), c.tick, c.phase, broadcast_written_ ? 1U : 0U, {}};
   for (const auto& [region, n] : written_) report.deposits.push_back({region, n});
   resend_.phase_done(report);
   // After the last UAV phase this UAV waits for the conductor's stop, which

@@ -449,7 +449,7 @@ int run_lockstep_echo(const LockstepEchoOptions& o) {
     b.take_clock(clocks);
     for (const auto& c : clocks) {
       if (c.phase == static_cast<uint8_t>(core::ClockPhase::Stop)) return 0;
-      b.publish_phase_done({core::process_key(core::kRoleUav, 0), c.tick, c.phase, 0, {}, {}});
+      b.publish_phase_done({core::process_key(core::kRoleUav, 0), c.tick, c.phase, 0, {}});
     }
     b.wait({bus::TopicKind::Clock}, std::min(deadline, Clock::now() + std::chrono::milliseconds(100)));
   }

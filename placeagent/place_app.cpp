@@ -172,7 +172,7 @@ void PlaceApp::report_ready_once() {
   if (ready_ || follower_.last_done()) return;
   if (!note_linked()) return;
   resend_.phase_done(
-      {core::process_key(core::kRolePlace, cfg_.region), 0, static_cast<uint8_t>(core::ClockPhase::Ready), 0, {}, {}});
+      {core::process_key(core::kRolePlace, cfg_.region), 0, static_cast<uint8_t>(core::ClockPhase::Ready), 0, {}});
   ready_ = true;
   log_->debug("matched every other region's place agent: ready");
 }
@@ -207,7 +207,7 @@ runtime::PhaseOutcome PlaceApp::run_place_phase(const core::ClockMsg& c) {
   // wait for the acknowledgement of every matched reader, also of a killed
   // process, whose readers stay matched until its participant lease ends.
   const uint32_t id = replicated_ ? core::place_id(cfg_.region, cfg_.replica) : cfg_.region;
-  resend_.phase_done({core::process_key(core::kRolePlace, id), c.tick, c.phase, 0, {}, {}});
+  resend_.phase_done({core::process_key(core::kRolePlace, id), c.tick, c.phase, 0, {}});
   return runtime::PhaseOutcome::Continue;
 }
 

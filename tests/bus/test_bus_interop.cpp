@@ -235,7 +235,7 @@ TEST_P(Interop, EveryMessageArrivesIntact) {
   // The writer joined as UAV 5, homed on 3: in the lockstep tree its report
   // goes to place agent 3's reader, not to the conductor's.
   w_->join_clock_tree(std::vector<core::RegionId>{3, 4});
-  ASSERT_TRUE(w_->publish_phase_done({(1U << 24) | 5U, 18, 0, 1, {{7, 3}, {8, 1}}, {513, 7}}));
+  ASSERT_TRUE(w_->publish_phase_done({(1U << 24) | 5U, 18, 0, 1, {{7, 3}, {8, 1}}}));
   const auto dones = wait_for<core::PhaseDoneMsg>([&](auto& v) { r_->take_uav_reports(v); });
   ASSERT_EQ(dones.size(), 1U);
   EXPECT_EQ(dones[0].process, (1U << 24) | 5U);
@@ -244,7 +244,6 @@ TEST_P(Interop, EveryMessageArrivesIntact) {
   ASSERT_EQ(dones[0].deposits.size(), 2U);
   EXPECT_EQ(dones[0].deposits[0].region, 7U);
   EXPECT_EQ(dones[0].deposits[0].count, 3U);
-  EXPECT_EQ(dones[0].tile, (core::TileCoord{513, 7}));
 
   core::CommandMsg cmd;
   cmd.issuer = 3U << 24U;
@@ -438,7 +437,7 @@ TEST_P(Departure, LockstepResenderWritesTheTicksSamplesAgainAfterAQuietSpellOnly
   EXPECT_FALSE(resend.resend_if_quiet()) << "nothing remembered yet";
   const core::FieldMsg field{3, 0, 1, 9, {core::TileMsg{0, {2, 5}, 1, 0, 9, 1, {1.0F}}}, {}};
   ASSERT_TRUE(resend.field(field));
-  ASSERT_TRUE(resend.phase_done({core::process_key(core::kRolePlace, 3), 9, 2, 0, {}, {}}));
+  ASSERT_TRUE(resend.phase_done({core::process_key(core::kRolePlace, 3), 9, 2, 0, {}}));
   EXPECT_FALSE(resend.resend_if_quiet()) << "published just now";
   const auto fields = wait_for<core::FieldMsg>([&](auto& v) { r->take_fields(v); });
   ASSERT_EQ(fields.size(), 1U);

@@ -20,15 +20,14 @@ C::Options two_uavs_two_regions() {
   return o;
 }
 
-PhaseDoneMsg uav_done(uint32_t uav, uint32_t tick, uint32_t broadcasts = 0, std::vector<RegionCount> deposits = {},
-                      TileCoord tile = {}) {
-  return {process_key(kRoleUav, uav), tick, static_cast<uint8_t>(ClockPhase::Uav), broadcasts, std::move(deposits), tile};
+PhaseDoneMsg uav_done(uint32_t uav, uint32_t tick, uint32_t broadcasts = 0, std::vector<RegionCount> deposits = {}) {
+  return {process_key(kRoleUav, uav), tick, static_cast<uint8_t>(ClockPhase::Uav), broadcasts, std::move(deposits)};
 }
 PhaseDoneMsg place_done(RegionId r, uint32_t tick) {
-  return {process_key(kRolePlace, r), tick, static_cast<uint8_t>(ClockPhase::Place), 0, {}, {}};
+  return {process_key(kRolePlace, r), tick, static_cast<uint8_t>(ClockPhase::Place), 0, {}};
 }
 
-TEST(Conductor, AUavPhaseCompletesWithEveryReportAndAnnouncesWhatTheReportsSay) {
+TEST(Conductor, AUavPhaseCompletesWithEveryReportStateAndBroadcastAndAnnouncesWhatItProduced) {
   C c(two_uavs_two_regions());
   const auto t0 = C::Clock::time_point{} + 100s;
   const ClockMsg first = c.begin_phase(0, ClockPhase::Uav, t0);
@@ -36,12 +35,17 @@ TEST(Conductor, AUavPhaseCompletesWithEveryReportAndAnnouncesWhatTheReportsSay) 
   EXPECT_EQ(first.phase, static_cast<uint8_t>(ClockPhase::Uav));
   EXPECT_TRUE(first.occupancy.empty()) << "tick 0 has no tick before it";
   EXPECT_EQ(c.status(t0).waiting, 2U);
-  // UAV 0 reports 2 deposits for region 1 and a broadcast, over tile (1,0);
-  // UAV 1 one deposit for region 0, over tile (0,0).
-  c.on_phase_done(uav_done(0, 0, 1, {{1, 2}}, {1, 0}));
-  EXPECT_EQ(c.status(t0).waiting, 1U);
-  c.on_phase_done(uav_done(1, 0, 0, {{0, 1}}, {0, 0}));
-  EXPECT_TRUE(c.status(t0).complete) << "the reports alone: no state or broadcast is read";
+  // UAV 0 reports 2 deposits for region 1 and a broadcast; UAV 1 one deposit for region 0.
+  c.on_phase_done(uav_done(0, 0, 1, {{1, 2}}));
+  c.on_phase_done(uav_done(1, 0, 0, {{0, 1}}));
+  auto s = c.status(t0);
+  EXPECT_FALSE(s.complete);
+  EXPECT_EQ(s.waiting, 3U) << "both states and the reported broadcast are still missing";
+  c.on_uav_state(0, 0, {0, 0});
+  c.on_uav_state(1, 0, {0, 0});
+  EXPECT_EQ(c.status(t0).waiting, 1U) << "the broadcast";
+  c.on_broadcast(0, 0);
+  EXPECT_TRUE(c.status(t0).complete);
   // The place phase announces the reported deposits per region.
   const ClockMsg place = c.begin_phase(0, ClockPhase::Place, t0);
   ASSERT_EQ(place.deposits.size(), 2U);
@@ -59,26 +63,13 @@ TEST(Conductor, AUavPhaseCompletesWithEveryReportAndAnnouncesWhatTheReportsSay) 
   c.on_phase_done(place_done(0, 0));
   c.on_phase_done(place_done(1, 0));
   EXPECT_TRUE(c.status(t0).complete);
-  // The UAV phase of tick 1 announces tick 0: one UAV over each of tiles
-  // (0,0) and (1,0), in tile order, and one broadcast.
+  // The UAV phase of tick 1 announces tick 0: two UAVs over tile (0,0), one broadcast.
   const ClockMsg next = c.begin_phase(1, ClockPhase::Uav, t0);
-  ASSERT_EQ(next.occupancy.size(), 2U);
-  EXPECT_EQ(next.occupancy[0].tile, (TileCoord{0, 0}));
-  EXPECT_EQ(next.occupancy[0].count, 1U);
-  EXPECT_EQ(next.occupancy[1].tile, (TileCoord{1, 0}));
-  EXPECT_EQ(next.occupancy[1].count, 1U);
+  ASSERT_EQ(next.occupancy.size(), 1U);
+  EXPECT_EQ(next.occupancy[0].tile.tx, 0);
+  EXPECT_EQ(next.occupancy[0].count, 2U);
   EXPECT_EQ(next.broadcasts, 1U);
   EXPECT_FALSE(c.status(t0).complete) << "the reports of tick 0 do not count for tick 1";
-  // A report re-sent (the same tick) places the UAV once.
-  c.on_phase_done(uav_done(0, 1, 0, {}, {1, 1}));
-  c.on_phase_done(uav_done(0, 1, 0, {}, {1, 1}));
-  c.on_phase_done(uav_done(1, 1, 0, {}, {1, 1}));
-  ASSERT_TRUE(c.status(t0).complete);
-  c.begin_phase(1, ClockPhase::Place, t0);
-  const ClockMsg after = c.begin_phase(2, ClockPhase::Uav, t0);
-  ASSERT_EQ(after.occupancy.size(), 1U);
-  EXPECT_EQ(after.occupancy[0].count, 2U);
-  EXPECT_EQ(after.broadcasts, 0U);
 }
 
 TEST(Conductor, EachPhaseIsTimedFromItsClockToTheStatusThatFoundItComplete) {
@@ -86,14 +77,15 @@ TEST(Conductor, EachPhaseIsTimedFromItsClockToTheStatusThatFoundItComplete) {
   const auto t0 = C::Clock::time_point{} + 100s;
   c.begin_phase(0, ClockPhase::Ready, t0);
   for (uint32_t u : {0U, 1U})
-    c.on_phase_done({process_key(kRoleUav, u), 0, static_cast<uint8_t>(ClockPhase::Ready), 0, {}, {}});
+    c.on_phase_done({process_key(kRoleUav, u), 0, static_cast<uint8_t>(ClockPhase::Ready), 0, {}});
   for (RegionId r : {0U, 1U})
-    c.on_phase_done({process_key(kRolePlace, r), 0, static_cast<uint8_t>(ClockPhase::Ready), 0, {}, {}});
+    c.on_phase_done({process_key(kRolePlace, r), 0, static_cast<uint8_t>(ClockPhase::Ready), 0, {}});
   ASSERT_TRUE(c.status(t0 + 7s).complete);
   c.begin_phase(0, ClockPhase::Uav, t0 + 10s);
   EXPECT_FALSE(c.status(t0 + 10s + 1ms).complete);
   for (uint32_t u : {0U, 1U}) {
     c.on_phase_done(uav_done(u, 0));
+    c.on_uav_state(u, 0, {0, 0});
   }
   ASSERT_TRUE(c.status(t0 + 10s + 3ms).complete);
   EXPECT_TRUE(c.status(t0 + 10s + 9ms).complete) << "asking again records nothing more";
@@ -122,7 +114,7 @@ TEST(Conductor, ALatePhaseDoneIsWaitedForAndAnOldOneDoesNotCount) {
   // A UAV phase report does not complete a place phase of the same tick.
   c.begin_phase(4, ClockPhase::Place, t0);
   c.on_phase_done(place_done(0, 4));
-  c.on_phase_done({process_key(kRolePlace, 1), 4, static_cast<uint8_t>(ClockPhase::Uav), 0, {}, {}});
+  c.on_phase_done({process_key(kRolePlace, 1), 4, static_cast<uint8_t>(ClockPhase::Uav), 0, {}});
   EXPECT_EQ(c.status(t0).waiting, 1U);
 }
 
@@ -131,6 +123,7 @@ TEST(Conductor, ADepartedUavIsWaitedForDuringTheGraceThenNot) {
   const auto t0 = C::Clock::time_point{} + 100s;
   c.begin_phase(5, ClockPhase::Uav, t0);
   c.on_phase_done(uav_done(0, 5));
+  c.on_uav_state(0, 5, {1, 1});
   EXPECT_TRUE(c.on_uav_departed(1, t0));
   EXPECT_FALSE(c.on_uav_departed(1, t0 + 1s)) << "reported once";
   EXPECT_TRUE(c.departed(1));
@@ -139,10 +132,11 @@ TEST(Conductor, ADepartedUavIsWaitedForDuringTheGraceThenNot) {
   EXPECT_TRUE(c.gone_for_good(1, t0 + 5s + 1ms));
   EXPECT_TRUE(c.status(t0 + 6s).complete) << "after it, the phase goes on without it";
   // It comes back: waited for again, and its state says so.
-  EXPECT_TRUE(c.on_uav_state(1));
+  EXPECT_TRUE(c.on_uav_state(1, 5, {1, 1}));
   EXPECT_FALSE(c.departed(1));
   c.begin_phase(6, ClockPhase::Uav, t0 + 6s);
   c.on_phase_done(uav_done(0, 6));
+  c.on_uav_state(0, 6, {1, 1});
   EXPECT_EQ(c.status(t0 + 7s).waiting, 1U);
 }
 
@@ -212,10 +206,10 @@ C::Options four_uavs_two_regions() {
 }
 
 PhaseDoneMsg uav_report(uint32_t uav, uint32_t tick, std::vector<RegionCount> deposits = {}) {
-  return {process_key(kRoleUav, uav), tick, static_cast<uint8_t>(ClockPhase::Uav), 0, std::move(deposits), {}};
+  return {process_key(kRoleUav, uav), tick, static_cast<uint8_t>(ClockPhase::Uav), 0, std::move(deposits)};
 }
 PhaseDoneMsg place_report(RegionId r, uint32_t tick) {
-  return {process_key(kRolePlace, r), tick, static_cast<uint8_t>(ClockPhase::Place), 0, {}, {}};
+  return {process_key(kRolePlace, r), tick, static_cast<uint8_t>(ClockPhase::Place), 0, {}};
 }
 
 TEST(ConductorFaults, TheLaunchersAnswerNamesTheGoneUavsAndPlaceAgents) {
@@ -242,6 +236,7 @@ TEST(ConductorFaults, AUavKilledAtATickIsNotWaitedForAtThatTickAndItsOldStateDoe
   c.begin_phase(7, ClockPhase::Uav, t0);
   for (uint32_t u : {0U, 1U, 2U, 3U}) {
     c.on_phase_done(uav_report(u, 7));
+    c.on_uav_state(u, 7, {0, 0});
   }
   ASSERT_TRUE(c.status(t0).complete);
   c.begin_phase(7, ClockPhase::Place, t0);
@@ -255,9 +250,10 @@ TEST(ConductorFaults, AUavKilledAtATickIsNotWaitedForAtThatTickAndItsOldStateDoe
   c.begin_phase(8, ClockPhase::Uav, t0);
   for (uint32_t u : {0U, 1U, 3U}) {
     c.on_phase_done(uav_report(u, 8));
+    c.on_uav_state(u, 8, {0, 0});
   }
   EXPECT_TRUE(c.status(t0).complete) << "no wait, no grace: complete at once";
-  EXPECT_FALSE(c.on_uav_state(2)) << "a state it wrote before it died";
+  EXPECT_FALSE(c.on_uav_state(2, 7, {0, 0})) << "a state it wrote before it died";
   EXPECT_FALSE(c.on_uav_departed(2, t0)) << "its liveliness lapsing is no news";
   EXPECT_TRUE(c.status(t0).complete);
   // The guard: without the drop the same tick waits for it (grace, then timeout).
@@ -265,6 +261,7 @@ TEST(ConductorFaults, AUavKilledAtATickIsNotWaitedForAtThatTickAndItsOldStateDoe
   g.begin_phase(8, ClockPhase::Uav, t0);
   for (uint32_t u : {0U, 1U, 3U}) {
     g.on_phase_done(uav_report(u, 8));
+    g.on_uav_state(u, 8, {0, 0});
   }
   EXPECT_EQ(g.status(t0 + 30s).waiting, 1U);
 }
@@ -284,6 +281,7 @@ TEST(ConductorFaults, AnAbsentRegionIsListedNotWaitedForAndItsDepositsAreCounted
   c.on_phase_done(uav_report(1, 9, {{0, 4}}));
   c.on_phase_done(uav_report(2, 9, {{0, 1}}));
   c.on_phase_done(uav_report(3, 9));
+  for (uint32_t u : {0U, 1U, 2U, 3U}) c.on_uav_state(u, 9, {0, 0});
   ASSERT_TRUE(c.status(t0).complete);
   EXPECT_TRUE(c.status(t0).complete) << "asking twice counts nothing twice";
   const ClockMsg place = c.begin_phase(9, ClockPhase::Place, t0);
@@ -303,6 +301,7 @@ TEST(ConductorFaults, AnAbsentRegionIsListedNotWaitedForAndItsDepositsAreCounted
   c.begin_phase(10, ClockPhase::Uav, t0);
   for (uint32_t u : {0U, 1U, 2U, 3U}) {
     c.on_phase_done(uav_report(u, 10, {{0, 1}}));
+    c.on_uav_state(u, 10, {0, 0});
   }
   ASSERT_TRUE(c.status(t0).complete);
   c.begin_phase(10, ClockPhase::Place, t0);
@@ -318,6 +317,7 @@ TEST(ConductorFaults, AUavWhoseHomeAndBackupAreBothAbsentHasItsDepositsCountedLo
   c.begin_phase(9, ClockPhase::Uav, t0);
   for (uint32_t u : {0U, 1U, 2U, 3U}) {
     c.on_phase_done(uav_report(u, 9, {{0, 1}}));
+    c.on_uav_state(u, 9, {0, 0});
   }
   ASSERT_TRUE(c.status(t0).complete);
   const ClockMsg place = c.begin_phase(9, ClockPhase::Place, t0);
@@ -332,6 +332,7 @@ TEST(ConductorFaults, AUavWhoseLivelinessLapsesButThatStillTalksIsNotDropped) {
   c.begin_phase(4, ClockPhase::Uav, t0);
   for (uint32_t u : {0U, 1U, 2U}) {
     c.on_phase_done(uav_report(u, 4));
+    c.on_uav_state(u, 4, {0, 0});
   }
   // Under packet loss uav 3's liveliness lapses, but its re-sent PhaseDone of
   // the tick before keeps arriving while it waits for its view.
@@ -382,7 +383,7 @@ TEST(ConductorStart, TickZeroWaitsForEveryUavAndPlaceAgentToReportReadyThenForNo
   EXPECT_EQ(ready.phase, static_cast<uint8_t>(ClockPhase::Ready));
   EXPECT_EQ(c.status(t0).waiting, 4U);
   const auto report = [](uint32_t role, uint32_t id) {
-    return PhaseDoneMsg{process_key(role, id), 0, static_cast<uint8_t>(ClockPhase::Ready), 0, {}, {}};
+    return PhaseDoneMsg{process_key(role, id), 0, static_cast<uint8_t>(ClockPhase::Ready), 0, {}};
   };
   c.on_phase_done(report(kRoleUav, 0));
   c.on_phase_done(report(kRolePlace, 1));

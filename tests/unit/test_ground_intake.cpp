@@ -300,35 +300,10 @@ TEST(GroundIntake, APhaseDoneOfADepartedUavIsASignOfLifeThatHoldsOffItsDrop) {
   gone.departed_uavs = {0, 1};
   rig.take(std::move(gone), kUnlimited, t0);
   GroundSamples done;
-  done.phase_dones = {{core::process_key(core::kRoleUav, 0), 10, static_cast<uint8_t>(core::ClockPhase::Uav), 0, {}, {}}};
+  done.phase_dones = {{core::process_key(core::kRoleUav, 0), 10, static_cast<uint8_t>(core::ClockPhase::Uav), 0, {}}};
   rig.take(std::move(done), kUnlimited, t0 + 4s);
   EXPECT_FALSE(rig.conductor->gone_for_good(0, t0 + 6s)) << "heard 2 s ago, grace 5 s";
   EXPECT_TRUE(rig.conductor->gone_for_good(1, t0 + 6s)) << "silent for 6 s since it left";
-}
-
-TEST(GroundIntake, APhaseReportOffTheMapOrOfAnUnknownUavIsDroppedAndCountedBeforeTheConductorSeesIt) {
-  // The reports drive the conductor: a report's tile becomes the next
-  // clock's occupancy, so a malformed or forged one must not reach it.
-  Rig rig;
-  const auto report = [](uint32_t uav, core::TileCoord tile) {
-    return core::PhaseDoneMsg{core::process_key(core::kRoleUav, uav), 0, static_cast<uint8_t>(core::ClockPhase::Uav),
-                              0, {}, tile};
-  };
-  const core::TileCoord off{rig.geo.tiles_x(), 0};
-  rig.conductor->begin_phase(0, core::ClockPhase::Uav, t0);
-  GroundSamples s;
-  s.phase_dones = {report(0, off), report(rig.scenario.uavs, {0, 0})};
-  const Notes notes = rig.take(std::move(s));
-  EXPECT_EQ(texts(notes, Kind::ReportDropped),
-            Texts{"dropped phase report of tile (" + std::to_string(off.tx) + ", 0) outside the map"});
-  EXPECT_EQ(rig.rec->samples_rejected(), 1U);
-  EXPECT_EQ(rig.rec->refused()[core::Refusal::UnknownUav], 1U);
-  EXPECT_EQ(rig.conductor->status(t0).waiting, rig.scenario.uavs) << "neither report counts";
-  // The same UAV's report over a tile of the map counts.
-  GroundSamples ok;
-  ok.phase_dones = {report(0, {0, 0})};
-  rig.take(std::move(ok));
-  EXPECT_EQ(rig.conductor->status(t0).waiting, rig.scenario.uavs - 1);
 }
 
 TEST(GroundIntake, TheFirstDetectionOfATargetIsNotedWithHowManyOfTheTargetsAreFound) {

@@ -68,7 +68,7 @@ TEST(LockstepLoop, RunsEachUavPhaseTheConductorAnnouncesOnceAndEndsOnItsStop) {
                       [] {},
                       [&](const core::ClockMsg& c) {
                         ran.push_back(c.tick);
-                        resend.phase_done({core::process_key(core::kRoleUav, 0), c.tick, c.phase, 0, {}, {}});
+                        resend.phase_done({core::process_key(core::kRoleUav, 0), c.tick, c.phase, 0, {}});
                         return PhaseOutcome::Continue;
                       }};
     end = static_cast<int>(loop.run());

@@ -415,13 +415,11 @@ struct Convert<core::PhaseDoneMsg> {
     s.phase = m.phase;
     s.broadcasts = m.broadcasts;
     borrow(s.deposits, deposits);
-    s.tx = static_cast<uint16_t>(m.tile.tx);
-    s.ty = static_cast<uint16_t>(m.tile.ty);
     return write(&s);
   }
   static std::optional<core::PhaseDoneMsg> in(const Sample& s) {
     if (!seq_ok(s.deposits, core::kMaxRegionCounts)) return std::nullopt;
-    return core::PhaseDoneMsg{s.process, s.tick, s.phase, s.broadcasts, region_counts_in(s.deposits), {s.tx, s.ty}};
+    return core::PhaseDoneMsg{s.process, s.tick, s.phase, s.broadcasts, region_counts_in(s.deposits)};
   }
 };
 

@@ -430,15 +430,11 @@ struct Convert<core::PhaseDoneMsg> {
     s.phase(m.phase);
     s.broadcasts(m.broadcasts);
     s.deposits(region_counts_out(m.deposits));
-    s.tx(static_cast<uint16_t>(m.tile.tx));
-    s.ty(static_cast<uint16_t>(m.tile.ty));
     return s;
   }
   static std::optional<core::PhaseDoneMsg> in(const Sample& s) {
     if (!region_counts_ok(s.deposits())) return std::nullopt;
-    return core::PhaseDoneMsg{s.process(), s.tick(),
-                              s.phase(),   s.broadcasts(),
-                              region_counts_in(s.deposits()), {s.tx(), s.ty()}};
+    return core::PhaseDoneMsg{s.process(), s.tick(), s.phase(), s.broadcasts(), region_counts_in(s.deposits())};
   }
 };
 

@@ -105,7 +105,8 @@ void GroundIntake::on_states(const std::vector<core::UavStateMsg>& states, Clock
       continue;
     }
     p_.conductor.heard_from(s.uav, now);
-    const bool back = p_.conductor.on_uav_state(s.uav);
+    const bool back = s.finished ? p_.conductor.on_uav_finished(s.uav)
+                                 : p_.conductor.on_uav_state(s.uav, s.tick, geo_.tile_of(core::state_cell(s)));
     if (back && !s.finished) note(Kind::UavBack, Level::Info, text("uav ", s.uav, " is back at tick ", s.tick));
     p_.frames.heard_uav(s.uav, now);
     if (uncertainty_ != nullptr && !s.finished) uncertainty_->observe(core::state_cell(s), s.tick);
@@ -122,6 +123,7 @@ void GroundIntake::on_broadcasts(const std::vector<core::BroadcastMsg>& broadcas
       refuse(core::Refusal::UnknownUav, text("a broadcast of uav ", b.uav));
       continue;
     }
+    p_.conductor.on_broadcast(b.uav, b.tick);
     p_.conductor.heard_from(b.uav, now);
   }
 }
@@ -231,19 +233,8 @@ void GroundIntake::on_departed_places(const std::vector<uint32_t>& gone) {
 
 void GroundIntake::on_phase_dones(const std::vector<core::PhaseDoneMsg>& dones, Clock::time_point now) {
   for (const auto& d : dones) {
-    const bool from_uav = d.process >> 24U == core::kRoleUav;
-    if (from_uav && core::check_uav_id(d.process & 0xFFFFFFU, swarm_)) {
-      refuse(core::Refusal::UnknownUav, text("a phase report of uav ", d.process & 0xFFFFFFU));
-      continue;
-    }
-    // Its tile becomes the next clock's occupancy: one off the map is malformed.
-    if (auto reason = core::check_phase_done(d, geo_)) {
-      p_.rec.count_rejected_sample();
-      if (p_.rec.samples_rejected() <= 3) note(Kind::ReportDropped, Level::Warn, text("dropped ", *reason));
-      continue;
-    }
     p_.conductor.on_phase_done(d);
-    if (from_uav) p_.conductor.heard_from(d.process & 0xFFFFFFU, now);
+    if (d.process >> 24U == core::kRoleUav) p_.conductor.heard_from(d.process & 0xFFFFFFU, now);
   }
 }
 

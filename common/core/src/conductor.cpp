@@ -65,19 +65,21 @@ void trim(M& by_tick) {
 }
 }  // namespace
 
-bool LockstepConductor::on_uav_state(uint32_t uav) {
+bool LockstepConductor::on_uav_state(uint32_t uav, uint32_t tick, TileCoord tile) {
   if (dropped_.contains(uav)) return false;  // a sample it wrote before it was killed
+  positions_[tick][uav] = tile;
+  trim(positions_);
   return departed_since_.erase(uav) > 0;
 }
 
-void LockstepConductor::on_phase_done(const PhaseDoneMsg& m) {
-  done_[m.process] = m;
-  const uint32_t uav = m.process & 0xFFFFFFU;
-  if (m.process >> 24U == kRoleUav && m.phase == static_cast<uint8_t>(ClockPhase::Uav) && !dropped_.contains(uav)) {
-    positions_[m.tick][uav] = m.tile;
-    trim(positions_);
-  }
+bool LockstepConductor::on_uav_finished(uint32_t uav) { return !dropped_.contains(uav) && departed_since_.erase(uav) > 0; }
+
+void LockstepConductor::on_broadcast(uint32_t uav, uint32_t tick) {
+  broadcasters_[tick].insert(uav);
+  trim(broadcasters_);
 }
+
+void LockstepConductor::on_phase_done(const PhaseDoneMsg& m) { done_[m.process] = m; }
 
 bool LockstepConductor::on_uav_departed(uint32_t uav, Clock::time_point now) {
   if (dropped_.contains(uav)) return false;  // known: killed at a tick
@@ -131,7 +133,9 @@ ClockMsg LockstepConductor::announce(uint32_t tick, ClockPhase phase) const {
     for (const auto& [uav, t] : it->second) ++count[{t.tx, t.ty}];
     for (const auto& [t, n] : count) m.occupancy.push_back({{t.first, t.second}, n});
   }
-  if (auto it = broadcasts_.find(tick - 1); it != broadcasts_.end()) m.broadcasts = it->second;
+  if (auto it = broadcasters_.find(tick - 1); it != broadcasters_.end()) {
+    m.broadcasts = static_cast<uint32_t>(it->second.size());
+  }
   return m;
 }
 
@@ -180,11 +184,13 @@ LockstepConductor::Status LockstepConductor::status(Clock::time_point now) {
     s.waiting += reported(process_key(role, id)) ? 0 : 1;
   }
   if (s.waiting == 0 && uav_phase) {
-    // Every report is in: what the phase produced, for the next announcements.
+    // Every UAV's state and reported broadcast of this tick must be here
+    // before the next announcements are computed from them.
     uint32_t broadcasts = 0;
     deposits_reported_.clear();
     states_reported_.clear();
     lost_this_tick_ = 0;
+    auto pos = positions_.find(tick_);
     for (uint32_t id = 0; id < count; ++id) {
       auto it = done_.find(process_key(role, id));
       if (!waited_for_uav(id, now) || it == done_.end()) continue;
@@ -201,9 +207,10 @@ LockstepConductor::Status LockstepConductor::status(Clock::time_point now) {
           deposits_reported_[rc.region] += rc.count;
         }
       }
+      if (pos == positions_.end() || !pos->second.contains(id)) ++s.waiting;
     }
-    broadcasts_[tick_] = broadcasts;
-    trim(broadcasts_);
+    auto b = broadcasters_.find(tick_);
+    if ((b == broadcasters_.end() ? 0U : static_cast<uint32_t>(b->second.size())) < broadcasts) ++s.waiting;
   }
   s.complete = s.waiting == 0;
   s.timed_out = !s.complete && now > deadline_;

@@ -153,15 +153,6 @@ std::optional<std::string> check_broadcast(const BroadcastMsg& b) {
   return std::nullopt;
 }
 
-std::optional<std::string> check_phase_done(const PhaseDoneMsg& m, const MapGeometry& geo) {
-  if (m.process >> 24U != kRoleUav || m.phase != static_cast<uint8_t>(ClockPhase::Uav)) return std::nullopt;
-  if (!geo.valid_tile(m.tile)) {
-    return "phase report of tile (" + std::to_string(m.tile.tx) + ", " + std::to_string(m.tile.ty) +
-           ") outside the map";
-  }
-  return std::nullopt;
-}
-
 std::size_t payload_bytes(const TileMsg& m) { return sizeof(m) + m.values.size() * sizeof(float); }
 
 std::size_t payload_bytes(const ViewMsg& m) {

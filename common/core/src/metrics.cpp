@@ -54,6 +54,7 @@ bool AcquisitionTracker::acquire(int32_t target, uint32_t tick) {
   }
   auto& slot = first_[static_cast<std::size_t>(target)];
   if (slot) {
+    slot = std::min(*slot, tick);
     return false;
   }
   slot = tick;

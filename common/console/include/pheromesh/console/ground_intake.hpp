@@ -48,7 +48,6 @@ struct IntakeNote {
     StateRefused,    // implausible (the first 5 refusals)
     SampleRefused,   // a broadcast, field or tile refused (the first 5 refusals)
     TileDropped,     // malformed (the first 3 samples rejected)
-    ReportDropped,   // a malformed lockstep phase report (the first 3 samples rejected)
     UavBack,         // a UAV whose liveliness had lapsed is heard again
     UavLost,         // a UAV's liveliness lapsed before it finished
     TargetAcquired,  // a target detected for the first time

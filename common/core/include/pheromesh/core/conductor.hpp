@@ -7,11 +7,8 @@
 // Before tick 0 the Ready phase waits (start_timeout) until every UAV and
 // place agent reported Ready: it matched the readers it deposits to. A phase
 // of tick k is complete when every expected process reported PhaseDone for
-// exactly (k, phase). The conductor is driven by these reports alone: a
-// UAV's report carries what it wrote (deposits per region, broadcasts) and
-// the tile it is over, from which the next UAV phase's occupancy and
-// broadcast count are announced - so the conductor reads no UAV state or
-// broadcast, and the reports can reach it through place agents.
+// exactly (k, phase); a UAV phase also needs every reporting
+// UAV's state of tick k and as many broadcasts of tick k as were reported.
 // The place phase of tick k announces, per region, the deposits of tick k it
 // must apply and the states of tick k of its home UAVs it must hold: every
 // place agent waits for those exact samples, so no UAV waits for
@@ -22,8 +19,8 @@
 // place agent is waited for unless it is absent (below): without it the tick
 // cannot be exact, so the phase runs into its timeout and the run ends. Any
 // sample of a UAV (its state, a PhaseDone - a waiting UAV re-sends its own
-// every second - or a broadcast) counts as a sign of life (heard_from): a UAV
-// whose liveliness lapses under packet loss while it still talks is not dropped.
+// every second - or a broadcast) counts as a sign of life: a UAV whose
+// liveliness lapses under packet loss while it still talks is not dropped.
 //
 // Faults at a tick (core/faults.hpp): before the UAV phase of a tick with
 // faults, the ground station asks the launcher which processes it killed
@@ -87,11 +84,12 @@ class LockstepConductor {
   explicit LockstepConductor(Options o) : o_(o) {}
 
   // --- what the ground station heard
-  // A valid state of `uav` (finished or not). Returns true if the UAV had
-  // departed and is back (a state it wrote before it was killed does not
-  // bring it back).
-  bool on_uav_state(uint32_t uav);
-  // A report; a UAV's report of its phase also places it (occupancy).
+  // A valid state of `uav` over `tile` (not finished). Returns true if the
+  // UAV had departed and is back.
+  bool on_uav_state(uint32_t uav, uint32_t tick, TileCoord tile);
+  // A finished UAV's last state: it is back if it had departed, nothing else.
+  bool on_uav_finished(uint32_t uav);
+  void on_broadcast(uint32_t uav, uint32_t tick);
   void on_phase_done(const PhaseDoneMsg& m);
   // The UAV's liveliness lapsed. Returns true the first time (until it is back).
   bool on_uav_departed(uint32_t uav, Clock::time_point now);
@@ -151,8 +149,8 @@ class LockstepConductor {
   ClockPhase phase_ = ClockPhase::Uav;
   Clock::time_point deadline_{};
   std::map<uint32_t, PhaseDoneMsg> done_;                 // process key -> latest report
-  std::map<uint32_t, std::map<uint32_t, TileCoord>> positions_;  // tick -> uav -> tile (from its report)
-  std::map<uint32_t, uint32_t> broadcasts_;               // tick -> broadcasts its complete UAV phase reported
+  std::map<uint32_t, std::map<uint32_t, TileCoord>> positions_;  // tick -> uav -> tile
+  std::map<uint32_t, std::set<uint32_t>> broadcasters_;   // tick -> UAVs that broadcast
   std::map<RegionId, uint32_t> deposits_reported_;        // current tick's UAV phase
   std::map<RegionId, uint32_t> states_reported_;          // current tick's UAV phase: states per home region
   std::map<uint32_t, Clock::time_point> departed_since_;  // departed UAVs

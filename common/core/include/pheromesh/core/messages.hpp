@@ -221,11 +221,9 @@ struct PhaseDoneMsg {
   uint32_t process = 0;  // process_key(role, id)
   uint32_t tick = 0;
   uint8_t phase = 0;
-  // UAV phase: what the UAV wrote (broadcasts 0 or 1, deposits per region)
-  // and the tile it is over after its step.
+  // UAV phase: what the UAV wrote (broadcasts 0 or 1, deposits per region).
   uint32_t broadcasts = 0;
   std::vector<RegionCount> deposits;
-  TileCoord tile{};
 };
 
 // The place agent that serves a UAV: it receives the UAV's state and
@@ -291,8 +289,6 @@ std::optional<std::string> check_uav_state(const UavStateMsg& s, const MapGeomet
 // Rings are either both empty (a policy without diffusion) or both the
 // size of the sender's border ring.
 std::optional<std::string> check_halo(const HaloMsg& h, const MapGeometry& geo);
-// A UAV's report of its phase names a tile of the map.
-std::optional<std::string> check_phase_done(const PhaseDoneMsg& m, const MapGeometry& geo);
 
 // A process's received traffic, measured the same way on every transport:
 // the bytes of a message's fields as the core holds them (its fixed part,

@@ -31,11 +31,15 @@ class CoverageTracker {
   std::vector<Cell> disk_offsets_;
 };
 
-// First acquisition tick of each target.
+// First acquisition tick of each target: the earliest tick any detection of
+// it names, whatever order the detections arrive in (two UAVs' detections
+// travel on two DDS writers, and a late-matching reader can get a writer's
+// history after its newer samples).
 class AcquisitionTracker {
  public:
   explicit AcquisitionTracker(std::size_t targets) : first_(targets) {}
-  // Returns true if this is the first acquisition of the target.
+  // Returns true if the target was not found before (a detection of an
+  // earlier tick than the one recorded moves the tick and returns false).
   bool acquire(int32_t target, uint32_t tick);
   void add_target() { first_.emplace_back(); }
   [[nodiscard]] std::size_t size() const { return first_.size(); }
