@@ -1,13 +1,15 @@
 // Overrides (`--set PATH=VALUE`, `--uavs N`, ...): one field of the parsed
 // scenario changed by its textproto path, then validated like the file
 // (core::load_scenario with overrides; the generic setter of
-// common/core/src/field_override.hpp).
+// common/core/src/field_override.hpp; the CLI's flags in
+// cli/scenario_overrides.hpp).
 #include <google/protobuf/descriptor.pb.h>
 #include <google/protobuf/wrappers.pb.h>
 #include <gtest/gtest.h>
 
 #include <string>
 
+#include "../../cli/scenario_overrides.hpp"
 #include "../../common/core/src/field_override.hpp"
 #include "pheromesh/core/scenario.hpp"
 #include "pheromesh/core/scenario_limits.hpp"
@@ -214,6 +216,52 @@ TEST(FieldOverride, AFloatIsSetAndOneBeyondItsRangeIsRefused) {
   const auto big = core::field_override::set_field(f, "value", "1e39", "the message");
   ASSERT_FALSE(big.ok());
   EXPECT_EQ(big.error().message, "'1e39' is out of range (value is float)");
+}
+
+// --- the CLI's flags ---------------------------------------------------------
+
+TEST(OverrideFlags, FieldFlagsAreOverridesOfTheirFieldsAndAreValidatedLikeTheFile) {
+  cli::OverrideFlags f;
+  f.ticks = "0";
+  EXPECT_EQ(error_of(cli::load_overridden(scenario_file("small-test"), f)),
+            "--ticks 0: field 'run.ticks': must be between 1 and 4294967295 (got 0)");
+  f.ticks.reset();
+  f.uavs = "0";
+  EXPECT_EQ(error_of(cli::load_overridden(scenario_file("small-test"), f)),
+            "--uavs 0: field 'swarm.uavs': must be between 1 and 1000 (got 0)");
+  f.uavs = "50";
+  EXPECT_NE(error_of(cli::load_overridden(scenario_file("small-test"), f)).find("fewer than swarm.uavs = 50"),
+            std::string::npos);
+  f.uavs = "3";
+  f.seed = "0";
+  f.standby = true;
+  auto s = cli::load_overridden(scenario_file("small-test"), f);
+  ASSERT_TRUE(s.ok()) << s.error().message;
+  EXPECT_EQ(s->uavs, 3U);
+  EXPECT_EQ(s->seed, 0U);  // as given: 0 no longer means "the scenario's"
+  EXPECT_TRUE(s->standby);
+  EXPECT_EQ(cli::describe_override(s->overrides[0]), "--uavs 3 (swarm.uavs=3)");
+}
+
+TEST(OverrideFlags, AFieldSetByAFlagAndBySetIsRefused) {
+  cli::OverrideFlags f;
+  f.uavs = "3";
+  f.set = {"swarm.uavs=4"};
+  EXPECT_EQ(cli::overrides_of(f).error().message,
+            "--uavs 3 and --set swarm.uavs=4 both set swarm.uavs; give one of them");
+}
+
+TEST(OverrideFlags, DurationBecomesTicksAtTheRateTheOverridesLeave) {
+  cli::OverrideFlags f;
+  f.duration_s = 2.01;
+  auto s = cli::load_overridden(scenario_file("small-test"), f);
+  ASSERT_TRUE(s.ok()) << s.error().message;
+  EXPECT_EQ(s->ticks, 101U);  // ceil(2.01 s x 50 Hz)
+  f.rate = "10";
+  EXPECT_EQ(cli::load_overridden(scenario_file("small-test"), f)->ticks, 21U);
+  f.duration_s = 0;
+  EXPECT_EQ(error_of(cli::load_overridden(scenario_file("small-test"), f)),
+            "--duration 0: must be a number of seconds > 0");
 }
 
 }  // namespace
