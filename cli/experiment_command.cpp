@@ -59,6 +59,21 @@ Outcome run_one(const experiments::Experiment& chosen, const ExperimentOptions& 
   dist.domain = o.domain;
   dist.work_dir = out + "/distributed";
   experiments::set_distributed(dist);
+  auto overrides = overrides_of(o.overrides);
+  if (!overrides) {
+    std::fprintf(stderr, "%s\n", overrides.error().message.c_str());
+    r.status = 2;
+    return r;
+  }
+  for (const auto& ov : overrides.value()) {
+    if (ov.path == "run.seed") {
+      std::fprintf(stderr, "%s: an experiment seeds its runs itself (1, 2, ... --runs); leave run.seed out\n",
+                   ov.source.c_str());
+      r.status = 2;
+      return r;
+    }
+  }
+  experiments::set_overrides(overrides.value());
   const auto t0 = std::chrono::steady_clock::now();
   auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
   try {
@@ -70,6 +85,19 @@ Outcome run_one(const experiments::Experiment& chosen, const ExperimentOptions& 
     return r;
   }
   r.wall_s = elapsed();
+  if (!overrides->empty()) {
+    if (experiments::overridden_loads() == 0) {
+      std::fprintf(stderr,
+                   "experiment %s builds its scenarios in code and reads no scenario file: %s cannot change "
+                   "them\n",
+                   chosen.name.c_str(), core::describe_overrides(overrides.value()).c_str());
+      r.status = 2;
+      return r;
+    }
+    r.report.setup +=
+        " Overrides applied to every scenario file it read: `" + core::describe_overrides(overrides.value()) + "`.";
+    std::printf("%s: overrides %s\n", chosen.name.c_str(), core::describe_overrides(overrides.value()).c_str());
+  }
   std::string error;
   if (!experiments::write_report(r.report, out, r.wall_s, error)) {
     std::fprintf(stderr, "%s\n", error.c_str());

@@ -2,6 +2,8 @@
 #include <cstdint>
 #include <string>
 
+#include "scenario_overrides.hpp"
+
 namespace pheromesh::cli {
 
 struct ExperimentOptions {
@@ -15,6 +17,9 @@ struct ExperimentOptions {
   bool distributed = false;
   std::string dds = "cyclone";
   uint32_t domain = 0;
+  // --set: applied to every scenario file the experiment reads (not run.seed,
+  // which the experiment sets per run).
+  OverrideFlags overrides;
 };
 
 // `pheromesh experiment`: list, or run one experiment and write its report.

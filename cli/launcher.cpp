@@ -19,7 +19,6 @@
 #include "pheromesh/bus/security.hpp"
 #include "pheromesh/core/atomic_file.hpp"
 #include "pheromesh/core/scenario.hpp"
-#include "pheromesh/core/scenario_limits.hpp"
 #include "pheromesh/runtime/process.hpp"
 #include "pheromesh/runtime/report.hpp"
 #include "supervisor.hpp"
@@ -63,17 +62,6 @@ void raise_fd_limit() {
 bool takes_flag(const std::string& exe, const std::string& flag) {
   const ToolResult r = run_tool({exe, "--help"});
   return r.output.find(flag) != std::string::npos;
-}
-
-// --uavs and --standby change what the scenario asks of the machine.
-std::optional<Refusal> check_limits(const RunOptions& o, const core::ScenarioConfig& s) {
-  core::ScenarioConfig asked = s;
-  asked.uavs = run_size(o, s).uavs;
-  asked.standby = o.standby || s.standby;
-  auto limits = core::ScenarioLimits::from_environment();
-  auto ok = limits ? core::check_limits(asked, limits.value(), o.scenario) : core::Result<bool>(limits.error());
-  if (!ok) return Refusal{2, "the swarm asked for exceeds a limit:\n" + ok.error().message};
-  return std::nullopt;
 }
 
 std::optional<Refusal> check_executables(const std::string& bin_dir) {
@@ -134,7 +122,6 @@ std::optional<std::string> check_hosts(const RunPlan& plan) {
 
 // The checks and the plan, in the order their errors are reported.
 std::variant<RunPlan, Refusal> plan_run(const RunOptions& o, const core::ScenarioConfig& s) {
-  if (auto refused = check_limits(o, s)) return *refused;
   auto dds = parse_dds_plan(o.dds, bus::available_vendors());
   if (!dds) return Refusal{2, dds.error().message};
   const std::string bin_dir = executable_dir();
@@ -223,11 +210,12 @@ std::string executable_dir() {
 
 int Launcher::run() {
   raise_fd_limit();
-  auto scenario = core::load_scenario(o_.scenario);
+  auto scenario = load_overridden(o_.scenario, o_.overrides);
   if (!scenario) {
     spdlog::error("invalid scenario:\n{}", scenario.error().message);
     return 2;
   }
+  for (const auto& o : scenario->overrides) spdlog::info("override: {}", describe_override(o));
   auto planned = plan_run(o_, scenario.value());
   if (const auto* refused = std::get_if<Refusal>(&planned)) {
     spdlog::error("{}", refused->message);
@@ -236,6 +224,13 @@ int Launcher::run() {
   const RunPlan& plan = std::get<RunPlan>(planned);
   fs::create_directories(fs::path(plan.options.out_dir) / "logs");
   fs::remove(fs::path(plan.options.out_dir) / "metrics.json");
+  if (plan.process_scenario != o_.scenario) {
+    // The processes read the scenario as changed by the overrides.
+    if (auto w = core::write_file_atomically(plan.process_scenario, scenario->source_text); !w) {
+      spdlog::error("{}", w.error().message);
+      return 5;
+    }
+  }
   announce(plan, scenario.value());
   runtime::install_shutdown_handlers();
   Supervisor supervisor(plan);

@@ -21,7 +21,8 @@ class Launcher {
   // Returns the process exit code: 0 if the run completed and no process died
   // that was not killed on purpose; 1 if one did (or metrics.json is
   // missing); 2 for a scenario, options or fault schedule that cannot run;
-  // 3 if a program is missing; 130 if interrupted.
+  // 3 if a program is missing; 5 if the overridden scenario cannot be written
+  // for the processes; 130 if interrupted.
   int run();
 
  private:

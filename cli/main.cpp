@@ -10,16 +10,17 @@
 #include "bench_lockstep.hpp"
 #include "bench_scale.hpp"
 #include "bench_soak.hpp"
-#include "scenario_paths.hpp"
 #include "experiment_command.hpp"
 #include "launcher.hpp"
-#include "security_command.hpp"
 #include "pheromesh/auth/control.hpp"
 #include "pheromesh/bus/bus.hpp"
 #include "pheromesh/core/scenario.hpp"
 #include "pheromesh/core/scenario_limits.hpp"
 #include "pheromesh/runtime/process.hpp"
 #include "replay_command.hpp"
+#include "scenario_overrides.hpp"
+#include "scenario_paths.hpp"
+#include "security_command.hpp"
 #include "sim_command.hpp"
 
 namespace {
@@ -83,14 +84,14 @@ void print_faults(const pheromesh::core::FaultSchedule& f) {
   for (const auto& e : f.events) std::printf("              %s\n", e.text.c_str());
 }
 
-int validate(const std::string& path) {
+int validate(const std::string& path, const pheromesh::cli::OverrideFlags& overrides) {
   auto env_limits = pheromesh::core::ScenarioLimits::from_environment();
   if (!env_limits) {
     std::fprintf(stderr, "%s\n", env_limits.error().message.c_str());
     return 2;
   }
   const pheromesh::core::ScenarioLimits limits = env_limits.value();
-  auto s = pheromesh::core::load_scenario(path, limits);
+  auto s = pheromesh::cli::load_overridden(path, overrides);
   if (!s) {
     std::fprintf(stderr, "%s\n", s.error().message.c_str());
     return 2;
@@ -102,6 +103,7 @@ int validate(const std::string& path) {
               path.c_str(), s->name.c_str(), s->width, s->height, geo.tiles_x(), geo.tiles_y(), s->tile_size,
               geo.region_count(), s->regions_x, s->regions_y, s->obstacles.size(), s->targets.size(), s->uavs, s->ticks,
               s->tick_rate_hz, static_cast<unsigned long long>(s->seed), s->aco.revisit_period);
+  std::printf("%s", pheromesh::cli::overrides_summary(s.value()).c_str());
   print_faults(s->faults);
   // The figures the limits are checked against (scenario_limits.hpp).
   const auto cost = pheromesh::core::estimate_cost(s.value());
@@ -144,6 +146,13 @@ int main(int argc, char** argv) {
   v->add_option("SCENARIO", validate_path, cli::kScenarioArgHelp)
       ->required()
       ->transform(CLI::Validator(cli::resolve_scenario_argument, "FILE|NAME"));
+  cli::OverrideFlags validate_overrides;
+  cli::add_override_options(*v, validate_overrides,
+                            {cli::FieldFlag::Uavs, cli::FieldFlag::Ticks, cli::FieldFlag::Seed, cli::FieldFlag::Rate});
+  v->footer(std::string(cli::kSetFooter) + R"(
+Examples:
+  pheromesh validate small-test
+  pheromesh validate small-test --set swarm.uavs=8 --set shao.aco.alpha=2    prints the overrides it applied)");
 
   cli::RunOptions ro;
   ro.dds = bus::default_vendor();
@@ -153,11 +162,11 @@ int main(int argc, char** argv) {
   r->add_option("SCENARIO", ro.scenario, cli::kScenarioArgHelp)
       ->required()
       ->transform(CLI::Validator(cli::resolve_scenario_argument, "FILE|NAME"));
-  r->add_option("--uavs", ro.uavs, "Number of UAV processes (default: the scenario's swarm.uavs)");
-  auto* ticks = r->add_option("--ticks", ro.ticks, "Ticks each UAV flies (default: the scenario's run.ticks)");
-  r->add_option("--duration", ro.duration_s, "Seconds to fly instead of --ticks [s]")->excludes(ticks);
-  r->add_option("--seed", ro.seed, "Run seed (default: the scenario's run.seed)");
-  r->add_option("--rate", ro.rate_hz, "Tick rate of every process [Hz] (default: the scenario's run.tick_rate_hz)");
+  auto* ticks = cli::add_override_options(
+      *r, ro.overrides, {cli::FieldFlag::Uavs, cli::FieldFlag::Ticks, cli::FieldFlag::Seed, cli::FieldFlag::Rate});
+  r->add_option("--duration", ro.overrides.duration_s,
+                "Seconds to fly instead of --ticks [s]: --set run.ticks=ceil(S x the run's tick rate)")
+      ->excludes(ticks);
   r->add_option("--out", ro.out_dir, "Output folder (metrics.json, logs/), relative to the current directory")
       ->capture_default_str();
   r->add_option("--faults", ro.faults_spec,
@@ -170,17 +179,19 @@ int main(int argc, char** argv) {
                 "Network faults (partition, loss): the IPv4 subnet of the processes' addresses in their namespaces "
                 "(private to this run: nothing of it reaches the host's network)")
       ->capture_default_str();
-  r->footer(kRunFooter);
+  r->footer(std::string(kRunFooter) + "\n" + cli::kSetFooter +
+            "  pheromesh run small-test --set shao.aco.alpha=2 --uavs 6 --duration 20   the overrides are logged,\n"
+            "                                          and every process reads OUT/scenario.textproto\n");
   r->add_option("--dds", ro.dds,
                 "DDS vendor of the processes: cyclone, fastdds, or mixed (ground on cyclone; place agents "
                 "cyclone/fastdds alternating by index, UAVs fastdds/cyclone), or per role, e.g. "
                 "ground=fastdds,place=cyclone,uav=mixed [env PHEROMESH_DDS]")
       ->capture_default_str();
-  r->add_flag("--standby", ro.standby,
+  r->add_flag("--standby", ro.overrides.standby,
               "Run a hot-standby replica of every place agent (place-R.r1): it receives every deposit and keeps the "
               "same field; the primary's output wins through DDS exclusive ownership, and when the primary dies or "
-              "stops the standby's takes over within about a liveliness lease (docs/faults.md). Also the scenario's "
-              "run.standby");
+              "stops the standby's takes over within about a liveliness lease (docs/faults.md). Stands for --set "
+              "run.standby=true");
   r->add_option("--dds-profile", ro.dds_profile,
                 "DDS profile: onehost (loopback, multicast discovery), onehost-unicast, lan (several hosts, multicast "
                 "discovery), lan-unicast (several hosts, --dds-peers), default (vendor defaults) or vendor config "
@@ -246,15 +257,19 @@ int main(int argc, char** argv) {
   sim->add_option("SCENARIO", so.scenario, cli::kScenarioArgHelp)
       ->required()
       ->transform(CLI::Validator(cli::resolve_scenario_argument, "FILE|NAME"));
-  sim->add_option("--seed", so.seed, "Run seed (default: the scenario's run.seed)");
-  sim->add_option("--ticks", so.ticks, "Ticks to simulate (default: the scenario's run.ticks)");
-  sim->add_option("--uavs", so.uavs, "Number of UAVs (default: the scenario's swarm.uavs)");
+  cli::add_override_options(*sim, so.overrides, {cli::FieldFlag::Seed, cli::FieldFlag::Ticks, cli::FieldFlag::Uavs});
   sim->add_option("--out", so.out_dir, "Output folder, relative to the current directory")->capture_default_str();
   sim->add_flag("--quiet", so.quiet, "No progress lines");
   sim->add_option("--faults", so.faults,
                   "Fault schedule timed in ticks, e.g. \"kill uav:3 @40t; kill place:1 @60t\" (docs/faults.md); "
                   "stop, partition and loss do not change simulated numbers");
-  sim->add_flag("--standby", so.standby, "Every place agent has a standby that takes over when it is killed");
+  sim->add_flag("--standby", so.overrides.standby,
+                "Every place agent has a standby that takes over when it is killed; stands for --set "
+                "run.standby=true");
+  sim->footer(std::string(cli::kSetFooter) + R"(
+Examples:
+  pheromesh sim small-test --ticks 100 --out out/sim
+  pheromesh sim small-test --set shao.aco.alpha=2 --set swarm.uavs=8 --seed 3)");
 
   cli::ExperimentOptions eo;
   auto* ex = app.add_subcommand("experiment", "Run one of the papers' experiments as Monte Carlo with the simulator and "
@@ -273,12 +288,18 @@ int main(int argc, char** argv) {
   ex->add_option("--dds", eo.dds, "With --distributed: the vendor(s) of the processes (cyclone, fastdds, mixed)")
       ->capture_default_str();
   ex->add_option("--domain", eo.domain, "With --distributed: the DDS domain of the processes (0: the launcher's)");
+  cli::add_override_options(*ex, eo.overrides, {});
   ex->footer(R"(Examples:
   pheromesh experiment --list                       every experiment and our verdict on the paper's claims
   pheromesh experiment shao-50x50 --runs 30         Monte Carlo in the simulator, report in out/experiments/shao-50x50
   pheromesh experiment shao-50x50 --runs 3 --distributed --dds mixed
                                                     the same runs flown by real processes, checked against the simulator
-  pheromesh experiment --all                        every experiment; out/experiments/summary.md sums them up)");
+  pheromesh experiment --all                        every experiment; out/experiments/summary.md sums them up
+  pheromesh experiment shao-50x50 --runs 10 --set shao.aco.alpha=2
+                                                    every scenario the experiment reads, changed (the report
+                                                    names the overrides; run.seed is the experiment's)
+
+)" + std::string(cli::kSetFooter));
 
   cli::ReplayOptions rpo;
   auto* rp = app.add_subcommand("replay", "Serve the web console from a recording (OUT/console.phrec of `run --http`), "
@@ -438,7 +459,7 @@ int main(int argc, char** argv) {
   logger->set_level(spdlog::level::from_str(log_level));
   spdlog::set_default_logger(logger);
 
-  if (v->parsed()) return validate(validate_path);
+  if (v->parsed()) return validate(validate_path, validate_overrides);
   if (key->parsed()) {
     std::printf("%s\n", auth::random_control_key_hex().c_str());
     return 0;

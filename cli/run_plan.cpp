@@ -41,7 +41,7 @@ std::vector<std::string> common_args(const RunPlan& p, const PlannedProcess& c, 
     args.emplace_back(name);
     args.push_back(std::move(value));
   };
-  flag("--scenario", o.scenario);
+  flag("--scenario", p.process_scenario);
   flag("--dds", c.dds);
   flag("--dds-profile", o.dds_profile);
   flag("--domain", std::to_string(o.domain));
@@ -50,9 +50,6 @@ std::vector<std::string> common_args(const RunPlan& p, const PlannedProcess& c, 
   flag("--lease-ms", std::to_string(o.lease_ms));
   if (!o.dds_peers.empty()) flag("--dds-peers", o.dds_peers);
   if (!o.secure.empty()) flag("--secure", o.secure);
-  if (o.uavs > 0) flag("--uavs", std::to_string(o.uavs));
-  if (o.seed > 0) flag("--seed", std::to_string(o.seed));
-  if (o.rate_hz > 0) flag("--rate", std::to_string(o.rate_hz));
   const bool standby = p.standby != Standby::Off;
   if (standby) args.emplace_back("--standby");
   // Fast DDS 2.9 keeps an instance with its dead owner (docs/faults.md):
@@ -273,23 +270,21 @@ std::vector<std::string> RunPlan::identities() const {
   return names;
 }
 
-RunSize run_size(const RunOptions& o, const core::ScenarioConfig& s) {
+RunSize run_size(const core::ScenarioConfig& s) {
   RunSize n;
-  n.rate_hz = o.rate_hz > 0 ? o.rate_hz : s.tick_rate_hz;
-  n.ticks = o.duration_s > 0 ? static_cast<uint32_t>(std::ceil(o.duration_s * n.rate_hz))
-            : o.ticks > 0    ? o.ticks
-                             : s.ticks;
-  n.uavs = o.uavs > 0 ? o.uavs : s.uavs;
+  n.rate_hz = s.tick_rate_hz;
+  n.ticks = s.ticks;
+  n.uavs = s.uavs;
   n.regions = s.geometry().region_count();
   return n;
 }
 
 core::Result<RunPlan> make_run_plan(const RunOptions& o, const core::ScenarioConfig& s, const DdsPlan& dds,
                                     const std::string& bin_dir) {
-  const RunSize n = run_size(o, s);
+  const RunSize n = run_size(s);
   RunPlan p;
   p.options = o;
-  if (o.duration_s > 0) p.options.ticks = n.ticks;
+  p.process_scenario = s.overrides.empty() ? o.scenario : (fs::path(o.out_dir) / kOverriddenScenarioFile).string();
   p.dds = dds;
   p.bin_dir = bin_dir;
   p.share = {o.hosts, o.host_index, o.ground_host};
@@ -298,7 +293,7 @@ core::Result<RunPlan> make_run_plan(const RunOptions& o, const core::ScenarioCon
   p.uavs = n.uavs;
   p.regions = n.regions;
   p.rate_hz = n.rate_hz;
-  p.standby = o.standby || s.standby ? Standby::FromStart : Standby::Off;
+  p.standby = s.standby ? Standby::FromStart : Standby::Off;
   auto schedule = merged_faults(o, s, n);
   if (!schedule) return schedule.error();
   if (!schedule->empty()) {

@@ -16,16 +16,16 @@
 #include "pheromesh/core/faults.hpp"
 #include "pheromesh/core/result.hpp"
 #include "pheromesh/core/scenario.hpp"
+#include "scenario_overrides.hpp"
 
 namespace pheromesh::cli {
 
 struct RunOptions {
   std::string scenario;
-  uint32_t uavs = 0;      // 0: the scenario's
-  uint32_t ticks = 0;     // 0: the scenario's (or from duration)
-  double duration_s = 0;  // alternative to ticks [s]
-  uint64_t seed = 0;      // 0: the scenario's
-  double rate_hz = 0;     // 0: the scenario's
+  // --set, --uavs, --ticks, --duration, --seed, --rate, --standby: applied
+  // to the scenario when it is loaded (load_overridden), so the plan takes
+  // the swarm's size, length, rate and standbys from the scenario alone.
+  OverrideFlags overrides;
   std::string out_dir = "out/run";
   std::string faults_spec;                    // --faults: the fault schedule (docs/faults.md), added to the scenario's
   std::string kill_spec;                      // --kill: the older form of --faults ("uav:3@5s,place:1@2500ms")
@@ -47,7 +47,6 @@ struct RunOptions {
   std::string clock = "realtime";  // realtime | lockstep
   uint32_t lease_ms = 1000;        // liveliness lease of every process [ms]
   bool discovery_server = false;   // Fast DDS only: discover through a fast-discovery-server the launcher starts
-  bool standby = false;            // a hot-standby replica of every place agent (also the scenario's run.standby)
   double start_rate = 50;  // UAV processes started per second when the swarm exceeds 64 processes (0: all at once)
   // Web console of the ground station (docs/console.md).
   std::optional<uint16_t> http_port;
@@ -136,10 +135,18 @@ struct PlanNote {
   std::string text;
 };
 
+// The scenario file the processes of a run with overrides read: the changed
+// scenario, written by the launcher into the output folder (docs/scenario-format.md).
+inline constexpr const char* kOverriddenScenarioFile = "scenario.textproto";
+
 struct RunPlan {
-  // As given, with what the plan settles: --ticks from --duration, the DDS
-  // profile of network faults (netns).
+  // As given, with what the plan settles: the DDS profile of network faults
+  // (netns).
   RunOptions options;
+  // The scenario file every process gets: the one given, or with overrides
+  // OUT/scenario.textproto, which the launcher writes from the scenario's
+  // source_text before starting any.
+  std::string process_scenario;
   DdsPlan dds;
   std::string bin_dir;  // where pheromesh-uav, -place and -ground are
   HostShare share;
@@ -180,14 +187,14 @@ struct RunPlan {
   [[nodiscard]] std::vector<std::string> identities() const;
 };
 
-// The run's length and swarm from the options over the scenario's.
+// The run's length and swarm: the scenario's, overrides applied.
 struct RunSize {
   uint32_t ticks = 0;
   uint32_t uavs = 0;
   uint32_t regions = 0;
   double rate_hz = 0;  // [Hz]
 };
-RunSize run_size(const RunOptions& o, const core::ScenarioConfig& s);
+RunSize run_size(const core::ScenarioConfig& s);
 
 // The plan, or why the fault schedule (--faults, --kill, the scenario's)
 // cannot run in this swarm.

@@ -27,15 +27,13 @@ core::FaultSchedule scenario_faults(const Scenario& s) {
 }  // namespace
 
 int run_sim(const SimOptions& o) {
-  auto loaded = core::load_scenario(o.scenario);
+  auto loaded = load_overridden(o.scenario, o.overrides);
   if (!loaded) {
     spdlog::error("invalid scenario:\n{}", loaded.error().message);
     return 2;
   }
   core::ScenarioConfig s = std::move(loaded).value();
-  if (o.seed > 0) s.seed = o.seed;
-  if (o.ticks > 0) s.ticks = o.ticks;
-  if (o.uavs > 0) s.uavs = o.uavs;
+  if (!s.overrides.empty()) spdlog::info("overrides: {}", core::describe_overrides(s.overrides));
   core::FaultSchedule faults = scenario_faults(s);
   if (!o.faults.empty()) {
     auto parsed = core::parse_fault_schedule(o.faults, "--faults");
@@ -54,7 +52,7 @@ int simulate(const core::ScenarioConfig& s, const core::FaultSchedule& faults, c
 
   core::Simulator sim(s);
   if (!faults.empty()) {
-    auto notes = sim.set_faults(faults, o.standby);
+    auto notes = sim.set_faults(faults, s.standby);
     if (!notes) {
       spdlog::error("faults: {}", notes.error().message);
       return 2;
@@ -68,8 +66,8 @@ int simulate(const core::ScenarioConfig& s, const core::FaultSchedule& faults, c
         spdlog::info("faults: region {} frozen from tick {} (its deposits and those of its home UAVs are lost)", r, k);
       }
     }
-  } else if (o.standby) {
-    spdlog::info("faults: --standby without a fault schedule changes nothing");
+  } else if (s.standby) {
+    spdlog::info("faults: standbys (--standby, run.standby) without a fault schedule change nothing");
   }
   const auto t0 = std::chrono::steady_clock::now();
   uint32_t next_report = s.ticks / 10;

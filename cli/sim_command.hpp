@@ -4,18 +4,18 @@
 
 #include "pheromesh/core/faults.hpp"
 #include "pheromesh/core/scenario.hpp"
+#include "scenario_overrides.hpp"
 
 namespace pheromesh::cli {
 
 struct SimOptions {
   std::string scenario;
-  uint64_t seed = 0;    // 0: the scenario's
-  uint32_t ticks = 0;   // 0: the scenario's
-  uint32_t uavs = 0;    // 0: the scenario's
+  // --set, --seed, --ticks, --uavs, --standby (run.standby: a standby takes
+  // over every killed place agent, as in `run`).
+  OverrideFlags overrides;
   std::string out_dir = "out/sim";
   bool quiet = false;
-  std::string faults;    // fault schedule in ticks (core::parse_fault_schedule); "" = none
-  bool standby = false;  // a standby takes over every killed place agent
+  std::string faults;  // fault schedule in ticks (core::parse_fault_schedule); "" = none
 };
 
 // `pheromesh sim`: the whole swarm in this process (core::Simulator), same

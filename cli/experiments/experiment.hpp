@@ -10,6 +10,8 @@
 #include <string>
 #include <vector>
 
+#include "pheromesh/core/scenario.hpp"
+
 namespace pheromesh::cli::experiments {
 
 // Called as runs complete, for the progress bar.
@@ -101,6 +103,16 @@ struct Experiment {
   // computed from its runs.
   std::string verdict{};
 };
+
+// The overrides of `pheromesh experiment --set`: applied to every scenario
+// file an experiment reads through load_shipped(); set by the command before
+// it runs an experiment (which then counts the files read with them).
+void set_overrides(core::ScenarioOverrides overrides);
+// Scenario files read with the overrides since set_overrides().
+uint32_t overridden_loads();
+// A shipped scenario file by name (shipped_scenario), with the overrides
+// applied and validated like the file.
+core::Result<core::ScenarioConfig> load_shipped(const std::string& file);
 
 // Runs a scenario file of scenarios/ through the in-process simulator (the
 // same code and schedule as `pheromesh run --clock lockstep`) for seeds

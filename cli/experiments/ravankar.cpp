@@ -263,7 +263,7 @@ CorridorRun fly_corridor(const core::ScenarioConfig& s, bool check) {
 }
 
 Report run_corridor(uint32_t runs, const Progress& progress) {
-  auto loaded = core::load_scenario(shipped_scenario("ravankar2016-corridor.textproto"));
+  auto loaded = load_shipped("ravankar2016-corridor.textproto");
   if (!loaded) throw std::runtime_error(loaded.error().message);
   const core::ScenarioConfig paper = loaded.value();
   auto patched = core::patch_scenario(

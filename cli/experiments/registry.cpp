@@ -8,9 +8,26 @@
 
 namespace pheromesh::cli::experiments {
 
+namespace {
+core::ScenarioOverrides g_overrides;
+uint32_t g_overridden_loads = 0;
+}  // namespace
+
+void set_overrides(core::ScenarioOverrides overrides) {
+  g_overrides = std::move(overrides);
+  g_overridden_loads = 0;
+}
+
+uint32_t overridden_loads() { return g_overridden_loads; }
+
+core::Result<core::ScenarioConfig> load_shipped(const std::string& file) {
+  if (!g_overrides.empty()) ++g_overridden_loads;
+  return core::load_scenario(shipped_scenario(file), g_overrides);
+}
+
 std::vector<std::map<std::string, double>> simulate_scenario(const std::string& file, uint32_t runs,
                                                              const std::string& patch, const std::string& name) {
-  auto loaded = core::load_scenario(shipped_scenario(file));
+  auto loaded = load_shipped(file);
   if (!loaded) throw std::runtime_error(loaded.error().message);
   if (!patch.empty()) {
     loaded = core::patch_scenario(loaded.value(), patch, name.empty() ? file + " + " + patch : name);

@@ -27,8 +27,6 @@ namespace {
 
 using core::Cell;
 
-std::string scenario_path(const std::string& file) { return shipped_scenario(file); }
-
 std::string fmt(double v, int digits = 3) {
   if (!std::isfinite(v)) return "–";
   char b[48];
@@ -181,7 +179,7 @@ SweepResult sweep(const core::ScenarioConfig& base, const std::string& factor, c
 }
 
 Report run_family(const FamilySpec& f, uint32_t runs, const Progress& progress) {
-  auto loaded = core::load_scenario(scenario_path(f.file));
+  auto loaded = load_shipped(f.file);
   if (!loaded) throw std::runtime_error(loaded.error().message);
   const core::ScenarioConfig base = loaded.value();
   // Named apart, so the --distributed checks say which policy each run flew.

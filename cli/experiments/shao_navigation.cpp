@@ -147,7 +147,7 @@ core::ScenarioConfig patched(const core::ScenarioConfig& base, const std::string
 }
 
 core::ScenarioConfig load(const std::string& file) {
-  auto loaded = core::load_scenario(shipped_scenario(file));
+  auto loaded = load_shipped(file);
   if (!loaded) throw std::runtime_error(loaded.error().message);
   return loaded.value();
 }

@@ -144,7 +144,7 @@ std::string verdict(const std::map<Key, Cell>& cells, uint32_t kill_tick) {
 
 Report run_robustness_experiment(uint32_t runs, const Progress& progress) {
   const std::string file = "shao2020-50x50.textproto";
-  auto loaded = core::load_scenario(shipped_scenario(file));
+  auto loaded = load_shipped(file);
   if (!loaded) throw std::runtime_error(loaded.error().message);
   const core::ScenarioConfig base = loaded.value();
   const uint32_t horizon = base.ticks;

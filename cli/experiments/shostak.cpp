@@ -272,7 +272,7 @@ SwarmFlight fly_swarm(const core::ScenarioConfig& s, double radius_m, bool check
 }
 
 Report run_swarm(uint32_t runs, const Progress& progress) {
-  auto loaded = core::load_scenario(shipped_scenario("shostak-40x40.textproto"));
+  auto loaded = load_shipped("shostak-40x40.textproto");
   if (!loaded) throw std::runtime_error(loaded.error().message);
   const core::ScenarioConfig paper = loaded.value();
   auto patched = core::patch_scenario(

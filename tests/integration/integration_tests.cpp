@@ -393,6 +393,48 @@ TEST(Cli, AScenarioNameThatIsNotUtf8IsRefusedNamingItsLine) {
   EXPECT_FALSE(fs::exists(out + "/metrics.json"));
 }
 
+// Issue 26, overrides: a value given on the command line is validated like
+// the file (no flag value is silently replaced), and --set changes the run.
+// The simulator only, a few dozen ticks: seconds.
+TEST(Cli, SimRefusesZeroTicksOrUavsAndAnImpossibleSwarmAndSetChangesTheRun) {
+  const std::string out = out_dir("overrides");
+  const std::string sim = kBin + "/pheromesh sim " + kSrc + "/scenarios/small-test.textproto --quiet";
+  const std::pair<std::string, std::string> refused[] = {
+      {" --ticks 0", "--ticks 0: field 'run.ticks': must be between 1 and 4294967295 (got 0)"},
+      {" --uavs 0", "--uavs 0: field 'swarm.uavs': must be between 1 and 1000 (got 0)"},
+      {" --uavs 50", "field 'swarm.start_area': has 16 free (non-obstacle) cells, fewer than swarm.uavs = 50"},
+      {" --set swarm.uav=2", "--set swarm.uav=2: 'uav' is not a field of swarm (Swarm); its fields: uavs, start_area"},
+      {" --set swarm.uavs=two", "--set swarm.uavs=two: 'two' is not an integer (swarm.uavs is int32)"},
+  };
+  for (const auto& [args, message] : refused) {
+    const Output o = run(sim + args + " --out " + out + "/refused");
+    EXPECT_EQ(o.exit_code, 2) << args << "\n" << o.text;
+    EXPECT_NE(o.text.find(message), std::string::npos) << args << "\n" << o.text;
+  }
+  EXPECT_FALSE(fs::exists(out + "/refused/metrics.json"));
+
+  const Output plain = run(sim + " --ticks 40 --out " + out + "/plain");
+  ASSERT_EQ(plain.exit_code, 0) << plain.text;
+  const Output two = run(sim + " --ticks 40 --set swarm.uavs=2 --set shao.aco.alpha=2 --out " + out + "/two");
+  ASSERT_EQ(two.exit_code, 0) << two.text;
+  EXPECT_NE(two.text.find("overrides: --ticks 40, --set swarm.uavs=2, --set shao.aco.alpha=2"), std::string::npos)
+      << two.text;
+  const json a = read_metrics(out + "/plain");
+  const json b = read_metrics(out + "/two");
+  EXPECT_EQ(a["ticks"], 40);
+  EXPECT_EQ(b["ticks"], 40);
+  EXPECT_EQ(a["uavs"], 4);
+  EXPECT_EQ(b["uavs"], 2);
+
+  const Output v = run(kBin + "/pheromesh validate small-test --set swarm.uavs=8 --uavs 8");
+  EXPECT_EQ(v.exit_code, 2) << v.text;
+  EXPECT_NE(v.text.find("--uavs 8 and --set swarm.uavs=8 both set swarm.uavs"), std::string::npos) << v.text;
+  const Output ok = run(kBin + "/pheromesh validate small-test --set swarm.uavs=8");
+  EXPECT_EQ(ok.exit_code, 0) << ok.text;
+  EXPECT_NE(ok.text.find("  uavs        8\n"), std::string::npos) << ok.text;
+  EXPECT_NE(ok.text.find("  overrides   --set swarm.uavs=8\n"), std::string::npos) << ok.text;
+}
+
 TEST(Cli, MalformedKillSpecIsRejectedBeforeAnythingStarts) {
   const std::string out = out_dir("bad-kill");
   for (const char* spec : {"uav:1", "uav:x@1s", "tank:1@1s", "uav:1@5", "uav:99@1s"}) {

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "../../cli/run_plan.hpp"
+#include "../../cli/scenario_overrides.hpp"
 #include "pheromesh/core/scenario.hpp"
 
 namespace pheromesh::cli {
@@ -42,10 +43,22 @@ DdsPlan dds(const std::string& spec) {
   return d.value();
 }
 
-RunPlan plan_of(const RunOptions& o, const std::string& vendors = "cyclone") {
-  auto p = make_run_plan(o, small_test(), dds(vendors), kBin);
+RunPlan plan_of(const RunOptions& o, const core::ScenarioConfig& s, const std::string& vendors = "cyclone") {
+  auto p = make_run_plan(o, s, dds(vendors), kBin);
   EXPECT_TRUE(p.ok()) << p.error().message;
   return p.value();
+}
+
+RunPlan plan_of(const RunOptions& o, const std::string& vendors = "cyclone") {
+  return plan_of(o, small_test(), vendors);
+}
+
+// small-test with another swarm size (the plan takes the scenario as
+// validated: the overrides were applied when it was loaded).
+core::ScenarioConfig small_test_with(uint32_t uavs) {
+  core::ScenarioConfig s = small_test();
+  s.uavs = uavs;
+  return s;
 }
 
 std::string plan_error(const RunOptions& o) {
@@ -84,10 +97,10 @@ std::string value_of(const PlannedProcess& c, const std::string& flag) {
 
 TEST(RunPlan, AFourRegionTenUavLockstepRunStartsTheGroundStationFourPlaceAgentsAndTenUavsInThatOrder) {
   RunOptions o = options();
-  o.uavs = 10;
-  o.ticks = 50;
   o.clock = "lockstep";
-  const RunPlan p = plan_of(o);
+  core::ScenarioConfig s = small_test_with(10);
+  s.ticks = 50;
+  const RunPlan p = plan_of(o, s);
   EXPECT_EQ(names(p),
             (std::vector<std::string>{"ground", "place-0", "place-1", "place-2", "place-3", "uav-0", "uav-1", "uav-2",
                                       "uav-3", "uav-4", "uav-5", "uav-6", "uav-7", "uav-8", "uav-9"}));
@@ -110,20 +123,18 @@ TEST(RunPlan, AFourRegionTenUavLockstepRunStartsTheGroundStationFourPlaceAgentsA
                     "--lease-ms",
                     "1000"};
   Args ground = common;
-  ground.insert(ground.end(),
-                {"--uavs", "10", "--out", "out/run", "--progress", "1.000000", "--ticks", "50", "--expect-uavs", "10"});
+  ground.insert(ground.end(), {"--out", "out/run", "--progress", "1.000000", "--ticks", "50", "--expect-uavs", "10"});
   EXPECT_EQ(process(p, "ground").argv, ground);
-  EXPECT_EQ(tail_after_lease(process(p, "place-2")), (Args{"--uavs", "10", "--region", "2", "--ticks", "50"}));
-  EXPECT_EQ(tail_after_lease(process(p, "uav-7")), (Args{"--uavs", "10", "--id", "7", "--ticks", "50"}));
+  EXPECT_EQ(tail_after_lease(process(p, "place-2")), (Args{"--region", "2", "--ticks", "50"}));
+  EXPECT_EQ(tail_after_lease(process(p, "uav-7")), (Args{"--id", "7", "--ticks", "50"}));
   EXPECT_EQ(process(p, "uav-7").executable(), kBin + "/pheromesh-uav");
   EXPECT_EQ(process(p, "place-2").executable(), kBin + "/pheromesh-place");
 }
 
 TEST(RunPlan, ParticipantIdsLogFilesAndStandardErrorFollowTheStartOrder) {
   RunOptions o = options();
-  o.uavs = 10;
   o.out_dir = "/tmp/r";
-  const RunPlan p = plan_of(o);
+  const RunPlan p = plan_of(o, small_test_with(10));
   for (uint32_t i = 0; i < p.processes.size(); ++i) EXPECT_EQ(p.processes[i].participant_id, i) << p.processes[i].name;
   const PlannedProcess& uav7 = process(p, "uav-7");
   EXPECT_EQ(uav7.env, (Args{"PHEROMESH_PARTICIPANT_ID=12"}));  // ground 0, place agents 1..4, uav-0 5
@@ -137,21 +148,38 @@ TEST(RunPlan, OptionsGivenArePassedOnAndOptionsLeftOutAreNot) {
   RunOptions o = options();
   const Args bare = tail_after_lease(process(plan_of(o), "uav-1"));
   EXPECT_EQ(bare, (Args{"--id", "1", "--ticks", "300"}));
-  o.seed = 7;
-  o.rate_hz = 10;
   o.dds_peers = "a,b";
   o.secure = "/etc/phm";
   o.domain = 9;
   const PlannedProcess uav = process(plan_of(o), "uav-1");
-  EXPECT_EQ(tail_after_lease(uav), (Args{"--dds-peers", "a,b", "--secure", "/etc/phm", "--seed", "7", "--rate",
-                                         "10.000000", "--id", "1", "--ticks", "300"}));
+  EXPECT_EQ(tail_after_lease(uav), (Args{"--dds-peers", "a,b", "--secure", "/etc/phm", "--id", "1", "--ticks", "300"}));
   EXPECT_EQ(value_of(uav, "--domain"), "9");
+}
+
+TEST(RunPlan, WithOverridesEveryProcessReadsTheChangedScenarioFromTheOutputFolder) {
+  RunOptions o = options();
+  o.out_dir = "/tmp/r";
+  EXPECT_EQ(plan_of(o).process_scenario, small_test_path());
+  o.overrides.seed = "7";
+  o.overrides.rate = "10";
+  auto s = load_overridden(small_test_path(), o.overrides);
+  ASSERT_TRUE(s.ok()) << s.error().message;
+  const RunPlan p = plan_of(o, s.value());
+  EXPECT_EQ(p.process_scenario, "/tmp/r/scenario.textproto");
+  EXPECT_EQ(p.rate_hz, 10.0);
+  for (const auto& c : p.processes) {
+    EXPECT_EQ(value_of(c, "--scenario"), "/tmp/r/scenario.textproto") << c.name;
+    // The seed and the rate are in that file, not in flags.
+    EXPECT_FALSE(has(c, "--seed")) << c.name;
+    EXPECT_FALSE(has(c, "--rate")) << c.name;
+  }
 }
 
 TEST(RunPlan, StandbyStartsAReplicaOfEveryRegionAfterThePrimariesAndEveryProcessTakesStandby) {
   RunOptions o = options();
-  o.standby = true;
-  const RunPlan p = plan_of(o);
+  core::ScenarioConfig standby = small_test();
+  standby.standby = true;  // --standby: --set run.standby=true
+  const RunPlan p = plan_of(o, standby);
   EXPECT_EQ(p.standby, Standby::FromStart);
   EXPECT_EQ(names(p),
             (std::vector<std::string>{"ground", "place-0", "place-1", "place-2", "place-3", "place-0.r1", "place-1.r1",
@@ -163,7 +191,7 @@ TEST(RunPlan, StandbyStartsAReplicaOfEveryRegionAfterThePrimariesAndEveryProcess
     // Exclusive ownership in an all-Cyclone swarm.
     EXPECT_FALSE(has(c, "--shared-ownership")) << c.name;
   }
-  const RunPlan fast = plan_of(o, "fastdds");
+  const RunPlan fast = plan_of(o, standby, "fastdds");
   for (const auto& c : fast.processes) EXPECT_TRUE(has(c, "--shared-ownership")) << c.name;
 }
 
@@ -178,8 +206,9 @@ TEST(RunPlan, TheScenariosStandbyStartsReplicasLikeTheFlag) {
 
 TEST(RunPlan, AMixedVendorRunAlternatesPlaceAgentsFromCycloneAndUavsFromFastDds) {
   RunOptions o = options();
-  o.standby = true;
-  const RunPlan p = plan_of(o, "mixed");
+  core::ScenarioConfig standby = small_test();
+  standby.standby = true;
+  const RunPlan p = plan_of(o, standby, "mixed");
   const std::vector<std::pair<std::string, std::string>> expected{
       {"ground", "cyclone"},  {"place-0", "cyclone"},    {"place-1", "fastdds"},    {"place-2", "cyclone"},
       {"place-3", "fastdds"}, {"place-0.r1", "cyclone"}, {"place-1.r1", "fastdds"}, {"uav-0", "fastdds"},
@@ -194,13 +223,13 @@ TEST(RunPlan, AMixedVendorRunAlternatesPlaceAgentsFromCycloneAndUavsFromFastDds)
 
 TEST(RunPlan, AHostOfAMultiHostSwarmStartsOnlyItsShare) {
   RunOptions o = options();
-  o.uavs = 10;
-  o.standby = true;
+  core::ScenarioConfig s = small_test_with(10);
+  s.standby = true;
   o.hosts = 3;
   o.host_index = 1;
   o.ground_host = 0;
   o.dds_profile = "lan";
-  const RunPlan p = plan_of(o);
+  const RunPlan p = plan_of(o, s);
   // Place agent R replica N on host (R + N) % 3, UAV U on host U % 3.
   EXPECT_EQ(names(p), (std::vector<std::string>{"place-1", "place-0.r1", "place-3.r1", "uav-1", "uav-4", "uav-7"}));
   EXPECT_EQ(p.processes.front().participant_id, 0U);
@@ -212,7 +241,7 @@ TEST(RunPlan, AHostOfAMultiHostSwarmStartsOnlyItsShare) {
   EXPECT_EQ(p.stop_early[2].grace, seconds(15));
 
   o.host_index = 0;
-  const RunPlan ground_host = plan_of(o);
+  const RunPlan ground_host = plan_of(o, s);
   EXPECT_EQ(ground_host.processes.front().name, "ground");
   EXPECT_TRUE(has(ground_host.processes.front(), "--until-done"));
   // The ground station; place-0, place-3; place-2.r1; uav-0, 3, 6, 9.
@@ -256,9 +285,10 @@ TEST(RunPlan, RealtimeDeadlinesComeFromTicksRateAndTheNumberOfProcesses) {
   EXPECT_EQ(p.stop_final[1].role, "ground");
 
   RunOptions slow = options();
-  slow.rate_hz = 10;
   slow.lease_ms = 2000;
-  const RunPlan q = plan_of(slow);
+  core::ScenarioConfig slow_scenario = small_test();
+  slow_scenario.tick_rate_hz = 10;
+  const RunPlan q = plan_of(slow, slow_scenario);
   EXPECT_EQ(q.deadlines.uavs_end, milliseconds(60000 + 45000 + 9 * 200));
   EXPECT_EQ(q.deadlines.resource_sample, milliseconds(18000));
   EXPECT_EQ(q.deadlines.conductor_grace, milliseconds(12000 + 15000));
@@ -273,28 +303,29 @@ TEST(RunPlan, ALockstepRunHasAYearForItsUavsTheConductorBoundsIt) {
 
 TEST(RunPlan, DurationBecomesTicksAtTheRunsRate) {
   RunOptions o = options();
-  o.duration_s = 2.01;
-  const RunPlan p = plan_of(o);
+  o.overrides.duration_s = 2.01;
+  auto s = load_overridden(small_test_path(), o.overrides);
+  ASSERT_TRUE(s.ok()) << s.error().message;
+  const RunPlan p = plan_of(o, s.value());
   EXPECT_EQ(p.ticks, 101U);  // ceil(2.01 s x 50 Hz)
-  EXPECT_EQ(p.options.ticks, 101U);
   EXPECT_EQ(value_of(process(p, "uav-0"), "--ticks"), "101");
   EXPECT_EQ(value_of(process(p, "ground"), "--ticks"), "101");
 }
 
 TEST(RunPlan, MoreThanSixtyFourProcessesStartTheUavsInBatchesAtTheStartRate) {
   RunOptions o = options();
-  o.uavs = 59;  // 1 + 4 + 59 = 64: all at once
-  EXPECT_FALSE(plan_of(o).stagger.has_value());
-  o.uavs = 60;
-  const auto s = plan_of(o).stagger;
+  // 1 + 4 + 59 = 64: all at once
+  EXPECT_FALSE(plan_of(o, small_test_with(59)).stagger.has_value());
+  const core::ScenarioConfig sixty = small_test_with(60);
+  const auto s = plan_of(o, sixty).stagger;
   ASSERT_TRUE(s.has_value());
   EXPECT_EQ(s->batch, 5U);  // a tenth of a second of 50 per second
   EXPECT_EQ(s->pause, milliseconds(100));
   o.start_rate = 7;
-  EXPECT_EQ(plan_of(o).stagger->batch, 1U);
-  EXPECT_EQ(plan_of(o).stagger->pause, milliseconds(142));
+  EXPECT_EQ(plan_of(o, sixty).stagger->batch, 1U);
+  EXPECT_EQ(plan_of(o, sixty).stagger->pause, milliseconds(142));
   o.start_rate = 0;
-  EXPECT_FALSE(plan_of(o).stagger.has_value());
+  EXPECT_FALSE(plan_of(o, sixty).stagger.has_value());
 }
 
 TEST(RunPlan, LockstepFaultsGiveTheGroundStationTheControlLineAndTheirTicks) {

@@ -25,6 +25,7 @@
 #include <system_error>
 #include <utility>
 
+#include "field_override.hpp"
 #include "pheromesh/core/scenario_limits.hpp"
 #include "scenario_internal.hpp"
 
@@ -455,6 +456,28 @@ Result<ScenarioConfig> parse_scenario(std::string_view text, const std::string& 
 
 Result<ScenarioConfig> parse_scenario(std::string_view text, const std::string& display_name,
                                       const ScenarioLimits& limits) {
+  return parse_scenario(text, display_name, limits, {});
+}
+
+namespace {
+
+// The text of an overridden scenario: what `pheromesh run` hands its
+// processes and `patch_scenario` starts from.
+std::string overridden_text(pb::Scenario msg, const ScenarioConfig& cfg, const std::string& display_name,
+                            const ScenarioOverrides& overrides) {
+  // A file without `name:` is named after itself: keep that name when the
+  // text moves to another file (OUT/scenario.textproto).
+  if (!msg.has_name()) msg.set_name(cfg.name);
+  std::string text = "# " + display_name + " with " + describe_overrides(overrides) + "\n";
+  std::string body;
+  TextFormat::PrintToString(msg, &body);
+  return text + body;
+}
+
+}  // namespace
+
+Result<ScenarioConfig> parse_scenario(std::string_view text, const std::string& display_name,
+                                      const ScenarioLimits& limits, const ScenarioOverrides& overrides) {
   pb::Scenario msg;
   TextFormat::ParseInfoTree tree;
   CollectingErrorCollector collector(display_name);
@@ -470,15 +493,54 @@ Result<ScenarioConfig> parse_scenario(std::string_view text, const std::string& 
     if (out.empty()) out = display_name + ": cannot parse scenario";
     return Error{out};
   }
+  // The overrides change the parsed message; the positions of what they did
+  // not change are still the file's (the ParseInfoTree of its text).
+  std::string not_applied;
+  std::vector<std::pair<std::string, std::string>> overridden;
+  const auto policy_of = [](const pb::Scenario& m) {
+    const auto k = m.policy().kind_case();
+    return k == pb::Policy::KIND_NOT_SET ? pb::Policy::kShaoSearch : k;
+  };
+  const auto policy_name_of = [](pb::Policy::KindCase k) {
+    return pb::Policy::descriptor()->FindFieldByNumber(static_cast<int>(k))->name();
+  };
+  const auto policy_before = policy_of(msg);
+  for (const auto& o : overrides) {
+    auto set = field_override::set_field(msg, o.path, o.value, "the scenario");
+    if (!set) {
+      not_applied += (not_applied.empty() ? "" : "\n") + o.source + ": " + set.error().message;
+      continue;
+    }
+    // The field setter refuses a second member of the oneof; a file without
+    // a policy runs the Shao search, which an override must not switch either.
+    if (const auto now = policy_of(msg); now != policy_before) {
+      return Error{o.source + ": the scenario's policy is " + policy_name_of(policy_before) +
+                   " (the file chooses none: the default); an override does not switch the policy to " +
+                   policy_name_of(now) + " (change it in the file)"};
+    }
+    overridden.emplace_back(std::move(set).value(), o.source);
+  }
+  if (!not_applied.empty()) return Error{not_applied};
   Validator v(display_name);
+  v.name_overrides(std::move(overridden));
+  // Errors at a line of the file may come from an overridden value (a start
+  // area too small for --uavs): say which overrides the scenario had.
+  const auto failed = [&] {
+    std::string out = v.joined();
+    if (!overrides.empty() && v.any_not_by_override()) {
+      out += "\n(" + display_name + " as changed by " + describe_overrides(overrides) + ")";
+    }
+    return Error{out};
+  };
   const scenario_detail::Node root(pb::Scenario::descriptor(), &tree, scenario_detail::Loc{1, 1}, "");
   scenario_detail::check_utf8(msg, root, v);
   // The checks below quote strings of the scenario in their messages: not
   // with bytes that are not UTF-8.
-  if (!v.empty()) return Error{v.joined()};
+  if (!v.empty()) return failed();
   ScenarioConfig cfg = build(msg, tree, display_name, limits, v);
-  if (!v.empty()) return Error{v.joined()};
-  cfg.source_text = std::string(text);
+  if (!v.empty()) return failed();
+  cfg.source_text = overrides.empty() ? std::string(text) : overridden_text(msg, cfg, display_name, overrides);
+  cfg.overrides = overrides;
   return cfg;
 }
 
@@ -497,18 +559,27 @@ Result<ScenarioConfig> patch_scenario(const ScenarioConfig& base, std::string_vi
   }
   std::string text;
   TextFormat::PrintToString(msg, &text);
-  auto res = parse_scenario(text, display_name);
+  auto limits = ScenarioLimits::from_environment();
+  if (!limits) return Error{display_name + ": " + limits.error().message};
+  auto res = parse_scenario(text, display_name, limits.value(), base.overrides);
   if (res) res->source_path = base.source_path;
   return res;
 }
 
-Result<ScenarioConfig> load_scenario(const std::string& path) {
+Result<ScenarioConfig> load_scenario(const std::string& path) { return load_scenario(path, ScenarioOverrides{}); }
+
+Result<ScenarioConfig> load_scenario(const std::string& path, const ScenarioOverrides& overrides) {
   auto limits = ScenarioLimits::from_environment();
   if (!limits) return Error{path + ": " + limits.error().message};
-  return load_scenario(path, limits.value());
+  return load_scenario(path, limits.value(), overrides);
 }
 
 Result<ScenarioConfig> load_scenario(const std::string& path, const ScenarioLimits& limits) {
+  return load_scenario(path, limits, {});
+}
+
+Result<ScenarioConfig> load_scenario(const std::string& path, const ScenarioLimits& limits,
+                                     const ScenarioOverrides& overrides) {
   const auto fail = [&path](int err) {
     return Error{path + ": cannot read file: " + std::error_code(err, std::generic_category()).message()};
   };
@@ -519,9 +590,26 @@ Result<ScenarioConfig> load_scenario(const std::string& path, const ScenarioLimi
   std::size_t n = 0;
   while ((n = std::fread(buf, 1, sizeof buf, f.get())) > 0) text.append(buf, n);
   if (std::ferror(f.get()) != 0) return fail(errno != 0 ? errno : EIO);
-  auto res = parse_scenario(text, path, limits);
+  auto res = parse_scenario(text, path, limits, overrides);
   if (res) res->source_path = path;
   return res;
+}
+
+Result<ScenarioOverride> parse_override(std::string_view arg, std::string_view flag) {
+  const std::size_t eq = arg.find('=');
+  if (eq == std::string_view::npos || eq == 0) {
+    return Error{std::string(flag) + " " + std::string(arg) +
+                 ": expected PATH=VALUE, a field path of the scenario and its value, e.g. " + std::string(flag) +
+                 " swarm.uavs=20 or " + std::string(flag) + " shao.aco.alpha=2"};
+  }
+  return ScenarioOverride{std::string(arg.substr(0, eq)), std::string(arg.substr(eq + 1)),
+                          std::string(flag) + " " + std::string(arg)};
+}
+
+std::string describe_overrides(const ScenarioOverrides& overrides) {
+  std::string s;
+  for (const auto& o : overrides) s += (s.empty() ? "" : ", ") + o.source;
+  return s;
 }
 
 Cell start_cell(const ScenarioConfig& s, uint32_t id) {

@@ -13,6 +13,7 @@
 #include <limits>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "pheromesh/core/scenario.hpp"
@@ -121,7 +122,21 @@ class Validator {
  public:
   explicit Validator(const std::string& display_name) : display_name_(display_name) {}
 
+  // Fields set by overrides (path, source such as "--set swarm.uavs=0"): an
+  // error about one names the override, not a line of the file.
+  void name_overrides(std::vector<std::pair<std::string, std::string>> overridden) {
+    overridden_ = std::move(overridden);
+  }
+
   void fail_at(Loc loc, const std::string& path, const std::string& what) {
+    // The last override of a field is the one in effect.
+    for (auto it = overridden_.rbegin(); it != overridden_.rend(); ++it) {
+      if (it->first == path) {
+        issues_.push_back({Loc{0, 0}, it->second + ": field '" + path + "': " + what});
+        ++by_override_;
+        return;
+      }
+    }
     issues_.push_back({loc, prefix(display_name_, loc) + "field '" + path + "': " + what});
   }
   void fail(const Node& n, const char* field, const std::string& what, int index = -1) {
@@ -154,6 +169,8 @@ class Validator {
   }
 
   [[nodiscard]] bool empty() const { return issues_.empty(); }
+  // Whether an error is about a field no override set (its line is the file's).
+  [[nodiscard]] bool any_not_by_override() const { return issues_.size() > by_override_; }
   [[nodiscard]] std::string joined() {
     std::stable_sort(issues_.begin(), issues_.end(), [](const Issue& a, const Issue& b) {
       return a.loc.line != b.loc.line ? a.loc.line < b.loc.line : a.loc.col < b.loc.col;
@@ -173,6 +190,8 @@ class Validator {
   };
   const std::string& display_name_;
   std::vector<Issue> issues_;
+  std::vector<std::pair<std::string, std::string>> overridden_;
+  std::size_t by_override_ = 0;
 };
 
 // Map side lengths once they are known to be valid.

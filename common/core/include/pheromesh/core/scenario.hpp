@@ -39,6 +39,25 @@ struct PolicyConfig {
   PolicyConfig& operator=(PolicyConfig&&) = default;
 };
 
+// One change to a scenario's fields given on the command line (`--set
+// PATH=VALUE`, or a flag that stands for one such as `--uavs 20`), applied to
+// the parsed message before validation, so that the changed scenario is
+// validated exactly like a file; errors about the field it sets name
+// `source` instead of a line of the file.
+struct ScenarioOverride {
+  std::string path;    // textproto field path into the Scenario message: "swarm.uavs", "map.targets[2].x"
+  std::string value;   // as typed: "20", "true", "frontier"
+  std::string source;  // how the user gave it, for messages: "--set swarm.uavs=20", "--uavs 20"
+};
+using ScenarioOverrides = std::vector<ScenarioOverride>;
+
+// "PATH=VALUE" as given to `flag` (--set): split at the first '='; an error
+// names the flag and shows the form. The path is checked when applied.
+Result<ScenarioOverride> parse_override(std::string_view arg, std::string_view flag = "--set");
+
+// "--set a=1, --uavs 4": the sources, for messages and reports.
+std::string describe_overrides(const ScenarioOverrides& overrides);
+
 struct ScenarioConfig {
   std::string name;
   std::string source_path;  // file it was loaded from ("" for text)
@@ -47,6 +66,10 @@ struct ScenarioConfig {
   // real processes (`pheromesh experiment --distributed`) changes the text
   // (patch_scenario) and parses it again.
   std::string source_text;
+  // The overrides applied to the file's text, in order (source_text is then
+  // the changed message printed in text format, headed by a comment naming
+  // the file and the overrides).
+  ScenarioOverrides overrides;
   // map
   int32_t width = 0, height = 0;  // [cell]
   int32_t tile_size = 10;         // [cell], 4..32 (a tile fits one DDS sample)
@@ -94,12 +117,17 @@ struct ScenarioConfig {
 Result<ScenarioConfig> load_scenario(const std::string& path);
 // `display_name` is used in error messages in place of a path.
 Result<ScenarioConfig> parse_scenario(std::string_view text, const std::string& display_name);
+// The file with `overrides` applied in order (a later one of the same field
+// wins), then validated as a file is; the limits from the environment.
+Result<ScenarioConfig> load_scenario(const std::string& path, const ScenarioOverrides& overrides);
 
 // `base`'s text with `patch` (textproto of the same Scenario message) merged
 // in: scalars of the patch replace the base's, messages merge field by field,
 // repeated fields are appended (`map { obstacles {...} }` adds an obstacle).
 // Returns the merged text, parsed again (so it is validated like a file;
-// errors name `display_name`), with source_path kept.
+// errors name `display_name`), with source_path kept. `base`'s overrides are
+// applied again after the patch: what the user set on the command line wins
+// over what a program patches.
 Result<ScenarioConfig> patch_scenario(const ScenarioConfig& base, std::string_view patch, const std::string& display_name);
 
 // Start cell of UAV `id` (0-based): deterministic for the scenario (free cells

@@ -71,6 +71,12 @@ Result<bool> check_limits(const ScenarioConfig& s, const ScenarioLimits& limits,
 Result<ScenarioConfig> parse_scenario(std::string_view text, const std::string& display_name,
                                       const ScenarioLimits& limits);
 Result<ScenarioConfig> load_scenario(const std::string& path, const ScenarioLimits& limits);
+// With overrides (scenario.hpp, ScenarioOverride): applied to the parsed
+// message, then validated as the file is.
+Result<ScenarioConfig> parse_scenario(std::string_view text, const std::string& display_name,
+                                      const ScenarioLimits& limits, const ScenarioOverrides& overrides);
+Result<ScenarioConfig> load_scenario(const std::string& path, const ScenarioLimits& limits,
+                                     const ScenarioOverrides& overrides);
 
 // Whether `s` is well-formed UTF-8 (no overlong forms, surrogates or code
 // points above U+10FFFF); on failure `bad_offset` is the first bad byte.
