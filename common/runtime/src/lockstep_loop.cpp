@@ -14,9 +14,10 @@ bool take_clock(bus::Bus& bus, core::LockstepFollower& follower, SampleAudit& au
                 std::vector<core::ClockMsg>* accepted) {
   std::vector<core::ClockMsg> taken;
   bus.take_clock(taken);
-  // The first clock sample names the conductor: on an open domain anyone can
-  // write a clock (a forged Stop would end the run), but no one can write
-  // through another process's DDS writer.
+  // The first clock samples name their writers (a place agent's: the
+  // conductor; a UAV's: the place agents that relay it the clock): on an
+  // open domain anyone can write a clock (a forged Stop would end the run),
+  // but no one can write through another process's DDS writer.
   for (const auto& c : follower.offer(taken, Clock::now(), accepted)) {
     audit.refuse(core::Refusal::ForeignClock,
                  fmt::format("a clock sample of tick {} phase {} from another writer", c.tick, c.phase));
