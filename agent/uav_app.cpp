@@ -124,7 +124,7 @@ void UavApp::switch_gateway(core::RegionId gateway, uint32_t tick) {
   // Lockstep: the backup waits for exactly this UAV's state and deposits;
   // write them once its readers match (the re-sender covers the rest).
   const auto deadline = Clock::now() + std::chrono::milliseconds(static_cast<int64_t>(cfg_.wait_for_places_s * 1000));
-  while ((bus_->matched_deposit_readers(gateway) < 1 || bus_->matched_state_readers() < 2) && Clock::now() < deadline &&
+  while ((bus_->matched_deposit_readers(gateway) < 1 || bus_->matched_state_readers() < 1) && Clock::now() < deadline &&
          !runtime::shutdown_requested()) {
     std::this_thread::sleep_for(std::chrono::milliseconds(5));
   }
@@ -162,15 +162,15 @@ int UavApp::run_realtime(uint32_t ticks) {
 
 void UavApp::report_ready_once() {
   // Before tick 0: Ready once this UAV's home place agent reads its deposits,
-  // state and reports (and the ground station its state); the conductor
-  // starts tick 0 when every process is ready.
+  // state and reports (it relays the state to the ground station); the
+  // conductor starts tick 0 when every process is ready.
   if (ready_ || follower_.last_done() || bus_->matched_deposit_readers(home_) < 1 ||
-      bus_->matched_state_readers() < 2 || bus_->matched_report_readers() < 1)
+      bus_->matched_state_readers() < 1 || bus_->matched_report_readers() < 1)
     return;
   resend_.phase_done(
       {core::process_key(core::kRoleUav, cfg_.id), 0, static_cast<uint8_t>(core::ClockPhase::Ready), 0, {}});
   ready_ = true;
-  log_->debug("matched home place agent {} and the ground station: ready", home_);
+  log_->debug("matched home place agent {}: ready", home_);
 }
 
 void UavApp::run_uav_phase(const core::ClockMsg& c, uint32_t ticks) {
@@ -228,16 +228,17 @@ int UavApp::run_lockstep(uint32_t ticks) {
 
 int UavApp::run() {
   const uint32_t ticks = scenario_.ticks;
-  // Every endpoint this UAV flies with, created once: state, deposits and
-  // view through its home place agent, broadcasts, commands (and the clock).
+  // Every endpoint this UAV flies with, created once: state, deposits,
+  // detections, broadcasts and reports up to its home place agent, its view
+  // from it; the swarm's broadcasts, the ground station's commands (and the
+  // lockstep clock) as its home and its backup relay them. It talks to no
+  // one else (docs/architecture.md, "Relays").
+  const std::array<core::RegionId, 2> gateways{home_, core::backup_region(cfg_.id, geo_.region_count())};
   bus_->join_uav(cfg_.id, home_, core::policy_traits(scenario_).broadcasts);
+  bus_->join_gateways(gateways);
   bus_->subscribe_broadcasts();
   commands_ = std::make_unique<runtime::SwarmCommands>(*bus_, log_);
-  if (cfg_.common.lockstep()) {
-    // The lockstep tree: the clock as its home and its backup relay it.
-    const std::array<core::RegionId, 2> gateways{home_, core::backup_region(cfg_.id, geo_.region_count())};
-    bus_->join_clock_tree(gateways);
-  }
+  if (cfg_.common.lockstep()) bus_->join_clock_tree(gateways);
   if (cfg_.seq_base > 0) core_.set_first_seq(cfg_.seq_base);
   if (!cfg_.common.lockstep()) wait_for_home();  // lockstep: the conductor waits for every process's Ready
   log_->info("uav {} ({}) starts at ({},{}) for {} ticks, {} clock, home place agent {}, over {}", cfg_.id,

@@ -134,10 +134,14 @@ int PlaceApp::run_realtime() {
   uint32_t tick = 0;
   while (!runtime::shutdown_requested() && !commands_->ended() && (cfg_.max_ticks == 0 || tick < cfg_.max_ticks)) {
     runtime::note_tick_start(gaps_, *log_, tick);
-    commands_->take();
+    relay_uplinks();  // the commands among them
     // Paused from the console: no evaporation, no diffusion, deposits wait
     // in the reader; health still goes out.
-    if (!commands_->paused()) step(tick++, std::nullopt);
+    if (!commands_->paused()) {
+      step(tick++, std::nullopt);
+    } else {
+      take_home_states(tick);  // the ground station still hears the UAVs
+    }
     // The ground station starts the UAVs once every region's place agent is
     // linked: its health says so at once, not at the next half second.
     const bool just_linked = !linked_ && note_linked();
@@ -153,6 +157,7 @@ int PlaceApp::run_realtime() {
   // the ground station.
   last_tick_ = true;
   step(tick, std::nullopt);
+  relay_uplinks();
   finish(tick);
   return 0;
 }
@@ -234,7 +239,15 @@ void PlaceApp::keep_tree() {
   std::vector<core::ClockMsg> accepted;
   runtime::take_clock(*bus_, follower_, audit_, &accepted);
   for (const auto& c : accepted) relay_clock(c);
-  relay_reports();
+  relay_uplinks();
+}
+
+void PlaceApp::relay_idle() {
+  // Between phases: the states of the UAV phase under way go to the ground
+  // station now (its conductor waits for them), and are this place agent's
+  // for the place phase that follows.
+  take_home_states(current_tick_);
+  relay_uplinks();
 }
 
 int PlaceApp::run_lockstep() {
@@ -247,7 +260,7 @@ int PlaceApp::run_lockstep() {
                              cfg_.common.lease_ms,
                              [&] {
                                report_ready_once();
-                               relay_reports();
+                               relay_idle();
                              },
                              [&](const core::ClockMsg& c) { return run_place_phase(c); }};
   loop.relay = [&](const core::ClockMsg& c) { relay_clock(c); };
@@ -271,7 +284,7 @@ int PlaceApp::run_lockstep() {
   // process's writers alive (manual-by-topic liveliness), so the ground
   // station does not report it lost meanwhile.
   while (!runtime::shutdown_requested() && !commands_->ended()) {
-    commands_->take();
+    relay_idle();  // the UAVs' last states and departures, the commands among them
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
   inbox_.clear();
@@ -290,6 +303,7 @@ int PlaceApp::run() {
   bus_->subscribe_deposits(cfg_.region);
   bus_->subscribe_home_states(cfg_.region);
   if (cfg_.common.lockstep()) bus_->subscribe_uav_reports(cfg_.region);  // the lockstep tree
+  bus_->subscribe_uplinks(cfg_.region);  // relays between its UAVs and the swarm
   bus_->subscribe_place_exchange(cfg_.region);
   bus_->subscribe_halos(core_.neighbours(), cfg_.region);
   bus_->offer_deposits(other_regions_);

@@ -114,6 +114,14 @@ class PlaceApp {
   void relay_clock(const core::ClockMsg& c);
   void relay_reports();
   void keep_tree();
+  // Relays (docs/architecture.md, "Relays"): its UAVs' reports, detections
+  // and broadcasts up, the swarm's broadcasts and the ground station's
+  // commands down (their states and departures go up in take_home_states).
+  // Realtime: once a tick; lockstep: in every wait, with keep_tree.
+  void relay_uplinks();
+  // Lockstep, between phases and after the Stop: also takes (and relays) the
+  // states of the UAVs it serves.
+  void relay_idle();
 
   PlaceConfig cfg_;
   core::ScenarioConfig scenario_;
@@ -145,7 +153,10 @@ class PlaceApp {
   bool ready_ = false;           // lockstep: Ready reported (or tick 0 began without it)
   bool linked_ = false;          // note_linked()
   std::vector<core::PhaseDoneMsg> reports_;  // relay_reports' inbox
-  uint64_t clocks_relayed_ = 0, reports_relayed_ = 0;
+  uint64_t clocks_relayed_ = 0, reports_relayed_ = 0, states_relayed_ = 0;
+  std::vector<uint32_t> departed_;
+  std::vector<core::DetectionMsg> detections_up_;
+  std::vector<core::BroadcastMsg> broadcasts_;
   uint32_t current_tick_ = 0;
   std::optional<TickDemand> demand_;       // the tick under way's (lockstep)
   std::map<uint32_t, uint32_t> heard_at_;  // home UAV -> place tick of its newest state

@@ -62,13 +62,17 @@ void PlaceApp::take_home_states(uint32_t tick) {
   bus_->take_uav_states(state_inbox_);
   const uint32_t ceiling = tick_ceiling();
   for (const auto& st : state_inbox_) {
+    if (st.departed) {
+      audit_.drop(fmt::format("a state of uav {} that says it departed (only a place agent says so)", st.uav));
+      continue;
+    }
     const bool known = !core::check_uav_id(st.uav, scenario_.uavs);
     if (known && core::home_region(st.uav, geo_.region_count()) != cfg_.region) {
       // A UAV whose backup this region is: realtime, it judged its home dead
       // and came here; lockstep, only once the clock lists its home absent
       // (note_absent adopted it). Anyone else's: a stray writer.
       if (core::backup_region(st.uav, geo_.region_count()) != cfg_.region) continue;
-      if (!demand_) adopt(st.uav, nullptr);
+      if (!cfg_.common.lockstep()) adopt(st.uav, nullptr);
       if (!adopted_.contains(st.uav)) continue;
     }
     const core::UavStateMsg* before = views_.state(st.uav);
@@ -76,7 +80,57 @@ void PlaceApp::take_home_states(uint32_t tick) {
     if (!audit_.admit(core::check_home_state(st, before, start, traits_.max_step, ceiling, rules_))) continue;
     if (before == nullptr || st.tick > before->tick) heard_at_[st.uav] = tick;
     views_.update_state(st);
+    // The ground station hears the UAVs through their gateways (relays).
+    bus_->relay_state(st);
+    ++states_relayed_;
   }
+  departed_.clear();
+  bus_->take_departed_uavs(departed_);
+  for (uint32_t u : departed_) {
+    if (std::find(gateway_uavs_.begin(), gateway_uavs_.end(), u) == gateway_uavs_.end()) continue;
+    core::UavStateMsg gone;
+    gone.uav = u;
+    if (const core::UavStateMsg* last = views_.state(u)) gone = *last;
+    gone.departed = true;
+    bus_->relay_state(gone);
+    log_->info("uav {} departed (its state writer vanished); told the ground station", u);
+  }
+}
+
+void PlaceApp::relay_uplinks() {
+  relay_reports();
+  // Detections and broadcasts of the UAVs it serves, up; the swarm's
+  // broadcasts (its own UAVs' among them, as it relayed them to "b"), down.
+  detections_up_.clear();
+  bus_->take_uplink_detections(detections_up_);
+  for (const auto& d : detections_up_) {
+    if (core::check_uav_id(d.uav, scenario_.uavs)) {
+      audit_.drop(fmt::format("a detection of unknown uav {}", d.uav));
+      continue;
+    }
+    bus_->relay_detection(d);
+  }
+  broadcasts_.clear();
+  bus_->take_uplink_broadcasts(broadcasts_);
+  for (const auto& b : broadcasts_) {
+    if (core::check_broadcast(b) || core::check_uav_id(b.uav, scenario_.uavs)) {
+      audit_.drop(fmt::format("a malformed broadcast of uav {}", b.uav));
+      continue;
+    }
+    bus_->relay_broadcast_up(b);
+  }
+  broadcasts_.clear();
+  bus_->take_broadcasts(broadcasts_);
+  for (const auto& b : broadcasts_) {
+    if (core::check_broadcast(b) || core::check_uav_id(b.uav, scenario_.uavs)) {
+      audit_.drop(fmt::format("a malformed broadcast of uav {}", b.uav));
+      continue;
+    }
+    bus_->relay_broadcast_down(b);
+  }
+  // The ground station's commands, as this place agent admitted them
+  // (each UAV checks their signatures again).
+  for (const auto& c : commands_->take()) bus_->relay_command(c);
 }
 
 uint32_t PlaceApp::home_states_of(uint32_t tick) const {

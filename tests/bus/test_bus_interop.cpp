@@ -66,6 +66,7 @@ TEST_P(Interop, EveryMessageArrivesIntact) {
   r_->subscribe_phase_done();
   r_->subscribe_uav_reports(3);
   r_->subscribe_commands();
+  r_->subscribe_uplinks(3);  // and a place agent relaying for its UAVs
   w_->offer_deposits(std::vector<core::RegionId>{7});
   const auto deadline = Clock::now() + std::chrono::seconds(15);
   while (w_->matched_deposit_readers(7) == 0 && Clock::now() < deadline) std::this_thread::sleep_for(std::chrono::milliseconds(20));
@@ -107,7 +108,14 @@ TEST_P(Interop, EveryMessageArrivesIntact) {
   const core::UavStateMsg st{5, 12, 1.25, -2.5, 0.125, 3.0, 6, 2, 1234567890123ULL, 99, 1ULL << 40U, 8, {3, 4}, true, 1003, 7};
   w_->join_uav(5, 3);
   ASSERT_TRUE(w_->publish_uav_state(st));
-  // Once to the home place agent's reader ("s.3"), once to the ground's ("s.*").
+  // Once to the home place agent's reader ("s.3"), once relayed to the
+  // ground's ("g", the ground-state topic); then a relayed departure.
+  w_->subscribe_uplinks(3);
+  ASSERT_TRUE(w_->relay_state(st));
+  core::UavStateMsg gone = st;
+  gone.uav = 6;
+  gone.departed = true;
+  ASSERT_TRUE(w_->relay_state(gone));
   const auto states = wait_for<core::UavStateMsg>([&](auto& v) { r_->take_uav_states(v); }, 2);
   ASSERT_EQ(states.size(), 2U);
   const auto expect_state = [](const core::UavStateMsg& s) {
@@ -130,6 +138,16 @@ TEST_P(Interop, EveryMessageArrivesIntact) {
     EXPECT_EQ(s.tick_gaps_over_2, 7U);
   };
   for (const auto& s : states) expect_state(s);
+  std::vector<uint32_t> departed;
+  const auto until = Clock::now() + std::chrono::seconds(10);
+  while (departed.empty() && Clock::now() < until) {
+    std::vector<core::UavStateMsg> more;
+    r_->take_uav_states(more);
+    EXPECT_TRUE(more.empty()) << "a departure is not a state";
+    r_->take_departed_uavs(departed);
+    if (departed.empty()) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  EXPECT_EQ(departed, std::vector<uint32_t>{6});
 
   // A view, to UAV 5 only, and a field chunk: nested tiles and states.
   const core::ViewMsg view{5, 33, {tile, core::TileMsg{1, {3, 5}, 0, 0, 1, 2, {4.5F, -1.0F}}}, {st, st}};
@@ -165,7 +183,12 @@ TEST_P(Interop, EveryMessageArrivesIntact) {
   ASSERT_EQ(fields[0].uavs.size(), 1U);
   expect_state(fields[0].uavs[0]);
 
+  // A UAV's detection, up to its gateway; the gateway's relay, to the ground.
   ASSERT_TRUE(w_->publish_detection({5, 13, 2, {8, -1}}));
+  const auto up = wait_for<core::DetectionMsg>([&](auto& v) { r_->take_uplink_detections(v); });
+  ASSERT_EQ(up.size(), 1U);
+  EXPECT_EQ(up[0].tick, 13U);
+  ASSERT_TRUE(w_->relay_detection(up[0]));
   const auto dets = wait_for<core::DetectionMsg>([&](auto& v) { r_->take_detections(v); });
   ASSERT_EQ(dets.size(), 1U);
   EXPECT_EQ(dets[0].target, 2);
@@ -200,7 +223,11 @@ TEST_P(Interop, EveryMessageArrivesIntact) {
   EXPECT_EQ(halos[0].target, (std::vector<float>{1.0F, 2.0F, 3.0F}));
   EXPECT_EQ(halos[0].obstacle, (std::vector<float>{0.0F, 9.0F}));
 
+  // A UAV's broadcast up to its gateway, the gateway's relay to the swarm.
   ASSERT_TRUE(w_->publish_broadcast({5, 17, 1, {1.5, -2.25, 1e300}}));
+  const auto bup = wait_for<core::BroadcastMsg>([&](auto& v) { r_->take_uplink_broadcasts(v); });
+  ASSERT_EQ(bup.size(), 1U);
+  ASSERT_TRUE(w_->relay_broadcast_up(bup[0]));
   const auto bcs = wait_for<core::BroadcastMsg>([&](auto& v) { r_->take_broadcasts(v); });
   ASSERT_EQ(bcs.size(), 1U);
   EXPECT_EQ(bcs[0].kind, 1);

@@ -10,6 +10,11 @@
 #include "pheromesh/bus/memory.hpp"
 #include "pheromesh/bus/resend.hpp"
 #include "pheromesh/bus/typed.hpp"
+#include "pheromesh/auth/control.hpp"
+#include "pheromesh/runtime/commands.hpp"
+
+#include <spdlog/spdlog.h>
+#include <cstdlib>
 
 namespace pheromesh::bus {
 namespace {
@@ -58,16 +63,17 @@ TEST_F(MemoryBus, ADepositReachesThePlaceAgentOfItsRegionAndNotThatOfAnother) {
   EXPECT_EQ(uav->vendor(), "memory");
 }
 
-TEST_F(MemoryBus, AUavsStateReachesItsHomePlaceAgentAndTheGroundStationThroughTheWildcard) {
+TEST_F(MemoryBus, AUavsStateReachesOnlyItsHomePlaceAgentWhichRelaysItToTheGroundStation) {
   auto uav = make_memory_bus(domain_);
   auto home = make_memory_bus(domain_);
   auto other = make_memory_bus(domain_);
   auto ground = make_memory_bus(domain_);
   home->subscribe_home_states(3);
+  home->subscribe_uplinks(3);
   other->subscribe_home_states(4);
   ground->subscribe_ground();
   uav->join_uav(9, 3);
-  EXPECT_EQ(uav->matched_state_readers(), 2U);  // "s.3" and "s.*"
+  EXPECT_EQ(uav->matched_state_readers(), 1U) << "its home only: the ground station reads the relay";
   ASSERT_TRUE(uav->publish_uav_state(state(9, 11)));
   std::vector<core::UavStateMsg> at_home, at_other, at_ground;
   home->take_uav_states(at_home);
@@ -77,8 +83,12 @@ TEST_F(MemoryBus, AUavsStateReachesItsHomePlaceAgentAndTheGroundStationThroughTh
   EXPECT_EQ(at_home[0].tick, 11U);
   EXPECT_DOUBLE_EQ(at_home[0].x, 2.5);
   EXPECT_TRUE(at_other.empty());
+  EXPECT_TRUE(at_ground.empty());
+  ASSERT_TRUE(home->relay_state(at_home[0]));
+  ground->take_uav_states(at_ground);
   ASSERT_EQ(at_ground.size(), 1U);
   EXPECT_EQ(at_ground[0].uav, 9U);
+  EXPECT_EQ(at_ground[0].tick, 11U);
 }
 
 TEST_F(MemoryBus, AViewReachesOnlyTheUavItIsFor) {
@@ -130,39 +140,137 @@ TEST_F(MemoryBus, EveryDepositIsKeptForAReaderThatTakesLate) {
   for (uint32_t i = 0; i < 5; ++i) EXPECT_EQ(got[i].seq, i + 1);
 }
 
-TEST_F(MemoryBus, TheGroundStationHearsThatAUavAndAPlaceReplicaWhoseBusesEndedDeparted) {
+TEST_F(MemoryBus, TheGroundStationHearsAUavsDepartureFromItsPlaceAgentAndThatOfAPlaceReplicaWhoseBusEnded) {
   auto ground = make_memory_bus(domain_);
   ground->subscribe_ground();
   auto uav = make_memory_bus(domain_);
-  auto place = make_memory_bus(domain_);
+  auto home = make_memory_bus(domain_);
+  auto replica = make_memory_bus(domain_);
+  home->subscribe_home_states(1);
+  home->subscribe_uplinks(1);
   uav->join_uav(12, 1);
   ASSERT_TRUE(uav->publish_uav_state(state(12, 1)));
   core::HealthMsg h;
   h.region = 1;
   h.replica = 1;
-  ASSERT_TRUE(place->publish_health(h));
+  ASSERT_TRUE(replica->publish_health(h));
   std::vector<core::UavStateMsg> states;
   std::vector<core::HealthMsg> health;
   std::vector<uint32_t> uavs_gone, places_gone;
-  ground->take_uav_states(states);
-  ground->take_health(health);
-  ground->take_departed_uavs(uavs_gone);
-  ground->take_departed_regions(places_gone);
-  EXPECT_EQ(states.size(), 1U);
-  EXPECT_EQ(health.size(), 1U);
+  home->take_uav_states(states);
+  home->take_departed_uavs(uavs_gone);
+  ASSERT_EQ(states.size(), 1U);
   EXPECT_TRUE(uavs_gone.empty());
+  ground->take_health(health);
+  ground->take_departed_regions(places_gone);
+  EXPECT_EQ(health.size(), 1U);
   EXPECT_TRUE(places_gone.empty());
+  // The UAV ends: its home sees its writer go and relays the note; the
+  // ground station takes it as a departure, not as a state.
   uav.reset();
-  place.reset();
+  replica.reset();
+  home->take_uav_states(states);
+  home->take_departed_uavs(uavs_gone);
+  ASSERT_EQ(uavs_gone, std::vector<uint32_t>{12});
+  core::UavStateMsg note = states[0];
+  note.departed = true;
+  ASSERT_TRUE(home->relay_state(states[0]));
+  ASSERT_TRUE(home->relay_state(note));
+  states.clear();
+  uavs_gone.clear();
   ground->take_uav_states(states);
   ground->take_health(health);
   ground->take_departed_uavs(uavs_gone);
   ground->take_departed_regions(places_gone);
+  ASSERT_EQ(states.size(), 1U) << "the state before the note";
+  EXPECT_FALSE(states[0].departed);
   EXPECT_EQ(uavs_gone, std::vector<uint32_t>{12});
   EXPECT_EQ(places_gone, std::vector<uint32_t>{core::place_id(1, 1)});
   // Reported once.
   ground->take_departed_uavs(uavs_gone);
   EXPECT_EQ(uavs_gone.size(), 1U);
+}
+
+TEST_F(MemoryBus, PlaceAgentsRelayAUavsDetectionsAndBroadcastsUpAndTheSwarmsBroadcastsAndCommandsDown) {
+  auto ground = make_memory_bus(domain_);
+  auto place1 = make_memory_bus(domain_);
+  auto place2 = make_memory_bus(domain_);
+  auto uav7 = make_memory_bus(domain_);  // home 1, backup 2
+  auto uav8 = make_memory_bus(domain_);  // home 2, backup 3 (no place agent)
+  ground->subscribe_ground();
+  ground->subscribe_broadcasts();
+  place1->subscribe_uplinks(1);
+  place2->subscribe_uplinks(2);
+  place1->subscribe_commands();
+  uav7->join_uav(7, 1, /*broadcasts=*/true);
+  uav7->join_gateways(std::vector<core::RegionId>{1, 2});
+  uav7->subscribe_broadcasts();
+  uav7->subscribe_commands();
+  uav8->join_uav(8, 2, /*broadcasts=*/true);
+  uav8->join_gateways(std::vector<core::RegionId>{2, 3});
+  uav8->subscribe_broadcasts();
+  // Up: a detection reaches its gateway only, which relays it to the ground station.
+  ASSERT_TRUE(uav7->publish_detection({7, 4, 1, {5, 6}}));
+  std::vector<core::DetectionMsg> d_ground, d1, d2;
+  ground->take_detections(d_ground);
+  place2->take_uplink_detections(d2);
+  place1->take_uplink_detections(d1);
+  EXPECT_TRUE(d_ground.empty());
+  EXPECT_TRUE(d2.empty());
+  ASSERT_EQ(d1.size(), 1U);
+  ASSERT_TRUE(place1->relay_detection(d1[0]));
+  ground->take_detections(d_ground);
+  ASSERT_EQ(d_ground.size(), 1U);
+  EXPECT_EQ(d_ground[0].target, 1);
+  // A broadcast: up to its gateway, on to every place agent and the ground,
+  // down to the UAVs each serves. No UAV hears another directly.
+  ASSERT_TRUE(uav7->publish_broadcast({7, 4, 1, {2.0}}));
+  std::vector<core::BroadcastMsg> b8, b_up1, b_up2, b_swarm1, b_swarm2, b_ground;
+  uav8->take_broadcasts(b8);
+  ground->take_broadcasts(b_ground);
+  EXPECT_TRUE(b8.empty());
+  EXPECT_TRUE(b_ground.empty());
+  place1->take_uplink_broadcasts(b_up1);
+  place2->take_uplink_broadcasts(b_up2);
+  ASSERT_EQ(b_up1.size(), 1U);
+  EXPECT_TRUE(b_up2.empty());
+  ASSERT_TRUE(place1->relay_broadcast_up(b_up1[0]));
+  ground->take_broadcasts(b_ground);
+  place1->take_broadcasts(b_swarm1);
+  place2->take_broadcasts(b_swarm2);
+  EXPECT_EQ(b_ground.size(), 1U);
+  EXPECT_EQ(b_swarm1.size(), 1U) << "its own relay too: its UAVs hear each other through it";
+  ASSERT_EQ(b_swarm2.size(), 1U);
+  ASSERT_TRUE(place2->relay_broadcast_down(b_swarm2[0]));
+  uav8->take_broadcasts(b8);
+  ASSERT_EQ(b8.size(), 1U);
+  EXPECT_EQ(b8[0].uav, 7U);
+  EXPECT_EQ(b8[0].values, std::vector<double>{2.0});
+  // Down: the ground station's command reaches the place agents, not the
+  // UAVs; each UAV hears it from both of its gateways.
+  core::CommandMsg c;
+  c.issuer = 1;
+  c.seq = 5;
+  ASSERT_TRUE(ground->publish_command(c));
+  std::vector<core::CommandMsg> at_uav, at_place;
+  uav7->take_commands(at_uav);
+  EXPECT_TRUE(at_uav.empty());
+  place1->take_commands(at_place);
+  ASSERT_EQ(at_place.size(), 1U);
+  ASSERT_TRUE(place1->relay_command(at_place[0]));
+  ASSERT_TRUE(place2->relay_command(at_place[0]));
+  uav7->take_commands(at_uav);
+  ASSERT_EQ(at_uav.size(), 2U);
+  EXPECT_EQ(at_uav[0].seq, 5U);
+  // Its home dead, its detections go to its backup.
+  uav7->move_uplink(2);
+  ASSERT_TRUE(uav7->publish_detection({7, 9, 2, {5, 6}}));
+  d1.clear();
+  place1->take_uplink_detections(d1);
+  place2->take_uplink_detections(d2);
+  EXPECT_TRUE(d1.empty());
+  ASSERT_EQ(d2.size(), 1U);
+  EXPECT_EQ(d2[0].tick, 9U);
 }
 
 TEST_F(MemoryBus, TheLockstepTreeCarriesTheClockDownThroughThePlaceAgentsAndTheReportsUpThroughTheGateway) {
@@ -217,6 +325,41 @@ TEST_F(MemoryBus, TheLockstepTreeCarriesTheClockDownThroughThePlaceAgentsAndTheR
   place2->take_uav_reports(at2);
   EXPECT_TRUE(at1.empty());
   EXPECT_EQ(at2.size(), 1U);
+}
+
+TEST_F(MemoryBus, AUavAdmitsACommandItHearsFromBothGatewaysOnceAndStillRefusesAForgedOne) {
+  const std::string hex = auth::random_control_key_hex();
+  ::setenv(auth::kControlKeyEnv, hex.c_str(), 1);
+  const auto key = auth::parse_control_key(hex).value();
+  auto place1 = make_memory_bus(domain_);
+  auto place2 = make_memory_bus(domain_);
+  auto uav = make_memory_bus(domain_);
+  place1->subscribe_uplinks(1);
+  place2->subscribe_uplinks(2);
+  uav->join_uav(4, 1);
+  uav->join_gateways(std::vector<core::RegionId>{1, 2});
+  runtime::SwarmCommands commands(*uav, spdlog::default_logger());
+  core::CommandMsg pause;
+  pause.issuer = 1;
+  pause.seq = 1;
+  pause.kind = static_cast<uint8_t>(core::CommandKind::Pause);
+  auth::sign(pause, key);
+  ASSERT_TRUE(place1->relay_command(pause));
+  ASSERT_TRUE(place2->relay_command(pause));
+  const auto first = commands.take();
+  ASSERT_EQ(first.size(), 1U);
+  EXPECT_TRUE(commands.paused());
+  EXPECT_EQ(commands.rejected(), 0U) << "the second gateway's copy is no replay";
+  // Later copies (a late relay) are dropped too, uncounted; a forged command
+  // with the same issuer and seq is still refused and counted.
+  ASSERT_TRUE(place2->relay_command(pause));
+  core::CommandMsg forged = pause;
+  forged.kind = static_cast<uint8_t>(core::CommandKind::Resume);
+  ASSERT_TRUE(place1->relay_command(forged));
+  EXPECT_TRUE(commands.take().empty());
+  EXPECT_TRUE(commands.paused());
+  EXPECT_EQ(commands.rejected(), 1U);
+  ::unsetenv(auth::kControlKeyEnv);
 }
 
 TEST_F(MemoryBus, SamplesOverTheIdlBoundsAreRefusedAndCountedBeforeAnyTransportSeesThem) {

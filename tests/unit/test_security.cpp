@@ -43,6 +43,19 @@ TEST(SecurityGrants, AUavWritesOnlyItsOwnStateAndDepositsToItsHomeAndNeverTilesC
   EXPECT_TRUE(allows(g->publish, "pheromesh_phase_done", "d.2"));
   EXPECT_TRUE(allows(g->publish, "pheromesh_phase_done", "d.3"));
   EXPECT_FALSE(allows(g->publish, "pheromesh_phase_done", "c"));
+  // Relays: it writes nothing the ground station or the swarm reads
+  // directly; its detections and broadcasts go up to its gateways, it hears
+  // broadcasts and commands as they relay them.
+  EXPECT_TRUE(allows(g->publish, "pheromesh_detection", "g.2"));
+  EXPECT_TRUE(allows(g->publish, "pheromesh_detection", "g.3"));
+  EXPECT_FALSE(allows(g->publish, "pheromesh_detection", "g"));
+  EXPECT_TRUE(allows(g->publish, "pheromesh_broadcast", "bu.2"));
+  EXPECT_FALSE(allows(g->publish, "pheromesh_broadcast", "b"));
+  EXPECT_FALSE(names_topic(g->publish, "pheromesh_uav_state_ground"));
+  EXPECT_TRUE(allows(g->subscribe, "pheromesh_broadcast", "bd.3"));
+  EXPECT_FALSE(allows(g->subscribe, "pheromesh_broadcast", "b"));
+  EXPECT_TRUE(allows(g->subscribe, "pheromesh_command", "k.2"));
+  EXPECT_FALSE(allows(g->subscribe, "pheromesh_command", "k"));
   EXPECT_FALSE(allows(g->publish, "pheromesh_phase_done", "d.1"));
   EXPECT_TRUE(allows(g->subscribe, "pheromesh_clock_relay", "c.2"));
   EXPECT_TRUE(allows(g->subscribe, "pheromesh_clock_relay", "c.3"));
@@ -65,7 +78,17 @@ TEST(SecurityGrants, OnlyTheGroundStationWritesTheClockAPlaceAgentRelaysItToItsO
       EXPECT_FALSE(allows(g.publish, "pheromesh_clock_relay", "c." + std::string(region == "0" ? "1" : "0")))
           << g.name;
     }
-    EXPECT_EQ(names_topic(g.publish, "pheromesh_command"), ground) << g.name;
+    // Commands: the ground station writes them to the place agents ("k"),
+    // each place agent relays them to its own UAVs only.
+    EXPECT_EQ(allows(g.publish, "pheromesh_command", "k"), ground) << g.name;
+    EXPECT_EQ(names_topic(g.publish, "pheromesh_command"), ground || place) << g.name;
+    EXPECT_EQ(names_topic(g.publish, "pheromesh_uav_state_ground"), place) << g.name;
+    if (place) {
+      const std::string region = g.name.substr(6, 1);
+      EXPECT_TRUE(allows(g.publish, "pheromesh_command", "k." + region)) << g.name;
+      EXPECT_FALSE(allows(g.publish, "pheromesh_command", "k." + std::string(region == "0" ? "1" : "0"))) << g.name;
+      EXPECT_TRUE(allows(g.publish, "pheromesh_uav_state_ground", "g")) << g.name;
+    }
     if (g.name == bus::kMonitorIdentity) {
       EXPECT_TRUE(g.publish.empty());
     }

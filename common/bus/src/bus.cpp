@@ -30,6 +30,7 @@ struct Bus::Roles {
         broadcasts(b),
         clock(b),
         relayed_clock(b, TopicKind::RelayedClock),
+        ground_states(b, TopicKind::GroundState),
         phase_done(b),
         commands(b),
         scenarios(b) {}
@@ -46,12 +47,16 @@ struct Bus::Roles {
   Writer<core::BroadcastMsg> broadcasts;
   Writer<core::ClockMsg> clock;
   Writer<core::ClockMsg> relayed_clock;  // a place agent's, to the UAVs it serves
+  Writer<core::UavStateMsg> ground_states;  // a place agent's, relaying its UAVs' states to the ground
   Writer<core::PhaseDoneMsg> phase_done;
   Writer<core::CommandMsg> commands;
   Writer<core::ScenarioMsg> scenarios;
 
   std::optional<core::RegionId> home;  // a UAV's home place agent (join_uav)
   bool clock_tree = false;             // a lockstep UAV (join_clock_tree)
+  bool broadcaster = false;            // a UAV whose policy broadcasts (join_uav)
+  std::vector<core::RegionId> gateways;  // a UAV's downlinks (join_gateways)
+  std::optional<core::RegionId> relay_for;  // a place agent's region (subscribe_uplinks)
 
   std::optional<Reader<core::ViewMsg>> view_in;
   std::optional<Reader<core::FieldMsg>> field_in, served_in, tiles_in;
@@ -59,12 +64,12 @@ struct Bus::Roles {
   std::optional<Reader<core::DepositMsg>> deposit_in;
   std::optional<Reader<core::HaloMsg>> halo_in;
   std::optional<Reader<core::TileMsg>> tile_in;
-  std::optional<Reader<core::DetectionMsg>> detection_in;
+  std::optional<Reader<core::DetectionMsg>> detection_in, detection_up_in;
   std::optional<Reader<core::TargetEventMsg>> event_in;
   std::optional<Reader<core::HealthMsg>> health_in;
   std::optional<Reader<core::ClockMsg>> clock_in;
   std::optional<Reader<core::PhaseDoneMsg>> done_in, reports_in;
-  std::optional<Reader<core::BroadcastMsg>> broadcast_in;
+  std::optional<Reader<core::BroadcastMsg>> broadcast_in, broadcast_up_in;
   std::optional<Reader<core::CommandMsg>> command_in;
   std::optional<Reader<core::ScenarioMsg>> scenario_in;
 
@@ -113,13 +118,30 @@ bool Bus::publish_served(const core::FieldMsg& m) { return roles_->fields.write(
 bool Bus::publish_tiles_for(const core::FieldMsg& m, core::RegionId home) {
   return roles_->fields.write(m, tiles_for_partition(home));
 }
-bool Bus::publish_detection(const core::DetectionMsg& m) { return roles_->detections.write(m); }
+bool Bus::publish_detection(const core::DetectionMsg& m) {
+  if (roles_->home) return roles_->detections.write(m, detection_uplink_partition(*roles_->home));
+  return roles_->detections.write(m);
+}
 bool Bus::publish_target_event(const core::TargetEventMsg& m) { return roles_->events.write(m); }
 bool Bus::publish_health(const core::HealthMsg& m) { return roles_->health.write(m); }
 bool Bus::publish_halo(const core::HaloMsg& m, core::RegionId to) {
   return roles_->halos.write(m, halo_partition(m.region, to));
 }
-bool Bus::publish_broadcast(const core::BroadcastMsg& m) { return roles_->broadcasts.write(m); }
+bool Bus::publish_broadcast(const core::BroadcastMsg& m) {
+  if (roles_->home) return roles_->broadcasts.write(m, broadcast_uplink_partition(*roles_->home));
+  return roles_->broadcasts.write(m);
+}
+bool Bus::relay_detection(const core::DetectionMsg& m) { return roles_->detections.write(m, kGroundPartition); }
+bool Bus::relay_broadcast_up(const core::BroadcastMsg& m) { return roles_->broadcasts.write(m, kBroadcastPartition); }
+bool Bus::relay_broadcast_down(const core::BroadcastMsg& m) {
+  if (!roles_->relay_for) throw BusMisuse("relay_broadcast_down before subscribe_uplinks");
+  return roles_->broadcasts.write(m, broadcast_downlink_partition(*roles_->relay_for));
+}
+bool Bus::relay_command(const core::CommandMsg& m) {
+  if (!roles_->relay_for) throw BusMisuse("relay_command before subscribe_uplinks");
+  return roles_->commands.write(m, command_downlink_partition(*roles_->relay_for));
+}
+bool Bus::relay_state(const core::UavStateMsg& m) { return roles_->ground_states.write(m, kGroundPartition); }
 bool Bus::publish_clock(const core::ClockMsg& m) { return roles_->clock.write(m); }
 bool Bus::publish_phase_done(const core::PhaseDoneMsg& m) {
   if (roles_->clock_tree) return roles_->phase_done.write(m, uav_report_partition(*roles_->home));
@@ -136,9 +158,32 @@ void Bus::join_uav(uint32_t uav, core::RegionId home, bool broadcasts) {
   roles_->home = home;
   roles_->states.offer(home_partition(home));
   roles_->deposits.offer(region_partition(home));
-  roles_->detections.offer(kGroundPartition);
-  if (broadcasts) roles_->broadcasts.offer(kBroadcastPartition);
+  roles_->detections.offer(detection_uplink_partition(home));
+  roles_->broadcaster = broadcasts;
+  if (broadcasts) roles_->broadcasts.offer(broadcast_uplink_partition(home));
   roles_->view_in.emplace(*this, std::vector<std::string>{view_partition(uav)});
+}
+
+void Bus::join_gateways(std::span<const core::RegionId> gateways) {
+  if (!roles_->home) throw BusMisuse("join_gateways before join_uav");
+  roles_->gateways.clear();
+  for (auto r : gateways) {
+    if (std::find(roles_->gateways.begin(), roles_->gateways.end(), r) == roles_->gateways.end()) {
+      roles_->gateways.push_back(r);
+    }
+  }
+}
+
+void Bus::subscribe_uplinks(core::RegionId own) {
+  roles_->relay_for = own;
+  roles_->detection_up_in.emplace(*this, std::vector<std::string>{detection_uplink_partition(own)});
+  roles_->broadcast_up_in.emplace(*this, std::vector<std::string>{broadcast_uplink_partition(own)});
+  if (!roles_->broadcast_in) roles_->broadcast_in.emplace(*this, std::vector<std::string>{kBroadcastPartition});
+  roles_->ground_states.offer(kGroundPartition);
+  roles_->detections.offer(kGroundPartition);
+  roles_->broadcasts.offer(kBroadcastPartition);
+  roles_->broadcasts.offer(broadcast_downlink_partition(own));
+  roles_->commands.offer(command_downlink_partition(own));
 }
 
 void Bus::move_uplink(core::RegionId gateway) {
@@ -146,6 +191,8 @@ void Bus::move_uplink(core::RegionId gateway) {
   roles_->home = gateway;
   roles_->states.offer(home_partition(gateway));
   roles_->deposits.offer(region_partition(gateway));
+  roles_->detections.offer(detection_uplink_partition(gateway));
+  if (roles_->broadcaster) roles_->broadcasts.offer(broadcast_uplink_partition(gateway));
   if (roles_->clock_tree) roles_->phase_done.offer(uav_report_partition(gateway));
 }
 
@@ -154,8 +201,10 @@ void Bus::subscribe_deposits(core::RegionId own) {
 }
 
 void Bus::subscribe_home_states(core::RegionId own) {
-  // The home place agent's reader of the UAVs' state writers: its own QoS row.
-  roles_->home_states_in.emplace(*this, std::vector<std::string>{home_partition(own)}, TopicKind::UavHome);
+  // The home place agent's reader of the UAVs' state writers: its own QoS
+  // row. It tells the ground station of their departures (relay_state).
+  roles_->home_states_in.emplace(*this, std::vector<std::string>{home_partition(own)}, TopicKind::UavHome,
+                                 Watch::SamplesAndDepartures);
 }
 
 void Bus::subscribe_fields() { roles_->field_in.emplace(*this, std::vector<std::string>{kFieldPartition}); }
@@ -183,8 +232,8 @@ void Bus::subscribe_halos(std::span<const core::RegionId> neighbours, core::Regi
 void Bus::subscribe_ground() {
   const std::vector<std::string> ground{kGroundPartition};
   roles_->tile_in.emplace(*this, std::vector<std::string>{kAllTiles});
-  roles_->ground_states_in.emplace(*this, std::vector<std::string>{kAllHomes}, TopicKind::UavState,
-                                   Watch::SamplesAndDepartures);
+  // The UAVs' states and departures, as their place agents relay them.
+  roles_->ground_states_in.emplace(*this, ground, TopicKind::GroundState);
   roles_->detection_in.emplace(*this, ground);
   roles_->event_in.emplace(*this, ground);
   subscribe_health();
@@ -196,7 +245,22 @@ void Bus::subscribe_health() {
                             Watch::SamplesAndDepartures);
 }
 
-void Bus::subscribe_broadcasts() { roles_->broadcast_in.emplace(*this, std::vector<std::string>{kBroadcastPartition}); }
+namespace {
+std::vector<std::string> downlinks(const std::vector<core::RegionId>& gateways,
+                                   std::string (*partition)(core::RegionId)) {
+  std::vector<std::string> parts;
+  for (auto r : gateways) parts.push_back(partition(r));
+  return parts;
+}
+}  // namespace
+
+void Bus::subscribe_broadcasts() {
+  if (!roles_->gateways.empty()) {
+    roles_->broadcast_in.emplace(*this, downlinks(roles_->gateways, broadcast_downlink_partition));
+  } else if (!roles_->broadcast_in) {  // a place agent reads "b" already (subscribe_uplinks)
+    roles_->broadcast_in.emplace(*this, std::vector<std::string>{kBroadcastPartition});
+  }
+}
 void Bus::subscribe_clock() { roles_->clock_in.emplace(*this, std::vector<std::string>{kClockPartition}); }
 void Bus::join_clock_tree(std::span<const core::RegionId> gateways) {
   if (!roles_->home) throw BusMisuse("join_clock_tree before join_uav");
@@ -215,7 +279,13 @@ void Bus::subscribe_uav_reports(core::RegionId own) {
   roles_->reports_in.emplace(*this, std::vector<std::string>{uav_report_partition(own)});
 }
 void Bus::subscribe_phase_done() { roles_->done_in.emplace(*this, std::vector<std::string>{kClockPartition}); }
-void Bus::subscribe_commands() { roles_->command_in.emplace(*this, std::vector<std::string>{kCommandPartition}); }
+void Bus::subscribe_commands() {
+  if (!roles_->gateways.empty()) {
+    roles_->command_in.emplace(*this, downlinks(roles_->gateways, command_downlink_partition));
+  } else {
+    roles_->command_in.emplace(*this, std::vector<std::string>{kCommandPartition});
+  }
+}
 void Bus::subscribe_scenario() { roles_->scenario_in.emplace(*this, std::vector<std::string>{kGroundPartition}); }
 
 // -------------------------------------------------------------------- take
@@ -240,6 +310,12 @@ void Bus::take_served(std::vector<core::FieldMsg>& out) { take_from(*transport_,
 void Bus::take_tiles_for_views(std::vector<core::FieldMsg>& out) { take_from(*transport_, roles_->tiles_in, out); }
 void Bus::take_views(std::vector<core::ViewMsg>& out) { take_from(*transport_, roles_->view_in, out); }
 void Bus::take_detections(std::vector<core::DetectionMsg>& out) { take_from(*transport_, roles_->detection_in, out); }
+void Bus::take_uplink_detections(std::vector<core::DetectionMsg>& out) {
+  take_from(*transport_, roles_->detection_up_in, out);
+}
+void Bus::take_uplink_broadcasts(std::vector<core::BroadcastMsg>& out) {
+  take_from(*transport_, roles_->broadcast_up_in, out);
+}
 void Bus::take_target_events(std::vector<core::TargetEventMsg>& out) { take_from(*transport_, roles_->event_in, out); }
 void Bus::take_broadcasts(std::vector<core::BroadcastMsg>& out) { take_from(*transport_, roles_->broadcast_in, out); }
 void Bus::take_clock(std::vector<core::ClockMsg>& out) { take_from(*transport_, roles_->clock_in, out); }
@@ -249,8 +325,22 @@ void Bus::take_commands(std::vector<core::CommandMsg>& out) { take_from(*transpo
 void Bus::take_scenarios(std::vector<core::ScenarioMsg>& out) { take_from(*transport_, roles_->scenario_in, out); }
 
 void Bus::take_uav_states(std::vector<core::UavStateMsg>& out) {
-  take_from(*transport_, roles_->home_states_in, out);
-  if (roles_->ground_states_in) roles_->ground_states_in->take(out, roles_->departed_uavs);
+  if (roles_->home_states_in) {
+    roles_->home_states_in->take(out, roles_->departed_uavs);
+  } else if (!roles_->ground_states_in) {
+    transport_->keep_alive();
+  }
+  if (roles_->ground_states_in) {
+    // A relayed departure is a note, not a state (UavStateMsg::departed).
+    const std::size_t first = out.size();
+    roles_->ground_states_in->take(out);
+    for (std::size_t i = first; i < out.size(); ++i) {
+      if (out[i].departed) roles_->departed_uavs.push_back(out[i].uav);
+    }
+    out.erase(std::remove_if(out.begin() + static_cast<std::ptrdiff_t>(first), out.end(),
+                             [](const core::UavStateMsg& m) { return m.departed; }),
+              out.end());
+  }
 }
 
 void Bus::take_health(std::vector<core::HealthMsg>& out) {

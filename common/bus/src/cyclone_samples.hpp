@@ -78,7 +78,8 @@ inline pheromesh_msg_UavState state_out(const core::UavStateMsg& m) {
                            m.tick_gap_max_ms,
                            m.tick_gaps_over_2,
                            m.deposits_unconfirmed,
-                           {}};
+                           {},
+                           m.departed};
   std::copy(m.refused.begin(), m.refused.end(), s.refused);
   return s;
 }
@@ -102,6 +103,7 @@ inline core::UavStateMsg state_in(const pheromesh_msg_UavState& s) {
                       s.tick_gaps_over_2};
   m.deposits_unconfirmed = s.deposits_unconfirmed;
   std::copy(std::begin(s.refused), std::end(s.refused), m.refused.begin());
+  m.departed = s.departed;
   return m;
 }
 

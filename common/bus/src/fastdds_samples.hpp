@@ -93,6 +93,7 @@ inline core::UavStateMsg state_in(const msg::UavState& s) {
                       s.tick_gaps_over_2()};
   m.deposits_unconfirmed = s.deposits_unconfirmed();
   std::copy(s.refused().begin(), s.refused().end(), m.refused.begin());
+  m.departed = s.departed();
   return m;
 }
 
@@ -117,6 +118,7 @@ inline msg::UavState state_out(const core::UavStateMsg& m) {
   s.tick_gap_max_ms(m.tick_gap_max_ms);
   s.tick_gaps_over_2(m.tick_gaps_over_2);
   std::copy(m.refused.begin(), m.refused.end(), s.refused().begin());
+  s.departed(m.departed);
   return s;
 }
 

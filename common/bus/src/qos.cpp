@@ -79,6 +79,16 @@ QosSpec topic_qos(TopicKind kind, Endpoint endpoint, std::chrono::milliseconds l
         keep_last(64);
       }
       break;
+    case TopicKind::GroundState:
+      // The states (and departures) of the UAVs a place agent serves, relayed
+      // to the ground station, which records every one: as UavState, without
+      // the liveliness (a departure is a sample here, UavStateMsg::departed).
+      if (reader) {
+        keep_all();
+      } else {
+        keep_last(64);
+      }
+      break;
     case TopicKind::UavHome:
       // The home place agent reads the latest state of each UAV homed on it
       // (lockstep: the state of the UAV phase just finished, written and
@@ -134,6 +144,12 @@ bool replicated(TopicKind kind) {
     case TopicKind::Halo:
     case TopicKind::TargetEvent:
     case TopicKind::PhaseDone:
+    // What place agents relay between the UAVs they serve and the rest of
+    // the swarm (docs/architecture.md, "Relays"): one copy per region.
+    case TopicKind::GroundState:
+    case TopicKind::Detection:
+    case TopicKind::Broadcast:
+    case TopicKind::Command:
       return true;
     default:
       return false;
@@ -173,8 +189,9 @@ const char* topic_name(TopicKind kind) {
     case TopicKind::View: return "pheromesh_view";
     case TopicKind::Field: return "pheromesh_region_field";
     case TopicKind::Scenario: return "pheromesh_run_scenario";
-    case TopicKind::RelayedClock:
-      return "pheromesh_clock_relay";
+    case TopicKind::RelayedClock: return "pheromesh_clock_relay";
+    case TopicKind::GroundState:
+      return "pheromesh_uav_state_ground";
   }
   throw std::logic_error("unknown topic kind");
 }
@@ -184,7 +201,8 @@ const char* type_name(TopicKind kind) {
     case TopicKind::Tile: return "pheromesh::msg::TileState";
     case TopicKind::Deposit: return "pheromesh::msg::Deposit";
     case TopicKind::UavState:
-    case TopicKind::UavHome: return "pheromesh::msg::UavState";
+    case TopicKind::UavHome:
+    case TopicKind::GroundState: return "pheromesh::msg::UavState";
     case TopicKind::Detection: return "pheromesh::msg::Detection";
     case TopicKind::TargetEvent: return "pheromesh::msg::TargetEvent";
     case TopicKind::Health: return "pheromesh::msg::PlaceHealth";
@@ -219,8 +237,9 @@ const char* to_string(TopicKind kind) {
     case TopicKind::View: return "view";
     case TopicKind::Field: return "field";
     case TopicKind::Scenario: return "scenario";
-    case TopicKind::RelayedClock:
-      return "relayed-clock";
+    case TopicKind::RelayedClock: return "relayed-clock";
+    case TopicKind::GroundState:
+      return "ground-state";
   }
   return "?";
 }

@@ -40,26 +40,32 @@ Grant uav_grant(uint32_t uav, uint32_t regions) {
   const core::RegionId home = core::home_region(uav, regions);
   const core::RegionId backup = core::backup_region(uav, regions);
   Grant g{"uav-" + std::to_string(uav), "", {}, {}};
-  // Its state, deposits and lockstep reports go to its home place agent, or
-  // its backup while its home is dead, only, and it hears the lockstep clock
-  // as they relay it; detections to the ground; broadcasts to the swarm.
-  std::vector<std::string> states{home_partition(home)}, deposits{region_partition(home)},
-      reports{uav_report_partition(home)}, clocks{uav_clock_partition(home)};
-  if (backup != home) {
-    states.push_back(home_partition(backup));
-    deposits.push_back(region_partition(backup));
-    reports.push_back(uav_report_partition(backup));
-    clocks.push_back(uav_clock_partition(backup));
+  // It talks to its gateways only, its home place agent or its backup while
+  // its home is dead (docs/architecture.md, "Relays"): its state, deposits,
+  // detections, broadcasts and lockstep reports go up to them; it hears the
+  // lockstep clock, the swarm's broadcasts and the ground station's commands
+  // as they relay them.
+  std::vector<std::string> states, deposits, detections, broadcasts_up, reports, clocks, broadcasts_down, commands;
+  for (core::RegionId r : {home, backup}) {
+    if (r == backup && backup == home) break;
+    states.push_back(home_partition(r));
+    deposits.push_back(region_partition(r));
+    detections.push_back(detection_uplink_partition(r));
+    broadcasts_up.push_back(broadcast_uplink_partition(r));
+    reports.push_back(uav_report_partition(r));
+    clocks.push_back(uav_clock_partition(r));
+    broadcasts_down.push_back(broadcast_downlink_partition(r));
+    commands.push_back(command_downlink_partition(r));
   }
   g.publish = {{topic(TopicKind::UavState), states},
                {topic(TopicKind::Deposit), deposits},
-               {topic(TopicKind::Detection), {kGroundPartition}},
-               {topic(TopicKind::Broadcast), {kBroadcastPartition}},
+               {topic(TopicKind::Detection), detections},
+               {topic(TopicKind::Broadcast), broadcasts_up},
                {topic(TopicKind::PhaseDone), reports}};
   g.subscribe = {{topic(TopicKind::View), {view_partition(uav)}},
-                 {topic(TopicKind::Broadcast), {kBroadcastPartition}},
+                 {topic(TopicKind::Broadcast), broadcasts_down},
                  {topic(TopicKind::RelayedClock), clocks},
-                 {topic(TopicKind::Command), {kCommandPartition}}};
+                 {topic(TopicKind::Command), commands}};
   return g;
 }
 
@@ -71,7 +77,9 @@ Grant place_grant(const std::string& name, core::RegionId region) {
   // halo ring, views to its home UAVs,
   // deposits forwarded to the other regions' owners, health, target events,
   // the run's scenario, lockstep reports (its own and its UAVs', relayed),
-  // the lockstep clock relayed to its UAVs.
+  // the lockstep clock relayed to its UAVs; the relays of its UAVs' states,
+  // detections and broadcasts up, and of the swarm's broadcasts and the
+  // ground station's commands down to its UAVs.
   g.publish = {{topic(TopicKind::Tile), {"t.*"}},
                {topic(TopicKind::Field), {kFieldPartition, kServedPartition, kAllTilesFor}},
                {topic(TopicKind::Halo), {"h." + std::to_string(region) + ".*"}},
@@ -81,14 +89,20 @@ Grant place_grant(const std::string& name, core::RegionId region) {
                {topic(TopicKind::TargetEvent), {kGroundPartition}},
                {topic(TopicKind::Scenario), {kGroundPartition}},
                {topic(TopicKind::PhaseDone), {kClockPartition}},
-               {topic(TopicKind::RelayedClock), {uav_clock_partition(region)}}};
+               {topic(TopicKind::RelayedClock), {uav_clock_partition(region)}},
+               {topic(TopicKind::GroundState), {kGroundPartition}},
+               {topic(TopicKind::Detection), {kGroundPartition}},
+               {topic(TopicKind::Broadcast), {kBroadcastPartition, broadcast_downlink_partition(region)}},
+               {topic(TopicKind::Command), {command_downlink_partition(region)}}};
   g.subscribe = {{topic(TopicKind::Deposit), {region_partition(region)}},
                  {topic(TopicKind::UavState), {home_partition(region)}},
                  {topic(TopicKind::Field), {kServedPartition, tiles_for_partition(region)}},
                  {topic(TopicKind::Halo), {"h.*." + std::to_string(region)}},
                  {topic(TopicKind::Clock), {kClockPartition}},
                  {topic(TopicKind::PhaseDone), {uav_report_partition(region)}},
-                 {topic(TopicKind::Command), {kCommandPartition}}};
+                 {topic(TopicKind::Command), {kCommandPartition}},
+                 {topic(TopicKind::Detection), {detection_uplink_partition(region)}},
+                 {topic(TopicKind::Broadcast), {broadcast_uplink_partition(region), kBroadcastPartition}}};
   return g;
 }
 

@@ -54,7 +54,10 @@ LockstepEnd LockstepLoop::run() {
     }
     const auto until = Clock::now() + std::chrono::milliseconds(100);
     if (wake_on_reports) {
-      bus.wait({bus::TopicKind::Clock, bus::TopicKind::PhaseDone}, until);
+      // A place agent: whatever it relays (before_round takes it all).
+      bus.wait({bus::TopicKind::Clock, bus::TopicKind::PhaseDone, bus::TopicKind::UavHome, bus::TopicKind::Detection,
+                bus::TopicKind::Broadcast, bus::TopicKind::Command},
+               until);
     } else {
       bus.wait({bus::TopicKind::Clock, bus::TopicKind::RelayedClock}, until);
     }

@@ -21,10 +21,14 @@
 //   served UAV states -> "p": every other place agent
 //   tiles for a home's views -> "f.<home>": that place agent only
 //   halo rings   -> "h.<from>.<to>": what neighbour <to> reads of <from>'s border ring
-//   UAV broadcasts (to the whole swarm) -> "b"
-//   lockstep clock and phase reports  -> "c"
-//   detections, target events, health -> "g"
-//   ground-station commands           -> "k"
+//   UAV broadcasts (to the whole swarm) -> "bu.<gateway>", relayed by the
+//                   gateway to "b" (every place agent, the ground), and by
+//                   every place agent to the UAVs it serves ("bd.<region>")
+//   lockstep clock and phase reports  -> "c" (relayed: "c.<region>", "d.<region>")
+//   detections -> "g.<gateway>", relayed to "g"
+//   UAV states and departures, relayed by the place agents -> "g" (GroundState)
+//   target events, health -> "g"
+//   ground-station commands -> "k" (the place agents), relayed to "k.<region>" (their UAVs)
 //   tiles (TileState; only test probes write them now) -> "t.<tx>.<ty>"
 #pragma once
 
@@ -112,12 +116,14 @@ class Bus {
   // views need, to that one ("f.<home>").
   bool publish_served(const core::FieldMsg& m);
   bool publish_tiles_for(const core::FieldMsg& m, core::RegionId home);
+  // A UAV's (after join_uav) to its gateway; anyone else's to the ground station.
   bool publish_detection(const core::DetectionMsg& m);
   bool publish_target_event(const core::TargetEventMsg& m);
   bool publish_health(const core::HealthMsg& m);
   // To neighbour `to`: m holds only the ring cells `to` reads (core::trim_halo).
   bool publish_halo(const core::HaloMsg& m, core::RegionId to);
-  bool publish_broadcast(const core::BroadcastMsg& m);  // to partition "b"
+  // A UAV's (after join_uav) to its gateway; anyone else's to "b".
+  bool publish_broadcast(const core::BroadcastMsg& m);
 
   // --- lockstep clock: a tree (docs/architecture.md, "Time"). The conductor
   // and the place agents meet in "c"; each place agent relays every clock
@@ -143,6 +149,24 @@ class Bus {
   // Readers matched by this UAV's report writer to its gateway (0 before join_clock_tree).
   [[nodiscard]] uint32_t matched_report_readers();
 
+  // --- relays (docs/architecture.md, "Relays"): a place agent of `own`
+  // relays between the UAVs it serves and the rest of the swarm, so that a
+  // UAV talks to its gateway place agents only. subscribe_uplinks opens its
+  // readers of its UAVs' detections and broadcasts and of the swarm's
+  // broadcasts ("b"), and every relay writer.
+  void subscribe_uplinks(core::RegionId own);
+  void take_uplink_detections(std::vector<core::DetectionMsg>& out);
+  void take_uplink_broadcasts(std::vector<core::BroadcastMsg>& out);
+  bool relay_detection(const core::DetectionMsg& m);      // to the ground station
+  bool relay_state(const core::UavStateMsg& m);           // to the ground station
+  bool relay_broadcast_up(const core::BroadcastMsg& m);   // to every place agent and the ground
+  bool relay_broadcast_down(const core::BroadcastMsg& m); // to the UAVs it serves
+  bool relay_command(const core::CommandMsg& m);          // to the UAVs it serves
+  // A UAV, after join_uav: the place agents it hears the swarm through (its
+  // home and its backup); subscribe_commands and subscribe_broadcasts then
+  // read what they relay.
+  void join_gateways(std::span<const core::RegionId> gateways);
+
   // --- ground-station commands (pause, pop-ups): the ground station
   // writes, every UAV and place agent reads, late joiners get the history.
   bool publish_command(const core::CommandMsg& m);
@@ -163,7 +187,8 @@ class Bus {
   // `gateway` (its backup) from now on (new writers; the rare endpoint change).
   void move_uplink(core::RegionId gateway);
   // A place agent: deposits for `own` (from its UAVs and forwarded), the
-  // states of the UAVs homed on it, and every region's field.
+  // states of the UAVs homed on it (and their departures:
+  // take_departed_uavs), and every region's field.
   void subscribe_deposits(core::RegionId own);
   void subscribe_home_states(core::RegionId own);
   void subscribe_fields();  // the ground station
@@ -203,8 +228,9 @@ class Bus {
   void take_target_events(std::vector<core::TargetEventMsg>& out);
   void take_health(std::vector<core::HealthMsg>& out);
   void take_broadcasts(std::vector<core::BroadcastMsg>& out);
-  // UAVs (ground subscription) whose every writer vanished (liveliness lost or
-  // process ended) since the last call.
+  // UAVs whose every state writer vanished (liveliness lost or process
+  // ended) since the last call: a place agent's home UAVs, as its reader
+  // saw it; the ground station's, as the place agents relayed it.
   void take_departed_uavs(std::vector<uint32_t>& out);
   // Place replicas (ground subscription) whose health writer vanished, as
   // core::place_id(region, replica).

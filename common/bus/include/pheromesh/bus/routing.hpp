@@ -28,6 +28,14 @@ inline constexpr const char* kAllTilesFor = "f.*";
 // to the conductor (whose own clock and reports travel in "c").
 inline std::string uav_clock_partition(core::RegionId gateway) { return "c." + std::to_string(gateway); }
 inline std::string uav_report_partition(core::RegionId gateway) { return "d." + std::to_string(gateway); }
+// Relays (docs/architecture.md, "Relays"): a UAV talks to its gateway place
+// agents only. Its detections and broadcasts go up to its gateway, which
+// relays them on ("g", "b"); the swarm's broadcasts and the ground station's
+// commands come down from its gateways.
+inline std::string detection_uplink_partition(core::RegionId gateway) { return "g." + std::to_string(gateway); }
+inline std::string broadcast_uplink_partition(core::RegionId gateway) { return "bu." + std::to_string(gateway); }
+inline std::string broadcast_downlink_partition(core::RegionId gateway) { return "bd." + std::to_string(gateway); }
+inline std::string command_downlink_partition(core::RegionId gateway) { return "k." + std::to_string(gateway); }
 inline constexpr const char* kServedPartition = "p";
 inline constexpr const char* kAllHomes = "s.*";
 inline constexpr const char* kFieldPartition = "f";

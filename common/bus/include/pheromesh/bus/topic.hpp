@@ -219,9 +219,13 @@ concept RoutedByMessage = requires(const M& m) {
 // The DDS topic a kind's endpoints use: UavHome readers read UavState.
 constexpr TopicKind topic_of(TopicKind k) { return k == TopicKind::UavHome ? TopicKind::UavState : k; }
 // The kind whose message type a kind's endpoints carry (Topic<M>::kind):
-// also a relayed clock is a ClockMsg.
-constexpr TopicKind message_kind(TopicKind k) { return k == TopicKind::RelayedClock ? TopicKind::Clock : topic_of(k); }
-inline constexpr std::size_t kTopicKindCount = static_cast<std::size_t>(TopicKind::RelayedClock) + 1;
+// also a relayed clock is a ClockMsg, a state relayed to the ground a UavStateMsg.
+constexpr TopicKind message_kind(TopicKind k) {
+  if (k == TopicKind::RelayedClock) return TopicKind::Clock;
+  if (k == TopicKind::GroundState) return TopicKind::UavState;
+  return topic_of(k);
+}
+inline constexpr std::size_t kTopicKindCount = static_cast<std::size_t>(TopicKind::GroundState) + 1;
 constexpr std::size_t index_of(TopicKind k) { return static_cast<std::size_t>(k); }
 
 }  // namespace pheromesh::bus

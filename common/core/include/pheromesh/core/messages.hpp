@@ -71,6 +71,10 @@ struct UavStateMsg {
   uint64_t deposits_unconfirmed = 0;  // sent, but not (yet) confirmed received by its home place agent
   // Samples this UAV refused as implausible, per core::Refusal (plausibility.hpp).
   std::array<uint32_t, kRefusalCount> refused{};
+  // Only from a place agent relaying states to the ground station: every
+  // writer of this UAV's state vanished (liveliness lost, process ended).
+  // A UAV never sets it (its place agent drops such a state).
+  bool departed = false;
 };
 
 struct DetectionMsg {

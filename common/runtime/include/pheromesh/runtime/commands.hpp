@@ -2,7 +2,10 @@
 // authenticated (auth/control.hpp), ordered, logged; pause state kept.
 #pragma once
 
+#include <array>
+#include <map>
 #include <memory>
+#include <utility>
 #include <vector>
 
 #include "pheromesh/bus/bus.hpp"
@@ -36,6 +39,7 @@ class SwarmCommands {
   std::shared_ptr<spdlog::logger> log_;
   auth::CommandGate gate_;
   std::vector<core::CommandMsg> inbox_;
+  std::map<std::pair<uint32_t, uint32_t>, core::CommandMsg> admitted_;  // by (issuer, seq)
   bool paused_ = false;
   bool started_ = false;
   bool ended_ = false;

@@ -46,7 +46,9 @@ struct LockstepLoop {
   // Runs one phase; the loop marks it done unless it returns Leave.
   std::function<PhaseOutcome(const core::ClockMsg&)> run_phase;
   // A place agent relays every clock it accepts to the UAVs it serves, and
-  // wakes for their reports too (before_round relays them).
+  // wakes for everything else it relays too (their reports, states,
+  // detections, broadcasts, the ground station's commands: before_round
+  // relays them).
   std::function<void(const core::ClockMsg&)> relay{};
   bool wake_on_reports = false;
 
