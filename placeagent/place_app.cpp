@@ -245,7 +245,9 @@ void PlaceApp::keep_tree() {
 void PlaceApp::relay_idle() {
   // Between phases: the states of the UAV phase under way go to the ground
   // station now (its conductor waits for them), and are this place agent's
-  // for the place phase that follows.
+  // for the place phase that follows. A UAV whose home the clock lists
+  // absent from this tick on sends its state here already: adopt it first.
+  note_absent();
   take_home_states(current_tick_);
   relay_uplinks();
 }

@@ -70,8 +70,13 @@ void PlaceApp::take_home_states(uint32_t tick) {
     if (known && core::home_region(st.uav, geo_.region_count()) != cfg_.region) {
       // A UAV whose backup this region is: realtime, it judged its home dead
       // and came here; lockstep, only once the clock lists its home absent
-      // (note_absent adopted it). Anyone else's: a stray writer.
-      if (core::backup_region(st.uav, geo_.region_count()) != cfg_.region) continue;
+      // (note_absent adopted it). Anyone else's: a stray or forged writer.
+      if (core::backup_region(st.uav, geo_.region_count()) != cfg_.region) {
+        audit_.refuse(core::Refusal::ImplausibleState,
+                      fmt::format("a state of uav {} at place agent {}, which is neither its home nor its backup",
+                                  st.uav, cfg_.region));
+        continue;
+      }
       if (!cfg_.common.lockstep()) adopt(st.uav, nullptr);
       if (!adopted_.contains(st.uav)) continue;
     }
@@ -105,7 +110,7 @@ void PlaceApp::relay_uplinks() {
   bus_->take_uplink_detections(detections_up_);
   for (const auto& d : detections_up_) {
     if (core::check_uav_id(d.uav, scenario_.uavs)) {
-      audit_.drop(fmt::format("a detection of unknown uav {}", d.uav));
+      audit_.refuse(core::Refusal::UnknownUav, fmt::format("a detection of uav {}", d.uav));
       continue;
     }
     bus_->relay_detection(d);
@@ -113,11 +118,13 @@ void PlaceApp::relay_uplinks() {
   broadcasts_.clear();
   bus_->take_uplink_broadcasts(broadcasts_);
   for (const auto& b : broadcasts_) {
-    if (core::check_broadcast(b) || core::check_uav_id(b.uav, scenario_.uavs)) {
+    if (core::check_broadcast(b)) {
       audit_.drop(fmt::format("a malformed broadcast of uav {}", b.uav));
-      continue;
+    } else if (core::check_uav_id(b.uav, scenario_.uavs)) {
+      audit_.refuse(core::Refusal::UnknownUav, fmt::format("a broadcast of uav {}", b.uav));
+    } else {
+      bus_->relay_broadcast_up(b);
     }
-    bus_->relay_broadcast_up(b);
   }
   broadcasts_.clear();
   bus_->take_broadcasts(broadcasts_);

@@ -46,18 +46,21 @@ TEST(Vendors, RunsSayWhichVendorEachProcessUses) {
 }
 
 TEST(Vendors, EachVendorNoticesAKilledProcessOfTheOtherThroughLiveliness) {
-  // The ground station on one vendor, everything it watches on the other; a
-  // UAV and a place agent are killed with SIGKILL (no goodbye on the wire).
-  for (const std::string plan : {"ground=fastdds,place=cyclone,uav=cyclone", "ground=cyclone,place=fastdds,uav=fastdds"}) {
+  // Each watcher on one vendor, what it watches on the other: the place
+  // agents watch their UAVs' state writers (and relay a departure to the
+  // ground station), the ground station watches the place agents' health
+  // writers. A UAV and a place agent (not the UAV's home, which reports
+  // it) are killed with SIGKILL (no goodbye on the wire).
+  for (const std::string plan : {"ground=fastdds,place=cyclone,uav=fastdds", "ground=cyclone,place=fastdds,uav=cyclone"}) {
     const std::string out = out_dir("vendors-liveliness-" + plan.substr(7, plan.find(',') - 7));
     const Output o = run(pheromesh_run("small-test.textproto", out, 37,
-                                       "--uavs 3 --ticks 150 --rate 25 --kill \"uav:1@3s,place:1@4s\" --dds " + plan));
+                                       "--uavs 3 --ticks 150 --rate 25 --kill \"uav:1@3s,place:3@4s\" --dds " + plan));
     ASSERT_EQ(o.exit_code, 0) << plan << "\n" << o.text;
     const json m = read_metrics(out);
     EXPECT_EQ(m["processes_killed"], 2) << plan;
     EXPECT_EQ(m["processes_crashed"], 0) << plan;
     EXPECT_NE(o.text.find("uav 1 lost (liveliness)"), std::string::npos) << plan << "\n" << o.text;
-    EXPECT_NE(o.text.find("place agent 1 lost (liveliness)"), std::string::npos) << plan << "\n" << o.text;
+    EXPECT_NE(o.text.find("place agent 3 lost (liveliness)"), std::string::npos) << plan << "\n" << o.text;
     // The survivors flew the whole run.
     for (const char* id : {"0", "2"}) EXPECT_EQ(m["uav_status"][id]["last_tick"], 150) << plan << " uav " << id;
   }

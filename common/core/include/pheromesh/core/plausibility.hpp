@@ -29,7 +29,7 @@ enum class Refusal : uint8_t {
   ValueOutOfRange = 3,       // a tile or halo value outside its layer's physical range
   ForeignClock = 4,          // a lockstep clock sample from a writer other than the conductor first heard
   ImplausibleDetection = 5,  // a detection of no target of the scenario, or far from the reporting UAV
-  ImplausibleState = 6,      // a UAV state further from the last accepted one than the UAV can fly
+  ImplausibleState = 6,      // a UAV state further from the last accepted one than the UAV can fly, or sent to a place agent that does not serve the UAV
 };
 static_assert(kRefusalCount == 7, "messages.hpp kRefusalCount: one count per Refusal");
 // "unknown_uav", "seq_far_ahead", ... (metrics.json, Prometheus labels).
