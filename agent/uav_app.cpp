@@ -242,8 +242,7 @@ int UavApp::run() {
   if (cfg_.seq_base > 0) core_.set_first_seq(cfg_.seq_base);
   if (!cfg_.common.lockstep()) wait_for_home();  // lockstep: the conductor waits for every process's Ready
   log_->info("uav {} ({}) starts at ({},{}) for {} ticks, {} clock, home place agent {}, over {}", cfg_.id,
-             core::policy_name(scenario_.policy), core_.cell().x, core_.cell().y, ticks, cfg_.common.clock, home_,
-             bus_->vendor());
+             scenario_.policy, core_.cell().x, core_.cell().y, ticks, cfg_.common.clock, home_, bus_->vendor());
   if (!cfg_.common.lockstep()) wait_for_start();
   const int last = cfg_.common.lockstep() ? run_lockstep(ticks) : run_realtime(ticks);
   if (conductor_lost_) return runtime::kExitConductorLost;  // nobody to report a last state to

@@ -51,7 +51,7 @@ console::ConsoleInfo GroundApp::console_info() const {
   console::ConsoleInfo info;
   info.scenario_name = scenario_.name;
   info.scenario_path = cfg_.scenario_path;
-  info.policy = core::policy_name(scenario_.policy);
+  info.policy = scenario_.policy;
   info.width = geo_.width();
   info.height = geo_.height();
   info.tile_size = geo_.tile_size();

@@ -50,7 +50,9 @@ std::string changed_in_memory(const core::ScenarioConfig& mem, const core::Scena
   cmp("height", mem.height, text.height);
   cmp("targets", mem.targets.size(), text.targets.size());
   cmp("obstacles", mem.obstacles.size(), text.obstacles.size());
-  cmp("policy", static_cast<int>(mem.policy), static_cast<int>(text.policy));
+  if (mem.policy != text.policy) {
+    d += std::string(d.empty() ? "" : ", ") + "policy " + mem.policy + " vs " + text.policy;
+  }
   cmp("aco.alpha", mem.aco.alpha, text.aco.alpha);
   cmp("aco.beta", mem.aco.beta, text.aco.beta);
   cmp("aco.sensor_radius", mem.aco.sensor_radius, text.aco.sensor_radius);

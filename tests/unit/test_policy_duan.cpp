@@ -292,7 +292,7 @@ TEST(DuanUav, TeamArrivesTogetherAfterAPopUpReplan) {
 TEST(DuanScenarioFile, PaperScenarioLoadsTables) {
   const auto r = load_scenario(source_path("scenarios/duan2009-table3.textproto"));
   ASSERT_TRUE(r.ok()) << r.error().message;
-  EXPECT_EQ(r->policy, PolicyKind::Duan);
+  EXPECT_EQ(r->policy, "duan");
   EXPECT_EQ(r->width, 31);
   EXPECT_EQ(r->height, 36);
   EXPECT_EQ(r->config_of<DuanConfig>().threats.size(), 5U);

@@ -394,7 +394,7 @@ TEST(LiuScenario, Table2LoadsWithTable1Parameters) {
   auto r = load_scenario(source_path("scenarios/liu2022-table2.textproto"));
   ASSERT_TRUE(r.ok()) << r.error().message;
   const ScenarioConfig& s = r.value();
-  EXPECT_EQ(s.policy, PolicyKind::Liu);
+  EXPECT_EQ(s.policy, "liu");
   EXPECT_EQ(s.config_of<LiuConfig>().search, LiuPolicy::kEsustpm);
   EXPECT_EQ(s.config_of<LiuConfig>().start_point, LiuStartPoint::kCorner);
   EXPECT_EQ(s.uavs, 10U);

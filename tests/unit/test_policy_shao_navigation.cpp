@@ -34,14 +34,14 @@ ScenarioConfig nav() {
 
 TEST(ShaoNavigationPolicy, ParsesTheTable2ParametersAndTheCentre) {
   const ScenarioConfig s = nav();
-  EXPECT_EQ(s.policy, PolicyKind::ShaoNavigation);
+  EXPECT_EQ(s.policy, "shao_navigation");
   EXPECT_EQ(s.config_of<ShaoNavigationConfig>().region_centre, (Cell{15, 15}));
   EXPECT_EQ(s.config_of<ShaoNavigationConfig>().hold_ticks, 5U);
   EXPECT_EQ(s.config_of<ShaoNavigationConfig>().leader, LeaderPheromones::Vector);
   EXPECT_EQ(s.config_of<ShaoNavigationConfig>().params.neighbour_gradient, NeighbourGradient::AwayFromNeighbour);
   EXPECT_DOUBLE_EQ(s.config_of<ShaoNavigationConfig>().params.rho, 2.0);  // Shao 2020 Table 2
   EXPECT_DOUBLE_EQ(s.config_of<ShaoNavigationConfig>().params.leader_sensor_radius, 5.0);
-  EXPECT_STREQ(policy_name(s.policy), "shao_navigation");
+  EXPECT_EQ(s.policy, ShaoNavigationConfig::kPolicy);
 }
 
 TEST(ShaoNavigationPolicy, ReadingsAndTheGradientVariantAreSelectableInTheScenarioFile) {

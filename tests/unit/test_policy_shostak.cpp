@@ -170,7 +170,7 @@ TEST(ShostakTraits, ThreeLayersDetectionRadiusAndTheCandidateRingPlusACell) {
 
 TEST(ShostakFieldSummary, CountsExploredHazardAndTargetCells) {
   ScenarioConfig s;  // the summary reads only the map size
-  s.policy = PolicyKind::Shostak;
+  s.policy = "shostak";
   s.width = 4;
   s.height = 4;  // 16 cells
   const FieldLookup value = [](int layer, Cell c) -> float {
@@ -462,7 +462,7 @@ TEST(ShostakScenario, PaperScenarioHasTheParametersOfSectionsTwoToFive) {
   auto r = load_scenario(std::string(PHEROMESH_SOURCE_DIR) + "/scenarios/shostak-40x40.textproto");
   ASSERT_TRUE(r.ok()) << r.error().message;
   const ScenarioConfig& s = r.value();
-  EXPECT_EQ(s.policy, PolicyKind::Shostak);
+  EXPECT_EQ(s.policy, "shostak");
   EXPECT_EQ(s.width, 40);
   EXPECT_EQ(s.uavs, 3U);
   ASSERT_EQ(s.targets.size(), 1U);

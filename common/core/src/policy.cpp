@@ -3,20 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-
 namespace pheromesh::core {
-
-const char* policy_name(PolicyKind k) {
-  switch (k) {
-    case PolicyKind::ShaoSearch: return "shao_search";
-    case PolicyKind::ShaoNavigation: return "shao_navigation";
-    case PolicyKind::Liu: return "liu";
-    case PolicyKind::Shostak: return "shostak";
-    case PolicyKind::Ravankar: return "ravankar";
-    case PolicyKind::Duan: return "duan";
-  }
-  return "?";
-}
 
 // ------------------------------------------------------------------ TileCache
 void TileCache::update(const TileMsg& m) {

@@ -116,40 +116,37 @@ std::optional<Cell> check_cell(Validator& v, const Node& n, const pb::Cell& c, s
   return Cell{c.x(), c.y()};
 }
 
-// scenario.policy: which policy, and its parameters.
-void build_policy(const pb::Scenario& msg, const Node& root, Validator& v, ScenarioConfig& cfg) {
-  if (!msg.has_policy()) return;  // the Shao search
-  const Node pn = root.child("policy");
-  const pb::Policy& p = msg.policy();
-  switch (p.kind_case()) {
-    case pb::Policy::kShaoSearch:
-      cfg.policy = PolicyKind::ShaoSearch;
-      build_shao_search(p.shao_search(), pn.child("shao_search"), v, cfg);
-      break;
-    case pb::Policy::KIND_NOT_SET:
-      cfg.policy = PolicyKind::ShaoSearch;
-      break;
-    case pb::Policy::kShaoNavigation:
-      cfg.policy = PolicyKind::ShaoNavigation;
-      build_shao_navigation(p.shao_navigation(), pn.child("shao_navigation"), v, cfg);
-      break;
-    case pb::Policy::kLiu:
-      cfg.policy = PolicyKind::Liu;
-      build_liu(p.liu(), pn.child("liu"), v, cfg);
-      break;
-    case pb::Policy::kShostak:
-      cfg.policy = PolicyKind::Shostak;
-      build_shostak(p.shostak(), pn.child("shostak"), v, cfg);
-      break;
-    case pb::Policy::kRavankar:
-      cfg.policy = PolicyKind::Ravankar;
-      build_ravankar(p.ravankar(), pn.child("ravankar"), v, cfg);
-      break;
-    case pb::Policy::kDuan:
-      cfg.policy = PolicyKind::Duan;
-      build_duan(p.duan(), pn.child("duan"), v, cfg);
-      break;
+// The fields outside `policy` that rooms own (Shao: `shao { layers aco }`),
+// each room's once, in the order of the policy table: every scenario's,
+// whatever its policy, so that a file is checked whole.
+void build_room_fields(const pb::Scenario& msg, const Node& root, Validator& v, ScenarioConfig& cfg) {
+  std::vector<decltype(PolicyEntry::parse_scenario_fields)> done;
+  for (const PolicyEntry* e : policy_table()) {
+    const auto parse = e->parse_scenario_fields;
+    if (parse == nullptr || std::find(done.begin(), done.end(), parse) != done.end()) continue;
+    done.push_back(parse);
+    parse(msg, root, v, cfg);
   }
+}
+
+// scenario.policy: which policy (the oneof member's entry in the policy
+// table), and its parameters (the entry's parser).
+void build_policy(const pb::Scenario& msg, const Node& root, Validator& v, ScenarioConfig& cfg) {
+  if (!msg.has_policy()) return;  // kDefaultPolicy, without a config
+  const pb::Policy& p = msg.policy();
+  const FieldDescriptor* member =
+      p.GetReflection()->GetOneofFieldDescriptor(p, pb::Policy::descriptor()->oneof_decl(0));
+  if (member == nullptr) return;  // `policy {}`: the default as well
+  const Node pn = root.child("policy");
+  const PolicyEntry* entry = find_policy(member->name());
+  if (entry == nullptr) {
+    v.fail(pn, member->name().c_str(),
+           "is a policy of scenario.proto without an entry in the policy table (core/src/policy_table.cpp: " +
+               policy_names() + ")");
+    return;
+  }
+  cfg.policy = std::string(entry->name);
+  entry->parse(p.GetReflection()->GetMessage(p, member), pn.child(member->name().c_str()), v, cfg);
 }
 
 // scenario.fault: one fault schedule line each (faults.hpp), one clock for
@@ -380,57 +377,7 @@ ScenarioConfig build(const pb::Scenario& msg, const TextFormat::ParseInfoTree& t
   v.real_in(rn, "tick_rate_hz", cfg.tick_rate_hz, 0.0, true, kMaxTickRateHz, false);
   if (run.has_seed()) cfg.seed = run.seed();
 
-  // --- shao.layers: Shao 2020 eq. (1), Shao 2020 eq. (2), Shao 2020 eq. (3), Shao 2020 eq. (4), Shao 2020 eq. (5), Shao 2020 eq. (6), Shao 2020 eq. (7), Shao 2020 eq. (8) --------------------------------------
-  const Node shn = root.child("shao");
-  const Node ln = shn.child("layers");
-  const pb::Layers& l = msg.shao().layers();
-  ShaoLayerParams& lp = cfg.layers;
-  if (l.has_e_tau()) lp.e_tau = l.e_tau();
-  if (l.has_g_tau()) lp.g_tau = l.g_tau();
-  if (l.has_d_tau()) lp.d_tau = l.d_tau();
-  if (l.has_e_eps()) lp.e_eps = l.e_eps();
-  if (l.has_g_eps()) lp.g_eps = l.g_eps();
-  if (l.has_d_eps()) lp.d_eps = l.d_eps();
-  if (l.has_sigma0()) lp.sigma0 = l.sigma0();
-  if (l.has_sigma_min()) lp.sigma_min = l.sigma_min();
-  if (l.has_d0()) lp.d0 = l.d0();
-  if (l.has_q()) lp.q = l.q();
-  v.real_in(ln, "e_tau", lp.e_tau, 0.0, false, 1.0, true);
-  v.real_in(ln, "g_tau", lp.g_tau, 0.0, false, 1.0, true);
-  v.real_in(ln, "d_tau", lp.d_tau, 0.0, false, kInf, false);
-  v.real_in(ln, "e_eps", lp.e_eps, 0.0, false, 1.0, true);
-  v.real_in(ln, "g_eps", lp.g_eps, 0.0, false, 1.0, true);
-  v.real_in(ln, "d_eps", lp.d_eps, 0.0, false, kInf, false);
-  // Shao 2020 eq. (8) clamps path pheromone to [σmin, σ0], so the interval must not be empty.
-  const bool sigma_min_ok = v.real_in(ln, "sigma_min", lp.sigma_min, 0.0, true, kInf, false);
-  const bool sigma0_ok = v.real_in(ln, "sigma0", lp.sigma0, 0.0, true, kInf, false);
-  if (sigma_min_ok && sigma0_ok && lp.sigma0 < lp.sigma_min) {
-    v.fail(ln, "sigma0", "must be >= sigma_min = " + format_number(lp.sigma_min) + " (got " + format_number(lp.sigma0) + ")");
-  }
-  v.real_in(ln, "d0", lp.d0, 0.0, true, kInf, false);
-  v.real_in(ln, "q", lp.q, 0.0, true, kInf, false);
-
-  // --- shao.aco: Shao 2020 eq. (9), Shao 2020 eq. (10), Shao 2020 eq. (11), Shao 2020 Sec. 4.2 ----------------------------------
-  const Node cn = shn.child("aco");
-  const pb::Aco& a = msg.shao().aco();
-  ShaoAcoParams& ap = cfg.aco;
-  if (a.has_alpha()) ap.alpha = a.alpha();
-  if (a.has_beta()) ap.beta = a.beta();
-  if (a.has_lambda_target()) ap.lambda_target = a.lambda_target();
-  if (a.has_lambda_obstacle()) ap.lambda_obstacle = a.lambda_obstacle();
-  if (a.has_lambda_path()) ap.lambda_path = a.lambda_path();
-  if (a.has_sensor_radius()) ap.sensor_radius = a.sensor_radius();
-  if (a.has_random_fraction()) ap.random_fraction = a.random_fraction();
-  v.real_in(cn, "alpha", ap.alpha, 0.0, false, kInf, false);
-  v.real_in(cn, "beta", ap.beta, 0.0, false, kInf, false);
-  v.real_in(cn, "lambda_target", ap.lambda_target, 0.0, false, 1.0, false);
-  v.real_in(cn, "lambda_obstacle", ap.lambda_obstacle, -1.0, false, 0.0, false);
-  v.real_in(cn, "lambda_path", ap.lambda_path, 0.0, false, 1.0, false);
-  v.real_in(cn, "sensor_radius", ap.sensor_radius, 0.0, true, kMaxSensorRadius, false);
-  v.real_in(cn, "random_fraction", ap.random_fraction, 0.0, false, 1.0, false);
-  if (a.has_revisit_period() && v.int_between(cn, "revisit_period", a.revisit_period(), 1, kMaxU32)) {
-    ap.revisit_period = static_cast<uint32_t>(a.revisit_period());
-  }
+  build_room_fields(msg, root, v, cfg);
   build_policy(msg, root, v, cfg);
   build_faults(msg, root, v, cfg);
   if (map && tile_ok && regions_ok && uavs_ok) check_scenario_limits(root, cfg, limits, v);
@@ -439,13 +386,14 @@ ScenarioConfig build(const pb::Scenario& msg, const TextFormat::ParseInfoTree& t
 
 }  // namespace scenario_detail
 
+using scenario_detail::blocked_intervals;
 using scenario_detail::build;
 using scenario_detail::CollectingErrorCollector;
+using scenario_detail::FieldDescriptor;
 using scenario_detail::free_cells;
 using scenario_detail::free_in_row;
-using scenario_detail::blocked_intervals;
-using scenario_detail::Validator;
 using scenario_detail::TextFormat;
+using scenario_detail::Validator;
 namespace pb = scenario_detail::pb;
 
 Result<ScenarioConfig> parse_scenario(std::string_view text, const std::string& display_name) {
@@ -498,13 +446,11 @@ Result<ScenarioConfig> parse_scenario(std::string_view text, const std::string& 
   std::string not_applied;
   std::vector<std::pair<std::string, std::string>> overridden;
   const auto policy_of = [](const pb::Scenario& m) {
-    const auto k = m.policy().kind_case();
-    return k == pb::Policy::KIND_NOT_SET ? pb::Policy::kShaoSearch : k;
+    const FieldDescriptor* member =
+        m.policy().GetReflection()->GetOneofFieldDescriptor(m.policy(), pb::Policy::descriptor()->oneof_decl(0));
+    return member == nullptr ? std::string(kDefaultPolicy) : member->name();
   };
-  const auto policy_name_of = [](pb::Policy::KindCase k) {
-    return pb::Policy::descriptor()->FindFieldByNumber(static_cast<int>(k))->name();
-  };
-  const auto policy_before = policy_of(msg);
+  const std::string policy_before = policy_of(msg);
   for (const auto& o : overrides) {
     auto set = field_override::set_field(msg, o.path, o.value, "the scenario");
     if (!set) {
@@ -514,9 +460,9 @@ Result<ScenarioConfig> parse_scenario(std::string_view text, const std::string& 
     // The field setter refuses a second member of the oneof; a file without
     // a policy runs the Shao search, which an override must not switch either.
     if (const auto now = policy_of(msg); now != policy_before) {
-      return Error{o.source + ": the scenario's policy is " + policy_name_of(policy_before) +
-                   " (the file chooses none: the default); an override does not switch the policy to " +
-                   policy_name_of(now) + " (change it in the file)"};
+      return Error{o.source + ": the scenario's policy is " + policy_before +
+                   " (the file chooses none: the default); an override does not switch the policy to " + now +
+                   " (change it in the file)"};
     }
     overridden.emplace_back(std::move(set).value(), o.source);
   }

@@ -1,6 +1,7 @@
-// Scenario parsing internals shared by scenario.cpp and the per-policy
-// parsers (scenario_<policy>.cpp): field positions, field paths, validation
-// with "FILE:LINE:COL: field 'a.b': ..." messages.
+// Scenario parsing internals shared by scenario.cpp and the rooms' parsers
+// (papers/<paper>/src/scenario.cpp, reached through their PolicyEntry): field
+// positions, field paths, validation with "FILE:LINE:COL: field 'a.b': ..."
+// messages.
 #pragma once
 
 #include <google/protobuf/io/tokenizer.h>
@@ -16,6 +17,7 @@
 #include <utility>
 #include <vector>
 
+#include "pheromesh/core/policy_table.hpp"
 #include "pheromesh/core/scenario.hpp"
 #include "scenario.pb.h"
 
@@ -205,12 +207,18 @@ std::optional<Rect> check_rect(Validator& v, const Node& n, const pb::Rect& r, s
 // Checks a required cell inside the map; returns it if valid.
 std::optional<Cell> check_cell(Validator& v, const Node& n, const pb::Cell& c, std::optional<MapSize> map);
 
-// Per-policy parsers: read `msg` (the policy's message at node `n`) into `cfg`.
-void build_shao_search(const pb::ShaoSearchPolicy& msg, const Node& n, Validator& v, ScenarioConfig& cfg);
-void build_shao_navigation(const pb::ShaoNavigationPolicy& msg, const Node& n, Validator& v, ScenarioConfig& cfg);
-void build_liu(const pb::LiuPolicy& msg, const Node& n, Validator& v, ScenarioConfig& cfg);
-void build_shostak(const pb::ShostakPolicy& msg, const Node& n, Validator& v, ScenarioConfig& cfg);
-void build_ravankar(const pb::RavankarPolicy& msg, const Node& n, Validator& v, ScenarioConfig& cfg);
-void build_duan(const pb::DuanPolicy& msg, const Node& n, Validator& v, ScenarioConfig& cfg);
+// A PolicyEntry's parse hook (policy_table.hpp) from a room's parser of its
+// own message type: parse_as<pb::LiuPolicy, &build_liu>. The table dispatches
+// by the oneof member's name, so `msg` is an M unless an entry names a member
+// whose message is another type: said at the member's line.
+template <class M, void (*Build)(const M&, const Node&, Validator&, ScenarioConfig&)>
+void parse_as(const Message& msg, const Node& n, Validator& v, ScenarioConfig& cfg) {
+  if (msg.GetDescriptor() != M::descriptor()) {
+    v.fail(n, "is a " + msg.GetDescriptor()->full_name() + ", but its entry in the policy table reads a " +
+                  M::descriptor()->full_name());
+    return;
+  }
+  Build(static_cast<const M&>(msg), n, v, cfg);
+}
 
 }  // namespace pheromesh::core::scenario_detail

@@ -30,7 +30,7 @@ nlohmann::json metrics_json(const core::RunRecorder& r, const RunInfo& info) {
   nlohmann::json j;
   j["scenario"] = s.name;
   j["scenario_file"] = s.source_path;
-  j["policy"] = core::policy_name(s.policy);
+  j["policy"] = s.policy;
   j["seed"] = s.seed;
   j["dds"] = info.transport;
   j["clock"] = info.clock;

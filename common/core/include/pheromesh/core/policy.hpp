@@ -11,7 +11,9 @@
 //
 // A scenario picks the policy (scenario.policy in the textproto; the Shao
 // search when absent). Each policy lives in its paper's room,
-// common/core/papers/<paper>/ (pheromesh/<paper>/policy.hpp).
+// common/core/papers/<paper>/ (pheromesh/<paper>/policy.hpp), which exports
+// its entry of the policy table (policy_table.hpp); the functions below call
+// the entry of the scenario's policy.
 #pragma once
 
 #include <cstdint>
@@ -37,7 +39,9 @@ struct PolicyTraits {
   std::vector<std::string> layers;  // layer names, index = TileState.layer
   double sensor_radius = 4.0;       // [cell] for the coverage metric
   double view_radius = 5.0;         // [cell] tiles (and the UAVs over them) a UAV reads
-  bool broadcasts = false;          // its UAVs may broadcast to the swarm (a UAV then creates its writer at start)
+  // Its UAVs may broadcast to the swarm (PolicyEntry::broadcasts); a UAV then
+  // creates its writer at start.
+  bool broadcasts = false;
   // Plausibility (plausibility.hpp): the farthest a UAV flies in one tick
   // [cell/tick], and each layer's physical range (index = layer).
   double max_step = 1.5;
@@ -134,8 +138,8 @@ using FieldLookup = std::function<float(int layer, Cell c)>;
 std::map<std::string, double> field_summary(const ScenarioConfig& s, const FieldLookup& value);
 
 // Each paper's factories (traits, UAV policy, place model, field summary)
-// are declared in its room (pheromesh/<paper>/policy.hpp) and dispatched on
-// ScenarioConfig::policy by policy_registry.cpp.
+// are declared in its room (pheromesh/<paper>/policy.hpp) and reached through
+// its entry of the policy table (policy_table.hpp, core/src/policy_table.cpp).
 
 // Heading (0..7) closest to a velocity; `fallback` for a zero velocity.
 uint8_t heading_of_velocity(double vx, double vy, uint8_t fallback);

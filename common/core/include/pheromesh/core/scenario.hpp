@@ -18,18 +18,19 @@
 
 namespace pheromesh::core {
 
-// The search policy a scenario runs (policy.hpp).
-enum class PolicyKind : uint8_t { ShaoSearch = 0, ShaoNavigation, Liu, Shostak, Ravankar, Duan };
-const char* policy_name(PolicyKind k);  // as in the scenario file: "shao_search", ...
+// The policy of a scenario without `policy { ... }`: the Shao 2020 search.
+// A scenario names its policy by the entry of the policy table
+// (policy_table.hpp) that runs it: "shao_search", "liu", ...
+inline constexpr std::string_view kDefaultPolicy = "shao_search";
 
-// The configuration of one paper's policy. Each room derives its own
+// The configuration of one policy. Each room derives its own
 // (pheromesh/<paper>/policy.hpp: ShaoNavigationConfig, LiuConfig,
 // ShostakConfig, RavankarConfig, DuanConfig) with `static constexpr
-// PolicyKind kKind`, so that a scenario holds only the policy it runs and this
-// header knows no paper.
+// std::string_view kPolicy`, the name of its policy's table entry, so that a
+// scenario holds only the policy it runs and this header knows no paper.
 struct PolicyConfig {
   virtual ~PolicyConfig() = default;
-  [[nodiscard]] virtual PolicyKind kind() const = 0;
+  [[nodiscard]] virtual std::string_view policy() const = 0;  // the policy's name, as kPolicy
 
  protected:
   PolicyConfig() = default;
@@ -83,9 +84,13 @@ struct ScenarioConfig {
   double tick_rate_hz = 10.0;  // realtime clock rate [Hz]
   uint64_t seed = 1;
   bool standby = false;        // a hot-standby replica of every place agent (pheromesh run --standby)
-  ShaoLayerParams layers;  // the Shao field (layers.hpp): Shao search and navigation
-  ShaoAcoParams aco;       // Shao 2020 eq. (9): Shao search and navigation
-  PolicyKind policy = PolicyKind::ShaoSearch;
+  // `shao { layers aco }`, read by the Shao room (papers/shao/src/scenario.cpp)
+  // in every scenario; used by the Shao search and navigation.
+  ShaoLayerParams layers;  // the Shao field (layers.hpp)
+  ShaoAcoParams aco;       // Shao 2020 eq. (9)
+  // The name of the policy's entry in the policy table (policy_table.hpp),
+  // as in the scenario file: "shao_search", "liu", ...
+  std::string policy{kDefaultPolicy};
   // The config of `policy`; null for the Shao search, which has none beyond
   // `layers` and `aco`. Immutable and shared by copies of the scenario.
   std::shared_ptr<const PolicyConfig> policy_config;
@@ -98,16 +103,16 @@ struct ScenarioConfig {
   // Sets the policy and its config: set_policy_config(LiuConfig{...}).
   template <class C>
   void set_policy_config(C config) {
-    policy = C::kKind;
+    policy = std::string(C::kPolicy);
     policy_config = std::make_shared<const C>(std::move(config));
   }
   // The config of policy C; throws std::logic_error when the scenario runs
-  // another policy (a programming error: callers dispatch on `policy`).
+  // another policy (a programming error: a policy's own code reads its config).
   template <class C>
   [[nodiscard]] const C& config_of() const {
-    if (policy_config == nullptr || policy_config->kind() != C::kKind) {
-      throw std::logic_error(std::string("scenario '") + name + "': asked for the " + policy_name(C::kKind) +
-                             " config of a scenario whose policy is " + policy_name(policy) +
+    if (policy_config == nullptr || policy_config->policy() != C::kPolicy) {
+      throw std::logic_error(std::string("scenario '") + name + "': asked for the " + std::string(C::kPolicy) +
+                             " config of a scenario whose policy is " + policy +
                              (policy_config == nullptr ? " (no policy config set)" : ""));
     }
     return static_cast<const C&>(*policy_config);

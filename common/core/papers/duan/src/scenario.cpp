@@ -1,4 +1,5 @@
-// scenario.policy.duan (Duan 2009 Sec. 4, Duan 2009 Table 1, Duan 2009 Table 2, Duan 2009 Table 3, Duan 2009 Table 4; docs/policies/duan.md).
+// scenario.policy.duan (Duan 2009 Sec. 4, Duan 2009 Table 1, Duan 2009 Table 2, Duan 2009 Table 3, Duan 2009 Table 4;
+// docs/policies/duan.md). The room's entry of the policy table is at the end.
 #include <numbers>
 
 #include <utility>
@@ -58,8 +59,6 @@ std::optional<DuanPopup> build_threat(const pb::DuanPolicy::Threat& t, const Nod
   out.appear_tick = static_cast<uint32_t>(t.appear_tick());
   return out;
 }
-
-}  // namespace
 
 void build_duan(const pb::DuanPolicy& msg, const Node& n, Validator& v, ScenarioConfig& cfg) {
   DuanConfig c;
@@ -167,4 +166,22 @@ void build_duan(const pb::DuanPolicy& msg, const Node& n, Validator& v, Scenario
   cfg.set_policy_config(std::move(c));
 }
 
+}  // namespace
+
 }  // namespace pheromesh::core::scenario_detail
+
+namespace pheromesh::core {
+
+// Its UAVs broadcast their ETA intervals (Duan 2009 eq. (4)).
+constinit const PolicyEntry kDuanPolicy{
+    .name = DuanConfig::kPolicy,
+    .parse = &scenario_detail::parse_as<scenario_detail::pb::DuanPolicy, &scenario_detail::build_duan>,
+    .parse_scenario_fields = nullptr,
+    .traits = &duan_traits,
+    .broadcasts = true,
+    .make_uav = &make_duan_uav,
+    .make_place = &make_duan_place,
+    .field_summary = &duan_field_summary,
+};
+
+}  // namespace pheromesh::core

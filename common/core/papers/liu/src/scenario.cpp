@@ -1,4 +1,5 @@
 // scenario.policy.liu (Liu 2022 ESUSTPM, Liu 2022 Sec. 5 and Liu 2022 Table 1; liu/src/policy.cpp).
+// The room's entry of the policy table is at the end.
 #include <array>
 #include <utility>
 
@@ -25,8 +26,6 @@ void read_choice(Validator& v, const Node& n, const char* field, bool has, const
   }
   v.fail(n, field, "must be one of " + names + " (got \"" + got + "\")");
 }
-
-}  // namespace
 
 void build_liu(const pb::LiuPolicy& msg, const Node& n, Validator& v, ScenarioConfig& cfg) {
   LiuConfig c;
@@ -135,4 +134,21 @@ void build_liu(const pb::LiuPolicy& msg, const Node& n, Validator& v, ScenarioCo
   cfg.set_policy_config(std::move(c));
 }
 
+}  // namespace
+
 }  // namespace pheromesh::core::scenario_detail
+
+namespace pheromesh::core {
+
+constinit const PolicyEntry kLiuPolicy{
+    .name = LiuConfig::kPolicy,
+    .parse = &scenario_detail::parse_as<scenario_detail::pb::LiuPolicy, &scenario_detail::build_liu>,
+    .parse_scenario_fields = nullptr,
+    .traits = &liu_traits,
+    .broadcasts = false,
+    .make_uav = &make_liu_uav,
+    .make_place = &make_liu_place,
+    .field_summary = &liu_field_summary,
+};
+
+}  // namespace pheromesh::core

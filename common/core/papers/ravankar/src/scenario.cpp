@@ -1,4 +1,5 @@
 // scenario.policy.ravankar (Ravankar 2016; docs/policies/ravankar.md).
+// The room's entry of the policy table is at the end.
 #include <utility>
 
 #include "pheromesh/ravankar/policy.hpp"
@@ -20,8 +21,6 @@ bool read_count(Validator& v, const Node& n, const char* field, bool has, int64_
   out = static_cast<uint32_t>(value);
   return true;
 }
-
-}  // namespace
 
 void build_ravankar(const pb::RavankarPolicy& msg, const Node& n, Validator& v, ScenarioConfig& cfg) {
   RavankarConfig c;
@@ -120,4 +119,21 @@ void build_ravankar(const pb::RavankarPolicy& msg, const Node& n, Validator& v, 
   cfg.set_policy_config(std::move(c));
 }
 
+}  // namespace
+
 }  // namespace pheromesh::core::scenario_detail
+
+namespace pheromesh::core {
+
+constinit const PolicyEntry kRavankarPolicy{
+    .name = RavankarConfig::kPolicy,
+    .parse = &scenario_detail::parse_as<scenario_detail::pb::RavankarPolicy, &scenario_detail::build_ravankar>,
+    .parse_scenario_fields = nullptr,
+    .traits = &ravankar_traits,
+    .broadcasts = false,
+    .make_uav = &make_ravankar_uav,
+    .make_place = &make_ravankar_place,
+    .field_summary = &ravankar_field_summary,
+};
+
+}  // namespace pheromesh::core

@@ -48,7 +48,7 @@ FaultSchedule uav_kill_schedule(const std::vector<uint32_t>& uavs, uint32_t tick
 
 RobustnessRun run_robustness(const ScenarioConfig& base, ShaoRoute route, double share, uint64_t seed,
                              uint32_t kill_tick, double goal) {
-  if (base.policy != PolicyKind::ShaoSearch) {
+  if (base.policy != ShaoSearchConfig::kPolicy) {
     throw std::invalid_argument("scenario '" + base.name + "' does not run the Shao search");
   }
   ScenarioConfig s = base;

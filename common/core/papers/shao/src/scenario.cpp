@@ -1,11 +1,71 @@
+// scenario.shao (the layers and ACO parameters both Shao policies read),
 // scenario.policy.shao_search (Shao 2020 Sec. 4, its baseline and our variant) and
-// scenario.policy.shao_navigation (Shao 2020 Sec. 5, Shao 2020 Table 2).
+// scenario.policy.shao_navigation (Shao 2020 Sec. 5, Shao 2020 Table 2); the Shao
+// room's two entries of the policy table.
 #include <utility>
 
 #include "pheromesh/shao/policy.hpp"
 #include "scenario_internal.hpp"
 
 namespace pheromesh::core::scenario_detail {
+namespace {
+
+// scenario.shao, read in every scenario (PolicyEntry::parse_scenario_fields).
+void build_shao_fields(const pb::Scenario& msg, const Node& root, Validator& v, ScenarioConfig& cfg) {
+  // --- shao.layers: Shao 2020 eq. (1), Shao 2020 eq. (2), Shao 2020 eq. (3), Shao 2020 eq. (4),
+  // Shao 2020 eq. (5), Shao 2020 eq. (6), Shao 2020 eq. (7), Shao 2020 eq. (8)
+  const Node shn = root.child("shao");
+  const Node ln = shn.child("layers");
+  const pb::Layers& l = msg.shao().layers();
+  ShaoLayerParams& lp = cfg.layers;
+  if (l.has_e_tau()) lp.e_tau = l.e_tau();
+  if (l.has_g_tau()) lp.g_tau = l.g_tau();
+  if (l.has_d_tau()) lp.d_tau = l.d_tau();
+  if (l.has_e_eps()) lp.e_eps = l.e_eps();
+  if (l.has_g_eps()) lp.g_eps = l.g_eps();
+  if (l.has_d_eps()) lp.d_eps = l.d_eps();
+  if (l.has_sigma0()) lp.sigma0 = l.sigma0();
+  if (l.has_sigma_min()) lp.sigma_min = l.sigma_min();
+  if (l.has_d0()) lp.d0 = l.d0();
+  if (l.has_q()) lp.q = l.q();
+  v.real_in(ln, "e_tau", lp.e_tau, 0.0, false, 1.0, true);
+  v.real_in(ln, "g_tau", lp.g_tau, 0.0, false, 1.0, true);
+  v.real_in(ln, "d_tau", lp.d_tau, 0.0, false, kInf, false);
+  v.real_in(ln, "e_eps", lp.e_eps, 0.0, false, 1.0, true);
+  v.real_in(ln, "g_eps", lp.g_eps, 0.0, false, 1.0, true);
+  v.real_in(ln, "d_eps", lp.d_eps, 0.0, false, kInf, false);
+  // Shao 2020 eq. (8) clamps path pheromone to [σmin, σ0], so the interval must not be empty.
+  const bool sigma_min_ok = v.real_in(ln, "sigma_min", lp.sigma_min, 0.0, true, kInf, false);
+  const bool sigma0_ok = v.real_in(ln, "sigma0", lp.sigma0, 0.0, true, kInf, false);
+  if (sigma_min_ok && sigma0_ok && lp.sigma0 < lp.sigma_min) {
+    v.fail(ln, "sigma0",
+           "must be >= sigma_min = " + format_number(lp.sigma_min) + " (got " + format_number(lp.sigma0) + ")");
+  }
+  v.real_in(ln, "d0", lp.d0, 0.0, true, kInf, false);
+  v.real_in(ln, "q", lp.q, 0.0, true, kInf, false);
+
+  // --- shao.aco: Shao 2020 eq. (9), Shao 2020 eq. (10), Shao 2020 eq. (11), Shao 2020 Sec. 4.2
+  const Node cn = shn.child("aco");
+  const pb::Aco& a = msg.shao().aco();
+  ShaoAcoParams& ap = cfg.aco;
+  if (a.has_alpha()) ap.alpha = a.alpha();
+  if (a.has_beta()) ap.beta = a.beta();
+  if (a.has_lambda_target()) ap.lambda_target = a.lambda_target();
+  if (a.has_lambda_obstacle()) ap.lambda_obstacle = a.lambda_obstacle();
+  if (a.has_lambda_path()) ap.lambda_path = a.lambda_path();
+  if (a.has_sensor_radius()) ap.sensor_radius = a.sensor_radius();
+  if (a.has_random_fraction()) ap.random_fraction = a.random_fraction();
+  v.real_in(cn, "alpha", ap.alpha, 0.0, false, kInf, false);
+  v.real_in(cn, "beta", ap.beta, 0.0, false, kInf, false);
+  v.real_in(cn, "lambda_target", ap.lambda_target, 0.0, false, 1.0, false);
+  v.real_in(cn, "lambda_obstacle", ap.lambda_obstacle, -1.0, false, 0.0, false);
+  v.real_in(cn, "lambda_path", ap.lambda_path, 0.0, false, 1.0, false);
+  v.real_in(cn, "sensor_radius", ap.sensor_radius, 0.0, true, kMaxSensorRadius, false);
+  v.real_in(cn, "random_fraction", ap.random_fraction, 0.0, false, 1.0, false);
+  if (a.has_revisit_period() && v.int_between(cn, "revisit_period", a.revisit_period(), 1, kMaxU32)) {
+    ap.revisit_period = static_cast<uint32_t>(a.revisit_period());
+  }
+}
 
 void build_shao_search(const pb::ShaoSearchPolicy& msg, const Node& n, Validator& v, ScenarioConfig& cfg) {
   if (!msg.has_search() && !msg.has_mark()) return;  // the paper's pheromone search (no config)
@@ -119,4 +179,43 @@ void build_shao_navigation(const pb::ShaoNavigationPolicy& msg, const Node& n, V
   cfg.set_policy_config(std::move(c));
 }
 
+}  // namespace
 }  // namespace pheromesh::core::scenario_detail
+
+namespace pheromesh::core {
+
+namespace {
+std::unique_ptr<PlaceModel> make_shao_search_place(const ScenarioConfig& s, const MapGeometry& geo, RegionId region) {
+  return make_shao_place(s, geo, region, false);
+}
+}  // namespace
+
+static_assert(ShaoSearchConfig::kPolicy == kDefaultPolicy, "a scenario without `policy` runs the Shao search");
+
+constinit const PolicyEntry kShaoSearchPolicy{
+    .name = ShaoSearchConfig::kPolicy,
+    .parse = &scenario_detail::parse_as<scenario_detail::pb::ShaoSearchPolicy, &scenario_detail::build_shao_search>,
+    .parse_scenario_fields =
+        &scenario_detail::parse_as<scenario_detail::pb::Scenario, &scenario_detail::build_shao_fields>,
+    .traits = &shao_search_traits,
+    .broadcasts = false,
+    .make_uav = &make_shao_search_uav,
+    .make_place = &make_shao_search_place,
+    .field_summary = nullptr,
+};
+
+// The leader's state (Shao 2020 Sec. 5) is a broadcast.
+constinit const PolicyEntry kShaoNavigationPolicy{
+    .name = ShaoNavigationConfig::kPolicy,
+    .parse =
+        &scenario_detail::parse_as<scenario_detail::pb::ShaoNavigationPolicy, &scenario_detail::build_shao_navigation>,
+    .parse_scenario_fields =
+        &scenario_detail::parse_as<scenario_detail::pb::Scenario, &scenario_detail::build_shao_fields>,
+    .traits = &shao_navigation_traits,
+    .broadcasts = true,
+    .make_uav = &make_shao_navigation_uav,
+    .make_place = &make_shao_navigation_place,
+    .field_summary = &shao_navigation_field_summary,
+};
+
+}  // namespace pheromesh::core

@@ -307,12 +307,12 @@ PolicyTraits shao_search_traits(const ScenarioConfig& s) {
 }
 
 ShaoRoute shao_route(const ScenarioConfig& s) {
-  if (s.policy != PolicyKind::ShaoSearch || s.policy_config == nullptr) return ShaoRoute::Pheromone;
+  if (s.policy != ShaoSearchConfig::kPolicy || s.policy_config == nullptr) return ShaoRoute::Pheromone;
   return s.config_of<ShaoSearchConfig>().route;
 }
 
 bool shao_mark_on_arrival(const ScenarioConfig& s) {
-  if (s.policy != PolicyKind::ShaoSearch || s.policy_config == nullptr) return false;
+  if (s.policy != ShaoSearchConfig::kPolicy || s.policy_config == nullptr) return false;
   return s.config_of<ShaoSearchConfig>().mark_on_arrival;
 }
 

@@ -1,4 +1,5 @@
-// scenario.policy.shostak (Shostak 2024 Sec. 2, Shostak 2024 Sec. 3, Shostak 2024 Sec. 4, Shostak 2024 Sec. 5; shostak/src/policy.cpp).
+// scenario.policy.shostak (Shostak 2024 Sec. 2, Shostak 2024 Sec. 3, Shostak 2024 Sec. 4, Shostak 2024 Sec. 5;
+// shostak/src/policy.cpp). The room's entry of the policy table is at the end.
 #include <numbers>
 
 #include <utility>
@@ -10,7 +11,6 @@ namespace pheromesh::core::scenario_detail {
 
 namespace {
 constexpr double kDegToRad = std::numbers::pi / 180.0;
-}  // namespace
 
 void build_shostak(const pb::ShostakPolicy& msg, const Node& n, Validator& v, ScenarioConfig& cfg) {
   ShostakConfig c;
@@ -115,4 +115,22 @@ void build_shostak(const pb::ShostakPolicy& msg, const Node& n, Validator& v, Sc
   cfg.set_policy_config(std::move(c));
 }
 
+}  // namespace
+
 }  // namespace pheromesh::core::scenario_detail
+
+namespace pheromesh::core {
+
+// A UAV that finds a target broadcasts "target found" (Shostak 2024 Sec. 5).
+constinit const PolicyEntry kShostakPolicy{
+    .name = ShostakConfig::kPolicy,
+    .parse = &scenario_detail::parse_as<scenario_detail::pb::ShostakPolicy, &scenario_detail::build_shostak>,
+    .parse_scenario_fields = nullptr,
+    .traits = &shostak_traits,
+    .broadcasts = true,
+    .make_uav = &make_shostak_uav,
+    .make_place = &make_shostak_place,
+    .field_summary = &shostak_field_summary,
+};
+
+}  // namespace pheromesh::core

@@ -10,10 +10,12 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "pheromesh/core/grid.hpp"
 #include "pheromesh/core/policy.hpp"
+#include "pheromesh/core/policy_table.hpp"
 #include "pheromesh/duan/aco.hpp"
 
 namespace pheromesh::core {
@@ -31,8 +33,8 @@ struct DuanMission {
 };
 
 struct DuanConfig final : PolicyConfig {
-  static constexpr PolicyKind kKind = PolicyKind::Duan;
-  [[nodiscard]] PolicyKind kind() const override { return kKind; }
+  static constexpr std::string_view kPolicy = "duan";
+  [[nodiscard]] std::string_view policy() const override { return kPolicy; }
 
   double node_spacing_km = 2.0;  // [km] mesh spacing: 60 x 70 km at 2 km = 31 x 36 nodes (Duan 2009 Sec. 4)
   double f = kDuanThreatWeight;  // Duan 2009 eq. (3)
@@ -46,7 +48,9 @@ struct DuanConfig final : PolicyConfig {
   std::vector<DuanMission> uavs;  // one per UAV of the swarm
 };
 
-// --- the policy (policy.cpp), dispatched by core/src/policy_registry.cpp
+// --- the policy (policy.cpp), reached through the room's entry of the policy
+// table, kDuanPolicy (defined in src/scenario.cpp)
+extern const PolicyEntry kDuanPolicy;
 PolicyTraits duan_traits(const ScenarioConfig& s);
 std::unique_ptr<UavPolicy> make_duan_uav(const ScenarioConfig& s, const MapGeometry& geo, const World& world, uint32_t id);
 std::unique_ptr<PlaceModel> make_duan_place(const ScenarioConfig& s, const MapGeometry& geo, RegionId region);

@@ -12,10 +12,12 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "pheromesh/core/grid.hpp"
 #include "pheromesh/core/policy.hpp"
+#include "pheromesh/core/policy_table.hpp"
 #include "pheromesh/liu/swarm.hpp"
 #include "pheromesh/liu/tpm.hpp"
 
@@ -29,8 +31,8 @@ enum class LiuStartPoint : uint8_t {
 };
 
 struct LiuConfig final : PolicyConfig {
-  static constexpr PolicyKind kKind = PolicyKind::Liu;
-  [[nodiscard]] PolicyKind kind() const override { return kKind; }
+  static constexpr std::string_view kPolicy = "liu";
+  [[nodiscard]] std::string_view policy() const override { return kPolicy; }
 
   // Liu 2022 Table 1 constants, P_d, P_f, θ, speeds, Δt, cycle length, cell size. The
   // grid size and the UAV count are taken from the scenario's map and swarm
@@ -64,7 +66,9 @@ double liu_view_radius_cells(const LiuParams& p);
 // centres [m] of their cells.
 LiuSwarmConfig liu_swarm_config_of(const LiuConfig& c, const std::vector<Cell>& targets);
 
-// --- the policy (policy.cpp), dispatched by core/src/policy_registry.cpp
+// --- the policy (policy.cpp), reached through the room's entry of the policy
+// table, kLiuPolicy (defined in src/scenario.cpp)
+extern const PolicyEntry kLiuPolicy;
 PolicyTraits liu_traits(const ScenarioConfig& s);
 std::unique_ptr<UavPolicy> make_liu_uav(const ScenarioConfig& s, const MapGeometry& geo, const World& world, uint32_t id);
 std::unique_ptr<PlaceModel> make_liu_place(const ScenarioConfig& s, const MapGeometry& geo, RegionId region);

@@ -9,17 +9,19 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "pheromesh/core/grid.hpp"
 #include "pheromesh/core/policy.hpp"
+#include "pheromesh/core/policy_table.hpp"
 #include "pheromesh/ravankar/model.hpp"
 
 namespace pheromesh::core {
 
 struct RavankarConfig final : PolicyConfig {
-  static constexpr PolicyKind kKind = PolicyKind::Ravankar;
-  [[nodiscard]] PolicyKind kind() const override { return kKind; }
+  static constexpr std::string_view kPolicy = "ravankar";
+  [[nodiscard]] std::string_view policy() const override { return kPolicy; }
 
   double dt_s = 1.0;             // [s] one tick
   double cell_size_m = 1.0;      // [m] "cells of unit area"; deposit.cell_size_m is kept equal
@@ -70,7 +72,9 @@ struct RavankarChoice {
 RavankarChoice ravankar_follower_choice(Cell at, const std::function<std::optional<float>(Cell)>& value,
                                         const std::function<bool(Cell)>& visited, const RavankarFollowerParams& p);
 
-// --- the policy (policy.cpp), dispatched by core/src/policy_registry.cpp
+// --- the policy (policy.cpp), reached through the room's entry of the policy
+// table, kRavankarPolicy (defined in src/scenario.cpp)
+extern const PolicyEntry kRavankarPolicy;
 PolicyTraits ravankar_traits(const ScenarioConfig& s);
 std::unique_ptr<UavPolicy> make_ravankar_uav(const ScenarioConfig& s, const MapGeometry& geo, const World& world, uint32_t id);
 std::unique_ptr<PlaceModel> make_ravankar_place(const ScenarioConfig& s, const MapGeometry& geo, RegionId region);

@@ -6,15 +6,17 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <string_view>
 #include "pheromesh/core/grid.hpp"
 #include "pheromesh/core/policy.hpp"
+#include "pheromesh/core/policy_table.hpp"
 #include "pheromesh/shao/navigation.hpp"
 
 namespace pheromesh::core {
 
 struct ShaoNavigationConfig final : PolicyConfig {
-  static constexpr PolicyKind kKind = PolicyKind::ShaoNavigation;
-  [[nodiscard]] PolicyKind kind() const override { return kKind; }
+  static constexpr std::string_view kPolicy = "shao_navigation";
+  [[nodiscard]] std::string_view policy() const override { return kPolicy; }
 
   ShaoNavParams params;  // Shao 2020 Table 2
   LeaderPheromones leader = LeaderPheromones::Vector;
@@ -36,8 +38,8 @@ enum class ShaoRoute : uint8_t {
   Frontier,          // shao_search_frontier, ours ("frontier", docs/policies/shao.md)
 };
 struct ShaoSearchConfig final : PolicyConfig {
-  static constexpr PolicyKind kKind = PolicyKind::ShaoSearch;
-  [[nodiscard]] PolicyKind kind() const override { return kKind; }
+  static constexpr std::string_view kPolicy = "shao_search";
+  [[nodiscard]] std::string_view policy() const override { return kPolicy; }
   ShaoRoute route = ShaoRoute::Pheromone;
   // Shao 2020 Algorithm 1 line 4, "go there, mark them": false (default, our
   // reading) marks a target as soon as it is within the sensor radius; true
@@ -49,6 +51,9 @@ struct ShaoSearchConfig final : PolicyConfig {
 ShaoRoute shao_route(const ScenarioConfig& s);
 bool shao_mark_on_arrival(const ScenarioConfig& s);
 
+// The search's entry of the policy table (defined in src/scenario.cpp); the
+// policy of a scenario without `policy` (kDefaultPolicy).
+extern const PolicyEntry kShaoSearchPolicy;
 PolicyTraits shao_search_traits(const ScenarioConfig& s);
 std::unique_ptr<UavPolicy> make_shao_search_uav(const ScenarioConfig& s, const MapGeometry& geo, const World& world,
                                                 uint32_t id);
@@ -62,7 +67,9 @@ std::unique_ptr<UavPolicy> make_shao_search_uav_at(const ScenarioConfig& s, cons
 std::unique_ptr<PlaceModel> make_shao_place(const ScenarioConfig& s, const MapGeometry& geo, RegionId region,
                                             bool beacons);
 
-// --- Shao 2020 Sec. 5 navigation (navigation_policy.cpp)
+// --- Shao 2020 Sec. 5 navigation (navigation_policy.cpp), reached through its
+// entry of the policy table (defined in src/scenario.cpp)
+extern const PolicyEntry kShaoNavigationPolicy;
 PolicyTraits shao_navigation_traits(const ScenarioConfig& s);
 std::unique_ptr<UavPolicy> make_shao_navigation_uav(const ScenarioConfig& s, const MapGeometry& geo, const World& world, uint32_t id);
 std::unique_ptr<PlaceModel> make_shao_navigation_place(const ScenarioConfig& s, const MapGeometry& geo, RegionId region);

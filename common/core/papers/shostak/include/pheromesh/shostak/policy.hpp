@@ -12,16 +12,18 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "pheromesh/core/policy.hpp"
+#include "pheromesh/core/policy_table.hpp"
 #include "pheromesh/shostak/model.hpp"
 
 namespace pheromesh::core {
 
 struct ShostakConfig final : PolicyConfig {
-  static constexpr PolicyKind kKind = PolicyKind::Shostak;
-  [[nodiscard]] PolicyKind kind() const override { return kKind; }
+  static constexpr std::string_view kPolicy = "shostak";
+  [[nodiscard]] std::string_view policy() const override { return kPolicy; }
 
   // One tick is one deposit period of Shostak 2024 Sec. 3.1 (0.2 s): one explored deposit, one
   // motion step of speed·dt, one Shostak 2024 eq. (2) evaporation by (1-ρ)^dt. Other values
@@ -62,7 +64,9 @@ struct ShostakConfig final : PolicyConfig {
 std::optional<Eigen::Vector3d> shostak_beeline_waypoint(const Eigen::Vector3d& from, const Eigen::Vector3d& target,
                                                         double step_m);
 
-// --- the policy (policy.cpp), dispatched by core/src/policy_registry.cpp
+// --- the policy (policy.cpp), reached through the room's entry of the policy
+// table, kShostakPolicy (defined in src/scenario.cpp)
+extern const PolicyEntry kShostakPolicy;
 PolicyTraits shostak_traits(const ScenarioConfig& s);
 std::unique_ptr<UavPolicy> make_shostak_uav(const ScenarioConfig& s, const MapGeometry& geo, const World& world, uint32_t id);
 std::unique_ptr<PlaceModel> make_shostak_place(const ScenarioConfig& s, const MapGeometry& geo, RegionId region);
