@@ -89,11 +89,12 @@ std::string fixed_text(double v, int prec) {
   return b;
 }
 
-// Digits enough to tell a metric's cells apart: 3 significant ones.
+// Four significant digits for the table of sweep.md, never an exponent for
+// a count such as 1798 (runs.csv and summary.csv hold every digit).
 std::string short_text(double v) {
   if (!std::isfinite(v)) return "–";
   char b[64];
-  std::snprintf(b, sizeof b, "%.3g", v);
+  std::snprintf(b, sizeof b, std::fabs(v) >= 1e4 ? "%.0f" : "%.4g", v);
   return b;
 }
 
