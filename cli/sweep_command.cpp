@@ -87,6 +87,11 @@ class Progress {
     if (quiet_) return;
     const std::size_t every = std::max<std::size_t>(1, total_ / 10);
     if (!tty_ && done_ % every != 0 && done_ != total_) return;
+    // A terminal is redrawn ten times a second at most: short runs finish
+    // by the thousand.
+    const auto now = Clock::now();
+    if (tty_ && done_ != total_ && now - last_draw_ < std::chrono::milliseconds(100)) return;
+    last_draw_ = now;
     const double s = seconds_since(t0_);
     const double rate = s > 0 ? static_cast<double>(done_) / s : 0.0;
     const int width = 30;
@@ -105,7 +110,7 @@ class Progress {
   std::mutex mutex_;
   std::size_t total_, done_ = 0;
   bool quiet_, tty_;
-  Clock::time_point t0_;
+  Clock::time_point t0_, last_draw_{};
 };
 
 struct Plan {
