@@ -22,6 +22,7 @@
 #include "scenario_paths.hpp"
 #include "security_command.hpp"
 #include "sim_command.hpp"
+#include "sweep_command.hpp"
 
 namespace {
 
@@ -271,6 +272,40 @@ Examples:
   pheromesh sim small-test --ticks 100 --out out/sim
   pheromesh sim small-test --set shao.aco.alpha=2 --set swarm.uavs=8 --seed 3)");
 
+  cli::SweepOptions swo;
+  auto* sw = app.add_subcommand(
+      "sweep", "Run a scenario on the in-process simulator for every combination of parameter values (--set "
+               "PATH=V1,V2,...) and every seed (--seeds 1-20), in parallel (--jobs) and resumably; write runs.csv, "
+               "summary.csv (mean, sd, 95 % interval per combination), SVG plots and sweep.md; print runs/s");
+  sw->add_option("SCENARIO", swo.scenario, cli::kScenarioArgHelp)
+      ->required()
+      ->transform(CLI::Validator(cli::resolve_scenario_argument, "FILE|NAME"));
+  cli::add_override_options(*sw, swo.overrides, {cli::FieldFlag::Ticks, cli::FieldFlag::Uavs});
+  sw->get_option("--set")
+      ->description("The values of a field: PATH=V1,V2,... (one value: a fixed override); repeatable, every "
+                    "combination is run; each value validated like the file (see GRID below)")
+      ->type_name("PATH=V1,V2,...");
+  sw->add_option("--seeds", swo.seeds, "Seeds of every combination: 1-20, 1,5,9 or 1-3,10")->capture_default_str();
+  sw->add_option("--jobs,-j", swo.jobs, "Simulations run at once (default: the host's hardware threads)")
+      ->check(CLI::Range(1U, 1024U));
+  sw->add_option("--out", swo.out_dir,
+                 "Output folder, relative to the current directory (default out/sweeps/<scenario name>); a re-run "
+                 "in the same folder skips the finished runs");
+  sw->add_flag("--quiet", swo.quiet, "No progress bar");
+  sw->add_flag("--distributed", swo.distributed,
+               "Also fly a sample of the runs as processes (pheromesh run --clock lockstep) and check each against "
+               "the simulator: metrics and final_field.txt; exit 4 if one differs");
+  sw->add_option("--distributed-sample", swo.distributed_sample,
+                 "With --distributed: how many runs to fly, spread over the sweep")
+      ->check(CLI::Range(1U, 1000U))
+      ->capture_default_str();
+  sw->add_option("--dds", swo.dds, "With --distributed: the vendor(s) of the processes (cyclone, fastdds, mixed)")
+      ->check(CLI::IsMember({"cyclone", "fastdds", "mixed"}))
+      ->capture_default_str();
+  sw->add_option("--domain", swo.domain, "With --distributed: the DDS domain of the processes (0: the launcher's)")
+      ->check(CLI::Range(0U, 232U));
+  sw->footer(std::string(cli::kSweepFooter) + "\n" + cli::kSetFooter);
+
   cli::ExperimentOptions eo;
   auto* ex = app.add_subcommand("experiment", "Run one of the papers' experiments as Monte Carlo with the simulator and "
                                               "write a report (Markdown + CSV + SVG) with our numbers beside the paper's");
@@ -468,6 +503,10 @@ Examples:
   if (si->parsed()) return cli::run_security_init(sio);
   if (sim->parsed()) return cli::run_sim(so);
   if (ex->parsed()) return cli::run_experiment_command(eo);
+  if (sw->parsed()) {
+    swo.command = cli::command_line(argc, argv);
+    return cli::run_sweep(swo);
+  }
   if (rp->parsed()) return cli::run_replay(rpo);
   if (bs->parsed()) return cli::run_bench_scale(bso);
   if (bl->parsed() || le->parsed()) {

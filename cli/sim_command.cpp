@@ -81,21 +81,13 @@ int simulate(const core::ScenarioConfig& s, const core::FaultSchedule& faults, c
   const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
   std::string error;
-  runtime::RunInfo info;  // no discovery in-process
-  info.transport = "none (in-process simulator)";
-  info.clock = "lockstep";
-  info.uavs_expected = s.uavs;
-  auto j = runtime::metrics_json(sim.recorder(), info);
-  // The launcher counts killed processes; the simulator counts the kills it ran.
-  j["processes_killed"] = sim.recorder().uavs_killed() + sim.recorder().places_killed();
-  j["wall_seconds"] = secs;
-  j["uav_steps_per_second"] = static_cast<double>(sim.uav_steps()) / secs;
+  const auto j = sim_metrics(sim, secs);
   if (!runtime::write_json(o.out_dir, "metrics.json", j, error)) {
     spdlog::error("{}", error);
     return 5;
   }
   const std::string field = (std::filesystem::path(o.out_dir) / "final_field.txt").string();
-  if (!runtime::write_field(field, geo, core::policy_traits(sim.scenario()).layers, [&](int layer, core::Cell c) { return sim.field_value(layer, c); })) {
+  if (!write_sim_field(sim, field)) {
     spdlog::error("cannot write {}", field);
     return 5;
   }
@@ -110,6 +102,24 @@ int simulate(const core::ScenarioConfig& s, const core::FaultSchedule& faults, c
                  j["deposits_rejected"].get<uint64_t>(), j["deposits_lost"].get<uint64_t>());
   }
   return 0;
+}
+
+nlohmann::json sim_metrics(const core::Simulator& sim, double wall_seconds) {
+  runtime::RunInfo info;  // no discovery in-process
+  info.transport = "none (in-process simulator)";
+  info.clock = "lockstep";
+  info.uavs_expected = sim.scenario().uavs;
+  auto j = runtime::metrics_json(sim.recorder(), info);
+  // The launcher counts killed processes; the simulator counts the kills it ran.
+  j["processes_killed"] = sim.recorder().uavs_killed() + sim.recorder().places_killed();
+  j["wall_seconds"] = wall_seconds;
+  j["uav_steps_per_second"] = static_cast<double>(sim.uav_steps()) / wall_seconds;
+  return j;
+}
+
+bool write_sim_field(const core::Simulator& sim, const std::string& path) {
+  return runtime::write_field(path, sim.scenario().geometry(), core::policy_traits(sim.scenario()).layers,
+                              [&](int layer, core::Cell c) { return sim.field_value(layer, c); });
 }
 
 }  // namespace pheromesh::cli

@@ -1,9 +1,11 @@
 #pragma once
 #include <cstdint>
+#include <nlohmann/json.hpp>
 #include <string>
 
 #include "pheromesh/core/faults.hpp"
 #include "pheromesh/core/scenario.hpp"
+#include "pheromesh/core/simulator.hpp"
 #include "scenario_overrides.hpp"
 
 namespace pheromesh::cli {
@@ -25,5 +27,12 @@ int run_sim(const SimOptions& o);
 // The run itself, with a checked scenario and the whole fault schedule (from
 // --faults and the scenario's own faults, merged by the caller).
 int simulate(const core::ScenarioConfig& s, const core::FaultSchedule& faults, const SimOptions& o);
+
+// OUT/metrics.json of a finished simulation that took `wall_seconds`, as
+// `pheromesh sim` writes it (also `pheromesh sweep`'s runs).
+nlohmann::json sim_metrics(const core::Simulator& sim, double wall_seconds);
+
+// OUT/final_field.txt of a finished simulation; false if it cannot be written.
+bool write_sim_field(const core::Simulator& sim, const std::string& path);
 
 }  // namespace pheromesh::cli

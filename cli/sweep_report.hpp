@@ -1,0 +1,137 @@
+// What `pheromesh sweep` writes from its runs' metrics: runs.csv (one row
+// per run), summary.csv (n, mean, sd and 95 % interval per grid cell and
+// metric), one SVG plot per key metric and swept parameter (mean with its
+// 95 % interval as error bars), and sweep.md. Pure: text in, text out.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "sweep_grid.hpp"
+
+namespace pheromesh::cli::sweep {
+
+// The scalars of one metrics.json, nested objects flattened with dotted
+// names ("coverage", "field.found_all_tick", "uav_status.0.x"): numbers, and
+// booleans as 0 / 1; null becomes NaN (a quantity the run did not reach,
+// such as leader_arrival_tick). Strings and arrays (series) are left out, and
+// so is "seed", which runs.csv has as a column of its own.
+using Scalars = std::map<std::string, double>;
+Scalars flatten_scalars(const nlohmann::json& metrics);
+
+// Metrics that measure this host's speed, not the swarm: they differ from
+// one run of the same seed to the next, so they are in runs.csv and
+// summary.csv but never plotted, and a comparison of two sweeps leaves them
+// out.
+bool is_timing_metric(const std::string& name);
+
+// "" when `a` and `b` hold the same metrics with the same values (NaN equal
+// to NaN), timing metrics left out; else the first differences,
+// "coverage: 0.5 vs 0.6; ...".
+std::string scalar_differences(const Scalars& a, const Scalars& b);
+
+struct RunResult {
+  std::size_t cell = 0;
+  uint64_t seed = 0;
+  std::string id;  // "c003-s7"
+  Scalars metrics;
+};
+
+// The metric columns of runs.csv: every name any run has, sorted.
+std::vector<std::string> metric_columns(const std::vector<RunResult>& runs);
+
+// A number as the shortest text that reads back as the same double; "" for
+// NaN.
+std::string number_text(double v);
+
+// One CSV field (RFC 4180): quoted when it holds a comma, a quote or a line
+// break, its quotes doubled.
+std::string csv_field(const std::string& s);
+
+// runs.csv: run, every parameter (swept and fixed) by path, seed, every
+// metric column; one row per run in the order given.
+std::string runs_csv(const std::vector<Parameter>& params, const std::vector<Cell>& cells,
+                     const std::vector<RunResult>& runs, const std::vector<std::string>& columns);
+
+// n, mean, sample standard deviation and the two-sided 95 % interval of the
+// mean of the finite values of `v` (Student t). For n = 1 the sd is NaN and
+// the interval {mean, mean}; for n = 0 all are NaN.
+struct Stats {
+  std::size_t n = 0;
+  double mean = 0, sd = 0, lo = 0, hi = 0;
+};
+Stats stats_of(const std::vector<double>& v);
+
+// summary.csv: one row per grid cell and metric column: cell, every
+// parameter, metric, n, mean, sd, ci95_lo, ci95_hi.
+std::string summary_csv(const std::vector<Parameter>& params, const std::vector<Cell>& cells,
+                        const std::vector<RunResult>& runs, const std::vector<std::string>& columns);
+
+// The metrics plotted: the headline ones (coverage, targets found, covered
+// cells, deposits sent) and the policy's field summary ("field.*"), leaving
+// out those with the same value in every run (a flat line says nothing;
+// sweep.md lists them) and timing metrics; at most `max` of them.
+std::vector<std::string> plotted_metrics(const std::vector<RunResult>& runs, const std::vector<std::string>& columns,
+                                         std::size_t max = 12);
+
+// A line plot with error bars: one series per combination of the other
+// swept parameters' values (pooled into one series when there are more
+// than six), a point per value of the x parameter at the mean, its bar the
+// 95 % interval.
+struct BarPoint {
+  double x = 0;  // the value, or its position for a categorical axis
+  Stats stats;
+};
+struct BarSeries {
+  std::string name;
+  std::vector<BarPoint> points;
+};
+struct BarPlot {
+  std::string title, x_label, y_label;
+  // Labels of the x positions 0, 1, ... when the parameter's values are not
+  // all numbers; empty for a numeric axis.
+  std::vector<std::string> categories;
+  std::vector<BarSeries> series;
+};
+std::string svg_error_bars(const BarPlot& p);
+
+// The plot of `metric` against swept parameter `x` (an index into params).
+BarPlot plot_of(const std::vector<Parameter>& params, const std::vector<Cell>& cells,
+                const std::vector<RunResult>& runs, std::size_t x, const std::string& metric);
+
+// "coverage-vs-shao.aco.alpha.svg": the plot's file name (characters other
+// than letters, digits, '.', '-' and '_' become '_').
+std::string plot_file(const std::string& metric, const std::string& param);
+
+// One run of the sample of --distributed, flown as processes.
+struct DistributedCheck {
+  std::string id;    // "c003-s7"
+  std::string cell;  // describe_cell()
+  bool equal = false;
+  std::string verdict;  // "yes", or what differs, or why the processes failed
+  double seconds = 0;
+};
+
+struct MarkdownInput {
+  std::string command;   // the command line as given
+  std::string scenario;  // its name
+  std::vector<Parameter> params;
+  std::vector<uint64_t> seeds;
+  std::vector<Cell> cells;
+  std::vector<RunResult> runs;
+  std::vector<std::string> plotted;   // plotted_metrics()
+  std::vector<std::string> constant;  // metrics of the headline set with one value in every run
+  std::size_t jobs = 1;
+  std::size_t executed = 0, skipped = 0;
+  double wall_s = 0;
+  std::optional<std::vector<DistributedCheck>> distributed;  // with --distributed
+  std::string dds;
+};
+std::string sweep_markdown(const MarkdownInput& in);
+
+}  // namespace pheromesh::cli::sweep
