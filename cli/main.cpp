@@ -194,9 +194,11 @@ Examples:
               "stops the standby's takes over within about a liveliness lease (docs/faults.md). Stands for --set "
               "run.standby=true");
   r->add_option("--dds-profile", ro.dds_profile,
-                "DDS profile: onehost (loopback, multicast discovery), onehost-unicast, lan (several hosts, multicast "
-                "discovery), lan-unicast (several hosts, --dds-peers), default (vendor defaults) or vendor config "
-                "files, comma-separated, each process using the one for its vendor [env PHEROMESH_DDS_PROFILE]")
+                "DDS profile: onehost (loopback, multicast discovery), onehost-unicast, cells (loopback, each process "
+                "discovers only those it talks to: a UAV its gateway place agents; for hundreds of UAVs, "
+                "docs/dds.md), lan (several hosts, multicast discovery), lan-unicast (several hosts, --dds-peers), "
+                "default (vendor defaults) or vendor config files, comma-separated, each process using the one for "
+                "its vendor [env PHEROMESH_DDS_PROFILE]")
       ->capture_default_str();
   if (const char* p = std::getenv("PHEROMESH_DDS_PEERS"); p != nullptr) ro.dds_peers = p;
   r->add_option("--dds-peers", ro.dds_peers,

@@ -5,6 +5,7 @@
 #include <filesystem>
 
 #include "pheromesh/auth/control.hpp"
+#include "pheromesh/bus/cell_discovery.hpp"
 #include "pheromesh/core/conductor.hpp"
 #include "pheromesh/core/fault_plan.hpp"
 
@@ -32,6 +33,73 @@ constexpr milliseconds kDeadlinePerProcess{200};
 constexpr milliseconds kSecureFastDdsSpawnGap{300};
 
 bool onehost_profile(const std::string& profile) { return profile == "onehost" || profile == "onehost-unicast"; }
+
+// --dds-profile cells (docs/dds.md, "Cell discovery"): one shared domain on
+// loopback; the ground station and the place agents are hubs with fixed
+// participant indices (the ground 0, place agent r's replica k 1 + k R + r),
+// the UAVs members that announce themselves to their gateways only.
+constexpr const char* kLoopback = "127.0.0.1";
+uint32_t max_replicas(const RunPlan& p) { return p.standby != Standby::Off ? 2U : 1U; }
+uint32_t cell_hub_index(const RunPlan& p, const std::string& role, uint32_t index, uint32_t replica) {
+  return role == "ground" ? 0U : 1U + replica * p.regions + index;
+}
+// The hubs' indices are 0 .. cell_hubs - 1; a Fast DDS member takes the id
+// cell_hubs + its UAV index (its ports), past them.
+uint32_t cell_hubs(const RunPlan& p) { return 1U + max_replicas(p) * p.regions; }
+
+bus::CellDiscovery cell_of(const RunPlan& p, const std::string& role, uint32_t index, uint32_t replica) {
+  bus::CellDiscovery c;
+  c.domain = p.options.domain;
+  const auto add_place = [&](core::RegionId r) {
+    for (uint32_t k = 0; k < max_replicas(p); ++k) c.peers.push_back({kLoopback, cell_hub_index(p, "place", r, k)});
+  };
+  if (role == "uav") {
+    const core::RegionId home = core::home_region(index, p.regions);
+    const core::RegionId backup = core::backup_region(index, p.regions);
+    add_place(home);
+    if (backup != home) add_place(backup);
+    return c;
+  }
+  c.index = cell_hub_index(p, role, index, replica);
+  // Hubs name one another: the ground station every place agent, a place
+  // agent the ground station and every other place agent (not itself).
+  if (role != "ground") c.peers.push_back({kLoopback, 0});
+  for (core::RegionId r = 0; r < p.regions; ++r) {
+    for (uint32_t k = 0; k < max_replicas(p); ++k) {
+      if (role == "place" && r == index && k == replica) continue;
+      c.peers.push_back({kLoopback, cell_hub_index(p, "place", r, k)});
+    }
+  }
+  return c;
+}
+
+// Why the run cannot have cells, if it cannot.
+std::optional<std::string> check_cells(const RunPlan& p) {
+  const RunOptions& o = p.options;
+  if (o.dds_profile != "cells") return std::nullopt;
+  if (p.multi_host()) return "--dds-profile cells runs on one host (loopback); with --hosts use lan or lan-unicast";
+  if (o.discovery_server) return "--dds-profile cells is a discovery of its own; leave out --discovery-server";
+  if (cell_hubs(p) - 1 > bus::kMaxParticipantIndex) {
+    return "--dds-profile cells: " + std::to_string(cell_hubs(p) - 1) +
+           " place agents (with standbys) and the ground station need participant indices 0.." +
+           std::to_string(cell_hubs(p) - 1) + ", above " + std::to_string(bus::kMaxParticipantIndex) +
+           " (Cyclone's limit): use fewer regions";
+  }
+  for (uint32_t k = 0; k < max_replicas(p); ++k) {
+    if (auto err = bus::check_cell(cell_of(p, "place", p.regions - 1, k)); !err) return err.error().message;
+  }
+  // A Fast DDS UAV's ports follow its id: below the ephemeral range too.
+  if (p.uavs > 0 && p.dds.uav != "cyclone") {
+    const uint32_t last = cell_hubs(p) + p.uavs - 1;
+    if (bus::unicast_discovery_port(o.domain, last) + 1 >= bus::kEphemeralPortsFrom) {
+      return "--dds-profile cells: Fast DDS UAV " + std::to_string(p.uavs - 1) + " would take participant id " +
+             std::to_string(last) + ", whose ports on domain " + std::to_string(o.domain) +
+             " reach the ephemeral range from " + std::to_string(bus::kEphemeralPortsFrom) +
+             ": use a lower --domain or fewer UAVs";
+    }
+  }
+  return std::nullopt;
+}
 
 // The arguments every process gets, before its role's own.
 std::vector<std::string> common_args(const RunPlan& p, const PlannedProcess& c, const std::string& exe) {
@@ -70,7 +138,14 @@ PlannedProcess planned(const RunPlan& p, const std::string& role, uint32_t index
   c.argv = common_args(p, c, p.bin_dir + "/pheromesh-" + role);
   c.argv.insert(c.argv.end(), role_args.begin(), role_args.end());
   c.participant_id = participant_id;
-  c.env = {"PHEROMESH_PARTICIPANT_ID=" + std::to_string(participant_id)};
+  if (p.options.dds_profile == "cells") {
+    // A UAV's Fast DDS ports past every hub's, whatever starts later.
+    const uint32_t id = role == "uav" ? cell_hubs(p) + index : cell_hub_index(p, role, index, replica);
+    c.env = {"PHEROMESH_PARTICIPANT_ID=" + std::to_string(id),
+             std::string(bus::kCellEnv) + "=" + bus::format_cell(cell_of(p, role, index, replica))};
+  } else {
+    c.env = {"PHEROMESH_PARTICIPANT_ID=" + std::to_string(participant_id)};
+  }
   c.log_path = (fs::path(p.options.out_dir) / "logs" / (c.name + ".log")).string();
   return c;
 }
@@ -206,6 +281,10 @@ std::optional<std::string> settle_faults(RunPlan& p, core::FaultSchedule schedul
     }
     // The one-host profiles speak on loopback only; in a namespace of its
     // own each process must speak on its veth (deploy/dds/*-netns.xml).
+    if (o.dds_profile == "cells") {
+      return "fault schedule: partition and loss run every process in a network namespace of its own; they do not "
+             "work with --dds-profile cells (loopback)";
+    }
     if (onehost_profile(o.dds_profile)) {
       o.dds_profile = "netns";
     } else if (o.dds_profile != "netns") {
@@ -299,6 +378,7 @@ core::Result<RunPlan> make_run_plan(const RunOptions& o, const core::ScenarioCon
   if (!schedule->empty()) {
     if (auto err = settle_faults(p, std::move(schedule).value())) return core::Error{*err};
   }
+  if (auto err = check_cells(p)) return core::Error{*err};
   p.processes = start_order(p);
   p.stagger = stagger(p);
   if (!o.secure.empty() && dds.ground == "fastdds") p.spawn_gap = kSecureFastDdsSpawnGap;

@@ -119,6 +119,16 @@ inline Background start_run(const std::string& scenario, const std::string& out,
   return start({"/bin/sh", "-c", pheromesh_run(scenario, out, domain, extra) + " 2>&1"}, out + ".txt");
 }
 
+// Waits until `path` holds `text` (bounded).
+inline bool wait_for_text(const std::string& path, const std::string& text, std::chrono::seconds bound) {
+  const auto deadline = std::chrono::steady_clock::now() + bound;
+  while (std::chrono::steady_clock::now() < deadline) {
+    if (slurp(path).find(text) != std::string::npos) return true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  return false;
+}
+
 // Coverage recorded at the last progress line at or before `tick`.
 inline double coverage_at(const json& m, uint32_t tick) {
   double c = 0;

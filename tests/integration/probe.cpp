@@ -90,6 +90,11 @@ int discover(bus::Bus& b, uint32_t id, uint32_t expect, double timeout_s) {
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(200));
   }
+  // Everyone it heard by the deadline (a cell: only the processes it names).
+  std::string heard;
+  for (uint32_t i : seen) heard += (heard.empty() ? "" : ",") + std::to_string(i);
+  std::printf("heard: %s\n", heard.c_str());
+  std::fflush(stdout);
   if (!reported) {
     // Which ids it never heard: the same ids missing at every probe point
     // at those processes, scattered ones at the discovery between pairs.

@@ -28,16 +28,6 @@ pid_t find_process(const std::string& exe, int domain, const std::string& what) 
   return -1;
 }
 
-// Waits until `path` holds `text` (bounded).
-bool wait_for_text(const std::string& path, const std::string& text, std::chrono::seconds bound) {
-  const auto deadline = Clock::now() + bound;
-  while (Clock::now() < deadline) {
-    if (slurp(path).find(text) != std::string::npos) return true;
-    std::this_thread::sleep_for(std::chrono::milliseconds(50));
-  }
-  return false;
-}
-
 }  // namespace
 
 // Killing two primaries in the middle of a lockstep run changes nothing:

@@ -10,6 +10,7 @@
 
 #include "../../cli/run_plan.hpp"
 #include "../../cli/scenario_overrides.hpp"
+#include "pheromesh/bus/cell_discovery.hpp"
 #include "pheromesh/core/scenario.hpp"
 
 namespace pheromesh::cli {
@@ -416,6 +417,84 @@ TEST(RunPlan, SecureFastDdsProcessesStartThreeHundredMillisecondsApart) {
   EXPECT_EQ(plan_of(o, "cyclone").spawn_gap, milliseconds(0));
   o.secure.clear();
   EXPECT_EQ(plan_of(o, "fastdds").spawn_gap, milliseconds(0));
+}
+
+}  // namespace
+}  // namespace pheromesh::cli
+
+namespace pheromesh::cli {
+namespace {
+
+// --dds-profile cells (docs/dds.md, "Cell discovery"): each process is
+// told whom to announce itself to, and nobody else.
+std::string env_of(const PlannedProcess& c, const std::string& name) {
+  for (const auto& e : c.env) {
+    if (e.rfind(name + "=", 0) == 0) return e.substr(name.size() + 1);
+  }
+  return "(unset)";
+}
+
+TEST(RunPlan, InCellsAUavNamesItsHomeAndBackupPlaceAgentsOnlyAndTheHubsNameOneAnother) {
+  RunOptions o = options();
+  o.dds_profile = "cells";
+  o.domain = 3;
+  const RunPlan p = plan_of(o, small_test_with(10), "fastdds");  // 4 regions
+  // The ground station is hub 0, place agent r hub 1 + r.
+  EXPECT_EQ(env_of(process(p, "ground"), "PHEROMESH_CELL"),
+            "index=0;peers=127.0.0.1:1,127.0.0.1:2,127.0.0.1:3,127.0.0.1:4");
+  EXPECT_EQ(env_of(process(p, "place-2"), "PHEROMESH_CELL"),
+            "index=3;peers=127.0.0.1:0,127.0.0.1:1,127.0.0.1:2,127.0.0.1:4");
+  // UAV 6: home 6 mod 4 = 2, backup 3; a member (no index), its Fast DDS id past the 5 hubs.
+  EXPECT_EQ(env_of(process(p, "uav-6"), "PHEROMESH_CELL"), "peers=127.0.0.1:3,127.0.0.1:4");
+  EXPECT_EQ(env_of(process(p, "uav-6"), "PHEROMESH_PARTICIPANT_ID"), "11");
+  EXPECT_EQ(env_of(process(p, "place-2"), "PHEROMESH_PARTICIPANT_ID"), "3");
+  // What every process parses back is the cell it was given.
+  const auto cell = bus::parse_cell(env_of(process(p, "uav-6"), "PHEROMESH_CELL"), 3);
+  ASSERT_TRUE(cell.ok()) << cell.error().message;
+  EXPECT_EQ(cell->domain, 3U);
+  EXPECT_FALSE(cell->index.has_value());
+  ASSERT_EQ(cell->peers.size(), 2U);
+  EXPECT_EQ(cell->peers[1].index, 4U);
+  // With standbys a UAV names both replicas of each gateway (the standby of
+  // region r is hub 1 + regions + r).
+  core::ScenarioConfig replicated = small_test_with(10);
+  replicated.standby = true;
+  const RunPlan s = plan_of(o, replicated, "fastdds");
+  EXPECT_EQ(env_of(process(s, "uav-6"), "PHEROMESH_CELL"),
+            "peers=127.0.0.1:3,127.0.0.1:7,127.0.0.1:4,127.0.0.1:8");
+  EXPECT_EQ(env_of(process(s, "place-2.r1"), "PHEROMESH_CELL").rfind("index=7;peers=127.0.0.1:0,", 0), 0U);
+  EXPECT_EQ(env_of(process(s, "uav-6"), "PHEROMESH_PARTICIPANT_ID"), "15");
+}
+
+TEST(RunPlan, CellsAreRefusedWhereTheyCannotWork) {
+  RunOptions o = options();
+  o.dds_profile = "cells";
+  o.faults_spec = "loss 20% @1s for 2s";
+  EXPECT_NE(plan_error(o).find("do not work with --dds-profile cells"), std::string::npos);
+  o.faults_spec.clear();
+  o.discovery_server = true;
+  EXPECT_NE(plan_error(o).find("leave out --discovery-server"), std::string::npos);
+  o.discovery_server = false;
+  o.domain = 102;  // the hubs' ports on domain 102 are past 32767
+  EXPECT_NE(plan_error(o).find("ephemeral"), std::string::npos) << plan_error(o);
+}
+
+TEST(CellText, AMalformedCellNamesThePartThatIsWrong) {
+  EXPECT_FALSE(bus::parse_cell("", 0).ok());
+  EXPECT_NE(bus::parse_cell("index=x;peers=127.0.0.1:1", 0).error().message.find("index 'x'"), std::string::npos);
+  EXPECT_NE(bus::parse_cell("peers=127.0.0.1", 0).error().message.find("peer '127.0.0.1'"), std::string::npos);
+  EXPECT_NE(bus::parse_cell("index=1;port=3", 0).error().message.find("unknown part 'port'"), std::string::npos);
+  EXPECT_NE(bus::parse_cell("index=200;peers=127.0.0.1:1", 0).error().message.find("above 119"), std::string::npos);
+  EXPECT_NE(bus::parse_cell("peers=host:1", 0).error().message.find("not an IPv4 address"), std::string::npos);
+  bus::CellDiscovery c;
+  c.index = 5;
+  c.peers = {{"127.0.0.1", 0}, {"10.0.0.2", 7}};
+  const auto back = bus::parse_cell(bus::format_cell(c), 9);
+  ASSERT_TRUE(back.ok()) << back.error().message;
+  EXPECT_EQ(*back->index, 5U);
+  EXPECT_EQ(back->peers[1].address, "10.0.0.2");
+  EXPECT_EQ(back->peers[1].index, 7U);
+  EXPECT_EQ(back->domain, 9U);
 }
 
 }  // namespace

@@ -3,6 +3,8 @@
 #include <arpa/inet.h>
 #include <netinet/in.h>
 
+#include <algorithm>
+#include <optional>
 #include <vector>
 
 namespace pheromesh::bus {
@@ -48,6 +50,63 @@ core::Result<CellDiscovery> check_cell(const CellDiscovery& cell) {
     if (auto e = index_error(who, cell.domain, p.index)) return *e;
   }
   return cell;
+}
+
+std::string format_cell(const CellDiscovery& cell) {
+  std::string s = cell.index ? "index=" + std::to_string(*cell.index) + ";" : std::string();
+  s += "peers=";
+  for (std::size_t i = 0; i < cell.peers.size(); ++i) {
+    s += (i > 0 ? "," : "") + cell.peers[i].address + ":" + std::to_string(cell.peers[i].index);
+  }
+  return s;
+}
+
+namespace {
+std::optional<uint32_t> parse_index(const std::string& text) {
+  if (text.empty() || text.size() > 6 || text.find_first_not_of("0123456789") != std::string::npos) return std::nullopt;
+  return static_cast<uint32_t>(std::stoul(text));
+}
+}  // namespace
+
+core::Result<CellDiscovery> parse_cell(const std::string& text, uint32_t domain) {
+  const auto bad = [&](const std::string& why) {
+    return core::Error{std::string(kCellEnv) + " '" + text + "': " + why +
+                       " (expected [index=I;]peers=ADDR:I[,ADDR:I...])"};
+  };
+  CellDiscovery cell;
+  cell.domain = domain;
+  bool have_peers = false;
+  std::size_t start = 0;
+  while (start <= text.size()) {
+    const std::size_t end = std::min(text.find(';', start), text.size());
+    const std::string part = text.substr(start, end - start);
+    start = end + 1;
+    if (part.empty()) continue;
+    const std::size_t eq = part.find('=');
+    const std::string key = part.substr(0, eq);
+    const std::string value = eq == std::string::npos ? std::string() : part.substr(eq + 1);
+    if (key == "index") {
+      auto i = parse_index(value);
+      if (!i) return bad("index '" + value + "' is not a number");
+      cell.index = *i;
+    } else if (key == "peers") {
+      have_peers = true;
+      std::size_t p = 0;
+      while (p < value.size()) {
+        const std::size_t comma = std::min(value.find(',', p), value.size());
+        const std::string peer = value.substr(p, comma - p);
+        p = comma + 1;
+        const std::size_t colon = peer.rfind(':');
+        auto i = colon == std::string::npos ? std::nullopt : parse_index(peer.substr(colon + 1));
+        if (!i) return bad("peer '" + peer + "' is not ADDR:INDEX");
+        cell.peers.push_back({peer.substr(0, colon), *i});
+      }
+    } else {
+      return bad("unknown part '" + key + "'");
+    }
+  }
+  if (!have_peers) return bad("no peers");
+  return check_cell(cell);
 }
 
 std::string cyclone_cell_config(const CellDiscovery& cell) {

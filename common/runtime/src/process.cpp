@@ -41,7 +41,8 @@ void add_common_options(CLI::App& app, CommonOptions& o) {
       ->capture_default_str();
   app.add_option("--dds-profile", o.dds_profile,
                  "DDS profile: onehost (loopback, multicast discovery, >=100 processes), onehost-unicast (loopback, "
-                 "unicast discovery, <=120 processes), lan (several hosts, multicast discovery), lan-unicast (several "
+                 "unicast discovery, <=120 processes), cells (loopback, the peers `pheromesh run` names in $PHEROMESH_CELL), "
+                 "lan (several hosts, multicast discovery), lan-unicast (several "
                  "hosts, discovery through --dds-peers), netns (one network namespace per process on a bridge, set up "
                  "by pheromesh run for network faults), default (vendor defaults) or vendor config files, "
                  "comma-separated (this process uses the one for its vendor) [env PHEROMESH_DDS_PROFILE]")
@@ -206,6 +207,17 @@ core::Result<bus::BusOptions> bus_options(const CommonOptions& o, const std::str
     char* end = nullptr;
     const long v = std::strtol(id, &end, 10);
     if (end != id && *end == '\0' && v >= 0 && v < 30000) b.participant_id = static_cast<int32_t>(v);
+  }
+  // Cell discovery (docs/dds.md, "Cell discovery"): `pheromesh run
+  // --dds-profile cells` names each process's peers.
+  const char* cell = std::getenv(bus::kCellEnv);
+  if (cell != nullptr && *cell != '\0') {
+    auto parsed = bus::parse_cell(cell, o.domain);
+    if (!parsed) return parsed.error();
+    b.cell = std::move(parsed).value();
+  } else if (o.dds_profile == "cells") {
+    return core::Error{std::string("--dds-profile cells: this process has no cell ($") + bus::kCellEnv +
+                       "); `pheromesh run --dds-profile cells` gives every process it starts one"};
   }
   return b;
 }

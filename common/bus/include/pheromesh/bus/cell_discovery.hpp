@@ -67,6 +67,17 @@ struct CellDiscovery {
   std::string interface_address = "127.0.0.1";
 };
 
+// A cell as one line of text, as `pheromesh run` hands it to each process
+// it spawns in $PHEROMESH_CELL (--dds-profile cells):
+//   [index=I;]peers=ADDR:I[,ADDR:I...]
+// e.g. "index=3;peers=127.0.0.1:0,127.0.0.1:4" (a hub) or
+// "peers=127.0.0.1:2,127.0.0.1:3" (a member). The domain is the process's.
+inline constexpr const char* kCellEnv = "PHEROMESH_CELL";
+std::string format_cell(const CellDiscovery& cell);
+// The cell of `text` in `domain`, checked (check_cell); an error names the
+// part that is wrong.
+core::Result<CellDiscovery> parse_cell(const std::string& text, uint32_t domain);
+
 // The cell if every port it implies is a valid well-known port (domain id,
 // index and ports below the ephemeral range), else an error naming the field.
 core::Result<CellDiscovery> check_cell(const CellDiscovery& cell);

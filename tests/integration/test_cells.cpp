@@ -1,0 +1,38 @@
+// Cells (issue 25; docs/dds.md, "Cell discovery"; docs/architecture.md,
+// "Relays"): with `pheromesh run --dds-profile cells` every process
+// announces itself only to the processes it talks to - a UAV to its gateway
+// place agents, which relay everything else it sends and receives. Domains
+// 56-57.
+#include "harness.hpp"
+
+using namespace pheromesh::itest;  // NOLINT: the test helpers
+using nlohmann::json;
+
+TEST(Cells, ALockstepSwarmInCellsGivesTheSimulatorsNumbersWithBroadcastsRelayed) {
+  // Shostak: the UAVs' "target found" broadcasts travel UAV -> gateway ->
+  // every place agent -> every UAV, the clock and the reports through the
+  // tree, states and detections to the ground station through the gateways.
+  expect_lockstep_matches_sim("shostak-small.textproto", "", 56, "cells-shostak", "--dds-profile cells");
+}
+
+TEST(Cells, AProcessThatNamesOnePlaceAgentHearsOnlyThatOneWhileTheSwarmFlies) {
+  const std::string out = out_dir("cells-realtime");
+  const Background swarm = start_run("small-test.textproto", out, 57, "--uavs 4 --duration 6 --dds-profile cells");
+  ASSERT_TRUE(wait_for_text(swarm.out_path, "places 4/4", std::chrono::seconds(30))) << slurp(swarm.out_path);
+  // A member naming place agent 0 only (hub index 1; the ground station is
+  // hub 0): it hears its health and its own, none of the other three place
+  // agents', which never learn of it.
+  const Output p = run(kBin + "/pheromesh-test-probe --domain 57 --cell-peer 1 discover --id 900 --expect 2 --timeout 3");
+  EXPECT_EQ(p.exit_code, 0) << p.text;
+  EXPECT_NE(p.text.find("heard: 0,900\n"), std::string::npos) << p.text;
+  ASSERT_EQ(wait_exit(swarm.pid, std::chrono::seconds(120)), 0) << slurp(swarm.out_path);
+  const json m = read_metrics(out);
+  ASSERT_FALSE(m.is_null()) << slurp(swarm.out_path);
+  EXPECT_EQ(m["place_agents_finished"], 4);
+  EXPECT_EQ(m["processes_crashed"], 0);
+  EXPECT_GT(m["coverage"].get<double>(), 0.2);
+  // Every UAV's state reached the ground station through its gateway.
+  ASSERT_EQ(m["uav_status"].size(), 4U) << m.dump(2);
+  for (const auto& [id, u] : m["uav_status"].items()) EXPECT_GT(u["last_tick"].get<uint32_t>(), 10U) << "uav " << id;
+  expect_accounting(m);
+}
