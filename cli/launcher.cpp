@@ -138,7 +138,8 @@ void announce(const RunPlan& plan, const core::ScenarioConfig& s) {
   const RunOptions& o = plan.options;
   if (!plan.lockstep()) {
     if (auto w =
-            host_fit_warning(plan.uavs, plan.rate_hz, std::thread::hardware_concurrency(), o.dds, o.discovery_server)) {
+            host_fit_warning(plan.uavs, plan.rate_hz, std::thread::hardware_concurrency(), o.dds, o.discovery_server,
+                             o.dds_profile == "cells")) {
       spdlog::warn("this swarm may not keep time on this host: {}", *w);
     }
   }

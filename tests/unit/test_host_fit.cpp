@@ -28,5 +28,15 @@ TEST(HostFit, TooFastSuggestsARateThatFits) {
   EXPECT_EQ(w->find("processes:"), std::string::npos) << "the count itself is within the figure: " << *w;
 }
 
+TEST(HostFit, CellsHoldWhatTheirBenchmarkMeasuredAndTheFlatProfileSuggestsThem) {
+  EXPECT_FALSE(host_fit_warning(500, 5.0, 2, "cyclone", false, /*cells=*/true).has_value());
+  const auto fast = host_fit_warning(500, 5.0, 2, "fastdds", false, /*cells=*/true);
+  ASSERT_TRUE(fast.has_value());
+  EXPECT_NE(fast->find("held 250 UAVs on time over Fast DDS"), std::string::npos) << *fast;
+  const auto flat = host_fit_warning(300, 1.0, 2, "cyclone", false);
+  ASSERT_TRUE(flat.has_value());
+  EXPECT_NE(flat->find("--dds-profile cells"), std::string::npos) << *flat;
+}
+
 }  // namespace
 }  // namespace pheromesh::cli
