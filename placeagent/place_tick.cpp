@@ -115,25 +115,27 @@ void PlaceApp::relay_uplinks() {
     }
     bus_->relay_detection(d);
   }
+  // A broadcast goes on only if it is well formed and of a UAV of the swarm.
+  const auto admitted = [&](const core::BroadcastMsg& b) {
+    if (core::check_broadcast(b)) {
+      audit_.drop(fmt::format("a malformed broadcast of uav {}", b.uav));
+      return false;
+    }
+    if (core::check_uav_id(b.uav, scenario_.uavs)) {
+      audit_.refuse(core::Refusal::UnknownUav, fmt::format("a broadcast of uav {}", b.uav));
+      return false;
+    }
+    return true;
+  };
   broadcasts_.clear();
   bus_->take_uplink_broadcasts(broadcasts_);
   for (const auto& b : broadcasts_) {
-    if (core::check_broadcast(b)) {
-      audit_.drop(fmt::format("a malformed broadcast of uav {}", b.uav));
-    } else if (core::check_uav_id(b.uav, scenario_.uavs)) {
-      audit_.refuse(core::Refusal::UnknownUav, fmt::format("a broadcast of uav {}", b.uav));
-    } else {
-      bus_->relay_broadcast_up(b);
-    }
+    if (admitted(b)) bus_->relay_broadcast_up(b);
   }
   broadcasts_.clear();
   bus_->take_broadcasts(broadcasts_);
   for (const auto& b : broadcasts_) {
-    if (core::check_broadcast(b) || core::check_uav_id(b.uav, scenario_.uavs)) {
-      audit_.drop(fmt::format("a malformed broadcast of uav {}", b.uav));
-      continue;
-    }
-    bus_->relay_broadcast_down(b);
+    if (admitted(b)) bus_->relay_broadcast_down(b);
   }
   // The ground station's commands, as this place agent admitted them
   // (each UAV checks their signatures again).
