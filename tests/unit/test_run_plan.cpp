@@ -11,6 +11,7 @@
 #include "../../cli/run_plan.hpp"
 #include "../../cli/scenario_overrides.hpp"
 #include "pheromesh/bus/cell_discovery.hpp"
+#include "pheromesh/runtime/process.hpp"
 #include "pheromesh/core/scenario.hpp"
 
 namespace pheromesh::cli {
@@ -495,6 +496,39 @@ TEST(CellText, AMalformedCellNamesThePartThatIsWrong) {
   EXPECT_EQ(back->peers[1].address, "10.0.0.2");
   EXPECT_EQ(back->peers[1].index, 7U);
   EXPECT_EQ(back->domain, 9U);
+}
+
+}  // namespace
+}  // namespace pheromesh::cli
+
+namespace pheromesh::cli {
+namespace {
+
+// A process reads its cell from $PHEROMESH_CELL (runtime::bus_options).
+TEST(CellText, AProcessTakesItsCellFromTheEnvironmentAndAFastDdsMemberNeedsAnId) {
+  runtime::CommonOptions o;
+  o.domain = 7;
+  o.dds = "fastdds";
+  ::setenv(bus::kCellEnv, "peers=127.0.0.1:1,127.0.0.1:2", 1);
+  ::unsetenv("PHEROMESH_PARTICIPANT_ID");
+  const auto without_id = runtime::bus_options(o, "uav-0");
+  ASSERT_FALSE(without_id.ok());
+  EXPECT_NE(without_id.error().message.find("needs its own participant id"), std::string::npos);
+  ::setenv("PHEROMESH_PARTICIPANT_ID", "9", 1);
+  const auto with_id = runtime::bus_options(o, "uav-0");
+  ASSERT_TRUE(with_id.ok()) << with_id.error().message;
+  ASSERT_TRUE(with_id->cell.has_value());
+  EXPECT_EQ(with_id->cell->domain, 7U);
+  EXPECT_EQ(with_id->cell->peers.size(), 2U);
+  EXPECT_EQ(with_id->participant_id, 9);
+  ::setenv(bus::kCellEnv, "peers=nowhere", 1);
+  EXPECT_FALSE(runtime::bus_options(o, "uav-0").ok());
+  ::unsetenv(bus::kCellEnv);
+  ::unsetenv("PHEROMESH_PARTICIPANT_ID");
+  o.dds_profile = "cells";
+  const auto no_cell = runtime::bus_options(o, "uav-0");
+  ASSERT_FALSE(no_cell.ok());
+  EXPECT_NE(no_cell.error().message.find("has no cell"), std::string::npos);
 }
 
 }  // namespace

@@ -215,6 +215,13 @@ core::Result<bus::BusOptions> bus_options(const CommonOptions& o, const std::str
     auto parsed = bus::parse_cell(cell, o.domain);
     if (!parsed) return parsed.error();
     b.cell = std::move(parsed).value();
+    // A Fast DDS member takes the first free index otherwise, and can bind
+    // a hub's port beside it: it would then hear what is meant for the hub.
+    if (!b.cell->index && b.participant_id < 0 && o.dds == "fastdds") {
+      return core::Error{std::string("$") + bus::kCellEnv +
+                         ": a Fast DDS process in a cell needs its own participant id past the hubs' "
+                         "($PHEROMESH_PARTICIPANT_ID; `pheromesh run --dds-profile cells` gives every process one)"};
+    }
   } else if (o.dds_profile == "cells") {
     return core::Error{std::string("--dds-profile cells: this process has no cell ($") + bus::kCellEnv +
                        "); `pheromesh run --dds-profile cells` gives every process it starts one"};
