@@ -165,15 +165,15 @@ FastDdsCellProfile fastdds_cell_profile(const CellDiscovery& cell) {
   // A hub's participant id fixes its ports; a member's comes from
   // BusOptions::participant_id or the search (mutation_tries, as onehost).
   const std::string id = cell.index ? "<participantID>" + std::to_string(*cell.index) + "</participantID>" : "";
-  // A send buffer as large as the receive buffer. Fast DDS 2.9 counts the
-  // bytes a reliable writer sends against the socket's send buffer and, each
-  // time they exceed it, adds a heartbeat for every matched reader, each of
-  // which answers with an acknack. A hub's discovery writers send every new
-  // member its ~100 endpoints, so with the default buffer (208 KiB) every
-  // member of a cell got ~12 such heartbeats a second from each of its hubs
-  // while the swarm joined, and spent its CPU answering them. Measured
-  // (pheromesh bench scale, 250 Fast DDS UAVs in cells on 2 cores): discovery
-  // 96 s with the default, 17 s with 4 MiB.
+  // A send buffer as large as the receive buffer (Fast DDS's default is the
+  // system's, 208 KiB here). Fast DDS 2.9 also uses this size to pace the
+  // heartbeats a reliable writer adds for all of its readers, and a hub's
+  // discovery writers send every new member its ~100 endpoints. Measured
+  // (pheromesh bench scale, Fast DDS UAVs in cells on 2 cores): discovery of
+  // 100 UAVs 12.3 s -> 3.7 s, of 250 49-96 s -> 18 s, UDP datagrams per UAV
+  // tick 117 -> 41. At 500 a member still gets ~15 heartbeats a second from
+  // each hub's publications writer while the swarm joins (docs/dds.md,
+  // "Cell discovery (measured)").
   // A metatraffic unicast locator and no multicast one: Fast DDS then opens
   // no multicast discovery socket and announces to the initial peers only.
   // An initial peer with a port is that port alone (port 0 would mean every
