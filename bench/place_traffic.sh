@@ -16,6 +16,8 @@
 # region's whole field every tick; after, the tiles changed since the last
 # send at the console's 5 Hz (core::FieldToGround). The patch also counts
 # the ground station's bytes (metrics.json ground_bytes_received_per_tick).
+# AFTER_EXTRA: more `pheromesh run` arguments for this tree's runs only, e.g.
+# AFTER_EXTRA="--dds-profile cells" (the baseline has no cells).
 # Payload bytes (core::payload_bytes: the samples' fields, without DDS and
 # UDP headers). Keep the host otherwise idle; each run takes seconds.
 set -euo pipefail
@@ -54,7 +56,9 @@ table() {
     local dir first=""
     dir=$([ "$side" = before ] && echo "$base" || echo "$root")
     for sc in scale-100x100 scale-400x400; do
-      row=$(run_one "$dir" "$sc" "$root/out/$name-$side-$sc" "$expr" "$@")  # set -e: a failed run ends the bench
+      local extra=()
+      [ "$side" = after ] && [ -n "${AFTER_EXTRA:-}" ] && read -r -a extra <<< "$AFTER_EXTRA"
+      row=$(run_one "$dir" "$sc" "$root/out/$name-$side-$sc" "$expr" "$@" "${extra[@]}")  # set -e: a failed run ends the bench
       IFS='|' read -r a b c <<< "$row"
       [ -z "$first" ] && first=$a
       growth=$(awk -v x="$first" -v y="$a" 'BEGIN {printf "%.1f", y / x}')
@@ -67,11 +71,11 @@ table place-traffic \
   "f\"{m['place_bytes_received_per_tick'] / 1000:.1f}|{m['tile_samples_per_uav_tick']:.2f}|{m['lockstep']['ticks_per_s']:.1f}\"" \
   --uavs "$uavs" --ticks "$ticks" --clock lockstep
 echo
-echo "$uavs UAVs, $ticks lockstep ticks, 16 place agents, $vendor; before: d362a46 + the byte count; after: this tree."
+echo "$uavs UAVs, $ticks lockstep ticks, 16 place agents, $vendor; before: d362a46 + the byte count; after: this tree${AFTER_EXTRA:+ with $AFTER_EXTRA}."
 echo
 printf '| build | map | ground station received per tick [kB] | per place agent and tick [kB] | UAV ticks late [%%] |\n|---|---|---|---|---|\n'
 table ground-traffic \
   "f\"{m['ground_bytes_received_per_tick'] / 1000:.1f}|{m['place_bytes_received_per_tick'] / 1000:.1f}|{100 * m['uav_late_share']:.1f}\"" \
   --uavs "$rt_uavs" --ticks "$rt_ticks" --rate 20
 echo
-echo "$rt_uavs UAVs, $rt_ticks realtime ticks at 20 Hz, $vendor."
+echo "$rt_uavs UAVs, $rt_ticks realtime ticks at 20 Hz, $vendor${AFTER_EXTRA:+; after with $AFTER_EXTRA}."
