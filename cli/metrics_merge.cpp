@@ -146,6 +146,18 @@ MergedMetrics merge_metrics(nlohmann::json ground, const RunRecord& run, const s
     procs.push_back(process_json(c));
   }
   m["processes_killed"] = out.killed;
+  // The launcher killed them, so it knows; the ground station's own count
+  // (runtime/report.cpp) sees only what the lockstep clock lists absent, and
+  // a realtime run's metrics said places_killed 0 after a place agent's kill.
+  // Processes, as the simulator counts them (a standby is one more).
+  const auto killed_as = [&](const std::string& role) {
+    return std::count_if(run.processes.begin(), run.processes.end(),
+                         [&](const auto& c) { return c.role == role && c.killed_on_purpose; });
+  };
+  if (out.killed > 0 || m.contains("uavs_killed")) {
+    m["uavs_killed"] = killed_as("uav");
+    m["places_killed"] = killed_as("place");
+  }
   m["processes_crashed"] = out.crashed;
   m["processes"] = std::move(procs);
   m["dds"] = run.dds;

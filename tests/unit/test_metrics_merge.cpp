@@ -52,6 +52,25 @@ TEST(MetricsMerge, AProcessKilledOnPurposeCountsAsKilledAndTheRunSucceeds) {
   EXPECT_EQ(m.metrics["targets_found"], 2);
 }
 
+TEST(MetricsMerge, KilledUavsAndPlaceAgentsAreCountedByRoleFromWhatTheLauncherKilled) {
+  // A realtime ground station counts no kills of its own (it said
+  // places_killed 0 after a place agent's kill); the launcher's count wins.
+  std::vector<ChildProcess> ps{ended("ground", "ground", 0), ended("place-0", "place", -1, SIGKILL),
+                               ended("place-0.r1", "place", -1, SIGKILL), ended("place-1", "place", 0),
+                               ended("uav-0", "uav", -1, SIGKILL), ended("uav-1", "uav", 0)};
+  ps[1].killed_on_purpose = ps[2].killed_on_purpose = ps[4].killed_on_purpose = true;
+  nlohmann::json ground = ground_metrics();
+  ground["places_killed"] = 0;
+  ground["uavs_killed"] = 0;
+  const MergedMetrics m = merge_metrics(ground, record_of(ps), "out/metrics.json");
+  EXPECT_EQ(m.metrics["places_killed"], 2);  // processes, as the simulator counts a standby
+  EXPECT_EQ(m.metrics["uavs_killed"], 1);
+  EXPECT_EQ(m.metrics["processes_killed"], 3);
+  // Nobody killed, and the ground station wrote no such keys: none are added.
+  const MergedMetrics calm = merge_metrics(ground_metrics(), record_of({ended("uav-0", "uav", 0)}), "m.json");
+  EXPECT_FALSE(calm.metrics.contains("places_killed"));
+}
+
 TEST(MetricsMerge, UavsTheGroundStationNeverHeardFailTheRunUnlessKilledOnPurpose) {
   // 4 UAVs asked for, 2 heard: the host did not bring up the swarm (a
   // 300-UAV run once flew nothing and exited 0).
