@@ -148,6 +148,7 @@ void announce(const RunPlan& plan, const core::ScenarioConfig& s) {
       s.name, o.scenario, plan.regions, plan.uavs, plan.ticks, o.clock,
       plan.lockstep() ? "" : fmt::format(" at {:.1f} Hz", plan.rate_hz), plan.dds.describe(), o.domain, o.dds_profile,
       o.out_dir);
+  if (const auto attach = cells_attach_command(plan)) spdlog::info("watch it from this host with: {}", *attach);
   if (!plan.multi_host()) return;
   uint32_t places_here = 0, uavs_here = 0;
   for (const auto& p : plan.processes) {

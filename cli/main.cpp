@@ -72,6 +72,7 @@ Examples:
   pheromesh attach --domain 0 --http 8080                     # a swarm on this host
   pheromesh attach --dds-profile lan --http 8080 --http-bind 0.0.0.0
   pheromesh attach --dds-profile lan-unicast --dds-peers 10.0.0.1,10.0.0.2 --out out/watch
+  pheromesh attach --domain 0 --dds-profile cells --cell-hubs 17   # a run with --dds-profile cells: it prints this line
 )";
 
 // Prints a scenario's fault lines under `pheromesh validate`.
@@ -449,10 +450,17 @@ Examples:
       ->capture_default_str();
   at->add_option(
         "--dds-profile", ao.dds_profile,
-        "DDS profile that reaches the swarm: onehost (same host), lan, lan-unicast (with --dds-peers), or files")
+        "DDS profile that reaches the swarm: onehost (same host), cells (with --cell-hubs), lan, lan-unicast (with "
+        "--dds-peers), or files")
       ->capture_default_str();
   at->add_option("--dds-peers", ao.dds_peers,
                  "lan profiles: the swarm's hosts, comma-separated [env PHEROMESH_DDS_PEERS]");
+  at->add_option("--cell-hubs", ao.cell_hubs,
+                 "--dds-profile cells: the swarm's hubs (its ground station and place agent replicas), as `pheromesh "
+                 "run` prints them");
+  at->add_option("--participant-id", ao.participant_id,
+                 "--dds-profile cells over Fast DDS: the monitor's participant id, past every hub's and UAV's (`pheromesh "
+                 "run` prints one)");
   at->add_option("--out", ao.out_dir, "Output folder (metrics.json, console recording)")->capture_default_str();
   at->add_option("--http", ao.http_port, "Serve the web console on this port (0: any free port)");
   at->add_option("--http-bind", ao.http_bind, "Address the console listens on (0.0.0.0: every interface)")

@@ -446,4 +446,12 @@ std::optional<std::string> check_multi_host(const RunPlan& plan, ControlKey key,
   return std::nullopt;
 }
 
+std::optional<std::string> cells_attach_command(const RunPlan& plan) {
+  const RunOptions& o = plan.options;
+  if (o.dds_profile != "cells") return std::nullopt;
+  return "pheromesh attach --domain " + std::to_string(o.domain) + " --dds-profile cells --cell-hubs " +
+         std::to_string(cell_hubs(plan)) + " (with --dds fastdds: --participant-id " +
+         std::to_string(cell_hubs(plan) + plan.uavs) + ")";
+}
+
 }  // namespace pheromesh::cli

@@ -207,4 +207,9 @@ enum class ControlKey : uint8_t { Set, Unset, Malformed };
 // --hosts: what a swarm over several hosts cannot do; an error message.
 std::optional<std::string> check_multi_host(const RunPlan& plan, ControlKey key, const std::string& key_error = "");
 
+// --dds-profile cells: the `pheromesh attach` command that watches this run
+// from this host (its hubs, and a Fast DDS participant id past every UAV's);
+// nullopt for other profiles.
+std::optional<std::string> cells_attach_command(const RunPlan& plan);
+
 }  // namespace pheromesh::cli

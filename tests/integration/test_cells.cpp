@@ -3,6 +3,8 @@
 // announces itself only to the processes it talks to - a UAV to its gateway
 // place agents, which relay everything else it sends and receives. Domains
 // 56-57.
+#include <regex>
+
 #include "harness.hpp"
 
 using namespace pheromesh::itest;  // NOLINT: the test helpers
@@ -30,7 +32,27 @@ TEST(Cells, AProcessThatNamesOnePlaceAgentHearsOnlyThatOneWhileTheSwarmFlies) {
                        "--timeout 3");
   EXPECT_EQ(p.exit_code, 0) << p.text;
   EXPECT_NE(p.text.find("heard: 0,900\n"), std::string::npos) << p.text;
+  // A monitor attaches with the command the run printed: it names every hub
+  // (and, on Fast DDS, takes the participant id given, past the UAVs').
+  std::smatch hint;
+  const std::string printed = slurp(swarm.out_path);
+  ASSERT_TRUE(std::regex_search(printed, hint,
+                                std::regex("pheromesh attach --domain 57 --dds-profile cells --cell-hubs ([0-9]+) "
+                                           "\\(with --dds fastdds: --participant-id ([0-9]+)\\)")))
+      << printed;
+  EXPECT_EQ(hint[1], "5");  // the ground station and 4 place agents
+  const std::string mon = out_dir("cells-attach");
+  const Background monitor = start({"/bin/sh", "-c",
+                                    kBin + "/pheromesh attach --domain 57 --dds-profile cells --cell-hubs " +
+                                        hint[1].str() + " --participant-id " + hint[2].str() + " --timeout 20 --out " +
+                                        mon + " 2>&1"},
+                                   mon + ".txt");
   ASSERT_EQ(wait_exit(swarm.pid, std::chrono::seconds(120)), 0) << slurp(swarm.out_path);
+  ASSERT_EQ(wait_exit(monitor.pid, std::chrono::seconds(60)), 0) << slurp(monitor.out_path);
+  const json seen = read_metrics(mon);
+  ASSERT_FALSE(seen.is_null()) << slurp(monitor.out_path);
+  EXPECT_EQ(seen["uavs"], 4) << slurp(monitor.out_path);  // every UAV's state, relayed by the place agents
+  expect_accounting(seen);
   const json m = read_metrics(out);
   ASSERT_FALSE(m.is_null()) << slurp(swarm.out_path);
   EXPECT_EQ(m["place_agents_finished"], 4);
