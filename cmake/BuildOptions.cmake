@@ -1,7 +1,7 @@
 # Every build option of pheromesh, in one place, printed at configure time.
 option(PHEROMESH_BUILD_TESTS "Build unit and integration tests" ON)
 option(PHEROMESH_BUILD_BENCH "Build benchmarks" ON)
-option(PHEROMESH_CORE_ONLY "Build only the DDS-free core, its unit tests and benchmarks" OFF)
+option(PHEROMESH_CORE_ONLY "Build without DDS and the web console: the core, `pheromesh` with validate, sim, experiment and sweep, the unit tests of the core and its benchmarks" OFF)
 option(PHEROMESH_WERROR "Treat warnings as errors" OFF)
 option(PHEROMESH_FUZZ "Build the libFuzzer harnesses of fuzz/ (clang only; docs/fuzzing.md)" OFF)
 set(PHEROMESH_SANITIZER "" CACHE STRING "Sanitizers to build with: '', 'address,undefined' or 'thread'")
