@@ -74,6 +74,15 @@ int simulate(const core::ScenarioConfig& s, const core::FaultSchedule& faults, c
   if (o.tracks) sim.keep_tracks();
   std::unique_ptr<SimRecording> recording;
   if (!o.record.empty()) {
+    // Usually inside OUT, which the run has not made yet.
+    if (const auto parent = std::filesystem::path(o.record).parent_path(); !parent.empty()) {
+      std::error_code ec;
+      std::filesystem::create_directories(parent, ec);
+      if (ec) {
+        spdlog::error("cannot record the console: cannot create {}: {}", parent.string(), ec.message());
+        return 5;
+      }
+    }
     auto opened = SimRecording::open(o.record, sim);
     if (!opened) {
       spdlog::error("cannot record the console: {}", opened.error().message);
