@@ -118,7 +118,8 @@ TEST(MetricsSchema, TheCheckerRefusesAnUndocumentedKeyAWrongTypeAMissingKeyAndAR
 // tick order or UAV by UAV with the healths first (two DDS writers).
 TEST(TickSeries, RowsDoNotDependOnTheOrderStatesAndHealthsArrive) {
   const core::ScenarioConfig s = small_test(8);
-  const core::World world(s.geometry(), s.obstacles, s.targets);
+  const core::MapGeometry geo = s.geometry();  // the world keeps a pointer to it
+  const core::World world(geo, s.obstacles, s.targets);
   const core::PolicyTraits traits = core::policy_traits(s);
   std::vector<core::UavStateMsg> states;
   for (uint32_t u = 0; u < 2; ++u) {
@@ -141,7 +142,9 @@ TEST(TickSeries, RowsDoNotDependOnTheOrderStatesAndHealthsArrive) {
   std::stable_sort(by_tick.begin(), by_tick.end(), [](const auto& a, const auto& b) { return a.tick < b.tick; });
   for (uint32_t k = 0; k <= 8; ++k) {
     for (const auto& m : by_tick) {
-      if (m.tick == k) EXPECT_TRUE(in_order.on_uav_state(m));
+      if (m.tick == k) {
+        EXPECT_TRUE(in_order.on_uav_state(m));
+      }
     }
     in_order.on_health(healths[k]);
   }
@@ -157,7 +160,9 @@ TEST(TickSeries, RowsDoNotDependOnTheOrderStatesAndHealthsArrive) {
     EXPECT_EQ(rows[k].uavs_reporting, 2U);
     EXPECT_EQ(rows[k].deposits_sent, 4U * k + 1U) << k;  // 2k + (2k + 1)
     EXPECT_EQ(rows[k].deposits_applied, 3U * k) << k;
-    if (k > 0) EXPECT_GE(rows[k].covered_cells, rows[k - 1].covered_cells);
+    if (k > 0) {
+      EXPECT_GE(rows[k].covered_cells, rows[k - 1].covered_cells);
+    }
   }
   EXPECT_GT(rows[8].covered_cells, rows[0].covered_cells) << "the UAVs moved over new cells";
   EXPECT_EQ(lines_of(a).front(), report::kSeriesHeader);
