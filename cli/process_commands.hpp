@@ -32,6 +32,6 @@ bool processes_built();
 inline constexpr const char* kCoreOnlyHint =
     "this pheromesh was built core-only (cmake -DPHEROMESH_CORE_ONLY=ON: no DDS vendor, no web console); "
     "build it without PHEROMESH_CORE_ONLY for run, attach, bench, security, replay and --distributed (README, "
-    "\"Building\")";
+    "\"Without DDS\")";
 
 }  // namespace pheromesh::cli
