@@ -11,6 +11,7 @@ src=${1:?usage: core_only_build.sh SOURCE_DIR TREE}
 tree=${2:?usage: core_only_build.sh SOURCE_DIR TREE}
 fail() { echo "core-only: $*" >&2; exit 1; }
 
+mkdir -p "$tree" || fail "cannot make $tree"
 launcher=()
 if command -v ccache >/dev/null; then
   launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache -DCMAKE_C_COMPILER_LAUNCHER=ccache)
@@ -20,10 +21,10 @@ cmake -S "$src" -B "$tree" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPHEROMESH_CORE_ON
   -DPHEROMESH_BUILD_TESTS=OFF -DPHEROMESH_BUILD_BENCH=OFF "${launcher[@]}" \
   -DCMAKE_DISABLE_FIND_PACKAGE_CycloneDDS=ON -DCMAKE_DISABLE_FIND_PACKAGE_CycloneDDS-CXX=ON \
   -DCMAKE_DISABLE_FIND_PACKAGE_fastrtps=ON -DCMAKE_DISABLE_FIND_PACKAGE_fastcdr=ON \
-  -DPHEROMESH_NPM=/nonexistent/npm -DPHEROMESH_NODE=/nonexistent/node --no-warn-unused-cli >"$tree.configure.log" 2>&1 ||
-  { cat "$tree.configure.log" >&2; fail "configure failed"; }
-cmake --build "$tree" -j"${CORE_ONLY_JOBS:-2}" --target pheromesh >"$tree.build.log" 2>&1 ||
-  { tail -50 "$tree.build.log" >&2; fail "build failed ($tree.build.log)"; }
+  -DPHEROMESH_NPM=/nonexistent/npm -DPHEROMESH_NODE=/nonexistent/node --no-warn-unused-cli >"$tree/core-only-configure.log" 2>&1 ||
+  { cat "$tree/core-only-configure.log" >&2; fail "configure failed"; }
+cmake --build "$tree" -j"${CORE_ONLY_JOBS:-2}" --target pheromesh >"$tree/core-only-build.log" 2>&1 ||
+  { tail -50 "$tree/core-only-build.log" >&2; fail "build failed ($tree/core-only-build.log)"; }
 
 # Nothing of a vendor, the console server or npm was looked for or linked.
 if grep -E '^(CycloneDDS|CycloneDDS-CXX|fastrtps|fastcdr|HTTPLIB)_' "$tree/CMakeCache.txt" | grep -v NOTFOUND | grep -q .; then
