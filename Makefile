@@ -4,6 +4,9 @@
 #   make test   run the whole test suite (unit + integration)
 #   make test-quick  the unit and bus tests only (a few minutes with the build):
 #               the loop to run while changing code
+#   make test-core-only  configure, build and run a PHEROMESH_CORE_ONLY=ON tree
+#               ($(BUILD)-core-only) with both DDS vendors and npm hidden:
+#               sim, validate, experiment, sweep work; the rest is refused
 #   make fuzz  build the libFuzzer harnesses (clang, build-fuzz/) and run each
 #               for FUZZ_SECONDS (default 60) on its corpus (docs/fuzzing.md)
 #   make package  build the Debian packages pheromesh_<version>_<arch>.deb and
@@ -17,7 +20,7 @@ DEMO_HTTP ?= 8080
 SCALE_MAX ?= 400
 FUZZ_SECONDS ?= 60
 
-.PHONY: all deps build demo test test-quick package bench bench-scale soak fuzz clean
+.PHONY: all deps build demo test test-quick test-core-only package bench bench-scale soak fuzz clean
 
 all: build
 
@@ -38,6 +41,9 @@ test: build
 
 test-quick: build
 	cd $(BUILD) && ctest --output-on-failure -j2 --timeout 300 -L 'unit|bus'
+
+test-core-only: deps
+	bash tests/core_only/core_only_build.sh $(CURDIR) $(CURDIR)/$(BUILD)-core-only
 
 package: build
 	cd $(BUILD) && cpack -G DEB

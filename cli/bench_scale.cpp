@@ -28,7 +28,7 @@
 #include "pheromesh/bus/bus.hpp"
 #include "pheromesh/core/atomic_file.hpp"
 #include "pheromesh/runtime/process.hpp"
-#include "pheromesh/runtime/report.hpp"
+#include "pheromesh/report/report.hpp"
 
 namespace pheromesh::cli {
 
@@ -322,7 +322,7 @@ bool write_results(const Plan& p, const std::vector<Row>& rows, const std::vecto
                   {"skipped", skipped}};
   files.emplace_back("scale.md", md.str());
   files.emplace_back("scale.csv", csv.str());
-  files.emplace_back("scale.json", runtime::json_text(j, 2) + "\n");
+  files.emplace_back("scale.json", report::json_text(j, 2) + "\n");
 
   // One line per vendor; a missing figure leaves a gap (the SVG writer skips it).
   auto plot = [&](const char* file, const char* title, const char* y_label, const char* key) {

@@ -20,7 +20,7 @@
 #include "pheromesh/core/atomic_file.hpp"
 #include "pheromesh/core/scenario.hpp"
 #include "pheromesh/runtime/process.hpp"
-#include "pheromesh/runtime/report.hpp"
+#include "pheromesh/report/report.hpp"
 #include "supervisor.hpp"
 
 namespace pheromesh::cli {
@@ -183,7 +183,7 @@ int finish_metrics(const RunPlan& plan, const RunRecord& run) {
   int exit_code = merged.exit_code();
   // Written over the ground station's file atomically: a launcher killed here
   // leaves the ground station's metrics.json, not half of the merged one.
-  if (auto written = core::write_file_atomically(path, runtime::json_text(merged.metrics, 2) + "\n"); !written) {
+  if (auto written = core::write_file_atomically(path, report::json_text(merged.metrics, 2) + "\n"); !written) {
     spdlog::error("{}", written.error().message);
     exit_code = 1;
   }
@@ -225,7 +225,10 @@ int Launcher::run() {
   }
   const RunPlan& plan = std::get<RunPlan>(planned);
   fs::create_directories(fs::path(plan.options.out_dir) / "logs");
-  fs::remove(fs::path(plan.options.out_dir) / "metrics.json");
+  // Never leave an earlier run's files beside this one's (docs/outputs.md).
+  for (const char* f : {"metrics.json", "series.csv", "tracks.csv", "final_field.txt", "final_field.csv"}) {
+    fs::remove(fs::path(plan.options.out_dir) / f);
+  }
   if (plan.process_scenario != o_.scenario) {
     // The processes read the scenario as changed by the overrides.
     if (auto w = core::write_file_atomically(plan.process_scenario, scenario->source_text); !w) {

@@ -53,6 +53,7 @@ struct RunOptions {
   std::string http_bind = "127.0.0.1";
   std::string record;  // default with --http: OUT/console.phrec
   bool no_record = false;
+  bool tracks = false;  // the ground station also writes OUT/tracks.csv
   std::string secure;  // DDS Security: the directory of `pheromesh security init` (docs/security.md)
 };
 

@@ -9,7 +9,9 @@
 #include "pheromesh/core/scenario.hpp"
 #include "pheromesh/core/policy.hpp"
 #include "pheromesh/core/simulator.hpp"
-#include "pheromesh/runtime/report.hpp"
+#include "pheromesh/report/report.hpp"
+#include "pheromesh/report/tidy.hpp"
+#include "sim_recording.hpp"
 
 namespace pheromesh::cli {
 
@@ -69,9 +71,34 @@ int simulate(const core::ScenarioConfig& s, const core::FaultSchedule& faults, c
   } else if (s.standby) {
     spdlog::info("faults: standbys (--standby, run.standby) without a fault schedule change nothing");
   }
+  if (o.tracks) sim.keep_tracks();
+  std::unique_ptr<SimRecording> recording;
+  if (!o.record.empty()) {
+    // Usually inside OUT, which the run has not made yet.
+    if (const auto parent = std::filesystem::path(o.record).parent_path(); !parent.empty()) {
+      std::error_code ec;
+      std::filesystem::create_directories(parent, ec);
+      if (ec) {
+        spdlog::error("cannot record the console: cannot create {}: {}", parent.string(), ec.message());
+        return 5;
+      }
+    }
+    auto opened = SimRecording::open(o.record, sim);
+    if (!opened) {
+      spdlog::error("cannot record the console: {}", opened.error().message);
+      return 5;
+    }
+    recording = std::move(opened).value();
+    spdlog::info("recording the console to {} (pheromesh replay {})", o.record, o.record);
+  }
+  bool recording_failed = false;
   const auto t0 = std::chrono::steady_clock::now();
   uint32_t next_report = s.ticks / 10;
   sim.run([&](uint32_t k) {
+    if (recording && !recording_failed && !recording->after_tick(k)) {
+      recording_failed = true;
+      spdlog::error("cannot write to the recording {}", o.record);
+    }
     if (!o.quiet && k >= next_report && next_report > 0) {
       spdlog::info("tick {:6d}/{} | coverage {:5.1f}% | targets {}/{}", k, s.ticks,
                    100.0 * sim.recorder().coverage().coverage(), sim.recorder().acquisitions().found(), s.targets.size());
@@ -82,14 +109,22 @@ int simulate(const core::ScenarioConfig& s, const core::FaultSchedule& faults, c
 
   std::string error;
   const auto j = sim_metrics(sim, secs);
-  if (!runtime::write_json(o.out_dir, "metrics.json", j, error)) {
+  if (!report::write_json(o.out_dir, "metrics.json", j, error)) {
     spdlog::error("{}", error);
     return 5;
   }
-  const std::string field = (std::filesystem::path(o.out_dir) / "final_field.txt").string();
-  if (!write_sim_field(sim, field)) {
-    spdlog::error("cannot write {}", field);
+  if (const std::string e = write_sim_outputs(sim, o.out_dir); !e.empty()) {
+    spdlog::error("{}", e);
     return 5;
+  }
+  if (recording) {
+    auto closed = recording->close();
+    if (recording_failed || !closed) {
+      spdlog::error("the recording {} is incomplete: {}", o.record,
+                    closed ? std::string("a frame could not be written") : closed.error().message);
+      return 5;
+    }
+    spdlog::info("recorded {} console frames ({} bytes) in {}", recording->frames(), closed.value(), o.record);
   }
   spdlog::info("done in {:.2f} s ({:.0f} UAV-steps/s): coverage {:.1f}%, targets {}/{} at ticks {} -> {}/metrics.json",
                secs, static_cast<double>(sim.uav_steps()) / secs, 100.0 * sim.recorder().coverage().coverage(),
@@ -105,11 +140,11 @@ int simulate(const core::ScenarioConfig& s, const core::FaultSchedule& faults, c
 }
 
 nlohmann::json sim_metrics(const core::Simulator& sim, double wall_seconds) {
-  runtime::RunInfo info;  // no discovery in-process
-  info.transport = "none (in-process simulator)";
+  report::RunInfo info;  // no DDS, no discovery in-process
+  info.runner = report::Runner::Simulator;
   info.clock = "lockstep";
   info.uavs_expected = sim.scenario().uavs;
-  auto j = runtime::metrics_json(sim.recorder(), info);
+  auto j = report::metrics_json(sim.recorder(), info);
   // The launcher counts killed processes; the simulator counts the kills it ran.
   j["processes_killed"] = sim.recorder().uavs_killed() + sim.recorder().places_killed();
   j["wall_seconds"] = wall_seconds;
@@ -118,8 +153,30 @@ nlohmann::json sim_metrics(const core::Simulator& sim, double wall_seconds) {
 }
 
 bool write_sim_field(const core::Simulator& sim, const std::string& path) {
-  return runtime::write_field(path, sim.scenario().geometry(), core::policy_traits(sim.scenario()).layers,
+  return report::write_field(path, sim.scenario().geometry(), core::policy_traits(sim.scenario()).layers,
                               [&](int layer, core::Cell c) { return sim.field_value(layer, c); });
+}
+
+std::string write_sim_outputs(const core::Simulator& sim, const std::string& out_dir) {
+  const std::filesystem::path out(out_dir);
+  const core::RunRecorder& rec = sim.recorder();
+  if (auto w = report::write_series_csv((out / "series.csv").string(), rec.tick_series()); !w) return w.error().message;
+  const std::string field = (out / "final_field.txt").string();
+  if (!write_sim_field(sim, field)) return "cannot write " + field;
+  const auto value = [&](int layer, core::Cell c) { return sim.field_value(layer, c); };
+  if (auto w = report::write_field_csv((out / "final_field.csv").string(), sim.scenario().geometry(),
+                                       core::policy_traits(sim.scenario()).layers, value);
+      !w) {
+    return w.error().message;
+  }
+  const std::vector<core::TrackRow> tracks = rec.tracks();
+  if (!tracks.empty()) {
+    if (auto w = report::write_tracks_csv((out / "tracks.csv").string(), tracks); !w) return w.error().message;
+  } else {
+    std::error_code ignored;  // an earlier run's, which this one did not make
+    std::filesystem::remove(out / "tracks.csv", ignored);
+  }
+  return "";
 }
 
 }  // namespace pheromesh::cli

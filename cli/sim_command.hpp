@@ -18,6 +18,8 @@ struct SimOptions {
   std::string out_dir = "out/sim";
   bool quiet = false;
   std::string faults;  // fault schedule in ticks (core::parse_fault_schedule); "" = none
+  bool tracks = false;  // also OUT/tracks.csv
+  std::string record;   // a console recording of the run for `pheromesh replay`; "" = none
 };
 
 // `pheromesh sim`: the whole swarm in this process (core::Simulator), same
@@ -34,5 +36,10 @@ nlohmann::json sim_metrics(const core::Simulator& sim, double wall_seconds);
 
 // OUT/final_field.txt of a finished simulation; false if it cannot be written.
 bool write_sim_field(const core::Simulator& sim, const std::string& path);
+
+// Everything `pheromesh sim` leaves in `out_dir` after metrics.json
+// (docs/outputs.md): series.csv, final_field.txt, final_field.csv, and
+// tracks.csv if the simulator kept tracks. "" or the first error.
+std::string write_sim_outputs(const core::Simulator& sim, const std::string& out_dir);
 
 }  // namespace pheromesh::cli

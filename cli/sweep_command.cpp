@@ -17,7 +17,7 @@
 #include "experiments/flight.hpp"
 #include "pheromesh/core/atomic_file.hpp"
 #include "pheromesh/core/simulator.hpp"
-#include "pheromesh/runtime/report.hpp"
+#include "pheromesh/report/report.hpp"
 #include "sim_command.hpp"
 #include "sweep_grid.hpp"
 #include "sweep_report.hpp"
@@ -198,7 +198,7 @@ int prepare_out(const Plan& p) {
     std::fprintf(stderr, "%s\n", w.error().message.c_str());
     return 5;
   }
-  if (auto w = core::write_file_atomically(def.string(), runtime::json_text(wanted) + "\n"); !w) {
+  if (auto w = core::write_file_atomically(def.string(), report::json_text(wanted) + "\n"); !w) {
     std::fprintf(stderr, "%s\n", w.error().message.c_str());
     return 5;
   }
@@ -234,7 +234,7 @@ int run_all(const Plan& p, const std::vector<std::size_t>& todo, unsigned jobs, 
         auto sim = simulate_run(s.value());
         if (!sim) return fail(1, "run " + run.id + ": " + sim.error().message);
         std::string why;
-        if (!runtime::write_json((p.out / "runs" / run.id).string(), "metrics.json", sim->metrics, why)) {
+        if (!report::write_json((p.out / "runs" / run.id).string(), "metrics.json", sim->metrics, why)) {
           return fail(5, why);
         }
         results[todo[k]] = std::move(sim->metrics);
@@ -277,7 +277,7 @@ sweep::DistributedCheck fly_and_compare(const Plan& p, const sweep::Run& run, co
   auto sim = simulate_run(s.value());
   if (!sim) return done(sim.error().message);
   std::string why;
-  if (!runtime::write_json((dir / "sim").string(), "metrics.json", sim->metrics, why)) return done(why);
+  if (!report::write_json((dir / "sim").string(), "metrics.json", sim->metrics, why)) return done(why);
   if (!write_sim_field(*sim->sim, (dir / "sim" / "final_field.txt").string()))
     return done("cannot write the sim's field");
   // The same run in the sweep (another thread, maybe another invocation):

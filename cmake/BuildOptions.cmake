@@ -1,13 +1,15 @@
 # Every build option of pheromesh, in one place, printed at configure time.
 option(PHEROMESH_BUILD_TESTS "Build unit and integration tests" ON)
 option(PHEROMESH_BUILD_BENCH "Build benchmarks" ON)
-option(PHEROMESH_CORE_ONLY "Build only the DDS-free core, its unit tests and benchmarks" OFF)
+option(PHEROMESH_CORE_ONLY "Build without DDS and the web console: the core, `pheromesh` with validate, sim, experiment and sweep, the unit tests of the core and its benchmarks" OFF)
 option(PHEROMESH_WERROR "Treat warnings as errors" OFF)
+option(PHEROMESH_TEST_CORE_ONLY "Add the ctest CoreOnly.BuildsAndSimulatesWithoutDds: configure, build and run a core-only tree beside this one (minutes without a warm ccache; make test-core-only runs it alone)" OFF)
 option(PHEROMESH_FUZZ "Build the libFuzzer harnesses of fuzz/ (clang only; docs/fuzzing.md)" OFF)
 set(PHEROMESH_SANITIZER "" CACHE STRING "Sanitizers to build with: '', 'address,undefined' or 'thread'")
 set_property(CACHE PHEROMESH_SANITIZER PROPERTY STRINGS "" "address,undefined" "thread")
 
 foreach(opt PHEROMESH_BUILD_TESTS PHEROMESH_BUILD_BENCH PHEROMESH_CORE_ONLY PHEROMESH_WERROR PHEROMESH_SANITIZER PHEROMESH_FUZZ
+    PHEROMESH_TEST_CORE_ONLY
     CMAKE_BUILD_TYPE)
   message(STATUS "pheromesh option ${opt} = ${${opt}}")
 endforeach()

@@ -20,6 +20,9 @@ if(NOT PHEROMESH_CORE_ONLY)
     COMPONENT runtime FILES_MATCHING PATTERN "*.xml")
   # The DDS types, for programs of other languages or vendors that join a swarm.
   install(FILES ${PROJECT_SOURCE_DIR}/idl/pheromesh.idl DESTINATION ${PHEROMESH_INSTALL_DATADIR}/idl COMPONENT runtime)
+else()
+  # Core-only: `pheromesh` with validate, sim, experiment and sweep (cli/CMakeLists.txt).
+  install(TARGETS pheromesh RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR} COMPONENT runtime)
 endif()
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/scenarios/ DESTINATION ${PHEROMESH_INSTALL_DATADIR}/scenarios
   COMPONENT runtime FILES_MATCHING PATTERN "*.textproto")

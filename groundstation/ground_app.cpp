@@ -8,7 +8,8 @@
 #include <filesystem>
 
 #include "pheromesh/core/policy.hpp"
-#include "pheromesh/runtime/report.hpp"
+#include "pheromesh/report/report.hpp"
+#include "pheromesh/report/tidy.hpp"
 
 namespace pheromesh::groundstation {
 
@@ -87,7 +88,9 @@ GroundApp::GroundApp(GroundConfig cfg, core::ScenarioConfig scenario, std::uniqu
       conductor_(conductor_options(cfg_, geo_.region_count())),
       book_(book_options(cfg_, scenario_, geo_.region_count())),
       intake_(scenario_, {rec_, conductor_, book_, frame_builder_, world_},
-              cfg_.standby ? console::GroundIntake::Standby::Hot : console::GroundIntake::Standby::None) {}
+              cfg_.standby ? console::GroundIntake::Standby::Hot : console::GroundIntake::Standby::None) {
+  if (cfg_.tracks) rec_.keep_tracks();
+}
 
 void GroundApp::note_discovery(Clock::time_point now) {
   using StartNow = core::RunBook::StartNow;
@@ -154,7 +157,6 @@ void GroundApp::print_progress() {
     applied += h.deposits_applied;
     rejected += h.deposits_rejected;
   }
-  rec_.sample_coverage();
   uint32_t standby_owned = 0;
   for (core::RegionId r = 0; r < geo_.region_count(); ++r) {
     const auto owner = rec_.region_owner(r);
@@ -217,21 +219,33 @@ int GroundApp::write_results() {
   const auto field_value = [this](int layer, core::Cell c) { return intake_.field_value(layer, c); };
   rec_.set_field_summary(core::field_summary(scenario_, field_value));
   std::string error;
-  const runtime::RunInfo info{bus_->vendor(),
+  const report::RunInfo info{bus_->vendor(),
                               cfg_.common.clock,
+                              report::Runner::Processes,
                               cfg_.expect_uavs,
                               book_.discovery_s(),
                               conductor_.phase_times().uav_ms,
                               conductor_.phase_times().place_ms,
                               bus_->stats().bytes_taken};
-  if (!runtime::write_json(cfg_.out_dir, "metrics.json", runtime::metrics_json(rec_, info), error)) {
+  if (!report::write_json(cfg_.out_dir, "metrics.json", report::metrics_json(rec_, info), error)) {
     log_->error("{}", error);
     return 5;
   }
-  const std::string field_path = (std::filesystem::path(cfg_.out_dir) / "final_field.txt").string();
-  const bool field_ok = runtime::write_field(field_path, geo_, core::policy_traits(scenario_).layers, field_value);
+  const std::filesystem::path out(cfg_.out_dir);
+  const std::vector<std::string>& layers = core::policy_traits(scenario_).layers;
+  const std::string field_path = (out / "final_field.txt").string();
+  const bool field_ok = report::write_field(field_path, geo_, layers, field_value);
   if (!field_ok) log_->error("cannot write {}", field_path);
-  log_->info("wrote {}/metrics.json and final_field.txt", cfg_.out_dir);
+  // The tidy files (docs/outputs.md): in lockstep equal to the simulator's.
+  std::vector<core::Result<std::size_t>> tidy;
+  tidy.push_back(report::write_series_csv((out / "series.csv").string(), rec_.tick_series()));
+  tidy.push_back(report::write_field_csv((out / "final_field.csv").string(), geo_, layers, field_value));
+  if (cfg_.tracks) tidy.push_back(report::write_tracks_csv((out / "tracks.csv").string(), rec_.tracks()));
+  for (const auto& w : tidy) {
+    if (!w) log_->error("{}", w.error().message);
+  }
+  log_->info("wrote {}/metrics.json, series.csv, final_field.txt and final_field.csv{}", cfg_.out_dir,
+             cfg_.tracks ? ", tracks.csv" : "");
   return 0;
 }
 

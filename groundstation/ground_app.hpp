@@ -55,6 +55,7 @@ struct GroundConfig {
   console::HttpLimits http_limits;  // --http-threads, --http-max-body
   double console_hz = 5.0;          // frames per second
   std::string record_path;          // record the console frames here (empty: no recording)
+  bool tracks = false;              // also OUT/tracks.csv (every UAV state heard; docs/outputs.md)
   int launcher_fd = -1;             // control socket from `pheromesh run` (kill / restart)
   std::string scenario_path;
   // Lockstep: ticks before whose UAV phase the launcher injects faults

@@ -11,7 +11,7 @@
 #include "pheromesh/console/view.hpp"
 #include "pheromesh/core/policy.hpp"
 #include "pheromesh/core/uav_core.hpp"
-#include "pheromesh/runtime/report.hpp"
+#include "pheromesh/report/report.hpp"
 
 namespace pheromesh::groundstation {
 
@@ -113,7 +113,7 @@ void GroundApp::close_console() {
   console_->close();
   const auto final_json = console::frame_json(console_->state(), console_->console_info(), 0, 0);
   std::string error;
-  if (!runtime::write_json(cfg_.out_dir, "console_final.json", final_json, error)) log_->error("{}", error);
+  if (!report::write_json(cfg_.out_dir, "console_final.json", final_json, error)) log_->error("{}", error);
   if (server_) server_->stop();
   if (!recording_) return;
   // The recording appears under its name only now, complete (recording.hpp).

@@ -47,6 +47,7 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(std::size_t{256}, std::size_t{16} << 20));
   app.add_option("--console-hz", cfg.console_hz, "Console frames per second")->capture_default_str()->check(CLI::Range(0.2, 50.0));
   app.add_option("--record", cfg.record_path, "Record the console frames to this file (read by `pheromesh replay`)");
+  app.add_flag("--tracks", cfg.tracks, "Also write OUT/tracks.csv: every UAV state heard (tick, uav, x, y, role)");
   app.add_flag("--until-done", cfg.until_done,
                "End the run when every expected UAV finished or was lost: publish a signed End, on which every place "
                "agent finishes, then write metrics.json and exit (a swarm without pheromesh run's single launcher: "

@@ -138,8 +138,9 @@ bool numbers_from_metrics_json(const std::string& text, RunNumbers& out, std::st
     error = "metrics.json is missing or not JSON";
     return false;
   }
+  // leader_arrival_tick is left out of a run without one (docs/outputs.md).
   for (const char* key : {"ticks", "coverage", "covered_cells", "targets_found", "acquisition_ticks",
-                          "revisit_response_ticks", "leader_arrival_tick", "deposits_sent", "field"}) {
+                          "revisit_response_ticks", "deposits_sent", "field"}) {
     if (!j.contains(key)) {
       error = std::string("metrics.json has no '") + key + "'";
       return false;
@@ -152,7 +153,10 @@ bool numbers_from_metrics_json(const std::string& text, RunNumbers& out, std::st
     out.targets_found = j["targets_found"].get<uint32_t>();
     out.acquisition_ticks = j["acquisition_ticks"].get<std::vector<uint32_t>>();
     out.revisit_response_ticks = j["revisit_response_ticks"].get<std::vector<uint32_t>>();
-    if (!j["leader_arrival_tick"].is_null()) out.leader_arrival_tick = j["leader_arrival_tick"].get<uint32_t>();
+    out.leader_arrival_tick.reset();
+    if (j.contains("leader_arrival_tick") && !j["leader_arrival_tick"].is_null()) {
+      out.leader_arrival_tick = j["leader_arrival_tick"].get<uint32_t>();
+    }
     out.deposits_sent = j["deposits_sent"].get<uint64_t>();
     out.field.clear();
     for (const auto& [k, v] : j["field"].items()) {

@@ -74,7 +74,10 @@ TEST(Qos, TheTableSaysWhatThePheromoneAccountingNeeds) {
   // every sample until taken (a forged one is refused, not overwritten).
   EXPECT_EQ(topic_qos(TopicKind::Clock, Endpoint::Writer, lease).depth, 1);
   EXPECT_EQ(topic_qos(TopicKind::Clock, Endpoint::Reader, lease).depth, 16);
-  for (const TopicKind k : {TopicKind::Tile, TopicKind::Health, TopicKind::View, TopicKind::Field, TopicKind::UavHome}) {
+  // Every place-agent health record reaches the ground station (series.csv).
+  EXPECT_EQ(topic_qos(TopicKind::Health, Endpoint::Writer, lease).depth, 64);
+  EXPECT_EQ(topic_qos(TopicKind::Health, Endpoint::Reader, lease).depth, 64);
+  for (const TopicKind k : {TopicKind::Tile, TopicKind::View, TopicKind::Field, TopicKind::UavHome}) {
     const QosSpec q = topic_qos(k, Endpoint::Reader, lease);
     EXPECT_EQ(q.durability, QosSpec::Durability::TransientLocal) << to_string(k);
     EXPECT_EQ(q.history, QosSpec::History::KeepLast) << to_string(k);

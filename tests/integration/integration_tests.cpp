@@ -441,6 +441,17 @@ TEST(Cli, SimRefusesZeroTicksOrUavsAndAnImpossibleSwarmAndSetChangesTheRun) {
   EXPECT_NE(ok.text.find("  overrides   --set swarm.uavs=8\n"), std::string::npos) << ok.text;
 }
 
+TEST(Cli, ASimulationRecordedWithRecordIsReadByReplayLikeARecordingOfRun) {
+  const std::string out = out_dir("sim-record");
+  const Output s = run(kBin + "/pheromesh sim small-test --ticks 30 --quiet --record " + out + "/sim.phrec --out " + out);
+  ASSERT_EQ(s.exit_code, 0) << s.text;
+  EXPECT_NE(s.text.find("recorded 32 console frames"), std::string::npos) << s.text;  // ticks 0..30 and the close
+  const Output r = run(kBin + "/pheromesh replay --check " + out + "/sim.phrec");
+  EXPECT_EQ(r.exit_code, 0) << r.text;
+  EXPECT_NE(r.text.find("32 frames over 0.6 s"), std::string::npos) << r.text;  // simulated time: 30 ticks at 50 Hz
+  EXPECT_EQ(r.text.find("warn"), std::string::npos) << "not cut short: " << r.text;
+}
+
 TEST(Cli, MalformedKillSpecIsRejectedBeforeAnythingStarts) {
   const std::string out = out_dir("bad-kill");
   for (const char* spec : {"uav:1", "uav:x@1s", "tank:1@1s", "uav:1@5", "uav:99@1s"}) {

@@ -4,9 +4,15 @@
 #include <gtest/gtest.h>
 
 #include <csignal>
+#include <fstream>
+#include <sstream>
 #include <vector>
 
 #include "../../cli/metrics_merge.hpp"
+#include "json_schema_subset.hpp"
+#include "pheromesh/core/scenario.hpp"
+#include "pheromesh/core/simulator.hpp"
+#include "pheromesh/report/report.hpp"
 
 namespace pheromesh::cli {
 namespace {
@@ -171,6 +177,30 @@ TEST(MetricsMerge, ResourcesSumCpuPerRoleAndAverageTheSampledProcesses) {
   // Counters that went backwards (another namespace, a reset) are no figure.
   r.udp_end = UdpCounters{90, 260};
   EXPECT_TRUE(merge_metrics(ground_metrics(), r, "m.json").metrics["udp_in_datagrams"].is_null());
+}
+
+// What `pheromesh run` writes: a ground station's metrics (from a
+// simulated recorder, through the function the ground station calls) merged
+// with the launcher's processes, faults and resources.
+TEST(MetricsMerge, AMergedRunsMetricsConformToTheSchemaInTheRepository) {
+  auto s = core::load_scenario(std::string(PHEROMESH_SOURCE_DIR) + "/scenarios/small-test.textproto");
+  ASSERT_TRUE(s.ok());
+  core::ScenarioConfig c = s.value();
+  c.ticks = 20;
+  core::Simulator sim(c);
+  sim.run();
+  const report::RunInfo info{"cyclone", "realtime", report::Runner::Processes, c.uavs, 2.5, {}, {}, uint64_t{1000}};
+  std::vector<ChildProcess> ps{ended("ground", "ground", 0), ended("uav-0", "uav", 0), ended("place-0", "place", 0)};
+  RunRecord r = record_of(ps);
+  r.wall_s = 3.0;
+  const MergedMetrics m = merge_metrics(report::metrics_json(sim.recorder(), info), r, "m.json");
+  std::ifstream in(std::string(PHEROMESH_SOURCE_DIR) + "/docs/schema/metrics.schema.json");
+  std::stringstream schema;
+  schema << in.rdbuf();
+  const auto errors = test::SchemaSubset(nlohmann::json::parse(schema.str())).check(m.metrics);
+  std::string all;
+  for (const auto& e : errors) all += e + "\n";
+  EXPECT_EQ(all, "");
 }
 
 }  // namespace

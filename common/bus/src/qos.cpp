@@ -46,7 +46,12 @@ QosSpec topic_qos(TopicKind kind, Endpoint endpoint, std::chrono::milliseconds l
       // tracked per writer on both vendors.
       q.liveliness = QosSpec::Liveliness::ManualByTopic;
       q.liveliness_lease = lease;
-      keep_last(1);
+      // Every record, not only the latest: a lockstep place agent publishes
+      // one per place phase, and the ground station's series.csv counts the
+      // deposits applied by each tick from them (docs/outputs.md). With a
+      // depth of 1 a record still unacknowledged when the next tick's was
+      // written was replaced (measured: tick 0's, now and then).
+      keep_last(64);
       break;
     case TopicKind::Tile:
     case TopicKind::PhaseDone:

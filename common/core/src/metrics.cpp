@@ -7,7 +7,7 @@
 namespace pheromesh::core {
 
 CoverageTracker::CoverageTracker(const World& world, const std::vector<Cell>& starts, double sensor_radius)
-    : world_(&world), radius_(sensor_radius), reachable_(world.reachable_from(starts)), covered_(reachable_.size(), 0) {
+    : world_(&world), radius_(sensor_radius), reachable_(world.reachable_from(starts)), first_covered_(reachable_.size(), kNever) {
   reachable_count_ = std::count(reachable_.begin(), reachable_.end(), uint8_t{1});
   if (!(radius_ >= 0.0)) {
     return;  // negative or NaN radius: a UAV covers nothing
@@ -29,7 +29,7 @@ std::vector<Cell> sensor_disk_offsets(double radius, int32_t max_extent) {
   return out;
 }
 
-void CoverageTracker::observe(Cell uav) {
+void CoverageTracker::observe(Cell uav, uint32_t tick) {
   const MapGeometry& geo = world_->geometry();
   for (const Cell o : disk_offsets_) {
     const Cell c{uav.x + o.x, uav.y + o.y};
@@ -37,11 +37,19 @@ void CoverageTracker::observe(Cell uav) {
       continue;
     }
     const std::size_t i = geo.index(c);
-    if (reachable_[i] != 0 && covered_[i] == 0) {
-      covered_[i] = 1;
-      ++covered_count_;
-    }
+    if (reachable_[i] == 0) continue;
+    if (first_covered_[i] == kNever) ++covered_count_;
+    first_covered_[i] = std::min(first_covered_[i], tick);
   }
+}
+
+std::vector<int64_t> CoverageTracker::covered_by_tick(uint32_t last_tick) const {
+  std::vector<int64_t> n(static_cast<std::size_t>(last_tick) + 1, 0);
+  for (const uint32_t t : first_covered_) {
+    if (t <= last_tick) ++n[t];
+  }
+  for (std::size_t k = 1; k < n.size(); ++k) n[k] += n[k - 1];
+  return n;
 }
 
 double CoverageTracker::coverage() const {

@@ -63,7 +63,9 @@ bool RunRecorder::on_uav_state(const UavStateMsg& s) {
   u.alive = true;
   u.finished = u.finished || s.finished;
   max_tick_ = std::max(max_tick_, s.tick);
-  coverage_.observe({static_cast<int32_t>(std::lround(s.x)), static_cast<int32_t>(std::lround(s.y))});
+  coverage_.observe({static_cast<int32_t>(std::lround(s.x)), static_cast<int32_t>(std::lround(s.y))}, s.tick);
+  sent_by_tick_[s.uav].emplace_back(s.tick, s.deposits_sent + u.earlier_lives_deposits);
+  if (keep_tracks_) tracks_.push_back({s.tick, s.uav, s.x, s.y, s.role});
   // The detections of this UAV that waited for this state.
   auto ready = std::stable_partition(pending_.begin(), pending_.end(),
                                      [&](const DetectionMsg& d) { return d.uav != s.uav || d.tick > s.tick; });
@@ -149,6 +151,7 @@ bool RunRecorder::on_health(const HealthMsg& h) {
   const uint32_t id = place_id(h.region, h.replica);
   const bool back = departed_places_.erase(id) > 0 && !h.finished;
   replica_health_[id] = h;
+  ledger_by_tick_[id].push_back({h.tick, h.deposits_received, h.deposits_applied, h.deposits_rejected});
   auto& best = health_[h.region];
   if (best.region != h.region || best.replica == h.replica || h.deposits_received > best.deposits_received ||
       (h.deposits_received == best.deposits_received && h.replica < best.replica)) {
@@ -216,7 +219,102 @@ void RunRecorder::on_uav_departed(uint32_t uav) {
 
 void RunRecorder::on_place_departed(uint32_t place) { departed_places_[place] = true; }
 
-void RunRecorder::sample_coverage() { coverage_series_.emplace_back(max_tick_, coverage_.coverage()); }
+std::string role_name(uint8_t role) {
+  switch (static_cast<Role>(role)) {
+    case Role::Searcher: return "searcher";
+    case Role::Leader: return "leader";
+    case Role::Follower: return "follower";
+  }
+  return "role-" + std::to_string(role);
+}
+
+std::vector<TickRow> RunRecorder::tick_series() const {
+  const std::size_t n = static_cast<std::size_t>(max_tick_) + 1;
+  std::vector<TickRow> rows(n);
+  const std::vector<int64_t> covered = coverage_.covered_by_tick(max_tick_);
+  const auto reachable = static_cast<double>(coverage_.reachable_cells());
+  // Changes per tick, summed below: deposits sent (a UAV's count at its
+  // latest state), UAVs heard at exactly that tick, targets first found.
+  std::vector<int64_t> sent_delta(n, 0);
+  for (const auto& [uav, points] : sent_by_tick_) {
+    std::vector<std::pair<uint32_t, uint64_t>> sorted = points;
+    // By tick; of two states of one tick the later one (stable sort).
+    std::stable_sort(sorted.begin(), sorted.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    uint64_t before = 0;
+    std::optional<uint32_t> last_tick;
+    for (std::size_t i = 0; i < sorted.size(); ++i) {
+      const auto [tick, sent] = sorted[i];
+      if (i + 1 < sorted.size() && sorted[i + 1].first == tick) continue;
+      sent_delta[tick] += static_cast<int64_t>(sent) - static_cast<int64_t>(before);
+      before = sent;
+      if (last_tick != tick) ++rows[tick].uavs_reporting;
+      last_tick = tick;
+    }
+  }
+  std::vector<uint32_t> found(n, 0);
+  for (const uint32_t t : acquisitions_.acquisition_ticks()) {
+    if (t < n) ++found[t];
+  }
+  // Per region, its replicas' latest health of each tick or before; the
+  // region counts the replica that received the most (as health() does).
+  std::map<RegionId, std::vector<std::vector<const LedgerPoint*>>> by_region;
+  for (const auto& [id, records] : ledger_by_tick_) {
+    std::vector<const LedgerPoint*> latest(n, nullptr);
+    for (const LedgerPoint& h : records) {
+      // A place agent that ticked past the last UAV state (realtime) counts
+      // at the last row.
+      const LedgerPoint*& slot = latest[std::min<std::size_t>(h.tick, n - 1)];
+      // Of two records of one tick, the larger ledger (a final record
+      // repeats its replica's last tick).
+      if (slot == nullptr || h.received >= slot->received) slot = &h;
+    }
+    for (std::size_t k = 1; k < n; ++k) {
+      if (latest[k] == nullptr) latest[k] = latest[k - 1];
+    }
+    by_region[place_id_region(id)].push_back(std::move(latest));
+  }
+  int64_t sent = 0;
+  uint32_t targets = 0;
+  for (std::size_t k = 0; k < n; ++k) {
+    TickRow& r = rows[k];
+    r.tick = static_cast<uint32_t>(k);
+    r.covered_cells = covered[k];
+    r.coverage = reachable > 0 ? static_cast<double>(covered[k]) / reachable : 0.0;
+    targets += found[k];
+    r.targets_found = targets;
+    sent += sent_delta[k];
+    r.deposits_sent = static_cast<uint64_t>(std::max<int64_t>(sent, 0));
+    for (const auto& [region, replicas] : by_region) {
+      const LedgerPoint* best = nullptr;
+      for (const auto& latest : replicas) {
+        const LedgerPoint* h = latest[k];
+        if (h != nullptr && (best == nullptr || h->received > best->received)) best = h;
+      }
+      if (best == nullptr) continue;
+      r.deposits_applied += best->applied;
+      r.deposits_rejected += best->rejected;
+    }
+  }
+  return rows;
+}
+
+std::vector<TrackRow> RunRecorder::tracks() const {
+  std::vector<TrackRow> out = tracks_;
+  std::stable_sort(out.begin(), out.end(),
+                   [](const TrackRow& a, const TrackRow& b) { return std::tie(a.tick, a.uav) < std::tie(b.tick, b.uav); });
+  // Of two states of one UAV and tick (the simulator's closing state, a
+  // copy relayed twice), the later one.
+  std::vector<TrackRow> unique;
+  unique.reserve(out.size());
+  for (const TrackRow& t : out) {
+    if (!unique.empty() && unique.back().tick == t.tick && unique.back().uav == t.uav) {
+      unique.back() = t;
+    } else {
+      unique.push_back(t);
+    }
+  }
+  return unique;
+}
 
 std::vector<TargetEventMsg> RunRecorder::revisit_events() const {
   std::vector<TargetEventMsg> sorted = revisits_;

@@ -197,7 +197,15 @@ void Simulator::step(uint32_t tick) {
   }
   tiles_.clear();
   for (auto& t : tiles) tiles_[{t.tile.tx, t.tile.ty}].push_back(std::move(t));
-  if (tick % 10 == 0) recorder_.sample_coverage();
+  // Every live place agent's health of this tick, as a lockstep place agent
+  // publishes it after its place phase (the per-tick ledger of series.csv).
+  for (const auto& p : places_) {
+    if (region_dead(p->region(), tick)) continue;
+    const auto& l = p->ledger();
+    HealthMsg h{p->region(), tick, 0.0F, l.received, l.applied, l.rejected(), 0, false};
+    h.refused = l.refused.n;
+    recorder_.on_health(h);
+  }
 }
 
 void Simulator::run(const std::function<void(uint32_t)>& on_tick) {
@@ -223,7 +231,6 @@ void Simulator::run(const std::function<void(uint32_t)>& on_tick) {
     s.finished = true;
     recorder_.on_uav_state(s);
   }
-  recorder_.sample_coverage();
   recorder_.set_field_summary(field_summary(scenario_, [this](int layer, Cell c) { return field_value(layer, c); }));
 }
 

@@ -18,15 +18,23 @@ std::vector<Cell> sensor_disk_offsets(double radius, int32_t max_extent);
 class CoverageTracker {
  public:
   CoverageTracker(const World& world, const std::vector<Cell>& starts, double sensor_radius);
-  void observe(Cell uav);
+  // A UAV over `uav` at `tick` covers its sensor disk. A cell keeps the
+  // earliest tick that covered it, whatever order the states arrive in (two
+  // UAVs' states travel on two DDS writers), so covered_by_tick() is the
+  // same for any arrival order.
+  void observe(Cell uav, uint32_t tick = 0);
   [[nodiscard]] double coverage() const;  // 0..1
   [[nodiscard]] int64_t reachable_cells() const { return reachable_count_; }
   [[nodiscard]] int64_t covered_cells() const { return covered_count_; }
+  // Cells covered at ticks 0..last_tick (element k: by the end of tick k).
+  [[nodiscard]] std::vector<int64_t> covered_by_tick(uint32_t last_tick) const;
 
  private:
+  static constexpr uint32_t kNever = UINT32_MAX;
   const World* world_;
   double radius_;
-  std::vector<uint8_t> reachable_, covered_;
+  std::vector<uint8_t> reachable_;
+  std::vector<uint32_t> first_covered_;  // per cell: the earliest tick that covered it, kNever if none
   int64_t reachable_count_ = 0, covered_count_ = 0;
   std::vector<Cell> disk_offsets_;
 };

@@ -23,6 +23,33 @@ namespace pheromesh::core {
 // Every UAV's start cell (coverage counts the cells reachable from them).
 std::vector<Cell> all_starts(const ScenarioConfig& s);
 
+// The swarm at the end of one tick (series.csv; docs/outputs.md): what the
+// states, detections and health records stamped with that tick or an earlier
+// one say, whatever order they arrived in. A lockstep run's ground station
+// hears every one of them, so its rows equal the simulator's; a realtime
+// ground station has what reached it.
+struct TickRow {
+  uint32_t tick = 0;
+  int64_t covered_cells = 0;
+  double coverage = 0;             // covered_cells / reachable cells, 0..1
+  uint32_t targets_found = 0;      // targets first detected at this tick or before
+  uint32_t uavs_reporting = 0;     // UAVs with a state of this very tick
+  uint64_t deposits_sent = 0;      // by the UAVs, by their latest state of this tick or before
+  uint64_t deposits_applied = 0;   // by the place agents, by their latest health of this tick or before
+  uint64_t deposits_rejected = 0;  // likewise
+};
+
+// One UAV at one tick (tracks.csv).
+struct TrackRow {
+  uint32_t tick = 0;
+  uint32_t uav = 0;
+  double x = 0, y = 0;  // [cell]
+  uint8_t role = 0;     // core::Role
+};
+
+// "searcher", "leader", "follower"; "role-N" for a code outside Role.
+std::string role_name(uint8_t role);
+
 struct UavStatus {
   UavStateMsg last{};
   bool heard = false;  // `last` holds a state of this UAV
@@ -78,8 +105,9 @@ class RunRecorder {
   // Policy-specific quantities of the final field (policy.hpp field_summary).
   void set_field_summary(std::map<std::string, double> summary) { field_summary_ = std::move(summary); }
   [[nodiscard]] const std::map<std::string, double>& field_summary() const { return field_summary_; }
-  // Appends (max tick, coverage) to the coverage series.
-  void sample_coverage();
+  // Keep every accepted state's position for tracks() (off by default: a
+  // long run of a large swarm has millions).
+  void keep_tracks() { keep_tracks_ = true; }
 
   [[nodiscard]] const ScenarioConfig& scenario() const { return *scenario_; }
   [[nodiscard]] uint32_t max_tick() const { return max_tick_; }
@@ -107,7 +135,11 @@ class RunRecorder {
   [[nodiscard]] std::vector<uint32_t> revisit_response_ticks() const;
   // The revisit events themselves, in the same order.
   [[nodiscard]] std::vector<TargetEventMsg> revisit_events() const;
-  [[nodiscard]] const std::vector<std::pair<uint32_t, double>>& coverage_series() const { return coverage_series_; }
+  // One row per tick 0..max_tick() (TickRow).
+  [[nodiscard]] std::vector<TickRow> tick_series() const;
+  // Every UAV's position at every tick it was heard, by (tick, uav); empty
+  // unless keep_tracks() was called before the run.
+  [[nodiscard]] std::vector<TrackRow> tracks() const;
   [[nodiscard]] uint64_t samples_rejected() const { return samples_rejected_; }
   [[nodiscard]] uint64_t deposits_sent() const;
   // Deposits sent by the UAVs that no place agent counted (received,
@@ -132,7 +164,16 @@ class RunRecorder {
   std::map<RegionId, HealthMsg> health_;
   std::map<uint32_t, HealthMsg> replica_health_;  // by place_id
   std::map<uint32_t, bool> departed_places_;      // by place_id
-  std::vector<std::pair<uint32_t, double>> coverage_series_;
+  // Per UAV, (tick, deposits sent by then, earlier lives included) of every
+  // accepted state; per place replica (place_id), its health records.
+  std::map<uint32_t, std::vector<std::pair<uint32_t, uint64_t>>> sent_by_tick_;
+  struct LedgerPoint {
+    uint32_t tick = 0;
+    uint64_t received = 0, applied = 0, rejected = 0;
+  };
+  std::map<uint32_t, std::vector<LedgerPoint>> ledger_by_tick_;
+  bool keep_tracks_ = false;
+  std::vector<TrackRow> tracks_;
   std::map<std::string, double> field_summary_;
   std::optional<uint32_t> leader_arrival_;
   uint32_t max_tick_ = 0;

@@ -74,7 +74,13 @@ class Simulator {
   [[nodiscard]] const UavCore& uav(uint32_t u) const { return *uavs_.at(u); }
 
   [[nodiscard]] const RunRecorder& recorder() const { return recorder_; }
+  // Keep every UAV's position of every tick (RunRecorder::tracks); call before run().
+  void keep_tracks() { recorder_.keep_tracks(); }
+  // The tiles every place agent published at the end of the last tick (what
+  // the UAVs read next), by (tx, ty): `pheromesh sim --record`'s console.
+  [[nodiscard]] const std::map<std::pair<int32_t, int32_t>, std::vector<TileMsg>>& tiles() const { return tiles_; }
   [[nodiscard]] const ScenarioConfig& scenario() const { return scenario_; }
+  [[nodiscard]] const World& world() const { return world_; }
   // Final field value of layer `layer` at c (from the place agent owning c).
   [[nodiscard]] float field_value(int layer, Cell c) const;
   [[nodiscard]] int layer_count() const;

@@ -1,4 +1,4 @@
-#include "pheromesh/runtime/report.hpp"
+#include "pheromesh/report/report.hpp"
 
 #include <algorithm>
 #include <cstdio>
@@ -9,7 +9,7 @@
 #include "pheromesh/core/sample_summary.hpp"
 #include "pheromesh/core/tick_gaps.hpp"
 
-namespace pheromesh::runtime {
+namespace pheromesh::report {
 
 nlohmann::json duration_summary(std::vector<double> ms) {
   const core::SampleSummary s = core::summarize(std::move(ms));
@@ -32,7 +32,12 @@ nlohmann::json metrics_json(const core::RunRecorder& r, const RunInfo& info) {
   j["scenario_file"] = s.source_path;
   j["policy"] = s.policy;
   j["seed"] = s.seed;
-  j["dds"] = info.transport;
+  const bool processes = info.runner == Runner::Processes;
+  // Realtime timekeeping (late ticks, gaps between tick starts) does not
+  // apply to conducted ticks.
+  const bool realtime = processes && info.clock == "realtime";
+  j["runner"] = processes ? "processes" : "simulator";
+  if (processes) j["dds"] = info.transport;
   j["clock"] = info.clock;
   j["ticks"] = r.max_tick();
   j["uavs"] = r.uavs().size();
@@ -46,7 +51,7 @@ nlohmann::json metrics_json(const core::RunRecorder& r, const RunInfo& info) {
   j["targets_found"] = r.acquisitions().found();
   j["acquisition_ticks"] = r.acquisitions().acquisition_ticks();
   j["revisit_response_ticks"] = r.revisit_response_ticks();
-  j["leader_arrival_tick"] = r.leader_arrival_tick() ? nlohmann::json(*r.leader_arrival_tick()) : nlohmann::json();
+  if (r.leader_arrival_tick()) j["leader_arrival_tick"] = *r.leader_arrival_tick();
   j["deposits_sent"] = r.deposits_sent();
   j["deposits_received"] = received;
   j["deposits_applied"] = applied;
@@ -54,35 +59,44 @@ nlohmann::json metrics_json(const core::RunRecorder& r, const RunInfo& info) {
   // No silent loss (docs/faults.md): what the UAVs sent and no place agent
   // counted, and what the UAVs themselves saw unconfirmed by their home.
   j["deposits_lost"] = r.deposits_lost();
-  j["deposits_unconfirmed_by_uavs"] = r.deposits_unconfirmed_by_uavs();
+  if (processes) j["deposits_unconfirmed_by_uavs"] = r.deposits_unconfirmed_by_uavs();
   uint64_t duplicates = 0;
   nlohmann::json replicas = nlohmann::json::object();
   for (const auto& [id, h] : r.replica_health()) {
     duplicates += h.deposits_duplicate;
     const std::string name = "place-" + std::to_string(h.region) + (h.replica > 0 ? ".r" + std::to_string(h.replica) : "");
-    replicas[name] = {{"region", h.region},        {"replica", h.replica},
-                      {"tick", h.tick},            {"finished", h.finished},
-                      {"lost", r.place_departed(id) && !h.finished}, {"deposits_received", h.deposits_received},
-                      {"deposits_applied", h.deposits_applied}, {"deposits_duplicate", h.deposits_duplicate},
-                      {"bytes_received", h.bytes_received}};
+    nlohmann::json& p = replicas[name];
+    p = {{"region", h.region},
+         {"replica", h.replica},
+         {"tick", h.tick},
+         {"finished", h.finished},
+         {"lost", r.place_departed(id) && !h.finished},
+         {"deposits_received", h.deposits_received},
+         {"deposits_applied", h.deposits_applied}};
+    if (processes) {
+      p["deposits_duplicate"] = h.deposits_duplicate;
+      p["bytes_received"] = h.bytes_received;
+    }
   }
-  j["deposits_duplicate_dropped"] = duplicates;
+  if (processes) j["deposits_duplicate_dropped"] = duplicates;
   // What a place agent receives per tick (payload bytes, core::payload_bytes),
   // the mean over the primaries: local traffic does not grow with the map.
   double place_bytes = 0.0;
   for (const auto& [region, h] : r.health()) place_bytes += static_cast<double>(h.bytes_received) / (h.tick + 1.0);
-  j["place_bytes_received_per_tick"] = r.health().empty() ? 0.0 : place_bytes / static_cast<double>(r.health().size());
+  if (processes) {
+    j["place_bytes_received_per_tick"] =
+        r.health().empty() ? 0.0 : place_bytes / static_cast<double>(r.health().size());
+  }
   j["place_replicas"] = replicas;
   // Per conducted or flown tick (ticks + 1 of them).
-  j["ground_bytes_received_per_tick"] =
-      info.ground_bytes_received
-          ? nlohmann::json(static_cast<double>(*info.ground_bytes_received) / (r.max_tick() + 1.0))
-          : nlohmann::json(nullptr);
-  j["place_agents_alive"] = r.regions_alive();
+  if (info.ground_bytes_received) {
+    j["ground_bytes_received_per_tick"] = static_cast<double>(*info.ground_bytes_received) / (r.max_tick() + 1.0);
+  }
+  if (processes) j["place_agents_alive"] = r.regions_alive();
   j["uavs_killed"] = r.uavs_killed();
   j["places_killed"] = r.places_killed();
   j["regions_frozen"] = r.regions_frozen();
-  j["samples_rejected_by_ground"] = r.samples_rejected();
+  if (processes) j["samples_rejected_by_ground"] = r.samples_rejected();
   // Well-formed samples refused as implausible (core/plausibility.hpp), per
   // reason: in total and by who refused them.
   const core::RefusalCounts by_places = r.refused_by_places(), by_uavs = r.refused_by_uavs();
@@ -106,17 +120,20 @@ nlohmann::json metrics_json(const core::RunRecorder& r, const RunInfo& info) {
   uint64_t tile_samples = 0, uav_ticks = 0, ticks_late = 0, samples = 0;
   double late_share_max = 0.0;
   for (const auto& [id, u] : r.uavs()) {
-    per_uav[std::to_string(id)] = {{"last_tick", u.last.tick},
-                                   {"x", u.last.x},
-                                   {"y", u.last.y},
-                                   {"role", u.last.role},
-                                   {"finished", u.finished},
-                                   {"deposits_sent", u.last.deposits_sent},
-                                   {"tile_samples_received", u.last.tile_samples_received},
-                                   {"samples_received", u.last.samples_received},
-                                   {"ticks_late", u.last.ticks_late},
-                                   {"tick_gap_max_ms", u.last.tick_gap_max_ms},
-                                   {"tick_gaps_over_2", u.last.tick_gaps_over_2}};
+    nlohmann::json& status = per_uav[std::to_string(id)];
+    status = {{"last_tick", u.last.tick},
+              {"x", u.last.x},
+              {"y", u.last.y},
+              {"role", core::role_name(u.last.role)},
+              {"finished", u.finished},
+              {"deposits_sent", u.last.deposits_sent},
+              {"tile_samples_received", u.last.tile_samples_received}};
+    if (processes) status["samples_received"] = u.last.samples_received;
+    if (realtime) {
+      status["ticks_late"] = u.last.ticks_late;
+      status["tick_gap_max_ms"] = u.last.tick_gap_max_ms;
+      status["tick_gaps_over_2"] = u.last.tick_gaps_over_2;
+    }
     samples += u.last.samples_received;
     tile_samples += u.last.tile_samples_received;
     uav_ticks += u.last.tick;
@@ -127,9 +144,11 @@ nlohmann::json metrics_json(const core::RunRecorder& r, const RunInfo& info) {
   // Keeping time (realtime): UAV ticks flown, and those that started more
   // than one tick period late, over the swarm and for the worst UAV.
   j["uav_ticks_flown"] = uav_ticks;
-  j["uav_ticks_late"] = ticks_late;
-  j["uav_late_share"] = uav_ticks > 0 ? static_cast<double>(ticks_late) / static_cast<double>(uav_ticks) : 0.0;
-  j["uav_late_share_max"] = late_share_max;
+  if (realtime) {
+    j["uav_ticks_late"] = ticks_late;
+    j["uav_late_share"] = uav_ticks > 0 ? static_cast<double>(ticks_late) / static_cast<double>(uav_ticks) : 0.0;
+    j["uav_late_share_max"] = late_share_max;
+  }
   // Survivors keep their clock (issue 14): the longest gap between two tick
   // starts of a UAV / place agent that ran to the end, in tick periods, and
   // the gaps longer than two periods, summed. Realtime runs only (0 in lockstep).
@@ -147,14 +166,16 @@ nlohmann::json metrics_json(const core::RunRecorder& r, const RunInfo& info) {
     place_gap_by_region[std::to_string(region)] = {{"tick_gap_max_ms", h.tick_gap_max_ms},
                                                    {"tick_gaps_over_2", h.tick_gaps_over_2}};
   }
-  j["uav_tick_gap_max_ms"] = uav_gap_ms;
-  j["uav_tick_gap_max_periods"] = core::gap_periods(uav_gap_ms, s.tick_rate_hz);
-  j["uav_tick_gaps_over_2"] = uav_gaps;
-  j["place_tick_gap_max_ms"] = place_gap_ms;
-  j["place_tick_gap_max_periods"] = core::gap_periods(place_gap_ms, s.tick_rate_hz);
-  j["place_tick_gaps_over_2"] = place_gaps;
-  j["place_tick_gaps"] = place_gap_by_region;
-  j["discovery_s"] = info.discovery_s ? nlohmann::json(*info.discovery_s) : nlohmann::json();
+  if (realtime) {
+    j["uav_tick_gap_max_ms"] = uav_gap_ms;
+    j["uav_tick_gap_max_periods"] = core::gap_periods(uav_gap_ms, s.tick_rate_hz);
+    j["uav_tick_gaps_over_2"] = uav_gaps;
+    j["place_tick_gap_max_ms"] = place_gap_ms;
+    j["place_tick_gap_max_periods"] = core::gap_periods(place_gap_ms, s.tick_rate_hz);
+    j["place_tick_gaps_over_2"] = place_gaps;
+    j["place_tick_gaps"] = place_gap_by_region;
+  }
+  if (info.discovery_s) j["discovery_s"] = *info.discovery_s;
   if (!info.uav_phase_ms.empty() || !info.place_phase_ms.empty()) {
     double conducted_ms = 0;
     for (double v : info.uav_phase_ms) conducted_ms += v;
@@ -170,9 +191,16 @@ nlohmann::json metrics_json(const core::RunRecorder& r, const RunInfo& info) {
   j["tile_samples_per_uav_tick"] =
       uav_ticks > 0 ? static_cast<double>(tile_samples) / static_cast<double>(uav_ticks) : 0.0;
   // Every DDS sample a UAV took (its views, broadcasts, commands) per tick.
-  j["samples_per_uav_tick"] = uav_ticks > 0 ? static_cast<double>(samples) / static_cast<double>(uav_ticks) : 0.0;
+  if (processes) {
+    j["samples_per_uav_tick"] = uav_ticks > 0 ? static_cast<double>(samples) / static_cast<double>(uav_ticks) : 0.0;
+  }
+  // [tick, coverage] every kCoverageSeriesEvery ticks and at the last tick,
+  // each once: the rows of series.csv at those ticks.
   nlohmann::json series = nlohmann::json::array();
-  for (const auto& [t, c] : r.coverage_series()) series.push_back({t, c});
+  const std::vector<core::TickRow> rows = r.tick_series();
+  for (const core::TickRow& row : rows) {
+    if (row.tick % kCoverageSeriesEvery == 0 || row.tick + 1 == rows.size()) series.push_back({row.tick, row.coverage});
+  }
   j["coverage_series"] = series;
   nlohmann::json field = nlohmann::json::object();
   for (const auto& [k, v] : r.field_summary()) field[k] = v;
@@ -214,4 +242,4 @@ bool write_json(const std::string& dir, const std::string& file, const nlohmann:
   return true;
 }
 
-}  // namespace pheromesh::runtime
+}  // namespace pheromesh::report

@@ -11,11 +11,17 @@
 
 #include "pheromesh/core/run_metrics.hpp"
 
-namespace pheromesh::runtime {
+namespace pheromesh::report {
+
+// Who ran the swarm. The simulator's metrics.json leaves out what only
+// processes have: DDS traffic, discovery, liveliness, duplicates
+// (docs/outputs.md, docs/schema/metrics.schema.json).
+enum class Runner : uint8_t { Processes, Simulator };
 
 struct RunInfo {
-  std::string transport;  // "cyclone", "sim", ...
-  std::string clock;      // "realtime", "lockstep", "sim"
+  std::string transport;  // "cyclone", "fastdds", ... (processes only)
+  std::string clock;      // "realtime" or "lockstep" (the simulator's schedule is lockstep's)
+  Runner runner = Runner::Processes;
   uint32_t uavs_expected = 0;
   // Seconds from the launch ($PHEROMESH_RUN_T0_MS) until the ground station
   // had heard every expected UAV and place agent; unset if it never did.
@@ -32,7 +38,14 @@ struct RunInfo {
 // percentiles); {"n": 0} when there are none.
 nlohmann::json duration_summary(std::vector<double> ms);
 
+// OUT/metrics.json. Keys that do not apply to a run are left out rather than
+// written as null or 0: those of processes in the simulator's, those of
+// realtime timekeeping in lockstep runs, leader_arrival_tick without one.
 nlohmann::json metrics_json(const core::RunRecorder& r, const RunInfo& info);
+
+// The ticks of metrics.json "coverage_series": every kCoverageSeriesEvery-th
+// tick and the last one (series.csv has every tick).
+inline constexpr uint32_t kCoverageSeriesEvery = 10;
 
 // The final pheromone field, every layer, in a text form that round-trips
 // floats exactly ("%.9g"): `layer NAME` then one line per row. `value` may
@@ -49,4 +62,4 @@ std::string json_text(const nlohmann::json& j, int indent = 2);
 // false (and a message in `error`) on failure.
 bool write_json(const std::string& dir, const std::string& file, const nlohmann::json& j, std::string& error);
 
-}  // namespace pheromesh::runtime
+}  // namespace pheromesh::report
