@@ -51,9 +51,10 @@ std::optional<std::string> last_critical_line(const std::string& path) {
       continue;
     }
     if (const auto at = line.find("critical"); at != std::string::npos) {
-      // Colour codes around the level are in the file too; keep from the name on.
-      const auto name = line.find('[', at);
-      last = line.substr(name == std::string::npos ? at : name);
+      // Colour codes around the level are in the file too; keep what
+      // follows the logger's name.
+      const auto name = line.find("] ", at);
+      last = line.substr(name == std::string::npos ? at : name + 2);
     }
     line.clear();
   }

@@ -122,7 +122,7 @@ class DeclaredLayersPlace final : public PlaceModel {
       const auto keep = static_cast<float>(1.0 - specs_[l].evaporation);
       std::vector<float>& v = values_[l];
       if (k < diffusing_.size() && diffusing_[k] == l) {
-        diffuse(padded_[k], static_cast<float>(specs_[l].diffusion), keep, v);
+        diffuse(padded_[k], static_cast<float>(specs_[l].diffusion), keep, specs_[l].max, v);
         ++k;
       } else {
         for (float& x : v) x *= keep;
@@ -143,7 +143,10 @@ class DeclaredLayersPlace final : public PlaceModel {
   // v'(i) = keep · ((1 - g) · v(i) + g · Σ_j v(j) / |N(j)|), the neighbours
   // summed in one fixed order so that every split of the map adds the same
   // floats in the same order.
-  void diffuse(const std::vector<float>& src, float g, float keep, std::vector<float>& out) const {
+  // Capped at the layer's max: near the map's edge a cell's neighbours hand
+  // it shares of 1/|N(j)| > 1/8, which can sum above max, and a value
+  // outside the declared range would be refused as implausible.
+  void diffuse(const std::vector<float>& src, float g, float keep, float max, std::vector<float>& out) const {
     const auto w = static_cast<std::size_t>(rect_.w);
     const auto h = static_cast<std::size_t>(rect_.h);
     const float stay = 1.0F - g;
@@ -156,7 +159,7 @@ class DeclaredLayersPlace final : public PlaceModel {
             if (q != p) sum += src[q] * inv_n_[q];
           }
         }
-        out[y * w + x] = keep * (stay * src[p] + g * sum);
+        out[y * w + x] = std::min(keep * (stay * src[p] + g * sum), max);
       }
     }
   }

@@ -12,7 +12,7 @@
 //
 // so a cell keeps (1 - g) of its pheromone and hands g of it to its
 // neighbours in equal parts; nothing leaks at the map's edge, and with e = 0
-// the layer's total is kept. Regions exchange their border cells (HaloRing),
+// the layer's total is kept (below the cap: v' is at most the layer's max). Regions exchange their border cells (HaloRing),
 // so a map split into regions gives exactly the field of the undivided map.
 // A HaloRing carries two layers: at most two layers of a policy diffuse.
 #pragma once
