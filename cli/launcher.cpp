@@ -18,9 +18,11 @@
 #include "pheromesh/bus/bus.hpp"
 #include "pheromesh/bus/security.hpp"
 #include "pheromesh/core/atomic_file.hpp"
+#include "pheromesh/core/plugin_loader.hpp"
 #include "pheromesh/core/scenario.hpp"
 #include "pheromesh/runtime/process.hpp"
 #include "pheromesh/report/report.hpp"
+#include "scenario_overrides.hpp"
 #include "supervisor.hpp"
 
 namespace pheromesh::cli {
@@ -120,6 +122,16 @@ std::optional<std::string> check_hosts(const RunPlan& plan) {
   return check_multi_host(plan, key.value() ? ControlKey::Set : ControlKey::Unset);
 }
 
+// A plugin's code is loaded on every host: over several hosts only a pin in
+// the scenario file, which each host's copy carries, makes every process
+// refuse a host with another build (the launcher's pin holds for its own host).
+std::optional<std::string> check_plugin_pin(const RunPlan& plan, const core::ScenarioConfig& s) {
+  if (!plan.multi_host() || !s.plugin || s.plugin->pinned_by == "the scenario") return std::nullopt;
+  return "the policy " + s.policy + " is a plugin (" + s.plugin->library + ") and the swarm runs over " +
+         std::to_string(plan.options.hosts) + " hosts: pin the library in the scenario, `policy { plugin { sha256: \"" +
+         s.plugin->sha256 + "\" } }`, so that every host refuses another build (docs/writing-a-policy.md)";
+}
+
 // The checks and the plan, in the order their errors are reported.
 std::variant<RunPlan, Refusal> plan_run(const RunOptions& o, const core::ScenarioConfig& s) {
   auto dds = parse_dds_plan(o.dds, bus::available_vendors());
@@ -131,6 +143,7 @@ std::variant<RunPlan, Refusal> plan_run(const RunOptions& o, const core::Scenari
   if (auto refused = announce_faults(plan.value())) return *refused;
   if (auto err = check_secure(plan.value())) return Refusal{2, *err};
   if (auto err = check_hosts(plan.value())) return Refusal{2, *err};
+  if (auto err = check_plugin_pin(plan.value(), s)) return Refusal{2, *err};
   return std::move(plan).value();
 }
 
@@ -148,6 +161,7 @@ void announce(const RunPlan& plan, const core::ScenarioConfig& s) {
       s.name, o.scenario, plan.regions, plan.uavs, plan.ticks, o.clock,
       plan.lockstep() ? "" : fmt::format(" at {:.1f} Hz", plan.rate_hz), plan.dds.describe(), o.domain, o.dds_profile,
       o.out_dir);
+  if (s.plugin) spdlog::info("policy {}", policy_summary(s));
   if (const auto attach = cells_attach_command(plan)) spdlog::info("watch it from this host with: {}", *attach);
   if (!plan.multi_host()) return;
   uint32_t places_here = 0, uavs_here = 0;
@@ -224,6 +238,11 @@ int Launcher::run() {
     return refused->exit_code;
   }
   const RunPlan& plan = std::get<RunPlan>(planned);
+  if (scenario->plugin) {
+    // Every process this launcher starts loads the plugin and refuses a
+    // library other than the one loaded here (plugin_loader.hpp).
+    setenv(core::kPluginPinEnv, scenario->plugin->sha256.c_str(), 1);
+  }
   fs::create_directories(fs::path(plan.options.out_dir) / "logs");
   // Never leave an earlier run's files beside this one's (docs/outputs.md).
   for (const char* f : {"metrics.json", "series.csv", "tracks.csv", "final_field.txt", "final_field.csv"}) {

@@ -50,6 +50,7 @@ int validate(const std::string& path, const pheromesh::cli::OverrideFlags& overr
               path.c_str(), s->name.c_str(), s->width, s->height, geo.tiles_x(), geo.tiles_y(), s->tile_size,
               geo.region_count(), s->regions_x, s->regions_y, s->obstacles.size(), s->targets.size(), s->uavs, s->ticks,
               s->tick_rate_hz, static_cast<unsigned long long>(s->seed), s->aco.revisit_period);
+  std::printf("  policy      %s\n", pheromesh::cli::policy_summary(s.value()).c_str());
   std::printf("%s", pheromesh::cli::overrides_summary(s.value()).c_str());
   print_faults(s->faults);
   // The figures the limits are checked against (scenario_limits.hpp).
@@ -202,21 +203,29 @@ Examples:
   logger->set_level(spdlog::level::from_str(log_level));
   spdlog::set_default_logger(logger);
 
-  if (v->parsed()) return validate(validate_path, validate_overrides);
-  if (key->parsed()) {
-    std::printf("%s\n", auth::random_control_key_hex().c_str());
-    return 0;
+  // Every command inside one try: an exception that escapes one (a policy
+  // plugin's code may throw from any step, docs/writing-a-policy.md) is
+  // reported and gives exit 4, never an abort without a message.
+  try {
+    if (v->parsed()) return validate(validate_path, validate_overrides);
+    if (key->parsed()) {
+      std::printf("%s\n", auth::random_control_key_hex().c_str());
+      return 0;
+    }
+    if (((ex->parsed() && eo.distributed) || (sw->parsed() && swo.distributed)) && !cli::processes_built()) {
+      std::fprintf(stderr, "--distributed flies runs as DDS processes (pheromesh run): %s\n", cli::kCoreOnlyHint);
+      return 2;
+    }
+    if (sim->parsed()) return cli::run_sim(so);
+    if (ex->parsed()) return cli::run_experiment_command(eo);
+    if (sw->parsed()) {
+      swo.command = cli::command_line(argc, argv);
+      return cli::run_sweep(swo);
+    }
+    if (auto rc = processes->run_parsed()) return *rc;
+  } catch (const std::exception& e) {
+    spdlog::critical("fatal: {}", e.what());
+    return 4;
   }
-  if (((ex->parsed() && eo.distributed) || (sw->parsed() && swo.distributed)) && !cli::processes_built()) {
-    std::fprintf(stderr, "--distributed flies runs as DDS processes (pheromesh run): %s\n", cli::kCoreOnlyHint);
-    return 2;
-  }
-  if (sim->parsed()) return cli::run_sim(so);
-  if (ex->parsed()) return cli::run_experiment_command(eo);
-  if (sw->parsed()) {
-    swo.command = cli::command_line(argc, argv);
-    return cli::run_sweep(swo);
-  }
-  if (auto rc = processes->run_parsed()) return *rc;
   return 2;  // unreachable: require_subcommand(1)
 }

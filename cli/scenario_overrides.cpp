@@ -132,4 +132,10 @@ std::string overrides_summary(const core::ScenarioConfig& s) {
   return out;
 }
 
+std::string policy_summary(const core::ScenarioConfig& s) {
+  if (!s.plugin) return s.policy;
+  return s.policy + " from the plugin " + s.plugin->library + " (SHA-256 " + s.plugin->sha256 + ", " +
+         (s.plugin->pinned_by.empty() ? std::string("not pinned") : "pinned by " + s.plugin->pinned_by) + ")";
+}
+
 }  // namespace pheromesh::cli

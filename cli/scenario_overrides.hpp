@@ -65,5 +65,8 @@ std::string describe_override(const core::ScenarioOverride& o);
 
 // "  overrides   --set a=1" lines (one per override) for validate, or "" for none.
 std::string overrides_summary(const core::ScenarioConfig& s);
+// "liu", or "NAME from the plugin LIB (SHA-256 X, pinned by ...)": which code
+// a scenario runs, for validate and run.
+std::string policy_summary(const core::ScenarioConfig& s);
 
 }  // namespace pheromesh::cli

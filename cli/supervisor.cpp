@@ -15,6 +15,8 @@
 #include <cstring>
 #include <filesystem>
 #include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
 #include <stdexcept>
 #include <thread>
 
@@ -33,6 +35,32 @@ namespace {
 constexpr int kDiscoveryServerPort = 11811;
 
 double seconds(const timeval& tv) { return static_cast<double>(tv.tv_sec) + static_cast<double>(tv.tv_usec) / 1e6; }
+
+// The last line of a process's log at level critical (spdlog's pattern of
+// runtime::make_logger: "HH:MM:SS.mmm critical [name] ..."), without its
+// time stamp; nothing when there is none.
+std::optional<std::string> last_critical_line(const std::string& path) {
+  std::FILE* f = std::fopen(path.c_str(), "rb");
+  if (f == nullptr) return std::nullopt;
+  std::optional<std::string> last;
+  std::string line;
+  int ch = 0;
+  while ((ch = std::fgetc(f)) != EOF) {
+    if (ch != '\n') {
+      line.push_back(static_cast<char>(ch));
+      continue;
+    }
+    if (const auto at = line.find("critical"); at != std::string::npos) {
+      // Colour codes around the level are in the file too; keep what
+      // follows the logger's name.
+      const auto name = line.find("] ", at);
+      last = line.substr(name == std::string::npos ? at : name + 2);
+    }
+    line.clear();
+  }
+  std::fclose(f);
+  return last;
+}
 
 int64_t unix_ms_now() {
   return std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::system_clock::now().time_since_epoch())
@@ -337,7 +365,11 @@ void Supervisor::record_exit(pid_t pid, int status, const rusage& ru) {
   if (WIFSIGNALED(status)) c.term_signal = WTERMSIG(status);
   if (faults_ && faults_->schedule().in_ticks()) gone_since_answer_.push_back(c.name);
   if (c.crashed()) {
-    spdlog::error("{} (pid {}) {} — see {}/logs/{}.log", c.name, c.pid, c.describe(), plan_.options.out_dir, c.name);
+    const std::string log = (fs::path(plan_.options.out_dir) / "logs" / (c.name + ".log")).string();
+    spdlog::error("{} (pid {}) {} — see {}", c.name, c.pid, c.describe(), log);
+    // What it said last as it stopped (run_process logs an escaped exception
+    // as critical: "fatal: ..."), so that the run's output carries the reason.
+    if (const auto last = last_critical_line(log)) spdlog::error("{}: {}", c.name, *last);
   } else if (c.killed_on_purpose) {
     spdlog::info("{} (pid {}) {}", c.name, c.pid, c.describe());
   }

@@ -45,7 +45,7 @@ set(CPACK_DEBIAN_DEVELOPMENT_PACKAGE_NAME pheromesh-dev)
 set(CPACK_DEBIAN_DEVELOPMENT_PACKAGE_SECTION libdevel)
 # Static libraries: what find_package(pheromesh) finds again (pheromeshConfig.cmake).
 set(CPACK_DEBIAN_DEVELOPMENT_PACKAGE_DEPENDS
-  "libeigen3-dev, libprotobuf-dev, libspdlog-dev, cyclonedds-dev, libfastrtps-dev, libfastcdr-dev")
+  "libeigen3-dev, libprotobuf-dev, libssl-dev, libspdlog-dev, cyclonedds-dev, libfastrtps-dev, libfastcdr-dev")
 set(CPACK_COMPONENT_DEVELOPMENT_DESCRIPTION
   "UAV swarm coordinating through digital pheromones over DDS - development files
 Headers, static libraries and the CMake package of pheromesh:

@@ -6,7 +6,10 @@
 #     directory, and an unknown name lists the shipped ones;
 #   - tests/install/consumer, a project of its own, finds the package with
 #     find_package(pheromesh CONFIG), builds, and its two programs run:
-#     scenario_size (pheromesh::core) and bus_roundtrip (pheromesh::bus).
+#     scenario_size (pheromesh::core) and bus_roundtrip (pheromesh::bus);
+#   - examples/repulsive_coverage, a policy plugin, builds against it, the
+#     installed pheromesh validates, simulates and flies its scenario in
+#     lockstep (the same final field), and refuses a wrong SHA-256 pin.
 # Usage: install_consumer.sh BUILD_DIR SOURCE_DIR DOMAIN
 set -euo pipefail
 build="$(cd "$1" && pwd)"
@@ -70,4 +73,43 @@ echo "$out"
 grep -qE '^map [0-9]+ x [0-9]+, ' <<<"$out" || fail "scenario_size printed no map size"
 step "bus_roundtrip (pheromesh::bus, domain $domain)"
 "$work/consumer/bus_roundtrip" "$domain"
+step "examples/repulsive_coverage: a policy plugin built against $prefix"
+# Copied as a user would take it, built in its own build/ folder, where the
+# example's scenario looks for the library.
+cp -r "$src/examples/repulsive_coverage" "$work/example"
+rm -rf "$work/example/build"
+cmake -S "$work/example" -B "$work/example/build" -DCMAKE_PREFIX_PATH="$prefix" \
+  -DCMAKE_FIND_USE_PACKAGE_REGISTRY=OFF > "$work/example-configure.log" 2>&1 \
+  || { cat "$work/example-configure.log"; fail "the example plugin does not configure"; }
+cmake --build "$work/example/build" -j2 > "$work/example-build.log" 2>&1 \
+  || { cat "$work/example-build.log"; fail "the example plugin does not build"; }
+plugin="$work/example/build/librepulsive_coverage.so"
+[ -f "$plugin" ] || fail "no $plugin"
+# It exports the three symbols of PHEROMESH_POLICY_PLUGIN and nothing of the
+# core it links (a second copy of the scenario schema's generated code would
+# abort the process that loads it).
+exported="$(nm -D --defined-only "$plugin" | awk '{print $3}' | grep -v '^_' | sort | tr '\n' ' ')"
+[ "$exported" = "pheromesh_policy_plugin pheromesh_policy_plugin_abi pheromesh_policy_plugin_layout " ] \
+  || fail "the plugin exports: $exported"
+if nm "$plugin" | grep -q 'scenario_2eproto'; then fail "the plugin links the scenario schema's generated code"; fi
+scenario="$work/example/repulsive-coverage.textproto"
+out="$("$prefix/bin/pheromesh" validate "$scenario")" || fail "validate: $out"
+sha="$(sha256sum "$plugin" | cut -d' ' -f1)"
+grep -qF "policy      repulsive_coverage from the plugin $plugin (SHA-256 $sha, not pinned)" <<<"$out" \
+  || fail "validate does not name the library and its SHA-256: $out"
+step "the example in sim, and in lockstep on Cyclone DDS (domain $domain): the same final field"
+(cd "$work" && "$prefix/bin/pheromesh" sim "$scenario" --ticks 40 --quiet --out ex-sim) > "$work/ex-sim.log" 2>&1 \
+  || { cat "$work/ex-sim.log"; fail "sim of the example failed"; }
+(cd "$work" && "$prefix/bin/pheromesh" run "$scenario" --ticks 40 --clock lockstep --dds cyclone --domain "$domain" \
+  --out ex-lockstep) > "$work/ex-lockstep.log" 2>&1 || { tail -n 30 "$work/ex-lockstep.log"; fail "lockstep run of the example failed"; }
+grep -qF "policy repulsive_coverage from the plugin $plugin" "$work/ex-lockstep.log" \
+  || fail "run does not say which library it loads: $(cat "$work/ex-lockstep.log")"
+cmp "$work/ex-sim/final_field.txt" "$work/ex-lockstep/final_field.txt" \
+  || fail "the lockstep run's final_field.txt differs from the simulator's"
+grep -q '"policy": "repulsive_coverage"' "$work/ex-sim/metrics.json" || fail "sim ran another policy"
+step "a pin that does not match is refused, naming this host"
+sed "s|# sha256: \"...\"|sha256: \"$(printf '0%.0s' $(seq 64))\"|" "$scenario" > "$work/example/pinned.textproto"
+if out="$("$prefix/bin/pheromesh" validate "$work/example/pinned.textproto" 2>&1)"; then fail "a wrong pin was accepted"; fi
+grep -qF "host $(hostname): the plugin library $plugin has SHA-256 $sha, but the scenario pins" <<<"$out" \
+  || fail "wrong pin: $out"
 step "done"

@@ -3,7 +3,9 @@
 # pheromesh-dev), then on a clean Debian bookworm in a podman container
 #   apt-get install /pkg/pheromesh_*.deb     (apt resolves the Depends alone)
 #   cd /tmp && pheromesh run small-test ...   (a shipped scenario by name)
-# must exit 0 and write metrics.json with balanced deposit accounting.
+# must exit 0 and write metrics.json with balanced deposit accounting; then
+#   apt-get install /pkg/pheromesh-dev_*.deb cmake g++ make
+#   examples/repulsive_coverage (a policy plugin) builds and runs in `sim`.
 # apt reaches the Debian mirror through the host's network; the swarm runs
 # in a second container with no network but its own loopback, so it meets
 # no other swarm on this host.
@@ -88,4 +90,23 @@ assert sent > 0, "no deposits"
 assert sent == applied + rejected, "deposit accounting does not balance"
 assert m["processes_crashed"] == 0, m["processes_crashed"]
 PY
+step "pheromesh-dev: examples/repulsive_coverage builds against the installed packages and runs in sim"
+# The plugin example as a user of the packages builds it: pheromesh-dev (apt
+# resolves its Depends: the headers of Eigen, protobuf, OpenSSL, spdlog and
+# the DDS vendors), a compiler and CMake, then `cmake` in the example's
+# folder without a prefix (the package's CMake files are in /usr).
+podman_ run --rm --network host -v "$work/pkg:/pkg:ro" -v "$src/examples/repulsive_coverage:/example:ro" "$image" \
+  bash -c "set -e
+    apt-get update -qq
+    DEBIAN_FRONTEND=noninteractive apt-get install -y -q --no-install-recommends /pkg/$(basename "$dev") cmake g++ make \
+      > /tmp/apt-dev.log 2>&1 || { tail -n 30 /tmp/apt-dev.log; exit 1; }
+    cp -r /example /tmp/example && cd /tmp/example && rm -rf build out
+    cmake -S . -B build > /tmp/configure.log 2>&1 || { cat /tmp/configure.log; exit 1; }
+    cmake --build build -j2 > /tmp/build.log 2>&1 || { tail -n 40 /tmp/build.log; exit 1; }
+    pheromesh validate repulsive-coverage.textproto | grep -F 'policy      repulsive_coverage from the plugin /tmp/example/build/librepulsive_coverage.so'
+    pheromesh sim repulsive-coverage.textproto --ticks 40 --quiet --out out/sim
+    grep -q '\"policy\": \"repulsive_coverage\"' out/sim/metrics.json
+    test -s out/sim/final_field.txt" > "$work/example.log" 2>&1 \
+  || { cat "$work/example.log"; fail "the example plugin does not build or run against the installed packages"; }
+cat "$work/example.log"
 step "done"

@@ -193,6 +193,8 @@ double path_decrease(double dist, const ShaoLayerParams& p) {
   return std::exp(-0.5 * a * a) / (2.0 * std::sqrt(2.0 * std::numbers::pi)) * p.sigma0;
 }
 
+std::optional<std::size_t> ring_index(const Rect& r, int64_t x, int64_t y) { return border_index(r, x, y); }
+
 std::size_t ring_size(const Rect& r) {
   const int64_t w = r.w;
   const int64_t h = r.h;

@@ -6,6 +6,8 @@
 #include <array>
 #include <stdexcept>
 
+#include "pheromesh/core/plugin_loader.hpp"
+
 namespace pheromesh::core {
 
 // X(entry): one line per built-in policy, the entry its room defines
@@ -36,7 +38,7 @@ const PolicyEntry* find_policy(std::string_view name) {
   for (const PolicyEntry* e : kBuiltin) {
     if (e->name == name) return e;
   }
-  return nullptr;
+  return find_plugin_policy(name);  // the plugins this process loaded (plugin_loader.hpp)
 }
 
 std::string policy_names() {

@@ -28,6 +28,7 @@
 #include "field_override.hpp"
 #include "pheromesh/core/scenario_limits.hpp"
 #include "scenario_internal.hpp"
+#include "start_cells_internal.hpp"
 
 namespace pheromesh::core {
 namespace scenario_detail {
@@ -65,40 +66,6 @@ std::optional<Rect> check_rect(Validator& v, const Node& n, const pb::Rect& r, s
   return Rect{r.x(), r.y(), r.w(), r.h()};
 }
 
-// Free (non-obstacle) columns of row y inside `area`, as a sorted list of
-// merged obstacle intervals [x_begin, x_end) clipped to the area.
-std::vector<std::pair<int32_t, int32_t>> blocked_intervals(const Rect& area, const std::vector<Rect>& obstacles, int32_t y) {
-  std::vector<std::pair<int32_t, int32_t>> iv;
-  for (const Rect& o : obstacles) {
-    if (y < o.y0 || y >= o.y0 + o.h) continue;
-    const int32_t b = std::max(o.x0, area.x0);
-    const int32_t e = std::min(o.x0 + o.w, area.x0 + area.w);
-    if (b < e) iv.emplace_back(b, e);
-  }
-  std::sort(iv.begin(), iv.end());
-  std::vector<std::pair<int32_t, int32_t>> merged;
-  for (const auto& i : iv) {
-    if (!merged.empty() && i.first <= merged.back().second) {
-      merged.back().second = std::max(merged.back().second, i.second);
-    } else {
-      merged.push_back(i);
-    }
-  }
-  return merged;
-}
-
-int64_t free_in_row(const Rect& area, const std::vector<Rect>& obstacles, int32_t y) {
-  int64_t n_free = area.w;
-  for (const auto& [b, e] : blocked_intervals(area, obstacles, y)) n_free -= e - b;
-  return n_free;
-}
-
-int64_t free_cells(const Rect& area, const std::vector<Rect>& obstacles) {
-  int64_t n = 0;
-  for (int32_t y = area.y0; y < area.y0 + area.h; ++y) n += free_in_row(area, obstacles, y);
-  return n;
-}
-
 std::optional<Cell> check_cell(Validator& v, const Node& n, const pb::Cell& c, std::optional<MapSize> map) {
   bool ok = true;
   if (!c.has_x()) {
@@ -131,13 +98,18 @@ void build_room_fields(const pb::Scenario& msg, const Node& root, Validator& v, 
 
 // scenario.policy: which policy (the oneof member's entry in the policy
 // table), and its parameters (the entry's parser).
-void build_policy(const pb::Scenario& msg, const Node& root, Validator& v, ScenarioConfig& cfg) {
+void build_policy(const pb::Scenario& msg, const Node& root, Validator& v, ScenarioConfig& cfg,
+                  const PluginSite* site) {
   if (!msg.has_policy()) return;  // kDefaultPolicy, without a config
   const pb::Policy& p = msg.policy();
   const FieldDescriptor* member =
       p.GetReflection()->GetOneofFieldDescriptor(p, pb::Policy::descriptor()->oneof_decl(0));
   if (member == nullptr) return;  // `policy {}`: the default as well
   const Node pn = root.child("policy");
+  if (p.has_plugin()) {
+    build_plugin_policy(p.plugin(), pn.child("plugin"), v, cfg, site);
+    return;
+  }
   const PolicyEntry* entry = find_policy(member->name());
   if (entry == nullptr) {
     v.fail(pn, member->name().c_str(),
@@ -253,7 +225,7 @@ void check_scenario_limits(const Node& root, const ScenarioConfig& cfg, const Sc
 }
 
 ScenarioConfig build(const pb::Scenario& msg, const TextFormat::ParseInfoTree& tree, const std::string& display_name,
-                     const ScenarioLimits& limits, Validator& v) {
+                     const ScenarioLimits& limits, Validator& v, const PluginSite* site) {
   ScenarioConfig cfg;
   const Node root(pb::Scenario::descriptor(), &tree, Loc{1, 1}, "");
   cfg.name = msg.has_name() ? msg.name() : std::filesystem::path(display_name).stem().string();
@@ -378,7 +350,7 @@ ScenarioConfig build(const pb::Scenario& msg, const TextFormat::ParseInfoTree& t
   if (run.has_seed()) cfg.seed = run.seed();
 
   build_room_fields(msg, root, v, cfg);
-  build_policy(msg, root, v, cfg);
+  build_policy(msg, root, v, cfg, site);
   build_faults(msg, root, v, cfg);
   if (map && tile_ok && regions_ok && uavs_ok) check_scenario_limits(root, cfg, limits, v);
   return cfg;
@@ -386,12 +358,10 @@ ScenarioConfig build(const pb::Scenario& msg, const TextFormat::ParseInfoTree& t
 
 }  // namespace scenario_detail
 
-using scenario_detail::blocked_intervals;
 using scenario_detail::build;
 using scenario_detail::CollectingErrorCollector;
 using scenario_detail::FieldDescriptor;
 using scenario_detail::free_cells;
-using scenario_detail::free_in_row;
 using scenario_detail::TextFormat;
 using scenario_detail::Validator;
 namespace pb = scenario_detail::pb;
@@ -416,6 +386,9 @@ std::string overridden_text(pb::Scenario msg, const ScenarioConfig& cfg, const s
   // A file without `name:` is named after itself: keep that name when the
   // text moves to another file (OUT/scenario.textproto).
   if (!msg.has_name()) msg.set_name(cfg.name);
+  // The processes read this text from another folder (OUT/): the plugin
+  // library by the path it was found at.
+  if (cfg.plugin && msg.policy().has_plugin()) msg.mutable_policy()->mutable_plugin()->set_library(cfg.plugin->library);
   std::string text = "# " + display_name + " with " + describe_overrides(overrides) + "\n";
   std::string body;
   TextFormat::PrintToString(msg, &body);
@@ -426,6 +399,24 @@ std::string overridden_text(pb::Scenario msg, const ScenarioConfig& cfg, const s
 
 Result<ScenarioConfig> parse_scenario(std::string_view text, const std::string& display_name,
                                       const ScenarioLimits& limits, const ScenarioOverrides& overrides) {
+  return scenario_detail::parse_text(text, display_name, limits, overrides, nullptr);
+}
+
+namespace {
+
+// The folder a scenario file's relative plugin library is looked for in.
+scenario_detail::PluginSite site_of(const std::string& path) {
+  std::error_code ec;
+  const std::filesystem::path dir = std::filesystem::absolute(std::filesystem::path(path), ec).parent_path();
+  return {ec ? std::filesystem::path(path).parent_path().string() : dir.string()};
+}
+
+}  // namespace
+
+namespace scenario_detail {
+
+Result<ScenarioConfig> parse_text(std::string_view text, const std::string& display_name, const ScenarioLimits& limits,
+                                  const ScenarioOverrides& overrides, const PluginSite* site) {
   pb::Scenario msg;
   TextFormat::ParseInfoTree tree;
   CollectingErrorCollector collector(display_name);
@@ -483,12 +474,14 @@ Result<ScenarioConfig> parse_scenario(std::string_view text, const std::string& 
   // The checks below quote strings of the scenario in their messages: not
   // with bytes that are not UTF-8.
   if (!v.empty()) return failed();
-  ScenarioConfig cfg = build(msg, tree, display_name, limits, v);
+  ScenarioConfig cfg = build(msg, tree, display_name, limits, v, site);
   if (!v.empty()) return failed();
   cfg.source_text = overrides.empty() ? std::string(text) : overridden_text(msg, cfg, display_name, overrides);
   cfg.overrides = overrides;
   return cfg;
 }
+
+}  // namespace scenario_detail
 
 Result<ScenarioConfig> patch_scenario(const ScenarioConfig& base, std::string_view patch, const std::string& display_name) {
   pb::Scenario msg;
@@ -507,7 +500,10 @@ Result<ScenarioConfig> patch_scenario(const ScenarioConfig& base, std::string_vi
   TextFormat::PrintToString(msg, &text);
   auto limits = ScenarioLimits::from_environment();
   if (!limits) return Error{display_name + ": " + limits.error().message};
-  auto res = parse_scenario(text, display_name, limits.value(), base.overrides);
+  // A plugin's relative library is looked for beside the base scenario's file.
+  const scenario_detail::PluginSite site = site_of(base.source_path);
+  auto res = scenario_detail::parse_text(text, display_name, limits.value(), base.overrides,
+                                         base.source_path.empty() ? nullptr : &site);
   if (res) res->source_path = base.source_path;
   return res;
 }
@@ -536,7 +532,8 @@ Result<ScenarioConfig> load_scenario(const std::string& path, const ScenarioLimi
   std::size_t n = 0;
   while ((n = std::fread(buf, 1, sizeof buf, f.get())) > 0) text.append(buf, n);
   if (std::ferror(f.get()) != 0) return fail(errno != 0 ? errno : EIO);
-  auto res = parse_scenario(text, path, limits, overrides);
+  const scenario_detail::PluginSite site = site_of(path);
+  auto res = scenario_detail::parse_text(text, path, limits, overrides, &site);
   if (res) res->source_path = path;
   return res;
 }
@@ -558,29 +555,5 @@ std::string describe_overrides(const ScenarioOverrides& overrides) {
   return s;
 }
 
-Cell start_cell(const ScenarioConfig& s, uint32_t id) {
-  const Rect& area = s.start_area;
-  const int64_t count = free_cells(area, s.obstacles);
-  if (count <= 0) return {area.x0, area.y0};  // unreachable for a validated scenario
-  const auto uavs = static_cast<uint64_t>(std::max<uint32_t>(s.uavs, 1));
-  // Evenly spaced indices into the free cells: distinct for id < uavs since
-  // validation guarantees count >= uavs; larger ids wrap around.
-  auto k = static_cast<int64_t>((uint64_t{id} * static_cast<uint64_t>(count) / uavs) % static_cast<uint64_t>(count));
-  for (int32_t y = area.y0; y < area.y0 + area.h; ++y) {
-    const int64_t n_free = free_in_row(area, s.obstacles, y);
-    if (k >= n_free) {
-      k -= n_free;
-      continue;
-    }
-    int32_t x = area.x0;
-    for (const auto& [b, e] : blocked_intervals(area, s.obstacles, y)) {
-      if (x + k < b) break;
-      k -= b - x;
-      x = e;
-    }
-    return {static_cast<int32_t>(x + k), y};
-  }
-  return {area.x0, area.y0};
-}
 
 }  // namespace pheromesh::core

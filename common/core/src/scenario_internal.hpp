@@ -19,6 +19,7 @@
 
 #include "pheromesh/core/policy_table.hpp"
 #include "pheromesh/core/scenario.hpp"
+#include "pheromesh/core/scenario_limits.hpp"
 #include "scenario.pb.h"
 
 namespace pheromesh::core::scenario_detail {
@@ -206,6 +207,23 @@ struct MapSize {
 std::optional<Rect> check_rect(Validator& v, const Node& n, const pb::Rect& r, std::optional<MapSize> map);
 // Checks a required cell inside the map; returns it if valid.
 std::optional<Cell> check_cell(Validator& v, const Node& n, const pb::Cell& c, std::optional<MapSize> map);
+
+// Where a scenario came from, for its plugin (`policy { plugin { ... } }`):
+// the folder its relative library is looked for in first. Text without a
+// file has none, and loads no plugin (plugin_loader.hpp).
+struct PluginSite {
+  std::string scenario_dir;
+};
+
+// scenario.policy.plugin: resolves, pins and loads the library
+// (plugin_loader.hpp) and lets the plugin read its config (plugin_scenario.cpp).
+void build_plugin_policy(const pb::PolicyPlugin& msg, const Node& n, Validator& v, ScenarioConfig& cfg,
+                         const PluginSite* site);
+
+// parse_scenario and load_scenario: `site` null for text without a file.
+Result<ScenarioConfig> parse_text(std::string_view text, const std::string& display_name,
+                                  const ScenarioLimits& limits, const ScenarioOverrides& overrides,
+                                  const PluginSite* site);
 
 // A PolicyEntry's parse hook (policy_table.hpp) from a room's parser of its
 // own message type: parse_as<pb::LiuPolicy, &build_liu>. The table dispatches

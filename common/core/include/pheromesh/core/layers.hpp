@@ -36,6 +36,9 @@ struct HaloRing {
   std::vector<float> obstacle;
 };
 std::size_t ring_size(const Rect& r);
+// Index of cell (x, y) in the border ring of `r` (the order above), or
+// nothing when the cell is not on r's border.
+std::optional<std::size_t> ring_index(const Rect& r, int64_t x, int64_t y);
 // Local traffic (issue 25): the indices of `sender`'s border ring that lie in
 // `receiver`'s 1-cell halo on the map - the only ring cells the receiver's
 // diffusion reads (RegionField::accept_halo) - in ascending order. A region

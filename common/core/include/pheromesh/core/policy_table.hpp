@@ -7,8 +7,10 @@
 // entry of ScenarioConfig::policy. Nothing outside a room switches on the
 // policy.
 //
-// An entry is a plain struct of a name, a flag and function pointers, so a
-// policy that is not built in could provide one the same way.
+// An entry is a plain struct of a name, a flag and function pointers. A
+// policy from a shared library (policy_plugin.hpp) gets one too when a
+// scenario loads it (plugin_loader.hpp); find_policy finds it beside the
+// built-in ones.
 #pragma once
 
 #include <cstdint>
@@ -46,6 +48,7 @@ struct PolicyEntry {
   // Reads the member's message (`msg`, at node `n` of the file) into `cfg`:
   // its PolicyConfig (cfg.set_policy_config) and an error through `v` for
   // every bad field. Called after the scenario's other fields are read.
+  // Null for a plugin's entry, whose config PluginPolicy::parse reads.
   void (*parse)(const google::protobuf::Message& msg, const scenario_detail::Node& n, scenario_detail::Validator& v,
                 ScenarioConfig& cfg);
   // Reads fields outside `policy` that the room owns (Shao: `shao { layers
@@ -67,9 +70,9 @@ struct PolicyEntry {
   std::map<std::string, double> (*field_summary)(const ScenarioConfig& s, const FieldLookup& value);
 };
 
-// Every built-in policy, in the order of core/src/policy_table.cpp.
+// Every built-in policy, in the order of core/src/policy_table.cpp (no plugin).
 std::span<const PolicyEntry* const> policy_table();
-// The entry named `name`; null if none.
+// The entry named `name`, built in or of a plugin this process loaded; null if none.
 const PolicyEntry* find_policy(std::string_view name);
 // The entry of the policy `s` runs. Throws std::logic_error when no entry has
 // that name: the scenario parser sets only names of the table, so it is a

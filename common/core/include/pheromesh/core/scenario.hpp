@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -91,6 +92,14 @@ struct ScenarioConfig {
   // The name of the policy's entry in the policy table (policy_table.hpp),
   // as in the scenario file: "shao_search", "liu", ...
   std::string policy{kDefaultPolicy};
+  // Where the policy's code came from when it is a plugin (`policy { plugin
+  // { ... } }`, policy_plugin.hpp); empty for a built-in policy.
+  struct PluginSource {
+    std::string library;    // the file loaded, absolute
+    std::string sha256;     // its SHA-256, 64 lowercase hex digits
+    std::string pinned_by;  // what pinned it: "" (nothing), "the scenario", "$PHEROMESH_PLUGIN_SHA256"
+  };
+  std::optional<PluginSource> plugin;
   // The config of `policy`; null for the Shao search, which has none beyond
   // `layers` and `aco`. Immutable and shared by copies of the scenario.
   std::shared_ptr<const PolicyConfig> policy_config;
