@@ -11,22 +11,7 @@ namespace pheromesh::cli {
 namespace {
 
 console::ConsoleInfo sim_console_info(const core::Simulator& sim) {
-  const core::ScenarioConfig& s = sim.scenario();
-  const core::MapGeometry geo = s.geometry();
-  const core::PolicyTraits traits = core::policy_traits(s);
-  console::ConsoleInfo info;
-  info.scenario_name = s.name;
-  info.scenario_path = s.source_path;
-  info.policy = s.policy;
-  info.width = geo.width();
-  info.height = geo.height();
-  info.tile_size = geo.tile_size();
-  for (core::RegionId r = 0; r < geo.region_count(); ++r) info.regions.push_back(geo.region_rect(r));
-  info.layers = traits.layers;
-  info.tick_rate_hz = s.tick_rate_hz;
-  info.ticks = s.ticks;
-  info.uavs_expected = s.uavs;
-  info.sensor_radius = traits.sensor_radius;
+  console::ConsoleInfo info = console::console_info_of(sim.scenario());
   info.clock = "lockstep";
   info.dds = "none (in-process simulator)";
   return info;

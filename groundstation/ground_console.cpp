@@ -48,20 +48,10 @@ void GroundApp::start_console() {
 }
 
 console::ConsoleInfo GroundApp::console_info() const {
-  console::ConsoleInfo info;
-  info.scenario_name = scenario_.name;
+  console::ConsoleInfo info = console::console_info_of(scenario_);
   info.scenario_path = cfg_.scenario_path;
-  info.policy = scenario_.policy;
-  info.width = geo_.width();
-  info.height = geo_.height();
-  info.tile_size = geo_.tile_size();
-  for (core::RegionId r = 0; r < geo_.region_count(); ++r) info.regions.push_back(geo_.region_rect(r));
-  info.layers = core::policy_traits(scenario_).layers;
-  info.tick_rate_hz = scenario_.tick_rate_hz;
-  info.ticks = scenario_.ticks;
   info.uavs_expected = cfg_.expect_uavs;
   info.lease_ms = cfg_.common.lease_ms;
-  info.sensor_radius = core::policy_traits(scenario_).sensor_radius;
   info.clock = cfg_.common.clock;
   info.dds = bus_->vendor();
   return info;

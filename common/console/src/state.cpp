@@ -2,6 +2,9 @@
 
 #include <cmath>
 
+#include "pheromesh/core/policy.hpp"
+#include "pheromesh/core/scenario.hpp"
+
 namespace pheromesh::console {
 
 const char* to_string(Liveness l) {
@@ -21,6 +24,25 @@ const char* to_string(TargetStatus s) {
     case TargetStatus::RevisitDue: return "revisit_due";
   }
   return "not_found";
+}
+
+ConsoleInfo console_info_of(const core::ScenarioConfig& s) {
+  const core::MapGeometry geo = s.geometry();
+  const core::PolicyTraits traits = core::policy_traits(s);
+  ConsoleInfo info;
+  info.scenario_name = s.name;
+  info.scenario_path = s.source_path;
+  info.policy = s.policy;
+  info.width = geo.width();
+  info.height = geo.height();
+  info.tile_size = geo.tile_size();
+  for (core::RegionId r = 0; r < geo.region_count(); ++r) info.regions.push_back(geo.region_rect(r));
+  info.layers = traits.layers;
+  info.tick_rate_hz = s.tick_rate_hz;
+  info.ticks = s.ticks;
+  info.uavs_expected = s.uavs;
+  info.sensor_radius = traits.sensor_radius;
+  return info;
 }
 
 ConsoleState initial_state(const ConsoleInfo& info) {

@@ -78,14 +78,7 @@ class DeclaredLayersPlace final : public PlaceModel {
       ring.target.push_back(padded_[0][p]);
       ring.obstacle.push_back(diffusing_.size() > 1 ? padded_[1][p] : 0.0F);
     };
-    for (std::size_t y = 0; y < h; ++y) {
-      if (y == 0 || y + 1 == h) {
-        for (std::size_t x = 0; x < w; ++x) push(x, y);
-      } else {
-        push(0, y);
-        if (w > 1) push(w - 1, y);
-      }
-    }
+    for_each_ring_cell(w, h, push);
     return ring;
   }
 

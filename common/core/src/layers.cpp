@@ -347,14 +347,7 @@ HaloRing RegionField::begin_step() {
     ring.target.push_back(src_tau_[p]);
     ring.obstacle.push_back(src_eps_[p]);
   };
-  for (std::size_t y = 0; y < h; ++y) {
-    if (y == 0 || y + 1 == h) {
-      for (std::size_t x = 0; x < w; ++x) push(x, y);
-    } else {
-      push(0, y);
-      if (w > 1) push(w - 1, y);
-    }
-  }
+  for_each_ring_cell(w, h, push);
   assert(ring.target.size() == n);
   return ring;
 }

@@ -15,6 +15,10 @@
 
 #include "pheromesh/core/grid.hpp"
 
+namespace pheromesh::core {
+struct ScenarioConfig;
+}  // namespace pheromesh::core
+
 namespace pheromesh::console {
 
 // What does not change during a run: the map, the regions, the layers.
@@ -160,6 +164,10 @@ inline constexpr std::size_t kCommandLog = 50;
 
 // An empty state for this run: one LayerImage per layer, one RegionView per region.
 ConsoleState initial_state(const ConsoleInfo& info);
+// What a scenario says of the console's run: its name, path, policy, map,
+// regions, layers, rate, ticks, UAVs and sensor radius. The caller adds the
+// clock, the vendor and the lease (and the UAVs it expects, if others).
+ConsoleInfo console_info_of(const core::ScenarioConfig& s);
 
 // Applies one frame. Tracks gain the UAV's position when it moved at least
 // kTrackStep cells from the track's last point (decimation).

@@ -36,6 +36,20 @@ struct HaloRing {
   std::vector<float> obstacle;
 };
 std::size_t ring_size(const Rect& r);
+// Calls f(x, y) for the cells of a w x h rectangle's border ring (local
+// coordinates), in the order a HaloRing carries them: rows from the top, the
+// first and the last row whole, every other row its first and last cell.
+template <typename F>
+void for_each_ring_cell(std::size_t w, std::size_t h, F&& f) {
+  for (std::size_t y = 0; y < h; ++y) {
+    if (y == 0 || y + 1 == h) {
+      for (std::size_t x = 0; x < w; ++x) f(x, y);
+    } else {
+      f(0, y);
+      if (w > 1) f(w - 1, y);
+    }
+  }
+}
 // Index of cell (x, y) in the border ring of `r` (the order above), or
 // nothing when the cell is not on r's border.
 std::optional<std::size_t> ring_index(const Rect& r, int64_t x, int64_t y);
