@@ -2,8 +2,12 @@
 # Checks that every citation of the papers in comments and docs has one form:
 #   Shao 2020 eq. (9)   Shao 2020 Table 1   Duan 2009 Fig. 5
 #   Liu 2022 Algorithm 1   Shao 2020 Sec. 4.2
-# One equation (table, figure, ...) per mention: no "eqs.", no ranges, no
-# lists. See docs/contributing.md. Usage: check-citations.sh [repo root].
+# Code, scenario and IDL comments: one equation (table, figure, ...) per
+# mention, so that grep finds every piece of code behind an equation. Prose
+# (*.md) may also name a range or a list of equations of one paper:
+#   Shao 2020 eqs. (1)–(8)   Ravankar 2016 eqs. (3), (4) and (27)–(33)
+# (scripts/find-citation.sh finds a mention inside such a range). See
+# docs/contributing.md. Usage: check-citations.sh [repo root].
 # Prints file:line: text for each bad mention and exits 1 if there is one.
 # C++ and textproto string literals are not checked (they are code).
 set -euo pipefail
@@ -34,6 +38,10 @@ perl -CSO -Mutf8 -MEncode -ne '
   # Code files: drop string literals, keep comments and code.
   $t =~ s/"(?:\\.|[^"\\])*"//g if $ARGV !~ /\.md$/;
   my @why;
+  my $prose = $ARGV =~ /\.md$/;
+  # Prose: a range or list of one paper\x27s equations, in the one form.
+  my $eqs = qr/\(\d+\)(?:[–-]\(\d+\))?/;
+  $t =~ s/$cite eqs\. $eqs(?:(?:, | and )$eqs)*//g if $prose;
   push @why, "range or list after eq."
     if $t =~ /eq\. \(\d+\)\s*(?:[-–—]|to\b|,|and\b|or\b)\s*\(\d+\)/
       || $t =~ /eq\. \(\d+\)\s*(?:[-–—]|to\b|,|and\b|or\b)\s*\d/;
