@@ -212,34 +212,36 @@ std::string markdown_table(const std::vector<Row>& rows) {
   return o.str();
 }
 
-// Per vendor: the first N whose late share is above 1 %, and the largest N at
-// or below it.
+// Per vendor: the largest N that held (exit 0, every UAV flew its ticks, at
+// most 1 % late: why_not_held) and the first N that did not, with why. A run
+// that exited non-zero or flew nothing never counts as holding its size.
 std::vector<std::string> summary_lines(const std::vector<Row>& rows, const std::vector<std::string>& vendors,
-                                       Json& json) {
+                                       uint32_t ticks, Json& json) {
   std::vector<std::string> lines;
   for (const auto& vendor : vendors) {
-    std::optional<uint32_t> first_late, largest_ok, largest_measured;
-    int largest_ok_exit = 0;
+    std::optional<uint32_t> first_failed, largest_held;
+    std::string first_failed_why;
+    bool any = false;
     for (const auto& r : rows) {  // rows are in ascending N
       if (r.vendor != vendor) continue;
-      const Value late = r.get("late_pct");
-      if (!late) continue;
-      largest_measured = r.uavs;
-      if (*late > 1.0 && !first_late) first_late = r.uavs;
-      if (*late <= 1.0) largest_ok = r.uavs, largest_ok_exit = r.exit_code;
+      any = true;
+      const auto why = why_not_held({r.uavs, r.exit_code, r.get("late_pct"), r.get("uav_ticks_flown")}, ticks);
+      if (!why && !first_failed) largest_held = r.uavs;
+      if (why && !first_failed) first_failed = r.uavs, first_failed_why = *why;
     }
-    const std::string none = largest_measured ? "none up to N=" + std::to_string(*largest_measured)
-                                              : std::string("n/a (no late share reported)");
-    std::string line = vendor +
-                       ": first N with late share > 1 %: " + (first_late ? std::to_string(*first_late) : none) +
-                       "; largest N with late share <= 1 %: " +
-                       (largest_ok         ? std::to_string(*largest_ok)
-                        : largest_measured ? std::string("none")
-                                           : none);
-    if (largest_ok && largest_ok_exit != 0) line += " (that run exited " + std::to_string(largest_ok_exit) + ")";
+    std::string line = vendor + ": ";
+    if (!any) {
+      line += "no run";
+    } else {
+      line += "held up to N=" + (largest_held ? std::to_string(*largest_held) : std::string("none")) +
+              " (exit 0, every UAV flew, <= 1 % of ticks late)";
+      line += first_failed ? "; first N that did not: " + std::to_string(*first_failed) + " (" + first_failed_why + ")"
+                           : "; every size held";
+    }
     lines.push_back(line);
-    json[vendor] = {{"first_n_late_above_1pct", first_late ? Json(*first_late) : Json(nullptr)},
-                    {"largest_n_late_at_most_1pct", largest_ok ? Json(*largest_ok) : Json(nullptr)}};
+    json[vendor] = {{"largest_n_held", largest_held ? Json(*largest_held) : Json(nullptr)},
+                    {"first_n_not_held", first_failed ? Json(*first_failed) : Json(nullptr)},
+                    {"first_n_not_held_why", first_failed ? Json(first_failed_why) : Json(nullptr)}};
   }
   return lines;
 }
@@ -270,7 +272,7 @@ bool write_results(const Plan& p, const std::vector<Row>& rows, const std::vecto
                    std::string& error) {
   const fs::path dir(p.o.out_dir);
   Json summary = Json::object();
-  const auto lines = summary_lines(rows, p.vendors, summary);
+  const auto lines = summary_lines(rows, p.vendors, p.o.ticks, summary);
 
   // Built in memory, written atomically (core/atomic_file.hpp): a bench
   // killed while writing leaves the previous run's results whole.
@@ -548,7 +550,7 @@ int run_bench_scale(const BenchScaleOptions& o) {
   }
   std::printf("%s\n", markdown_table(rows).c_str());
   Json summary;
-  for (const auto& l : summary_lines(rows, p.vendors, summary)) std::printf("%s\n", l.c_str());
+  for (const auto& l : summary_lines(rows, p.vendors, p.o.ticks, summary)) std::printf("%s\n", l.c_str());
   for (const auto& s : skipped) std::printf("%s\n", s.c_str());
   std::printf(
       "\n-> %s/scale.md, scale.csv, scale.json, late_share.svg, cpu_per_uav_tick.svg, pss_per_uav.svg, "

@@ -4,6 +4,8 @@
 #pragma once
 
 #include <cstdint>
+#include <cstdio>
+#include <optional>
 #include <string>
 
 namespace pheromesh::cli {
@@ -21,6 +23,34 @@ struct BenchScaleOptions {
   uint32_t domain = 40;
   std::string extra;  // more arguments for `pheromesh run`, split at blanks
 };
+
+// One run of the benchmark as its summary judges it.
+struct ScaleRun {
+  uint32_t uavs = 0;
+  int exit_code = 0;
+  std::optional<double> late_pct;     // share of late UAV ticks [%], if the ground station reported it
+  std::optional<double> ticks_flown;  // UAV ticks flown, summed over the UAVs
+};
+
+// Why a run did not hold its size, or nullopt when it did: it exited 0,
+// every UAV flew (at least 99 % of uavs x ticks UAV ticks; a UAV started late
+// may miss a tick or two) and at most 1 % of the ticks started late. A run
+// that flew nothing is never "on time".
+inline std::optional<std::string> why_not_held(const ScaleRun& r, uint32_t ticks) {
+  if (r.exit_code != 0) return "exited " + std::to_string(r.exit_code);
+  const double expected = static_cast<double>(r.uavs) * ticks;
+  if (!r.ticks_flown || *r.ticks_flown < 0.99 * expected) {
+    return "flew " + (r.ticks_flown ? std::to_string(static_cast<uint64_t>(*r.ticks_flown)) : std::string("no")) +
+           " of " + std::to_string(static_cast<uint64_t>(expected)) + " UAV ticks";
+  }
+  if (!r.late_pct) return std::string("no late share reported");
+  if (*r.late_pct > 1.0) {
+    char b[64];
+    std::snprintf(b, sizeof b, "%.2f %% of its ticks late", *r.late_pct);
+    return std::string(b);
+  }
+  return std::nullopt;
+}
 
 // What --help says after the options: what is measured and how.
 extern const char* const kBenchScaleFooter;
