@@ -24,6 +24,10 @@ struct ChildProcess {
   bool stopped = false;  // SIGSTOPped by a fault, not continued yet
   bool killed_on_purpose = false;
   bool asked_to_stop = false;
+  // SIGKILLed at the stop because it was still running this long [s] after
+  // SIGTERM (0: not): a process that hung or was too slow to stop, which is
+  // not a crash and not a kill on purpose (Supervisor::stop_role).
+  int killed_after_sigterm_s = 0;
   int exit_code = -1;   // if exited
   int term_signal = 0;  // if signalled
   // From wait4's rusage once reaped (all its threads, and any children it
@@ -35,9 +39,14 @@ struct ChildProcess {
                            // forked copy of the launcher had
   // The one look at it during the flight (Supervisor::sample_resources).
   std::optional<ProcessSample> sample;
-  // Ended by itself with an error, or by a signal nobody sent on purpose.
+  // Ended by itself with an error, or by a signal nobody sent on purpose
+  // (the SIGKILL after an ignored SIGTERM is killed_at_stop instead).
   [[nodiscard]] bool crashed() const;
-  // "running", "exited with 3", "killed by Killed (on purpose)".
+  // Ended by the SIGKILL the stop sends a process still running after its
+  // SIGTERM's grace.
+  [[nodiscard]] bool killed_at_stop() const;
+  // "running", "exited with 3", "killed by Killed (on purpose)", "killed by
+  // Killed after ignoring SIGTERM for 10 s".
   [[nodiscard]] std::string describe() const;
 };
 

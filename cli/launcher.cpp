@@ -203,16 +203,22 @@ int finish_metrics(const RunPlan& plan, const RunRecord& run) {
   }
   const RunOptions& o = plan.options;
   if (!ground_here) {
-    spdlog::info("done on host {}: {} processes, killed {}, crashed {} -> {} (the swarm's metrics.json is on host {})",
-                 o.host_index, run.processes.size(), merged.killed, merged.crashed, path, o.ground_host);
+    spdlog::info(
+        "done on host {}: {} processes, killed {}, crashed {}, killed at the stop {} -> {} (the swarm's metrics.json is "
+        "on host {})",
+        o.host_index, run.processes.size(), merged.killed, merged.crashed, merged.killed_at_stop, path, o.ground_host);
     return exit_code;
   }
   const nlohmann::json& m = merged.metrics;
   spdlog::info(
-      "done: coverage {:.1f}%, targets {}/{}, deposits sent {} applied {} rejected {}, killed {}, crashed {} -> {}",
+      "done: coverage {:.1f}%, targets {}/{}, deposits sent {} applied {} rejected {}, killed {}, crashed {}{} -> {}",
       100.0 * m.value("coverage", 0.0), m.value("targets_found", 0), m.value("targets_total", 0),
       m.value("deposits_sent", 0), m.value("deposits_applied", 0), m.value("deposits_rejected", 0), merged.killed,
-      merged.crashed, path);
+      merged.crashed,
+      merged.killed_at_stop == 0
+          ? std::string()
+          : ", killed at the stop (SIGTERM ignored) " + std::to_string(merged.killed_at_stop),
+      path);
   return exit_code;
 }
 

@@ -31,7 +31,7 @@ std::optional<double> max_of(const std::vector<double>& v) {
 
 nlohmann::json process_json(const ChildProcess& c) {
   nlohmann::json p = {
-      {"name", c.name}, {"pid", c.pid}, {"dds", c.dds}, {"status", c.describe()}, {"crashed", c.crashed()}};
+      {"name", c.name}, {"pid", c.pid}, {"dds", c.dds}, {"status", c.describe()}, {"crashed", c.crashed()}, {"killed_at_stop", c.killed_at_stop()}};
   p["cpu_user_s"] = c.reaped ? nlohmann::json(round3(c.cpu_user_s)) : nlohmann::json(nullptr);
   p["cpu_sys_s"] = c.reaped ? nlohmann::json(round3(c.cpu_sys_s)) : nlohmann::json(nullptr);
   p["max_rss_mib"] = c.reaped ? nlohmann::json(round3(c.max_rss_mib)) : nlohmann::json(nullptr);
@@ -143,6 +143,7 @@ MergedMetrics merge_metrics(nlohmann::json ground, const RunRecord& run, const s
   for (const auto& c : run.processes) {
     out.killed += c.killed_on_purpose ? 1 : 0;
     out.crashed += c.crashed() ? 1 : 0;
+    out.killed_at_stop += c.killed_at_stop() ? 1 : 0;
     procs.push_back(process_json(c));
   }
   m["processes_killed"] = out.killed;
@@ -159,6 +160,7 @@ MergedMetrics merge_metrics(nlohmann::json ground, const RunRecord& run, const s
     m["places_killed"] = killed_as("place");
   }
   m["processes_crashed"] = out.crashed;
+  m["processes_killed_at_stop"] = out.killed_at_stop;
   m["processes"] = std::move(procs);
   m["dds"] = run.dds;
   m["resources"] = resources_json(run.processes);

@@ -34,6 +34,7 @@ struct MergedMetrics {
   nlohmann::json metrics;
   uint32_t killed = 0;              // on purpose (faults, the console)
   uint32_t crashed = 0;             // ChildProcess::crashed
+  uint32_t killed_at_stop = 0;      // ChildProcess::killed_at_stop: hung or slow at the stop, not a crash
   std::vector<std::string> errors;  // each fails the run; to be logged in this order
   // 1 if there is an error or a crashed process, else 0.
   [[nodiscard]] int exit_code() const { return errors.empty() && crashed == 0 ? 0 : 1; }

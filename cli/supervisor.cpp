@@ -370,7 +370,7 @@ void Supervisor::record_exit(pid_t pid, int status, const rusage& ru) {
     // What it said last as it stopped (run_process logs an escaped exception
     // as critical: "fatal: ..."), so that the run's output carries the reason.
     if (const auto last = last_critical_line(log)) spdlog::error("{}: {}", c.name, *last);
-  } else if (c.killed_on_purpose) {
+  } else if (c.killed_on_purpose || c.killed_at_stop()) {
     spdlog::info("{} (pid {}) {}", c.name, c.pid, c.describe());
   }
 }
@@ -402,6 +402,7 @@ void Supervisor::stop_role(const StopStep& step) {
   for (auto& c : children_) {
     if (c.role == step.role && c.running) {
       spdlog::error("{} did not stop within {} s of SIGTERM; sending SIGKILL", c.name, step.grace.count());
+      c.killed_after_sigterm_s = static_cast<int>(std::max<int64_t>(1, step.grace.count()));
       kill(c.pid, SIGKILL);
     }
   }

@@ -111,6 +111,28 @@ TEST(MetricsMerge, AProcessKilledByASignalNobodySentFailsTheRun) {
   EXPECT_EQ(m.metrics["processes"][1]["status"], std::string("killed by ") + strsignal(SIGKILL));
 }
 
+TEST(MetricsMerge, AProcessSigkilledAfterIgnoringSigtermIsReportedAsSuchNotAsACrash) {
+  // Under load UAVs that had not stopped 10 s after SIGTERM were SIGKILLed
+  // and counted "crashed", like a real crash (issue 28).
+  std::vector<ChildProcess> ps{ended("ground", "ground", 0), ended("uav-0", "uav", -1, SIGKILL),
+                               ended("uav-1", "uav", -1, SIGKILL)};
+  ps[1].killed_after_sigterm_s = 10;  // the stop's SIGKILL
+  EXPECT_FALSE(ps[1].crashed());
+  EXPECT_TRUE(ps[1].killed_at_stop());
+  EXPECT_EQ(ps[1].describe(), std::string("killed by ") + strsignal(SIGKILL) + " after ignoring SIGTERM for 10 s");
+  EXPECT_TRUE(ps[2].crashed()) << "a SIGKILL nobody sent is still a crash";
+  EXPECT_FALSE(ps[2].killed_at_stop());
+  const MergedMetrics m = merge_metrics(ground_metrics(), record_of(ps), "out/metrics.json");
+  EXPECT_EQ(m.metrics["processes_killed_at_stop"], 1);
+  EXPECT_EQ(m.metrics["processes_crashed"], 1);
+  EXPECT_EQ(m.metrics["processes"][1]["killed_at_stop"], true);
+  EXPECT_EQ(m.metrics["processes"][1]["crashed"], false);
+  EXPECT_EQ(m.exit_code(), 1) << "uav-1 crashed";
+  ps.pop_back();
+  EXPECT_EQ(merge_metrics(ground_metrics(), record_of(ps), "out/metrics.json").exit_code(), 0)
+      << "a process slow to stop is reported, not a failed run";
+}
+
 TEST(MetricsMerge, AProcessThatExitedWithAnErrorFailsTheRunAndOneAskedToStopDoesNot) {
   std::vector<ChildProcess> ps{ended("ground", "ground", 0), ended("place-1", "place", 4)};
   EXPECT_EQ(merge_metrics(ground_metrics(), record_of(ps), "m.json").exit_code(), 1);
