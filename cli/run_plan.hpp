@@ -96,6 +96,7 @@ struct PlannedProcess {
   uint32_t participant_id = 0;
   std::vector<std::string> env;  // NAME=VALUE added to the launcher's environment
   std::string log_path;          // OUT/logs/NAME.log: its standard output
+  uint32_t life = 0;             // 0 its first start; 1.. started again (Supervisor::spawn): the log is appended to
   StderrTo stderr_to = StderrTo::Log;
   ControlLine control = ControlLine::None;
   [[nodiscard]] const std::string& executable() const { return argv.front(); }

@@ -99,8 +99,12 @@ pid_t fork_patiently() {
       dup2(ctl_fd, 3);
     }
   }
-  const int fd = open(p.log_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  // A process started again (restart) appends to its earlier lives' log:
+  // what the killed life wrote is kept, after a line that marks the new one.
+  const bool again = p.life > 0;
+  const int fd = open(p.log_path.c_str(), O_WRONLY | O_CREAT | O_CLOEXEC | (again ? O_APPEND : O_TRUNC), 0644);
   if (fd >= 0) {
+    if (again) dprintf(fd, "=== pheromesh run: %s started again (life %u, pid %d) ===\n", p.name.c_str(), p.life + 1, getpid());
     dup2(fd, STDOUT_FILENO);
     if (p.stderr_to == StderrTo::Log) dup2(fd, STDERR_FILENO);
   }
@@ -202,6 +206,12 @@ void Supervisor::spawn(PlannedProcess p) {
     if (auto err = netns_->add(p.name))
       throw std::runtime_error("cannot give " + p.name + " a network namespace: " + *err);
     netns_fd = netns_->fd_of(p.name);
+  }
+  p.life = static_cast<uint32_t>(
+      std::count_if(children_.begin(), children_.end(), [&](const ChildProcess& c) { return c.name == p.name; }));
+  if (p.life > 0 && p.role == "place") {
+    p.argv.push_back("--life");
+    p.argv.push_back(std::to_string(p.life + 1));
   }
   const pid_t parent = getpid();
   const pid_t pid = fork_patiently();

@@ -23,6 +23,12 @@ int main(int argc, char** argv) {
                  "time, all of them every 2 s and at the end (lockstep: every tile, every tick)")
       ->check(CLI::Range(0.1, 1000.0))
       ->capture_default_str();
+  app.add_option("--life", cfg.life,
+                 "Which life of this place agent this process is: 1 its first start, 2.. started again after its "
+                 "death (pheromesh run's restart passes it). From life 2 on it starts empty and takes none of the "
+                 "deposits written before it started: its dead life counted them")
+      ->check(CLI::Range(1U, 1000000U))
+      ->capture_default_str();
   uint32_t replica = 0;
   app.add_option("--replica", replica,
                  "Replica number in a swarm with --standby: 0 the primary, 1.. hot standbys (the lowest live one owns "

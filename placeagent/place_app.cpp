@@ -94,6 +94,7 @@ void PlaceApp::publish_health(uint32_t tick, HealthKind kind) {
   h.deposits_duplicate = desk_.copies();
   h.bytes_received = bus_->stats().bytes_taken;
   h.linked = linked_;
+  h.life = cfg_.life;
   core::RefusalCounts all = audit_.refused();
   for (std::size_t i = 0; i < core::kRefusalCount; ++i) all.add(static_cast<core::Refusal>(i), l.refused.n[i]);
   h.refused = all.n;
@@ -302,7 +303,11 @@ int PlaceApp::run() {
   // this region, its home UAVs' states, the other place agents' served UAVs
   // and the tiles they send for its views, halos, and the writers of
   // forwarded deposits, of served UAVs and tiles, and of its home UAVs' views.
-  bus_->subscribe_deposits(cfg_.region);
+  // A place agent started again begins empty, as a rebooted tag would: the
+  // deposits its dead life took are that life's (the ground station keeps its
+  // counts, core::RunRecorder::on_health), and replaying them from the UAVs'
+  // writer histories would count them twice.
+  bus_->subscribe_deposits(cfg_.region, /*history=*/cfg_.life <= 1);
   bus_->subscribe_home_states(cfg_.region);
   if (cfg_.common.lockstep()) bus_->subscribe_uav_reports(cfg_.region);  // the lockstep tree
   bus_->subscribe_uplinks(cfg_.region);  // relays between its UAVs and the swarm

@@ -204,6 +204,7 @@ TEST_P(Interop, EveryMessageArrivesIntact) {
 
   core::HealthMsg health{7, 15, 25.5F, 100, 90, 10, 3, true, 250, 2};
   health.linked = true;
+  health.life = 3;
   ASSERT_TRUE(w_->publish_health(health));
   const auto hs = wait_for<core::HealthMsg>([&](auto& v) { r_->take_health(v); });
   ASSERT_EQ(hs.size(), 1U);
@@ -216,6 +217,7 @@ TEST_P(Interop, EveryMessageArrivesIntact) {
   EXPECT_EQ(hs[0].tick_gap_max_ms, 250U);
   EXPECT_EQ(hs[0].tick_gaps_over_2, 2U);
   EXPECT_TRUE(hs[0].linked);
+  EXPECT_EQ(hs[0].life, 3U);
 
   ASSERT_TRUE(w_->publish_halo({3, 16, {1.0F, 2.0F, 3.0F}, {0.0F, 9.0F}}, 4));
   const auto halos = wait_for<core::HaloMsg>([&](auto& v) { r_->take_halos(v); });

@@ -66,6 +66,42 @@ TEST(Replicas, TheLowestLiveReplicaServesTheRegionAndAStandbyTakesOver) {
   EXPECT_FALSE(rig.rec.region_owner(1).has_value());
 }
 
+TEST(Replicas, APlaceAgentStartedAgainKeepsWhatItsDeadLifeCounted) {
+  // A restarted place agent counts from 0. Its new life's records used to
+  // replace the dead life's: the run's applied deposits fell 109,140 ->
+  // 86,823 at the restart and the soak reported the difference "lost"
+  // (issue 28).
+  Rig rig;
+  HealthMsg h = Rig::health(0, 0, 100);
+  h.deposits_rejected = 4;
+  h.refused[0] = 2;
+  h.tick_gap_max_ms = 900;
+  rig.rec.on_health(h);
+  HealthMsg second = Rig::health(0, 0, 3);  // the new life's first record
+  second.life = 2;
+  rig.rec.on_health(second);
+  EXPECT_EQ(rig.rec.health().at(0).deposits_received, 103U);
+  EXPECT_EQ(rig.rec.health().at(0).deposits_applied, 103U);
+  EXPECT_EQ(rig.rec.health().at(0).deposits_rejected, 4U);
+  EXPECT_EQ(rig.rec.health().at(0).refused[0], 2U);
+  EXPECT_EQ(rig.rec.health().at(0).tick_gap_max_ms, 900U);
+  second.deposits_received = second.deposits_applied = 50;  // the new life goes on
+  rig.rec.on_health(second);
+  EXPECT_EQ(rig.rec.health().at(0).deposits_applied, 150U);
+  rig.rec.on_health(Rig::health(0, 0, 100));  // a late record of the dead life changes nothing
+  EXPECT_EQ(rig.rec.health().at(0).deposits_applied, 150U);
+  EXPECT_EQ(rig.rec.replica_health().at(place_id(0, 0)).deposits_applied, 150U);
+  HealthMsg third = Rig::health(0, 0, 1);
+  third.life = 3;
+  rig.rec.on_health(third);
+  EXPECT_EQ(rig.rec.health().at(0).deposits_applied, 151U);
+  // Guard: records of one life, even out of order, bank nothing.
+  Rig calm;
+  calm.rec.on_health(Rig::health(1, 0, 12));
+  calm.rec.on_health(Rig::health(1, 0, 10));
+  EXPECT_EQ(calm.rec.health().at(1).deposits_applied, 10U) << "the latest record; 22 would bank a life that never ended";
+}
+
 TEST(Replicas, AReplicaHeardAgainAfterItWasLostIsAliveAndOwnsAgain) {
   Rig rig;
   rig.rec.on_health(Rig::health(0, 0, 3));

@@ -196,8 +196,9 @@ void Bus::move_uplink(core::RegionId gateway) {
   if (roles_->clock_tree) roles_->phase_done.offer(uav_report_partition(gateway));
 }
 
-void Bus::subscribe_deposits(core::RegionId own) {
-  roles_->deposit_in.emplace(*this, std::vector<std::string>{region_partition(own)});
+void Bus::subscribe_deposits(core::RegionId own, bool history) {
+  roles_->deposit_in.emplace(*this, std::vector<std::string>{region_partition(own)}, TopicKind::Deposit,
+                             history ? Watch::Samples : Watch::NewSamplesOnly);
 }
 
 void Bus::subscribe_home_states(core::RegionId own) {

@@ -114,7 +114,8 @@ class CycloneTransport final : public Transport {
     for (const auto& p : partitions) names.push_back(p.c_str());
     dds_qset_partition(sq.get(), static_cast<uint32_t>(names.size()), names.data());
     const dds_entity_t subscriber = PHM_DDS(dds_create_subscriber(participant_, sq.get(), nullptr));
-    QosPtr rq = to_cyclone(endpoint_qos(kind, Endpoint::Reader, opt_.liveliness_lease, opt_.replication));
+    QosPtr rq = to_cyclone(
+        reader_qos_for(endpoint_qos(kind, Endpoint::Reader, opt_.liveliness_lease, opt_.replication), watch));
     const dds_entity_t r = PHM_DDS(dds_create_reader(subscriber, topic(kind), rq.get(), nullptr));
     // A read condition on its unread samples (including the no-writers
     // notifications of departures) wakes wait().

@@ -303,6 +303,7 @@ struct Convert<core::HealthMsg> {
     s.deposits_duplicate = m.deposits_duplicate;
     s.bytes_received = m.bytes_received;
     s.linked = m.linked;
+    s.life = m.life;
     s.tick_gap_max_ms = m.tick_gap_max_ms;
     s.tick_gaps_over_2 = m.tick_gaps_over_2;
     std::copy(m.refused.begin(), m.refused.end(), s.refused);
@@ -316,6 +317,7 @@ struct Convert<core::HealthMsg> {
     h.deposits_duplicate = s.deposits_duplicate;
     h.bytes_received = s.bytes_received;
     h.linked = s.linked;
+    h.life = s.life;
     std::copy(std::begin(s.refused), std::end(s.refused), h.refused.begin());
     return h;
   }

@@ -348,7 +348,8 @@ class FastDdsTransport final : public Transport {
     if (watch == Watch::SamplesAndDepartures) e.watch = std::make_unique<LivelinessWatch>();
     const fdds::StatusMask mask = e.watch ? fdds::StatusMask::liveliness_changed() : fdds::StatusMask::none();
     const fdds::DataReaderQos q =
-        to_fastdds_reader(endpoint_qos(kind, Endpoint::Reader, opt_.liveliness_lease, opt_.replication));
+        to_fastdds_reader(
+            reader_qos_for(endpoint_qos(kind, Endpoint::Reader, opt_.liveliness_lease, opt_.replication), watch));
     e.reader = PHM_FASTDDS(subscriber->create_datareader(topic(kind), q, e.watch.get(), mask),
                            std::string("cannot create a reader of ") + to_string(kind) + permissions_hint());
     // Every reader can wake wait(): its data-available status condition.

@@ -324,6 +324,7 @@ struct Convert<core::HealthMsg> {
     s.deposits_duplicate(m.deposits_duplicate);
     s.bytes_received(m.bytes_received);
     s.linked(m.linked);
+    s.life(m.life);
     s.tick_gap_max_ms(m.tick_gap_max_ms);
     s.tick_gaps_over_2(m.tick_gaps_over_2);
     std::copy(m.refused.begin(), m.refused.end(), s.refused().begin());
@@ -339,6 +340,7 @@ struct Convert<core::HealthMsg> {
     h.deposits_duplicate = s.deposits_duplicate();
     h.bytes_received = s.bytes_received();
     h.linked = s.linked();
+    h.life = s.life();
     std::copy(s.refused().begin(), s.refused().end(), h.refused.begin());
     return h;
   }

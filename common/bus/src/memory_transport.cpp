@@ -147,7 +147,8 @@ class MemoryTransport final : public Transport {
   EndpointId open_reader(TopicKind kind, const std::vector<std::string>& partitions, Watch watch) override {
     {
       std::lock_guard<std::mutex> lock(domain_->mutex);
-      const QosSpec q = endpoint_qos(kind, Endpoint::Reader, opt_.liveliness_lease, opt_.replication);
+      const QosSpec q =
+          reader_qos_for(endpoint_qos(kind, Endpoint::Reader, opt_.liveliness_lease, opt_.replication), watch);
       domain_->readers.push_back({this, kind, partitions, q, watch, {}});
       auto& r = domain_->readers.back();
       // Transient-local: the history of the writers it matches.

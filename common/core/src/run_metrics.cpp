@@ -147,8 +147,37 @@ void RunRecorder::on_target_event(const TargetEventMsg& e) {
   revisits_.push_back(e);
 }
 
-bool RunRecorder::on_health(const HealthMsg& h) {
-  const uint32_t id = place_id(h.region, h.replica);
+namespace {
+
+// The counters of `h` with those of the earlier lives added.
+HealthMsg with_earlier_lives(HealthMsg h, const HealthMsg& banked) {
+  h.deposits_received += banked.deposits_received;
+  h.deposits_applied += banked.deposits_applied;
+  h.deposits_rejected += banked.deposits_rejected;
+  h.deposits_duplicate += banked.deposits_duplicate;
+  h.halos_missing += banked.halos_missing;
+  h.bytes_received += banked.bytes_received;
+  h.tick_gaps_over_2 += banked.tick_gaps_over_2;
+  h.tick_gap_max_ms = std::max(h.tick_gap_max_ms, banked.tick_gap_max_ms);
+  for (std::size_t i = 0; i < h.refused.size(); ++i) h.refused[i] += banked.refused[i];
+  return h;
+}
+
+}  // namespace
+
+bool RunRecorder::on_health(const HealthMsg& raw) {
+  const uint32_t id = place_id(raw.region, raw.replica);
+  // A life's counters start at 0: keep what the earlier lives counted
+  // (before, a restarted place agent's record replaced its dead life's, and
+  // the run's applied deposits fell at the restart). A late record of an
+  // earlier life changes nothing.
+  if (auto it = life_latest_.find(id); it != life_latest_.end()) {
+    if (raw.life < it->second.life) return false;
+    if (raw.life > it->second.life) banked_lives_[id] = with_earlier_lives(it->second, banked_lives_[id]);
+  }
+  life_latest_[id] = raw;
+  const auto banked = banked_lives_.find(id);
+  const HealthMsg h = banked == banked_lives_.end() ? raw : with_earlier_lives(raw, banked->second);
   const bool back = departed_places_.erase(id) > 0 && !h.finished;
   replica_health_[id] = h;
   ledger_by_tick_[id].push_back({h.tick, h.deposits_received, h.deposits_applied, h.deposits_rejected});

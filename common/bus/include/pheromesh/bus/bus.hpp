@@ -189,7 +189,9 @@ class Bus {
   // A place agent: deposits for `own` (from its UAVs and forwarded), the
   // states of the UAVs homed on it (and their departures:
   // take_departed_uavs), and every region's field.
-  void subscribe_deposits(core::RegionId own);
+  // history false (a place agent started again): none of the deposits
+  // written before it matched (its dead life counted them).
+  void subscribe_deposits(core::RegionId own, bool history = true);
   void subscribe_home_states(core::RegionId own);
   void subscribe_fields();  // the ground station
   // A place agent: the other place agents' served states and the tiles sent

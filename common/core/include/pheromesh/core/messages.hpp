@@ -116,6 +116,9 @@ struct HealthMsg {
   // It matched every other region's place agent: the deposits it forwards
   // reach their owners. The realtime Start waits for every region's (RunBook).
   bool linked = false;
+  // 1 the place agent's first start, 2.. a process started again after its
+  // death (core::RunRecorder keeps the earlier lives' counts).
+  uint32_t life = 1;
 };
 
 // A place replica in one 32-bit id (departures): replica << 16 | region.

@@ -113,6 +113,8 @@ class RunRecorder {
   [[nodiscard]] uint32_t max_tick() const { return max_tick_; }
   [[nodiscard]] const std::map<uint32_t, UavStatus>& uavs() const { return uavs_; }
   // Per region, the health of the replica that received the most deposits
+  // (the counters of a replica's earlier lives included: a place agent
+  // started again counts from 0)
   // (the one that has served it longest: a standby that took over counts
   // every deposit of the run, its dead primary only those until its death).
   [[nodiscard]] const std::map<RegionId, HealthMsg>& health() const { return health_; }
@@ -164,6 +166,10 @@ class RunRecorder {
   std::map<RegionId, HealthMsg> health_;
   std::map<uint32_t, HealthMsg> replica_health_;  // by place_id
   std::map<uint32_t, bool> departed_places_;      // by place_id
+  // Per place replica, what its earlier lives counted (a place agent started
+  // again counts from 0; on_health adds these, so the dead life's deposits
+  // stay counted), and its current life's latest record as it sent it.
+  std::map<uint32_t, HealthMsg> banked_lives_, life_latest_;
   // Per UAV, (tick, deposits sent by then, earlier lives included) of every
   // accepted state; per place replica (place_id), its health records.
   std::map<uint32_t, std::vector<std::pair<uint32_t, uint64_t>>> sent_by_tick_;
