@@ -1,12 +1,7 @@
 // Where `pheromesh` finds a scenario: the SCENARIO argument of run, sim,
-// validate and bench scale is either a file (used as given, relative to the
-// current directory) or the name of a shipped scenario (`small-test` or
-// `small-test.textproto`), looked up
-//   1. in the installed scenarios folder, relative to the running executable
-//      (<prefix>/bin/../share/pheromesh/scenarios), so a relocated prefix
-//      works;
-//   2. in the source tree's scenarios/, only when the executable is the one in
-//      this build tree's bin/ (an installed copy never reads the source tree).
+// validate and bench scale is a file or the name of a shipped scenario
+// (pheromesh/frontdoor/scenario_paths.hpp has the rules, shared with the
+// Python package); this file fills them in for the running executable.
 // docs/install.md describes the layout.
 #pragma once
 
@@ -15,33 +10,21 @@
 #include <vector>
 
 #include "pheromesh/core/result.hpp"
+#include "pheromesh/frontdoor/scenario_paths.hpp"
 
 namespace pheromesh::cli {
 
-inline constexpr const char* kScenarioExtension = ".textproto";
+using frontdoor::find_shipped;
+using frontdoor::kScenarioExtension;
+using frontdoor::resolve_scenario;
+using frontdoor::scenario_dirs;
+using frontdoor::ScenarioSearch;
+using frontdoor::shipped_scenario_names;
+
 // The help text of every SCENARIO argument.
 inline constexpr const char* kScenarioArgHelp =
     "Scenario file (protobuf text format), or the name of a shipped scenario, e.g. small-test "
     "(an unknown name lists them)";
-
-// Where this build looks, as configured by CMake (cmake/InstallDirs.cmake).
-struct ScenarioSearch {
-  std::filesystem::path exe_dir;           // folder of the running executable
-  std::filesystem::path installed_rel;     // from the bin folder to the shipped scenarios
-  std::filesystem::path build_bin_dir;     // this build tree's bin/
-  std::filesystem::path source_scenarios;  // the source tree's scenarios/
-};
-
-// The folders searched for a shipped scenario, in order (they need not exist).
-std::vector<std::filesystem::path> scenario_dirs(const ScenarioSearch& search);
-
-// The sorted names (without extension) of the scenarios in `dirs`.
-std::vector<std::string> shipped_scenario_names(const std::vector<std::filesystem::path>& dirs);
-
-// SCENARIO as a path to open: an existing file as given; else a name (no '/')
-// found in `dirs`; else an error that names the argument and lists the
-// shipped scenarios.
-core::Result<std::string> resolve_scenario(const std::string& arg, const std::vector<std::filesystem::path>& dirs);
 
 // --- this executable --------------------------------------------------------
 

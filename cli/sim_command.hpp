@@ -6,6 +6,7 @@
 #include "pheromesh/core/faults.hpp"
 #include "pheromesh/core/scenario.hpp"
 #include "pheromesh/core/simulator.hpp"
+#include "pheromesh/frontdoor/sim_outputs.hpp"
 #include "scenario_overrides.hpp"
 
 namespace pheromesh::cli {
@@ -30,16 +31,10 @@ int run_sim(const SimOptions& o);
 // --faults and the scenario's own faults, merged by the caller).
 int simulate(const core::ScenarioConfig& s, const core::FaultSchedule& faults, const SimOptions& o);
 
-// OUT/metrics.json of a finished simulation that took `wall_seconds`, as
-// `pheromesh sim` writes it (also `pheromesh sweep`'s runs).
-nlohmann::json sim_metrics(const core::Simulator& sim, double wall_seconds);
-
-// OUT/final_field.txt of a finished simulation; false if it cannot be written.
-bool write_sim_field(const core::Simulator& sim, const std::string& path);
-
-// Everything `pheromesh sim` leaves in `out_dir` after metrics.json
-// (docs/outputs.md): series.csv, final_field.txt, final_field.csv, and
-// tracks.csv if the simulator kept tracks. "" or the first error.
-std::string write_sim_outputs(const core::Simulator& sim, const std::string& out_dir);
+// sim_metrics, write_sim_field and write_sim_outputs are the front door's
+// (pheromesh/frontdoor/sim_outputs.hpp), shared with the Python package.
+using frontdoor::sim_metrics;
+using frontdoor::write_sim_field;
+using frontdoor::write_sim_outputs;
 
 }  // namespace pheromesh::cli

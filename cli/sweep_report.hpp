@@ -12,23 +12,16 @@
 
 #include <nlohmann/json.hpp>
 
+#include "pheromesh/frontdoor/metric_scalars.hpp"
 #include "sweep_grid.hpp"
 
 namespace pheromesh::cli::sweep {
 
-// The scalars of one metrics.json, nested objects flattened with dotted
-// names ("coverage", "field.found_all_tick", "uav_status.0.x"): numbers, and
-// booleans as 0 / 1; null becomes NaN (a quantity the run did not reach,
-// such as leader_arrival_tick). Strings and arrays (series) are left out, and
-// so is "seed", which runs.csv has as a column of its own.
-using Scalars = std::map<std::string, double>;
-Scalars flatten_scalars(const nlohmann::json& metrics);
-
-// Metrics that measure this host's speed, not the swarm: they differ from
-// one run of the same seed to the next, so they are in runs.csv and
-// summary.csv but never plotted, and a comparison of two sweeps leaves them
-// out.
-bool is_timing_metric(const std::string& name);
+// flatten_scalars and is_timing_metric are the front door's
+// (pheromesh/frontdoor/metric_scalars.hpp), shared with the Python package.
+using frontdoor::flatten_scalars;
+using frontdoor::is_timing_metric;
+using frontdoor::Scalars;
 
 // "" when `a` and `b` hold the same metrics with the same values (NaN equal
 // to NaN), timing metrics left out; else the first differences,

@@ -7,9 +7,50 @@ option(PHEROMESH_TEST_CORE_ONLY "Add the ctest CoreOnly.BuildsAndSimulatesWithou
 option(PHEROMESH_FUZZ "Build the libFuzzer harnesses of fuzz/ (clang only; docs/fuzzing.md)" OFF)
 set(PHEROMESH_SANITIZER "" CACHE STRING "Sanitizers to build with: '', 'address,undefined' or 'thread'")
 set_property(CACHE PHEROMESH_SANITIZER PROPERTY STRINGS "" "address,undefined" "thread")
+# The Python package (python/, docs/python.md): on by default when pybind11
+# and Python's headers are found (Debian: python3-dev python3-pybind11
+# python3-numpy); off by default in a sanitized or fuzzing build (the
+# interpreter would need the sanitizer runtime preloaded); never in a
+# core-only build. ON without pybind11 and the headers is an error.
+set(pheromesh_python_default OFF)
+set(pheromesh_python_possible OFF)
+set(PHEROMESH_PYTHON_OFF_REASON "a core-only build has no Python package")
+if(NOT PHEROMESH_CORE_ONLY)
+  # Debian's Python (whose python3-numpy, -pandas, -pytest the package and its
+  # tests use), not whichever python3 comes first on PATH (a pyenv shim, a
+  # virtualenv); -DPython_EXECUTABLE=... chooses another.
+  if(NOT DEFINED Python_EXECUTABLE AND EXISTS /usr/bin/python3)
+    set(Python_EXECUTABLE /usr/bin/python3 CACHE FILEPATH "The Python the package is built for")
+  endif()
+  set(PYBIND11_FINDPYTHON ON)
+  find_package(Python 3 QUIET COMPONENTS Interpreter Development.Module)
+  find_package(pybind11 2.6 CONFIG QUIET)
+  if(Python_FOUND AND pybind11_FOUND)
+    set(pheromesh_python_possible ON)
+    if(PHEROMESH_SANITIZER OR PHEROMESH_FUZZ)
+      set(PHEROMESH_PYTHON_OFF_REASON
+        "a sanitized or fuzzing build leaves it off by default (python3 would need the sanitizer runtime preloaded); -DPHEROMESH_PYTHON=ON builds it")
+    else()
+      set(pheromesh_python_default ON)
+    endif()
+  else()
+    set(PHEROMESH_PYTHON_OFF_REASON
+      "pybind11 or Python's headers not found (apt install python3-dev python3-pybind11 python3-numpy)")
+  endif()
+endif()
+option(PHEROMESH_PYTHON "Build the Python package pheromesh (python/, docs/python.md)" ${pheromesh_python_default})
+if(PHEROMESH_PYTHON AND NOT pheromesh_python_possible)
+  message(FATAL_ERROR "PHEROMESH_PYTHON=ON, but ${PHEROMESH_PYTHON_OFF_REASON}")
+elseif(NOT PHEROMESH_PYTHON)
+  if(pheromesh_python_default)
+    message(STATUS "pheromesh: the Python package is off (PHEROMESH_PYTHON=OFF)")
+  else()
+    message(STATUS "pheromesh: the Python package is off: ${PHEROMESH_PYTHON_OFF_REASON}")
+  endif()
+endif()
 
 foreach(opt PHEROMESH_BUILD_TESTS PHEROMESH_BUILD_BENCH PHEROMESH_CORE_ONLY PHEROMESH_WERROR PHEROMESH_SANITIZER PHEROMESH_FUZZ
-    PHEROMESH_TEST_CORE_ONLY
+    PHEROMESH_TEST_CORE_ONLY PHEROMESH_PYTHON
     CMAKE_BUILD_TYPE)
   message(STATUS "pheromesh option ${opt} = ${${opt}}")
 endforeach()

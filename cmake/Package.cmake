@@ -2,6 +2,7 @@
 # packages from the two install components (cmake/Install.cmake):
 #   pheromesh_<version>_<arch>.deb      the programs, scenarios, profiles, docs
 #   pheromesh-dev_<version>_<arch>.deb  headers, static libraries, CMake package
+#   python3-pheromesh_<version>_<arch>.deb  `import pheromesh` (PHEROMESH_PYTHON)
 # The programs' Depends come from dpkg-shlibdeps (dpkg-dev), so they name
 # exactly the shared libraries this build linked. tests/package checks the
 # package on a clean Debian bookworm (docs/install.md).
@@ -18,6 +19,9 @@ set(CPACK_PACKAGE_FILE_NAME "${CPACK_PACKAGE_NAME}-${PROJECT_VERSION}")  # only 
 
 set(CPACK_DEB_COMPONENT_INSTALL ON)
 set(CPACK_COMPONENTS_ALL runtime development)
+if(PHEROMESH_PYTHON)
+  list(APPEND CPACK_COMPONENTS_ALL python)
+endif()
 set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)  # <name>_<version>_<arch>.deb
 set(CPACK_DEBIAN_PACKAGE_MAINTAINER ${PHEROMESH_PACKAGE_MAINTAINER})
 set(CPACK_DEBIAN_PACKAGE_SECTION science)
@@ -52,5 +56,27 @@ Headers, static libraries and the CMake package of pheromesh:
 find_package(pheromesh CONFIG) gives pheromesh::core (scenarios, pheromone
 layers, the papers' policies, the simulator; no DDS) and pheromesh::bus (the
 vendor-neutral bus over Cyclone DDS and Fast DDS).")
+
+# The Python package (python/, docs/python.md): the extension links the core
+# statically, so it depends on the shared libraries dpkg-shlibdeps finds, on
+# the pheromesh package of the same version (the shipped scenarios, and the
+# `pheromesh` program that run() and replay() start) and on NumPy.
+set(CPACK_DEBIAN_PYTHON_PACKAGE_NAME python3-pheromesh)
+set(CPACK_DEBIAN_PYTHON_PACKAGE_SECTION python)
+set(CPACK_DEBIAN_PYTHON_PACKAGE_SHLIBDEPS ON)
+if(PHEROMESH_PYTHON)
+  # The extension is built for this Python's ABI (…cpython-311-…so).
+  math(EXPR pheromesh_python_minor_next "${Python_VERSION_MINOR} + 1")
+  set(CPACK_DEBIAN_PYTHON_PACKAGE_DEPENDS
+    "pheromesh (= ${PROJECT_VERSION}), python3 (>= ${Python_VERSION_MAJOR}.${Python_VERSION_MINOR}), python3 (<< ${Python_VERSION_MAJOR}.${pheromesh_python_minor_next}), python3-numpy")
+endif()
+set(CPACK_DEBIAN_PYTHON_PACKAGE_RECOMMENDS "python3-pandas")
+set(CPACK_DEBIAN_PYTHON_PACKAGE_SUGGESTS "python3-matplotlib, jupyter-notebook")
+set(CPACK_COMPONENT_PYTHON_DESCRIPTION
+  "UAV swarm coordinating through digital pheromones - Python package
+`import pheromesh`: load a scenario, set its fields, run the in-process
+simulator and get the metrics, the time series and the pheromone fields as
+NumPy arrays; sweep parameters into a pandas table; fly the scenario as real
+processes over DDS with the pheromesh program and read the same result back.")
 
 include(CPack)

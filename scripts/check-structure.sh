@@ -31,6 +31,8 @@ report "the shared core includes no room" \
 report "the core includes no bus, runtime, auth or console" \
   "$(inc common/core/include common/core/src common/core/papers | grep -E '"pheromesh/(bus|runtime|auth|console)/')"
 report "the report includes only the core" "$(inc common/report | grep -vE '"pheromesh/(core|report)/')"
+report "the front door includes only the core, report and console" \
+  "$(inc common/frontdoor | grep -vE '"pheromesh/(core|report|console|frontdoor)/')"
 report "the core includes no report" "$(inc common/core | grep -E '"pheromesh/report/')"
 report "auth, bus and runtime include nothing of the console" "$(inc common/auth common/bus common/runtime | grep -E '"pheromesh/console/')"
 report "UAV and place shells include no console and no room" "$(inc agent placeagent | grep -E "\"pheromesh/(console|$papers)/")"

@@ -4,6 +4,8 @@
 #   - the layout of docs/install.md is there (and no test program);
 #   - the installed `pheromesh` finds a shipped scenario by name from another
 #     directory, and an unknown name lists the shipped ones;
+#   - the installed Python package (when built) imports from the moved
+#     prefix, finds the shipped scenarios and `pheromesh` there, and simulates;
 #   - tests/install/consumer, a project of its own, finds the package with
 #     find_package(pheromesh CONFIG), builds, and its two programs run:
 #     scenario_size (pheromesh::core) and bus_roundtrip (pheromesh::bus);
@@ -58,6 +60,21 @@ grep -qF "'no-such-scenario' is neither a file nor a shipped scenario" <<<"$out"
 grep -qE "shipped scenarios \(in $prefix/share/pheromesh/scenarios\): .*small-test" <<<"$out" || fail "unknown name: $out"
 # The installed copy never looks into the source tree.
 grep -qF "$src" <<<"$out" && fail "the installed pheromesh searched the source tree: $out"
+
+pydir="$prefix/lib/python3/dist-packages"
+if [ -d "$pydir/pheromesh" ]; then
+  step "the installed Python package finds the shipped scenarios and the pheromesh of the moved prefix"
+  py="$(sed -n 's/^Python_EXECUTABLE:FILEPATH=//p' "$build/CMakeCache.txt")"
+  out="$(cd "$work/elsewhere" && PYTHONPATH="$pydir" "${py:-python3}" -c "
+import pheromesh
+s = pheromesh.Scenario.load('small-test')
+r = pheromesh.sim(s, ticks=5)
+print(s.path); print(pheromesh.program()); print(r.metrics['ticks'], r.fields['path'].shape)" 2>&1)" \
+    || fail "import pheromesh from $pydir: $out"
+  grep -qxF "$prefix/share/pheromesh/scenarios/small-test.textproto" <<<"$out" || fail "Python found small-test elsewhere: $out"
+  grep -qxF "$prefix/bin/pheromesh" <<<"$out" || fail "Python's pheromesh.program() is not the moved one: $out"
+  grep -qxF "5 (30, 30)" <<<"$out" || fail "Python sim: $out"
+fi
 
 step "consumer project: configure against $prefix"
 cmake -S "$src/tests/install/consumer" -B "$work/consumer" -DCMAKE_BUILD_TYPE=Release \

@@ -1,11 +1,14 @@
 #!/usr/bin/env bash
 # Package.*: `cpack -G DEB` makes pheromesh_<version>_<arch>.deb (and
-# pheromesh-dev), then on a clean Debian bookworm in a podman container
+# pheromesh-dev, and python3-pheromesh when the build has the Python
+# package), then on a clean Debian bookworm in a podman container
 #   apt-get install /pkg/pheromesh_*.deb     (apt resolves the Depends alone)
 #   cd /tmp && pheromesh run small-test ...   (a shipped scenario by name)
 # must exit 0 and write metrics.json with balanced deposit accounting; then
 #   apt-get install /pkg/pheromesh-dev_*.deb cmake g++ make
-#   examples/repulsive_coverage (a policy plugin) builds and runs in `sim`.
+#   examples/repulsive_coverage (a policy plugin) builds and runs in `sim`;
+#   apt-get install /pkg/python3-pheromesh_*.deb
+#   python3 -c "import pheromesh; pheromesh.sim('small-test', ...)"
 # apt reaches the Debian mirror through the host's network; the swarm runs
 # in a second container with no network but its own loopback, so it meets
 # no other swarm on this host.
@@ -109,4 +112,20 @@ podman_ run --rm --network host -v "$work/pkg:/pkg:ro" -v "$src/examples/repulsi
     test -s out/sim/final_field.txt" > "$work/example.log" 2>&1 \
   || { cat "$work/example.log"; fail "the example plugin does not build or run against the installed packages"; }
 cat "$work/example.log"
+py="$work/pkg/python3-pheromesh_${version}_${arch}.deb"
+if [ -f "$py" ]; then
+  step "python3-pheromesh: import pheromesh, a shipped scenario by name, sim"
+  dpkg-deb -c "$py" > "$work/py.list"
+  grep -qE '/usr/lib/python3/dist-packages/pheromesh/_pheromesh\.cpython-.*\.so$' "$work/py.list" \
+    || fail "no extension in $(basename "$py")"
+  podman_ run --rm --network host -v "$work/pkg:/pkg:ro" "$image" \
+    bash -c "set -e
+      apt-get update -qq
+      DEBIAN_FRONTEND=noninteractive apt-get install -y -q --no-install-recommends /pkg/$(basename "$py") \
+        > /tmp/apt-py.log 2>&1 || { tail -n 30 /tmp/apt-py.log; exit 1; }
+      cd /tmp && python3 -c \"import pheromesh; r = pheromesh.sim('small-test', ticks=20); \
+        assert r.fields['target'].shape == (30, 30); assert r.metrics['ticks'] == 20; print('python3-pheromesh: ok', r)\"" \
+    > "$work/python.log" 2>&1 || { cat "$work/python.log"; fail "python3-pheromesh does not install or import"; }
+  cat "$work/python.log"
+fi
 step "done"

@@ -1,4 +1,4 @@
-#include "sim_recording.hpp"
+#include "pheromesh/frontdoor/sim_recording.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -6,7 +6,7 @@
 
 #include "pheromesh/core/policy.hpp"
 
-namespace pheromesh::cli {
+namespace pheromesh::frontdoor {
 
 namespace {
 
@@ -87,4 +87,4 @@ core::Result<uint64_t> SimRecording::close() {
   return writer_->close();
 }
 
-}  // namespace pheromesh::cli
+}  // namespace pheromesh::frontdoor

@@ -17,7 +17,7 @@
 #include "pheromesh/core/result.hpp"
 #include "pheromesh/core/simulator.hpp"
 
-namespace pheromesh::cli {
+namespace pheromesh::frontdoor {
 
 class SimRecording {
  public:
@@ -46,4 +46,4 @@ class SimRecording {
   std::optional<uint32_t> last_series_tick_;
 };
 
-}  // namespace pheromesh::cli
+}  // namespace pheromesh::frontdoor

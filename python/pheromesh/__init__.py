@@ -1,0 +1,55 @@
+"""pheromesh in Python: scenarios, simulations, sweeps and swarms of real processes.
+
+    import pheromesh
+    s = pheromesh.Scenario.load("shao2020-50x50").set("shao.aco.alpha", 2)
+    r = pheromesh.sim(s, seed=3, ticks=200)
+    r.metrics["coverage"], r.fields["target"].shape     # dict, (rows, cols) float32
+    pheromesh.sweep(s, {"shao.aco.alpha": [1, 2]}, seeds=range(1, 6), jobs=2)
+    pheromesh.run("small-test", ticks=50)                # real processes, lockstep
+
+docs/python.md has the whole API and how it relates to the `pheromesh` program.
+"""
+
+from __future__ import annotations
+
+__version__ = "0.1.0"
+
+# Two ways this package is imported:
+#  * in a Python interpreter (a notebook, a script, pytest): it loads its
+#    extension pheromesh._pheromesh, which carries the core, and offers the
+#    whole API below;
+#  * inside a pheromesh process that embeds an interpreter to run a Python
+#    policy (pheromesh-uav, pheromesh-place; issue 27 deliverable 3). That
+#    process registers the built-in module `_pheromesh_embedded` and already
+#    holds the core: loading the extension would put a second copy of the
+#    core and of the scenario schema's generated protobuf code in the
+#    process, which aborts. There the package only offers the policy API,
+#    from `_pheromesh_embedded`.
+try:
+    import _pheromesh_embedded  # type: ignore[import-not-found]
+except ImportError:
+    _pheromesh_embedded = None
+
+if _pheromesh_embedded is not None:
+    # Inside a pheromesh process: the policy API only (UavPolicy, PlaceModel,
+    # the view and action types), exactly as the process registered it.
+    from _pheromesh_embedded import *  # type: ignore[import-not-found]  # noqa: F401,F403
+
+    __all__ = [n for n in dir(_pheromesh_embedded) if not n.startswith("_")]
+    EMBEDDED = True
+else:
+    EMBEDDED = False
+    from . import _pheromesh  # noqa: F401  (the extension: fail here, not at the first call)
+    from ._api import program, replay, run, sim, sweep
+    from ._errors import ScenarioError, ScenarioIssue
+    from ._result import Result, load
+    from ._scenario import Scenario, shipped_scenarios
+
+    __all__ = ["Scenario", "ScenarioError", "ScenarioIssue", "Result", "sim", "sweep", "run", "replay", "load",
+               "program", "shipped_scenarios", "EMBEDDED"]
+
+    # pypolicy: the Python-policy API (UavPolicy, PlaceModel, the view and
+    # action types) is re-exported here once the extension binds it
+    # (pheromesh::pypolicy::bind_policy_types in python/src/module.cpp), e.g.
+    #   from ._pheromesh import UavPolicy, PlaceModel
+    #   __all__ += ["UavPolicy", "PlaceModel"]

@@ -1,0 +1,336 @@
+// pheromesh._pheromesh: the C++ side of `import pheromesh` (docs/python.md).
+// Thin: it loads scenarios with the core (overrides and all, exactly as
+// `pheromesh --set` does), runs core::Simulator and hands the numbers to
+// Python as NumPy arrays over buffers it gives away (no copy), writes the
+// same OUT files as `pheromesh sim` through the front door, and knows where
+// this build or installation keeps the shipped scenarios and the `pheromesh`
+// program. The typed, documented API is python/pheromesh/*.py.
+//
+// The core and the scenario schema's generated code are linked statically
+// into this module and nowhere else in a Python process: a process may hold
+// only one copy of the schema (docs/writing-a-policy.md). Inside a pheromesh
+// process that embeds an interpreter the package does not load this module
+// at all (python/pheromesh/__init__.py).
+#include <dlfcn.h>
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <chrono>
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <tuple>
+#include <utility>
+#include <vector>
+
+#include "pheromesh/core/faults.hpp"
+#include "pheromesh/core/policy.hpp"
+#include "pheromesh/core/run_metrics.hpp"
+#include "pheromesh/core/scenario.hpp"
+#include "pheromesh/core/simulator.hpp"
+#include "pheromesh/frontdoor/metric_scalars.hpp"
+#include "pheromesh/frontdoor/scenario_paths.hpp"
+#include "pheromesh/frontdoor/sim_outputs.hpp"
+#include "pheromesh/frontdoor/sim_recording.hpp"
+#include "pheromesh/report/report.hpp"
+
+#ifdef PHEROMESH_WITH_PYPOLICY
+#include "pheromesh/pypolicy/bind.hpp"
+#endif
+
+namespace py = pybind11;
+namespace fs = std::filesystem;
+
+namespace pheromesh::python {
+
+namespace {
+
+// A scenario the core refused: the message names file, line and field
+// (python/pheromesh/_errors.py parses it into pheromesh.ScenarioError).
+struct ScenarioFailure : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+// The folder this module was loaded from (the package folder).
+fs::path module_dir() {
+  Dl_info info{};
+  if (dladdr(reinterpret_cast<const void*>(&module_dir), &info) == 0 || info.dli_fname == nullptr) return {};
+  std::error_code ec;
+  const fs::path self = fs::canonical(info.dli_fname, ec);
+  return ec ? fs::path() : self.parent_path();
+}
+
+// Where the shipped scenarios are for this module: installed, relative to the
+// package folder; in the build tree, also the source tree's scenarios/
+// (python/CMakeLists.txt sets the paths).
+std::vector<fs::path> scenario_dirs() {
+  return frontdoor::scenario_dirs(frontdoor::ScenarioSearch{module_dir(), PHEROMESH_PY_INSTALLED_SCENARIOS_REL,
+                                                            PHEROMESH_PY_BUILD_PACKAGE_DIR,
+                                                            PHEROMESH_SOURCE_SCENARIOS_DIR});
+}
+
+// The `pheromesh` program beside this package: installed, relative to the
+// package folder; in the build tree, the build's bin/.
+std::string program_path() {
+  const fs::path dir = module_dir();
+  std::error_code ec;
+  if (!dir.empty() && fs::equivalent(dir, PHEROMESH_PY_BUILD_PACKAGE_DIR, ec)) {
+    return (fs::path(PHEROMESH_BUILD_BIN_DIR) / "pheromesh").string();
+  }
+  return (dir / PHEROMESH_PY_INSTALLED_BIN_REL / "pheromesh").lexically_normal().string();
+}
+
+std::string resolve(const std::string& arg) {
+  auto r = frontdoor::resolve_scenario(arg, scenario_dirs());
+  if (!r) throw ScenarioFailure(r.error().message);
+  return std::move(r).value();
+}
+
+std::vector<std::string> shipped_scenarios() { return frontdoor::shipped_scenario_names(scenario_dirs()); }
+
+// (path, value, source) triples, in the order given: core::ScenarioOverride.
+using OverrideTuple = std::tuple<std::string, std::string, std::string>;
+
+core::ScenarioConfig load(const std::string& path, const std::vector<OverrideTuple>& overrides) {
+  core::ScenarioOverrides os;
+  os.reserve(overrides.size());
+  for (const auto& [p, v, source] : overrides) os.push_back({p, v, source});
+  auto r = core::load_scenario(path, os);
+  if (!r) throw ScenarioFailure(r.error().message);
+  return std::move(r).value();
+}
+
+// A NumPy array that owns `v` (moved to the heap; freed with the array).
+template <class T>
+py::array_t<T> give_away(std::vector<T>&& v, std::vector<py::ssize_t> shape) {
+  auto* owned = new std::vector<T>(std::move(v));
+  py::capsule free_it(owned, [](void* p) { delete static_cast<std::vector<T>*>(p); });
+  return py::array_t<T>(std::move(shape), owned->data(), free_it);
+}
+
+template <class T>
+py::array_t<T> column(std::vector<T>&& v) {
+  const auto n = static_cast<py::ssize_t>(v.size());
+  return give_away(std::move(v), {n});
+}
+
+py::dict series_columns(const std::vector<core::TickRow>& rows) {
+  std::vector<int64_t> tick, covered, found, reporting, sent, applied, rejected;
+  std::vector<double> coverage;
+  for (const auto& r : rows) {
+    tick.push_back(r.tick);
+    coverage.push_back(r.coverage);
+    covered.push_back(r.covered_cells);
+    found.push_back(r.targets_found);
+    reporting.push_back(r.uavs_reporting);
+    sent.push_back(static_cast<int64_t>(r.deposits_sent));
+    applied.push_back(static_cast<int64_t>(r.deposits_applied));
+    rejected.push_back(static_cast<int64_t>(r.deposits_rejected));
+  }
+  // The columns of series.csv, in its order (report::kSeriesHeader).
+  py::dict d;
+  d["tick"] = column(std::move(tick));
+  d["coverage"] = column(std::move(coverage));
+  d["covered_cells"] = column(std::move(covered));
+  d["targets_found"] = column(std::move(found));
+  d["uavs_reporting"] = column(std::move(reporting));
+  d["deposits_sent"] = column(std::move(sent));
+  d["deposits_applied"] = column(std::move(applied));
+  d["deposits_rejected"] = column(std::move(rejected));
+  return d;
+}
+
+py::dict track_columns(const std::vector<core::TrackRow>& rows) {
+  std::vector<int64_t> tick, uav;
+  std::vector<double> x, y;
+  py::list role;
+  for (const auto& r : rows) {
+    tick.push_back(r.tick);
+    uav.push_back(r.uav);
+    x.push_back(r.x);
+    y.push_back(r.y);
+    role.append(core::role_name(r.role));
+  }
+  // The columns of tracks.csv (report::kTracksHeader); role as names.
+  py::dict d;
+  d["tick"] = column(std::move(tick));
+  d["uav"] = column(std::move(uav));
+  d["x"] = column(std::move(x));
+  d["y"] = column(std::move(y));
+  d["role"] = role;
+  return d;
+}
+
+// Every layer of the final field as a (rows, cols) float32 array, [y, x].
+py::dict field_arrays(const core::Simulator& sim) {
+  const core::ScenarioConfig& s = sim.scenario();
+  const auto layers = core::policy_traits(s).layers;
+  py::dict d;
+  for (std::size_t l = 0; l < layers.size(); ++l) {
+    std::vector<float> v(static_cast<std::size_t>(s.width) * static_cast<std::size_t>(s.height));
+    for (int32_t y = 0; y < s.height; ++y) {
+      for (int32_t x = 0; x < s.width; ++x) {
+        v[static_cast<std::size_t>(y) * static_cast<std::size_t>(s.width) + static_cast<std::size_t>(x)] =
+            sim.field_value(static_cast<int>(l), core::Cell{x, y});
+      }
+    }
+    d[py::str(layers[l])] = give_away(std::move(v), {s.height, s.width});
+  }
+  return d;
+}
+
+struct SimRequest {
+  std::string faults;  // schedule in ticks, added to the scenario's own (as --faults)
+  bool tracks = false;
+  std::string record;   // console recording path, "" none
+  std::string out_dir;  // OUT files as `pheromesh sim` writes them, "" none
+};
+
+// One simulation, as `pheromesh sim` runs it (cli/sim_command.cpp); the
+// GIL is released while the simulator runs, so threads run simulations in
+// parallel (pheromesh.sweep).
+py::dict simulate(const core::ScenarioConfig& s, const SimRequest& req) {
+  core::FaultSchedule faults = s.faults;
+  if (!req.faults.empty()) {
+    auto parsed = core::parse_fault_schedule(req.faults, "faults=");
+    if (!parsed) throw py::value_error(parsed.error().message);
+    core::merge_fault_schedules(faults, parsed.value());
+  }
+  auto sim = std::make_unique<core::Simulator>(s);
+  py::list notes;
+  if (!faults.empty()) {
+    auto n = sim->set_faults(faults, s.standby);
+    if (!n) throw py::value_error("faults: " + n.error().message);
+    for (const auto& note : n.value()) notes.append(note);
+  }
+  if (req.tracks) sim->keep_tracks();
+  std::unique_ptr<frontdoor::SimRecording> recording;
+  if (!req.record.empty()) {
+    if (const auto parent = fs::path(req.record).parent_path(); !parent.empty()) {
+      std::error_code ec;
+      fs::create_directories(parent, ec);
+      if (ec)
+        throw py::value_error("record=" + req.record + ": cannot create " + parent.string() + ": " + ec.message());
+    }
+    auto opened = frontdoor::SimRecording::open(req.record, *sim);
+    if (!opened) throw py::value_error("record=" + req.record + ": " + opened.error().message);
+    recording = std::move(opened).value();
+  }
+  bool recording_failed = false;
+  const auto t0 = std::chrono::steady_clock::now();
+  {
+    py::gil_scoped_release unlocked;
+    sim->run([&](uint32_t k) {
+      if (recording && !recording_failed && !recording->after_tick(k)) recording_failed = true;
+    });
+  }
+  const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const nlohmann::json metrics = frontdoor::sim_metrics(*sim, secs);
+  py::dict out;
+  if (recording) {
+    auto closed = recording->close();
+    if (recording_failed || !closed) {
+      throw std::runtime_error("the recording " + req.record + " is incomplete: " +
+                               (closed ? std::string("a frame could not be written") : closed.error().message));
+    }
+    out["record_frames"] = recording->frames();
+    out["record_bytes"] = closed.value();
+  }
+  if (!req.out_dir.empty()) {
+    std::string error;
+    if (!report::write_json(req.out_dir, "metrics.json", metrics, error)) throw std::runtime_error(error);
+    if (const std::string e = frontdoor::write_sim_outputs(*sim, req.out_dir); !e.empty()) throw std::runtime_error(e);
+  }
+  out["metrics_json"] = metrics.dump();
+  // The row of `pheromesh sweep`'s runs.csv (its metric columns).
+  out["scalars"] = frontdoor::flatten_scalars(metrics);
+  out["series"] = series_columns(sim->recorder().tick_series());
+  out["tracks"] = req.tracks ? py::object(track_columns(sim->recorder().tracks())) : py::object(py::none());
+  out["fields"] = field_arrays(*sim);
+  out["notes"] = notes;
+  return out;
+}
+
+}  // namespace
+
+}  // namespace pheromesh::python
+
+PYBIND11_MODULE(_pheromesh, m) {
+  using namespace pheromesh;
+  using namespace pheromesh::python;
+  m.doc() =
+      "The C++ side of the pheromesh package (the core, linked in). Use the package: `import pheromesh` "
+      "(docs/python.md).";
+
+  py::register_exception<ScenarioFailure>(m, "ScenarioFailure", PyExc_ValueError);
+
+  py::class_<core::ScenarioConfig>(m, "LoadedScenario",
+                                   "A scenario as the core validated it (read-only; pheromesh.Scenario wraps it).")
+      .def_readonly("name", &core::ScenarioConfig::name)
+      .def_readonly("source_path", &core::ScenarioConfig::source_path)
+      .def_readonly("text", &core::ScenarioConfig::source_text,
+                    "The scenario's text, with the overrides applied when there are any.")
+      .def_readonly("width", &core::ScenarioConfig::width, "[cell]")
+      .def_readonly("height", &core::ScenarioConfig::height, "[cell]")
+      .def_readonly("tile_size", &core::ScenarioConfig::tile_size, "[cell]")
+      .def_readonly("regions_x", &core::ScenarioConfig::regions_x)
+      .def_readonly("regions_y", &core::ScenarioConfig::regions_y)
+      .def_readonly("uavs", &core::ScenarioConfig::uavs)
+      .def_readonly("ticks", &core::ScenarioConfig::ticks)
+      .def_readonly("tick_rate_hz", &core::ScenarioConfig::tick_rate_hz, "[Hz]")
+      .def_readonly("seed", &core::ScenarioConfig::seed)
+      .def_readonly("standby", &core::ScenarioConfig::standby)
+      .def_readonly("policy", &core::ScenarioConfig::policy)
+      .def_property_readonly(
+          "targets",
+          [](const core::ScenarioConfig& s) {
+            std::vector<std::pair<int32_t, int32_t>> t;
+            for (const auto& c : s.targets) t.emplace_back(c.x, c.y);
+            return t;
+          },
+          "(x, y) of every target [cell].")
+      .def_property_readonly(
+          "layers", [](const core::ScenarioConfig& s) { return core::policy_traits(s).layers; },
+          "The names of the policy's pheromone layers, in the order of Result.fields.")
+      .def_property_readonly(
+          "fault_count", [](const core::ScenarioConfig& s) { return s.faults.events.size(); },
+          "The number of the scenario's own `fault:` events.");
+
+  m.def("resolve_scenario", &resolve, py::arg("path_or_name"),
+        "A file as given, or the file of a shipped scenario's name (as `pheromesh run NAME`); "
+        "raises ScenarioFailure naming the shipped scenarios.");
+  m.def("shipped_scenarios", &shipped_scenarios, "The names of the shipped scenarios this installation finds.");
+  m.def(
+      "scenario_dirs",
+      [] {
+        std::vector<std::string> out;
+        for (const auto& d : scenario_dirs()) out.push_back(d.string());
+        return out;
+      },
+      "The folders searched for shipped scenarios, in order.");
+  m.def("program_path", &program_path, "Where the `pheromesh` program of this build or installation is.");
+  m.def("load_scenario", &load, py::arg("path"), py::arg("overrides"),
+        "Loads and validates a scenario file with overrides [(path, value, source)], as `pheromesh --set`; "
+        "raises ScenarioFailure.");
+  m.def(
+      "simulate",
+      [](const core::ScenarioConfig& s, const std::string& faults, bool tracks, const std::string& record,
+         const std::string& out_dir) {
+        return simulate(s, SimRequest{faults, tracks, record, out_dir});
+      },
+      py::arg("scenario"), py::arg("faults") = "", py::arg("tracks") = false, py::arg("record") = "",
+      py::arg("out_dir") = "",
+      "Runs the in-process simulator; returns metrics_json, scalars, series, tracks, fields, notes "
+      "(pheromesh.sim wraps it).");
+
+  // pypolicy: bind_policy_types(m) goes here. The Python-policy library
+  // (pheromesh_pypolicy, issue 27 deliverable 3) registers the view/actions
+  // types and the UavPolicy / PlaceModel bases on this module; python/CMakeLists.txt
+  // defines PHEROMESH_WITH_PYPOLICY when it links that library.
+#ifdef PHEROMESH_WITH_PYPOLICY
+  pheromesh::pypolicy::bind_policy_types(m);
+#endif
+}
