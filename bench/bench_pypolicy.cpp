@@ -13,12 +13,14 @@
 //    same for both).
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <memory>
 #include <regex>
 #include <string>
+#include <vector>
 #include <fstream>
 #include <sstream>
 #include <filesystem>
@@ -52,7 +54,17 @@ core::ScenarioConfig load(const std::string& path) {
   return std::move(s).value();
 }
 
-// Nanoseconds per step() of UAV 0 over a view of every tile of the map.
+// Each figure is the median of this many timings: a shared machine's
+// scheduler moves single ones by a factor of two and more.
+constexpr int kRepeats = 5;
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v[v.size() / 2];
+}
+
+// Nanoseconds per step() of UAV 0 over a view of every tile of the map (the
+// median of kRepeats timings of `steps` steps).
 double ns_per_step(const core::ScenarioConfig& s, int steps) {
   const core::MapGeometry geo = s.geometry();
   const core::World world(geo, s.obstacles, s.targets);
@@ -81,21 +93,29 @@ double ns_per_step(const core::ScenarioConfig& s, int steps) {
     }
   };
   run(steps / 10 + 1, 0);  // warm up (tick 0 starts the policy)
-  const auto t0 = Clock::now();
-  run(steps, 1000);
-  const auto t1 = Clock::now();
-  return std::chrono::duration<double, std::nano>(t1 - t0).count() / steps;
+  std::vector<double> ns;
+  for (int rep = 0; rep < kRepeats; ++rep) {
+    const auto t0 = Clock::now();
+    run(steps, 1000 + static_cast<uint32_t>(rep * steps));
+    const auto t1 = Clock::now();
+    ns.push_back(std::chrono::duration<double, std::nano>(t1 - t0).count() / steps);
+  }
+  return median(ns);
 }
 
-// Nanoseconds per UAV tick of a whole simulator run.
+// Nanoseconds per UAV tick of a whole simulator run (the median of kRepeats runs).
 double ns_per_uav_tick_sim(core::ScenarioConfig s, uint32_t ticks) {
   s.ticks = ticks;
   const uint32_t uavs = s.uavs;
-  core::Simulator sim(std::move(s));
-  const auto t0 = Clock::now();
-  sim.run();
-  const auto t1 = Clock::now();
-  return std::chrono::duration<double, std::nano>(t1 - t0).count() / (static_cast<double>(uavs) * (ticks + 1));
+  std::vector<double> ns;
+  for (int rep = 0; rep < kRepeats; ++rep) {
+    core::Simulator sim(s);
+    const auto t0 = Clock::now();
+    sim.run();
+    const auto t1 = Clock::now();
+    ns.push_back(std::chrono::duration<double, std::nano>(t1 - t0).count() / (static_cast<double>(uavs) * (ticks + 1)));
+  }
+  return median(ns);
 }
 
 }  // namespace
@@ -133,10 +153,12 @@ int main(int argc, char** argv) {
   const double step_py = ns_per_step(py, steps);
   const double sim_cpp = ns_per_uav_tick_sim(cpp, ticks);
   const double sim_py = ns_per_uav_tick_sim(py, ticks);
-  std::printf("repulsive coverage, one UAV's step() over a full view (%d steps each):\n", steps);
+  std::printf("repulsive coverage, one UAV's step() over a full view (median of %d x %d steps each):\n", kRepeats,
+              steps);
   std::printf("  C++ plugin  %10.0f ns/step\n  Python      %10.0f ns/step\n  ratio       %10.1f x\n", step_cpp,
               step_py, step_py / step_cpp);
-  std::printf("the example scenario in the simulator (%u UAVs, %u ticks; place agents included):\n", cpp.uavs, ticks);
+  std::printf("the example scenario in the simulator (%u UAVs, %u ticks, median of %d runs; place agents included):\n",
+              cpp.uavs, ticks, kRepeats);
   std::printf("  C++ plugin  %10.0f ns/UAV tick\n  Python      %10.0f ns/UAV tick\n  ratio       %10.1f x\n", sim_cpp,
               sim_py, sim_py / sim_cpp);
   return 0;
