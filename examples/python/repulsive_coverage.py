@@ -53,6 +53,18 @@ class RepulsiveCoverage(pheromesh.UavPolicy):
         # diagonals included (sqrt 2).
         return pheromesh.Traits([layer], sensor_radius=config["sensor_radius"], view_radius=2.0, max_step=1.5)
 
+    @classmethod
+    def field_summary(cls, config, field):
+        # The final field's numbers for metrics.json "field", as the C++ plugin's.
+        total = 0.0
+        marked = 0.0
+        for y in range(field.height):
+            for x in range(field.width):
+                v = field.value(0, x, y)
+                total += v
+                marked += 1.0 if v > 0.0 else 0.0
+        return {"repulsion_total": total, "cells_marked": marked}
+
     def __init__(self, config, uav):
         super().__init__(config, uav)
         self.x, self.y = uav.start

@@ -56,10 +56,11 @@ TEST(Cli, APythonPolicyGivesTheFieldOfTheSameAlgorithmInCppByteForByte) {
   EXPECT_EQ(a["policy"], "repulsive_coverage");
   EXPECT_EQ(b["policy"], "repulsive_coverage_py");
   for (const char* key : {"ticks", "uavs", "coverage", "covered_cells", "targets_found", "deposits_sent",
-                          "deposits_applied"}) {
+                          "deposits_applied", "field"}) {
     EXPECT_EQ(a[key], b[key]) << key;
   }
   EXPECT_GT(b["covered_cells"].get<int>(), 100);
+  EXPECT_GT(b["field"]["cells_marked"].get<double>(), 100.0);  // the class's field_summary
   const std::string field = slurp(dir + "/cpp/final_field.txt");
   EXPECT_GT(field.size(), 1000U);
   EXPECT_TRUE(slurp(dir + "/py/final_field.txt") == field) << "final_field.txt differs";

@@ -10,6 +10,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <stdexcept>
 #include <string>
 
@@ -61,6 +62,12 @@ class Walk(pheromesh.UavPolicy):
 
     def explode(self, tick):
         raise KeyError(f"walk exploded at tick {tick}")
+
+    @classmethod
+    def field_summary(cls, config, field):
+        if config["label"] == "bad-summary":
+            raise ValueError("no summary today")
+        return {"cells": field.width * field.height, "corner": field.value(0, field.width - 1, field.height - 1)}
 
 class NotAPolicy:
     pass
@@ -157,6 +164,23 @@ TEST_F(PythonScenario, AnExceptionInAStepCarriesPythonsTraceback) {
     EXPECT_NE(what.find("Traceback (most recent call last):"), std::string::npos) << what;
     EXPECT_NE(what.find("in explode"), std::string::npos) << what;
     EXPECT_NE(what.find("KeyError: 'walk exploded at tick 5'"), std::string::npos) << what;
+  }
+}
+
+TEST_F(PythonScenario, TheClassJudgesTheFinalField) {
+  auto s = load_scenario(write(walk()));
+  ASSERT_TRUE(s.ok()) << s.error().message;
+  const FieldLookup lookup = [](int layer, Cell c) { return static_cast<float>(layer * 1000 + c.x * 100 + c.y); };
+  const std::map<std::string, double> m = field_summary(s.value(), lookup);
+  EXPECT_EQ(m, (std::map<std::string, double>{{"cells", 320.0}, {"corner", 1915.0}}));
+  auto bad = load_scenario(write(walk() + "    config { key: \"label\" text: \"bad-summary\" }"));
+  ASSERT_TRUE(bad.ok()) << bad.error().message;
+  try {
+    field_summary(bad.value(), lookup);
+    FAIL() << "field_summary did not throw";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("field_summary raised:"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("ValueError: no summary today"), std::string::npos) << e.what();
   }
 }
 

@@ -20,6 +20,7 @@ namespace pheromesh::pypolicy {
 namespace {
 
 using detail::ActionsHandle;
+using detail::FieldHandle;
 using detail::UavHandle;
 using detail::ViewHandle;
 
@@ -109,6 +110,12 @@ class UavPolicy:
 
     def step(self, view, actions):
         raise NotImplementedError(f"{type(self).__name__}.step(view, actions) is not written")
+
+    @classmethod
+    def field_summary(cls, config, field):
+        """Numbers that judge a run's final field, for metrics.json "field":
+        {name: number}. field.value(layer, x, y) reads it. None by default."""
+        return {}
 )PY";
 
 }  // namespace
@@ -239,6 +246,21 @@ void bind_policy_types(py::module_& m) {
           },
           py::arg("kind"), py::arg("values"),
           "Sends one message to the swarm this tick (the last call wins); needs broadcasts = True on the class");
+
+  py::class_<FieldHandle>(m, "Field", "A run's final field; valid during field_summary only")
+      .def_readonly("width", &FieldHandle::width)
+      .def_readonly("height", &FieldHandle::height)
+      .def(
+          "value",
+          [](const FieldHandle& h, int layer, int32_t x, int32_t y) {
+            if (h.lookup == nullptr) throw std::runtime_error("a Field is valid only during field_summary");
+            if (layer < 0 || layer >= h.layers || x < 0 || y < 0 || x >= h.width || y >= h.height) {
+              throw py::value_error("value: no layer " + std::to_string(layer) + " or cell (" + std::to_string(x) +
+                                    ", " + std::to_string(y) + ") in the field");
+            }
+            return (*h.lookup)(layer, core::Cell{x, y});
+          },
+          py::arg("layer"), py::arg("x"), py::arg("y"), "The pheromone of `layer` at cell (x, y)");
 
   py::class_<UavHandle>(m, "Uav", "One UAV: its id, the map, the world it senses and its random stream")
       .def_readonly("id", &UavHandle::id)

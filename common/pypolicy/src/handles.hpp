@@ -36,4 +36,11 @@ struct UavHandle {
   core::Rng rng{0};  // the UAV's stream: core::stream_seed(seed, "python-uav", id)
 };
 
+// pheromesh.Field: the final field, during a call of field_summary.
+struct FieldHandle {
+  const core::FieldLookup* lookup = nullptr;
+  int32_t width = 0, height = 0;
+  int layers = 0;
+};
+
 }  // namespace pheromesh::pypolicy::detail

@@ -35,6 +35,7 @@ namespace pheromesh::pypolicy {
 namespace {
 
 using detail::ActionsHandle;
+using detail::FieldHandle;
 using detail::UavHandle;
 using detail::ViewHandle;
 
@@ -239,6 +240,35 @@ std::unique_ptr<core::UavPolicy> entry_make_uav(const core::ScenarioConfig& s, c
 std::unique_ptr<core::PlaceModel> entry_make_place(const core::ScenarioConfig& s, const core::MapGeometry& geo,
                                                    core::RegionId region) {
   return core::make_declared_layers_place(config_of(s).layers, geo, region);
+}
+
+// The class's field_summary(config, field): {name: number} for metrics.json "field".
+std::map<std::string, double> entry_field_summary(const core::ScenarioConfig& s, const core::FieldLookup& value) {
+  const PythonPolicyConfig& c = config_of(s);
+  py::gil_scoped_acquire gil;
+  auto field = std::make_unique<FieldHandle>();
+  field->lookup = &value;
+  field->width = s.width;
+  field->height = s.height;
+  field->layers = static_cast<int>(c.layers.size());
+  FieldHandle* raw = field.get();
+  py::object handle = py::cast(std::move(field));
+  std::map<std::string, double> out;
+  try {
+    const py::object summary = c.cls.attr("field_summary")(py::dict(c.config), handle);
+    raw->lookup = nullptr;
+    if (!summary.is_none()) {
+      for (const auto& [k, v] : py::dict(summary)) out[py::str(k).cast<std::string>()] = v.cast<double>();
+    }
+  } catch (py::error_already_set& e) {
+    raw->lookup = nullptr;
+    throw std::runtime_error("python policy " + c.qualified + ": field_summary raised:\n" + describe(e));
+  } catch (const py::cast_error& e) {
+    raw->lookup = nullptr;
+    throw std::runtime_error("python policy " + c.qualified +
+                             ": field_summary must return a dict {name: number}: " + std::string(e.what()));
+  }
+  return out;
 }
 
 // The Python policies this process loaded, by name; the class each name is of.
@@ -450,7 +480,7 @@ Errors build(const core::PythonPolicyBlock& block, core::PluginConfig& config, c
           .broadcasts = broadcasts,
           .make_uav = &entry_make_uav,
           .make_place = &entry_make_place,
-          .field_summary = nullptr,
+          .field_summary = &entry_field_summary,
       };
     }
   }
