@@ -3,7 +3,9 @@
 // examples/repulsive_coverage. `pheromesh sim` of both on the same map and
 // seed gives the same field byte for byte; flown in lockstep as real
 // processes (every one embedding an interpreter) it gives the simulator's
-// numbers on every backend (domain 55); an exception raised in Python stops
+// numbers on every backend (domain 55), and so does a random walk on the
+// UAVs' own streams with a place model in Python (tests/data/python, domain
+// 59); an exception raised in Python stops
 // the simulator (exit 4) and the UAV processes with Python's traceback
 // (domain 58).
 #include <regex>
@@ -72,6 +74,11 @@ TEST(PythonPolicy, FliesInLockstepAndGivesTheSimulatorsNumbers) {
   // Every process (6 UAVs, 4 place agents, the ground station) imports the module.
   expect_lockstep_matches_sim("../examples/python/repulsive-coverage-python.textproto", "--ticks 40", 55,
                               "python-lockstep");
+}
+
+TEST(PythonPolicy, AWalkOnItsRandomStreamWithAPlaceModelInPythonFliesInLockstepAndGivesTheSimulatorsNumbers) {
+  // tests/data/python/counted_walk.py: uav.rng and a pheromesh.PlaceModel, in every process.
+  expect_lockstep_matches_sim("../tests/data/python/counted-walk.textproto", "--ticks 30", 59, "python-place-lockstep");
 }
 
 TEST(Cli, AnExceptionInAPythonStepStopsTheRunWithItsTraceback) {

@@ -72,6 +72,27 @@ class Walk(pheromesh.UavPolicy):
 class NotAPolicy:
     pass
 
+class Count(pheromesh.PlaceModel):
+    """Counts the deposits on each cell."""
+    def __init__(self, config, region):
+        super().__init__(config, region)
+        self.cells = {}
+    def apply(self, deposit, tick):
+        assert self.region.x <= deposit.x < self.region.x + self.region.w, "a deposit of another region"
+        key = (deposit.layer, deposit.x, deposit.y)
+        self.cells[key] = self.cells.get(key, 0.0) + 1.0
+        return None
+    def value(self, layer, x, y):
+        return self.cells.get((layer, x, y), 0.0)
+
+class Counted(Walk):
+    name = "counted_" + __name__
+    place_model = Count
+
+class BadPlace(Walk):
+    name = "badplace_" + __name__
+    place_model = int
+
 class Forgetful(Walk):
     name = "forgetful_" + __name__
     def step(self, view, actions):
@@ -182,6 +203,25 @@ TEST_F(PythonScenario, TheClassJudgesTheFinalField) {
     EXPECT_NE(std::string(e.what()).find("field_summary raised:"), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find("ValueError: no summary today"), std::string::npos) << e.what();
   }
+}
+
+TEST_F(PythonScenario, APlaceModelInPythonKeepsTheLayers) {
+  auto s = load_scenario(write(walk("Counted"), 30));
+  ASSERT_TRUE(s.ok()) << s.error().message;
+  Simulator sim(s.value());
+  sim.run();
+  // Every step deposits once; Count counts them where they fell.
+  double total = 0.0;
+  for (int32_t y = 0; y < s->height; ++y) {
+    for (int32_t x = 0; x < s->width; ++x) total += sim.field_value(0, {x, y});
+  }
+  EXPECT_EQ(total, static_cast<double>(sim.uav_steps()));
+  EXPECT_GT(total, 100.0);
+  const std::string e = error_of(load_scenario(write(walk("BadPlace"))));
+  EXPECT_NE(e.find("field 'policy.python.class': " + module_ +
+                   ".BadPlace.place_model must be a subclass of pheromesh.PlaceModel (or None)"),
+            std::string::npos)
+      << e;
 }
 
 TEST_F(PythonScenario, AStepThatSaysNothingOfWhereTheUavIsIsAnError) {

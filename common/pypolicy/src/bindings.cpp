@@ -21,6 +21,7 @@ namespace {
 
 using detail::ActionsHandle;
 using detail::FieldHandle;
+using detail::RegionHandle;
 using detail::UavHandle;
 using detail::ViewHandle;
 
@@ -99,6 +100,9 @@ class UavPolicy:
 
     name = None
     parameters = {}
+    # A subclass of pheromesh.PlaceModel that keeps the layers in the place
+    # agents; None: pheromesh's declared layers, as traits(config) gives them.
+    place_model = None
 
     @classmethod
     def traits(cls, config):
@@ -116,6 +120,31 @@ class UavPolicy:
         """Numbers that judge a run's final field, for metrics.json "field":
         {name: number}. field.value(layer, x, y) reads it. None by default."""
         return {}
+
+
+class PlaceModel:
+    """What a place agent does with the deposits of its region (docs/python.md).
+
+    pheromesh makes one instance per region, cls(config, region), and each
+    tick calls apply(deposit, tick) for every deposit received, then
+    step(tick); value(layer, x, y) reads a cell of the region (for the tiles
+    the UAVs read and the final field). No halo exchange: a Python place
+    model sees its own region only (nothing diffuses across a border).
+    """
+
+    def __init__(self, config, region):
+        self.config = config
+        self.region = region
+
+    def apply(self, deposit, tick):
+        """Applies one deposit; returns None, or why it was refused (a str)."""
+        raise NotImplementedError(f"{type(self).__name__}.apply(deposit, tick) is not written")
+
+    def step(self, tick):
+        """The layers' update of the tick, after its deposits."""
+
+    def value(self, layer, x, y):
+        raise NotImplementedError(f"{type(self).__name__}.value(layer, x, y) is not written")
 )PY";
 
 }  // namespace
@@ -247,6 +276,24 @@ void bind_policy_types(py::module_& m) {
           py::arg("kind"), py::arg("values"),
           "Sends one message to the swarm this tick (the last call wins); needs broadcasts = True on the class");
 
+  py::class_<core::DepositMsg>(m, "Deposit", "A deposit a UAV sent to a place agent")
+      .def_readonly("uav", &core::DepositMsg::uav)
+      .def_readonly("seq", &core::DepositMsg::seq)
+      .def_readonly("tick", &core::DepositMsg::tick)
+      .def_readonly("kind", &core::DepositMsg::kind, "0.. (messages.hpp DepositKind); actions.deposit sends LayerAdd")
+      .def_readonly("layer", &core::DepositMsg::layer)
+      .def_property_readonly("x", [](const core::DepositMsg& d) { return d.cell.x; })
+      .def_property_readonly("y", [](const core::DepositMsg& d) { return d.cell.y; })
+      .def_readonly("amount", &core::DepositMsg::amount);
+
+  py::class_<RegionHandle>(m, "Region", "The region of the map a place model keeps (cells x..x+w-1, y..y+h-1)")
+      .def_readonly("id", &RegionHandle::id)
+      .def_property_readonly("x", [](const RegionHandle& r) { return r.rect.x0; })
+      .def_property_readonly("y", [](const RegionHandle& r) { return r.rect.y0; })
+      .def_property_readonly("w", [](const RegionHandle& r) { return r.rect.w; })
+      .def_property_readonly("h", [](const RegionHandle& r) { return r.rect.h; })
+      .def_readonly("layers", &RegionHandle::layers, "How many layers the policy declares");
+
   py::class_<FieldHandle>(m, "Field", "A run's final field; valid during field_summary only")
       .def_readonly("width", &FieldHandle::width)
       .def_readonly("height", &FieldHandle::height)
@@ -309,7 +356,7 @@ void bind_policy_types(py::module_& m) {
 
   py::exec(kPythonPart, m.attr("__dict__"));
   // The classes defined by exec belong to this module, not to __main__.
-  for (const char* name : {"Layer", "Traits", "UavPolicy"}) m.attr(name).attr("__module__") = m.attr("__name__");
+  for (const char* name : {"Layer", "Traits", "UavPolicy", "PlaceModel"}) m.attr(name).attr("__module__") = m.attr("__name__");
   detail::remember_policy_module(m);
 }
 

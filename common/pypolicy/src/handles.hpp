@@ -36,6 +36,13 @@ struct UavHandle {
   core::Rng rng{0};  // the UAV's stream: core::stream_seed(seed, "python-uav", id)
 };
 
+// pheromesh.Region: the region a place model keeps.
+struct RegionHandle {
+  uint32_t id = 0;
+  core::Rect rect{};
+  int layers = 0;
+};
+
 // pheromesh.Field: the final field, during a call of field_summary.
 struct FieldHandle {
   const core::FieldLookup* lookup = nullptr;

@@ -36,6 +36,7 @@ namespace {
 
 using detail::ActionsHandle;
 using detail::FieldHandle;
+using detail::RegionHandle;
 using detail::UavHandle;
 using detail::ViewHandle;
 
@@ -124,6 +125,7 @@ struct PythonPolicyConfig final : core::PolicyConfig {
   std::string name;
   std::string qualified;  // "module.Class", for messages
   py::object cls;
+  py::object place_cls;  // the class's place_model, or None
   py::dict config;
   std::vector<core::LayerSpec> layers;
   core::PolicyTraits traits;
@@ -135,6 +137,7 @@ struct PythonPolicyConfig final : core::PolicyConfig {
   ~PythonPolicyConfig() override {
     py::gil_scoped_acquire gil;
     cls.release().dec_ref();
+    place_cls.release().dec_ref();
     config.release().dec_ref();
   }
 };
@@ -237,9 +240,89 @@ std::unique_ptr<core::UavPolicy> entry_make_uav(const core::ScenarioConfig& s, c
   return std::make_unique<PythonUav>(s, geo, world, id);
 }
 
+// One region's place model written in Python (the class's place_model): no
+// halo exchange, its own region only.
+class PythonPlace final : public core::PlaceModel {
+ public:
+  PythonPlace(const core::ScenarioConfig& s, const core::MapGeometry& geo, core::RegionId region)
+      : config_(std::static_pointer_cast<const PythonPolicyConfig>(s.policy_config)), region_(region) {
+    const PythonPolicyConfig& c = *config_;
+    py::gil_scoped_acquire gil;
+    auto r = std::make_unique<RegionHandle>();
+    r->id = region;
+    r->rect = geo.region_rect(region);
+    r->layers = static_cast<int>(c.layers.size());
+    try {
+      obj_ = c.place_cls(py::dict(c.config), py::cast(std::move(r)));
+      apply_ = obj_.attr("apply");
+      step_ = obj_.attr("step");
+      value_ = obj_.attr("value");
+    } catch (py::error_already_set& e) {
+      throw std::runtime_error(where() + ": the place model's __init__ raised:\n" + describe(e));
+    }
+  }
+  PythonPlace(const PythonPlace&) = delete;
+  PythonPlace& operator=(const PythonPlace&) = delete;
+  ~PythonPlace() override {
+    py::gil_scoped_acquire gil;
+    for (py::object* o : {&apply_, &step_, &value_, &obj_}) o->release().dec_ref();
+  }
+
+  std::optional<std::string> apply(const core::DepositMsg& d, uint32_t tick,
+                                   std::vector<core::TargetEventMsg>& /*events*/) override {
+    py::gil_scoped_acquire gil;
+    try {
+      const py::object r = apply_(py::cast(d, py::return_value_policy::copy), tick);
+      if (r.is_none()) return std::nullopt;
+      return py::str(r).cast<std::string>();
+    } catch (py::error_already_set& e) {
+      throw std::runtime_error(where() + " tick " + std::to_string(tick) + ": apply raised:\n" + describe(e));
+    }
+  }
+  core::HaloRing begin_step(uint32_t tick, std::vector<core::TargetEventMsg>& /*events*/) override {
+    tick_ = tick;
+    return core::HaloRing{region_, {}, {}};  // empty rings: nothing crosses a border
+  }
+  void accept_halo(const core::Rect& /*neighbour_rect*/, const core::HaloRing& /*ring*/) override {}
+  void finish_step() override {
+    py::gil_scoped_acquire gil;
+    try {
+      step_(tick_);
+    } catch (py::error_already_set& e) {
+      throw std::runtime_error(where() + " tick " + std::to_string(tick_) + ": step raised:\n" + describe(e));
+    }
+  }
+  [[nodiscard]] float value(int layer, core::Cell c) const override {
+    py::gil_scoped_acquire gil;
+    try {
+      return value_(layer, c.x, c.y).cast<float>();
+    } catch (py::error_already_set& e) {
+      throw std::runtime_error(where() + ": value raised:\n" + describe(e));
+    } catch (const py::cast_error&) {
+      throw std::runtime_error(where() + ": value(layer, x, y) must return a number");
+    }
+  }
+
+ private:
+  [[nodiscard]] std::string where() const {
+    return "python place model " + config_->qualified + " (region " + std::to_string(region_) + ")";
+  }
+  std::shared_ptr<const PythonPolicyConfig> config_;
+  core::RegionId region_;
+  uint32_t tick_ = 0;
+  py::object obj_, apply_, step_, value_;
+};
+
 std::unique_ptr<core::PlaceModel> entry_make_place(const core::ScenarioConfig& s, const core::MapGeometry& geo,
                                                    core::RegionId region) {
-  return core::make_declared_layers_place(config_of(s).layers, geo, region);
+  const PythonPolicyConfig& c = config_of(s);
+  bool python_place = false;
+  {
+    py::gil_scoped_acquire gil;
+    python_place = !c.place_cls.is_none();
+  }
+  if (python_place) return std::make_unique<PythonPlace>(s, geo, region);
+  return core::make_declared_layers_place(c.layers, geo, region);
 }
 
 // The class's field_summary(config, field): {name: number} for metrics.json "field".
@@ -465,6 +548,13 @@ Errors build(const core::PythonPolicyBlock& block, core::PluginConfig& config, c
     }
   }
   core::declare_layers(c->traits, c->layers);
+  c->place_cls = py::getattr(cls, "place_model", py::none());
+  if (!c->place_cls.is_none() &&
+      (!py::isinstance<py::type>(c->place_cls) ||
+       PyObject_IsSubclass(c->place_cls.ptr(), api.attr("PlaceModel").ptr()) != 1)) {
+    PyErr_Clear();
+    return {{"class", qualified + ".place_model must be a subclass of pheromesh.PlaceModel (or None)"}};
+  }
   const bool broadcasts = py::hasattr(cls, "broadcasts") && py::bool_(cls.attr("broadcasts"));
 
   {

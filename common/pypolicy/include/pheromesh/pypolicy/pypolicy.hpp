@@ -8,7 +8,8 @@
 // The class subclasses pheromesh.UavPolicy; pheromesh makes one instance per
 // UAV, `MyPolicy(config, uav)`, and calls `step(view, actions)` every tick.
 // The place agents keep the layers the class declares (its `traits`) with
-// pheromesh's declared layers (core/declared_layers.hpp).
+// pheromesh's declared layers (core/declared_layers.hpp), or with the class's
+// `place_model`, a subclass of pheromesh.PlaceModel.
 //
 // A program that may run such a policy links this library and calls
 // enable_python_policies() at start; the core itself never links Python
@@ -35,8 +36,11 @@ namespace pheromesh::pypolicy {
 inline constexpr const char* kEmbeddedModule = "_pheromesh_embedded";
 
 // Registers into `m` the types a Python policy sees:
-//   UavPolicy  the base class of a policy (name, parameters, traits(config),
-//              __init__(config, uav), step(view, actions));
+//   UavPolicy  the base class of a policy (name, parameters, place_model,
+//              traits(config), __init__(config, uav), step(view, actions),
+//              field_summary(config, field));
+//   PlaceModel the base class of a place model (__init__(config, region),
+//              apply(deposit, tick), step(tick), value(layer, x, y));
 //   Layer, Traits  what traits(config) returns;
 //   View       what a UAV knows at the start of its tick (core::UavView);
 //   Actions    what it does in its tick (core::UavActions);
@@ -44,6 +48,7 @@ inline constexpr const char* kEmbeddedModule = "_pheromesh_embedded";
 //              targets, and its random stream;
 //   Rng        the per-UAV random stream (core/rng.hpp);
 //   UavState, Broadcast  a neighbour's state, a broadcast;
+//   Deposit, Region, Field  what a place model and field_summary see;
 //   step_of, rotate  the heading helpers of core/heading.hpp.
 // The embedded module calls it; an extension module may call it instead (once
 // per process: pybind11 registers each C++ type once). The first module it
