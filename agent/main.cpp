@@ -5,9 +5,15 @@
 
 #include "pheromesh/core/scenario.hpp"
 #include "uav_app.hpp"
+#ifdef PHEROMESH_WITH_PYTHON
+#include "pheromesh/pypolicy/enable.hpp"  // policies written in Python (docs/python.md)
+#endif
 
 int main(int argc, char** argv) {
   using namespace pheromesh;
+#ifdef PHEROMESH_WITH_PYTHON
+  pypolicy::enable_python_policies();
+#endif
   agent::UavConfig cfg;
   CLI::App app{
       "pheromesh UAV agent: one UAV running the Shao 2020 ACO search. It reads the pheromone tiles around "

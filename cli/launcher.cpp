@@ -4,6 +4,8 @@
 #include <sys/resource.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -161,7 +163,7 @@ void announce(const RunPlan& plan, const core::ScenarioConfig& s) {
       s.name, o.scenario, plan.regions, plan.uavs, plan.ticks, o.clock,
       plan.lockstep() ? "" : fmt::format(" at {:.1f} Hz", plan.rate_hz), plan.dds.describe(), o.domain, o.dds_profile,
       o.out_dir);
-  if (s.plugin) spdlog::info("policy {}", policy_summary(s));
+  if (s.plugin || s.python) spdlog::info("policy {}", policy_summary(s));
   if (const auto attach = cells_attach_command(plan)) spdlog::info("watch it from this host with: {}", *attach);
   if (!plan.multi_host()) return;
   uint32_t places_here = 0, uavs_here = 0;
@@ -248,6 +250,19 @@ int Launcher::run() {
     // Every process this launcher starts loads the plugin and refuses a
     // library other than the one loaded here (plugin_loader.hpp).
     setenv(core::kPluginPinEnv, scenario->plugin->sha256.c_str(), 1);
+  }
+  if (scenario->python) {
+    // Every process this launcher starts imports the module this one
+    // imported, even when it reads the scenario from another folder (the
+    // overridden copy): its package root goes first on $PHEROMESH_PYTHONPATH.
+    fs::path root = fs::path(scenario->python->file).parent_path();
+    for (std::size_t dots = std::count(scenario->python->module.begin(), scenario->python->module.end(), '.');
+         dots > 0; --dots) {
+      root = root.parent_path();
+    }
+    const char* before = std::getenv("PHEROMESH_PYTHONPATH");
+    const std::string path = root.string() + (before != nullptr && *before != '\0' ? ":" + std::string(before) : "");
+    setenv("PHEROMESH_PYTHONPATH", path.c_str(), 1);
   }
   fs::create_directories(fs::path(plan.options.out_dir) / "logs");
   // Never leave an earlier run's files beside this one's (docs/outputs.md).

@@ -17,6 +17,9 @@
 #include "scenario_paths.hpp"
 #include "sim_command.hpp"
 #include "sweep_command.hpp"
+#ifdef PHEROMESH_WITH_PYTHON
+#include "pheromesh/pypolicy/enable.hpp"  // policies written in Python (docs/python.md)
+#endif
 
 namespace {
 
@@ -68,6 +71,9 @@ int validate(const std::string& path, const pheromesh::cli::OverrideFlags& overr
 
 int main(int argc, char** argv) {
   using namespace pheromesh;
+#ifdef PHEROMESH_WITH_PYTHON
+  pypolicy::enable_python_policies();
+#endif
   CLI::App app{
       "pheromesh: a UAV swarm coordinating through digital pheromones over DDS.\n\n"
       "Examples:\n"

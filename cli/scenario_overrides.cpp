@@ -133,6 +133,10 @@ std::string overrides_summary(const core::ScenarioConfig& s) {
 }
 
 std::string policy_summary(const core::ScenarioConfig& s) {
+  if (s.python) {
+    return s.policy + " from the Python class " + s.python->module + "." + s.python->class_name + " (" + s.python->file +
+           ")";
+  }
   if (!s.plugin) return s.policy;
   return s.policy + " from the plugin " + s.plugin->library + " (SHA-256 " + s.plugin->sha256 + ", " +
          (s.plugin->pinned_by.empty() ? std::string("not pinned") : "pinned by " + s.plugin->pinned_by) + ")";

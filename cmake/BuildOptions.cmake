@@ -7,11 +7,15 @@ option(PHEROMESH_TEST_CORE_ONLY "Add the ctest CoreOnly.BuildsAndSimulatesWithou
 option(PHEROMESH_FUZZ "Build the libFuzzer harnesses of fuzz/ (clang only; docs/fuzzing.md)" OFF)
 set(PHEROMESH_SANITIZER "" CACHE STRING "Sanitizers to build with: '', 'address,undefined' or 'thread'")
 set_property(CACHE PHEROMESH_SANITIZER PROPERTY STRINGS "" "address,undefined" "thread")
-# The Python package (python/, docs/python.md): on by default when pybind11
-# and Python's headers are found (Debian: python3-dev python3-pybind11
-# python3-numpy); off by default in a sanitized or fuzzing build (the
-# interpreter would need the sanitizer runtime preloaded); never in a
-# core-only build. ON without pybind11 and the headers is an error.
+# Python (docs/python.md): the package `import pheromesh` (python/) and
+# policies written in Python, which pheromesh, pheromesh-uav, pheromesh-place
+# and pheromesh-ground run in an embedded interpreter (common/pypolicy). On by
+# default when pybind11 and Python's headers and embedding library are found
+# (Debian: python3-dev python3-pybind11 python3-numpy); off by default in a
+# sanitized or fuzzing build (the interpreter would need the sanitizer runtime
+# preloaded); never in a core-only build (there a scenario naming a Python
+# policy is refused: "built without Python support"). ON without pybind11 and
+# the headers is an error. The core never links Python.
 set(pheromesh_python_default OFF)
 set(pheromesh_python_possible OFF)
 set(PHEROMESH_PYTHON_OFF_REASON "a core-only build has no Python package")
@@ -23,7 +27,7 @@ if(NOT PHEROMESH_CORE_ONLY)
     set(Python_EXECUTABLE /usr/bin/python3 CACHE FILEPATH "The Python the package is built for")
   endif()
   set(PYBIND11_FINDPYTHON ON)
-  find_package(Python 3 QUIET COMPONENTS Interpreter Development.Module)
+  find_package(Python 3 QUIET COMPONENTS Interpreter Development.Module Development.Embed)
   find_package(pybind11 2.6 CONFIG QUIET)
   if(Python_FOUND AND pybind11_FOUND)
     set(pheromesh_python_possible ON)
@@ -38,7 +42,7 @@ if(NOT PHEROMESH_CORE_ONLY)
       "pybind11 or Python's headers not found (apt install python3-dev python3-pybind11 python3-numpy)")
   endif()
 endif()
-option(PHEROMESH_PYTHON "Build the Python package pheromesh (python/, docs/python.md)" ${pheromesh_python_default})
+option(PHEROMESH_PYTHON "Build the Python package pheromesh and Python policies (python/, common/pypolicy/, docs/python.md)" ${pheromesh_python_default})
 if(PHEROMESH_PYTHON AND NOT pheromesh_python_possible)
   message(FATAL_ERROR "PHEROMESH_PYTHON=ON, but ${PHEROMESH_PYTHON_OFF_REASON}")
 elseif(NOT PHEROMESH_PYTHON)

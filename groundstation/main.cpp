@@ -10,9 +10,15 @@
 
 #include "ground_app.hpp"
 #include "pheromesh/core/scenario.hpp"
+#ifdef PHEROMESH_WITH_PYTHON
+#include "pheromesh/pypolicy/enable.hpp"  // policies written in Python (docs/python.md)
+#endif
 
 int main(int argc, char** argv) {
   using namespace pheromesh;
+#ifdef PHEROMESH_WITH_PYTHON
+  pypolicy::enable_python_policies();
+#endif
   groundstation::GroundConfig cfg;
   CLI::App app{"pheromesh ground station: watches the whole swarm, prints progress, and on SIGINT/SIGTERM "
                "writes OUT/metrics.json (coverage, targets found, revisit response, deposit accounting). With --http "

@@ -5,9 +5,15 @@
 
 #include "pheromesh/core/scenario.hpp"
 #include "place_app.hpp"
+#ifdef PHEROMESH_WITH_PYTHON
+#include "pheromesh/pypolicy/enable.hpp"  // policies written in Python (docs/python.md)
+#endif
 
 int main(int argc, char** argv) {
   using namespace pheromesh;
+#ifdef PHEROMESH_WITH_PYTHON
+  pypolicy::enable_python_policies();
+#endif
   placeagent::PlaceConfig cfg;
   CLI::App app{
       "pheromesh place agent: owns the pheromone tiles of one map region, applies the deposits UAVs send it, "

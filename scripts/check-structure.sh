@@ -34,6 +34,8 @@ report "the report includes only the core" "$(inc common/report | grep -vE '"phe
 report "the front door includes only the core, report and console" \
   "$(inc common/frontdoor | grep -vE '"pheromesh/(core|report|console|frontdoor)/')"
 report "the core includes no report" "$(inc common/core | grep -E '"pheromesh/report/')"
+report "the core includes no Python (pypolicy registers a hook: core/python_policy.hpp)" \
+  "$(inc common/core | grep -E '"pheromesh/pypolicy/'; grep -rlE --include='*.hpp' --include='*.cpp' '#[[:space:]]*include[[:space:]]*[<"](Python\.h|pybind11/)' common/core)"
 report "auth, bus and runtime include nothing of the console" "$(inc common/auth common/bus common/runtime | grep -E '"pheromesh/console/')"
 report "UAV and place shells include no console and no room" "$(inc agent placeagent | grep -E "\"pheromesh/(console|$papers)/")"
 report "the ground station includes no room" "$(inc groundstation | grep -E "\"pheromesh/($papers)/")"

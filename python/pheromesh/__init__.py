@@ -48,8 +48,13 @@ else:
     __all__ = ["Scenario", "ScenarioError", "ScenarioIssue", "Result", "sim", "sweep", "run", "replay", "load",
                "program", "shipped_scenarios", "EMBEDDED"]
 
-    # pypolicy: the Python-policy API (UavPolicy, PlaceModel, the view and
-    # action types) is re-exported here once the extension binds it
-    # (pheromesh::pypolicy::bind_policy_types in python/src/module.cpp), e.g.
-    #   from ._pheromesh import UavPolicy, PlaceModel
-    #   __all__ += ["UavPolicy", "PlaceModel"]
+    # The Python-policy API (docs/python.md, "Python policies"), as the
+    # extension binds it (pheromesh::pypolicy::bind_policy_types): the same
+    # names a pheromesh process offers from _pheromesh_embedded above, so a
+    # policy module imports and runs unchanged in a notebook's sim() and in
+    # the UAV and place-agent processes.
+    from ._pheromesh import (Actions, Broadcast, Deposit, Field, Layer, PlaceModel, Region, Rng,  # noqa: F401
+                             Traits, Uav, UavPolicy, UavState, View, rotate, step_of)
+
+    __all__ += ["UavPolicy", "PlaceModel", "Layer", "Traits", "View", "Actions", "Uav", "Rng", "UavState",
+                "Broadcast", "Deposit", "Region", "Field", "step_of", "rotate"]

@@ -37,9 +37,8 @@
 #include "pheromesh/frontdoor/sim_recording.hpp"
 #include "pheromesh/report/report.hpp"
 
-#ifdef PHEROMESH_WITH_PYPOLICY
-#include "pheromesh/pypolicy/bind.hpp"
-#endif
+#include "pheromesh/pypolicy/enable.hpp"
+#include "pheromesh/pypolicy/pypolicy.hpp"
 
 namespace py = pybind11;
 namespace fs = std::filesystem;
@@ -326,11 +325,9 @@ PYBIND11_MODULE(_pheromesh, m) {
       "Runs the in-process simulator; returns metrics_json, scalars, series, tracks, fields, notes "
       "(pheromesh.sim wraps it).");
 
-  // pypolicy: bind_policy_types(m) goes here. The Python-policy library
-  // (pheromesh_pypolicy, issue 27 deliverable 3) registers the view/actions
-  // types and the UavPolicy / PlaceModel bases on this module; python/CMakeLists.txt
-  // defines PHEROMESH_WITH_PYPOLICY when it links that library.
-#ifdef PHEROMESH_WITH_PYPOLICY
+  // Python policies (common/pypolicy): their types (UavPolicy, PlaceModel,
+  // the view, the actions) on this module, and the hook that lets this
+  // process's scenario parser run `policy { python { ... } }` in sim().
   pheromesh::pypolicy::bind_policy_types(m);
-#endif
+  pheromesh::pypolicy::enable_python_policies();
 }

@@ -32,9 +32,11 @@ std::set<std::string> policy_members() {
   if (policy == nullptr || policy->FindOneofByName("kind") == nullptr) return {};
   std::set<std::string> names;
   const auto* kind = policy->FindOneofByName("kind");
-  // `plugin` names a library, whose entry the loader adds (test_policy_plugin.cpp).
+  // `plugin` names a library, whose entry the loader adds (test_policy_plugin.cpp);
+  // `python` a Python class, whose entry the Python hook adds (tests/pypolicy/).
   for (int i = 0; i < kind->field_count(); ++i) {
-    if (kind->field(i)->name() != "plugin") names.insert(kind->field(i)->name());
+    const std::string& name = kind->field(i)->name();
+    if (name != "plugin" && name != "python") names.insert(name);
   }
   return names;
 }

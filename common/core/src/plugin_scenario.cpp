@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "pheromesh/core/plugin_loader.hpp"
+#include "pheromesh/core/python_policy.hpp"
 #include "pheromesh/core/sha256.hpp"
 #include "scenario_internal.hpp"
 
@@ -42,10 +43,12 @@ const char* kind_name(pb::PluginParameter::ValueCase k) {
   return "no value";
 }
 
-// PluginConfig over the scenario's `config` entries.
+// PluginConfig over the scenario's `config` entries (of a `plugin` block or
+// of a `python` one: both are repeated PluginParameter, field `config`).
+template <class Block>
 class ScenarioPluginConfig final : public PluginConfig {
  public:
-  ScenarioPluginConfig(const pb::PolicyPlugin& msg, const Node& n, Validator& v) : msg_(msg), n_(n), v_(v) {
+  ScenarioPluginConfig(const Block& msg, const Node& n, Validator& v) : msg_(msg), n_(n), v_(v) {
     read_.assign(static_cast<std::size_t>(msg.config_size()), false);
   }
 
@@ -110,7 +113,7 @@ class ScenarioPluginConfig final : public PluginConfig {
     return i;
   }
 
-  const pb::PolicyPlugin& msg_;
+  const Block& msg_;
   const Node& n_;
   Validator& v_;
   std::vector<bool> read_;
@@ -118,7 +121,8 @@ class ScenarioPluginConfig final : public PluginConfig {
 };
 
 // Keys present, unique, and each with a value; false when not.
-bool check_parameters(const pb::PolicyPlugin& msg, const Node& n, Validator& v) {
+template <class Block>
+bool check_parameters(const Block& msg, const Node& n, Validator& v) {
   bool ok = true;
   for (int i = 0; i < msg.config_size(); ++i) {
     const pb::PluginParameter& p = msg.config(i);
@@ -205,7 +209,7 @@ void build_plugin_policy(const pb::PolicyPlugin& msg, const Node& n, Validator& 
   cfg.policy = std::string(l.plugin->name);
   cfg.plugin = ScenarioConfig::PluginSource{l.library, l.sha256, pins->empty() ? std::string() : pins->front().by};
 
-  ScenarioPluginConfig config(msg, n, v);
+  ScenarioPluginConfig<pb::PolicyPlugin> config(msg, n, v);
   try {
     l.plugin->parse(config, cfg);
   } catch (const std::exception& e) {
@@ -234,6 +238,43 @@ void build_plugin_policy(const pb::PolicyPlugin& msg, const Node& n, Validator& 
   } catch (const std::exception& e) {
     v.fail(n, "name", "the plugin's traits threw: " + std::string(e.what()));
   }
+}
+
+void build_python_policy(const pb::PolicyPython& msg, const Node& n, Validator& v, ScenarioConfig& cfg,
+                         const PluginSite* site) {
+  bool ok = true;
+  if (!msg.has_module() || msg.module().empty()) {
+    v.required(n, "module");
+    ok = false;
+  }
+  if (!msg.has_class_() || msg.class_().empty()) {
+    v.required(n, "class");
+    ok = false;
+  }
+  ok = check_parameters(msg, n, v) && ok;
+  if (!ok) return;
+  const PythonPolicyHook* hook = python_policy_hook();
+  if (hook == nullptr) {
+    v.fail(n, std::string(kNoPythonSupport));
+    return;
+  }
+  PythonPolicyBlock block{msg.module(), msg.class_(), site == nullptr ? std::string() : site->scenario_dir};
+  ScenarioPluginConfig<pb::PolicyPython> config(msg, n, v);
+  std::vector<PythonPolicyError> errors;
+  try {
+    errors = hook->build(block, config, cfg);
+  } catch (const std::exception& e) {
+    errors.push_back({"class", e.what()});
+  }
+  for (const auto& e : errors) {
+    if (e.field.empty()) {
+      v.fail(n, e.message);
+    } else {
+      v.fail(n, e.field.c_str(), e.message);
+    }
+  }
+  if (!errors.empty()) return;
+  config.fail_unread(cfg.policy);
 }
 
 }  // namespace pheromesh::core::scenario_detail

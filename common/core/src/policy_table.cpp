@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "pheromesh/core/plugin_loader.hpp"
+#include "pheromesh/core/python_policy.hpp"
 
 namespace pheromesh::core {
 
@@ -38,8 +39,18 @@ const PolicyEntry* find_policy(std::string_view name) {
   for (const PolicyEntry* e : kBuiltin) {
     if (e->name == name) return e;
   }
-  return find_plugin_policy(name);  // the plugins this process loaded (plugin_loader.hpp)
+  if (const PolicyEntry* e = find_plugin_policy(name)) return e;  // the plugins this process loaded (plugin_loader.hpp)
+  // The Python policies this process loaded (python_policy.hpp).
+  const PythonPolicyHook* hook = python_policy_hook();
+  return hook == nullptr ? nullptr : hook->find(name);
 }
+
+namespace {
+const PythonPolicyHook* g_python_hook = nullptr;  // set once at a program's start
+}  // namespace
+
+void set_python_policy_hook(const PythonPolicyHook* hook) { g_python_hook = hook; }
+const PythonPolicyHook* python_policy_hook() { return g_python_hook; }
 
 std::string policy_names() {
   std::string out;

@@ -110,6 +110,10 @@ void build_policy(const pb::Scenario& msg, const Node& root, Validator& v, Scena
     build_plugin_policy(p.plugin(), pn.child("plugin"), v, cfg, site);
     return;
   }
+  if (p.has_python()) {
+    build_python_policy(p.python(), pn.child("python"), v, cfg, site);
+    return;
+  }
   const PolicyEntry* entry = find_policy(member->name());
   if (entry == nullptr) {
     v.fail(pn, member->name().c_str(),

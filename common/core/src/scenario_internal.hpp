@@ -220,6 +220,11 @@ struct PluginSite {
 void build_plugin_policy(const pb::PolicyPlugin& msg, const Node& n, Validator& v, ScenarioConfig& cfg,
                          const PluginSite* site);
 
+// scenario.policy.python: hands the block to the Python hook
+// (python_policy.hpp), or refuses it in a program without one.
+void build_python_policy(const pb::PolicyPython& msg, const Node& n, Validator& v, ScenarioConfig& cfg,
+                         const PluginSite* site);
+
 // parse_scenario and load_scenario: `site` null for text without a file.
 Result<ScenarioConfig> parse_text(std::string_view text, const std::string& display_name,
                                   const ScenarioLimits& limits, const ScenarioOverrides& overrides,

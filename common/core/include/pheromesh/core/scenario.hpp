@@ -100,6 +100,14 @@ struct ScenarioConfig {
     std::string pinned_by;  // what pinned it: "" (nothing), "the scenario", "$PHEROMESH_PLUGIN_SHA256"
   };
   std::optional<PluginSource> plugin;
+  // Where the policy's code came from when it is written in Python (`policy {
+  // python { ... } }`, python_policy.hpp); empty otherwise.
+  struct PythonSource {
+    std::string module;      // as the scenario names it
+    std::string class_name;  // the class in it
+    std::string file;        // the module's file, as Python imported it
+  };
+  std::optional<PythonSource> python;
   // The config of `policy`; null for the Shao search, which has none beyond
   // `layers` and `aco`. Immutable and shared by copies of the scenario.
   std::shared_ptr<const PolicyConfig> policy_config;
