@@ -194,7 +194,9 @@ class FullCommands final : public ProcessCommands {
                   "process is discovered by every other one, and hundreds at once flood a small host")
         ->check(CLI::Range(0.0, 10000.0))
         ->capture_default_str();
-    r->add_option("--progress", ro.progress_s, "Seconds between the ground station's progress lines")->capture_default_str();
+    r->add_option("--progress", ro.progress_s, "Seconds between the ground station's progress lines [s], > 0")
+        ->check(CLI::Range(0.01, 86400.0))
+        ->capture_default_str();
     r->add_option("--start-timeout", ro.start_timeout_s,
                   "Lockstep: how long the conductor waits before tick 0 for every process to report ready; past it the "
                   "run is refused (exit 1) rather than run without them [s] (default: 60 s + 1 s per process)")
@@ -341,8 +343,12 @@ class FullCommands final : public ProcessCommands {
     at->add_option("--http-bind", ao.http_bind, "Address the console listens on (0.0.0.0: every interface)")
         ->capture_default_str();
     at->add_option("--record", ao.record, "Record the console to this file (for pheromesh replay)");
-    at->add_option("--timeout", ao.timeout_s, "Longest wait for a running swarm [s]")->capture_default_str();
-    at->add_option("--progress", ao.progress_s, "Seconds between progress lines")->capture_default_str();
+    at->add_option("--timeout", ao.timeout_s, "Longest wait for a running swarm [s], > 0")
+        ->check(CLI::Range(0.01, 86400.0))
+        ->capture_default_str();
+    at->add_option("--progress", ao.progress_s, "Seconds between progress lines [s], > 0")
+        ->check(CLI::Range(0.01, 86400.0))
+        ->capture_default_str();
     at->add_option("--process-log-level", ao.log_level,
                    "Log level of the monitor: trace, debug, info, warn, error, critical or off")
         ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error", "critical", "off"}))

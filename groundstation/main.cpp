@@ -24,7 +24,9 @@ int main(int argc, char** argv) {
   app.add_option("--out", cfg.out_dir,
                  "Output folder (metrics.json, series.csv, final_field.txt/.csv), relative to the current directory")
       ->capture_default_str();
-  app.add_option("--progress", cfg.progress_period_s, "Seconds between progress lines [s]")->capture_default_str();
+  app.add_option("--progress", cfg.progress_period_s, "Seconds between progress lines [s], > 0")
+      ->check(CLI::Range(0.01, 86400.0))
+      ->capture_default_str();
   app.add_option("--phase-timeout", cfg.phase_timeout_s, "Lockstep: longest wait for one phase [s]")->capture_default_str();
   app.add_option("--start-timeout", cfg.start_timeout_s,
                  "Lockstep: longest wait before tick 0 for every UAV and place agent to report that it matched the "

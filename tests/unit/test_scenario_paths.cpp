@@ -91,7 +91,7 @@ TEST_F(ScenarioPaths, AFolderNamedLikeAScenarioIsNotTakenForIt) {
 TEST_F(ScenarioPaths, AFolderGivenAsTheScenarioIsRefusedAsAFolderNotAsAMissingFile) {
   fs::create_directories(root_ / "work/runs");
   fs::current_path(root_ / "work");
-  for (const std::string arg : {"runs", "runs/", (root_ / "work/runs").string()}) {
+  for (const std::string& arg : std::vector<std::string>{"runs", "runs/", (root_ / "work/runs").string()}) {
     const auto r = resolve_scenario(arg, dirs());
     ASSERT_FALSE(r.ok()) << arg;
     EXPECT_EQ(r.error().message.rfind("'" + arg + "' is a directory; give a scenario file (.textproto) or a shipped "
