@@ -104,7 +104,8 @@ int main(int argc, char** argv) {
   std::string validate_path;
   auto* v = app.add_subcommand(
       "validate",
-      "Check a scenario file; errors name the file, line and field. Also refused: strings that are not UTF-8, and "
+      "Check a scenario file and print its policy, size, run and cost, with a warning for each block its policy "
+      "ignores; errors name the file, line and field. Also refused: strings that are not UTF-8, and "
       "scenarios beyond the limits on map cells, regions, processes and estimated memory (raise them with "
       "$PHEROMESH_MAX_MAP_CELLS, _REGIONS, _PROCESSES, _PROCESS_MIB, _SWARM_MIB; docs/scenario-format.md)");
   v->add_option("SCENARIO", validate_path, cli::kScenarioArgHelp)
