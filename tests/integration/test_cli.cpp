@@ -41,6 +41,7 @@ TEST(Cli, HelpAndVersionAnswerInEveryProgram) {
   const Output sim = run(kBin + "/pheromesh help sim");
   EXPECT_EQ(sim.exit_code, 0) << sim.text;
   EXPECT_NE(sim.text.find("--ticks"), std::string::npos) << sim.text;
+  EXPECT_NE(sim.text.find("Usage: pheromesh sim [OPTIONS] SCENARIO"), std::string::npos) << sim.text;
   const Output scale = run(kBin + "/pheromesh help bench scale");
   EXPECT_EQ(scale.exit_code, 0) << scale.text;
   EXPECT_NE(scale.text.find("--sizes"), std::string::npos) << scale.text;

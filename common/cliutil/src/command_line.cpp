@@ -118,7 +118,9 @@ std::optional<int> walk_subcommands(CLI::App& app, int argc, const char* const* 
         }
         shown = next;
       }
-      std::cout << shown->help();
+      // As `pheromesh bench scale --help` prints it: the usage line names the
+      // whole command.
+      std::cout << (shown == &app ? app.help() : shown->help(command_path(*shown->get_parent())));
       return 0;
     }
     CLI::App* next = find_subcommand(*cur, tok);
