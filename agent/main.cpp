@@ -3,6 +3,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "pheromesh/cliutil/command_line.hpp"
 #include "pheromesh/core/scenario.hpp"
 #include "uav_app.hpp"
 #ifdef PHEROMESH_WITH_PYTHON
@@ -16,9 +17,10 @@ int main(int argc, char** argv) {
 #endif
   agent::UavConfig cfg;
   CLI::App app{
-      "pheromesh UAV agent: one UAV running the Shao 2020 ACO search. It reads the pheromone tiles around "
-      "it, decides, moves, senses targets and obstacles, deposits to the place agents there and publishes "
-      "its state.",
+      "pheromesh UAV agent: one UAV flying the scenario's policy (policy { ... }: any policy of the policy "
+      "table, the Shao 2020 search when the file names none, or a plugin's). Each tick it reads the "
+      "pheromone around it, decides, moves, senses targets and obstacles, deposits to the place agents "
+      "there and publishes its state. `pheromesh run` starts one per UAV.",
       "pheromesh-uav"};
   runtime::add_common_options(app, cfg.common);
   app.add_option("--id", cfg.id, "UAV id (0-based; also picks its start cell and random stream)")->required();
@@ -31,7 +33,7 @@ int main(int argc, char** argv) {
   app.add_option(
       "--seq-base", cfg.seq_base,
       "Number deposits from this value + 1 (pheromesh run gives a restarted UAV a base above its earlier life's)");
-  CLI11_PARSE(app, argc, argv);
+  if (auto rc = cli::parse_command_line(app, argc, argv)) return *rc;
 
   const std::string name = "uav-" + std::to_string(cfg.id);
   return runtime::run_process(name, cfg.common, [&](core::ScenarioConfig scenario, std::unique_ptr<bus::Bus> bus) {

@@ -25,7 +25,7 @@
 #include "pheromesh/core/sample_summary.hpp"
 #include "pheromesh/core/simulator.hpp"
 #include "pheromesh/runtime/process.hpp"
-#include "scenario_paths.hpp"
+#include "pheromesh/cliutil/scenario_paths.hpp"
 
 namespace pheromesh::cli {
 

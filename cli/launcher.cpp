@@ -20,6 +20,7 @@
 #include "pheromesh/bus/bus.hpp"
 #include "pheromesh/bus/security.hpp"
 #include "pheromesh/core/atomic_file.hpp"
+#include "pheromesh/core/scenario_warnings.hpp"
 #include "pheromesh/core/plugin_loader.hpp"
 #include "pheromesh/core/scenario.hpp"
 #include "pheromesh/runtime/process.hpp"
@@ -240,6 +241,7 @@ int Launcher::run() {
     return 2;
   }
   for (const auto& o : scenario->overrides) spdlog::info("override: {}", describe_override(o));
+  for (const auto& w : core::scenario_warnings(scenario.value())) spdlog::warn("{}", w);
   auto planned = plan_run(o_, scenario.value());
   if (const auto* refused = std::get_if<Refusal>(&planned)) {
     spdlog::error("{}", refused->message);

@@ -10,11 +10,15 @@
 
 #include "experiment_command.hpp"
 #include "pheromesh/auth/control.hpp"
+#include "pheromesh/cliutil/command_line.hpp"
+#include "pheromesh/cliutil/scenario_paths.hpp"
 #include "pheromesh/core/scenario.hpp"
+#include "pheromesh/core/policy_table.hpp"
 #include "pheromesh/core/scenario_limits.hpp"
+#include "pheromesh/core/scenario_warnings.hpp"
 #include "process_commands.hpp"
 #include "scenario_overrides.hpp"
-#include "scenario_paths.hpp"
+#include "pheromesh/cliutil/scenario_paths.hpp"
 #include "sim_command.hpp"
 #include "sweep_command.hpp"
 #ifdef PHEROMESH_WITH_PYTHON
@@ -47,13 +51,19 @@ int validate(const std::string& path, const pheromesh::cli::OverrideFlags& overr
     return 2;
   }
   const auto geo = s->geometry();
-  std::printf("%s: OK\n  name        %s\n  map         %d x %d cells, tiles %d x %d of %d cells, %u regions (%d x %d)\n"
-              "  obstacles   %zu rectangles\n  targets     %zu\n  uavs        %u\n  run         %u ticks at %.1f Hz, seed %llu\n"
-              "  revisit     every %u ticks\n",
-              path.c_str(), s->name.c_str(), s->width, s->height, geo.tiles_x(), geo.tiles_y(), s->tile_size,
-              geo.region_count(), s->regions_x, s->regions_y, s->obstacles.size(), s->targets.size(), s->uavs, s->ticks,
-              s->tick_rate_hz, static_cast<unsigned long long>(s->seed), s->aco.revisit_period);
-  std::printf("  policy      %s\n", pheromesh::cli::policy_summary(s.value()).c_str());
+  std::printf("%s: OK\n  name        %s\n  policy      %s\n"
+              "  map         %d x %d cells, tiles %d x %d of %d cells, %u regions (%d x %d)\n"
+              "  obstacles   %zu rectangles\n  targets     %zu\n  uavs        %u\n  run         %u ticks at %.1f Hz, seed %llu\n",
+              path.c_str(), s->name.c_str(), pheromesh::cli::policy_summary(s.value()).c_str(), s->width, s->height,
+              geo.tiles_x(), geo.tiles_y(), s->tile_size, geo.region_count(), s->regions_x, s->regions_y,
+              s->obstacles.size(), s->targets.size(), s->uavs, s->ticks, s->tick_rate_hz,
+              static_cast<unsigned long long>(s->seed));
+  // shao.aco.revisit_period is the Shao policies' (Shao 2020 Sec. 4.2); the
+  // others never read it.
+  if (const auto* entry = pheromesh::core::find_policy(s->policy); entry != nullptr && entry->parse_scenario_fields) {
+    std::printf("  revisit     every %u ticks\n", s->aco.revisit_period);
+  }
+  for (const auto& w : pheromesh::core::scenario_warnings(s.value())) std::printf("  warning     %s\n", w.c_str());
   std::printf("%s", pheromesh::cli::overrides_summary(s.value()).c_str());
   print_faults(s->faults);
   // The figures the limits are checked against (scenario_limits.hpp).
@@ -88,13 +98,20 @@ int main(int argc, char** argv) {
       "goes\n",
       "pheromesh"};
   app.require_subcommand(1);
+  app.footer("`pheromesh help SUBCOMMAND` (or `pheromesh SUBCOMMAND --help`) explains one.");
+  cli::add_version_flag(app);
   std::string log_level = "info";
-  app.add_option("--log-level", log_level, "Launcher log level")->capture_default_str();
+  app.add_option("--log-level", log_level,
+                 "Log level of this program: trace, debug, info, warn, error, critical or off (run's processes: "
+                 "--process-log-level)")
+      ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error", "critical", "off"}))
+      ->capture_default_str();
 
   std::string validate_path;
   auto* v = app.add_subcommand(
       "validate",
-      "Check a scenario file; errors name the file, line and field. Also refused: strings that are not UTF-8, and "
+      "Check a scenario file and print its policy, size, run and cost, with a warning for each block its policy "
+      "ignores; errors name the file, line and field. Also refused: strings that are not UTF-8, and "
       "scenarios beyond the limits on map cells, regions, processes and estimated memory (raise them with "
       "$PHEROMESH_MAX_MAP_CELLS, _REGIONS, _PROCESSES, _PROCESS_MIB, _SWARM_MIB; docs/scenario-format.md)");
   v->add_option("SCENARIO", validate_path, cli::kScenarioArgHelp)
@@ -163,8 +180,9 @@ Examples:
   sw->add_option("--dds", swo.dds, "With --distributed: the vendor(s) of the processes (cyclone, fastdds, mixed)")
       ->check(CLI::IsMember({"cyclone", "fastdds", "mixed"}))
       ->capture_default_str();
-  sw->add_option("--domain", swo.domain, "With --distributed: the DDS domain of the processes (0: the launcher's)")
-      ->check(CLI::Range(0U, 232U));
+  sw->add_option("--domain", swo.domain, "With --distributed: the DDS domain of the processes")
+      ->check(CLI::Range(0U, 232U))
+      ->capture_default_str();
   sw->footer(std::string(cli::kSweepFooter) + "\n" + cli::kSetFooter);
 
   cli::ExperimentOptions eo;
@@ -176,14 +194,18 @@ Examples:
                "Run every experiment (each with --runs or its paper's count) and write OUT/summary.md: every paper "
                "figure beside ours with its verdict, the variants' gains and the wall times (OUT: --out, default "
                "out/experiments)");
-  ex->add_option("--runs", eo.runs, "Monte Carlo runs (default: the paper's count)");
+  ex->add_option("--runs", eo.runs, "Monte Carlo runs, >= 1 (default: the paper's count)")
+      ->check(CLI::Range(1U, 1000000U));
   ex->add_option("--out", eo.out_dir, "Output folder (default out/experiments/NAME)");
   ex->add_flag("--distributed", eo.distributed,
                "Also fly each run of the Monte Carlo as real processes (pheromesh run --clock lockstep) and check "
                "that its numbers equal the simulator's for the same seed; use a small --runs");
   ex->add_option("--dds", eo.dds, "With --distributed: the vendor(s) of the processes (cyclone, fastdds, mixed)")
+      ->check(CLI::IsMember({"cyclone", "fastdds", "mixed"}))
       ->capture_default_str();
-  ex->add_option("--domain", eo.domain, "With --distributed: the DDS domain of the processes (0: the launcher's)");
+  ex->add_option("--domain", eo.domain, "With --distributed: the DDS domain of the processes")
+      ->check(CLI::Range(0U, 232U))
+      ->capture_default_str();
   cli::add_override_options(*ex, eo.overrides, {});
   ex->footer(R"(Examples:
   pheromesh experiment --list                       every experiment and our verdict on the paper's claims
@@ -203,7 +225,7 @@ Examples:
   // run, attach, bench, security, replay (or, built core-only, what they need).
   const auto processes = cli::add_process_commands(app);
 
-  CLI11_PARSE(app, argc, argv);
+  if (auto rc = cli::parse_command_line(app, argc, argv)) return *rc;
   auto logger = spdlog::stderr_color_mt("pheromesh");
   logger->set_pattern("%H:%M:%S.%e %^%-5l%$ [%n] %v");
   logger->set_level(spdlog::level::from_str(log_level));

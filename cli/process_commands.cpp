@@ -11,11 +11,12 @@
 #include "bench_soak.hpp"
 #include "launcher.hpp"
 #include "pheromesh/bus/bus.hpp"
+#include "pheromesh/cliutil/command_line.hpp"
 #include "pheromesh/runtime/process.hpp"
 #include "process_commands.hpp"
 #include "replay_command.hpp"
 #include "scenario_overrides.hpp"
-#include "scenario_paths.hpp"
+#include "pheromesh/cliutil/scenario_paths.hpp"
 #include "security_command.hpp"
 
 namespace pheromesh::cli {
@@ -119,7 +120,9 @@ class FullCommands final : public ProcessCommands {
     auto* ticks = cli::add_override_options(
         *r, ro.overrides, {cli::FieldFlag::Uavs, cli::FieldFlag::Ticks, cli::FieldFlag::Seed, cli::FieldFlag::Rate});
     r->add_option("--duration", ro.overrides.duration_s,
-                  "Seconds to fly instead of --ticks [s]: --set run.ticks=ceil(S x the run's tick rate)")
+                  "How long to fly instead of --ticks: a number with an optional unit ms, s, m or h (plain: seconds), "
+                  "e.g. 20, 90s, 10m; --set run.ticks=ceil(seconds x the run's tick rate)")
+        ->transform(cli::duration_validator(/*to_seconds=*/true))
         ->excludes(ticks);
     r->add_option("--out", ro.out_dir, "Output folder (metrics.json, logs/), relative to the current directory")
         ->capture_default_str();
@@ -173,7 +176,10 @@ class FullCommands final : public ProcessCommands {
                   "station; same numbers as `pheromesh sim`)")
         ->check(CLI::IsMember({"realtime", "lockstep"}))
         ->capture_default_str();
-    r->add_option("--process-log-level", ro.log_level, "Log level of the spawned processes")->capture_default_str();
+    r->add_option("--process-log-level", ro.log_level,
+                  "Log level of the spawned processes: trace, debug, info, warn, error, critical or off")
+        ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error", "critical", "off"}))
+        ->capture_default_str();
     r->add_option("--lease-ms", ro.lease_ms,
                   "Liveliness lease of every process [ms]: how fast a dead process is noticed; raise it on an "
                   "overloaded host, where a stalled process can miss a short lease and be reported lost")
@@ -188,7 +194,9 @@ class FullCommands final : public ProcessCommands {
                   "process is discovered by every other one, and hundreds at once flood a small host")
         ->check(CLI::Range(0.0, 10000.0))
         ->capture_default_str();
-    r->add_option("--progress", ro.progress_s, "Seconds between the ground station's progress lines")->capture_default_str();
+    r->add_option("--progress", ro.progress_s, "Seconds between the ground station's progress lines [s], > 0")
+        ->check(CLI::Range(0.01, 86400.0))
+        ->capture_default_str();
     r->add_option("--start-timeout", ro.start_timeout_s,
                   "Lockstep: how long the conductor waits before tick 0 for every process to report ready; past it the "
                   "run is refused (exit 1) rather than run without them [s] (default: 60 s + 1 s per process)")
@@ -284,10 +292,20 @@ class FullCommands final : public ProcessCommands {
     bk->add_option("--processes", bko.processes, "UAVs + place agents + the ground station (the UAVs fill the rest)")
         ->check(CLI::Range(3U, 5000U))
         ->capture_default_str();
-    bk->add_option("--duration", bko.duration, "How long the swarm runs: 1h, 10m, 90s")->capture_default_str();
-    bk->add_option("--fault-every", bko.fault_every, "One fault per period (0: none)")->capture_default_str();
-    bk->add_option("--sample-every", bko.sample_every, "Sampling period of /proc")->capture_default_str();
-    bk->add_option("--warmup", bko.warmup, "Samples before this are left out of the growth fits")->capture_default_str();
+    bk->add_option("--duration", bko.duration,
+                   "How long the swarm runs: a number with an optional unit ms, s, m or h (plain: seconds), e.g. 1h, "
+                   "10m, 90s (as `pheromesh run --duration`)")
+        ->check(cli::duration_validator(false))
+        ->capture_default_str();
+    bk->add_option("--fault-every", bko.fault_every, "One fault per period, a duration as --duration (0: no faults)")
+        ->check(cli::duration_validator(false))
+        ->capture_default_str();
+    bk->add_option("--sample-every", bko.sample_every, "Sampling period of /proc, a duration as --duration")
+        ->check(cli::duration_validator(false))
+        ->capture_default_str();
+    bk->add_option("--warmup", bko.warmup, "Samples before this are left out of the growth fits, a duration")
+        ->check(cli::duration_validator(false))
+        ->capture_default_str();
     bk->add_option("--rate", bko.rate_hz, "Tick rate of every process [Hz]")->check(CLI::PositiveNumber)->capture_default_str();
     bk->add_option("--lease-ms", bko.lease_ms, "Liveliness lease [ms] (generous: a loaded host stalls)")
         ->check(CLI::Range(50, 60000))
@@ -325,9 +343,16 @@ class FullCommands final : public ProcessCommands {
     at->add_option("--http-bind", ao.http_bind, "Address the console listens on (0.0.0.0: every interface)")
         ->capture_default_str();
     at->add_option("--record", ao.record, "Record the console to this file (for pheromesh replay)");
-    at->add_option("--timeout", ao.timeout_s, "Longest wait for a running swarm [s]")->capture_default_str();
-    at->add_option("--progress", ao.progress_s, "Seconds between progress lines")->capture_default_str();
-    at->add_option("--process-log-level", ao.log_level, "Log level of the monitor")->capture_default_str();
+    at->add_option("--timeout", ao.timeout_s, "Longest wait for a running swarm [s], > 0")
+        ->check(CLI::Range(0.01, 86400.0))
+        ->capture_default_str();
+    at->add_option("--progress", ao.progress_s, "Seconds between progress lines [s], > 0")
+        ->check(CLI::Range(0.01, 86400.0))
+        ->capture_default_str();
+    at->add_option("--process-log-level", ao.log_level,
+                   "Log level of the monitor: trace, debug, info, warn, error, critical or off")
+        ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error", "critical", "off"}))
+        ->capture_default_str();
     if (const char* p = std::getenv("PHEROMESH_SECURE"); p != nullptr) ao.secure = p;
     at->add_option("--secure", ao.secure,
                    "DDS Security: the swarm's directory of `pheromesh security init`; the monitor authenticates with "
@@ -343,8 +368,10 @@ class FullCommands final : public ProcessCommands {
     si->add_option("DIR", sio.dir, "Directory to make (mode 0700)")->required();
     si->add_option("--scenario", sio.scenario, "The swarm's scenario: its UAVs, regions and standby setting")
         ->transform(CLI::Validator(cli::resolve_scenario_argument, "FILE|NAME"));
-    si->add_option("--uavs", sio.uavs, "UAV identities to make (default: the scenario's swarm.uavs)");
-    si->add_option("--regions", sio.regions, "Place-agent identities to make (default: the scenario's regions)");
+    si->add_option("--uavs", sio.uavs, "UAV identities to make, >= 1 (default: the scenario's swarm.uavs)")
+        ->check(CLI::Range(1U, 100000U));
+    si->add_option("--regions", sio.regions, "Place-agent identities to make, >= 1 (default: the scenario's regions)")
+        ->check(CLI::Range(1U, 100000U));
     si->add_flag("--standby", sio.standby, "Also an identity for each place agent's standby (place-R.r1)");
     si->add_option("--probes", sio.probes, "Also identities probe-0 .. probe-N-1 for pheromesh-test-probe and benches");
     si->add_option("--protection", sio.protection,
@@ -352,7 +379,9 @@ class FullCommands final : public ProcessCommands {
                    "(authentication and access control only)")
         ->check(CLI::IsMember({"encrypt", "sign", "none"}))
         ->capture_default_str();
-    si->add_option("--days", sio.days, "Validity of the certificates and permissions [days]")->capture_default_str();
+    si->add_option("--days", sio.days, "Validity of the certificates and permissions [days], >= 1")
+        ->check(CLI::Range(1U, 100000U))
+        ->capture_default_str();
     si->add_flag("--force", sio.force, "Replace the files of an earlier `security init` in DIR");
     si->footer(cli::kSecurityFooter);
 

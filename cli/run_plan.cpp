@@ -157,10 +157,10 @@ PlannedProcess uav(const RunPlan& p, uint32_t index, uint32_t participant_id) {
 
 PlannedProcess ground(const RunPlan& p, uint32_t participant_id) {
   const RunOptions& o = p.options;
-  std::vector<std::string> args{"--out",         o.out_dir,
-                                "--progress",    std::to_string(o.progress_s),
-                                "--ticks",       std::to_string(p.ticks),
-                                "--expect-uavs", std::to_string(p.uavs)};
+  std::vector<std::string> args{"--out",      o.out_dir,
+                                "--progress", std::to_string(o.progress_s),
+                                "--ticks",    std::to_string(p.ticks),
+                                "--uavs",     std::to_string(p.uavs)};
   // No launcher sees every process: the ground station ends the run.
   if (p.multi_host()) args.emplace_back("--until-done");
   if (o.start_timeout_s > 0) args.insert(args.end(), {"--start-timeout", std::to_string(o.start_timeout_s)});

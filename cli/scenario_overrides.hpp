@@ -33,7 +33,8 @@ struct OverrideFlags {
   std::vector<std::string> set;  // --set PATH=VALUE, in the order given
   // The FieldFlag flags, as typed (parsed for the field's type like --set).
   std::optional<std::string> uavs, ticks, seed, rate;
-  // `run --duration S`: run.ticks = ceil(S x the run's rate), after the other
+  // `run --duration D` in seconds (D parsed by cli::parse_duration_s: 20, 90s,
+  // 10m): run.ticks = ceil(seconds x the run's rate), after the other
   // overrides (which may change the rate).
   std::optional<double> duration_s;
   // `--standby` of run and sim: --set run.standby=true (each command adds

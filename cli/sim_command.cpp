@@ -7,6 +7,7 @@
 #include <filesystem>
 
 #include "pheromesh/core/scenario.hpp"
+#include "pheromesh/core/scenario_warnings.hpp"
 #include "pheromesh/core/policy.hpp"
 #include "pheromesh/core/simulator.hpp"
 #include "pheromesh/report/report.hpp"
@@ -36,6 +37,7 @@ int run_sim(const SimOptions& o) {
   }
   core::ScenarioConfig s = std::move(loaded).value();
   if (!s.overrides.empty()) spdlog::info("overrides: {}", core::describe_overrides(s.overrides));
+  for (const auto& w : core::scenario_warnings(s)) spdlog::warn("{}", w);
   core::FaultSchedule faults = scenario_faults(s);
   if (!o.faults.empty()) {
     auto parsed = core::parse_fault_schedule(o.faults, "--faults");

@@ -13,11 +13,11 @@ set(PHEROMESH_INSTALL_DATADIR ${CMAKE_INSTALL_DATADIR}/pheromesh)
 set(PHEROMESH_INSTALL_CMAKEDIR ${CMAKE_INSTALL_LIBDIR}/cmake/pheromesh)
 
 # The shipped scenarios as seen from the installed `pheromesh`, so that a
-# prefix moved elsewhere as a whole still works (cli/scenario_paths.hpp).
+# prefix moved elsewhere as a whole still works (common/cliutil/include/pheromesh/cliutil/scenario_paths.hpp).
 file(RELATIVE_PATH PHEROMESH_INSTALLED_SCENARIOS_REL
   ${CMAKE_INSTALL_FULL_BINDIR} ${CMAKE_INSTALL_FULL_DATADIR}/pheromesh/scenarios)
 
-# For the targets that compile cli/scenario_paths.cpp.
+# For pheromesh::cliutil, which compiles scenario_paths.cpp.
 set(PHEROMESH_SCENARIO_SEARCH_DEFINITIONS
   PHEROMESH_INSTALLED_SCENARIOS_REL="${PHEROMESH_INSTALLED_SCENARIOS_REL}"
   PHEROMESH_BUILD_BIN_DIR="${PROJECT_BINARY_DIR}/bin"

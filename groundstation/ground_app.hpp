@@ -41,7 +41,7 @@ double start_timeout(const GroundConfig& cfg, uint32_t processes);
 
 struct GroundConfig {
   runtime::CommonOptions common;
-  std::string out_dir = ".";
+  std::string out_dir = "out/ground";
   uint32_t expect_uavs = 0;  // 0: the scenario's swarm.uavs
   double progress_period_s = 1.0;
   double phase_timeout_s = 60.0;  // lockstep: longest wait for one phase [s]

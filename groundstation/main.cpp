@@ -9,6 +9,7 @@
 #include <thread>
 
 #include "ground_app.hpp"
+#include "pheromesh/cliutil/command_line.hpp"
 #include "pheromesh/core/scenario.hpp"
 #ifdef PHEROMESH_WITH_PYTHON
 #include "pheromesh/pypolicy/enable.hpp"  // policies written in Python (docs/python.md)
@@ -26,16 +27,18 @@ int main(int argc, char** argv) {
                "Prometheus /metrics; with --record it records the console for `pheromesh replay`.",
                "pheromesh-ground"};
   runtime::add_common_options(app, cfg.common);
-  app.add_option("--out", cfg.out_dir, "Folder for metrics.json")->capture_default_str();
-  app.add_option("--expect-uavs", cfg.expect_uavs, "UAVs expected (default: the scenario's swarm.uavs)");
-  app.add_option("--progress", cfg.progress_period_s, "Seconds between progress lines [s]")->capture_default_str();
+  app.add_option("--out", cfg.out_dir,
+                 "Output folder (metrics.json, series.csv, final_field.txt/.csv), relative to the current directory")
+      ->capture_default_str();
+  app.add_option("--progress", cfg.progress_period_s, "Seconds between progress lines [s], > 0")
+      ->check(CLI::Range(0.01, 86400.0))
+      ->capture_default_str();
   app.add_option("--phase-timeout", cfg.phase_timeout_s, "Lockstep: longest wait for one phase [s]")->capture_default_str();
   app.add_option("--start-timeout", cfg.start_timeout_s,
                  "Lockstep: longest wait before tick 0 for every UAV and place agent to report that it matched the "
-                 "readers it deposits to; past it the run is refused and the ground station exits 1 [s] (0: 60 s + "
-                 "1 s per process)")
-      ->check(CLI::Range(0.0, 86400.0))
-      ->capture_default_str();
+                 "readers it deposits to; past it the run is refused and the ground station exits 1 [s] (default: "
+                 "60 s + 1 s per process)")
+      ->check(CLI::Range(0.001, 86400.0));
   app.add_option("--departed-grace", cfg.departed_grace_s,
                  "Lockstep: a UAV whose liveliness lapsed and that sent nothing for this long is no longer waited for "
                  "(one killed by the launcher at a tick is dropped at once) [s]")
@@ -73,7 +76,7 @@ int main(int argc, char** argv) {
   app.add_option("--attach-timeout", attach_timeout_s, "With --attach: longest wait for a running swarm [s]")
       ->capture_default_str();
   app.get_option("--scenario")->required(false);
-  CLI11_PARSE(app, argc, argv);
+  if (auto rc = cli::parse_command_line(app, argc, argv)) return *rc;
   cfg.scenario_path = cfg.common.scenario;
   if (cfg.attach) return groundstation::attach(cfg, attach_timeout_s);
   if (cfg.common.scenario.empty()) {

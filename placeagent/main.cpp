@@ -3,6 +3,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "pheromesh/cliutil/command_line.hpp"
 #include "pheromesh/core/scenario.hpp"
 #include "place_app.hpp"
 #ifdef PHEROMESH_WITH_PYTHON
@@ -18,12 +19,11 @@ int main(int argc, char** argv) {
   CLI::App app{
       "pheromesh place agent: owns the pheromone tiles of one map region, applies the deposits UAVs send it, "
       "evaporates and diffuses them (exchanging border halos with neighbouring regions) and publishes its "
-      "tiles and health.",
+      "tiles and health. Realtime, it runs until the ground station's End or SIGINT/SIGTERM; lockstep, for the "
+      "ticks the conductor gives. `pheromesh run` starts one per region.",
       "pheromesh-place"};
   runtime::add_common_options(app, cfg.common);
   app.add_option("--region", cfg.region, "Region id owned by this process (0 .. regions_x*regions_y-1)")->required();
-  app.add_option("--max-ticks", cfg.max_ticks, "Stop after this many ticks (0: run until SIGINT/SIGTERM)")
-      ->capture_default_str();
   app.add_option("--field-hz", cfg.field_hz,
                  "Realtime: how often the field goes to the ground station [Hz]: the tiles changed since the last "
                  "time, all of them every 2 s and at the end (lockstep: every tile, every tick)")
@@ -41,7 +41,7 @@ int main(int argc, char** argv) {
                  "the region's output; docs/faults.md)")
       ->check(CLI::Range(0, 999))
       ->capture_default_str();
-  CLI11_PARSE(app, argc, argv);
+  if (auto rc = cli::parse_command_line(app, argc, argv)) return *rc;
   cfg.common.place_replica = static_cast<int32_t>(replica);
   cfg.replica = static_cast<uint16_t>(replica);
 

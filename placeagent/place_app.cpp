@@ -133,7 +133,7 @@ int PlaceApp::run_realtime() {
   runtime::TickClock clock(rate_);
   auto last_health = Clock::now();
   uint32_t tick = 0;
-  while (!runtime::shutdown_requested() && !commands_->ended() && (cfg_.max_ticks == 0 || tick < cfg_.max_ticks)) {
+  while (!runtime::shutdown_requested() && !commands_->ended()) {
     runtime::note_tick_start(gaps_, *log_, tick);
     relay_uplinks();  // the commands among them
     // Paused from the console: no evaporation, no diffusion, deposits wait

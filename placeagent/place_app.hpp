@@ -38,7 +38,6 @@ namespace pheromesh::placeagent {
 struct PlaceConfig {
   runtime::CommonOptions common;
   core::RegionId region = 0;
-  uint32_t max_ticks = 0;  // 0: run until SIGINT/SIGTERM (realtime clock)
   uint16_t replica = 0;    // 0 the primary, 1.. hot standbys (--standby swarms)
   double field_hz = 5.0;   // realtime: fields to the ground station per second (core::FieldToGround)
   uint32_t life = 1;       // 2..: started again after its death (pheromesh run's restart): no deposit history

@@ -20,7 +20,7 @@
 #include "pheromesh/core/scenario.hpp"
 #include "pheromesh/duan/aco.hpp"
 #include "pheromesh/duan/experiment.hpp"
-#include "scenario_paths.hpp"
+#include "pheromesh/cliutil/scenario_paths.hpp"
 
 namespace pheromesh::cli::experiments {
 

@@ -15,7 +15,7 @@
 #include "flight.hpp"
 #include "pheromesh/ravankar/model.hpp"
 #include "pheromesh/ravankar/policy.hpp"
-#include "scenario_paths.hpp"
+#include "pheromesh/cliutil/scenario_paths.hpp"
 
 namespace pheromesh::cli::experiments {
 

@@ -2,7 +2,7 @@
 
 #include "experiment.hpp"
 #include "flight.hpp"
-#include "scenario_paths.hpp"
+#include "pheromesh/cliutil/scenario_paths.hpp"
 #include "pheromesh/core/scenario.hpp"
 #include "pheromesh/core/simulator.hpp"
 

@@ -28,7 +28,7 @@
 #include "pheromesh/core/scenario.hpp"
 #include "pheromesh/core/simulator.hpp"
 #include "pheromesh/shao/policy.hpp"
-#include "scenario_paths.hpp"
+#include "pheromesh/cliutil/scenario_paths.hpp"
 
 namespace pheromesh::cli::experiments {
 

@@ -15,7 +15,7 @@
 #include <tuple>
 
 #include "experiment.hpp"
-#include "scenario_paths.hpp"
+#include "pheromesh/cliutil/scenario_paths.hpp"
 #include "pheromesh/core/scenario.hpp"
 #include "pheromesh/shao/robustness.hpp"
 

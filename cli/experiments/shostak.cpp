@@ -18,7 +18,7 @@
 #include "pheromesh/shostak/experiment.hpp"
 #include "pheromesh/shostak/model.hpp"
 #include "pheromesh/shostak/policy.hpp"
-#include "scenario_paths.hpp"
+#include "pheromesh/cliutil/scenario_paths.hpp"
 
 namespace pheromesh::cli::experiments {
 

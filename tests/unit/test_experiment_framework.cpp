@@ -10,7 +10,7 @@
 #include "experiments/experiment.hpp"
 #include "experiments/flight.hpp"
 #include "pheromesh/core/scenario.hpp"
-#include "scenario_paths.hpp"
+#include "pheromesh/cliutil/scenario_paths.hpp"
 
 namespace ex = pheromesh::cli::experiments;
 using pheromesh::core::ScenarioConfig;

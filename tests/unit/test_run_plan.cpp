@@ -125,7 +125,7 @@ TEST(RunPlan, AFourRegionTenUavLockstepRunStartsTheGroundStationFourPlaceAgentsA
                     "--lease-ms",
                     "1000"};
   Args ground = common;
-  ground.insert(ground.end(), {"--out", "out/run", "--progress", "1.000000", "--ticks", "50", "--expect-uavs", "10"});
+  ground.insert(ground.end(), {"--out", "out/run", "--progress", "1.000000", "--ticks", "50", "--uavs", "10"});
   EXPECT_EQ(process(p, "ground").argv, ground);
   EXPECT_EQ(tail_after_lease(process(p, "place-2")), (Args{"--region", "2", "--ticks", "50"}));
   EXPECT_EQ(tail_after_lease(process(p, "uav-7")), (Args{"--id", "7", "--ticks", "50"}));

@@ -153,14 +153,18 @@ TEST(ScenarioOverrides, AnOverriddenValueIsValidatedLikeTheFileAndTheErrorNamesT
   EXPECT_NE(on_obstacle.find("small-test.textproto:16:3: field 'map.targets[0]': lies on obstacle map.obstacles[0]"),
             std::string::npos)
       << on_obstacle;
-  // 50 UAVs do not fit small-test's 4 x 4 start area: refused at the file's
-  // line of the start area, saying which overrides the scenario had.
-  const std::string crowded = error_of(small_test({"swarm.uavs=50"}));
-  EXPECT_NE(crowded.find("small-test.textproto:22:3: field 'swarm.start_area': has 16 free (non-obstacle) cells, "
-                         "fewer than swarm.uavs = 50"),
+  // 50 UAVs do not fit small-test's 4 x 4 start area: the override asked for
+  // them, so the error names it (and the start area's line in the file).
+  EXPECT_EQ(error_of(small_test({"swarm.uavs=50"})),
+            "--set swarm.uavs=50: field 'swarm.uavs': the start area holds 16 UAVs (its free, non-obstacle cells; "
+            "swarm.start_area at " + scenario_file("small-test") + ":22), fewer than 50: give at most 16 or a larger "
+            "swarm.start_area");
+  // Both changed: the start area's own check, at the file's line, with the
+  // overrides named after it.
+  const std::string both = error_of(small_test({"swarm.uavs=50", "swarm.start_area.w=5"}));
+  EXPECT_NE(both.find("field 'swarm.start_area': has 20 free (non-obstacle) cells, fewer than swarm.uavs = 50"),
             std::string::npos)
-      << crowded;
-  EXPECT_NE(crowded.find("as changed by --set swarm.uavs=50)"), std::string::npos) << crowded;
+      << both;
   // The limits of scenario_limits.hpp too.
   core::ScenarioLimits few;
   few.max_processes = 10;
@@ -230,7 +234,8 @@ TEST(OverrideFlags, FieldFlagsAreOverridesOfTheirFieldsAndAreValidatedLikeTheFil
   EXPECT_EQ(error_of(cli::load_overridden(scenario_file("small-test"), f)),
             "--uavs 0: field 'swarm.uavs': must be between 1 and 1000 (got 0)");
   f.uavs = "50";
-  EXPECT_NE(error_of(cli::load_overridden(scenario_file("small-test"), f)).find("fewer than swarm.uavs = 50"),
+  EXPECT_NE(error_of(cli::load_overridden(scenario_file("small-test"), f))
+                .find("--uavs 50: field 'swarm.uavs': the start area holds 16 UAVs"),
             std::string::npos);
   f.uavs = "3";
   f.seed = "0";

@@ -1,5 +1,5 @@
 // How `pheromesh run|sim|validate SCENARIO` finds a scenario
-// (cli/scenario_paths.hpp): a file as given, else a shipped scenario's name,
+// (common/cliutil/include/pheromesh/cliutil/scenario_paths.hpp): a file as given, else a shipped scenario's name,
 // in the installed folder beside the program, then (build tree only) in the
 // source tree.
 #include <gtest/gtest.h>
@@ -8,7 +8,7 @@
 #include <fstream>
 #include <random>
 
-#include "../../cli/scenario_paths.hpp"
+#include "pheromesh/cliutil/scenario_paths.hpp"
 
 namespace pheromesh::cli {
 namespace {
@@ -86,6 +86,20 @@ TEST_F(ScenarioPaths, AFolderNamedLikeAScenarioIsNotTakenForIt) {
   const auto r = resolve_scenario("small-test", dirs());
   ASSERT_TRUE(r.ok()) << r.error().message;
   EXPECT_EQ(fs::path(r.value()), installed_ / "small-test.textproto");
+}
+
+TEST_F(ScenarioPaths, AFolderGivenAsTheScenarioIsRefusedAsAFolderNotAsAMissingFile) {
+  fs::create_directories(root_ / "work/runs");
+  fs::current_path(root_ / "work");
+  for (const std::string& arg : std::vector<std::string>{"runs", "runs/", (root_ / "work/runs").string()}) {
+    const auto r = resolve_scenario(arg, dirs());
+    ASSERT_FALSE(r.ok()) << arg;
+    EXPECT_EQ(r.error().message.rfind("'" + arg + "' is a directory; give a scenario file (.textproto) or a shipped "
+                                      "scenario's name; shipped scenarios (in ", 0),
+              0U)
+        << r.error().message;
+    EXPECT_NE(r.error().message.find("small-test"), std::string::npos) << r.error().message;
+  }
 }
 
 TEST_F(ScenarioPaths, AnUnknownNameIsRefusedListingTheShippedScenarios) {

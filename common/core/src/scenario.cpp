@@ -18,6 +18,8 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <limits>
 #include <memory>
 #include <optional>
@@ -27,6 +29,7 @@
 
 #include "field_override.hpp"
 #include "pheromesh/core/scenario_limits.hpp"
+#include "pheromesh/core/scenario_warnings.hpp"
 #include "scenario_internal.hpp"
 #include "start_cells_internal.hpp"
 
@@ -339,7 +342,14 @@ ScenarioConfig build(const pb::Scenario& msg, const TextFormat::ParseInfoTree& t
   }
   if (start && uavs_ok) {
     const int64_t n_free = free_cells(*start, obstacle_rects);
-    if (n_free < uavs) {
+    if (n_free < uavs && v.overridden("swarm.uavs") && !v.overridden("swarm.start_area")) {
+      // The override asked for more UAVs than the file's start area holds:
+      // the error names the override.
+      v.fail(sn, "uavs",
+             "the start area holds " + format_number(n_free) + " UAVs (its free, non-obstacle cells; swarm.start_area at " +
+                 display_name + ":" + std::to_string(an.loc().line) + "), fewer than " + format_number(uavs) +
+                 ": give at most " + format_number(n_free) + " or a larger swarm.start_area");
+    } else if (n_free < uavs) {
       v.fail(an, "has " + format_number(n_free) + " free (non-obstacle) cells, fewer than swarm.uavs = " + format_number(uavs));
     }
   }
@@ -551,6 +561,42 @@ Result<ScenarioOverride> parse_override(std::string_view arg, std::string_view f
   }
   return ScenarioOverride{std::string(arg.substr(0, eq)), std::string(arg.substr(eq + 1)),
                           std::string(flag) + " " + std::string(arg)};
+}
+
+std::vector<std::string> scenario_warnings(const ScenarioConfig& s) {
+  std::vector<std::string> out;
+  // The file's own text, for its lines (an overridden scenario's source_text
+  // is reprinted).
+  std::string text = s.source_text;
+  if (!s.source_path.empty()) {
+    std::ifstream in(s.source_path, std::ios::binary);
+    if (in) text.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  }
+  pb::Scenario msg;
+  TextFormat::ParseInfoTree tree;
+  TextFormat::Parser parser;
+  CollectingErrorCollector quiet(s.source_path);
+  parser.RecordErrorsTo(&quiet);
+  parser.WriteLocationsTo(&tree);
+  if (!parser.ParseFromString(text, &msg)) return out;
+  const std::string display = s.source_path.empty() ? s.name : s.source_path;
+  const scenario_detail::Node root(pb::Scenario::descriptor(), &tree, scenario_detail::Loc{1, 1}, "");
+  // Blocks outside `policy` that a room reads for its own policies only
+  // (PolicyEntry::parse_scenario_fields; today `shao`): beside another
+  // policy they change nothing, which the author should know.
+  if (msg.has_shao()) {
+    const PolicyEntry* entry = find_policy(s.policy);
+    if (entry == nullptr || entry->parse_scenario_fields == nullptr) {
+      std::string readers;
+      for (const PolicyEntry* e : policy_table()) {
+        if (e->parse_scenario_fields != nullptr) readers += (readers.empty() ? "" : " and ") + std::string(e->name);
+      }
+      out.push_back(scenario_detail::prefix(display, root.loc_of("shao")) + "block 'shao': the policy " + s.policy +
+                    " does not read it (" + readers + " do); it changes nothing in this run: remove it, or choose "
+                    "one of those policies");
+    }
+  }
+  return out;
 }
 
 std::string describe_overrides(const ScenarioOverrides& overrides) {

@@ -131,6 +131,12 @@ class Validator {
     overridden_ = std::move(overridden);
   }
 
+  // Whether an override set the field at `path` or a field inside it.
+  [[nodiscard]] bool overridden(const std::string& path) const {
+    return std::any_of(overridden_.begin(), overridden_.end(),
+                       [&](const auto& o) { return o.first == path || o.first.rfind(path + ".", 0) == 0; });
+  }
+
   void fail_at(Loc loc, const std::string& path, const std::string& what) {
     // The last override of a field is the one in effect.
     for (auto it = overridden_.rbegin(); it != overridden_.rend(); ++it) {

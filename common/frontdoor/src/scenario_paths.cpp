@@ -80,6 +80,13 @@ core::Result<std::string> resolve_scenario(const std::string& arg, const std::ve
   const std::string shipped = names.empty()
                                   ? "no shipped scenarios found in " + describe_dirs(dirs)
                                   : "shipped scenarios (in " + describe_dirs(existing) + "): " + join_names(names);
+  const auto is_dir = [&arg] {
+    std::error_code ec;
+    return fs::is_directory(arg, ec);
+  };
+  const std::string a_directory =
+      "'" + arg + "' is a directory; give a scenario file (.textproto) or a shipped scenario's name; " + shipped;
+  if (arg.find('/') != std::string::npos && is_dir()) return core::Error{a_directory};
   if (arg.find('/') != std::string::npos) {
     // A path: never quietly replaced by a shipped file of the same name, but
     // say that one exists (e.g. scenarios/small-test.textproto run from
@@ -93,6 +100,7 @@ core::Result<std::string> resolve_scenario(const std::string& arg, const std::ve
     return core::Error{msg};
   }
   if (const fs::path p = find_shipped(arg, dirs); !p.empty()) return p.string();
+  if (is_dir()) return core::Error{a_directory};
   return core::Error{"'" + arg + "' is neither a file nor a shipped scenario; " + shipped};
 }
 

@@ -28,6 +28,7 @@ nlohmann::json metrics_json(const core::RunRecorder& r, const RunInfo& info) {
     finished_places += h.finished ? 1 : 0;
   }
   nlohmann::json j;
+  j["version"] = PHEROMESH_VERSION;  // of the program that wrote it (CMake project version)
   j["scenario"] = s.name;
   j["scenario_file"] = s.source_path;
   j["policy"] = s.policy;

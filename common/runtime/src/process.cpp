@@ -15,6 +15,8 @@
 #include <sstream>
 #include <thread>
 
+#include "pheromesh/cliutil/command_line.hpp"
+#include "pheromesh/cliutil/scenario_paths.hpp"
 #include "pheromesh/core/plausibility.hpp"
 
 namespace pheromesh::runtime {
@@ -36,7 +38,9 @@ void add_common_options(CLI::App& app, CommonOptions& o) {
   o.dds = bus::default_vendor();
   o.dds_profile = env_or("PHEROMESH_DDS_PROFILE", o.dds_profile);
   o.domain = static_cast<uint32_t>(std::stoul(env_or("PHEROMESH_DOMAIN", "0")));
-  app.add_option("--scenario", o.scenario, "Scenario file (protobuf text format)")->required()->check(CLI::ExistingFile);
+  app.add_option("--scenario", o.scenario, cli::kScenarioArgHelp)
+      ->required()
+      ->transform(CLI::Validator(cli::resolve_scenario_argument, "FILE|NAME"));
   app.add_option("--dds", o.dds, "DDS vendor of this process: cyclone or fastdds [env PHEROMESH_DDS]")
       ->capture_default_str();
   app.add_option("--dds-profile", o.dds_profile,
@@ -53,19 +57,29 @@ void add_common_options(CLI::App& app, CommonOptions& o) {
                  "(a name is resolved at start to all its addresses, e.g. a Kubernetes headless Service); every "
                  "process of the swarm gets the same list [env PHEROMESH_DDS_PEERS]");
   app.add_option("--domain", o.domain, "DDS domain id [env PHEROMESH_DOMAIN]")->check(CLI::Range(0, 232))->capture_default_str();
-  app.add_option("--log-level", o.log_level, "trace, debug, info, warn, error, off")
+  app.add_option("--log-level", o.log_level, "Log level: trace, debug, info, warn, error, critical or off")
       ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error", "critical", "off"}))
       ->capture_default_str();
-  app.add_option("--rate", o.rate_hz, "Tick rate [Hz] (default: the scenario's tick_rate_hz)")->check(CLI::Range(0.0, 1000.0));
-  app.add_option("--ticks", o.ticks, "Ticks to run (default: the scenario's run.ticks)");
-  app.add_option("--seed", o.seed, "Run seed (default: the scenario's run.seed)");
+  app.add_option("--rate", o.rate_hz,
+                 "Tick rate [Hz], (0, 1000] (default: the scenario's run.tick_rate_hz; stands for --set "
+                 "run.tick_rate_hz=HZ, validated like the file)")
+      ->type_name("HZ");
+  app.add_option("--ticks", o.ticks,
+                 "Ticks to run, >= 1 (default: the scenario's run.ticks; validated like the file). A UAV flies them; "
+                 "a realtime place agent runs until the ground station's End or SIGTERM")
+      ->type_name("N");
+  app.add_option("--seed", o.seed, "Run seed (default: the scenario's run.seed; validated like the file)")
+      ->type_name("N");
   o.clock = env_or("PHEROMESH_CLOCK", o.clock);
   app.add_option("--clock", o.clock,
                  "realtime: every process ticks on its own clock; lockstep: the ground station conducts numbered "
                  "ticks (UAV phase, then place phase) [env PHEROMESH_CLOCK]")
       ->check(CLI::IsMember({"realtime", "lockstep"}))
       ->capture_default_str();
-  app.add_option("--uavs", o.uavs, "Number of UAVs in the swarm (default: the scenario's swarm.uavs)");
+  app.add_option("--uavs", o.uavs,
+                 "Number of UAVs in the swarm, 1..1000 (default: the scenario's swarm.uavs; validated like the file: "
+                 "the start area must hold them)")
+      ->type_name("N");
   app.add_option("--lease-ms", o.lease_ms, "Liveliness lease [ms]")->check(CLI::Range(50, 60000))->capture_default_str();
   app.add_flag("--standby", o.standby,
                "The swarm runs a hot-standby replica of every place agent (every process of it needs this flag, or "
@@ -78,6 +92,7 @@ void add_common_options(CLI::App& app, CommonOptions& o) {
   app.add_flag("--shared-ownership", o.shared_ownership,
                "With standbys: readers take every replica's output (shared ownership) instead of the owner's only; "
                "pheromesh run sets it for swarms with Fast DDS processes (docs/faults.md)");
+  cli::add_version_flag(app);
 }
 
 core::Result<core::ScenarioMsg> scenario_message(const CommonOptions& o, const core::ScenarioConfig& s,
@@ -119,7 +134,6 @@ core::Result<core::ScenarioConfig> scenario_from_message(const core::ScenarioMsg
   if (m.lease_ms >= 50 && m.lease_ms <= 60000) o.lease_ms = m.lease_ms;
   o.standby = m.standby;
   o.shared_ownership = m.shared_ownership;
-  o.uavs = s->uavs;
   return s;
 }
 
@@ -157,22 +171,25 @@ void install_shutdown_handlers() {
 bool shutdown_requested() { return g_shutdown.load(); }
 void request_shutdown() { g_shutdown.store(true); }
 
-core::Result<core::ScenarioConfig> load_scenario(const CommonOptions& o) {
-  auto s = core::load_scenario(o.scenario);
-  if (!s) return s;
-  if (o.rate_hz > 0) s->tick_rate_hz = o.rate_hz;
-  if (o.ticks > 0) s->ticks = o.ticks;
-  if (o.seed > 0) s->seed = o.seed;
-  if (o.uavs > 0) s->uavs = o.uavs;
-  if (o.uavs > 0 || o.standby) {
-    // The flags change what the scenario asks of the machine: check again.
-    core::ScenarioConfig asked = s.value();
-    asked.standby = asked.standby || o.standby;
-    auto limits = core::ScenarioLimits::from_environment();
-    if (!limits) return limits.error();
-    if (auto ok = core::check_limits(asked, limits.value(), o.scenario + " with --uavs/--standby"); !ok) return ok.error();
+core::ScenarioOverrides overrides_of(const CommonOptions& o) {
+  core::ScenarioOverrides out;
+  const std::pair<const std::optional<std::string>*, std::pair<const char*, const char*>> flags[] = {
+      {&o.rate_hz, {"run.tick_rate_hz", "--rate"}},
+      {&o.ticks, {"run.ticks", "--ticks"}},
+      {&o.seed, {"run.seed", "--seed"}},
+      {&o.uavs, {"swarm.uavs", "--uavs"}},
+  };
+  for (const auto& [value, field] : flags) {
+    if (*value) out.push_back({field.first, **value, std::string(field.second) + " " + **value});
   }
-  return s;
+  if (o.standby) out.push_back({"run.standby", "true", "--standby"});
+  return out;
+}
+
+core::Result<core::ScenarioConfig> load_scenario(const CommonOptions& o) {
+  // The same checks as the file's, limits included: a value the file may not
+  // hold is refused on the command line too.
+  return core::load_scenario(o.scenario, overrides_of(o));
 }
 
 core::Result<bus::BusOptions> bus_options(const CommonOptions& o, const std::string& process_name, bool standby,

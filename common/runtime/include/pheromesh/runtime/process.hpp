@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "pheromesh/bus/bus.hpp"
@@ -29,11 +30,11 @@ struct CommonOptions {
   std::string dds_peers;  // lan profiles: discovery peers, comma-separated addresses or host names
   uint32_t domain = 0;
   std::string log_level = "info";
-  double rate_hz = 0.0;        // 0: the scenario's tick_rate_hz
-  uint32_t ticks = 0;          // 0: the scenario's ticks
-  uint64_t seed = 0;           // 0: the scenario's seed
+  // --rate, --ticks, --seed, --uavs as typed: overrides of run.tick_rate_hz,
+  // run.ticks, run.seed and swarm.uavs, validated with the file exactly as
+  // `pheromesh --set` is (load_scenario); unset: the scenario's.
+  std::optional<std::string> rate_hz, ticks, seed, uavs;
   uint32_t lease_ms = 1000;    // liveliness lease
-  uint32_t uavs = 0;           // 0: the scenario's swarm.uavs
   std::string clock = "realtime";  // realtime | lockstep
   [[nodiscard]] bool lockstep() const { return clock == "lockstep"; }
   // The swarm runs hot-standby place agents (--standby, or the scenario's
@@ -54,9 +55,14 @@ struct CommonOptions {
   std::string secure;
 };
 
-// Loads the scenario and applies the overrides of the common flags (--rate,
-// --ticks, --seed, --uavs), so every process of a run agrees on them.
+// Loads the scenario with the overrides of the common flags (--rate, --ticks,
+// --seed, --uavs; overrides_of) and validates the result as a file, so every
+// process of a run agrees on them and a value the file may not hold is
+// refused naming the flag ("--uavs 0: field 'swarm.uavs': ...").
 core::Result<core::ScenarioConfig> load_scenario(const CommonOptions& o);
+// The overrides the common flags ask for, in the order --rate, --ticks,
+// --seed, --uavs (--standby adds run.standby=true).
+core::ScenarioOverrides overrides_of(const CommonOptions& o);
 
 // Registers the common flags on `app`, with defaults from the environment
 // (PHEROMESH_DDS, PHEROMESH_DDS_PROFILE, PHEROMESH_DOMAIN) so launchers can

@@ -1,4 +1,4 @@
-#include "scenario_paths.hpp"
+#include "pheromesh/cliutil/scenario_paths.hpp"
 
 #include <system_error>
 

@@ -1,0 +1,158 @@
+// Issue 28: a command line that teaches. Every test here stops before a DDS
+// participant exists (a refusal, --help, --version, validate), so they take
+// milliseconds and need no domain.
+#include "harness.hpp"
+
+namespace pheromesh::itest {
+namespace {
+
+const std::string kPrograms[] = {"pheromesh", "pheromesh-uav", "pheromesh-place", "pheromesh-ground"};
+
+TEST(Cli, AnUnknownSubcommandOrFlagIsAnsweredWithTheNearestName) {
+  const Output sub = run(kBin + "/pheromesh sime small-test");
+  EXPECT_EQ(sub.exit_code, 2) << sub.text;
+  EXPECT_NE(sub.text.find("pheromesh: unknown subcommand 'sime' — did you mean 'sim'?"), std::string::npos) << sub.text;
+  const Output nested = run(kBin + "/pheromesh bench scal small-test");
+  EXPECT_EQ(nested.exit_code, 2) << nested.text;
+  EXPECT_NE(nested.text.find("pheromesh bench: unknown subcommand 'scal' — did you mean 'scale'?"), std::string::npos)
+      << nested.text;
+  const Output flag = run(kBin + "/pheromesh sim small-test --tick 50");
+  EXPECT_EQ(flag.exit_code, 2) << flag.text;
+  EXPECT_NE(flag.text.find("pheromesh sim: unknown flag '--tick' — did you mean --ticks?"), std::string::npos)
+      << flag.text;
+  const Output uav = run(kBin + "/pheromesh-uav --scenario small-test --id 0 --wait-for-place 3");
+  EXPECT_EQ(uav.exit_code, 2) << uav.text;
+  EXPECT_NE(uav.text.find("unknown flag '--wait-for-place' — did you mean --wait-for-places?"), std::string::npos)
+      << uav.text;
+  // One name per meaning: the place agent's --max-ticks and the ground
+  // station's --expect-uavs are gone (--ticks, --uavs).
+  const Output place = run(kBin + "/pheromesh-place --scenario small-test --region 0 --max-ticks 5");
+  EXPECT_EQ(place.exit_code, 2) << place.text;
+  EXPECT_NE(place.text.find("unknown flag '--max-ticks'"), std::string::npos) << place.text;
+}
+
+TEST(Cli, HelpAndVersionAnswerInEveryProgram) {
+  const Output help = run(kBin + "/pheromesh help");
+  EXPECT_EQ(help.exit_code, 0) << help.text;
+  for (const char* sub : {"validate", "sim", "sweep", "experiment", "key", "run", "attach", "replay", "bench",
+                          "security"}) {
+    EXPECT_NE(help.text.find("  " + std::string(sub)), std::string::npos) << sub << "\n" << help.text;
+  }
+  const Output sim = run(kBin + "/pheromesh help sim");
+  EXPECT_EQ(sim.exit_code, 0) << sim.text;
+  EXPECT_NE(sim.text.find("--ticks"), std::string::npos) << sim.text;
+  EXPECT_NE(sim.text.find("Usage: pheromesh sim [OPTIONS] SCENARIO"), std::string::npos) << sim.text;
+  const Output scale = run(kBin + "/pheromesh help bench scale");
+  EXPECT_EQ(scale.exit_code, 0) << scale.text;
+  EXPECT_NE(scale.text.find("--sizes"), std::string::npos) << scale.text;
+  std::string first;
+  for (const auto& p : kPrograms) {
+    const Output v = run(kBin + "/" + p + " --version");
+    EXPECT_EQ(v.exit_code, 0) << p << "\n" << v.text;
+    ASSERT_EQ(v.text.rfind(p + " ", 0), 0U) << v.text;
+    const std::string version = v.text.substr(p.size() + 1);
+    if (first.empty()) first = version;
+    EXPECT_EQ(version, first) << p;  // one version for the whole build
+  }
+  // The help of the UAV program says what it runs: the scenario's policy.
+  const Output uav = run(kBin + "/pheromesh-uav --help");
+  EXPECT_EQ(uav.text.find("running the Shao 2020 ACO search"), std::string::npos) << uav.text;
+  EXPECT_NE(uav.text.find("the scenario's policy"), std::string::npos) << uav.text;
+  const Output levels = run(kBin + "/pheromesh-ground --help");
+  EXPECT_NE(levels.text.find("critical"), std::string::npos) << levels.text;
+  // metrics.json carries the same version (the simulator's; the ground
+  // station's comes from the same report code).
+  const std::string out = out_dir("cli-version");
+  const Output s = run(kBin + "/pheromesh sim small-test --ticks 5 --quiet --out " + out);
+  ASSERT_EQ(s.exit_code, 0) << s.text;
+  EXPECT_EQ(read_metrics(out)["version"].get<std::string>() + "\n", first);
+}
+
+TEST(Cli, AFolderGivenAsTheScenarioIsRefusedAsAFolderByEveryProgram) {
+  const std::string dir = kSrc + "/scenarios";
+  for (const std::string& cmd :
+       {kBin + "/pheromesh validate " + dir, kBin + "/pheromesh sim " + dir,
+        kBin + "/pheromesh-uav --id 0 --scenario " + dir, kBin + "/pheromesh-ground --scenario " + dir}) {
+    const Output o = run(cmd);
+    EXPECT_NE(o.exit_code, 0) << cmd << "\n" << o.text;
+    EXPECT_NE(o.text.find("'" + dir + "' is a directory; give a scenario file (.textproto) or a shipped scenario's name"),
+              std::string::npos)
+        << cmd << "\n" << o.text;
+    EXPECT_EQ(o.text.find("no such file"), std::string::npos) << cmd << "\n" << o.text;
+  }
+}
+
+// The process programs take shipped names as `pheromesh` does, and their
+// --uavs/--ticks/--seed/--rate are validated with the file, the error naming
+// the flag (exit 2 before any DDS participant exists).
+TEST(Cli, ProcessProgramsTakeShippedNamesAndRefuseFlagValuesTheFileCouldNotHold) {
+  const std::pair<std::string, std::string> refused[] = {
+      {"/pheromesh-uav --scenario small-test --id 0 --uavs 50",
+       "--uavs 50: field 'swarm.uavs': the start area holds 16 UAVs"},
+      {"/pheromesh-uav --scenario small-test --id 0 --uavs 0",
+       "--uavs 0: field 'swarm.uavs': must be between 1 and 1000 (got 0)"},
+      {"/pheromesh-place --scenario small-test --region 0 --ticks 0",
+       "--ticks 0: field 'run.ticks': must be between 1 and 4294967295 (got 0)"},
+      {"/pheromesh-ground --scenario small-test --rate 0", "--rate 0: field 'run.tick_rate_hz': must be in (0, 1000]"},
+  };
+  for (const auto& [cmd, message] : refused) {
+    const Output o = run(kBin + cmd);
+    EXPECT_EQ(o.exit_code, 2) << cmd << "\n" << o.text;
+    EXPECT_NE(o.text.find(message), std::string::npos) << cmd << "\n" << o.text;
+    EXPECT_EQ(o.text.find("File does not exist"), std::string::npos) << cmd << "\n" << o.text;
+  }
+  const Output typo = run(kBin + "/pheromesh-ground --scenario small-tset");
+  EXPECT_NE(typo.exit_code, 0) << typo.text;
+  EXPECT_NE(typo.text.find("'small-tset' is neither a file nor a shipped scenario; shipped scenarios (in "),
+            std::string::npos)
+      << typo.text;
+}
+
+TEST(Cli, ValidatePrintsThePolicyAndWarnsOnAShaoBlockBesideAnotherPolicy) {
+  const Output shao = run(kBin + "/pheromesh validate small-test");
+  ASSERT_EQ(shao.exit_code, 0) << shao.text;
+  EXPECT_NE(shao.text.find("  policy      shao_search\n"), std::string::npos) << shao.text;
+  EXPECT_NE(shao.text.find("  revisit     every "), std::string::npos) << shao.text;
+  EXPECT_EQ(shao.text.find("warning"), std::string::npos) << shao.text;
+
+  const std::string out = out_dir("validate-warning");
+  const std::string file = out + "/shostak-with-shao.textproto";
+  const std::string original = slurp(kSrc + "/scenarios/shostak-small.textproto");
+  ASSERT_FALSE(original.empty());
+  const auto lines_before = std::count(original.begin(), original.end(), '\n');
+  std::ofstream(file) << original << "shao { aco { alpha: 2 } }\n";
+  const Output v = run(kBin + "/pheromesh validate " + file);
+  ASSERT_EQ(v.exit_code, 0) << v.text;
+  EXPECT_NE(v.text.find("  policy      shostak\n"), std::string::npos) << v.text;
+  EXPECT_EQ(v.text.find("revisit"), std::string::npos) << v.text;
+  EXPECT_NE(v.text.find("  warning     " + file + ":" + std::to_string(lines_before + 1) +
+                        ":1: block 'shao': the policy shostak does not read it (shao_search and shao_navigation "
+                        "do); it changes nothing in this run"),
+            std::string::npos)
+      << v.text;
+}
+
+TEST(Cli, ADurationIsANumberWithAnOptionalUnitAndAnythingElseIsRefused) {
+  const std::string out = out_dir("durations");
+  for (const std::string& cmd : {kBin + "/pheromesh run small-test --duration 1h30m --out " + out,
+                                 kBin + "/pheromesh bench soak small-test --duration 2d --out " + out}) {
+    const Output o = run(cmd);
+    EXPECT_NE(o.exit_code, 0) << cmd << "\n" << o.text;
+    EXPECT_NE(o.text.find("a duration is a number >= 0 with an optional unit ms, s, m or h"), std::string::npos)
+        << cmd << "\n" << o.text;
+  }
+  EXPECT_FALSE(fs::exists(out + "/logs"));
+  // A unit becomes seconds (refused here before anything starts, as run.ticks
+  // is given twice).
+  const Output twice = run(kBin + "/pheromesh run small-test --duration 0.5m --set run.ticks=5 --out " + out);
+  EXPECT_EQ(twice.exit_code, 2) << twice.text;
+  EXPECT_NE(twice.text.find("--set run.ticks=5 and --duration 30 both set run.ticks; give one of them"),
+            std::string::npos)
+      << twice.text;
+  const Output level = run(kBin + "/pheromesh --log-level loud validate small-test");
+  EXPECT_NE(level.exit_code, 0) << level.text;
+  EXPECT_NE(level.text.find("critical"), std::string::npos) << level.text;
+}
+
+}  // namespace
+}  // namespace pheromesh::itest
