@@ -12,20 +12,23 @@ trap 'rm -rf "$tmp"' EXIT
 mkdir -p "$tmp/scripts" "$tmp/tests/data" "$tmp/tests/unit"
 touch "$tmp/README.md"
 cp "$src/scripts/check-citations.sh" "$src/scripts/find-citation.sh" "$tmp/scripts/"
+# Runs a script of $tmp/scripts with its arguments: its output in $out, its exit code in $rc.
+try() {
+  local script=$1
+  shift
+  set +e
+  out=$(bash "$tmp/scripts/$script" "$@" 2>&1)
+  rc=$?
+  set -e
+}
 printf 'name: "caf\xe9 run"\n' > "$tmp/tests/data/a-latin1.textproto"
 printf '// Fig. 6 of the paper\n' > "$tmp/tests/unit/z_test.cpp"
-set +e
-out=$(bash "$tmp/scripts/check-citations.sh" "$tmp" 2>&1)
-rc=$?
-set -e
+try check-citations.sh "$tmp"
 if [[ $rc -ne 1 || $out != *"tests/unit/z_test.cpp:1: table/figure/algorithm without <Author> <Year>"* ]]; then
   echo "FAIL: expected exit 1 naming tests/unit/z_test.cpp:1, got exit $rc:"; echo "$out"; exit 1
 fi
 printf '// Shao 2020 Fig. 6 of the paper\n' > "$tmp/tests/unit/z_test.cpp"
-set +e
-out=$(bash "$tmp/scripts/check-citations.sh" "$tmp" 2>&1)
-rc=$?
-set -e
+try check-citations.sh "$tmp"
 if [[ $rc -ne 0 ]]; then echo "FAIL: expected exit 0 on a clean tree, got $rc:"; echo "$out"; exit 1; fi
 
 # A range in prose passes; the same range in a code comment does not.
@@ -33,10 +36,7 @@ mkdir -p "$tmp/docs"
 printf 'the layers follow Shao 2020 eqs. (1)–(8) and Ravankar 2016 eqs. (3), (4) and (27)–(33).\n' > "$tmp/docs/a.md"
 bash "$tmp/scripts/check-citations.sh" "$tmp" >/dev/null || { echo "FAIL: a range in prose was refused"; exit 1; }
 printf '// Shao 2020 eqs. (1)–(8)\n' > "$tmp/tests/unit/y_test.cpp"
-set +e
-out=$(bash "$tmp/scripts/check-citations.sh" "$tmp" 2>&1)
-rc=$?
-set -e
+try check-citations.sh "$tmp"
 if [[ $rc -ne 1 || $out != *"tests/unit/y_test.cpp:1:"* ]]; then
   echo "FAIL: expected a range in a code comment to be refused, got exit $rc:"; echo "$out"; exit 1
 fi
@@ -50,16 +50,10 @@ done
 out=$(bash "$tmp/scripts/find-citation.sh" Ravankar 2016 "eq. (30)")
 [[ $out == *"docs/a.md:1:"* ]] || { echo "FAIL: eq. (30) inside (27)–(33) not found:"; echo "$out"; exit 1; }
 for q in "Shao 2020 eq. 9" "Ravankar 2016 eq. 26"; do
-  set +e
   # shellcheck disable=SC2086
-  bash "$tmp/scripts/find-citation.sh" $q >/dev/null 2>&1
-  rc=$?
-  set -e
+  try find-citation.sh $q
   [[ $rc -eq 1 ]] || { echo "FAIL: find-citation.sh $q should find nothing (exit 1), got $rc"; exit 1; }
 done
-set +e
-bash "$tmp/scripts/find-citation.sh" Smith 2020 eq. 1 >/dev/null 2>&1
-rc=$?
-set -e
+try find-citation.sh Smith 2020 eq. 1
 [[ $rc -eq 2 ]] || { echo "FAIL: an unknown paper should exit 2, got $rc"; exit 1; }
 echo "the check names a bad mention after a non-UTF-8 file, passes a clean tree and prose ranges, refuses ranges in code; the finder finds mentions inside ranges"
