@@ -113,6 +113,10 @@ class GroundApp {
   // Asks the launcher for the faults of `tick` and drops from the protocol
   // what it killed; false if the launcher could not say.
   bool apply_faults(uint32_t tick);
+  // Before the launcher kills at `tick`: waits (bounded) until every live
+  // place replica's health of the tick before is here.
+  void await_health_before_kills(uint32_t tick);
+  [[nodiscard]] std::vector<uint32_t> places_without_health_of(uint32_t tick) const;
   // The launcher's answer; meanwhile takes samples and keeps the clock going out.
   [[nodiscard]] console::ConsoleSource::Answer ask_faults(uint32_t tick);
   // The launcher or the console killed these.

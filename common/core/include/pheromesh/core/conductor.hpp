@@ -96,6 +96,7 @@ class LockstepConductor {
   // A place replica's liveliness lapsed (place_id). In a run with standbys it
   // is not waited for again (it missed ticks; it leaves when it notices).
   void on_place_departed(uint32_t place) { places_gone_.insert(place); }
+  [[nodiscard]] bool place_gone(uint32_t place) const { return places_gone_.contains(place); }
   // A sample from the UAV (state, PhaseDone, broadcast) arrived at `now`: the
   // grace of a departed UAV runs from the later of its departure and this.
   void heard_from(uint32_t uav, Clock::time_point now) { heard_[uav] = now; }
