@@ -8,6 +8,7 @@
 // 59); an exception raised in Python stops
 // the simulator (exit 4) and the UAV processes with Python's traceback
 // (domain 58).
+#include <cstdlib>
 #include <regex>
 
 #include "harness.hpp"
@@ -78,7 +79,13 @@ TEST(PythonPolicy, FliesInLockstepAndGivesTheSimulatorsNumbers) {
 
 TEST(PythonPolicy, AWalkOnItsRandomStreamWithAPlaceModelInPythonFliesInLockstepAndGivesTheSimulatorsNumbers) {
   // tests/data/python/counted_walk.py: uav.rng and a pheromesh.PlaceModel, in every process.
+  // Python's own default buffering, whatever this shell asked for.
+  unsetenv("PYTHONUNBUFFERED");
   expect_lockstep_matches_sim("../tests/data/python/counted-walk.textproto", "--ticks 30", 59, "python-place-lockstep");
+  // A policy's print() is in its process's log (line-buffered, and flushed at
+  // exit: the interpreter is never finalized).
+  const std::string log = slurp(out_path("python-place-lockstep-lockstep") + "/logs/uav-2.log");
+  EXPECT_NE(log.find("counted_walk: uav 2 starts at ("), std::string::npos) << log;
 }
 
 TEST(Cli, AnExceptionInAPythonStepStopsTheRunWithItsTraceback) {

@@ -72,6 +72,27 @@ std::vector<std::string> split_path(const char* value) {
   return out;
 }
 
+constexpr const char* kLineBufferedStreams =
+    "import sys\n"
+    "for _s in (sys.stdout, sys.stderr):\n"
+    "    try:\n"
+    "        _s.reconfigure(line_buffering=True)\n"
+    "    except Exception:\n"
+    "        pass\n";
+
+void flush_python_streams() {
+  if (Py_IsInitialized() == 0) return;
+  const PyGILState_STATE g = PyGILState_Ensure();
+  PyRun_SimpleString(
+      "import sys\n"
+      "for _s in (sys.stdout, sys.stderr):\n"
+      "    try:\n"
+      "        _s.flush()\n"
+      "    except Exception:\n"
+      "        pass\n");
+  PyGILState_Release(g);
+}
+
 // Starts the interpreter unless one runs (a Python process, or a scenario
 // loaded before), and lets the GIL go so that any thread may take it.
 void ensure_interpreter() {
@@ -81,8 +102,13 @@ void ensure_interpreter() {
     PyImport_AppendInittab(kEmbeddedModule, &detail::init_embedded_module);
     // No Python signal handlers: the program's own (runtime::install_shutdown_handlers) stay.
     py::initialize_interpreter(false);
-    // The interpreter lives until the process ends (policies and configs
-    // hold Python objects until then): never finalized.
+    // A policy's print() goes to the process's log a line at a time (a log
+    // file would otherwise hold it in an 8 KiB buffer)...
+    PyRun_SimpleString(kLineBufferedStreams);
+    // ...and the interpreter lives until the process ends (policies and
+    // configs hold Python objects until then): never finalized, so what is
+    // still buffered is flushed at exit.
+    std::atexit(flush_python_streams);
     PyEval_SaveThread();
   });
 }

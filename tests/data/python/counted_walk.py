@@ -39,6 +39,8 @@ class CountedWalk(pheromesh.UavPolicy):
         super().__init__(config, uav)
         self.x, self.y = uav.start
         self.heading = 0
+        # The test finds this line in the UAV's log: a policy's print() reaches it.
+        print(f"counted_walk: uav {uav.id} starts at {uav.start}")
 
     def step(self, view, actions):
         bx, by = self.x, self.y
