@@ -351,6 +351,7 @@ void PlaceApp::serve_views(uint32_t tick) {
   for (uint32_t u : served_) {
     if (views_.compose(u, tick, demand_ ? 0 : kNeighbourAge, min_tile_tick, view_)) {
       view_.deposit_ack = desk_.ack(u);
+      view_.deposit_ack_from = desk_.ack_from(u);
       resend_.view(view_);
     }
   }

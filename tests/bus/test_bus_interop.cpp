@@ -150,12 +150,16 @@ TEST_P(Interop, EveryMessageArrivesIntact) {
   EXPECT_EQ(departed, std::vector<uint32_t>{6});
 
   // A view, to UAV 5 only, and a field chunk: nested tiles and states.
-  const core::ViewMsg view{5, 33, {tile, core::TileMsg{1, {3, 5}, 0, 0, 1, 2, {4.5F, -1.0F}}}, {st, st}};
+  core::ViewMsg view{5, 33, {tile, core::TileMsg{1, {3, 5}, 0, 0, 1, 2, {4.5F, -1.0F}}}, {st, st}};
+  view.deposit_ack = 61;
+  view.deposit_ack_from = 40;
   ASSERT_TRUE(w_->publish_view(view));
   const auto views = wait_for<core::ViewMsg>([&](auto& v) { r_->take_views(v); });
   ASSERT_EQ(views.size(), 1U);
   EXPECT_EQ(views[0].uav, 5U);
   EXPECT_EQ(views[0].tick, 33U);
+  EXPECT_EQ(views[0].deposit_ack, 61U);
+  EXPECT_EQ(views[0].deposit_ack_from, 40U);
   ASSERT_EQ(views[0].tiles.size(), 2U);
   EXPECT_EQ(views[0].tiles[0].values, tile.values);
   EXPECT_EQ(views[0].tiles[0].tick, 33U);  // a view's tiles are of its tick

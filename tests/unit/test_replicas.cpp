@@ -149,30 +149,61 @@ TEST(DepositReceipts, ADepositStaysUnconfirmedUntilTheHomeAcknowledgesItsSeq) {
   DepositReceipts r;
   for (uint32_t seq : {1U, 2U, 5U, 9U}) r.sent(seq);
   EXPECT_EQ(r.unconfirmed(), 4U);
-  r.confirmed(0);  // a view before any deposit arrived
+  r.confirmed(0, 0);  // a view before any deposit arrived
   EXPECT_EQ(r.unconfirmed(), 4U);
-  r.confirmed(5);
+  r.confirmed(1, 5);
   EXPECT_EQ(r.unconfirmed(), 1U) << "1, 2 and 5 confirmed";
-  r.confirmed(3);  // an older view arriving late changes nothing
+  r.confirmed(1, 3);  // an older view arriving late changes nothing
   EXPECT_EQ(r.unconfirmed(), 1U);
   r.sent((1U << 24U) + 1);  // a restarted life's numbering
-  r.confirmed(9);
+  r.confirmed(1, 9);
   EXPECT_EQ(r.unconfirmed(), 1U);
-  r.confirmed((1U << 24U) + 1);
+  r.confirmed(1, (1U << 24U) + 1);
   EXPECT_EQ(r.unconfirmed(), 0U);
 }
 
 TEST(DepositReceipts, WhatADeadHomeNeverConfirmedStaysUnconfirmedWhenTheBackupConfirmsLaterOnes) {
   DepositReceipts r;
   for (uint32_t seq : {1U, 2U, 3U}) r.sent(seq);
-  r.confirmed(1);
+  r.confirmed(1, 1);
   r.abandon();  // the home died with 2 and 3; the UAV moves to its backup
   EXPECT_EQ(r.unconfirmed(), 2U);
   EXPECT_EQ(r.pending(), 0U) << "nothing left for the backup to confirm";
   r.sent(4);
-  r.confirmed(4);  // the backup's cumulative ack covers 4 only
+  r.confirmed(4, 4);  // the backup's cumulative ack covers 4 only
   EXPECT_EQ(r.unconfirmed(), 2U);
   EXPECT_EQ(r.pending(), 0U);
+}
+
+TEST(DepositReceipts, DepositsSentWhileTheHomeWasDeadStayUnconfirmedWhenItsNewLifeConfirmsLaterOnes) {
+  // The home place agent dies after it received 1 and 2 and starts again
+  // (pheromesh run --faults "restart place:R ..."): its new life reads no
+  // history, so 3 and 4, written while it was dead, never reach it. The
+  // first it receives is 5: its views say "from 5 up to 6".
+  DepositReceipts r;
+  for (uint32_t seq : {1U, 2U}) r.sent(seq);
+  r.confirmed(1, 2);
+  for (uint32_t seq : {3U, 4U, 5U, 6U}) r.sent(seq);
+  r.confirmed(5, 6);
+  EXPECT_EQ(r.unconfirmed(), 2U) << "3 and 4 never arrived; a cumulative ack of 6 alone would have confirmed them";
+  EXPECT_EQ(r.pending(), 0U);
+  r.sent(7);
+  r.confirmed(5, 7);
+  EXPECT_EQ(r.unconfirmed(), 2U);
+}
+
+TEST(HomeAcks, ThePlaceAgentConfirmsFromTheFirstDepositItReceivedOfEachUav) {
+  HomeAcks a;
+  EXPECT_EQ(a.ack_from(3), 0U) << "nothing received: confirms nothing";
+  EXPECT_EQ(a.ack(3), 0U);
+  a.received(3, 40, 10);  // a new life: the first it got of uav 3
+  a.received(3, 41, 10);
+  a.received(3, 42, 11);
+  EXPECT_EQ(a.ack_from(3), 40U);
+  EXPECT_EQ(a.ack(3), 42U);
+  a.received(3, 39, 11);  // older, late: not a new start
+  EXPECT_EQ(a.ack_from(3), 40U);
+  EXPECT_EQ(a.ack(3), 42U);
 }
 
 }  // namespace

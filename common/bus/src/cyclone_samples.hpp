@@ -210,6 +210,7 @@ struct Convert<core::ViewMsg> {
     s.uav = m.uav;
     s.tick = m.tick;
     s.deposit_ack = m.deposit_ack;
+    s.deposit_ack_from = m.deposit_ack_from;
     borrow(s.tiles, nested.patches);
     borrow(s.uavs, nested.states);
     return write(&s);
@@ -219,6 +220,7 @@ struct Convert<core::ViewMsg> {
     v.uav = s.uav;
     v.tick = s.tick;
     v.deposit_ack = s.deposit_ack;
+    v.deposit_ack_from = s.deposit_ack_from;
     if (!nested_in(s, core::kMaxViewTiles, core::kMaxViewUavs, v.tick, core::RegionId{0}, v.tiles, v.uavs)) {
       return std::nullopt;
     }

@@ -226,6 +226,7 @@ struct Convert<core::ViewMsg> {
     s.uav(m.uav);
     s.tick(m.tick);
     s.deposit_ack(m.deposit_ack);
+    s.deposit_ack_from(m.deposit_ack_from);
     s.tiles(patches_out(m.tiles));
     s.uavs(states_out(m.uavs));
     return s;
@@ -235,6 +236,7 @@ struct Convert<core::ViewMsg> {
     v.uav = s.uav();
     v.tick = s.tick();
     v.deposit_ack = s.deposit_ack();
+    v.deposit_ack_from = s.deposit_ack_from();
     if (!unpack(s, core::kMaxViewTiles, core::kMaxViewUavs, v.tick, core::RegionId{0}, v.tiles, v.uavs)) {
       return std::nullopt;
     }

@@ -10,7 +10,15 @@ void HomeAcks::received(uint32_t uav, uint32_t seq, uint32_t tick) {
   auto it = last_.find(uav);
   const auto last = it == last_.end() ? std::nullopt : std::optional<uint32_t>(it->second.first);
   const uint32_t since = tick - (it == last_.end() ? 0 : std::min(it->second.second, tick));
-  if ((!last || seq > *last) && !check_seq_reachable(seq, last, since)) last_[uav] = {seq, tick};
+  if ((!last || seq > *last) && !check_seq_reachable(seq, last, since)) {
+    last_[uav] = {seq, tick};
+    first_.try_emplace(uav, seq);
+  }
+}
+
+uint32_t HomeAcks::ack_from(uint32_t uav) const {
+  auto it = first_.find(uav);
+  return it == first_.end() ? 0 : it->second;
 }
 
 uint32_t HomeAcks::ack(uint32_t uav) const {

@@ -272,6 +272,7 @@ struct ViewMsg {
   std::vector<TileMsg> tiles;  // tick and region filled in
   std::vector<UavStateMsg> uavs;
   uint32_t deposit_ack = 0;  // highest seq of this UAV's deposits its home place agent received
+  uint32_t deposit_ack_from = 0;  // the first seq of them this life of the place agent received (0: none)
 };
 
 // One chunk of a region's field of `tick` and of the latest states of the

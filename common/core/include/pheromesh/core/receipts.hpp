@@ -19,8 +19,15 @@ class DepositReceipts {
  public:
   // Sequence numbers are strictly increasing per UAV (restarts continue above).
   void sent(uint32_t seq) { pending_.push_back(seq); }
-  // The home place agent received every deposit up to `ack`.
-  void confirmed(uint32_t ack) {
+  // The home place agent received every deposit from `from` up to `ack`
+  // (View.deposit_ack_from, .deposit_ack). One below `from` never reached
+  // it: it was sent while the place agent was dead and started again (its
+  // new life reads no history), so it stays unconfirmed for good.
+  void confirmed(uint32_t from, uint32_t ack) {
+    while (!pending_.empty() && pending_.front() < from) {
+      pending_.pop_front();
+      ++abandoned_;
+    }
     while (!pending_.empty() && pending_.front() <= ack) pending_.pop_front();
   }
   [[nodiscard]] std::size_t unconfirmed() const { return pending_.size() + abandoned_; }
@@ -49,9 +56,13 @@ class HomeAcks {
   void received(uint32_t uav, uint32_t seq, uint32_t tick);
   // What the next view of `uav` confirms (0: nothing yet).
   [[nodiscard]] uint32_t ack(uint32_t uav) const;
+  // The first seq of `uav` this process received (0: none): it confirms
+  // nothing below it (DepositReceipts::confirmed).
+  [[nodiscard]] uint32_t ack_from(uint32_t uav) const;
 
  private:
   std::map<uint32_t, std::pair<uint32_t, uint32_t>> last_;  // uav -> (seq, tick it came at)
+  std::map<uint32_t, uint32_t> first_;                      // uav -> the first seq accepted
 };
 
 // A swarm with standbys sees the same deposit twice (both replicas of a home
@@ -84,6 +95,7 @@ class DepositDesk {
   // A deposit taken at place tick `tick`.
   DepositRoute take(const DepositMsg& d, uint32_t tick);
   [[nodiscard]] uint32_t ack(uint32_t uav) const { return acks_.ack(uav); }
+  [[nodiscard]] uint32_t ack_from(uint32_t uav) const { return acks_.ack_from(uav); }
   // From now on this place agent is also the gateway of `uav` (its backup):
   // its deposits are confirmed and counted like a home UAV's.
   void serve(uint32_t uav) { served_.insert(uav); }
