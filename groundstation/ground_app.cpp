@@ -265,7 +265,7 @@ bool GroundApp::end_if_over() {
     log_->info("every place agent finished: the run is over");
     return true;
   }
-  if (cfg_.until_done && !ended_ && book_.uavs_done(rec_)) end_run();
+  if (cfg_.until_done && !ended_ && book_.uavs_done(rec_, conductor_, Clock::now())) end_run();
   return ended_;
 }
 
