@@ -190,9 +190,9 @@ void GroundApp::end_run() {
   end.kind = static_cast<uint8_t>(core::CommandKind::End);
   const auto a = publish_swarm_command(end);
   if (a.status == 200) {
-    log_->info("every uav finished: {}", a.message);
+    log_->info("every uav finished or is gone: {}", a.message);
   } else {
-    log_->error("every uav finished, but the end of the run cannot be announced: {}", a.message);
+    log_->error("every uav finished or is gone, but the end of the run cannot be announced: {}", a.message);
   }
 }
 
@@ -265,7 +265,7 @@ bool GroundApp::end_if_over() {
     log_->info("every place agent finished: the run is over");
     return true;
   }
-  if (cfg_.until_done && !ended_ && book_.uavs_done(rec_)) end_run();
+  if (cfg_.until_done && !ended_ && book_.uavs_done(rec_, conductor_, Clock::now())) end_run();
   return ended_;
 }
 

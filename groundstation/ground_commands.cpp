@@ -113,7 +113,9 @@ Answer GroundApp::apply(const console::ConsoleCommand& c) {
     case K::KillUav: {
       auto a = launcher_.ask("kill uav " + std::to_string(c.id));
       // Lockstep: the conductor knows it is gone and does not wait for it.
+      // Realtime: --until-done does not wait for it (until it is restarted).
       if (a.status == 200 && cfg_.common.lockstep()) drop_uav(c.id, rec_.max_tick());
+      if (a.status == 200 && !cfg_.common.lockstep()) book_.note_uav_killed(c.id, Clock::now());
       return a;
     }
     case K::RestartUav:

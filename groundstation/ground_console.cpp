@@ -175,6 +175,7 @@ std::string GroundApp::metrics_text() const {
     c.http_body_bytes = s.body_bytes;
     c.http_refused = s.refused;
     c.http_connections = s.open_connections;
+    c.http_long_polls_unheld = s.long_polls_unheld;
     c.commands_refused += s.commands_unauthorised;  // refused before their body was read
   }
   if (recording_) c.recording_bytes = recording_->bytes_written();

@@ -40,9 +40,11 @@ int main(int argc, char** argv) {
                  "60 s + 1 s per process)")
       ->check(CLI::Range(0.001, 86400.0));
   app.add_option("--departed-grace", cfg.departed_grace_s,
-                 "Lockstep: a UAV whose liveliness lapsed and that sent nothing for this long is no longer waited for "
-                 "(one killed by the launcher at a tick is dropped at once) [s]")
-      ->capture_default_str();
+                 "A UAV whose liveliness lapsed and that sent nothing for this long is no longer waited for: by the "
+                 "lockstep conductor, and by --until-done, which ends the run only once it finished or this passed "
+                 "(one killed by the launcher or the console is dropped at once) [s]")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 86400.0));
   app.add_option("--http", cfg.http_port, "Serve the web console and /metrics on this port (0: any free port)");
   app.add_option("--http-bind", cfg.http_bind, "Address the console listens on (0.0.0.0: every interface)")
       ->capture_default_str();

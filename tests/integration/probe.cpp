@@ -39,11 +39,23 @@
 //                                bus would not make the writer (permissions).
 // --secure DIR [--identity NAME]: DDS Security with an identity of DIR
 // (default probe-<id>).
+//
+// A watchdog bounds the whole process, whatever DDS call it is blocked in
+// (with 100 secured participants, creating or deleting one took minutes and
+// nothing in the probe ran meanwhile): `discover` ends by its --timeout,
+// counted from the process start, and every subcommand by 2 s after
+// SIGINT/SIGTERM; past that the watchdog says so on stderr and ends the
+// process (_exit: exit code 1 past --timeout, 5 past a signal's grace).
+// --stall S blocks S seconds before the bus is made, deaf to signals and
+// deadlines: the integration test's stand-in for such a call.
 #include <spdlog/spdlog.h>
+#include <unistd.h>
 
 #include <CLI/CLI.hpp>
-#include <chrono>
 #include <algorithm>
+#include <chrono>
+#include <condition_variable>
+#include <mutex>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -64,14 +76,59 @@ using Clock = std::chrono::steady_clock;
 
 namespace {
 
-int discover(bus::Bus& b, uint32_t id, uint32_t expect, double timeout_s) {
+// Ends the process from its own thread when the main thread cannot: past
+// `deadline` (if any) + the grace, or past the grace after a shutdown
+// request. Destroyed (stopped) once the main thread is done with the bus.
+class Watchdog {
+ public:
+  static constexpr std::chrono::seconds kGrace{2};
+  explicit Watchdog(std::optional<Clock::time_point> deadline) : deadline_(deadline), thread_([this] { watch(); }) {}
+  ~Watchdog() {
+    {
+      std::lock_guard lock(mu_);
+      stop_ = true;
+    }
+    cv_.notify_all();
+    thread_.join();
+  }
+  Watchdog(const Watchdog&) = delete;
+  Watchdog& operator=(const Watchdog&) = delete;
+
+ private:
+  void watch() {
+    std::optional<Clock::time_point> asked;
+    std::unique_lock lock(mu_);
+    while (!cv_.wait_for(lock, std::chrono::milliseconds(50), [this] { return stop_; })) {
+      const auto now = Clock::now();
+      if (!asked && runtime::shutdown_requested()) asked = now;
+      if (asked && now > *asked + kGrace) die("did not end within 2 s of SIGINT/SIGTERM", 5);
+      if (deadline_ && now > *deadline_ + kGrace) die("did not end within its --timeout (+2 s)", 1);
+    }
+  }
+  [[noreturn]] static void die(const char* why, int code) {
+    // write(2), not stdio: the blocked main thread may hold stdout's lock.
+    char line[160];
+    const int n = std::snprintf(line, sizeof line, "probe watchdog: %s; blocked in a DDS call, exiting\n", why);
+    if (n > 0) (void)!::write(STDERR_FILENO, line, static_cast<std::size_t>(std::min(n, 159)));
+    ::_exit(code);
+  }
+
+  std::optional<Clock::time_point> deadline_;
+  std::mutex mu_;
+  std::condition_variable cv_;
+  bool stop_ = false;
+  std::thread thread_;  // last: starts once the members above exist
+};
+
+// The deadline runs from `started` (the process start), so that a slow
+// participant creation counts against --timeout too.
+int discover(bus::Bus& b, uint32_t id, uint32_t expect, Clock::time_point deadline) {
   // Every probe publishes a (transient-local) health record under its own id
   // and counts the distinct ids it receives: one writer and one reader each,
   // so that what is measured is the profile's discovery of participants, not
   // the matching of a ground station's readers (which no probe writes to).
   b.subscribe_health();
   const auto start = Clock::now();
-  const auto deadline = start + std::chrono::milliseconds(static_cast<int64_t>(timeout_s * 1000));
   std::set<uint32_t> seen;
   std::vector<core::HealthMsg> inbox;
   bool reported = false;
@@ -509,7 +566,7 @@ int main(int argc, char** argv) {
   auto* d = app.add_subcommand("discover", "announce and count participants");
   d->add_option("--id", id)->required();
   d->add_option("--expect", expect)->required();
-  d->add_option("--timeout", timeout_s);
+  d->add_option("--timeout", timeout_s, "[s] from the process start")->check(CLI::Range(0.001, 86400.0));
   uint32_t regions = 16;
   auto* i = app.add_subcommand("idle", "a UAV's endpoints, no samples, until SIGTERM");
   i->add_option("--id", id)->required();
@@ -543,6 +600,10 @@ int main(int argc, char** argv) {
   app.add_option("--cell-index", cell_index);
   app.add_option("--cell-peer", cell_peers);
   app.add_option("--participant-id", participant_id);
+  double stall_s = 0;
+  app.add_option("--stall", stall_s,
+                 "[s] block this long before making the bus, deaf to signals (test of the watchdog)")
+      ->check(CLI::Range(0.0, 3600.0));
   std::string secure, identity;
   app.add_option("--secure", secure);
   app.add_option("--identity", identity);
@@ -557,6 +618,11 @@ int main(int argc, char** argv) {
   const auto started = Clock::now();
   spdlog::set_level(spdlog::level::warn);
   runtime::install_shutdown_handlers();
+  const auto deadline = started + std::chrono::milliseconds(static_cast<int64_t>(timeout_s * 1000));
+  // Declared before the bus: it watches the bus's destruction too.
+  Watchdog watchdog(d->parsed() ? std::optional(deadline) : std::nullopt);
+  // sleep_for resumes after a signal (libstdc++ sleeps again for the rest).
+  if (stall_s > 0) std::this_thread::sleep_for(std::chrono::milliseconds(static_cast<int64_t>(stall_s * 1000)));
   bus::BusOptions o;
   o.process_name = "probe";
   o.domain = domain;
@@ -590,7 +656,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "%s\n", b.error().message.c_str());
     return 3;
   }
-  if (d->parsed()) return discover(*b.value(), id, expect, timeout_s);
+  if (d->parsed()) return discover(*b.value(), id, expect, deadline);
   if (i->parsed()) return idle(*b.value(), id, regions);
   if (hb->parsed()) return hub(*b.value(), cell, spokes, first_uav, view_writers == "per-uav", started);
   if (sp->parsed()) return spoke(*b.value(), id, cell, started);

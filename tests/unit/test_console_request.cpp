@@ -115,14 +115,17 @@ TEST(ConsoleRefusalLimiter, RefusalsAreInMetricsByReason) {
   SwarmCounters c;
   RefusalCounts r{};
   r[static_cast<std::size_t>(Refusal::Unauthorised)] = 20;
-  r[static_cast<std::size_t>(Refusal::TooManyLongPolls)] = 2;
+  r[static_cast<std::size_t>(Refusal::TooManyConnections)] = 2;
   c.http_refused = r;
   c.http_connections = 7;
+  c.http_long_polls_unheld = 3;
   const std::string text = swarm_metrics_text(ConsoleState{}, c);
   EXPECT_NE(text.find("pheromesh_console_http_refused_total{reason=\"unauthorised\"} 20\n"), std::string::npos) << text;
-  EXPECT_NE(text.find("pheromesh_console_http_refused_total{reason=\"too_many_long_polls\"} 2\n"), std::string::npos);
+  EXPECT_NE(text.find("pheromesh_console_http_refused_total{reason=\"too_many_connections\"} 2\n"), std::string::npos);
   EXPECT_NE(text.find("pheromesh_console_http_refused_total{reason=\"head_timeout\"} 0\n"), std::string::npos);
   EXPECT_NE(text.find("pheromesh_console_http_connections 7\n"), std::string::npos);
+  EXPECT_NE(text.find("pheromesh_console_http_long_polls_unheld_total 3\n"), std::string::npos);
+  EXPECT_EQ(text.find("too_many_long_polls"), std::string::npos) << "a long-poll beyond the limits is not refused";
 }
 
 }  // namespace

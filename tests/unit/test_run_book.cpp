@@ -173,19 +173,97 @@ TEST(RunBook, TheLastFieldIsHeldWhenEveryChunkOfItsTickArrivedFromEveryPresentRe
   EXPECT_TRUE(book.holds_last_fields(6, c)) << "absent region 1 is not waited for";
 }
 
-TEST(RunBook, UntilDoneEndsWhenEveryExpectedUavFinishedOrWasLost) {
+LockstepConductor conductor_with_grace(uint32_t uavs, std::chrono::milliseconds grace) {
+  LockstepConductor::Options o;
+  o.uavs = uavs;
+  o.regions = 4;
+  o.departed_grace = grace;
+  return LockstepConductor(o);
+}
+
+TEST(RunBook, UntilDoneEndsWhenEveryExpectedUavFinishedOrWasLostForGood) {
   Recorder r;
   RunBook book(options(Role::Starter, 4, 4));
-  EXPECT_FALSE(book.uavs_done(*r.rec)) << "no UAV heard";
+  auto c = conductor_with_grace(4, 5s);
+  EXPECT_FALSE(book.uavs_done(*r.rec, c, t0)) << "no UAV heard";
   for (uint32_t u = 0; u < 3; ++u) ASSERT_TRUE(r.rec->on_uav_state(state(u, 10, false)));
   ASSERT_TRUE(r.rec->on_uav_state(state(0, 11, true)));
   ASSERT_TRUE(r.rec->on_uav_state(state(1, 11, true)));
   r.rec->on_uav_departed(2);
-  EXPECT_FALSE(book.uavs_done(*r.rec)) << "3 of 4 heard, and the swarm was not started without the fourth";
+  c.on_uav_departed(2, t0);
+  EXPECT_FALSE(book.uavs_done(*r.rec, c, t0 + 10s)) << "3 of 4 heard, and the swarm was not started without the fourth";
   ASSERT_EQ(book.note_discovery({3, 4}, t0 + 31s).start, StartNow::WithoutSomeAfterBound);
-  EXPECT_TRUE(book.uavs_done(*r.rec)) << "started without uav 3: 0 and 1 finished, 2 lost";
+  EXPECT_TRUE(book.uavs_done(*r.rec, c, t0 + 31s)) << "started without uav 3: 0 and 1 finished, 2 lost for good";
   ASSERT_TRUE(r.rec->on_uav_state(state(3, 10, false)));
-  EXPECT_FALSE(book.uavs_done(*r.rec)) << "uav 3 came late and flies";
+  EXPECT_FALSE(book.uavs_done(*r.rec, c, t0 + 31s)) << "uav 3 came late and flies";
+}
+
+// A SIGSTOPped UAV: its liveliness lapses, but it has not finished. The End
+// waits the departed grace; if it resumes within it, it flies on.
+TEST(RunBook, UntilDoneWaitsTheDepartedGraceForAUavWhoseLivelinessLapsed) {
+  Recorder r;
+  RunBook book(options(Role::Starter, 2, 4));
+  auto c = conductor_with_grace(2, 5s);
+  for (uint32_t u = 0; u < 2; ++u) {
+    ASSERT_TRUE(r.rec->on_uav_state(state(u, 10, false)));
+    c.heard_from(u, t0);
+  }
+  ASSERT_TRUE(r.rec->on_uav_state(state(0, 20, true)));
+  c.heard_from(1, t0 + 1s);
+  r.rec->on_uav_departed(1);  // stopped: its liveliness lapsed at t0 + 3 s
+  c.on_uav_departed(1, t0 + 3s);
+  EXPECT_FALSE(book.uavs_done(*r.rec, c, t0 + 3s)) << "uav 1 lapsed just now";
+  EXPECT_FALSE(book.uavs_done(*r.rec, c, t0 + 8s))
+      << "the grace (5 s) runs from the lapse (3 s), not from its last sample";
+  // It resumes: its states come back and it finishes later.
+  ASSERT_TRUE(r.rec->on_uav_state(state(1, 11, false)));
+  c.heard_from(1, t0 + 7s);
+  c.on_uav_state(1, 11, {0, 0});
+  EXPECT_FALSE(book.uavs_done(*r.rec, c, t0 + 20s)) << "uav 1 is back and flies, however long it takes";
+  ASSERT_TRUE(r.rec->on_uav_state(state(1, 20, true)));
+  EXPECT_TRUE(book.uavs_done(*r.rec, c, t0 + 20s)) << "both finished";
+}
+
+TEST(RunBook, UntilDoneCountsAUavGoneForGoodAfterTheGrace) {
+  Recorder r;
+  RunBook book(options(Role::Starter, 2, 4));
+  auto c = conductor_with_grace(2, 5s);
+  ASSERT_TRUE(r.rec->on_uav_state(state(0, 20, true)));
+  ASSERT_TRUE(r.rec->on_uav_state(state(1, 10, false)));
+  c.heard_from(1, t0);
+  r.rec->on_uav_departed(1);
+  c.on_uav_departed(1, t0 + 1s);
+  EXPECT_FALSE(book.uavs_done(*r.rec, c, t0 + 6s)) << "exactly the grace: not yet past it";
+  EXPECT_TRUE(book.uavs_done(*r.rec, c, t0 + 6s + 1ms)) << "silent past the grace: gone for good";
+}
+
+TEST(RunBook, UntilDoneCountsAKilledUavAsNotFlyingUntilItIsHeardAgain) {
+  Recorder r;
+  RunBook book(options(Role::Starter, 2, 4));
+  auto c = conductor_with_grace(2, 5s);
+  ASSERT_TRUE(r.rec->on_uav_state(state(0, 20, true)));
+  ASSERT_TRUE(r.rec->on_uav_state(state(1, 10, false)));
+  c.heard_from(1, t0);
+  EXPECT_FALSE(book.uavs_done(*r.rec, c, t0 + 1s)) << "uav 1 flies";
+  book.note_uav_killed(1, t0 + 1s);
+  EXPECT_TRUE(book.uavs_done(*r.rec, c, t0 + 1s)) << "killed: done at once, before its liveliness lapses";
+  // Restarted: the new process is heard after the kill.
+  r.rec->on_uav_departed(1);
+  c.on_uav_departed(1, t0 + 2s);
+  ASSERT_TRUE(r.rec->on_uav_state(state(1, 0, false)));
+  c.heard_from(1, t0 + 3s);
+  EXPECT_FALSE(book.uavs_done(*r.rec, c, t0 + 3s)) << "restarted after the kill: it flies again";
+}
+
+TEST(RunBook, UntilDoneCountsAUavTheConductorDroppedAtATickAsDone) {
+  Recorder r;
+  RunBook book(options(Role::Conductor, 2, 4));
+  auto c = conductor_with_grace(2, 5s);
+  ASSERT_TRUE(r.rec->on_uav_state(state(0, 20, true)));
+  ASSERT_TRUE(r.rec->on_uav_state(state(1, 10, false)));
+  EXPECT_FALSE(book.uavs_done(*r.rec, c, t0));
+  ASSERT_TRUE(c.drop_uav(1));
+  EXPECT_TRUE(book.uavs_done(*r.rec, c, t0)) << "killed by the launcher at a tick";
 }
 
 TEST(RunBook, PlacesFinishWhenEveryReplicaHeardFinishedOrLeftAndEveryRegionWasHeardOrLeft) {

@@ -20,7 +20,7 @@ struct ConsoleServer::Impl {
   std::unique_ptr<detail::GuardedServer> http;
   std::thread thread;
   uint16_t port = 0;
-  std::atomic<uint64_t> requests{0}, frame_requests{0}, body_bytes{0};
+  std::atomic<uint64_t> requests{0}, frame_requests{0}, body_bytes{0}, long_polls_unheld{0};
   std::array<std::atomic<uint64_t>, kRefusalKinds> refused{};
   // Long-polls held now, by client address and in all.
   std::mutex polls_mu;
@@ -136,19 +136,18 @@ core::Result<uint16_t> ConsoleServer::start() {
       count(res);
       return;
     }
-    bool held = false;
-    if (q->wait) {
-      held = m.take_poll(req.remote_addr);
-      if (!held) {
-        answer_json(res, 429, "too many long-polls from this client (or in all); ask again without wait=1 or later");
-        res.set_header("Retry-After", "1");
-        m.refuse(Refusal::TooManyLongPolls, 429, who(req), "GET /api/frame?wait=1");
-        count(res);
-        return;
-      }
+    // A long-poll beyond the limits is not refused but answered at once
+    // with the frame as it is (no wait): the seventh tab of one browser
+    // degrades to polling (the page waits 250 ms after an answer without
+    // news that came back at once) instead of breaking, and a flood of
+    // long-polls still holds no more workers than the limits allow.
+    const bool held = q->wait && m.take_poll(req.remote_addr);
+    if (q->wait && !held) {
+      ++m.long_polls_unheld;
+      res.set_header("X-Pheromesh-Long-Poll", "not-held");
     }
     try {
-      res.set_content(dump(m.source->frame(q->layer, q->since, q->t, q->wait)), "application/json");
+      res.set_content(dump(m.source->frame(q->layer, q->since, q->t, held)), "application/json");
     } catch (...) {
       if (held) m.give_poll(req.remote_addr);
       throw;
@@ -217,6 +216,7 @@ ServerStats ConsoleServer::stats() const {
   for (std::size_t i = 0; i < kRefusalKinds; ++i) s.refused[i] = impl_->refused[i].load();
   s.commands_unauthorised = s.refused[static_cast<std::size_t>(Refusal::Unauthorised)];
   s.open_connections = impl_->http ? impl_->http->open_connections() : 0;
+  s.long_polls_unheld = impl_->long_polls_unheld.load();
   return s;
 }
 

@@ -20,8 +20,6 @@ const char* refusal_name(Refusal r) {
       return "unsupported_encoding";
     case Refusal::BadRequest:
       return "bad_request";
-    case Refusal::TooManyLongPolls:
-      return "too_many_long_polls";
     case Refusal::HeadTooLarge:
       return "head_too_large";
     case Refusal::HeadTimeout:

@@ -78,6 +78,11 @@ std::string swarm_metrics_text(const ConsoleState& st, const SwarmCounters& c) {
     e.family("pheromesh_console_http_connections", "gauge", "Open connections to the console.");
     e.sample("pheromesh_console_http_connections", d(*c.http_connections));
   }
+  if (c.http_long_polls_unheld) {
+    e.family("pheromesh_console_http_long_polls_unheld_total", "counter",
+             "Long-polls answered at once, without waiting: their client (or all) held as many as allowed.");
+    e.sample("pheromesh_console_http_long_polls_unheld_total", d(*c.http_long_polls_unheld));
+  }
   if (c.recording_bytes) {
     e.family("pheromesh_recording_bytes_total", "counter", "Bytes written to the console recording.");
     e.sample("pheromesh_recording_bytes_total", d(*c.recording_bytes));

@@ -60,11 +60,23 @@ bool RunBook::holds_last_fields(uint32_t tick, const LockstepConductor& conducto
   return true;
 }
 
-bool RunBook::uavs_done(const RunRecorder& rec) const {
+bool RunBook::uavs_done(const RunRecorder& rec, const LockstepConductor& conductor, Clock::time_point now) const {
   const auto& uavs = rec.uavs();
   if (uavs.size() < o_.uavs && !start_sent_) return false;
   if (uavs.empty()) return false;
-  return std::all_of(uavs.begin(), uavs.end(), [](const auto& kv) { return kv.second.finished || !kv.second.alive; });
+  const auto done = [&](const auto& kv) {
+    const auto& [id, u] = kv;
+    if (u.finished || conductor.dropped(id)) return true;
+    auto k = killed_.find(id);
+    if (k != killed_.end()) {
+      const auto heard = conductor.last_heard(id);
+      if (!heard || *heard <= k->second) return true;  // not heard since the kill: no restart flies
+    }
+    // Lapsed liveliness alone is no end: a stopped process keeps its place
+    // until the grace is over (as the lockstep conductor waits for it).
+    return !u.alive && conductor.gone_for_good(id, now);
+  };
+  return std::all_of(uavs.begin(), uavs.end(), done);
 }
 
 bool RunBook::places_finished(const RunRecorder& rec) const {

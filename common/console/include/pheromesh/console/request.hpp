@@ -42,12 +42,11 @@ enum class Refusal : uint8_t {
   LengthRequired,       // 411: a body without Content-Length (chunked or until EOF)
   UnsupportedEncoding,  // 415: a compressed body
   BadRequest,           // 400: an unreadable request line, header or query
-  TooManyLongPolls,     // 429: more long-polls from one client (or in all) than allowed
   HeadTooLarge,         // 431: request line and headers above HttpLimits::max_head
   HeadTimeout,          // the headers did not arrive in time: connection closed
   TooManyConnections,   // 503 or closed: connection limits
 };
-inline constexpr std::size_t kRefusalKinds = 9;
+inline constexpr std::size_t kRefusalKinds = 8;
 const char* refusal_name(Refusal r);  // "unauthorised", "body_too_large", ...
 using RefusalCounts = std::array<uint64_t, kRefusalKinds>;
 

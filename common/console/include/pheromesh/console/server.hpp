@@ -51,6 +51,9 @@ struct ServerStats {
   uint64_t commands_unauthorised = 0;  // = refused[Refusal::Unauthorised]
   RefusalCounts refused{};              // by Refusal
   uint64_t open_connections = 0;
+  // Long-polls answered at once, not held: their client (or all clients)
+  // already held as many as allowed.
+  uint64_t long_polls_unheld = 0;
 };
 
 class ConsoleServer {

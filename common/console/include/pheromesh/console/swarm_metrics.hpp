@@ -27,6 +27,7 @@ struct SwarmCounters {
   std::optional<uint64_t> http_requests, http_body_bytes;  // with the HTTP server
   std::optional<RefusalCounts> http_refused;               // by Refusal
   std::optional<uint64_t> http_connections;                // open now
+  std::optional<uint64_t> http_long_polls_unheld;          // answered at once beyond the long-poll limits
   std::optional<uint64_t> recording_bytes;                 // with a recording
 };
 

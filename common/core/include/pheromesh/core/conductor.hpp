@@ -101,6 +101,12 @@ class LockstepConductor {
   // grace of a departed UAV runs from the later of its departure and this.
   void heard_from(uint32_t uav, Clock::time_point now) { heard_[uav] = now; }
   [[nodiscard]] bool departed(uint32_t uav) const { return departed_since_.contains(uav); }
+  // When the UAV's latest sample arrived (heard_from), if any did.
+  [[nodiscard]] std::optional<Clock::time_point> last_heard(uint32_t uav) const {
+    auto it = heard_.find(uav);
+    if (it == heard_.end()) return std::nullopt;
+    return it->second;
+  }
 
   // --- faults at a tick (before begin_phase of its UAV phase)
   // The UAV was killed: not waited for from now on, and a state it sent

@@ -87,8 +87,18 @@ class RunBook {
 
   // --- the end of the run
   // --until-done: every expected UAV was heard (or the Start went out
-  // without some) and each finished or was lost.
-  [[nodiscard]] bool uavs_done(const RunRecorder& rec) const;
+  // without some) and each is done: it finished; or it was killed (a fault:
+  // note_uav_killed, or dropped by the conductor at a tick) and was not heard
+  // since; or its liveliness lapsed and it stayed silent past the departed
+  // grace (LockstepConductor::gone_for_good). A UAV whose liveliness lapsed
+  // is not done before that: a stopped (SIGSTOP) or overloaded process may
+  // come back and finish.
+  [[nodiscard]] bool uavs_done(const RunRecorder& rec, const LockstepConductor& conductor,
+                               Clock::time_point now) const;
+  // The UAV was killed on purpose at `now` (the console's kill, answered by
+  // the launcher): it no longer flies. A sample heard from it later (a
+  // restart) makes it fly again.
+  void note_uav_killed(uint32_t uav, Clock::time_point now) { killed_[uav] = now; }
   // Every replica heard of every region reported its final health or is gone
   // (a killed primary whose standby finished counts as done).
   [[nodiscard]] bool places_finished(const RunRecorder& rec) const;
@@ -113,6 +123,7 @@ class RunBook {
   std::optional<double> discovery_s_;
   bool start_sent_ = false;
   std::set<RegionId> linked_;
+  std::map<uint32_t, Clock::time_point> killed_;  // UAV -> when it was killed
   bool full_state_noted_ = false;
   uint32_t conducted_tick_ = 0;
   std::map<RegionId, std::pair<uint32_t, std::set<uint16_t>>> field_ticks_;  // region -> newest tick, its chunks seen
