@@ -88,7 +88,8 @@ GroundApp::GroundApp(GroundConfig cfg, core::ScenarioConfig scenario, std::uniqu
       conductor_(conductor_options(cfg_, geo_.region_count())),
       book_(book_options(cfg_, scenario_, geo_.region_count())),
       intake_(scenario_, {rec_, conductor_, book_, frame_builder_, world_},
-              cfg_.standby ? console::GroundIntake::Standby::Hot : console::GroundIntake::Standby::None) {
+              cfg_.standby ? console::GroundIntake::Standby::Hot : console::GroundIntake::Standby::None,
+              std::chrono::milliseconds(cfg_.common.lease_ms)) {
   if (cfg_.tracks) rec_.keep_tracks();
 }
 

@@ -98,7 +98,9 @@ void PlaceApp::take_home_states(uint32_t tick) {
     if (const core::UavStateMsg* last = views_.state(u)) gone = *last;
     gone.departed = true;
     bus_->relay_state(gone);
-    log_->info("uav {} departed (its state writer vanished); told the ground station", u);
+    log_->info("uav {} departed (its state writer's liveliness lapsed: it died, hangs or its packets were lost); told "
+               "the ground station",
+               u);
   }
 }
 

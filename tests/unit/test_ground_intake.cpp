@@ -211,15 +211,18 @@ TEST(GroundIntake, AFinishedUavsLastStateDoesNotCountAsBackButAFlyingOnesDoes) {
   rig.take(states({state(0, 10), state(1, 10)}));
   GroundSamples gone;
   gone.departed_uavs = {0, 1, 9};  // 9: a forger's writer, no UAV
-  const Notes lost = rig.take(std::move(gone));
+  EXPECT_TRUE(texts(rig.take(std::move(gone), kUnlimited, t0 + 2s), Kind::UavLost).empty())
+      << "judged half a lease after the departure";
+  const Notes lost = rig.take({}, kUnlimited, t0 + 2600ms);
   EXPECT_EQ(texts(lost, Kind::UavLost),
             (Texts{"uav 0 lost (liveliness) at tick 10", "uav 1 lost (liveliness) at tick 10"}));
-  const Notes back = rig.take(states({finished(0, 11), state(1, 11)}));
+  const Notes back = rig.take(states({finished(0, 11), state(1, 11)}), kUnlimited, t0 + 3s);
   EXPECT_EQ(texts(back, Kind::UavBack), Texts{"uav 1 is back at tick 11"});
   EXPECT_FALSE(rig.conductor->departed(0)) << "the conductor takes the finished UAV's state as its end, not a loss";
   GroundSamples again;
   again.departed_uavs = {0};
-  EXPECT_TRUE(texts(rig.take(std::move(again)), Kind::UavLost).empty()) << "a finished UAV that leaves is not lost";
+  rig.take(std::move(again), kUnlimited, t0 + 5s);
+  EXPECT_TRUE(texts(rig.take({}, kUnlimited, t0 + 6s), Kind::UavLost).empty()) << "a finished UAV that leaves is not lost";
 }
 
 TEST(GroundIntake, ADepartedPlaceReplicaIsReportedWithTheReplicaThatServesItsRegionNow) {
@@ -231,7 +234,8 @@ TEST(GroundIntake, ADepartedPlaceReplicaIsReportedWithTheReplicaThatServesItsReg
   EXPECT_EQ(rig.frames->regions_heard(), 4U);
   GroundSamples gone;
   gone.departed_places = {core::place_id(0, 1), core::place_id(1, 0), core::place_id(2, 0), core::place_id(3, 0)};
-  const Notes notes = rig.take(std::move(gone));
+  rig.take(std::move(gone), kUnlimited, t0 + 2s);
+  const Notes notes = rig.take({}, kUnlimited, t0 + 3s);
   EXPECT_EQ(texts(notes, Kind::PlaceLost),
             (Texts{"standby 1 of region 0 lost (liveliness); region 0 is served by its primary",
                    "place agent 1 lost (liveliness); region 1 is served by standby 1",
@@ -257,19 +261,22 @@ TEST(GroundIntake, APlaceReplicaHeardAgainIsBackAndTheLowerReplicaOwnsItsRegionA
   rig.take(std::move(heard));
   GroundSamples gone;
   gone.departed_places = {core::place_id(0, 0)};
-  rig.take(std::move(gone));
+  rig.take(std::move(gone), kUnlimited, t0 + 2s);
   EXPECT_EQ(rig.rec->region_owner(0), std::optional<uint16_t>(1));
+  EXPECT_EQ(texts(rig.take({}, kUnlimited, t0 + 3s), Kind::PlaceLost),
+            Texts{"place agent 0 lost (liveliness); region 0 is served by standby 1"});
   GroundSamples primary;
   primary.healths = {health(0, 0, 12)};
-  const Notes notes = rig.take(std::move(primary));
+  const Notes notes = rig.take(std::move(primary), kUnlimited, t0 + 4s);
   EXPECT_EQ(texts(notes, Kind::PlaceBack), Texts{"place agent 0 is back at tick 12"});
   EXPECT_EQ(texts(notes, Kind::OwnerRegained), Texts{"region 0: replica 0 owns it again"});
   GroundSamples standby_gone;
   standby_gone.departed_places = {core::place_id(0, 1)};
-  rig.take(std::move(standby_gone));
+  rig.take(std::move(standby_gone), kUnlimited, t0 + 6s);
+  rig.take({}, kUnlimited, t0 + 7s);
   GroundSamples standby;
   standby.healths = {health(0, 1, 13)};
-  const Notes again = rig.take(std::move(standby));
+  const Notes again = rig.take(std::move(standby), kUnlimited, t0 + 8s);
   EXPECT_EQ(texts(again, Kind::PlaceBack), Texts{"place agent 0 (standby 1) is back at tick 13"});
   EXPECT_TRUE(texts(again, Kind::OwnerRegained).empty()) << "the primary owned region 0 throughout";
 }
@@ -291,6 +298,78 @@ TEST(GroundIntake, OnlyTheFirstFiveRefusalsAreNotedAndEveryOneIsCounted) {
   const Notes notes = rig.take(std::move(s));
   EXPECT_EQ(texts(notes, Kind::SampleRefused).size(), 5U);
   EXPECT_EQ(rig.rec->refused()[core::Refusal::UnknownUav], 7U);
+}
+
+// Under packet loss a live process's liveliness lapses while its samples
+// still arrive (docs/dds.md, "Lockstep under packet loss"): such a lapse is
+// noted once per process and counted, and never reported as a loss.
+TEST(GroundIntake, ALapseOfAProcessHeardAroundItIsNotedOnceAndNeverReportedLost) {
+  Rig rig;
+  GroundSamples heard;
+  heard.healths = {health(2, 0)};
+  rig.take(std::move(heard), kUnlimited, t0);
+  rig.take(states({state(1, 10)}), kUnlimited, t0 + 200ms);
+  // Heard 0.3 s and 0.1 s before their departures (half a lease: 0.5 s).
+  GroundSamples gone;
+  gone.departed_places = {core::place_id(2, 0)};
+  gone.departed_uavs = {1};
+  const Notes lapsed = rig.take(std::move(gone), kUnlimited, t0 + 300ms);
+  EXPECT_EQ(texts(lapsed, Kind::LivenessLapsed),
+            (Texts{"uav 1: liveliness lapsed (packet loss?), still heard; not taken for lost (further lapses are counted "
+                   "at the end of the run)",
+                   "place agent 2: liveliness lapsed (packet loss?), still heard; not taken for lost (further lapses "
+                   "are counted at the end of the run)"}));
+  EXPECT_TRUE(rig.conductor->departed(1)) << "the conductor still judges by its own grace";
+  EXPECT_TRUE(texts(rig.take({}, kUnlimited, t0 + 3s), Kind::PlaceLost).empty());
+  // Back: no note, as nobody was told it was lost.
+  GroundSamples again;
+  again.healths = {health(2, 0, 11)};
+  again.states = {state(1, 11)};
+  const Notes back = rig.take(std::move(again), kUnlimited, t0 + 3100ms);
+  EXPECT_TRUE(texts(back, Kind::PlaceBack).empty());
+  EXPECT_TRUE(texts(back, Kind::UavBack).empty());
+  // Silent for 2 s, then departed, then a PhaseDone 0.4 s later: a lapse
+  // again, counted but not noted a second time.
+  GroundSamples gone2;
+  gone2.departed_places = {core::place_id(2, 0)};
+  rig.take(std::move(gone2), kUnlimited, t0 + 5100ms);
+  GroundSamples done;
+  done.phase_dones = {{core::process_key(core::kRolePlace, 2), 11, static_cast<uint8_t>(core::ClockPhase::Place), 0, {}}};
+  const Notes late = rig.take(std::move(done), kUnlimited, t0 + 5500ms);
+  EXPECT_TRUE(texts(late, Kind::LivenessLapsed).empty());
+  EXPECT_TRUE(texts(late, Kind::PlaceLost).empty());
+  EXPECT_TRUE(texts(rig.take({}, kUnlimited, t0 + 9s), Kind::PlaceLost).empty());
+  EXPECT_EQ(rig.intake->liveliness_lapses(), 3U);
+  EXPECT_EQ(texts(rig.intake->judge_pending(), Kind::LivenessLapsed),
+            Texts{"liveliness lapsed 3 times while the process was still heard (packet loss?; UAVs 1, place agents 1); "
+                  "none was taken for lost"});
+}
+
+// A process that died or hangs was last heard when it last asserted, a lease
+// before its departure: lost, half a lease after the departure; one that
+// departs at the very end of the run is lost too.
+TEST(GroundIntake, AProcessSilentAroundItsLapseIsReportedLostHalfALeaseAfterIt) {
+  Rig rig;
+  GroundSamples heard;
+  heard.healths = {health(3, 0)};
+  heard.states = {state(0, 10), state(2, 10)};
+  rig.take(std::move(heard), kUnlimited, t0);
+  GroundSamples gone;
+  gone.departed_places = {core::place_id(3, 0)};
+  gone.departed_uavs = {0};
+  EXPECT_TRUE(rig.take(std::move(gone), kUnlimited, t0 + 1s).empty()) << "not judged yet";
+  EXPECT_TRUE(rig.take({}, kUnlimited, t0 + 1500ms).empty()) << "half a lease after it: not yet";
+  const Notes lost = rig.take({}, kUnlimited, t0 + 1501ms);
+  EXPECT_EQ(texts(lost, Kind::UavLost), Texts{"uav 0 lost (liveliness) at tick 10"});
+  EXPECT_EQ(texts(lost, Kind::PlaceLost),
+            Texts{"place agent 3 lost (liveliness); region 3 has no live place agent: deposits into it are lost"});
+  EXPECT_EQ(texts(rig.take(states({state(0, 12)}), kUnlimited, t0 + 3s), Kind::UavBack),
+            Texts{"uav 0 is back at tick 12"});
+  GroundSamples last;
+  last.departed_uavs = {2};
+  rig.take(std::move(last), kUnlimited, t0 + 4s);
+  EXPECT_EQ(texts(rig.intake->judge_pending(), Kind::UavLost), Texts{"uav 2 lost (liveliness) at tick 10"});
+  EXPECT_EQ(rig.intake->liveliness_lapses(), 0U);
 }
 
 TEST(GroundIntake, APhaseDoneOfADepartedUavIsASignOfLifeThatHoldsOffItsDrop) {

@@ -136,6 +136,38 @@ TEST(DepositDesk, OwnDepositsAreAppliedOthersForwardedAndCopiesDroppedOnlyWhenAs
   EXPECT_EQ(plain.taken_from(1), 1U) << "a replayed seq is not a second deposit of the UAV";
 }
 
+TEST(SeenDeposits, ACopyWithinTheWindowIsSeenAndOneOlderThanItIsNot) {
+  SeenDeposits seen(128);
+  EXPECT_FALSE(seen.seen_before(3, 1000));
+  EXPECT_TRUE(seen.seen_before(3, 1000));
+  EXPECT_FALSE(seen.seen_before(3, 990)) << "below the highest, inside the window, new";
+  EXPECT_TRUE(seen.seen_before(3, 990));
+  EXPECT_FALSE(seen.seen_before(7, 1000)) << "per UAV";
+  EXPECT_FALSE(seen.seen_before(3, 1100));
+  EXPECT_TRUE(seen.seen_before(3, 990)) << "100 below the highest: still remembered";
+  EXPECT_FALSE(seen.seen_before(3, 1118)) << "the window moves: 990's slot is free again";
+  EXPECT_FALSE(seen.seen_before(3, 990)) << "128 below the highest: too old to tell";
+  EXPECT_TRUE(seen.seen_before(3, 1100));
+  EXPECT_FALSE(seen.seen_before(3, 1100 + 128)) << "the slot of 1100, a window later, is a new seq";
+  EXPECT_FALSE(seen.seen_before(3, 100000)) << "a jump past the whole window forgets all";
+  EXPECT_FALSE(seen.seen_before(3, 99999));
+}
+
+// Soaks: a place agent takes deposits for hours (issue 28); what it keeps to
+// spot copies stays at window / 8 bytes per UAV however many it took.
+TEST(SeenDeposits, ItsMemoryStaysBoundedByTheWindowPerUavOverALongRun) {
+  SeenDeposits seen;  // the place agents' window: 4096 seqs
+  for (uint32_t seq = 1; seq <= 200000; ++seq) {
+    for (uint32_t uav = 0; uav < 20; ++uav) {
+      if ((seq + uav) % 3 != 0) EXPECT_FALSE(seen.seen_before(uav, seq));
+    }
+    if (seq == 5000) EXPECT_EQ(seen.bytes(), 20U * 4096U / 8U);
+  }
+  EXPECT_EQ(seen.bytes(), 20U * 4096U / 8U) << "4.5 MiB with a std::set of 4096 seqs per UAV";
+  EXPECT_TRUE(seen.seen_before(5, 199998));  // (199998 + 5) % 3 != 0: seen above
+  EXPECT_FALSE(seen.seen_before(5, 200000 - 4096));
+}
+
 TEST(DepositDesk, AUavItIsTheBackupGatewayOfIsConfirmedAndCountedLikeAHomeUav) {
   // Region 2 of 4; UAV 1 (home 1) is served here once its home died.
   DepositDesk desk(2, 4, 4, true);

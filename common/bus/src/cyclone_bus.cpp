@@ -134,7 +134,7 @@ class CycloneTransport final : public Transport {
   }
 
   // Manual-by-topic writers (qos.cpp) are asserted while the process keeps
-  // taking from its bus, at most four times per lease.
+  // taking from its bus, at most ten times per lease (vendor_pace.hpp).
   void keep_alive() override {
     if (!pace_.due()) return;
     for (const Entry& e : entries_) {

@@ -51,13 +51,15 @@ void GroundSamples::clear() {
   phase_dones.clear();
 }
 
-GroundIntake::GroundIntake(const core::ScenarioConfig& scenario, Parts parts, Standby standby)
+GroundIntake::GroundIntake(const core::ScenarioConfig& scenario, Parts parts, Standby standby,
+                           std::chrono::milliseconds lease)
     : p_(parts),
       standby_(standby),
       geo_(scenario.geometry()),
       swarm_(scenario.uavs),
       layers_(static_cast<int>(core::policy_traits(scenario).layers.size())),
-      layer_ranges_(core::policy_traits(scenario).layer_ranges) {}
+      layer_ranges_(core::policy_traits(scenario).layer_ranges),
+      around_(lease / 2) {}
 
 GroundIntake::Notes GroundIntake::take(GroundSamples& in, uint32_t tick_ceiling, Clock::time_point now) {
   p_.rec.set_tick_ceiling(tick_ceiling);
@@ -70,15 +72,97 @@ GroundIntake::Notes GroundIntake::take(GroundSamples& in, uint32_t tick_ceiling,
   on_healths(in.healths, now);
   on_fields(in.fields, in.tiles, tick_ceiling);
   on_tiles(in.tiles, tick_ceiling);
-  on_departed_places(in.departed_places);
+  on_departed_places(in.departed_places, now);
   on_phase_dones(in.phase_dones, now);
+  judge_departures(now, /*all=*/false);
   return std::exchange(notes_, {});
 }
 
 GroundIntake::Notes GroundIntake::judge_pending() {
   p_.rec.judge_pending_detections();
   note_acquisitions();
+  judge_departures(Clock::time_point::max(), /*all=*/true);
+  if (lapses_ > 0) {
+    const auto lapsed = [](const std::map<uint32_t, Liveness>& m) {
+      return std::count_if(m.begin(), m.end(), [](const auto& e) { return e.second.lapse_noted; });
+    };
+    note(Kind::LivenessLapsed, Level::Info,
+         text("liveliness lapsed ", lapses_, " times while the process was still heard (packet loss?; UAVs ",
+              lapsed(uav_live_), ", place agents ", lapsed(place_live_), "); none was taken for lost"));
+  }
   return std::exchange(notes_, {});
+}
+
+bool GroundIntake::heard(Who who, uint32_t id, Clock::time_point now) {
+  Liveness& l = (who == Who::Uav ? uav_live_ : place_live_)[id];
+  l.heard = std::max(l.heard, now);
+  if (l.departed) {  // heard within half a lease after its departure (else judged already)
+    l.departed.reset();
+    note_lapse(who, id);
+  }
+  return std::exchange(l.reported_lost, false);
+}
+
+void GroundIntake::departed(Who who, uint32_t id, Clock::time_point now) {
+  Liveness& l = (who == Who::Uav ? uav_live_ : place_live_)[id];
+  if (l.heard != Clock::time_point{} && now - l.heard <= around_) {
+    note_lapse(who, id);
+  } else if (!l.departed) {
+    l.departed = now;
+    pending_.emplace_back(who, id);
+  }
+}
+
+void GroundIntake::note_lapse(Who who, uint32_t id) {
+  ++lapses_;
+  Liveness& l = (who == Who::Uav ? uav_live_ : place_live_)[id];
+  if (std::exchange(l.lapse_noted, true)) return;
+  note(Kind::LivenessLapsed, Level::Warn,
+       text(who_text(who, id), ": liveliness lapsed (packet loss?), still heard; not taken for lost (further lapses are "
+                               "counted at the end of the run)"));
+}
+
+void GroundIntake::judge_departures(Clock::time_point now, bool all) {
+  // In the order they departed.
+  std::erase_if(pending_, [&](const std::pair<Who, uint32_t>& p) {
+    Liveness& l = (p.first == Who::Uav ? uav_live_ : place_live_)[p.second];
+    if (!l.departed) return true;  // heard since: a lapse
+    if (!all && now - *l.departed <= around_) return false;
+    l.departed.reset();
+    note_lost(p.first, p.second);
+    return true;
+  });
+}
+
+void GroundIntake::note_lost(Who who, uint32_t id) {
+  if (who == Who::Uav) {
+    auto it = p_.rec.uavs().find(id);
+    const bool known = it != p_.rec.uavs().end();
+    if (known && it->second.finished) return;
+    uav_live_[id].reported_lost = true;
+    note(Kind::UavLost, Level::Warn,
+         text("uav ", id, " lost (liveliness) at tick ", known ? it->second.last.tick : 0U));
+    return;
+  }
+  auto it = p_.rec.replica_health().find(id);
+  if (it != p_.rec.replica_health().end() && it->second.finished) return;
+  place_live_[id].reported_lost = true;
+  const core::RegionId r = core::place_id_region(id);
+  if (auto owner = p_.rec.region_owner(r)) {
+    note(Kind::PlaceLost, Level::Warn,
+         text(who_text(who, id), " lost (liveliness); region ", r, " is served by ",
+              *owner == 0 ? std::string("its primary") : text("standby ", *owner)));
+  } else {
+    note(Kind::PlaceLost, Level::Warn,
+         text(who_text(who, id), " lost (liveliness); region ", r, " has no live place agent: deposits into it are lost"));
+  }
+}
+
+std::string GroundIntake::who_text(Who who, uint32_t id) const {
+  if (who == Who::Uav) return text("uav ", id);
+  const uint16_t replica = core::place_id_replica(id);
+  const core::RegionId r = core::place_id_region(id);
+  return replica > 0 ? text("standby ", replica, " of region ", r) : text("place agent ", r);
 }
 
 float GroundIntake::field_value(int layer, core::Cell c) const {
@@ -104,10 +188,11 @@ void GroundIntake::on_states(const std::vector<core::UavStateMsg>& states, Clock
       }
       continue;
     }
+    const bool was_lost = heard(Who::Uav, s.uav, now);
     p_.conductor.heard_from(s.uav, now);
     const bool back = s.finished ? p_.conductor.on_uav_finished(s.uav)
                                  : p_.conductor.on_uav_state(s.uav, s.tick, geo_.tile_of(core::state_cell(s)));
-    if (back && !s.finished) note(Kind::UavBack, Level::Info, text("uav ", s.uav, " is back at tick ", s.tick));
+    if (back && was_lost && !s.finished) note(Kind::UavBack, Level::Info, text("uav ", s.uav, " is back at tick ", s.tick));
     p_.frames.heard_uav(s.uav, now);
     if (uncertainty_ != nullptr && !s.finished) uncertainty_->observe(core::state_cell(s), s.tick);
   }
@@ -125,6 +210,7 @@ void GroundIntake::on_broadcasts(const std::vector<core::BroadcastMsg>& broadcas
     }
     p_.conductor.on_broadcast(b.uav, b.tick);
     p_.conductor.heard_from(b.uav, now);
+    (void)heard(Who::Uav, b.uav, now);
   }
 }
 
@@ -132,12 +218,8 @@ void GroundIntake::on_departed_uavs(const std::vector<uint32_t>& gone, Clock::ti
   for (uint32_t id : gone) {
     if (core::check_uav_id(id, swarm_)) continue;  // a forger's writer left, not a UAV
     auto it = p_.rec.uavs().find(id);
-    const bool known = it != p_.rec.uavs().end();
-    const bool finished = known && it->second.finished;
-    if (p_.conductor.on_uav_departed(id, now) && !finished) {
-      note(Kind::UavLost, Level::Warn,
-           text("uav ", id, " lost (liveliness) at tick ", known ? it->second.last.tick : 0U));
-    }
+    const bool finished = it != p_.rec.uavs().end() && it->second.finished;
+    if (p_.conductor.on_uav_departed(id, now) && !finished) departed(Who::Uav, id, now);
     p_.rec.on_uav_departed(id);
   }
 }
@@ -154,7 +236,8 @@ void GroundIntake::on_target_events(const std::vector<core::TargetEventMsg>& eve
 void GroundIntake::on_healths(const std::vector<core::HealthMsg>& healths, Clock::time_point now) {
   for (const auto& h : healths) {
     const auto owner_before = p_.rec.region_owner(h.region);
-    if (p_.rec.on_health(h)) {
+    const bool was_lost = heard(Who::Place, core::place_id(h.region, h.replica), now);
+    if (p_.rec.on_health(h) && was_lost) {
       note(Kind::PlaceBack, Level::Warn,
            text("place agent ", h.region, h.replica > 0 ? text(" (standby ", h.replica, ")") : std::string(),
                 " is back at tick ", h.tick));
@@ -210,31 +293,27 @@ void GroundIntake::on_tiles(std::vector<core::TileMsg>& tiles, uint32_t ceiling)
   }
 }
 
-void GroundIntake::on_departed_places(const std::vector<uint32_t>& gone) {
+void GroundIntake::on_departed_places(const std::vector<uint32_t>& gone, Clock::time_point now) {
   for (uint32_t id : gone) {
-    const core::RegionId r = core::place_id_region(id);
-    const uint16_t replica = core::place_id_replica(id);
     auto it = p_.rec.replica_health().find(id);
     const bool finished = it != p_.rec.replica_health().end() && it->second.finished;
     p_.rec.on_place_departed(id);
     if (finished) continue;
     if (standby_ == Standby::Hot) p_.conductor.on_place_departed(id);
-    const std::string who = replica > 0 ? text("standby ", replica, " of region ", r) : text("place agent ", r);
-    if (auto owner = p_.rec.region_owner(r)) {
-      note(Kind::PlaceLost, Level::Warn,
-           text(who, " lost (liveliness); region ", r, " is served by ",
-                *owner == 0 ? std::string("its primary") : text("standby ", *owner)));
-    } else {
-      note(Kind::PlaceLost, Level::Warn,
-           text(who, " lost (liveliness); region ", r, " has no live place agent: deposits into it are lost"));
-    }
+    departed(Who::Place, id, now);
   }
 }
 
 void GroundIntake::on_phase_dones(const std::vector<core::PhaseDoneMsg>& dones, Clock::time_point now) {
   for (const auto& d : dones) {
     p_.conductor.on_phase_done(d);
-    if (d.process >> 24U == core::kRoleUav) p_.conductor.heard_from(d.process & 0xFFFFFFU, now);
+    const uint32_t id = d.process & 0xFFFFFFU;
+    if (d.process >> 24U == core::kRoleUav && !core::check_uav_id(id, swarm_)) {
+      p_.conductor.heard_from(id, now);
+      (void)heard(Who::Uav, id, now);
+    } else if (d.process >> 24U == core::kRolePlace) {
+      (void)heard(Who::Place, id, now);
+    }
   }
 }
 

@@ -26,11 +26,46 @@ uint32_t HomeAcks::ack(uint32_t uav) const {
   return it == last_.end() ? 0 : it->second.first;
 }
 
+SeenDeposits::SeenDeposits(uint32_t window) : window_(std::max<uint32_t>(64, (window + 63) / 64 * 64)) {}
+
+bool SeenDeposits::bit(const Window& w, uint32_t seq) const {
+  const uint32_t i = seq % window_;
+  return (w.bits[i / 64] >> (i % 64) & 1U) != 0;
+}
+
+void SeenDeposits::set_bit(Window& w, uint32_t seq, bool on) const {
+  const uint32_t i = seq % window_;
+  const uint64_t mask = uint64_t{1} << (i % 64);
+  w.bits[i / 64] = on ? w.bits[i / 64] | mask : w.bits[i / 64] & ~mask;
+}
+
 bool SeenDeposits::seen_before(uint32_t uav, uint32_t seq) {
-  auto& seen = seen_[uav];
-  if (!seen.insert(seq).second) return true;
-  if (seen.size() > window_) seen.erase(seen.begin());
+  auto [it, first] = seen_.try_emplace(uav);
+  Window& w = it->second;
+  if (first) {
+    w.bits.assign(window_ / 64, 0);
+    w.top = seq;
+  } else if (seq > w.top) {
+    // The window moves up to seq: the slots of (top, seq] are free again.
+    if (seq - w.top >= window_) {
+      std::fill(w.bits.begin(), w.bits.end(), 0);
+    } else {
+      for (uint32_t s = w.top + 1; s != seq; ++s) set_bit(w, s, false);
+    }
+    w.top = seq;
+  } else if (w.top - seq >= window_) {
+    return false;  // older than the window: too old to tell
+  } else if (bit(w, seq)) {
+    return true;
+  }
+  set_bit(w, seq, true);
   return false;
+}
+
+std::size_t SeenDeposits::bytes() const {
+  std::size_t n = 0;
+  for (const auto& [uav, w] : seen_) n += w.bits.capacity() * sizeof(uint64_t);
+  return n;
 }
 
 DepositRoute DepositDesk::take(const DepositMsg& d, uint32_t tick) {

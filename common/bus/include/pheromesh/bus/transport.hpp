@@ -99,7 +99,7 @@ class Transport {
   virtual bool write(EndpointId writer, const void* message) = 0;
   // Everything the reader holds; a sample over a bound is dropped and counted.
   virtual void take(EndpointId reader, TakeSink& sink) = 0;
-  // Asserts the manual-by-topic writers (qos.hpp), at most four times per
+  // Asserts the manual-by-topic writers (qos.hpp), at most ten times per
   // liveliness lease: called by every take of the bus, so that a hung
   // process loses its liveliness too.
   virtual void keep_alive() = 0;

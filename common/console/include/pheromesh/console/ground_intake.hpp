@@ -10,7 +10,9 @@
 #include <chrono>
 #include <cstdint>
 #include <map>
+#include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "pheromesh/console/frame_builder.hpp"
@@ -48,12 +50,13 @@ struct IntakeNote {
     StateRefused,    // implausible (the first 5 refusals)
     SampleRefused,   // a broadcast, field or tile refused (the first 5 refusals)
     TileDropped,     // malformed (the first 3 samples rejected)
-    UavBack,         // a UAV whose liveliness had lapsed is heard again
-    UavLost,         // a UAV's liveliness lapsed before it finished
+    UavBack,         // a UAV reported lost is heard again
+    UavLost,         // a UAV's liveliness lapsed before it finished, and it was not heard around the lapse
     TargetAcquired,  // a target detected for the first time
-    PlaceBack,       // a place replica that had been lost is heard again
+    PlaceBack,       // a place replica reported lost is heard again
     OwnerRegained,   // a region's output is owned by a lower replica again
-    PlaceLost,       // a place replica's liveliness lapsed before it finished
+    PlaceLost,       // a place replica's liveliness lapsed before it finished, and it was not heard around the lapse
+    LivenessLapsed,  // a process's liveliness lapsed while it was heard (the first time per process; the run's count at the end)
   };
   enum class Level : uint8_t { Info, Warn };
   Kind kind;
@@ -78,7 +81,10 @@ class GroundIntake {
     const core::World& world;  // targets, with those added during the run
   };
 
-  GroundIntake(const core::ScenarioConfig& scenario, Parts parts, Standby standby);
+  // `lease`: the swarm's liveliness lease (--lease-ms), against which a
+  // departure is judged (see Liveness below).
+  GroundIntake(const core::ScenarioConfig& scenario, Parts parts, Standby standby,
+               std::chrono::milliseconds lease = std::chrono::milliseconds(1000));
   // The console's uncertainty plot, once it exists (null: none).
   void set_uncertainty(UncertaintyTracker* u) { uncertainty_ = u; }
 
@@ -87,8 +93,10 @@ class GroundIntake {
   // (RunBook::tick_ceiling) are refused. Moves the tiles out of the fields.
   Notes take(GroundSamples& in, uint32_t tick_ceiling, Clock::time_point now);
   // End of a run: judges the detections still waiting (RunRecorder) and
-  // reports the targets they acquired.
+  // reports the targets they acquired; a departure not judged yet is a loss.
   Notes judge_pending();
+  // Departures judged lapses of live processes so far (see Liveness).
+  [[nodiscard]] uint64_t liveliness_lapses() const { return lapses_; }
 
   // The newest plausible tile of each (layer, tile).
   [[nodiscard]] const std::map<FrameBuilder::TileKey, core::TileMsg>& tiles() const { return tiles_; }
@@ -103,9 +111,34 @@ class GroundIntake {
   void on_healths(const std::vector<core::HealthMsg>& healths, Clock::time_point now);
   void on_fields(std::vector<core::FieldMsg>& fields, std::vector<core::TileMsg>& tiles, uint32_t ceiling);
   void on_tiles(std::vector<core::TileMsg>& tiles, uint32_t ceiling);
-  void on_departed_places(const std::vector<uint32_t>& gone);
+  void on_departed_places(const std::vector<uint32_t>& gone, Clock::time_point now);
   void on_phase_dones(const std::vector<core::PhaseDoneMsg>& dones, Clock::time_point now);
   void note_acquisitions();
+
+  // A departure is the lapse of a writer's liveliness (docs/dds.md): a
+  // process that died or hangs, or one whose assertions were all lost for a
+  // lease (packet loss; they are not sent again) while its samples, which
+  // are, still arrive. So a departure of a process heard within half a lease
+  // before it, or heard again within half a lease after it, is a lapse: noted
+  // once per process and counted, never reported lost. One not heard around
+  // it is reported lost half a lease after it (a process that died or hangs
+  // was last heard when it asserted last, a lease before its departure).
+  // The conductor and the recorder are told of every departure at once.
+  struct Liveness {
+    Clock::time_point heard{};                  // its newest sample
+    std::optional<Clock::time_point> departed;  // a departure not judged yet
+    bool reported_lost = false;                 // "lost" was logged, "back" not yet
+    bool lapse_noted = false;
+  };
+  enum class Who : uint8_t { Uav, Place };
+  // A sample of `id` at `now`. True if it had been reported lost (it is back).
+  bool heard(Who who, uint32_t id, Clock::time_point now);
+  void departed(Who who, uint32_t id, Clock::time_point now);
+  void note_lapse(Who who, uint32_t id);
+  // Reports the departures not heard around them since half a lease (all: every one).
+  void judge_departures(Clock::time_point now, bool all);
+  void note_lost(Who who, uint32_t id);
+  [[nodiscard]] std::string who_text(Who who, uint32_t id) const;
   void refuse(core::Refusal r, const std::string& what);
   void note(IntakeNote::Kind kind, IntakeNote::Level level, std::string line);
 
@@ -117,6 +150,10 @@ class GroundIntake {
   std::vector<core::ValueRange> layer_ranges_;  // physical range per layer (tiles out of it are refused)
   UncertaintyTracker* uncertainty_ = nullptr;
   std::map<FrameBuilder::TileKey, core::TileMsg> tiles_;
+  Clock::duration around_;  // half a lease
+  std::map<uint32_t, Liveness> uav_live_, place_live_;  // by UAV id, by place_id
+  std::vector<std::pair<Who, uint32_t>> pending_;       // departures not judged yet, in their order
+  uint64_t lapses_ = 0;
   Notes notes_;  // of the call under way
 };
 
