@@ -331,6 +331,7 @@ struct Convert<core::HaloMsg> {
   static bool out(const core::HaloMsg& m, Write&& write) {
     Sample s{};
     s.region = m.region;
+    s.replica = m.replica;
     s.tick = m.tick;
     borrow(s.target, m.target);
     borrow(s.obstacle, m.obstacle);
@@ -338,7 +339,7 @@ struct Convert<core::HaloMsg> {
   }
   static std::optional<core::HaloMsg> in(const Sample& s) {
     if (s.target._length > core::kMaxRingCells || s.obstacle._length > core::kMaxRingCells) return std::nullopt;
-    return core::HaloMsg{s.region, s.tick, seq_in<float>(s.target), seq_in<float>(s.obstacle)};
+    return core::HaloMsg{s.region, s.tick, seq_in<float>(s.target), seq_in<float>(s.obstacle), s.replica};
   }
 };
 
