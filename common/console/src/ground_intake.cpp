@@ -155,9 +155,10 @@ void GroundIntake::on_healths(const std::vector<core::HealthMsg>& healths, Clock
   for (const auto& h : healths) {
     const auto owner_before = p_.rec.region_owner(h.region);
     if (p_.rec.on_health(h)) {
+      const bool waited = standby_ == Standby::Hot && p_.conductor.on_place_back(core::place_id(h.region, h.replica));
       note(Kind::PlaceBack, Level::Warn,
            text("place agent ", h.region, h.replica > 0 ? text(" (standby ", h.replica, ")") : std::string(),
-                " is back at tick ", h.tick));
+                " is back at tick ", h.tick, waited ? " (in step: waited for again)" : ""));
     }
     const auto owner = p_.rec.region_owner(h.region);
     if (owner_before && owner && *owner < *owner_before) {
