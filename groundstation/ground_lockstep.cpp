@@ -141,7 +141,7 @@ void GroundApp::drop_uav(uint32_t uav, uint32_t tick) {
 void GroundApp::drop_region(core::RegionId r, uint32_t tick) {
   if (cfg_.standby) {
     log_->warn("lockstep tick {}: place agent {} was killed; its standby answers for region {}", tick, r, r);
-    conductor_.on_place_departed(core::place_id(r, 0));
+    conductor_.on_place_killed(core::place_id(r, 0));
     rec_.on_place_killed(/*region_frozen=*/false);
     return;
   }
@@ -232,7 +232,7 @@ bool GroundApp::apply_faults(uint32_t tick) {
   for (uint32_t p : gone->standbys) {
     log_->warn("lockstep tick {}: standby {} of region {} was killed", tick, core::place_id_replica(p),
                core::place_id_region(p));
-    conductor_.on_place_departed(p);
+    conductor_.on_place_killed(p);
   }
   return true;
 }

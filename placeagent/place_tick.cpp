@@ -376,8 +376,15 @@ void PlaceApp::step(uint32_t tick, std::optional<TickDemand> demand) {
     log_->info("target at ({},{}) {} at tick {}", e.cell.x, e.cell.y,
                core::to_string(static_cast<core::TargetEventKind>(e.kind)), tick);
   }
-  // To each neighbour only the cells of the ring its diffusion reads.
-  const core::HaloMsg full{cfg_.region, tick, ring.target, ring.obstacle};
+  // To each neighbour only the cells of the ring its diffusion reads. With
+  // shared ownership each replica writes an instance of its own (keyed by
+  // replica): two writers of one keep-last-1 instance let a reader's history
+  // replace or drop one replica's ring by the other's (on Fast DDS 2.9 by
+  // source timestamp, DataReaderHistory::received_change_keep_last), and a
+  // standby then waited 30 s for a ring (docs/faults.md). The receiver takes
+  // the ring of the tick from whichever replica's instance has it.
+  const uint16_t halo_key = replicated_ && cfg_.common.shared_ownership ? cfg_.replica : 0;
+  const core::HaloMsg full{cfg_.region, tick, ring.target, ring.obstacle, halo_key};
   for (core::RegionId n : core_.neighbours()) {
     if (!is_absent(n)) resend_.halo(core::trim_halo(full, geo_, n), n);
   }

@@ -3,6 +3,7 @@
 // of vendor B in this process, on loopback, domain 60.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <functional>
 #include <thread>
@@ -223,11 +224,22 @@ TEST_P(Interop, EveryMessageArrivesIntact) {
   EXPECT_TRUE(hs[0].linked);
   EXPECT_EQ(hs[0].life, 3U);
 
-  ASSERT_TRUE(w_->publish_halo({3, 16, {1.0F, 2.0F, 3.0F}, {0.0F, 9.0F}}, 4));
-  const auto halos = wait_for<core::HaloMsg>([&](auto& v) { r_->take_halos(v); });
-  ASSERT_EQ(halos.size(), 1U);
+  // Two replicas' rings of one region and tick (shared ownership): the
+  // replica is part of the key, so neither replaces the other in the
+  // keep-last-1 histories (docs/faults.md, "Hot-standby place agents").
+  ASSERT_TRUE(w_->publish_halo({3, 16, {1.0F, 2.0F, 3.0F}, {0.0F, 9.0F}, 0}, 4));
+  ASSERT_TRUE(w_->publish_halo({3, 16, {4.0F, 5.0F, 6.0F}, {7.0F, 8.0F}, 1}, 4));
+  auto halos = wait_for<core::HaloMsg>([&](auto& v) { r_->take_halos(v); }, 2);
+  ASSERT_EQ(halos.size(), 2U);
+  std::sort(halos.begin(), halos.end(), [](const auto& a, const auto& b) { return a.replica < b.replica; });
+  EXPECT_EQ(halos[0].region, 3U);
+  EXPECT_EQ(halos[0].tick, 16U);
+  EXPECT_EQ(halos[0].replica, 0U);
   EXPECT_EQ(halos[0].target, (std::vector<float>{1.0F, 2.0F, 3.0F}));
   EXPECT_EQ(halos[0].obstacle, (std::vector<float>{0.0F, 9.0F}));
+  EXPECT_EQ(halos[1].replica, 1U);
+  EXPECT_EQ(halos[1].target, (std::vector<float>{4.0F, 5.0F, 6.0F}));
+  EXPECT_EQ(halos[1].obstacle, (std::vector<float>{7.0F, 8.0F}));
 
   // A UAV's broadcast up to its gateway, the gateway's relay to the swarm.
   ASSERT_TRUE(w_->publish_broadcast({5, 17, 1, {1.5, -2.25, 1e300}}));

@@ -32,16 +32,10 @@ pid_t find_process(const std::string& exe, int domain, const std::string& what) 
 
 // Killing two primaries in the middle of a lockstep run changes nothing:
 // their standbys were in step and take over; the metrics and the final
-// field are the simulator's, byte for byte.
+// field are the simulator's, byte for byte. On every vendor set, also all
+// Fast DDS (shared ownership: each replica's halo ring is an instance of its
+// own, docs/faults.md "Hot-standby place agents").
 TEST(Standby, KillingPrimariesInLockstepGivesTheSimulatorsNumbersAndField) {
-  const char* backend = std::getenv("PHEROMESH_DDS");
-  if (backend != nullptr && std::string(backend) == "fastdds" && std::getenv("PHEROMESH_TRY_FASTDDS_STANDBY") == nullptr) {
-    // Measured: with every process on Fast DDS 2.9 (shared ownership, two
-    // replicas writing one halo instance), a standby intermittently never
-    // takes a neighbour's halo of a tick (30 s waits per tick); mixed swarms
-    // and Cyclone pass. docs/faults.md "Known limits".
-    GTEST_SKIP() << "lockstep standbys on an all-Fast-DDS swarm: known limit (docs/faults.md)";
-  }
   // Kills between ticks (the launcher kills and reaps them before the
   // conductor announces the tick): the simulator with the same schedule and
   // --standby is the simulator without faults.

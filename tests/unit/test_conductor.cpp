@@ -193,6 +193,55 @@ TEST(LockstepConductorStandby, EveryLiveReplicaIsWaitedForAndALostOneIsNot) {
   EXPECT_EQ(c.status(t0).waiting, 3U);
 }
 
+// A replica whose lease lapsed while it kept up (a loaded host did not run it
+// for a while) is waited for again when it is heard; one that missed a place
+// phase, or that the launcher killed, is not.
+TEST(LockstepConductorStandby, AReplicaBackInStepIsWaitedForAgain) {
+  using namespace std::chrono_literals;
+  LockstepConductor::Options o;
+  o.uavs = 0;
+  o.regions = 1;
+  o.standbys = 1;
+  LockstepConductor c(o);
+  const auto t0 = LockstepConductor::Clock::time_point{} + 10s;
+  const auto done = [&](uint16_t replica, uint32_t tick) {
+    PhaseDoneMsg m;
+    m.process = process_key(kRolePlace, place_id(0, replica));
+    m.tick = tick;
+    m.phase = static_cast<uint8_t>(ClockPhase::Place);
+    c.on_phase_done(m);
+  };
+  c.begin_phase(0, ClockPhase::Place, t0);
+  done(0, 0);
+  done(1, 0);
+  c.begin_phase(1, ClockPhase::Place, t0);
+  c.on_place_departed(place_id(0, 1));
+  done(0, 1);
+  EXPECT_TRUE(c.status(t0).complete) << "the lapsed standby is not waited for";
+  EXPECT_TRUE(c.on_place_back(place_id(0, 1))) << "it finished tick 0 and is working on tick 1: in step";
+  EXPECT_FALSE(c.status(t0).complete) << "so tick 1 waits for it again";
+  done(1, 1);
+  EXPECT_TRUE(c.status(t0).complete);
+  EXPECT_FALSE(c.on_place_back(place_id(0, 1))) << "not gone: nothing to do";
+
+  // Lapsed at tick 2, heard again at tick 4: it missed tick 3's place phase.
+  c.begin_phase(2, ClockPhase::Place, t0);
+  c.on_place_departed(place_id(0, 1));
+  done(0, 2);
+  c.begin_phase(3, ClockPhase::Place, t0);
+  done(0, 3);
+  c.begin_phase(4, ClockPhase::Uav, t0);
+  EXPECT_FALSE(c.on_place_back(place_id(0, 1))) << "its last place phase is tick 1";
+  c.begin_phase(4, ClockPhase::Place, t0);
+  EXPECT_EQ(c.status(t0).waiting, 1U) << "only the primary";
+
+  // Killed by the launcher: a late health sample does not bring it back.
+  done(0, 4);
+  c.begin_phase(5, ClockPhase::Uav, t0);
+  c.on_place_killed(place_id(0, 0));
+  EXPECT_FALSE(c.on_place_back(place_id(0, 0))) << "in step by its reports, but dead";
+}
+
 using namespace std::chrono_literals;
 using C = LockstepConductor;
 

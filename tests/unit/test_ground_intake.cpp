@@ -252,6 +252,12 @@ TEST(GroundIntake, WithHotStandbysALostReplicaIsNoLongerWaitedForInAPlacePhase) 
   gone.departed_places = {core::place_id(2, 1)};
   rig.take(std::move(gone));
   EXPECT_EQ(rig.conductor->status(t0).waiting, 7U);
+  // Heard again in the place phase of tick 0 (in step): waited for again.
+  GroundSamples heard;
+  heard.healths = {health(2, 1, 0)};
+  const Notes back = rig.take(std::move(heard));
+  EXPECT_EQ(texts(back, Kind::PlaceBack), Texts{"place agent 2 (standby 1) is back at tick 0 (in step: waited for again)"});
+  EXPECT_EQ(rig.conductor->status(t0).waiting, 8U);
 }
 
 TEST(GroundIntake, APlaceReplicaHeardAgainIsBackAndTheLowerReplicaOwnsItsRegionAgain) {

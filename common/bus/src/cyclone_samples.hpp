@@ -333,6 +333,7 @@ struct Convert<core::HaloMsg> {
   static bool out(const core::HaloMsg& m, Write&& write) {
     Sample s{};
     s.region = m.region;
+    s.replica = m.replica;
     s.tick = m.tick;
     borrow(s.target, m.target);
     borrow(s.obstacle, m.obstacle);
@@ -340,7 +341,7 @@ struct Convert<core::HaloMsg> {
   }
   static std::optional<core::HaloMsg> in(const Sample& s) {
     if (s.target._length > core::kMaxRingCells || s.obstacle._length > core::kMaxRingCells) return std::nullopt;
-    return core::HaloMsg{s.region, s.tick, seq_in<float>(s.target), seq_in<float>(s.obstacle)};
+    return core::HaloMsg{s.region, s.tick, seq_in<float>(s.target), seq_in<float>(s.obstacle), s.replica};
   }
 };
 

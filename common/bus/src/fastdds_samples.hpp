@@ -355,6 +355,7 @@ struct Convert<core::HaloMsg> {
   static Sample out(const core::HaloMsg& m) {
     Sample s;
     s.region(m.region);
+    s.replica(m.replica);
     s.tick(m.tick);
     s.target(m.target);
     s.obstacle(m.obstacle);
@@ -362,7 +363,7 @@ struct Convert<core::HaloMsg> {
   }
   static std::optional<core::HaloMsg> in(const Sample& s) {
     if (s.target().size() > core::kMaxRingCells || s.obstacle().size() > core::kMaxRingCells) return std::nullopt;
-    return core::HaloMsg{s.region(), s.tick(), s.target(), s.obstacle()};
+    return core::HaloMsg{s.region(), s.tick(), s.target(), s.obstacle(), s.replica()};
   }
 };
 

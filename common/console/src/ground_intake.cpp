@@ -237,10 +237,15 @@ void GroundIntake::on_healths(const std::vector<core::HealthMsg>& healths, Clock
   for (const auto& h : healths) {
     const auto owner_before = p_.rec.region_owner(h.region);
     const bool was_lost = heard(Who::Place, core::place_id(h.region, h.replica), now);
-    if (p_.rec.on_health(h) && was_lost) {
-      note(Kind::PlaceBack, Level::Warn,
-           text("place agent ", h.region, h.replica > 0 ? text(" (standby ", h.replica, ")") : std::string(),
-                " is back at tick ", h.tick));
+    if (p_.rec.on_health(h)) {
+      // Back after a lapse: in step, the conductor waits for it again
+      // (whether or not its lapse was reported as a loss).
+      const bool waited = standby_ == Standby::Hot && p_.conductor.on_place_back(core::place_id(h.region, h.replica));
+      if (was_lost) {
+        note(Kind::PlaceBack, Level::Warn,
+             text("place agent ", h.region, h.replica > 0 ? text(" (standby ", h.replica, ")") : std::string(),
+                  " is back at tick ", h.tick, waited ? " (in step: waited for again)" : ""));
+      }
     }
     const auto owner = p_.rec.region_owner(h.region);
     if (owner_before && owner && *owner < *owner_before) {

@@ -56,6 +56,20 @@ bool LockstepConductor::drop_uav(uint32_t uav) {
 
 bool LockstepConductor::drop_region(RegionId r) { return absent_.insert(r).second; }
 
+bool LockstepConductor::on_place_back(uint32_t place) {
+  if (!places_gone_.contains(place) || places_killed_.contains(place)) return false;
+  // In step: its latest report is of the place phase before the current
+  // tick's (in a UAV phase that is the last place phase; in a place phase
+  // it is still working on this one) or of the current one. Before the
+  // first place phase every replica is in step.
+  const auto it = done_.find(process_key(kRolePlace, place));
+  const bool reported_place = it != done_.end() && it->second.phase == static_cast<uint8_t>(ClockPhase::Place);
+  const bool in_step = reported_place ? it->second.tick + 1 >= tick_ : tick_ == 0;
+  if (!in_step || (phase_ != ClockPhase::Uav && phase_ != ClockPhase::Place)) return false;
+  places_gone_.erase(place);
+  return true;
+}
+
 namespace {
 // Ticks of bookkeeping kept: a UAV phase needs the tick before it only.
 constexpr std::size_t kKeepTicks = 4;

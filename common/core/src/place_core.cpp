@@ -112,7 +112,7 @@ void PlaceCore::tiles(uint32_t tick, TileSelection which, std::vector<TileMsg>& 
 }
 
 HaloMsg trim_halo(const HaloMsg& full, const MapGeometry& geo, RegionId receiver) {
-  HaloMsg part{full.region, full.tick, {}, {}};
+  HaloMsg part{full.region, full.tick, {}, {}, full.replica};
   if (full.target.empty() && full.obstacle.empty()) return part;
   for (const std::size_t k : ring_indices_facing(geo, geo.region_rect(full.region), geo.region_rect(receiver))) {
     part.target.push_back(k < full.target.size() ? full.target[k] : 0.0F);
@@ -123,7 +123,7 @@ HaloMsg trim_halo(const HaloMsg& full, const MapGeometry& geo, RegionId receiver
 
 std::optional<HaloMsg> expand_halo(const HaloMsg& part, const MapGeometry& geo, RegionId receiver) {
   if (part.region >= geo.region_count() || receiver >= geo.region_count()) return std::nullopt;
-  HaloMsg full{part.region, part.tick, {}, {}};
+  HaloMsg full{part.region, part.tick, {}, {}, part.replica};
   if (part.target.empty() && part.obstacle.empty()) return full;
   const Rect sender = geo.region_rect(part.region);
   const auto facing = ring_indices_facing(geo, sender, geo.region_rect(receiver));

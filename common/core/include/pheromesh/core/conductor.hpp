@@ -94,9 +94,22 @@ class LockstepConductor {
   // The UAV's liveliness lapsed. Returns true the first time (until it is back).
   bool on_uav_departed(uint32_t uav, Clock::time_point now);
   // A place replica's liveliness lapsed (place_id). In a run with standbys it
-  // is not waited for again (it missed ticks; it leaves when it notices).
+  // is not waited for (it may have missed ticks; it leaves when it notices).
   void on_place_departed(uint32_t place) { places_gone_.insert(place); }
   [[nodiscard]] bool place_gone(uint32_t place) const { return places_gone_.contains(place); }
+  // The launcher killed the place replica: it is never waited for again.
+  void on_place_killed(uint32_t place) {
+    places_gone_.insert(place);
+    places_killed_.insert(place);
+  }
+  // A departed place replica is heard again (its health). If it is still in
+  // step - it reported the place phase of the tick before the current one,
+  // or the current one - it is waited for again: a replica whose lease
+  // lapsed only because it was not scheduled for a while (a loaded host) then
+  // keeps the swarm from running ahead of it, and it counts as a live replica
+  // of its region when the other one dies. One that missed a place phase
+  // stays gone (it leaves when it notices). True if it is waited for again.
+  bool on_place_back(uint32_t place);
   // A sample from the UAV (state, PhaseDone, broadcast) arrived at `now`: the
   // grace of a departed UAV runs from the later of its departure and this.
   void heard_from(uint32_t uav, Clock::time_point now) { heard_[uav] = now; }
@@ -162,6 +175,7 @@ class LockstepConductor {
   std::map<RegionId, uint32_t> states_reported_;          // current tick's UAV phase: states per home region
   std::map<uint32_t, Clock::time_point> departed_since_;  // departed UAVs
   std::set<uint32_t> places_gone_;                         // departed place replicas (place_id)
+  std::set<uint32_t> places_killed_;                       // place replicas the launcher killed (place_id)
   std::map<uint32_t, Clock::time_point> heard_;           // UAV -> its latest sample
   std::set<uint32_t> dropped_;                            // UAVs killed at a tick
   std::set<RegionId> absent_;                             // regions whose place agent was killed, no standby

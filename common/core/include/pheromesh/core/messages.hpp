@@ -133,6 +133,10 @@ struct HaloMsg {
   uint32_t tick = 0;
   std::vector<float> target;
   std::vector<float> obstacle;
+  // Part of the key: the replica that wrote it when a region's replicas share
+  // ownership (hot standbys on Fast DDS or mixed swarms), so that no two
+  // writers share an instance; 0 otherwise (docs/faults.md).
+  uint16_t replica = 0;
 };
 
 // A UAV's message to the whole swarm (partition "b").
