@@ -159,9 +159,13 @@ TEST(SeenDeposits, ItsMemoryStaysBoundedByTheWindowPerUavOverALongRun) {
   SeenDeposits seen;  // the place agents' window: 4096 seqs
   for (uint32_t seq = 1; seq <= 200000; ++seq) {
     for (uint32_t uav = 0; uav < 20; ++uav) {
-      if ((seq + uav) % 3 != 0) EXPECT_FALSE(seen.seen_before(uav, seq));
+      if ((seq + uav) % 3 != 0) {
+        EXPECT_FALSE(seen.seen_before(uav, seq));
+      }
     }
-    if (seq == 5000) EXPECT_EQ(seen.bytes(), 20U * 4096U / 8U);
+    if (seq == 5000) {
+      EXPECT_EQ(seen.bytes(), 20U * 4096U / 8U);
+    }
   }
   EXPECT_EQ(seen.bytes(), 20U * 4096U / 8U) << "4.5 MiB with a std::set of 4096 seqs per UAV";
   EXPECT_TRUE(seen.seen_before(5, 199998));  // (199998 + 5) % 3 != 0: seen above
