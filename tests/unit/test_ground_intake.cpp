@@ -353,6 +353,37 @@ TEST(GroundIntake, ALapseOfAProcessHeardAroundItIsNotedOnceAndNeverReportedLost)
                   "none was taken for lost"});
 }
 
+// A process killed and started again (pheromesh run --faults "restart ...")
+// is heard from its next life soon after its departure: that departure was a
+// death, reported as lost, and the new life is back - not a lapse.
+TEST(GroundIntake, AProcessHeardFromItsNextLifeAfterItsDepartureWasLostAndIsBack) {
+  Rig rig;
+  GroundSamples heard;
+  heard.healths = {health(2, 0)};
+  auto first = state(1, 10);
+  first.deposits_sent = 40;
+  heard.states = {first};
+  rig.take(std::move(heard), kUnlimited, t0);
+  GroundSamples gone;
+  gone.departed_places = {core::place_id(2, 0)};
+  gone.departed_uavs = {1};
+  rig.take(std::move(gone), kUnlimited, t0 + 2s);
+  GroundSamples next;
+  auto place = health(2, 0, 12);
+  place.life = 2;
+  auto uav = state(1, 12);
+  uav.deposits_sent = 3;  // a new life counts from 0
+  next.healths = {place};
+  next.states = {uav};
+  const Notes notes = rig.take(std::move(next), kUnlimited, t0 + 2100ms);
+  EXPECT_TRUE(texts(notes, Kind::LivenessLapsed).empty());
+  EXPECT_EQ(texts(notes, Kind::UavLost).size(), 1U);
+  EXPECT_EQ(texts(notes, Kind::PlaceLost).size(), 1U);
+  EXPECT_EQ(texts(notes, Kind::UavBack), Texts{"uav 1 is back at tick 12"});
+  EXPECT_EQ(texts(notes, Kind::PlaceBack), Texts{"place agent 2 is back at tick 12"});
+  EXPECT_EQ(rig.intake->liveliness_lapses(), 0U);
+}
+
 // A process that died or hangs was last heard when it last asserted, a lease
 // before its departure: lost, half a lease after the departure; one that
 // departs at the very end of the run is lost too.

@@ -93,12 +93,18 @@ GroundIntake::Notes GroundIntake::judge_pending() {
   return std::exchange(notes_, {});
 }
 
-bool GroundIntake::heard(Who who, uint32_t id, Clock::time_point now) {
+bool GroundIntake::heard(Who who, uint32_t id, Clock::time_point now, bool new_life) {
   Liveness& l = (who == Who::Uav ? uav_live_ : place_live_)[id];
   l.heard = std::max(l.heard, now);
   if (l.departed) {  // heard within half a lease after its departure (else judged already)
     l.departed.reset();
-    note_lapse(who, id);
+    if (new_life) {
+      // Its next life, not the one that lapsed: that one died (killed and
+      // started again), which is no packet loss.
+      note_lost(who, id);
+    } else {
+      note_lapse(who, id);
+    }
   }
   return std::exchange(l.reported_lost, false);
 }
@@ -178,6 +184,10 @@ float GroundIntake::field_value(int layer, core::Cell c) const {
 void GroundIntake::on_states(const std::vector<core::UavStateMsg>& states, Clock::time_point now) {
   for (const auto& s : states) {
     const uint64_t refused_before = p_.rec.refused().total();
+    // A restarted UAV counts its deposits from 0 again (RunRecorder::on_uav_state).
+    const auto before = p_.rec.uavs().find(s.uav);
+    const bool new_life = before != p_.rec.uavs().end() && before->second.heard && !before->second.alive &&
+                          s.deposits_sent < before->second.last.deposits_sent;
     if (!p_.rec.on_uav_state(s)) {
       const bool refused = p_.rec.refused().total() > refused_before;  // else malformed
       if (!refused && p_.rec.samples_rejected() <= 3) {
@@ -188,7 +198,7 @@ void GroundIntake::on_states(const std::vector<core::UavStateMsg>& states, Clock
       }
       continue;
     }
-    const bool was_lost = heard(Who::Uav, s.uav, now);
+    const bool was_lost = heard(Who::Uav, s.uav, now, new_life);
     p_.conductor.heard_from(s.uav, now);
     const bool back = s.finished ? p_.conductor.on_uav_finished(s.uav)
                                  : p_.conductor.on_uav_state(s.uav, s.tick, geo_.tile_of(core::state_cell(s)));
@@ -236,7 +246,9 @@ void GroundIntake::on_target_events(const std::vector<core::TargetEventMsg>& eve
 void GroundIntake::on_healths(const std::vector<core::HealthMsg>& healths, Clock::time_point now) {
   for (const auto& h : healths) {
     const auto owner_before = p_.rec.region_owner(h.region);
-    const bool was_lost = heard(Who::Place, core::place_id(h.region, h.replica), now);
+    const auto latest = p_.rec.replica_health().find(core::place_id(h.region, h.replica));
+    const bool new_life = latest != p_.rec.replica_health().end() && h.life > latest->second.life;
+    const bool was_lost = heard(Who::Place, core::place_id(h.region, h.replica), now, new_life);
     if (p_.rec.on_health(h)) {
       // Back after a lapse: in step, the conductor waits for it again
       // (whether or not its lapse was reported as a loss).

@@ -132,7 +132,9 @@ class GroundIntake {
   };
   enum class Who : uint8_t { Uav, Place };
   // A sample of `id` at `now`. True if it had been reported lost (it is back).
-  bool heard(Who who, uint32_t id, Clock::time_point now);
+  // `new_life`: the sample is of a process started again (a restart), so a
+  // departure not judged yet was a death, not a lapse.
+  bool heard(Who who, uint32_t id, Clock::time_point now, bool new_life = false);
   void departed(Who who, uint32_t id, Clock::time_point now);
   void note_lapse(Who who, uint32_t id);
   // Reports the departures not heard around them since half a lease (all: every one).
