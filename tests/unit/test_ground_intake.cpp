@@ -317,22 +317,27 @@ TEST(GroundIntake, ALapseOfAProcessHeardAroundItIsNotedOnceAndNeverReportedLost)
   heard.healths = {health(2, 0)};
   rig.take(std::move(heard), kUnlimited, t0);
   rig.take(states({state(1, 10)}), kUnlimited, t0 + 200ms);
-  // Heard 0.3 s and 0.1 s before their departures (half a lease: 0.5 s).
   GroundSamples gone;
   gone.departed_places = {core::place_id(2, 0)};
   gone.departed_uavs = {1};
-  const Notes lapsed = rig.take(std::move(gone), kUnlimited, t0 + 300ms);
+  EXPECT_TRUE(texts(rig.take(std::move(gone), kUnlimited, t0 + 300ms), Kind::LivenessLapsed).empty())
+      << "judged by what comes after the departure, not before";
+  // Heard 0.3 s after their departures (half a lease: 0.5 s).
+  GroundSamples after;
+  after.healths = {health(2, 0, 10)};
+  after.states = {state(1, 11)};
+  const Notes lapsed = rig.take(std::move(after), kUnlimited, t0 + 600ms);
   EXPECT_EQ(texts(lapsed, Kind::LivenessLapsed),
             (Texts{"uav 1: liveliness lapsed (packet loss?), still heard; not taken for lost (further lapses are counted "
                    "at the end of the run)",
                    "place agent 2: liveliness lapsed (packet loss?), still heard; not taken for lost (further lapses "
                    "are counted at the end of the run)"}));
-  EXPECT_TRUE(rig.conductor->departed(1)) << "the conductor still judges by its own grace";
+  EXPECT_FALSE(rig.conductor->departed(1)) << "its state after the departure brought it back in the conductor";
   EXPECT_TRUE(texts(rig.take({}, kUnlimited, t0 + 3s), Kind::PlaceLost).empty());
   // Back: no note, as nobody was told it was lost.
   GroundSamples again;
   again.healths = {health(2, 0, 11)};
-  again.states = {state(1, 11)};
+  again.states = {state(1, 12)};
   const Notes back = rig.take(std::move(again), kUnlimited, t0 + 3100ms);
   EXPECT_TRUE(texts(back, Kind::PlaceBack).empty());
   EXPECT_TRUE(texts(back, Kind::UavBack).empty());

@@ -111,9 +111,11 @@ bool GroundIntake::heard(Who who, uint32_t id, Clock::time_point now, bool new_l
 
 void GroundIntake::departed(Who who, uint32_t id, Clock::time_point now) {
   Liveness& l = (who == Who::Uav ? uav_live_ : place_live_)[id];
-  if (l.heard != Clock::time_point{} && now - l.heard <= around_) {
-    note_lapse(who, id);
-  } else if (!l.departed) {
+  // Judged by what comes after it only: a process cut off (a partition) or
+  // killed was heard until just before, like one whose assertions were lost
+  // (Fast DDS reported a partitioned UAV departed within half a lease of its
+  // last state).
+  if (!l.departed) {
     l.departed = now;
     pending_.emplace_back(who, id);
   }
