@@ -89,7 +89,8 @@ GroundApp::GroundApp(GroundConfig cfg, core::ScenarioConfig scenario, std::uniqu
       book_(book_options(cfg_, scenario_, geo_.region_count())),
       intake_(scenario_, {rec_, conductor_, book_, frame_builder_, world_},
               cfg_.standby ? console::GroundIntake::Standby::Hot : console::GroundIntake::Standby::None,
-              std::chrono::milliseconds(cfg_.common.lease_ms)) {
+              std::chrono::milliseconds(cfg_.common.lease_ms),
+              cfg_.common.lockstep() ? console::GroundIntake::Pace::Lockstep : console::GroundIntake::Pace::Realtime) {
   if (cfg_.tracks) rec_.keep_tracks();
 }
 

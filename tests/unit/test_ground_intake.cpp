@@ -36,7 +36,8 @@ struct Rig {
   std::unique_ptr<FrameBuilder> frames;
   std::unique_ptr<GroundIntake> intake;
 
-  explicit Rig(GroundIntake::Standby standby = GroundIntake::Standby::None) {
+  explicit Rig(GroundIntake::Standby standby = GroundIntake::Standby::None,
+               GroundIntake::Pace pace = GroundIntake::Pace::Realtime) {
     auto s = core::load_scenario(std::string(PHEROMESH_SOURCE_DIR) + "/scenarios/small-test.textproto");
     EXPECT_TRUE(s.ok());
     scenario = s.value();
@@ -56,7 +57,7 @@ struct Rig {
     book = std::make_unique<core::RunBook>(b);
     frames = std::make_unique<FrameBuilder>(geo);
     intake = std::make_unique<GroundIntake>(scenario, GroundIntake::Parts{*rec, *conductor, *book, *frames, *world},
-                                            standby);
+                                            standby, 1000ms, pace);
   }
   Notes take(GroundSamples s, uint32_t ceiling = kUnlimited, Clock::time_point now = t0) {
     return intake->take(s, ceiling, now);
@@ -414,6 +415,61 @@ TEST(GroundIntake, AProcessSilentAroundItsLapseIsReportedLostHalfALeaseAfterIt) 
   rig.take(std::move(last), kUnlimited, t0 + 4s);
   EXPECT_EQ(texts(rig.intake->judge_pending(), Kind::UavLost), Texts{"uav 2 lost (liveliness) at tick 10"});
   EXPECT_EQ(rig.intake->liveliness_lapses(), 0U);
+}
+
+// Lockstep under packet loss: a live process is heard once a tick, and a
+// tick takes seconds. Its departure waits twice its longest silence so far
+// (at least half a lease, at most ten leases) before it is taken for lost.
+TEST(GroundIntake, InLockstepADepartureWaitsTwiceTheLongestSilenceOfItsProcess) {
+  Rig rig(GroundIntake::Standby::None, GroundIntake::Pace::Lockstep);
+  GroundSamples first;
+  first.healths = {health(2, 0)};
+  first.states = {state(1, 10), state(0, 10)};
+  rig.take(std::move(first), kUnlimited, t0);
+  // Place agent 2 and uav 1 next heard 3 s later (a slow tick); uav 0 after 0.1 s.
+  rig.take(states({state(0, 10)}), kUnlimited, t0 + 100ms);
+  GroundSamples slow;
+  slow.healths = {health(2, 0, 11)};
+  slow.states = {state(1, 11)};
+  rig.take(std::move(slow), kUnlimited, t0 + 3s);
+  GroundSamples gone;
+  gone.departed_places = {core::place_id(2, 0)};
+  gone.departed_uavs = {1, 0};
+  rig.take(std::move(gone), kUnlimited, t0 + 4s);
+  // uav 0: twice 0.1 s is below half a lease, so half a lease.
+  const Notes half = rig.take({}, kUnlimited, t0 + 4501ms);
+  EXPECT_EQ(texts(half, Kind::UavLost), Texts{"uav 0 lost (liveliness) at tick 10"});
+  EXPECT_TRUE(texts(half, Kind::PlaceLost).empty());
+  // The others wait 6 s: heard 5 s after the departure, a lapse.
+  EXPECT_TRUE(rig.take({}, kUnlimited, t0 + 9s).empty());
+  GroundSamples late;
+  late.healths = {health(2, 0, 12)};
+  late.states = {state(1, 12)};
+  const Notes lapsed = rig.take(std::move(late), kUnlimited, t0 + 9s);
+  EXPECT_EQ(texts(lapsed, Kind::LivenessLapsed).size(), 2U);
+  EXPECT_TRUE(texts(lapsed, Kind::UavLost).empty());
+  EXPECT_TRUE(texts(lapsed, Kind::PlaceLost).empty());
+  // At most ten leases: after a 60 s silence (a paused run), lost 10 s after.
+  GroundSamples paused;
+  paused.healths = {health(2, 0, 13)};
+  rig.take(std::move(paused), kUnlimited, t0 + 69s);
+  GroundSamples gone2;
+  gone2.departed_places = {core::place_id(2, 0)};
+  rig.take(std::move(gone2), kUnlimited, t0 + 70s);
+  EXPECT_TRUE(rig.take({}, kUnlimited, t0 + 80s).empty());
+  EXPECT_EQ(texts(rig.take({}, kUnlimited, t0 + 80001ms), Kind::PlaceLost).size(), 1U);
+}
+
+// Realtime: half a lease, however long a process was silent before.
+TEST(GroundIntake, InRealtimeADepartureWaitsHalfALease) {
+  Rig rig;
+  rig.take(states({state(1, 10)}), kUnlimited, t0);
+  rig.take(states({state(1, 11)}), kUnlimited, t0 + 3s);
+  GroundSamples gone;
+  gone.departed_uavs = {1};
+  rig.take(std::move(gone), kUnlimited, t0 + 4s);
+  EXPECT_TRUE(rig.take({}, kUnlimited, t0 + 4500ms).empty());
+  EXPECT_EQ(texts(rig.take({}, kUnlimited, t0 + 4501ms), Kind::UavLost), Texts{"uav 1 lost (liveliness) at tick 11"});
 }
 
 TEST(GroundIntake, APhaseDoneOfADepartedUavIsASignOfLifeThatHoldsOffItsDrop) {

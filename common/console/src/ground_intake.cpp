@@ -52,14 +52,15 @@ void GroundSamples::clear() {
 }
 
 GroundIntake::GroundIntake(const core::ScenarioConfig& scenario, Parts parts, Standby standby,
-                           std::chrono::milliseconds lease)
+                           std::chrono::milliseconds lease, Pace pace)
     : p_(parts),
       standby_(standby),
       geo_(scenario.geometry()),
       swarm_(scenario.uavs),
       layers_(static_cast<int>(core::policy_traits(scenario).layers.size())),
       layer_ranges_(core::policy_traits(scenario).layer_ranges),
-      around_(lease / 2) {}
+      lease_(lease),
+      pace_(pace) {}
 
 GroundIntake::Notes GroundIntake::take(GroundSamples& in, uint32_t tick_ceiling, Clock::time_point now) {
   p_.rec.set_tick_ceiling(tick_ceiling);
@@ -95,6 +96,7 @@ GroundIntake::Notes GroundIntake::judge_pending() {
 
 bool GroundIntake::heard(Who who, uint32_t id, Clock::time_point now, bool new_life) {
   Liveness& l = (who == Who::Uav ? uav_live_ : place_live_)[id];
+  if (l.heard != Clock::time_point{} && now > l.heard) l.longest_silence = std::max(l.longest_silence, now - l.heard);
   l.heard = std::max(l.heard, now);
   if (l.departed) {  // heard within half a lease after its departure (else judged already)
     l.departed.reset();
@@ -130,12 +132,18 @@ void GroundIntake::note_lapse(Who who, uint32_t id) {
                                "counted at the end of the run)"));
 }
 
+GroundIntake::Clock::duration GroundIntake::wait(const Liveness& l) const {
+  const Clock::duration half_lease = lease_ / 2;
+  if (pace_ == Pace::Realtime) return half_lease;
+  return std::clamp<Clock::duration>(2 * l.longest_silence, half_lease, 10 * lease_);
+}
+
 void GroundIntake::judge_departures(Clock::time_point now, bool all) {
   // In the order they departed.
   std::erase_if(pending_, [&](const std::pair<Who, uint32_t>& p) {
     Liveness& l = (p.first == Who::Uav ? uav_live_ : place_live_)[p.second];
     if (!l.departed) return true;  // heard since: a lapse
-    if (!all && now - *l.departed <= around_) return false;
+    if (!all && now - *l.departed <= wait(l)) return false;
     l.departed.reset();
     note_lost(p.first, p.second);
     return true;
@@ -187,9 +195,7 @@ void GroundIntake::on_states(const std::vector<core::UavStateMsg>& states, Clock
   for (const auto& s : states) {
     const uint64_t refused_before = p_.rec.refused().total();
     // A restarted UAV counts its deposits from 0 again (RunRecorder::on_uav_state).
-    const auto before = p_.rec.uavs().find(s.uav);
-    const bool new_life = before != p_.rec.uavs().end() && before->second.heard && !before->second.alive &&
-                          s.deposits_sent < before->second.last.deposits_sent;
+    const bool new_life = p_.rec.starts_new_life(s);
     if (!p_.rec.on_uav_state(s)) {
       const bool refused = p_.rec.refused().total() > refused_before;  // else malformed
       if (!refused && p_.rec.samples_rejected() <= 3) {

@@ -42,6 +42,16 @@ bool RunRecorder::on_uav_state(const UavStateMsg& s) {
   }
   auto found = uavs_.find(s.uav);
   const bool known = found != uavs_.end() && found->second.heard;
+  if (known && stale_copy(s, found->second)) {
+    // Two gateways relay each UAV's states (a home's replicas, a backup) and
+    // lockstep re-sends come late: an older copy arriving after a newer state
+    // must not replace it (the run's deposits_sent fell by the deposits in
+    // between: applied 3165 > sent 3113 with a standby on another host). Its
+    // position at its tick is still true.
+    ++states_stale_;
+    coverage_.observe({static_cast<int32_t>(std::lround(s.x)), static_cast<int32_t>(std::lround(s.y))}, s.tick);
+    return true;
+  }
   // Only a UAV lost before may start again from its start cell (a restart).
   const UavStateMsg* before = known ? &found->second.last : nullptr;
   const bool may_restart = !known || !found->second.alive;
@@ -58,7 +68,7 @@ bool RunRecorder::on_uav_state(const UavStateMsg& s) {
   }
   // A UAV back after it was lost with a lower count is a restarted process:
   // its earlier life's deposits still count.
-  if (!u.alive && s.deposits_sent < u.last.deposits_sent) u.earlier_lives_deposits += u.last.deposits_sent;
+  if (starts_new_life(s)) u.earlier_lives_deposits += u.last.deposits_sent;
   u.last = s;
   u.alive = true;
   u.finished = u.finished || s.finished;
@@ -359,6 +369,21 @@ std::vector<uint32_t> RunRecorder::revisit_response_ticks() const {
   out.reserve(sorted.size());
   for (const auto& e : sorted) out.push_back(e.response_ticks);
   return out;
+}
+
+bool RunRecorder::starts_new_life(const UavStateMsg& s) const {
+  auto it = uavs_.find(s.uav);
+  if (it == uavs_.end() || !it->second.heard) return false;
+  const UavStatus& u = it->second;
+  return !u.alive && !u.finished && s.deposits_sent < u.last.deposits_sent;
+}
+
+bool RunRecorder::stale_copy(const UavStateMsg& s, const UavStatus& u) {
+  // A restarted UAV's realtime ticks start at 0 again, so an older tick is a
+  // copy only from a life known to go on: one not lost (its departure ends
+  // a life) or one that finished (it flies no more).
+  if (!u.alive && !u.finished) return false;
+  return s.tick < u.last.tick || (s.tick == u.last.tick && s.deposits_sent < u.last.deposits_sent);
 }
 
 uint64_t RunRecorder::deposits_sent() const {

@@ -97,7 +97,10 @@ nlohmann::json metrics_json(const core::RunRecorder& r, const RunInfo& info) {
   j["uavs_killed"] = r.uavs_killed();
   j["places_killed"] = r.places_killed();
   j["regions_frozen"] = r.regions_frozen();
-  if (processes) j["samples_rejected_by_ground"] = r.samples_rejected();
+  if (processes) {
+    j["samples_rejected_by_ground"] = r.samples_rejected();
+    j["uav_states_stale"] = r.states_stale();
+  }
   // Well-formed samples refused as implausible (core/plausibility.hpp), per
   // reason: in total and by who refused them.
   const core::RefusalCounts by_places = r.refused_by_places(), by_uavs = r.refused_by_uavs();

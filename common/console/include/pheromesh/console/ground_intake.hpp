@@ -81,10 +81,14 @@ class GroundIntake {
     const core::World& world;  // targets, with those added during the run
   };
 
+  // How the swarm's ticks are paced: a lockstep process is heard once a
+  // tick, however long the tick takes (see Liveness below).
+  enum class Pace : uint8_t { Realtime, Lockstep };
+
   // `lease`: the swarm's liveliness lease (--lease-ms), against which a
   // departure is judged (see Liveness below).
   GroundIntake(const core::ScenarioConfig& scenario, Parts parts, Standby standby,
-               std::chrono::milliseconds lease = std::chrono::milliseconds(1000));
+               std::chrono::milliseconds lease = std::chrono::milliseconds(1000), Pace pace = Pace::Realtime);
   // The console's uncertainty plot, once it exists (null: none).
   void set_uncertainty(UncertaintyTracker* u) { uncertainty_ = u; }
 
@@ -118,14 +122,21 @@ class GroundIntake {
   // A departure is the lapse of a writer's liveliness (docs/dds.md): a
   // process that died or hangs, or one whose assertions were all lost for a
   // lease (packet loss; they are not sent again) while its samples, which
-  // are, still arrive. So a departure of a process heard within half a lease
-  // before it, or heard again within half a lease after it, is a lapse: noted
-  // once per process and counted, never reported lost. One not heard around
-  // it is reported lost half a lease after it (a process that died or hangs
-  // was last heard when it asserted last, a lease before its departure).
+  // are, still arrive. It is judged by what comes after it only (a process
+  // cut off by a partition, or killed, was heard until just before): one
+  // heard again within the wait is a lapse, noted once per process and
+  // counted, never reported lost; one not heard is reported lost when the
+  // wait ends. The wait is half a lease in realtime, where a live process is
+  // heard every tick period. In lockstep a live process is heard once a
+  // tick, and a tick under packet loss takes seconds (each lost sample waits
+  // for a quiet second before it is sent again): there it is twice the
+  // longest silence of that process so far, at least half a lease and at
+  // most ten leases (a 10-tick run under 30 % loss, whose ticks took up to
+  // 3.6 s, once reported a live process lost when the wait was half a lease).
   // The conductor and the recorder are told of every departure at once.
   struct Liveness {
     Clock::time_point heard{};                  // its newest sample
+    Clock::duration longest_silence{};          // between two of its samples
     std::optional<Clock::time_point> departed;  // a departure not judged yet
     bool reported_lost = false;                 // "lost" was logged, "back" not yet
     bool lapse_noted = false;
@@ -137,7 +148,9 @@ class GroundIntake {
   bool heard(Who who, uint32_t id, Clock::time_point now, bool new_life = false);
   void departed(Who who, uint32_t id, Clock::time_point now);
   void note_lapse(Who who, uint32_t id);
-  // Reports the departures not heard around them since half a lease (all: every one).
+  // How long after its departure `l` is judged (see Liveness).
+  [[nodiscard]] Clock::duration wait(const Liveness& l) const;
+  // Reports the departures not heard again within their wait (all: every one).
   void judge_departures(Clock::time_point now, bool all);
   void note_lost(Who who, uint32_t id);
   [[nodiscard]] std::string who_text(Who who, uint32_t id) const;
@@ -152,7 +165,8 @@ class GroundIntake {
   std::vector<core::ValueRange> layer_ranges_;  // physical range per layer (tiles out of it are refused)
   UncertaintyTracker* uncertainty_ = nullptr;
   std::map<FrameBuilder::TileKey, core::TileMsg> tiles_;
-  Clock::duration around_;  // half a lease
+  Clock::duration lease_;
+  Pace pace_;
   std::map<uint32_t, Liveness> uav_live_, place_live_;  // by UAV id, by place_id
   std::vector<std::pair<Who, uint32_t>> pending_;       // departures not judged yet, in their order
   uint64_t lapses_ = 0;

@@ -143,6 +143,12 @@ class RunRecorder {
   // unless keep_tracks() was called before the run.
   [[nodiscard]] std::vector<TrackRow> tracks() const;
   [[nodiscard]] uint64_t samples_rejected() const { return samples_rejected_; }
+  // UAV states older than one already held (a second gateway's relay, a late
+  // re-send): their positions count, the newer state stays the UAV's last.
+  [[nodiscard]] uint64_t states_stale() const { return states_stale_; }
+  // `s` is the first state of a restarted UAV process: one lost before
+  // (not finished) whose deposit count starts again.
+  [[nodiscard]] bool starts_new_life(const UavStateMsg& s) const;
   [[nodiscard]] uint64_t deposits_sent() const;
   // Deposits sent by the UAVs that no place agent counted (received,
   // applied or rejected): lost to a dead place agent, whether their region's
@@ -156,6 +162,8 @@ class RunRecorder {
   [[nodiscard]] std::optional<uint32_t> leader_arrival_tick() const { return leader_arrival_; }
 
  private:
+  [[nodiscard]] static bool stale_copy(const UavStateMsg& s, const UavStatus& u);
+
   const ScenarioConfig* scenario_;
   const World* world_;
   MapGeometry geo_;
@@ -184,6 +192,7 @@ class RunRecorder {
   std::optional<uint32_t> leader_arrival_;
   uint32_t max_tick_ = 0;
   uint64_t samples_rejected_ = 0;
+  uint64_t states_stale_ = 0;
   uint32_t uavs_killed_ = 0, places_killed_ = 0, regions_frozen_ = 0;
   // Plausibility (plausibility.hpp).
   PolicyTraits traits_;
