@@ -121,6 +121,11 @@ void PlaceApp::log_summary(uint32_t tick) {
       l.applied, l.rejected(), desk_.copies(), deposits_forwarded_, home_uavs_.size(), audit_.dropped(),
       resend_.resends(),
       deposits_lost_ > 0 ? fmt::format("; {} deposits for absent regions lost", deposits_lost_) : std::string());
+  if (forwards_failed_ > 0) {
+    log_->info("  not forwarded {}: their region's place agent was not reachable (lost unless another replica of "
+               "this region forwarded them)",
+               forwards_failed_);
+  }
   for (const auto& [reason, n] : l.rejected_by_reason) log_->info("  rejected {}: {}", n, reason);
   for (std::size_t i = 0; i < core::kRefusalCount; ++i) {
     const uint64_t n = uint64_t{audit_.refused().n[i]} + l.refused.n[i];

@@ -86,9 +86,10 @@ class PlaceApp {
   // since the state they used; lockstep: exactly the view's tiles.
   [[nodiscard]] int32_t tile_margin() const { return demand_ ? 0 : 1; }
   // Takes deposits into inbox_ and forwards the others to their owner's place
-  // agent (or counts them rejected if it is unreachable).
+  // agent (logs it if it is unreachable: forward_failed).
   void take_deposits();
   void forward(const core::DepositMsg& d);
+  void forward_failed(const core::DepositMsg& d, const char* why);
   void take_home_states(uint32_t tick);
   // Home UAVs whose newest state is of `tick` or later.
   [[nodiscard]] uint32_t home_states_of(uint32_t tick) const;
@@ -179,6 +180,7 @@ class PlaceApp {
   uint64_t halos_missing_ = 0;
   uint64_t deposits_forwarded_ = 0;
   uint64_t deposits_lost_ = 0;  // lockstep: home UAVs' deposits for absent regions, not forwarded
+  uint64_t forwards_failed_ = 0;  // deposits for other regions that could not be forwarded
 };
 
 }  // namespace pheromesh::placeagent

@@ -142,6 +142,26 @@ TEST_F(CommandLine, AnUnknownSubcommandIsRefusedWithTheNearestName) {
   EXPECT_NE(testing::internal::GetCapturedStderr().find("did you mean 'sim'?"), std::string::npos);
 }
 
+// A bare `pheromesh` (or `pheromesh bench`) shows what there is to run,
+// not CLI11's "A subcommand is required"; --help still answers 0.
+TEST_F(CommandLine, NoSubcommandWhereOneIsNeededShowsTheHelpAndTheChoices) {
+  testing::internal::CaptureStderr();
+  EXPECT_EQ(parse({}), 2);
+  const std::string bare = testing::internal::GetCapturedStderr();
+  EXPECT_NE(bare.find("simulate"), std::string::npos) << bare;
+  EXPECT_NE(bare.find("pheromesh: which subcommand? one of: sim, bench"), std::string::npos) << bare;
+  EXPECT_NE(bare.find("`pheromesh help SUBCOMMAND` explains one"), std::string::npos) << bare;
+  EXPECT_EQ(bare.find("A subcommand is required"), std::string::npos) << bare;
+  testing::internal::CaptureStderr();
+  EXPECT_EQ(parse({"bench"}), 2);
+  const std::string nested = testing::internal::GetCapturedStderr();
+  EXPECT_NE(nested.find("pheromesh bench: which subcommand? one of: scale"), std::string::npos) << nested;
+  EXPECT_NE(nested.find("`pheromesh help bench SUBCOMMAND` explains one"), std::string::npos) << nested;
+  testing::internal::CaptureStdout();
+  EXPECT_EQ(parse({"--help"}), 0);
+  EXPECT_NE(testing::internal::GetCapturedStdout().find("simulate"), std::string::npos);
+}
+
 TEST_F(CommandLine, AnUnknownFlagIsRefusedWithTheNearestFlagOfItsSubcommand) {
   testing::internal::CaptureStderr();
   EXPECT_EQ(parse({"sim", "small-test", "--tick", "50"}), 2);

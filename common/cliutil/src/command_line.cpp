@@ -93,10 +93,12 @@ CLI::App* deepest_parsed(CLI::App& app) {
 // subcommand, which CLI11 would only answer with "A subcommand is required".
 std::optional<int> walk_subcommands(CLI::App& app, int argc, const char* const* argv) {
   CLI::App* cur = &app;
+  bool help_asked = false;
   for (int i = 1; i < argc; ++i) {
     const std::string tok = argv[i];
     if (tok == "--") return std::nullopt;
     if (starts_with_dash(tok)) {
+      help_asked = help_asked || tok == "-h" || tok == "--help";
       // Skip an option's value ("--log-level debug"), unless given with '='.
       if (tok.find('=') == std::string::npos) {
         const CLI::Option* o = cur->get_option_no_throw(tok);
@@ -129,6 +131,17 @@ std::optional<int> walk_subcommands(CLI::App& app, int argc, const char* const* 
       return 2;
     }
     cur = next;
+  }
+  // No subcommand where one is needed (`pheromesh`, `pheromesh bench`): what
+  // there is to run, rather than CLI11's "A subcommand is required".
+  if (!help_asked && cur->get_require_subcommand_min() > 0 && !subcommands_of(*cur).empty()) {
+    const std::string help = cur == &app ? app.help() : cur->help(command_path(*cur->get_parent()));
+    std::string list;
+    for (const auto& n : visible_subcommand_names(*cur)) list += (list.empty() ? "" : ", ") + n;
+    const std::string tail = command_path(*cur).substr(root_name(*cur).size());
+    std::fprintf(stderr, "%s\n%s: which subcommand? one of: %s\n  `%s help%s SUBCOMMAND` explains one\n",
+                 help.c_str(), command_path(*cur).c_str(), list.c_str(), root_name(*cur).c_str(), tail.c_str());
+    return 2;
   }
   return std::nullopt;
 }
