@@ -122,8 +122,8 @@ void PlaceApp::log_summary(uint32_t tick) {
       resend_.resends(),
       deposits_lost_ > 0 ? fmt::format("; {} deposits for absent regions lost", deposits_lost_) : std::string());
   if (forwards_failed_ > 0) {
-    log_->info("  not forwarded {}: their region's place agent was not reachable (lost unless another replica of "
-               "this region forwarded them)",
+    log_->info("  not forwarded {}: their region's place agent was not reachable or the write failed (lost unless "
+               "another replica of this region forwarded them)",
                forwards_failed_);
   }
   for (const auto& [reason, n] : l.rejected_by_reason) log_->info("  rejected {}: {}", n, reason);

@@ -98,7 +98,7 @@ bool GroundIntake::heard(Who who, uint32_t id, Clock::time_point now, bool new_l
   Liveness& l = (who == Who::Uav ? uav_live_ : place_live_)[id];
   if (l.heard != Clock::time_point{} && now > l.heard) l.longest_silence = std::max(l.longest_silence, now - l.heard);
   l.heard = std::max(l.heard, now);
-  if (l.departed) {  // heard within half a lease after its departure (else judged already)
+  if (l.departed) {  // heard within its wait after its departure (else judged already)
     l.departed.reset();
     if (new_life) {
       // Its next life, not the one that lapsed: that one died (killed and
