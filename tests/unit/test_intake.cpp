@@ -138,29 +138,31 @@ TEST(DepositDesk, OwnDepositsAreAppliedOthersForwardedAndCopiesDroppedOnlyWhenAs
 
 TEST(SeenDeposits, ACopyWithinTheWindowIsSeenAndOneOlderThanItIsNot) {
   SeenDeposits seen(128);
-  EXPECT_FALSE(seen.seen_before(3, 1000));
-  EXPECT_TRUE(seen.seen_before(3, 1000));
-  EXPECT_FALSE(seen.seen_before(3, 990)) << "below the highest, inside the window, new";
-  EXPECT_TRUE(seen.seen_before(3, 990));
-  EXPECT_FALSE(seen.seen_before(7, 1000)) << "per UAV";
-  EXPECT_FALSE(seen.seen_before(3, 1100));
-  EXPECT_TRUE(seen.seen_before(3, 990)) << "100 below the highest: still remembered";
-  EXPECT_FALSE(seen.seen_before(3, 1118)) << "the window moves: 990's slot is free again";
-  EXPECT_FALSE(seen.seen_before(3, 990)) << "128 below the highest: too old to tell";
-  EXPECT_TRUE(seen.seen_before(3, 1100));
-  EXPECT_FALSE(seen.seen_before(3, 1100 + 128)) << "the slot of 1100, a window later, is a new seq";
-  EXPECT_FALSE(seen.seen_before(3, 100000)) << "a jump past the whole window forgets all";
-  EXPECT_FALSE(seen.seen_before(3, 99999));
+  constexpr uint32_t kTick = 1000;  // late enough for every seq below to be reachable
+  EXPECT_FALSE(seen.seen_before(3, 1000, kTick));
+  EXPECT_TRUE(seen.seen_before(3, 1000, kTick));
+  EXPECT_FALSE(seen.seen_before(3, 990, kTick)) << "below the highest, inside the window, new";
+  EXPECT_TRUE(seen.seen_before(3, 990, kTick));
+  EXPECT_FALSE(seen.seen_before(7, 1000, kTick)) << "per UAV";
+  EXPECT_FALSE(seen.seen_before(3, 1100, kTick));
+  EXPECT_TRUE(seen.seen_before(3, 990, kTick)) << "100 below the highest: still remembered";
+  EXPECT_FALSE(seen.seen_before(3, 1118, kTick)) << "the window moves: 990's slot is free again";
+  EXPECT_FALSE(seen.seen_before(3, 990, kTick)) << "128 below the highest: too old to tell";
+  EXPECT_TRUE(seen.seen_before(3, 1100, kTick));
+  EXPECT_FALSE(seen.seen_before(3, 1100 + 128, kTick)) << "the slot of 1100, a window later, is a new seq";
+  EXPECT_FALSE(seen.seen_before(3, 100000, kTick + 400)) << "a jump past the whole window (reachable 400 ticks on) forgets all";
+  EXPECT_FALSE(seen.seen_before(3, 99999, kTick + 400));
 }
 
 // Soaks: a place agent takes deposits for hours (issue 28); what it keeps to
 // spot copies stays at window / 8 bytes per UAV however many it took.
 TEST(SeenDeposits, ItsMemoryStaysBoundedByTheWindowPerUavOverALongRun) {
   SeenDeposits seen;  // the place agents' window: 4096 seqs
+  constexpr uint32_t kTick = 1000;
   for (uint32_t seq = 1; seq <= 200000; ++seq) {
     for (uint32_t uav = 0; uav < 20; ++uav) {
       if ((seq + uav) % 3 != 0) {
-        EXPECT_FALSE(seen.seen_before(uav, seq));
+        EXPECT_FALSE(seen.seen_before(uav, seq, kTick));
       }
     }
     if (seq == 5000) {
@@ -168,8 +170,26 @@ TEST(SeenDeposits, ItsMemoryStaysBoundedByTheWindowPerUavOverALongRun) {
     }
   }
   EXPECT_EQ(seen.bytes(), 20U * 4096U / 8U) << "4.5 MiB with a std::set of 4096 seqs per UAV";
-  EXPECT_TRUE(seen.seen_before(5, 199998));  // (199998 + 5) % 3 != 0: seen above
-  EXPECT_FALSE(seen.seen_before(5, 200000 - 4096));
+  EXPECT_TRUE(seen.seen_before(5, 199998, kTick));  // (199998 + 5) % 3 != 0: seen above
+  EXPECT_FALSE(seen.seen_before(5, 200000 - 4096, kTick));
+}
+
+// A forger's deposit as uav 0 with seq 2^32-1 (pheromesh-test-probe forge):
+// refused by PlaceCore, and it must not move the window, or every real seq
+// falls below it and a re-sent copy is applied again (CI: a lockstep run
+// rejected a re-sent real deposit as a replay).
+TEST(SeenDeposits, ASeqFurtherAheadThanTheUavCanHaveReachedIsNotRemembered) {
+  SeenDeposits seen(128);
+  EXPECT_FALSE(seen.seen_before(0, 4294967295U, 5)) << "forged before any real one";
+  EXPECT_FALSE(seen.seen_before(0, 4294967295U, 5)) << "not remembered";
+  EXPECT_FALSE(seen.seen_before(0, 40, 5));
+  EXPECT_FALSE(seen.seen_before(0, 4294967295U, 6));
+  EXPECT_TRUE(seen.seen_before(0, 40, 6)) << "a copy of a real deposit is still one";
+  // Reachable: 256 deposits a tick at most, + 64 ticks of slack.
+  EXPECT_FALSE(seen.seen_before(0, 40 + 256 * (64 + 10), 16));
+  EXPECT_TRUE(seen.seen_before(0, 40 + 256 * (64 + 10), 16));
+  EXPECT_FALSE(seen.seen_before(0, 40 + 256 * (64 + 10) + 256 * 64 + 257, 16)) << "too far ahead of the new top";
+  EXPECT_TRUE(seen.seen_before(0, 40 + 256 * (64 + 10), 16)) << "the window did not move";
 }
 
 TEST(DepositDesk, AUavItIsTheBackupGatewayOfIsConfirmedAndCountedLikeAHomeUav) {

@@ -39,13 +39,19 @@ void SeenDeposits::set_bit(Window& w, uint32_t seq, bool on) const {
   w.bits[i / 64] = on ? w.bits[i / 64] | mask : w.bits[i / 64] & ~mask;
 }
 
-bool SeenDeposits::seen_before(uint32_t uav, uint32_t seq) {
-  auto [it, first] = seen_.try_emplace(uav);
+bool SeenDeposits::seen_before(uint32_t uav, uint32_t seq, uint32_t tick) {
+  auto it = seen_.find(uav);
+  if (it == seen_.end()) {
+    // A seq the UAV cannot have reached yet (check_seq_reachable) moves no
+    // window: PlaceCore refuses it (seq_far_ahead). A forged 2^32-1 once
+    // moved uav 0's window past every real seq, so a lockstep re-send of a
+    // real deposit was applied twice... and rejected as a replay (CI).
+    if (check_seq_reachable(seq, std::nullopt, tick)) return false;
+    it = seen_.emplace(uav, Window{seq, tick, std::vector<uint64_t>(window_ / 64, 0)}).first;
+  }
   Window& w = it->second;
-  if (first) {
-    w.bits.assign(window_ / 64, 0);
-    w.top = seq;
-  } else if (seq > w.top) {
+  if (seq > w.top) {
+    if (check_seq_reachable(seq, w.top, tick - std::min(w.top_tick, tick))) return false;
     // The window moves up to seq: the slots of (top, seq] are free again.
     if (seq - w.top >= window_) {
       std::fill(w.bits.begin(), w.bits.end(), 0);
@@ -53,6 +59,7 @@ bool SeenDeposits::seen_before(uint32_t uav, uint32_t seq) {
       for (uint32_t s = w.top + 1; s != seq; ++s) set_bit(w, s, false);
     }
     w.top = seq;
+    w.top_tick = tick;
   } else if (w.top - seq >= window_) {
     return false;  // older than the window: too old to tell
   } else if (bit(w, seq)) {
@@ -73,7 +80,7 @@ DepositRoute DepositDesk::take(const DepositMsg& d, uint32_t tick) {
       (home_region(d.uav, regions_) == region_ || served_.contains(d.uav)) && !check_uav_id(d.uav, swarm_);
   // What this replica received from its own UAVs, confirmed in their views.
   if (home) acks_.received(d.uav, d.seq, tick);
-  const bool copy = seen_.seen_before(d.uav, d.seq);
+  const bool copy = seen_.seen_before(d.uav, d.seq, tick);
   if (home && !copy) ++taken_from_[d.uav];
   if (copy && drop_copies_) {
     ++copies_;

@@ -74,17 +74,22 @@ class HomeAcks {
 // 4096 seqs took ~48 bytes per seq, up to ~200 KiB per UAV: ~4.5 MiB in a
 // place agent of a 23-UAV soak, growing for as long as the run, issue 28).
 // A seq `window` or more below the highest is too old to tell: not a copy.
+// A seq further ahead than the UAV can have deposited by now
+// (check_seq_reachable) is neither a copy nor remembered: a forged one would
+// push every real seq out of the window.
 class SeenDeposits {
  public:
   explicit SeenDeposits(uint32_t window = 4096);
-  // True if (uav, seq) was seen before; remembers it otherwise.
-  bool seen_before(uint32_t uav, uint32_t seq);
+  // True if (uav, seq) was seen before; remembers it otherwise. `tick`: the
+  // receiver's tick now.
+  bool seen_before(uint32_t uav, uint32_t seq, uint32_t tick);
   // Bytes held for the seqs of every UAV seen (the bound: UAVs x window / 8).
   [[nodiscard]] std::size_t bytes() const;
 
  private:
   struct Window {
     uint32_t top = 0;             // the highest seq seen
+    uint32_t top_tick = 0;        // the receiver's tick when it was seen
     std::vector<uint64_t> bits;   // bit (seq % window): seq in (top - window, top] was seen
   };
   [[nodiscard]] bool bit(const Window& w, uint32_t seq) const;
