@@ -45,7 +45,8 @@ bool SeenDeposits::seen_before(uint32_t uav, uint32_t seq, uint32_t tick) {
     // A seq the UAV cannot have reached yet (check_seq_reachable) moves no
     // window: PlaceCore refuses it (seq_far_ahead). A forged 2^32-1 once
     // moved uav 0's window past every real seq, so a lockstep re-send of a
-    // real deposit was applied twice... and rejected as a replay (CI).
+    // real deposit was not taken for a copy and PlaceCore rejected it as a
+    // replay (fresh-clone suite).
     if (check_seq_reachable(seq, std::nullopt, tick)) return false;
     it = seen_.emplace(uav, Window{seq, tick, std::vector<uint64_t>(window_ / 64, 0)}).first;
   }
