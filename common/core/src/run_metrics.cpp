@@ -6,6 +6,7 @@
 #include <tuple>
 
 #include "pheromesh/core/policy.hpp"
+#include "pheromesh/core/uav_core.hpp"
 
 namespace pheromesh::core {
 
@@ -49,7 +50,7 @@ bool RunRecorder::on_uav_state(const UavStateMsg& s) {
     // between: applied 3165 > sent 3113 with a standby on another host). Its
     // position at its tick is still true.
     ++states_stale_;
-    coverage_.observe({static_cast<int32_t>(std::lround(s.x)), static_cast<int32_t>(std::lround(s.y))}, s.tick);
+    coverage_.observe(state_cell(s), s.tick);
     return true;
   }
   // Only a UAV lost before may start again from its start cell (a restart).
@@ -73,7 +74,7 @@ bool RunRecorder::on_uav_state(const UavStateMsg& s) {
   u.alive = true;
   u.finished = u.finished || s.finished;
   max_tick_ = std::max(max_tick_, s.tick);
-  coverage_.observe({static_cast<int32_t>(std::lround(s.x)), static_cast<int32_t>(std::lround(s.y))}, s.tick);
+  coverage_.observe(state_cell(s), s.tick);
   sent_by_tick_[s.uav].emplace_back(s.tick, s.deposits_sent + u.earlier_lives_deposits);
   if (keep_tracks_) tracks_.push_back({s.tick, s.uav, s.x, s.y, s.role});
   // The detections of this UAV that waited for this state.
