@@ -5,6 +5,7 @@
 #include <filesystem>
 
 #include "pheromesh/auth/control.hpp"
+#include "pheromesh/bus/bus.hpp"
 #include "pheromesh/bus/cell_discovery.hpp"
 #include "pheromesh/core/conductor.hpp"
 #include "pheromesh/core/fault_plan.hpp"
@@ -146,6 +147,7 @@ PlannedProcess planned(const RunPlan& p, const std::string& role, uint32_t index
   } else {
     c.env = {"PHEROMESH_PARTICIPANT_ID=" + std::to_string(participant_id)};
   }
+  c.env.push_back(std::string(bus::kSwarmProcessesEnv) + "=" + std::to_string(p.host_processes));
   c.log_path = (fs::path(p.options.out_dir) / "logs" / (c.name + ".log")).string();
   return c;
 }
@@ -192,6 +194,16 @@ PlannedProcess ground(const RunPlan& p, uint32_t participant_id) {
 // participant ids stay below the 120 that unicast discovery probes
 // (lan-unicast); standbys and restarts started later continue the numbering
 // (Supervisor::participant_for).
+uint32_t count_host_processes(const RunPlan& p) {
+  uint32_t n = p.share.runs("ground", 0) ? 1 : 0;
+  for (uint32_t k = 0; k < p.replicas_at_start(); ++k) {
+    for (uint32_t r = 0; r < p.regions; ++r) n += p.share.runs("place", r, k) ? 1 : 0;
+  }
+  for (uint32_t u = 0; u < p.uavs; ++u) n += p.share.runs("uav", u) ? 1 : 0;
+  return n;
+}
+
+// The same processes as count_host_processes, in start order.
 std::vector<PlannedProcess> start_order(const RunPlan& p) {
   std::vector<PlannedProcess> list;
   const auto next_id = [&] { return static_cast<uint32_t>(list.size()); };
@@ -380,6 +392,7 @@ core::Result<RunPlan> make_run_plan(const RunOptions& o, const core::ScenarioCon
     if (auto err = settle_faults(p, std::move(schedule).value())) return core::Error{*err};
   }
   if (auto err = check_cells(p)) return core::Error{*err};
+  p.host_processes = count_host_processes(p);
   p.processes = start_order(p);
   p.stagger = stagger(p);
   if (!o.secure.empty() && dds.ground == "fastdds") p.spawn_gap = kSecureFastDdsSpawnGap;

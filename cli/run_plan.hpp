@@ -163,6 +163,10 @@ struct RunPlan {
   // This host's processes in start order: the ground station, the place
   // agents, their standbys, the UAVs.
   std::vector<PlannedProcess> processes;
+  // How many processes this host starts (processes.size(), known before
+  // they are planned): each gets it as $PHEROMESH_SWARM_PROCESSES, which
+  // sizes Cyclone's heartbeat (bus::kQuietHeartbeatAbove).
+  uint32_t host_processes = 0;
   std::optional<Stagger> stagger;
   // --secure over Fast DDS: processes start this far apart (docs/security.md).
   std::chrono::milliseconds spawn_gap{0};

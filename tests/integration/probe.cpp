@@ -37,8 +37,20 @@
 //   offend --topic tile|clock    write one tile / one clock sample and stay
 //                                --linger seconds; print "refused: ..." if the
 //                                bus would not make the writer (permissions).
+// --swarm-processes N: how many processes share the host, as `pheromesh run`
+// tells its own (above 40 a Cyclone process asks for acknowledgements every
+// second: bus/src/dds_profiles.hpp); default --expect for `discover`, else 0
+// (not known: Cyclone's 100 ms).
 // --secure DIR [--identity NAME]: DDS Security with an identity of DIR
 // (default probe-<id>).
+// --lease-ms L: the liveliness lease of its manual-by-topic writers (the
+// health record of `discover`, which a process asserts ten times per lease
+// to every matched reader: bus/src/vendor_pace.hpp). Default 1000 ms, as
+// pheromesh processes, but 60000 ms for `discover`: every probe reads every
+// other probe's record, N^2 matched pairs that no pheromesh role has, and at
+// 1 s those assertions alone were 105 x 104 x 10 = 109,000 datagrams a
+// second - more than 2 cores deliver, so 75 Cyclone probes never finished
+// discovering each other (docs/dds.md, "One host, 100+ processes").
 //
 // A watchdog bounds the whole process, whatever DDS call it is blocked in
 // (with 100 secured participants, creating or deleting one took minutes and
@@ -604,6 +616,14 @@ int main(int argc, char** argv) {
   app.add_option("--stall", stall_s,
                  "[s] block this long before making the bus, deaf to signals (test of the watchdog)")
       ->check(CLI::Range(0.0, 3600.0));
+  int64_t swarm_processes = -1;
+  app.add_option("--swarm-processes", swarm_processes,
+                 "processes on the host, as pheromesh run tells its own (sizes Cyclone's heartbeat; "
+                 "default: --expect for discover, else 0, not known)")
+      ->check(CLI::Range(int64_t{0}, int64_t{1000000}));
+  int64_t lease_ms = 0;
+  app.add_option("--lease-ms", lease_ms, "[ms] liveliness lease of its writers (default: 60000 for discover, else 1000)")
+      ->check(CLI::Range(int64_t{1}, int64_t{3600000}));
   std::string secure, identity;
   app.add_option("--secure", secure);
   app.add_option("--identity", identity);
@@ -630,6 +650,17 @@ int main(int argc, char** argv) {
   o.secure_dir = secure;
   o.identity = identity.empty() ? "probe-" + std::to_string(id) : identity;
   o.participant_id = participant_id;
+  if (lease_ms > 0) {
+    o.liveliness_lease = std::chrono::milliseconds(lease_ms);
+  } else if (d->parsed()) {
+    o.liveliness_lease = std::chrono::minutes(1);
+  }
+  // As `pheromesh run` tells its processes: how many share the host.
+  if (swarm_processes >= 0) {
+    o.swarm_processes = static_cast<uint32_t>(swarm_processes);
+  } else if (d->parsed()) {
+    o.swarm_processes = expect;
+  }
   if (cell_index >= 0 || !cell_peers.empty()) {
     bus::CellDiscovery c;
     c.domain = domain;

@@ -139,7 +139,9 @@ TEST(RunPlan, ParticipantIdsLogFilesAndStandardErrorFollowTheStartOrder) {
   const RunPlan p = plan_of(o, small_test_with(10));
   for (uint32_t i = 0; i < p.processes.size(); ++i) EXPECT_EQ(p.processes[i].participant_id, i) << p.processes[i].name;
   const PlannedProcess& uav7 = process(p, "uav-7");
-  EXPECT_EQ(uav7.env, (Args{"PHEROMESH_PARTICIPANT_ID=12"}));  // ground 0, place agents 1..4, uav-0 5
+  // ground 0, place agents 1..4, uav-0 5; 15 processes on this host
+  EXPECT_EQ(uav7.env, (Args{"PHEROMESH_PARTICIPANT_ID=12", "PHEROMESH_SWARM_PROCESSES=15"}));
+  EXPECT_EQ(p.host_processes, p.processes.size());
   EXPECT_EQ(uav7.log_path, "/tmp/r/logs/uav-7.log");
   EXPECT_EQ(uav7.stderr_to, StderrTo::Log);
   EXPECT_EQ(process(p, "ground").stderr_to, StderrTo::Launcher);
@@ -405,7 +407,8 @@ TEST(RunPlan, ARestartedUavFliesTheTicksLeftWithItsDepositsNumberedAboveItsEarli
   const PlannedProcess again = p.restarted_uav(2, 40, 1U << 24U, 6);
   EXPECT_EQ(again.name, "uav-2");
   EXPECT_EQ(tail_after_lease(again), (Args{"--id", "2", "--ticks", "40", "--seq-base", "16777216"}));
-  EXPECT_EQ(again.env, (Args{"PHEROMESH_PARTICIPANT_ID=6"}));
+  EXPECT_EQ(again.env,
+            (Args{"PHEROMESH_PARTICIPANT_ID=6", "PHEROMESH_SWARM_PROCESSES=" + std::to_string(p.processes.size())}));
   const PlannedProcess standby = p.place(3, 2, 9);
   EXPECT_EQ(standby.name, "place-3.r2");
   EXPECT_EQ(value_of(standby, "--replica"), "2");

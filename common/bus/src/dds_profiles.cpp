@@ -67,7 +67,26 @@ void check_peers(const std::string& profile, const std::vector<std::string>& pee
   }
 }
 
-std::string cyclone_config(const std::string& profile, const std::vector<std::string>& peers) {
+std::string cyclone_heartbeat(uint32_t swarm_processes) {
+  return swarm_processes > kQuietHeartbeatAbove ? "1s" : "";
+}
+
+namespace {
+
+// The one-host profile `xml` with the heartbeat for `swarm_processes`.
+std::string with_heartbeat(std::string xml, const std::string& profile, uint32_t swarm_processes) {
+  const std::string hb = cyclone_heartbeat(swarm_processes);
+  if (hb.empty()) return xml;
+  const std::size_t at = xml.find("</Internal>");
+  if (at == std::string::npos) throw std::logic_error("built-in profile '" + profile + "' has no <Internal>");
+  xml.insert(at, "<HeartbeatInterval>" + hb + "</HeartbeatInterval>");
+  return xml;
+}
+
+}  // namespace
+
+std::string cyclone_config(const std::string& profile, const std::vector<std::string>& peers,
+                           uint32_t swarm_processes) {
   check_peers(profile, peers);
   if (takes_peers(profile)) {
     std::string xml = profile == "lan" ? detail::kCycloneLanXml : detail::kCycloneLanUnicastXml;
@@ -86,8 +105,10 @@ std::string cyclone_config(const std::string& profile, const std::vector<std::st
   if (profile == "default" || profile.empty()) {
     return R"(<CycloneDDS><Domain Id="any"><Internal><GenerateKeyhash>true</GenerateKeyhash></Internal></Domain></CycloneDDS>)";
   }
-  if (profile == "onehost") return detail::kCycloneOneHostXml;
-  if (profile == "onehost-unicast") return detail::kCycloneOneHostUnicastXml;
+  if (profile == "onehost") return with_heartbeat(detail::kCycloneOneHostXml, profile, swarm_processes);
+  if (profile == "onehost-unicast") {
+    return with_heartbeat(detail::kCycloneOneHostUnicastXml, profile, swarm_processes);
+  }
   if (profile == "netns") return detail::kCycloneNetnsXml;
   std::string text;
   pick_file(profile, "Cyclone DDS", "<CycloneDDS>", is_cyclone_xml, text);

@@ -10,6 +10,7 @@
 //                                 written for it (by its root element), so one
 //                                 --dds-profile serves a mixed swarm.
 #pragma once
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -18,8 +19,27 @@ namespace pheromesh::bus {
 // Cyclone configuration XML for a profile; "" means vendor defaults. Throws
 // std::runtime_error naming the problem (unreadable file, no Cyclone file).
 // `peers`: IPv4 addresses for the lan profiles' unicast discovery (an error
-// with any other profile).
-std::string cyclone_config(const std::string& profile, const std::vector<std::string>& peers = {});
+// with any other profile). `swarm_processes`: how many processes of the swarm
+// share this host (0: not known); above kQuietHeartbeatAbove the one-host
+// profiles ask for acknowledgements every second instead of every 100 ms
+// (cyclone_heartbeat).
+std::string cyclone_config(const std::string& profile, const std::vector<std::string>& peers = {},
+                           uint32_t swarm_processes = 0);
+
+// Cyclone 0.10 sends each heartbeat of a discovery writer to every matched
+// participant until all have acknowledged. While more than about 40
+// processes discover each other on one 2-core host, heartbeats every 100 ms
+// (Cyclone's default) are most of the traffic, the acknowledgements fall
+// behind and the heartbeats repeat: measured with 105 Cyclone processes
+// (bench/discovery_profile.sh), 100 ms never finished in 150 s (each process
+// heard 20-87 of 105, 4 runs), 500 ms took 67 s, 1 s 36-39 s; 60 processes
+// took 14-17 s against 4 s, 40 processes 2.0 s against 1.8 s. A small swarm
+// keeps 100 ms: with 1 s a 10-UAV lockstep run took 2.5 s longer (its
+// discovery and its last acknowledged writes wait for a heartbeat).
+inline constexpr uint32_t kQuietHeartbeatAbove = 40;
+// The HeartbeatInterval for a one-host swarm of that many processes; empty:
+// Cyclone's default (100 ms).
+std::string cyclone_heartbeat(uint32_t swarm_processes);
 
 struct FastDdsProfile {
   std::string xml;   // built-in profiles: the XML text ...

@@ -225,6 +225,12 @@ core::Result<bus::BusOptions> bus_options(const CommonOptions& o, const std::str
     const long v = std::strtol(id, &end, 10);
     if (end != id && *end == '\0' && v >= 0 && v < 30000) b.participant_id = static_cast<int32_t>(v);
   }
+  // Given by `pheromesh run` too: how many processes its host starts.
+  if (const char* n = std::getenv(bus::kSwarmProcessesEnv); n != nullptr && *n != '\0') {
+    char* end = nullptr;
+    const unsigned long v = std::strtoul(n, &end, 10);
+    if (end != n && *end == '\0' && v <= 1000000) b.swarm_processes = static_cast<uint32_t>(v);
+  }
   // Cell discovery (docs/dds.md, "Cell discovery"): `pheromesh run
   // --dds-profile cells` names each process's peers.
   const char* cell = std::getenv(bus::kCellEnv);

@@ -52,6 +52,10 @@
 
 namespace pheromesh::bus {
 
+// The environment variable in which `pheromesh run` tells each process how
+// many processes of the swarm its host starts (BusOptions::swarm_processes).
+inline constexpr const char* kSwarmProcessesEnv = "PHEROMESH_SWARM_PROCESSES";
+
 struct BusOptions {
   std::string process_name;  // for logs, e.g. "uav-3"
   uint32_t domain = 0;       // DDS domain id, 0..232
@@ -70,6 +74,11 @@ struct BusOptions {
   // Fast DDS participant id (ports 7410 + 250 domain + 2 id) given by the
   // launcher so that no two processes search for free ports; -1: search.
   int32_t participant_id = -1;
+  // How many processes of the swarm share this host (0: not known), given
+  // by the launcher: a Cyclone process of a large one-host swarm asks for
+  // acknowledgements less often, so that discovery does not drown in them
+  // (dds_profiles.hpp, kQuietHeartbeatAbove).
+  uint32_t swarm_processes = 0;
   // Discovery scoped to a cell (cell_discovery.hpp): when set, it replaces
   // the profile's discovery (and the profile's other settings: the cell's are
   // the one-host unicast profile's). A cell's fixed index overrides
