@@ -190,10 +190,7 @@ PlannedProcess ground(const RunPlan& p, uint32_t participant_id) {
   return c;
 }
 
-// Numbered in the order this host starts them, so that a host's
-// participant ids stay below the 120 that unicast discovery probes
-// (lan-unicast); standbys and restarts started later continue the numbering
-// (Supervisor::participant_for).
+// How many processes this host starts: those of start_order.
 uint32_t count_host_processes(const RunPlan& p) {
   uint32_t n = p.share.runs("ground", 0) ? 1 : 0;
   for (uint32_t k = 0; k < p.replicas_at_start(); ++k) {
@@ -203,7 +200,10 @@ uint32_t count_host_processes(const RunPlan& p) {
   return n;
 }
 
-// The same processes as count_host_processes, in start order.
+// Numbered in the order this host starts them, so that a host's
+// participant ids stay below the 120 that unicast discovery probes
+// (lan-unicast); standbys and restarts started later continue the numbering
+// (Supervisor::participant_for).
 std::vector<PlannedProcess> start_order(const RunPlan& p) {
   std::vector<PlannedProcess> list;
   const auto next_id = [&] { return static_cast<uint32_t>(list.size()); };

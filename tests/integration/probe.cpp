@@ -622,7 +622,8 @@ int main(int argc, char** argv) {
                  "default: --expect for discover, else 0, not known)")
       ->check(CLI::Range(int64_t{0}, int64_t{1000000}));
   int64_t lease_ms = 0;
-  app.add_option("--lease-ms", lease_ms, "[ms] liveliness lease of its writers (default: 60000 for discover, else 1000)")
+  app.add_option("--lease-ms", lease_ms,
+                 "[ms] liveliness lease of its writers (default: 60000 for discover, else 1000)")
       ->check(CLI::Range(int64_t{1}, int64_t{3600000}));
   std::string secure, identity;
   app.add_option("--secure", secure);

@@ -78,7 +78,8 @@ struct Codec {
 class CycloneTransport final : public Transport {
  public:
   explicit CycloneTransport(const BusOptions& o) : opt_(o), pace_(o.liveliness_lease) {
-    const std::string config = o.cell ? cyclone_cell_config(*o.cell) : cyclone_config(o.profile, o.peers, o.swarm_processes);
+    const std::string config =
+        o.cell ? cyclone_cell_config(*o.cell) : cyclone_config(o.profile, o.peers, o.swarm_processes);
     if (!config.empty()) {
       // Returns an error if the domain already exists in this process; that is
       // fine for a second bus in the same process (tests).
