@@ -23,6 +23,8 @@ domain=${DOMAIN:-96}
 profile=${PROFILE:-onehost}
 timeout_s=${TIMEOUT_S:-150}
 probe="$build/bin/pheromesh-test-probe"
+# shellcheck source=lib/discover_probes.sh
+source "$(dirname "$0")/lib/discover_probes.sh"
 [[ -x $probe ]] || { echo "discovery_profile.sh: no $probe (build the tree first)" >&2; exit 2; }
 work=$(mktemp -d /tmp/phm-discovery.XXXXXX)
 trap 'rm -rf "$work"' EXIT
@@ -38,18 +40,9 @@ run() {
       discover --id "$i" --expect "$n" --timeout "$timeout_s" > "$out/$i.txt" 2> /dev/null &
     pids+=($!)
   done
-  local deadline=$((SECONDS + timeout_s + 5))
-  while ((SECONDS < deadline)); do
-    (($(cat "$out"/*.txt 2> /dev/null | grep -c '^discovered') >= n)) && break
-    sleep 0.5
-  done
-  kill -TERM "${pids[@]}" 2> /dev/null || true
-  for p in "${pids[@]}"; do wait "$p" || true; done
-  local found times median max heard
-  found=$(cat "$out"/*.txt | grep -c '^discovered' || true)
-  times=$(cat "$out"/*.txt | awk '/^discovered/ {print $4}' | sort -n)
-  median=$(echo "$times" | awk 'NF {a[++k] = $1} END {print k ? a[int((k + 1) / 2)] : "-"}')
-  max=$(echo "$times" | awk 'NF {m = $1} END {print m == "" ? "-" : m}')
+  probes_stop "$out" "$n" "$timeout_s" "${pids[@]}"
+  local found median max heard
+  read -r found median max < <(probes_times "$out")
   # Of the probes that timed out: the fewest and the most processes heard.
   heard=$(cat "$out"/*.txt | awk '/^timeout: discovered/ {v = $3; if (min == "" || v < min) min = v; if (v > mx) mx = v}
                                   END {print min == "" ? "" : "timed out hearing " min "-" mx}')

@@ -21,6 +21,8 @@ domain=${DOMAIN:-95}
 timeout_s=${TIMEOUT_S:-120}
 stagger=${STAGGER_S:-0}
 probe="$build/bin/pheromesh-test-probe"
+# shellcheck source=lib/discover_probes.sh
+source "$(dirname "$0")/lib/discover_probes.sh"
 max=0
 for n in $sizes; do ((n > max)) && max=$n; done
 work=$(mktemp -d /tmp/phsec-discovery.XXXXXX)
@@ -40,22 +42,9 @@ run() {
     pids+=($!)
     [[ $stagger != 0 ]] && sleep "$stagger"
   done
-  # Every probe stays until told (its record is transient-local only while
-  # it lives): stop them all once each has found every other one, or when
-  # the probes' own timeout has passed.
-  local deadline=$((SECONDS + timeout_s + 5))
-  while ((SECONDS < deadline)); do
-    (($(cat "$out"/*.txt 2> /dev/null | grep -c '^discovered') >= n)) && break
-    sleep 0.5
-  done
-  kill -TERM "${pids[@]}" 2> /dev/null || true
-  for p in "${pids[@]}"; do wait "$p" || true; done
-  local found times
-  found=$(cat "$out"/*.txt | grep -c '^discovered' || true)
-  times=$(cat "$out"/*.txt | awk '/^discovered/ {print $4}' | sort -n)
-  local median max
-  median=$(echo "$times" | awk 'NF {a[++k] = $1} END {print k ? a[int((k + 1) / 2)] : "-"}')
-  max=$(echo "$times" | awk 'NF {m = $1} END {print k = (m == "" ? "-" : m)}')
+  probes_stop "$out" "$n" "$timeout_s" "${pids[@]}"
+  local found median max
+  read -r found median max < <(probes_times "$out")
   printf "%-8s %4d %-7s all found by %4d/%-4d  median %6s s  max %6s s\n" "$vendor" "$n" "$mode" "$found" "$n" \
     "$median" "$max"
 }

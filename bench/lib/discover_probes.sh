@@ -1,0 +1,26 @@
+# shellcheck shell=bash
+# What the discovery benchmarks do with a set of `pheromesh-test-probe
+# discover` processes (source it; bash). Each probe writes its output to
+# OUT/<id>.txt: "discovered N in S s" once it has heard every other one.
+#   probes_stop OUT N TIMEOUT_S PID...
+#                        every probe stays until told (its record is
+#                        transient-local only while it lives): waits until all
+#                        N have heard every other one, or the probes' own
+#                        timeout (+5 s) has passed, then stops and reaps them
+#   probes_times OUT     "FOUND MEDIAN MAX" of the probes that heard every
+#                        other one (seconds; "-" when none did)
+probes_stop() {
+  local out=$1 n=$2 timeout_s=$3
+  shift 3
+  local deadline=$((SECONDS + timeout_s + 5))
+  while ((SECONDS < deadline)); do
+    (($(cat "$out"/*.txt 2> /dev/null | grep -c '^discovered') >= n)) && break
+    sleep 0.5
+  done
+  kill -TERM "$@" 2> /dev/null || true
+  for p in "$@"; do wait "$p" || true; done
+}
+probes_times() {
+  cat "$1"/*.txt | awk '/^discovered/ {print $4}' | sort -n |
+    awk 'NF {a[++k] = $1} END {if (k) print k, a[int((k + 1) / 2)], a[k]; else print 0, "-", "-"}'
+}
