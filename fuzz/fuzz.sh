@@ -11,7 +11,7 @@
 #   --no-build    run what DIR holds
 #   --fresh       start each harness from its seeds only (forget DIR/corpus)
 #   --quick-build compile DIR at -O0 -gline-tables-only (NDEBUG as usual):
-#                 about 40 % less compile time, fewer executions per second;
+#                 about 40 % less compile time, a tenth of the executions/s;
 #                 for a corpus run of a few seconds (the ctest test), not for
 #                 a long search. Without it DIR is RelWithDebInfo (-O2 -g).
 #
