@@ -14,6 +14,13 @@
 
 namespace pheromesh::cli {
 
+void close_descriptors_from(int first) noexcept {
+  if (close_range(static_cast<unsigned>(first), ~0U, 0) == 0) return;
+  // A kernel before 5.9: one by one, up to the limit of open descriptors.
+  const long limit = sysconf(_SC_OPEN_MAX);
+  for (long fd = first; fd < (limit > 0 && limit < 65536 ? limit : 65536); ++fd) close(static_cast<int>(fd));
+}
+
 pid_t spawn_logged_child(const std::string& exe, std::vector<std::string> args, int log_fd, bool default_signals) {
   const pid_t parent = getpid();
   const pid_t pid = fork();
@@ -26,6 +33,7 @@ pid_t spawn_logged_child(const std::string& exe, std::vector<std::string> args, 
   }
   dup2(log_fd, STDOUT_FILENO);
   dup2(log_fd, STDERR_FILENO);
+  close_descriptors_from(3);
   std::vector<char*> argv;
   argv.reserve(args.size() + 1);
   for (auto& a : args) argv.push_back(a.data());
@@ -47,6 +55,7 @@ int run_bounded(const std::vector<std::string>& args, const std::string& log, do
       dup2(fd, STDOUT_FILENO);
       dup2(fd, STDERR_FILENO);
     }
+    close_descriptors_from(3);
     std::vector<char*> argv;
     for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
     argv.push_back(nullptr);

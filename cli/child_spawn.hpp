@@ -9,8 +9,14 @@
 
 namespace pheromesh::cli {
 
+// In a forked child, just before exec: closes every descriptor from `first`
+// up, so the program gets stdin, stdout, stderr (and whatever the caller put
+// below `first`) and nothing else its parent had open without close-on-exec
+// (a test runner's log, another child's pipe, a socket). Async-signal-safe.
+void close_descriptors_from(int first) noexcept;
+
 // Forks and executes `exe` with `args` (args[0] is the program name), its
-// stdout and stderr on `log_fd`. The child gets SIGTERM when the calling
+// stdout and stderr on `log_fd` and no other descriptor of the caller's. The child gets SIGTERM when the calling
 // process ends (PR_SET_PDEATHSIG) and stays in the caller's process group.
 // With `default_signals`, SIGINT and SIGTERM are reset to their default
 // action in the child (for a caller that installed handlers of its own).

@@ -20,6 +20,7 @@
 #include <stdexcept>
 #include <thread>
 
+#include "child_spawn.hpp"
 #include "pheromesh/auth/control.hpp"
 #include "pheromesh/console/server.hpp"
 #include "pheromesh/runtime/process.hpp"
@@ -108,6 +109,8 @@ pid_t fork_patiently() {
     dup2(fd, STDOUT_FILENO);
     if (p.stderr_to == StderrTo::Log) dup2(fd, STDERR_FILENO);
   }
+  // Nothing else of the launcher's: fd 3 is the control socket when planned.
+  close_descriptors_from(p.control == ControlLine::Fd3 && ctl_fd >= 0 ? 4 : 3);
   std::vector<char*> argv;
   for (auto& a : p.argv) argv.push_back(a.data());
   argv.push_back(nullptr);
@@ -320,6 +323,7 @@ bool Supervisor::start_discovery_server() {
       dup2(fd, STDOUT_FILENO);
       dup2(fd, STDERR_FILENO);
     }
+    close_descriptors_from(3);
     execlp("fast-discovery-server", "fast-discovery-server", "-i", "0", "-l", "127.0.0.1", "-p", port.c_str(),
            static_cast<char*>(nullptr));
     dprintf(STDERR_FILENO, "cannot execute fast-discovery-server: %s\n", std::strerror(errno));

@@ -18,6 +18,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 #include <thread>
+#include <utility>
 #include <vector>
 
 namespace pheromesh::itest {
@@ -47,10 +48,47 @@ inline Output run(const std::string& cmd) {
   return o;
 }
 
-// A background process with its stdout in a file.
+// A background process with its stdout in a file, in a process group of its
+// own. Whoever holds it owns the process: if the test ends while it still
+// runs (an ASSERT gave up, an exception), the destructor ends the group
+// (SIGTERM, SIGKILL 5 s later) and reaps it, so a failed test leaves no
+// swarm behind to answer the next test's samples. A process the test has
+// already reaped (wait_exit) is left alone.
 struct Background {
   pid_t pid = -1;
   std::string out_path;
+
+  Background() = default;
+  Background(const Background&) = delete;
+  Background& operator=(const Background&) = delete;
+  Background(Background&& o) noexcept : pid(std::exchange(o.pid, -1)), out_path(std::move(o.out_path)) {}
+  Background& operator=(Background&& o) noexcept {
+    if (this != &o) {
+      end();
+      pid = std::exchange(o.pid, -1);
+      out_path = std::move(o.out_path);
+    }
+    return *this;
+  }
+  ~Background() { end(); }
+
+ private:
+  void end() noexcept {
+    if (pid <= 0) return;
+    // 0: ours and running. pid: it had exited, now reaped. -1 (ECHILD): reaped before.
+    if (waitpid(pid, nullptr, WNOHANG) == 0) {
+      kill(-pid, SIGTERM);
+      const auto deadline = Clock::now() + std::chrono::seconds(5);
+      while (Clock::now() < deadline && waitpid(pid, nullptr, WNOHANG) == 0) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+      }
+      if (kill(pid, 0) == 0) {
+        kill(-pid, SIGKILL);
+        waitpid(pid, nullptr, 0);
+      }
+    }
+    pid = -1;
+  }
 };
 
 inline Background start(const std::vector<std::string>& args, const std::string& out_path) {
@@ -58,6 +96,7 @@ inline Background start(const std::vector<std::string>& args, const std::string&
   b.out_path = out_path;
   b.pid = fork();
   if (b.pid == 0) {
+    setpgid(0, 0);
     FILE* f = std::freopen(out_path.c_str(), "w", stdout);
     (void)f;
     std::vector<char*> argv;
@@ -67,6 +106,7 @@ inline Background start(const std::vector<std::string>& args, const std::string&
     execv(argv[0], argv.data());
     _exit(127);
   }
+  if (b.pid > 0) setpgid(b.pid, b.pid);  // both sides: no window where the group does not exist yet
   return b;
 }
 

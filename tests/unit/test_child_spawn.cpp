@@ -1,0 +1,83 @@
+// The children the CLI starts (cli/child_spawn.hpp) get their log and the
+// standard streams, and no other descriptor the parent held open without
+// close-on-exec. ctest hands its test processes its log as fd 3 that way; a
+// swarm that inherited it kept ctest waiting after a failed test.
+#include <fcntl.h>
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+#include <string>
+
+#include "../../cli/child_spawn.hpp"
+
+namespace pheromesh::cli {
+namespace {
+
+namespace fs = std::filesystem;
+
+// The descriptor numbers a child listed (one per line, as `ls /proc/self/fd` prints them).
+std::set<int> listed(const fs::path& log) {
+  std::ifstream in(log);
+  std::set<int> fds;
+  for (std::string line; std::getline(in, line);) {
+    if (!line.empty() && line.find_first_not_of("0123456789") == std::string::npos) fds.insert(std::stoi(line));
+  }
+  return fds;
+}
+
+class ChildSpawn : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("phm-child-spawn-" + std::to_string(getpid()));
+    fs::create_directories(dir_);
+    // Held open without close-on-exec, at a number the child would not reuse.
+    const int fd = open("/dev/null", O_RDONLY);
+    ASSERT_GE(fd, 0);
+    leaked_ = fcntl(fd, F_DUPFD, 50);
+    close(fd);
+    ASSERT_GE(leaked_, 50);
+    ASSERT_EQ(fcntl(leaked_, F_GETFD) & FD_CLOEXEC, 0);
+  }
+  void TearDown() override {
+    if (leaked_ >= 0) close(leaked_);
+    fs::remove_all(dir_);
+  }
+  fs::path dir_;
+  int leaked_ = -1;
+};
+
+TEST_F(ChildSpawn, ALoggedChildHasItsLogAndTheStandardStreamsOnly) {
+  const fs::path log = dir_ / "ls.log";
+  const int log_fd = open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  ASSERT_GE(log_fd, 0);
+  const pid_t pid = spawn_logged_child("/bin/ls", {"ls", "/proc/self/fd"}, log_fd, false);
+  close(log_fd);
+  ASSERT_GT(pid, 0);
+  int st = 0;
+  ASSERT_EQ(waitpid(pid, &st, 0), pid);
+  ASSERT_TRUE(WIFEXITED(st) && WEXITSTATUS(st) == 0) << "status " << st;
+  const std::set<int> fds = listed(log);
+  EXPECT_TRUE(fds.count(1) && fds.count(2)) << "stdout and stderr are missing";
+  EXPECT_EQ(fds.count(leaked_), 0u) << "the child inherited the parent's descriptor " << leaked_;
+  // ls opens the directory it lists: at most 0, 1, 2 and that one.
+  EXPECT_LE(fds.size(), 4u);
+}
+
+TEST_F(ChildSpawn, ABoundedRunHasItsLogAndTheStandardStreamsOnly) {
+  const fs::path log = dir_ / "bounded.log";
+  bool timed_out = true;
+  EXPECT_EQ(run_bounded({"/bin/ls", "/proc/self/fd"}, log.string(), 30.0, timed_out), 0);
+  EXPECT_FALSE(timed_out);
+  const std::set<int> fds = listed(log);
+  EXPECT_TRUE(fds.count(1) && fds.count(2)) << "stdout and stderr are missing";
+  EXPECT_EQ(fds.count(leaked_), 0u) << "the child inherited the parent's descriptor " << leaked_;
+  EXPECT_LE(fds.size(), 4u);
+}
+
+}  // namespace
+}  // namespace pheromesh::cli
