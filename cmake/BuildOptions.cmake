@@ -4,6 +4,7 @@ option(PHEROMESH_BUILD_BENCH "Build benchmarks" ON)
 option(PHEROMESH_CORE_ONLY "Build without DDS and the web console: the core, `pheromesh` with validate, sim, experiment and sweep, the unit tests of the core and its benchmarks" OFF)
 option(PHEROMESH_WERROR "Treat warnings as errors" OFF)
 option(PHEROMESH_TEST_CORE_ONLY "Add the ctest CoreOnly.BuildsAndSimulatesWithoutDds: configure, build and run a core-only tree beside this one (minutes without a warm ccache; make test-core-only runs it alone)" OFF)
+option(PHEROMESH_TEST_IMAGE_FROM_SOURCE "Make the container tests' image with its own compile (Container.ImageBuildsFromTheTree: the build stage of deploy/container/Containerfile, about 14 minutes cold on two cores) instead of from this build's programs" OFF)
 option(PHEROMESH_FUZZ "Build the libFuzzer harnesses of fuzz/ (clang only; docs/fuzzing.md)" OFF)
 set(PHEROMESH_SANITIZER "" CACHE STRING "Sanitizers to build with: '', 'address,undefined' or 'thread'")
 set_property(CACHE PHEROMESH_SANITIZER PROPERTY STRINGS "" "address,undefined" "thread")
@@ -54,7 +55,7 @@ elseif(NOT PHEROMESH_PYTHON)
 endif()
 
 foreach(opt PHEROMESH_BUILD_TESTS PHEROMESH_BUILD_BENCH PHEROMESH_CORE_ONLY PHEROMESH_WERROR PHEROMESH_SANITIZER PHEROMESH_FUZZ
-    PHEROMESH_TEST_CORE_ONLY PHEROMESH_PYTHON
+    PHEROMESH_TEST_CORE_ONLY PHEROMESH_TEST_IMAGE_FROM_SOURCE PHEROMESH_PYTHON
     CMAKE_BUILD_TYPE)
   message(STATUS "pheromesh option ${opt} = ${${opt}}")
 endforeach()

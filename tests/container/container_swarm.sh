@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # The container deployment, tested with podman (docs/deploy-containers.md):
-#   container_swarm.sh image   SRC OUT                  base image (made once) + the pheromesh image (layers reused)
+#   container_swarm.sh image   SRC OUT [BUILD]          base image (made once) + the pheromesh image (layers reused);
+#                                                       with BUILD, from BUILD's programs (build-image.sh --programs-from)
 #   container_swarm.sh compose SRC OUT DOMAIN VENDORS   the compose swarm of small-test, to its end
 #   container_swarm.sh kube    SRC OUT DOMAIN VENDORS   deploy/k8s/swarm.yaml through expand-statefulsets and
 #                                                       `podman kube play`, to its end
@@ -47,9 +48,15 @@ if [ "$MODE" = image ]; then
   t=$(now)
   "$SRC/scripts/container-base-image.sh"
   record "base image: $(since "$t") s"
-  step "pheromesh image $IMAGE (layers reused when the sources did not change)"
+  from=()
+  if [ -n "${4:-}" ]; then
+    from=(--programs-from "$4")
+    step "pheromesh image $IMAGE from the programs of $4"
+  else
+    step "pheromesh image $IMAGE (layers reused when the sources did not change)"
+  fi
   t=$(now)
-  "$SRC/deploy/container/build-image.sh" "$IMAGE" > "$OUT/build.log" 2>&1 || {
+  "$SRC/deploy/container/build-image.sh" "${from[@]}" "$IMAGE" > "$OUT/build.log" 2>&1 || {
     tail -n 40 "$OUT/build.log"
     fail "the image did not build (whole log: $OUT/build.log)"
   }
