@@ -75,7 +75,7 @@ if [ "$MODE" = image ]; then
   exit 0
 fi
 
-P image exists "$IMAGE" || fail "no image $IMAGE: the test Container.ImageBuilds makes it (deploy/container/build-image.sh)"
+P image exists "$IMAGE" || fail "no image $IMAGE: the label container's image test makes it (deploy/container/build-image.sh [--programs-from BUILD])"
 KEY=$(control_key)
 NAME=phmc-$MODE-$DOMAIN
 rm -rf "$OUT/logs" "$OUT/metrics.json" "$OUT/times.txt"
