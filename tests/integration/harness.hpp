@@ -79,13 +79,14 @@ struct Background {
     if (waitpid(pid, nullptr, WNOHANG) == 0) {
       kill(-pid, SIGTERM);
       const auto deadline = Clock::now() + std::chrono::seconds(5);
-      while (Clock::now() < deadline && waitpid(pid, nullptr, WNOHANG) == 0) {
+      bool reaped = false;
+      while (Clock::now() < deadline && !(reaped = waitpid(pid, nullptr, WNOHANG) == pid)) {
         std::this_thread::sleep_for(std::chrono::milliseconds(20));
       }
-      if (kill(pid, 0) == 0) {
-        kill(-pid, SIGKILL);
-        waitpid(pid, nullptr, 0);
-      }
+      // The whole group, also when its leader went first but left a child
+      // that ignored SIGTERM (no one left: ESRCH, harmless).
+      kill(-pid, SIGKILL);
+      if (!reaped) waitpid(pid, nullptr, 0);
     }
     pid = -1;
   }
