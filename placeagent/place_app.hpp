@@ -155,7 +155,7 @@ class PlaceApp {
   bool linked_ = false;          // note_linked()
   std::vector<core::PhaseDoneMsg> reports_;  // relay_reports' inbox
   uint64_t clocks_relayed_ = 0, reports_relayed_ = 0, states_relayed_ = 0;
-  std::vector<uint32_t> departed_;
+  std::vector<core::UavDeparture> departed_;
   std::vector<core::DetectionMsg> detections_up_;
   std::vector<core::BroadcastMsg> broadcasts_;
   uint32_t current_tick_ = 0;

@@ -105,7 +105,8 @@ void PlaceApp::take_home_states(uint32_t tick) {
   }
   departed_.clear();
   bus_->take_departed_uavs(departed_);
-  for (uint32_t u : departed_) {
+  for (const auto& d : departed_) {
+    const uint32_t u = d.uav;
     if (std::find(gateway_uavs_.begin(), gateway_uavs_.end(), u) == gateway_uavs_.end()) continue;
     core::UavStateMsg gone;
     gone.uav = u;

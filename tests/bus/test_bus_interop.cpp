@@ -139,7 +139,7 @@ TEST_P(Interop, EveryMessageArrivesIntact) {
     EXPECT_EQ(s.tick_gaps_over_2, 7U);
   };
   for (const auto& s : states) expect_state(s);
-  std::vector<uint32_t> departed;
+  std::vector<core::UavDeparture> departed;
   const auto until = Clock::now() + std::chrono::seconds(10);
   while (departed.empty() && Clock::now() < until) {
     std::vector<core::UavStateMsg> more;
@@ -148,7 +148,9 @@ TEST_P(Interop, EveryMessageArrivesIntact) {
     r_->take_departed_uavs(departed);
     if (departed.empty()) std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
-  EXPECT_EQ(departed, std::vector<uint32_t>{6});
+  ASSERT_EQ(departed.size(), 1U);
+  EXPECT_EQ(departed[0].uav, 6U);
+  EXPECT_EQ(departed[0].last_tick, std::optional<uint32_t>{12}) << "the relay's last state of it";
 
   // A view, to UAV 5 only, and a field chunk: nested tiles and states.
   core::ViewMsg view{5, 33, {tile, core::TileMsg{1, {3, 5}, 0, 0, 1, 2, {4.5F, -1.0F}}}, {st, st}};

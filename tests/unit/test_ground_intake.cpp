@@ -417,6 +417,42 @@ TEST(GroundIntake, AProcessSilentAroundItsLapseIsReportedLostHalfALeaseAfterIt) 
   EXPECT_EQ(rig.intake->liveliness_lapses(), 0U);
 }
 
+// Faults.AStoppedPlaceAgentIsShownAliveAgainWhenItResumes, as it failed in
+// CI: UAV 1's home place agent was stopped, the UAV went on through its
+// backup (states up to tick 136, 251 deposits), and its home, resumed, told
+// of the UAV's departure with the last state it held (tick 28) and relayed
+// that state once more. Taken for a death, the copy "started a new life" and
+// the UAV's 251 deposits were counted twice.
+TEST(GroundIntake, ADepartureFromARelayThatLostTheUavBeforeItsNewestStateIsNoDeath) {
+  Rig rig;
+  auto early = state(1, 16);
+  early.deposits_sent = 40;
+  auto newest = state(1, 136);
+  newest.deposits_sent = 251;
+  rig.take(states({early, newest}), kUnlimited, t0);
+  GroundSamples gone;
+  gone.departed_uavs = {core::UavDeparture{1, 28}};
+  auto copy = state(1, 28);
+  copy.deposits_sent = 100;
+  gone.states = {copy};
+  rig.take(std::move(gone), kUnlimited, t0 + 100ms);
+  const Notes later = rig.take({}, kUnlimited, t0 + 3s);
+  EXPECT_TRUE(texts(later, Kind::UavLost).empty());
+  EXPECT_TRUE(rig.rec->uavs().at(1).alive);
+  EXPECT_EQ(rig.rec->uavs().at(1).last.tick, 136U);
+  EXPECT_EQ(rig.rec->deposits_sent(), 251U) << "counted once";
+  EXPECT_EQ(rig.rec->departures_stale(), 1U);
+  EXPECT_EQ(rig.rec->states_stale(), 1U);
+  EXPECT_FALSE(rig.conductor->departed(1));
+  // The relay that held its newest state telling of its departure is a death.
+  GroundSamples dead;
+  dead.departed_uavs = {core::UavDeparture{1, 136}};
+  rig.take(std::move(dead), kUnlimited, t0 + 4s);
+  EXPECT_EQ(texts(rig.take({}, kUnlimited, t0 + 5s), Kind::UavLost), Texts{"uav 1 lost (liveliness) at tick 136"});
+  EXPECT_FALSE(rig.rec->uavs().at(1).alive);
+  EXPECT_EQ(rig.rec->departures_stale(), 1U);
+}
+
 // Lockstep under packet loss: a live process is heard once a tick, and a
 // tick takes seconds. Its departure waits twice its longest silence so far
 // (at least half a lease, at most ten leases) before it is taken for lost.

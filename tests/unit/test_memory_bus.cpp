@@ -156,7 +156,8 @@ TEST_F(MemoryBus, TheGroundStationHearsAUavsDepartureFromItsPlaceAgentAndThatOfA
   ASSERT_TRUE(replica->publish_health(h));
   std::vector<core::UavStateMsg> states;
   std::vector<core::HealthMsg> health;
-  std::vector<uint32_t> uavs_gone, places_gone;
+  std::vector<core::UavDeparture> uavs_gone;
+  std::vector<uint32_t> places_gone;
   home->take_uav_states(states);
   home->take_departed_uavs(uavs_gone);
   ASSERT_EQ(states.size(), 1U);
@@ -171,7 +172,7 @@ TEST_F(MemoryBus, TheGroundStationHearsAUavsDepartureFromItsPlaceAgentAndThatOfA
   replica.reset();
   home->take_uav_states(states);
   home->take_departed_uavs(uavs_gone);
-  ASSERT_EQ(uavs_gone, std::vector<uint32_t>{12});
+  ASSERT_EQ(uavs_gone, std::vector<core::UavDeparture>{12}) << "its own reader's: no relay, no tick";
   core::UavStateMsg note = states[0];
   note.departed = true;
   ASSERT_TRUE(home->relay_state(states[0]));
@@ -184,7 +185,7 @@ TEST_F(MemoryBus, TheGroundStationHearsAUavsDepartureFromItsPlaceAgentAndThatOfA
   ground->take_departed_regions(places_gone);
   ASSERT_EQ(states.size(), 1U) << "the state before the note";
   EXPECT_FALSE(states[0].departed);
-  EXPECT_EQ(uavs_gone, std::vector<uint32_t>{12});
+  EXPECT_EQ(uavs_gone, (std::vector<core::UavDeparture>{{12, states[0].tick}})) << "with the relay's last tick";
   EXPECT_EQ(places_gone, std::vector<uint32_t>{core::place_id(1, 1)});
   // Reported once.
   ground->take_departed_uavs(uavs_gone);

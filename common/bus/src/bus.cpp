@@ -73,7 +73,8 @@ struct Bus::Roles {
   std::optional<Reader<core::CommandMsg>> command_in;
   std::optional<Reader<core::ScenarioMsg>> scenario_in;
 
-  std::vector<uint32_t> departed_uavs;
+  std::vector<uint32_t> departed_uavs;  // a place agent's home UAVs, as its reader saw them
+  std::vector<core::UavDeparture> relayed_departures;  // the ground station's, as the place agents relayed them
   std::vector<uint32_t> departed_regions;  // core::place_id
 };
 
@@ -336,7 +337,7 @@ void Bus::take_uav_states(std::vector<core::UavStateMsg>& out) {
     const std::size_t first = out.size();
     roles_->ground_states_in->take(out);
     for (std::size_t i = first; i < out.size(); ++i) {
-      if (out[i].departed) roles_->departed_uavs.push_back(out[i].uav);
+      if (out[i].departed) roles_->relayed_departures.emplace_back(out[i].uav, out[i].tick);
     }
     out.erase(std::remove_if(out.begin() + static_cast<std::ptrdiff_t>(first), out.end(),
                              [](const core::UavStateMsg& m) { return m.departed; }),
@@ -352,9 +353,11 @@ void Bus::take_health(std::vector<core::HealthMsg>& out) {
   }
 }
 
-void Bus::take_departed_uavs(std::vector<uint32_t>& out) {
+void Bus::take_departed_uavs(std::vector<core::UavDeparture>& out) {
   out.insert(out.end(), roles_->departed_uavs.begin(), roles_->departed_uavs.end());
   roles_->departed_uavs.clear();
+  out.insert(out.end(), roles_->relayed_departures.begin(), roles_->relayed_departures.end());
+  roles_->relayed_departures.clear();
 }
 
 void Bus::take_departed_regions(std::vector<uint32_t>& out) {

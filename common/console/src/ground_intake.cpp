@@ -232,13 +232,15 @@ void GroundIntake::on_broadcasts(const std::vector<core::BroadcastMsg>& broadcas
   }
 }
 
-void GroundIntake::on_departed_uavs(const std::vector<uint32_t>& gone, Clock::time_point now) {
-  for (uint32_t id : gone) {
+void GroundIntake::on_departed_uavs(const std::vector<core::UavDeparture>& gone, Clock::time_point now) {
+  for (const auto& d : gone) {
+    const uint32_t id = d.uav;
     if (core::check_uav_id(id, swarm_)) continue;  // a forger's writer left, not a UAV
     auto it = p_.rec.uavs().find(id);
     const bool finished = it != p_.rec.uavs().end() && it->second.finished;
+    // A relay that lost the UAV before its newest state (RunRecorder::on_uav_departed).
+    if (!p_.rec.on_uav_departed(d)) continue;
     if (p_.conductor.on_uav_departed(id, now) && !finished) departed(Who::Uav, id, now);
-    p_.rec.on_uav_departed(id);
   }
 }
 

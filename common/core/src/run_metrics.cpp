@@ -252,9 +252,16 @@ uint64_t RunRecorder::deposits_unconfirmed_by_uavs() const {
   return n;
 }
 
-void RunRecorder::on_uav_departed(uint32_t uav) {
-  if (check_uav_id(uav, scenario_->uavs)) return;  // no UAV of the swarm
-  uavs_[uav].alive = false;
+bool RunRecorder::on_uav_departed(const UavDeparture& d) {
+  if (check_uav_id(d.uav, scenario_->uavs)) return false;  // no UAV of the swarm
+  auto it = uavs_.find(d.uav);
+  if (d.last_tick && it != uavs_.end() && it->second.heard && it->second.alive && !it->second.finished &&
+      *d.last_tick < it->second.last.tick) {
+    ++departures_stale_;
+    return false;
+  }
+  uavs_[d.uav].alive = false;
+  return true;
 }
 
 void RunRecorder::on_place_departed(uint32_t place) { departed_places_[place] = true; }

@@ -100,6 +100,7 @@ nlohmann::json metrics_json(const core::RunRecorder& r, const RunInfo& info) {
   if (processes) {
     j["samples_rejected_by_ground"] = r.samples_rejected();
     j["uav_states_stale"] = r.states_stale();
+    j["uav_departures_stale"] = r.departures_stale();
   }
   // Well-formed samples refused as implausible (core/plausibility.hpp), per
   // reason: in total and by who refused them.

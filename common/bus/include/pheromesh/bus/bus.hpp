@@ -241,8 +241,9 @@ class Bus {
   void take_broadcasts(std::vector<core::BroadcastMsg>& out);
   // UAVs whose every state writer vanished (liveliness lost or process
   // ended) since the last call: a place agent's home UAVs, as its reader
-  // saw it; the ground station's, as the place agents relayed it.
-  void take_departed_uavs(std::vector<uint32_t>& out);
+  // saw it; the ground station's, as the place agents relayed it (with the
+  // tick of the last state the relaying place agent held: UavDeparture).
+  void take_departed_uavs(std::vector<core::UavDeparture>& out);
   // Place replicas (ground subscription) whose health writer vanished, as
   // core::place_id(region, replica).
   void take_departed_regions(std::vector<uint32_t>& out);

@@ -32,7 +32,7 @@ namespace pheromesh::console {
 struct GroundSamples {
   std::vector<core::UavStateMsg> states;
   std::vector<core::BroadcastMsg> broadcasts;
-  std::vector<uint32_t> departed_uavs;
+  std::vector<core::UavDeparture> departed_uavs;
   std::vector<core::DetectionMsg> detections;
   std::vector<core::TargetEventMsg> target_events;
   std::vector<core::HealthMsg> healths;
@@ -110,7 +110,7 @@ class GroundIntake {
  private:
   void on_states(const std::vector<core::UavStateMsg>& states, Clock::time_point now);
   void on_broadcasts(const std::vector<core::BroadcastMsg>& broadcasts, Clock::time_point now);
-  void on_departed_uavs(const std::vector<uint32_t>& gone, Clock::time_point now);
+  void on_departed_uavs(const std::vector<core::UavDeparture>& gone, Clock::time_point now);
   void on_target_events(const std::vector<core::TargetEventMsg>& events);
   void on_healths(const std::vector<core::HealthMsg>& healths, Clock::time_point now);
   void on_fields(std::vector<core::FieldMsg>& fields, std::vector<core::TileMsg>& tiles, uint32_t ceiling);

@@ -77,6 +77,19 @@ struct UavStateMsg {
   bool departed = false;
 };
 
+// Every state writer of a UAV vanished, as one place agent's reader saw it.
+// Relayed to the ground station (UavStateMsg::departed), it carries the tick
+// of the last state that place agent held of the UAV: a place agent that lost
+// the UAV long ago (it was stopped while the UAV moved on to its backup) tells
+// of a departure older than what the ground station heard since.
+struct UavDeparture {
+  UavDeparture(uint32_t u = 0, std::optional<uint32_t> tick = std::nullopt)  // NOLINT(google-explicit-constructor)
+      : uav(u), last_tick(tick) {}
+  uint32_t uav = 0;
+  std::optional<uint32_t> last_tick;  // none: the process's own reader saw it (no relay)
+  bool operator==(const UavDeparture&) const = default;
+};
+
 struct DetectionMsg {
   uint32_t uav = 0;
   uint32_t tick = 0;

@@ -88,7 +88,12 @@ class RunRecorder {
   // One replica's health. Returns true if that replica had been lost and is
   // heard again (a stopped process that resumed).
   bool on_health(const HealthMsg& h);
-  void on_uav_departed(uint32_t uav);
+  // Returns false, and changes nothing, for a relayed departure older than
+  // the UAV's last state (UavDeparture): the relay lost a UAV that another
+  // gateway still relays. Taken for a death, it had the next stale copy from
+  // that relay start a "new life" and counted the UAV's deposits twice
+  // (deposits sent 3330, received 3005: Faults.AStoppedPlaceAgent...).
+  bool on_uav_departed(const UavDeparture& d);
   // A place replica's health writer vanished (core::place_id).
   void on_place_departed(uint32_t place);
   // Faults injected on purpose (docs/faults.md): UAVs and place agents
@@ -146,6 +151,8 @@ class RunRecorder {
   // UAV states older than one already held (a second gateway's relay, a late
   // re-send): their positions count, the newer state stays the UAV's last.
   [[nodiscard]] uint64_t states_stale() const { return states_stale_; }
+  // Relayed departures older than the UAV's last state (on_uav_departed).
+  [[nodiscard]] uint64_t departures_stale() const { return departures_stale_; }
   // `s` is the first state of a restarted UAV process: one lost before
   // (not finished) whose deposit count starts again.
   [[nodiscard]] bool starts_new_life(const UavStateMsg& s) const;
@@ -193,6 +200,7 @@ class RunRecorder {
   uint32_t max_tick_ = 0;
   uint64_t samples_rejected_ = 0;
   uint64_t states_stale_ = 0;
+  uint64_t departures_stale_ = 0;
   uint32_t uavs_killed_ = 0, places_killed_ = 0, regions_frozen_ = 0;
   // Plausibility (plausibility.hpp).
   PolicyTraits traits_;
