@@ -110,6 +110,11 @@ done
 step "wait for the end of the run"
 wait "$LPID" || fail "pheromesh run failed: $(tail -5 "$OUT/launcher.log")"
 LPID=
+# Every UAV ends by itself, the restarted one too (before, it never heard a
+# start it could admit and the launcher stopped it 150 s after the end).
+! grep -q "still flying long after the expected end" "$OUT/launcher.log" ||
+  fail "a UAV did not end by itself: $(grep -h 'finished at tick' "$RUN"/logs/uav-*.log)"
+grep -q "uav 1 finished at tick [1-9]" "$RUN/logs/uav-1.log" || fail "the restarted uav 1 never flew: $(tail -3 "$RUN/logs/uav-1.log")"
 grep -q "console command from http" "$RUN/logs/ground.log" 2> /dev/null || grep -q "console command from http" "$OUT/launcher.log" ||
   fail "the ground station did not log the commands"
 [ -s "$RUN/console_final.json" ] || fail "no console_final.json"

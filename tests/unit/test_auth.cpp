@@ -66,6 +66,33 @@ TEST(Auth, GateAdmitsSignedCommandsInOrderOnce) {
   EXPECT_EQ(keyless.rejected(), 1U);
 }
 
+TEST(Auth, GateAdmitsACommandOlderThanTheNewestOnceAndRefusesOnesTooOldToTell) {
+  const ControlKey key = parse_control_key(std::string(64, 'd')).value();
+  CommandGate gate(key);
+  std::vector<core::CommandMsg> newest{signed_command(key, 5000, core::CommandKind::Obstacle)};
+  ASSERT_EQ(gate.admit(newest).size(), 1U);
+  // Late (from another relay's history), never admitted before: admitted.
+  std::vector<core::CommandMsg> late{signed_command(key, 4000, core::CommandKind::Obstacle)};
+  ASSERT_EQ(gate.admit(late).size(), 1U);
+  std::vector<core::CommandMsg> again{signed_command(key, 4000, core::CommandKind::Obstacle),
+                                      signed_command(key, 5000, core::CommandKind::Obstacle)};
+  std::vector<std::string> why;
+  EXPECT_TRUE(gate.admit(again, &why).empty());
+  ASSERT_EQ(why.size(), 2U);
+  EXPECT_NE(why[0].find("replayed"), std::string::npos) << why[0];
+  // 5000 - 4096 = 904: seq 904 and older cannot be told from a replay any more.
+  std::vector<core::CommandMsg> old{signed_command(key, 904, core::CommandKind::Obstacle),
+                                    signed_command(key, 905, core::CommandKind::Obstacle)};
+  why.clear();
+  const auto ok = gate.admit(old, &why);
+  ASSERT_EQ(ok.size(), 1U);
+  EXPECT_EQ(ok[0].seq, 905U);
+  ASSERT_EQ(why.size(), 1U);
+  EXPECT_NE(why[0].find("too old"), std::string::npos) << why[0];
+  EXPECT_EQ(gate.accepted(), 3U);
+  EXPECT_EQ(gate.rejected(), 3U);
+}
+
 TEST(Auth, TheEndOfARunIsAdmittedWhenSignedAndKindsBeyondItAreNot) {
   const ControlKey key = parse_control_key(std::string(64, 'c')).value();
   CommandGate gate(key);

@@ -363,6 +363,57 @@ TEST_F(MemoryBus, AUavAdmitsACommandItHearsFromBothGatewaysOnceAndStillRefusesAF
   ::unsetenv(auth::kControlKeyEnv);
 }
 
+// e2e.Console.mixed, restart through the console: the restarted UAV heard
+// "resume" (seq 3) and an obstacle (seq 4) from one gateway's history before
+// "start" (seq 1) and "pause" (seq 2) from the other's, refused those two as
+// out of order and never flew (the launcher stopped it 150 s later).
+TEST_F(MemoryBus, AUavThatHearsTheCommandHistoryOutOfOrderStartsTakesEveryObstacleAndKeepsTheNewestPause) {
+  const std::string hex = auth::random_control_key_hex();
+  ::setenv(auth::kControlKeyEnv, hex.c_str(), 1);
+  const auto key = auth::parse_control_key(hex).value();
+  auto place1 = make_memory_bus(domain_);
+  auto place2 = make_memory_bus(domain_);
+  auto uav = make_memory_bus(domain_);
+  place1->subscribe_uplinks(1);
+  place2->subscribe_uplinks(2);
+  uav->join_uav(4, 1);
+  uav->join_gateways(std::vector<core::RegionId>{1, 2});
+  runtime::SwarmCommands commands(*uav, spdlog::default_logger());
+  const auto command = [&](uint32_t seq, core::CommandKind kind) {
+    core::CommandMsg c;
+    c.issuer = 1;
+    c.seq = seq;
+    c.kind = static_cast<uint8_t>(kind);
+    c.x = static_cast<int32_t>(seq);
+    c.w = 1;
+    c.h = 1;
+    auth::sign(c, key);
+    return c;
+  };
+  ASSERT_TRUE(place2->relay_command(command(3, core::CommandKind::Resume)));
+  ASSERT_TRUE(place2->relay_command(command(4, core::CommandKind::Obstacle)));
+  const auto newer = commands.take();
+  ASSERT_EQ(newer.size(), 2U);
+  EXPECT_FALSE(commands.started());
+  ASSERT_TRUE(place1->relay_command(command(1, core::CommandKind::Start)));
+  ASSERT_TRUE(place1->relay_command(command(2, core::CommandKind::Pause)));
+  ASSERT_TRUE(place1->relay_command(command(3, core::CommandKind::Resume)));  // a copy
+  ASSERT_TRUE(place1->relay_command(command(4, core::CommandKind::Obstacle)));  // a copy
+  ASSERT_TRUE(place1->relay_command(command(0, core::CommandKind::Obstacle)));  // an obstacle older than all
+  const auto older = commands.take();
+  ASSERT_EQ(older.size(), 3U) << "the older obstacle, the start and the late pause; copies dropped";
+  EXPECT_EQ(older[0].seq, 0U);
+  EXPECT_EQ(older[1].seq, 1U);
+  EXPECT_EQ(older[2].seq, 2U) << "handed on (a place agent relays it) but not applied";
+  EXPECT_TRUE(commands.started());
+  EXPECT_FALSE(commands.paused()) << "the resume (seq 3) stands over the pause (seq 2)";
+  EXPECT_EQ(commands.rejected(), 0U);
+  // Each is admitted once: a replay of the start, however late, is refused.
+  ASSERT_TRUE(place2->relay_command(command(1, core::CommandKind::Start)));
+  EXPECT_TRUE(commands.take().empty());
+  ::unsetenv(auth::kControlKeyEnv);
+}
+
 TEST_F(MemoryBus, SamplesOverTheIdlBoundsAreRefusedAndCountedBeforeAnyTransportSeesThem) {
   auto w = make_memory_bus(domain_);
   auto r = make_memory_bus(domain_);

@@ -103,13 +103,15 @@ std::vector<core::CommandMsg> CommandGate::admit(std::vector<core::CommandMsg>& 
   std::vector<core::CommandMsg> ok;
   for (const auto& c : received) {
     const char* why = nullptr;
-    auto last = last_seq_.find(c.issuer);
+    auto seen = seen_.find(c.issuer);
     if (!key_) {
       why = "this process has no control key";
     } else if (!verify(c, *key_)) {
       why = "bad signature";
-    } else if (last != last_seq_.end() && c.seq <= last->second) {
-      why = "replayed or out-of-order seq";
+    } else if (seen != seen_.end() && seen->second.seqs.contains(c.seq)) {
+      why = "replayed seq (admitted before)";
+    } else if (seen != seen_.end() && seen->second.newest >= kWindow && c.seq <= seen->second.newest - kWindow) {
+      why = "seq too old to tell from a replay";
     } else if (c.kind < 1 || c.kind > static_cast<uint8_t>(core::CommandKind::End)) {
       why = "unknown kind";
     }
@@ -118,7 +120,10 @@ std::vector<core::CommandMsg> CommandGate::admit(std::vector<core::CommandMsg>& 
       if (refused != nullptr) refused->push_back(describe(c) + " from " + std::to_string(c.issuer) + ": " + why);
       continue;
     }
-    last_seq_[c.issuer] = c.seq;
+    Seen& s = seen_[c.issuer];
+    s.seqs.insert(c.seq);
+    s.newest = std::max(s.newest, c.seq);
+    if (s.newest >= kWindow) s.seqs.erase(s.seqs.begin(), s.seqs.upper_bound(s.newest - kWindow));
     ++accepted_;
     ok.push_back(c);
   }

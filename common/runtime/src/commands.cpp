@@ -46,7 +46,18 @@ std::vector<core::CommandMsg> SwarmCommands::take() {
   }
   for (const auto& c : ok) {
     admitted_[{c.issuer, c.seq}] = c;
+    const bool toggle = c.kind == static_cast<uint8_t>(core::CommandKind::Pause) ||
+                        c.kind == static_cast<uint8_t>(core::CommandKind::Resume);
+    uint32_t& last_toggle = toggle_seq_[c.issuer];
+    // A pause or resume older than the last one applied changes nothing:
+    // the newer one stands (each arrives once, in no set order: CommandGate).
+    if (toggle && c.seq < last_toggle) {
+      log_->info("ground-station command {} (seq {}) arrived after seq {}, which stands", auth::describe(c), c.seq,
+                 last_toggle);
+      continue;
+    }
     log_->info("ground-station command {} (seq {})", auth::describe(c), c.seq);
+    if (toggle) last_toggle = c.seq;
     if (c.kind == static_cast<uint8_t>(core::CommandKind::Pause)) paused_ = true;
     if (c.kind == static_cast<uint8_t>(core::CommandKind::Resume)) paused_ = false;
     if (c.kind == static_cast<uint8_t>(core::CommandKind::Start)) started_ = true;

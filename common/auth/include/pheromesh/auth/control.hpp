@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <map>
 #include <optional>
+#include <set>
 #include <span>
 #include <string>
 #include <vector>
@@ -40,11 +41,21 @@ void sign(core::CommandMsg& m, const ControlKey& key);
 
 std::string describe(const core::CommandMsg& m);  // "pause", "obstacle 5,5 3x3", ...
 
-// Receiver side: which received commands to act on.
+// Receiver side: which received commands to act on. Each signed command is
+// admitted once per process, also when it arrives after a newer one: a
+// process that joins late hears the history from several relays (its home
+// and its backup place agent), in no set order, and must still see the
+// start and every pop-up obstacle (before, a restarted UAV that heard
+// "resume" (seq 3) first refused "start" (seq 1) as out of order and waited
+// for the rest of the run). What a late command means is the receiver's
+// call: runtime::SwarmCommands lets a late pause or resume be superseded.
 class CommandGate {
  public:
+  // Seqs further back than this from an issuer's newest admitted one are
+  // refused: too old to tell from a replay (memory stays bounded).
+  static constexpr uint32_t kWindow = 4096;
   explicit CommandGate(std::optional<ControlKey> key) : key_(std::move(key)) {}
-  // Commands to apply, in order; the others are counted and described in `refused`.
+  // Commands to apply, sorted by (issuer, seq); the others are counted and described in `refused`.
   std::vector<core::CommandMsg> admit(std::vector<core::CommandMsg>& received, std::vector<std::string>* refused = nullptr);
   [[nodiscard]] uint64_t accepted() const { return accepted_; }
   [[nodiscard]] uint64_t rejected() const { return rejected_; }
@@ -52,7 +63,11 @@ class CommandGate {
 
  private:
   std::optional<ControlKey> key_;
-  std::map<uint32_t, uint32_t> last_seq_;
+  struct Seen {
+    uint32_t newest = 0;
+    std::set<uint32_t> seqs;  // admitted, within kWindow of `newest`
+  };
+  std::map<uint32_t, Seen> seen_;  // by issuer; only issuers whose commands were signed with the key
   uint64_t accepted_ = 0, rejected_ = 0;
 };
 

@@ -22,7 +22,10 @@ class SwarmCommands {
   // Subscribes to the commands; the key comes from $PHEROMESH_CONTROL_KEY.
   SwarmCommands(bus::Bus& bus, std::shared_ptr<spdlog::logger> log);
   // Commands admitted since the last call, in order. Pause and resume are
-  // applied to paused() here; the caller applies the others.
+  // applied to paused() here (one older than the last applied changes
+  // nothing: the newer stands, but it is still returned, for a place agent
+  // to relay on); the caller applies the others, late ones too (a pop-up
+  // obstacle is one whatever its order).
   std::vector<core::CommandMsg> take();
   [[nodiscard]] bool paused() const { return paused_; }
   // The ground station's start arrived (it is transient-local: a process
@@ -40,6 +43,7 @@ class SwarmCommands {
   auth::CommandGate gate_;
   std::vector<core::CommandMsg> inbox_;
   std::map<std::pair<uint32_t, uint32_t>, core::CommandMsg> admitted_;  // by (issuer, seq)
+  std::map<uint32_t, uint32_t> toggle_seq_;  // by issuer: the seq of the pause or resume applied last
   bool paused_ = false;
   bool started_ = false;
   bool ended_ = false;
