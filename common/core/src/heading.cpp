@@ -8,8 +8,6 @@ namespace pheromesh::core {
 
 namespace {
 
-constexpr int kHeadingCount = 8;
-
 constexpr std::array<Cell, kHeadingCount> kSteps{{
     {1, 0}, {1, 1}, {0, 1}, {-1, 1}, {-1, 0}, {-1, -1}, {0, -1}, {1, -1},
 }};

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "pheromesh/core/heading.hpp"
 #include "pheromesh/core/layers.hpp"
 
 namespace pheromesh::core {
@@ -22,7 +23,6 @@ const char* to_string(TargetEventKind k) {
 namespace {
 
 constexpr float kMaxDepositAmount = 1e6F;
-constexpr uint8_t kHeadingCount = 8;  // heading.hpp Heading
 constexpr uint8_t kRoleCount = 3;     // Role
 
 bool all_finite(const std::vector<float>& v) {

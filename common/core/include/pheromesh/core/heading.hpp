@@ -11,6 +11,7 @@ namespace pheromesh::core {
 
 // Eight compass headings, counter-clockwise from east, 45° apart.
 enum class Heading : uint8_t { E = 0, NE, N, NW, W, SW, S, SE };
+inline constexpr int kHeadingCount = 8;  // the values of Heading
 // Unit step. N is +y: with rows drawn downwards (docs/scenario-format.md)
 // "north" points down the screen; the policy only uses relative turns.
 Cell step_of(Heading h);

@@ -34,7 +34,6 @@ namespace {
 
 constexpr double kAttractivenessFloor = 1e-6;
 constexpr double kTieTolerance = 1e-12;
-constexpr int kHeadingCount = 8;
 constexpr int kMaxTurn = 2;  // ±90°, Shao 2020 eq. (10)
 
 // Sector (heading index 0..7) of the bearing of offset (dx, dy) != (0, 0).
