@@ -1,5 +1,6 @@
 #include "ground_app.hpp"
 
+#include <fmt/ranges.h>
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
@@ -266,6 +267,32 @@ bool GroundApp::end_if_over() {
   if (cfg_.attach && book_.places_finished(rec_)) {
     log_->info("every place agent finished: the run is over");
     return true;
+  }
+  if (cfg_.attach) {
+    // A monitor that came late can miss a place agent that ended before it
+    // was discovered (no health, no departure): once every place agent it
+    // heard has finished and 5 s passed, the run is over (before, it waited
+    // for the missing one for good).
+    const auto& heard = rec_.replica_health();
+    const bool all_finished = !heard.empty() && std::all_of(heard.begin(), heard.end(), [&](const auto& kv) {
+      return kv.second.finished || rec_.place_departed(kv.first);
+    });
+    if (!all_finished) {
+      heard_places_finished_.reset();
+    } else if (!heard_places_finished_) {
+      heard_places_finished_ = Clock::now();
+    } else if (Clock::now() - *heard_places_finished_ > std::chrono::seconds(5)) {
+      std::vector<core::RegionId> missing;
+      for (core::RegionId r = 0; r < geo_.region_count(); ++r) {
+        const bool any = std::any_of(heard.begin(), heard.end(),
+                                     [&](const auto& kv) { return core::place_id_region(kv.first) == r; });
+        if (!any) missing.push_back(r);
+      }
+      log_->warn("every place agent heard has finished and none other was heard for 5 s: the run is over; never heard "
+                 "region(s) {} (they ended before this monitor found them)",
+                 fmt::join(missing, ", "));
+      return true;
+    }
   }
   if (cfg_.until_done && !ended_ && book_.uavs_done(rec_, conductor_, Clock::now())) end_run();
   return ended_;

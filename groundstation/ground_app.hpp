@@ -162,6 +162,7 @@ class GroundApp {
   console::GroundIntake intake_;         // every received sample: checks, and who hears of it
   console::GroundSamples samples_;       // reusable inbox
   Clock::time_point next_progress_;
+  std::optional<Clock::time_point> heard_places_finished_;  // attach: since when every place agent heard has finished
 
   // --- web console
   std::unique_ptr<LiveConsole> console_;

@@ -51,9 +51,14 @@ inline Output run(const std::string& cmd) {
 // A background process with its stdout in a file, in a process group of its
 // own. Whoever holds it owns the process: if the test ends while it still
 // runs (an ASSERT gave up, an exception), the destructor ends the group
-// (SIGTERM, SIGKILL 5 s later) and reaps it, so a failed test leaves no
-// swarm behind to answer the next test's samples. A process the test has
-// already reaped (wait_exit) is left alone.
+// (SIGTERM, SIGKILL 45 s later) and reaps it, so a failed test leaves no
+// swarm behind to answer the next test's samples. The 45 s are the
+// launcher's own (pheromesh run puts each process in a group of its own and
+// on SIGTERM stops the UAVs, then the place agents, then the ground station,
+// each role SIGKILLed 10-15 s after its SIGTERM): SIGKILLed after 5 s, it
+// left a Fast DDS UAV that ignored SIGTERM running on the test's domain,
+// and the next test of that domain failed. A process the test has already
+// reaped (wait_exit) is left alone.
 struct Background {
   pid_t pid = -1;
   std::string out_path;
@@ -78,7 +83,7 @@ struct Background {
     // 0: ours and running. pid: it had exited, now reaped. -1 (ECHILD): reaped before.
     if (waitpid(pid, nullptr, WNOHANG) == 0) {
       kill(-pid, SIGTERM);
-      const auto deadline = Clock::now() + std::chrono::seconds(5);
+      const auto deadline = Clock::now() + std::chrono::seconds(45);
       bool reaped = false;
       while (Clock::now() < deadline && !(reaped = waitpid(pid, nullptr, WNOHANG) == pid)) {
         std::this_thread::sleep_for(std::chrono::milliseconds(20));
