@@ -38,6 +38,28 @@ class MemoryBus : public testing::Test {
   std::shared_ptr<MemoryDomain> domain_ = make_memory_domain();
 };
 
+// UAV 4 with its home (place agent 1) and its backup (2), and a control key
+// in the environment for the UAV's commands (removed at the end).
+struct Gateways {
+  explicit Gateways(const std::shared_ptr<MemoryDomain>& domain)
+      : hex(auth::random_control_key_hex()),
+        key((::setenv(auth::kControlKeyEnv, hex.c_str(), 1), auth::parse_control_key(hex).value())),
+        place1(make_memory_bus(domain)),
+        place2(make_memory_bus(domain)),
+        uav(make_memory_bus(domain)) {
+    place1->subscribe_uplinks(1);
+    place2->subscribe_uplinks(2);
+    uav->join_uav(4, 1);
+    uav->join_gateways(std::vector<core::RegionId>{1, 2});
+  }
+  ~Gateways() { ::unsetenv(auth::kControlKeyEnv); }
+  Gateways(const Gateways&) = delete;
+  Gateways& operator=(const Gateways&) = delete;
+  std::string hex;
+  auth::ControlKey key;
+  std::unique_ptr<Bus> place1, place2, uav;
+};
+
 TEST_F(MemoryBus, ADepositReachesThePlaceAgentOfItsRegionAndNotThatOfAnother) {
   auto uav = make_memory_bus(domain_);
   auto place1 = make_memory_bus(domain_);
@@ -329,17 +351,11 @@ TEST_F(MemoryBus, TheLockstepTreeCarriesTheClockDownThroughThePlaceAgentsAndTheR
 }
 
 TEST_F(MemoryBus, AUavAdmitsACommandItHearsFromBothGatewaysOnceAndStillRefusesAForgedOne) {
-  const std::string hex = auth::random_control_key_hex();
-  ::setenv(auth::kControlKeyEnv, hex.c_str(), 1);
-  const auto key = auth::parse_control_key(hex).value();
-  auto place1 = make_memory_bus(domain_);
-  auto place2 = make_memory_bus(domain_);
-  auto uav = make_memory_bus(domain_);
-  place1->subscribe_uplinks(1);
-  place2->subscribe_uplinks(2);
-  uav->join_uav(4, 1);
-  uav->join_gateways(std::vector<core::RegionId>{1, 2});
-  runtime::SwarmCommands commands(*uav, spdlog::default_logger());
+  const Gateways g(domain_);
+  const auth::ControlKey& key = g.key;
+  auto& place1 = g.place1;
+  auto& place2 = g.place2;
+  runtime::SwarmCommands commands(*g.uav, spdlog::default_logger());
   core::CommandMsg pause;
   pause.issuer = 1;
   pause.seq = 1;
@@ -360,7 +376,6 @@ TEST_F(MemoryBus, AUavAdmitsACommandItHearsFromBothGatewaysOnceAndStillRefusesAF
   EXPECT_TRUE(commands.take().empty());
   EXPECT_TRUE(commands.paused());
   EXPECT_EQ(commands.rejected(), 1U);
-  ::unsetenv(auth::kControlKeyEnv);
 }
 
 // e2e.Console.mixed, restart through the console: the restarted UAV heard
@@ -368,17 +383,11 @@ TEST_F(MemoryBus, AUavAdmitsACommandItHearsFromBothGatewaysOnceAndStillRefusesAF
 // "start" (seq 1) and "pause" (seq 2) from the other's, refused those two as
 // out of order and never flew (the launcher stopped it 150 s later).
 TEST_F(MemoryBus, AUavThatHearsTheCommandHistoryOutOfOrderStartsTakesEveryObstacleAndKeepsTheNewestPause) {
-  const std::string hex = auth::random_control_key_hex();
-  ::setenv(auth::kControlKeyEnv, hex.c_str(), 1);
-  const auto key = auth::parse_control_key(hex).value();
-  auto place1 = make_memory_bus(domain_);
-  auto place2 = make_memory_bus(domain_);
-  auto uav = make_memory_bus(domain_);
-  place1->subscribe_uplinks(1);
-  place2->subscribe_uplinks(2);
-  uav->join_uav(4, 1);
-  uav->join_gateways(std::vector<core::RegionId>{1, 2});
-  runtime::SwarmCommands commands(*uav, spdlog::default_logger());
+  const Gateways g(domain_);
+  const auth::ControlKey& key = g.key;
+  auto& place1 = g.place1;
+  auto& place2 = g.place2;
+  runtime::SwarmCommands commands(*g.uav, spdlog::default_logger());
   const auto command = [&](uint32_t seq, core::CommandKind kind) {
     core::CommandMsg c;
     c.issuer = 1;
@@ -411,7 +420,6 @@ TEST_F(MemoryBus, AUavThatHearsTheCommandHistoryOutOfOrderStartsTakesEveryObstac
   // Each is admitted once: a replay of the start, however late, is refused.
   ASSERT_TRUE(place2->relay_command(command(1, core::CommandKind::Start)));
   EXPECT_TRUE(commands.take().empty());
-  ::unsetenv(auth::kControlKeyEnv);
 }
 
 TEST_F(MemoryBus, SamplesOverTheIdlBoundsAreRefusedAndCountedBeforeAnyTransportSeesThem) {
