@@ -352,27 +352,24 @@ TEST_F(MemoryBus, TheLockstepTreeCarriesTheClockDownThroughThePlaceAgentsAndTheR
 
 TEST_F(MemoryBus, AUavAdmitsACommandItHearsFromBothGatewaysOnceAndStillRefusesAForgedOne) {
   const Gateways g(domain_);
-  const auth::ControlKey& key = g.key;
-  auto& place1 = g.place1;
-  auto& place2 = g.place2;
   runtime::SwarmCommands commands(*g.uav, spdlog::default_logger());
   core::CommandMsg pause;
   pause.issuer = 1;
   pause.seq = 1;
   pause.kind = static_cast<uint8_t>(core::CommandKind::Pause);
-  auth::sign(pause, key);
-  ASSERT_TRUE(place1->relay_command(pause));
-  ASSERT_TRUE(place2->relay_command(pause));
+  auth::sign(pause, g.key);
+  ASSERT_TRUE(g.place1->relay_command(pause));
+  ASSERT_TRUE(g.place2->relay_command(pause));
   const auto first = commands.take();
   ASSERT_EQ(first.size(), 1U);
   EXPECT_TRUE(commands.paused());
   EXPECT_EQ(commands.rejected(), 0U) << "the second gateway's copy is no replay";
   // Later copies (a late relay) are dropped too, uncounted; a forged command
   // with the same issuer and seq is still refused and counted.
-  ASSERT_TRUE(place2->relay_command(pause));
+  ASSERT_TRUE(g.place2->relay_command(pause));
   core::CommandMsg forged = pause;
   forged.kind = static_cast<uint8_t>(core::CommandKind::Resume);
-  ASSERT_TRUE(place1->relay_command(forged));
+  ASSERT_TRUE(g.place1->relay_command(forged));
   EXPECT_TRUE(commands.take().empty());
   EXPECT_TRUE(commands.paused());
   EXPECT_EQ(commands.rejected(), 1U);
@@ -384,9 +381,6 @@ TEST_F(MemoryBus, AUavAdmitsACommandItHearsFromBothGatewaysOnceAndStillRefusesAF
 // out of order and never flew (the launcher stopped it 150 s later).
 TEST_F(MemoryBus, AUavThatHearsTheCommandHistoryOutOfOrderStartsTakesEveryObstacleAndKeepsTheNewestPause) {
   const Gateways g(domain_);
-  const auth::ControlKey& key = g.key;
-  auto& place1 = g.place1;
-  auto& place2 = g.place2;
   runtime::SwarmCommands commands(*g.uav, spdlog::default_logger());
   const auto command = [&](uint32_t seq, core::CommandKind kind) {
     core::CommandMsg c;
@@ -396,19 +390,19 @@ TEST_F(MemoryBus, AUavThatHearsTheCommandHistoryOutOfOrderStartsTakesEveryObstac
     c.x = static_cast<int32_t>(seq);
     c.w = 1;
     c.h = 1;
-    auth::sign(c, key);
+    auth::sign(c, g.key);
     return c;
   };
-  ASSERT_TRUE(place2->relay_command(command(3, core::CommandKind::Resume)));
-  ASSERT_TRUE(place2->relay_command(command(4, core::CommandKind::Obstacle)));
+  ASSERT_TRUE(g.place2->relay_command(command(3, core::CommandKind::Resume)));
+  ASSERT_TRUE(g.place2->relay_command(command(4, core::CommandKind::Obstacle)));
   const auto newer = commands.take();
   ASSERT_EQ(newer.size(), 2U);
   EXPECT_FALSE(commands.started());
-  ASSERT_TRUE(place1->relay_command(command(1, core::CommandKind::Start)));
-  ASSERT_TRUE(place1->relay_command(command(2, core::CommandKind::Pause)));
-  ASSERT_TRUE(place1->relay_command(command(3, core::CommandKind::Resume)));  // a copy
-  ASSERT_TRUE(place1->relay_command(command(4, core::CommandKind::Obstacle)));  // a copy
-  ASSERT_TRUE(place1->relay_command(command(0, core::CommandKind::Obstacle)));  // an obstacle older than all
+  ASSERT_TRUE(g.place1->relay_command(command(1, core::CommandKind::Start)));
+  ASSERT_TRUE(g.place1->relay_command(command(2, core::CommandKind::Pause)));
+  ASSERT_TRUE(g.place1->relay_command(command(3, core::CommandKind::Resume)));  // a copy
+  ASSERT_TRUE(g.place1->relay_command(command(4, core::CommandKind::Obstacle)));  // a copy
+  ASSERT_TRUE(g.place1->relay_command(command(0, core::CommandKind::Obstacle)));  // an obstacle older than all
   const auto older = commands.take();
   ASSERT_EQ(older.size(), 3U) << "the older obstacle, the start and the late pause; copies dropped";
   EXPECT_EQ(older[0].seq, 0U);
@@ -418,7 +412,7 @@ TEST_F(MemoryBus, AUavThatHearsTheCommandHistoryOutOfOrderStartsTakesEveryObstac
   EXPECT_FALSE(commands.paused()) << "the resume (seq 3) stands over the pause (seq 2)";
   EXPECT_EQ(commands.rejected(), 0U);
   // Each is admitted once: a replay of the start, however late, is refused.
-  ASSERT_TRUE(place2->relay_command(command(1, core::CommandKind::Start)));
+  ASSERT_TRUE(g.place2->relay_command(command(1, core::CommandKind::Start)));
   EXPECT_TRUE(commands.take().empty());
 }
 
