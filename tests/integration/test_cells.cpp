@@ -19,7 +19,7 @@ TEST(Cells, ALockstepSwarmInCellsGivesTheSimulatorsNumbersWithBroadcastsRelayed)
 
 TEST(Cells, AProcessThatNamesOnePlaceAgentHearsOnlyThatOneWhileTheSwarmFlies) {
   const std::string out = out_dir("cells-realtime");
-  const Background swarm = start_run("small-test.textproto", out, 57, "--uavs 4 --duration 10 --dds-profile cells");
+  const Background swarm = start_run("small-test.textproto", out, 57, "--uavs 4 --duration 6 --dds-profile cells");
   ASSERT_TRUE(wait_for_text(swarm.out_path, "places 4/4", std::chrono::seconds(30))) << slurp(swarm.out_path);
   // A member naming place agent 0 only (hub index 1; the ground station is
   // hub 0): it hears its health and its own, none of the other three place
@@ -28,8 +28,7 @@ TEST(Cells, AProcessThatNamesOnePlaceAgentHearsOnlyThatOneWhileTheSwarmFlies) {
   // DDS takes the first free index, can bind a hub's port beside it and then
   // receives what the other hubs send that hub (docs/dds.md). 5 s: on a
   // loaded host 3 s were not always enough to discover the hub (the swarm
-  // flies 10 s, long enough for the probe and then the monitor to find it
-  // flying; the probe ends as soon as it heard both).
+  // flies 6 s; the probe ends as soon as it heard both).
   const Output p = run(kBin +
                        "/pheromesh-test-probe --domain 57 --participant-id 40 --cell-peer 1 discover --id 900 --expect 2 "
                        "--timeout 5");
