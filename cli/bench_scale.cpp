@@ -90,7 +90,7 @@ const std::vector<Column>& columns() {
   return c;
 }
 
-struct Row {
+struct ScaleRow {
   std::string vendor;
   uint32_t uavs = 0;
   int exit_code = -1;
@@ -155,7 +155,7 @@ Value plus(Value a, Value b) { return a && b ? Value(*a + *b) : std::nullopt; }
 
 // The row's figures from a run's metrics.json (as written by the ground
 // station and completed by the launcher).
-void fill_row(Row& row, const Json& m) {
+void fill_row(ScaleRow& row, const Json& m) {
   const Value ticks = number_at(m, "uav_ticks_flown");
   row.v["wall_s"] = number_at(m, "wall_s");
   row.v["discovery_s"] = number_at(m, "discovery_s");
@@ -197,7 +197,7 @@ Value rounded(Value v, int precision) {
   return std::round(*v * scale) / scale;
 }
 
-std::string markdown_table(const std::vector<Row>& rows) {
+std::string markdown_table(const std::vector<ScaleRow>& rows) {
   std::ostringstream o;
   o << "| vendor | N | exit |";
   for (const auto& c : columns()) o << " " << c.header << " |";
@@ -215,7 +215,7 @@ std::string markdown_table(const std::vector<Row>& rows) {
 // Per vendor: the largest N that held (exit 0, every UAV flew its ticks, at
 // most 1 % late: why_not_held) and the first N that did not, with why. A run
 // that exited non-zero or flew nothing never counts as holding its size.
-std::vector<std::string> summary_lines(const std::vector<Row>& rows, const std::vector<std::string>& vendors,
+std::vector<std::string> summary_lines(const std::vector<ScaleRow>& rows, const std::vector<std::string>& vendors,
                                        uint32_t ticks, Json& json) {
   std::vector<std::string> lines;
   for (const auto& vendor : vendors) {
@@ -268,7 +268,7 @@ std::string host_description() {
 }
 
 // Rewritten after every run, so that an interrupted bench leaves what it measured.
-bool write_results(const Plan& p, const std::vector<Row>& rows, const std::vector<std::string>& skipped,
+bool write_results(const Plan& p, const std::vector<ScaleRow>& rows, const std::vector<std::string>& skipped,
                    std::string& error) {
   const fs::path dir(p.o.out_dir);
   Json summary = Json::object();
@@ -484,7 +484,7 @@ int run_bench_scale(const BenchScaleOptions& o) {
   for (auto n : p.sizes) std::fprintf(stderr, " %u", n);
   std::fprintf(stderr, ", vendors %s, %u ticks at %.1f Hz (%.0f s of flight per run); results in %s\n", o.dds.c_str(),
                o.ticks, o.rate_hz, o.ticks / o.rate_hz, o.out_dir.c_str());
-  std::vector<Row> rows;
+  std::vector<ScaleRow> rows;
   std::vector<std::string> skipped;
   std::map<std::string, uint32_t> stopped_at;  // vendor -> the size that exceeded --stop-late-share
   std::size_t done = 0;
@@ -503,7 +503,7 @@ int run_bench_scale(const BenchScaleOptions& o) {
       fs::remove(dir / "metrics.json", ec);  // never read an earlier bench's
       std::fprintf(stderr, "[%zu/%zu] %s N=%u: running (output in %s) ...\n", done, total, vendor.c_str(), n,
                    (dir / "run.txt").c_str());
-      Row row;
+      ScaleRow row;
       row.vendor = vendor;
       row.uavs = n;
       row.dir = dir.string();

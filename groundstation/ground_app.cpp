@@ -18,10 +18,6 @@ using Clock = std::chrono::steady_clock;
 
 namespace {
 
-std::chrono::milliseconds millis(double seconds) {
-  return std::chrono::milliseconds(static_cast<int64_t>(seconds * 1000));
-}
-
 // The flags completed from the scenario.
 GroundConfig settle(GroundConfig cfg, const core::ScenarioConfig& s) {
   if (cfg.expect_uavs == 0) cfg.expect_uavs = s.uavs;

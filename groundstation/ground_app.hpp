@@ -35,6 +35,15 @@ class logger;
 
 namespace pheromesh::groundstation {
 
+// Time as the flags give it (seconds) and as waits take it; shared by the
+// ground station's sources.
+inline std::chrono::milliseconds millis(double seconds) {
+  return std::chrono::milliseconds(static_cast<int64_t>(seconds * 1000));
+}
+inline double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
 struct GroundConfig;
 // The lockstep start timeout of `cfg` for a swarm of `processes` [s].
 double start_timeout(const GroundConfig& cfg, uint32_t processes);

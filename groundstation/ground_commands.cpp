@@ -16,7 +16,6 @@ using Clock = std::chrono::steady_clock;
 using Answer = console::ConsoleSource::Answer;
 
 namespace {
-double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
 uint64_t wall_ms() {
   return static_cast<uint64_t>(

@@ -18,9 +18,6 @@ namespace pheromesh::groundstation {
 using Clock = std::chrono::steady_clock;
 using Answer = console::ConsoleSource::Answer;
 
-namespace {
-double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
-}  // namespace
 
 void GroundApp::start_console() {
   console_t0_ = Clock::now();

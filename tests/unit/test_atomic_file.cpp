@@ -19,6 +19,8 @@
 #include <string>
 #include <thread>
 
+#include "unit_support.hpp"
+
 namespace pheromesh::core {
 namespace {
 
@@ -44,12 +46,7 @@ class TempDir {
   fs::path dir_;
 };
 
-std::string slurp(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using test::slurp;
 
 // 1 MiB that differs from `old` everywhere, so any prefix is told apart.
 std::string new_content() { return std::string(1 << 20, 'N'); }

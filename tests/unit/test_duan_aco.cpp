@@ -11,11 +11,12 @@
 #include "pheromesh/core/rng.hpp"
 #include "duan_paths.hpp"
 #include "pheromesh/duan/aco.hpp"
+#include "unit_support.hpp"
 
 namespace pheromesh::core {
 namespace {
 
-constexpr double kEps = 1e-9;
+using test::kEps;
 
 // A threat-free mesh with 2 km spacing over [0, w] x [0, h] km.
 MeshSpec open_mesh(double w_km, double h_km) {

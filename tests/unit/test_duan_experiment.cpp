@@ -13,11 +13,12 @@
 #include "duan_paths.hpp"
 #include "pheromesh/duan/aco.hpp"
 #include "pheromesh/duan/experiment.hpp"
+#include "unit_support.hpp"
 
 namespace pheromesh::core {
 namespace {
 
-constexpr double kEps = 1e-9;
+using test::kEps;
 constexpr double kQuarterTurn = std::numbers::pi / 2.0;
 constexpr double kEighthTurn = std::numbers::pi / 4.0;
 const double kSqrt2 = std::numbers::sqrt2;

@@ -14,11 +14,12 @@
 #include "pheromesh/core/rng.hpp"
 #include "pheromesh/liu/tpm.hpp"
 #include "pheromesh/shao/aco.hpp"
+#include "unit_support.hpp"
 
 namespace pheromesh::core {
 namespace {
 
-constexpr double kEps = 1e-9;
+using test::kEps;
 
 LiuParams bayes_params() {
   LiuParams p;

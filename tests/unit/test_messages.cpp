@@ -10,6 +10,7 @@
 #include "pheromesh/core/layers.hpp"
 #include "pheromesh/core/marks.hpp"
 #include "pheromesh/core/messages.hpp"
+#include "unit_support.hpp"
 
 namespace pheromesh::core {
 namespace {
@@ -20,11 +21,7 @@ constexpr float kInf = std::numeric_limits<float>::infinity();
 // 23 x 20 cells, tiles of 5 (the last tile column is 3 wide), 2 x 2 regions.
 MapGeometry test_geometry() { return {23, 20, 5, 2, 2}; }
 
-// Expects a reason that contains `word`.
-void expect_reason(const std::optional<std::string>& reason, const std::string& word) {
-  ASSERT_TRUE(reason.has_value()) << "expected a reason containing '" << word << "'";
-  EXPECT_NE(reason->find(word), std::string::npos) << *reason;
-}
+using test::expect_reason;
 
 DepositMsg good_mark(const MapGeometry& geo, RegionId owner) {
   const Rect r = geo.region_rect(owner);

@@ -19,16 +19,14 @@
 #include "pheromesh/core/scenario.hpp"
 #include "pheromesh/core/simulator.hpp"
 #include "pheromesh/core/world.hpp"
+#include "unit_support.hpp"
 
 namespace pheromesh::core {
 namespace {
 
 constexpr uint32_t kMaxSeq = std::numeric_limits<uint32_t>::max();
 
-void expect_reason(const std::optional<std::string>& reason, const std::string& word) {
-  ASSERT_TRUE(reason.has_value()) << "expected a reason containing '" << word << "'";
-  EXPECT_NE(reason->find(word), std::string::npos) << *reason;
-}
+using test::expect_reason;
 
 ScenarioConfig small_test() {
   auto s = load_scenario(std::string(PHEROMESH_SOURCE_DIR) + "/scenarios/small-test.textproto");

@@ -13,13 +13,14 @@
 #include "pheromesh/core/simulator.hpp"
 #include "pheromesh/core/uav_core.hpp"
 #include "pheromesh/duan/policy.hpp"
+#include "unit_support.hpp"
 
 namespace pheromesh::core {
 namespace {
 
 using namespace duan_detail;  // NOLINT: the policy's test hooks
 
-std::string source_path(const std::string& rel) { return std::string(PHEROMESH_SOURCE_DIR) + "/" + rel; }
+using test::source_path;
 
 // A 16 x 16 mesh, 2 x 2 regions of 8 x 8, `uavs` UAVs.
 std::string small_text(int uavs, const std::string& extra = "") {
@@ -33,7 +34,7 @@ std::string small_text(int uavs, const std::string& extra = "") {
   return t + "} }\n";
 }
 
-ScenarioConfig parse_ok(const std::string& text) {
+ScenarioConfig parse_duan(const std::string& text) {
   auto r = parse_scenario(text, "duan-test.textproto");
   EXPECT_TRUE(r.ok()) << (r.ok() ? "" : r.error().message);
   return r.ok() ? r.value() : ScenarioConfig{};
@@ -145,7 +146,7 @@ TEST(DuanPolicy, ThreatLayerIsTheMeanEquationTwoCostOfTheNodesEdges) {
 // --- place model ---------------------------------------------------------------
 
 TEST(DuanPlace, PointSumCountsEveryUavWithTauMinUntilItSetsAValue) {
-  const ScenarioConfig s = parse_ok(small_text(3));
+  const ScenarioConfig s = parse_duan(small_text(3));
   PlaceCore p(s, 0);
   std::vector<TargetEventMsg> ev;
   const Cell c{2, 3};
@@ -168,7 +169,7 @@ TEST(DuanPlace, PointSumCountsEveryUavWithTauMinUntilItSetsAValue) {
 }
 
 TEST(DuanPlace, TheSumDoesNotDependOnTheOrderDepositsArriveIn) {
-  const ScenarioConfig s = parse_ok(small_text(3));
+  const ScenarioConfig s = parse_duan(small_text(3));
   PlaceCore a(s, 0), b(s, 0);
   std::vector<TargetEventMsg> ev;
   std::vector<DepositMsg> ds;
@@ -184,7 +185,7 @@ TEST(DuanPlace, TheSumDoesNotDependOnTheOrderDepositsArriveIn) {
 }
 
 TEST(DuanPlace, ReportsKeepTheLargestValueAndOtherLayersTakeNone) {
-  const ScenarioConfig s = parse_ok(small_text(2));
+  const ScenarioConfig s = parse_duan(small_text(2));
   PlaceCore p(s, 0);
   std::vector<TargetEventMsg> ev;
   std::vector<DepositMsg> ds{deposit(0, 1, DepositKind::LayerAdd, {1, 1}, 120.0F, kArrivalS),
@@ -199,7 +200,7 @@ TEST(DuanPlace, ReportsKeepTheLargestValueAndOtherLayersTakeNone) {
 }
 
 TEST(DuanPlace, PopUpThreatEntersTheThreatLayerAtItsTick) {
-  const ScenarioConfig s = parse_ok(small_text(1, "  popups { x_km: 4 y_km: 4 radius_km: 3 grade: 2 appear_tick: 5 }\n"));
+  const ScenarioConfig s = parse_duan(small_text(1, "  popups { x_km: 4 y_km: 4 radius_km: 3 grade: 2 appear_tick: 5 }\n"));
   PlaceCore p(s, 0);
   std::vector<TargetEventMsg> ev;
   std::vector<DepositMsg> none;
@@ -218,7 +219,7 @@ TEST(DuanPlace, PopUpThreatEntersTheThreatLayerAtItsTick) {
 // --- UAV -----------------------------------------------------------------------
 
 TEST(DuanUav, PlansOneIterationPerTickThenBroadcastsAndFliesAtLengthOverEta) {
-  const ScenarioConfig s = parse_ok(small_text(1));
+  const ScenarioConfig s = parse_duan(small_text(1));
   const MapGeometry geo = s.geometry();
   const World world(geo, {}, {});
   UavCore u(s, world, 0);
@@ -252,7 +253,7 @@ TEST(DuanUav, PlansOneIterationPerTickThenBroadcastsAndFliesAtLengthOverEta) {
 TEST(DuanUav, ALoneUavPlansExactlyLikeTheColonyItWraps) {
   // N = 1: Duan 2009 eq. (10) is the edge pheromone alone, so the distributed colony
   // must consume its random stream exactly like DuanColony::plan.
-  const ScenarioConfig s = parse_ok(small_text(1));
+  const ScenarioConfig s = parse_duan(small_text(1));
   Simulator sim(s);
   sim.run();
   const ThreatMesh mesh(MeshSpec{{0.0, 0.0}, 30.0, 30.0, 15, 15, s.config_of<DuanConfig>().f}, s.config_of<DuanConfig>().threats);
@@ -273,7 +274,7 @@ TEST(DuanUav, ALoneUavPlansExactlyLikeTheColonyItWraps) {
 }
 
 TEST(DuanUav, TeamArrivesTogetherAfterAPopUpReplan) {
-  const ScenarioConfig s = parse_ok(small_text(3, "  popups { x_km: 12 y_km: 14 radius_km: 4 grade: 2.5 appear_tick: 9 }\n"));
+  const ScenarioConfig s = parse_duan(small_text(3, "  popups { x_km: 12 y_km: 14 radius_km: 4 grade: 2.5 appear_tick: 9 }\n"));
   Simulator sim(s);
   sim.run();
   const auto f = field_summary(s, [&](int l, Cell c) { return sim.field_value(l, c); });
@@ -307,7 +308,7 @@ TEST(DuanScenarioFile, PaperScenarioLoadsTables) {
   EXPECT_TRUE(load_scenario(source_path("scenarios/duan2009-small.textproto")).ok());
 }
 
-void expect_error(const std::string& text, int line, const std::string& field) {
+void expect_duan_error(const std::string& text, int line, const std::string& field) {
   const auto r = parse_scenario(text, "bad-duan.textproto");
   ASSERT_FALSE(r.ok()) << text;
   const std::string& m = r.error().message;
@@ -317,14 +318,14 @@ void expect_error(const std::string& text, int line, const std::string& field) {
 
 TEST(DuanScenarioFile, ErrorsNameTheLineAndTheField) {
   // Line 4 of small_text is "policy { duan {", the extra lines start at 8.
-  expect_error(small_text(2, "  rho: 1.5\n"), 8, "policy.duan.rho");
-  expect_error(small_text(2, "  popups { x_km: 1 y_km: 1 radius_km: 2 }\n"), 8, "policy.duan.popups[0].appear_tick");
-  expect_error(small_text(2, "  threats { x_km: 1 y_km: 1 radius_km: 2 appear_tick: 3 }\n"), 8,
+  expect_duan_error(small_text(2, "  rho: 1.5\n"), 8, "policy.duan.rho");
+  expect_duan_error(small_text(2, "  popups { x_km: 1 y_km: 1 radius_km: 2 }\n"), 8, "policy.duan.popups[0].appear_tick");
+  expect_duan_error(small_text(2, "  threats { x_km: 1 y_km: 1 radius_km: 2 appear_tick: 3 }\n"), 8,
                "policy.duan.threats[0].appear_tick");
-  expect_error(small_text(2, "  threats { x_km: 1 y_km: 1 radius_km: 0 }\n"), 8, "policy.duan.threats[0].radius_km");
-  expect_error(small_text(2, "  deposit_rule: \"best\"\n"), 8, "policy.duan.deposit_rule");
-  expect_error(small_text(2, "  candidates: 40\n"), 8, "policy.duan.candidates");
-  expect_error(small_text(2, "  uavs { start { x: 16 y: 1 } target { x: 2 y: 2 } }\n"), 8,
+  expect_duan_error(small_text(2, "  threats { x_km: 1 y_km: 1 radius_km: 0 }\n"), 8, "policy.duan.threats[0].radius_km");
+  expect_duan_error(small_text(2, "  deposit_rule: \"best\"\n"), 8, "policy.duan.deposit_rule");
+  expect_duan_error(small_text(2, "  candidates: 40\n"), 8, "policy.duan.candidates");
+  expect_duan_error(small_text(2, "  uavs { start { x: 16 y: 1 } target { x: 2 y: 2 } }\n"), 8,
                "policy.duan.uavs[0].start.x");  // and one entry too many
 }
 

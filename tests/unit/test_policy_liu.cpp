@@ -16,6 +16,7 @@
 #include "pheromesh/liu/policy.hpp"
 #include "pheromesh/liu/swarm.hpp"
 #include "pheromesh/liu/tpm.hpp"
+#include "unit_support.hpp"
 
 namespace pheromesh::core {
 namespace {
@@ -24,7 +25,7 @@ constexpr int kTpm = 0;
 constexpr int kVisited = 1;
 constexpr int kConfirmed = 2;
 
-std::string source_path(const std::string& rel) { return std::string(PHEROMESH_SOURCE_DIR) + "/" + rel; }
+using test::source_path;
 
 ScenarioConfig parse_ok(const std::string& text) {
   auto r = parse_scenario(text, "liu.textproto");

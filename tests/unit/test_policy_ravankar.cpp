@@ -12,11 +12,12 @@
 #include "pheromesh/core/scenario.hpp"
 #include "pheromesh/core/world.hpp"
 #include "pheromesh/ravankar/policy.hpp"
+#include "unit_support.hpp"
 
 namespace pheromesh::core {
 namespace {
 
-std::string source_path(const std::string& rel) { return std::string(PHEROMESH_SOURCE_DIR) + "/" + rel; }
+using test::source_path;
 
 // 24 x 24 cells, tiles of 6, 2 x 2 regions (borders at x = 12 and y = 12).
 // UAV 0 (leader) starts at (10, 6), UAV 1 (follower) at (11, 6); the route

@@ -22,11 +22,12 @@
 #include "pheromesh/core/world.hpp"
 #include "pheromesh/shostak/model.hpp"
 #include "pheromesh/shostak/policy.hpp"
+#include "unit_support.hpp"
 
 namespace pheromesh::core {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
+using test::kPi;
 constexpr auto kExplored = static_cast<uint8_t>(ShostakLayer::Explored);
 constexpr auto kHazard = static_cast<uint8_t>(ShostakLayer::Hazard);
 constexpr auto kTarget = static_cast<uint8_t>(ShostakLayer::Target);

@@ -13,11 +13,12 @@
 
 #include "pheromesh/core/scenario.hpp"
 #include "pheromesh/shao/policy.hpp"
+#include "unit_support.hpp"
 
 namespace pheromesh::core {
 namespace {
 
-std::string source_path(const std::string& rel) { return std::string(PHEROMESH_SOURCE_DIR) + "/" + rel; }
+using test::source_path;
 
 ScenarioConfig shipped(const std::string& name) {
   auto r = load_scenario(source_path("scenarios/" + name + ".textproto"));

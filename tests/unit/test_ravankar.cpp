@@ -10,11 +10,12 @@
 
 #include "pheromesh/core/grid.hpp"
 #include "pheromesh/ravankar/model.hpp"
+#include "unit_support.hpp"
 
 namespace pheromesh::core {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
+using test::kPi;
 
 Eigen::Matrix2d diag2(double a, double b) {
   Eigen::Matrix2d m = Eigen::Matrix2d::Zero();

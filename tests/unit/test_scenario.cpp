@@ -8,10 +8,12 @@
 #include <string>
 #include <utility>
 
+#include "unit_support.hpp"
+
 namespace pheromesh::core {
 namespace {
 
-std::string source_path(const std::string& rel) { return std::string(PHEROMESH_SOURCE_DIR) + "/" + rel; }
+using test::source_path;
 
 Result<ScenarioConfig> load_fixture(const std::string& name) { return load_scenario(source_path("tests/data/" + name)); }
 

@@ -9,10 +9,12 @@
 #include <cstdlib>
 #include <string>
 
+#include "unit_support.hpp"
+
 namespace pheromesh::core {
 namespace {
 
-std::string source_path(const std::string& rel) { return std::string(PHEROMESH_SOURCE_DIR) + "/" + rel; }
+using test::source_path;
 
 std::string scenario(int width, int height, int tile, int rx, int ry, int uavs, bool standby = false) {
   return "map { width: " + std::to_string(width) + " height: " + std::to_string(height) +

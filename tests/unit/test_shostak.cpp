@@ -12,11 +12,12 @@
 #include "pheromesh/core/grid.hpp"
 #include "pheromesh/core/rng.hpp"
 #include "pheromesh/shostak/model.hpp"
+#include "unit_support.hpp"
 
 namespace pheromesh::core {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
+using test::kPi;
 
 // --- evaporation -------------------------------------------------------------
 

@@ -18,6 +18,7 @@
 #include "sweep_command.hpp"
 #include "sweep_grid.hpp"
 #include "sweep_report.hpp"
+#include "unit_support.hpp"
 
 namespace pheromesh {
 namespace {
@@ -300,12 +301,7 @@ class TempDir {
   fs::path dir_;
 };
 
-std::string slurp(const fs::path& p) {
-  std::ifstream f(p, std::ios::binary);
-  std::ostringstream o;
-  o << f.rdbuf();
-  return o.str();
-}
+using test::slurp;
 
 // A tiny sweep of small-test: 2 values of alpha x 3 seeds, 20 ticks.
 cli::SweepOptions tiny(const fs::path& out, unsigned jobs) {

@@ -19,6 +19,7 @@
 #include "pheromesh/report/report.hpp"
 #include "pheromesh/report/tidy.hpp"
 #include "sim_command.hpp"
+#include "unit_support.hpp"
 
 namespace pheromesh {
 namespace {
@@ -28,12 +29,7 @@ using nlohmann::json;
 
 const std::string kSrc = PHEROMESH_SOURCE_DIR;
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+using test::slurp;
 
 test::SchemaSubset metrics_schema() {
   return test::SchemaSubset(json::parse(slurp(kSrc + "/docs/schema/metrics.schema.json")));
