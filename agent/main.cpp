@@ -37,6 +37,7 @@ int main(int argc, char** argv) {
 
   const std::string name = "uav-" + std::to_string(cfg.id);
   return runtime::run_process(name, cfg.common, [&](core::ScenarioConfig scenario, std::unique_ptr<bus::Bus> bus) {
-    return agent::UavApp(cfg, std::move(scenario), std::move(bus)).run();
+    agent::UavApp uav(cfg, std::move(scenario), std::move(bus));
+    return runtime::bound_teardown(uav.run());
   });
 }

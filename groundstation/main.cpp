@@ -89,6 +89,7 @@ int main(int argc, char** argv) {
   }
 
   return runtime::run_process("ground", cfg.common, [&](core::ScenarioConfig scenario, std::unique_ptr<bus::Bus> bus) {
-    return groundstation::GroundApp(cfg, std::move(scenario), std::move(bus)).run();
+    groundstation::GroundApp ground(cfg, std::move(scenario), std::move(bus));
+    return runtime::bound_teardown(ground.run());
   });
 }

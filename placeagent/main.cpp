@@ -59,6 +59,7 @@ int main(int argc, char** argv) {
           replica);
       return 2;
     }
-    return placeagent::PlaceApp(cfg, std::move(scenario), std::move(bus)).run();
+    placeagent::PlaceApp place(cfg, std::move(scenario), std::move(bus));
+    return runtime::bound_teardown(place.run());
   });
 }

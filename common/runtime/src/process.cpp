@@ -15,6 +15,10 @@
 #include <sstream>
 #include <thread>
 
+#include <unistd.h>
+#include <ctime>
+#include <cstdio>
+
 #include "pheromesh/cliutil/command_line.hpp"
 #include "pheromesh/cliutil/scenario_paths.hpp"
 #include "pheromesh/core/plausibility.hpp"
@@ -276,6 +280,28 @@ int run_process(const std::string& name, const CommonOptions& o, const AppBody& 
     log->critical("fatal: {}", e.what());
     return 4;
   }
+}
+
+int bound_teardown(int code, std::chrono::milliseconds grace) {
+  // Written with write(2), not the logger: when it fires, exit() may be
+  // destroying the logger (static destructors can hang the same way).
+  const auto logger = spdlog::default_logger();
+  const std::string name = logger ? logger->name() : std::string("pheromesh");
+  std::thread([code, name, grace] {
+    std::this_thread::sleep_for(grace);
+    const std::time_t now = std::time(nullptr);
+    std::tm local{};
+    localtime_r(&now, &local);
+    char line[256];
+    const int n = std::snprintf(line, sizeof line,
+                                "%02d:%02d:%02d warn  [%s] the DDS teardown has not ended %.1f s after the work was "
+                                "done and sent: exiting without it\n",
+                                local.tm_hour, local.tm_min, local.tm_sec, name.c_str(),
+                                std::chrono::duration<double>(grace).count());
+    if (n > 0) (void)!::write(STDERR_FILENO, line, std::min<std::size_t>(static_cast<std::size_t>(n), sizeof line - 1));
+    _exit(code);  // no atexit handlers: they may wait for the same teardown
+  }).detach();
+  return code;
 }
 
 TickClock::TickClock(double rate_hz)

@@ -108,6 +108,15 @@ inline constexpr int32_t kPrimaryStrength = 1000;
 using AppBody = std::function<int(core::ScenarioConfig, std::unique_ptr<bus::Bus>)>;
 int run_process(const std::string& name, const CommonOptions& o, const AppBody& app);
 
+// Called with an app's exit code once its work is done and sent, before its
+// bus is torn down (`return bound_teardown(app.run());`): if the process has
+// not ended kTeardownGrace later, it logs so and exits with `code` without
+// waiting further. A Fast DDS 2.9 participant's deletion has hung for a
+// minute after a UAV finished (a killed peer's reader it waited for), past
+// the launcher's SIGTERM, which only asks the app to stop. Returns `code`.
+inline constexpr std::chrono::seconds kTeardownGrace{10};
+int bound_teardown(int code, std::chrono::milliseconds grace = kTeardownGrace);
+
 // Fixed-rate clock: wait_next() sleeps until the next tick boundary (never
 // longer than one period) and returns false as soon as shutdown is requested.
 class TickClock {
