@@ -100,6 +100,11 @@ struct Background {
 inline Background start(const std::vector<std::string>& args, const std::string& out_path) {
   Background b;
   b.out_path = out_path;
+  // Emptied here, before the fork: the child's freopen truncates it only
+  // once it runs, and a test that waits for a line (wait_for_text) found
+  // the previous run's at once. The Cells test then probed a swarm that
+  // was not up yet: it failed in streaks, on every run after a first.
+  { std::ofstream(out_path, std::ios::trunc); }
   b.pid = fork();
   if (b.pid == 0) {
     setpgid(0, 0);
@@ -123,6 +128,11 @@ inline int wait_exit(pid_t pid, std::chrono::seconds timeout) {
     if (waitpid(pid, &st, WNOHANG) == pid) return WIFEXITED(st) ? WEXITSTATUS(st) : 128 + WTERMSIG(st);
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
+  // Its whole group too (start() makes each a group leader): reaped here,
+  // the Background handle no longer ends it, and a child left behind (a
+  // monitor's ground station under `sh -c`) kept listening on the test's
+  // domain for minutes and heard the next test's swarm. No group: ESRCH.
+  kill(-pid, SIGKILL);
   kill(pid, SIGKILL);
   waitpid(pid, nullptr, 0);
   return -1;

@@ -94,7 +94,9 @@ namespace {
 class Watchdog {
  public:
   static constexpr std::chrono::seconds kGrace{2};
-  explicit Watchdog(std::optional<Clock::time_point> deadline) : deadline_(deadline), thread_([this] { watch(); }) {}
+  // `signal_grace`: how long after SIGINT/SIGTERM the process may take to end.
+  Watchdog(std::optional<Clock::time_point> deadline, std::chrono::seconds signal_grace)
+      : deadline_(deadline), signal_grace_(signal_grace), thread_([this] { watch(); }) {}
   ~Watchdog() {
     {
       std::lock_guard lock(mu_);
@@ -113,7 +115,12 @@ class Watchdog {
     while (!cv_.wait_for(lock, std::chrono::milliseconds(50), [this] { return stop_; })) {
       const auto now = Clock::now();
       if (!asked && runtime::shutdown_requested()) asked = now;
-      if (asked && now > *asked + kGrace) die("did not end within 2 s of SIGINT/SIGTERM", 5);
+      if (asked && now > *asked + signal_grace_) {
+        char why[96];
+        std::snprintf(why, sizeof why, "did not end within %lld s of SIGINT/SIGTERM",
+                      static_cast<long long>(signal_grace_.count()));
+        die(why, 5);
+      }
       if (deadline_ && now > *deadline_ + kGrace) die("did not end within its --timeout (+2 s)", 1);
     }
   }
@@ -126,6 +133,7 @@ class Watchdog {
   }
 
   std::optional<Clock::time_point> deadline_;
+  std::chrono::seconds signal_grace_;
   std::mutex mu_;
   std::condition_variable cv_;
   bool stop_ = false;
@@ -616,6 +624,10 @@ int main(int argc, char** argv) {
   app.add_option("--stall", stall_s,
                  "[s] block this long before making the bus, deaf to signals (test of the watchdog)")
       ->check(CLI::Range(0.0, 3600.0));
+  int64_t signal_grace_s = 2;
+  app.add_option("--grace", signal_grace_s,
+                 "[s] after SIGINT/SIGTERM the watchdog ends the process past this (exit 5)")
+      ->check(CLI::Range(int64_t{1}, int64_t{600}));
   int64_t swarm_processes = -1;
   app.add_option("--swarm-processes", swarm_processes,
                  "processes on the host, as pheromesh run tells its own (sizes Cyclone's heartbeat; "
@@ -641,7 +653,7 @@ int main(int argc, char** argv) {
   runtime::install_shutdown_handlers();
   const auto deadline = started + std::chrono::milliseconds(static_cast<int64_t>(timeout_s * 1000));
   // Declared before the bus: it watches the bus's destruction too.
-  Watchdog watchdog(d->parsed() ? std::optional(deadline) : std::nullopt);
+  Watchdog watchdog(d->parsed() ? std::optional(deadline) : std::nullopt, std::chrono::seconds(signal_grace_s));
   // sleep_for resumes after a signal (libstdc++ sleeps again for the rest).
   if (stall_s > 0) std::this_thread::sleep_for(std::chrono::milliseconds(static_cast<int64_t>(stall_s * 1000)));
   bus::BusOptions o;

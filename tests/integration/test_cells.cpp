@@ -21,21 +21,11 @@ TEST(Cells, AProcessThatNamesOnePlaceAgentHearsOnlyThatOneWhileTheSwarmFlies) {
   const std::string out = out_dir("cells-realtime");
   const Background swarm = start_run("small-test.textproto", out, 57, "--uavs 4 --duration 6 --dds-profile cells");
   ASSERT_TRUE(wait_for_text(swarm.out_path, "places 4/4", std::chrono::seconds(30))) << slurp(swarm.out_path);
-  // A member naming place agent 0 only (hub index 1; the ground station is
-  // hub 0): it hears its health and its own, none of the other three place
-  // agents', which never learn of it. As a Fast DDS participant it needs an
-  // id of its own past the hubs' (0-4) and the UAVs' (5-8): without one Fast
-  // DDS takes the first free index, can bind a hub's port beside it and then
-  // receives what the other hubs send that hub (docs/dds.md). 5 s: on a
-  // loaded host 3 s were not always enough to discover the hub (the swarm
-  // flies 6 s; the probe ends as soon as it heard both).
-  const Output p = run(kBin +
-                       "/pheromesh-test-probe --domain 57 --participant-id 40 --cell-peer 1 discover --id 900 --expect 2 "
-                       "--timeout 5");
-  EXPECT_EQ(p.exit_code, 0) << p.text;
-  EXPECT_NE(p.text.find("heard: 0,900\n"), std::string::npos) << p.text;
   // A monitor attaches with the command the run printed: it names every hub
-  // (and, on Fast DDS, takes the participant id given, past the UAVs').
+  // (and, on Fast DDS, takes the participant id given, past the UAVs'). It
+  // starts before the probe: started after it, it once attached as the
+  // swarm ended and heard no place agent before they did (fresh clone,
+  // Fast DDS).
   std::smatch hint;
   const std::string printed = slurp(swarm.out_path);
   ASSERT_TRUE(std::regex_search(printed, hint,
@@ -49,6 +39,19 @@ TEST(Cells, AProcessThatNamesOnePlaceAgentHearsOnlyThatOneWhileTheSwarmFlies) {
                                         hint[1].str() + " --participant-id " + hint[2].str() + " --timeout 20 --out " +
                                         mon + " 2>&1"},
                                    mon + ".txt");
+  // A member naming place agent 0 only (hub index 1; the ground station is
+  // hub 0): it hears its health and its own, none of the other three place
+  // agents', which never learn of it. As a Fast DDS participant it needs an
+  // id of its own past the hubs' (0-4) and the UAVs' (5-8): without one Fast
+  // DDS takes the first free index, can bind a hub's port beside it and then
+  // receives what the other hubs send that hub (docs/dds.md). 5 s: on a
+  // loaded host 3 s were not always enough to discover the hub (the swarm
+  // flies 6 s; the probe ends as soon as it heard both).
+  const Output p = run(kBin +
+                       "/pheromesh-test-probe --domain 57 --participant-id 40 --cell-peer 1 discover --id 900 --expect 2 "
+                       "--timeout 5");
+  EXPECT_EQ(p.exit_code, 0) << p.text;
+  EXPECT_NE(p.text.find("heard: 0,900\n"), std::string::npos) << p.text;
   ASSERT_EQ(wait_exit(swarm.pid, std::chrono::seconds(120)), 0) << slurp(swarm.out_path);
   ASSERT_EQ(wait_exit(monitor.pid, std::chrono::seconds(60)), 0) << slurp(monitor.out_path);
   const json seen = read_metrics(mon);

@@ -3,6 +3,8 @@
 // drives a follower's loop in another thread, tick by tick, as the ground
 // station drives a UAV.
 #include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
 #include <spdlog/sinks/null_sink.h>
 #include <spdlog/spdlog.h>
 
@@ -14,6 +16,7 @@
 #include "pheromesh/bus/memory.hpp"
 #include "pheromesh/runtime/await.hpp"
 #include "pheromesh/runtime/lockstep_loop.hpp"
+#include "pheromesh/runtime/process.hpp"
 
 namespace pheromesh::runtime {
 namespace {
@@ -113,6 +116,44 @@ TEST(LockstepLoop, AConductorThatFallsSilentEndsTheLoopAfterTheWatchsLimit) {
   EXPECT_EQ(loop.run(), LockstepEnd::ConductorLost);
   EXPECT_EQ(phases, 1U);
   EXPECT_GE(Clock::now() - t0, 300ms) << "not before the limit";
+}
+
+// Measured in a mixed run whose conductor was SIGKILLed: a place agent's
+// place phase waited 6 s for samples that never came; meanwhile every UAV
+// ended (conductor gone) and the launcher sent SIGTERM. The place agent saw
+// the stop first and ended as if stopped (exit 0), without naming the
+// conductor. A child process: the stop request is process-wide.
+TEST(LockstepLoop, AStopAskedForAfterTheConductorFellSilentEndsTheLoopAsConductorLost) {
+  const pid_t pid = fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0) {
+    auto domain = bus::make_memory_domain();
+    auto conductor = bus::make_memory_bus(domain);
+    auto place = bus::make_memory_bus(domain);
+    place->subscribe_clock();
+    auto log = quiet_logger();
+    bus::LatestResender resend(*place, true);
+    SampleAudit audit(log);
+    core::LockstepFollower follower(core::ClockPhase::Place, core::ConductorWatch(300ms, 300ms, Clock::now()));
+    (void)conductor->publish_clock(clock_of(0, core::ClockPhase::Place));
+    LockstepLoop loop{*place,
+                      follower,
+                      resend,
+                      audit,
+                      *log,
+                      50,
+                      [] {},
+                      [&](const core::ClockMsg&) {
+                        std::this_thread::sleep_for(400ms);  // a phase that waits past the watch's limit
+                        request_shutdown();                  // the launcher's SIGTERM
+                        return PhaseOutcome::Continue;
+                      }};
+    _exit(static_cast<int>(loop.run()));
+  }
+  int status = 0;
+  ASSERT_EQ(waitpid(pid, &status, 0), pid);
+  ASSERT_TRUE(WIFEXITED(status)) << status;
+  EXPECT_EQ(WEXITSTATUS(status), static_cast<int>(LockstepEnd::ConductorLost));
 }
 
 TEST(AwaitSamples, TakesUntilTheAwaitedSampleArrivesAndGivesUpAtTheBound) {

@@ -26,8 +26,24 @@ bool take_clock(bus::Bus& bus, core::LockstepFollower& follower, SampleAudit& au
 }
 
 LockstepEnd LockstepLoop::run() {
+  const auto conductor_gone = [&] {
+    const auto& w = follower.watch();
+    const auto last = follower.last_done();
+    log.error(
+        "the conductor (ground station) is gone: no lockstep clock for {:.1f} s ({} leases of {} ms) after tick {}; "
+        "stopping",
+        std::chrono::duration<double>(w.silence(Clock::now())).count(), w.limit() / std::chrono::milliseconds(lease_ms),
+        lease_ms, last ? static_cast<int64_t>(*last) : -1);
+    return LockstepEnd::ConductorLost;
+  };
   while (!follower.stopped()) {
-    if (shutdown_requested()) return LockstepEnd::ShutDown;
+    if (shutdown_requested()) {
+      // Asked to stop after the conductor vanished: that is why the run
+      // ends. (Once every UAV ended, the launcher stops the place agents;
+      // one whose place phase still waited for samples that never came
+      // heard the stop before it looked at the clock again.)
+      return follower.conductor_lost(Clock::now()) ? conductor_gone() : LockstepEnd::ShutDown;
+    }
     if (before_round) before_round();
     std::vector<core::ClockMsg> accepted;
     take_clock(bus, follower, audit, relay ? &accepted : nullptr);
@@ -39,16 +55,7 @@ LockstepEnd LockstepLoop::run() {
       ran = true;
     }
     if (ran || follower.stopped()) continue;
-    if (follower.conductor_lost(Clock::now())) {
-      const auto& w = follower.watch();
-      const auto last = follower.last_done();
-      log.error(
-          "the conductor (ground station) is gone: no lockstep clock for {:.1f} s ({} leases of {} ms) after tick {}; "
-          "stopping",
-          std::chrono::duration<double>(w.silence(Clock::now())).count(),
-          w.limit() / std::chrono::milliseconds(lease_ms), lease_ms, last ? static_cast<int64_t>(*last) : -1);
-      return LockstepEnd::ConductorLost;
-    }
+    if (follower.conductor_lost(Clock::now())) return conductor_gone();
     if (resend.resend_if_quiet()) {
       log.debug("tick {}: nothing new for 1 s; re-sent this tick's samples", follower.last_done().value_or(0));
     }
