@@ -10,6 +10,7 @@
 
 #include <atomic>
 #include <chrono>
+#include <functional>
 #include <thread>
 #include <vector>
 
@@ -90,7 +91,9 @@ TEST(LockstepLoop, RunsEachUavPhaseTheConductorAnnouncesOnceAndEndsOnItsStop) {
   EXPECT_EQ(follower.last_done(), 2U);
 }
 
-TEST(LockstepLoop, AConductorThatFallsSilentEndsTheLoopAfterTheWatchsLimit) {
+// A place agent's loop whose conductor sent the clock of tick 0 and then fell
+// silent (a watch of 300 ms); `phase` runs the one phase it announced.
+LockstepEnd run_after_one_clock(const std::function<void()>& phase) {
   auto domain = bus::make_memory_domain();
   auto conductor = bus::make_memory_bus(domain);
   auto place = bus::make_memory_bus(domain);
@@ -99,8 +102,7 @@ TEST(LockstepLoop, AConductorThatFallsSilentEndsTheLoopAfterTheWatchsLimit) {
   bus::LatestResender resend(*place, true);
   SampleAudit audit(log);
   core::LockstepFollower follower(core::ClockPhase::Place, core::ConductorWatch(300ms, 300ms, Clock::now()));
-  ASSERT_TRUE(conductor->publish_clock(clock_of(0, core::ClockPhase::Place)));
-  uint32_t phases = 0;
+  EXPECT_TRUE(conductor->publish_clock(clock_of(0, core::ClockPhase::Place)));
   LockstepLoop loop{*place,
                     follower,
                     resend,
@@ -109,11 +111,16 @@ TEST(LockstepLoop, AConductorThatFallsSilentEndsTheLoopAfterTheWatchsLimit) {
                     50,
                     [] {},
                     [&](const core::ClockMsg&) {
-                      ++phases;
+                      phase();
                       return PhaseOutcome::Continue;
                     }};
+  return loop.run();
+}
+
+TEST(LockstepLoop, AConductorThatFallsSilentEndsTheLoopAfterTheWatchsLimit) {
+  uint32_t phases = 0;
   const auto t0 = Clock::now();
-  EXPECT_EQ(loop.run(), LockstepEnd::ConductorLost);
+  EXPECT_EQ(run_after_one_clock([&] { ++phases; }), LockstepEnd::ConductorLost);
   EXPECT_EQ(phases, 1U);
   EXPECT_GE(Clock::now() - t0, 300ms) << "not before the limit";
 }
@@ -127,28 +134,10 @@ TEST(LockstepLoop, AStopAskedForAfterTheConductorFellSilentEndsTheLoopAsConducto
   const pid_t pid = fork();
   ASSERT_GE(pid, 0);
   if (pid == 0) {
-    auto domain = bus::make_memory_domain();
-    auto conductor = bus::make_memory_bus(domain);
-    auto place = bus::make_memory_bus(domain);
-    place->subscribe_clock();
-    auto log = quiet_logger();
-    bus::LatestResender resend(*place, true);
-    SampleAudit audit(log);
-    core::LockstepFollower follower(core::ClockPhase::Place, core::ConductorWatch(300ms, 300ms, Clock::now()));
-    (void)conductor->publish_clock(clock_of(0, core::ClockPhase::Place));
-    LockstepLoop loop{*place,
-                      follower,
-                      resend,
-                      audit,
-                      *log,
-                      50,
-                      [] {},
-                      [&](const core::ClockMsg&) {
-                        std::this_thread::sleep_for(400ms);  // a phase that waits past the watch's limit
-                        request_shutdown();                  // the launcher's SIGTERM
-                        return PhaseOutcome::Continue;
-                      }};
-    _exit(static_cast<int>(loop.run()));
+    _exit(static_cast<int>(run_after_one_clock([] {
+      std::this_thread::sleep_for(400ms);  // a phase that waits past the watch's limit
+      request_shutdown();                  // the launcher's SIGTERM
+    })));
   }
   int status = 0;
   ASSERT_EQ(waitpid(pid, &status, 0), pid);
