@@ -24,6 +24,7 @@
 #include "pheromesh/core/scenario.hpp"
 #include "pheromesh/core/tick_gaps.hpp"
 #include "pheromesh/core/view_server.hpp"
+#include "pheromesh/core/writer_latch.hpp"
 #include "pheromesh/runtime/commands.hpp"
 #include "pheromesh/runtime/lockstep_loop.hpp"
 #include "pheromesh/runtime/process.hpp"
@@ -91,6 +92,7 @@ class PlaceApp {
   void forward(const core::DepositMsg& d);
   void forward_failed(const core::DepositMsg& d, const char* why);
   void take_home_states(uint32_t tick);
+  void refuse_foreign_state(uint32_t uav);
   // Home UAVs whose newest state is of `tick` or later.
   [[nodiscard]] uint32_t home_states_of(uint32_t tick) const;
   // Every deposit the home UAVs with a state of `tick` wrote was taken (applied or forwarded).
@@ -161,6 +163,11 @@ class PlaceApp {
   uint32_t current_tick_ = 0;
   std::optional<TickDemand> demand_;       // the tick under way's (lockstep)
   std::map<uint32_t, uint32_t> heard_at_;  // home UAV -> place tick of its newest state
+  // Each UAV's state writer, as first heard (a plausible forged state from
+  // another writer would become the "last accepted" one and get the UAV's
+  // own refused; issue 28). Realtime: a writer silent for a lease gives the
+  // UAV up (a restarted UAV); lockstep: only its departure does.
+  core::WriterLatch state_writers_;
   // Reusable inboxes and outboxes.
   std::vector<core::DepositMsg> taken_, inbox_;
   std::vector<core::UavStateMsg> state_inbox_, home_states_, served_states_;

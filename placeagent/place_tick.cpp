@@ -75,6 +75,7 @@ void PlaceApp::take_home_states(uint32_t tick) {
   state_inbox_.clear();
   bus_->take_uav_states(state_inbox_);
   const uint32_t ceiling = tick_ceiling();
+  const auto now = std::chrono::steady_clock::now();
   for (const auto& st : state_inbox_) {
     if (st.departed) {
       audit_.drop(fmt::format("a state of uav {} that says it departed (only a place agent says so)", st.uav));
@@ -94,9 +95,16 @@ void PlaceApp::take_home_states(uint32_t tick) {
       if (!cfg_.common.lockstep()) adopt(st.uav, nullptr);
       if (!adopted_.contains(st.uav)) continue;
     }
+    // Before the motion check: a forged state must not become the UAV's
+    // last accepted one.
+    if (known && !state_writers_.allows(st.uav, st.writer, now)) {
+      refuse_foreign_state(st.uav);
+      continue;
+    }
     const core::UavStateMsg* before = views_.state(st.uav);
     const core::Cell start = core::uav_start(scenario_, traits_, st.uav);
     if (!audit_.admit(core::check_home_state(st, before, start, traits_.max_step, ceiling, rules_))) continue;
+    state_writers_.hold(st.uav, st.writer, now);
     if (before == nullptr || st.tick > before->tick) heard_at_[st.uav] = tick;
     views_.update_state(st);
     // The ground station hears the UAVs through their gateways (relays).
@@ -107,6 +115,7 @@ void PlaceApp::take_home_states(uint32_t tick) {
   bus_->take_departed_uavs(departed_);
   for (const auto& d : departed_) {
     const uint32_t u = d.uav;
+    state_writers_.release(u);  // every state writer of u vanished: the next one heard is u
     if (std::find(gateway_uavs_.begin(), gateway_uavs_.end(), u) == gateway_uavs_.end()) continue;
     core::UavStateMsg gone;
     gone.uav = u;
@@ -117,6 +126,13 @@ void PlaceApp::take_home_states(uint32_t tick) {
                "the ground station",
                u);
   }
+}
+
+void PlaceApp::refuse_foreign_state(uint32_t uav) {
+  audit_.refuse(core::Refusal::ForeignWriter,
+                fmt::format("a state of uav {} from a writer other than the one this place agent heard it from first "
+                            "(and still hears)",
+                            uav));
 }
 
 void PlaceApp::relay_uplinks() {

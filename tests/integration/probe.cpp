@@ -250,11 +250,36 @@ int forge(bus::Bus& b, const std::string& scenario_path, uint32_t uavs, bool loc
   b.offer_deposits(std::vector<core::RegionId>{0});  // the forged deposits go to region 0
   b.offer_place_exchange(std::vector<core::RegionId>{geo.region_count() > 1 ? 1U : 0U});
   b.subscribe_clock();
+  // A plausible state of a real UAV (the last one: homed on a region of its
+  // own in a small swarm), into its home's partition: offered now, so that
+  // its home has matched it by the time it is written.
+  const uint32_t victim = s.uavs - 1;
+  const std::string victim_home = bus::routing::home_partition(core::home_region(victim, geo.region_count()));
+  bus::Writer<core::UavStateMsg> impostor(b, bus::TopicKind::UavState);
+  impostor.offer(victim_home);
+  bus::Reader<core::UavStateMsg> states(b, {bus::routing::kAllHomes});
+  // Realtime: forge at UAV 0's tick, so that the forged detection is judged
+  // against a state of about its tick (a UAV that flew for many ticks since
+  // could plausibly have seen any target). Both clocks: the victim's latest
+  // state, for the plausible forgery (taken while waiting: a lockstep run
+  // is over in seconds).
+  std::optional<core::UavStateMsg> uav0, last_of_victim;
+  std::vector<core::UavStateMsg> got;
+  const auto take_states = [&] {
+    got.clear();
+    states.take(got);
+    for (const auto& st : got) {
+      if (st.uav == 0 && (!uav0 || st.tick > uav0->tick)) uav0 = st;
+      if (st.uav == victim && (!last_of_victim || st.tick > last_of_victim->tick)) last_of_victim = st;
+    }
+    return uav0 && uav0->tick > 0 && last_of_victim && last_of_victim->tick > 0;
+  };
   // Wait until the swarm runs: every receiver has latched its conductor.
   uint32_t tick = 1;
   const auto deadline = Clock::now() + std::chrono::seconds(90);
   std::vector<core::ClockMsg> clock;
   for (;;) {
+    take_states();
     if (Clock::now() > deadline || runtime::shutdown_requested()) {
       std::printf("the swarm did not start\n");
       return 1;
@@ -270,24 +295,22 @@ int forge(bus::Bus& b, const std::string& scenario_path, uint32_t uavs, bool loc
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
-  // Realtime: forge at UAV 0's tick, so that the forged detection is judged
-  // against a state of about its tick (a UAV that flew for many ticks since
-  // could plausibly have seen any target).
-  std::optional<core::UavStateMsg> uav0;
-  if (!lockstep) {
-    bus::Reader<core::UavStateMsg> states(b, {bus::routing::kAllHomes});
-    std::vector<core::UavStateMsg> got;
-    const auto until = Clock::now() + std::chrono::seconds(10);
-    while (Clock::now() < until && !runtime::shutdown_requested()) {
-      got.clear();
-      states.take(got);
-      for (const auto& st : got) {
-        if (st.uav == 0 && (!uav0 || st.tick > uav0->tick)) uav0 = st;
-      }
-      if (uav0 && uav0->tick > 0) break;
-      std::this_thread::sleep_for(std::chrono::milliseconds(20));
-    }
-    if (uav0) tick = std::max(tick, uav0->tick);
+  const auto until = Clock::now() + std::chrono::seconds(lockstep ? 2 : 10);
+  while (!take_states() && Clock::now() < until && !runtime::shutdown_requested()) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  if (uav0 && !lockstep) tick = std::max(tick, uav0->tick);
+  if (lockstep) {
+    // The clock went on while the states came: forge at its tick now, or a
+    // detection of an old tick would be judged against a state hundreds of
+    // ticks later, from which the UAV could have reached any target.
+    clock.clear();
+    b.take_clock(clock);
+    for (const auto& c : clock) tick = std::max(tick, c.tick);
+  }
+  if (!last_of_victim) {
+    std::printf("heard no state of uav %u\n", victim);
+    return 1;
   }
   const uint32_t far_tick = 1U << 31U;
   constexpr float kHuge = 1e30F;
@@ -341,12 +364,18 @@ int forge(bus::Bus& b, const std::string& scenario_path, uint32_t uavs, bool loc
   st.uav = s.uavs > 1 ? 1 : 0;
   st.tick = far_tick;
   count(b.publish_uav_state(st));
+  // The victim one cell from where it was, a tick later: a state it could
+  // fly to (issue 28), from a writer that is not its own.
+  core::UavStateMsg twin = *last_of_victim;
+  twin.tick = last_of_victim->tick + 1;
+  twin.x = std::min(twin.x + 1.0, static_cast<double>(geo.width() - 1));
+  count(impostor.write(twin, victim_home));
   // Detections: UAV 0 reports a target far from it (the last one, or in
   // realtime the farthest from where it is); a UAV that does not exist
   // reports one.
   if (!s.targets.empty()) {
     auto far = static_cast<int32_t>(s.targets.size() - 1);
-    if (uav0) {
+    if (uav0 && !lockstep) {  // lockstep forges at the clock's tick, not at this state's
       const auto d2 = [&](const core::Cell& c) {
         const double dx = c.x - uav0->x, dy = c.y - uav0->y;
         return dx * dx + dy * dy;

@@ -14,7 +14,7 @@ using nlohmann::json;
 namespace {
 
 const char* const kReasons[] = {"unknown_uav",   "seq_far_ahead",         "tick_far_ahead",   "value_out_of_range",
-                                "foreign_clock", "implausible_detection", "implausible_state"};
+                                "foreign_clock", "implausible_detection", "implausible_state", "foreign_writer"};
 
 std::string forge(int domain, bool lockstep) {
   return kBin + "/pheromesh-test-probe --domain " + std::to_string(domain) + " forge --scenario " + kSrc +
@@ -30,18 +30,21 @@ void expect_refused(const json& m, const char* reason) {
 
 TEST(Plausibility, ForgedSamplesLeaveALockstepRunTheSimulatorsAndEachIsRefusedAndCounted) {
   // Long enough (about 3 ms a tick) that the forger, which starts once the
-  // clock is at tick 5 and must have its writers discovered, forges while
-  // every process still takes clocks.
-  const std::string args = "--uavs 2 --ticks 2000 --seed 3";
+  // clock is at tick 5, must have its writers discovered and waits up to 2 s
+  // for a state of the UAV it impersonates, forges while every process
+  // still takes clocks (with 2000 ticks, a mixed run now and then ended
+  // first).
+  const std::string args = "--uavs 2 --ticks 4000 --seed 3";
   const std::string run_out = out_dir("plaus-lockstep");
   const std::string sim_out = out_dir("plaus-sim");
   const Background swarm = start_run("small-test.textproto", run_out, 80, "--clock lockstep " + args);
   const Output f = run(forge(80, true));
   ASSERT_EQ(f.exit_code, 0) << f.text;
   // 2 deposits, 2 tiles, 2 field chunks, a tile chunk and a served-UAVs chunk
-  // for the place agents, 1 halo, 3 states, 2 detections, 1 clock to the
-  // place agents and 4 as relayed to each region's UAVs.
-  EXPECT_NE(f.text.find("forged 19 samples"), std::string::npos) << f.text;
+  // for the place agents, 1 halo, 3 states and a plausible one of UAV 1 from
+  // the forger's own writer, 2 detections, 1 clock to the place agents and 4
+  // as relayed to each region's UAVs.
+  EXPECT_NE(f.text.find("forged 20 samples"), std::string::npos) << f.text;
   // The forged Stop did not end the run: it finishes every tick, exit 0.
   ASSERT_EQ(wait_exit(swarm.pid, std::chrono::seconds(300)), 0) << slurp(swarm.out_path);
   const Output s =
@@ -76,6 +79,8 @@ TEST(Plausibility, ForgedSamplesLeaveALockstepRunTheSimulatorsAndEachIsRefusedAn
   EXPECT_GE(a["refused_by"]["uavs"]["foreign_clock"].get<uint64_t>(), 2U);
   EXPECT_GE(a["refused_by"]["places"]["foreign_clock"].get<uint64_t>(), 4U);
   EXPECT_EQ(a["refused_by"]["places"]["seq_far_ahead"], 1);
+  // The plausible state of UAV 1, by its home, which had its writer latched.
+  EXPECT_EQ(a["refused_by"]["places"]["foreign_writer"], 1);
   EXPECT_EQ(a["refused_by"]["ground"]["implausible_detection"], 1);
   EXPECT_EQ(b["refused"]["unknown_uav"], 0);  // the simulator's honest swarm refuses nothing
 }
@@ -85,7 +90,7 @@ TEST(Plausibility, ForgedSamplesInARealtimeRunAreRefusedAndTheAttackedUavKeepsDe
   const Background swarm = start_run("small-test.textproto", out, 81, "--uavs 2 --ticks 150 --rate 25");
   const Output f = run(forge(81, false));
   ASSERT_EQ(f.exit_code, 0) << f.text;
-  EXPECT_NE(f.text.find("forged 19 samples"), std::string::npos) << f.text;
+  EXPECT_NE(f.text.find("forged 20 samples"), std::string::npos) << f.text;
   ASSERT_EQ(wait_exit(swarm.pid, std::chrono::seconds(120)), 0) << slurp(swarm.out_path);
   const json m = read_metrics(out);
   ASSERT_FALSE(m.is_null()) << slurp(swarm.out_path);
@@ -101,4 +106,5 @@ TEST(Plausibility, ForgedSamplesInARealtimeRunAreRefusedAndTheAttackedUavKeepsDe
     if (std::string(reason) != "foreign_clock") expect_refused(m, reason);
   }
   EXPECT_EQ(m["refused"]["foreign_clock"], 0);
+  EXPECT_EQ(m["refused_by"]["places"]["foreign_writer"], 1) << m["refused_by"].dump(2);
 }

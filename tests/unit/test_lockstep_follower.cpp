@@ -64,6 +64,20 @@ TEST(LockstepFollower, TheFirstWriterIsTheConductorAndAnotherWritersClockIsRefus
   EXPECT_TRUE(f.stopped()) << "the conductor's own Stop ends the run";
 }
 
+TEST(LockstepFollower, AStopHeardBeforeAnyClockLatchesNobodyAndTheConductorHeardNextIsLatched) {
+  const auto t0 = F::Clock::time_point{} + 100s;
+  F f = uav_follower(t0);
+  std::vector<ClockMsg> taken{clock_of(0, ClockPhase::Stop, 99)};
+  EXPECT_EQ(f.offer(taken, t0).size(), 1U);
+  EXPECT_FALSE(f.next_phase());
+  EXPECT_FALSE(f.stopped()) << "a forged Stop before the conductor's first clock ended the run at tick 0";
+  taken = {clock_of(0, ClockPhase::Ready, 7), clock_of(0, ClockPhase::Uav, 7), clock_of(3, ClockPhase::Stop, 99)};
+  EXPECT_EQ(f.offer(taken, t0).size(), 1U) << "the forger is still nobody";
+  ASSERT_TRUE(f.next_phase());
+  f.done(0);
+  EXPECT_FALSE(f.stopped());
+}
+
 TEST(LockstepFollower, AUavAcceptsTheClockOfAsManyRelaysAsMayServeItAndRefusesAWriterHeardAfterThem) {
   // The lockstep tree: home and backup place agents, each with a standby,
   // relay every clock from before tick 0 - four writers, heard first.

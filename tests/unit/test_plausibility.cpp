@@ -165,7 +165,8 @@ TEST(Plausibility, RefusalCountsSaturateAndNameEveryReason) {
   std::vector<std::string> names;
   for (std::size_t i = 0; i < kRefusalCount; ++i) names.emplace_back(refusal_name(static_cast<Refusal>(i)));
   EXPECT_EQ(names, (std::vector<std::string>{"unknown_uav", "seq_far_ahead", "tick_far_ahead", "value_out_of_range",
-                                             "foreign_clock", "implausible_detection", "implausible_state"}));
+                                             "foreign_clock", "implausible_detection", "implausible_state",
+                                             "foreign_writer"}));
 }
 
 // --------------------------------------------------------- the place agent

@@ -10,7 +10,12 @@ std::vector<ClockMsg> LockstepFollower::offer(std::vector<ClockMsg>& taken, Cloc
   bool accepted = false;
   for (auto& c : taken) {
     if (std::find(latched_.begin(), latched_.end(), c.writer) == latched_.end()) {
-      if (latched_.size() >= sources_) {
+      // A Stop latches nobody: the conductor (and every relay of it) sends
+      // the Ready clock first and re-sends it until every process has
+      // answered, so its Stop comes from a writer already heard. A forged
+      // Stop written before the conductor's first clock was latched and
+      // ended the run at tick 0 (issue 28).
+      if (latched_.size() >= sources_ || c.phase == static_cast<uint8_t>(ClockPhase::Stop)) {
         refused.push_back(std::move(c));
         continue;
       }

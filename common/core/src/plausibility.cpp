@@ -22,6 +22,8 @@ const char* refusal_name(Refusal r) {
       return "implausible_detection";
     case Refusal::ImplausibleState:
       return "implausible_state";
+    case Refusal::ForeignWriter:
+      return "foreign_writer";
   }
   return "unknown";
 }

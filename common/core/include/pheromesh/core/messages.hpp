@@ -15,7 +15,7 @@ namespace pheromesh::core {
 
 inline constexpr std::size_t kMaxTileCells = 1024;  // 32 x 32, idl bound
 inline constexpr std::size_t kMaxRingCells = 4096;  // idl bound
-inline constexpr std::size_t kRefusalCount = 7;     // core::Refusal (plausibility.hpp), idl REFUSAL_REASONS
+inline constexpr std::size_t kRefusalCount = 8;     // core::Refusal (plausibility.hpp), idl REFUSAL_REASONS
 
 struct TileMsg {
   uint8_t layer = 0;
@@ -75,6 +75,10 @@ struct UavStateMsg {
   // writer of this UAV's state vanished (liveliness lost, process ended).
   // A UAV never sets it (its place agent drops such a state).
   bool departed = false;
+  // Not on the wire: who wrote the sample, as the receiving bus identifies
+  // the DDS writer (as ClockMsg::writer). The UAV's gateway latches it
+  // (core/writer_latch.hpp).
+  uint64_t writer = 0;
 };
 
 // Every state writer of a UAV vanished, as one place agent's reader saw it.

@@ -30,8 +30,9 @@ enum class Refusal : uint8_t {
   ForeignClock = 4,          // a lockstep clock sample from a writer other than the conductor first heard
   ImplausibleDetection = 5,  // a detection of no target of the scenario, or far from the reporting UAV
   ImplausibleState = 6,      // a UAV state further from the last accepted one than the UAV can fly, or sent to a place agent that does not serve the UAV
+  ForeignWriter = 7,         // a UAV state from a writer other than the one its gateway latched for that UAV (writer_latch.hpp)
 };
-static_assert(kRefusalCount == 7, "messages.hpp kRefusalCount: one count per Refusal");
+static_assert(kRefusalCount == 8, "messages.hpp kRefusalCount: one count per Refusal");
 // "unknown_uav", "seq_far_ahead", ... (metrics.json, Prometheus labels).
 const char* refusal_name(Refusal r);
 

@@ -1,0 +1,53 @@
+// Who may write as a key (a UAV id): the first writer whose sample was
+// accepted for it, until it departs or falls silent (issue 28,
+// docs/architecture.md "What a receiver refuses"). On an open domain any process can write any topic, and a
+// plausible forgery (a state one cell from the real UAV, a tick ahead) passes
+// every check of the sample itself; what the forger cannot copy is its writer,
+// which the receiving bus names (UavStateMsg::writer). The lockstep clock is
+// latched the same way (core::LockstepFollower). Pure, no I/O.
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <optional>
+#include <unordered_map>
+
+namespace pheromesh::core {
+
+class WriterLatch {
+ public:
+  using Clock = std::chrono::steady_clock;
+
+  // `takeover_after`: a writer that has written nothing for this long (a
+  // realtime UAV writes a state every tick) gives the key up to the next
+  // writer heard - a restarted UAV is a new writer whose first states may
+  // arrive before its old writer's departure is noticed. nullopt: only
+  // release() frees a key (lockstep, where a tick under packet loss can take
+  // longer than a lease).
+  explicit WriterLatch(std::optional<Clock::duration> takeover_after = std::nullopt)
+      : takeover_after_(takeover_after) {}
+
+  // True if `writer` may write as `key`: it holds the latch, the key is
+  // free, or its holder has been silent for the takeover time. Writer 0 (a
+  // transport that cannot tell) may always.
+  [[nodiscard]] bool allows(uint32_t key, uint64_t writer, Clock::time_point now) const;
+  // `writer`'s sample as `key` was accepted (allowed, and it passed the
+  // receiver's other checks): it holds the key from now on, heard at `now`.
+  // A refused sample latches nothing, so a forger cannot take a free key
+  // with a sample the receiver refuses anyway.
+  void hold(uint32_t key, uint64_t writer, Clock::time_point now);
+  // The key's writer departed (every writer of the key vanished): the next
+  // writer heard holds it.
+  void release(uint32_t key) { held_.erase(key); }
+  [[nodiscard]] std::optional<uint64_t> holder(uint32_t key) const;
+
+ private:
+  struct Held {
+    uint64_t writer = 0;
+    Clock::time_point last{};
+  };
+  std::optional<Clock::duration> takeover_after_;
+  std::unordered_map<uint32_t, Held> held_;
+};
+
+}  // namespace pheromesh::core

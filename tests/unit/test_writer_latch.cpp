@@ -1,0 +1,71 @@
+// core::WriterLatch: the first writer whose sample was accepted for a key
+// holds it until it departs or (realtime) falls silent.
+#include <gtest/gtest.h>
+
+#include <chrono>
+
+#include "pheromesh/core/writer_latch.hpp"
+
+namespace pheromesh::core {
+namespace {
+
+using namespace std::chrono_literals;
+const WriterLatch::Clock::time_point t0{};
+
+TEST(WriterLatch, TheFirstWriterAcceptedHoldsTheKeyAndAnotherIsRefused) {
+  WriterLatch latch;
+  EXPECT_TRUE(latch.allows(3, 0xA, t0));
+  EXPECT_TRUE(latch.allows(3, 0xB, t0));  // free: anyone may
+  latch.hold(3, 0xA, t0);
+  EXPECT_TRUE(latch.allows(3, 0xA, t0 + 10ms));
+  EXPECT_FALSE(latch.allows(3, 0xB, t0 + 20ms));
+  EXPECT_EQ(latch.holder(3), 0xAU);
+  // Each key on its own: B may hold another UAV.
+  EXPECT_TRUE(latch.allows(4, 0xB, t0 + 20ms));
+  EXPECT_FALSE(latch.holder(4).has_value());  // allowed is not held
+  latch.hold(4, 0xB, t0 + 20ms);
+  EXPECT_EQ(latch.holder(4), 0xBU);
+}
+
+TEST(WriterLatch, ADepartureFreesTheKeyForTheNextWriterAccepted) {
+  WriterLatch latch;
+  latch.hold(3, 0xA, t0);
+  latch.release(3);
+  EXPECT_FALSE(latch.holder(3).has_value());
+  ASSERT_TRUE(latch.allows(3, 0xB, t0 + 1ms));
+  latch.hold(3, 0xB, t0 + 1ms);
+  EXPECT_FALSE(latch.allows(3, 0xA, t0 + 2ms));
+}
+
+TEST(WriterLatch, WithoutATakeoverASilentHolderKeepsTheKey) {
+  WriterLatch latch;  // lockstep
+  latch.hold(3, 0xA, t0);
+  EXPECT_FALSE(latch.allows(3, 0xB, t0 + 1h));
+  EXPECT_EQ(latch.holder(3), 0xAU);
+}
+
+TEST(WriterLatch, ARealtimeHolderSilentForTheTakeoverTimeGivesTheKeyUp) {
+  WriterLatch latch(1s);
+  latch.hold(3, 0xA, t0);
+  latch.hold(3, 0xA, t0 + 500ms);  // heard again
+  EXPECT_FALSE(latch.allows(3, 0xB, t0 + 1400ms));  // silent for 900 ms only
+  // Silent since 500 ms: at 1500 ms B may take it over (a restarted UAV).
+  ASSERT_TRUE(latch.allows(3, 0xB, t0 + 1500ms));
+  latch.hold(3, 0xB, t0 + 1500ms);
+  EXPECT_EQ(latch.holder(3), 0xBU);
+  EXPECT_FALSE(latch.allows(3, 0xA, t0 + 1600ms));
+}
+
+TEST(WriterLatch, AnUnknownWriterIsAllowedAndLatchesNothing) {
+  WriterLatch latch;
+  EXPECT_TRUE(latch.allows(3, 0, t0));
+  latch.hold(3, 0, t0);
+  EXPECT_FALSE(latch.holder(3).has_value());
+  latch.hold(3, 0xA, t0);
+  EXPECT_TRUE(latch.allows(3, 0, t0));
+  latch.hold(3, 0, t0);
+  EXPECT_EQ(latch.holder(3), 0xAU);
+}
+
+}  // namespace
+}  // namespace pheromesh::core
