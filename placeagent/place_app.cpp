@@ -36,9 +36,7 @@ PlaceApp::PlaceApp(PlaceConfig cfg, core::ScenarioConfig scenario, std::unique_p
       rules_{geo_, core_.layer_count(), traits_.layer_ranges, scenario_.uavs},
       desk_(cfg_.region, geo_.region_count(), scenario_.uavs,
             cfg_.common.standby || scenario_.standby || cfg_.common.lockstep()),
-      state_writers_(cfg_.common.lockstep() ? std::nullopt
-                                            : std::optional<core::WriterLatch::Clock::duration>(
-                                                  std::chrono::milliseconds(cfg_.common.lease_ms))) {
+      state_writers_(std::chrono::milliseconds(cfg_.common.lease_ms) * (cfg_.common.lockstep() ? 6 : 1)) {
   for (uint32_t u = 0; u < scenario_.uavs; ++u) {
     if (core::home_region(u, geo_.region_count()) == cfg_.region) home_uavs_.push_back(u);
   }

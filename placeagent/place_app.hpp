@@ -165,8 +165,11 @@ class PlaceApp {
   std::map<uint32_t, uint32_t> heard_at_;  // home UAV -> place tick of its newest state
   // Each UAV's state writer, as first heard (a plausible forged state from
   // another writer would become the "last accepted" one and get the UAV's
-  // own refused; issue 28). Realtime: a writer silent for a lease gives the
-  // UAV up (a restarted UAV); lockstep: only its departure does.
+  // own refused; issue 28). Its departure gives the UAV up, and so does a
+  // silence of a lease (realtime: a UAV writes every tick) or of 6 leases
+  // (lockstep: a waiting UAV writes again every second, and under packet
+  // loss a tick takes seconds). A restarted UAV needs the silence: its new
+  // writer keeps the instance alive, so the old one's going is no departure.
   core::WriterLatch state_writers_;
   // Reusable inboxes and outboxes.
   std::vector<core::DepositMsg> taken_, inbox_;

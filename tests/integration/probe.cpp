@@ -80,6 +80,7 @@
 #include "pheromesh/bus/routing.hpp"
 #include "pheromesh/bus/typed.hpp"
 #include "pheromesh/core/layers.hpp"
+#include "pheromesh/core/policy.hpp"
 #include "pheromesh/core/scenario.hpp"
 #include "pheromesh/runtime/process.hpp"
 
@@ -278,8 +279,9 @@ int forge(bus::Bus& b, const std::string& scenario_path, uint32_t uavs, bool loc
   uint32_t tick = 1;
   const auto deadline = Clock::now() + std::chrono::seconds(90);
   std::vector<core::ClockMsg> clock;
+  std::optional<Clock::time_point> at_tick5;
   for (;;) {
-    take_states();
+    const bool heard = take_states();
     if (Clock::now() > deadline || runtime::shutdown_requested()) {
       std::printf("the swarm did not start\n");
       return 1;
@@ -288,25 +290,42 @@ int forge(bus::Bus& b, const std::string& scenario_path, uint32_t uavs, bool loc
       clock.clear();
       b.take_clock(clock);
       for (const auto& c : clock) tick = std::max(tick, c.tick);
-      if (tick >= 5) break;
+      // From tick 5, up to 3 s more (a run is over in seconds) until the
+      // receivers matched this process's writers and UAV 0's and the
+      // victim's states came: forged samples written before a match are
+      // lost, not refused (stop 39's flake).
+      if (tick >= 5 && !at_tick5) at_tick5 = Clock::now();
+      const bool matched = b.matched_deposit_readers(0) > 0 && impostor.matched(victim_home) > 0;
+      if (at_tick5 && ((matched && heard) || Clock::now() - *at_tick5 > std::chrono::seconds(3))) break;
     } else if (b.matched_deposit_readers(0) > 0) {
       std::this_thread::sleep_for(std::chrono::seconds(1));
       break;
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
-  const auto until = Clock::now() + std::chrono::seconds(lockstep ? 2 : 10);
-  while (!take_states() && Clock::now() < until && !runtime::shutdown_requested()) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));
-  }
-  if (uav0 && !lockstep) tick = std::max(tick, uav0->tick);
+  // Lockstep forges at once, at UAV 0's latest tick (its detection is judged
+  // against UAV 0's state of that tick). Without a state of the victim, its
+  // impostor state is the victim at its start cell at the clock's tick,
+  // refused for its writer before anything else is looked at. Realtime
+  // waits for the victim's latest state and forges one it could fly to.
   if (lockstep) {
-    // The clock went on while the states came: forge at its tick now, or a
-    // detection of an old tick would be judged against a state hundreds of
-    // ticks later, from which the UAV could have reached any target.
-    clock.clear();
-    b.take_clock(clock);
-    for (const auto& c : clock) tick = std::max(tick, c.tick);
+    if (uav0) tick = uav0->tick;
+    if (!last_of_victim) {
+      const core::Cell start = core::uav_start(s, core::policy_traits(s), victim);
+      core::UavStateMsg at_start;
+      at_start.uav = victim;
+      at_start.tick = tick;
+      at_start.x = start.x;
+      at_start.y = start.y;
+      at_start.view = start;
+      last_of_victim = at_start;
+    }
+  } else {
+    const auto until = Clock::now() + std::chrono::seconds(10);
+    while (!take_states() && Clock::now() < until && !runtime::shutdown_requested()) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    if (uav0) tick = std::max(tick, uav0->tick);
   }
   if (!last_of_victim) {
     std::printf("heard no state of uav %u\n", victim);
@@ -364,18 +383,12 @@ int forge(bus::Bus& b, const std::string& scenario_path, uint32_t uavs, bool loc
   st.uav = s.uavs > 1 ? 1 : 0;
   st.tick = far_tick;
   count(b.publish_uav_state(st));
-  // The victim one cell from where it was, a tick later: a state it could
-  // fly to (issue 28), from a writer that is not its own.
-  core::UavStateMsg twin = *last_of_victim;
-  twin.tick = last_of_victim->tick + 1;
-  twin.x = std::min(twin.x + 1.0, static_cast<double>(geo.width() - 1));
-  count(impostor.write(twin, victim_home));
-  // Detections: UAV 0 reports a target far from it (the last one, or in
-  // realtime the farthest from where it is); a UAV that does not exist
-  // reports one.
+  // Detections: UAV 0 reports a target far from it (the farthest from its
+  // latest state, or the last one without a state); a UAV that does not
+  // exist reports one.
   if (!s.targets.empty()) {
     auto far = static_cast<int32_t>(s.targets.size() - 1);
-    if (uav0 && !lockstep) {  // lockstep forges at the clock's tick, not at this state's
+    if (uav0) {
       const auto d2 = [&](const core::Cell& c) {
         const double dx = c.x - uav0->x, dy = c.y - uav0->y;
         return dx * dx + dy * dy;
@@ -395,6 +408,28 @@ int forge(bus::Bus& b, const std::string& scenario_path, uint32_t uavs, bool loc
   stop.phase = static_cast<uint8_t>(core::ClockPhase::Stop);
   count(b.publish_clock(stop));
   for (core::RegionId r = 0; r < geo.region_count(); ++r) count(b.relay_clock(stop, r));
+  // Last (it waits for a match; the detections above must go out at their
+  // tick): the victim one cell from where it was, a tick later - a state it
+  // could fly to (issue 28; lockstep: see above) - from a writer that is
+  // not its own.
+  // Its home reads the latest state of each UAV only (keep-last 1): the
+  // UAV's own next state may replace a forged one before the home takes it,
+  // so the forgery is written several times, 15 ms apart (counted once).
+  core::UavStateMsg twin = *last_of_victim;
+  twin.x = std::min(twin.x + 1.0, static_cast<double>(geo.width() - 1));
+  // Matched first: a home that matched the impostor late would get only its
+  // last state (transient-local, keep-last 1), likelier replaced unseen.
+  const auto matched_by = Clock::now() + std::chrono::seconds(5);
+  while (impostor.matched(victim_home) == 0 && Clock::now() < matched_by && !runtime::shutdown_requested()) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  bool twin_written = true;
+  for (uint32_t k = 1; k <= 8; ++k) {
+    twin.tick = last_of_victim->tick + k;
+    twin_written = impostor.write(twin, victim_home) && twin_written;
+    std::this_thread::sleep_for(std::chrono::milliseconds(15));
+  }
+  count(twin_written);
   b.flush(std::chrono::seconds(5));
   std::printf("forged %d samples at tick %u\n", sent, tick);
   std::fflush(stdout);

@@ -317,6 +317,25 @@ TEST(RecorderPlausibility, ADetectionWaitsForTheStateOfItsTickAndThenCounts) {
   EXPECT_EQ(r.rec.refused().total(), 0U);
 }
 
+TEST(RecorderPlausibility, ADetectionOfATickLongPastIsJudgedByTheStateOfThatTickNotTheLatest) {
+  // Issue 28: judged against the UAV's latest state, a detection 20 ticks
+  // old had the reach of 20 ticks of flight, and a forged one of a target
+  // the UAV never came near was accepted.
+  Rig r;
+  const Cell t = r.scenario.targets[0];  // (22, 8)
+  // Far from the target at tick 40, then flying towards it.
+  for (uint32_t k = 40; k <= 60; ++k) {
+    ASSERT_TRUE(r.rec.on_uav_state(state_at(3, k, t.x - 20 + (k - 40), t.y)));
+  }
+  ASSERT_TRUE(r.rec.on_detection({3, 41, 0, t}));  // 19 cells away at tick 41
+  EXPECT_EQ(r.rec.acquisitions().found(), 0U);
+  EXPECT_EQ(r.rec.refused()[Refusal::ImplausibleDetection], 1U);
+  // At its tick 60 it is next to it: that detection counts.
+  ASSERT_TRUE(r.rec.on_detection({3, 60, 0, t}));
+  EXPECT_EQ(r.rec.acquisitions().found(), 1U);
+  EXPECT_EQ(r.rec.refused()[Refusal::ImplausibleState], 0U) << "the flight itself was plausible";
+}
+
 // --------------------------------------------- honest runs refuse nothing
 
 TEST(HonestRuns, SimulatedRunsOfEveryScenarioRefuseNothing) {

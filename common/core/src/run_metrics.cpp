@@ -70,7 +70,13 @@ bool RunRecorder::on_uav_state(const UavStateMsg& s) {
   // A UAV back after it was lost with a lower count is a restarted process:
   // its earlier life's deposits still count.
   if (starts_new_life(s)) u.earlier_lives_deposits += u.last.deposits_sent;
+  // Not a stale copy (above): a tick that went back is a new life.
+  if (!u.recent.empty() && s.tick <= u.recent.back().tick) u.recent.clear();
   u.last = s;
+  if (u.recent.empty() || s.tick > u.recent.back().tick) {
+    u.recent.push_back(s);
+    if (u.recent.size() > UavStatus::kRecentStates) u.recent.pop_front();
+  }
   u.alive = true;
   u.finished = u.finished || s.finished;
   max_tick_ = std::max(max_tick_, s.tick);
@@ -82,8 +88,16 @@ bool RunRecorder::on_uav_state(const UavStateMsg& s) {
                                      [&](const DetectionMsg& d) { return d.uav != s.uav || d.tick > s.tick; });
   std::vector<DetectionMsg> now(ready, pending_.end());
   pending_.erase(ready, pending_.end());
-  for (const auto& d : now) judge(d, &u.last);
+  for (const auto& d : now) judge(d, nearest_state(u, d.tick));
   return true;
+}
+
+const UavStateMsg* RunRecorder::nearest_state(const UavStatus& u, uint32_t tick) {
+  // The first kept state of the tick or later (the states come in tick
+  // order: recent only grows in tick); none kept that late: the last state.
+  const auto it = std::lower_bound(u.recent.begin(), u.recent.end(), tick,
+                                   [](const UavStateMsg& s, uint32_t t) { return s.tick < t; });
+  return it != u.recent.end() ? &*it : &u.last;
 }
 
 void RunRecorder::judge(const DetectionMsg& d, const UavStateMsg* seen) {
@@ -111,7 +125,7 @@ bool RunRecorder::on_detection(const DetectionMsg& d) {
     pending_.push_back(d);
     return true;
   }
-  judge(d, it != uavs_.end() && it->second.heard ? &it->second.last : nullptr);
+  judge(d, it != uavs_.end() && it->second.heard ? nearest_state(it->second, d.tick) : nullptr);
   return true;
 }
 

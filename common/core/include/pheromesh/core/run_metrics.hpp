@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <deque>
 #include <map>
 #include <optional>
 #include <string>
@@ -56,6 +57,10 @@ struct UavStatus {
   bool alive = true;
   bool finished = false;
   uint64_t earlier_lives_deposits = 0;  // deposits sent by earlier processes of this UAV (restarts)
+  // The last kRecentStates accepted states, oldest first: a detection is
+  // judged against the one nearest its tick.
+  std::deque<UavStateMsg> recent;
+  static constexpr std::size_t kRecentStates = 256;
 };
 
 class RunRecorder {
@@ -66,8 +71,11 @@ class RunRecorder {
   // samples_rejected) or implausible (counted in refused(), plausibility.hpp)
   // and ignored.
   bool on_uav_state(const UavStateMsg& s);
-  // A detection is judged against the reporting UAV's state of its tick or
-  // later; until one arrives it waits (true). Detections of targets found
+  // A detection is judged against the reporting UAV's state of its tick, or
+  // the nearest later one it holds (of its last 256); until one arrives it
+  // waits (true). Judged against the UAV's latest state instead, a detection
+  // of a tick long past had the reach of every tick flown since (issue 28:
+  // forged detections a few ticks old were accepted). Detections of targets found
   // for the first time collect in take_first_acquisitions().
   bool on_detection(const DetectionMsg& d);
   // Judges the detections still waiting against the last states (end of a run).
@@ -211,6 +219,7 @@ class RunRecorder {
   std::vector<DetectionMsg> pending_;  // detections waiting for their UAV's state of their tick
   std::vector<DetectionMsg> first_acquisitions_;
   void judge(const DetectionMsg& d, const UavStateMsg* seen);
+  static const UavStateMsg* nearest_state(const UavStatus& u, uint32_t tick);
 };
 
 }  // namespace pheromesh::core

@@ -18,12 +18,10 @@ class WriterLatch {
  public:
   using Clock = std::chrono::steady_clock;
 
-  // `takeover_after`: a writer that has written nothing for this long (a
-  // realtime UAV writes a state every tick) gives the key up to the next
-  // writer heard - a restarted UAV is a new writer whose first states may
-  // arrive before its old writer's departure is noticed. nullopt: only
-  // release() frees a key (lockstep, where a tick under packet loss can take
-  // longer than a lease).
+  // `takeover_after`: a writer that has written nothing for this long gives
+  // the key up to the next writer heard - a restarted UAV is a new writer,
+  // which keeps the UAV's instance alive, so the old writer's going is no
+  // departure. nullopt: only release() frees a key.
   explicit WriterLatch(std::optional<Clock::duration> takeover_after = std::nullopt)
       : takeover_after_(takeover_after) {}
 
