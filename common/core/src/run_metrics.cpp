@@ -74,8 +74,8 @@ bool RunRecorder::on_uav_state(const UavStateMsg& s) {
   if (!u.recent.empty() && s.tick <= u.recent.back().tick) u.recent.clear();
   u.last = s;
   if (u.recent.empty() || s.tick > u.recent.back().tick) {
-    u.recent.push_back(s);
-    if (u.recent.size() > UavStatus::kRecentStates) u.recent.pop_front();
+    u.recent.push_back({s.tick, static_cast<float>(s.x), static_cast<float>(s.y)});
+    if (u.recent.size() > UavStatus::kRecentFixes) u.recent.pop_front();
   }
   u.alive = true;
   u.finished = u.finished || s.finished;
@@ -88,16 +88,24 @@ bool RunRecorder::on_uav_state(const UavStateMsg& s) {
                                      [&](const DetectionMsg& d) { return d.uav != s.uav || d.tick > s.tick; });
   std::vector<DetectionMsg> now(ready, pending_.end());
   pending_.erase(ready, pending_.end());
-  for (const auto& d : now) judge(d, nearest_state(u, d.tick));
+  for (const auto& d : now) {
+    const UavStateMsg seen = nearest_state(u, d.tick);
+    judge(d, &seen);
+  }
   return true;
 }
 
-const UavStateMsg* RunRecorder::nearest_state(const UavStatus& u, uint32_t tick) {
-  // The first kept state of the tick or later (the states come in tick
-  // order: recent only grows in tick); none kept that late: the last state.
+UavStateMsg RunRecorder::nearest_state(const UavStatus& u, uint32_t tick) {
+  // recent only grows in tick (a tick that went back started it again).
   const auto it = std::lower_bound(u.recent.begin(), u.recent.end(), tick,
-                                   [](const UavStateMsg& s, uint32_t t) { return s.tick < t; });
-  return it != u.recent.end() ? &*it : &u.last;
+                                   [](const UavStatus::Fix& f, uint32_t t) { return f.tick < t; });
+  if (it == u.recent.end()) return u.last;
+  UavStateMsg at;
+  at.uav = u.last.uav;
+  at.tick = it->tick;
+  at.x = it->x;
+  at.y = it->y;
+  return at;
 }
 
 void RunRecorder::judge(const DetectionMsg& d, const UavStateMsg* seen) {
@@ -125,7 +133,12 @@ bool RunRecorder::on_detection(const DetectionMsg& d) {
     pending_.push_back(d);
     return true;
   }
-  judge(d, it != uavs_.end() && it->second.heard ? nearest_state(it->second, d.tick) : nullptr);
+  if (it == uavs_.end() || !it->second.heard) {
+    judge(d, nullptr);
+    return true;
+  }
+  const UavStateMsg nearest = nearest_state(it->second, d.tick);
+  judge(d, &nearest);
   return true;
 }
 

@@ -57,10 +57,15 @@ struct UavStatus {
   bool alive = true;
   bool finished = false;
   uint64_t earlier_lives_deposits = 0;  // deposits sent by earlier processes of this UAV (restarts)
-  // The last kRecentStates accepted states, oldest first: a detection is
-  // judged against the one nearest its tick.
-  std::deque<UavStateMsg> recent;
-  static constexpr std::size_t kRecentStates = 256;
+  // Where it was at its last kRecentFixes accepted states, oldest first: a
+  // detection is judged against the one nearest its tick (16 bytes each, 2 KiB
+  // per UAV: 2 MiB for a swarm of 1000).
+  struct Fix {
+    uint32_t tick = 0;
+    float x = 0, y = 0;  // [cell]
+  };
+  std::deque<Fix> recent;
+  static constexpr std::size_t kRecentFixes = 128;
 };
 
 class RunRecorder {
@@ -72,7 +77,7 @@ class RunRecorder {
   // and ignored.
   bool on_uav_state(const UavStateMsg& s);
   // A detection is judged against the reporting UAV's state of its tick, or
-  // the nearest later one it holds (of its last 256); until one arrives it
+  // the nearest later one it holds (of its last 128); until one arrives it
   // waits (true). Judged against the UAV's latest state instead, a detection
   // of a tick long past had the reach of every tick flown since (issue 28:
   // forged detections a few ticks old were accepted). Detections of targets found
@@ -219,7 +224,9 @@ class RunRecorder {
   std::vector<DetectionMsg> pending_;  // detections waiting for their UAV's state of their tick
   std::vector<DetectionMsg> first_acquisitions_;
   void judge(const DetectionMsg& d, const UavStateMsg* seen);
-  static const UavStateMsg* nearest_state(const UavStatus& u, uint32_t tick);
+  // The UAV's position at the kept state nearest `tick` (the first of that
+  // tick or later; none kept that late: its last state).
+  static UavStateMsg nearest_state(const UavStatus& u, uint32_t tick);
 };
 
 }  // namespace pheromesh::core
