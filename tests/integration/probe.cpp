@@ -296,7 +296,15 @@ int forge(bus::Bus& b, const std::string& scenario_path, uint32_t uavs, bool loc
       // lost, not refused (stop 39's flake).
       if (tick >= 5 && !at_tick5) at_tick5 = Clock::now();
       const bool matched = b.matched_deposit_readers(0) > 0 && impostor.matched(victim_home) > 0;
-      if (at_tick5 && ((matched && heard) || Clock::now() - *at_tick5 > std::chrono::seconds(3))) break;
+      if (at_tick5 && ((matched && heard) || Clock::now() - *at_tick5 > std::chrono::seconds(3))) {
+        // As in realtime, a second more for the receivers not waited for
+        // above (the ground station, the other place agents) to match this
+        // process's other writers: in a fresh clone's suite (-j2) forged
+        // detections, states and clocks still went nowhere.
+        std::this_thread::sleep_for(std::chrono::seconds(1));
+        take_states();
+        break;
+      }
     } else if (b.matched_deposit_readers(0) > 0) {
       std::this_thread::sleep_for(std::chrono::seconds(1));
       break;
