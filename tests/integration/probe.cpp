@@ -259,11 +259,9 @@ int forge(bus::Bus& b, const std::string& scenario_path, uint32_t uavs, bool loc
   bus::Writer<core::UavStateMsg> impostor(b, bus::TopicKind::UavState);
   impostor.offer(victim_home);
   bus::Reader<core::UavStateMsg> states(b, {bus::routing::kAllHomes});
-  // Realtime: forge at UAV 0's tick, so that the forged detection is judged
-  // against a state of about its tick (a UAV that flew for many ticks since
-  // could plausibly have seen any target). Both clocks: the victim's latest
-  // state, for the plausible forgery (taken while waiting: a lockstep run
-  // is over in seconds).
+  // UAV 0's latest state (the forged detection is of its tick and far from
+  // it) and the victim's (for the plausible forgery), taken while waiting:
+  // a lockstep run is over in seconds.
   std::optional<core::UavStateMsg> uav0, last_of_victim;
   std::vector<core::UavStateMsg> got;
   const auto take_states = [&] {
@@ -311,11 +309,11 @@ int forge(bus::Bus& b, const std::string& scenario_path, uint32_t uavs, bool loc
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
-  // Lockstep forges at once, at UAV 0's latest tick (its detection is judged
-  // against UAV 0's state of that tick). Without a state of the victim, its
-  // impostor state is the victim at its start cell at the clock's tick,
-  // refused for its writer before anything else is looked at. Realtime
-  // waits for the victim's latest state and forges one it could fly to.
+  // Lockstep forges now, at UAV 0's latest tick. Without a state of the
+  // victim, its impostor state is the victim at its start cell at the
+  // clock's tick, refused for its writer before anything else is looked at.
+  // Realtime waits for the victim's latest state and forges one it could
+  // fly to.
   if (lockstep) {
     if (uav0) tick = uav0->tick;
     if (!last_of_victim) {
@@ -418,11 +416,10 @@ int forge(bus::Bus& b, const std::string& scenario_path, uint32_t uavs, bool loc
   for (core::RegionId r = 0; r < geo.region_count(); ++r) count(b.relay_clock(stop, r));
   // Last (it waits for a match; the detections above must go out at their
   // tick): the victim one cell from where it was, a tick later - a state it
-  // could fly to (issue 28; lockstep: see above) - from a writer that is
-  // not its own.
-  // Its home reads the latest state of each UAV only (keep-last 1): the
-  // UAV's own next state may replace a forged one before the home takes it,
-  // so the forgery is written several times, 15 ms apart (counted once).
+  // could fly to (issue 28) - from a writer that is not its own. Its home
+  // reads the latest state of each UAV only (keep-last 1): the UAV's own
+  // next state may replace a forged one before the home takes it, so it is
+  // written several times, 15 ms apart (counted once).
   core::UavStateMsg twin = *last_of_victim;
   twin.x = std::min(twin.x + 1.0, static_cast<double>(geo.width() - 1));
   // Matched first: a home that matched the impostor late would get only its
