@@ -41,7 +41,6 @@ UavApp::UavApp(UavConfig cfg, core::ScenarioConfig scenario, std::unique_ptr<bus
       layers_(static_cast<int>(core::policy_traits(scenario_).layers.size())),
       home_(core::home_region(cfg_.id, geo_.region_count())),
       gateway_(home_) {
-  resend_.resend_deposits(true);  // lockstep only (the re-sender is off in realtime)
   layer_ranges_ = core::policy_traits(scenario_).layer_ranges;
 }
 
@@ -66,11 +65,12 @@ void UavApp::handle_commands() {
 
 void UavApp::wait_for_home() {
   // Wait (bounded) until the home place agent is matched, so the first
-  // deposits are not lost to discovery (matching is not data: no wait set).
+  // deposits (in the first states) are not lost to discovery (matching is
+  // not data: no wait set).
   const auto deadline = Clock::now() + std::chrono::milliseconds(static_cast<int64_t>(cfg_.wait_for_places_s * 1000));
-  // With standbys, every replica of the home reads this UAV's deposits.
+  // With standbys, every replica of the home reads this UAV's states.
   const uint32_t replicas = (cfg_.common.standby || scenario_.standby) ? 2 : 1;
-  while (bus_->matched_deposit_readers(home_) < replicas) {
+  while (bus_->matched_state_readers() < replicas) {
     if (Clock::now() > deadline || runtime::shutdown_requested()) {
       log_->warn("starting before home place agent {} was discovered", home_);
       return;
@@ -124,8 +124,7 @@ void UavApp::switch_gateway(core::RegionId gateway, uint32_t tick) {
   // Lockstep: the backup waits for exactly this UAV's state and deposits;
   // write them once its readers match (the re-sender covers the rest).
   const auto deadline = Clock::now() + std::chrono::milliseconds(static_cast<int64_t>(cfg_.wait_for_places_s * 1000));
-  while ((bus_->matched_deposit_readers(gateway) < 1 || bus_->matched_state_readers() < 1) && Clock::now() < deadline &&
-         !runtime::shutdown_requested()) {
+  while (bus_->matched_state_readers() < 1 && Clock::now() < deadline && !runtime::shutdown_requested()) {
     std::this_thread::sleep_for(std::chrono::milliseconds(5));
   }
 }
@@ -161,11 +160,10 @@ int UavApp::run_realtime(uint32_t ticks) {
 }
 
 void UavApp::report_ready_once() {
-  // Before tick 0: Ready once this UAV's home place agent reads its deposits,
-  // state and reports (it relays the state to the ground station); the
-  // conductor starts tick 0 when every process is ready.
-  if (ready_ || follower_.last_done() || bus_->matched_deposit_readers(home_) < 1 ||
-      bus_->matched_state_readers() < 1 || bus_->matched_report_readers() < 1)
+  // Before tick 0: Ready once this UAV's home place agent reads its states
+  // (with its deposits) and reports (it relays the state to the ground
+  // station); the conductor starts tick 0 when every process is ready.
+  if (ready_ || follower_.last_done() || bus_->matched_state_readers() < 1 || bus_->matched_report_readers() < 1)
     return;
   resend_.phase_done(
       {core::process_key(core::kRoleUav, cfg_.id), 0, static_cast<uint8_t>(core::ClockPhase::Ready), 0, {}});
@@ -228,8 +226,8 @@ int UavApp::run_lockstep(uint32_t ticks) {
 
 int UavApp::run() {
   const uint32_t ticks = scenario_.ticks;
-  // Every endpoint this UAV flies with, created once: state, deposits,
-  // detections, broadcasts and reports up to its home place agent, its view
+  // Every endpoint this UAV flies with, created once: state (with its
+  // deposits), detections, broadcasts and reports up to its home place agent, its view
   // from it; the swarm's broadcasts, the ground station's commands (and the
   // lockstep clock) as its home and its backup relay them. It talks to no
   // one else (docs/architecture.md, "Relays").

@@ -77,6 +77,7 @@ class UavApp {
   runtime::SampleAudit audit_;  // received samples dropped and refused (the refusals go out in the state)
   core::UavCore core_;
   core::UavCore::Output out_;
+  std::vector<core::DepositMsg> uplink_;  // this tick's deposits, to go up in its state
   uint64_t deposits_sent_ = 0;
   uint64_t deposits_undeliverable_ = 0;
   core::DepositReceipts receipts_;  // deposits its home place agent has not confirmed yet

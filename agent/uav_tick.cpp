@@ -62,8 +62,14 @@ void UavApp::step(uint32_t tick, StepKind kind) {
   const bool finished = kind == StepKind::Finish;
   written_.clear();
   broadcast_written_ = false;
+  uplink_.clear();
   if (!finished) {
     core_.step(tick, out_);
+    // The deposits go up in this tick's state (UavStateMsg::deposits): one
+    // sample to the gateway, not one per deposit.
+    // A deposit written while no place agent of its gateway is matched
+    // would be lost silently; it is counted undeliverable instead of sent.
+    const bool reachable = gateway_ && bus_->matched_state_readers() > 0;
     for (const auto& d : out_.deposits) {
       if (!gateway_) {
         // Lockstep, home and backup killed without a standby
@@ -71,16 +77,8 @@ void UavApp::step(uint32_t tick, StepKind kind) {
         // conductor counts it lost.
         ++deposits_sent_;
         ++written_[d.region];
-        continue;
-      }
-      // A deposit written while no place agent of that region is matched
-      // would be lost silently; count it as undeliverable instead of sent.
-      if (bus_->matched_deposit_readers(*gateway_) == 0) {
-        ++deposits_undeliverable_;
-      } else if (resend_.deposit(d, *gateway_)) {
-        ++deposits_sent_;
-        ++written_[d.region];
-        receipts_.sent(d.seq);
+      } else if (reachable) {
+        uplink_.push_back(d);
       } else {
         ++deposits_undeliverable_;
       }
@@ -104,7 +102,22 @@ void UavApp::step(uint32_t tick, StepKind kind) {
   s.deposits_unconfirmed = receipts_.unconfirmed() + deposits_undeliverable_;
   s.view = core_.cell();  // the home place agent composes the next view around it
   s.refused = audit_.refused().n;
-  resend_.uav_state(s);  // lockstep: re-sent with the deposits after a quiet spell
+  // deposits_sent counts the deposits this state carries (a place agent
+  // holds every deposit of the tick once it holds the tick's last sample).
+  s.deposits_sent = deposits_sent_ + uplink_.size();
+  for (const auto& sample : core::uplink_samples(s, uplink_)) {
+    // Lockstep: re-sent after a quiet spell. A sample whose write failed
+    // leaves its deposits undeliverable.
+    if (resend_.uav_state(sample)) {
+      for (const auto& d : sample.deposits) {
+        ++deposits_sent_;
+        ++written_[d.region];
+        receipts_.sent(d.seq);
+      }
+    } else {
+      deposits_undeliverable_ += sample.deposits.size();
+    }
+  }
 }
 
 void UavApp::wait_for_receipts(std::chrono::milliseconds bound) {

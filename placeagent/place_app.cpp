@@ -314,7 +314,7 @@ int PlaceApp::run() {
   // counts, core::RunRecorder::on_health), and replaying them from the UAVs'
   // writer histories would count them twice.
   bus_->subscribe_deposits(cfg_.region, /*history=*/cfg_.life <= 1);
-  bus_->subscribe_home_states(cfg_.region);
+  bus_->subscribe_home_states(cfg_.region, /*history=*/cfg_.life <= 1);  // the states carry deposits too
   if (cfg_.common.lockstep()) bus_->subscribe_uav_reports(cfg_.region);  // the lockstep tree
   bus_->subscribe_uplinks(cfg_.region);  // relays between its UAVs and the swarm
   bus_->subscribe_place_exchange(cfg_.region);

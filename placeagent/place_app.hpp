@@ -172,7 +172,8 @@ class PlaceApp {
   // writer keeps the instance alive, so the old one's going is no departure.
   core::WriterLatch state_writers_;
   // Reusable inboxes and outboxes.
-  std::vector<core::DepositMsg> taken_, inbox_;
+  // uplinked_: deposits the UAVs' states carried, not yet routed (take_deposits).
+  std::vector<core::DepositMsg> taken_, inbox_, uplinked_;
   std::vector<core::UavStateMsg> state_inbox_, home_states_, served_states_;
   std::vector<uint32_t> served_;  // home UAVs that get a view this tick
   std::vector<core::TileMsg> tiles_for_;

@@ -25,7 +25,10 @@ constexpr uint32_t kNeighbourAge = 4;
 }  // namespace
 
 void PlaceApp::take_deposits() {
-  taken_.clear();
+  // The deposits its UAVs' states carried (take_home_states), then those
+  // other place agents forwarded.
+  taken_.swap(uplinked_);
+  uplinked_.clear();
   bus_->take_deposits(taken_);
   for (const auto& d : taken_) {
     const auto route = desk_.take(d, current_tick_);
@@ -76,7 +79,13 @@ void PlaceApp::take_home_states(uint32_t tick) {
   bus_->take_uav_states(state_inbox_);
   const uint32_t ceiling = tick_ceiling();
   const auto now = std::chrono::steady_clock::now();
-  for (const auto& st : state_inbox_) {
+  for (auto& st : state_inbox_) {
+    // The deposits a state carries wait for take_deposits, which routes them
+    // as if each had come alone, whatever becomes of the state below (the
+    // deposits' own checks are core::DepositDesk's and the place core's).
+    // The state goes on without them: into views and to the ground station.
+    uplinked_.insert(uplinked_.end(), st.deposits.begin(), st.deposits.end());
+    st.deposits.clear();
     if (st.departed) {
       audit_.drop(fmt::format("a state of uav {} that says it departed (only a place agent says so)", st.uav));
       continue;
@@ -198,8 +207,8 @@ bool PlaceApp::holds_home_deposits(uint32_t tick) const {
 
 void PlaceApp::take_inputs(uint32_t tick) {
   inbox_.clear();
+  take_home_states(tick);  // first: the states carry their UAVs' deposits
   take_deposits();
-  take_home_states(tick);
   if (!demand_) return;
   // Lockstep: exactly the deposits the UAVs reported for this region and the
   // states of the home UAVs that took part in the UAV phase, as the clock
@@ -218,8 +227,8 @@ void PlaceApp::take_inputs(uint32_t tick) {
       *bus_, {bus::TopicKind::Deposit, bus::TopicKind::UavHome}, {}, &resend_,
       [&] {
         keep_tree();  // the lockstep tree goes on while this phase waits
-        take_deposits();
         take_home_states(tick);
+        take_deposits();
       },
       [&] {
         return deposits() >= demand_->deposits && home_states_of(tick) >= demand_->states && holds_home_deposits(tick);

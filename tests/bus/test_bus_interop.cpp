@@ -106,7 +106,10 @@ TEST_P(Interop, EveryMessageArrivesIntact) {
     EXPECT_EQ(t.values, tile.values);
   }
 
-  const core::UavStateMsg st{5, 12, 1.25, -2.5, 0.125, 3.0, 6, 2, 1234567890123ULL, 99, 1ULL << 40U, 8, {3, 4}, true, 1003, 7};
+  core::UavStateMsg st{5, 12, 1.25, -2.5, 0.125, 3.0, 6, 2, 1234567890123ULL, 99, 1ULL << 40U, 8, {3, 4}, true, 1003, 7,
+                       0, {}, false, 0, {}};
+  // Its uplink: two deposits travel in the state (UavStateMsg::deposits).
+  st.deposits = {{5, 41, 12, 3, 4, 1, {7, -2}, 0.75F, {1.5F, -0.25F, 2.0F}}, {5, 42, 12, 1, 0, 0, {0, 9}, 1.0F, {}}};
   w_->join_uav(5, 3);
   ASSERT_TRUE(w_->publish_uav_state(st));
   // Once to the home place agent's reader ("s.3"), once relayed to the
@@ -119,7 +122,9 @@ TEST_P(Interop, EveryMessageArrivesIntact) {
   ASSERT_TRUE(w_->relay_state(gone));
   const auto states = wait_for<core::UavStateMsg>([&](auto& v) { r_->take_uav_states(v); }, 2);
   ASSERT_EQ(states.size(), 2U);
-  const auto expect_state = [](const core::UavStateMsg& s) {
+  // `uplink`: a state on the UavState topics carries its deposits; nested
+  // in a view or a field it goes without them.
+  const auto expect_state = [](const core::UavStateMsg& s, bool uplink = true) {
     EXPECT_EQ(s.uav, 5U);
     EXPECT_EQ(s.tick, 12U);
     EXPECT_EQ(s.x, 1.25);
@@ -137,6 +142,26 @@ TEST_P(Interop, EveryMessageArrivesIntact) {
     EXPECT_TRUE(s.finished);
     EXPECT_EQ(s.tick_gap_max_ms, 1003U);
     EXPECT_EQ(s.tick_gaps_over_2, 7U);
+    if (!uplink) {
+      EXPECT_TRUE(s.deposits.empty());
+      return;
+    }
+    ASSERT_EQ(s.deposits.size(), 2U) << "departed " << s.departed;
+    const core::DepositMsg& d = s.deposits[0];
+    EXPECT_EQ(d.uav, 5U);
+    EXPECT_EQ(d.seq, 41U);
+    EXPECT_EQ(d.tick, 12U);
+    EXPECT_EQ(d.region, 3U);
+    EXPECT_EQ(d.kind, 4);
+    EXPECT_EQ(d.layer, 1);
+    EXPECT_EQ(d.cell.x, 7);
+    EXPECT_EQ(d.cell.y, -2);
+    EXPECT_EQ(d.amount, 0.75F);
+    EXPECT_EQ(d.spread[0], 1.5F);
+    EXPECT_EQ(d.spread[1], -0.25F);
+    EXPECT_EQ(d.spread[2], 2.0F);
+    EXPECT_EQ(s.deposits[1].seq, 42U);
+    EXPECT_EQ(s.deposits[1].cell.y, 9);
   };
   for (const auto& s : states) expect_state(s);
   std::vector<core::UavDeparture> departed;
@@ -171,7 +196,7 @@ TEST_P(Interop, EveryMessageArrivesIntact) {
   EXPECT_EQ(views[0].tiles[1].height, 2);
   EXPECT_EQ(views[0].tiles[1].values, (std::vector<float>{4.5F, -1.0F}));
   ASSERT_EQ(views[0].uavs.size(), 2U);
-  for (const auto& s : views[0].uavs) expect_state(s);
+  for (const auto& s : views[0].uavs) expect_state(s, false);
   const core::ViewMsg other{6, 33, {tile}, {}};  // UAV 6's view: not for this reader
   ASSERT_TRUE(w_->publish_view(other));
 
@@ -188,7 +213,7 @@ TEST_P(Interop, EveryMessageArrivesIntact) {
   EXPECT_EQ(fields[0].tiles[0].tick, 44U);
   EXPECT_EQ(fields[0].tiles[0].values, tile.values);
   ASSERT_EQ(fields[0].uavs.size(), 1U);
-  expect_state(fields[0].uavs[0]);
+  expect_state(fields[0].uavs[0], false);
 
   // A UAV's detection, up to its gateway; the gateway's relay, to the ground.
   ASSERT_TRUE(w_->publish_detection({5, 13, 2, {8, -1}}));

@@ -77,12 +77,18 @@ TEST(Qos, TheTableSaysWhatThePheromoneAccountingNeeds) {
   // Every place-agent health record reaches the ground station (series.csv).
   EXPECT_EQ(topic_qos(TopicKind::Health, Endpoint::Writer, lease).depth, 64);
   EXPECT_EQ(topic_qos(TopicKind::Health, Endpoint::Reader, lease).depth, 64);
-  for (const TopicKind k : {TopicKind::Tile, TopicKind::View, TopicKind::Field, TopicKind::UavHome}) {
+  for (const TopicKind k : {TopicKind::Tile, TopicKind::View, TopicKind::Field}) {
     const QosSpec q = topic_qos(k, Endpoint::Reader, lease);
     EXPECT_EQ(q.durability, QosSpec::Durability::TransientLocal) << to_string(k);
     EXPECT_EQ(q.history, QosSpec::History::KeepLast) << to_string(k);
     EXPECT_EQ(q.depth, 1) << to_string(k);
   }
+  // A UAV's states carry its deposits: its gateway keeps every one until taken.
+  const QosSpec home = topic_qos(TopicKind::UavHome, Endpoint::Reader, lease);
+  EXPECT_EQ(home.reliability, QosSpec::Reliability::Reliable);
+  EXPECT_EQ(home.durability, QosSpec::Durability::TransientLocal);
+  EXPECT_EQ(home.history, QosSpec::History::KeepAll);
+  EXPECT_EQ(topic_qos(TopicKind::UavState, Endpoint::Writer, lease).depth, 64);
   // The home place agent reads the UAV's one state writer: the same topic,
   // a liveliness the writer offers.
   EXPECT_EQ(topic_qos(TopicKind::UavHome, Endpoint::Reader, lease).liveliness,

@@ -532,7 +532,7 @@ int spoke(bus::Bus& b, uint32_t id, uint32_t cell, Clock::time_point started) {
   // Exactly idle's endpoints, homed on the cell's place agent.
   bool reported = false;
   as_idle_uav(b, id, cell, [&] {
-    if (!reported && b.matched_deposit_readers(cell) > 0 && b.matched_state_readers() > 0) {
+    if (!reported && b.matched_state_readers() > 0) {
       std::printf("spoke %u matched hub at %.3f after %.2f s\n", id, epoch_s(), seconds_since(started));
       std::fflush(stdout);
       reported = true;

@@ -60,25 +60,33 @@ struct Gateways {
   std::unique_ptr<Bus> place1, place2, uav;
 };
 
-TEST_F(MemoryBus, ADepositReachesThePlaceAgentOfItsRegionAndNotThatOfAnother) {
+TEST_F(MemoryBus, AUavsDepositsTravelInItsStateToItsHomeWhichForwardsThoseOfAnotherRegionToItsOwner) {
   auto uav = make_memory_bus(domain_);
   auto place1 = make_memory_bus(domain_);
   auto place2 = make_memory_bus(domain_);
-  place1->subscribe_deposits(1);
+  place1->subscribe_home_states(1);
+  place2->subscribe_home_states(2);
   place2->subscribe_deposits(2);
   uav->join_uav(7, 1);
-  EXPECT_EQ(uav->matched_deposit_readers(1), 1U);
-  ASSERT_TRUE(uav->publish_deposit(deposit(7, 1, 1), 1));
-  std::vector<core::DepositMsg> got1, got2;
-  place1->take_deposits(got1);
-  place2->take_deposits(got2);
-  ASSERT_EQ(got1.size(), 1U);
-  EXPECT_EQ(got1[0].uav, 7U);
-  EXPECT_EQ(got1[0].seq, 1U);
-  EXPECT_EQ(got1[0].cell.y, 5);
-  EXPECT_TRUE(got2.empty());
+  EXPECT_EQ(uav->matched_state_readers(), 1U);
+  EXPECT_EQ(uav->matched_deposit_readers(1), 0U) << "a UAV has no deposit writer: its deposits go in its state";
+  core::UavStateMsg s = state(7, 4);
+  s.deposits = {deposit(7, 1, 1), deposit(7, 2, 2)};
+  ASSERT_TRUE(uav->publish_uav_state(s));
+  std::vector<core::UavStateMsg> at1, at2;
+  place1->take_uav_states(at1);
+  place2->take_uav_states(at2);
+  ASSERT_EQ(at1.size(), 1U);
+  ASSERT_EQ(at1[0].deposits.size(), 2U);
+  EXPECT_EQ(at1[0].deposits[0].seq, 1U);
+  EXPECT_EQ(at1[0].deposits[0].cell.y, 5);
+  EXPECT_EQ(at1[0].deposits[1].region, 2U);
+  EXPECT_TRUE(at2.empty());
   // Forwarded by place agent 1 into region 2's partition: now 2 has it.
-  ASSERT_TRUE(place1->publish_deposit(deposit(7, 2, 2), 2));
+  place1->offer_deposits(std::vector<core::RegionId>{2});
+  EXPECT_EQ(place1->matched_deposit_readers(2), 1U);
+  ASSERT_TRUE(place1->publish_deposit(at1[0].deposits[1], 2));
+  std::vector<core::DepositMsg> got2;
   place2->take_deposits(got2);
   ASSERT_EQ(got2.size(), 1U);
   EXPECT_EQ(got2[0].seq, 2U);
@@ -149,17 +157,47 @@ TEST_F(MemoryBus, ALateReaderGetsTheLatestChunkOfEachRegionsFieldOnly) {
   EXPECT_NE(got[0].chunk, got[1].chunk);
 }
 
-TEST_F(MemoryBus, EveryDepositIsKeptForAReaderThatTakesLate) {
-  // Deposit readers keep all (pheromone accounting): none is replaced.
+TEST_F(MemoryBus, EveryDepositAndEveryStateIsKeptForAReaderThatTakesLate) {
+  // Deposit readers and a home's state readers keep all (pheromone
+  // accounting: the states carry the deposits): none is replaced.
   auto uav = make_memory_bus(domain_);
+  auto forwarder = make_memory_bus(domain_);
   auto place = make_memory_bus(domain_);
   place->subscribe_deposits(0);
+  place->subscribe_home_states(0);
   uav->join_uav(1, 0);
-  for (uint32_t seq = 1; seq <= 5; ++seq) ASSERT_TRUE(uav->publish_deposit(deposit(1, seq, 0), 0));
+  for (uint32_t seq = 1; seq <= 5; ++seq) ASSERT_TRUE(forwarder->publish_deposit(deposit(3, seq, 0), 0));
+  for (uint32_t tick = 1; tick <= 5; ++tick) {
+    core::UavStateMsg s = state(1, tick);
+    s.deposits = {deposit(1, tick, 0)};
+    ASSERT_TRUE(uav->publish_uav_state(s));
+  }
   std::vector<core::DepositMsg> got;
   place->take_deposits(got);
   ASSERT_EQ(got.size(), 5U);
   for (uint32_t i = 0; i < 5; ++i) EXPECT_EQ(got[i].seq, i + 1);
+  std::vector<core::UavStateMsg> states;
+  place->take_uav_states(states);
+  ASSERT_EQ(states.size(), 5U);
+  for (uint32_t i = 0; i < 5; ++i) {
+    EXPECT_EQ(states[i].tick, i + 1);
+    ASSERT_EQ(states[i].deposits.size(), 1U);
+    EXPECT_EQ(states[i].deposits[0].seq, i + 1);
+  }
+}
+
+TEST_F(MemoryBus, AStateOverTheUplinkBoundIsRefusedNotWritten) {
+  auto uav = make_memory_bus(domain_);
+  auto place = make_memory_bus(domain_);
+  place->subscribe_home_states(0);
+  uav->join_uav(1, 0);
+  core::UavStateMsg s = state(1, 1);
+  s.deposits.assign(core::kMaxUplinkDeposits + 1, deposit(1, 1, 0));
+  EXPECT_FALSE(uav->publish_uav_state(s));
+  EXPECT_EQ(uav->stats().writes_refused, 1U);
+  std::vector<core::UavStateMsg> states;
+  place->take_uav_states(states);
+  EXPECT_TRUE(states.empty());
 }
 
 TEST_F(MemoryBus, TheGroundStationHearsAUavsDepartureFromItsPlaceAgentAndThatOfAPlaceReplicaWhoseBusEnded) {

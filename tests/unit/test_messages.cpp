@@ -252,5 +252,40 @@ TEST(Messages, TargetEventKindsAreTheMarkEventKindsWithNames) {
   EXPECT_EQ(process_key(kRoleGround, 0) >> 24U, 3U);
 }
 
+TEST(UplinkSamples, AStateCarriesItsTicksDepositsInSamplesOfAtMostTheBoundEachWithTheWholeState) {
+  UavStateMsg s;
+  s.uav = 3;
+  s.tick = 17;
+  s.x = 4.5;
+  s.deposits_sent = 200;
+  // None: one sample, the state alone.
+  auto samples = uplink_samples(s, {});
+  ASSERT_EQ(samples.size(), 1U);
+  EXPECT_TRUE(samples[0].deposits.empty());
+  EXPECT_EQ(samples[0].tick, 17U);
+  // 64 + 64 + 2 = 130 deposits: three samples, in order, each the same state.
+  std::vector<DepositMsg> deposits(2 * kMaxUplinkDeposits + 2);
+  for (std::size_t i = 0; i < deposits.size(); ++i) deposits[i].seq = static_cast<uint32_t>(71 + i);
+  samples = uplink_samples(s, deposits);
+  ASSERT_EQ(samples.size(), 3U);
+  EXPECT_EQ(samples[0].deposits.size(), kMaxUplinkDeposits);
+  EXPECT_EQ(samples[1].deposits.size(), kMaxUplinkDeposits);
+  ASSERT_EQ(samples[2].deposits.size(), 2U);
+  EXPECT_EQ(samples[0].deposits.front().seq, 71U);
+  EXPECT_EQ(samples[1].deposits.front().seq, 71U + 64U);
+  EXPECT_EQ(samples[2].deposits.back().seq, 71U + 129U);
+  for (const auto& m : samples) {
+    EXPECT_EQ(m.uav, 3U);
+    EXPECT_EQ(m.tick, 17U);
+    EXPECT_EQ(m.x, 4.5);
+    EXPECT_EQ(m.deposits_sent, 200U);
+  }
+  // Exactly the bound: one sample.
+  deposits.resize(kMaxUplinkDeposits);
+  EXPECT_EQ(uplink_samples(s, deposits).size(), 1U);
+  // payload_bytes counts what a state carries.
+  EXPECT_EQ(payload_bytes(samples[2]), sizeof(UavStateMsg) + 2 * sizeof(DepositMsg));
+}
+
 }  // namespace
 }  // namespace pheromesh::core

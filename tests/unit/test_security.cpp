@@ -24,16 +24,15 @@ bool names_topic(const std::vector<bus::TopicRule>& rules, const std::string& to
 
 }  // namespace
 
-TEST(SecurityGrants, AUavWritesOnlyItsOwnStateAndDepositsToItsHomeAndNeverTilesClockOrCommands) {
+TEST(SecurityGrants, AUavWritesOnlyItsOwnStateToItsHomeAndNeverDepositsTilesClockOrCommands) {
   const bus::SwarmShape shape{10, 4, 0, 0};
   const auto g = bus::grant_for("uav-6", shape);  // home region 6 mod 4 = 2
   ASSERT_TRUE(g.ok()) << g.error().message;
   EXPECT_EQ(g->subject, "CN=uav-6");
   EXPECT_TRUE(allows(g->publish, "pheromesh_uav_state", "s.2"));
-  EXPECT_TRUE(allows(g->publish, "pheromesh_deposit", "r.2"));
-  EXPECT_FALSE(allows(g->publish, "pheromesh_deposit", "r.*"));
   EXPECT_FALSE(allows(g->publish, "pheromesh_uav_state", "s.*"));
-  for (const char* t : {"pheromesh_tile", "pheromesh_clock", "pheromesh_command", "pheromesh_region_field",
+  // Its deposits go up in its states (UavStateMsg::deposits): no deposit writer.
+  for (const char* t : {"pheromesh_deposit", "pheromesh_tile", "pheromesh_clock", "pheromesh_command", "pheromesh_region_field",
                         "pheromesh_view", "pheromesh_halo"}) {
     EXPECT_FALSE(names_topic(g->publish, t)) << t;
   }

@@ -157,8 +157,7 @@ bool Bus::publish_scenario(const core::ScenarioMsg& m) { return roles_->scenario
 // ------------------------------------------------------------------- roles
 void Bus::join_uav(uint32_t uav, core::RegionId home, bool broadcasts) {
   roles_->home = home;
-  roles_->states.offer(home_partition(home));
-  roles_->deposits.offer(region_partition(home));
+  roles_->states.offer(home_partition(home));  // its state and its deposits (UavStateMsg::deposits)
   roles_->detections.offer(detection_uplink_partition(home));
   roles_->broadcaster = broadcasts;
   if (broadcasts) roles_->broadcasts.offer(broadcast_uplink_partition(home));
@@ -191,7 +190,6 @@ void Bus::move_uplink(core::RegionId gateway) {
   if (!roles_->home) throw BusMisuse("move_uplink before join_uav");
   roles_->home = gateway;
   roles_->states.offer(home_partition(gateway));
-  roles_->deposits.offer(region_partition(gateway));
   roles_->detections.offer(detection_uplink_partition(gateway));
   if (roles_->broadcaster) roles_->broadcasts.offer(broadcast_uplink_partition(gateway));
   if (roles_->clock_tree) roles_->phase_done.offer(uav_report_partition(gateway));
@@ -202,11 +200,13 @@ void Bus::subscribe_deposits(core::RegionId own, bool history) {
                              history ? Watch::Samples : Watch::NewSamplesOnly);
 }
 
-void Bus::subscribe_home_states(core::RegionId own) {
+void Bus::subscribe_home_states(core::RegionId own, bool history) {
   // The home place agent's reader of the UAVs' state writers: its own QoS
   // row. It tells the ground station of their departures (relay_state).
+  // The states carry the UAVs' deposits: a place agent started again takes
+  // none its dead life counted (as subscribe_deposits).
   roles_->home_states_in.emplace(*this, std::vector<std::string>{home_partition(own)}, TopicKind::UavHome,
-                                 Watch::SamplesAndDepartures);
+                                 history ? Watch::SamplesAndDepartures : Watch::NewSamplesAndDepartures);
 }
 
 void Bus::subscribe_fields() { roles_->field_in.emplace(*this, std::vector<std::string>{kFieldPartition}); }

@@ -280,7 +280,7 @@ void take_as(CycloneTransport& t, dds_entity_t reader, Watch watch, TakeSink& si
         } else {
           t.dropped();
         }
-      } else if (watch == Watch::SamplesAndDepartures && info[i].instance_state != DDS_ALIVE_INSTANCE_STATE) {
+      } else if (watches_departures(watch) && info[i].instance_state != DDS_ALIVE_INSTANCE_STATE) {
         // No data, the key fields only: every writer of the instance is gone.
         const auto key = cyclone::Convert<M>::in(s);
         sink.gone(key ? &*key : nullptr, who);

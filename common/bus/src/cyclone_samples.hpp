@@ -79,28 +79,39 @@ inline pheromesh_msg_UavState state_out(const core::UavStateMsg& m) {
                            m.tick_gaps_over_2,
                            m.deposits_unconfirmed,
                            {},
-                           m.departed};
+                           m.departed,
+                           {}};  // deposits: only the UavState topic's writer sets them (Convert below)
   std::copy(m.refused.begin(), m.refused.end(), s.refused);
   return s;
 }
 
+inline pheromesh_msg_Deposit deposit_out(const core::DepositMsg& m) {
+  return {m.uav,    m.seq,    m.tick,   m.region, m.kind, m.layer, m.cell.x,
+          m.cell.y, m.amount, {m.spread[0], m.spread[1], m.spread[2]}};
+}
+
+inline core::DepositMsg deposit_in(const pheromesh_msg_Deposit& s) {
+  return {s.uav, s.seq, s.tick, s.region, s.kind, s.layer, {s.x, s.y}, s.amount, {s.spread[0], s.spread[1], s.spread[2]}};
+}
+
 inline core::UavStateMsg state_in(const pheromesh_msg_UavState& s) {
-  core::UavStateMsg m{s.uav,
-                      s.tick,
-                      s.x,
-                      s.y,
-                      s.vx,
-                      s.vy,
-                      s.heading,
-                      s.role,
-                      s.deposits_sent,
-                      s.tile_samples_received,
-                      s.samples_received,
-                      s.ticks_late,
-                      {s.view_x, s.view_y},
-                      s.finished,
-                      s.tick_gap_max_ms,
-                      s.tick_gaps_over_2};
+  core::UavStateMsg m;
+  m.uav = s.uav;
+  m.tick = s.tick;
+  m.x = s.x;
+  m.y = s.y;
+  m.vx = s.vx;
+  m.vy = s.vy;
+  m.heading = s.heading;
+  m.role = s.role;
+  m.deposits_sent = s.deposits_sent;
+  m.tile_samples_received = s.tile_samples_received;
+  m.samples_received = s.samples_received;
+  m.ticks_late = s.ticks_late;
+  m.view = {s.view_x, s.view_y};
+  m.finished = s.finished;
+  m.tick_gap_max_ms = s.tick_gap_max_ms;
+  m.tick_gaps_over_2 = s.tick_gaps_over_2;
   m.deposits_unconfirmed = s.deposits_unconfirmed;
   std::copy(std::begin(s.refused), std::end(s.refused), m.refused.begin());
   m.departed = s.departed;
@@ -177,14 +188,10 @@ struct Convert<core::DepositMsg> {
   static const dds_topic_descriptor_t* descriptor() { return &pheromesh_msg_Deposit_desc; }
   template <typename Write>
   static bool out(const core::DepositMsg& m, Write&& write) {
-    const Sample s{m.uav,   m.seq,    m.tick,   m.region, m.kind,
-                   m.layer, m.cell.x, m.cell.y, m.amount, {m.spread[0], m.spread[1], m.spread[2]}};
+    const Sample s = deposit_out(m);
     return write(&s);
   }
-  static std::optional<core::DepositMsg> in(const Sample& s) {
-    return core::DepositMsg{
-        s.uav, s.seq, s.tick, s.region, s.kind, s.layer, {s.x, s.y}, s.amount, {s.spread[0], s.spread[1], s.spread[2]}};
-  }
+  static std::optional<core::DepositMsg> in(const Sample& s) { return deposit_in(s); }
 };
 
 template <>
@@ -193,10 +200,20 @@ struct Convert<core::UavStateMsg> {
   static const dds_topic_descriptor_t* descriptor() { return &pheromesh_msg_UavState_desc; }
   template <typename Write>
   static bool out(const core::UavStateMsg& m, Write&& write) {
-    const Sample s = state_out(m);
+    Sample s = state_out(m);
+    std::vector<pheromesh_msg_Deposit> deposits;
+    deposits.reserve(m.deposits.size());
+    for (const auto& d : m.deposits) deposits.push_back(deposit_out(d));
+    borrow(s.deposits, deposits);
     return write(&s);
   }
-  static std::optional<core::UavStateMsg> in(const Sample& s) { return state_in(s); }
+  static std::optional<core::UavStateMsg> in(const Sample& s) {
+    if (!seq_ok(s.deposits, core::kMaxUplinkDeposits)) return std::nullopt;
+    core::UavStateMsg m = state_in(s);
+    m.deposits.reserve(s.deposits._length);
+    for (uint32_t i = 0; i < s.deposits._length; ++i) m.deposits.push_back(deposit_in(s.deposits._buffer[i]));
+    return m;
+  }
 };
 
 template <>

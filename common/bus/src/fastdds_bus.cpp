@@ -345,7 +345,7 @@ class FastDdsTransport final : public Transport {
     Entry e;
     e.kind = kind;
     // Departures: writers whose liveliness was lost, heard by a listener.
-    if (watch == Watch::SamplesAndDepartures) e.watch = std::make_unique<LivelinessWatch>();
+    if (watches_departures(watch)) e.watch = std::make_unique<LivelinessWatch>();
     const fdds::StatusMask mask = e.watch ? fdds::StatusMask::liveliness_changed() : fdds::StatusMask::none();
     const fdds::DataReaderQos q =
         to_fastdds_reader(

@@ -75,22 +75,23 @@ inline std::vector<msg::RegionCount> region_counts_out(const std::vector<core::R
 }
 
 inline core::UavStateMsg state_in(const msg::UavState& s) {
-  core::UavStateMsg m{s.uav(),
-                      s.tick(),
-                      s.x(),
-                      s.y(),
-                      s.vx(),
-                      s.vy(),
-                      s.heading(),
-                      s.role(),
-                      s.deposits_sent(),
-                      s.tile_samples_received(),
-                      s.samples_received(),
-                      s.ticks_late(),
-                      {s.view_x(), s.view_y()},
-                      s.finished(),
-                      s.tick_gap_max_ms(),
-                      s.tick_gaps_over_2()};
+  core::UavStateMsg m;
+  m.uav = s.uav();
+  m.tick = s.tick();
+  m.x = s.x();
+  m.y = s.y();
+  m.vx = s.vx();
+  m.vy = s.vy();
+  m.heading = s.heading();
+  m.role = s.role();
+  m.deposits_sent = s.deposits_sent();
+  m.tile_samples_received = s.tile_samples_received();
+  m.samples_received = s.samples_received();
+  m.ticks_late = s.ticks_late();
+  m.view = {s.view_x(), s.view_y()};
+  m.finished = s.finished();
+  m.tick_gap_max_ms = s.tick_gap_max_ms();
+  m.tick_gaps_over_2 = s.tick_gaps_over_2();
   m.deposits_unconfirmed = s.deposits_unconfirmed();
   std::copy(s.refused().begin(), s.refused().end(), m.refused.begin());
   m.departed = s.departed();
@@ -120,6 +121,27 @@ inline msg::UavState state_out(const core::UavStateMsg& m) {
   std::copy(m.refused.begin(), m.refused.end(), s.refused().begin());
   s.departed(m.departed);
   return s;
+}
+
+inline msg::Deposit deposit_out(const core::DepositMsg& m) {
+  msg::Deposit s;
+  s.uav(m.uav);
+  s.seq(m.seq);
+  s.tick(m.tick);
+  s.region(m.region);
+  s.kind(m.kind);
+  s.layer(m.layer);
+  s.x(m.cell.x);
+  s.y(m.cell.y);
+  s.amount(m.amount);
+  s.spread({m.spread[0], m.spread[1], m.spread[2]});
+  return s;
+}
+
+inline core::DepositMsg deposit_in(const msg::Deposit& s) {
+  return core::DepositMsg{s.uav(),        s.seq(),    s.tick(),
+                          s.region(),     s.kind(),   s.layer(),
+                          {s.x(), s.y()}, s.amount(), {s.spread()[0], s.spread()[1], s.spread()[2]}};
 }
 
 inline std::vector<msg::UavState> states_out(const std::vector<core::UavStateMsg>& states) {
@@ -188,33 +210,29 @@ template <>
 struct Convert<core::DepositMsg> {
   using Sample = msg::Deposit;
   using PubSub = msg::DepositPubSubType;
-  static Sample out(const core::DepositMsg& m) {
-    Sample s;
-    s.uav(m.uav);
-    s.seq(m.seq);
-    s.tick(m.tick);
-    s.region(m.region);
-    s.kind(m.kind);
-    s.layer(m.layer);
-    s.x(m.cell.x);
-    s.y(m.cell.y);
-    s.amount(m.amount);
-    s.spread({m.spread[0], m.spread[1], m.spread[2]});
-    return s;
-  }
-  static std::optional<core::DepositMsg> in(const Sample& s) {
-    return core::DepositMsg{s.uav(),        s.seq(),    s.tick(),
-                            s.region(),     s.kind(),   s.layer(),
-                            {s.x(), s.y()}, s.amount(), {s.spread()[0], s.spread()[1], s.spread()[2]}};
-  }
+  static Sample out(const core::DepositMsg& m) { return deposit_out(m); }
+  static std::optional<core::DepositMsg> in(const Sample& s) { return deposit_in(s); }
 };
 
 template <>
 struct Convert<core::UavStateMsg> {
   using Sample = msg::UavState;
   using PubSub = msg::UavStatePubSubType;
-  static Sample out(const core::UavStateMsg& m) { return state_out(m); }
-  static std::optional<core::UavStateMsg> in(const Sample& s) { return state_in(s); }
+  // Only here, on the UavState topic, a state carries its deposits (the
+  // nested states of views and fields go without them: state_out, state_in).
+  static Sample out(const core::UavStateMsg& m) {
+    Sample s = state_out(m);
+    s.deposits().reserve(m.deposits.size());
+    for (const auto& d : m.deposits) s.deposits().push_back(deposit_out(d));
+    return s;
+  }
+  static std::optional<core::UavStateMsg> in(const Sample& s) {
+    if (s.deposits().size() > core::kMaxUplinkDeposits) return std::nullopt;
+    core::UavStateMsg m = state_in(s);
+    m.deposits.reserve(s.deposits().size());
+    for (const auto& d : s.deposits()) m.deposits.push_back(deposit_in(d));
+    return m;
+  }
 };
 
 template <>

@@ -123,7 +123,7 @@ class MemoryTransport final : public Transport {
       for (auto& w : d.writers) {
         if (w.owner != this) continue;
         for (auto& r : d.readers) {
-          if (r.owner == this || r.watch != Watch::SamplesAndDepartures || !MemoryDomain::matches(w, r)) continue;
+          if (r.owner == this || !watches_departures(r.watch) || !MemoryDomain::matches(w, r)) continue;
           for (const auto& [key, samples] : w.history) {
             if (!samples.empty()) MemoryDomain::deliver(r, {samples.back(), w.id, key, true});
           }

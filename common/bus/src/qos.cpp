@@ -73,9 +73,10 @@ QosSpec topic_qos(TopicKind kind, Endpoint endpoint, std::chrono::milliseconds l
       keep_last(1);
       break;
     case TopicKind::UavState:
-      // The ground station records every position it is sent: KEEP_ALL
-      // reader, a little writer history. It tells a lost UAV by this
-      // writer's liveliness: manual-by-topic, as for Health.
+      // A UAV's uplink to its gateway (its state and its deposits): every
+      // sample matters, KEEP_ALL reader (UavHome), a writer history of 64
+      // ticks. The gateway tells a lost UAV by this writer's liveliness:
+      // manual-by-topic, as for Health.
       q.liveliness = QosSpec::Liveliness::ManualByTopic;
       q.liveliness_lease = lease;
       if (reader) {
@@ -95,13 +96,14 @@ QosSpec topic_qos(TopicKind kind, Endpoint endpoint, std::chrono::milliseconds l
       }
       break;
     case TopicKind::UavHome:
-      // The home place agent reads the latest state of each UAV homed on it
-      // (lockstep: the state of the UAV phase just finished, written and
-      // acknowledged before the place phase starts). Reader only; the writer
+      // The gateway place agent reads every state of each UAV it serves:
+      // each carries the deposits the UAV made since the one before
+      // (UavStateMsg::deposits), so none may replace another before it is
+      // taken (the UAV's writer keeps the last 64). Reader only; the writer
       // is the UAV's UavState writer, whose liveliness it must accept.
       q.liveliness = QosSpec::Liveliness::ManualByTopic;
       q.liveliness_lease = lease;
-      keep_last(1);
+      keep_all();
       break;
     case TopicKind::View:
     case TopicKind::Field:

@@ -41,15 +41,14 @@ Grant uav_grant(uint32_t uav, uint32_t regions) {
   const core::RegionId backup = core::backup_region(uav, regions);
   Grant g{"uav-" + std::to_string(uav), "", {}, {}};
   // It talks to its gateways only, its home place agent or its backup while
-  // its home is dead (docs/architecture.md, "Relays"): its state, deposits,
+  // its home is dead (docs/architecture.md, "Relays"): its state (with its deposits),
   // detections, broadcasts and lockstep reports go up to them; it hears the
   // lockstep clock, the swarm's broadcasts and the ground station's commands
   // as they relay them.
-  std::vector<std::string> states, deposits, detections, broadcasts_up, reports, clocks, broadcasts_down, commands;
+  std::vector<std::string> states, detections, broadcasts_up, reports, clocks, broadcasts_down, commands;
   for (core::RegionId r : {home, backup}) {
     if (r == backup && backup == home) break;
     states.push_back(home_partition(r));
-    deposits.push_back(region_partition(r));
     detections.push_back(detection_uplink_partition(r));
     broadcasts_up.push_back(broadcast_uplink_partition(r));
     reports.push_back(uav_report_partition(r));
@@ -58,7 +57,6 @@ Grant uav_grant(uint32_t uav, uint32_t regions) {
     commands.push_back(command_downlink_partition(r));
   }
   g.publish = {{topic(TopicKind::UavState), states},
-               {topic(TopicKind::Deposit), deposits},
                {topic(TopicKind::Detection), detections},
                {topic(TopicKind::Broadcast), broadcasts_up},
                {topic(TopicKind::PhaseDone), reports}};

@@ -182,4 +182,19 @@ std::size_t payload_bytes(const PhaseDoneMsg& m) { return sizeof(m) + m.deposits
 
 std::size_t payload_bytes(const ScenarioMsg& m) { return sizeof(m) + m.text.size(); }
 
+std::size_t payload_bytes(const UavStateMsg& m) { return sizeof(m) + m.deposits.size() * sizeof(DepositMsg); }
+
+std::vector<UavStateMsg> uplink_samples(const UavStateMsg& s, const std::vector<DepositMsg>& deposits) {
+  std::vector<UavStateMsg> out;
+  std::size_t next = 0;
+  do {
+    const std::size_t n = std::min(kMaxUplinkDeposits, deposits.size() - next);
+    UavStateMsg& sample = out.emplace_back(s);
+    sample.deposits.assign(deposits.begin() + static_cast<std::ptrdiff_t>(next),
+                           deposits.begin() + static_cast<std::ptrdiff_t>(next + n));
+    next += n;
+  } while (next < deposits.size());
+  return out;
+}
+
 }  // namespace pheromesh::core

@@ -46,7 +46,7 @@ int main(int argc, char** argv) {
   auto uav = open("fastdds", "uav-0", domain);
   if (!place || !uav) return 1;
   place->subscribe_deposits(0);
-  uav->join_uav(0, 0);
+  uav->offer_deposits(std::vector<core::RegionId>{0});  // as a place agent forwarding to region 0
   const auto deadline = Clock::now() + std::chrono::seconds(20);
   while (uav->matched_deposit_readers(0) == 0 && Clock::now() < deadline) {
     std::this_thread::sleep_for(std::chrono::milliseconds(20));

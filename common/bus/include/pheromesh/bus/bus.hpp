@@ -13,9 +13,10 @@
 // only what it subscribed to). Every endpoint is created once, when a process
 // joins; nothing is created, deleted or re-partitioned while a swarm flies
 // (docs/architecture.md, "Views"):
-//   UAV state    -> "s.<home>": its home place agent and the ground ("s.*")
-//   deposits     -> "r.<region>": a UAV writes to its home place agent, which
-//                   forwards those for other regions to their owner
+//   UAV state and its deposits (its uplink) -> "s.<gateway>": its gateway
+//                   place agent (its home, or its backup once the home is gone)
+//   deposits     -> "r.<region>": a place agent forwards those of its UAVs
+//                   for other regions to their owner
 //   views        -> "u.<uav>": from the home place agent to that UAV only
 //   region fields (tiles + home UAV states) -> "f": the ground station
 //   served UAV states -> "p": every other place agent
@@ -114,8 +115,9 @@ class Bus {
 
   // --- publishing; false if the sample was refused (bounds) or the write failed
   bool publish_tile(const core::TileMsg& m);
-  // Into the deposit partition of `via`: a UAV's home place agent, or the
-  // owner m.region when a place agent forwards it.
+  // Into the deposit partition of `via`: the owner m.region, when a place
+  // agent forwards it (a UAV's deposits travel in its state,
+  // UavStateMsg::deposits).
   bool publish_deposit(const core::DepositMsg& m, core::RegionId via);
   bool publish_uav_state(const core::UavStateMsg& m);  // to the home given to join_uav; BusMisuse before
   bool publish_view(const core::ViewMsg& m);           // to UAV m.uav
@@ -188,12 +190,13 @@ class Bus {
   void take_commands(std::vector<core::CommandMsg>& out);
 
   // --- joining and subscribing (each once per process)
-  // A UAV: its state writer and deposit writer towards its home place agent,
-  // its view reader, its detection writer and (if its policy broadcasts) its
-  // broadcast writer: every endpoint it writes with, before it flies.
+  // A UAV: its state writer towards its home place agent (the state carries
+  // its deposits), its view reader, its detection writer and (if its policy
+  // broadcasts) its broadcast writer: every endpoint it writes with, before
+  // it flies.
   void join_uav(uint32_t uav, core::RegionId home, bool broadcasts = false);
-  // A UAV whose home place agent died: its state and deposits go to
-  // `gateway` (its backup) from now on (new writers; the rare endpoint change).
+  // A UAV whose home place agent died: its state (and so its deposits) goes
+  // to `gateway` (its backup) from now on (new writers; the rare endpoint change).
   void move_uplink(core::RegionId gateway);
   // A place agent: deposits for `own` (from its UAVs and forwarded), the
   // states of the UAVs homed on it (and their departures:
@@ -201,7 +204,7 @@ class Bus {
   // history false (a place agent started again): none of the deposits
   // written before it matched (its dead life counted them).
   void subscribe_deposits(core::RegionId own, bool history = true);
-  void subscribe_home_states(core::RegionId own);
+  void subscribe_home_states(core::RegionId own, bool history = true);
   void subscribe_fields();  // the ground station
   // A place agent: the other place agents' served states and the tiles sent
   // for its own UAVs' views; and its writers of both, opened now.
@@ -263,12 +266,11 @@ class Bus {
   bool flush(std::initializer_list<TopicKind> kinds, std::chrono::milliseconds timeout);
 
   // Readers matched by this process's deposit writer into the partition of
-  // `region` (a UAV: its home place agent before depositing); 0 if it has no
-  // such writer. A query only: the writers are opened by join_uav and
-  // offer_deposits.
+  // `region` (a place agent: the owner it forwards to); 0 if it has no such
+  // writer. A query only: the writers are opened by offer_deposits.
   [[nodiscard]] uint32_t matched_deposit_readers(core::RegionId region) const;
-  // Readers matched by this UAV's state writer (its home place agent and the
-  // ground station; 0 before join_uav).
+  // Readers matched by this UAV's state writer to its gateway (the gateway
+  // place agent and its standbys; 0 before join_uav).
   [[nodiscard]] uint32_t matched_state_readers();
 
   [[nodiscard]] BusStats stats() const;

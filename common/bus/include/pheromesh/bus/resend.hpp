@@ -12,10 +12,10 @@
 // a new sample of the same instance and content, which the readers take like
 // the first (each of these readers is idempotent per tick), so the run's
 // numbers do not change. Broadcasts are not re-sent: they are counted, not
-// replaced. Deposits (a UAV's, and those a place agent forwards) and a UAV's
-// state are re-sent too: lockstep place agents drop a deposit they have seen
-// (by UAV and sequence number, core::DepositDesk) and take a UAV's state of a
-// tick once. No lockstep writer waits for acknowledgements, so a deposit or
+// replaced. Deposits a place agent forwards and a UAV's states (which carry
+// its deposits) are re-sent too: lockstep place agents drop a deposit they
+// have seen (by UAV and sequence number, core::DepositDesk) and take a UAV's
+// state of a tick once. No lockstep writer waits for acknowledgements, so a deposit or
 // state whose packet was lost comes again with the writer's next heartbeat
 // only, which Cyclone sends ever more rarely while the writer writes nothing
 // new (measured: a run under 30 % loss waited 30 s for one deposit); with
@@ -50,7 +50,7 @@ class LatestResender {
     halos_.clear();
     clock_.reset();
     done_.reset();
-    state_.reset();
+    states_.clear();
     deposits_.clear();
   }
   // Re-send deposits too (lockstep processes whose readers drop copies: see above).
@@ -81,14 +81,17 @@ class LatestResender {
   }
   bool clock(const core::ClockMsg& m) { return remember(clock_, m, bus_.publish_clock(m)); }
   bool phase_done(const core::PhaseDoneMsg& m) { return remember(done_, m, bus_.publish_phase_done(m)); }
-  bool uav_state(const core::UavStateMsg& m) { return remember(state_, m, bus_.publish_uav_state(m)); }
+  // Every state sample of the tick: each carries some of its deposits
+  // (core::uplink_samples).
+  bool uav_state(const core::UavStateMsg& m) { return remember(states_, m, bus_.publish_uav_state(m)); }
 
   // Call from every wait loop: when nothing was published or re-sent for the
   // quiet period, publishes every remembered sample again. True if it did.
   bool resend_if_quiet() {
     const auto now = Clock::now();
     if (now - last_ < quiet_ ||
-        (fields_.empty() && views_.empty() && halos_.empty() && !clock_ && !done_ && !state_ && deposits_.empty())) {
+        (fields_.empty() && views_.empty() && halos_.empty() && !clock_ && !done_ && states_.empty() &&
+         deposits_.empty())) {
       return false;
     }
     for (const auto& [m, via] : deposits_) bus_.publish_deposit(m, via);
@@ -96,7 +99,7 @@ class LatestResender {
     for (const auto& m : views_) bus_.publish_view(m);
     for (const auto& [m, to] : halos_) bus_.publish_halo(m, to);
     if (clock_) bus_.publish_clock(*clock_);
-    if (state_) bus_.publish_uav_state(*state_);
+    for (const auto& m : states_) bus_.publish_uav_state(m);
     if (done_) bus_.publish_phase_done(*done_);
     last_ = now;
     ++resends_;
@@ -158,7 +161,7 @@ class LatestResender {
   std::vector<std::pair<core::HaloMsg, core::RegionId>> halos_;
   std::optional<core::ClockMsg> clock_;
   std::optional<core::PhaseDoneMsg> done_;
-  std::optional<core::UavStateMsg> state_;
+  std::vector<core::UavStateMsg> states_;
   bool deposits_on_ = false;
   std::vector<std::pair<core::DepositMsg, core::RegionId>> deposits_;
   uint64_t resends_ = 0;

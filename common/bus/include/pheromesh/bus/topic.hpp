@@ -79,13 +79,17 @@ struct Topic<core::DepositMsg> {
   static BoundCheck oversize(const core::DepositMsg& /*m*/) { return std::nullopt; }
 };
 
-// Routed by the writer: "s.<home>" of the UAV (Bus::join_uav). The departure
-// of a UAV is reported by this key.
+// Routed by the writer: "s.<gateway>" of the UAV (Bus::join_uav,
+// move_uplink). The departure of a UAV is reported by this key. It carries
+// the UAV's deposits (core::uplink_samples splits a tick's deposits over the
+// bound); nested in a view or a field, a state goes without them.
 template <>
 struct Topic<core::UavStateMsg> {
   static constexpr TopicKind kind = TopicKind::UavState;
   static uint64_t key(const core::UavStateMsg& m) { return m.uav; }
-  static BoundCheck oversize(const core::UavStateMsg& /*m*/) { return std::nullopt; }
+  static BoundCheck oversize(const core::UavStateMsg& m) {
+    return detail::over("uplink deposits", m.deposits.size(), core::kMaxUplinkDeposits);
+  }
 };
 
 template <>

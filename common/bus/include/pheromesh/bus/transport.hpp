@@ -49,14 +49,20 @@ struct BusStats {
 enum class EndpointId : uint32_t {};
 
 // Whether a reader reports the departure of its writers (their liveliness
-// lost, their process ended) besides their samples; NewSamplesOnly: samples
-// only, and none of the writers' history (a volatile reader: a place agent
-// started again takes no deposits its dead life already counted).
-enum class Watch : uint8_t { Samples, SamplesAndDepartures, NewSamplesOnly };
+// lost, their process ended) besides their samples; the New... ones take
+// none of the writers' history (a volatile reader: a place agent started
+// again takes no deposits its dead life already counted).
+enum class Watch : uint8_t { Samples, SamplesAndDepartures, NewSamplesOnly, NewSamplesAndDepartures };
+
+inline bool watches_departures(Watch w) {
+  return w == Watch::SamplesAndDepartures || w == Watch::NewSamplesAndDepartures;
+}
 
 // The reader QoS of `kind` as `watch` asks for it.
 inline QosSpec reader_qos_for(QosSpec q, Watch watch) {
-  if (watch == Watch::NewSamplesOnly) q.durability = QosSpec::Durability::Volatile;
+  if (watch == Watch::NewSamplesOnly || watch == Watch::NewSamplesAndDepartures) {
+    q.durability = QosSpec::Durability::Volatile;
+  }
   return q;
 }
 

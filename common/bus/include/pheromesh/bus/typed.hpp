@@ -72,7 +72,7 @@ class Reader {
   // (a reader opened with Watch::SamplesAndDepartures).
   void take(std::vector<M>& out, std::vector<uint32_t>& departed) {
     bus_->transport().keep_alive();
-    Sink sink(out, departed, watch_ == Watch::SamplesAndDepartures ? &departures_ : nullptr);
+    Sink sink(out, departed, watches_departures(watch_) ? &departures_ : nullptr);
     const std::size_t before = out.size();
     bus_->transport().take(id_, sink);
     std::size_t bytes = 0;

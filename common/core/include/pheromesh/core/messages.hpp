@@ -79,7 +79,19 @@ struct UavStateMsg {
   // the DDS writer (as ClockMsg::writer). The UAV's gateway latches it
   // (core/writer_latch.hpp).
   uint64_t writer = 0;
+  // The UAV's uplink: the deposits it made since its previous state (at
+  // most kMaxUplinkDeposits; a tick with more writes the state again with
+  // the rest, uplink_samples). Its gateway takes them as it takes forwarded
+  // deposits. Empty in a view, a field and a state relayed to the ground.
+  std::vector<DepositMsg> deposits;
 };
+inline constexpr std::size_t kMaxUplinkDeposits = 64;  // idl MAX_UPLINK_DEPOSITS
+
+// The samples that carry state `s` and the deposits `deposits` of its tick
+// to the UAV's gateway: `s` with the first kMaxUplinkDeposits deposits,
+// then, while deposits are left, `s` again with the next ones (one sample
+// when there are none).
+std::vector<UavStateMsg> uplink_samples(const UavStateMsg& s, const std::vector<DepositMsg>& deposits);
 
 // Every state writer of a UAV vanished, as one place agent's reader saw it.
 // Relayed to the ground station (UavStateMsg::departed), it carries the tick
@@ -331,6 +343,7 @@ std::size_t payload_bytes(const BroadcastMsg& m);
 std::size_t payload_bytes(const ClockMsg& m);
 std::size_t payload_bytes(const PhaseDoneMsg& m);
 std::size_t payload_bytes(const ScenarioMsg& m);
+std::size_t payload_bytes(const UavStateMsg& m);
 // Messages without sequences: their fixed part.
 template <typename M>
   requires std::is_trivially_copyable_v<M>
