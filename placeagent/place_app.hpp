@@ -12,6 +12,7 @@
 #include <memory>
 #include <optional>
 #include <set>
+#include <string>
 #include <vector>
 
 #include "pheromesh/bus/bus.hpp"
@@ -93,6 +94,8 @@ class PlaceApp {
   void forward_failed(const core::DepositMsg& d, const char* why);
   void take_home_states(uint32_t tick);
   void refuse_foreign_state(uint32_t uav);
+  // ", and the N deposits it carried" for a refusal of a state with deposits.
+  [[nodiscard]] std::string carried_note() const;
   // Home UAVs whose newest state is of `tick` or later.
   [[nodiscard]] uint32_t home_states_of(uint32_t tick) const;
   // Every deposit the home UAVs with a state of `tick` wrote was taken (applied or forwarded).
@@ -173,8 +176,10 @@ class PlaceApp {
   core::WriterLatch state_writers_;
   // Reusable inboxes and outboxes.
   // uplinked_: deposits the UAVs' states carried, not yet routed (take_deposits).
-  std::vector<core::DepositMsg> taken_, inbox_, uplinked_;
-  std::vector<core::UavStateMsg> state_inbox_, home_states_, served_states_;
+  // carried_: those of the state take_home_states is judging.
+  std::vector<core::DepositMsg> taken_, inbox_, uplinked_, carried_;
+  // relayed_: the states and departures one take_home_states relays to the ground station.
+  std::vector<core::UavStateMsg> state_inbox_, home_states_, served_states_, relayed_;
   std::vector<uint32_t> served_;  // home UAVs that get a view this tick
   std::vector<core::TileMsg> tiles_for_;
   uint32_t tiles_stale_after_ = 10;  // realtime: place ticks a tile not sent again is still shown

@@ -79,30 +79,36 @@ void PlaceApp::take_home_states(uint32_t tick) {
   bus_->take_uav_states(state_inbox_);
   const uint32_t ceiling = tick_ceiling();
   const auto now = std::chrono::steady_clock::now();
+  relayed_.clear();
   for (auto& st : state_inbox_) {
     // The deposits a state carries wait for take_deposits, which routes them
-    // as if each had come alone, whatever becomes of the state below (the
-    // deposits' own checks are core::DepositDesk's and the place core's).
-    // The state goes on without them: into views and to the ground station.
-    uplinked_.insert(uplinked_.end(), st.deposits.begin(), st.deposits.end());
-    st.deposits.clear();
+    // as if each had come alone (their own checks are core::DepositDesk's
+    // and the place core's), unless the state came from a writer that is not
+    // its UAV's: those go with it, refused (a forger cannot send deposits in
+    // a UAV's name). The state goes on without them: into views and to the
+    // ground station.
+    carried_.clear();
+    carried_.swap(st.deposits);
+    const auto take_carried = [&] { uplinked_.insert(uplinked_.end(), carried_.begin(), carried_.end()); };
     if (st.departed) {
       audit_.drop(fmt::format("a state of uav {} that says it departed (only a place agent says so)", st.uav));
+      take_carried();
       continue;
     }
     const bool known = !core::check_uav_id(st.uav, scenario_.uavs);
+    bool adopted = true;
     if (known && core::home_region(st.uav, geo_.region_count()) != cfg_.region) {
       // A UAV whose backup this region is: realtime, it judged its home dead
       // and came here; lockstep, only once the clock lists its home absent
       // (note_absent adopted it). Anyone else's: a stray or forged writer.
       if (core::backup_region(st.uav, geo_.region_count()) != cfg_.region) {
         audit_.refuse(core::Refusal::ImplausibleState,
-                      fmt::format("a state of uav {} at place agent {}, which is neither its home nor its backup",
-                                  st.uav, cfg_.region));
+                      fmt::format("a state of uav {} at place agent {}, which is neither its home nor its backup{}",
+                                  st.uav, cfg_.region, carried_note()));
         continue;
       }
       if (!cfg_.common.lockstep()) adopt(st.uav, nullptr);
-      if (!adopted_.contains(st.uav)) continue;
+      adopted = adopted_.contains(st.uav);
     }
     // Before the motion check: a forged state must not become the UAV's
     // last accepted one.
@@ -110,14 +116,17 @@ void PlaceApp::take_home_states(uint32_t tick) {
       refuse_foreign_state(st.uav);
       continue;
     }
+    take_carried();
+    if (!adopted) continue;  // lockstep: its state counts from the tick its home is absent
     const core::UavStateMsg* before = views_.state(st.uav);
     const core::Cell start = core::uav_start(scenario_, traits_, st.uav);
     if (!audit_.admit(core::check_home_state(st, before, start, traits_.max_step, ceiling, rules_))) continue;
     state_writers_.hold(st.uav, st.writer, now);
     if (before == nullptr || st.tick > before->tick) heard_at_[st.uav] = tick;
     views_.update_state(st);
-    // The ground station hears the UAVs through their gateways (relays).
-    bus_->relay_state(st);
+    // The ground station hears the UAVs through their gateways (relays),
+    // all those of this take in one sample (below).
+    relayed_.push_back(st);
     ++states_relayed_;
   }
   departed_.clear();
@@ -130,18 +139,24 @@ void PlaceApp::take_home_states(uint32_t tick) {
     gone.uav = u;
     if (const core::UavStateMsg* last = views_.state(u)) gone = *last;
     gone.departed = true;
-    bus_->relay_state(gone);
+    relayed_.push_back(gone);
     log_->info("uav {} departed (its state writer's liveliness lapsed: it died, hangs or its packets were lost); told "
                "the ground station",
                u);
   }
+  if (!relayed_.empty()) bus_->relay_states(relayed_, cfg_.region, cfg_.replica, tick);
 }
 
 void PlaceApp::refuse_foreign_state(uint32_t uav) {
   audit_.refuse(core::Refusal::ForeignWriter,
                 fmt::format("a state of uav {} from a writer other than the one this place agent heard it from first "
-                            "(and still hears)",
-                            uav));
+                            "(and still hears){}",
+                            uav, carried_note()));
+}
+
+std::string PlaceApp::carried_note() const {
+  if (carried_.empty()) return {};
+  return fmt::format(", and the {} deposit{} it carried", carried_.size(), carried_.size() == 1 ? "" : "s");
 }
 
 void PlaceApp::relay_uplinks() {

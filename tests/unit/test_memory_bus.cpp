@@ -114,7 +114,7 @@ TEST_F(MemoryBus, AUavsStateReachesOnlyItsHomePlaceAgentWhichRelaysItToTheGround
   EXPECT_DOUBLE_EQ(at_home[0].x, 2.5);
   EXPECT_TRUE(at_other.empty());
   EXPECT_TRUE(at_ground.empty());
-  ASSERT_TRUE(home->relay_state(at_home[0]));
+  ASSERT_TRUE(home->relay_states(at_home, 3, 0, 11));
   ground->take_uav_states(at_ground);
   ASSERT_EQ(at_ground.size(), 1U);
   EXPECT_EQ(at_ground[0].uav, 9U);
@@ -235,8 +235,8 @@ TEST_F(MemoryBus, TheGroundStationHearsAUavsDepartureFromItsPlaceAgentAndThatOfA
   ASSERT_EQ(uavs_gone, std::vector<core::UavDeparture>{12}) << "its own reader's: no relay, no tick";
   core::UavStateMsg note = states[0];
   note.departed = true;
-  ASSERT_TRUE(home->relay_state(states[0]));
-  ASSERT_TRUE(home->relay_state(note));
+  // One sample: the state, then the note, as the home relays one take.
+  ASSERT_TRUE(home->relay_states(std::vector<core::UavStateMsg>{states[0], note}, 0, 0, 1));
   states.clear();
   uavs_gone.clear();
   ground->take_uav_states(states);

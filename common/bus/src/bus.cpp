@@ -47,7 +47,7 @@ struct Bus::Roles {
   Writer<core::BroadcastMsg> broadcasts;
   Writer<core::ClockMsg> clock;
   Writer<core::ClockMsg> relayed_clock;  // a place agent's, to the UAVs it serves
-  Writer<core::UavStateMsg> ground_states;  // a place agent's, relaying its UAVs' states to the ground
+  Writer<core::FieldMsg> ground_states;  // a place agent's, relaying its UAVs' states to the ground (batched)
   Writer<core::PhaseDoneMsg> phase_done;
   Writer<core::CommandMsg> commands;
   Writer<core::ScenarioMsg> scenarios;
@@ -60,7 +60,8 @@ struct Bus::Roles {
 
   std::optional<Reader<core::ViewMsg>> view_in;
   std::optional<Reader<core::FieldMsg>> field_in, served_in, tiles_in;
-  std::optional<Reader<core::UavStateMsg>> home_states_in, ground_states_in;
+  std::optional<Reader<core::UavStateMsg>> home_states_in;
+  std::optional<Reader<core::FieldMsg>> ground_states_in;
   std::optional<Reader<core::DepositMsg>> deposit_in;
   std::optional<Reader<core::HaloMsg>> halo_in;
   std::optional<Reader<core::TileMsg>> tile_in;
@@ -142,7 +143,24 @@ bool Bus::relay_command(const core::CommandMsg& m) {
   if (!roles_->relay_for) throw BusMisuse("relay_command before subscribe_uplinks");
   return roles_->commands.write(m, command_downlink_partition(*roles_->relay_for));
 }
-bool Bus::relay_state(const core::UavStateMsg& m) { return roles_->ground_states.write(m, kGroundPartition); }
+bool Bus::relay_states(std::span<const core::UavStateMsg> states, core::RegionId own, uint16_t replica,
+                       uint32_t tick) {
+  // One sample per kMaxFieldUavs states (one in any swarm the bounds allow a
+  // place agent to serve), not one per state.
+  bool ok = true;
+  for (std::size_t first = 0; first < states.size(); first += core::kMaxFieldUavs) {
+    const std::size_t n = std::min(core::kMaxFieldUavs, states.size() - first);
+    core::FieldMsg batch;
+    batch.region = own;
+    batch.chunks = 1;
+    batch.tick = tick;
+    batch.replica = replica;
+    batch.uavs.assign(states.begin() + static_cast<std::ptrdiff_t>(first),
+                      states.begin() + static_cast<std::ptrdiff_t>(first + n));
+    ok = roles_->ground_states.write(batch, kGroundPartition) && ok;
+  }
+  return ok;
+}
 bool Bus::publish_clock(const core::ClockMsg& m) { return roles_->clock.write(m); }
 bool Bus::publish_phase_done(const core::PhaseDoneMsg& m) {
   if (roles_->clock_tree) return roles_->phase_done.write(m, uav_report_partition(*roles_->home));
@@ -333,15 +351,20 @@ void Bus::take_uav_states(std::vector<core::UavStateMsg>& out) {
     transport_->keep_alive();
   }
   if (roles_->ground_states_in) {
-    // A relayed departure is a note, not a state (UavStateMsg::departed).
-    const std::size_t first = out.size();
-    roles_->ground_states_in->take(out);
-    for (std::size_t i = first; i < out.size(); ++i) {
-      if (out[i].departed) roles_->relayed_departures.emplace_back(out[i].uav, out[i].tick);
+    // Each sample is a batch of one place agent's relays, in the order it
+    // relayed them. A relayed departure is a note, not a state
+    // (UavStateMsg::departed).
+    relayed_batches_.clear();
+    roles_->ground_states_in->take(relayed_batches_);
+    for (auto& batch : relayed_batches_) {
+      for (auto& st : batch.uavs) {
+        if (st.departed) {
+          roles_->relayed_departures.emplace_back(st.uav, st.tick);
+        } else {
+          out.push_back(std::move(st));
+        }
+      }
     }
-    out.erase(std::remove_if(out.begin() + static_cast<std::ptrdiff_t>(first), out.end(),
-                             [](const core::UavStateMsg& m) { return m.departed; }),
-              out.end());
   }
 }
 

@@ -87,8 +87,10 @@ QosSpec topic_qos(TopicKind kind, Endpoint endpoint, std::chrono::milliseconds l
       break;
     case TopicKind::GroundState:
       // The states (and departures) of the UAVs a place agent serves, relayed
-      // to the ground station, which records every one: as UavState, without
-      // the liveliness (a departure is a sample here, UavStateMsg::departed).
+      // to the ground station, which records every one: a RegionField of
+      // states only per place agent and take (Bus::relay_states), keyed by
+      // region, without the liveliness (a departure is a state here,
+      // UavStateMsg::departed). Every batch matters: KEEP_ALL reader.
       if (reader) {
         keep_all();
       } else {
@@ -208,8 +210,7 @@ const char* type_name(TopicKind kind) {
     case TopicKind::Tile: return "pheromesh::msg::TileState";
     case TopicKind::Deposit: return "pheromesh::msg::Deposit";
     case TopicKind::UavState:
-    case TopicKind::UavHome:
-    case TopicKind::GroundState: return "pheromesh::msg::UavState";
+    case TopicKind::UavHome: return "pheromesh::msg::UavState";
     case TopicKind::Detection: return "pheromesh::msg::Detection";
     case TopicKind::TargetEvent: return "pheromesh::msg::TargetEvent";
     case TopicKind::Health: return "pheromesh::msg::PlaceHealth";
@@ -220,7 +221,8 @@ const char* type_name(TopicKind kind) {
     case TopicKind::Broadcast: return "pheromesh::msg::Broadcast";
     case TopicKind::Command: return "pheromesh::msg::Command";
     case TopicKind::View: return "pheromesh::msg::View";
-    case TopicKind::Field: return "pheromesh::msg::RegionField";
+    case TopicKind::Field:
+    case TopicKind::GroundState: return "pheromesh::msg::RegionField";
     case TopicKind::Scenario:
       return "pheromesh::msg::RunScenario";
   }

@@ -27,7 +27,8 @@
 //                   every place agent to the UAVs it serves ("bd.<region>")
 //   lockstep clock and phase reports  -> "c" (relayed: "c.<region>", "d.<region>")
 //   detections -> "g.<gateway>", relayed to "g"
-//   UAV states and departures, relayed by the place agents -> "g" (GroundState)
+//   UAV states and departures, relayed by the place agents -> "g" (GroundState:
+//                   one sample per place agent and take, its states batched)
 //   target events, health -> "g"
 //   ground-station commands -> "k" (the place agents), relayed to "k.<region>" (their UAVs)
 //   tiles (TileState; only test probes write them now) -> "t.<tx>.<ty>"
@@ -169,7 +170,10 @@ class Bus {
   void take_uplink_detections(std::vector<core::DetectionMsg>& out);
   void take_uplink_broadcasts(std::vector<core::BroadcastMsg>& out);
   bool relay_detection(const core::DetectionMsg& m);      // to the ground station
-  bool relay_state(const core::UavStateMsg& m);           // to the ground station
+  // To the ground station: the states (and departure notes) the place
+  // agent of `own` (replica `replica`) admitted in one take, at its tick
+  // `tick`, in one sample (GroundState carries a FieldMsg of states only).
+  bool relay_states(std::span<const core::UavStateMsg> states, core::RegionId own, uint16_t replica, uint32_t tick);
   bool relay_broadcast_up(const core::BroadcastMsg& m);   // to every place agent and the ground
   bool relay_broadcast_down(const core::BroadcastMsg& m); // to the UAVs it serves
   bool relay_command(const core::CommandMsg& m);          // to the UAVs it serves
@@ -293,6 +297,7 @@ class Bus {
   std::vector<std::pair<TopicKind, EndpointId>> writers_, readers_;
   uint64_t writes_refused_ = 0;
   uint64_t samples_taken_ = 0, bytes_taken_ = 0;
+  std::vector<core::FieldMsg> relayed_batches_;  // take_uav_states' buffer
 };
 
 // Vendors compiled into this build, e.g. {"cyclone"}.

@@ -18,10 +18,11 @@ namespace pheromesh::bus {
 // clock's type on a topic of its own ("pheromesh_clock_relay": a place
 // agent to the UAVs it serves, the lockstep tree), so that permissions name
 // who may write the conductor's clock by topic alone (Fast DDS 2.9 does not
-// check a writer's partitions against them). GroundState carries the UAV
-// state's type on a topic of its own ("pheromesh_uav_state_ground": the
+// check a writer's partitions against them). GroundState carries the region
+// field's type on a topic of its own ("pheromesh_uav_state_ground": the
 // states a place agent relays to the ground station, with the departures of
-// the UAVs it serves), replicated like the other topics place agents write.
+// the UAVs it serves, batched), replicated like the other topics place
+// agents write.
 enum class TopicKind : uint8_t {
   Tile,
   Deposit,

@@ -223,10 +223,11 @@ concept RoutedByMessage = requires(const M& m) {
 // The DDS topic a kind's endpoints use: UavHome readers read UavState.
 constexpr TopicKind topic_of(TopicKind k) { return k == TopicKind::UavHome ? TopicKind::UavState : k; }
 // The kind whose message type a kind's endpoints carry (Topic<M>::kind):
-// also a relayed clock is a ClockMsg, a state relayed to the ground a UavStateMsg.
+// also a relayed clock is a ClockMsg, the states relayed to the ground a
+// FieldMsg (of states only: one sample per place agent and take).
 constexpr TopicKind message_kind(TopicKind k) {
   if (k == TopicKind::RelayedClock) return TopicKind::Clock;
-  if (k == TopicKind::GroundState) return TopicKind::UavState;
+  if (k == TopicKind::GroundState) return TopicKind::Field;
   return topic_of(k);
 }
 inline constexpr std::size_t kTopicKindCount = static_cast<std::size_t>(TopicKind::GroundState) + 1;
