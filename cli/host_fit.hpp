@@ -17,8 +17,8 @@ struct HostFit {
   // (< 1 % late) at 5 Hz on 2 cores, per vendor (bench scale, issue 12).
   static constexpr uint32_t kHeldOnTwoCores = 100;
   // The same with --dds-profile cells (bench scale, issue 25): Cyclone 500
-  // (discovery 20 s, the largest size measured), Fast DDS 250 (discovery
-  // 49 s; at 500 its place agents were not all heard in 80 s).
+  // (discovery 44-75 s, the largest size measured), Fast DDS 250 (discovery
+  // 23 s; at 500 about half its UAVs were heard in 80 s).
   static constexpr uint32_t kCellsCycloneOnTwoCores = 500;
   static constexpr uint32_t kCellsFastDdsOnTwoCores = 250;
   static constexpr double kMeasuredRateHz = 5.0;
@@ -48,7 +48,7 @@ inline std::optional<std::string> host_fit_warning(uint32_t uavs, double rate_hz
   if (uavs > held && !discovery_server && cells) {
     why = std::to_string(uavs) + " UAV processes: on " + std::to_string(cores) +
           " cores `pheromesh bench scale` with --dds-profile cells held " + std::to_string(held) + " UAVs on time over " +
-          (dds == "cyclone" ? "Cyclone (discovery 20 s at 500)" : "Fast DDS (discovery 49 s at 250; not at 500)");
+          (dds == "cyclone" ? "Cyclone (discovery 44-75 s at 500)" : "Fast DDS (discovery 23 s at 250; not at 500)");
   } else if (uavs > held && !discovery_server) {
     why = std::to_string(uavs) + " UAV processes: on " + std::to_string(cores) +
           " cores `pheromesh bench scale` saw discovery complete for " + std::to_string(held) +
