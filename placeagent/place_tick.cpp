@@ -80,6 +80,9 @@ void PlaceApp::take_home_states(uint32_t tick) {
   const uint32_t ceiling = tick_ceiling();
   const auto now = std::chrono::steady_clock::now();
   relayed_.clear();
+  // Whose writer wrote in this take: a holder heard here is not silent,
+  // however long this place agent was stalled (WriterLatch::heard).
+  for (const auto& st : state_inbox_) state_writers_.heard(st.uav, st.writer, now);
   for (auto& st : state_inbox_) {
     // The deposits a state carries wait for take_deposits, which routes them
     // as if each had come alone (their own checks are core::DepositDesk's

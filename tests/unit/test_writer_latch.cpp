@@ -67,5 +67,26 @@ TEST(WriterLatch, AnUnknownWriterIsAllowedAndLatchesNothing) {
   EXPECT_EQ(latch.holder(3), 0xAU);
 }
 
+TEST(WriterLatch, AHolderHeardInATakeAfterAStallIsNotSilentSoAForgedSampleQueuedAheadOfItsOwnIsRefused) {
+  WriterLatch latch(1s);
+  latch.hold(1, 0xA, t0);
+  // The receiver stalled 3 s; its take holds a forged sample (writer B) and
+  // then the holder's own. Judged by the time of the take alone, A would
+  // look silent and B would take the UAV.
+  const auto take = t0 + 3s;
+  EXPECT_TRUE(latch.allows(1, 0xB, take)) << "without heard(): the stall reads as silence";
+  latch.heard(1, 0xB, take);  // not the holder: changes nothing
+  EXPECT_TRUE(latch.allows(1, 0xB, take));
+  latch.heard(1, 0xA, take);
+  EXPECT_FALSE(latch.allows(1, 0xB, take));
+  EXPECT_TRUE(latch.allows(1, 0xA, take));
+  EXPECT_EQ(latch.holder(1), 0xAU);
+  // A key nobody holds is not taken by being heard.
+  latch.heard(2, 0xC, take);
+  EXPECT_EQ(latch.holder(2), std::nullopt);
+  // And the holder silent for a lease after that gives the key up as before.
+  EXPECT_TRUE(latch.allows(1, 0xB, take + 1s + 1ms));
+}
+
 }  // namespace
 }  // namespace pheromesh::core

@@ -34,6 +34,12 @@ class WriterLatch {
   // A refused sample latches nothing, so a forger cannot take a free key
   // with a sample the receiver refuses anyway.
   void hold(uint32_t key, uint64_t writer, Clock::time_point now);
+  // A sample of `writer` as `key` arrived (not yet judged): if `writer`
+  // holds the key, it is not silent. A receiver calls it for every sample
+  // of a take before it judges any: one that stalled past the takeover time
+  // would otherwise take its holder for silent and give the key to a
+  // forged sample queued ahead of the holder's own.
+  void heard(uint32_t key, uint64_t writer, Clock::time_point now);
   // The key's writer departed (every writer of the key vanished): the next
   // writer heard holds it.
   void release(uint32_t key) { held_.erase(key); }
