@@ -92,7 +92,6 @@ void UavApp::step(uint32_t tick, StepKind kind) {
                 tick, s.x, s.y, s.vx, s.vy, s.role, core_.last_view_neighbours(), core_.last_view_broadcasts(),
                 core_.neighbourhood().size());
   }
-  s.deposits_sent = deposits_sent_;
   s.tile_samples_received = tile_samples_received_;
   s.ticks_late = ticks_late_;
   s.tick_gap_max_ms = gaps_.max_gap_ms();
