@@ -119,7 +119,10 @@ void UavApp::switch_gateway(core::RegionId gateway, uint32_t tick) {
       tick, home_, gateway);
   gateway_ = gateway;
   receipts_.abandon();
-  bus_->move_uplink(gateway);
+  if (bus_->move_uplink(gateway)) {
+    log_->info("tick {}: naming place agent {} in discovery now (a cell's backup gateway is not discovered ahead)",
+               tick, gateway);
+  }
   if (!cfg_.common.lockstep()) return;
   // Lockstep: the backup waits for exactly this UAV's state and deposits;
   // write them once its readers match (the re-sender covers the rest).

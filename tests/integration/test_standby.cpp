@@ -72,13 +72,25 @@ TEST(Standby, KillingAPrimaryInRealtimeLosesNoDeposit) {
 // Without a standby, the deposits a dead place agent never received are
 // counted lost: by the ground station (sent = applied + rejected + lost) and
 // by the UAVs its home served (never confirmed).
-TEST(Faults, APlaceAgentKilledWithoutStandbyHasItsDepositsCountedLost) {
+TEST(Faults, APlaceAgentKilledWithoutStandbyHasItsDepositsCountedLostAndItsUavReachesItsBackup) {
   const std::string out = out_dir("faults-place-lost");
-  // Killed well after the start gate (the swarm flies about 10 s).
-  const Output o = run(pheromesh_run("small-test.textproto", out, 43, "--duration 10 --kill place:0@7s"));
+  // Killed after the start gate (the swarm flies about 12 s). In cells a
+  // realtime UAV names its backup gateway only once its home is gone
+  // (Transport::reach_reserve): UAV 0, homed on region 0, then discovers
+  // place agent 1 and flies on through it.
+  const Output o =
+      run(pheromesh_run("small-test.textproto", out, 43, "--duration 12 --kill place:0@5s --dds-profile cells"));
   ASSERT_EQ(o.exit_code, 0) << o.text;
   const json m = read_metrics(out);
   ASSERT_FALSE(m.is_null()) << o.text;
+  const std::string uav0 = slurp(out + "/logs/uav-0.log");
+  EXPECT_NE(uav0.find("naming place agent 1 in discovery now"), std::string::npos) << uav0;
+  // Its states reach the ground station through the backup to the end, as
+  // the other UAVs' do through their homes (without the backup they stop at
+  // the kill, about 7 s before the end).
+  uint32_t last = 0;
+  for (const auto& [id, u] : m["uav_status"].items()) last = std::max(last, u["last_tick"].get<uint32_t>());
+  EXPECT_GT(m["uav_status"]["0"]["last_tick"].get<uint32_t>(), last * 8 / 10) << m["uav_status"].dump(2);
   const auto sent = m["deposits_sent"].get<uint64_t>();
   const auto lost = m["deposits_lost"].get<uint64_t>();
   const auto rejected = m["deposits_rejected"].get<uint64_t>();

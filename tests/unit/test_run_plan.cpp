@@ -438,7 +438,7 @@ std::string env_of(const PlannedProcess& c, const std::string& name) {
   return "(unset)";
 }
 
-TEST(RunPlan, InCellsAUavNamesItsHomeAndBackupPlaceAgentsOnlyAndTheHubsNameOneAnother) {
+TEST(RunPlan, InCellsAUavNamesItsHomeAndKeepsItsBackupInReserveAndTheHubsNameOneAnother) {
   RunOptions o = options();
   o.dds_profile = "cells";
   o.domain = 3;
@@ -448,8 +448,9 @@ TEST(RunPlan, InCellsAUavNamesItsHomeAndBackupPlaceAgentsOnlyAndTheHubsNameOneAn
             "index=0;peers=127.0.0.1:1,127.0.0.1:2,127.0.0.1:3,127.0.0.1:4");
   EXPECT_EQ(env_of(process(p, "place-2"), "PHEROMESH_CELL"),
             "index=3;peers=127.0.0.1:0,127.0.0.1:1,127.0.0.1:2,127.0.0.1:4");
-  // UAV 6: home 6 mod 4 = 2, backup 3; a member (no index), its Fast DDS id past the 5 hubs.
-  EXPECT_EQ(env_of(process(p, "uav-6"), "PHEROMESH_CELL"), "peers=127.0.0.1:3,127.0.0.1:4");
+  // UAV 6: home 6 mod 4 = 2 (hub 3), backup 3 (hub 4), named only once the
+  // home is gone (realtime); a member (no index), its Fast DDS id past the 5 hubs.
+  EXPECT_EQ(env_of(process(p, "uav-6"), "PHEROMESH_CELL"), "peers=127.0.0.1:3;reserve=127.0.0.1:4");
   EXPECT_EQ(env_of(process(p, "uav-6"), "PHEROMESH_PARTICIPANT_ID"), "11");
   EXPECT_EQ(env_of(process(p, "place-2"), "PHEROMESH_PARTICIPANT_ID"), "3");
   // What every process parses back is the cell it was given.
@@ -457,15 +458,22 @@ TEST(RunPlan, InCellsAUavNamesItsHomeAndBackupPlaceAgentsOnlyAndTheHubsNameOneAn
   ASSERT_TRUE(cell.ok()) << cell.error().message;
   EXPECT_EQ(cell->domain, 3U);
   EXPECT_FALSE(cell->index.has_value());
-  ASSERT_EQ(cell->peers.size(), 2U);
-  EXPECT_EQ(cell->peers[1].index, 4U);
+  ASSERT_EQ(cell->peers.size(), 1U);
+  EXPECT_EQ(cell->peers[0].index, 3U);
+  ASSERT_EQ(cell->reserve.size(), 1U);
+  EXPECT_EQ(cell->reserve[0].index, 4U);
+  // In lockstep the backup relays the clock that tells the UAV its home is
+  // gone: it is named from the start.
+  RunOptions lock = o;
+  lock.clock = "lockstep";
+  EXPECT_EQ(env_of(process(plan_of(lock, small_test_with(10), "fastdds"), "uav-6"), "PHEROMESH_CELL"),
+            "peers=127.0.0.1:3,127.0.0.1:4");
   // With standbys a UAV names both replicas of each gateway (the standby of
   // region r is hub 1 + regions + r).
   core::ScenarioConfig replicated = small_test_with(10);
   replicated.standby = true;
   const RunPlan s = plan_of(o, replicated, "fastdds");
-  EXPECT_EQ(env_of(process(s, "uav-6"), "PHEROMESH_CELL"),
-            "peers=127.0.0.1:3,127.0.0.1:7,127.0.0.1:4,127.0.0.1:8");
+  EXPECT_EQ(env_of(process(s, "uav-6"), "PHEROMESH_CELL"), "peers=127.0.0.1:3,127.0.0.1:7;reserve=127.0.0.1:4,127.0.0.1:8");
   EXPECT_EQ(env_of(process(s, "place-2.r1"), "PHEROMESH_CELL").rfind("index=7;peers=127.0.0.1:0,", 0), 0U);
   EXPECT_EQ(env_of(process(s, "uav-6"), "PHEROMESH_PARTICIPANT_ID"), "15");
 }
@@ -490,6 +498,9 @@ TEST(CellText, AMalformedCellNamesThePartThatIsWrong) {
   EXPECT_NE(bus::parse_cell("index=1;port=3", 0).error().message.find("unknown part 'port'"), std::string::npos);
   EXPECT_NE(bus::parse_cell("index=200;peers=127.0.0.1:1", 0).error().message.find("above 119"), std::string::npos);
   EXPECT_NE(bus::parse_cell("peers=host:1", 0).error().message.find("not an IPv4 address"), std::string::npos);
+  EXPECT_NE(bus::parse_cell("reserve=127.0.0.1:1", 0).error().message.find("no peers"), std::string::npos);
+  EXPECT_NE(bus::parse_cell("peers=127.0.0.1:1;reserve=127.0.0.1:300", 0).error().message.find("reserve peer"),
+            std::string::npos);
   bus::CellDiscovery c;
   c.index = 5;
   c.peers = {{"127.0.0.1", 0}, {"10.0.0.2", 7}};
@@ -498,6 +509,14 @@ TEST(CellText, AMalformedCellNamesThePartThatIsWrong) {
   EXPECT_EQ(*back->index, 5U);
   EXPECT_EQ(back->peers[1].address, "10.0.0.2");
   EXPECT_EQ(back->peers[1].index, 7U);
+  EXPECT_TRUE(back->reserve.empty());
+  c.index.reset();
+  c.reserve = {{"127.0.0.1", 4}};
+  EXPECT_EQ(bus::format_cell(c), "peers=127.0.0.1:0,10.0.0.2:7;reserve=127.0.0.1:4");
+  const auto member = bus::parse_cell(bus::format_cell(c), 9);
+  ASSERT_TRUE(member.ok()) << member.error().message;
+  ASSERT_EQ(member->reserve.size(), 1U);
+  EXPECT_EQ(member->reserve[0].index, 4U);
   EXPECT_EQ(back->domain, 9U);
 }
 

@@ -204,13 +204,16 @@ void Bus::subscribe_uplinks(core::RegionId own) {
   roles_->commands.offer(command_downlink_partition(own));
 }
 
-void Bus::move_uplink(core::RegionId gateway) {
+bool Bus::move_uplink(core::RegionId gateway) {
   if (!roles_->home) throw BusMisuse("move_uplink before join_uav");
+  // Before the new writers: they are then made once, in the new participant.
+  const bool reached = transport_->reach_reserve();
   roles_->home = gateway;
   roles_->states.offer(home_partition(gateway));
   roles_->detections.offer(detection_uplink_partition(gateway));
   if (roles_->broadcaster) roles_->broadcasts.offer(broadcast_uplink_partition(gateway));
   if (roles_->clock_tree) roles_->phase_done.offer(uav_report_partition(gateway));
+  return reached;
 }
 
 void Bus::subscribe_deposits(core::RegionId own, bool history) {

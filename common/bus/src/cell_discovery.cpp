@@ -44,20 +44,27 @@ core::Result<CellDiscovery> check_cell(const CellDiscovery& cell) {
   if (cell.index) {
     if (auto e = index_error("cell", cell.domain, *cell.index)) return *e;
   }
-  for (const auto& p : cell.peers) {
-    const std::string who = "cell peer " + p.address;
-    if (!is_ipv4(p.address)) return core::Error{who + ": not an IPv4 address"};
-    if (auto e = index_error(who, cell.domain, p.index)) return *e;
+  for (const auto* list : {&cell.peers, &cell.reserve}) {
+    for (const auto& p : *list) {
+      const std::string who = std::string(list == &cell.peers ? "cell peer " : "cell reserve peer ") + p.address;
+      if (!is_ipv4(p.address)) return core::Error{who + ": not an IPv4 address"};
+      if (auto e = index_error(who, cell.domain, p.index)) return *e;
+    }
   }
   return cell;
 }
 
 std::string format_cell(const CellDiscovery& cell) {
   std::string s = cell.index ? "index=" + std::to_string(*cell.index) + ";" : std::string();
-  s += "peers=";
-  for (std::size_t i = 0; i < cell.peers.size(); ++i) {
-    s += (i > 0 ? "," : "") + cell.peers[i].address + ":" + std::to_string(cell.peers[i].index);
-  }
+  const auto list = [](const std::vector<CellPeer>& peers) {
+    std::string l;
+    for (std::size_t i = 0; i < peers.size(); ++i) {
+      l += (i > 0 ? "," : "") + peers[i].address + ":" + std::to_string(peers[i].index);
+    }
+    return l;
+  };
+  s += "peers=" + list(cell.peers);
+  if (!cell.reserve.empty()) s += ";reserve=" + list(cell.reserve);
   return s;
 }
 
@@ -71,7 +78,7 @@ std::optional<uint32_t> parse_index(const std::string& text) {
 core::Result<CellDiscovery> parse_cell(const std::string& text, uint32_t domain) {
   const auto bad = [&](const std::string& why) {
     return core::Error{std::string(kCellEnv) + " '" + text + "': " + why +
-                       " (expected [index=I;]peers=ADDR:I[,ADDR:I...])"};
+                       " (expected [index=I;]peers=ADDR:I[,ADDR:I...][;reserve=ADDR:I[,ADDR:I...]])"};
   };
   CellDiscovery cell;
   cell.domain = domain;
@@ -89,8 +96,9 @@ core::Result<CellDiscovery> parse_cell(const std::string& text, uint32_t domain)
       auto i = parse_index(value);
       if (!i) return bad("index '" + value + "' is not a number");
       cell.index = *i;
-    } else if (key == "peers") {
-      have_peers = true;
+    } else if (key == "peers" || key == "reserve") {
+      have_peers = have_peers || key == "peers";
+      auto& into = key == "peers" ? cell.peers : cell.reserve;
       std::size_t p = 0;
       while (p < value.size()) {
         const std::size_t comma = std::min(value.find(',', p), value.size());
@@ -99,7 +107,7 @@ core::Result<CellDiscovery> parse_cell(const std::string& text, uint32_t domain)
         const std::size_t colon = peer.rfind(':');
         auto i = colon == std::string::npos ? std::nullopt : parse_index(peer.substr(colon + 1));
         if (!i) return bad("peer '" + peer + "' is not ADDR:INDEX");
-        cell.peers.push_back({peer.substr(0, colon), *i});
+        into.push_back({peer.substr(0, colon), *i});
       }
     } else {
       return bad("unknown part '" + key + "'");

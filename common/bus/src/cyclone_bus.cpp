@@ -77,20 +77,7 @@ struct Codec {
 
 class CycloneTransport final : public Transport {
  public:
-  explicit CycloneTransport(const BusOptions& o) : opt_(o), pace_(o.liveliness_lease) {
-    const std::string config =
-        o.cell ? cyclone_cell_config(*o.cell) : cyclone_config(o.profile, o.peers, o.swarm_processes);
-    if (!config.empty()) {
-      // Returns an error if the domain already exists in this process; that is
-      // fine for a second bus in the same process (tests).
-      const dds_entity_t d = dds_create_domain(o.domain, config.c_str());
-      if (d < 0 && d != DDS_RETCODE_PRECONDITION_NOT_MET) PHM_DDS(d);
-      domain_ = d > 0 ? d : 0;
-    }
-    QosPtr pq(dds_create_qos());
-    if (!o.secure_dir.empty()) set_security(pq.get(), o);
-    participant_ = PHM_DDS(dds_create_participant(o.domain, pq.get(), nullptr));
-  }
+  explicit CycloneTransport(const BusOptions& o) : opt_(o), pace_(o.liveliness_lease) { create_participant(); }
 
   ~CycloneTransport() override {
     dds_delete(participant_);
@@ -100,28 +87,38 @@ class CycloneTransport final : public Transport {
   [[nodiscard]] std::string vendor() const override { return "cyclone"; }
 
   EndpointId open_writer(TopicKind kind, const std::string& partition) override {
-    QosPtr pq(dds_create_qos());
-    dds_qset_partition1(pq.get(), partition.c_str());
-    const dds_entity_t publisher = PHM_DDS(dds_create_publisher(participant_, pq.get(), nullptr));
-    QosPtr wq = to_cyclone(endpoint_qos(kind, Endpoint::Writer, opt_.liveliness_lease, opt_.replication));
-    const dds_entity_t w = PHM_DDS(dds_create_writer(publisher, topic(kind), wq.get(), nullptr));
-    return add({kind, Endpoint::Writer, w, 0, Watch::Samples});
+    Entry e{kind, Endpoint::Writer, 0, 0, Watch::Samples, {partition}};
+    create(e);
+    return add(e);
   }
 
   EndpointId open_reader(TopicKind kind, const std::vector<std::string>& partitions, Watch watch) override {
-    QosPtr sq(dds_create_qos());
-    std::vector<const char*> names;
-    names.reserve(partitions.size());
-    for (const auto& p : partitions) names.push_back(p.c_str());
-    dds_qset_partition(sq.get(), static_cast<uint32_t>(names.size()), names.data());
-    const dds_entity_t subscriber = PHM_DDS(dds_create_subscriber(participant_, sq.get(), nullptr));
-    QosPtr rq = to_cyclone(
-        reader_qos_for(endpoint_qos(kind, Endpoint::Reader, opt_.liveliness_lease, opt_.replication), watch));
-    const dds_entity_t r = PHM_DDS(dds_create_reader(subscriber, topic(kind), rq.get(), nullptr));
-    // A read condition on its unread samples (including the no-writers
-    // notifications of departures) wakes wait().
-    const dds_entity_t cond = PHM_DDS(dds_create_readcondition(r, DDS_NOT_READ_SAMPLE_STATE));
-    return add({kind, Endpoint::Reader, r, cond, watch});
+    Entry e{kind, Endpoint::Reader, 0, 0, watch, partitions};
+    create(e);
+    return add(e);
+  }
+
+  bool reach_reserve() override {
+    if (!opt_.cell || opt_.cell->reserve.empty()) return false;
+    if (domain_ <= 0) {
+      // Another bus of this process configured the domain (tests): its
+      // peers cannot change under that bus.
+      spdlog::default_logger()->warn("cannot name the cell's reserve peers: domain {} is shared in this process",
+                                     opt_.domain);
+      return false;
+    }
+    auto& cell = *opt_.cell;
+    cell.peers.insert(cell.peers.end(), cell.reserve.begin(), cell.reserve.end());
+    cell.reserve.clear();
+    // The participant takes its wait sets, topics and endpoints with it; the
+    // domain its configuration (Cyclone's peers are the domain's).
+    dds_delete(participant_);
+    dds_delete(domain_);
+    waitsets_.clear();
+    topics_.clear();
+    create_participant();
+    for (Entry& e : entries_) create(e);
+    return true;
   }
 
   bool write(EndpointId writer, const void* message) override {
@@ -200,7 +197,45 @@ class CycloneTransport final : public Transport {
     dds_entity_t entity;
     dds_entity_t condition;  // readers only
     Watch watch;
+    std::vector<std::string> partitions;  // a writer's one, a reader's patterns
   };
+
+  void create_participant() {
+    const std::string config = opt_.cell ? cyclone_cell_config(*opt_.cell)
+                                         : cyclone_config(opt_.profile, opt_.peers, opt_.swarm_processes);
+    if (!config.empty()) {
+      // Returns an error if the domain already exists in this process; that is
+      // fine for a second bus in the same process (tests).
+      const dds_entity_t d = dds_create_domain(opt_.domain, config.c_str());
+      if (d < 0 && d != DDS_RETCODE_PRECONDITION_NOT_MET) PHM_DDS(d);
+      domain_ = d > 0 ? d : 0;
+    }
+    QosPtr pq(dds_create_qos());
+    if (!opt_.secure_dir.empty()) set_security(pq.get(), opt_);
+    participant_ = PHM_DDS(dds_create_participant(opt_.domain, pq.get(), nullptr));
+  }
+
+  // The endpoint `e` describes, made in the current participant.
+  void create(Entry& e) {
+    std::vector<const char*> names;
+    names.reserve(e.partitions.size());
+    for (const auto& p : e.partitions) names.push_back(p.c_str());
+    QosPtr pq(dds_create_qos());
+    dds_qset_partition(pq.get(), static_cast<uint32_t>(names.size()), names.data());
+    if (e.endpoint == Endpoint::Writer) {
+      const dds_entity_t publisher = PHM_DDS(dds_create_publisher(participant_, pq.get(), nullptr));
+      QosPtr wq = to_cyclone(endpoint_qos(e.kind, Endpoint::Writer, opt_.liveliness_lease, opt_.replication));
+      e.entity = PHM_DDS(dds_create_writer(publisher, topic(e.kind), wq.get(), nullptr));
+      return;
+    }
+    const dds_entity_t subscriber = PHM_DDS(dds_create_subscriber(participant_, pq.get(), nullptr));
+    QosPtr rq = to_cyclone(
+        reader_qos_for(endpoint_qos(e.kind, Endpoint::Reader, opt_.liveliness_lease, opt_.replication), e.watch));
+    e.entity = PHM_DDS(dds_create_reader(subscriber, topic(e.kind), rq.get(), nullptr));
+    // A read condition on its unread samples (including the no-writers
+    // notifications of departures) wakes wait().
+    e.condition = PHM_DDS(dds_create_readcondition(e.entity, DDS_NOT_READ_SAMPLE_STATE));
+  }
 
   EndpointId add(const Entry& e) {
     entries_.push_back(e);

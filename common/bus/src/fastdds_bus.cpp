@@ -259,7 +259,6 @@ void register_types(fdds::DomainParticipant* participant) { register_all(partici
 class FastDdsTransport final : public Transport {
  public:
   explicit FastDdsTransport(const BusOptions& o) : opt_(o), pace_(o.liveliness_lease) {
-    auto* factory = fdds::DomainParticipantFactory::get_instance();
     // Fast DDS's own log (to stdout) shows errors only; PHEROMESH_FASTDDS_LOG
     // = warning or info shows more when a swarm does not come together.
     if (const char* v = std::getenv("PHEROMESH_FASTDDS_LOG"); v != nullptr) {
@@ -268,93 +267,43 @@ class FastDdsTransport final : public Transport {
                               : level == "warning" ? fdds::Log::Warning
                                                    : fdds::Log::Error);
     }
-    fdds::DomainParticipantQos pq = fdds::PARTICIPANT_QOS_DEFAULT;
-    FastDdsProfile profile;
-    if (o.cell) {
-      FastDdsCellProfile cell = fastdds_cell_profile(*o.cell);
-      profile.xml = std::move(cell.xml);
-      profile.name = std::move(cell.name);
-    } else {
-      profile = fastdds_profile(o.profile, o.peers);
-    }
-    if (!profile.xml.empty()) {
-      load_builtin_profile_once(profile);
-      PHM_FASTDDS(factory->get_participant_qos_from_profile(profile.name, pq),
-                  "DDS profile '" + o.profile + "' has no participant profile '" + profile.name + "'");
-    } else if (!profile.file.empty()) {
-      PHM_FASTDDS(factory->load_XML_profiles_file(profile.file),
-                  "cannot load Fast DDS profile file '" + profile.file + "'");
-      pq = factory->get_default_participant_qos();
-    } else {
-      pq = factory->get_default_participant_qos();
-    }
-    pq.name(o.process_name.empty() ? "pheromesh" : o.process_name);
-    // The lan profiles' unicast peers (fastdds-lan-unicast.xml): each
-    // address, with every participant id up to maxInitialPeersRange.
-    for (const auto& address : profile.peers) {
-      eprosima::fastrtps::rtps::Locator_t peer;
-      peer.kind = LOCATOR_KIND_UDPv4;
-      eprosima::fastrtps::rtps::IPLocator::setIPv4(peer, address);
-      pq.wire_protocol().builtin.initialPeersList.push_back(peer);
-    }
-    // A launcher-given participant id fixes this process's ports (7410 +
-    // 250 domain + 2 id): no search for free ports, so no limit of about 120
-    // participants per host that the search (mutation_tries) imposes.
-    if (o.participant_id >= 0 && !(o.cell && o.cell->index)) pq.wire_protocol().participant_id = o.participant_id;
-    if (!o.secure_dir.empty()) set_security(pq, o);
-    participant_ = PHM_FASTDDS(factory->create_participant(o.domain, pq),
-                               "cannot create a participant on domain " + std::to_string(o.domain) + " (profile '" +
-                                   o.profile + "'; see Fast DDS's messages above)");
-    register_types(participant_);
+    create_participant();
   }
 
-  ~FastDdsTransport() override {
-    // Wait sets first: they refer to the readers' status conditions.
-    for (auto& [readers, ws] : waitsets_) {
-      for (const EndpointId id : readers) ws->detach_condition(entry(id).reader->get_statuscondition());
-    }
-    waitsets_.clear();
-    if (participant_ != nullptr) {
-      participant_->delete_contained_entities();
-      fdds::DomainParticipantFactory::get_instance()->delete_participant(participant_);
-    }
-  }
+  ~FastDdsTransport() override { delete_participant(); }
 
   [[nodiscard]] std::string vendor() const override { return "fastdds"; }
 
   EndpointId open_writer(TopicKind kind, const std::string& partition) override {
-    fdds::PublisherQos pq = fdds::PUBLISHER_QOS_DEFAULT;
-    pq.partition().push_back(partition.c_str());
-    fdds::Publisher* publisher =
-        PHM_FASTDDS(participant_->create_publisher(pq), "cannot create a publisher for partition " + partition);
-    const fdds::DataWriterQos q =
-        to_fastdds_writer(endpoint_qos(kind, Endpoint::Writer, opt_.liveliness_lease, opt_.replication));
     Entry e;
     e.kind = kind;
-    e.partition = partition;
-    e.writer = PHM_FASTDDS(publisher->create_datawriter(topic(kind), q), std::string("cannot create a writer of ") +
-                                                                             to_string(kind) + " in partition " +
-                                                                             partition + permissions_hint());
+    e.is_writer = true;
+    e.partitions = {partition};
+    create(e);
     return add(std::move(e));
   }
 
   EndpointId open_reader(TopicKind kind, const std::vector<std::string>& partitions, Watch watch) override {
-    fdds::SubscriberQos sq = fdds::SUBSCRIBER_QOS_DEFAULT;
-    for (const auto& p : partitions) sq.partition().push_back(p.c_str());
-    fdds::Subscriber* subscriber = PHM_FASTDDS(participant_->create_subscriber(sq), "cannot create a subscriber");
     Entry e;
     e.kind = kind;
+    e.partitions = partitions;
+    e.watch_kind = watch;
     // Departures: writers whose liveliness was lost, heard by a listener.
     if (watches_departures(watch)) e.watch = std::make_unique<LivelinessWatch>();
-    const fdds::StatusMask mask = e.watch ? fdds::StatusMask::liveliness_changed() : fdds::StatusMask::none();
-    const fdds::DataReaderQos q =
-        to_fastdds_reader(
-            reader_qos_for(endpoint_qos(kind, Endpoint::Reader, opt_.liveliness_lease, opt_.replication), watch));
-    e.reader = PHM_FASTDDS(subscriber->create_datareader(topic(kind), q, e.watch.get(), mask),
-                           std::string("cannot create a reader of ") + to_string(kind) + permissions_hint());
-    // Every reader can wake wait(): its data-available status condition.
-    PHM_FASTDDS(e.reader->get_statuscondition().set_enabled_statuses(fdds::StatusMask::data_available()));
+    create(e);
     return add(std::move(e));
+  }
+
+  bool reach_reserve() override {
+    if (!opt_.cell || opt_.cell->reserve.empty()) return false;
+    auto& cell = *opt_.cell;
+    cell.peers.insert(cell.peers.end(), cell.reserve.begin(), cell.reserve.end());
+    cell.reserve.clear();
+    delete_participant();
+    topics_.clear();
+    create_participant();  // the same participant id, so the same ports
+    for (Entry& e : entries_) create(e);
+    return true;
   }
 
   bool write(EndpointId writer, const void* message) override {
@@ -408,7 +357,7 @@ class FastDdsTransport final : public Transport {
           ReturnCode_t::RETCODE_OK) {
         all = false;
         log_->debug("flush: {} writer in partition {} not acknowledged", to_string(entry(id).kind),
-                    entry(id).partition);
+                    entry(id).partitions.front());
       }
     }
     return all;
@@ -437,13 +386,98 @@ class FastDdsTransport final : public Transport {
  private:
   struct Entry {
     TopicKind kind{};
+    bool is_writer = false;
     fdds::DataWriter* writer = nullptr;
     fdds::DataReader* reader = nullptr;
-    std::string partition;  // a writer's
+    std::vector<std::string> partitions;  // a writer's one, a reader's patterns
+    Watch watch_kind = Watch::Samples;
     // The reader's listener: the destructor's body deletes the participant
     // (and its readers) before any member is destroyed.
     std::unique_ptr<LivelinessWatch> watch;
   };
+
+  void create_participant() {
+    const BusOptions& o = opt_;
+    auto* factory = fdds::DomainParticipantFactory::get_instance();
+    fdds::DomainParticipantQos pq = fdds::PARTICIPANT_QOS_DEFAULT;
+    FastDdsProfile profile;
+    if (o.cell) {
+      FastDdsCellProfile cell = fastdds_cell_profile(*o.cell);
+      profile.xml = std::move(cell.xml);
+      profile.name = std::move(cell.name);
+    } else {
+      profile = fastdds_profile(o.profile, o.peers);
+    }
+    if (!profile.xml.empty()) {
+      load_builtin_profile_once(profile);
+      PHM_FASTDDS(factory->get_participant_qos_from_profile(profile.name, pq),
+                  "DDS profile '" + o.profile + "' has no participant profile '" + profile.name + "'");
+    } else if (!profile.file.empty()) {
+      PHM_FASTDDS(factory->load_XML_profiles_file(profile.file),
+                  "cannot load Fast DDS profile file '" + profile.file + "'");
+      pq = factory->get_default_participant_qos();
+    } else {
+      pq = factory->get_default_participant_qos();
+    }
+    pq.name(o.process_name.empty() ? "pheromesh" : o.process_name);
+    // The lan profiles' unicast peers (fastdds-lan-unicast.xml): each
+    // address, with every participant id up to maxInitialPeersRange.
+    for (const auto& address : profile.peers) {
+      eprosima::fastrtps::rtps::Locator_t peer;
+      peer.kind = LOCATOR_KIND_UDPv4;
+      eprosima::fastrtps::rtps::IPLocator::setIPv4(peer, address);
+      pq.wire_protocol().builtin.initialPeersList.push_back(peer);
+    }
+    // A launcher-given participant id fixes this process's ports (7410 +
+    // 250 domain + 2 id): no search for free ports, so no limit of about 120
+    // participants per host that the search (mutation_tries) imposes.
+    if (o.participant_id >= 0 && !(o.cell && o.cell->index)) pq.wire_protocol().participant_id = o.participant_id;
+    if (!o.secure_dir.empty()) set_security(pq, o);
+    participant_ = PHM_FASTDDS(factory->create_participant(o.domain, pq),
+                               "cannot create a participant on domain " + std::to_string(o.domain) + " (profile '" +
+                                   o.profile + "'; see Fast DDS's messages above)");
+    register_types(participant_);
+  }
+
+  // The endpoint `e` describes, made in the current participant.
+  void create(Entry& e) {
+    if (e.is_writer) {
+      const std::string& partition = e.partitions.front();
+      fdds::PublisherQos pq = fdds::PUBLISHER_QOS_DEFAULT;
+      pq.partition().push_back(partition.c_str());
+      fdds::Publisher* publisher =
+          PHM_FASTDDS(participant_->create_publisher(pq), "cannot create a publisher for partition " + partition);
+      const fdds::DataWriterQos q =
+          to_fastdds_writer(endpoint_qos(e.kind, Endpoint::Writer, opt_.liveliness_lease, opt_.replication));
+      e.writer = PHM_FASTDDS(publisher->create_datawriter(topic(e.kind), q),
+                             std::string("cannot create a writer of ") + to_string(e.kind) + " in partition " +
+                                 partition + permissions_hint());
+      return;
+    }
+    fdds::SubscriberQos sq = fdds::SUBSCRIBER_QOS_DEFAULT;
+    for (const auto& p : e.partitions) sq.partition().push_back(p.c_str());
+    fdds::Subscriber* subscriber = PHM_FASTDDS(participant_->create_subscriber(sq), "cannot create a subscriber");
+    const fdds::StatusMask mask = e.watch ? fdds::StatusMask::liveliness_changed() : fdds::StatusMask::none();
+    const fdds::DataReaderQos q = to_fastdds_reader(
+        reader_qos_for(endpoint_qos(e.kind, Endpoint::Reader, opt_.liveliness_lease, opt_.replication), e.watch_kind));
+    e.reader = PHM_FASTDDS(subscriber->create_datareader(topic(e.kind), q, e.watch.get(), mask),
+                           std::string("cannot create a reader of ") + to_string(e.kind) + permissions_hint());
+    // Every reader can wake wait(): its data-available status condition.
+    PHM_FASTDDS(e.reader->get_statuscondition().set_enabled_statuses(fdds::StatusMask::data_available()));
+  }
+
+  void delete_participant() {
+    // Wait sets first: they refer to the readers' status conditions.
+    for (auto& [readers, ws] : waitsets_) {
+      for (const EndpointId id : readers) ws->detach_condition(entry(id).reader->get_statuscondition());
+    }
+    waitsets_.clear();
+    if (participant_ != nullptr) {
+      participant_->delete_contained_entities();
+      fdds::DomainParticipantFactory::get_instance()->delete_participant(participant_);
+      participant_ = nullptr;
+    }
+  }
 
   EndpointId add(Entry e) {
     entries_.push_back(std::move(e));

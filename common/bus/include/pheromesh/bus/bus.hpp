@@ -200,8 +200,12 @@ class Bus {
   // it flies.
   void join_uav(uint32_t uav, core::RegionId home, bool broadcasts = false);
   // A UAV whose home place agent died: its state (and so its deposits) goes
-  // to `gateway` (its backup) from now on (new writers; the rare endpoint change).
-  void move_uplink(core::RegionId gateway);
+  // to `gateway` (its backup) from now on (new writers; the rare endpoint
+  // change). True if the bus had to name its cell's reserve peers first
+  // (Transport::reach_reserve: a realtime UAV in cells discovers its backup
+  // only now, so the writes wait in the new writers' histories until it
+  // matches).
+  bool move_uplink(core::RegionId gateway);
   // A place agent: deposits for `own` (from its UAVs and forwarded), the
   // states of the UAVs homed on it (and their departures:
   // take_departed_uavs), and every region's field.

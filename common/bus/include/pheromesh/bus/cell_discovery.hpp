@@ -63,15 +63,22 @@ struct CellDiscovery {
   // only answers the members that announce themselves to it (for Cyclone it
   // names itself: Cyclone would otherwise add localhost at indices 0-9).
   std::vector<CellPeer> peers;
+  // Peers it names only when told to (Transport::reach_reserve): a realtime
+  // UAV's backup gateway, whose place agent it talks to only once its home is
+  // gone. Discovering it ahead doubled the members of every place agent's
+  // cell and, at 500 UAVs in 16 cells, more than doubled the swarm's
+  // discovery time and CPU (docs/dds.md, "Cell discovery").
+  std::vector<CellPeer> reserve;
   // The one address it binds and sends from (loopback on one host).
   std::string interface_address = "127.0.0.1";
 };
 
 // A cell as one line of text, as `pheromesh run` hands it to each process
 // it spawns in $PHEROMESH_CELL (--dds-profile cells):
-//   [index=I;]peers=ADDR:I[,ADDR:I...]
+//   [index=I;]peers=ADDR:I[,ADDR:I...][;reserve=ADDR:I[,ADDR:I...]]
 // e.g. "index=3;peers=127.0.0.1:0,127.0.0.1:4" (a hub) or
-// "peers=127.0.0.1:2,127.0.0.1:3" (a member). The domain is the process's.
+// "peers=127.0.0.1:2;reserve=127.0.0.1:3" (a member whose backup gateway is
+// hub 3). The domain is the process's.
 inline constexpr const char* kCellEnv = "PHEROMESH_CELL";
 std::string format_cell(const CellDiscovery& cell);
 // The cell of `text` in `domain`, checked (check_cell); an error names the

@@ -121,6 +121,16 @@ class Transport {
 
   // Samples dropped and writes failed (writes_refused is counted above).
   [[nodiscard]] virtual BusStats stats() const = 0;
+
+  // Cell discovery (CellDiscovery::reserve): name the cell's reserve peers
+  // as well from now on, so that this process discovers them (a realtime
+  // UAV's backup gateway, once its home is gone). The vendors fix a
+  // participant's peers when they create it, so the participant is made
+  // again with the wider list and every endpoint opened again in it under
+  // its EndpointId; samples its readers held and had not taken are dropped,
+  // and the writers' histories start empty. False, with nothing changed, if
+  // there is no reserve to reach (not a cell member, or reached already).
+  virtual bool reach_reserve() { return false; }
 };
 
 }  // namespace pheromesh::bus
