@@ -29,10 +29,11 @@ TEST(HostFit, TooFastSuggestsARateThatFits) {
 }
 
 TEST(HostFit, CellsHoldWhatTheirBenchmarkMeasuredAndTheFlatProfileSuggestsThem) {
-  EXPECT_FALSE(host_fit_warning(500, 5.0, 2, "cyclone", false, /*cells=*/true).has_value());
-  const auto fast = host_fit_warning(500, 5.0, 2, "fastdds", false, /*cells=*/true);
+  EXPECT_FALSE(host_fit_warning(1000, 5.0, 2, "cyclone", false, /*cells=*/true).has_value());
+  EXPECT_FALSE(host_fit_warning(500, 5.0, 2, "fastdds", false, /*cells=*/true).has_value());
+  const auto fast = host_fit_warning(750, 5.0, 2, "fastdds", false, /*cells=*/true);
   ASSERT_TRUE(fast.has_value());
-  EXPECT_NE(fast->find("held 250 UAVs on time over Fast DDS"), std::string::npos) << *fast;
+  EXPECT_NE(fast->find("held 500 UAVs on time over Fast DDS"), std::string::npos) << *fast;
   const auto flat = host_fit_warning(300, 1.0, 2, "cyclone", false);
   ASSERT_TRUE(flat.has_value());
   EXPECT_NE(flat->find("--dds-profile cells"), std::string::npos) << *flat;
