@@ -164,6 +164,34 @@ TEST(TickSeries, RowsDoNotDependOnTheOrderStatesAndHealthsArrive) {
   EXPECT_EQ(lines_of(a).front(), report::kSeriesHeader);
 }
 
+// The ground station sums the series as states arrive (RunRecorder keeps a
+// UAV's latest tick and count, not every state): a later state of one tick
+// replaces that tick's count and reports once; a tick skipped counts no UAV.
+TEST(TickSeries, ALaterStateOfOneTickReplacesItsCountAndATickSkippedHasNoReport) {
+  const core::ScenarioConfig s = small_test(8);
+  const core::MapGeometry geo = s.geometry();
+  const core::World world(geo, s.obstacles, s.targets);
+  const core::Cell start = core::uav_start(s, core::policy_traits(s), 0);
+  core::RunRecorder rec(s, world);
+  const auto state = [&](uint32_t tick, uint64_t sent) {
+    core::UavStateMsg m;
+    m.tick = tick;
+    m.x = start.x;
+    m.y = start.y;
+    m.deposits_sent = sent;
+    return m;
+  };
+  for (const auto& m : {state(0, 0), state(1, 2), state(1, 3), state(3, 7)}) ASSERT_TRUE(rec.on_uav_state(m));
+  const auto rows = rec.tick_series();
+  ASSERT_EQ(rows.size(), 4U);
+  const std::vector<uint64_t> sent{0, 3, 3, 7};
+  const std::vector<uint32_t> reporting{1, 1, 0, 1};
+  for (std::size_t k = 0; k < 4; ++k) {
+    EXPECT_EQ(rows[k].deposits_sent, sent[k]) << k;
+    EXPECT_EQ(rows[k].uavs_reporting, reporting[k]) << k;
+  }
+}
+
 TEST(TickSeries, TheSimulatorsLastRowHoldsTheTotalsOfMetricsJsonAndTheCoverageSeriesHasEachTickOnce) {
   core::Simulator sim(small_test(45));
   sim.run();

@@ -81,7 +81,7 @@ bool RunRecorder::on_uav_state(const UavStateMsg& s) {
   u.finished = u.finished || s.finished;
   max_tick_ = std::max(max_tick_, s.tick);
   coverage_.observe(state_cell(s), s.tick);
-  sent_by_tick_[s.uav].emplace_back(s.tick, s.deposits_sent + u.earlier_lives_deposits);
+  count_in_series(s.uav, s.tick, s.deposits_sent + u.earlier_lives_deposits);
   if (keep_tracks_) tracks_.push_back({s.tick, s.uav, s.x, s.y, s.role});
   // The detections of this UAV that waited for this state.
   auto ready = std::stable_partition(pending_.begin(), pending_.end(),
@@ -307,24 +307,12 @@ std::vector<TickRow> RunRecorder::tick_series() const {
   std::vector<TickRow> rows(n);
   const std::vector<int64_t> covered = coverage_.covered_by_tick(max_tick_);
   const auto reachable = static_cast<double>(coverage_.reachable_cells());
-  // Changes per tick, summed below: deposits sent (a UAV's count at its
-  // latest state), UAVs heard at exactly that tick, targets first found.
-  std::vector<int64_t> sent_delta(n, 0);
-  for (const auto& [uav, points] : sent_by_tick_) {
-    std::vector<std::pair<uint32_t, uint64_t>> sorted = points;
-    // By tick; of two states of one tick the later one (stable sort).
-    std::stable_sort(sorted.begin(), sorted.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
-    uint64_t before = 0;
-    std::optional<uint32_t> last_tick;
-    for (std::size_t i = 0; i < sorted.size(); ++i) {
-      const auto [tick, sent] = sorted[i];
-      if (i + 1 < sorted.size() && sorted[i + 1].first == tick) continue;
-      sent_delta[tick] += static_cast<int64_t>(sent) - static_cast<int64_t>(before);
-      before = sent;
-      if (last_tick != tick) ++rows[tick].uavs_reporting;
-      last_tick = tick;
-    }
-  }
+  // Changes per tick, summed below: deposits sent (count_in_series), UAVs
+  // heard at exactly that tick, targets first found.
+  std::vector<int64_t> sent_delta(sent_delta_.begin(), sent_delta_.begin() + static_cast<std::ptrdiff_t>(
+                                                                               std::min(n, sent_delta_.size())));
+  sent_delta.resize(n, 0);
+  for (std::size_t k = 0; k < std::min(n, reporting_.size()); ++k) rows[k].uavs_reporting = reporting_[k];
   std::vector<uint32_t> found(n, 0);
   for (const uint32_t t : acquisitions_.acquisition_ticks()) {
     if (t < n) ++found[t];
@@ -370,6 +358,21 @@ std::vector<TickRow> RunRecorder::tick_series() const {
     }
   }
   return rows;
+}
+
+void RunRecorder::count_in_series(uint32_t uav, uint32_t tick, uint64_t sent) {
+  // Called with the accepted, non-stale states only: per UAV their ticks
+  // rise, or repeat (a later state of one tick replaces the earlier one's
+  // count), or fall (a restarted UAV's new life starts at tick 0 again).
+  if (tick >= sent_delta_.size()) {
+    sent_delta_.resize(static_cast<std::size_t>(tick) + 1, 0);
+    reporting_.resize(static_cast<std::size_t>(tick) + 1, 0);
+  }
+  auto [it, first] = series_mark_.try_emplace(uav, SeriesMark{tick, 0});
+  SeriesMark& m = it->second;
+  if (first || tick != m.tick) ++reporting_[tick];
+  sent_delta_[tick] += static_cast<int64_t>(sent) - static_cast<int64_t>(m.sent);
+  m = SeriesMark{tick, sent};
 }
 
 std::vector<TrackRow> RunRecorder::tracks() const {

@@ -198,9 +198,22 @@ class RunRecorder {
   // again counts from 0; on_health adds these, so the dead life's deposits
   // stay counted), and its current life's latest record as it sent it.
   std::map<uint32_t, HealthMsg> banked_lives_, life_latest_;
-  // Per UAV, (tick, deposits sent by then, earlier lives included) of every
-  // accepted state; per place replica (place_id), its health records.
-  std::map<uint32_t, std::vector<std::pair<uint32_t, uint64_t>>> sent_by_tick_;
+  // The series' deposits sent and UAVs reporting, summed per tick as the
+  // states arrive (tick_series): a change of a UAV's count (earlier lives
+  // included) at the tick of the state that carried it, and one UAV more at
+  // each tick it first reported. Per UAV only its latest tick and count: a
+  // history of every state grew by 16 bytes a UAV tick (+79 MiB/h of the
+  // ground station's soak with 183 UAVs at 5 Hz, issue 28).
+  struct SeriesMark {
+    uint32_t tick = 0;
+    uint64_t sent = 0;
+  };
+  void count_in_series(uint32_t uav, uint32_t tick, uint64_t sent);
+  std::map<uint32_t, SeriesMark> series_mark_;
+  std::vector<int64_t> sent_delta_;
+  std::vector<uint32_t> reporting_;
+  // Per place replica (place_id), its health records.
+
   struct LedgerPoint {
     uint32_t tick = 0;
     uint64_t received = 0, applied = 0, rejected = 0;
