@@ -145,6 +145,14 @@ bool Supervisor::start() {
   spawn_t0_ = Clock::now();
   run_t0_unix_ms_ = unix_ms_now();
   setenv("PHEROMESH_RUN_T0_MS", std::to_string(run_t0_unix_ms_).c_str(), 1);
+  // One host: every process's launch is this instant of this clock, so a
+  // sample's tick is bounded within seconds, not the half minute of a LAN
+  // run's launchers (core::kOneHostSlack).
+  if (plan_.multi_host()) {
+    unsetenv(runtime::kOneHostEnv);
+  } else {
+    setenv(runtime::kOneHostEnv, "1", 1);
+  }
   const bool ground_here = !plan_.processes.empty() && plan_.processes.front().role == "ground";
   if (ground_here && plan_.processes.front().control == ControlLine::Fd3) open_control_line();
   std::string token;

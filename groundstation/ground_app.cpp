@@ -62,7 +62,7 @@ core::RunBook::Options book_options(const GroundConfig& cfg, const core::Scenari
   using Role = core::RunBook::Role;
   const auto now = Clock::now();
   const Role role = cfg.attach ? Role::Monitor : cfg.common.lockstep() ? Role::Conductor : Role::Starter;
-  return {role, cfg.expect_uavs, regions, s.tick_rate_hz, now, launch_from_env(now)};
+  return {role, cfg.expect_uavs, regions, s.tick_rate_hz, now, launch_from_env(now), runtime::launch_slack()};
 }
 
 }  // namespace

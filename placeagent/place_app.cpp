@@ -36,7 +36,10 @@ PlaceApp::PlaceApp(PlaceConfig cfg, core::ScenarioConfig scenario, std::unique_p
       rules_{geo_, core_.layer_count(), traits_.layer_ranges, scenario_.uavs},
       desk_(cfg_.region, geo_.region_count(), scenario_.uavs,
             cfg_.common.standby || scenario_.standby || cfg_.common.lockstep()),
-      state_writers_(std::chrono::milliseconds(cfg_.common.lease_ms) * (cfg_.common.lockstep() ? 6 : 1)) {
+      state_writers_(std::chrono::milliseconds(cfg_.common.lease_ms) * (cfg_.common.lockstep() ? 6 : 1)),
+      // A place agent writes its served UAVs every tick: silent for a lease, it is dead.
+      forwarders_(std::max<core::PlaceVouch::Clock::duration>(std::chrono::seconds(1),
+                                                               std::chrono::milliseconds(cfg_.common.lease_ms))) {
   for (uint32_t u = 0; u < scenario_.uavs; ++u) {
     if (core::home_region(u, geo_.region_count()) == cfg_.region) home_uavs_.push_back(u);
   }
@@ -183,6 +186,10 @@ void PlaceApp::report_ready_once() {
   // process is ready).
   if (ready_ || follower_.last_done()) return;
   if (!note_linked()) return;
+  // A health first: it makes this process a place agent at the ground
+  // station (core/place_vouch.hpp), which takes the states it relays in UAV
+  // phase 0 only from one.
+  publish_health(0, HealthKind::Running);
   resend_.phase_done(
       {core::process_key(core::kRolePlace, cfg_.region), 0, static_cast<uint8_t>(core::ClockPhase::Ready), 0, {}});
   ready_ = true;

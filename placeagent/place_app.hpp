@@ -7,12 +7,14 @@
 // the owners, and each tick sends each of them its view (core::ViewServer).
 #pragma once
 
+#include <chrono>
 #include <cstdint>
 #include <map>
 #include <memory>
 #include <optional>
 #include <set>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 #include "pheromesh/bus/bus.hpp"
@@ -21,6 +23,7 @@
 #include "pheromesh/core/intake.hpp"
 #include "pheromesh/core/lockstep_follower.hpp"
 #include "pheromesh/core/place_core.hpp"
+#include "pheromesh/core/place_vouch.hpp"
 #include "pheromesh/core/receipts.hpp"
 #include "pheromesh/core/scenario.hpp"
 #include "pheromesh/core/tick_gaps.hpp"
@@ -128,6 +131,20 @@ class PlaceApp {
   // Lockstep, between phases and after the Stop: also takes (and relays) the
   // states of the UAVs it serves.
   void relay_idle();
+  // Who forwarded a deposit (issue 28, core/place_vouch.hpp). Realtime: a
+  // deposit another process forwards is taken only from a place agent's
+  // process (one heard writing its region's served UAVs first), parked
+  // while its process is not known as one, refused (foreign_writer) after
+  // PlaceVouch::park_for(). Lockstep: a UAV's gateway takes the UAV's
+  // deposits only from its states (no one else forwards them to it).
+  // Judges the forwarded deposits in taken_ from index `first`.
+  void judge_forwarded(std::size_t first);
+  void refuse_forwarded(const core::DepositMsg& d, const char* why);
+  // `participant` is the process this place agent latched `uav`'s state
+  // writer in, or it cannot tell (a detection or broadcast of `uav` comes
+  // up from it); after the latch's silence another process may.
+  [[nodiscard]] bool from_uav_process(uint32_t uav, uint64_t participant,
+                                      std::chrono::steady_clock::time_point now) const;
 
   PlaceConfig cfg_;
   core::ScenarioConfig scenario_;
@@ -174,6 +191,9 @@ class PlaceApp {
   // loss a tick takes seconds). A restarted UAV needs the silence: its new
   // writer keeps the instance alive, so the old one's going is no departure.
   core::WriterLatch state_writers_;
+  std::unordered_map<uint32_t, uint64_t> uav_process_;  // UAV -> the process of its latched state writer
+  core::PlaceVouch forwarders_;                         // realtime: other place agents' processes (judge_forwarded)
+  core::Parked<core::DepositMsg> parked_deposits_;
   // Reusable inboxes and outboxes.
   // uplinked_: deposits the UAVs' states carried, not yet routed (take_deposits).
   // carried_: those of the state take_home_states is judging.

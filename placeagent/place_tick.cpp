@@ -16,6 +16,7 @@
 namespace pheromesh::placeagent {
 
 namespace {
+using Clock = std::chrono::steady_clock;
 // Realtime: a home UAV not heard for this many place ticks gets no more
 // views (it died or finished); in lockstep every view is sent.
 constexpr uint32_t kViewsAfterSilence = 20;
@@ -29,7 +30,9 @@ void PlaceApp::take_deposits() {
   // other place agents forwarded.
   taken_.swap(uplinked_);
   uplinked_.clear();
+  const std::size_t carried = taken_.size();
   bus_->take_deposits(taken_);
+  judge_forwarded(carried);
   for (const auto& d : taken_) {
     const auto route = desk_.take(d, current_tick_);
     log_->debug("took deposit uav {} seq {} tick {} region {}: {}", d.uav, d.seq, d.tick, d.region,
@@ -45,6 +48,57 @@ void PlaceApp::take_deposits() {
         break;
     }
   }
+}
+
+void PlaceApp::judge_forwarded(std::size_t first) {
+  if (cfg_.common.lockstep()) {
+    // A UAV's gateway forwards the UAV's deposits to their regions; to
+    // itself its states carry them. A forwarded deposit of a UAV whose
+    // gateway this place agent is came from no gateway - unless it is a
+    // copy of one taken before (a re-send of the UAV's old gateway, written
+    // before the clock made this place agent its gateway), which the desk
+    // drops as before.
+    auto out = std::remove_if(taken_.begin() + static_cast<std::ptrdiff_t>(first), taken_.end(), [&](const auto& d) {
+      if (std::find(gateway_uavs_.begin(), gateway_uavs_.end(), d.uav) == gateway_uavs_.end()) return false;
+      if (desk_.is_copy(d)) return false;
+      refuse_forwarded(d, "this place agent is its gateway, which takes its deposits from its states");
+      return true;
+    });
+    taken_.erase(out, taken_.end());
+    return;
+  }
+  const auto now = Clock::now();
+  const auto vouched = [&](const core::DepositMsg& d) { return forwarders_.vouched(d.participant); };
+  std::vector<core::DepositMsg> ready, expired;
+  if (!parked_deposits_.empty()) parked_deposits_.sweep(now, forwarders_.park_for(), vouched, ready, expired);
+  for (const auto& d : expired) refuse_forwarded(d, "its process was never heard as a place agent");
+  std::vector<core::DepositMsg> forwarded(taken_.begin() + static_cast<std::ptrdiff_t>(first), taken_.end());
+  taken_.resize(first);
+  taken_.insert(taken_.end(), ready.begin(), ready.end());  // older first
+  for (auto& d : forwarded) {
+    if (vouched(d)) {
+      taken_.push_back(d);
+    } else if (auto out = parked_deposits_.park(d, now)) {
+      refuse_forwarded(*out, "too many deposits wait for their process to be heard as a place agent");
+    }
+  }
+  // The drain after the last tick: what still waits will not be vouched for.
+  if (last_tick_) {
+    for (const auto& d : parked_deposits_.take_all()) refuse_forwarded(d, "its process was never heard as a place agent");
+  }
+}
+
+void PlaceApp::refuse_forwarded(const core::DepositMsg& d, const char* why) {
+  audit_.refuse(core::Refusal::ForeignWriter,
+                fmt::format("a deposit of uav {} (seq {}) forwarded by a process that is no place agent's: {}", d.uav,
+                            d.seq, why));
+}
+
+bool PlaceApp::from_uav_process(uint32_t uav, uint64_t participant, Clock::time_point now) const {
+  if (participant == 0) return true;
+  const auto it = uav_process_.find(uav);
+  if (it == uav_process_.end() || it->second == 0 || it->second == participant) return true;
+  return !state_writers_.held(uav, now);
 }
 
 void PlaceApp::forward(const core::DepositMsg& d) {
@@ -125,6 +179,7 @@ void PlaceApp::take_home_states(uint32_t tick) {
     const core::Cell start = core::uav_start(scenario_, traits_, st.uav);
     if (!audit_.admit(core::check_home_state(st, before, start, traits_.max_step, ceiling, rules_))) continue;
     state_writers_.hold(st.uav, st.writer, now);
+    uav_process_[st.uav] = st.participant;
     if (before == nullptr || st.tick > before->tick) heard_at_[st.uav] = tick;
     views_.update_state(st);
     // The ground station hears the UAVs through their gateways (relays),
@@ -137,6 +192,7 @@ void PlaceApp::take_home_states(uint32_t tick) {
   for (const auto& d : departed_) {
     const uint32_t u = d.uav;
     state_writers_.release(u);  // every state writer of u vanished: the next one heard is u
+    uav_process_.erase(u);
     if (std::find(gateway_uavs_.begin(), gateway_uavs_.end(), u) == gateway_uavs_.end()) continue;
     core::UavStateMsg gone;
     gone.uav = u;
@@ -168,9 +224,25 @@ void PlaceApp::relay_uplinks() {
   // broadcasts (its own UAVs' among them, as it relayed them to "b"), down.
   detections_up_.clear();
   bus_->take_uplink_detections(detections_up_);
+  const auto now = Clock::now();
   for (const auto& d : detections_up_) {
     if (core::check_uav_id(d.uav, scenario_.uavs)) {
       audit_.refuse(core::Refusal::UnknownUav, fmt::format("a detection of uav {}", d.uav));
+      continue;
+    }
+    // Only from a UAV this place agent can be the gateway of (as its
+    // states), and only from the UAV's own process: the one that writes the
+    // states this place agent takes from it.
+    if (core::home_region(d.uav, geo_.region_count()) != cfg_.region &&
+        core::backup_region(d.uav, geo_.region_count()) != cfg_.region) {
+      audit_.refuse(core::Refusal::ImplausibleDetection,
+                    fmt::format("a detection of uav {} at place agent {}, which is neither its home nor its backup",
+                                d.uav, cfg_.region));
+      continue;
+    }
+    if (!from_uav_process(d.uav, d.participant, now)) {
+      audit_.refuse(core::Refusal::ForeignWriter,
+                    fmt::format("a detection of uav {} from a process other than the one its states come from", d.uav));
       continue;
     }
     bus_->relay_detection(d);
@@ -190,7 +262,13 @@ void PlaceApp::relay_uplinks() {
   broadcasts_.clear();
   bus_->take_uplink_broadcasts(broadcasts_);
   for (const auto& b : broadcasts_) {
-    if (admitted(b)) bus_->relay_broadcast_up(b);
+    if (!admitted(b)) continue;
+    if (!from_uav_process(b.uav, b.participant, now)) {
+      audit_.refuse(core::Refusal::ForeignWriter,
+                    fmt::format("a broadcast of uav {} from a process other than the one its states come from", b.uav));
+      continue;
+    }
+    bus_->relay_broadcast_up(b);
   }
   broadcasts_.clear();
   bus_->take_broadcasts(broadcasts_);
@@ -319,8 +397,13 @@ void PlaceApp::send_tiles(uint32_t tick) {
     field_inbox_.clear();
     bus_->take_served(field_inbox_);
     const uint32_t ceiling = tick_ceiling();
+    const auto now = Clock::now();
     for (const auto& f : field_inbox_) {
       if (f.region != cfg_.region && audit_.admit(core::check_field_chunk(f, ceiling, rules_))) {
+        // What only that place agent writes: it vouches for its process as
+        // a forwarder of deposits (judge_forwarded).
+        forwarders_.heard(core::place_id(f.region, f.replica), f.participant, now);
+        (void)forwarders_.claim(core::place_id(f.region, f.replica), f.participant, now);
         views_.update_served(f, tick);
       }
     }

@@ -10,8 +10,10 @@
 //                                attacks docs/architecture.md "What a receiver
 //                                refuses" lists) into a running swarm, once
 //                                its lockstep clock passed tick 5 (--lockstep)
-//                                or its place agent 0 is matched; print what
-//                                it sent.
+//                                or its place agents 0 and 1 are matched, and
+//                                the plausible ones of issue 28 (UAV 0's next
+//                                deposits, an in-range field chunk); print
+//                                what it sent.
 //   idle --id I --regions R      a UAV's endpoints and nothing else, until
 //                                SIGTERM: what discovery alone costs
 //                                (bench/discovery_idle.sh).
@@ -248,7 +250,10 @@ int forge(bus::Bus& b, const std::string& scenario_path, uint32_t uavs, bool loc
   // real ones out; the ground station keeps every state.
   const core::RegionId state_home = geo.region_count() - 1;
   b.join_uav(stranger, state_home);
-  b.offer_deposits(std::vector<core::RegionId>{0});  // the forged deposits go to region 0
+  // The forged deposits go to region 0 (UAV 0's home) and region 1 (as if
+  // region 0 forwarded UAV 0's deposits there).
+  const core::RegionId other = geo.region_count() > 1 ? 1 : 0;
+  b.offer_deposits(std::vector<core::RegionId>{0, other});
   b.offer_place_exchange(std::vector<core::RegionId>{geo.region_count() > 1 ? 1U : 0U});
   b.subscribe_clock();
   // A plausible state of a real UAV (the last one: homed on a region of its
@@ -263,11 +268,15 @@ int forge(bus::Bus& b, const std::string& scenario_path, uint32_t uavs, bool loc
   // it) and the victim's (for the plausible forgery), taken while waiting:
   // a lockstep run is over in seconds.
   std::optional<core::UavStateMsg> uav0, last_of_victim;
+  uint32_t uav0_seq = 0;  // the highest deposit seq UAV 0's states carried
   std::vector<core::UavStateMsg> got;
   const auto take_states = [&] {
     got.clear();
     states.take(got);
     for (const auto& st : got) {
+      for (const auto& d : st.deposits) {
+        if (st.uav == 0) uav0_seq = std::max(uav0_seq, d.seq);
+      }
       if (st.uav == 0 && (!uav0 || st.tick > uav0->tick)) uav0 = st;
       if (st.uav == victim && (!last_of_victim || st.tick > last_of_victim->tick)) last_of_victim = st;
     }
@@ -293,7 +302,8 @@ int forge(bus::Bus& b, const std::string& scenario_path, uint32_t uavs, bool loc
       // victim's states came: forged samples written before a match are
       // lost, not refused (stop 39's flake).
       if (tick >= 5 && !at_tick5) at_tick5 = Clock::now();
-      const bool matched = b.matched_deposit_readers(0) > 0 && impostor.matched(victim_home) > 0;
+      const bool matched = b.matched_deposit_readers(0) > 0 && b.matched_deposit_readers(other) > 0 &&
+                           impostor.matched(victim_home) > 0;
       if (at_tick5 && ((matched && heard) || Clock::now() - *at_tick5 > std::chrono::seconds(3))) {
         // As in realtime, a second more for the receivers not waited for
         // above (the ground station, the other place agents) to match this
@@ -303,7 +313,7 @@ int forge(bus::Bus& b, const std::string& scenario_path, uint32_t uavs, bool loc
         take_states();
         break;
       }
-    } else if (b.matched_deposit_readers(0) > 0) {
+    } else if (b.matched_deposit_readers(0) > 0 && b.matched_deposit_readers(other) > 0) {
       std::this_thread::sleep_for(std::chrono::seconds(1));
       break;
     }
@@ -342,14 +352,24 @@ int forge(bus::Bus& b, const std::string& scenario_path, uint32_t uavs, bool loc
   int sent = 0;
   const auto count = [&](bool ok) { sent += ok ? 1 : 0; };
   const core::Rect r0 = geo.region_rect(0);
-  // Deposits: a phantom target mark from a UAV that does not exist, and the
-  // sequence number 2^32-1 under UAV 0's id (homed on region 0).
+  // Deposits: a phantom target mark from a UAV that does not exist; the
+  // sequence number 2^32-1 under UAV 0's id (homed on region 0), forwarded
+  // as if by region 0 to region 1; and (issue 28) the next 10 sequence
+  // numbers UAV 0 will use, plausible in every field, into its home.
   core::DepositMsg mark{stranger, 1, tick + 1, 0, static_cast<uint8_t>(core::DepositKind::TargetMark), 0,
                         {r0.x0 + 1, r0.y0 + 1}, 1.0F, {}};
   count(b.publish_deposit(mark, 0));
-  core::DepositMsg latch{0, std::numeric_limits<uint32_t>::max(), tick + 1, 0, static_cast<uint8_t>(core::DepositKind::PathVisit),
-                         0, {r0.x0 + 1, r0.y0 + 1}, 1.0F, {}};
-  count(b.publish_deposit(latch, 0));
+  const core::Rect r1 = geo.region_rect(other);
+  core::DepositMsg latch{0, std::numeric_limits<uint32_t>::max(), tick + 1, other,
+                         static_cast<uint8_t>(core::DepositKind::PathVisit), 0, {r1.x0 + 1, r1.y0 + 1}, 1.0F, {}};
+  count(b.publish_deposit(latch, other));
+  bool next_written = true;
+  for (uint32_t k = 1; k <= 10; ++k) {
+    const core::DepositMsg next{0, uav0_seq + k, tick + 1, 0, static_cast<uint8_t>(core::DepositKind::PathVisit),
+                                0, {r0.x0 + 2, r0.y0 + 2}, 1.0F, {}};
+    next_written = b.publish_deposit(next, 0) && next_written;
+  }
+  count(next_written);
   // Tiles to the ground station: 1e30 values, and a tick far ahead.
   const core::Rect t00 = geo.tile_rect({0, 0});
   const auto cells = static_cast<std::size_t>(t00.area());
@@ -369,8 +389,13 @@ int forge(bus::Bus& b, const std::string& scenario_path, uint32_t uavs, bool loc
   ghost.tick = tick;
   count(b.publish_served({0, 5, 6, tick, {}, {ghost}, 0}));
   patch.values.assign(cells, 0.5F);
+  // Plausible (issue 28): region 0's tile (0,0) in range, of the next tick.
+  patch.tick = tick + 1;
+  count(b.publish_field({0, 3, 6, tick + 1, {patch}, {}, 0}));
   patch.tick = far_tick;
   count(b.publish_field({0, 4, 6, far_tick, {patch}, {}, 0}));
+  // The same tile in range but far ahead, for region 1's views.
+  count(b.publish_tiles_for({0, 4, 6, far_tick, {patch}, {}, 0}, other));
   // Region 0's border ring as its neighbour region 1 reads it, with 1e30, for
   // the next place phase.
   const core::RegionId ring_to = geo.region_count() > 1 ? 1 : 0;

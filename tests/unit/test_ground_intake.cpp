@@ -541,5 +541,103 @@ TEST(GroundIntake, ADetectionAheadOfItsUavsStateIsJudgedAtTheEndOfTheRun) {
             Texts{"target 0 at (22,8) first acquired by uav 0 at tick 101 (1/3)"});
 }
 
+// Issue 28: what place agents write or relay, taken only from a process
+// heard as one (core/place_vouch.hpp). Processes: 0xA region 0's place
+// agent, 0xB region 1's, 0xF a forger's.
+core::UavStateMsg from(core::UavStateMsg m, uint64_t participant) {
+  m.participant = participant;
+  return m;
+}
+
+TEST(GroundIntake, ARelayFromAProcessHeardAsNoPlaceAgentWaitsAndIsTakenOnceItsHealthArrives) {
+  Rig rig;
+  GroundSamples early;
+  early.states = {from(state(0, 5), 0xA)};
+  early.target_events = {{0, 5, 0, {2, 2}, 0}};
+  early.target_events[0].participant = 0xA;
+  rig.take(std::move(early), kUnlimited, t0);
+  EXPECT_TRUE(rig.rec->uavs().empty()) << "parked: region 0's health not heard yet";
+  EXPECT_EQ(rig.intake->parked(), 2U);
+  GroundSamples h;
+  h.healths = {health(0, 0)};
+  h.healths[0].participant = 0xA;
+  rig.take(std::move(h), kUnlimited, t0 + 400ms);
+  EXPECT_EQ(rig.intake->parked(), 0U);
+  ASSERT_EQ(rig.rec->uavs().count(0), 1U) << "taken once its process holds a place id";
+  EXPECT_EQ(rig.rec->refused().total(), 0U);
+}
+
+TEST(GroundIntake, AForgersRelaysAreRefusedAfterTheyWaitedAndItsHealthForAHeldRegionAtOnce) {
+  Rig rig;  // lease 1 s: takeover 2 s, a sample waits 4 s
+  GroundSamples h;
+  h.healths = {health(0, 0), health(1, 0)};
+  h.healths[0].participant = 0xA;
+  h.healths[1].participant = 0xB;
+  rig.take(std::move(h), kUnlimited, t0);
+  // The forger: a health of region 0, a plausible state of uav 0, a field
+  // chunk of region 3 (held by nobody yet) with a tile.
+  GroundSamples forged;
+  forged.healths = {health(0, 0)};
+  forged.healths[0].participant = 0xF;
+  forged.states = {from(state(0, 5), 0xF)};
+  forged.fields = {chunk(3, 5, 0, 1)};
+  forged.fields[0].tiles = {tile(4, 4, 5, 0.5F)};
+  forged.fields[0].participant = 0xF;
+  rig.take(std::move(forged), kUnlimited, t0 + 100ms);
+  EXPECT_EQ(rig.rec->refused()[core::Refusal::ForeignWriter], 1U) << "the health, at once";
+  EXPECT_EQ(rig.intake->parked(), 2U);
+  // Region 0's own states go on meanwhile.
+  GroundSamples own;
+  own.states = {from(state(0, 5), 0xA)};
+  own.healths = {health(0, 0)};
+  own.healths[0].participant = 0xA;
+  rig.take(std::move(own), kUnlimited, t0 + 3s);
+  ASSERT_EQ(rig.rec->uavs().count(0), 1U);
+  rig.take({}, kUnlimited, t0 + 4200ms);
+  EXPECT_EQ(rig.intake->parked(), 0U);
+  EXPECT_EQ(rig.rec->refused()[core::Refusal::ForeignWriter], 3U) << "the state and the chunk, after 4 s";
+  EXPECT_TRUE(std::isnan(rig.intake->field_value(0, {24, 24}))) << "the forged tile never reached the field";
+}
+
+TEST(GroundIntake, AFieldChunkOrTileOfARegionFromAnotherPlaceAgentsProcessIsRefused) {
+  Rig rig;
+  GroundSamples h;
+  h.healths = {health(0, 0), health(1, 0)};
+  h.healths[0].participant = 0xA;
+  h.healths[1].participant = 0xB;
+  rig.take(std::move(h), kUnlimited, t0);
+  GroundSamples s;
+  s.fields = {chunk(1, 5, 0, 1)};
+  s.fields[0].participant = 0xA;  // region 0's process, as region 1
+  s.tiles = {tile(3, 0, 5, 0.5F)};  // tile (3,0) is region 1's
+  s.tiles[0].participant = 0xA;
+  rig.take(std::move(s), kUnlimited, t0 + 10ms);
+  EXPECT_EQ(rig.rec->refused()[core::Refusal::ForeignWriter], 2U);
+  EXPECT_TRUE(std::isnan(rig.intake->field_value(0, {18, 0})));
+  GroundSamples ok;
+  ok.tiles = {tile(3, 0, 5, 0.5F)};
+  ok.tiles[0].participant = 0xB;
+  rig.take(std::move(ok), kUnlimited, t0 + 20ms);
+  EXPECT_EQ(rig.intake->field_value(0, {18, 0}), 0.5F);
+}
+
+TEST(GroundIntake, APlaceAgentStartedAgainTakesItsRegionByItsLaterLifeAndItsRelaysWaitUntilThen) {
+  Rig rig;
+  GroundSamples h;
+  h.healths = {health(0, 0)};
+  h.healths[0].participant = 0xA;
+  rig.take(std::move(h), kUnlimited, t0);
+  // Killed at t0; started again 1.5 s later as a new process, life 2.
+  GroundSamples next;
+  next.states = {from(state(0, 8), 0xC)};
+  next.healths = {health(0, 0, 20)};
+  next.healths[0].participant = 0xC;
+  next.healths[0].life = 2;
+  rig.take(std::move(next), kUnlimited, t0 + 1500ms);
+  EXPECT_EQ(rig.rec->refused().total(), 0U);
+  EXPECT_EQ(rig.intake->parked(), 0U);
+  EXPECT_EQ(rig.rec->uavs().count(0), 1U);
+}
+
 }  // namespace
 }  // namespace pheromesh::console

@@ -154,6 +154,22 @@ TEST(SeenDeposits, ACopyWithinTheWindowIsSeenAndOneOlderThanItIsNot) {
   EXPECT_FALSE(seen.seen_before(3, 99999, kTick + 400));
 }
 
+// seen() asks without remembering: a lockstep gateway lets a forwarded copy
+// through to the desk, which drops it, and refuses a forwarded new one.
+TEST(SeenDeposits, SeenAsksWithoutRemembering) {
+  SeenDeposits seen(128);
+  constexpr uint32_t kTick = 1000;
+  EXPECT_FALSE(seen.seen(3, 1000));
+  EXPECT_FALSE(seen.seen(3, 1000)) << "asking remembered nothing";
+  EXPECT_FALSE(seen.seen_before(3, 1000, kTick));
+  EXPECT_TRUE(seen.seen(3, 1000));
+  EXPECT_FALSE(seen.seen(3, 1001)) << "above the highest";
+  EXPECT_FALSE(seen.seen(3, 999));
+  EXPECT_FALSE(seen.seen(4, 1000)) << "per UAV";
+  EXPECT_FALSE(seen.seen_before(3, 1200, kTick));
+  EXPECT_FALSE(seen.seen(3, 1000)) << "older than the window";
+}
+
 // Soaks: a place agent takes deposits for hours (issue 28); what it keeps to
 // spot copies stays at window / 8 bytes per UAV however many it took.
 TEST(SeenDeposits, ItsMemoryStaysBoundedByTheWindowPerUavOverALongRun) {

@@ -78,6 +78,17 @@ TEST(Plausibility, TheTickCeilingFollowsTheTimeSinceTheLaunch) {
   expect_reason(check_tick_reachable(kMaxSeq, 8, "state"), "state of tick 4294967295");
 }
 
+TEST(Plausibility, OnOneHostTheTickCeilingAllowsTwoSecondsAndFiveTicksNotHalfAMinute) {
+  // (seconds + 2) * rate + 5 against (seconds + 30) * rate + 50: 60 s into
+  // a 5 Hz run (tick 300 at most), a forged field chunk 150 ticks ahead is
+  // beyond the first and within the second.
+  EXPECT_EQ(realtime_tick_ceiling(60.0, 5.0, kOneHostSlack), 315U);
+  EXPECT_EQ(realtime_tick_ceiling(60.0, 5.0), 500U);
+  EXPECT_TRUE(check_tick_reachable(300 + 150, realtime_tick_ceiling(60.0, 5.0, kOneHostSlack), "field chunk"));
+  EXPECT_FALSE(check_tick_reachable(300 + 150, realtime_tick_ceiling(60.0, 5.0), "field chunk"));
+  EXPECT_EQ(realtime_tick_ceiling(0.0, 25.0, kOneHostSlack), 55U);
+}
+
 TEST(Plausibility, ValuesOutsideALayersRangeAreRefused) {
   const ValueRange r{0.0F, 10.0F};
   const std::vector<float> good{0.0F, 5.0F, 10.0F};

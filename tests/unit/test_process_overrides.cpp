@@ -4,6 +4,7 @@
 // other (refused where the file refuses it), never "the scenario's".
 #include <gtest/gtest.h>
 
+#include <cstdlib>
 #include <string>
 
 #include "pheromesh/runtime/process.hpp"
@@ -53,6 +54,19 @@ TEST(ProcessOverrides, EveryFlagGivenChangesTheScenarioSeedZeroIncluded) {
   EXPECT_EQ(s->ticks, 7U);
   EXPECT_DOUBLE_EQ(s->tick_rate_hz, 25.0);
   EXPECT_EQ(core::describe_overrides(overrides_of(o)), "--rate 25, --ticks 7, --seed 0, --uavs 3");
+}
+
+// $PHEROMESH_RUN_ONE_HOST, which `pheromesh run` sets without --hosts: the
+// tick ceiling's slack (core::kOneHostSlack), else a LAN run's.
+TEST(LaunchSlack, OneHostIsTwoSecondsAndFiveTicksAndAnythingElseTheLanSlack) {
+  unsetenv(kOneHostEnv);
+  EXPECT_EQ(launch_slack().seconds, 30.0);
+  setenv(kOneHostEnv, "1", 1);
+  EXPECT_EQ(launch_slack().seconds, 2.0);
+  EXPECT_EQ(launch_slack().ticks, 5U);
+  setenv(kOneHostEnv, "yes", 1);
+  EXPECT_EQ(launch_slack().seconds, 30.0) << "only 1 means one host";
+  unsetenv(kOneHostEnv);
 }
 
 }  // namespace

@@ -361,6 +361,7 @@ void Bus::take_uav_states(std::vector<core::UavStateMsg>& out) {
     roles_->ground_states_in->take(relayed_batches_);
     for (auto& batch : relayed_batches_) {
       for (auto& st : batch.uavs) {
+        st.participant = batch.participant;  // the relaying place agent's process
         if (st.departed) {
           roles_->relayed_departures.emplace_back(st.uav, st.tick);
         } else {

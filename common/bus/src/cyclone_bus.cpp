@@ -116,6 +116,7 @@ class CycloneTransport final : public Transport {
     dds_delete(domain_);
     waitsets_.clear();
     topics_.clear();
+    participants_.clear();
     create_participant();
     for (Entry& e : entries_) create(e);
     return true;
@@ -189,6 +190,20 @@ class CycloneTransport final : public Transport {
     return true;
   }
   void dropped() { ++stats_.samples_dropped; }
+
+  // The participant of the remote writer `publication` that `reader`
+  // matched (SampleInfo::participant), looked up in the built-in
+  // publication data once per writer; 0 if Cyclone no longer knows it.
+  uint64_t participant_of(dds_entity_t reader, dds_instance_handle_t publication) {
+    if (publication == 0) return 0;
+    if (auto it = participants_.find(publication); it != participants_.end()) return it->second;
+    dds_builtintopic_endpoint_t* ep = dds_get_matched_publication_data(reader, publication);
+    if (ep == nullptr) return 0;
+    const uint64_t p = participant_id(ep->participant_key.v);
+    dds_builtintopic_free_endpoint(ep);
+    participants_.emplace(publication, p);
+    return p;
+  }
 
  private:
   struct Entry {
@@ -293,6 +308,9 @@ class CycloneTransport final : public Transport {
   std::map<TopicKind, dds_entity_t> topics_;
   std::vector<Entry> entries_;
   std::map<std::vector<EndpointId>, dds_entity_t> waitsets_;  // readers -> their wait set
+  // Remote writers' participants by publication handle (participant_of):
+  // one entry per writer matched in the process's life.
+  std::unordered_map<dds_instance_handle_t, uint64_t> participants_;
 };
 
 // Takes everything available from `reader` with loaned buffers.
@@ -308,8 +326,9 @@ void take_as(CycloneTransport& t, dds_entity_t reader, Watch watch, TakeSink& si
     if (n <= 0) return;
     for (int i = 0; i < n; ++i) {
       const auto& s = *static_cast<const Sample*>(buf[i]);
-      const SampleInfo who{info[i].publication_handle, info[i].instance_handle};
+      SampleInfo who{info[i].publication_handle, info[i].instance_handle};
       if (info[i].valid_data) {
+        who.participant = t.participant_of(reader, info[i].publication_handle);
         if (auto m = cyclone::Convert<M>::in(s)) {
           sink.sample(&*m, who);
         } else {

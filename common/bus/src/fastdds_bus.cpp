@@ -547,7 +547,9 @@ void take_as(FastDdsTransport& t, fdds::DataReader* reader, TakeSink& sink) {
   while (reader->take_next_sample(&sample, &info) == ReturnCode_t::RETCODE_OK) {
     if (info.valid_data) {
       if (auto m = in::Convert<M>::in(sample)) {
-        sink.sample(&*m, {writer_id(info.publication_handle), writer_id(info.instance_handle)});
+        // The publication handle is the writer's GUID: its prefix names the participant.
+        sink.sample(&*m, {writer_id(info.publication_handle), writer_id(info.instance_handle),
+                          participant_id(info.publication_handle.value)});
       } else {
         t.dropped();
       }

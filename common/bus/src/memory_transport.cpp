@@ -59,6 +59,7 @@ class MemoryDomain {
     uint64_t writer = 0;
     uint64_t key = 0;
     bool gone = false;  // every writer of the instance is gone
+    uint64_t participant = 0;
   };
   struct WriterRec {
     const void* owner;
@@ -67,6 +68,7 @@ class MemoryDomain {
     QosSpec qos;
     uint64_t id;
     std::map<uint64_t, std::deque<std::shared_ptr<const void>>> history;  // per instance
+    uint64_t participant = 0;  // its transport's (SampleInfo::participant)
   };
   struct ReaderRec {
     const void* owner;
@@ -104,6 +106,7 @@ class MemoryDomain {
   std::mutex mutex;
   std::condition_variable changed;
   uint64_t next_writer = 1;
+  uint64_t next_participant = 1;
   std::list<WriterRec> writers;  // stable addresses
   std::list<ReaderRec> readers;
 };
@@ -112,7 +115,10 @@ namespace {
 
 class MemoryTransport final : public Transport {
  public:
-  MemoryTransport(std::shared_ptr<MemoryDomain> domain, const BusOptions& o) : domain_(std::move(domain)), opt_(o) {}
+  MemoryTransport(std::shared_ptr<MemoryDomain> domain, const BusOptions& o) : domain_(std::move(domain)), opt_(o) {
+    std::lock_guard<std::mutex> lock(domain_->mutex);
+    participant_ = domain_->next_participant++;
+  }
 
   ~MemoryTransport() override {
     auto& d = *domain_;
@@ -125,7 +131,7 @@ class MemoryTransport final : public Transport {
         for (auto& r : d.readers) {
           if (r.owner == this || !watches_departures(r.watch) || !MemoryDomain::matches(w, r)) continue;
           for (const auto& [key, samples] : w.history) {
-            if (!samples.empty()) MemoryDomain::deliver(r, {samples.back(), w.id, key, true});
+            if (!samples.empty()) MemoryDomain::deliver(r, {samples.back(), w.id, key, true, w.participant});
           }
         }
       }
@@ -140,7 +146,7 @@ class MemoryTransport final : public Transport {
   EndpointId open_writer(TopicKind kind, const std::string& partition) override {
     std::lock_guard<std::mutex> lock(domain_->mutex);
     const QosSpec q = endpoint_qos(kind, Endpoint::Writer, opt_.liveliness_lease, opt_.replication);
-    domain_->writers.push_back({this, kind, partition, q, domain_->next_writer++, {}});
+    domain_->writers.push_back({this, kind, partition, q, domain_->next_writer++, {}, participant_});
     return add({&domain_->writers.back(), nullptr});
   }
 
@@ -156,7 +162,7 @@ class MemoryTransport final : public Transport {
         for (const auto& w : domain_->writers) {
           if (w.qos.durability != QosSpec::Durability::TransientLocal || !MemoryDomain::matches(w, r)) continue;
           for (const auto& [key, samples] : w.history) {
-            for (const auto& s : samples) MemoryDomain::deliver(r, {s, w.id, key, false});
+            for (const auto& s : samples) MemoryDomain::deliver(r, {s, w.id, key, false, w.participant});
           }
         }
       }
@@ -177,7 +183,7 @@ class MemoryTransport final : public Transport {
       kept.push_back(copy);
       while (w.qos.history == QosSpec::History::KeepLast && std::ssize(kept) > w.qos.depth) kept.pop_front();
       for (auto& r : domain_->readers) {
-        if (MemoryDomain::matches(w, r)) MemoryDomain::deliver(r, {copy, w.id, key, false});
+        if (MemoryDomain::matches(w, r)) MemoryDomain::deliver(r, {copy, w.id, key, false, w.participant});
       }
     }
     domain_->changed.notify_all();
@@ -191,7 +197,7 @@ class MemoryTransport final : public Transport {
       items.swap(endpoint(reader).reader->queue);
     }
     for (const auto& i : items) {
-      const SampleInfo info{i.writer, i.key + 1};  // instance 0 means unknown
+      const SampleInfo info{i.writer, i.key + 1, i.participant};  // instance 0 means unknown
       if (i.gone) {
         sink.gone(i.message.get(), info);
       } else {
@@ -234,6 +240,7 @@ class MemoryTransport final : public Transport {
 
   std::shared_ptr<MemoryDomain> domain_;
   BusOptions opt_;
+  uint64_t participant_ = 0;  // this transport's participant id in the domain
   std::vector<Ref> endpoints_;
 };
 

@@ -60,10 +60,22 @@ GroundIntake::GroundIntake(const core::ScenarioConfig& scenario, Parts parts, St
       layers_(static_cast<int>(core::policy_traits(scenario).layers.size())),
       layer_ranges_(core::policy_traits(scenario).layer_ranges),
       lease_(lease),
-      pace_(pace) {}
+      pace_(pace),
+      places_(place_takeover(lease, pace)) {}
+
+GroundIntake::Clock::duration GroundIntake::place_takeover(std::chrono::milliseconds lease, Pace pace) {
+  // A place agent writes its health every half second (realtime) or every
+  // tick (lockstep, where a tick under packet loss takes seconds): silent
+  // for two leases (six in lockstep), it is dead, and a process started
+  // again for its region takes the id - sooner, by its later life.
+  using std::chrono::seconds;
+  if (pace == Pace::Lockstep) return std::max<Clock::duration>(seconds(10), 6 * lease);
+  return std::max<Clock::duration>(seconds(2), 2 * lease);
+}
 
 GroundIntake::Notes GroundIntake::take(GroundSamples& in, uint32_t tick_ceiling, Clock::time_point now) {
   p_.rec.set_tick_ceiling(tick_ceiling);
+  vouch(in, now);
   on_states(in.states, now);
   on_broadcasts(in.broadcasts, now);
   on_departed_uavs(in.departed_uavs, now);
@@ -79,7 +91,71 @@ GroundIntake::Notes GroundIntake::take(GroundSamples& in, uint32_t tick_ceiling,
   return std::exchange(notes_, {});
 }
 
+std::size_t GroundIntake::parked() const {
+  return parked_states_.size() + parked_broadcasts_.size() + parked_detections_.size() + parked_events_.size() +
+         parked_fields_.size() + parked_tiles_.size();
+}
+
+void GroundIntake::vouch(GroundSamples& in, Clock::time_point now) {
+  // A place agent gone: a process started again for it claims its id next.
+  for (uint32_t id : in.departed_places) places_.release(id);
+  for (const auto& h : in.healths) places_.heard(core::place_id(h.region, h.replica), h.participant, now);
+  std::erase_if(in.healths, [&](const core::HealthMsg& h) {
+    const uint32_t id = core::place_id(h.region, h.replica);
+    const auto latest = p_.rec.replica_health().find(id);
+    const bool new_life = latest != p_.rec.replica_health().end() && h.life > latest->second.life;
+    if (places_.claim(id, h.participant, now, new_life)) return false;
+    refuse(core::Refusal::ForeignWriter,
+           text("a health of ", who_text(Who::Place, id), " from a process other than the one heard as it"));
+    return true;
+  });
+  gate(parked_states_, in.states, now, "a relayed uav state");
+  gate(parked_broadcasts_, in.broadcasts, now, "a relayed broadcast");
+  gate(parked_detections_, in.detections, now, "a relayed detection");
+  gate(parked_events_, in.target_events, now, "a target event");
+  gate(parked_fields_, in.fields, now, "a field chunk");
+  gate(parked_tiles_, in.tiles, now, "a tile");
+}
+
+template <typename T>
+void GroundIntake::gate(core::Parked<T>& parked, std::vector<T>& in, Clock::time_point now, const char* what) {
+  const auto vouched = [&](const T& m) { return places_.vouched(m.participant); };
+  std::vector<T> kept, expired;
+  if (!parked.empty()) parked.sweep(now, places_.park_for(), vouched, kept, expired);
+  for (const auto& m : expired) refuse_unvouched(what, m.participant);
+  if (kept.empty() && std::all_of(in.begin(), in.end(), vouched)) return;  // the common case: nothing moves
+  for (auto& m : in) {
+    if (vouched(m)) {
+      kept.push_back(std::move(m));
+    } else if (auto out = parked.park(std::move(m), now)) {
+      refuse_unvouched(what, out->participant);
+    }
+  }
+  in.swap(kept);
+}
+
+void GroundIntake::refuse_unvouched(const char* what, uint64_t participant) {
+  refuse(core::Refusal::ForeignWriter,
+         text(what, " from a process never heard as a place agent (participant ", participant, ")"));
+}
+
+bool GroundIntake::speaks_for_region(core::RegionId r, uint64_t participant) const {
+  const uint16_t replicas = standby_ == Standby::Hot ? 2 : 1;
+  for (uint16_t k = 0; k < replicas; ++k) {
+    if (places_.speaks_for(core::place_id(r, k), participant)) return true;
+  }
+  return false;
+}
+
 GroundIntake::Notes GroundIntake::judge_pending() {
+  // The end: what still waits for its process to be heard as a place agent
+  // never will be.
+  for (const auto& m : parked_states_.take_all()) refuse_unvouched("a relayed uav state", m.participant);
+  for (const auto& m : parked_broadcasts_.take_all()) refuse_unvouched("a relayed broadcast", m.participant);
+  for (const auto& m : parked_detections_.take_all()) refuse_unvouched("a relayed detection", m.participant);
+  for (const auto& m : parked_events_.take_all()) refuse_unvouched("a target event", m.participant);
+  for (const auto& m : parked_fields_.take_all()) refuse_unvouched("a field chunk", m.participant);
+  for (const auto& m : parked_tiles_.take_all()) refuse_unvouched("a tile", m.participant);
   p_.rec.judge_pending_detections();
   note_acquisitions();
   judge_departures(Clock::time_point::max(), /*all=*/true);
@@ -246,6 +322,10 @@ void GroundIntake::on_departed_uavs(const std::vector<core::UavDeparture>& gone,
 
 void GroundIntake::on_target_events(const std::vector<core::TargetEventMsg>& events) {
   for (const auto& e : events) {
+    if (e.region < geo_.region_count() && !speaks_for_region(e.region, e.participant)) {
+      refuse(core::Refusal::ForeignWriter, text("a target event of region ", e.region, " from another place agent's process"));
+      continue;
+    }
     p_.rec.on_target_event(e);
     // Shao 2020 revisits (marks.hpp).
     if (e.kind == static_cast<uint8_t>(core::TargetEventKind::RevisitDue)) p_.frames.revisit(e.cell, /*due=*/true);
@@ -281,7 +361,14 @@ void GroundIntake::on_healths(const std::vector<core::HealthMsg>& healths, Clock
 void GroundIntake::on_fields(std::vector<core::FieldMsg>& fields, std::vector<core::TileMsg>& tiles, uint32_t ceiling) {
   for (auto& f : fields) {
     // A forged chunk must not enter the field nor the count of chunks the
-    // last tick waits for (RunBook::holds_last_fields).
+    // last tick waits for (RunBook::holds_last_fields): one from a place
+    // agent's process, but not this region's, neither.
+    if (!places_.speaks_for(core::place_id(f.region, f.replica), f.participant)) {
+      refuse(core::Refusal::ForeignWriter,
+             text("a field chunk of ", who_text(Who::Place, core::place_id(f.region, f.replica)),
+                  " from another place agent's process"));
+      continue;
+    }
     if (auto reason = core::check_tick_reachable(f.tick, ceiling, "field")) {
       refuse(core::Refusal::TickFarAhead, *reason);
       continue;
@@ -293,7 +380,10 @@ void GroundIntake::on_fields(std::vector<core::FieldMsg>& fields, std::vector<co
       continue;
     }
     p_.book.on_field_chunk(f.region, f.tick, f.chunk, f.chunks);
-    for (auto& t : f.tiles) tiles.push_back(std::move(t));
+    for (auto& t : f.tiles) {
+      t.participant = f.participant;
+      tiles.push_back(std::move(t));
+    }
   }
 }
 
@@ -304,6 +394,11 @@ void GroundIntake::on_tiles(std::vector<core::TileMsg>& tiles, uint32_t ceiling)
       if (p_.rec.samples_rejected() <= 3) {
         note(Kind::TileDropped, Level::Warn, text("dropped tile (", t.tile.tx, ",", t.tile.ty, "): ", *reason));
       }
+      continue;
+    }
+    if (!speaks_for_region(geo_.region_of_tile(t.tile), t.participant)) {
+      refuse(core::Refusal::ForeignWriter,
+             text("a tile of region ", geo_.region_of_tile(t.tile), " from another place agent's process"));
       continue;
     }
     // Forged values must not reach the final field (plausibility.hpp).

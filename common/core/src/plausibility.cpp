@@ -59,12 +59,12 @@ std::optional<std::string> check_seq_reachable(uint32_t seq, std::optional<uint3
          " than the uav can have deposited in " + std::to_string(ticks_since) + " ticks";
 }
 
-uint32_t realtime_tick_ceiling(double seconds_since_launch, double rate_hz) {
+uint32_t realtime_tick_ceiling(double seconds_since_launch, double rate_hz, TickSlack slack) {
   if (!std::isfinite(seconds_since_launch) || !std::isfinite(rate_hz) || rate_hz <= 0.0) {
     return std::numeric_limits<uint32_t>::max();
   }
-  const double t = std::max(seconds_since_launch, 0.0) + kTickSlackSeconds;
-  const double c = t * rate_hz + kTickSlackTicks;
+  const double t = std::max(seconds_since_launch, 0.0) + slack.seconds;
+  const double c = t * rate_hz + slack.ticks;
   return c >= static_cast<double>(std::numeric_limits<uint32_t>::max()) ? std::numeric_limits<uint32_t>::max()
                                                                         : static_cast<uint32_t>(c);
 }

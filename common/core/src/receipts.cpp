@@ -39,6 +39,13 @@ void SeenDeposits::set_bit(Window& w, uint32_t seq, bool on) const {
   w.bits[i / 64] = on ? w.bits[i / 64] | mask : w.bits[i / 64] & ~mask;
 }
 
+bool SeenDeposits::seen(uint32_t uav, uint32_t seq) const {
+  const auto it = seen_.find(uav);
+  if (it == seen_.end()) return false;
+  const Window& w = it->second;
+  return seq <= w.top && w.top - seq < window_ && bit(w, seq);
+}
+
 bool SeenDeposits::seen_before(uint32_t uav, uint32_t seq, uint32_t tick) {
   auto it = seen_.find(uav);
   if (it == seen_.end()) {

@@ -103,7 +103,7 @@ std::optional<double> RunBook::note_full_state(Heard heard, Clock::time_point no
 uint32_t RunBook::tick_ceiling(Clock::time_point now) const {
   if (o_.role == Role::Conductor) return lockstep_tick_ceiling(conducted_tick_);
   if (o_.role == Role::Monitor || !o_.launched) return std::numeric_limits<uint32_t>::max();
-  return realtime_tick_ceiling(seconds_since_launch(now), o_.tick_rate_hz);
+  return realtime_tick_ceiling(seconds_since_launch(now), o_.tick_rate_hz, o_.launch_slack);
 }
 
 double RunBook::seconds_since_launch(Clock::time_point now) const {

@@ -10,6 +10,7 @@
 #include <csignal>
 #include <cstdlib>
 #include <fstream>
+#include <string_view>
 #include <limits>
 #include <optional>
 #include <sstream>
@@ -149,6 +150,11 @@ std::shared_ptr<spdlog::logger> make_logger(const std::string& name, const std::
   return logger;
 }
 
+core::TickSlack launch_slack() {
+  const char* v = std::getenv(kOneHostEnv);
+  return v != nullptr && std::string_view(v) == "1" ? core::kOneHostSlack : core::kLaunchSlack;
+}
+
 uint32_t realtime_tick_ceiling(double rate_hz) {
   static const std::optional<int64_t> t0 = []() -> std::optional<int64_t> {
     const char* v = std::getenv("PHEROMESH_RUN_T0_MS");
@@ -159,9 +165,10 @@ uint32_t realtime_tick_ceiling(double rate_hz) {
     return ms;
   }();
   if (!t0) return std::numeric_limits<uint32_t>::max();
+  static const core::TickSlack slack = launch_slack();
   const int64_t now =
       std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::system_clock::now().time_since_epoch()).count();
-  return core::realtime_tick_ceiling(static_cast<double>(now - *t0) / 1000.0, rate_hz);
+  return core::realtime_tick_ceiling(static_cast<double>(now - *t0) / 1000.0, rate_hz, slack);
 }
 
 void install_shutdown_handlers() {

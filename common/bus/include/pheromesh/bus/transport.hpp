@@ -70,7 +70,25 @@ inline QosSpec reader_qos_for(QosSpec q, Watch watch) {
 struct SampleInfo {
   uint64_t writer = 0;    // the DDS writer (Cyclone: publication handle; Fast DDS: GUID folded to 64 bits)
   uint64_t instance = 0;  // the instance (its key), 0 if unknown
+  // The writer's participant: its GUID prefix folded to 64 bits
+  // (participant_id), the same on every vendor, so a Cyclone and a Fast DDS
+  // reader name one remote process alike; 0 if unknown. Every writer of one
+  // process shares it: a receiver can tell that a UAV's detections come
+  // from the process that writes its states, or a field chunk from the
+  // place agent whose health it heard.
+  uint64_t participant = 0;
 };
+
+// An RTPS GUID prefix (its first 12 bytes: host, process, participant)
+// folded to 64 bits, FNV-1a. Never 0 for a real prefix.
+inline uint64_t participant_id(const uint8_t* guid_prefix12) {
+  uint64_t x = 14695981039346656037ULL;
+  for (int i = 0; i < 12; ++i) {
+    x ^= guid_prefix12[i];
+    x *= 1099511628211ULL;
+  }
+  return x == 0 ? 1 : x;
+}
 
 // What take() hands over; `message` points to the core message of the
 // reader's topic, valid during the call only.

@@ -101,6 +101,7 @@ class Reader {
     void sample(const void* message, const SampleInfo& info) override {
       M m = *static_cast<const M*>(message);
       if constexpr (requires(M & x, uint64_t w) { x.writer = w; }) m.writer = info.writer;  // ClockMsg
+      if constexpr (requires(M & x, uint64_t p) { x.participant = p; }) m.participant = info.participant;
       if (seen_ != nullptr) {
         const auto key = static_cast<uint32_t>(Topic<M>::key(m));
         seen_->by_writer[info.writer] = key;

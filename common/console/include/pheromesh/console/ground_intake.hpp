@@ -20,6 +20,7 @@
 #include "pheromesh/core/conductor.hpp"
 #include "pheromesh/core/grid.hpp"
 #include "pheromesh/core/messages.hpp"
+#include "pheromesh/core/place_vouch.hpp"
 #include "pheromesh/core/plausibility.hpp"
 #include "pheromesh/core/run_book.hpp"
 #include "pheromesh/core/run_metrics.hpp"
@@ -101,6 +102,8 @@ class GroundIntake {
   Notes judge_pending();
   // Departures judged lapses of live processes so far (see Liveness).
   [[nodiscard]] uint64_t liveliness_lapses() const { return lapses_; }
+  // Samples waiting for their process to be heard as a place agent (vouch).
+  [[nodiscard]] std::size_t parked() const;
 
   // The newest plausible tile of each (layer, tile).
   [[nodiscard]] const std::map<FrameBuilder::TileKey, core::TileMsg>& tiles() const { return tiles_; }
@@ -118,6 +121,21 @@ class GroundIntake {
   void on_departed_places(const std::vector<uint32_t>& gone, Clock::time_point now);
   void on_phase_dones(const std::vector<core::PhaseDoneMsg>& dones, Clock::time_point now);
   void note_acquisitions();
+  // Who may write what only a place agent writes or relays (place_vouch.hpp):
+  // a health latches its place id to its process (one from another process
+  // is refused, foreign_writer; a lockstep place agent writes one with its
+  // Ready, before it relays anything); states,
+  // broadcasts, detections, target events, fields and tiles are taken from
+  // a process that holds a place id, parked while it holds none, and
+  // refused when they waited PlaceVouch::park_for(). Removes from `in` what
+  // it parks or refuses, and puts what is vouched for now in front.
+  void vouch(GroundSamples& in, Clock::time_point now);
+  template <typename T>
+  void gate(core::Parked<T>& parked, std::vector<T>& in, Clock::time_point now, const char* what);
+  void refuse_unvouched(const char* what, uint64_t participant);
+  static Clock::duration place_takeover(std::chrono::milliseconds lease, Pace pace);
+  // `participant` holds a replica of region `r`, or none is held.
+  [[nodiscard]] bool speaks_for_region(core::RegionId r, uint64_t participant) const;
 
   // A departure is the lapse of a writer's liveliness (docs/dds.md): a
   // process that died or hangs, or one whose assertions were all lost for a
@@ -171,6 +189,13 @@ class GroundIntake {
   std::vector<std::pair<Who, uint32_t>> pending_;       // departures not judged yet, in their order
   uint64_t lapses_ = 0;
   Notes notes_;  // of the call under way
+  core::PlaceVouch places_;
+  core::Parked<core::UavStateMsg> parked_states_;
+  core::Parked<core::BroadcastMsg> parked_broadcasts_;
+  core::Parked<core::DetectionMsg> parked_detections_;
+  core::Parked<core::TargetEventMsg> parked_events_;
+  core::Parked<core::FieldMsg> parked_fields_;
+  core::Parked<core::TileMsg> parked_tiles_;
 };
 
 }  // namespace pheromesh::console

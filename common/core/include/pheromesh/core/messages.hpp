@@ -24,6 +24,9 @@ struct TileMsg {
   RegionId region = 0;
   uint16_t width = 0, height = 0;  // [cell]
   std::vector<float> values;       // row-major, width*height
+  // Not on the wire: the writer's process (bus::SampleInfo::participant),
+  // as the receiving bus names it; 0 if unknown or written by this process.
+  uint64_t participant = 0;
 };
 
 // What a deposit asks its place agent to do (idl/pheromesh.idl, Deposit).
@@ -49,6 +52,9 @@ struct DepositMsg {
   Cell cell{};
   float amount = 0.0F;
   std::array<float, 3> spread{};  // Ellipse only: Σ_xy entries xx, xy, yy [m²]
+  // Not on the wire: the writer's process (bus::SampleInfo::participant),
+  // as the receiving bus names it; 0 if unknown or written by this process.
+  uint64_t participant = 0;
 };
 
 enum class Role : uint8_t { Searcher = 0, Leader = 1, Follower = 2 };
@@ -84,6 +90,12 @@ struct UavStateMsg {
   // the rest, uplink_samples). Its gateway takes them as it takes forwarded
   // deposits. Empty in a view, a field and a state relayed to the ground.
   std::vector<DepositMsg> deposits;
+  // Not on the wire: the writer's process (bus::SampleInfo::participant).
+  // Every writer of one UAV process shares it, so its gateway takes the
+  // UAV's detections and broadcasts only from the process whose state it
+  // latched; a state relayed to the ground station names the relaying
+  // place agent's.
+  uint64_t participant = 0;
 };
 inline constexpr std::size_t kMaxUplinkDeposits = 64;  // idl MAX_UPLINK_DEPOSITS
 
@@ -111,6 +123,9 @@ struct DetectionMsg {
   uint32_t tick = 0;
   int32_t target = -1;  // target index in the scenario
   Cell cell{};
+  // Not on the wire: the writer's process (bus::SampleInfo::participant),
+  // as the receiving bus names it; 0 if unknown or written by this process.
+  uint64_t participant = 0;
 };
 
 // TargetEventMsg::kind on the wire (the values of MarkEvent::Kind).
@@ -123,6 +138,9 @@ struct TargetEventMsg {
   uint8_t kind = 0;  // TargetEventKind
   Cell cell{};
   uint32_t response_ticks = 0;
+  // Not on the wire: the writer's process (bus::SampleInfo::participant),
+  // as the receiving bus names it; 0 if unknown or written by this process.
+  uint64_t participant = 0;
 };
 
 struct HealthMsg {
@@ -148,6 +166,9 @@ struct HealthMsg {
   // 1 the place agent's first start, 2.. a process started again after its
   // death (core::RunRecorder keeps the earlier lives' counts).
   uint32_t life = 1;
+  // Not on the wire: the writer's process (bus::SampleInfo::participant),
+  // as the receiving bus names it; 0 if unknown or written by this process.
+  uint64_t participant = 0;
 };
 
 // A place replica in one 32-bit id (departures): replica << 16 | region.
@@ -212,6 +233,9 @@ struct BroadcastMsg {
   uint32_t tick = 0;
   uint8_t kind = 0;  // BroadcastKind
   std::vector<double> values;
+  // Not on the wire: the writer's process (bus::SampleInfo::participant),
+  // as the receiving bus names it; 0 if unknown or written by this process.
+  uint64_t participant = 0;
 };
 
 // Lockstep clock (DESIGN.md, "Time").
@@ -318,6 +342,9 @@ struct FieldMsg {
   std::vector<TileMsg> tiles;  // tick and region filled in
   std::vector<UavStateMsg> uavs;
   uint16_t replica = 0;  // the place replica that wrote it
+  // Not on the wire: the writer's process (bus::SampleInfo::participant),
+  // as the receiving bus names it; 0 if unknown or written by this process.
+  uint64_t participant = 0;
 };
 
 // Semantic checks of received samples (the bus checks structure). Each returns

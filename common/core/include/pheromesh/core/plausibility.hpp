@@ -28,9 +28,9 @@ enum class Refusal : uint8_t {
   TickFarAhead = 2,          // a tile, halo, field, view or state of a tick the sender cannot have reached yet
   ValueOutOfRange = 3,       // a tile or halo value outside its layer's physical range
   ForeignClock = 4,          // a lockstep clock sample from a writer other than the conductor first heard
-  ImplausibleDetection = 5,  // a detection of no target of the scenario, or far from the reporting UAV
+  ImplausibleDetection = 5,  // a detection of no target of the scenario, far from the reporting UAV, or sent to a place agent that does not serve the UAV
   ImplausibleState = 6,      // a UAV state further from the last accepted one than the UAV can fly, or sent to a place agent that does not serve the UAV
-  ForeignWriter = 7,         // a UAV state from a writer other than the one its gateway latched for that UAV (writer_latch.hpp)
+  ForeignWriter = 7,         // a sample from a writer or process other than the one heard as its sender: a UAV state (writer_latch.hpp), a UAV's detection or broadcast, a place agent's health, relay, tile or forwarded deposit (place_vouch.hpp)
 };
 static_assert(kRefusalCount == 8, "messages.hpp kRefusalCount: one count per Refusal");
 // "unknown_uav", "seq_far_ahead", ... (metrics.json, Prometheus labels).
@@ -66,12 +66,24 @@ std::optional<std::string> check_seq_reachable(uint32_t seq, std::optional<uint3
 
 // --- ticks ---------------------------------------------------------------
 // The highest tick a sample can carry (realtime): every process of a run
-// starts ticking after the launch, at the run's rate, and pausing only holds
-// ticks back; slack covers clocks on other hosts, and hosts of a LAN run
-// launched up to half a minute apart (each launcher has its own launch time).
-inline constexpr double kTickSlackSeconds = 30.0;
-inline constexpr uint32_t kTickSlackTicks = 50;
-uint32_t realtime_tick_ceiling(double seconds_since_launch, double rate_hz);
+// starts ticking after the launch, at the run's rate (a late tick restarts
+// the schedule, it never bursts), and pausing only holds ticks back. The
+// slack is what a sender's clock may be ahead of the receiver's:
+// - over several hosts each host's launcher has a launch time of its own,
+//   and a LAN run's hosts may be launched up to half a minute apart;
+// - on one host (`pheromesh run` without --hosts, $PHEROMESH_RUN_ONE_HOST)
+//   every process's launch time is the same instant of the same clock: a
+//   tick that fires early and the rounding of whole milliseconds only
+//   (issue 28: 30 s let a forged field chunk 250 ticks ahead through).
+struct TickSlack {
+  double seconds = 30.0;
+  uint32_t ticks = 50;
+};
+inline constexpr TickSlack kLaunchSlack{};
+inline constexpr TickSlack kOneHostSlack{2.0, 5};
+inline constexpr double kTickSlackSeconds = kLaunchSlack.seconds;
+inline constexpr uint32_t kTickSlackTicks = kLaunchSlack.ticks;
+uint32_t realtime_tick_ceiling(double seconds_since_launch, double rate_hz, TickSlack slack = kLaunchSlack);
 // Lockstep: a sample is at most one tick ahead of the clock the receiver holds.
 inline constexpr uint32_t lockstep_tick_ceiling(uint32_t clock_tick) { return clock_tick + 1; }
 // `what` names the sample ("state", "tile", ...).

@@ -83,6 +83,8 @@ class SeenDeposits {
   // True if (uav, seq) was seen before; remembers it otherwise. `tick`: the
   // receiver's tick now.
   bool seen_before(uint32_t uav, uint32_t seq, uint32_t tick);
+  // True if (uav, seq) was seen before; remembers nothing.
+  [[nodiscard]] bool seen(uint32_t uav, uint32_t seq) const;
   // Bytes held for the seqs of every UAV seen (the bound: UAVs x window / 8).
   [[nodiscard]] std::size_t bytes() const;
 
@@ -119,6 +121,8 @@ class DepositDesk {
   // its deposits are confirmed and counted like a home UAV's.
   void serve(uint32_t uav) { served_.insert(uav); }
   [[nodiscard]] uint64_t copies() const { return copies_; }
+  // take() would drop `d` as a copy of one taken before.
+  [[nodiscard]] bool is_copy(const DepositMsg& d) const { return drop_copies_ && seen_.seen(d.uav, d.seq); }
   // Distinct deposits taken from home UAV `uav` so far. Lockstep: a home
   // place agent holds every deposit its UAV wrote up to tick k (to apply or
   // to forward) once this reaches the deposits_sent of the UAV's state of k.

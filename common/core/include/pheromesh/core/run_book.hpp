@@ -16,6 +16,7 @@
 
 #include "pheromesh/core/conductor.hpp"
 #include "pheromesh/core/grid.hpp"
+#include "pheromesh/core/plausibility.hpp"
 #include "pheromesh/core/run_metrics.hpp"
 
 namespace pheromesh::core {
@@ -38,6 +39,7 @@ class RunBook {
     double tick_rate_hz = 10.0;
     Clock::time_point started{};                // this process's start
     std::optional<Clock::time_point> launched;  // the run's launch ($PHEROMESH_RUN_T0_MS), if known
+    TickSlack launch_slack = kLaunchSlack;      // how far ahead of `launched` a sender's clock may run
   };
 
   // How many UAVs and place agents (regions) were heard so far.

@@ -42,16 +42,26 @@ class WriterLatch {
   void heard(uint32_t key, uint64_t writer, Clock::time_point now);
   // The key's writer departed (every writer of the key vanished): the next
   // writer heard holds it.
-  void release(uint32_t key) { held_.erase(key); }
+  void release(uint32_t key);
   [[nodiscard]] std::optional<uint64_t> holder(uint32_t key) const;
+  // The key is held by a writer not silent for the takeover time.
+  [[nodiscard]] bool held(uint32_t key, Clock::time_point now) const;
+  // When the key's holder was last heard (hold or heard); nullopt if free.
+  [[nodiscard]] std::optional<Clock::time_point> last_heard(uint32_t key) const;
+  // `writer` holds some key: the ground station takes what place agents
+  // relay (states, detections, tiles) only from a process that holds a
+  // place agent's id. Writer 0 (unknown) always does.
+  [[nodiscard]] bool holds_any(uint64_t writer) const { return writer == 0 || keys_of_.contains(writer); }
 
  private:
   struct Held {
     uint64_t writer = 0;
     Clock::time_point last{};
   };
+  void drop_holder(uint64_t writer);
   std::optional<Clock::duration> takeover_after_;
   std::unordered_map<uint32_t, Held> held_;
+  std::unordered_map<uint64_t, uint32_t> keys_of_;  // writer -> how many keys it holds
 };
 
 }  // namespace pheromesh::core

@@ -13,6 +13,7 @@
 #include <string>
 
 #include "pheromesh/bus/bus.hpp"
+#include "pheromesh/core/plausibility.hpp"
 #include "pheromesh/core/scenario.hpp"
 #include "pheromesh/core/tick_gaps.hpp"
 
@@ -81,9 +82,14 @@ core::Result<core::ScenarioConfig> scenario_from_message(const core::ScenarioMsg
 
 // The highest tick a sample of a realtime run can carry now
 // (core::realtime_tick_ceiling), from the launch time `pheromesh run` gives
-// every process ($PHEROMESH_RUN_T0_MS); unlimited for a process started
-// without it.
+// every process ($PHEROMESH_RUN_T0_MS) and its slack (launch_slack);
+// unlimited for a process started without it.
 uint32_t realtime_tick_ceiling(double rate_hz);
+// "1": every process of the run was launched by one `pheromesh run` on this
+// host (no --hosts), so they share one launch instant of one clock
+// (core::kOneHostSlack); else the launch slack of a LAN run.
+inline constexpr const char* kOneHostEnv = "PHEROMESH_RUN_ONE_HOST";
+core::TickSlack launch_slack();
 
 // One named logger per component, level from the flag.
 std::shared_ptr<spdlog::logger> make_logger(const std::string& name, const std::string& level);
