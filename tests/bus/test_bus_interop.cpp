@@ -351,6 +351,33 @@ TEST_P(Interop, EveryMessageArrivesIntact) {
   EXPECT_TRUE(stray.empty());
 }
 
+// Who wrote it (issue 28, core/place_vouch.hpp): every sample a bus takes
+// names its writer's process, the same for every writer of one process
+// whichever vendor reads it, and another process's differs.
+TEST_P(Interop, EverySampleNamesItsWritersProcessTheSameForEachOfItsWriters) {
+  r_->subscribe_deposits(7);
+  r_->subscribe_ground();
+  w_->offer_deposits(std::vector<core::RegionId>{7});
+  const auto deadline = Clock::now() + std::chrono::seconds(15);
+  while (w_->matched_deposit_readers(7) == 0 && Clock::now() < deadline) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  ASSERT_EQ(w_->matched_deposit_readers(7), 1U);
+  ASSERT_TRUE(w_->publish_deposit({11, 42, 9, 7, 4, 2, {-3, 17}, 0.25F, {}}, 7));
+  ASSERT_TRUE(w_->publish_tile({0, {2, 5}, 77, 7, 1, 1, {0.5F}}));
+  auto other = make(GetParam().writer, "other");
+  ASSERT_TRUE(other);
+  ASSERT_TRUE(other->publish_tile({0, {3, 5}, 77, 7, 1, 1, {0.5F}}));
+  const auto deps = wait_for<core::DepositMsg>([&](auto& v) { r_->take_deposits(v); });
+  const auto tiles = wait_for<core::TileMsg>([&](auto& v) { r_->take_tiles(v); }, 2);
+  ASSERT_EQ(deps.size(), 1U);
+  ASSERT_EQ(tiles.size(), 2U);
+  const auto& mine = tiles[0].tile.tx == 2 ? tiles[0] : tiles[1];
+  const auto& theirs = tiles[0].tile.tx == 2 ? tiles[1] : tiles[0];
+  EXPECT_NE(deps[0].participant, 0U);
+  EXPECT_EQ(mine.participant, deps[0].participant) << "two writers of one process";
+  EXPECT_NE(theirs.participant, 0U);
+  EXPECT_NE(theirs.participant, deps[0].participant) << "another process";
+}
+
 TEST_P(Interop, SamplesOverTheIdlBoundsAreRefusedBeforeWriting) {
   core::TileMsg tile{0, {0, 0}, 1, 0, 40, 40, std::vector<float>(1600, 1.0F)};
   EXPECT_FALSE(w_->publish_tile(tile));
