@@ -355,7 +355,16 @@ void PlaceApp::exchange_halos(uint32_t tick) {
     bus_->take_halos(halo_inbox_);
     const uint32_t ceiling = tick_ceiling();
     for (const auto& h : halo_inbox_) {
-      if (demand_ && (h.tick != tick || is_absent(h.region))) continue;
+      // Lockstep: a ring of an earlier tick is a late re-send (no news); one
+      // of a later tick cannot exist while this place agent has not reported
+      // this tick's phase done, so the conductor has not begun the next.
+      if (demand_ && (h.tick < tick || is_absent(h.region))) continue;
+      if (demand_ && h.tick > tick) {
+        audit_.refuse(core::Refusal::TickFarAhead,
+                      fmt::format("a halo ring of region {} for tick {} in the place phase of tick {}", h.region,
+                                  h.tick, tick));
+        continue;
+      }
       const auto whole = core::expand_halo(h, geo_, cfg_.region);
       if (auto reason = core::check_tick_reachable(h.tick, ceiling, "halo")) {
         audit_.refuse(core::Refusal::TickFarAhead, *reason);
