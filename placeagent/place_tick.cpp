@@ -67,7 +67,14 @@ void PlaceApp::judge_forwarded(std::size_t first) {
     taken_.erase(out, taken_.end());
     return;
   }
-  const auto vouched = [&](const core::DepositMsg& d) { return forwarders_.vouched(d.participant); };
+  // A deposit refused for what it says (malformed, a UAV outside the swarm,
+  // a sequence number it cannot have reached) is refused for that, whoever
+  // forwarded it (the desk and the place core count it); one that would be
+  // applied is judged by who forwarded it.
+  const auto vouched = [&](const core::DepositMsg& d) {
+    return forwarders_.vouched(d.participant) || core::check_deposit(d, geo_, cfg_.region, core_.layer_count()) ||
+           core_.refuses(d, current_tick_);
+  };
   // The common case: every forwarder known, nothing waits.
   if (parked_deposits_.empty() && std::all_of(taken_.begin() + static_cast<std::ptrdiff_t>(first), taken_.end(), vouched)) {
     return;

@@ -119,7 +119,15 @@ void GroundIntake::vouch(GroundSamples& in, Clock::time_point now) {
 
 template <typename T>
 void GroundIntake::gate(core::Parked<T>& parked, std::vector<T>& in, Clock::time_point now, const char* what) {
-  const auto vouched = [&](const T& m) { return places_.vouched(m.participant); };
+  // A malformed sample is dropped and counted as such, whoever wrote it
+  // (on_states, on_broadcasts, on_tiles); the others by who wrote them.
+  const auto malformed = [&](const T& m) {
+    if constexpr (std::is_same_v<T, core::UavStateMsg>) return core::check_uav_state(m, geo_).has_value();
+    if constexpr (std::is_same_v<T, core::BroadcastMsg>) return core::check_broadcast(m).has_value();
+    if constexpr (std::is_same_v<T, core::TileMsg>) return core::check_tile(m, geo_, layers_).has_value();
+    return false;
+  };
+  const auto vouched = [&](const T& m) { return places_.vouched(m.participant) || malformed(m); };
   std::vector<T> kept, expired;
   if (!parked.empty()) parked.sweep(now, places_.park_for(), vouched, kept, expired);
   for (const auto& m : expired) refuse_unvouched(what, m.participant);
