@@ -549,6 +549,19 @@ core::UavStateMsg from(core::UavStateMsg m, uint64_t participant) {
   return m;
 }
 
+core::HealthMsg health_from(core::RegionId r, uint64_t participant, uint32_t tick = 10) {
+  core::HealthMsg h = health(r, 0, tick);
+  h.participant = participant;
+  return h;
+}
+
+// Regions 0 and 1 heard from their processes 0xA and 0xB at t0.
+void hear_regions_0_and_1(Rig& rig) {
+  GroundSamples h;
+  h.healths = {health_from(0, 0xA), health_from(1, 0xB)};
+  rig.take(std::move(h), kUnlimited, t0);
+}
+
 TEST(GroundIntake, ARelayFromAProcessHeardAsNoPlaceAgentWaitsAndIsTakenOnceItsHealthArrives) {
   Rig rig;
   GroundSamples early;
@@ -559,8 +572,7 @@ TEST(GroundIntake, ARelayFromAProcessHeardAsNoPlaceAgentWaitsAndIsTakenOnceItsHe
   EXPECT_TRUE(rig.rec->uavs().empty()) << "parked: region 0's health not heard yet";
   EXPECT_EQ(rig.intake->parked(), 2U);
   GroundSamples h;
-  h.healths = {health(0, 0)};
-  h.healths[0].participant = 0xA;
+  h.healths = {health_from(0, 0xA)};
   rig.take(std::move(h), kUnlimited, t0 + 400ms);
   EXPECT_EQ(rig.intake->parked(), 0U);
   ASSERT_EQ(rig.rec->uavs().count(0), 1U) << "taken once its process holds a place id";
@@ -569,16 +581,11 @@ TEST(GroundIntake, ARelayFromAProcessHeardAsNoPlaceAgentWaitsAndIsTakenOnceItsHe
 
 TEST(GroundIntake, AForgersRelaysAreRefusedAfterTheyWaitedAndItsHealthForAHeldRegionAtOnce) {
   Rig rig;  // lease 1 s: takeover 2 s, a sample waits 4 s
-  GroundSamples h;
-  h.healths = {health(0, 0), health(1, 0)};
-  h.healths[0].participant = 0xA;
-  h.healths[1].participant = 0xB;
-  rig.take(std::move(h), kUnlimited, t0);
+  hear_regions_0_and_1(rig);
   // The forger: a health of region 0, a plausible state of uav 0, a field
   // chunk of region 3 (held by nobody yet) with a tile.
   GroundSamples forged;
-  forged.healths = {health(0, 0)};
-  forged.healths[0].participant = 0xF;
+  forged.healths = {health_from(0, 0xF)};
   forged.states = {from(state(0, 5), 0xF)};
   forged.fields = {chunk(3, 5, 0, 1)};
   forged.fields[0].tiles = {tile(4, 4, 5, 0.5F)};
@@ -589,8 +596,7 @@ TEST(GroundIntake, AForgersRelaysAreRefusedAfterTheyWaitedAndItsHealthForAHeldRe
   // Region 0's own states go on meanwhile.
   GroundSamples own;
   own.states = {from(state(0, 5), 0xA)};
-  own.healths = {health(0, 0)};
-  own.healths[0].participant = 0xA;
+  own.healths = {health_from(0, 0xA)};
   rig.take(std::move(own), kUnlimited, t0 + 3s);
   ASSERT_EQ(rig.rec->uavs().count(0), 1U);
   rig.take({}, kUnlimited, t0 + 4200ms);
@@ -601,11 +607,7 @@ TEST(GroundIntake, AForgersRelaysAreRefusedAfterTheyWaitedAndItsHealthForAHeldRe
 
 TEST(GroundIntake, AFieldChunkOrTileOfARegionFromAnotherPlaceAgentsProcessIsRefused) {
   Rig rig;
-  GroundSamples h;
-  h.healths = {health(0, 0), health(1, 0)};
-  h.healths[0].participant = 0xA;
-  h.healths[1].participant = 0xB;
-  rig.take(std::move(h), kUnlimited, t0);
+  hear_regions_0_and_1(rig);
   GroundSamples s;
   s.fields = {chunk(1, 5, 0, 1)};
   s.fields[0].participant = 0xA;  // region 0's process, as region 1
@@ -624,14 +626,12 @@ TEST(GroundIntake, AFieldChunkOrTileOfARegionFromAnotherPlaceAgentsProcessIsRefu
 TEST(GroundIntake, APlaceAgentStartedAgainTakesItsRegionByItsLaterLifeAndItsRelaysWaitUntilThen) {
   Rig rig;
   GroundSamples h;
-  h.healths = {health(0, 0)};
-  h.healths[0].participant = 0xA;
+  h.healths = {health_from(0, 0xA)};
   rig.take(std::move(h), kUnlimited, t0);
   // Killed at t0; started again 1.5 s later as a new process, life 2.
   GroundSamples next;
   next.states = {from(state(0, 8), 0xC)};
-  next.healths = {health(0, 0, 20)};
-  next.healths[0].participant = 0xC;
+  next.healths = {health_from(0, 0xC, 20)};
   next.healths[0].life = 2;
   rig.take(std::move(next), kUnlimited, t0 + 1500ms);
   EXPECT_EQ(rig.rec->refused().total(), 0U);
