@@ -109,16 +109,32 @@ void GroundIntake::vouch(GroundSamples& in, Clock::time_point now) {
            text("a health of ", who_text(Who::Place, id), " from a process other than the one heard as it"));
     return true;
   });
-  gate(parked_states_, in.states, now, "a relayed uav state");
-  gate(parked_broadcasts_, in.broadcasts, now, "a relayed broadcast");
-  gate(parked_detections_, in.detections, now, "a relayed detection");
-  gate(parked_events_, in.target_events, now, "a target event");
-  gate(parked_fields_, in.fields, now, "a field chunk");
-  gate(parked_tiles_, in.tiles, now, "a tile");
+  gate(parked_states_, in.states, now);
+  gate(parked_broadcasts_, in.broadcasts, now);
+  gate(parked_detections_, in.detections, now);
+  gate(parked_events_, in.target_events, now);
+  gate(parked_fields_, in.fields, now);
+  gate(parked_tiles_, in.tiles, now);
 }
 
 template <typename T>
-void GroundIntake::gate(core::Parked<T>& parked, std::vector<T>& in, Clock::time_point now, const char* what) {
+const char* GroundIntake::relay_name() {
+  if constexpr (std::is_same_v<T, core::UavStateMsg>) return "a relayed uav state";
+  if constexpr (std::is_same_v<T, core::BroadcastMsg>) return "a relayed broadcast";
+  if constexpr (std::is_same_v<T, core::DetectionMsg>) return "a relayed detection";
+  if constexpr (std::is_same_v<T, core::TargetEventMsg>) return "a target event";
+  if constexpr (std::is_same_v<T, core::FieldMsg>) return "a field chunk";
+  return "a tile";
+}
+
+template <typename T>
+void GroundIntake::refuse_parked(core::Parked<T>& parked) {
+  for (const auto& m : parked.take_all()) refuse_unvouched(relay_name<T>(), m.participant);
+}
+
+template <typename T>
+void GroundIntake::gate(core::Parked<T>& parked, std::vector<T>& in, Clock::time_point now) {
+  const char* what = relay_name<T>();
   // A malformed sample is dropped and counted as such, whoever wrote it
   // (on_states, on_broadcasts, on_tiles); the others by who wrote them.
   const auto malformed = [&](const T& m) {
@@ -158,12 +174,12 @@ bool GroundIntake::speaks_for_region(core::RegionId r, uint64_t participant) con
 GroundIntake::Notes GroundIntake::judge_pending() {
   // The end: what still waits for its process to be heard as a place agent
   // never will be.
-  for (const auto& m : parked_states_.take_all()) refuse_unvouched("a relayed uav state", m.participant);
-  for (const auto& m : parked_broadcasts_.take_all()) refuse_unvouched("a relayed broadcast", m.participant);
-  for (const auto& m : parked_detections_.take_all()) refuse_unvouched("a relayed detection", m.participant);
-  for (const auto& m : parked_events_.take_all()) refuse_unvouched("a target event", m.participant);
-  for (const auto& m : parked_fields_.take_all()) refuse_unvouched("a field chunk", m.participant);
-  for (const auto& m : parked_tiles_.take_all()) refuse_unvouched("a tile", m.participant);
+  refuse_parked(parked_states_);
+  refuse_parked(parked_broadcasts_);
+  refuse_parked(parked_detections_);
+  refuse_parked(parked_events_);
+  refuse_parked(parked_fields_);
+  refuse_parked(parked_tiles_);
   p_.rec.judge_pending_detections();
   note_acquisitions();
   judge_departures(Clock::time_point::max(), /*all=*/true);

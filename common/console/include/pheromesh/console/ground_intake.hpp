@@ -131,7 +131,12 @@ class GroundIntake {
   // it parks or refuses, and puts what is vouched for now in front.
   void vouch(GroundSamples& in, Clock::time_point now);
   template <typename T>
-  void gate(core::Parked<T>& parked, std::vector<T>& in, Clock::time_point now, const char* what);
+  void gate(core::Parked<T>& parked, std::vector<T>& in, Clock::time_point now);
+  // The end of a run: every sample still parked is refused.
+  template <typename T>
+  void refuse_parked(core::Parked<T>& parked);
+  template <typename T>
+  static const char* relay_name();  // "a relayed uav state", ... (notes)
   void refuse_unvouched(const char* what, uint64_t participant);
   static Clock::duration place_takeover(std::chrono::milliseconds lease, Pace pace);
   // `participant` holds a replica of region `r`, or none is held.
