@@ -582,17 +582,23 @@ TEST(GroundIntake, ARelayFromAProcessHeardAsNoPlaceAgentWaitsAndIsTakenOnceItsHe
 TEST(GroundIntake, AForgersRelaysAreRefusedAfterTheyWaitedAndItsHealthForAHeldRegionAtOnce) {
   Rig rig;  // lease 1 s: takeover 2 s, a sample waits 4 s
   hear_regions_0_and_1(rig);
-  // The forger: a health of region 0, a plausible state of uav 0, a field
-  // chunk of region 3 (held by nobody yet) with a tile.
+  // The forger: a health of region 0, a plausible state of uav 0, a
+  // departure of uav 1, a field chunk of region 3 (held by nobody yet) with
+  // a tile.
+  GroundSamples one;
+  one.states = {from(state(1, 5), 0xB)};
+  rig.take(std::move(one), kUnlimited, t0 + 50ms);
   GroundSamples forged;
   forged.healths = {health_from(0, 0xF)};
   forged.states = {from(state(0, 5), 0xF)};
   forged.fields = {chunk(3, 5, 0, 1)};
   forged.fields[0].tiles = {tile(4, 4, 5, 0.5F)};
   forged.fields[0].participant = 0xF;
+  forged.departed_uavs = {core::UavDeparture{1, 5}};  // a relayed departure of uav 1
+  forged.departed_uavs[0].participant = 0xF;
   rig.take(std::move(forged), kUnlimited, t0 + 100ms);
   EXPECT_EQ(rig.rec->refused()[core::Refusal::ForeignWriter], 1U) << "the health, at once";
-  EXPECT_EQ(rig.intake->parked(), 2U);
+  EXPECT_EQ(rig.intake->parked(), 3U);
   // Region 0's own states go on meanwhile.
   GroundSamples own;
   own.states = {from(state(0, 5), 0xA)};
@@ -601,7 +607,8 @@ TEST(GroundIntake, AForgersRelaysAreRefusedAfterTheyWaitedAndItsHealthForAHeldRe
   ASSERT_EQ(rig.rec->uavs().count(0), 1U);
   rig.take({}, kUnlimited, t0 + 4200ms);
   EXPECT_EQ(rig.intake->parked(), 0U);
-  EXPECT_EQ(rig.rec->refused()[core::Refusal::ForeignWriter], 3U) << "the state and the chunk, after 4 s";
+  EXPECT_EQ(rig.rec->refused()[core::Refusal::ForeignWriter], 4U) << "the state, the departure and the chunk, after 4 s";
+  EXPECT_FALSE(rig.conductor->gone_for_good(1, t0 + 10s)) << "nobody was told uav 1 left";
   EXPECT_TRUE(std::isnan(rig.intake->field_value(0, {24, 24}))) << "the forged tile never reached the field";
 }
 

@@ -364,6 +364,7 @@ void Bus::take_uav_states(std::vector<core::UavStateMsg>& out) {
         st.participant = batch.participant;  // the relaying place agent's process
         if (st.departed) {
           roles_->relayed_departures.emplace_back(st.uav, st.tick);
+          roles_->relayed_departures.back().participant = batch.participant;
         } else {
           out.push_back(std::move(st));
         }

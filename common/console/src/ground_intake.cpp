@@ -92,7 +92,7 @@ GroundIntake::Notes GroundIntake::take(GroundSamples& in, uint32_t tick_ceiling,
 }
 
 std::size_t GroundIntake::parked() const {
-  return parked_states_.size() + parked_broadcasts_.size() + parked_detections_.size() + parked_events_.size() +
+  return parked_states_.size() + parked_departures_.size() + parked_broadcasts_.size() + parked_detections_.size() + parked_events_.size() +
          parked_fields_.size() + parked_tiles_.size();
 }
 
@@ -110,6 +110,7 @@ void GroundIntake::vouch(GroundSamples& in, Clock::time_point now) {
     return true;
   });
   gate(parked_states_, in.states, now);
+  gate(parked_departures_, in.departed_uavs, now);
   gate(parked_broadcasts_, in.broadcasts, now);
   gate(parked_detections_, in.detections, now);
   gate(parked_events_, in.target_events, now);
@@ -120,6 +121,7 @@ void GroundIntake::vouch(GroundSamples& in, Clock::time_point now) {
 template <typename T>
 const char* GroundIntake::relay_name() {
   if constexpr (std::is_same_v<T, core::UavStateMsg>) return "a relayed uav state";
+  if constexpr (std::is_same_v<T, core::UavDeparture>) return "a relayed departure";
   if constexpr (std::is_same_v<T, core::BroadcastMsg>) return "a relayed broadcast";
   if constexpr (std::is_same_v<T, core::DetectionMsg>) return "a relayed detection";
   if constexpr (std::is_same_v<T, core::TargetEventMsg>) return "a target event";
@@ -175,6 +177,7 @@ GroundIntake::Notes GroundIntake::judge_pending() {
   // The end: what still waits for its process to be heard as a place agent
   // never will be.
   refuse_parked(parked_states_);
+  refuse_parked(parked_departures_);
   refuse_parked(parked_broadcasts_);
   refuse_parked(parked_detections_);
   refuse_parked(parked_events_);

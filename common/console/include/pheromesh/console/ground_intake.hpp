@@ -124,7 +124,7 @@ class GroundIntake {
   // Who may write what only a place agent writes or relays (place_vouch.hpp):
   // a health latches its place id to its process (one from another process
   // is refused, foreign_writer; a lockstep place agent writes one with its
-  // Ready, before it relays anything); states,
+  // Ready, before it relays anything); states, relayed departures,
   // broadcasts, detections, target events, fields and tiles are taken from
   // a process that holds a place id, parked while it holds none, and
   // refused when they waited PlaceVouch::park_for(). Removes from `in` what
@@ -196,6 +196,7 @@ class GroundIntake {
   Notes notes_;  // of the call under way
   core::PlaceVouch places_;
   core::Parked<core::UavStateMsg> parked_states_;
+  core::Parked<core::UavDeparture> parked_departures_;
   core::Parked<core::BroadcastMsg> parked_broadcasts_;
   core::Parked<core::DetectionMsg> parked_detections_;
   core::Parked<core::TargetEventMsg> parked_events_;

@@ -115,6 +115,7 @@ struct UavDeparture {
       : uav(u), last_tick(tick) {}
   uint32_t uav = 0;
   std::optional<uint32_t> last_tick;  // none: the process's own reader saw it (no relay)
+  uint64_t participant = 0;           // the relaying process (UavStateMsg::participant); 0: own reader or unknown
   bool operator==(const UavDeparture&) const = default;
 };
 
