@@ -116,7 +116,8 @@ struct UavDeparture {
   uint32_t uav = 0;
   std::optional<uint32_t> last_tick;  // none: the process's own reader saw it (no relay)
   uint64_t participant = 0;           // the relaying process (UavStateMsg::participant); 0: own reader or unknown
-  bool operator==(const UavDeparture&) const = default;
+  // The same departure, whoever relayed it.
+  bool operator==(const UavDeparture& o) const { return uav == o.uav && last_tick == o.last_tick; }
 };
 
 struct DetectionMsg {
