@@ -11,7 +11,7 @@ namespace pheromesh::cli {
 struct AttachOptions {
   uint32_t domain = 0;
   std::string dds;
-  std::string dds_profile = "onehost";
+  std::string dds_profile = "cells";  // as `pheromesh run`'s default
   std::string dds_peers;
   std::string out_dir = "out/attach";
   std::optional<uint16_t> http_port;
@@ -21,13 +21,19 @@ struct AttachOptions {
   double progress_s = 1.0;
   std::string log_level = "info";
   std::string secure;  // DDS Security directory: the monitor uses its read-only identity there
-  // --dds-profile cells: the swarm's hubs (the ground station and every
-  // place agent replica, indices 0 .. cell_hubs - 1 on loopback), which the
-  // monitor names as its peers; and a Fast DDS monitor's participant id, past
-  // every UAV's (`pheromesh run` prints both).
+  // --dds-profile cells: the most hubs (the ground station and place agent
+  // replicas) on one host of the swarm: the monitor names indices 0 ..
+  // cell_hubs - 1 on every host of --dds-peers (loopback without), all 120
+  // if not given (`pheromesh run` prints the number). A Fast DDS monitor's
+  // participant id: by default the domain's highest below the ephemeral
+  // ports, past every hub's and UAV's.
   std::optional<uint32_t> cell_hubs;
   std::optional<int32_t> participant_id;
 };
+
+// A Fast DDS monitor's participant id in cells if none is given: the
+// highest whose ports on `domain` stay below the ephemeral range.
+uint32_t default_monitor_participant_id(uint32_t domain);
 
 // Why these options cannot reach a swarm, if they cannot: an error message.
 std::optional<std::string> check_attach(const AttachOptions& o);

@@ -16,7 +16,7 @@ struct HostFit {
   // UAV processes whose discovery completed and whose ticks kept time
   // (< 1 % late) at 5 Hz on 2 cores, per vendor (bench scale, issue 12).
   static constexpr uint32_t kHeldOnTwoCores = 100;
-  // The same with --dds-profile cells (bench scale, issue 25): Cyclone 750
+  // The same in cells, the default profile (bench scale, issue 25): Cyclone 750
   // (discovery 18 s; 1000 held in one of two runs: in the other a place
   // agent stalled 10 s and 4 % of the UAV ticks were not flown), Fast DDS 500
   // (discovery 15-21 s; at 750 64-102 s, and 11-28 % not flown).
@@ -28,7 +28,8 @@ struct HostFit {
 
 // A warning for `uavs` UAV processes at `rate_hz` on `cores` cores over
 // `dds` (a DdsPlan spec), or nothing if the swarm is within what was
-// measured (scaled by cores; the flight cost by the rate). Header-only so
+// measured (scaled by cores; the flight cost by the rate). Over several
+// hosts `uavs` is this host's share. Header-only so
 // that the unit tests use it without the CLI.
 inline std::optional<std::string> host_fit_warning(uint32_t uavs, double rate_hz, unsigned cores, const std::string& dds,
                                             bool discovery_server, bool cells = false) {
@@ -47,25 +48,27 @@ inline std::optional<std::string> host_fit_warning(uint32_t uavs, double rate_hz
   };
   std::string why;
   if (uavs > held && !discovery_server && cells) {
+    // Discovery bounds the count: a lower rate would not help, more hosts do
+    // (each host's cells discover only their own UAVs).
     why = std::to_string(uavs) + " UAV processes: on " + std::to_string(cores) +
-          " cores `pheromesh bench scale` with --dds-profile cells held " + std::to_string(held) + " UAVs on time over " +
+          " cores `pheromesh bench scale` in cells held " + std::to_string(held) + " UAVs on time over " +
           (dds == "cyclone" ? "Cyclone (discovery 18 s at 750; at 1000 one run of two lost 4 % of its ticks)"
-                             : "Fast DDS (discovery 15-21 s at 500; 64-102 s at 750)");
+                             : "Fast DDS (discovery 15-21 s at 500; 64-102 s at 750)") +
+          "; split the swarm over more hosts (--hosts H --dds-peers A,B,..., docs/deployment.md): each holds as many";
   } else if (uavs > held && !discovery_server) {
     why = std::to_string(uavs) + " UAV processes: on " + std::to_string(cores) +
-          " cores `pheromesh bench scale` saw discovery complete for " + std::to_string(held) +
+          " cores `pheromesh bench scale` saw flat discovery complete for " + std::to_string(held) +
           " UAVs (Cyclone 33.5 s, Fast DDS 20.8 s on 2 cores) and not for 150, where some UAVs never found their "
-          "place agent; --dds-profile cells, where each process discovers only those it talks to, held 750 UAVs on "
-          "Cyclone and 500 on Fast DDS";
+          "place agent; cells, the default profile (leave --dds-profile out), where each process discovers only "
+          "those it talks to, held 750 UAVs on Cyclone and 500 on Fast DDS";
     if (dds == "fastdds") {
       why += "; with --dds fastdds, --discovery-server discovers through one server (250 UAVs on time in the benchmark)";
     }
-  }
-  if (static_cast<double>(uavs) * rate_hz > flight_budget) {
+  } else if (static_cast<double>(uavs) * rate_hz > flight_budget) {
     const double rate = std::floor(10.0 * flight_budget / uavs) / 10.0;
-    why += (why.empty() ? "" : "; ") + std::to_string(uavs) + " UAVs at " + fixed1(rate_hz) + " Hz is more than the " +
-           std::to_string(static_cast<int>(flight_budget)) + " UAV ticks per second held on time here; try --rate " +
-           fixed1(std::max(rate, 0.1));
+    why = std::to_string(uavs) + " UAVs at " + fixed1(rate_hz) + " Hz is more than the " +
+          std::to_string(static_cast<int>(flight_budget)) + " UAV ticks per second held on time here; try --rate " +
+          fixed1(std::max(rate, 0.1));
   }
   if (why.empty()) return std::nullopt;
   return why + " (README, \"Scale\")";

@@ -135,12 +135,40 @@ std::optional<std::string> check_plugin_pin(const RunPlan& plan, const core::Sce
          s.plugin->sha256 + "\" } }`, so that every host refuses another build (docs/writing-a-policy.md)";
 }
 
+// Cells over several hosts: --dds-peers as one IPv4 address per host, in
+// host order, this host's among this host's addresses.
+std::optional<std::string> resolve_host_addresses(RunOptions& o) {
+  if (o.dds_profile != "cells" || o.hosts <= 1 || o.dds_peers.empty()) return std::nullopt;
+  std::size_t start = 0;
+  while (start <= o.dds_peers.size()) {
+    const std::size_t comma = std::min(o.dds_peers.find(',', start), o.dds_peers.size());
+    const std::string entry = o.dds_peers.substr(start, comma - start);
+    start = comma + 1;
+    auto resolved = bus::resolve_peers(entry);
+    if (!resolved) return resolved.error().message;
+    if (resolved->addresses.size() != 1) {
+      return "--dds-peers: host " + std::to_string(o.host_addresses.size()) + " '" + entry + "' " +
+             (resolved->addresses.empty() ? "does not resolve"
+                                          : "resolves to " + std::to_string(resolved->addresses.size()) +
+                                                " addresses; in cells each entry names one host, in host-index order");
+    }
+    o.host_addresses.push_back(resolved->addresses.front());
+  }
+  if (o.host_index < o.host_addresses.size() && !is_local_address(o.host_addresses[o.host_index])) {
+    return "--dds-peers: entry " + std::to_string(o.host_index) + " (" + o.host_addresses[o.host_index] +
+           ") is this host's (--host-index " + std::to_string(o.host_index) +
+           "), but no interface of this host has that address";
+  }
+  return std::nullopt;
+}
+
 // The checks and the plan, in the order their errors are reported.
-std::variant<RunPlan, Refusal> plan_run(const RunOptions& o, const core::ScenarioConfig& s) {
+std::variant<RunPlan, Refusal> plan_run(RunOptions o, const core::ScenarioConfig& s) {
   auto dds = parse_dds_plan(o.dds, bus::available_vendors());
   if (!dds) return Refusal{2, dds.error().message};
   const std::string bin_dir = executable_dir();
   if (auto refused = check_executables(bin_dir)) return *refused;
+  if (auto err = resolve_host_addresses(o)) return Refusal{2, *err};
   auto plan = make_run_plan(o, s, dds.value(), bin_dir);
   if (!plan) return Refusal{2, plan.error().message};
   if (auto refused = announce_faults(plan.value())) return *refused;
@@ -152,10 +180,14 @@ std::variant<RunPlan, Refusal> plan_run(const RunOptions& o, const core::Scenari
 
 void announce(const RunPlan& plan, const core::ScenarioConfig& s) {
   const RunOptions& o = plan.options;
+  uint32_t places_here = 0, uavs_here = 0;
+  for (const auto& p : plan.processes) {
+    places_here += p.role == "place" ? 1 : 0;
+    uavs_here += p.role == "uav" ? 1 : 0;
+  }
   if (!plan.lockstep()) {
-    if (auto w =
-            host_fit_warning(plan.uavs, plan.rate_hz, std::thread::hardware_concurrency(), o.dds, o.discovery_server,
-                             o.dds_profile == "cells")) {
+    if (auto w = host_fit_warning(uavs_here, plan.rate_hz, std::thread::hardware_concurrency(), o.dds,
+                                  o.discovery_server, o.dds_profile == "cells")) {
       spdlog::warn("this swarm may not keep time on this host: {}", *w);
     }
   }
@@ -165,15 +197,13 @@ void announce(const RunPlan& plan, const core::ScenarioConfig& s) {
       plan.lockstep() ? "" : fmt::format(" at {:.1f} Hz", plan.rate_hz), plan.dds.describe(), o.domain, o.dds_profile,
       o.out_dir);
   if (s.plugin || s.python) spdlog::info("policy {}", policy_summary(s));
-  if (const auto attach = cells_attach_command(plan)) spdlog::info("watch it from this host with: {}", *attach);
+  if (const auto attach = cells_attach_command(plan)) spdlog::info("watch it with: {}", *attach);
   if (!plan.multi_host()) return;
-  uint32_t places_here = 0, uavs_here = 0;
-  for (const auto& p : plan.processes) {
-    places_here += p.role == "place" ? 1 : 0;
-    uavs_here += p.role == "uav" ? 1 : 0;
-  }
   spdlog::info("host {} of {}: {} place agents, {} uavs{} here; the ground station {}", o.host_index, o.hosts,
-               places_here, uavs_here, o.dds_peers.empty() ? "" : fmt::format(" (DDS peers {})", o.dds_peers),
+               places_here, uavs_here,
+               plan.cells ? fmt::format(" (in cells, this host {})", plan.cells->address_of(o.host_index))
+               : o.dds_peers.empty() ? ""
+                                     : fmt::format(" (DDS peers {})", o.dds_peers),
                plan.share.runs("ground", 0) ? "too (it ends the run)" : fmt::format("on host {}", o.ground_host));
 }
 

@@ -49,13 +49,15 @@ Examples:
 SEVERAL HOSTS (docs/deployment.md)
   Every host runs the same command with its own --host-index, and the same
   $PHEROMESH_CONTROL_KEY (make one with `pheromesh key`). Place agent R runs on
-  host R % hosts (a standby on the next host), UAV U on host U % hosts, the
-  ground station on --ground-host, which ends the run and writes metrics.json.
+  host R % hosts (a standby on the next host), each UAV on the host of its home
+  place agent (UAV U: place agent U % regions), the ground station on
+  --ground-host, which ends the run and writes metrics.json. In cells (the
+  default) --dds-peers lists every host's address in host-index order:
     export PHEROMESH_CONTROL_KEY=...      # the same on every host
-    pheromesh run scenarios/small-test.textproto --hosts 3 --host-index 0 --dds-profile lan
-    pheromesh run scenarios/small-test.textproto --hosts 3 --host-index 1 --dds-profile lan     # on host 1
-  Without multicast: --dds-profile lan-unicast --dds-peers 10.0.0.1,10.0.0.2,10.0.0.3
-  Watch from anywhere on the LAN: pheromesh attach --dds-profile lan --http 8080
+    pheromesh run scenarios/small-test.textproto --hosts 3 --host-index 0 --dds-peers 10.0.0.1,10.0.0.2,10.0.0.3
+    pheromesh run scenarios/small-test.textproto --hosts 3 --host-index 1 --dds-peers 10.0.0.1,10.0.0.2,10.0.0.3
+  Flat discovery instead: --dds-profile lan (multicast) or lan-unicast --dds-peers ...
+  Watch from anywhere on the LAN: pheromesh attach --dds-peers 10.0.0.1,10.0.0.2,10.0.0.3 --http 8080
 )";
 
 constexpr const char* kAttachFooter = R"(The monitor takes the scenario and the run's options from the swarm's
@@ -66,10 +68,11 @@ from its start (deposit counters are the processes' totals, so the accounting
 is complete; coverage and responses count from its start).
 
 Examples:
-  pheromesh attach --domain 0 --http 8080                     # a swarm on this host
-  pheromesh attach --dds-profile lan --http 8080 --http-bind 0.0.0.0
+  pheromesh attach --domain 0 --http 8080                     # a swarm on this host (in cells, the default)
+  pheromesh attach --dds-peers 10.0.0.1,10.0.0.2,10.0.0.3     # a swarm in cells over these hosts
+  pheromesh attach --domain 0 --cell-hubs 17                  # as `pheromesh run` prints it: names fewer hubs
+  pheromesh attach --dds-profile lan --http 8080 --http-bind 0.0.0.0      # a swarm with flat discovery
   pheromesh attach --dds-profile lan-unicast --dds-peers 10.0.0.1,10.0.0.2 --out out/watch
-  pheromesh attach --domain 0 --dds-profile cells --cell-hubs 17   # a run with --dds-profile cells: it prints this line
 )";
 
 
@@ -150,16 +153,16 @@ class FullCommands final : public ProcessCommands {
                 "stops the standby's takes over within about a liveliness lease (docs/faults.md). Stands for --set "
                 "run.standby=true");
     r->add_option("--dds-profile", ro.dds_profile,
-                  "DDS profile: onehost (loopback, multicast discovery), onehost-unicast, cells (loopback, each process "
-                  "discovers only those it talks to: a UAV its gateway place agents; for hundreds of UAVs, "
-                  "docs/dds.md), lan (several hosts, multicast discovery), lan-unicast (several hosts, --dds-peers), "
-                  "default (vendor defaults) or vendor config files, comma-separated, each process using the one for "
-                  "its vendor [env PHEROMESH_DDS_PROFILE]")
+                  "DDS profile: cells (the default: each process discovers only those it talks to, a UAV its gateway "
+                  "place agents; on one host, or over several with --dds-peers; docs/dds.md), or flat discovery: "
+                  "onehost (loopback, multicast), onehost-unicast, lan (several hosts, multicast), lan-unicast "
+                  "(several hosts, --dds-peers), default (vendor defaults) or vendor config files, comma-separated, "
+                  "each process using the one for its vendor [env PHEROMESH_DDS_PROFILE]")
         ->capture_default_str();
     if (const char* p = std::getenv("PHEROMESH_DDS_PEERS"); p != nullptr) ro.dds_peers = p;
     r->add_option("--dds-peers", ro.dds_peers,
-                  "lan profiles: every host of the swarm, comma-separated addresses or names (unicast discovery) "
-                  "[env PHEROMESH_DDS_PEERS]");
+                  "Every host of the swarm, comma-separated addresses or names: in cells one per host in --host-index "
+                  "order; lan-unicast: unicast discovery peers [env PHEROMESH_DDS_PEERS]");
     r->add_option("--hosts", ro.hosts,
                   "Hosts the swarm is split over; each runs this command with its --host-index "
                   "(see SEVERAL HOSTS below)")
@@ -327,17 +330,18 @@ class FullCommands final : public ProcessCommands {
         ->capture_default_str();
     at->add_option(
           "--dds-profile", ao.dds_profile,
-          "DDS profile that reaches the swarm: onehost (same host), cells (with --cell-hubs), lan, lan-unicast "
-          "(with --dds-peers), or files")
+          "DDS profile that reaches the swarm: cells (the default, as `pheromesh run`'s; with --dds-peers for a "
+          "swarm over several hosts), onehost (same host), lan, lan-unicast (with --dds-peers), or files "
+          "[env PHEROMESH_DDS_PROFILE]")
         ->capture_default_str();
     at->add_option("--dds-peers", ao.dds_peers,
-                   "lan profiles: the swarm's hosts, comma-separated [env PHEROMESH_DDS_PEERS]");
+                   "The swarm's hosts, comma-separated (cells, lan-unicast) [env PHEROMESH_DDS_PEERS]");
     at->add_option("--cell-hubs", ao.cell_hubs,
-                   "--dds-profile cells: the swarm's hubs (its ground station and place agent replicas), as "
-                   "`pheromesh run` prints them");
+                   "cells: the most hubs (ground station and place agent replicas) on one host of the swarm, as "
+                   "`pheromesh run` prints it; without it the monitor names all 120 indices a hub can have");
     at->add_option("--participant-id", ao.participant_id,
-                   "--dds-profile cells over Fast DDS: the monitor's participant id, past every hub's and UAV's "
-                   "(`pheromesh run` prints one)");
+                   "cells over Fast DDS: the monitor's participant id (its ports), above 119 and past every UAV's "
+                   "(120 + UAV id); default: the domain's highest below the ephemeral ports");
     at->add_option("--out", ao.out_dir, "Output folder (metrics.json, console recording)")->capture_default_str();
     at->add_option("--http", ao.http_port, "Serve the web console on this port (0: any free port)");
     at->add_option("--http-bind", ao.http_bind, "Address the console listens on (0.0.0.0: every interface)")

@@ -35,77 +35,42 @@ constexpr milliseconds kSecureFastDdsSpawnGap{300};
 
 bool onehost_profile(const std::string& profile) { return profile == "onehost" || profile == "onehost-unicast"; }
 
-// --dds-profile cells (docs/dds.md, "Cell discovery"): one shared domain on
-// loopback; the ground station and the place agents are hubs with fixed
-// participant indices (the ground 0, place agent r's replica k 1 + k R + r),
-// the UAVs members that announce themselves to their gateways only.
-constexpr const char* kLoopback = "127.0.0.1";
 uint32_t max_replicas(const RunPlan& p) { return p.standby != Standby::Off ? 2U : 1U; }
-uint32_t cell_hub_index(const RunPlan& p, const std::string& role, uint32_t index, uint32_t replica) {
-  return role == "ground" ? 0U : 1U + replica * p.regions + index;
-}
-// The hubs' indices are 0 .. cell_hubs - 1; a Fast DDS member takes the id
-// cell_hubs + its UAV index (its ports), past them.
-uint32_t cell_hubs(const RunPlan& p) { return 1U + max_replicas(p) * p.regions; }
 
-bus::CellDiscovery cell_of(const RunPlan& p, const std::string& role, uint32_t index, uint32_t replica) {
-  bus::CellDiscovery c;
-  c.domain = p.options.domain;
-  const auto add_place = [&](core::RegionId r, std::vector<bus::CellPeer>& to) {
-    for (uint32_t k = 0; k < max_replicas(p); ++k) to.push_back({kLoopback, cell_hub_index(p, "place", r, k)});
-  };
-  if (role == "uav") {
-    const core::RegionId home = core::home_region(index, p.regions);
-    const core::RegionId backup = core::backup_region(index, p.regions);
-    add_place(home, c.peers);
-    // A realtime UAV names its backup gateway only once its home is gone
-    // (reserve): discovered ahead, every place agent's cell held its backup
-    // UAVs too, and 500 UAVs in 16 cells took 80-90 s to discover on Fast
-    // DDS instead of 16 s (Cyclone 44-75 s instead of 11 s). A lockstep UAV
-    // hears of its home's death in the clock, which the backup relays to
-    // it, so it names the backup from the start.
-    if (backup != home) add_place(backup, p.lockstep() ? c.peers : c.reserve);
-    return c;
-  }
-  c.index = cell_hub_index(p, role, index, replica);
-  // Hubs name one another: the ground station every place agent, a place
-  // agent the ground station and every other place agent (not itself).
-  if (role != "ground") c.peers.push_back({kLoopback, 0});
-  for (core::RegionId r = 0; r < p.regions; ++r) {
-    for (uint32_t k = 0; k < max_replicas(p); ++k) {
-      if (role == "place" && r == index && k == replica) continue;
-      c.peers.push_back({kLoopback, cell_hub_index(p, "place", r, k)});
-    }
-  }
-  return c;
-}
-
-// Why the run cannot have cells, if it cannot.
-std::optional<std::string> check_cells(const RunPlan& p) {
+// --dds-profile cells (docs/dds.md, "Cell discovery"; cell_layout.hpp): the
+// layout of this swarm's cells, or why it cannot have them.
+core::Result<CellLayout> cell_layout(const RunPlan& p) {
   const RunOptions& o = p.options;
-  if (o.dds_profile != "cells") return std::nullopt;
-  if (p.multi_host()) return "--dds-profile cells runs on one host (loopback); with --hosts use lan or lan-unicast";
-  if (o.discovery_server) return "--dds-profile cells is a discovery of its own; leave out --discovery-server";
-  if (cell_hubs(p) - 1 > bus::kMaxParticipantIndex) {
-    return "--dds-profile cells: " + std::to_string(cell_hubs(p) - 1) +
-           " place agents (with standbys) and the ground station need participant indices 0.." +
-           std::to_string(cell_hubs(p) - 1) + ", above " + std::to_string(bus::kMaxParticipantIndex) +
-           " (Cyclone's limit): use fewer regions";
+  if (p.multi_host() && o.host_addresses.size() != o.hosts) {
+    return core::Error{"--hosts " + std::to_string(o.hosts) + " in cells (the default profile) needs --dds-peers " +
+                       "with every host's address in host-index order (" + std::to_string(o.hosts) +
+                       " of them, the same list on every host; this host's is entry " +
+                       std::to_string(o.host_index) + ")" +
+                       (o.host_addresses.empty() ? "" : "; got " + std::to_string(o.host_addresses.size())) +
+                       ", or --dds-profile lan for multicast discovery (docs/deployment.md)"};
   }
-  for (uint32_t k = 0; k < max_replicas(p); ++k) {
-    if (auto err = bus::check_cell(cell_of(p, "place", p.regions - 1, k)); !err) return err.error().message;
-  }
-  // A Fast DDS UAV's ports follow its id: below the ephemeral range too.
-  if (p.uavs > 0 && p.dds.uav != "cyclone") {
-    const uint32_t last = cell_hubs(p) + p.uavs - 1;
-    if (bus::unicast_discovery_port(o.domain, last) + 1 >= bus::kEphemeralPortsFrom) {
-      return "--dds-profile cells: Fast DDS UAV " + std::to_string(p.uavs - 1) + " would take participant id " +
-             std::to_string(last) + ", whose ports on domain " + std::to_string(o.domain) +
-             " reach the ephemeral range from " + std::to_string(bus::kEphemeralPortsFrom) +
-             ": use a lower --domain or fewer UAVs";
-    }
-  }
-  return std::nullopt;
+  SwarmShape shape;
+  shape.regions = p.regions;
+  shape.uavs = p.uavs;
+  shape.replicas = max_replicas(p);
+  shape.lockstep = p.lockstep();
+  shape.domain = o.domain;
+  shape.hosts = o.hosts;
+  shape.ground_host = o.ground_host;
+  if (p.multi_host()) shape.addresses = o.host_addresses;
+  CellLayout layout(std::move(shape));
+  if (auto err = layout.check(p.dds.uav != "cyclone")) return core::Error{"--dds-profile " + *err};
+  return layout;
+}
+
+// The profile a run takes by default (cells) gives way to the flat one that
+// network faults or a discovery server need, with a note.
+void settle_profile(RunPlan& p) {
+  RunOptions& o = p.options;
+  if (o.dds_profile != "cells" || !o.discovery_server) return;
+  o.dds_profile = "onehost";
+  p.notes.push_back({PlanNote::Level::Info,
+                     "--discovery-server: every process discovers through the server (profile onehost), not in cells"});
 }
 
 // The arguments every process gets, before its role's own.
@@ -123,7 +88,8 @@ std::vector<std::string> common_args(const RunPlan& p, const PlannedProcess& c, 
   flag("--log-level", o.log_level);
   flag("--clock", o.clock);
   flag("--lease-ms", std::to_string(o.lease_ms));
-  if (!o.dds_peers.empty()) flag("--dds-peers", o.dds_peers);
+  // In cells a process's peers are its cell's.
+  if (!o.dds_peers.empty() && !p.cells) flag("--dds-peers", o.dds_peers);
   if (!o.secure.empty()) flag("--secure", o.secure);
   const bool standby = p.standby != Standby::Off;
   if (standby) args.emplace_back("--standby");
@@ -145,11 +111,11 @@ PlannedProcess planned(const RunPlan& p, const std::string& role, uint32_t index
   c.argv = common_args(p, c, p.bin_dir + "/pheromesh-" + role);
   c.argv.insert(c.argv.end(), role_args.begin(), role_args.end());
   c.participant_id = participant_id;
-  if (p.options.dds_profile == "cells") {
+  if (p.cells) {
     // A UAV's Fast DDS ports past every hub's, whatever starts later.
-    const uint32_t id = role == "uav" ? cell_hubs(p) + index : cell_hub_index(p, role, index, replica);
+    const uint32_t id = role == "uav" ? CellLayout::member_id(index) : p.cells->hub(role, index, replica).index;
     c.env = {"PHEROMESH_PARTICIPANT_ID=" + std::to_string(id),
-             std::string(bus::kCellEnv) + "=" + bus::format_cell(cell_of(p, role, index, replica))};
+             std::string(bus::kCellEnv) + "=" + bus::format_cell(p.cells->cell_of(role, index, replica))};
   } else {
     c.env = {"PHEROMESH_PARTICIPANT_ID=" + std::to_string(participant_id)};
   }
@@ -298,13 +264,15 @@ std::optional<std::string> settle_faults(RunPlan& p, core::FaultSchedule schedul
       return "fault schedule: partition and loss do not work with --discovery-server (the server listens on this "
              "host's loopback, outside the processes' network namespaces)";
     }
-    // The one-host profiles speak on loopback only; in a namespace of its
-    // own each process must speak on its veth (deploy/dds/*-netns.xml).
-    if (o.dds_profile == "cells") {
-      return "fault schedule: partition and loss run every process in a network namespace of its own; they do not "
-             "work with --dds-profile cells (loopback)";
-    }
-    if (onehost_profile(o.dds_profile)) {
+    // The one-host profiles and one-host cells speak on loopback only; in a
+    // namespace of its own each process must speak on its veth
+    // (deploy/dds/*-netns.xml).
+    if (o.dds_profile == "cells" && o.hosts <= 1) {
+      p.notes.push_back({PlanNote::Level::Info,
+                         "fault schedule: partition and loss run every process in a network namespace of its own, "
+                         "with flat discovery (profile netns) instead of cells"});
+      o.dds_profile = "netns";
+    } else if (onehost_profile(o.dds_profile)) {
       o.dds_profile = "netns";
     } else if (o.dds_profile != "netns") {
       p.notes.push_back({PlanNote::Level::Warn,
@@ -334,9 +302,11 @@ std::string process_name(const std::string& role, uint32_t index, uint32_t repli
 
 bool HostShare::runs(const std::string& role, uint32_t index, uint32_t replica) const {
   if (hosts <= 1) return true;
-  if (role == "ground") return host_index == ground_host;
-  if (role == "place") return (index + replica) % hosts == host_index;
-  return index % hosts == host_index;
+  SwarmShape shape;
+  shape.regions = regions;
+  shape.hosts = hosts;
+  shape.ground_host = ground_host;
+  return CellLayout(shape).host_of(role, index, replica) == host_index;
 }
 
 PlannedProcess RunPlan::place(uint32_t region, uint32_t replica, uint32_t participant_id) const {
@@ -385,7 +355,7 @@ core::Result<RunPlan> make_run_plan(const RunOptions& o, const core::ScenarioCon
   p.process_scenario = s.overrides.empty() ? o.scenario : (fs::path(o.out_dir) / kOverriddenScenarioFile).string();
   p.dds = dds;
   p.bin_dir = bin_dir;
-  p.share = {o.hosts, o.host_index, o.ground_host};
+  p.share = {o.hosts, o.host_index, o.ground_host, n.regions};
   p.clock = o.clock == "lockstep" ? RunClock::Lockstep : RunClock::Realtime;
   p.ticks = n.ticks;
   p.uavs = n.uavs;
@@ -397,7 +367,12 @@ core::Result<RunPlan> make_run_plan(const RunOptions& o, const core::ScenarioCon
   if (!schedule->empty()) {
     if (auto err = settle_faults(p, std::move(schedule).value())) return core::Error{*err};
   }
-  if (auto err = check_cells(p)) return core::Error{*err};
+  settle_profile(p);
+  if (p.options.dds_profile == "cells") {
+    auto layout = cell_layout(p);
+    if (!layout) return layout.error();
+    p.cells = std::move(layout).value();
+  }
   p.host_processes = count_host_processes(p);
   p.processes = start_order(p);
   p.stagger = stagger(p);
@@ -422,8 +397,8 @@ std::optional<std::string> check_multi_host(const RunPlan& plan, ControlKey key,
   if (!plan.multi_host()) return std::nullopt;
   if (onehost_profile(o.dds_profile) || o.dds_profile == "netns") {
     return "--hosts " + std::to_string(o.hosts) + ": DDS profile '" + o.dds_profile +
-           "' keeps traffic on this host; use --dds-profile lan (multicast discovery) or lan-unicast --dds-peers "
-           "HOST,HOST,... (docs/deployment.md)";
+           "' keeps traffic on this host; leave --dds-profile out (cells, with --dds-peers HOST,HOST,... in host "
+           "order), or use lan (multicast discovery) or lan-unicast --dds-peers HOST,HOST,... (docs/deployment.md)";
   }
   if (o.dds_profile == "lan-unicast" && o.dds_peers.empty()) {
     return "--dds-profile lan-unicast needs --dds-peers: the address or name of every host of the swarm";
@@ -458,8 +433,8 @@ std::optional<std::string> check_multi_host(const RunPlan& plan, ControlKey key,
       if (!here) {
         return "fault schedule: '" + e.text + "': " + t.process_name() + " does not run on host " +
                std::to_string(o.host_index) + " (--hosts " + std::to_string(o.hosts) +
-               ": place agent R on host R % hosts, its standby on the next, UAV U on host U % hosts, the ground "
-               "station on --ground-host); give this fault to that host's pheromesh run";
+               ": place agent R on host R % hosts, its standby on the next, UAV U on the host of place agent U % "
+               "regions, the ground station on --ground-host); give this fault to that host's pheromesh run";
       }
     }
   }
@@ -468,10 +443,15 @@ std::optional<std::string> check_multi_host(const RunPlan& plan, ControlKey key,
 
 std::optional<std::string> cells_attach_command(const RunPlan& plan) {
   const RunOptions& o = plan.options;
-  if (o.dds_profile != "cells") return std::nullopt;
-  return "pheromesh attach --domain " + std::to_string(o.domain) + " --dds-profile cells --cell-hubs " +
-         std::to_string(cell_hubs(plan)) + " (with --dds fastdds: --participant-id " +
-         std::to_string(cell_hubs(plan) + plan.uavs) + ")";
+  if (!plan.cells) return std::nullopt;
+  std::string cmd = "pheromesh attach --domain " + std::to_string(o.domain) + " --cell-hubs " +
+                    std::to_string(plan.cells->most_hubs_on_a_host());
+  if (plan.multi_host()) {
+    std::string peers;
+    for (const auto& a : o.host_addresses) peers += (peers.empty() ? "" : ",") + a;
+    cmd += " --dds-peers " + peers;
+  }
+  return cmd;
 }
 
 }  // namespace pheromesh::cli

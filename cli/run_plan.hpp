@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "cell_layout.hpp"
 #include "dds_plan.hpp"
 #include "pheromesh/core/faults.hpp"
 #include "pheromesh/core/result.hpp"
@@ -19,6 +20,8 @@
 #include "scenario_overrides.hpp"
 
 namespace pheromesh::cli {
+
+inline constexpr const char* kDefaultDdsProfile = "cells";
 
 struct RunOptions {
   std::string scenario;
@@ -31,13 +34,22 @@ struct RunOptions {
   std::string kill_spec;                      // --kill: the older form of --faults ("uav:3@5s,place:1@2500ms")
   std::string netns_subnet = "10.77.0.0/16";  // the processes' addresses when network faults need namespaces
   std::string dds;                            // a DdsPlan spec: cyclone, fastdds, mixed or ROLE=VENDOR,...
-  std::string dds_profile = "onehost";
-  std::string dds_peers;  // lan profiles: discovery peers (every process gets them)
+  // cells (the default): each process discovers only those it talks to, on
+  // one host or over several (docs/dds.md, "Cell discovery"); network faults
+  // and --discovery-server take the flat profile they need instead (netns,
+  // onehost), with a note. The flat profiles by name: onehost,
+  // onehost-unicast, lan, lan-unicast, netns, default, or files.
+  std::string dds_profile = kDefaultDdsProfile;
+  std::string dds_peers;  // lan profiles: discovery peers (every process gets them); cells: every host, in host order
+  // cells over several hosts: dds_peers resolved, one IPv4 address per host
+  // in host-index order (the launcher resolves them before planning).
+  std::vector<std::string> host_addresses;
   uint32_t domain = 0;
   // One swarm over several hosts (docs/deployment.md): each host runs
   // `pheromesh run` with the same scenario and options and its own index,
   // and starts only its share: place agent R (its standby R.rN) on host
-  // (R + N) % hosts, UAV U on host U % hosts, the ground station on ground_host.
+  // (R + N) % hosts, UAV U beside its home place agent (cell_layout.hpp),
+  // the ground station on ground_host.
   uint32_t hosts = 1;
   uint32_t host_index = 0;
   uint32_t ground_host = 0;
@@ -65,6 +77,7 @@ struct HostShare {
   uint32_t hosts = 1;
   uint32_t host_index = 0;
   uint32_t ground_host = 0;
+  uint32_t regions = 1;  // a UAV runs on the host of its home place agent
   [[nodiscard]] bool multi_host() const { return hosts > 1; }
   // Whether this host runs process `index` (replica `replica`) of `role`.
   [[nodiscard]] bool runs(const std::string& role, uint32_t index, uint32_t replica = 0) const;
@@ -159,6 +172,8 @@ struct RunPlan {
   double rate_hz = 0;    // [Hz]
   Standby standby = Standby::Off;
   std::optional<core::FaultSchedule> faults;  // --faults, --kill and the scenario's, merged; none if empty
+  // --dds-profile cells: who runs where and names whom.
+  std::optional<CellLayout> cells;
   std::vector<PlanNote> notes;
   // This host's processes in start order: the ground station, the place
   // agents, their standbys, the UAVs.
@@ -214,8 +229,8 @@ enum class ControlKey : uint8_t { Set, Unset, Malformed };
 std::optional<std::string> check_multi_host(const RunPlan& plan, ControlKey key, const std::string& key_error = "");
 
 // --dds-profile cells: the `pheromesh attach` command that watches this run
-// from this host (its hubs, and a Fast DDS participant id past every UAV's);
-// nullopt for other profiles.
+// (from any host of it, or another on its network); nullopt for other
+// profiles.
 std::optional<std::string> cells_attach_command(const RunPlan& plan);
 
 }  // namespace pheromesh::cli

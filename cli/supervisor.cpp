@@ -595,7 +595,7 @@ void Supervisor::clean_fastdds_shm() const {
   // any other profile Fast DDS may use shared memory, whose files a killed
   // process leaves in /dev/shm: remove those of dead processes.
   const std::string& profile = plan_.options.dds_profile;
-  if (profile == "onehost" || profile == "onehost-unicast" || profile == "netns") return;
+  if (profile == "onehost" || profile == "onehost-unicast" || profile == "netns" || profile == "cells") return;
   const bool fastdds =
       std::any_of(children_.begin(), children_.end(), [](const auto& c) { return c.dds == "fastdds"; });
   const bool died =

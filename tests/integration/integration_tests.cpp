@@ -308,7 +308,9 @@ TEST(Distributed, AnExperimentsRunsOnRealProcessesGiveTheSimulatorsNumbersRunByR
 TEST(BadInput, MalformedSamplesAreRejectedAndCountedAndNothingCrashes) {
   const std::string out = out_dir("hostile");
   const int domain = 25;
-  const Background swarm = start_run("small-test.textproto", out, domain, "--uavs 2 --ticks 150 --rate 25");
+  // The hostile probe speaks flat discovery: the swarm flies in the flat profile.
+  const Background swarm =
+      start_run("small-test.textproto", out, domain, "--uavs 2 --ticks 150 --rate 25 --dds-profile onehost");
   const Output h = run(kBin + "/pheromesh-test-probe --domain " + std::to_string(domain) + " hostile --region 0 --map-width 30");
   ASSERT_EQ(h.exit_code, 0) << h.text;
   // 6 deposits written (5 malformed or replayed, 1 valid), 3 malformed tiles

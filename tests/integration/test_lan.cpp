@@ -1,10 +1,11 @@
 // One swarm over several "hosts": network namespaces joined by a bridge,
 // each with its own address, as LAN hosts are (docs/deployment.md). Every
 // host runs `pheromesh run --hosts 3 --host-index I`; a monitor in a fourth
-// namespace attaches mid-run with only the domain id. Discovery by multicast
-// (profile lan) and by unicast peers (lan-unicast, with multicast dropped on
-// the bridge so that nothing else can work). Traffic stays in the
-// namespaces this test makes. Domains 70-71; needs root (ip netns).
+// namespace attaches mid-run with only the domain id (and in cells the hosts'
+// addresses). Discovery in cells (the default, with multicast dropped on the
+// bridge so that nothing else can work), by multicast (profile lan) and by
+// unicast peers (lan-unicast, multicast dropped too). Traffic stays in the
+// namespaces this test makes. Domains 70-71, 74-75; needs root (ip netns).
 #include <unistd.h>
 
 #include <regex>
@@ -90,7 +91,9 @@ std::optional<double> number_in(const std::string& text, const std::string& re) 
 // place agent 0 (its primary) mid-flight.
 void run_split_swarm(const std::string& tag, int domain, const std::string& profile_args, bool standby = false) {
   if (geteuid() != 0) GTEST_SKIP() << "network namespaces need root";
-  LanNet net(profile_args.find("lan-unicast") != std::string::npos);
+  // Without a profile flag the swarm flies in cells, the default.
+  const bool cells = profile_args.find("--dds-profile") == std::string::npos;
+  LanNet net(cells || profile_args.find("lan-unicast") != std::string::npos);
   ASSERT_TRUE(net.ready());
   const std::string out = out_dir(tag);
   const std::string key = run(kBin + "/pheromesh key").text.substr(0, 64);
@@ -122,11 +125,15 @@ void run_split_swarm(const std::string& tag, int domain, const std::string& prof
   if (profile_args.find("--dds-peers") != std::string::npos) {
     peers = " --dds-peers " + address(0) + "," + address(1) + "," + address(2);
   }
-  const std::string profile = profile_args.find("lan-unicast") != std::string::npos ? "lan-unicast" : "lan";
+  const std::string profile = cells                                             ? "cells"
+                              : profile_args.find("lan-unicast") != std::string::npos ? "lan-unicast"
+                                                                                     : "lan";
+  // In cells the monitor names the hosts only, as the operator does.
   const Background monitor =
       start({"/bin/sh", "-c",
              "ip netns exec " + ns(kHosts) + " " + kBin + "/pheromesh attach --domain " + std::to_string(domain) +
-                 " --dds-profile " + profile + peers + " --out " + out + "/monitor --timeout 30 2>&1"},
+                 (cells ? std::string() : " --dds-profile " + profile) + peers + " --out " + out +
+                 "/monitor --timeout 30 2>&1"},
             out + "/monitor.txt");
   std::vector<int> codes;
   for (const auto& h : hosts) codes.push_back(wait_exit(h.pid, std::chrono::seconds(180)));
@@ -146,11 +153,12 @@ void run_split_swarm(const std::string& tag, int domain, const std::string& prof
   EXPECT_EQ(m["deposits_lost"], 0);
   EXPECT_GT(m["coverage"].get<double>(), 0.3);
   EXPECT_EQ(m["processes_crashed"], 0);
-  // Host 0 ran the ground station, place agents 0 and 3, UAVs 0 and 3 (and
-  // the standby of region 2); host 1 place agent 1, UAVs 1 and 4 (standbys
-  // of regions 0 and 3); host 2 place agent 2, UAVs 2 and 5 (standby of 1).
+  // Each UAV flies on the host of its home place agent (UAV U: place agent
+  // U % 4). Host 0 ran the ground station, place agents 0 and 3, UAVs 0, 3
+  // and 4 (and the standby of region 2); host 1 place agent 1, UAVs 1 and 5
+  // (standbys of regions 0 and 3); host 2 place agent 2, UAV 2 (standby of 1).
   const std::vector<std::size_t> share =
-      standby ? std::vector<std::size_t>{6, 5, 4} : std::vector<std::size_t>{5, 3, 3};
+      standby ? std::vector<std::size_t>{7, 5, 3} : std::vector<std::size_t>{6, 3, 2};
   EXPECT_EQ(m["processes"].size(), share[0]) << m["processes"].dump(2);
   if (standby) {
     EXPECT_EQ(m["processes_killed"], 1);
@@ -166,6 +174,7 @@ void run_split_swarm(const std::string& tag, int domain, const std::string& prof
     EXPECT_EQ(h["processes"].size(), share[static_cast<std::size_t>(i)]) << h["processes"].dump(2);
   }
   const std::string ground = slurp(ground_txt);
+  if (cells) EXPECT_NE(ground.find("profile cells"), std::string::npos) << ground;
   const auto discovery = number_in(ground, "discovery complete: .* heard ([0-9.]+) s after the launch");
   ASSERT_TRUE(discovery.has_value()) << ground;
   ::testing::Test::RecordProperty("discovery_s", std::to_string(*discovery));
@@ -185,7 +194,7 @@ void run_split_swarm(const std::string& tag, int domain, const std::string& prof
   EXPECT_EQ(mm["deposits_sent"], m["deposits_sent"]) << "the monitor's accounting is the processes' totals";
   EXPECT_EQ(mm["deposits_applied"], m["deposits_applied"]);
   std::printf("[lan] %s: the late monitor showed the whole swarm %.2f s after it started\n", tag.c_str(), *shown);
-  if (profile == "lan-unicast") {
+  if (profile != "lan") {
     std::printf("[lan] %s: multicast frames dropped on the bridge: %llu\n", tag.c_str(),
                 static_cast<unsigned long long>(LanNet::multicast_dropped()));
   }
@@ -202,6 +211,10 @@ TEST(Lan, ASwarmOverThreeHostsWithUnicastPeersCompletesWithoutMulticastAndALateM
                   "--dds-profile lan-unicast --dds-peers " + address(0) + "," + address(1) + "," + address(2));
 }
 
+TEST(Lan, ASwarmOverThreeHostsInCellsByDefaultCompletesWithoutMulticastAndAMonitorNamingTheHostsAttaches) {
+  run_split_swarm("lan-cells", 75, "--dds-peers " + address(0) + "," + address(1) + "," + address(2));
+}
+
 // What a swarm over several hosts cannot do is refused before anything
 // starts, and the message says what to do instead.
 TEST(Cli, SeveralHostsRefuseWhatCannotWorkAndSayWhatToDo) {
@@ -214,7 +227,9 @@ TEST(Cli, SeveralHostsRefuseWhatCannotWorkAndSayWhatToDo) {
   const std::vector<Case> cases{
       {key, "--hosts 3 --host-index 3 --dds-profile lan", "--host-index 3 is not below --hosts 3"},
       {key, "--hosts 3 --ground-host 5 --dds-profile lan", "--ground-host 5"},
-      {key, "--hosts 2", "use --dds-profile lan"},
+      {key, "--hosts 2", "needs --dds-peers with every host's address in host-index order"},
+      {key, "--hosts 2 --dds-peers 127.0.0.1,192.0.2.7 --host-index 1", "no interface of this host has that address"},
+      {key, "--hosts 2 --dds-profile onehost", "keeps traffic on this host"},
       {key, "--hosts 2 --dds-profile lan-unicast", "needs --dds-peers"},
       {"env -u PHEROMESH_CONTROL_KEY ", "--hosts 2 --dds-profile lan", "pheromesh key"},
       {key, "--hosts 2 --host-index 1 --dds-profile lan --http 0", "runs on host 0"},
@@ -241,6 +256,6 @@ TEST(Cli, AMonitorWithNoSwarmOnItsDomainSaysSoAndAGroundStationNeedsAScenarioOrA
   EXPECT_NE(g.text.find("--scenario is required (or --attach"), std::string::npos) << g.text;
 }
 
-TEST(Lan, AStandbyOnAnotherHostServesARegionWhoseHostKilledItsPrimary) {
-  run_split_swarm("lan-standby", 74, "--dds-profile lan", true);
+TEST(Lan, AStandbyOnAnotherHostServesARegionWhoseHostKilledItsPrimaryInCells) {
+  run_split_swarm("lan-standby", 74, "--dds-peers " + address(0) + "," + address(1) + "," + address(2), true);
 }

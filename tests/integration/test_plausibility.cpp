@@ -41,7 +41,8 @@ TEST(Plausibility, ForgedSamplesLeaveALockstepRunTheSimulatorsAndEachIsRefusedAn
   const std::string args = "--uavs 2 --ticks 4000 --seed 3";
   const std::string run_out = out_dir("plaus-lockstep");
   const std::string sim_out = out_dir("plaus-sim");
-  const Background swarm = start_run("small-test.textproto", run_out, 80, "--clock lockstep " + args);
+  // The forger speaks flat discovery: the swarm flies in the flat profile.
+  const Background swarm = start_run("small-test.textproto", run_out, 80, "--clock lockstep --dds-profile onehost " + args);
   const Output f = run(forge(80, true));
   ASSERT_EQ(f.exit_code, 0) << f.text;
   // 3 deposits (the next ten of UAV 0 counted once), 2 tiles, 3 field
@@ -102,7 +103,8 @@ TEST(Plausibility, ForgedSamplesInARealtimeRunAreRefusedAndTheAttackedUavKeepsDe
   // for a state of the UAV it impersonates, which must still be flying when
   // the forged state arrives (a UAV silent for a lease may be taken over:
   // a restarted one).
-  const Background swarm = start_run("small-test.textproto", out, 81, "--uavs 2 --ticks 300 --rate 25");
+  const Background swarm =
+      start_run("small-test.textproto", out, 81, "--uavs 2 --ticks 300 --rate 25 --dds-profile onehost");
   const Output f = run(forge(81, false));
   ASSERT_EQ(f.exit_code, 0) << f.text;
   EXPECT_NE(f.text.find("forged 23 samples"), std::string::npos) << f.text;

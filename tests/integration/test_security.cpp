@@ -77,7 +77,8 @@ TEST(Security, ASecureSwarmRunsToItsEndWhileAnUnauthenticatedParticipantReadsNot
       start(probe(vendor, domain, {"--secure", sec, "--identity", "monitor", "snoop", "--seconds", "300"}),
             out + "/monitor-snoop.txt");
   const Output o = run(pheromesh_run("small-test.textproto", out + "/run", domain,
-                                     "--secure " + sec + " --dds " + vendor + " --uavs 4 --ticks 150 --rate 25"));
+                                     "--secure " + sec + " --dds " + vendor +
+                                         " --uavs 4 --ticks 150 --rate 25 --dds-profile onehost"));
   kill(open_snoop.pid, SIGTERM);
   kill(monitor_snoop.pid, SIGTERM);
   EXPECT_EQ(wait_exit(open_snoop.pid, std::chrono::seconds(20)), 0);

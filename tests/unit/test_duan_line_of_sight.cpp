@@ -22,7 +22,6 @@ namespace pheromesh::core {
 namespace {
 
 using duan_test::at;
-using duan_test::kEps;
 using duan_test::kQuarterPi;
 using duan_test::mesh_of;
 using duan_test::turns_within;
@@ -55,7 +54,7 @@ TEST(DuanLineOfSight, PolylineCostOfMeshNeighboursEqualsThePathCost) {
   EXPECT_DOUBLE_EQ(a.cost, b.cost);
   // A long segment: length by Pythagoras, (0, 0) -> (6, 4) = √52 = 7.2111 km.
   const std::vector<NodeId> seg{at(m, 0, 0), at(m, 6, 4)};
-  EXPECT_NEAR(polyline_cost(m, seg).length_km, std::sqrt(52.0), kEps);
+  EXPECT_NEAR(polyline_cost(m, seg).length_km, std::sqrt(52.0), duan_test::kEps);
 }
 
 TEST(DuanLineOfSight, OnAnOpenMeshAStaircaseBecomesOneStraightSegment) {
@@ -65,9 +64,9 @@ TEST(DuanLineOfSight, OnAnOpenMeshAStaircaseBecomesOneStraightSegment) {
   const auto cut = line_of_sight_shortcut(m, walk, std::nullopt, kQuarterPi);
   EXPECT_EQ(cut, (std::vector<NodeId>{at(m, 0, 0), at(m, 8, 4)}));
   // √80 = 8.944 km; without threats J = 0.25 · L = 2.236 (Duan 2009 eq. (3)) against 2.414 for the walk.
-  EXPECT_NEAR(polyline_cost(m, cut).length_km, std::sqrt(80.0), kEps);
-  EXPECT_NEAR(polyline_cost(m, cut).cost, 0.25 * std::sqrt(80.0), kEps);
-  EXPECT_NEAR(m.path_cost(walk).cost, 0.25 * (4.0 + 4.0 * std::sqrt(2.0)), kEps);
+  EXPECT_NEAR(polyline_cost(m, cut).length_km, std::sqrt(80.0), duan_test::kEps);
+  EXPECT_NEAR(polyline_cost(m, cut).cost, 0.25 * std::sqrt(80.0), duan_test::kEps);
+  EXPECT_NEAR(m.path_cost(walk).cost, 0.25 * (4.0 + 4.0 * std::sqrt(2.0)), duan_test::kEps);
 }
 
 TEST(DuanLineOfSight, AShortcutThroughAThreatIsRefused) {
@@ -82,7 +81,7 @@ TEST(DuanLineOfSight, AShortcutThroughAThreatIsRefused) {
   EXPECT_NE(cut, (std::vector<NodeId>{at(m, 0, 0), at(m, 8, 4)}));
   EXPECT_EQ(cut.front(), walk.front());
   EXPECT_EQ(cut.back(), walk.back());
-  EXPECT_LE(polyline_cost(m, cut).cost, m.path_cost(walk).cost + kEps);
+  EXPECT_LE(polyline_cost(m, cut).cost, m.path_cost(walk).cost + duan_test::kEps);
   EXPECT_LT(polyline_cost(m, cut).threat, 1e-6);
   EXPECT_TRUE(turns_within(m, cut, std::nullopt, kQuarterPi));
   // Guard: the same walk on a threat-free mesh is cut to one segment.
@@ -126,12 +125,12 @@ TEST(DuanLineOfSight, ColonyWithTheSameSeedNeverDoesWorseThanThePapersAndGoesStr
   ASSERT_TRUE(ra.found);
   ASSERT_TRUE(rb.found);
   // Same draws, same walks (the pheromone is the paper's): every shortcut costs no more.
-  EXPECT_LE(rb.best.cost, ra.best.cost + kEps);
+  EXPECT_LE(rb.best.cost, ra.best.cost + duan_test::kEps);
   EXPECT_EQ(rb.best.nodes.front(), at(m, 0, 2));
   EXPECT_EQ(rb.best.nodes.back(), at(m, 18, 20));
   EXPECT_TRUE(turns_within(m, rb.best.nodes, std::nullopt, kQuarterPi));
   for (std::size_t k = 0; k < ra.best_cost_history.size(); ++k) {
-    EXPECT_LE(rb.best_cost_history[k], ra.best_cost_history[k] + kEps);
+    EXPECT_LE(rb.best_cost_history[k], ra.best_cost_history[k] + duan_test::kEps);
   }
   // Without threats the best candidate is the straight line (0, 2) -> (18, 20).
   const ThreatMesh open = mesh_of(20.0, 20.0);
@@ -139,7 +138,7 @@ TEST(DuanLineOfSight, ColonyWithTheSameSeedNeverDoesWorseThanThePapersAndGoesStr
   const PathResult rc = c.plan(at(open, 0, 2), at(open, 18, 20), none);
   ASSERT_TRUE(rc.found);
   EXPECT_EQ(rc.best.nodes.size(), 2U);
-  EXPECT_NEAR(rc.best.length_km, 18.0 * std::sqrt(2.0), kEps);
+  EXPECT_NEAR(rc.best.length_km, 18.0 * std::sqrt(2.0), duan_test::kEps);
 }
 
 TEST(DuanLineOfSight, TableThreeLoopReplansFromAMeshNodeJustAheadOnTheSegment) {
@@ -165,7 +164,7 @@ TEST(DuanLineOfSight, TableThreeLoopReplansFromAMeshNodeJustAheadOnTheSegment) {
       // replanning node is at most one spacing ahead plus half a diagonal off it.
       const double at_km = u.speed_mps * options.popup_time_s / 1000.0;
       EXPECT_NEAR(u.flown_km, at_km + u.offset_km, 1e-9);
-      EXPECT_LE(u.offset_km, 2.0 + std::sqrt(2.0) + kEps);
+      EXPECT_LE(u.offset_km, 2.0 + std::sqrt(2.0) + duan_test::kEps);
       ASSERT_GE(u.flown.size(), 2U);
       EXPECT_EQ(u.replanned_nodes.front(), u.flown.back());
     }

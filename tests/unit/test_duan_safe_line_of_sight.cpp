@@ -22,7 +22,6 @@ namespace pheromesh::core {
 namespace {
 
 using duan_test::at;
-using duan_test::kEps;
 using duan_test::kQuarterPi;
 using duan_test::mesh_of;
 
@@ -52,7 +51,7 @@ TEST(DuanSafeLineOfSight, AShortcutThatIsCheaperButMoreExposedIsRefused) {
   const ThreatMesh m = mesh_of(10.0, 10.0, {{{4.0, 4.5}, 2.5, 1.0}});
   const std::vector<NodeId> walk{at(m, 0, 0), at(m, 2, 0), at(m, 4, 0), at(m, 6, 0), at(m, 8, 2), at(m, 8, 4)};
   ASSERT_EQ(exposure(m, walk), 0.0);
-  ASSERT_NEAR(m.path_cost(walk).cost, 0.25 * (8.0 + 2.0 * std::sqrt(2.0)), kEps);
+  ASSERT_NEAR(m.path_cost(walk).cost, 0.25 * (8.0 + 2.0 * std::sqrt(2.0)), duan_test::kEps);
 
   const auto los = line_of_sight_shortcut(m, walk, std::nullopt, kQuarterPi);
   ASSERT_EQ(los, (std::vector<NodeId>{at(m, 0, 0), at(m, 8, 4)}));
@@ -66,7 +65,7 @@ TEST(DuanSafeLineOfSight, AShortcutThatIsCheaperButMoreExposedIsRefused) {
   const auto safe = safe_line_of_sight_shortcut(m, walk, std::nullopt, kQuarterPi);
   EXPECT_EQ(safe, (std::vector<NodeId>{at(m, 0, 0), at(m, 6, 0), at(m, 8, 2), at(m, 8, 4)}));
   EXPECT_EQ(exposure(m, safe), 0.0);
-  EXPECT_NEAR(polyline_cost(m, safe).cost, m.path_cost(walk).cost, kEps);
+  EXPECT_NEAR(polyline_cost(m, safe).cost, m.path_cost(walk).cost, duan_test::kEps);
 
   // Guard: without the threat both shortcuts are the one straight segment.
   const ThreatMesh open = mesh_of(10.0, 10.0);
@@ -85,7 +84,7 @@ TEST(DuanSafeLineOfSight, AShortcutThatLeavesAThreatsRangeIsTaken) {
   const auto safe = safe_line_of_sight_shortcut(m, walk, std::nullopt, kQuarterPi);
   EXPECT_EQ(safe, (std::vector<NodeId>{at(m, 0, 0), at(m, 8, 0)}));
   EXPECT_EQ(exposure(m, safe), 0.0);
-  EXPECT_NEAR(polyline_cost(m, safe).cost, 0.25 * 8.0, kEps);
+  EXPECT_NEAR(polyline_cost(m, safe).cost, 0.25 * 8.0, duan_test::kEps);
 }
 
 TEST(DuanSafeLineOfSight, EveryCandidateOfTheColonyIsNoCostlierAndNoMoreExposedThanItsWalk) {
@@ -105,7 +104,7 @@ TEST(DuanSafeLineOfSight, EveryCandidateOfTheColonyIsNoCostlierAndNoMoreExposedT
     const auto safe = safe_line_of_sight_shortcut(m, t.nodes, std::nullopt, kQuarterPi);
     EXPECT_EQ(safe.front(), t.nodes.front());
     EXPECT_EQ(safe.back(), t.nodes.back());
-    EXPECT_LE(polyline_cost(m, safe).cost, t.cost + kEps);
+    EXPECT_LE(polyline_cost(m, safe).cost, t.cost + duan_test::kEps);
     EXPECT_LE(exposure(m, safe), exposure(m, t.nodes) * (1.0 + 1e-9) + 1e-12);
     EXPECT_TRUE(turns_within(m, safe, kQuarterPi));
     shortened = shortened || polyline_cost(m, safe).length_km < t.length_km - 1e-6;
@@ -118,7 +117,7 @@ TEST(DuanSafeLineOfSight, EveryCandidateOfTheColonyIsNoCostlierAndNoMoreExposedT
   DuanColony safe_colony(m, safe_params, Rng(5));
   const PathResult s = safe_colony.plan(at(m, 0, 0), at(m, 28, 30), PointPheromone{});
   ASSERT_TRUE(s.found);
-  EXPECT_LE(s.best.cost, r.best.cost + kEps);
+  EXPECT_LE(s.best.cost, r.best.cost + duan_test::kEps);
   EXPECT_TRUE(turns_within(m, s.best.nodes, kQuarterPi));
 }
 

@@ -39,7 +39,17 @@ TEST(HostFit, CellsHoldWhatTheirBenchmarkMeasuredAndTheFlatProfileSuggestsThem) 
   EXPECT_NE(fast->find("held 500 UAVs on time over Fast DDS"), std::string::npos) << *fast;
   const auto flat = host_fit_warning(300, 1.0, 2, "cyclone", false);
   ASSERT_TRUE(flat.has_value());
-  EXPECT_NE(flat->find("--dds-profile cells"), std::string::npos) << *flat;
+  EXPECT_NE(flat->find("cells, the default profile"), std::string::npos) << *flat;
+}
+
+TEST(HostFit, ACellsSwarmAboveItsCountIsToldToAddHostsNotToSlowDown) {
+  const auto w = host_fit_warning(1500, 5.0, 2, "cyclone", false, /*cells=*/true);
+  ASSERT_TRUE(w.has_value());
+  EXPECT_NE(w->find("--hosts"), std::string::npos) << *w;
+  EXPECT_EQ(w->find("--rate"), std::string::npos) << "a lower rate does not make discovery hold: " << *w;
+  // Within the count, the 300 UAVs at 5 Hz in cells are within the
+  // flight budget too (750 x 5 UAV ticks per second on Cyclone).
+  EXPECT_FALSE(host_fit_warning(300, 5.0, 2, "cyclone", false, /*cells=*/true).has_value());
 }
 
 }  // namespace

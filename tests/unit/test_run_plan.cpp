@@ -32,10 +32,13 @@ core::ScenarioConfig small_test() {
   return s.value();
 }
 
+// The flat profile, whose participant ids follow the start order; the tests
+// of cells, the default, set it back.
 RunOptions options() {
   RunOptions o;
   o.scenario = small_test_path();
   o.dds = "cyclone";
+  o.dds_profile = "onehost";
   return o;
 }
 
@@ -234,8 +237,9 @@ TEST(RunPlan, AHostOfAMultiHostSwarmStartsOnlyItsShare) {
   o.ground_host = 0;
   o.dds_profile = "lan";
   const RunPlan p = plan_of(o, s);
-  // Place agent R replica N on host (R + N) % 3, UAV U on host U % 3.
-  EXPECT_EQ(names(p), (std::vector<std::string>{"place-1", "place-0.r1", "place-3.r1", "uav-1", "uav-4", "uav-7"}));
+  // Place agent R replica N on host (R + N) % 3, UAV U on the host of its
+  // home place agent U % 4.
+  EXPECT_EQ(names(p), (std::vector<std::string>{"place-1", "place-0.r1", "place-3.r1", "uav-1", "uav-5", "uav-9"}));
   EXPECT_EQ(p.processes.front().participant_id, 0U);
   EXPECT_EQ(p.processes.back().participant_id, 5U);
   EXPECT_EQ(p.deadlines.other_hosts, seconds(60));
@@ -248,8 +252,8 @@ TEST(RunPlan, AHostOfAMultiHostSwarmStartsOnlyItsShare) {
   const RunPlan ground_host = plan_of(o, s);
   EXPECT_EQ(ground_host.processes.front().name, "ground");
   EXPECT_TRUE(has(ground_host.processes.front(), "--until-done"));
-  // The ground station; place-0, place-3; place-2.r1; uav-0, 3, 6, 9.
-  EXPECT_EQ(ground_host.processes.size(), 1U + 2U + 1U + 4U);
+  // The ground station; place-0, place-3; place-2.r1; uav-0, 3, 4, 7, 8.
+  EXPECT_EQ(ground_host.processes.size(), 1U + 2U + 1U + 5U);
 }
 
 TEST(RunPlan, MultiHostChecksNameTheProfileTheKeyAndAFaultOfAnotherHost) {
@@ -258,6 +262,16 @@ TEST(RunPlan, MultiHostChecksNameTheProfileTheKeyAndAFaultOfAnotherHost) {
   o.host_index = 1;
   EXPECT_NE(check_multi_host(plan_of(o), ControlKey::Set).value_or("").find("keeps traffic on this host"),
             std::string::npos);
+  // Cells, the default, need every host's address.
+  RunOptions cells = o;
+  cells.dds_profile = kDefaultDdsProfile;
+  EXPECT_NE(plan_error(cells).find("needs --dds-peers with every host's address in host-index order"),
+            std::string::npos)
+      << plan_error(cells);
+  cells.host_addresses = {"10.0.0.1"};
+  EXPECT_NE(plan_error(cells).find("got 1"), std::string::npos) << plan_error(cells);
+  cells.host_addresses = {"10.0.0.1", "10.0.0.2"};
+  EXPECT_EQ(check_multi_host(plan_of(cells), ControlKey::Set), std::nullopt);
   o.dds_profile = "lan";
   EXPECT_EQ(check_multi_host(plan_of(o), ControlKey::Set), std::nullopt);
   const auto unset = check_multi_host(plan_of(o), ControlKey::Unset).value_or("");
@@ -438,6 +452,36 @@ std::string env_of(const PlannedProcess& c, const std::string& name) {
   return "(unset)";
 }
 
+TEST(RunPlan, ARunWithoutAProfileFliesInCells) {
+  RunOptions o;
+  o.scenario = small_test_path();
+  o.dds = "cyclone";
+  EXPECT_EQ(o.dds_profile, "cells");
+  const RunPlan p = plan_of(o, small_test_with(10));
+  ASSERT_TRUE(p.cells.has_value());
+  EXPECT_EQ(value_of(process(p, "uav-0"), "--dds-profile"), "cells");
+  EXPECT_NE(env_of(process(p, "uav-0"), "PHEROMESH_CELL"), "(unset)");
+  EXPECT_EQ(cells_attach_command(p).value_or(""), "pheromesh attach --domain 0 --cell-hubs 5");
+}
+
+TEST(RunPlan, InCellsOverSeveralHostsEachProcessBindsItsHostsAddressAndNamesItsPeersAtTheirs) {
+  RunOptions o = options();
+  o.dds_profile = "cells";
+  o.hosts = 3;
+  o.host_index = 2;
+  o.host_addresses = {"10.0.0.1", "10.0.0.2", "10.0.0.3"};
+  o.dds_peers = "10.0.0.1,10.0.0.2,10.0.0.3";
+  const RunPlan p = plan_of(o, small_test_with(10));
+  // Host 2: place agent 2 and the UAVs whose home it is (2 and 6).
+  EXPECT_EQ(names(p), (std::vector<std::string>{"place-2", "uav-2", "uav-6"}));
+  EXPECT_EQ(env_of(process(p, "uav-6"), "PHEROMESH_CELL"), "peers=10.0.0.3:0;reserve=10.0.0.1:2;iface=10.0.0.3");
+  EXPECT_EQ(env_of(process(p, "place-2"), "PHEROMESH_PARTICIPANT_ID"), "0");
+  // The processes take their peers from the cell, not --dds-peers.
+  EXPECT_FALSE(has(process(p, "uav-6"), "--dds-peers"));
+  EXPECT_EQ(cells_attach_command(p).value_or(""),
+            "pheromesh attach --domain 0 --cell-hubs 3 --dds-peers 10.0.0.1,10.0.0.2,10.0.0.3");
+}
+
 TEST(RunPlan, InCellsAUavNamesItsHomeAndKeepsItsBackupInReserveAndTheHubsNameOneAnother) {
   RunOptions o = options();
   o.dds_profile = "cells";
@@ -449,9 +493,10 @@ TEST(RunPlan, InCellsAUavNamesItsHomeAndKeepsItsBackupInReserveAndTheHubsNameOne
   EXPECT_EQ(env_of(process(p, "place-2"), "PHEROMESH_CELL"),
             "index=3;peers=127.0.0.1:0,127.0.0.1:1,127.0.0.1:2,127.0.0.1:4");
   // UAV 6: home 6 mod 4 = 2 (hub 3), backup 3 (hub 4), named only once the
-  // home is gone (realtime); a member (no index), its Fast DDS id past the 5 hubs.
+  // home is gone (realtime); a member (no index), its Fast DDS id past every
+  // index a hub can have (120 + 6).
   EXPECT_EQ(env_of(process(p, "uav-6"), "PHEROMESH_CELL"), "peers=127.0.0.1:3;reserve=127.0.0.1:4");
-  EXPECT_EQ(env_of(process(p, "uav-6"), "PHEROMESH_PARTICIPANT_ID"), "11");
+  EXPECT_EQ(env_of(process(p, "uav-6"), "PHEROMESH_PARTICIPANT_ID"), "126");
   EXPECT_EQ(env_of(process(p, "place-2"), "PHEROMESH_PARTICIPANT_ID"), "3");
   // What every process parses back is the cell it was given.
   const auto cell = bus::parse_cell(env_of(process(p, "uav-6"), "PHEROMESH_CELL"), 3);
@@ -475,17 +520,24 @@ TEST(RunPlan, InCellsAUavNamesItsHomeAndKeepsItsBackupInReserveAndTheHubsNameOne
   const RunPlan s = plan_of(o, replicated, "fastdds");
   EXPECT_EQ(env_of(process(s, "uav-6"), "PHEROMESH_CELL"), "peers=127.0.0.1:3,127.0.0.1:7;reserve=127.0.0.1:4,127.0.0.1:8");
   EXPECT_EQ(env_of(process(s, "place-2.r1"), "PHEROMESH_CELL").rfind("index=7;peers=127.0.0.1:0,", 0), 0U);
-  EXPECT_EQ(env_of(process(s, "uav-6"), "PHEROMESH_PARTICIPANT_ID"), "15");
+  EXPECT_EQ(env_of(process(s, "uav-6"), "PHEROMESH_PARTICIPANT_ID"), "126");
 }
 
-TEST(RunPlan, CellsAreRefusedWhereTheyCannotWork) {
+TEST(RunPlan, CellsGiveWayToTheFlatProfileThatNetworkFaultsOrADiscoveryServerNeedAndRefusePortsTheyCannotHave) {
   RunOptions o = options();
   o.dds_profile = "cells";
   o.faults_spec = "loss 20% @1s for 2s";
-  EXPECT_NE(plan_error(o).find("do not work with --dds-profile cells"), std::string::npos);
+  const RunPlan lossy = plan_of(o);
+  EXPECT_EQ(lossy.options.dds_profile, "netns");
+  EXPECT_FALSE(lossy.cells.has_value());
+  ASSERT_EQ(lossy.notes.size(), 1U);
+  EXPECT_NE(lossy.notes[0].text.find("instead of cells"), std::string::npos) << lossy.notes[0].text;
   o.faults_spec.clear();
   o.discovery_server = true;
-  EXPECT_NE(plan_error(o).find("leave out --discovery-server"), std::string::npos);
+  const RunPlan served = plan_of(o);
+  EXPECT_EQ(served.options.dds_profile, "onehost");
+  ASSERT_EQ(served.notes.size(), 1U);
+  EXPECT_NE(served.notes[0].text.find("not in cells"), std::string::npos);
   o.discovery_server = false;
   o.domain = 102;  // the hubs' ports on domain 102 are past 32767
   EXPECT_NE(plan_error(o).find("ephemeral"), std::string::npos) << plan_error(o);

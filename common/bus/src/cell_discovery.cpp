@@ -65,6 +65,7 @@ std::string format_cell(const CellDiscovery& cell) {
   };
   s += "peers=" + list(cell.peers);
   if (!cell.reserve.empty()) s += ";reserve=" + list(cell.reserve);
+  if (cell.interface_address != CellDiscovery{}.interface_address) s += ";iface=" + cell.interface_address;
   return s;
 }
 
@@ -78,7 +79,7 @@ std::optional<uint32_t> parse_index(const std::string& text) {
 core::Result<CellDiscovery> parse_cell(const std::string& text, uint32_t domain) {
   const auto bad = [&](const std::string& why) {
     return core::Error{std::string(kCellEnv) + " '" + text + "': " + why +
-                       " (expected [index=I;]peers=ADDR:I[,ADDR:I...][;reserve=ADDR:I[,ADDR:I...]])"};
+                       " (expected [index=I;]peers=ADDR:I[,ADDR:I...][;reserve=ADDR:I[,ADDR:I...]][;iface=ADDR])"};
   };
   CellDiscovery cell;
   cell.domain = domain;
@@ -96,6 +97,8 @@ core::Result<CellDiscovery> parse_cell(const std::string& text, uint32_t domain)
       auto i = parse_index(value);
       if (!i) return bad("index '" + value + "' is not a number");
       cell.index = *i;
+    } else if (key == "iface") {
+      cell.interface_address = value;
     } else if (key == "peers" || key == "reserve") {
       have_peers = have_peers || key == "peers";
       auto& into = key == "peers" ? cell.peers : cell.reserve;

@@ -75,8 +75,8 @@ struct CellDiscovery {
 
 // A cell as one line of text, as `pheromesh run` hands it to each process
 // it spawns in $PHEROMESH_CELL (--dds-profile cells):
-//   [index=I;]peers=ADDR:I[,ADDR:I...][;reserve=ADDR:I[,ADDR:I...]]
-// e.g. "index=3;peers=127.0.0.1:0,127.0.0.1:4" (a hub) or
+//   [index=I;]peers=ADDR:I[,ADDR:I...][;reserve=ADDR:I[,ADDR:I...]][;iface=ADDR]
+// (iface: the address it binds, when not loopback: its host's on a LAN), e.g. "index=3;peers=127.0.0.1:0,127.0.0.1:4" (a hub) or
 // "peers=127.0.0.1:2;reserve=127.0.0.1:3" (a member whose backup gateway is
 // hub 3). The domain is the process's.
 inline constexpr const char* kCellEnv = "PHEROMESH_CELL";
