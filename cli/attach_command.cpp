@@ -35,8 +35,8 @@ std::optional<std::string> check_attach(const AttachOptions& o) {
   if (o.participant_id && *o.participant_id <= static_cast<int32_t>(bus::kMaxParticipantIndex)) {
     return "--participant-id " + std::to_string(*o.participant_id) + " is a hub's index (hubs are 0 .. " +
            std::to_string(bus::kMaxParticipantIndex) + "): give one above " +
-           std::to_string(bus::kMaxParticipantIndex) + " and past every UAV's (" +
-           std::to_string(kFirstMemberId) + " + UAV id)";
+           std::to_string(bus::kMaxParticipantIndex) + " and past every UAV's (" + std::to_string(kFirstMemberId) +
+           " + UAV id)";
   }
   return std::nullopt;
 }
@@ -84,8 +84,8 @@ int run_attach(AttachOptions o) {
       return 2;
     }
     setenv(bus::kCellEnv, bus::format_cell(cell.value()).c_str(), 1);
-    const uint32_t id = o.participant_id ? static_cast<uint32_t>(*o.participant_id)
-                                         : default_monitor_participant_id(o.domain);
+    const uint32_t id =
+        o.participant_id ? static_cast<uint32_t>(*o.participant_id) : default_monitor_participant_id(o.domain);
     setenv("PHEROMESH_PARTICIPANT_ID", std::to_string(id).c_str(), 1);
     // The processes take the peers from the cell: --dds-peers is not theirs.
     o.dds_peers.clear();

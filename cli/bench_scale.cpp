@@ -45,6 +45,7 @@ const char* const kBenchScaleFooter =
     "  threads      per process (/proc/PID/status at the same moment), mean per role\n"
     "  UDP in/tick  IPv4 UDP datagrams received on the whole host (/proc/net/snmp, before the first spawn and\n"
     "               after the last process ended) per UAV tick: anything else on the host using UDP counts too\n"
+    "With --repeat K each size runs K times (a row each); a size holds only if every one of its runs held.\n"
     "A vendor's larger sizes are skipped once a size has more late ticks than --stop-late-share. Missing figures\n"
     "are printed as n/a. Results: OUT/scale.md (the table), OUT/scale.csv, OUT/scale.json and OUT/*.svg plots.\n"
     "Keep the host otherwise idle; on a small host stop early with --max.\n\n"
@@ -93,6 +94,7 @@ const std::vector<Column>& columns() {
 struct ScaleRow {
   std::string vendor;
   uint32_t uavs = 0;
+  uint32_t run = 1;  // 1 .. --repeat
   int exit_code = -1;
   std::string dir;
   std::map<std::string, Value> v;
@@ -205,7 +207,8 @@ std::string markdown_table(const std::vector<ScaleRow>& rows) {
   for (std::size_t i = 0; i < columns().size(); ++i) o << "--:|";
   o << "\n";
   for (const auto& r : rows) {
-    o << "| " << r.vendor << " | " << r.uavs << " | " << r.exit_code << " |";
+    o << "| " << r.vendor << (r.run > 1 ? " (run " + std::to_string(r.run) + ")" : std::string()) << " | " << r.uavs
+      << " | " << r.exit_code << " |";
     for (const auto& c : columns()) o << " " << fmt_value(r.get(c.key), c.precision) << " |";
     o << "\n";
   }
@@ -219,22 +222,20 @@ std::vector<std::string> summary_lines(const std::vector<ScaleRow>& rows, const 
                                        uint32_t ticks, Json& json) {
   std::vector<std::string> lines;
   for (const auto& vendor : vendors) {
-    std::optional<uint32_t> first_failed, largest_held;
-    std::string first_failed_why;
-    bool any = false;
+    std::vector<ScaleRun> runs;
     for (const auto& r : rows) {  // rows are in ascending N
-      if (r.vendor != vendor) continue;
-      any = true;
-      const auto why = why_not_held({r.uavs, r.exit_code, r.get("late_pct"), r.get("uav_ticks_flown")}, ticks);
-      if (!why && !first_failed) largest_held = r.uavs;
-      if (why && !first_failed) first_failed = r.uavs, first_failed_why = *why;
+      if (r.vendor == vendor) runs.push_back({r.uavs, r.exit_code, r.get("late_pct"), r.get("uav_ticks_flown")});
     }
+    const bool any = !runs.empty();
+    const HeldVerdict v = held_verdict(runs, ticks);
+    const std::optional<uint32_t> largest_held = v.largest_held, first_failed = v.first_not_held;
+    const std::string& first_failed_why = v.why;
     std::string line = vendor + ": ";
     if (!any) {
       line += "no run";
     } else {
       line += "held up to N=" + (largest_held ? std::to_string(*largest_held) : std::string("none")) +
-              " (exit 0, every UAV flew, <= 1 % of ticks late)";
+              " (exit 0, every UAV flew, <= 1 % of ticks late, in every run of the size)";
       line += first_failed ? "; first N that did not: " + std::to_string(*first_failed) + " (" + first_failed_why + ")"
                            : "; every size held";
     }
@@ -479,7 +480,7 @@ int run_bench_scale(const BenchScaleOptions& o) {
   }
   runtime::install_shutdown_handlers();
 
-  const std::size_t total = p.sizes.size() * p.vendors.size();
+  const std::size_t total = p.sizes.size() * p.vendors.size() * std::max(1U, o.repeat);
   std::fprintf(stderr, "bench scale: %s, sizes", o.scenario.c_str());
   for (auto n : p.sizes) std::fprintf(stderr, " %u", n);
   std::fprintf(stderr, ", vendors %s, %u ticks at %.1f Hz (%.0f s of flight per run); results in %s\n", o.dds.c_str(),
@@ -492,19 +493,22 @@ int run_bench_scale(const BenchScaleOptions& o) {
   for (const uint32_t n : p.sizes) {
     for (const auto& vendor : p.vendors) {
       if (interrupted) break;
-      ++done;
       if (const auto s = stopped_at.find(vendor); s != stopped_at.end()) {
         skipped.push_back(vendor + " N=" + std::to_string(n) + " skipped: late share above " +
                           fmt_value(o.stop_late_share * 100.0, 1) + " % at N=" + std::to_string(s->second));
         continue;
       }
-      const fs::path dir = fs::path(o.out_dir) / (vendor + "-" + std::to_string(n));
+      for (uint32_t k = 1; k <= std::max(1U, o.repeat) && !interrupted; ++k) {
+      ++done;
+      const std::string tag = vendor + "-" + std::to_string(n) + (o.repeat > 1 ? "-run" + std::to_string(k) : "");
+      const fs::path dir = fs::path(o.out_dir) / tag;
       fs::create_directories(dir, ec);
       fs::remove(dir / "metrics.json", ec);  // never read an earlier bench's
-      std::fprintf(stderr, "[%zu/%zu] %s N=%u: running (output in %s) ...\n", done, total, vendor.c_str(), n,
-                   (dir / "run.txt").c_str());
+      std::fprintf(stderr, "[%zu/%zu] %s N=%u run %u of %u: running (output in %s) ...\n", done, total, vendor.c_str(), n,
+                   k, std::max(1U, o.repeat), (dir / "run.txt").c_str());
       ScaleRow row;
       row.vendor = vendor;
+      row.run = k;
       row.uavs = n;
       row.dir = dir.string();
       row.exit_code = run_swarm(p, vendor, n, dir);
@@ -542,6 +546,7 @@ int run_bench_scale(const BenchScaleOptions& o) {
         return 5;
       }
       interrupted = runtime::shutdown_requested();
+      }
     }
   }
   if (!write_results(p, rows, skipped, error)) {

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace pheromesh::cli {
 
@@ -21,7 +22,8 @@ struct BenchScaleOptions {
   std::string out_dir = "out/bench-scale";
   double stop_late_share = 0.10;  // a vendor's larger sizes are skipped once a size has more late ticks than this
   uint32_t domain = 40;
-  std::string extra;  // more arguments for `pheromesh run`, split at blanks
+  std::string extra;    // more arguments for `pheromesh run`, split at blanks
+  uint32_t repeat = 1;  // runs of each size and vendor; a size holds only if every run held it
 };
 
 // One run of the benchmark as its summary judges it.
@@ -50,6 +52,35 @@ inline std::optional<std::string> why_not_held(const ScaleRun& r, uint32_t ticks
     return std::string(b);
   }
   return std::nullopt;
+}
+
+// Over the runs of one vendor (ascending size, each size run --repeat
+// times): the largest size every run of which held, and the first size with
+// a run that did not, with the first such run's reason. One bad run of a
+// size is enough: "held" means held in every run.
+struct HeldVerdict {
+  std::optional<uint32_t> largest_held;
+  std::optional<uint32_t> first_not_held;
+  std::string why;
+};
+inline HeldVerdict held_verdict(const std::vector<ScaleRun>& runs, uint32_t ticks) {
+  HeldVerdict v;
+  for (std::size_t i = 0; i < runs.size() && !v.first_not_held; ++i) {
+    const uint32_t n = runs[i].uavs;
+    std::optional<std::string> worst;
+    std::size_t j = i;
+    for (; j < runs.size() && runs[j].uavs == n; ++j) {
+      if (!worst) worst = why_not_held(runs[j], ticks);
+    }
+    if (worst) {
+      v.first_not_held = n;
+      v.why = *worst;
+    } else {
+      v.largest_held = n;
+    }
+    i = j - 1;
+  }
+  return v;
 }
 
 // What --help says after the options: what is measured and how.

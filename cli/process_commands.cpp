@@ -249,6 +249,10 @@ class FullCommands final : public ProcessCommands {
         ->capture_default_str();
     bs->add_option("--out", bso.out_dir, "Output folder: scale.md/.csv/.json, *.svg, and one folder V-N per run")
         ->capture_default_str();
+    bs->add_option("--repeat", bso.repeat,
+                   "Runs of each size and vendor; the summary holds a size only if every run held it (the worst run)")
+        ->check(CLI::Range(1U, 100U))
+        ->capture_default_str();
     bs->add_option("--stop-late-share", bso.stop_late_share,
                    "Once a size has more than this share of late UAV ticks, skip the vendor's larger sizes")
         ->check(CLI::Range(0.0, 1.0))

@@ -44,9 +44,8 @@ core::Result<CellLayout> cell_layout(const RunPlan& p) {
   if (p.multi_host() && o.host_addresses.size() != o.hosts) {
     return core::Error{"--hosts " + std::to_string(o.hosts) + " in cells (the default profile) needs --dds-peers " +
                        "with every host's address in host-index order (" + std::to_string(o.hosts) +
-                       " of them, the same list on every host; this host's is entry " +
-                       std::to_string(o.host_index) + ")" +
-                       (o.host_addresses.empty() ? "" : "; got " + std::to_string(o.host_addresses.size())) +
+                       " of them, the same list on every host; this host's is entry " + std::to_string(o.host_index) +
+                       ")" + (o.host_addresses.empty() ? "" : "; got " + std::to_string(o.host_addresses.size())) +
                        ", or --dds-profile lan for multicast discovery (docs/deployment.md)"};
   }
   SwarmShape shape;

@@ -30,13 +30,13 @@ TEST(Cells, AProcessThatNamesOnePlaceAgentHearsOnlyThatOneWhileTheSwarmFlies) {
   std::smatch hint;
   const std::string printed = slurp(swarm.out_path);
   ASSERT_NE(printed.find("profile cells"), std::string::npos) << printed;
-  ASSERT_TRUE(std::regex_search(printed, hint, std::regex("watch it with: (pheromesh attach --domain 57 --cell-hubs ([0-9]+))")))
+  ASSERT_TRUE(std::regex_search(printed, hint,
+                                std::regex("watch it with: (pheromesh attach --domain 57 --cell-hubs ([0-9]+))")))
       << printed;
   EXPECT_EQ(hint[2], "5");  // the ground station and 4 place agents
   const std::string mon = out_dir("cells-attach");
-  const Background monitor = start({"/bin/sh", "-c",
-                                    kBin + "/" + hint[1].str() + " --timeout 20 --out " + mon + " 2>&1"},
-                                   mon + ".txt");
+  const Background monitor =
+      start({"/bin/sh", "-c", kBin + "/" + hint[1].str() + " --timeout 20 --out " + mon + " 2>&1"}, mon + ".txt");
   // A member naming place agent 0 only (hub index 1; the ground station is
   // hub 0): it hears its health and its own, none of the other three place
   // agents', which never learn of it. As a Fast DDS participant it needs an
@@ -45,9 +45,10 @@ TEST(Cells, AProcessThatNamesOnePlaceAgentHearsOnlyThatOneWhileTheSwarmFlies) {
   // receives what the other hubs send that hub (docs/dds.md). 5 s: on a
   // loaded host 3 s were not always enough to discover the hub (the swarm
   // flies 6 s; the probe ends as soon as it heard both).
-  const Output p = run(kBin +
-                       "/pheromesh-test-probe --domain 57 --participant-id 40 --cell-peer 1 discover --id 900 --expect 2 "
-                       "--timeout 5");
+  const Output p =
+      run(kBin +
+          "/pheromesh-test-probe --domain 57 --participant-id 40 --cell-peer 1 discover --id 900 --expect 2 "
+          "--timeout 5");
   EXPECT_EQ(p.exit_code, 0) << p.text;
   EXPECT_NE(p.text.find("heard: 0,900\n"), std::string::npos) << p.text;
   ASSERT_EQ(wait_exit(swarm.pid, std::chrono::seconds(120)), 0) << slurp(swarm.out_path);

@@ -125,16 +125,15 @@ void run_split_swarm(const std::string& tag, int domain, const std::string& prof
   if (profile_args.find("--dds-peers") != std::string::npos) {
     peers = " --dds-peers " + address(0) + "," + address(1) + "," + address(2);
   }
-  const std::string profile = cells                                             ? "cells"
+  const std::string profile = cells                                                   ? "cells"
                               : profile_args.find("lan-unicast") != std::string::npos ? "lan-unicast"
-                                                                                     : "lan";
+                                                                                      : "lan";
   // In cells the monitor names the hosts only, as the operator does.
-  const Background monitor =
-      start({"/bin/sh", "-c",
-             "ip netns exec " + ns(kHosts) + " " + kBin + "/pheromesh attach --domain " + std::to_string(domain) +
-                 (cells ? std::string() : " --dds-profile " + profile) + peers + " --out " + out +
-                 "/monitor --timeout 30 2>&1"},
-            out + "/monitor.txt");
+  const Background monitor = start({"/bin/sh", "-c",
+                                    "ip netns exec " + ns(kHosts) + " " + kBin + "/pheromesh attach --domain " +
+                                        std::to_string(domain) + (cells ? std::string() : " --dds-profile " + profile) +
+                                        peers + " --out " + out + "/monitor --timeout 30 2>&1"},
+                                   out + "/monitor.txt");
   std::vector<int> codes;
   for (const auto& h : hosts) codes.push_back(wait_exit(h.pid, std::chrono::seconds(180)));
   const int monitor_code = wait_exit(monitor.pid, std::chrono::seconds(60));

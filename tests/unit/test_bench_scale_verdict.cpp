@@ -34,5 +34,20 @@ TEST(BenchScaleVerdict, LateTicksAboveOnePercentOrNoLateShareDoNotHold) {
   EXPECT_FALSE(why_not_held({150, 0, 1.0, 15000.0}, 100).has_value());
 }
 
+TEST(BenchScaleVerdict, ASizeHoldsOnlyIfEveryOneOfItsRunsHeldIt) {
+  // 500 held twice, 750 held once and then flew too few ticks: 750 is not
+  // held, whatever its first run did, and 1000 is not looked at.
+  const std::vector<ScaleRun> runs{{500, 0, 0.1, 50000.0},  {500, 0, 0.2, 50000.0},  {750, 0, 0.3, 75000.0},
+                                   {750, 0, 0.3, 43379.0},  {1000, 0, 0.1, 100000.0}};
+  const HeldVerdict v = held_verdict(runs, 100);
+  EXPECT_EQ(v.largest_held, 500U);
+  EXPECT_EQ(v.first_not_held, 750U);
+  EXPECT_EQ(v.why, "flew 43379 of 75000 UAV ticks");
+  const HeldVerdict all = held_verdict({{500, 0, 0.1, 50000.0}, {500, 0, 0.2, 50000.0}}, 100);
+  EXPECT_EQ(all.largest_held, 500U);
+  EXPECT_FALSE(all.first_not_held.has_value());
+  EXPECT_FALSE(held_verdict({{100, 1, 0.0, 10000.0}}, 100).largest_held.has_value());
+}
+
 }  // namespace
 }  // namespace pheromesh::cli
