@@ -138,7 +138,8 @@ std::optional<std::string> check_plugin_pin(const RunPlan& plan, const core::Sce
 // Cells over several hosts: --dds-peers as one IPv4 address per host, in
 // host order, this host's among this host's addresses.
 std::optional<std::string> resolve_host_addresses(RunOptions& o) {
-  if (o.dds_profile != "cells" || o.hosts <= 1 || o.dds_peers.empty()) return std::nullopt;
+  const bool cells = o.dds_profile.empty() || o.dds_profile == "cells";  // none given: cells
+  if (!cells || o.hosts <= 1 || o.dds_peers.empty()) return std::nullopt;
   std::size_t start = 0;
   while (start <= o.dds_peers.size()) {
     const std::size_t comma = std::min(o.dds_peers.find(',', start), o.dds_peers.size());

@@ -157,8 +157,9 @@ class FullCommands final : public ProcessCommands {
                   "place agents; on one host, or over several with --dds-peers; docs/dds.md), or flat discovery: "
                   "onehost (loopback, multicast), onehost-unicast, lan (several hosts, multicast), lan-unicast "
                   "(several hosts, --dds-peers), default (vendor defaults) or vendor config files, comma-separated, "
-                  "each process using the one for its vendor [env PHEROMESH_DDS_PROFILE]")
-        ->capture_default_str();
+                  "each process using the one for its vendor. Without it: cells, but partition and loss faults take "
+                  "netns, --discovery-server onehost, and a one-host run on a domain above 100 onehost, each with a "
+                  "note [env PHEROMESH_DDS_PROFILE]");
     if (const char* p = std::getenv("PHEROMESH_DDS_PEERS"); p != nullptr) ro.dds_peers = p;
     r->add_option("--dds-peers", ro.dds_peers,
                   "Every host of the swarm, comma-separated addresses or names: in cells one per host in --host-index "

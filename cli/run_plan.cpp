@@ -58,18 +58,38 @@ core::Result<CellLayout> cell_layout(const RunPlan& p) {
   shape.ground_host = o.ground_host;
   if (p.multi_host()) shape.addresses = o.host_addresses;
   CellLayout layout(std::move(shape));
-  if (auto err = layout.check(p.dds.uav != "cyclone")) return core::Error{"--dds-profile " + *err};
+  if (auto err = layout.check(p.dds.uav != "cyclone")) return core::Error{*err};
   return layout;
 }
 
-// The profile a run takes by default (cells) gives way to the flat one that
-// network faults or a discovery server need, with a note.
-void settle_profile(RunPlan& p) {
+// The profile a run takes when none is given: cells, or on one host the flat
+// one that a discovery server needs, or that cells that cannot be fall back
+// to, with a note (network faults chose theirs already: settle_faults).
+// Over several hosts there is no flat profile to fall back to: the cells'
+// error is the run's.
+std::optional<std::string> settle_profile(RunPlan& p) {
   RunOptions& o = p.options;
-  if (o.dds_profile != "cells" || !o.discovery_server) return;
+  const bool chosen = !o.dds_profile.empty();
+  if (!chosen) o.dds_profile = kDefaultDdsProfile;
+  if (o.dds_profile != "cells") return std::nullopt;
+  if (o.discovery_server) {
+    o.dds_profile = "onehost";
+    p.notes.push_back({PlanNote::Level::Info,
+                       "--discovery-server: every process discovers through the server (profile onehost), not in cells"});
+    return std::nullopt;
+  }
+  auto layout = cell_layout(p);
+  if (layout) {
+    p.cells = std::move(layout).value();
+    return std::nullopt;
+  }
+  if (chosen || p.multi_host()) return layout.error().message;
   o.dds_profile = "onehost";
-  p.notes.push_back({PlanNote::Level::Info,
-                     "--discovery-server: every process discovers through the server (profile onehost), not in cells"});
+  p.notes.push_back({PlanNote::Level::Warn, "this run cannot have cells, the default profile (" +
+                                                layout.error().message +
+                                                "): it flies with flat discovery (profile onehost), which holds about "
+                                                "100 UAV processes"});
+  return std::nullopt;
 }
 
 // The arguments every process gets, before its role's own.
@@ -266,7 +286,7 @@ std::optional<std::string> settle_faults(RunPlan& p, core::FaultSchedule schedul
     // The one-host profiles and one-host cells speak on loopback only; in a
     // namespace of its own each process must speak on its veth
     // (deploy/dds/*-netns.xml).
-    if (o.dds_profile == "cells" && o.hosts <= 1) {
+    if ((o.dds_profile.empty() || o.dds_profile == "cells") && o.hosts <= 1) {
       p.notes.push_back({PlanNote::Level::Info,
                          "fault schedule: partition and loss run every process in a network namespace of its own, "
                          "with flat discovery (profile netns) instead of cells"});
@@ -366,12 +386,7 @@ core::Result<RunPlan> make_run_plan(const RunOptions& o, const core::ScenarioCon
   if (!schedule->empty()) {
     if (auto err = settle_faults(p, std::move(schedule).value())) return core::Error{*err};
   }
-  settle_profile(p);
-  if (p.options.dds_profile == "cells") {
-    auto layout = cell_layout(p);
-    if (!layout) return layout.error();
-    p.cells = std::move(layout).value();
-  }
+  if (auto err = settle_profile(p)) return core::Error{*err};
   p.host_processes = count_host_processes(p);
   p.processes = start_order(p);
   p.stagger = stagger(p);

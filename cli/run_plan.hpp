@@ -34,12 +34,14 @@ struct RunOptions {
   std::string kill_spec;                      // --kill: the older form of --faults ("uav:3@5s,place:1@2500ms")
   std::string netns_subnet = "10.77.0.0/16";  // the processes' addresses when network faults need namespaces
   std::string dds;                            // a DdsPlan spec: cyclone, fastdds, mixed or ROLE=VENDOR,...
-  // cells (the default): each process discovers only those it talks to, on
-  // one host or over several (docs/dds.md, "Cell discovery"); network faults
-  // and --discovery-server take the flat profile they need instead (netns,
-  // onehost), with a note. The flat profiles by name: onehost,
-  // onehost-unicast, lan, lan-unicast, netns, default, or files.
-  std::string dds_profile = kDefaultDdsProfile;
+  // Empty (none given): cells, where each process discovers only those it
+  // talks to, on one host or over several (docs/dds.md, "Cell discovery");
+  // network faults and --discovery-server take the flat profile they need
+  // instead (netns, onehost), and so does a one-host run whose cells cannot
+  // be (a domain above 100, whose well-known ports are ephemeral), each with
+  // a note. Given: cells, or a flat profile by name (onehost,
+  // onehost-unicast, lan, lan-unicast, netns, default) or files.
+  std::string dds_profile;
   std::string dds_peers;  // lan profiles: discovery peers (every process gets them); cells: every host, in host order
   // cells over several hosts: dds_peers resolved, one IPv4 address per host
   // in host-index order (the launcher resolves them before planning).

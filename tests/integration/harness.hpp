@@ -217,22 +217,16 @@ inline void expect_accounting(const json& m) {
 
 
 // `run_args` go to `pheromesh run` only (e.g. --dds), `args` to run and sim.
-inline void expect_lockstep_matches_sim(const std::string& scenario, const std::string& args, int domain, const std::string& tag,
-                                        const std::string& run_args = "") {
-  const std::string run_out = out_dir(tag + "-lockstep");
+// What a lockstep run wrote to `run_out` (with --tracks) is what `pheromesh
+// sim` writes for `scenario` and `args`, byte for byte.
+inline void expect_same_as_sim(const std::string& run_out, const std::string& scenario, const std::string& args,
+                               const std::string& tag) {
   const std::string sim_out = out_dir(tag + "-sim");
-  const Output r = run(pheromesh_run(scenario, run_out, domain, "--clock lockstep --tracks " + args + " " + run_args));
-  ASSERT_EQ(r.exit_code, 0) << r.text;
   const Output s =
       run(kBin + "/pheromesh sim " + kSrc + "/scenarios/" + scenario + " --quiet --tracks --out " + sim_out + " " + args);
   ASSERT_EQ(s.exit_code, 0) << s.text;
   const json a = read_metrics(run_out);
   const json b = read_metrics(sim_out);
-  {
-    // The launcher's and the ground station's output, for a failure's post-mortem.
-    std::ofstream keep(run_out + "/launcher.txt");
-    keep << r.text;
-  }
   for (const char* key : {"policy", "ticks", "uavs", "coverage", "covered_cells", "targets_found", "acquisition_ticks",
                           "revisit_response_ticks", "leader_arrival_tick", "deposits_sent", "deposits_applied", "deposits_rejected", "field"}) {
     // leader_arrival_tick: absent from both without a leader.
@@ -254,6 +248,19 @@ inline void expect_lockstep_matches_sim(const std::string& scenario, const std::
     EXPECT_GT(std::count(from_run.begin(), from_run.end(), '\n'), 10) << file;
     EXPECT_TRUE(from_run == slurp(sim_out + "/" + file)) << file << " differs: see " << run_out << " and " << sim_out;
   }
+}
+
+inline void expect_lockstep_matches_sim(const std::string& scenario, const std::string& args, int domain, const std::string& tag,
+                                        const std::string& run_args = "") {
+  const std::string run_out = out_dir(tag + "-lockstep");
+  const Output r = run(pheromesh_run(scenario, run_out, domain, "--clock lockstep --tracks " + args + " " + run_args));
+  {
+    // The launcher's and the ground station's output, for a failure's post-mortem.
+    std::ofstream keep(run_out + "/launcher.txt");
+    keep << r.text;
+  }
+  ASSERT_EQ(r.exit_code, 0) << r.text;
+  expect_same_as_sim(run_out, scenario, args, tag);
 }
 
 }  // namespace pheromesh::itest

@@ -5,7 +5,7 @@
 // addresses). Discovery in cells (the default, with multicast dropped on the
 // bridge so that nothing else can work), by multicast (profile lan) and by
 // unicast peers (lan-unicast, multicast dropped too). Traffic stays in the
-// namespaces this test makes. Domains 70-71, 74-75; needs root (ip netns).
+// namespaces this test makes. Domains 70-71, 74-76; needs root (ip netns).
 #include <unistd.h>
 
 #include <regex>
@@ -210,8 +210,35 @@ TEST(Lan, ASwarmOverThreeHostsWithUnicastPeersCompletesWithoutMulticastAndALateM
                   "--dds-profile lan-unicast --dds-peers " + address(0) + "," + address(1) + "," + address(2));
 }
 
-TEST(Lan, ASwarmOverThreeHostsInCellsByDefaultCompletesWithoutMulticastAndAMonitorNamingTheHostsAttaches) {
+TEST(LanCells, ASwarmOverThreeHostsInCellsByDefaultCompletesWithoutMulticastAndAMonitorNamingTheHostsAttaches) {
   run_split_swarm("lan-cells", 75, "--dds-peers " + address(0) + "," + address(1) + "," + address(2));
+}
+
+// Lockstep over three hosts in cells: the ground station on host 0 conducts
+// every host's processes, and the swarm's numbers are the simulator's.
+TEST(LanCells, ALockstepSwarmOverThreeHostsInCellsGivesTheSimulatorsNumbers) {
+  if (geteuid() != 0) GTEST_SKIP() << "network namespaces need root";
+  LanNet net(/*drop_multicast=*/true);
+  ASSERT_TRUE(net.ready());
+  const std::string out = out_dir("lan-cells-lockstep");
+  const std::string key = run(kBin + "/pheromesh key").text.substr(0, 64);
+  const std::string args = "--uavs 6 --ticks 150 --seed 4";
+  std::vector<Background> hosts;
+  for (int i = 0; i < kHosts; ++i) {
+    hosts.push_back(start({"/bin/sh", "-c",
+                           "ip netns exec " + ns(i) + " env PHEROMESH_CONTROL_KEY=" + key + " " + kBin +
+                               "/pheromesh run " + kSrc + "/scenarios/small-test.textproto --hosts 3 --host-index " +
+                               std::to_string(i) + " --dds-peers " + address(0) + "," + address(1) + "," + address(2) +
+                               " --domain 76 --clock lockstep --tracks " + args + " --out " + out + "/host" +
+                               std::to_string(i) + " 2>&1"},
+                          out + "/host" + std::to_string(i) + ".txt"));
+  }
+  for (int i = 0; i < kHosts; ++i) {
+    EXPECT_EQ(wait_exit(hosts[static_cast<std::size_t>(i)].pid, std::chrono::seconds(180)), 0)
+        << "host " << i << ":\n"
+        << slurp(out + "/host" + std::to_string(i) + ".txt");
+  }
+  expect_same_as_sim(out + "/host0", "small-test.textproto", args, "lan-cells-lockstep");
 }
 
 // What a swarm over several hosts cannot do is refused before anything

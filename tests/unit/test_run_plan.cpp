@@ -264,7 +264,7 @@ TEST(RunPlan, MultiHostChecksNameTheProfileTheKeyAndAFaultOfAnotherHost) {
             std::string::npos);
   // Cells, the default, need every host's address.
   RunOptions cells = o;
-  cells.dds_profile = kDefaultDdsProfile;
+  cells.dds_profile.clear();  // none given: cells
   EXPECT_NE(plan_error(cells).find("needs --dds-peers with every host's address in host-index order"),
             std::string::npos)
       << plan_error(cells);
@@ -456,12 +456,34 @@ TEST(RunPlan, ARunWithoutAProfileFliesInCells) {
   RunOptions o;
   o.scenario = small_test_path();
   o.dds = "cyclone";
-  EXPECT_EQ(o.dds_profile, "cells");
+  EXPECT_EQ(o.dds_profile, "");  // none given
   const RunPlan p = plan_of(o, small_test_with(10));
   ASSERT_TRUE(p.cells.has_value());
+  EXPECT_EQ(p.options.dds_profile, "cells");
+  EXPECT_TRUE(p.notes.empty());
   EXPECT_EQ(value_of(process(p, "uav-0"), "--dds-profile"), "cells");
   EXPECT_NE(env_of(process(p, "uav-0"), "PHEROMESH_CELL"), "(unset)");
   EXPECT_EQ(cells_attach_command(p).value_or(""), "pheromesh attach --domain 0 --cell-hubs 5");
+}
+
+TEST(RunPlan, ARunWithoutAProfileWhoseCellsCannotBeOnOneHostFliesFlatAndSaysWhyButCellsAskedForAreRefused) {
+  RunOptions o;
+  o.scenario = small_test_path();
+  o.dds = "cyclone";
+  o.domain = 121;  // the hubs' well-known ports would be past 32767
+  const RunPlan p = plan_of(o, small_test_with(10));
+  EXPECT_FALSE(p.cells.has_value());
+  EXPECT_EQ(p.options.dds_profile, "onehost");
+  ASSERT_EQ(p.notes.size(), 1U);
+  EXPECT_EQ(p.notes[0].level, PlanNote::Level::Warn);
+  EXPECT_NE(p.notes[0].text.find("ephemeral"), std::string::npos) << p.notes[0].text;
+  o.dds_profile = "cells";
+  EXPECT_NE(plan_error(o).find("ephemeral"), std::string::npos) << plan_error(o);
+  // Over several hosts there is no flat profile to fall back to.
+  o.dds_profile.clear();
+  o.hosts = 2;
+  o.host_addresses = {"10.0.0.1", "10.0.0.2"};
+  EXPECT_NE(plan_error(o).find("ephemeral"), std::string::npos) << plan_error(o);
 }
 
 TEST(RunPlan, InCellsOverSeveralHostsEachProcessBindsItsHostsAddressAndNamesItsPeersAtTheirs) {
