@@ -35,7 +35,8 @@ def _flag_overrides(call: str, **fields: Optional[int]) -> List[Tuple[str, str, 
 
 def sim(scenario: ScenarioLike, *, seed: Optional[int] = None, ticks: Optional[int] = None,
         uavs: Optional[int] = None, faults: Optional[str] = None, tracks: bool = False,
-        record: Optional[Union[str, os.PathLike]] = None, out: Optional[Union[str, os.PathLike]] = None) -> Result:
+        record: Optional[Union[str, os.PathLike]] = None, out: Optional[Union[str, os.PathLike]] = None,
+        fields_every: Optional[int] = None) -> Result:
     """Runs the scenario on the in-process simulator, as ``pheromesh sim``.
 
     Args:
@@ -49,21 +50,32 @@ def sim(scenario: ScenarioLike, *, seed: Optional[int] = None, ticks: Optional[i
             replay FILE`` or :func:`replay` shows it).
         out: also write the files ``pheromesh sim --out`` writes there
             (metrics.json, series.csv, final_field.txt/.csv, tracks.csv).
+        fields_every: also keep every layer every ``k`` ticks (ticks k, 2k, ...):
+            ``Result.fields_over_time[layer]`` is a float32 array of shape
+            (ticks // k, rows, cols) and ``Result.fields_ticks`` says the tick
+            of each frame.
 
     The same scenario and seed give the same numbers as ``pheromesh sim``
     (and as a lockstep ``pheromesh run``). Raises :class:`ScenarioError`
     for a bad scenario or set, ValueError for a bad fault schedule.
     """
+    every = 0
+    if fields_every is not None:
+        if isinstance(fields_every, bool) or not isinstance(fields_every, int) or fields_every < 1:
+            raise ValueError(f"sim(fields_every={fields_every!r}): a whole number of ticks >= 1")
+        every = fields_every
     s = _scenario(scenario)
     config = s._config(_flag_overrides("sim", seed=seed, ticks=ticks, uavs=uavs))
     raw = _native().simulate(config, faults or "", bool(tracks), os.fspath(record) if record else "",
-                             os.fspath(out) if out else "")
+                             os.fspath(out) if out else "", every)
     tr = raw["tracks"]
     if tr is not None:
         tr["role"] = np.array(tr["role"], dtype=object)
     return Result(metrics=json.loads(raw["metrics_json"]), series=dict(raw["series"]), fields=dict(raw["fields"]),
                   tracks=dict(tr) if tr is not None else None, source="sim", notes=list(raw["notes"]),
-                  scalars=dict(raw["scalars"]))
+                  scalars=dict(raw["scalars"]),
+                  fields_over_time=dict(raw["fields_over_time"]) if every else None,
+                  fields_ticks=raw["fields_ticks"] if every else None)
 
 
 def sweep(scenario: ScenarioLike, grid: Mapping[str, Sequence[Value]], *, seeds: Iterable[int] = range(1, 11),
