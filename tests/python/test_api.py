@@ -262,3 +262,15 @@ def test_inside_a_pheromesh_process_the_package_does_not_load_the_extension():
                            "assert 'pheromesh._pheromesh' in sys.modules"], capture_output=True, text=True,
                           timeout=60, check=False)
     assert done.returncode == 0, done.stderr
+
+
+def test_a_policy_parameter_is_set_by_its_key_and_its_position_is_refused_naming_the_key():
+    example = SOURCE / "examples" / "python" / "repulsive-coverage-python.textproto"
+    s = pheromesh.Scenario.load(example)
+    marked = s.copy().set("policy.python.param.evaporation", 0.2)
+    a = pheromesh.sim(s, ticks=40)
+    b = pheromesh.sim(marked, ticks=40)
+    assert a.fields["repulsion"].tobytes() != b.fields["repulsion"].tobytes()
+    assert "number: 0.2" in marked.text
+    with pytest.raises(pheromesh.ScenarioError, match=r"policy\.python\.param\.evaporation=VALUE"):
+        s.copy().set("policy.python.config[1].number", 0.2).validate()
