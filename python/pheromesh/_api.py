@@ -24,6 +24,11 @@ __all__ = ["sim", "sweep", "run", "replay", "program"]
 ScenarioLike = Union[Scenario, str, os.PathLike]
 
 
+# Metrics a run leaves out when it never got there (censored at its last
+# tick; docs/outputs.md): a column of NaN, never an unknown name.
+_CENSORED = {"ticks_to_coverage_50", "ticks_to_coverage_90", "ticks_to_all_targets", "leader_arrival_tick"}
+
+
 def _scenario(s: ScenarioLike) -> Scenario:
     return s if isinstance(s, Scenario) else Scenario.load(s)
 
@@ -91,7 +96,9 @@ def sweep(scenario: ScenarioLike, grid: Mapping[str, Sequence[Value]], *, seeds:
             None: the host's CPU count.
         ticks, uavs: fixed for every run.
         metrics: the metric columns to keep (flattened names as in runs.csv,
-            e.g. ``"coverage"``, ``"targets_found"``); None keeps all.
+            e.g. ``"coverage"``, ``"targets_found"``, ``"ticks_to_all_targets"``);
+            None keeps all. A time a run did not reach (``ticks_to_*``,
+            censored at its last tick) is NaN in its row.
 
     Returns one row per run: every swept path, ``seed``, then the scalar
     metrics as ``pheromesh sweep``'s runs.csv has them (nested names dotted,
@@ -125,13 +132,16 @@ def sweep(scenario: ScenarioLike, grid: Mapping[str, Sequence[Value]], *, seeds:
     table["seed"] = []
     for n in names:
         table.setdefault(n, [])
+    if metrics is not None:
+        for n in names:
+            if n not in _CENSORED and not any(n in scalars for scalars in results):
+                raise KeyError(f"sweep: no metric {n!r} (some: {', '.join(sorted(results[0])[:8])}, ...)")
     for (combo, seed, _), scalars in zip(runs, results):
         for p, v in zip(paths, combo):
             table[p].append(v)
         table["seed"].append(seed)
         for n in names:
-            if metrics is not None and n not in scalars:
-                raise KeyError(f"sweep: no metric {n!r} (some: {', '.join(sorted(scalars)[:8])}, ...)")
+            # A time a run did not reach (censored) is absent from its metrics: NaN.
             table[n].append(scalars.get(n, float("nan")))
     try:
         import pandas as pd  # noqa: PLC0415

@@ -274,3 +274,14 @@ def test_a_policy_parameter_is_set_by_its_key_and_its_position_is_refused_naming
     assert "number: 0.2" in marked.text
     with pytest.raises(pheromesh.ScenarioError, match=r"policy\.python\.param\.evaporation=VALUE"):
         s.copy().set("policy.python.config[1].number", 0.2).validate()
+
+
+def test_sweep_has_nan_for_a_time_a_run_did_not_reach_and_a_number_where_it_did():
+    t = pheromesh.sweep("small-test", {"shao.aco.alpha": [1]}, seeds=range(1, 9), jobs=2, ticks=70,
+                        metrics=["targets_found", "ticks_to_all_targets"])
+    reached = t["targets_found"] == len(pheromesh.Scenario.load("small-test").targets)
+    assert reached.any() and not reached.all()  # the horizon cuts some runs short, so both cases occur
+    assert t.loc[~reached, "ticks_to_all_targets"].isna().all()
+    assert (t.loc[reached, "ticks_to_all_targets"] <= 70).all()
+    with pytest.raises(KeyError, match="no metric 'coverag'"):
+        pheromesh.sweep("small-test", {"shao.aco.alpha": [1]}, seeds=[1], ticks=5, metrics=["coverag"])
