@@ -41,7 +41,19 @@ if _pheromesh_embedded is not None:
     EMBEDDED = True
 else:
     EMBEDDED = False
-    from . import _pheromesh  # noqa: F401  (the extension: fail here, not at the first call)
+    try:
+        # The extension (fail here, not at the first call), and NumPy, which
+        # the API needs: a failure says which Python this copy was built for.
+        from . import _pheromesh  # noqa: F401
+        import numpy  # noqa: F401
+    except ImportError as _e:
+        from ._compat import import_problem
+
+        _problem = import_problem(_e)
+    else:
+        _problem = None
+    if _problem is not None:
+        raise ImportError(_problem)
     from ._api import program, replay, run, sim, sweep
     from ._errors import ScenarioError, ScenarioIssue
     from ._result import Result, load

@@ -66,21 +66,30 @@ fs::path module_dir() {
 // Where the shipped scenarios are for this module: installed, relative to the
 // package folder; in the build tree, also the source tree's scenarios/
 // (python/CMakeLists.txt sets the paths).
+// A wheel (python/make_wheel.py) carries them in the package folder.
 std::vector<fs::path> scenario_dirs() {
-  return frontdoor::scenario_dirs(frontdoor::ScenarioSearch{module_dir(), PHEROMESH_PY_INSTALLED_SCENARIOS_REL,
-                                                            PHEROMESH_PY_BUILD_PACKAGE_DIR,
-                                                            PHEROMESH_SOURCE_SCENARIOS_DIR});
+  std::vector<fs::path> dirs;
+  if (const fs::path dir = module_dir(); !dir.empty()) dirs.push_back(dir / "scenarios");
+  for (auto& d : frontdoor::scenario_dirs(frontdoor::ScenarioSearch{module_dir(), PHEROMESH_PY_INSTALLED_SCENARIOS_REL,
+                                                                    PHEROMESH_PY_BUILD_PACKAGE_DIR,
+                                                                    PHEROMESH_SOURCE_SCENARIOS_DIR})) {
+    dirs.push_back(std::move(d));
+  }
+  return dirs;
 }
 
 // The `pheromesh` program beside this package: installed, relative to the
 // package folder; in the build tree, the build's bin/.
+// A wheel carries no programs: installed from this build tree's wheel into a
+// venv, the package has none beside it and takes this build's.
 std::string program_path() {
   const fs::path dir = module_dir();
   std::error_code ec;
-  if (!dir.empty() && fs::equivalent(dir, PHEROMESH_PY_BUILD_PACKAGE_DIR, ec)) {
-    return (fs::path(PHEROMESH_BUILD_BIN_DIR) / "pheromesh").string();
-  }
-  return (dir / PHEROMESH_PY_INSTALLED_BIN_REL / "pheromesh").lexically_normal().string();
+  const fs::path build_program = fs::path(PHEROMESH_BUILD_BIN_DIR) / "pheromesh";
+  if (!dir.empty() && fs::equivalent(dir, PHEROMESH_PY_BUILD_PACKAGE_DIR, ec)) return build_program.string();
+  const fs::path installed = (dir / PHEROMESH_PY_INSTALLED_BIN_REL / "pheromesh").lexically_normal();
+  if (!fs::exists(installed, ec) && fs::exists(build_program, ec)) return build_program.string();
+  return installed.string();
 }
 
 std::string resolve(const std::string& arg) {
