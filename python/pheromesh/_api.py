@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import contextlib
+import fcntl
 import itertools
 import json
 import os
@@ -10,7 +12,7 @@ import subprocess
 import tempfile
 import time
 from concurrent.futures import ThreadPoolExecutor
-from typing import Any, Dict, Iterable, List, Mapping, Optional, Sequence, Tuple, Union
+from typing import Any, Dict, Iterable, Iterator, List, Mapping, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
@@ -163,10 +165,39 @@ def _cli_sets(s: Scenario, extra: List[Tuple[str, str, str]]) -> List[str]:
     return args
 
 
+# The DDS domains run(domain="auto") chooses from.
+AUTO_DOMAINS = range(200, 230)
+
+
+@contextlib.contextmanager
+def _claimed_domain() -> Iterator[int]:
+    """The first domain of AUTO_DOMAINS no other holder of this host claims,
+    held until the block ends: an exclusive flock on
+    $TMPDIR/pheromesh-domain-N.lock, released by the kernel if the process
+    dies. It keeps pheromesh.run(domain="auto") calls of this host apart;
+    DDS programs that do not claim (pheromesh run --domain N) it cannot see."""
+    folder = tempfile.gettempdir()
+    for domain in AUTO_DOMAINS:
+        f = open(os.path.join(folder, f"pheromesh-domain-{domain}.lock"), "a+")  # noqa: SIM115
+        try:
+            fcntl.flock(f, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except OSError:
+            f.close()
+            continue
+        try:
+            yield domain
+        finally:
+            fcntl.flock(f, fcntl.LOCK_UN)
+            f.close()
+        return
+    raise RuntimeError(f"run(domain='auto'): every domain of {AUTO_DOMAINS.start}..{AUTO_DOMAINS.stop - 1} is "
+                       f"claimed by a run of this host; give domain=N")
+
+
 def run(scenario: ScenarioLike, *, out: Optional[Union[str, os.PathLike]] = None, clock: str = "lockstep",
         dds: str = "cyclone", seed: Optional[int] = None, ticks: Optional[int] = None, uavs: Optional[int] = None,
-        faults: Optional[str] = None, tracks: bool = False, args: Sequence[str] = (),
-        timeout: Optional[float] = 600, quiet: bool = True) -> Result:
+        faults: Optional[str] = None, tracks: bool = False, domain: Union[int, str, None] = None,
+        args: Sequence[str] = (), timeout: Optional[float] = 600, quiet: bool = True) -> Result:
     """Flies the scenario as real processes (``pheromesh run``): one process per
     UAV and per place agent and a ground station, over DDS on this host.
 
@@ -177,7 +208,11 @@ def run(scenario: ScenarioLike, *, out: Optional[Union[str, os.PathLike]] = None
         dds: ``"cyclone"``, ``"fastdds"`` or ``"mixed"``.
         seed, ticks, uavs, faults, tracks: as for :func:`sim` (faults as ``--faults``:
             in ticks, or in seconds for a realtime run).
-        args: more flags of ``pheromesh run``, e.g. ``["--domain", "7"]``.
+        domain: the DDS domain (``--domain``); ``"auto"``: the first of
+            200..229 that no other ``run(domain="auto")`` of this host holds,
+            held until the run ends (``Result.domain`` says which); None:
+            the launcher's default, 0.
+        args: more flags of ``pheromesh run``, e.g. ``["--http", "8080"]``.
         timeout: seconds before the launcher is stopped (None: no limit).
         quiet: keep the launcher's output (it is in the exception when the run
             fails); False lets it through to this process's stdout/stderr.
@@ -186,6 +221,10 @@ def run(scenario: ScenarioLike, *, out: Optional[Union[str, os.PathLike]] = None
     :class:`ScenarioError` for a bad scenario (checked here first) and
     RuntimeError when the launcher fails.
     """
+    if domain is not None and "--domain" in args:
+        raise ValueError("run: the domain is given twice (domain= and --domain in args)")
+    if domain is not None and domain != "auto" and (isinstance(domain, bool) or not isinstance(domain, int)):
+        raise ValueError(f"run(domain={domain!r}): a DDS domain id (0..232) or 'auto'")
     s = _scenario(scenario)
     extra = _flag_overrides("run", seed=seed, ticks=ticks, uavs=uavs)
     s._config(extra)  # refuse a bad scenario before starting anything
@@ -200,9 +239,13 @@ def run(scenario: ScenarioLike, *, out: Optional[Union[str, os.PathLike]] = None
     if tracks:
         cmd.append("--tracks")
     cmd += list(args)
+    claim = _claimed_domain() if domain == "auto" else contextlib.nullcontext(domain)
     try:
-        done = subprocess.run(cmd, stdout=subprocess.PIPE if quiet else None, stderr=subprocess.STDOUT if quiet else None,
-                              text=True, timeout=timeout, check=False)
+        with claim as chosen:
+            if chosen is not None:
+                cmd += ["--domain", str(chosen)]
+            done = subprocess.run(cmd, stdout=subprocess.PIPE if quiet else None,
+                                  stderr=subprocess.STDOUT if quiet else None, text=True, timeout=timeout, check=False)
         if done.returncode != 0:
             raise RuntimeError(f"pheromesh run failed (exit {done.returncode}): {' '.join(cmd)}\n{done.stdout or ''}")
         result = load(out)
@@ -211,6 +254,7 @@ def run(scenario: ScenarioLike, *, out: Optional[Union[str, os.PathLike]] = None
             tmp.cleanup()
     if tmp is not None:
         result.source = "run"
+    result.domain = chosen
     return result
 
 

@@ -40,6 +40,7 @@ class Result:
             float32 array (ticks // k, rows, cols): the field after ticks k,
             2k, ...; else None.
         fields_ticks: the tick of each frame of ``fields_over_time`` (int64), or None.
+        domain: the DDS domain ``run(domain=...)`` flew on, or None.
     """
 
     metrics: Dict[str, Any]
@@ -51,6 +52,7 @@ class Result:
     scalars: Optional[Dict[str, float]] = None
     fields_over_time: Optional[Dict[str, np.ndarray]] = None
     fields_ticks: Optional[np.ndarray] = None
+    domain: Optional[int] = None
 
     @property
     def layers(self) -> List[str]:

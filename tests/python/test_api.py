@@ -285,3 +285,24 @@ def test_sweep_has_nan_for_a_time_a_run_did_not_reach_and_a_number_where_it_did(
     assert (t.loc[reached, "ticks_to_all_targets"] <= 70).all()
     with pytest.raises(KeyError, match="no metric 'coverag'"):
         pheromesh.sweep("small-test", {"shao.aco.alpha": [1]}, seeds=[1], ticks=5, metrics=["coverag"])
+
+
+def test_run_domain_auto_claims_a_domain_no_other_claim_of_this_host_holds():
+    from pheromesh._api import AUTO_DOMAINS, _claimed_domain
+
+    with _claimed_domain() as a:
+        with _claimed_domain() as b:
+            assert a != b and a in AUTO_DOMAINS and b in AUTO_DOMAINS
+            # Another process sees both held too.
+            code = ("import pheromesh._api as api\n"
+                    "with api._claimed_domain() as c: print(c)\n")
+            done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60,
+                                  check=False)
+            assert done.returncode == 0, done.stderr
+            assert int(done.stdout) not in (a, b)
+    with _claimed_domain() as again:
+        assert again <= a  # released at the end of the block: the first free one is taken again
+    with pytest.raises(ValueError, match="domain"):
+        pheromesh.run("small-test", domain="anywhere")
+    with pytest.raises(ValueError, match="twice"):
+        pheromesh.run("small-test", domain=5, args=["--domain", "6"])
