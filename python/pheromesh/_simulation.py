@@ -149,7 +149,8 @@ class Simulation:
         """Every UAV after the last tick, as columns (``pd.DataFrame(sim.uavs)``):
         ``uav``, ``x``, ``y`` [cell], ``vx``, ``vy`` [cell/tick], ``heading``
         (0..7, 0 = east), ``role`` (name), ``alive`` (acts in the next tick). A
-        killed UAV keeps the position of its last tick."""
+        killed UAV keeps the position of its last tick; one killed at tick 0
+        never flew and has NaN."""
         d = dict(self._native.uavs())
         d["role"] = np.array(d["role"], dtype=object)
         return d

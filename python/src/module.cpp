@@ -19,7 +19,9 @@
 #include <chrono>
 #include <cstdint>
 #include <filesystem>
+#include <limits>
 #include <memory>
+#include <optional>
 #include <span>
 #include <stdexcept>
 #include <string>
@@ -47,6 +49,8 @@ namespace fs = std::filesystem;
 namespace pheromesh::python {
 
 namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 // A scenario the core refused: the message names file, line and field
 // (python/pheromesh/_errors.py parses it into pheromesh.ScenarioError).
@@ -376,11 +380,13 @@ class Stepper {
     py::list role;
     for (uint32_t u = 0; u < sim_->scenario().uavs; ++u) {
       const core::UavStateMsg& st = sim_->uav(u).last_state();
+      // Killed before tick 0: it never flew, it has no position.
+      const double none = sim_->uav_kill_tick(u) == std::optional<uint32_t>(0) ? kNaN : 0.0;
       id.push_back(u);
-      x.push_back(st.x);
-      y.push_back(st.y);
-      vx.push_back(st.vx);
-      vy.push_back(st.vy);
+      x.push_back(st.x + none);
+      y.push_back(st.y + none);
+      vx.push_back(st.vx + none);
+      vy.push_back(st.vy + none);
       heading.push_back(st.heading);
       role.append(core::role_name(st.role));
       alive.push_back(sim_->uav_alive(u));

@@ -149,6 +149,9 @@ def test_uavs_targets_metrics_and_series_show_the_run_so_far():
     start = (u["x"].copy(), u["y"].copy())
     sim.step(20)
     assert not (np.array_equal(sim.uavs["x"], start[0]) and np.array_equal(sim.uavs["y"], start[1]))
+    never = pheromesh.Simulation("small-test", ticks=10, faults="kill uav:2 @0t").uavs
+    assert never["alive"].tolist() == [True, True, False, True]
+    assert np.isnan(never["x"][2]) and not np.isnan(never["x"][1])  # it never flew: no position
     early = sim.metrics
     assert early["ticks"] == 20  # the last tick run so far
     assert len(sim.series["tick"]) == 21 and sim.series["tick"][-1] == 20
