@@ -5,10 +5,10 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <map>
 #include <set>
 #include <sstream>
 
-#include "experiments/experiment.hpp"
 
 namespace pheromesh::cli::sweep {
 
@@ -149,26 +149,24 @@ std::string runs_csv(const std::vector<Parameter>& params, const std::vector<Cel
   return o.str();
 }
 
-Stats stats_of(const std::vector<double>& v) {
-  std::vector<double> finite;
-  for (double x : v) {
-    if (std::isfinite(x)) finite.push_back(x);
-  }
+Stats stats_of(const std::vector<double>& v, bool proportion) {
+  const frontdoor::MeanInterval m = frontdoor::mean_interval(v, proportion);
   Stats s;
-  s.n = finite.size();
-  if (finite.empty()) {
-    s.mean = s.sd = s.lo = s.hi = kNaN;
-    return s;
-  }
-  // mean ± t(0.975, n-1) · sd / sqrt(n), sd the sample standard deviation
-  // (divisor n-1): the two-sided 95 % interval of a mean under Student's t
-  // (experiments::ci95, whose table of t(0.975, df) the experiments share).
-  s.mean = experiments::mean(finite);
-  s.sd = finite.size() > 1 ? experiments::stddev(finite) : kNaN;
-  const auto ci = experiments::ci95(finite);
-  s.lo = ci.lo;
-  s.hi = ci.hi;
+  s.n = m.n;
+  s.mean = m.mean;
+  s.sd = m.sd;
+  s.lo = m.lo;
+  s.hi = m.hi;
+  s.method = m.method;
   return s;
+}
+
+bool proportion_metric(const std::vector<RunResult>& runs, const std::string& metric) {
+  std::vector<double> v;
+  for (const auto& r : runs) {
+    if (auto it = r.metrics.find(metric); it != r.metrics.end()) v.push_back(it->second);
+  }
+  return frontdoor::zero_or_one(v);
 }
 
 std::string summary_csv(const std::vector<Parameter>& params, const std::vector<Cell>& cells,
@@ -176,9 +174,13 @@ std::string summary_csv(const std::vector<Parameter>& params, const std::vector<
   std::ostringstream o;
   o << "cell";
   for (const auto& p : params) o << "," << csv_field(p.path);
-  o << ",metric,n,mean,sd,ci95_lo,ci95_hi\n";
+  o << ",metric,n,mean,sd,ci95_lo,ci95_hi,interval,missing\n";
+  std::map<std::string, bool> proportion;
+  for (const auto& m : columns) proportion[m] = proportion_metric(runs, m);
   for (const auto& c : cells) {
     const auto values = cell_values(params, c);
+    std::size_t in_cell = 0;
+    for (const auto& r : runs) in_cell += r.cell == c.index ? 1 : 0;
     for (const auto& m : columns) {
       std::vector<double> v;
       for (const auto& r : runs) {
@@ -186,11 +188,12 @@ std::string summary_csv(const std::vector<Parameter>& params, const std::vector<
         auto it = r.metrics.find(m);
         if (it != r.metrics.end()) v.push_back(it->second);
       }
-      const Stats s = stats_of(v);
+      const Stats s = stats_of(v, proportion.at(m));
       o << c.index;
       for (const auto& x : values) o << "," << csv_field(x);
       o << "," << csv_field(m) << "," << s.n << "," << number_text(s.mean) << "," << number_text(s.sd) << ","
-        << number_text(s.lo) << "," << number_text(s.hi) << "\n";
+        << number_text(s.lo) << "," << number_text(s.hi) << "," << frontdoor::to_string(s.method) << ","
+        << in_cell - s.n << "\n";
     }
   }
   return o.str();
@@ -246,6 +249,7 @@ BarPlot plot_of(const std::vector<Parameter>& params, const std::vector<Cell>& c
     }
   }
   const bool pooled = combos > 6;
+  const bool proportion = proportion_metric(runs, metric);
   auto series_key = [&](const Cell& c) {
     std::string key;
     if (pooled) return key;
@@ -272,7 +276,7 @@ BarPlot plot_of(const std::vector<Parameter>& params, const std::vector<Cell>& c
         auto it = r.metrics.find(metric);
         if (it != r.metrics.end()) v.push_back(it->second);
       }
-      const Stats st = stats_of(v);
+      const Stats st = stats_of(v, proportion);
       if (st.n > 0) s.points.push_back({xs[i], st});
     }
     std::sort(s.points.begin(), s.points.end(), [](const BarPoint& a, const BarPoint& b) { return a.x < b.x; });
@@ -420,7 +424,14 @@ std::string sweep_markdown(const MarkdownInput& in) {
   md << "| seed | " << describe_seeds(in.seeds) << " | `--seeds` |\n\n";
   md << "Files: [runs.csv](runs.csv) (one row per run: every parameter, the seed and every scalar metric of "
         "`metrics.json`, nested ones with dotted names), [summary.csv](summary.csv) (per combination and metric: "
-        "n, mean, sd, 95 % interval of the mean, Student t).\n\n";
+        "n, mean, sd, 95 % interval of the mean, the interval's method, runs without a value).\n\n"
+        "Intervals stay inside what a measure can take: for a measure that is 0 or 1 in every run, the share of "
+        "runs with Wilson's score interval; for any other, the percentile bootstrap of the mean (4000 resamples), "
+        "which lies between the smallest and the largest value. With few seeds the bootstrap's interval is "
+        "narrower than it should be.\n\n"
+        "`ticks_to_coverage_50`, `ticks_to_coverage_90` and `ticks_to_all_targets` are censored at the run's last "
+        "tick: a run that did not get there within it has no value (an empty cell of runs.csv), its mean is over "
+        "the runs that did, and summary.csv's `missing` counts the others.\n\n";
   md << "## Summary\n\nMean [95 % interval] over the seeds of each combination";
   if (in.plotted.empty()) {
     md << ": no metric differs between runs.\n\n";
@@ -449,7 +460,7 @@ std::string sweep_markdown(const MarkdownInput& in) {
           auto it = r.metrics.find(m);
           if (it != r.metrics.end()) v.push_back(it->second);
         }
-        const Stats s = stats_of(v);
+        const Stats s = stats_of(v, proportion_metric(in.runs, m));
         md << " " << short_text(s.mean);
         if (s.n > 1) md << " [" << short_text(s.lo) << ", " << short_text(s.hi) << "]";
         md << " |";

@@ -12,6 +12,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "pheromesh/frontdoor/intervals.hpp"
 #include "pheromesh/frontdoor/metric_scalars.hpp"
 #include "sweep_grid.hpp"
 
@@ -51,17 +52,25 @@ std::string csv_field(const std::string& s);
 std::string runs_csv(const std::vector<Parameter>& params, const std::vector<Cell>& cells,
                      const std::vector<RunResult>& runs, const std::vector<std::string>& columns);
 
-// n, mean, sample standard deviation and the two-sided 95 % interval of the
-// mean of the finite values of `v` (Student t). For n = 1 the sd is NaN and
-// the interval {mean, mean}; for n = 0 all are NaN.
+// n, mean, sample standard deviation and the 95 % interval of the mean of
+// the finite values of `v`, inside the measure's range
+// (pheromesh/frontdoor/intervals.hpp): Wilson's for a `proportion` (a
+// measure that is 0 or 1 in every run of the sweep, proportion_metric), else
+// the percentile bootstrap. For n = 1 the sd is NaN and the interval
+// {mean, mean}; for n = 0 all are NaN.
 struct Stats {
   std::size_t n = 0;
   double mean = 0, sd = 0, lo = 0, hi = 0;
+  frontdoor::IntervalMethod method = frontdoor::IntervalMethod::None;
 };
-Stats stats_of(const std::vector<double>& v);
+Stats stats_of(const std::vector<double>& v, bool proportion = false);
+// Every finite value of `metric` in `runs` is 0 or 1 (and there is one).
+bool proportion_metric(const std::vector<RunResult>& runs, const std::string& metric);
 
 // summary.csv: one row per grid cell and metric column: cell, every
-// parameter, metric, n, mean, sd, ci95_lo, ci95_hi.
+// parameter, metric, n, mean, sd, ci95_lo, ci95_hi, interval (wilson,
+// bootstrap or empty), missing (runs of the cell without a value: a time the
+// run did not reach, censored at its last tick).
 std::string summary_csv(const std::vector<Parameter>& params, const std::vector<Cell>& cells,
                         const std::vector<RunResult>& runs, const std::vector<std::string>& columns);
 

@@ -4,6 +4,8 @@
     s = pheromesh.Scenario.load("shao2020-50x50").set("shao.aco.alpha", 2)
     r = pheromesh.sim(s, seed=3, ticks=200)
     r.metrics["coverage"], r.fields["target"].shape     # dict, (rows, cols) float32
+    sim = pheromesh.Simulation(s, seed=3, ticks=200)     # a tick at a time
+    sim.step(39); sim.kill("uav:1"); sim.run()          # == faults="kill uav:1 @40t"
     pheromesh.sweep(s, {"shao.aco.alpha": [1, 2]}, seeds=range(1, 6), jobs=2)
     pheromesh.run("small-test", ticks=50)                # real processes, lockstep
 
@@ -39,14 +41,27 @@ if _pheromesh_embedded is not None:
     EMBEDDED = True
 else:
     EMBEDDED = False
-    from . import _pheromesh  # noqa: F401  (the extension: fail here, not at the first call)
+    try:
+        # The extension (fail here, not at the first call), and NumPy, which
+        # the API needs: a failure says which Python this copy was built for.
+        from . import _pheromesh  # noqa: F401
+        import numpy  # noqa: F401
+    except ImportError as _e:
+        from ._compat import import_problem
+
+        _problem = import_problem(_e)
+    else:
+        _problem = None
+    if _problem is not None:
+        raise ImportError(_problem)
     from ._api import program, replay, run, sim, sweep
     from ._errors import ScenarioError, ScenarioIssue
     from ._result import Result, load
     from ._scenario import Scenario, shipped_scenarios
+    from ._simulation import Simulation
 
-    __all__ = ["Scenario", "ScenarioError", "ScenarioIssue", "Result", "sim", "sweep", "run", "replay", "load",
-               "program", "shipped_scenarios", "EMBEDDED"]
+    __all__ = ["Scenario", "ScenarioError", "ScenarioIssue", "Result", "Simulation", "sim", "sweep", "run", "replay",
+               "load", "program", "shipped_scenarios", "EMBEDDED"]
 
     # The Python-policy API (docs/python.md, "Python policies"), as the
     # extension binds it (pheromesh::pypolicy::bind_policy_types): the same

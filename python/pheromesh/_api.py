@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import contextlib
+import fcntl
 import itertools
 import json
 import os
@@ -10,7 +12,7 @@ import subprocess
 import tempfile
 import time
 from concurrent.futures import ThreadPoolExecutor
-from typing import Any, Dict, Iterable, List, Mapping, Optional, Sequence, Tuple, Union
+from typing import Any, Dict, Iterable, Iterator, List, Mapping, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
@@ -24,6 +26,11 @@ __all__ = ["sim", "sweep", "run", "replay", "program"]
 ScenarioLike = Union[Scenario, str, os.PathLike]
 
 
+# Metrics a run leaves out when it never got there (censored at its last
+# tick; docs/outputs.md): a column of NaN, never an unknown name.
+_CENSORED = {"ticks_to_coverage_50", "ticks_to_coverage_90", "ticks_to_all_targets", "leader_arrival_tick"}
+
+
 def _scenario(s: ScenarioLike) -> Scenario:
     return s if isinstance(s, Scenario) else Scenario.load(s)
 
@@ -35,7 +42,8 @@ def _flag_overrides(call: str, **fields: Optional[int]) -> List[Tuple[str, str, 
 
 def sim(scenario: ScenarioLike, *, seed: Optional[int] = None, ticks: Optional[int] = None,
         uavs: Optional[int] = None, faults: Optional[str] = None, tracks: bool = False,
-        record: Optional[Union[str, os.PathLike]] = None, out: Optional[Union[str, os.PathLike]] = None) -> Result:
+        record: Optional[Union[str, os.PathLike]] = None, out: Optional[Union[str, os.PathLike]] = None,
+        fields_every: Optional[int] = None) -> Result:
     """Runs the scenario on the in-process simulator, as ``pheromesh sim``.
 
     Args:
@@ -49,21 +57,32 @@ def sim(scenario: ScenarioLike, *, seed: Optional[int] = None, ticks: Optional[i
             replay FILE`` or :func:`replay` shows it).
         out: also write the files ``pheromesh sim --out`` writes there
             (metrics.json, series.csv, final_field.txt/.csv, tracks.csv).
+        fields_every: also keep every layer every ``k`` ticks (ticks k, 2k, ...):
+            ``Result.fields_over_time[layer]`` is a float32 array of shape
+            (ticks // k, rows, cols) and ``Result.fields_ticks`` says the tick
+            of each frame.
 
     The same scenario and seed give the same numbers as ``pheromesh sim``
     (and as a lockstep ``pheromesh run``). Raises :class:`ScenarioError`
     for a bad scenario or set, ValueError for a bad fault schedule.
     """
+    every = 0
+    if fields_every is not None:
+        if isinstance(fields_every, bool) or not isinstance(fields_every, int) or fields_every < 1:
+            raise ValueError(f"sim(fields_every={fields_every!r}): a whole number of ticks >= 1")
+        every = fields_every
     s = _scenario(scenario)
     config = s._config(_flag_overrides("sim", seed=seed, ticks=ticks, uavs=uavs))
     raw = _native().simulate(config, faults or "", bool(tracks), os.fspath(record) if record else "",
-                             os.fspath(out) if out else "")
+                             os.fspath(out) if out else "", every)
     tr = raw["tracks"]
     if tr is not None:
         tr["role"] = np.array(tr["role"], dtype=object)
     return Result(metrics=json.loads(raw["metrics_json"]), series=dict(raw["series"]), fields=dict(raw["fields"]),
                   tracks=dict(tr) if tr is not None else None, source="sim", notes=list(raw["notes"]),
-                  scalars=dict(raw["scalars"]))
+                  scalars=dict(raw["scalars"]),
+                  fields_over_time=dict(raw["fields_over_time"]) if every else None,
+                  fields_ticks=raw["fields_ticks"] if every else None)
 
 
 def sweep(scenario: ScenarioLike, grid: Mapping[str, Sequence[Value]], *, seeds: Iterable[int] = range(1, 11),
@@ -79,7 +98,9 @@ def sweep(scenario: ScenarioLike, grid: Mapping[str, Sequence[Value]], *, seeds:
             None: the host's CPU count.
         ticks, uavs: fixed for every run.
         metrics: the metric columns to keep (flattened names as in runs.csv,
-            e.g. ``"coverage"``, ``"targets_found"``); None keeps all.
+            e.g. ``"coverage"``, ``"targets_found"``, ``"ticks_to_all_targets"``);
+            None keeps all. A time a run did not reach (``ticks_to_*``,
+            censored at its last tick) is NaN in its row.
 
     Returns one row per run: every swept path, ``seed``, then the scalar
     metrics as ``pheromesh sweep``'s runs.csv has them (nested names dotted,
@@ -113,13 +134,16 @@ def sweep(scenario: ScenarioLike, grid: Mapping[str, Sequence[Value]], *, seeds:
     table["seed"] = []
     for n in names:
         table.setdefault(n, [])
+    if metrics is not None:
+        for n in names:
+            if n not in _CENSORED and not any(n in scalars for scalars in results):
+                raise KeyError(f"sweep: no metric {n!r} (some: {', '.join(sorted(results[0])[:8])}, ...)")
     for (combo, seed, _), scalars in zip(runs, results):
         for p, v in zip(paths, combo):
             table[p].append(v)
         table["seed"].append(seed)
         for n in names:
-            if metrics is not None and n not in scalars:
-                raise KeyError(f"sweep: no metric {n!r} (some: {', '.join(sorted(scalars)[:8])}, ...)")
+            # A time a run did not reach (censored) is absent from its metrics: NaN.
             table[n].append(scalars.get(n, float("nan")))
     try:
         import pandas as pd  # noqa: PLC0415
@@ -141,10 +165,39 @@ def _cli_sets(s: Scenario, extra: List[Tuple[str, str, str]]) -> List[str]:
     return args
 
 
+# The DDS domains run(domain="auto") chooses from.
+AUTO_DOMAINS = range(200, 230)
+
+
+@contextlib.contextmanager
+def _claimed_domain() -> Iterator[int]:
+    """The first domain of AUTO_DOMAINS no other holder of this host claims,
+    held until the block ends: an exclusive flock on
+    $TMPDIR/pheromesh-domain-N.lock, released by the kernel if the process
+    dies. It keeps pheromesh.run(domain="auto") calls of this host apart;
+    DDS programs that do not claim (pheromesh run --domain N) it cannot see."""
+    folder = tempfile.gettempdir()
+    for domain in AUTO_DOMAINS:
+        f = open(os.path.join(folder, f"pheromesh-domain-{domain}.lock"), "a+")  # noqa: SIM115
+        try:
+            fcntl.flock(f, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except OSError:
+            f.close()
+            continue
+        try:
+            yield domain
+        finally:
+            fcntl.flock(f, fcntl.LOCK_UN)
+            f.close()
+        return
+    raise RuntimeError(f"run(domain='auto'): every domain of {AUTO_DOMAINS.start}..{AUTO_DOMAINS.stop - 1} is "
+                       f"claimed by a run of this host; give domain=N")
+
+
 def run(scenario: ScenarioLike, *, out: Optional[Union[str, os.PathLike]] = None, clock: str = "lockstep",
         dds: str = "cyclone", seed: Optional[int] = None, ticks: Optional[int] = None, uavs: Optional[int] = None,
-        faults: Optional[str] = None, tracks: bool = False, args: Sequence[str] = (),
-        timeout: Optional[float] = 600, quiet: bool = True) -> Result:
+        faults: Optional[str] = None, tracks: bool = False, domain: Union[int, str, None] = None,
+        args: Sequence[str] = (), timeout: Optional[float] = 600, quiet: bool = True) -> Result:
     """Flies the scenario as real processes (``pheromesh run``): one process per
     UAV and per place agent and a ground station, over DDS on this host.
 
@@ -155,7 +208,11 @@ def run(scenario: ScenarioLike, *, out: Optional[Union[str, os.PathLike]] = None
         dds: ``"cyclone"``, ``"fastdds"`` or ``"mixed"``.
         seed, ticks, uavs, faults, tracks: as for :func:`sim` (faults as ``--faults``:
             in ticks, or in seconds for a realtime run).
-        args: more flags of ``pheromesh run``, e.g. ``["--domain", "7"]``.
+        domain: the DDS domain (``--domain``); ``"auto"``: the first of
+            200..229 that no other ``run(domain="auto")`` of this host holds,
+            held until the run ends (``Result.domain`` says which); None:
+            the launcher's default, 0.
+        args: more flags of ``pheromesh run``, e.g. ``["--http", "8080"]``.
         timeout: seconds before the launcher is stopped (None: no limit).
         quiet: keep the launcher's output (it is in the exception when the run
             fails); False lets it through to this process's stdout/stderr.
@@ -164,6 +221,10 @@ def run(scenario: ScenarioLike, *, out: Optional[Union[str, os.PathLike]] = None
     :class:`ScenarioError` for a bad scenario (checked here first) and
     RuntimeError when the launcher fails.
     """
+    if domain is not None and "--domain" in args:
+        raise ValueError("run: the domain is given twice (domain= and --domain in args)")
+    if domain is not None and domain != "auto" and (isinstance(domain, bool) or not isinstance(domain, int)):
+        raise ValueError(f"run(domain={domain!r}): a DDS domain id (0..232) or 'auto'")
     s = _scenario(scenario)
     extra = _flag_overrides("run", seed=seed, ticks=ticks, uavs=uavs)
     s._config(extra)  # refuse a bad scenario before starting anything
@@ -178,9 +239,13 @@ def run(scenario: ScenarioLike, *, out: Optional[Union[str, os.PathLike]] = None
     if tracks:
         cmd.append("--tracks")
     cmd += list(args)
+    claim = _claimed_domain() if domain == "auto" else contextlib.nullcontext(domain)
     try:
-        done = subprocess.run(cmd, stdout=subprocess.PIPE if quiet else None, stderr=subprocess.STDOUT if quiet else None,
-                              text=True, timeout=timeout, check=False)
+        with claim as chosen:
+            if chosen is not None:
+                cmd += ["--domain", str(chosen)]
+            done = subprocess.run(cmd, stdout=subprocess.PIPE if quiet else None,
+                                  stderr=subprocess.STDOUT if quiet else None, text=True, timeout=timeout, check=False)
         if done.returncode != 0:
             raise RuntimeError(f"pheromesh run failed (exit {done.returncode}): {' '.join(cmd)}\n{done.stdout or ''}")
         result = load(out)
@@ -189,6 +254,7 @@ def run(scenario: ScenarioLike, *, out: Optional[Union[str, os.PathLike]] = None
             tmp.cleanup()
     if tmp is not None:
         result.source = "run"
+    result.domain = chosen
     return result
 
 

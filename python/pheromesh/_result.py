@@ -35,6 +35,12 @@ class Result:
         source: ``"sim"``, or the folder the outputs were read from.
         notes: what the simulator said about the faults (events that change no
             number).
+        scalars: the scalar metrics as ``sweep`` tabulates them (simulator only).
+        fields_over_time: with ``sim(..., fields_every=k)``, layer name ->
+            float32 array (ticks // k, rows, cols): the field after ticks k,
+            2k, ...; else None.
+        fields_ticks: the tick of each frame of ``fields_over_time`` (int64), or None.
+        domain: the DDS domain ``run(domain=...)`` flew on, or None.
     """
 
     metrics: Dict[str, Any]
@@ -44,6 +50,9 @@ class Result:
     source: str = "sim"
     notes: List[str] = field(default_factory=list)
     scalars: Optional[Dict[str, float]] = None
+    fields_over_time: Optional[Dict[str, np.ndarray]] = None
+    fields_ticks: Optional[np.ndarray] = None
+    domain: Optional[int] = None
 
     @property
     def layers(self) -> List[str]:

@@ -19,7 +19,10 @@
 #include <chrono>
 #include <cstdint>
 #include <filesystem>
+#include <limits>
 #include <memory>
+#include <optional>
+#include <span>
 #include <stdexcept>
 #include <string>
 #include <tuple>
@@ -47,6 +50,8 @@ namespace pheromesh::python {
 
 namespace {
 
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
 // A scenario the core refused: the message names file, line and field
 // (python/pheromesh/_errors.py parses it into pheromesh.ScenarioError).
 struct ScenarioFailure : std::runtime_error {
@@ -65,21 +70,30 @@ fs::path module_dir() {
 // Where the shipped scenarios are for this module: installed, relative to the
 // package folder; in the build tree, also the source tree's scenarios/
 // (python/CMakeLists.txt sets the paths).
+// A wheel (python/make_wheel.py) carries them in the package folder.
 std::vector<fs::path> scenario_dirs() {
-  return frontdoor::scenario_dirs(frontdoor::ScenarioSearch{module_dir(), PHEROMESH_PY_INSTALLED_SCENARIOS_REL,
-                                                            PHEROMESH_PY_BUILD_PACKAGE_DIR,
-                                                            PHEROMESH_SOURCE_SCENARIOS_DIR});
+  std::vector<fs::path> dirs;
+  if (const fs::path dir = module_dir(); !dir.empty()) dirs.push_back(dir / "scenarios");
+  for (auto& d : frontdoor::scenario_dirs(frontdoor::ScenarioSearch{module_dir(), PHEROMESH_PY_INSTALLED_SCENARIOS_REL,
+                                                                    PHEROMESH_PY_BUILD_PACKAGE_DIR,
+                                                                    PHEROMESH_SOURCE_SCENARIOS_DIR})) {
+    dirs.push_back(std::move(d));
+  }
+  return dirs;
 }
 
 // The `pheromesh` program beside this package: installed, relative to the
 // package folder; in the build tree, the build's bin/.
+// A wheel carries no programs: installed from this build tree's wheel into a
+// venv, the package has none beside it and takes this build's.
 std::string program_path() {
   const fs::path dir = module_dir();
   std::error_code ec;
-  if (!dir.empty() && fs::equivalent(dir, PHEROMESH_PY_BUILD_PACKAGE_DIR, ec)) {
-    return (fs::path(PHEROMESH_BUILD_BIN_DIR) / "pheromesh").string();
-  }
-  return (dir / PHEROMESH_PY_INSTALLED_BIN_REL / "pheromesh").lexically_normal().string();
+  const fs::path build_program = fs::path(PHEROMESH_BUILD_BIN_DIR) / "pheromesh";
+  if (!dir.empty() && fs::equivalent(dir, PHEROMESH_PY_BUILD_PACKAGE_DIR, ec)) return build_program.string();
+  const fs::path installed = (dir / PHEROMESH_PY_INSTALLED_BIN_REL / "pheromesh").lexically_normal();
+  if (!fs::exists(installed, ec) && fs::exists(build_program, ec)) return build_program.string();
+  return installed.string();
 }
 
 std::string resolve(const std::string& arg) {
@@ -163,38 +177,67 @@ py::dict track_columns(const std::vector<core::TrackRow>& rows) {
   return d;
 }
 
-// Every layer of the final field as a (rows, cols) float32 array, [y, x].
-py::dict field_arrays(const core::Simulator& sim) {
+// Every layer of the field the place agents hold now as a (rows, cols)
+// float32 array, [y, x]: gathered once from their regions into one buffer per
+// layer, which the array owns. `read_only` for a look at a run still going.
+py::dict field_arrays(const core::Simulator& sim, bool read_only = false) {
   const core::ScenarioConfig& s = sim.scenario();
   const auto layers = core::policy_traits(s).layers;
   py::dict d;
   for (std::size_t l = 0; l < layers.size(); ++l) {
     std::vector<float> v(static_cast<std::size_t>(s.width) * static_cast<std::size_t>(s.height));
-    for (int32_t y = 0; y < s.height; ++y) {
-      for (int32_t x = 0; x < s.width; ++x) {
-        v[static_cast<std::size_t>(y) * static_cast<std::size_t>(s.width) + static_cast<std::size_t>(x)] =
-            sim.field_value(static_cast<int>(l), core::Cell{x, y});
-      }
-    }
-    d[py::str(layers[l])] = give_away(std::move(v), {s.height, s.width});
+    sim.gather_layer(static_cast<int>(l), v);
+    auto a = give_away(std::move(v), {s.height, s.width});
+    if (read_only) a.attr("flags").attr("writeable") = false;
+    d[py::str(layers[l])] = a;
   }
   return d;
 }
 
-struct SimRequest {
-  std::string faults;  // schedule in ticks, added to the scenario's own (as --faults)
-  bool tracks = false;
-  std::string record;   // console recording path, "" none
-  std::string out_dir;  // OUT files as `pheromesh sim` writes them, "" none
+// The layers every `every` ticks (ticks every, 2 every, ...): one
+// (frames, rows, cols) buffer per layer, filled as the run goes.
+class FieldFrames {
+ public:
+  FieldFrames(const core::Simulator& sim, uint32_t every)
+      : every_(every), cells_(static_cast<std::size_t>(sim.scenario().width) * static_cast<std::size_t>(sim.scenario().height)) {
+    const std::size_t frames = every == 0 ? 0 : sim.scenario().ticks / every;
+    layers_.assign(static_cast<std::size_t>(sim.layer_count()), std::vector<float>(frames * cells_));
+  }
+  void after_tick(const core::Simulator& sim, uint32_t k) {
+    if (every_ == 0 || k == 0 || k % every_ != 0) return;
+    const std::size_t frame = k / every_ - 1;
+    for (std::size_t l = 0; l < layers_.size(); ++l) {
+      sim.gather_layer(static_cast<int>(l), std::span<float>(layers_[l]).subspan(frame * cells_, cells_));
+    }
+    ticks_.push_back(k);
+  }
+  // {layer: (frames, rows, cols)}, and the tick of every frame.
+  py::tuple give_away_arrays(const core::Simulator& sim) {
+    const core::ScenarioConfig& s = sim.scenario();
+    const auto names = core::policy_traits(s).layers;
+    const auto frames = static_cast<py::ssize_t>(ticks_.size());
+    py::dict d;
+    for (std::size_t l = 0; l < layers_.size(); ++l) {
+      d[py::str(names[l])] = give_away(std::move(layers_[l]), {frames, s.height, s.width});
+    }
+    std::vector<int64_t> ticks(ticks_.begin(), ticks_.end());
+    return py::make_tuple(d, column(std::move(ticks)));
+  }
+
+ private:
+  uint32_t every_;
+  std::size_t cells_;
+  std::vector<std::vector<float>> layers_;
+  std::vector<uint32_t> ticks_;
 };
 
-// One simulation, as `pheromesh sim` runs it (cli/sim_command.cpp); the
-// GIL is released while the simulator runs, so threads run simulations in
-// parallel (pheromesh.sweep).
-py::dict simulate(const core::ScenarioConfig& s, const SimRequest& req) {
+// A simulator for `s` with the scenario's faults and `faults` (a schedule in
+// ticks, as --faults) set, and the simulator's notes on them.
+std::pair<std::unique_ptr<core::Simulator>, py::list> make_simulator(const core::ScenarioConfig& s,
+                                                                      const std::string& faults_text) {
   core::FaultSchedule faults = s.faults;
-  if (!req.faults.empty()) {
-    auto parsed = core::parse_fault_schedule(req.faults, "faults=");
+  if (!faults_text.empty()) {
+    auto parsed = core::parse_fault_schedule(faults_text, "faults=");
     if (!parsed) throw py::value_error(parsed.error().message);
     core::merge_fault_schedules(faults, parsed.value());
   }
@@ -205,6 +248,43 @@ py::dict simulate(const core::ScenarioConfig& s, const SimRequest& req) {
     if (!n) throw py::value_error("faults: " + n.error().message);
     for (const auto& note : n.value()) notes.append(note);
   }
+  return {std::move(sim), notes};
+}
+
+// What a finished simulation hands to Python (pheromesh.Result), and the OUT
+// files of `pheromesh sim` when `out_dir` is not "".
+py::dict finished_outputs(const core::Simulator& sim, double secs, const std::string& out_dir, bool tracks,
+                          const py::list& notes) {
+  const nlohmann::json metrics = frontdoor::sim_metrics(sim, secs);
+  py::dict out;
+  if (!out_dir.empty()) {
+    std::string error;
+    if (!report::write_json(out_dir, "metrics.json", metrics, error)) throw std::runtime_error(error);
+    if (const std::string e = frontdoor::write_sim_outputs(sim, out_dir); !e.empty()) throw std::runtime_error(e);
+  }
+  out["metrics_json"] = metrics.dump();
+  // The row of `pheromesh sweep`'s runs.csv (its metric columns).
+  out["scalars"] = frontdoor::flatten_scalars(metrics);
+  out["series"] = series_columns(sim.recorder().tick_series());
+  out["tracks"] = tracks ? py::object(track_columns(sim.recorder().tracks())) : py::object(py::none());
+  out["fields"] = field_arrays(sim);
+  out["notes"] = notes;
+  return out;
+}
+
+struct SimRequest {
+  std::string faults;  // schedule in ticks, added to the scenario's own (as --faults)
+  bool tracks = false;
+  std::string record;   // console recording path, "" none
+  std::string out_dir;  // OUT files as `pheromesh sim` writes them, "" none
+  uint32_t fields_every = 0;  // keep the layers every this many ticks, 0 never
+};
+
+// One simulation, as `pheromesh sim` runs it (cli/sim_command.cpp); the
+// GIL is released while the simulator runs, so threads run simulations in
+// parallel (pheromesh.sweep).
+py::dict simulate(const core::ScenarioConfig& s, const SimRequest& req) {
+  auto [sim, notes] = make_simulator(s, req.faults);
   if (req.tracks) sim->keep_tracks();
   std::unique_ptr<frontdoor::SimRecording> recording;
   if (!req.record.empty()) {
@@ -218,40 +298,148 @@ py::dict simulate(const core::ScenarioConfig& s, const SimRequest& req) {
     if (!opened) throw py::value_error("record=" + req.record + ": " + opened.error().message);
     recording = std::move(opened).value();
   }
+  FieldFrames frames(*sim, req.fields_every);
   bool recording_failed = false;
   const auto t0 = std::chrono::steady_clock::now();
   {
     py::gil_scoped_release unlocked;
     sim->run([&](uint32_t k) {
       if (recording && !recording_failed && !recording->after_tick(k)) recording_failed = true;
+      frames.after_tick(*sim, k);
     });
   }
   const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  const nlohmann::json metrics = frontdoor::sim_metrics(*sim, secs);
-  py::dict out;
+  py::dict extra;
   if (recording) {
     auto closed = recording->close();
     if (recording_failed || !closed) {
       throw std::runtime_error("the recording " + req.record + " is incomplete: " +
                                (closed ? std::string("a frame could not be written") : closed.error().message));
     }
-    out["record_frames"] = recording->frames();
-    out["record_bytes"] = closed.value();
+    extra["record_frames"] = recording->frames();
+    extra["record_bytes"] = closed.value();
   }
-  if (!req.out_dir.empty()) {
-    std::string error;
-    if (!report::write_json(req.out_dir, "metrics.json", metrics, error)) throw std::runtime_error(error);
-    if (const std::string e = frontdoor::write_sim_outputs(*sim, req.out_dir); !e.empty()) throw std::runtime_error(e);
+  py::dict out = finished_outputs(*sim, secs, req.out_dir, req.tracks, notes);
+  for (auto item : extra) out[item.first] = item.second;
+  if (req.fields_every > 0) {
+    py::tuple over_time = frames.give_away_arrays(*sim);
+    out["fields_over_time"] = over_time[0];
+    out["fields_ticks"] = over_time[1];
   }
-  out["metrics_json"] = metrics.dump();
-  // The row of `pheromesh sweep`'s runs.csv (its metric columns).
-  out["scalars"] = frontdoor::flatten_scalars(metrics);
-  out["series"] = series_columns(sim->recorder().tick_series());
-  out["tracks"] = req.tracks ? py::object(track_columns(sim->recorder().tracks())) : py::object(py::none());
-  out["fields"] = field_arrays(*sim);
-  out["notes"] = notes;
   return out;
 }
+
+// A simulation driven a tick at a time (pheromesh.Simulation): the core's
+// lifecycle (core::Simulator: advance / add_faults / finish), nothing more.
+// The run finishes by itself when its last tick has run.
+class Stepper {
+ public:
+  Stepper(const core::ScenarioConfig& s, const std::string& faults, bool tracks) : tracks_(tracks) {
+    auto made = make_simulator(s, faults);
+    sim_ = std::move(made.first);
+    notes_ = made.second;
+    if (tracks) sim_->keep_tracks();
+  }
+
+  // Runs up to n ticks (fewer when the run ends); returns how many ran.
+  uint32_t advance(uint32_t n) {
+    uint32_t ran = 0;
+    const auto t0 = std::chrono::steady_clock::now();
+    {
+      py::gil_scoped_release unlocked;
+      while (ran < n && sim_->advance()) ++ran;
+      if (sim_->done()) sim_->finish();
+    }
+    secs_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return ran;
+  }
+
+  py::list add_faults(const std::string& text) {
+    auto parsed = core::parse_fault_schedule(text, "fault");
+    if (!parsed) throw py::value_error(parsed.error().message);
+    auto added = sim_->add_faults(parsed.value());
+    if (!added) throw py::value_error(added.error().message);
+    py::list notes;
+    for (const auto& n : added.value()) {
+      notes.append(n);
+      notes_.append(n);
+    }
+    return notes;
+  }
+
+  // The last tick run (-1 before the first).
+  [[nodiscard]] int64_t tick() const { return static_cast<int64_t>(sim_->next_tick()) - 1; }
+  [[nodiscard]] uint32_t last_tick() const { return sim_->scenario().ticks; }
+  [[nodiscard]] bool finished() const { return sim_->finished(); }
+
+  py::dict uavs() const {
+    std::vector<int64_t> id;
+    std::vector<double> x, y, vx, vy;
+    std::vector<int64_t> heading;
+    std::vector<bool> alive;
+    py::list role;
+    for (uint32_t u = 0; u < sim_->scenario().uavs; ++u) {
+      const core::UavStateMsg& st = sim_->uav(u).last_state();
+      // Killed before tick 0: it never flew, it has no position.
+      const double none = sim_->uav_kill_tick(u) == std::optional<uint32_t>(0) ? kNaN : 0.0;
+      id.push_back(u);
+      x.push_back(st.x + none);
+      y.push_back(st.y + none);
+      vx.push_back(st.vx + none);
+      vy.push_back(st.vy + none);
+      heading.push_back(st.heading);
+      role.append(core::role_name(st.role));
+      alive.push_back(sim_->uav_alive(u));
+    }
+    py::dict d;
+    d["uav"] = column(std::move(id));
+    d["x"] = column(std::move(x));
+    d["y"] = column(std::move(y));
+    d["vx"] = column(std::move(vx));
+    d["vy"] = column(std::move(vy));
+    d["heading"] = column(std::move(heading));
+    d["role"] = role;
+    py::array_t<bool> a(static_cast<py::ssize_t>(alive.size()));
+    for (std::size_t i = 0; i < alive.size(); ++i) a.mutable_at(static_cast<py::ssize_t>(i)) = alive[i];
+    d["alive"] = a;
+    return d;
+  }
+
+  py::dict targets() const {
+    const auto& cells = sim_->world().targets();
+    const auto& acq = sim_->recorder().acquisitions();
+    std::vector<int64_t> index, x, y, found_tick;
+    for (std::size_t i = 0; i < cells.size(); ++i) {
+      index.push_back(static_cast<int64_t>(i));
+      x.push_back(cells[i].x);
+      y.push_back(cells[i].y);
+      const auto first = acq.first(i);
+      found_tick.push_back(first ? static_cast<int64_t>(*first) : -1);
+    }
+    py::dict d;
+    d["target"] = column(std::move(index));
+    d["x"] = column(std::move(x));
+    d["y"] = column(std::move(y));
+    d["found_tick"] = column(std::move(found_tick));
+    return d;
+  }
+
+  [[nodiscard]] py::dict fields() const { return field_arrays(*sim_, true); }
+  [[nodiscard]] py::dict series() const { return series_columns(sim_->recorder().tick_series()); }
+  [[nodiscard]] std::string metrics_json() const { return frontdoor::sim_metrics(*sim_, secs_).dump(); }
+  [[nodiscard]] py::list notes() const { return notes_; }
+
+  py::dict result(const std::string& out_dir) const {
+    if (!sim_->finished()) throw py::value_error("the run has not ended");
+    return finished_outputs(*sim_, secs_, out_dir, tracks_, notes_);
+  }
+
+ private:
+  std::unique_ptr<core::Simulator> sim_;
+  py::list notes_;
+  bool tracks_;
+  double secs_ = 0;
+};
 
 }  // namespace
 
@@ -317,13 +505,33 @@ PYBIND11_MODULE(_pheromesh, m) {
   m.def(
       "simulate",
       [](const core::ScenarioConfig& s, const std::string& faults, bool tracks, const std::string& record,
-         const std::string& out_dir) {
-        return simulate(s, SimRequest{faults, tracks, record, out_dir});
+         const std::string& out_dir, uint32_t fields_every) {
+        return simulate(s, SimRequest{faults, tracks, record, out_dir, fields_every});
       },
       py::arg("scenario"), py::arg("faults") = "", py::arg("tracks") = false, py::arg("record") = "",
-      py::arg("out_dir") = "",
-      "Runs the in-process simulator; returns metrics_json, scalars, series, tracks, fields, notes "
-      "(pheromesh.sim wraps it).");
+      py::arg("out_dir") = "", py::arg("fields_every") = 0,
+      "Runs the in-process simulator; returns metrics_json, scalars, series, tracks, fields, notes, and with "
+      "fields_every > 0 fields_over_time and fields_ticks (pheromesh.sim wraps it).");
+
+  py::class_<Stepper>(m, "Stepper",
+                      "core::Simulator's lifecycle a tick at a time (pheromesh.Simulation wraps it).")
+      .def(py::init<const core::ScenarioConfig&, const std::string&, bool>(), py::arg("scenario"),
+           py::arg("faults") = "", py::arg("tracks") = false)
+      .def("advance", &Stepper::advance, py::arg("n"),
+           "Runs up to n ticks (the GIL released); returns how many ran. Finishes the run after its last tick.")
+      .def("add_faults", &Stepper::add_faults, py::arg("schedule"),
+           "Adds fault events timed at the next tick or later (core::Simulator::add_faults); returns their "
+           "notes; raises ValueError.")
+      .def_property_readonly("tick", &Stepper::tick, "The last tick run (-1 before the first).")
+      .def_property_readonly("last_tick", &Stepper::last_tick, "The run's last tick (run.ticks).")
+      .def_property_readonly("finished", &Stepper::finished)
+      .def("uavs", &Stepper::uavs)
+      .def("targets", &Stepper::targets)
+      .def("fields", &Stepper::fields)
+      .def("series", &Stepper::series)
+      .def("metrics_json", &Stepper::metrics_json)
+      .def("notes", &Stepper::notes)
+      .def("result", &Stepper::result, py::arg("out_dir") = "");
 
   // Python policies (common/pypolicy): their types (UavPolicy, PlaceModel,
   // the view, the actions) on this module, and the hook that lets this

@@ -11,6 +11,7 @@
 #include <fstream>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "pheromesh/core/plugin_loader.hpp"
 #include "pheromesh/core/policy_table.hpp"
@@ -235,4 +236,65 @@ TEST_F(PluginScenario, AnExceptionFromThePluginsStepReachesTheCallerWithItsMessa
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find("was told to fail at tick 7"), std::string::npos) << e.what();
   }
+}
+
+// --set of a plugin parameter (field_override.hpp): by its key, whatever line
+// it is on; by its position, refused with the key it would have hit.
+namespace {
+std::vector<float> plugin_repulsion_field(const ScenarioConfig& s) {
+  Simulator sim(s);
+  sim.run();
+  std::vector<float> v;
+  for (int32_t y = 0; y < 20; ++y) {
+    for (int32_t x = 0; x < 24; ++x) v.push_back(sim.field_value(0, {x, y}));
+  }
+  return v;
+}
+}  // namespace
+
+TEST_F(PluginScenario, AParameterSetByItsKeyIsTheSameParameterWhateverLineItIsOn) {
+  const std::string mark = "    config { key: \"mark\" number: 4 }\n";
+  const std::string evaporation = "    config { key: \"evaporation\" number: 0.01 }\n";
+  const ScenarioOverrides set = {{"policy.plugin.param.evaporation", "0.2", "--set"}};
+  auto first = load_scenario(write(lib() + "    name: \"repulsive_coverage\"\n" + evaporation + mark), set);
+  ASSERT_TRUE(first.ok()) << first.error().message;
+  auto second = load_scenario(write(lib() + "    name: \"repulsive_coverage\"\n" + mark + evaporation), set);
+  ASSERT_TRUE(second.ok()) << second.error().message;
+  auto unset = load_scenario(write(lib() + "    name: \"repulsive_coverage\"\n" + mark + evaporation));
+  ASSERT_TRUE(unset.ok()) << unset.error().message;
+  EXPECT_NE(first->source_text.find("number: 0.2"), std::string::npos) << first->source_text;
+  EXPECT_EQ(plugin_repulsion_field(first.value()), plugin_repulsion_field(second.value()));
+  EXPECT_NE(plugin_repulsion_field(first.value()), plugin_repulsion_field(unset.value()));  // the guard: the set changes the run
+}
+
+TEST_F(PluginScenario, AParameterTheFileDoesNotGiveIsAddedAndCheckedByThePlugin) {
+  const std::string file = write(lib() + "    name: \"repulsive_coverage\"\n    config { key: \"mark\" number: 4 }");
+  auto added = load_scenario(file, {{"policy.plugin.param.evaporation", "0.2", "--set"}});
+  ASSERT_TRUE(added.ok()) << added.error().message;
+  EXPECT_NE(added->source_text.find("key: \"evaporation\""), std::string::npos) << added->source_text;
+  auto out_of_range = load_scenario(file, {{"policy.plugin.param.evaporation", "2", "--set"}});
+  EXPECT_NE(error_of(out_of_range).find("(key \"evaporation\"): must be in [0, 0.999] (got 2)"), std::string::npos)
+      << error_of(out_of_range);
+  EXPECT_NE(error_of(out_of_range).find("--set"), std::string::npos) << error_of(out_of_range);
+  auto unknown = load_scenario(file, {{"policy.plugin.param.evaporatoin", "0.2", "--set"}});
+  EXPECT_NE(error_of(unknown).find("key \"evaporatoin\" is not a parameter of the policy repulsive_coverage"),
+            std::string::npos)
+      << error_of(unknown);
+  auto wrong_kind = load_scenario(file, {{"policy.plugin.param.mark", "lots", "--set"}});
+  EXPECT_NE(error_of(wrong_kind).find("policy.plugin.param.mark: 'lots' is not a number"), std::string::npos)
+      << error_of(wrong_kind);
+}
+
+TEST_F(PluginScenario, AParameterSetByItsPositionIsRefusedNamingItsKey) {
+  const std::string file = write(lib() + "    name: \"repulsive_coverage\"\n    config { key: \"mark\" number: 4 }\n" +
+                                 "    config { key: \"evaporation\" number: 0.01 }");
+  auto r = load_scenario(file, {{"policy.plugin.config[1].number", "0.2", "--set"}});
+  EXPECT_NE(error_of(r).find("'policy.plugin.config[1].number': a parameter is set by its key, "
+                             "policy.plugin.param.evaporation=VALUE (policy.plugin.config[1] is \"evaporation\")"),
+            std::string::npos)
+      << error_of(r);
+  auto beyond = load_scenario(file, {{"policy.plugin.config[5].key", "x", "--set"}});
+  EXPECT_NE(error_of(beyond).find("policy.plugin.param.NAME=VALUE"), std::string::npos) << error_of(beyond);
+  auto no_name = load_scenario(file, {{"policy.plugin.param", "3", "--set"}});
+  EXPECT_NE(error_of(no_name).find("name one parameter by its key"), std::string::npos) << error_of(no_name);
 }

@@ -7,10 +7,12 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <map>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -149,16 +151,21 @@ TEST(SweepGrid, AChangedDefinitionIsDescribedClauseByClause) {
 
 // --- tables and statistics ---------------------------------------------------
 
-TEST(SweepStats, MeanSdAndIntervalOfOneToFourAreTheHandWorkedOnes) {
+TEST(SweepStats, MeanAndSdOfOneToFourAreTheHandWorkedOnesAndTheIntervalStaysInsideTheValues) {
   // {1, 2, 3, 4}: mean 2.5; sd = sqrt(((1.5² + 0.5²) · 2) / 3) = sqrt(5/3)
-  // = 1.290994; t(0.975, 3) = 3.182; half width 3.182 · 1.290994 / 2 =
-  // 2.053972.
+  // = 1.290994. Student's t gave [0.446, 4.554], outside the values; the
+  // bootstrap's interval is inside [1, 4] (test_intervals.cpp).
   const auto s = sw::stats_of({1, 2, 3, 4});
   EXPECT_EQ(s.n, 4U);
   EXPECT_DOUBLE_EQ(s.mean, 2.5);
   EXPECT_NEAR(s.sd, 1.290994, 1e-6);
-  EXPECT_NEAR(s.lo, 2.5 - 2.053972, 1e-6);
-  EXPECT_NEAR(s.hi, 2.5 + 2.053972, 1e-6);
+  EXPECT_GE(s.lo, 1.0);
+  EXPECT_LE(s.hi, 4.0);
+  EXPECT_LT(s.lo, s.mean);
+  EXPECT_GT(s.hi, s.mean);
+  EXPECT_EQ(s.method, pheromesh::frontdoor::IntervalMethod::Bootstrap);
+  const auto share = sw::stats_of({1, 1, 0, 1}, true);
+  EXPECT_EQ(share.method, pheromesh::frontdoor::IntervalMethod::Wilson);
   // A run that did not reach the quantity (NaN) is left out, not counted as 0.
   const auto with_nan = sw::stats_of({1, kNaN, 2, 3, 4});
   EXPECT_EQ(with_nan.n, 4U);
@@ -208,23 +215,30 @@ TEST(SweepTables, RunsCsvHasEveryParameterTheSeedAndEveryMetricAndSummaryCsvTheH
 
   std::istringstream sum(sw::summary_csv(ps, cells, runs, columns));
   std::getline(sum, line);
-  EXPECT_EQ(line, "cell,name,run.ticks,metric,n,mean,sd,ci95_lo,ci95_hi");
+  EXPECT_EQ(line, "cell,name,run.ticks,metric,n,mean,sd,ci95_lo,ci95_hi,interval,missing");
   std::getline(sum, line);
-  // Cell 0, coverage {1, 2, 3, 4}: the numbers of MeanSdAndIntervalOfOneToFour.
+  // Cell 0, coverage {1, 2, 3, 4}: mean and sd by hand; the interval is the
+  // bootstrap's (tests/unit/test_intervals.cpp), inside [1, 4] around 2.5.
   std::vector<std::string> f;
   std::string rest = line.substr(line.find(",coverage,") + 10);
   std::istringstream fields(rest);
   for (std::string x; std::getline(fields, x, ',');) f.push_back(x);
-  ASSERT_EQ(f.size(), 5U) << line;
+  ASSERT_EQ(f.size(), 7U) << line;
   EXPECT_EQ(f[0], "4");
   EXPECT_EQ(std::stod(f[1]), 2.5);
   EXPECT_NEAR(std::stod(f[2]), 1.290994, 1e-6);
-  EXPECT_NEAR(std::stod(f[3]), 0.446028, 1e-6);
-  EXPECT_NEAR(std::stod(f[4]), 4.553972, 1e-6);
+  EXPECT_GE(std::stod(f[3]), 1.0);
+  EXPECT_LT(std::stod(f[3]), 2.5);
+  EXPECT_GT(std::stod(f[4]), 2.5);
+  EXPECT_LE(std::stod(f[4]), 4.0);
+  EXPECT_EQ(f[5], "bootstrap");
+  EXPECT_EQ(f[6], "0");
   std::getline(sum, line);
-  EXPECT_EQ(line, "0,\"\"\"a,b\"\"\",30,leader_arrival_tick,0,,,,");  // no run has it
+  EXPECT_EQ(line, "0,\"\"\"a,b\"\"\",30,leader_arrival_tick,0,,,,,,4");  // no run has it: 4 missing
   std::getline(sum, line);
-  EXPECT_EQ(line, "1,c,30,coverage,1,0.25,,0.25,0.25");  // one run: no sd
+  EXPECT_EQ(line, "1,c,30,coverage,1,0.25,,0.25,0.25,,0");  // one run: no sd, no interval
+  std::getline(sum, line);
+  EXPECT_EQ(line, "1,c,30,leader_arrival_tick,0,,,,,,1");  // NaN: not reached
   EXPECT_EQ(sw::number_text(0.1), "0.1");                // shortest text that reads back equal
   EXPECT_EQ(sw::number_text(1e300), "1e+300");
 }
@@ -439,6 +453,80 @@ TEST(SweepCommand, ADistributedRunWhoseFieldDiffersFromTheSimulatorFailsTheSweep
   const std::string md = slurp(t.path() / "differs/sweep.md");
   EXPECT_NE(md.find("0 of 2 sampled runs"), std::string::npos) << md;
   EXPECT_NE(md.find("**no**: final_field.txt differs"), std::string::npos) << md;
+}
+
+// Issue 45: Student's t put coverage at [0.8851, 1.061] and targets_found at
+// [-1.101, 1.768]. A sweep short enough that the runs differ: no interval of
+// summary.csv leaves the values its runs took, a 0/1 measure gets Wilson's,
+// and the times to get somewhere are censored (empty, counted as missing).
+TEST(SweepCommand, NoIntervalOfSummaryCsvLeavesTheRangeOfItsMeasureAndTimesNotReachedAreMissing) {
+  TempDir t;
+  auto o = tiny(t.path(), 2);
+  o.overrides.set = {"shao.aco.alpha=0.5,2"};
+  o.overrides.ticks = "60";
+  o.seeds = "1-8";
+  ASSERT_EQ(cli::run_sweep(o), 0);
+  const auto split = [](const std::string& line) {
+    std::vector<std::string> cells;
+    std::istringstream l(line);
+    for (std::string c; std::getline(l, c, ',');) cells.push_back(c);
+    if (line.ends_with(",")) cells.emplace_back();
+    return cells;
+  };
+  // runs.csv: every value of every metric, by (alpha, metric).
+  std::istringstream runs(slurp(t.path() / "runs.csv"));
+  std::string line;
+  std::getline(runs, line);
+  const auto header = split(line);
+  const auto column = [&](const std::string& name) {
+    return static_cast<std::size_t>(std::find(header.begin(), header.end(), name) - header.begin());
+  };
+  ASSERT_LT(column("ticks_to_all_targets"), header.size());
+  ASSERT_LT(column("ticks_to_coverage_90"), header.size());
+  std::map<std::pair<std::string, std::string>, std::vector<double>> values;
+  std::size_t empty_times = 0, empty = 0;
+  while (std::getline(runs, line)) {
+    const auto r = split(line);
+    for (std::size_t i = 4; i < r.size(); ++i) {
+      if (r[i].empty()) {
+        empty_times += header[i].starts_with("ticks_to_") ? 1 : 0;
+        ++empty;
+        continue;
+      }
+      values[{r[2], header[i]}].push_back(std::stod(r[i]));
+    }
+  }
+  EXPECT_GT(empty_times, 0U);  // 60 ticks of small-test: not every run found all three targets
+  // summary.csv: cell,run.ticks,shao.aco.alpha,metric,n,mean,sd,ci95_lo,ci95_hi,interval,missing
+  std::istringstream sum(slurp(t.path() / "summary.csv"));
+  std::getline(sum, line);
+  ASSERT_EQ(line, "cell,run.ticks,shao.aco.alpha,metric,n,mean,sd,ci95_lo,ci95_hi,interval,missing");
+  int checked = 0, wilson = 0, spread = 0, missing = 0;
+  while (std::getline(sum, line)) {
+    const auto f = split(line);
+    ASSERT_EQ(f.size(), 11U) << line;
+    missing += std::stoi(f[10]);
+    if (f[7].empty()) continue;  // no value
+    const auto& v = values.at({f[2], f[3]});
+    const double lo = std::stod(f[7]), hi = std::stod(f[8]);
+    const double vmin = *std::min_element(v.begin(), v.end()), vmax = *std::max_element(v.begin(), v.end());
+    if (f[9] == "wilson") {
+      ++wilson;
+      EXPECT_GE(lo, 0.0) << line;
+      EXPECT_LE(hi, 1.0) << line;
+    } else {
+      EXPECT_GE(lo, vmin) << line;
+      EXPECT_LE(hi, vmax) << line;
+    }
+    EXPECT_LE(lo, std::stod(f[5])) << line;
+    EXPECT_GE(hi, std::stod(f[5])) << line;
+    spread += vmin < vmax ? 1 : 0;
+    ++checked;
+  }
+  EXPECT_GT(checked, 50);
+  EXPECT_GT(spread, 10);  // the check bites: many metrics vary between runs
+  EXPECT_GT(wilson, 0);   // finished, ... : 0/1 measures
+  EXPECT_EQ(static_cast<std::size_t>(missing), empty);  // missing: the runs without a value
 }
 
 }  // namespace

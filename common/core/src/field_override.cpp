@@ -186,6 +186,67 @@ std::optional<std::string> set_scalar(Message& m, const FieldDescriptor* fd, std
   return path + " holds a message, not a value";
 }
 
+// A list of keyed parameters, `repeated PluginParameter config` (a plugin's
+// or a Python policy's): entries of a message type with a string `key` and a
+// oneof `value`. Such an entry is addressed by its key (`param.NAME`), never
+// by its position, which names another parameter once the lines are reordered.
+bool keyed_parameters(const FieldDescriptor* fd) {
+  if (fd == nullptr || !fd->is_repeated() || fd->cpp_type() != FieldDescriptor::CPPTYPE_MESSAGE) return false;
+  const Descriptor* e = fd->message_type();
+  const FieldDescriptor* key = e->FindFieldByName("key");
+  return key != nullptr && key->cpp_type() == FieldDescriptor::CPPTYPE_STRING && !key->is_repeated() &&
+         e->FindOneofByName("value") != nullptr;
+}
+
+// The member of the `value` oneof a new parameter gets from its text: flag
+// for true / false, number for what reads as one, else text.
+const FieldDescriptor* member_for(const Descriptor* entry, std::string_view value) {
+  const auto* oneof = entry->FindOneofByName("value");
+  const auto of_type = [&](FieldDescriptor::CppType t) -> const FieldDescriptor* {
+    for (int i = 0; i < oneof->field_count(); ++i) {
+      if (oneof->field(i)->cpp_type() == t) return oneof->field(i);
+    }
+    return nullptr;
+  };
+  const FieldDescriptor* chosen = nullptr;
+  if (value == "true" || value == "false") chosen = of_type(FieldDescriptor::CPPTYPE_BOOL);
+  if (chosen == nullptr && parse_real(value)) chosen = of_type(FieldDescriptor::CPPTYPE_DOUBLE);
+  if (chosen == nullptr) chosen = of_type(FieldDescriptor::CPPTYPE_STRING);
+  return chosen != nullptr ? chosen : oneof->field(0);
+}
+
+// Sets the parameter `key` of the list `config` of `m` (its entry's value, of
+// the kind the entry has; a new entry when the list has no such key).
+// `at` is the path of `m`. Returns the entry's field path.
+Result<std::string> set_parameter(Message& m, const FieldDescriptor* config, const std::string& key,
+                                  std::string_view value, const std::string& at) {
+  const Reflection* r = m.GetReflection();
+  const Descriptor* entry_type = config->message_type();
+  const FieldDescriptor* key_fd = entry_type->FindFieldByName("key");
+  const auto* oneof = entry_type->FindOneofByName("value");
+  const int size = r->FieldSize(m, config);
+  int index = -1;
+  for (int j = 0; j < size && index < 0; ++j) {
+    const Message& e = r->GetRepeatedMessage(m, config, j);
+    if (e.GetReflection()->GetString(e, key_fd) == key) index = j;
+  }
+  Message* e = nullptr;
+  if (index < 0) {
+    e = r->AddMessage(&m, config);
+    e->GetReflection()->SetString(e, key_fd, key);
+    index = size;
+  } else {
+    e = r->MutableRepeatedMessage(&m, config, index);
+  }
+  const FieldDescriptor* member = e->GetReflection()->GetOneofFieldDescriptor(*e, oneof);
+  if (member == nullptr) member = member_for(entry_type, value);
+  const std::string path = at + "." + config->name() + "[" + std::to_string(index) + "]." + member->name();
+  if (auto err = set_scalar(*e, member, std::nullopt, value, path)) {
+    return Error{at + ".param." + key + ": " + *err};
+  }
+  return path;
+}
+
 }  // namespace
 
 Result<std::string> set_field(Message& msg, std::string_view path, std::string_view value, std::string_view root_name) {
@@ -199,6 +260,15 @@ Result<std::string> set_field(Message& msg, std::string_view path, std::string_v
     const Descriptor* d = m->GetDescriptor();
     const Reflection* r = m->GetReflection();
     const FieldDescriptor* fd = d->FindFieldByName(step.name);
+    if (const FieldDescriptor* config = d->FindFieldByName("config");
+        fd == nullptr && step.name == "param" && keyed_parameters(config)) {
+      const std::string here = at.empty() ? step.name : at + "." + step.name;
+      if (step.index || i + 2 != steps.size() || steps[i + 1].index) {
+        return Error{"'" + std::string(path) + "': name one parameter by its key, e.g. " + here +
+                     ".speed (the key of a `config { key: \"speed\" ... }` line)"};
+      }
+      return set_parameter(*m, config, steps[i + 1].name, value, at);
+    }
     if (fd == nullptr) {
       return Error{"'" + step.name + "' is not a field of " + describe(at, d, root_name) +
                    "; its fields: " + field_names(d)};
@@ -208,6 +278,19 @@ Result<std::string> set_field(Message& msg, std::string_view path, std::string_v
     const std::string example_tail =
         message && fd->message_type()->field_count() > 0 ? "." + fd->message_type()->field(0)->name() : "";
     if (fd->is_map()) return Error{here + " is a map field, which --set does not reach"};
+    if (keyed_parameters(fd)) {
+      // By position: refused. The entry's key, if there is one, says the name.
+      std::string key;
+      if (step.index && *step.index < r->FieldSize(*m, fd)) {
+        const Message& e = r->GetRepeatedMessage(*m, fd, *step.index);
+        key = e.GetReflection()->GetString(e, e.GetDescriptor()->FindFieldByName("key"));
+      }
+      const std::string by_name = (at.empty() ? std::string() : at + ".") + "param." + (key.empty() ? "NAME" : key);
+      return Error{"'" + std::string(path) + "': a parameter is set by its key, " + by_name + "=VALUE" +
+                   (key.empty() ? std::string() : " (" + here + "[" + std::to_string(*step.index) + "] is \"" + key + "\")") +
+                   "; by its position it would set another parameter once the " + step.name +
+                   " lines are reordered"};
+    }
     if (fd->is_repeated()) {
       const int size = r->FieldSize(*m, fd);
       if (!step.index) {

@@ -26,6 +26,14 @@ namespace pheromesh::core::field_override {
 //          (also 1/0, t/f, True/False as in text format), an enum by name or
 //          number, a string as given (one pair of surrounding double quotes
 //          is removed).
+// A list of keyed parameters (`repeated PluginParameter config` of a plugin
+// or Python policy) is reached by key, not by position:
+//   "policy.plugin.param.speed" sets the value of the entry with key "speed"
+//   (of the kind it has: number, text or flag); with no such entry, one is
+//   added, a number for a value that reads as one, a flag for true / false,
+//   else a text (the policy then checks it as a line of the file).
+//   "policy.plugin.config[1].number" is refused, naming the key of entry 1:
+//   reordering the lines would silently make it another parameter.
 // Returns the field's path as scenario validation names it (equal to `path`
 // for a well-formed one), or why not; an unknown field name lists the valid
 // names at that level. `root_name` names `msg` in messages ("the scenario").

@@ -302,6 +302,19 @@ std::string role_name(uint8_t role) {
   return "role-" + std::to_string(role);
 }
 
+std::optional<uint32_t> first_tick_at_coverage(const std::vector<TickRow>& rows, double share) {
+  for (const TickRow& r : rows) {
+    if (r.coverage >= share) return r.tick;
+  }
+  return std::nullopt;
+}
+
+std::optional<uint32_t> all_targets_found_tick(const AcquisitionTracker& a) {
+  if (a.size() == 0 || a.found() != a.size()) return std::nullopt;
+  const auto ticks = a.acquisition_ticks();
+  return ticks.back();
+}
+
 std::vector<TickRow> RunRecorder::tick_series() const {
   const std::size_t n = static_cast<std::size_t>(max_tick_) + 1;
   std::vector<TickRow> rows(n);

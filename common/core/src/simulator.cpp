@@ -1,6 +1,7 @@
 #include "pheromesh/core/simulator.hpp"
 
 #include <algorithm>
+#include <string>
 
 namespace pheromesh::core {
 
@@ -14,6 +15,8 @@ Simulator::Simulator(ScenarioConfig scenario)
   deposits_sent_.assign(uavs_.size(), 0);
   tile_samples_.assign(uavs_.size(), 0);
   inbox_.resize(places_.size());
+  last_rings_.resize(places_.size());
+  for (RegionId r = 0; r < places_.size(); ++r) last_rings_[r].region = r;  // before its first tick: no ring
 }
 
 Result<std::vector<std::string>> Simulator::set_faults(const FaultSchedule& schedule, bool standby) {
@@ -59,7 +62,52 @@ Result<std::vector<std::string>> Simulator::set_faults(const FaultSchedule& sche
       standby_.insert(static_cast<RegionId>(r));
     }
   }
+  faults_ = schedule;
+  standby_all_ = standby;
+  fault_notes_ = notes;
   return notes;
+}
+
+Result<std::vector<std::string>> Simulator::add_faults(const FaultSchedule& more) {
+  if (finished_ || done()) {
+    return Error{"the run has ended (its last tick, " + std::to_string(scenario_.ticks) + ", has run): no more faults"};
+  }
+  const auto regions = static_cast<uint32_t>(places_.size());
+  if (auto err = check_fault_schedule(more, scenario_.uavs, regions, true)) return Error{*err};
+  for (const FaultEvent& e : more.events) {
+    if (*e.at_tick < next_tick_) {
+      return Error{"'" + e.text + "': tick " + std::to_string(*e.at_tick) + " has already run (the next tick is " +
+                   std::to_string(next_tick_) + ")"};
+    }
+    if (e.action != FaultAction::Kill) continue;
+    for (const FaultTarget& t : e.targets) {
+      std::optional<uint32_t> killed;  // the tick it died at, if it has
+      if (t.role == "uav" && uav_kill_.contains(t.index)) killed = uav_kill_.at(t.index);
+      if (t.role == "place" && region_kill_.contains(static_cast<RegionId>(t.index))) {
+        killed = region_kill_.at(static_cast<RegionId>(t.index));
+      }
+      if (killed && *killed < next_tick_) {
+        return Error{"'" + e.text + "': " + t.role + ":" + std::to_string(t.index) + " is already dead (killed at tick " +
+                     std::to_string(*killed) + ")"};
+      }
+    }
+  }
+  FaultSchedule merged = faults_;
+  merge_fault_schedules(merged, more);
+  std::vector<std::string> before = fault_notes_;
+  auto all = set_faults(merged, standby_all_.value_or(scenario_.standby));
+  if (!all) return all.error();
+  // The notes of the new events: all of them but those already given.
+  std::vector<std::string> added;
+  for (const std::string& n : all.value()) {
+    auto it = std::find(before.begin(), before.end(), n);
+    if (it != before.end()) {
+      before.erase(it);
+    } else {
+      added.push_back(n);
+    }
+  }
+  return added;
 }
 
 std::optional<uint32_t> Simulator::uav_kill_tick(uint32_t u) const {
@@ -171,15 +219,13 @@ void Simulator::step(uint32_t tick) {
   for (std::size_t r = 0; r < places_.size(); ++r) {
     const auto region = static_cast<RegionId>(r);
     if (region_dead(region, tick)) {
-      // Killed before it ever ticked: no ring (its neighbours' halo stays 0).
-      auto [it, fresh] = last_ring_.try_emplace(region);
-      if (fresh) it->second.region = region;
-      rings.push_back(it->second);
+      // Its ring of its last tick (none if it was killed before it ever
+      // ticked: its neighbours' halo stays 0).
+      rings.push_back(last_rings_[r]);
       continue;
     }
-    const HaloRing ring = places_[r]->begin_tick(inbox_[r], tick, events);
-    rings.push_back({region, tick, ring.target, ring.obstacle});
-    if (region_kill_tick(region)) last_ring_[region] = rings.back();
+    HaloRing ring = places_[r]->begin_tick(inbox_[r], tick, events);
+    rings.push_back({region, tick, std::move(ring.target), std::move(ring.obstacle)});
     inbox_[r].clear();
   }
   for (std::size_t r = 0; r < places_.size(); ++r) {
@@ -188,6 +234,7 @@ void Simulator::step(uint32_t tick) {
     for (RegionId n : p.neighbours()) p.accept_halo(rings[n]);
     p.finish_tick();
   }
+  last_rings_ = std::move(rings);
   for (const auto& e : events) recorder_.on_target_event(e);
   // A dead region's tiles are in no view (its region is dark; core/faults.hpp).
   std::vector<TileMsg> tiles;
@@ -206,13 +253,27 @@ void Simulator::step(uint32_t tick) {
     h.refused = l.refused.n;
     recorder_.on_health(h);
   }
+  next_tick_ = tick + 1;
 }
 
 void Simulator::run(const std::function<void(uint32_t)>& on_tick) {
-  for (uint32_t k = 0; k <= scenario_.ticks; ++k) {
-    step(k);
+  while (!done()) {
+    const uint32_t k = next_tick_;
+    advance();
     if (on_tick) on_tick(k);
   }
+  finish();
+}
+
+bool Simulator::advance() {
+  if (finished_ || done()) return false;
+  step(next_tick_);
+  return true;
+}
+
+bool Simulator::finish() {
+  if (finished_ || !done()) return false;
+  finished_ = true;
   // The final accounting, as the place agents' last health records carry it
   // (a dead region's stays the one recorded when it died).
   for (const auto& p : places_) {
@@ -232,9 +293,25 @@ void Simulator::run(const std::function<void(uint32_t)>& on_tick) {
     recorder_.on_uav_state(s);
   }
   recorder_.set_field_summary(field_summary(scenario_, [this](int layer, Cell c) { return field_value(layer, c); }));
+  return true;
 }
 
 float Simulator::field_value(int layer, Cell c) const { return places_[geo_.region_of(c)]->value(layer, c); }
+
+bool Simulator::gather_layer(int layer, std::span<float> out) const {
+  const auto width = static_cast<std::size_t>(geo_.width());
+  if (layer < 0 || layer >= layer_count() || out.size() != width * static_cast<std::size_t>(geo_.height())) return false;
+  for (std::size_t r = 0; r < places_.size(); ++r) {
+    const Rect rect = geo_.region_rect(static_cast<RegionId>(r));
+    const PlaceCore& p = *places_[r];
+    for (int32_t y = rect.y0; y < rect.y0 + rect.h; ++y) {
+      for (int32_t x = rect.x0; x < rect.x0 + rect.w; ++x) {
+        out[static_cast<std::size_t>(y) * width + static_cast<std::size_t>(x)] = p.value(layer, Cell{x, y});
+      }
+    }
+  }
+  return true;
+}
 
 int Simulator::layer_count() const { return places_.front()->layer_count(); }
 

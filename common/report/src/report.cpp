@@ -53,6 +53,11 @@ nlohmann::json metrics_json(const core::RunRecorder& r, const RunInfo& info) {
   j["acquisition_ticks"] = r.acquisitions().acquisition_ticks();
   j["revisit_response_ticks"] = r.revisit_response_ticks();
   if (r.leader_arrival_tick()) j["leader_arrival_tick"] = *r.leader_arrival_tick();
+  // Times to get there, censored at the last tick: absent if not reached.
+  const std::vector<core::TickRow> rows = r.tick_series();
+  if (const auto t = core::first_tick_at_coverage(rows, 0.5)) j["ticks_to_coverage_50"] = *t;
+  if (const auto t = core::first_tick_at_coverage(rows, 0.9)) j["ticks_to_coverage_90"] = *t;
+  if (const auto t = core::all_targets_found_tick(r.acquisitions())) j["ticks_to_all_targets"] = *t;
   j["deposits_sent"] = r.deposits_sent();
   j["deposits_received"] = received;
   j["deposits_applied"] = applied;
@@ -202,7 +207,6 @@ nlohmann::json metrics_json(const core::RunRecorder& r, const RunInfo& info) {
   // [tick, coverage] every kCoverageSeriesEvery ticks and at the last tick,
   // each once: the rows of series.csv at those ticks.
   nlohmann::json series = nlohmann::json::array();
-  const std::vector<core::TickRow> rows = r.tick_series();
   for (const core::TickRow& row : rows) {
     if (row.tick % kCoverageSeriesEvery == 0 || row.tick + 1 == rows.size()) series.push_back({row.tick, row.coverage});
   }

@@ -40,6 +40,15 @@ struct TickRow {
   uint64_t deposits_rejected = 0;  // likewise
 };
 
+// The first tick whose row has coverage >= `share` (0..1), if one has: the
+// time to coverage of metrics.json (ticks_to_coverage_50, _90). A run that
+// never got there is censored at its last tick: no value, not that tick.
+std::optional<uint32_t> first_tick_at_coverage(const std::vector<TickRow>& rows, double share);
+
+// The tick every target had been found by (the last first acquisition), if
+// there is a target and every one was found: ticks_to_all_targets.
+std::optional<uint32_t> all_targets_found_tick(const AcquisitionTracker& a);
+
 // One UAV at one tick (tracks.csv).
 struct TrackRow {
   uint32_t tick = 0;

@@ -27,6 +27,17 @@
 // A lost deposit is sent and never received by any place agent
 // (RunRecorder::deposits_lost), so a run still balances: sent == applied +
 // rejected + lost.
+//
+// The lifecycle, as ARGoS's init / step / destroy. `pheromesh sim` is this
+// sequence run through (run()); the Python package's pheromesh.Simulation
+// drives it a tick at a time and perturbs the run between ticks:
+//   Simulator sim(s);  sim.set_faults(f, standby);   the swarm and its faults
+//   while (!sim.done()) sim.advance();               ticks 0..scenario.ticks, one a call
+//       between two ticks: sim.add_faults(g)         events timed at next_tick() or later
+//   sim.finish();                                    the final accounting, once
+// A fault added between ticks changes the run exactly as the same event in
+// the schedule given before tick 0 does (SteppedSimulator tests): nothing the
+// simulator does before a fault's tick depends on the fault.
 #pragma once
 
 #include <cstdint>
@@ -35,6 +46,7 @@
 #include <memory>
 #include <optional>
 #include <set>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -54,9 +66,23 @@ class Simulator {
   Simulator(const Simulator&) = delete;
   Simulator& operator=(const Simulator&) = delete;
 
-  // Runs ticks 0..scenario.ticks; `on_tick(k)` (optional) is called after each.
+  // Runs ticks 0..scenario.ticks and finishes; `on_tick(k)` (optional) is
+  // called after each. The same as advance() until done(), then finish().
   void run(const std::function<void(uint32_t)>& on_tick = {});
-  // One tick (both phases).
+  // The tick advance() runs next: 0 before the first, scenario.ticks + 1 once
+  // every tick has run.
+  [[nodiscard]] uint32_t next_tick() const { return next_tick_; }
+  // Every tick of the run (0..scenario.ticks) has run.
+  [[nodiscard]] bool done() const { return next_tick_ > scenario_.ticks; }
+  [[nodiscard]] bool finished() const { return finished_; }
+  // Runs tick next_tick(); false (and nothing runs) once done() or finished().
+  bool advance();
+  // The final accounting, as the processes send it when a run ends: the place
+  // agents' last health records, every live UAV's finished state, the field
+  // summary. False (and nothing changes) before done() or a second time.
+  bool finish();
+  // One tick (both phases) numbered `tick`, outside the lifecycle (a study
+  // that runs past scenario.ticks); next_tick() becomes tick + 1.
   void step(uint32_t tick);
 
   // The faults of the coming run (call before run()/step()). Kills timed in
@@ -67,6 +93,15 @@ class Simulator {
   // error for what the simulator cannot model: wall-clock times, restarts,
   // killing the ground station, targets outside the swarm or the map.
   Result<std::vector<std::string>> set_faults(const FaultSchedule& schedule, bool standby);
+  // More faults between ticks (the console's kill, `--faults` events given
+  // late): every event must be timed at next_tick() or later, in ticks; they
+  // join the schedule as if given before tick 0 (`standby` as the last
+  // set_faults, else the scenario's). Returns the notes of the new events, or
+  // an error that changes nothing: a tick already run, an unknown target, a
+  // UAV or place agent already killed, what set_faults refuses, a finished run.
+  Result<std::vector<std::string>> add_faults(const FaultSchedule& more);
+  // Every fault event of the run so far (set_faults and add_faults, by time).
+  [[nodiscard]] const FaultSchedule& faults() const { return faults_; }
   // When UAV u stops acting / region r stops ticking (nullopt: never).
   [[nodiscard]] std::optional<uint32_t> uav_kill_tick(uint32_t u) const;
   [[nodiscard]] std::optional<uint32_t> region_kill_tick(RegionId r) const;
@@ -82,7 +117,15 @@ class Simulator {
   [[nodiscard]] const ScenarioConfig& scenario() const { return scenario_; }
   [[nodiscard]] const World& world() const { return world_; }
   // Final field value of layer `layer` at c (from the place agent owning c).
+  // Between ticks: the field the place agents hold after the last tick.
   [[nodiscard]] float field_value(int layer, Cell c) const;
+  // Layer `layer` of the whole map, row-major [y][x], into `out` (width *
+  // height values), region by region.
+  // False (nothing written) for a layer it does not have or a size that is not
+  // the map's.
+  bool gather_layer(int layer, std::span<float> out) const;
+  // Whether UAV u acts in tick next_tick() (false once its kill tick came).
+  [[nodiscard]] bool uav_alive(uint32_t u) const { return !uav_gone(u, next_tick_); }
   [[nodiscard]] int layer_count() const;
   [[nodiscard]] uint64_t uav_steps() const { return uav_steps_; }
 
@@ -104,8 +147,17 @@ class Simulator {
   std::map<uint32_t, uint32_t> uav_kill_;
   std::map<RegionId, uint32_t> region_kill_;
   std::set<RegionId> standby_;  // killed regions a standby took over: they live on
-  // A region that will die keeps its last ring (what its neighbours' diffusion uses).
-  std::map<RegionId, HaloMsg> last_ring_;
+  // Every region's ring of the last tick, by region (moved in each tick, not
+  // copied): a dead region's stays the one of its last tick (what its
+  // neighbours' diffusion uses). Kept for every region, not only those the
+  // schedule kills, so that nothing before a kill's tick depends on the
+  // schedule (add_faults).
+  std::vector<HaloMsg> last_rings_;
+  FaultSchedule faults_;
+  std::optional<bool> standby_all_;  // set_faults' `standby`
+  std::vector<std::string> fault_notes_;  // set_faults' notes of faults_
+  uint32_t next_tick_ = 0;
+  bool finished_ = false;
 
   [[nodiscard]] bool uav_gone(uint32_t u, uint32_t tick) const;
   [[nodiscard]] bool region_dead(RegionId r, uint32_t tick) const;
