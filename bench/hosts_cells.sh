@@ -4,7 +4,8 @@
 # them), on the same cores, side by side: does a host's cost grow with the
 # number of hosts? Each host runs `pheromesh run --hosts H --host-index I
 # --dds-peers A,B,...` (no profile flag: cells), a monitor in one more
-# namespace runs `pheromesh attach --dds-peers A,B,...`.
+# namespace runs `pheromesh attach --dds-peers A,B,...` (one host: a plain
+# `pheromesh run` and a monitor beside it on its loopback).
 #
 #   bench/hosts_cells.sh BUILD SCENARIO UAVS "HOSTS..." [VENDOR] [TICKS] [DOMAIN] [OUT]
 #   bench/hosts_cells.sh build scenarios/scale-100x100.textproto 300 "1 3" cyclone 100
@@ -78,7 +79,13 @@ for H in $HOSTS_LIST; do
     grep -q "sent to the swarm" "$run_out/host0.txt" 2> /dev/null && break
     sleep 0.5
   done
-  ip netns exec "$PFX-h$H" "$BIN/pheromesh" attach --domain "$DOMAIN" --dds "$VENDOR" --dds-peers "$peers" \
+  # One host's swarm is on that host's loopback: its monitor runs there too.
+  if [ "$H" -gt 1 ]; then
+    mon_ns="$PFX-h$H" mon_peers=(--dds-peers "$peers")
+  else
+    mon_ns="$PFX-h0" mon_peers=()
+  fi
+  ip netns exec "$mon_ns" "$BIN/pheromesh" attach --domain "$DOMAIN" --dds "$VENDOR" "${mon_peers[@]}" \
     --out "$run_out/monitor" --timeout 120 --progress 5 > "$run_out/monitor.txt" 2>&1 &
   monitor=$!
   codes=""

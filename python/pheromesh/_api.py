@@ -165,8 +165,10 @@ def _cli_sets(s: Scenario, extra: List[Tuple[str, str, str]]) -> List[str]:
     return args
 
 
-# The DDS domains run(domain="auto") chooses from.
-AUTO_DOMAINS = range(200, 230)
+# The DDS domains run(domain="auto") chooses from: below 101, where a swarm
+# flies in cells (higher domains' well-known ports are ephemeral, and
+# `pheromesh run` falls back to flat discovery there).
+AUTO_DOMAINS = range(60, 100)
 
 
 @contextlib.contextmanager
@@ -209,7 +211,7 @@ def run(scenario: ScenarioLike, *, out: Optional[Union[str, os.PathLike]] = None
         seed, ticks, uavs, faults, tracks: as for :func:`sim` (faults as ``--faults``:
             in ticks, or in seconds for a realtime run).
         domain: the DDS domain (``--domain``); ``"auto"``: the first of
-            200..229 that no other ``run(domain="auto")`` of this host holds,
+            60..99 that no other ``run(domain="auto")`` of this host holds,
             held until the run ends (``Result.domain`` says which); None:
             the launcher's default, 0.
         args: more flags of ``pheromesh run``, e.g. ``["--http", "8080"]``.
