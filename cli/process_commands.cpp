@@ -186,9 +186,9 @@ class FullCommands final : public ProcessCommands {
         ->capture_default_str();
     r->add_option("--lease-ms", ro.lease_ms,
                   "Liveliness lease of every process [ms]: how fast a dead process is noticed; raise it on an "
-                  "overloaded host, where a stalled process can miss a short lease and be reported lost")
-        ->check(CLI::Range(50, 60000))
-        ->capture_default_str();
+                  "overloaded host, where a stalled process can miss a short lease and be reported lost. Default: "
+                  "1000, or 5000 when this host starts more than 150 processes (their discovery stalls them)")
+        ->check(CLI::Range(50, 60000));
     r->add_flag("--discovery-server", ro.discovery_server,
                 "Fast DDS only (--dds fastdds): start a Fast DDS discovery server (fast-discovery-server, port 11811 + "
                 "domain) and let every process discover through it instead of with every other process; measured to "

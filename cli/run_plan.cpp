@@ -236,6 +236,19 @@ RunDeadlines deadlines(const RunPlan& p) {
   return d;
 }
 
+// The lease of a run that gave none (RunOptions::lease_ms).
+void settle_lease(RunPlan& p) {
+  if (p.options.lease_ms != 0) return;
+  const bool large = p.host_processes > kLongLeaseAbove;
+  p.options.lease_ms = large ? kLongLeaseMs : kShortLeaseMs;
+  if (large) {
+    p.notes.push_back({PlanNote::Level::Info, std::to_string(p.host_processes) +
+                                                  " processes on this host: liveliness lease " +
+                                                  std::to_string(kLongLeaseMs) +
+                                                  " ms (a dead process is noticed in 5-10 s; --lease-ms sets it)"});
+  }
+}
+
 // --faults, --kill and the scenario's schedule, each checked on its own so
 // that an error names it.
 core::Result<core::FaultSchedule> merged_faults(const RunOptions& o, const core::ScenarioConfig& s, const RunSize& n) {
@@ -388,6 +401,7 @@ core::Result<RunPlan> make_run_plan(const RunOptions& o, const core::ScenarioCon
   }
   if (auto err = settle_profile(p)) return core::Error{*err};
   p.host_processes = count_host_processes(p);
+  settle_lease(p);
   p.processes = start_order(p);
   p.stagger = stagger(p);
   if (!o.secure.empty() && dds.ground == "fastdds") p.spawn_gap = kSecureFastDdsSpawnGap;

@@ -22,6 +22,14 @@
 namespace pheromesh::cli {
 
 inline constexpr const char* kDefaultDdsProfile = "cells";
+// The lease a run takes when none is given: a dead process noticed within a
+// second, but a host that starts hundreds of processes stalls them longer
+// than that while they discover one another (measured: 500 Fast DDS UAVs in
+// cells with 1 s flew 74 % of their ticks, "lost (liveliness)" at tick 0;
+// with 5 s all of them, docs/benchmarks.md).
+inline constexpr uint32_t kShortLeaseMs = 1000;
+inline constexpr uint32_t kLongLeaseMs = 5000;
+inline constexpr uint32_t kLongLeaseAbove = 150;
 
 struct RunOptions {
   std::string scenario;
@@ -59,7 +67,9 @@ struct RunOptions {
   double progress_s = 1.0;
   double start_timeout_s = 0;      // lockstep: the conductor's wait for every Ready (0: the ground station's default)
   std::string clock = "realtime";  // realtime | lockstep
-  uint32_t lease_ms = 1000;        // liveliness lease of every process [ms]
+  // Liveliness lease of every process [ms]; 0: kShortLeaseMs, or
+  // kLongLeaseMs when this host starts more than kLongLeaseAbove processes.
+  uint32_t lease_ms = 0;
   bool discovery_server = false;   // Fast DDS only: discover through a fast-discovery-server the launcher starts
   double start_rate = 50;  // UAV processes started per second when the swarm exceeds 64 processes (0: all at once)
   // Web console of the ground station (docs/console.md).

@@ -452,6 +452,22 @@ std::string env_of(const PlannedProcess& c, const std::string& name) {
   return "(unset)";
 }
 
+TEST(RunPlan, ARunWithoutALeaseTakesOneSecondAndAHostOfHundredsOfProcessesFiveSaidInANote) {
+  const RunPlan small = plan_of(options(), small_test_with(10));
+  EXPECT_EQ(small.options.lease_ms, 1000U);
+  EXPECT_EQ(value_of(process(small, "uav-0"), "--lease-ms"), "1000");
+  EXPECT_TRUE(small.notes.empty());
+  const RunPlan big = plan_of(options(), small_test_with(150));  // 155 processes
+  EXPECT_EQ(big.options.lease_ms, 5000U);
+  EXPECT_EQ(value_of(process(big, "uav-149"), "--lease-ms"), "5000");
+  ASSERT_EQ(big.notes.size(), 1U);
+  EXPECT_NE(big.notes[0].text.find("155 processes on this host: liveliness lease 5000 ms"), std::string::npos)
+      << big.notes[0].text;
+  RunOptions given = options();
+  given.lease_ms = 700;
+  EXPECT_EQ(plan_of(given, small_test_with(150)).options.lease_ms, 700U) << "a lease given is kept";
+}
+
 TEST(RunPlan, ARunWithoutAProfileFliesInCells) {
   RunOptions o;
   o.scenario = small_test_path();
