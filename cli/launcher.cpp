@@ -15,6 +15,7 @@
 
 #include "host_fit.hpp"
 #include "metrics_merge.hpp"
+#include "sim_command.hpp"
 #include "netns.hpp"
 #include "pheromesh/auth/control.hpp"
 #include "pheromesh/bus/bus.hpp"
@@ -222,7 +223,8 @@ int finish_metrics(const RunPlan& plan, const RunRecord& run) {
           ? std::string()
           : ", killed at the stop (SIGTERM ignored) " + std::to_string(merged.killed_at_stop),
       path);
-  return exit_code;
+  const int verdict = refused_states_verdict(m, o.strict);
+  return exit_code != 0 ? exit_code : verdict;
 }
 
 }  // namespace

@@ -142,6 +142,9 @@ Examples:
   sim->add_option("--record", so.record,
                   "Record the run as a console recording for `pheromesh replay FILE` (simulated time; "
                   "docs/outputs.md)");
+  sim->add_flag("--strict", so.strict,
+                "Fail the run (exit 9) if a UAV's state was refused as implausible: its policy moved further in a "
+                "tick than its max_step allows (docs/writing-a-policy.md)");
   sim->add_flag("--standby", so.overrides.standby,
                 "Every place agent has a standby that takes over when it is killed; stands for --set "
                 "run.standby=true");

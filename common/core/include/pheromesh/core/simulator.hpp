@@ -24,6 +24,11 @@
 //                      tick >= k reach no other view (the home publishes
 //                      them with its field). The ground station still hears
 //                      them: they keep covering cells and detecting targets.
+// Plausibility: each UAV's state goes through its gateway's judge, as in the
+// processes (core::StateGate): one further from its last accepted state than
+// the policy's max_step allows is refused and counted by the gateway region,
+// reaches no view, and its UAV reads an empty view next tick; the recorder
+// hears it as the gateway's answer. Its deposits go on as a state's do.
 // A lost deposit is sent and never received by any place agent
 // (RunRecorder::deposits_lost), so a run still balances: sent == applied +
 // rejected + lost.
@@ -39,6 +44,7 @@
 #include <vector>
 
 #include "pheromesh/core/faults.hpp"
+#include "pheromesh/core/intake.hpp"
 #include "pheromesh/core/place_core.hpp"
 #include "pheromesh/core/run_metrics.hpp"
 #include "pheromesh/core/scenario.hpp"
@@ -106,6 +112,20 @@ class Simulator {
   std::set<RegionId> standby_;  // killed regions a standby took over: they live on
   // A region that will die keeps its last ring (what its neighbours' diffusion uses).
   std::map<RegionId, HaloMsg> last_ring_;
+  // The one plausibility rule, as each UAV's gateway applies it in the
+  // processes (core::StateGate, docs/architecture.md "Plausibility"): per
+  // gateway region its judge, the last state it accepted of each UAV and the
+  // states it refused (counted in its health); the UAVs owed an empty view.
+  PolicyTraits traits_;
+  std::vector<StateGate> gates_;
+  std::map<std::pair<RegionId, uint32_t>, UavStateMsg> accepted_;
+  std::vector<RefusalCounts> gate_refused_;
+  std::vector<uint8_t> empty_view_;  // per UAV, 0 or 1 (not vector<bool>: std::exchange)
+  // The state `s` of UAV `id` through its gateway `gateway` at `tick`: true
+  // if it was accepted; a refused one goes to the recorder as the gateway's
+  // answer (UavStateMsg::implausible).
+  bool through_gateway(RegionId gateway, UavStateMsg s, uint32_t tick);
+  [[nodiscard]] HealthMsg health_of(const PlaceCore& p, uint32_t tick, bool final) const;
 
   [[nodiscard]] bool uav_gone(uint32_t u, uint32_t tick) const;
   [[nodiscard]] bool region_dead(RegionId r, uint32_t tick) const;
