@@ -258,5 +258,18 @@ TEST_F(Leaper, MetricsJsonCarriesTheRefusalsAndTheSummaryNamesTheMove) {
   EXPECT_TRUE(report::refused_state_lines(h).empty());
 }
 
+TEST_F(Leaper, ValidatesTrialFindsAMaxStepBelowWhatThePolicysMovesNeed) {
+  const auto lines = max_step_trial(load(""), 20);
+  ASSERT_EQ(lines.size(), 4U) << "one per UAV";
+  EXPECT_EQ(lines[0].rfind("uav 0's state of tick 0 refused as implausible: it moved 5 cells in one tick from its "
+                           "start cell (max_step 1.5 allows 3 with the slack of 1.5); ",
+                           0),
+            0U)
+      << lines[0];
+  EXPECT_NE(lines[0].find(" of its states refused in a trial of 20 ticks"), std::string::npos) << lines[0];
+  // Declared honestly, nothing to say.
+  EXPECT_TRUE(max_step_trial(load("config { key: \"max_step\" number: 5 }"), 20).empty());
+}
+
 }  // namespace state_gate_test
 }  // namespace pheromesh::core

@@ -285,4 +285,22 @@ float Simulator::field_value(int layer, Cell c) const { return places_[geo_.regi
 
 int Simulator::layer_count() const { return places_.front()->layer_count(); }
 
+std::vector<std::string> max_step_trial(ScenarioConfig scenario, uint32_t ticks) {
+  scenario.ticks = std::min(scenario.ticks, ticks);
+  scenario.faults = {};
+  std::vector<std::string> out;
+  try {
+    Simulator sim(std::move(scenario));
+    sim.run();
+    const RunRecorder& r = sim.recorder();
+    for (const auto& [uav, refused] : r.refused_states()) {
+      out.push_back(describe_first_refusal(refused, uav, r.max_step()) + "; " + std::to_string(refused.count) +
+                    " of its states refused in a trial of " + std::to_string(sim.scenario().ticks) + " ticks");
+    }
+  } catch (const std::exception& e) {
+    out.push_back(std::string("the trial of max_step could not fly the policy: ") + e.what());
+  }
+  return out;
+}
+
 }  // namespace pheromesh::core

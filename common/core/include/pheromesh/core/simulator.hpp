@@ -131,4 +131,11 @@ class Simulator {
   [[nodiscard]] bool region_dead(RegionId r, uint32_t tick) const;
 };
 
+// `pheromesh validate`'s trial of a policy's max_step (issue 42): the
+// scenario flown in the simulator for at most `ticks` ticks, and for each UAV
+// whose states its gateway refused the first refusal in plain words
+// (describe_first_refusal); nothing when none was refused. An exception from
+// the policy is a line of its own (the trial cannot judge it).
+std::vector<std::string> max_step_trial(ScenarioConfig scenario, uint32_t ticks);
+
 }  // namespace pheromesh::core
