@@ -180,6 +180,8 @@ TEST(Plausibility, APolicyFasterThanItsMaxStepGivesTheSimulatorsFieldSeriesAndRe
   }
   ASSERT_EQ(r.exit_code, 0) << r.text;
   EXPECT_EQ(r.text.find("did not finish within"), std::string::npos) << "a refused state is an answer\n" << r.text;
+  // The ground station's log is written like every other process's (D3).
+  EXPECT_NE(slurp(dir + "/lockstep/logs/ground.log").find("conducting 100 lockstep ticks"), std::string::npos);
   const Output s = run(kBin + "/pheromesh sim " + scenario + " --quiet --ticks 100 --out " + dir + "/sim");
   ASSERT_EQ(s.exit_code, 0) << s.text;
   const json a = read_metrics(dir + "/lockstep");
@@ -214,6 +216,12 @@ TEST(Plausibility, StrictFailsARunWithItsFirstRefusalInTheSimulatorAndInLockstep
   const std::string scenario = leaper_scenario(dir);
   const std::string first = "--strict: uav 0's state of tick 0 refused as implausible: it moved 5 cells in one tick "
                             "from its start cell (max_step 1.5 allows 3 with the slack of 1.5)";
+  // `validate` flies the plugin a few ticks and warns before any run.
+  const Output v = run(kBin + "/pheromesh validate " + scenario);
+  EXPECT_EQ(v.exit_code, 0) << v.text;
+  EXPECT_NE(v.text.find("warning     max_step: uav 0's state of tick 0 refused as implausible: it moved 5 cells"),
+            std::string::npos)
+      << v.text;
   const Output s = run(kBin + "/pheromesh sim " + scenario + " --quiet --strict --ticks 20 --out " + dir + "/sim");
   EXPECT_EQ(s.exit_code, 9) << s.text;
   EXPECT_NE(s.text.find(first), std::string::npos) << s.text;

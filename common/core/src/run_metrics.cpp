@@ -76,8 +76,10 @@ bool RunRecorder::on_uav_state(const UavStateMsg& s) {
   // its earlier life's deposits still count.
   if (starts_new_life(s)) u.earlier_lives_deposits += u.last.deposits_sent;
   // Not a stale copy (above): a tick that went back is a new life.
-  if (!u.recent.empty() && s.tick <= u.recent.back().tick) u.recent.clear();
+  const bool new_life = !u.recent.empty() && s.tick <= u.recent.back().tick;
+  if (new_life) u.recent.clear();
   u.last = s;
+  u.heard_tick = new_life ? s.tick : std::max(u.heard_tick, s.tick);
   if (u.recent.empty() || s.tick > u.recent.back().tick) {
     u.recent.push_back({s.tick, static_cast<float>(s.x), static_cast<float>(s.y)});
     if (u.recent.size() > UavStatus::kRecentFixes) u.recent.pop_front();
@@ -137,6 +139,7 @@ void RunRecorder::on_refused_state(const UavStateMsg& s) {
   u.last.refused = s.refused;
   u.alive = true;
   u.finished = u.finished || s.finished;
+  u.heard_tick = std::max(u.heard_tick, s.tick);
   max_tick_ = std::max(max_tick_, s.tick);
   count_in_series(s.uav, s.tick, s.deposits_sent + u.earlier_lives_deposits);
   release_pending(u, s.uav, s.tick);

@@ -141,6 +141,7 @@ nlohmann::json metrics_json(const core::RunRecorder& r, const RunInfo& info) {
   for (const auto& [id, u] : r.uavs()) {
     nlohmann::json& status = per_uav[std::to_string(id)];
     status = {{"last_tick", u.last.tick},
+              {"heard_tick", u.heard_tick},
               {"x", u.last.x},
               {"y", u.last.y},
               {"role", core::role_name(u.last.role)},
@@ -155,7 +156,7 @@ nlohmann::json metrics_json(const core::RunRecorder& r, const RunInfo& info) {
     }
     samples += u.last.samples_received;
     tile_samples += u.last.tile_samples_received;
-    uav_ticks += u.last.tick;
+    uav_ticks += u.heard_tick;  // a refused state's tick was flown too
     ticks_late += u.last.ticks_late;
     if (u.last.tick > 0) late_share_max = std::max(late_share_max, static_cast<double>(u.last.ticks_late) / u.last.tick);
   }

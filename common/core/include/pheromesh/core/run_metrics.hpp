@@ -54,6 +54,9 @@ std::string role_name(uint8_t role);
 struct UavStatus {
   UavStateMsg last{};
   bool heard = false;  // `last` holds a state of this UAV
+  // The latest tick heard of it: an accepted state's, or its gateway's
+  // answer for a refused one (`last` keeps the accepted state's tick).
+  uint32_t heard_tick = 0;
   bool alive = true;
   bool finished = false;
   uint64_t earlier_lives_deposits = 0;  // deposits sent by earlier processes of this UAV (restarts)
