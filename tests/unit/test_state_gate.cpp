@@ -10,6 +10,7 @@
 #include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <string>
 #include <unistd.h>
 
@@ -71,6 +72,19 @@ TEST(StateGate, AStateFurtherThanMaxStepIsRefusedOnceAndItsCopiesAreAnsweredUnco
   EXPECT_FALSE(d.copy);
   // Back within reach of the last accepted state: 3 cells in 3 ticks.
   EXPECT_TRUE(gate.judge(state_at(0, 3, 5, 2), &first, {1, 1}, 1.5, 4, r.rules).verdict.taken());
+}
+
+TEST(StateGate, ARestartedUavsFirstStatesClearItsEarlierLifesRefusalsButAReSentOldStateDoesNot) {
+  Rules r;
+  StateGate gate;
+  const UavStateMsg last = state_at(0, 50, 10, 10);
+  ASSERT_TRUE(gate.judge(state_at(0, 51, 20, 10), &last, {1, 1}, 1.5, 60, r.rules).refused_motion);
+  // The same accepted state again (a lockstep re-send): the refusal stands.
+  EXPECT_TRUE(gate.judge(last, &last, {1, 1}, 1.5, 60, r.rules).verdict.taken());
+  EXPECT_EQ(gate.refused_tick(0), std::optional<uint32_t>(51));
+  // A new life from its start cell at tick 0: no refusal of the old one is its answer.
+  EXPECT_TRUE(gate.judge(state_at(0, 0, 1, 2), &last, {1, 1}, 1.5, 60, r.rules).verdict.taken());
+  EXPECT_FALSE(gate.refused_tick(0).has_value());
 }
 
 TEST(StateGate, AMalformedStateIsDroppedNotAnswered) {

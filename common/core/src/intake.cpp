@@ -64,6 +64,10 @@ IntakeVerdict check_home_state(const UavStateMsg& s, const UavStateMsg* before, 
 StateGate::Judged StateGate::judge(const UavStateMsg& s, const UavStateMsg* before, Cell start, double max_step,
                                    uint32_t ceiling, const IntakeRules& r) {
   Judged j{check_home_state(s, before, start, max_step, ceiling, r)};
+  // A taken state of a tick before the last accepted one starts a new life
+  // (a restarted UAV counts ticks from 0 again): what its earlier life had
+  // refused is no answer of this one.
+  if (j.verdict.taken() && before != nullptr && s.tick < before->tick) refused_tick_.erase(s.uav);
   if (j.verdict.kind != IntakeVerdict::Kind::Refuse || j.verdict.refusal != Refusal::ImplausibleState) return j;
   j.refused_motion = true;
   auto [it, fresh] = refused_tick_.try_emplace(s.uav, s.tick);

@@ -61,7 +61,8 @@ IntakeVerdict check_home_state(const UavStateMsg& s, const UavStateMsg* before, 
 // is answered again but counted once. A refused state is an answer, not a
 // silence: its gateway tells the ground station (refused_answer) and gives
 // the UAV an empty view of its tick, so no lockstep phase waits for it.
-// The caller keeps the last accepted state (`before`).
+// The caller keeps the last accepted state (`before`). A taken state whose
+// tick is before `before`'s (a restarted UAV) clears the UAV's refusals.
 class StateGate {
  public:
   struct Judged {
@@ -75,8 +76,6 @@ class StateGate {
                const IntakeRules& r);
   // The tick of the UAV's latest refused state, if any.
   [[nodiscard]] std::optional<uint32_t> refused_tick(uint32_t uav) const;
-  // The UAV starts again (a new life, another gateway): nothing refused.
-  void forget(uint32_t uav) { refused_tick_.erase(uav); }
 
  private:
   std::map<uint32_t, uint32_t> refused_tick_;
