@@ -106,14 +106,15 @@ std::string metrics_path(const std::string& out_dir, const HostShare& share) {
       .string();
 }
 
-std::optional<std::string> flight_shortfall(const nlohmann::json& m, std::span<const ChildProcess> processes) {
-  if (!m.contains("uavs_expected") || !m.contains("ticks") || !m.contains("uav_status")) return std::nullopt;
+std::optional<std::string> flight_shortfall(const nlohmann::json& m, std::span<const ChildProcess> processes,
+                                            uint32_t ticks_asked) {
+  if (ticks_asked == 0 || !m.contains("uavs_expected") || !m.contains("uav_status")) return std::nullopt;
   std::set<uint32_t> killed;
   for (const auto& c : processes) {
     if (c.role == "uav" && c.killed_on_purpose) killed.insert(c.index);
   }
   const auto expected = m["uavs_expected"].get<uint32_t>();
-  const auto ticks = m["ticks"].get<uint64_t>();
+  const uint64_t ticks = ticks_asked;
   const nlohmann::json& status = m["uav_status"];
   uint64_t asked = 0, flown = 0;
   std::vector<uint32_t> unfinished;
@@ -183,7 +184,8 @@ MergedMetrics merge_metrics(nlohmann::json ground, const RunRecord& run, const s
                            "each other (metrics.json discovery_s)");
     }
   }
-  out.shortfall = flight_shortfall(m, run.processes);
+  out.shortfall = flight_shortfall(m, run.processes, run.ticks_asked);
+  if (run.ticks_asked > 0) m["uav_ticks_asked"] = uint64_t{run.ticks_asked} * m.value("uavs_expected", uint64_t{0});
   nlohmann::json procs = nlohmann::json::array();
   for (const auto& c : run.processes) {
     out.killed += c.killed_on_purpose ? 1 : 0;

@@ -28,6 +28,7 @@ struct RunRecord {
   std::optional<double> wall_s;                  // [s] first spawn -> every process ended
   int64_t run_t0_unix_ms = 0;                    // the first spawn, Unix time [ms]
   std::optional<UdpCounters> udp_start, udp_end;
+  uint32_t ticks_asked = 0;  // each UAV's ticks (RunPlan::ticks); 0: not known, the flight is not judged
 };
 
 struct MergedMetrics {
@@ -52,9 +53,11 @@ struct MergedMetrics {
 inline constexpr double kFlownShareRequired = 0.9;
 // Whether the swarm of `metrics` (the ground station's) flew what was asked:
 // every UAV nobody killed on purpose (`processes`) finished, and together
-// they flew at least kFlownShareRequired of `ticks` each (uav_status
-// heard_tick). Nothing when it did; else why, in plain words.
-std::optional<std::string> flight_shortfall(const nlohmann::json& metrics, std::span<const ChildProcess> processes);
+// they flew at least kFlownShareRequired of `ticks_asked` each (uav_status
+// heard_tick; metrics.json "ticks" is the last tick reached, not the ticks
+// asked). Nothing when it did; else why, in plain words.
+std::optional<std::string> flight_shortfall(const nlohmann::json& metrics, std::span<const ChildProcess> processes,
+                                            uint32_t ticks_asked);
 
 // Over several hosts the swarm's metrics.json is the ground station's host's;
 // every other host writes what it ran to OUT/host-I.json.

@@ -579,6 +579,7 @@ RunRecord Supervisor::record() const {
   r.run_t0_unix_ms = run_t0_unix_ms_;
   r.udp_start = udp_start_;
   r.udp_end = udp_end_;
+  r.ticks_asked = plan_.ticks;
   return r;
 }
 

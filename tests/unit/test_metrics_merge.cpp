@@ -36,8 +36,9 @@ ChildProcess ended(const std::string& name, const std::string& role, int exit_co
 
 nlohmann::json ground_metrics() { return {{"coverage", 0.5}, {"targets_found", 2}}; }
 
-RunRecord record_of(const std::vector<ChildProcess>& processes) {
+RunRecord record_of(const std::vector<ChildProcess>& processes, uint32_t ticks_asked = 0) {
   RunRecord r;
+  r.ticks_asked = ticks_asked;
   r.processes = processes;
   r.faults = {{"faults", nlohmann::json::array()}, {"faults_failed", 0}};
   r.dds = "cyclone";
@@ -109,7 +110,7 @@ TEST(MetricsMerge, UavsTheGroundStationNeverHeardFailTheRunUnlessKilledOnPurpose
 // latest ticks heard and whether each finished.
 nlohmann::json flown(std::vector<std::pair<uint32_t, bool>> uavs) {
   nlohmann::json g = ground_metrics();
-  g["ticks"] = 100;
+  g["ticks"] = 100;  // the last tick reached; the ticks asked come from the plan (record_of)
   g["uavs_expected"] = uavs.size();
   g["uavs"] = uavs.size();
   for (std::size_t u = 0; u < uavs.size(); ++u) {
@@ -130,32 +131,40 @@ std::vector<ChildProcess> three_uavs() {
 
 TEST(MetricsMerge, ASwarmThatFlewUnderNinetyPercentOfTheTicksAskedFailsTheRunWithEight) {
   // 270 of 300 ticks: exactly 90 %, the run stands.
-  MergedMetrics m = merge_metrics(flown({{100, true}, {100, true}, {70, true}}), record_of(three_uavs()), "m.json");
+  MergedMetrics m = merge_metrics(flown({{100, true}, {100, true}, {70, true}}), record_of(three_uavs(), 100), "m.json");
   EXPECT_FALSE(m.shortfall.has_value()) << *m.shortfall;
   EXPECT_EQ(m.exit_code(), 0);
   // 269 of 300: it does not.
-  m = merge_metrics(flown({{100, true}, {100, true}, {69, true}}), record_of(three_uavs()), "m.json");
+  m = merge_metrics(flown({{100, true}, {100, true}, {69, true}}), record_of(three_uavs(), 100), "m.json");
   ASSERT_TRUE(m.shortfall.has_value());
   EXPECT_EQ(m.exit_code(), 8);
   EXPECT_EQ(*m.shortfall,
             "this run did not fly the swarm asked for: the UAVs nobody killed flew 269 of the 300 UAV ticks asked "
             "for (89.7 %, under the 90 % a run must fly) (exit 8, docs/exit-codes.md)");
+  // The ticks asked come from the plan, not from the ticks reached: asked
+  // 200, the same flight is half of it.
+  m = merge_metrics(flown({{100, true}, {100, true}, {100, true}}), record_of(three_uavs(), 200), "m.json");
+  ASSERT_TRUE(m.shortfall.has_value());
+  EXPECT_NE(m.shortfall->find("flew 300 of the 600 UAV ticks asked for (50.0 %"), std::string::npos) << *m.shortfall;
+  EXPECT_EQ(m.metrics["uav_ticks_asked"], 600);
+  // Without a plan (another host's share) nothing is judged.
+  EXPECT_FALSE(merge_metrics(flown({{1, false}}), record_of(three_uavs()), "m.json").shortfall.has_value());
   // A crash still says 1: the worse verdict.
   auto ps = three_uavs();
   ps[1].exit_code = 4;
-  EXPECT_EQ(merge_metrics(flown({{100, true}, {100, true}, {69, true}}), record_of(ps), "m.json").exit_code(), 1);
+  EXPECT_EQ(merge_metrics(flown({{100, true}, {100, true}, {69, true}}), record_of(ps, 100), "m.json").exit_code(), 1);
 }
 
 TEST(MetricsMerge, AUavThatDidNotFinishFailsTheRunUnlessItWasKilledOnPurpose) {
   auto ps = three_uavs();
-  MergedMetrics m = merge_metrics(flown({{100, true}, {95, false}, {100, true}}), record_of(ps), "m.json");
+  MergedMetrics m = merge_metrics(flown({{100, true}, {95, false}, {100, true}}), record_of(ps, 100), "m.json");
   ASSERT_TRUE(m.shortfall.has_value());
   EXPECT_EQ(m.exit_code(), 8);
   EXPECT_NE(m.shortfall->find("uav 1 did not finish and nobody killed it"), std::string::npos) << *m.shortfall;
   // Killed on purpose: neither its ticks nor its end count against the run.
   ps[3].killed_on_purpose = true;  // uav-2 (ps[0] is the ground station)
   ps[3].term_signal = SIGKILL;
-  m = merge_metrics(flown({{100, true}, {100, true}, {10, false}}), record_of(ps), "m.json");
+  m = merge_metrics(flown({{100, true}, {100, true}, {10, false}}), record_of(ps, 100), "m.json");
   EXPECT_FALSE(m.shortfall.has_value()) << *m.shortfall;
   EXPECT_EQ(m.exit_code(), 0);
 }
@@ -215,10 +224,10 @@ TEST(MetricsMerge, AProcessSigkilledAfterIgnoringSigtermIsReportedAsSuchNotAsACr
 
 TEST(MetricsMerge, AProcessThatExitedWithAnErrorFailsTheRunAndOneAskedToStopDoesNot) {
   std::vector<ChildProcess> ps{ended("ground", "ground", 0), ended("place-1", "place", 4)};
-  EXPECT_EQ(merge_metrics(ground_metrics(), record_of(ps), "m.json").exit_code(), 1);
+  EXPECT_EQ(merge_metrics(ground_metrics(), record_of(ps, 100), "m.json").exit_code(), 1);
   ps[1].exit_code = 0;
   ps[1].asked_to_stop = true;
-  EXPECT_EQ(merge_metrics(ground_metrics(), record_of(ps), "m.json").exit_code(), 0);
+  EXPECT_EQ(merge_metrics(ground_metrics(), record_of(ps, 100), "m.json").exit_code(), 0);
 }
 
 TEST(MetricsMerge, AMissingGroundStationFileFailsTheRunOnlyOnTheGroundStationsHost) {
