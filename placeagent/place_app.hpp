@@ -102,6 +102,8 @@ class PlaceApp {
   // A state of a UAV this place agent serves that check_home_state refused
   // (StateGate): told to the ground station, an empty view owed to the UAV.
   void answer_refused(const core::UavStateMsg& st);
+  // The served UAVs of every other present region (lockstep: of `tick`).
+  void take_served(uint32_t tick);
   // Home UAVs whose newest state is of `tick` or later.
   [[nodiscard]] uint32_t home_states_of(uint32_t tick) const;
   // Every deposit the home UAVs with a state of `tick` wrote was taken (applied or forwarded).

@@ -431,8 +431,10 @@ void PlaceApp::publish_served(uint32_t tick) {
   }
 }
 
-void PlaceApp::send_tiles(uint32_t tick) {
-  // Which UAVs every other place agent serves: exactly this tick's (lockstep).
+void PlaceApp::take_served(uint32_t tick) {
+  // Which UAVs every other place agent serves and where they are: exactly
+  // this tick's (lockstep). Before the deposits are applied: they are judged
+  // against these positions (deposit_reach).
   const auto take = [&] {
     keep_tree();  // the lockstep tree goes on while this phase waits
     field_inbox_.clear();
@@ -455,6 +457,10 @@ void PlaceApp::send_tiles(uint32_t tick) {
     log_->error("tick {}: the served UAVs of some regions did not arrive ({}); sending tiles for the latest", tick,
                 views_.missing_served(tick, present_others_));
   }
+}
+
+void PlaceApp::send_tiles(uint32_t tick) {
+  take_served(tick);  // held since before the deposits were applied (step); realtime: what came since
   // To each of them the tiles of this region their UAVs' views need, and nothing else.
   std::map<std::pair<int32_t, int32_t>, std::vector<std::size_t>> by_tile;
   for (std::size_t i = 0; i < tiles_out_.size(); ++i) by_tile[{tiles_out_[i].tile.tx, tiles_out_[i].tile.ty}].push_back(i);
@@ -562,7 +568,15 @@ void PlaceApp::step(uint32_t tick, std::optional<TickDemand> demand) {
   publish_served(tick);
   events_.clear();
   rejections_.clear();
-  const core::HaloRing ring = core_.begin_tick(inbox_, tick, events_, &rejections_);
+  take_served(tick);
+  // Each deposit where its UAV can have put it, judged against the UAV's
+  // last accepted state this place agent knows (its own home UAVs' and every
+  // other region's served UAVs'; the simulator judges the same way).
+  const core::PlaceCore::DepositReach reach = [&](const core::DepositMsg& d) {
+    return core::check_deposit_reach(d, views_.state(d.uav), core::uav_start(scenario_, traits_, d.uav),
+                                     traits_.max_step, traits_.deposit_reach);
+  };
+  const core::HaloRing ring = core_.begin_tick(inbox_, tick, events_, &rejections_, &reach);
   for (const auto& r : rejections_) {
     if (core_.ledger().rejected() <= 20) log_->warn("rejected deposit from {}", r);
   }

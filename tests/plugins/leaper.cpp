@@ -54,6 +54,7 @@ PolicyTraits traits(const ScenarioConfig& s) {
   t.sensor_radius = 1.0;
   t.view_radius = 2.0;
   t.max_step = c.max_step;
+  t.deposit_reach = 0.0;  // it marks the cell it is over
   return t;
 }
 

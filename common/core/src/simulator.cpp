@@ -41,6 +41,7 @@ bool Simulator::through_gateway(RegionId gateway, UavStateMsg s, uint32_t tick) 
     return false;
   }
   accepted_[{gateway, s.uav}] = s;
+  last_accepted_[s.uav] = s;
   recorder_.on_uav_state(s);
   return true;
 }
@@ -221,7 +222,13 @@ void Simulator::step(uint32_t tick) {
       rings.push_back(it->second);
       continue;
     }
-    const HaloRing ring = places_[r]->begin_tick(inbox_[r], tick, events);
+    // Each deposit where its UAV can have put it (as the place agents judge it).
+    const PlaceCore::DepositReach reach = [this](const DepositMsg& d) {
+      auto it = last_accepted_.find(d.uav);
+      return check_deposit_reach(d, it == last_accepted_.end() ? nullptr : &it->second,
+                                 uav_start(scenario_, traits_, d.uav), traits_.max_step, traits_.deposit_reach);
+    };
+    const HaloRing ring = places_[r]->begin_tick(inbox_[r], tick, events, nullptr, &reach);
     rings.push_back({region, tick, ring.target, ring.obstacle});
     if (region_kill_tick(region)) last_ring_[region] = rings.back();
     inbox_[r].clear();

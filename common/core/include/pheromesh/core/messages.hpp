@@ -15,7 +15,7 @@ namespace pheromesh::core {
 
 inline constexpr std::size_t kMaxTileCells = 1024;  // 32 x 32, idl bound
 inline constexpr std::size_t kMaxRingCells = 4096;  // idl bound
-inline constexpr std::size_t kRefusalCount = 8;     // core::Refusal (plausibility.hpp), idl REFUSAL_REASONS
+inline constexpr std::size_t kRefusalCount = 9;     // core::Refusal (plausibility.hpp), idl REFUSAL_REASONS
 
 struct TileMsg {
   uint8_t layer = 0;

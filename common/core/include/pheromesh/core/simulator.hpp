@@ -119,6 +119,7 @@ class Simulator {
   PolicyTraits traits_;
   std::vector<StateGate> gates_;
   std::map<std::pair<RegionId, uint32_t>, UavStateMsg> accepted_;
+  std::map<uint32_t, UavStateMsg> last_accepted_;  // per UAV, by any gateway: where its deposits are judged from
   std::vector<RefusalCounts> gate_refused_;
   std::vector<uint8_t> empty_view_;  // per UAV, 0 or 1 (not vector<bool>: std::exchange)
   // The state `s` of UAV `id` through its gateway `gateway` at `tick`: true
