@@ -1,8 +1,8 @@
 #include "child_process.hpp"
 
 #include <csignal>
-
 #include <cstring>
+#include <fstream>
 
 namespace pheromesh::cli {
 
@@ -26,6 +26,35 @@ std::string ChildProcess::describe() const {
     return std::string("killed by ") + strsignal(term_signal) + (killed_on_purpose ? " (on purpose)" : "");
   }
   return "exited with " + std::to_string(exit_code);
+}
+
+std::optional<std::string> first_error_line(const std::string& log_path) {
+  std::ifstream in(log_path);
+  for (std::string line; std::getline(in, line);) {
+    // "HH:MM:SS.mmm LEVEL [name] text"; a terminal's colour codes
+    // ("\x1b[31m") may surround the level.
+    std::size_t at = line.find(' ');
+    if (at == std::string::npos) continue;
+    std::string level;
+    for (++at; at < line.size() && line[at] != ' ' && line[at] != '['; ++at) {
+      if (line[at] == '\x1b') {
+        while (at < line.size() && line[at] != 'm') ++at;
+        continue;
+      }
+      level.push_back(line[at]);
+    }
+    if (level != "error" && level != "critical") continue;
+    const auto name = line.find("] ", at);
+    return line.substr(name == std::string::npos ? at : name + 2);
+  }
+  return std::nullopt;
+}
+
+std::string failure_line(const ChildProcess& c, const std::string& log_path) {
+  const auto first = first_error_line(log_path);
+  return "the run failed: " + c.name + " (pid " + std::to_string(c.pid) + ") " + c.describe() +
+         (first ? "; its log's first error: " + *first : std::string("; its log has no error line")) + " (" +
+         log_path + ")";
 }
 
 }  // namespace pheromesh::cli

@@ -50,4 +50,12 @@ struct ChildProcess {
   [[nodiscard]] std::string describe() const;
 };
 
+// The first line of a process's log at level error or critical (spdlog's
+// pattern of runtime::make_logger: "HH:MM:SS.mmm error [name] ..."), without
+// its time stamp, level and name; nothing when there is none.
+std::optional<std::string> first_error_line(const std::string& log_path);
+// The last line of a failed run (docs/exit-codes.md): "the run failed: ground
+// (pid 42) exited with 6; its log's first error: ... (PATH)".
+std::string failure_line(const ChildProcess& c, const std::string& log_path);
+
 }  // namespace pheromesh::cli

@@ -15,6 +15,7 @@
 
 #include "host_fit.hpp"
 #include "metrics_merge.hpp"
+#include "sim_command.hpp"
 #include "netns.hpp"
 #include "pheromesh/auth/control.hpp"
 #include "pheromesh/bus/bus.hpp"
@@ -253,7 +254,9 @@ int finish_metrics(const RunPlan& plan, const RunRecord& run) {
           ? std::string()
           : ", killed at the stop (SIGTERM ignored) " + std::to_string(merged.killed_at_stop),
       path);
-  return exit_code;
+  if (merged.shortfall) spdlog::error("{}", *merged.shortfall);
+  const int verdict = refused_states_verdict(m, o.strict);
+  return exit_code != 0 ? exit_code : verdict;
 }
 
 }  // namespace
@@ -321,7 +324,11 @@ int Launcher::run() {
   supervisor.land();
   const int exit_code = finish_metrics(plan, supervisor.record());
   supervisor.clean_up();
-  return end == FlightEnd::Interrupted ? 130 : exit_code;
+  if (end == FlightEnd::Interrupted) return 130;
+  // A failed run's last line names the process, its code and its log's
+  // first error (docs/exit-codes.md).
+  if (exit_code != 0 && supervisor.first_failure()) spdlog::error("{}", *supervisor.first_failure());
+  return exit_code;
 }
 
 }  // namespace pheromesh::cli

@@ -38,6 +38,10 @@ void print_faults(const pheromesh::core::FaultSchedule& f) {
   for (const auto& e : f.events) std::printf("              %s\n", e.text.c_str());
 }
 
+// Ticks `validate` flies a plugin's or Python policy in the simulator to
+// check its max_step (core::max_step_trial).
+constexpr uint32_t kMaxStepTrialTicks = 20;
+
 int validate(const std::string& path, const pheromesh::cli::OverrideFlags& overrides) {
   auto env_limits = pheromesh::core::ScenarioLimits::from_environment();
   if (!env_limits) {
@@ -64,6 +68,15 @@ int validate(const std::string& path, const pheromesh::cli::OverrideFlags& overr
     std::printf("  revisit     every %u ticks\n", s->aco.revisit_period);
   }
   for (const auto& w : pheromesh::core::scenario_warnings(s.value())) std::printf("  warning     %s\n", w.c_str());
+  // A policy from outside (a plugin, Python) flown a few ticks in the
+  // simulator: a max_step below what its moves need shows as refused
+  // states (docs/writing-a-policy.md, "How far a UAV may fly"). The
+  // built-in policies are held to theirs by HonestRuns.* (unit tests).
+  if (s->plugin || s->python) {
+    for (const auto& w : pheromesh::core::max_step_trial(s.value(), kMaxStepTrialTicks)) {
+      std::printf("  warning     max_step: %s\n", w.c_str());
+    }
+  }
   std::printf("%s", pheromesh::cli::overrides_summary(s.value()).c_str());
   print_faults(s->faults);
   // The figures the limits are checked against (scenario_limits.hpp).
@@ -142,6 +155,9 @@ Examples:
   sim->add_option("--record", so.record,
                   "Record the run as a console recording for `pheromesh replay FILE` (simulated time; "
                   "docs/outputs.md)");
+  sim->add_flag("--strict", so.strict,
+                "Fail the run (exit 9) if a UAV's state was refused as implausible: its policy moved further in a "
+                "tick than its max_step allows (docs/writing-a-policy.md)");
   sim->add_flag("--standby", so.overrides.standby,
                 "Every place agent has a standby that takes over when it is killed; stands for --set "
                 "run.standby=true");

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <map>
 #include <set>
@@ -105,6 +106,50 @@ std::string metrics_path(const std::string& out_dir, const HostShare& share) {
       .string();
 }
 
+std::optional<std::string> flight_shortfall(const nlohmann::json& m, std::span<const ChildProcess> processes,
+                                            uint32_t ticks_asked) {
+  if (ticks_asked == 0 || !m.contains("uavs_expected") || !m.contains("uav_status")) return std::nullopt;
+  std::set<uint32_t> killed;
+  for (const auto& c : processes) {
+    if (c.role == "uav" && c.killed_on_purpose) killed.insert(c.index);
+  }
+  const auto expected = m["uavs_expected"].get<uint32_t>();
+  const uint64_t ticks = ticks_asked;
+  const nlohmann::json& status = m["uav_status"];
+  uint64_t asked = 0, flown = 0;
+  std::vector<uint32_t> unfinished;
+  for (uint32_t u = 0; u < expected; ++u) {
+    if (killed.contains(u)) continue;
+    asked += ticks;
+    const auto it = status.find(std::to_string(u));
+    if (it == status.end()) {
+      unfinished.push_back(u);  // never heard (merge_metrics says so too)
+      continue;
+    }
+    flown += std::min<uint64_t>(it->value("heard_tick", it->value("last_tick", uint64_t{0})), ticks);
+    if (!it->value("finished", false)) unfinished.push_back(u);
+  }
+  std::string why;
+  if (asked > 0 && static_cast<double>(flown) < kFlownShareRequired * static_cast<double>(asked)) {
+    char share[32];
+    std::snprintf(share, sizeof share, "%.1f", 100.0 * static_cast<double>(flown) / static_cast<double>(asked));
+    why = "the UAVs nobody killed flew " + std::to_string(flown) + " of the " + std::to_string(asked) +
+          " UAV ticks asked for (" + share + " %, under the " +
+          std::to_string(static_cast<int>(kFlownShareRequired * 100)) + " % a run must fly)";
+  }
+  if (!unfinished.empty()) {
+    std::string ids;
+    for (std::size_t i = 0; i < unfinished.size() && i < 10; ++i) ids += (i == 0 ? "" : ", ") + std::to_string(unfinished[i]);
+    if (unfinished.size() > 10) ids += " and " + std::to_string(unfinished.size() - 10) + " more";
+    why += (why.empty() ? "" : "; ") + std::string(unfinished.size() == 1 ? "uav " : "uavs ") + ids +
+           " did not finish and nobody killed " + (unfinished.size() == 1 ? "it" : "them") +
+           " (lost: liveliness, or its last states never reached the ground station)";
+  }
+  if (why.empty()) return std::nullopt;
+  return "this run did not fly the swarm asked for: " + why + " (exit " +
+         std::to_string(MergedMetrics::kExitShortfall) + ", docs/exit-codes.md)";
+}
+
 MergedMetrics merge_metrics(nlohmann::json ground, const RunRecord& run, const std::string& path) {
   MergedMetrics out;
   nlohmann::json& m = out.metrics;
@@ -139,6 +184,8 @@ MergedMetrics merge_metrics(nlohmann::json ground, const RunRecord& run, const s
                            "each other (metrics.json discovery_s)");
     }
   }
+  out.shortfall = flight_shortfall(m, run.processes, run.ticks_asked);
+  if (run.ticks_asked > 0) m["uav_ticks_asked"] = uint64_t{run.ticks_asked} * m.value("uavs_expected", uint64_t{0});
   nlohmann::json procs = nlohmann::json::array();
   for (const auto& c : run.processes) {
     out.killed += c.killed_on_purpose ? 1 : 0;

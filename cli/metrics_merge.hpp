@@ -28,6 +28,7 @@ struct RunRecord {
   std::optional<double> wall_s;                  // [s] first spawn -> every process ended
   int64_t run_t0_unix_ms = 0;                    // the first spawn, Unix time [ms]
   std::optional<UdpCounters> udp_start, udp_end;
+  uint32_t ticks_asked = 0;  // each UAV's ticks (RunPlan::ticks); 0: not known, the flight is not judged
 };
 
 struct MergedMetrics {
@@ -36,9 +37,27 @@ struct MergedMetrics {
   uint32_t crashed = 0;             // ChildProcess::crashed
   uint32_t killed_at_stop = 0;      // ChildProcess::killed_at_stop: hung or slow at the stop, not a crash
   std::vector<std::string> errors;  // each fails the run; to be logged in this order
-  // 1 if there is an error or a crashed process, else 0.
-  [[nodiscard]] int exit_code() const { return errors.empty() && crashed == 0 ? 0 : 1; }
+  // The swarm did not fly what was asked (flight_shortfall): why.
+  std::optional<std::string> shortfall;
+  // 1 if there is an error or a crashed process, else kExitShortfall if the
+  // swarm did not fly what was asked, else 0.
+  [[nodiscard]] int exit_code() const {
+    if (!errors.empty() || crashed != 0) return 1;
+    return shortfall ? kExitShortfall : 0;
+  }
+  static constexpr int kExitShortfall = 8;  // docs/exit-codes.md
 };
+
+// The least share of the UAV ticks asked for that the UAVs nobody killed
+// must fly, or the run did not fly the swarm asked for (docs/exit-codes.md).
+inline constexpr double kFlownShareRequired = 0.9;
+// Whether the swarm of `metrics` (the ground station's) flew what was asked:
+// every UAV nobody killed on purpose (`processes`) finished, and together
+// they flew at least kFlownShareRequired of `ticks_asked` each (uav_status
+// heard_tick; metrics.json "ticks" is the last tick reached, not the ticks
+// asked). Nothing when it did; else why, in plain words.
+std::optional<std::string> flight_shortfall(const nlohmann::json& metrics, std::span<const ChildProcess> processes,
+                                            uint32_t ticks_asked);
 
 // Over several hosts the swarm's metrics.json is the ground station's host's;
 // every other host writes what it ran to OUT/host-I.json.

@@ -147,6 +147,9 @@ class FullCommands final : public ProcessCommands {
                   "cyclone/fastdds alternating by index, UAVs fastdds/cyclone), or per role, e.g. "
                   "ground=fastdds,place=cyclone,uav=mixed [env PHEROMESH_DDS]")
         ->capture_default_str();
+    r->add_flag("--strict", ro.strict,
+                "Fail the run (exit 9) if a UAV's state was refused as implausible: its policy moved further in a "
+                "tick than its max_step allows (docs/writing-a-policy.md)");
     r->add_flag("--standby", ro.overrides.standby,
                 "Run a hot-standby replica of every place agent (place-R.r1): it receives every deposit and keeps the "
                 "same field; the primary's output wins through DDS exclusive ownership, and when the primary dies or "

@@ -79,6 +79,7 @@ struct RunOptions {
   bool no_record = false;
   bool tracks = false;  // the ground station also writes OUT/tracks.csv
   std::string secure;  // DDS Security: the directory of `pheromesh security init` (docs/security.md)
+  bool strict = false;  // a state refused as implausible fails the run (kExitRefusedStates)
 };
 
 // The name of a process: "uav-3", "place-1", "place-1.r2", "ground".

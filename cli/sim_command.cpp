@@ -29,6 +29,15 @@ core::FaultSchedule scenario_faults(const Scenario& s) {
 }
 }  // namespace
 
+int refused_states_verdict(const nlohmann::json& metrics, bool strict) {
+  // The same lines after `sim` and `run` (report::refused_state_lines).
+  for (const auto& line : report::refused_state_lines(metrics)) spdlog::warn("{}", line);
+  const auto first = report::first_refusal_line(metrics);
+  if (!first || !strict) return 0;
+  spdlog::error("--strict: {}; the run fails (exit {})", *first, kExitRefusedStates);
+  return kExitRefusedStates;
+}
+
 int run_sim(const SimOptions& o) {
   auto loaded = load_overridden(o.scenario, o.overrides);
   if (!loaded) {
@@ -138,7 +147,7 @@ int simulate(const core::ScenarioConfig& s, const core::FaultSchedule& faults, c
                  j["deposits_sent"].get<uint64_t>(), j["deposits_applied"].get<uint64_t>(),
                  j["deposits_rejected"].get<uint64_t>(), j["deposits_lost"].get<uint64_t>());
   }
-  return 0;
+  return refused_states_verdict(j, o.strict);
 }
 
 }  // namespace pheromesh::cli

@@ -21,7 +21,16 @@ struct SimOptions {
   std::string faults;  // fault schedule in ticks (core::parse_fault_schedule); "" = none
   bool tracks = false;  // also OUT/tracks.csv
   std::string record;   // a console recording of the run for `pheromesh replay`; "" = none
+  bool strict = false;  // a state refused as implausible fails the run (kExitRefusedStates)
 };
+
+// The exit code of `sim` and `run` with --strict when a state was refused
+// as implausible (docs/exit-codes.md).
+inline constexpr int kExitRefusedStates = 9;
+// After a run: says what metrics.json "states_refused" holds (a warning per
+// line) and, with `strict` and a refusal, fails with the first one.
+// Returns the exit code (0 or kExitRefusedStates).
+int refused_states_verdict(const nlohmann::json& metrics, bool strict);
 
 // `pheromesh sim`: the whole swarm in this process (core::Simulator), same
 // metrics.json and final_field.txt as a lockstep `pheromesh run`.

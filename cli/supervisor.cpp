@@ -392,6 +392,7 @@ void Supervisor::record_exit(pid_t pid, int status, const rusage& ru) {
     // What it said last as it stopped (run_process logs an escaped exception
     // as critical: "fatal: ..."), so that the run's output carries the reason.
     if (const auto last = last_critical_line(log)) spdlog::error("{}: {}", c.name, *last);
+    if (!first_failure_) first_failure_ = failure_line(c, log);
   } else if (c.killed_on_purpose || c.killed_at_stop()) {
     spdlog::info("{} (pid {}) {}", c.name, c.pid, c.describe());
   }
@@ -578,6 +579,7 @@ RunRecord Supervisor::record() const {
   r.run_t0_unix_ms = run_t0_unix_ms_;
   r.udp_start = udp_start_;
   r.udp_end = udp_end_;
+  r.ticks_asked = plan_.ticks;
   return r;
 }
 

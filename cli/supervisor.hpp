@@ -55,11 +55,15 @@ class Supervisor {
   // After the flight: lasting faults end, the plan's final stop order.
   void land();
   [[nodiscard]] RunRecord record() const;
+  // The first process that crashed (failure_line: its name, how it ended and
+  // its log's first error line), if one did: the last line of a failed run.
+  [[nodiscard]] const std::optional<std::string>& first_failure() const { return first_failure_; }
   // After the merge: the discovery server, Fast DDS's shared memory, the
   // network namespaces.
   void clean_up();
 
  private:
+  std::optional<std::string> first_failure_;
   // Starting.
   void spawn(PlannedProcess p);
   void wait_spawn_gap();

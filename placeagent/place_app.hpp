@@ -99,6 +99,11 @@ class PlaceApp {
   void refuse_foreign_state(uint32_t uav);
   // ", and the N deposits it carried" for a refusal of a state with deposits.
   [[nodiscard]] std::string carried_note() const;
+  // A state of a UAV this place agent serves that check_home_state refused
+  // (StateGate): told to the ground station, an empty view owed to the UAV.
+  void answer_refused(const core::UavStateMsg& st);
+  // The served UAVs of every other present region (lockstep: of `tick`).
+  void take_served(uint32_t tick);
   // Home UAVs whose newest state is of `tick` or later.
   [[nodiscard]] uint32_t home_states_of(uint32_t tick) const;
   // Every deposit the home UAVs with a state of `tick` wrote was taken (applied or forwarded).
@@ -191,6 +196,11 @@ class PlaceApp {
   // loss a tick takes seconds). A restarted UAV needs the silence: its new
   // writer keeps the instance alive, so the old one's going is no departure.
   core::WriterLatch state_writers_;
+  // The one plausibility rule (core::StateGate): a refused state of a UAV it
+  // serves is answered - relayed to the ground station as such, and an
+  // empty view of its tick to the UAV (answer_refused, serve_views).
+  core::StateGate gate_;
+  std::vector<uint32_t> refused_views_;  // UAVs owed an empty view at the next serve_views
   std::unordered_map<uint32_t, uint64_t> uav_process_;  // UAV -> the process of its latched state writer
   core::PlaceVouch forwarders_;                         // realtime: other place agents' processes (judge_forwarded)
   core::Parked<core::DepositMsg> parked_deposits_;

@@ -158,8 +158,9 @@ void PlaceApp::take_home_states(uint32_t tick) {
     carried_.clear();
     carried_.swap(st.deposits);
     const auto take_carried = [&] { uplinked_.insert(uplinked_.end(), carried_.begin(), carried_.end()); };
-    if (st.departed) {
-      audit_.drop(fmt::format("a state of uav {} that says it departed (only a place agent says so)", st.uav));
+    if (st.departed || st.implausible) {
+      audit_.drop(fmt::format("a state of uav {} that says it {} (only a place agent says so)", st.uav,
+                              st.departed ? "departed" : "was refused"));
       take_carried();
       continue;
     }
@@ -188,7 +189,15 @@ void PlaceApp::take_home_states(uint32_t tick) {
     if (!adopted) continue;  // lockstep: its state counts from the tick its home is absent
     const core::UavStateMsg* before = views_.state(st.uav);
     const core::Cell start = core::uav_start(scenario_, traits_, st.uav);
-    if (!audit_.admit(core::check_home_state(st, before, start, traits_.max_step, ceiling, rules_))) continue;
+    const auto judged = gate_.judge(st, before, start, traits_.max_step, ceiling, rules_);
+    if (judged.refused_motion) {
+      // The UAV flew (or says it flew) further than its policy's max_step
+      // allows: refused, counted once per tick, and answered.
+      if (!judged.copy) (void)audit_.admit(judged.verdict);
+      answer_refused(st);
+      continue;
+    }
+    if (!audit_.admit(judged.verdict)) continue;
     state_writers_.hold(st.uav, st.writer, now);
     uav_process_[st.uav] = st.participant;
     if (before == nullptr || st.tick > before->tick) heard_at_[st.uav] = tick;
@@ -215,6 +224,13 @@ void PlaceApp::take_home_states(uint32_t tick) {
                u);
   }
   if (!relayed_.empty()) bus_->relay_states(relayed_, cfg_.region, cfg_.replica, tick);
+}
+
+void PlaceApp::answer_refused(const core::UavStateMsg& st) {
+  relayed_.push_back(core::refused_answer(st));
+  if (std::find(refused_views_.begin(), refused_views_.end(), st.uav) == refused_views_.end()) {
+    refused_views_.push_back(st.uav);
+  }
 }
 
 void PlaceApp::refuse_foreign_state(uint32_t uav) {
@@ -292,9 +308,11 @@ void PlaceApp::relay_uplinks() {
 }
 
 uint32_t PlaceApp::home_states_of(uint32_t tick) const {
+  // A refused state is an answer too (core::StateGate).
   return static_cast<uint32_t>(std::count_if(gateway_uavs_.begin(), gateway_uavs_.end(), [&](uint32_t u) {
     const core::UavStateMsg* st = views_.state(u);
-    return st != nullptr && st->tick >= tick;
+    const auto refused = gate_.refused_tick(u);
+    return (st != nullptr && st->tick >= tick) || (refused && *refused >= tick);
   }));
 }
 
@@ -401,6 +419,9 @@ void PlaceApp::publish_served(uint32_t tick) {
     const core::UavStateMsg* st = views_.state(u);
     if (st == nullptr || st->finished) continue;
     if (demand_ ? st->tick != tick : tick - heard_at_[u] > kViewsAfterSilence) continue;
+    // Its newest state was refused: it gets an empty view (serve_views), not
+    // one around a position it has left.
+    if (const auto refused = gate_.refused_tick(u); refused && *refused > st->tick) continue;
     served_.push_back(u);
     served_states_.push_back(*st);
   }
@@ -410,8 +431,10 @@ void PlaceApp::publish_served(uint32_t tick) {
   }
 }
 
-void PlaceApp::send_tiles(uint32_t tick) {
-  // Which UAVs every other place agent serves: exactly this tick's (lockstep).
+void PlaceApp::take_served(uint32_t tick) {
+  // Which UAVs every other place agent serves and where they are: exactly
+  // this tick's (lockstep). Before the deposits are applied: they are judged
+  // against these positions (deposit_reach).
   const auto take = [&] {
     keep_tree();  // the lockstep tree goes on while this phase waits
     field_inbox_.clear();
@@ -434,6 +457,10 @@ void PlaceApp::send_tiles(uint32_t tick) {
     log_->error("tick {}: the served UAVs of some regions did not arrive ({}); sending tiles for the latest", tick,
                 views_.missing_served(tick, present_others_));
   }
+}
+
+void PlaceApp::send_tiles(uint32_t tick) {
+  take_served(tick);  // held since before the deposits were applied (step); realtime: what came since
   // To each of them the tiles of this region their UAVs' views need, and nothing else.
   std::map<std::pair<int32_t, int32_t>, std::vector<std::size_t>> by_tile;
   for (std::size_t i = 0; i < tiles_out_.size(); ++i) by_tile[{tiles_out_[i].tile.tx, tiles_out_[i].tile.ty}].push_back(i);
@@ -518,6 +545,19 @@ void PlaceApp::serve_views(uint32_t tick) {
       resend_.view(view_);
     }
   }
+  // A UAV whose state was refused gets an empty view of this tick: no tile
+  // and no neighbour around a position its gateway does not believe, and in
+  // lockstep the answer it waits for (the simulator does the same).
+  for (uint32_t u : refused_views_) {
+    view_.uav = u;
+    view_.tick = tick;
+    view_.tiles.clear();
+    view_.uavs.clear();
+    view_.deposit_ack = desk_.ack(u);
+    view_.deposit_ack_from = desk_.ack_from(u);
+    resend_.view(view_);
+  }
+  refused_views_.clear();
 }
 
 void PlaceApp::step(uint32_t tick, std::optional<TickDemand> demand) {
@@ -528,7 +568,15 @@ void PlaceApp::step(uint32_t tick, std::optional<TickDemand> demand) {
   publish_served(tick);
   events_.clear();
   rejections_.clear();
-  const core::HaloRing ring = core_.begin_tick(inbox_, tick, events_, &rejections_);
+  take_served(tick);
+  // Each deposit where its UAV can have put it, judged against the UAV's
+  // last accepted state this place agent knows (its own home UAVs' and every
+  // other region's served UAVs'; the simulator judges the same way).
+  const core::PlaceCore::DepositReach reach = [&](const core::DepositMsg& d) {
+    return core::check_deposit_reach(d, views_.state(d.uav), core::uav_start(scenario_, traits_, d.uav),
+                                     traits_.max_step, traits_.deposit_reach);
+  };
+  const core::HaloRing ring = core_.begin_tick(inbox_, tick, events_, &rejections_, &reach);
   for (const auto& r : rejections_) {
     if (core_.ledger().rejected() <= 20) log_->warn("rejected deposit from {}", r);
   }

@@ -5,7 +5,11 @@
 // under a real UAV's id, tiles, field chunks and a halo with 1e30 or a tick
 // far ahead, states and detections that would move coverage and "targets
 // found", a lockstep clock Stop - and the run must not notice, while every
-// refusal is counted per reason in metrics.json. Domains 80-81.
+// refusal is counted per reason in metrics.json. Domains 80-81 (and 82-83:
+// issue 42, at the end).
+#include <regex>
+#include <sstream>
+
 #include "harness.hpp"
 
 using namespace pheromesh::itest;  // NOLINT: the test helpers
@@ -130,4 +134,108 @@ TEST(Plausibility, ForgedSamplesInARealtimeRunAreRefusedAndTheAttackedUavKeepsDe
   EXPECT_GE(m["refused_by"]["places"]["foreign_writer"].get<uint64_t>(), 10U) << m["refused_by"].dump(2) << f.text;
   EXPECT_LE(m["refused_by"]["places"]["foreign_writer"].get<uint64_t>(), 18U) << m["refused_by"].dump(2) << f.text;
   EXPECT_GT(m["refused_by"]["ground"]["foreign_writer"].get<uint64_t>(), 0U) << m["refused_by"].dump(2);
+}
+
+// ------------------------------------------------------------------ issue 42
+// One plausibility rule (core::StateGate): a policy that flies 5 cells a tick
+// while it declares max_step 1.5 (tests/plugins/leaper.cpp) on small-test's
+// map. The UAVs' gateways refuse its states as the simulator does, a refused
+// state is an answer (no lockstep phase waits for it: the run ends well
+// inside its 60 s phase timeout and exits 0), and the lockstep run gives the
+// simulator's field, series and refusals byte for byte. Domains 82-83.
+
+namespace {
+
+std::string leaper_scenario(const std::string& dir) {
+  const std::string path = dir + "/leaper.textproto";
+  std::ofstream(path) << "name: \"leaper\"\n"
+                      << "map { width: 30 height: 30 tile_size: 6 regions_x: 2 regions_y: 2\n"
+                      << "  obstacles { x: 10 y: 6 w: 4 h: 8 } obstacles { x: 18 y: 18 w: 6 h: 3 }\n"
+                      << "  targets { x: 22 y: 8 } targets { x: 7 y: 22 } targets { x: 25 y: 26 } }\n"
+                      << "swarm { uavs: 4 start_area { x: 1 y: 1 w: 4 h: 4 } }\n"
+                      << "run { ticks: 300 tick_rate_hz: 50 seed: 1 }\n"
+                      << "policy { plugin { library: \"" << PHEROMESH_TEST_PLUGIN_DIR
+                      << "/libpheromesh_test_plugin_leaper.so\" name: \"leaper\" } }\n";
+  return path;
+}
+
+std::vector<std::string> lines_with(const std::string& text, const std::string& needle) {
+  std::vector<std::string> out;
+  std::istringstream in(text);
+  for (std::string line; std::getline(in, line);) {
+    const auto at = line.find(needle);
+    if (at != std::string::npos) out.push_back(line.substr(at));
+  }
+  return out;
+}
+
+}  // namespace
+
+TEST(Plausibility, APolicyFasterThanItsMaxStepGivesTheSimulatorsFieldSeriesAndRefusalsInLockstepAndSaysSo) {
+  const std::string dir = out_dir("leaper");
+  const std::string scenario = leaper_scenario(dir);
+  const Output r = run(kBin + "/pheromesh run " + scenario + " --out " + dir + "/lockstep --domain 82 --progress 0.5 " +
+                       "--clock lockstep --ticks 100");
+  {
+    std::ofstream keep(dir + "/launcher.txt");
+    keep << r.text;
+  }
+  ASSERT_EQ(r.exit_code, 0) << r.text;
+  EXPECT_EQ(r.text.find("did not finish within"), std::string::npos) << "a refused state is an answer\n" << r.text;
+  // The ground station's log is written like every other process's (D3).
+  EXPECT_NE(slurp(dir + "/lockstep/logs/ground.log").find("conducting 100 lockstep ticks"), std::string::npos);
+  const Output s = run(kBin + "/pheromesh sim " + scenario + " --quiet --ticks 100 --out " + dir + "/sim");
+  ASSERT_EQ(s.exit_code, 0) << s.text;
+  const json a = read_metrics(dir + "/lockstep");
+  const json b = read_metrics(dir + "/sim");
+  ASSERT_TRUE(b.contains("states_refused")) << b.dump(1);
+  EXPECT_GT(b["states_refused"]["total"].get<uint64_t>(), 0U);
+  for (const char* key : {"ticks", "uavs", "coverage", "covered_cells", "targets_found", "acquisition_ticks",
+                          "deposits_sent", "deposits_applied", "deposits_rejected", "field", "states_refused"}) {
+    EXPECT_EQ(a.value(key, json()), b.value(key, json())) << key;
+  }
+  // The same refusals, counted by the same processes (the UAVs' gateways).
+  EXPECT_EQ(a["refused_by"]["places"]["implausible_state"], b["refused_by"]["places"]["implausible_state"]);
+  EXPECT_EQ(a["refused_by"]["places"]["implausible_state"], b["states_refused"]["total"]);
+  EXPECT_EQ(a["refused_by"]["ground"]["implausible_state"], 0) << "counted once, by the gateways";
+  expect_accounting(a);
+  const std::string field = slurp(dir + "/sim/final_field.txt");
+  ASSERT_GT(field.size(), 1000U);
+  EXPECT_TRUE(slurp(dir + "/lockstep/final_field.txt") == field) << "final pheromone fields differ";
+  const std::string series = slurp(dir + "/sim/series.csv");
+  EXPECT_GT(std::count(series.begin(), series.end(), '\n'), 100);
+  EXPECT_TRUE(slurp(dir + "/lockstep/series.csv") == series) << "series.csv differs";
+  // Both say so, in the same words.
+  const auto said_by_sim = lines_with(s.text, "uav 0's policy moved 5 cells in one tick (max_step 1.5): ");
+  ASSERT_EQ(said_by_sim.size(), 1U) << s.text;
+  EXPECT_EQ(lines_with(r.text, "uav 0's policy moved 5 cells in one tick (max_step 1.5): "), said_by_sim) << r.text;
+  EXPECT_EQ(lines_with(r.text, "states refused as implausible in all"),
+            lines_with(s.text, "states refused as implausible in all"));
+}
+
+TEST(Plausibility, StrictFailsARunWithItsFirstRefusalInTheSimulatorAndInLockstep) {
+  const std::string dir = out_dir("leaper-strict");
+  const std::string scenario = leaper_scenario(dir);
+  const std::string first = "--strict: uav 0's state of tick 0 refused as implausible: it moved 5 cells in one tick "
+                            "from its start cell (max_step 1.5 allows 3 with the slack of 1.5)";
+  // `validate` flies the plugin a few ticks and warns before any run.
+  const Output v = run(kBin + "/pheromesh validate " + scenario);
+  EXPECT_EQ(v.exit_code, 0) << v.text;
+  EXPECT_NE(v.text.find("warning     max_step: uav 0's state of tick 0 refused as implausible: it moved 5 cells"),
+            std::string::npos)
+      << v.text;
+  const Output s = run(kBin + "/pheromesh sim " + scenario + " --quiet --strict --ticks 20 --out " + dir + "/sim");
+  EXPECT_EQ(s.exit_code, 9) << s.text;
+  EXPECT_NE(s.text.find(first), std::string::npos) << s.text;
+  const Output r = run(kBin + "/pheromesh run " + scenario + " --out " + dir + "/lockstep --domain 83 --progress 0.5 " +
+                       "--clock lockstep --ticks 20 --strict");
+  EXPECT_EQ(r.exit_code, 9) << r.text;
+  EXPECT_NE(r.text.find(first), std::string::npos) << r.text;
+  // Guard: the same runs without --strict pass (above), and an honest
+  // declaration passes with --strict.
+  const std::string honest = dir + "/honest.textproto";
+  std::ofstream(honest) << std::regex_replace(slurp(scenario), std::regex("name: \"leaper\" \\}"),
+                                              "name: \"leaper\" config { key: \"max_step\" number: 5 } }");
+  const Output h = run(kBin + "/pheromesh sim " + honest + " --quiet --strict --ticks 20 --out " + dir + "/honest");
+  EXPECT_EQ(h.exit_code, 0) << h.text;
 }

@@ -83,6 +83,13 @@ TEST(Cli, AnExceptionFromAPluginsStepStopsItsProcessesAndFailsTheRunWithTheMessa
   EXPECT_NE(r.text.find("fatal: repulsive_coverage: uav 0 was told to fail at tick 5 (config fail_at_tick)"),
             std::string::npos)
       << r.text;
+  // Its last line names the process that failed first, its code and its
+  // log's first error (docs/exit-codes.md).
+  std::string last = r.text.substr(0, r.text.find_last_not_of('\n') + 1);
+  last = last.substr(last.find_last_of('\n') + 1);
+  EXPECT_NE(last.find("the run failed: uav-"), std::string::npos) << last;
+  EXPECT_NE(last.find(" exited with 4; its log's first error: fatal: repulsive_coverage: uav "), std::string::npos)
+      << last;
   // The simulator reports the same and exits non-zero too.
   const Output s = run(kBin + "/pheromesh sim " + scenario + " --quiet --out " + dir + "/sim");
   EXPECT_EQ(s.exit_code, 4) << s.text;

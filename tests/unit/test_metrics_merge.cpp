@@ -3,7 +3,11 @@
 // run's exit code from how they ended.
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <csignal>
+#include <cstdio>
+#include <optional>
 #include <fstream>
 #include <sstream>
 #include <vector>
@@ -32,8 +36,9 @@ ChildProcess ended(const std::string& name, const std::string& role, int exit_co
 
 nlohmann::json ground_metrics() { return {{"coverage", 0.5}, {"targets_found", 2}}; }
 
-RunRecord record_of(const std::vector<ChildProcess>& processes) {
+RunRecord record_of(const std::vector<ChildProcess>& processes, uint32_t ticks_asked = 0) {
   RunRecord r;
+  r.ticks_asked = ticks_asked;
   r.processes = processes;
   r.faults = {{"faults", nlohmann::json::array()}, {"faults_failed", 0}};
   r.dds = "cyclone";
@@ -101,6 +106,90 @@ TEST(MetricsMerge, UavsTheGroundStationNeverHeardFailTheRunUnlessKilledOnPurpose
   EXPECT_TRUE(m.errors.empty());
 }
 
+// A ground station's metrics of 3 UAVs asked for 100 ticks each: their
+// latest ticks heard and whether each finished.
+nlohmann::json flown(std::vector<std::pair<uint32_t, bool>> uavs) {
+  nlohmann::json g = ground_metrics();
+  g["ticks"] = 100;  // the last tick reached; the ticks asked come from the plan (record_of)
+  g["uavs_expected"] = uavs.size();
+  g["uavs"] = uavs.size();
+  for (std::size_t u = 0; u < uavs.size(); ++u) {
+    g["uav_status"][std::to_string(u)] = {{"last_tick", uavs[u].first}, {"heard_tick", uavs[u].first},
+                                          {"finished", uavs[u].second}};
+  }
+  return g;
+}
+
+std::vector<ChildProcess> three_uavs() {
+  std::vector<ChildProcess> ps{ended("ground", "ground", 0)};
+  for (uint32_t u = 0; u < 3; ++u) {
+    ps.push_back(ended("uav-" + std::to_string(u), "uav", 0));
+    ps.back().index = u;
+  }
+  return ps;
+}
+
+TEST(MetricsMerge, ASwarmThatFlewUnderNinetyPercentOfTheTicksAskedFailsTheRunWithEight) {
+  // 270 of 300 ticks: exactly 90 %, the run stands.
+  MergedMetrics m = merge_metrics(flown({{100, true}, {100, true}, {70, true}}), record_of(three_uavs(), 100), "m.json");
+  EXPECT_FALSE(m.shortfall.has_value()) << *m.shortfall;
+  EXPECT_EQ(m.exit_code(), 0);
+  // 269 of 300: it does not.
+  m = merge_metrics(flown({{100, true}, {100, true}, {69, true}}), record_of(three_uavs(), 100), "m.json");
+  ASSERT_TRUE(m.shortfall.has_value());
+  EXPECT_EQ(m.exit_code(), 8);
+  EXPECT_EQ(*m.shortfall,
+            "this run did not fly the swarm asked for: the UAVs nobody killed flew 269 of the 300 UAV ticks asked "
+            "for (89.7 %, under the 90 % a run must fly) (exit 8, docs/exit-codes.md)");
+  // The ticks asked come from the plan, not from the ticks reached: asked
+  // 200, the same flight is half of it.
+  m = merge_metrics(flown({{100, true}, {100, true}, {100, true}}), record_of(three_uavs(), 200), "m.json");
+  ASSERT_TRUE(m.shortfall.has_value());
+  EXPECT_NE(m.shortfall->find("flew 300 of the 600 UAV ticks asked for (50.0 %"), std::string::npos) << *m.shortfall;
+  EXPECT_EQ(m.metrics["uav_ticks_asked"], 600);
+  // Without a plan (another host's share) nothing is judged.
+  EXPECT_FALSE(merge_metrics(flown({{1, false}}), record_of(three_uavs()), "m.json").shortfall.has_value());
+  // A crash still says 1: the worse verdict.
+  auto ps = three_uavs();
+  ps[1].exit_code = 4;
+  EXPECT_EQ(merge_metrics(flown({{100, true}, {100, true}, {69, true}}), record_of(ps, 100), "m.json").exit_code(), 1);
+}
+
+TEST(MetricsMerge, AUavThatDidNotFinishFailsTheRunUnlessItWasKilledOnPurpose) {
+  auto ps = three_uavs();
+  MergedMetrics m = merge_metrics(flown({{100, true}, {95, false}, {100, true}}), record_of(ps, 100), "m.json");
+  ASSERT_TRUE(m.shortfall.has_value());
+  EXPECT_EQ(m.exit_code(), 8);
+  EXPECT_NE(m.shortfall->find("uav 1 did not finish and nobody killed it"), std::string::npos) << *m.shortfall;
+  // Killed on purpose: neither its ticks nor its end count against the run.
+  ps[3].killed_on_purpose = true;  // uav-2 (ps[0] is the ground station)
+  ps[3].term_signal = SIGKILL;
+  m = merge_metrics(flown({{100, true}, {100, true}, {10, false}}), record_of(ps, 100), "m.json");
+  EXPECT_FALSE(m.shortfall.has_value()) << *m.shortfall;
+  EXPECT_EQ(m.exit_code(), 0);
+}
+
+TEST(MetricsMerge, AFailedRunsLastLineNamesTheProcessItsCodeAndItsLogsFirstError) {
+  const std::string log = ::testing::TempDir() + "/phm-ground-" + std::to_string(::getpid()) + ".log";
+  std::ofstream(log) << "01:02:03.456 info  [ground] conducting 100 lockstep ticks\n"
+                     << "01:02:04.000 warning [ground] uav 0's state of tick 0 refused as implausible\n"
+                     << "01:03:04.789 error [ground] lockstep tick 1 uav phase: 5 process(es) did not finish within 60 s\n"
+                     << "01:03:05.000 critical [ground] fatal: second\n";
+  ChildProcess c = ended("ground", "ground", 6);
+  c.pid = 4242;
+  EXPECT_EQ(failure_line(c, log),
+            "the run failed: ground (pid 4242) exited with 6; its log's first error: lockstep tick 1 uav phase: 5 "
+            "process(es) did not finish within 60 s (" +
+                log + ")");
+  // Colour codes around the level (a log written to a terminal first).
+  std::ofstream(log) << "01:02:03.456 \x1b[31merror\x1b[m [uav-3] no view\n";
+  EXPECT_EQ(first_error_line(log), std::optional<std::string>("no view"));
+  std::ofstream(log) << "01:02:03.456 info  [uav-3] fine\n";
+  EXPECT_FALSE(first_error_line(log).has_value());
+  EXPECT_NE(failure_line(c, log).find("its log has no error line"), std::string::npos);
+  std::remove(log.c_str());
+}
+
 TEST(MetricsMerge, AProcessKilledByASignalNobodySentFailsTheRun) {
   std::vector<ChildProcess> ps{ended("ground", "ground", 0), ended("uav-0", "uav", -1, SIGKILL)};
   const MergedMetrics m = merge_metrics(ground_metrics(), record_of(ps), "out/metrics.json");
@@ -135,10 +224,10 @@ TEST(MetricsMerge, AProcessSigkilledAfterIgnoringSigtermIsReportedAsSuchNotAsACr
 
 TEST(MetricsMerge, AProcessThatExitedWithAnErrorFailsTheRunAndOneAskedToStopDoesNot) {
   std::vector<ChildProcess> ps{ended("ground", "ground", 0), ended("place-1", "place", 4)};
-  EXPECT_EQ(merge_metrics(ground_metrics(), record_of(ps), "m.json").exit_code(), 1);
+  EXPECT_EQ(merge_metrics(ground_metrics(), record_of(ps, 100), "m.json").exit_code(), 1);
   ps[1].exit_code = 0;
   ps[1].asked_to_stop = true;
-  EXPECT_EQ(merge_metrics(ground_metrics(), record_of(ps), "m.json").exit_code(), 0);
+  EXPECT_EQ(merge_metrics(ground_metrics(), record_of(ps, 100), "m.json").exit_code(), 0);
 }
 
 TEST(MetricsMerge, AMissingGroundStationFileFailsTheRunOnlyOnTheGroundStationsHost) {

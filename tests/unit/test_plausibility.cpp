@@ -166,6 +166,32 @@ TEST(Plausibility, ADetectionMustBeOfARealTargetNearTheReportingUav) {
   EXPECT_FALSE(check_detection({2, 10, 0, {3, 4}}, targets, &later, 4.0, 1.5));
 }
 
+TEST(Plausibility, ADepositBeyondItsUavsReachFromItsLastAcceptedStateIsRefused) {
+  const Cell start{1, 1};
+  DepositMsg d;
+  d.uav = 0;
+  d.tick = 10;
+  // From the last accepted state of the same tick: reach 4 + one step 1.5 + slack 1.5 = 7.
+  const UavStateMsg at = state_at(0, 10, 5, 5);
+  d.cell = {12, 5};
+  EXPECT_FALSE(check_deposit_reach(d, &at, start, 1.5, 4.0));
+  d.cell = {15, 5};  // 10 cells away: the forged deposit
+  expect_reason(check_deposit_reach(d, &at, start, 1.5, 4.0), "cells from its last accepted state");
+  // Two ticks after the last accepted state: 3 more cells.
+  d.tick = 12;
+  d.cell = {15, 5};
+  EXPECT_FALSE(check_deposit_reach(d, &at, start, 1.5, 4.0));
+  // No state accepted yet: from the start cell in tick + 1 ticks.
+  d.tick = 0;
+  d.cell = {8, 1};  // 7 <= 4 + 1.5 + 1.5
+  EXPECT_FALSE(check_deposit_reach(d, nullptr, start, 1.5, 4.0));
+  d.cell = {9, 1};
+  expect_reason(check_deposit_reach(d, nullptr, start, 1.5, 4.0), "from its start cell");
+  // An infinite reach (Duan's mesh-wide marks) judges nothing.
+  d.cell = {29, 29};
+  EXPECT_FALSE(check_deposit_reach(d, nullptr, start, 1.5, std::numeric_limits<double>::infinity()));
+}
+
 TEST(Plausibility, RefusalCountsSaturateAndNameEveryReason) {
   RefusalCounts c;
   c.add(Refusal::ForeignClock);
@@ -177,7 +203,7 @@ TEST(Plausibility, RefusalCountsSaturateAndNameEveryReason) {
   for (std::size_t i = 0; i < kRefusalCount; ++i) names.emplace_back(refusal_name(static_cast<Refusal>(i)));
   EXPECT_EQ(names, (std::vector<std::string>{"unknown_uav", "seq_far_ahead", "tick_far_ahead", "value_out_of_range",
                                              "foreign_clock", "implausible_detection", "implausible_state",
-                                             "foreign_writer"}));
+                                             "foreign_writer", "implausible_deposit"}));
 }
 
 // --------------------------------------------------------- the place agent
@@ -208,6 +234,34 @@ TEST(PlacePlausibility, DepositsOfUavIdsOutsideTheSwarmAreRejectedAndCounted) {
   EXPECT_EQ(p.ledger().rejected_by_reason.at("uav id outside the swarm"), 2U);
   ASSERT_EQ(why.size(), 2U);
   EXPECT_NE(why[0].find("uav 4 seq 1"), std::string::npos) << why[0];
+}
+
+TEST(PlacePlausibility, AForgedDepositTenCellsFromItsUavIsRejectedRefusedAndDoesNotLatchItsSeq) {
+  const ScenarioConfig s = small_test();
+  PlaceCore p(s, 0);
+  const UavStateMsg at = state_at(0, 0, 2, 2);
+  const PlaceCore::DepositReach reach = [&](const DepositMsg& d) {
+    return check_deposit_reach(d, &at, {1, 1}, 1.5, s.aco.sensor_radius);
+  };
+  DepositMsg forged = visit(0, 1, 0);
+  forged.cell = {12, 2};  // 10 cells from (2, 2)
+  std::vector<DepositMsg> in{forged};
+  std::vector<TargetEventMsg> events;
+  p.begin_tick(in, 0, events, nullptr, &reach);
+  EXPECT_EQ(p.ledger().received, 1U);
+  EXPECT_EQ(p.ledger().applied, 0U);
+  EXPECT_EQ(p.ledger().rejected(), 1U);
+  EXPECT_EQ(p.ledger().refused[Refusal::ImplausibleDeposit], 1U);
+  EXPECT_EQ(p.value(static_cast<int>(0), {12, 2}), 0.0F);
+  // The real UAV's deposit with the same seq at its own cell still lands.
+  std::vector<DepositMsg> real{visit(0, 1, 1)};
+  p.begin_tick(real, 1, events, nullptr, &reach);
+  EXPECT_EQ(p.ledger().applied, 1U);
+  // Guard: without the judge the forged one is applied.
+  PlaceCore open(s, 0);
+  std::vector<DepositMsg> again{forged};
+  open.begin_tick(again, 0, events);
+  EXPECT_EQ(open.ledger().applied, 1U);
 }
 
 TEST(PlacePlausibility, ASequenceNumberFarAheadDoesNotLockTheUavOut) {

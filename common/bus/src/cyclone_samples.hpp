@@ -80,6 +80,7 @@ inline pheromesh_msg_UavState state_out(const core::UavStateMsg& m) {
                            m.deposits_unconfirmed,
                            {},
                            m.departed,
+                           m.implausible,
                            {}};  // deposits: only the UavState topic's writer sets them (Convert below)
   std::copy(m.refused.begin(), m.refused.end(), s.refused);
   return s;
@@ -115,6 +116,7 @@ inline core::UavStateMsg state_in(const pheromesh_msg_UavState& s) {
   m.deposits_unconfirmed = s.deposits_unconfirmed;
   std::copy(std::begin(s.refused), std::end(s.refused), m.refused.begin());
   m.departed = s.departed;
+  m.implausible = s.implausible;
   return m;
 }
 

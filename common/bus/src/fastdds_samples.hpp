@@ -95,6 +95,7 @@ inline core::UavStateMsg state_in(const msg::UavState& s) {
   m.deposits_unconfirmed = s.deposits_unconfirmed();
   std::copy(s.refused().begin(), s.refused().end(), m.refused.begin());
   m.departed = s.departed();
+  m.implausible = s.implausible();
   return m;
 }
 
@@ -120,6 +121,7 @@ inline msg::UavState state_out(const core::UavStateMsg& m) {
   s.tick_gaps_over_2(m.tick_gaps_over_2);
   std::copy(m.refused.begin(), m.refused.end(), s.refused().begin());
   s.departed(m.departed);
+  s.implausible(m.implausible);
   return s;
 }
 

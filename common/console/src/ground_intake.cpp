@@ -311,12 +311,24 @@ void GroundIntake::on_states(const std::vector<core::UavStateMsg>& states, Clock
     }
     const bool was_lost = heard(Who::Uav, s.uav, now, new_life);
     p_.conductor.heard_from(s.uav, now);
-    const bool back = s.finished ? p_.conductor.on_uav_finished(s.uav)
-                                 : p_.conductor.on_uav_state(s.uav, s.tick, geo_.tile_of(core::state_cell(s)));
+    if (s.implausible) note_refused_state(s);
+    const bool back = s.finished       ? p_.conductor.on_uav_finished(s.uav)
+                      : s.implausible ? p_.conductor.on_uav_refused(s.uav, s.tick)
+                                      : p_.conductor.on_uav_state(s.uav, s.tick, geo_.tile_of(core::state_cell(s)));
     if (back && was_lost && !s.finished) note(Kind::UavBack, Level::Info, text("uav ", s.uav, " is back at tick ", s.tick));
     p_.frames.heard_uav(s.uav, now);
-    if (uncertainty_ != nullptr && !s.finished) uncertainty_->observe(core::state_cell(s), s.tick);
+    if (uncertainty_ != nullptr && !s.finished && !s.implausible) uncertainty_->observe(core::state_cell(s), s.tick);
   }
+}
+
+void GroundIntake::note_refused_state(const core::UavStateMsg& s) {
+  // The first of each UAV, as its gateway refused it (the run's summary
+  // says how many: core::refused_states_summary).
+  const auto& all = p_.rec.refused_states();
+  auto it = all.find(s.uav);
+  if (it == all.end() || it->second.count != 1 || it->second.last_tick != s.tick) return;
+  if (++states_refused_noted_ > 5) return;
+  note(Kind::StateRefused, Level::Warn, core::describe_first_refusal(it->second, s.uav, p_.rec.max_step()));
 }
 
 void GroundIntake::on_broadcasts(const std::vector<core::BroadcastMsg>& broadcasts, Clock::time_point now) {

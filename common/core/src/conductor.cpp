@@ -86,6 +86,13 @@ bool LockstepConductor::on_uav_state(uint32_t uav, uint32_t tick, TileCoord tile
   return departed_since_.erase(uav) > 0;
 }
 
+bool LockstepConductor::on_uav_refused(uint32_t uav, uint32_t tick) {
+  if (dropped_.contains(uav)) return false;
+  refused_[tick].insert(uav);
+  trim(refused_);
+  return departed_since_.erase(uav) > 0;
+}
+
 bool LockstepConductor::on_uav_finished(uint32_t uav) { return !dropped_.contains(uav) && departed_since_.erase(uav) > 0; }
 
 void LockstepConductor::on_broadcast(uint32_t uav, uint32_t tick) {
@@ -205,6 +212,12 @@ LockstepConductor::Status LockstepConductor::status(Clock::time_point now) {
     states_reported_.clear();
     lost_this_tick_ = 0;
     auto pos = positions_.find(tick_);
+    auto refused = refused_.find(tick_);
+    // Its state, or its gateway's refusal of it (an answer too).
+    const auto answered = [&](uint32_t id) {
+      return (pos != positions_.end() && pos->second.contains(id)) ||
+             (refused != refused_.end() && refused->second.contains(id));
+    };
     for (uint32_t id = 0; id < count; ++id) {
       auto it = done_.find(process_key(role, id));
       if (!waited_for_uav(id, now) || it == done_.end()) continue;
@@ -221,7 +234,7 @@ LockstepConductor::Status LockstepConductor::status(Clock::time_point now) {
           deposits_reported_[rc.region] += rc.count;
         }
       }
-      if (pos == positions_.end() || !pos->second.contains(id)) ++s.waiting;
+      if (!answered(id)) ++s.waiting;
     }
     auto b = broadcasters_.find(tick_);
     if ((b == broadcasters_.end() ? 0U : static_cast<uint32_t>(b->second.size())) < broadcasts) ++s.waiting;

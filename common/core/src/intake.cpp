@@ -61,6 +61,37 @@ IntakeVerdict check_home_state(const UavStateMsg& s, const UavStateMsg* before, 
   return IntakeVerdict::take();
 }
 
+StateGate::Judged StateGate::judge(const UavStateMsg& s, const UavStateMsg* before, Cell start, double max_step,
+                                   uint32_t ceiling, const IntakeRules& r) {
+  Judged j{check_home_state(s, before, start, max_step, ceiling, r)};
+  // A taken state of a tick before the last accepted one starts a new life
+  // (a restarted UAV counts ticks from 0 again): what its earlier life had
+  // refused is no answer of this one.
+  if (j.verdict.taken() && before != nullptr && s.tick < before->tick) refused_tick_.erase(s.uav);
+  if (j.verdict.kind != IntakeVerdict::Kind::Refuse || j.verdict.refusal != Refusal::ImplausibleState) return j;
+  j.refused_motion = true;
+  auto [it, fresh] = refused_tick_.try_emplace(s.uav, s.tick);
+  if (!fresh && s.tick <= it->second) {
+    j.copy = true;
+  } else {
+    it->second = s.tick;
+  }
+  return j;
+}
+
+std::optional<uint32_t> StateGate::refused_tick(uint32_t uav) const {
+  auto it = refused_tick_.find(uav);
+  if (it == refused_tick_.end()) return std::nullopt;
+  return it->second;
+}
+
+UavStateMsg refused_answer(const UavStateMsg& s) {
+  UavStateMsg a = s;
+  a.implausible = true;
+  a.deposits.clear();
+  return a;
+}
+
 IntakeVerdict check_field_chunk(const FieldMsg& f, uint32_t ceiling, const IntakeRules& r) {
   bool ok = f.region < r.geo.region_count();
   for (const auto& t : f.tiles) ok = ok && !check_tile(t, r.geo, r.layers);

@@ -26,7 +26,7 @@ PlaceCore::PlaceCore(const ScenarioConfig& scenario, RegionId region)
 }
 
 HaloRing PlaceCore::begin_tick(std::vector<DepositMsg>& deposits, uint32_t tick, std::vector<TargetEventMsg>& events,
-                               std::vector<std::string>* rejections) {
+                               std::vector<std::string>* rejections, const DepositReach* reach) {
   // Canonical order (DESIGN.md, "Time"): by UAV id, then sequence number.
   std::sort(deposits.begin(), deposits.end(),
             [](const auto& a, const auto& b) { return a.uav != b.uav ? a.uav < b.uav : a.seq < b.seq; });
@@ -45,6 +45,12 @@ HaloRing PlaceCore::begin_tick(std::vector<DepositMsg>& deposits, uint32_t tick,
     if (!reason && check_seq_reachable(d.seq, last, tick - (last ? std::min(it->second.tick, tick) : 0))) {
       reason = "sequence number far ahead of the uav's";
       ledger_.refused.add(Refusal::SeqFarAhead);
+    }
+    // Where it lands (after the sequence number: a forged far-ahead seq is
+    // counted as such), before its seq is latched.
+    if (!reason && reach != nullptr && *reach && (*reach)(d)) {
+      reason = "out of its uav's reach (check_deposit_reach)";
+      ledger_.refused.add(Refusal::ImplausibleDeposit);
     }
     if (!reason) {
       last_seq_[d.uav] = {d.seq, tick};

@@ -24,6 +24,8 @@ const char* refusal_name(Refusal r) {
       return "implausible_state";
     case Refusal::ForeignWriter:
       return "foreign_writer";
+    case Refusal::ImplausibleDeposit:
+      return "implausible_deposit";
   }
   return "unknown";
 }
@@ -110,6 +112,21 @@ std::optional<std::string> check_state_motion(const UavStateMsg& s, const UavSta
   return "uav " + std::to_string(s.uav) + " at (" + std::to_string(s.x) + ", " + std::to_string(s.y) + ") at tick " +
          std::to_string(s.tick) + " is further from " + (last == nullptr ? "its start" : "its last state") +
          " than it can fly at " + std::to_string(max_step) + " cells per tick";
+}
+
+std::optional<std::string> check_deposit_reach(const DepositMsg& d, const UavStateMsg* last, Cell start,
+                                               double max_step, double reach) {
+  if (!std::isfinite(reach)) return std::nullopt;
+  const double x0 = last != nullptr ? last->x : start.x;
+  const double y0 = last != nullptr ? last->y : start.y;
+  const uint32_t ticks = last == nullptr ? d.tick : (d.tick >= last->tick ? d.tick - last->tick : last->tick - d.tick);
+  const double allowed = reach + max_step * static_cast<double>(ticks + 1) + kMotionSlackCells;
+  const double dist = distance(x0, y0, d.cell.x, d.cell.y);
+  if (dist <= allowed) return std::nullopt;
+  return "a deposit of uav " + std::to_string(d.uav) + " at (" + std::to_string(d.cell.x) + ", " +
+         std::to_string(d.cell.y) + ") at tick " + std::to_string(d.tick) + ", " + std::to_string(dist) +
+         " cells from " + (last == nullptr ? "its start cell" : "its last accepted state") + " (it reaches " +
+         std::to_string(allowed) + ")";
 }
 
 std::optional<std::string> check_detection(const DetectionMsg& d, std::span<const Cell> targets,

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <tuple>
 
@@ -41,6 +42,10 @@ bool RunRecorder::on_uav_state(const UavStateMsg& s) {
     refused_.add(Refusal::TickFarAhead);
     return false;
   }
+  if (s.implausible) {
+    on_refused_state(s);
+    return true;
+  }
   auto found = uavs_.find(s.uav);
   const bool known = found != uavs_.end() && found->second.heard;
   if (known && stale_copy(s, found->second)) {
@@ -71,8 +76,10 @@ bool RunRecorder::on_uav_state(const UavStateMsg& s) {
   // its earlier life's deposits still count.
   if (starts_new_life(s)) u.earlier_lives_deposits += u.last.deposits_sent;
   // Not a stale copy (above): a tick that went back is a new life.
-  if (!u.recent.empty() && s.tick <= u.recent.back().tick) u.recent.clear();
+  const bool new_life = !u.recent.empty() && s.tick <= u.recent.back().tick;
+  if (new_life) u.recent.clear();
   u.last = s;
+  u.heard_tick = new_life ? s.tick : std::max(u.heard_tick, s.tick);
   if (u.recent.empty() || s.tick > u.recent.back().tick) {
     u.recent.push_back({s.tick, static_cast<float>(s.x), static_cast<float>(s.y)});
     if (u.recent.size() > UavStatus::kRecentFixes) u.recent.pop_front();
@@ -83,16 +90,65 @@ bool RunRecorder::on_uav_state(const UavStateMsg& s) {
   coverage_.observe(state_cell(s), s.tick);
   count_in_series(s.uav, s.tick, s.deposits_sent + u.earlier_lives_deposits);
   if (keep_tracks_) tracks_.push_back({s.tick, s.uav, s.x, s.y, s.role});
-  // The detections of this UAV that waited for this state.
+  release_pending(u, s.uav, s.tick);
+  return true;
+}
+
+void RunRecorder::release_pending(const UavStatus& u, uint32_t uav, uint32_t tick) {
+  // The detections of this UAV that waited for its state of their tick.
   auto ready = std::stable_partition(pending_.begin(), pending_.end(),
-                                     [&](const DetectionMsg& d) { return d.uav != s.uav || d.tick > s.tick; });
+                                     [&](const DetectionMsg& d) { return d.uav != uav || d.tick > tick; });
   std::vector<DetectionMsg> now(ready, pending_.end());
   pending_.erase(ready, pending_.end());
   for (const auto& d : now) {
+    if (!u.heard) {
+      judge(d, nullptr);
+      continue;
+    }
     const UavStateMsg seen = nearest_state(u, d.tick);
     judge(d, &seen);
   }
-  return true;
+}
+
+void RunRecorder::on_refused_state(const UavStateMsg& s) {
+  auto [it, fresh] = uavs_.try_emplace(s.uav);
+  UavStatus& u = it->second;
+  if (fresh) u.last.uav = s.uav;
+  RefusedStates& r = refused_states_[s.uav];
+  if (r.count == 0) {
+    r.first = s;
+    r.from_start = !u.heard;
+    r.accepted = u.last;
+    r.start = uav_start(*scenario_, traits_, s.uav);
+  }
+  if (r.count == 0 || s.tick > r.last_tick) {
+    ++r.count;
+    r.last_tick = s.tick;
+  }
+  // An older copy changes nothing (RunRecorder::stale_copy).
+  if (u.heard && s.tick < u.last.tick) return;
+  // The UAV's own counters are true whatever its position: deposits sent
+  // (the run's accounting), samples, its refusals, whether it finished.
+  u.last.deposits_sent = s.deposits_sent;
+  u.last.tile_samples_received = s.tile_samples_received;
+  u.last.samples_received = s.samples_received;
+  u.last.ticks_late = s.ticks_late;
+  u.last.tick_gap_max_ms = s.tick_gap_max_ms;
+  u.last.tick_gaps_over_2 = s.tick_gaps_over_2;
+  u.last.deposits_unconfirmed = s.deposits_unconfirmed;
+  u.last.refused = s.refused;
+  u.alive = true;
+  u.finished = u.finished || s.finished;
+  u.heard_tick = std::max(u.heard_tick, s.tick);
+  max_tick_ = std::max(max_tick_, s.tick);
+  count_in_series(s.uav, s.tick, s.deposits_sent + u.earlier_lives_deposits);
+  release_pending(u, s.uav, s.tick);
+}
+
+uint64_t RunRecorder::states_refused() const {
+  uint64_t n = 0;
+  for (const auto& [uav, r] : refused_states_) n += r.count;
+  return n;
 }
 
 UavStateMsg RunRecorder::nearest_state(const UavStatus& u, uint32_t tick) {
@@ -441,6 +497,39 @@ uint64_t RunRecorder::deposits_sent() const {
   uint64_t sent = 0;
   for (const auto& [id, u] : uavs_) sent += u.last.deposits_sent + u.earlier_lives_deposits;
   return sent;
+}
+
+RefusedMove first_refused_move(const RunRecorder::RefusedStates& r) {
+  // As check_state_motion judged it (plausibility.hpp): from the start cell
+  // in tick + 1 ticks (tick 0 is after the first move), else from the last
+  // accepted state in the ticks between.
+  const double x0 = r.from_start ? r.start.x : r.accepted.x;
+  const double y0 = r.from_start ? r.start.y : r.accepted.y;
+  const uint32_t ticks = r.from_start ? r.first.tick + 1
+                                      : (r.first.tick >= r.accepted.tick ? r.first.tick - r.accepted.tick
+                                                                         : r.accepted.tick - r.first.tick);
+  return {std::hypot(r.first.x - x0, r.first.y - y0), std::max<uint32_t>(ticks, 1)};
+}
+
+namespace {
+std::string short_number(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.3g", v);
+  return buf;
+}
+}  // namespace
+
+std::string describe_first_refusal(const RunRecorder::RefusedStates& r, uint32_t uav, double max_step) {
+  return describe_refusal(uav, r.first.tick, first_refused_move(r), r.from_start, max_step);
+}
+
+std::string describe_refusal(uint32_t uav, uint32_t tick, RefusedMove m, bool from_start, double max_step) {
+  const double allowed = max_step * m.ticks + kMotionSlackCells;
+  return "uav " + std::to_string(uav) + "'s state of tick " + std::to_string(tick) +
+         " refused as implausible: it moved " + short_number(m.cells) + " cells in " +
+         (m.ticks == 1 ? std::string("one tick") : std::to_string(m.ticks) + " ticks") + " from " +
+         (from_start ? "its start cell" : "its last accepted state") + " (max_step " + short_number(max_step) +
+         " allows " + short_number(allowed) + " with the slack of " + short_number(kMotionSlackCells) + ")";
 }
 
 }  // namespace pheromesh::core

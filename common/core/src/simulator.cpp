@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <string>
+#include <utility>
 
 namespace pheromesh::core {
 
@@ -17,6 +18,45 @@ Simulator::Simulator(ScenarioConfig scenario)
   inbox_.resize(places_.size());
   last_rings_.resize(places_.size());
   for (RegionId r = 0; r < places_.size(); ++r) last_rings_[r].region = r;  // before its first tick: no ring
+  traits_ = policy_traits(scenario_);
+  gates_.resize(places_.size());
+  gate_refused_.resize(places_.size());
+  empty_view_.assign(uavs_.size(), 0);
+}
+
+bool Simulator::through_gateway(RegionId gateway, UavStateMsg s, uint32_t tick) {
+  // As the place agent's take_home_states (placeagent/place_tick.cpp).
+  const IntakeRules rules{geo_, places_.front()->layer_count(), traits_.layer_ranges, scenario_.uavs};
+  auto it = accepted_.find({gateway, s.uav});
+  const UavStateMsg* before = it == accepted_.end() ? nullptr : &it->second;
+  const auto judged = gates_[gateway].judge(s, before, uav_start(scenario_, traits_, s.uav), traits_.max_step,
+                                            lockstep_tick_ceiling(tick), rules);
+  if (judged.refused_motion) {
+    if (!judged.copy) gate_refused_[gateway].add(Refusal::ImplausibleState);
+    empty_view_[s.uav] = 1;
+    recorder_.on_uav_state(refused_answer(s));
+    return false;
+  }
+  if (!judged.verdict.taken()) {
+    // Malformed (a policy that reports a position off the map): the
+    // recorder rejects it too.
+    recorder_.on_uav_state(s);
+    return false;
+  }
+  accepted_[{gateway, s.uav}] = s;
+  last_accepted_[s.uav] = s;
+  recorder_.on_uav_state(s);
+  return true;
+}
+
+HealthMsg Simulator::health_of(const PlaceCore& p, uint32_t tick, bool final) const {
+  const auto& l = p.ledger();
+  HealthMsg h{p.region(), tick, 0.0F, l.received, l.applied, l.rejected(), 0, final};
+  RefusalCounts all = l.refused;
+  const RefusalCounts& gate = gate_refused_[p.region()];
+  for (std::size_t i = 0; i < kRefusalCount; ++i) all.add(static_cast<Refusal>(i), gate.n[i]);
+  h.refused = all.n;
+  return h;
 }
 
 Result<std::vector<std::string>> Simulator::set_faults(const FaultSchedule& schedule, bool standby) {
@@ -146,10 +186,7 @@ void Simulator::step(uint32_t tick) {
     recorder_.on_place_killed(frozen);
     if (frozen) {
       // Its last health record: the ledger as it stopped.
-      const auto& l = places_[r]->ledger();
-      HealthMsg h{r, tick == 0 ? 0 : tick - 1, 0.0F, l.received, l.applied, l.rejected(), 0, false};
-      h.refused = l.refused.n;
-      recorder_.on_health(h);
+      recorder_.on_health(health_of(*places_[r], tick == 0 ? 0 : tick - 1, false));
     }
   }
   // UAV phase: every UAV sees the tiles of its neighbourhood as the place
@@ -169,8 +206,12 @@ void Simulator::step(uint32_t tick) {
     // else its backup): empty if both were dead.
     const auto dead_at = [&](uint32_t k) { return [this, k](RegionId r) { return region_dead(r, k); }; };
     const bool blind = tick > 0 && !gateway_region(id, regions, dead_at(tick - 1));
+    const bool empty_view = std::exchange(empty_view_[i], uint8_t{0}) != 0;
     if (tick > 0) {
-      if (!blind) {
+      if (!blind && empty_view) {
+        // Its state of tick k-1 was refused: its gateway sent an empty view.
+        u.begin_view();
+      } else if (!blind) {
         u.begin_view();
         for (const TileCoord& t : u.neighbourhood()) {
           auto it = tiles_.find({t.tx, t.ty});
@@ -190,8 +231,8 @@ void Simulator::step(uint32_t tick) {
     ++uav_steps_;
     // The gateway publishes this state with its field of tick k; with no
     // live gateway nobody does.
-    const bool cut_off = !gateway_region(id, regions, dead_at(tick));
-    if (!cut_off) states.push_back(out.state);
+    const auto gateway = gateway_region(id, regions, dead_at(tick));
+    const bool cut_off = !gateway;
     if (out.broadcast) broadcasts.push_back(*out.broadcast);
     for (const DepositMsg& d : out.deposits) {
       // Lost (no place agent to forward or apply it): RunRecorder::deposits_lost
@@ -202,7 +243,11 @@ void Simulator::step(uint32_t tick) {
     for (const DetectionMsg& d : out.detections) recorder_.on_detection(d);
     out.state.deposits_sent = deposits_sent_[i];
     out.state.tile_samples_received = tile_samples_[i];
-    recorder_.on_uav_state(out.state);
+    if (cut_off) {
+      recorder_.on_uav_state(out.state);  // heard, though no view shows it
+    } else if (through_gateway(*gateway, out.state, tick)) {
+      states.push_back(out.state);
+    }
   }
   states_by_tile_.clear();
   for (const UavStateMsg& s : states) {
@@ -224,7 +269,13 @@ void Simulator::step(uint32_t tick) {
       rings.push_back(last_rings_[r]);
       continue;
     }
-    HaloRing ring = places_[r]->begin_tick(inbox_[r], tick, events);
+    // Each deposit where its UAV can have put it (as the place agents judge it).
+    const PlaceCore::DepositReach reach = [this](const DepositMsg& d) {
+      auto it = last_accepted_.find(d.uav);
+      return check_deposit_reach(d, it == last_accepted_.end() ? nullptr : &it->second,
+                                 uav_start(scenario_, traits_, d.uav), traits_.max_step, traits_.deposit_reach);
+    };
+    HaloRing ring = places_[r]->begin_tick(inbox_[r], tick, events, nullptr, &reach);
     rings.push_back({region, tick, std::move(ring.target), std::move(ring.obstacle)});
     inbox_[r].clear();
   }
@@ -248,10 +299,7 @@ void Simulator::step(uint32_t tick) {
   // publishes it after its place phase (the per-tick ledger of series.csv).
   for (const auto& p : places_) {
     if (region_dead(p->region(), tick)) continue;
-    const auto& l = p->ledger();
-    HealthMsg h{p->region(), tick, 0.0F, l.received, l.applied, l.rejected(), 0, false};
-    h.refused = l.refused.n;
-    recorder_.on_health(h);
+    recorder_.on_health(health_of(*p, tick, false));
   }
   next_tick_ = tick + 1;
 }
@@ -278,19 +326,25 @@ bool Simulator::finish() {
   // (a dead region's stays the one recorded when it died).
   for (const auto& p : places_) {
     if (region_dead(p->region(), scenario_.ticks)) continue;
-    const auto& l = p->ledger();
-    HealthMsg h{p->region(), scenario_.ticks, 0.0F, l.received, l.applied, l.rejected(), 0, true};
-    h.refused = l.refused.n;
-    recorder_.on_health(h);
+    recorder_.on_health(health_of(*p, scenario_.ticks, true));
   }
   for (std::size_t i = 0; i < uavs_.size(); ++i) {
-    if (uav_gone(static_cast<uint32_t>(i), scenario_.ticks)) continue;  // its last state stays the last it sent
+    const auto id = static_cast<uint32_t>(i);
+    if (uav_gone(id, scenario_.ticks)) continue;  // its last state stays the last it sent
     UavStateMsg s = uavs_[i]->last_state();
     s.tick = scenario_.ticks;
     s.deposits_sent = deposits_sent_[i];
     s.tile_samples_received = tile_samples_[i];
     s.finished = true;
-    recorder_.on_uav_state(s);
+    // Through its gateway as every state (a copy of a refused one is
+    // answered again, not counted).
+    const auto dead_at_end = [this](RegionId r) { return region_dead(r, scenario_.ticks); };
+    const auto gateway = gateway_region(id, static_cast<uint32_t>(places_.size()), dead_at_end);
+    if (gateway) {
+      (void)through_gateway(*gateway, s, scenario_.ticks);
+    } else {
+      recorder_.on_uav_state(s);
+    }
   }
   recorder_.set_field_summary(field_summary(scenario_, [this](int layer, Cell c) { return field_value(layer, c); }));
   return true;
@@ -314,5 +368,23 @@ bool Simulator::gather_layer(int layer, std::span<float> out) const {
 }
 
 int Simulator::layer_count() const { return places_.front()->layer_count(); }
+
+std::vector<std::string> max_step_trial(ScenarioConfig scenario, uint32_t ticks) {
+  scenario.ticks = std::min(scenario.ticks, ticks);
+  scenario.faults = {};
+  std::vector<std::string> out;
+  try {
+    Simulator sim(std::move(scenario));
+    sim.run();
+    const RunRecorder& r = sim.recorder();
+    for (const auto& [uav, refused] : r.refused_states()) {
+      out.push_back(describe_first_refusal(refused, uav, r.max_step()) + "; " + std::to_string(refused.count) +
+                    " of its states refused in a trial of " + std::to_string(sim.scenario().ticks) + " ticks");
+    }
+  } catch (const std::exception& e) {
+    out.push_back(std::string("the trial of max_step could not fly the policy: ") + e.what());
+  }
+  return out;
+}
 
 }  // namespace pheromesh::core

@@ -123,6 +123,20 @@ nlohmann::json metrics_json(const core::RunRecorder& r, const RunInfo& info) {
   }
   j["refused"] = refused;
   j["refused_by"] = refused_by;
+  // The states each UAV's gateway refused as implausible (the same in the
+  // simulator and the processes: core::StateGate), for the run's summary.
+  if (!r.refused_states().empty()) {
+    nlohmann::json states = {{"max_step", r.max_step()}, {"total", r.states_refused()}, {"uavs", nlohmann::json::object()}};
+    for (const auto& [uav, rs] : r.refused_states()) {
+      const core::RefusedMove m = core::first_refused_move(rs);
+      states["uavs"][std::to_string(uav)] = {{"count", rs.count},
+                                            {"first_tick", rs.first.tick},
+                                            {"moved_cells", m.cells},
+                                            {"in_ticks", m.ticks},
+                                            {"from", rs.from_start ? "start" : "last_accepted"}};
+    }
+    j["states_refused"] = states;
+  }
   // The launcher owns process accounting and overwrites these two.
   j["processes_killed"] = 0;
   j["processes_crashed"] = 0;
@@ -132,6 +146,7 @@ nlohmann::json metrics_json(const core::RunRecorder& r, const RunInfo& info) {
   for (const auto& [id, u] : r.uavs()) {
     nlohmann::json& status = per_uav[std::to_string(id)];
     status = {{"last_tick", u.last.tick},
+              {"heard_tick", u.heard_tick},
               {"x", u.last.x},
               {"y", u.last.y},
               {"role", core::role_name(u.last.role)},
@@ -146,7 +161,7 @@ nlohmann::json metrics_json(const core::RunRecorder& r, const RunInfo& info) {
     }
     samples += u.last.samples_received;
     tile_samples += u.last.tile_samples_received;
-    uav_ticks += u.last.tick;
+    uav_ticks += u.heard_tick;  // a refused state's tick was flown too
     ticks_late += u.last.ticks_late;
     if (u.last.tick > 0) late_share_max = std::max(late_share_max, static_cast<double>(u.last.ticks_late) / u.last.tick);
   }
@@ -215,6 +230,60 @@ nlohmann::json metrics_json(const core::RunRecorder& r, const RunInfo& info) {
   for (const auto& [k, v] : r.field_summary()) field[k] = v;
   j["field"] = field;
   return j;
+}
+
+std::vector<std::string> refused_state_lines(const nlohmann::json& m) {
+  std::vector<std::string> out;
+  const auto it = m.find("states_refused");
+  if (it == m.end() || !it->is_object()) return out;
+  const auto number = [](double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.3g", v);
+    return std::string(buf);
+  };
+  const double max_step = it->value("max_step", 0.0);
+  const auto& uavs = it->value("uavs", nlohmann::json::object());
+  constexpr std::size_t kLines = 4;
+  std::size_t shown = 0;
+  uint64_t rest = 0;
+  for (const auto& [uav, u] : uavs.items()) {
+    const uint64_t count = u.value("count", uint64_t{0});
+    if (shown++ >= kLines) {
+      rest += count;
+      continue;
+    }
+    const uint32_t ticks = u.value("in_ticks", 1U);
+    out.push_back("uav " + uav + "'s policy moved " + number(u.value("moved_cells", 0.0)) + " cells in " +
+                  (ticks == 1 ? std::string("one tick") : std::to_string(ticks) + " ticks") + " (max_step " +
+                  number(max_step) + "): " + std::to_string(count) + " state" + (count == 1 ? "" : "s") +
+                  " refused, the first at tick " + std::to_string(u.value("first_tick", 0U)));
+  }
+  if (shown > kLines) {
+    out.push_back("and " + std::to_string(shown - kLines) + " more uavs: " + std::to_string(rest) + " states refused");
+  }
+  out.push_back(std::to_string(it->value("total", uint64_t{0})) +
+                " states refused as implausible in all: their positions count nowhere (docs/writing-a-policy.md, "
+                "\"How far a UAV may fly\")");
+  return out;
+}
+
+std::optional<std::string> first_refusal_line(const nlohmann::json& m) {
+  const auto it = m.find("states_refused");
+  if (it == m.end() || !it->is_object()) return std::nullopt;
+  std::optional<std::string> line;
+  uint32_t earliest = 0;
+  uint32_t first_uav = 0;
+  const nlohmann::json uavs = it->value("uavs", nlohmann::json::object());  // a copy: items() must not outlive it
+  for (const auto& [uav, u] : uavs.items()) {
+    const uint32_t tick = u.value("first_tick", 0U);
+    const auto id = static_cast<uint32_t>(std::stoul(uav));
+    if (line && (tick > earliest || (tick == earliest && id > first_uav))) continue;
+    earliest = tick;
+    first_uav = id;
+    line = core::describe_refusal(id, tick, {u.value("moved_cells", 0.0), u.value("in_ticks", 1U)},
+                                  u.value("from", std::string("start")) == "start", it->value("max_step", 0.0));
+  }
+  return line;
 }
 
 bool write_field(const std::string& path, const core::MapGeometry& geo, const std::vector<std::string>& layers,

@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <spdlog/sinks/stdout_color_sinks.h>
+#include <spdlog/sinks/stdout_sinks.h>
+#include <sys/stat.h>
 #include <spdlog/spdlog.h>
 
 #include <chrono>
@@ -142,8 +144,22 @@ core::Result<core::ScenarioConfig> scenario_from_message(const core::ScenarioMsg
   return s;
 }
 
+bool streams_differ(int a, int b) {
+  struct stat sa {};
+  struct stat sb {};
+  if (fstat(a, &sa) != 0 || fstat(b, &sb) != 0) return false;
+  return sa.st_dev != sb.st_dev || sa.st_ino != sb.st_ino;
+}
+
 std::shared_ptr<spdlog::logger> make_logger(const std::string& name, const std::string& level) {
-  auto logger = spdlog::stderr_color_mt(name);
+  std::vector<spdlog::sink_ptr> sinks{std::make_shared<spdlog::sinks::stderr_color_sink_mt>()};
+  const bool both = streams_differ(STDOUT_FILENO, STDERR_FILENO);
+  if (both) sinks.push_back(std::make_shared<spdlog::sinks::stdout_sink_mt>());
+  auto logger = std::make_shared<spdlog::logger>(name, sinks.begin(), sinks.end());
+  spdlog::register_logger(logger);
+  // stdout is buffered: each line reaches the log file at once, so that a
+  // process that dies leaves its last lines there.
+  if (both) logger->flush_on(spdlog::level::trace);
   logger->set_level(spdlog::level::from_str(level));
   logger->set_pattern("%H:%M:%S.%e %^%-5l%$ [%n] %v");
   spdlog::set_default_logger(logger);

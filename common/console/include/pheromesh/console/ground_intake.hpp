@@ -113,6 +113,8 @@ class GroundIntake {
  private:
   void on_states(const std::vector<core::UavStateMsg>& states, Clock::time_point now);
   void on_broadcasts(const std::vector<core::BroadcastMsg>& broadcasts, Clock::time_point now);
+  void note_refused_state(const core::UavStateMsg& s);
+  uint64_t states_refused_noted_ = 0;
   void on_departed_uavs(const std::vector<core::UavDeparture>& gone, Clock::time_point now);
   void on_target_events(const std::vector<core::TargetEventMsg>& events);
   void on_healths(const std::vector<core::HealthMsg>& healths, Clock::time_point now);

@@ -87,6 +87,11 @@ class LockstepConductor {
   // A valid state of `uav` over `tile` (not finished). Returns true if the
   // UAV had departed and is back.
   bool on_uav_state(uint32_t uav, uint32_t tick, TileCoord tile);
+  // A state of `uav` its gateway refused as implausible (UavStateMsg::
+  // implausible): the UAV's answer for `tick`, as a state is, but over no
+  // tile (no view waits for it as a neighbour). Returns true if the UAV had
+  // departed and is back.
+  bool on_uav_refused(uint32_t uav, uint32_t tick);
   // A finished UAV's last state: it is back if it had departed, nothing else.
   bool on_uav_finished(uint32_t uav);
   void on_broadcast(uint32_t uav, uint32_t tick);
@@ -171,6 +176,7 @@ class LockstepConductor {
   std::map<uint32_t, PhaseDoneMsg> done_;                 // process key -> latest report
   std::map<uint32_t, std::map<uint32_t, TileCoord>> positions_;  // tick -> uav -> tile
   std::map<uint32_t, std::set<uint32_t>> broadcasters_;   // tick -> UAVs that broadcast
+  std::map<uint32_t, std::set<uint32_t>> refused_;        // tick -> UAVs whose state of it was refused
   std::map<RegionId, uint32_t> deposits_reported_;        // current tick's UAV phase
   std::map<RegionId, uint32_t> states_reported_;          // current tick's UAV phase: states per home region
   std::map<uint32_t, Clock::time_point> departed_since_;  // departed UAVs

@@ -6,6 +6,8 @@
 #pragma once
 
 #include <cstdint>
+#include <map>
+#include <optional>
 #include <span>
 #include <string>
 
@@ -51,6 +53,38 @@ IntakeVerdict check_broadcast_from(const BroadcastMsg& b, const IntakeRules& r);
 // whose tick went back may start again from the start cell.
 IntakeVerdict check_home_state(const UavStateMsg& s, const UavStateMsg* before, Cell start, double max_step,
                                uint32_t ceiling, const IntakeRules& r);
+// A UAV's gateway judging the UAV's states: the one plausibility rule of
+// the simulator and the place agents (docs/architecture.md "Plausibility").
+// check_home_state decides; this remembers the tick of each UAV's latest
+// refused state, so that a copy of it (a lockstep re-send, a second uplink
+// sample of a tick with many deposits, the closing state of the same tick)
+// is answered again but counted once. A refused state is an answer, not a
+// silence: its gateway tells the ground station (refused_answer) and gives
+// the UAV an empty view of its tick, so no lockstep phase waits for it.
+// The caller keeps the last accepted state (`before`). A taken state whose
+// tick is before `before`'s (a restarted UAV) clears the UAV's refusals.
+class StateGate {
+ public:
+  struct Judged {
+    IntakeVerdict verdict;
+    // A refusal of the motion rule (Refusal::ImplausibleState): an answer.
+    bool refused_motion = false;
+    // ... of a tick refused before: not counted again.
+    bool copy = false;
+  };
+  Judged judge(const UavStateMsg& s, const UavStateMsg* before, Cell start, double max_step, uint32_t ceiling,
+               const IntakeRules& r);
+  // The tick of the UAV's latest refused state, if any.
+  [[nodiscard]] std::optional<uint32_t> refused_tick(uint32_t uav) const;
+
+ private:
+  std::map<uint32_t, uint32_t> refused_tick_;
+};
+
+// What the gateway relays to the ground station for a refused state `s`:
+// `s` marked UavStateMsg::implausible, without its uplink.
+UavStateMsg refused_answer(const UavStateMsg& s);
+
 // A field chunk of another region, as a whole: well formed (its region, every
 // tile and state), of a reachable tick, values in range, UAVs of the swarm.
 IntakeVerdict check_field_chunk(const FieldMsg& f, uint32_t ceiling, const IntakeRules& r);

@@ -15,7 +15,7 @@ namespace pheromesh::core {
 
 inline constexpr std::size_t kMaxTileCells = 1024;  // 32 x 32, idl bound
 inline constexpr std::size_t kMaxRingCells = 4096;  // idl bound
-inline constexpr std::size_t kRefusalCount = 8;     // core::Refusal (plausibility.hpp), idl REFUSAL_REASONS
+inline constexpr std::size_t kRefusalCount = 9;     // core::Refusal (plausibility.hpp), idl REFUSAL_REASONS
 
 struct TileMsg {
   uint8_t layer = 0;
@@ -81,6 +81,13 @@ struct UavStateMsg {
   // writer of this UAV's state vanished (liveliness lost, process ended).
   // A UAV never sets it (its place agent drops such a state).
   bool departed = false;
+  // Only from a place agent relaying states to the ground station: the UAV's
+  // gateway refused this state as implausible (check_home_state, Refusal::
+  // ImplausibleState) and counted it. It is the UAV's answer for its tick -
+  // the lockstep conductor waits for no other - but not a position: coverage,
+  // neighbours and views never see it (docs/architecture.md "Plausibility").
+  // A UAV never sets it (its gateway refuses such a state as malformed).
+  bool implausible = false;
   // Not on the wire: who wrote the sample, as the receiving bus identifies
   // the DDS writer (as ClockMsg::writer). The UAV's gateway latches it
   // (core/writer_latch.hpp).

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <memory>
 #include <optional>
@@ -43,8 +44,13 @@ class PlaceCore {
   // timers to `tick`, computes the diffusion sources. Returns this region's
   // halo ring for the neighbours; `events` receives target events and
   // `rejections` (if given) one line per rejected deposit.
+  // `reach` (if given) says why a deposit lands where its UAV cannot have put
+  // it (check_deposit_reach with the UAV's last accepted state as this place
+  // knows it); such a deposit is rejected and refused (ImplausibleDeposit),
+  // and its sequence number is not latched.
+  using DepositReach = std::function<std::optional<std::string>(const DepositMsg&)>;
   HaloRing begin_tick(std::vector<DepositMsg>& deposits, uint32_t tick, std::vector<TargetEventMsg>& events,
-                      std::vector<std::string>* rejections = nullptr);
+                      std::vector<std::string>* rejections = nullptr, const DepositReach* reach = nullptr);
   // Whether begin_tick at `tick` would refuse `d` as implausible (a UAV id
   // outside the swarm, a sequence number far ahead): lockstep place agents
   // count only the others toward the deposits a tick announced.

@@ -31,8 +31,9 @@ enum class Refusal : uint8_t {
   ImplausibleDetection = 5,  // a detection of no target of the scenario, far from the reporting UAV, or sent to a place agent that does not serve the UAV
   ImplausibleState = 6,      // a UAV state further from the last accepted one than the UAV can fly, or sent to a place agent that does not serve the UAV
   ForeignWriter = 7,         // a sample from a writer or process other than the one heard as its sender: a UAV state (writer_latch.hpp), a UAV's detection or broadcast, a place agent's health, relay, tile or forwarded deposit (place_vouch.hpp)
+  ImplausibleDeposit = 8,    // a deposit in a cell its UAV cannot have reached from its last accepted state (check_deposit_reach)
 };
-static_assert(kRefusalCount == 8, "messages.hpp kRefusalCount: one count per Refusal");
+static_assert(kRefusalCount == 9, "messages.hpp kRefusalCount: one count per Refusal");
 // "unknown_uav", "seq_far_ahead", ... (metrics.json, Prometheus labels).
 const char* refusal_name(Refusal r);
 
@@ -109,6 +110,14 @@ inline constexpr double kMotionSlackCells = 1.5;
 // (a restarted process flies again from there, counting ticks from 0).
 std::optional<std::string> check_state_motion(const UavStateMsg& s, const UavStateMsg* last, Cell start,
                                               double max_step, bool may_restart);
+// A deposit lands where its UAV can have put it (issue 42 D4): within
+// `reach` (PolicyTraits::deposit_reach [cell]) of where the UAV was, which
+// is at most max_step·(ticks + 1) + kMotionSlackCells from `last` - the
+// UAV's last accepted state, whatever its tick (the ticks between it and the
+// deposit's; the one step of the deposit's own tick) - or, with none, from
+// its start cell in tick + 1 ticks. An infinite reach judges nothing.
+std::optional<std::string> check_deposit_reach(const DepositMsg& d, const UavStateMsg* last, Cell start,
+                                               double max_step, double reach);
 // `targets`: the scenario's targets (and those added during the run); `seen`:
 // the reporting UAV's accepted state nearest in time (nullptr: none);
 // `sensor_radius` [cell].

@@ -23,6 +23,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <limits>
 #include <vector>
 
 #include "pheromesh/core/grid.hpp"
@@ -45,6 +46,10 @@ struct PolicyTraits {
   // Plausibility (plausibility.hpp): the farthest a UAV flies in one tick
   // [cell/tick], and each layer's physical range (index = layer).
   double max_step = 1.5;
+  // How far from the UAV's cell its deposits land [cell] (check_deposit_reach;
+  // docs/writing-a-policy.md). Infinite: its deposits are not judged by place
+  // (a policy that marks a planned path or a region's corner, Duan's).
+  double deposit_reach = std::numeric_limits<double>::infinity();
   std::vector<ValueRange> layer_ranges;  // policy_traits fills [0, kMaxLayerValue] where a policy gives none
   std::vector<Cell> starts;              // UAV i's start cell, if the policy does not use start_cell(s, i)
 };

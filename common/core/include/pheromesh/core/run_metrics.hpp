@@ -63,6 +63,9 @@ std::string role_name(uint8_t role);
 struct UavStatus {
   UavStateMsg last{};
   bool heard = false;  // `last` holds a state of this UAV
+  // The latest tick heard of it: an accepted state's, or its gateway's
+  // answer for a refused one (`last` keeps the accepted state's tick).
+  uint32_t heard_tick = 0;
   bool alive = true;
   bool finished = false;
   uint64_t earlier_lives_deposits = 0;  // deposits sent by earlier processes of this UAV (restarts)
@@ -83,7 +86,11 @@ class RunRecorder {
 
   // Each returns false if the sample was malformed (counted in
   // samples_rejected) or implausible (counted in refused(), plausibility.hpp)
-  // and ignored.
+  // and ignored. A state its gateway refused (UavStateMsg::implausible) is
+  // the UAV's answer for its tick: its counters (deposits sent, samples,
+  // finished) are taken and its tick counts as reported in the series, but
+  // not its position (coverage, tracks, detections); the gateway counted the
+  // refusal, this recorder only notes it (refused_states). Returns true.
   bool on_uav_state(const UavStateMsg& s);
   // A detection is judged against the reporting UAV's state of its tick, or
   // the nearest later one it holds (of its last 128); until one arrives it
@@ -102,6 +109,20 @@ class RunRecorder {
   // A sample refused by the process that feeds this recorder (tiles, fields).
   void count_refused(Refusal r) { refused_.add(r); }
   [[nodiscard]] const RefusalCounts& refused() const { return refused_; }
+  // The states each UAV's gateway refused as implausible (the ground station
+  // hears them as UavStateMsg::implausible), the first one with the state it
+  // was judged against: what `sim` and `run` say about them.
+  struct RefusedStates {
+    uint64_t count = 0;         // one per tick (copies relayed again count once)
+    uint32_t last_tick = 0;     // of the latest refused state
+    UavStateMsg first{};        // the first refused state
+    UavStateMsg accepted{};     // the last accepted state before it ...
+    bool from_start = true;     // ... or none: it was judged from the start cell
+    Cell start{};
+  };
+  [[nodiscard]] const std::map<uint32_t, RefusedStates>& refused_states() const { return refused_states_; }
+  [[nodiscard]] uint64_t states_refused() const;
+  [[nodiscard]] double max_step() const { return max_step_; }
   // What the place agents (every replica's latest health) and the UAVs (their
   // latest states) report they refused.
   [[nodiscard]] RefusalCounts refused_by_places() const;
@@ -243,6 +264,9 @@ class RunRecorder {
   double sensor_radius_;  // [cell]
   uint32_t tick_ceiling_;
   RefusalCounts refused_;
+  std::map<uint32_t, RefusedStates> refused_states_;
+  void on_refused_state(const UavStateMsg& s);
+  void release_pending(const UavStatus& u, uint32_t uav, uint32_t tick);
   std::vector<DetectionMsg> pending_;  // detections waiting for their UAV's state of their tick
   std::vector<DetectionMsg> first_acquisitions_;
   void judge(const DetectionMsg& d, const UavStateMsg* seen);
@@ -250,5 +274,18 @@ class RunRecorder {
   // tick or later; none kept that late: its last state).
   static UavStateMsg nearest_state(const UavStatus& u, uint32_t tick);
 };
+
+// How far a UAV's first refused state lay from the state it was judged
+// against (its last accepted one, else its start cell), and in how many ticks.
+struct RefusedMove {
+  double cells = 0;  // [cell]
+  uint32_t ticks = 1;
+};
+RefusedMove first_refused_move(const RunRecorder::RefusedStates& r);
+// "uav 0's state of tick 3 refused: it moved 5 cells in one tick from its last
+// accepted state (max_step 1.5 allows 3 with the slack)".
+std::string describe_first_refusal(const RunRecorder::RefusedStates& r, uint32_t uav, double max_step);
+// The same from its parts (metrics.json "states_refused").
+std::string describe_refusal(uint32_t uav, uint32_t tick, RefusedMove m, bool from_start, double max_step);
 
 }  // namespace pheromesh::core

@@ -24,6 +24,11 @@
 //                      tick >= k reach no other view (the home publishes
 //                      them with its field). The ground station still hears
 //                      them: they keep covering cells and detecting targets.
+// Plausibility: each UAV's state goes through its gateway's judge, as in the
+// processes (core::StateGate): one further from its last accepted state than
+// the policy's max_step allows is refused and counted by the gateway region,
+// reaches no view, and its UAV reads an empty view next tick; the recorder
+// hears it as the gateway's answer. Its deposits go on as a state's do.
 // A lost deposit is sent and never received by any place agent
 // (RunRecorder::deposits_lost), so a run still balances: sent == applied +
 // rejected + lost.
@@ -51,6 +56,7 @@
 #include <vector>
 
 #include "pheromesh/core/faults.hpp"
+#include "pheromesh/core/intake.hpp"
 #include "pheromesh/core/place_core.hpp"
 #include "pheromesh/core/run_metrics.hpp"
 #include "pheromesh/core/scenario.hpp"
@@ -158,9 +164,31 @@ class Simulator {
   std::vector<std::string> fault_notes_;  // set_faults' notes of faults_
   uint32_t next_tick_ = 0;
   bool finished_ = false;
+  // The one plausibility rule, as each UAV's gateway applies it in the
+  // processes (core::StateGate, docs/architecture.md "Plausibility"): per
+  // gateway region its judge, the last state it accepted of each UAV and the
+  // states it refused (counted in its health); the UAVs owed an empty view.
+  PolicyTraits traits_;
+  std::vector<StateGate> gates_;
+  std::map<std::pair<RegionId, uint32_t>, UavStateMsg> accepted_;
+  std::map<uint32_t, UavStateMsg> last_accepted_;  // per UAV, by any gateway: where its deposits are judged from
+  std::vector<RefusalCounts> gate_refused_;
+  std::vector<uint8_t> empty_view_;  // per UAV, 0 or 1 (not vector<bool>: std::exchange)
+  // The state `s` of UAV `id` through its gateway `gateway` at `tick`: true
+  // if it was accepted; a refused one goes to the recorder as the gateway's
+  // answer (UavStateMsg::implausible).
+  bool through_gateway(RegionId gateway, UavStateMsg s, uint32_t tick);
+  [[nodiscard]] HealthMsg health_of(const PlaceCore& p, uint32_t tick, bool final) const;
 
   [[nodiscard]] bool uav_gone(uint32_t u, uint32_t tick) const;
   [[nodiscard]] bool region_dead(RegionId r, uint32_t tick) const;
 };
+
+// `pheromesh validate`'s trial of a policy's max_step (issue 42): the
+// scenario flown in the simulator for at most `ticks` ticks, and for each UAV
+// whose states its gateway refused the first refusal in plain words
+// (describe_first_refusal); nothing when none was refused. An exception from
+// the policy is a line of its own (the trial cannot judge it).
+std::vector<std::string> max_step_trial(ScenarioConfig scenario, uint32_t ticks);
 
 }  // namespace pheromesh::core

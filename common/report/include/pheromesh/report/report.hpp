@@ -43,6 +43,15 @@ nlohmann::json duration_summary(std::vector<double> ms);
 // realtime timekeeping in lockstep runs, leader_arrival_tick without one.
 nlohmann::json metrics_json(const core::RunRecorder& r, const RunInfo& info);
 
+// What `sim` and `run` say when states were refused as implausible: one
+// line per UAV (the first few) and the total, from metrics.json
+// "states_refused"; none when nothing was refused.
+std::vector<std::string> refused_state_lines(const nlohmann::json& metrics);
+// The earliest refusal of metrics.json "states_refused" in plain words
+// (core::describe_refusal; the lowest UAV id of the earliest tick), if any:
+// what `--strict` fails the run with.
+std::optional<std::string> first_refusal_line(const nlohmann::json& metrics);
+
 // The ticks of metrics.json "coverage_series": every kCoverageSeriesEvery-th
 // tick and the last one (series.csv has every tick).
 inline constexpr uint32_t kCoverageSeriesEvery = 10;

@@ -91,8 +91,15 @@ uint32_t realtime_tick_ceiling(double rate_hz);
 inline constexpr const char* kOneHostEnv = "PHEROMESH_RUN_ONE_HOST";
 core::TickSlack launch_slack();
 
-// One named logger per component, level from the flag.
+// One named logger per component, level from the flag. It writes to
+// stderr, and also to stdout when the two are different files
+// (streams_differ): `pheromesh run` gives the ground station its log file
+// as stdout and the launcher's terminal as stderr, and its log was empty
+// (issue 42). Every other process has both on its log file: one copy.
 std::shared_ptr<spdlog::logger> make_logger(const std::string& name, const std::string& level);
+// Whether the open descriptors `a` and `b` are different files (not the same
+// device and inode); false when either cannot be inspected.
+bool streams_differ(int a, int b);
 
 // SIGINT/SIGTERM set a flag (the handler does nothing else).
 void install_shutdown_handlers();
