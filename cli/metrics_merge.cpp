@@ -126,8 +126,13 @@ std::optional<std::string> flight_shortfall(const nlohmann::json& m, std::span<c
       unfinished.push_back(u);  // never heard (merge_metrics says so too)
       continue;
     }
-    flown += std::min<uint64_t>(it->value("heard_tick", it->value("last_tick", uint64_t{0})), ticks);
-    if (!it->value("finished", false)) unfinished.push_back(u);
+    const uint64_t heard = it->value("heard_tick", it->value("last_tick", uint64_t{0}));
+    flown += std::min<uint64_t>(heard, ticks);
+    // Heard at the run's last tick, it flew every tick: its final state
+    // (finished) can be the one that did not arrive before the end (lockstep
+    // under packet loss; a relay from another host). Measured in the fresh
+    // clone's run: UAVs heard at tick 150 of 150 without a finished state.
+    if (!it->value("finished", false) && heard < ticks) unfinished.push_back(u);
   }
   std::string why;
   if (asked > 0 && static_cast<double>(flown) < kFlownShareRequired * static_cast<double>(asked)) {

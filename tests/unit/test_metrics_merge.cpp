@@ -161,6 +161,10 @@ TEST(MetricsMerge, AUavThatDidNotFinishFailsTheRunUnlessItWasKilledOnPurpose) {
   ASSERT_TRUE(m.shortfall.has_value());
   EXPECT_EQ(m.exit_code(), 8);
   EXPECT_NE(m.shortfall->find("uav 1 did not finish and nobody killed it"), std::string::npos) << *m.shortfall;
+  // Heard at the last tick, it flew every tick, whether or not its finished
+  // state arrived before the end.
+  m = merge_metrics(flown({{100, true}, {100, false}, {100, true}}), record_of(ps, 100), "m.json");
+  EXPECT_FALSE(m.shortfall.has_value()) << *m.shortfall;
   // Killed on purpose: neither its ticks nor its end count against the run.
   ps[3].killed_on_purpose = true;  // uav-2 (ps[0] is the ground station)
   ps[3].term_signal = SIGKILL;
