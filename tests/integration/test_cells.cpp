@@ -19,8 +19,10 @@ TEST(Cells, ALockstepSwarmInCellsGivesTheSimulatorsNumbersWithBroadcastsRelayed)
 
 TEST(Cells, AProcessThatNamesOnePlaceAgentHearsOnlyThatOneWhileTheSwarmFlies) {
   const std::string out = out_dir("cells-realtime");
-  // No profile flag: cells are the default.
-  const Background swarm = start_run("small-test.textproto", out, 57, "--uavs 4 --duration 6");
+  // No profile flag: cells are the default. 12 s of flight: a Fast DDS
+  // monitor has found the run only 5 s after its start (twice, fresh clones
+  // of stops 45 and 46), and a 6 s flight then ended as it attached.
+  const Background swarm = start_run("small-test.textproto", out, 57, "--uavs 4 --duration 12");
   ASSERT_TRUE(wait_for_text(swarm.out_path, "places 4/4", std::chrono::seconds(30))) << slurp(swarm.out_path);
   // A monitor attaches with the command the run printed: it names every hub
   // (and on Fast DDS takes the domain's highest participant id, past every
@@ -44,7 +46,7 @@ TEST(Cells, AProcessThatNamesOnePlaceAgentHearsOnlyThatOneWhileTheSwarmFlies) {
   // DDS takes the first free index, can bind a hub's port beside it and then
   // receives what the other hubs send that hub (docs/dds.md). 5 s: on a
   // loaded host 3 s were not always enough to discover the hub (the swarm
-  // flies 6 s; the probe ends as soon as it heard both).
+  // flies 12 s; the probe ends as soon as it heard both).
   const Output p =
       run(kBin +
           "/pheromesh-test-probe --domain 57 --participant-id 40 --cell-peer 1 discover --id 900 --expect 2 "
