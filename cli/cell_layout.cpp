@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <functional>
 
 #include "pheromesh/core/messages.hpp"
 
@@ -87,16 +88,21 @@ uint32_t CellLayout::most_hubs_on_a_host() const {
   return most;
 }
 
-bus::CellDiscovery CellLayout::cell_of(const std::string& role, uint32_t index, uint32_t replica) const {
+namespace {
+
+// Who names whom, wherever the hubs are (`hub` finds one): a UAV its home
+// place agent's replicas (and its backup's: as reserve in realtime), a hub
+// every other hub; a monitor every hub.
+bus::CellDiscovery cell_naming(const SwarmShape& s, const std::string& role, uint32_t index, uint32_t replica,
+                               const std::function<bus::CellPeer(const std::string&, uint32_t, uint32_t)>& hub) {
   bus::CellDiscovery c;
-  c.domain = s_.domain;
-  c.interface_address = address_of(host_of(role, index, replica));
+  c.domain = s.domain;
   const auto add_place = [&](core::RegionId r, std::vector<bus::CellPeer>& to) {
-    for (uint32_t k = 0; k < s_.replicas; ++k) to.push_back(hub("place", r, k));
+    for (uint32_t k = 0; k < s.replicas; ++k) to.push_back(hub("place", r, k));
   };
   if (role == "uav") {
-    const core::RegionId home = core::home_region(index, s_.regions);
-    const core::RegionId backup = core::backup_region(index, s_.regions);
+    const core::RegionId home = core::home_region(index, s.regions);
+    const core::RegionId backup = core::backup_region(index, s.regions);
     add_place(home, c.peers);
     // A realtime UAV names its backup gateway only once its home is gone
     // (reserve): discovered ahead, every place agent's cell held its backup
@@ -104,19 +110,29 @@ bus::CellDiscovery CellLayout::cell_of(const std::string& role, uint32_t index, 
     // DDS instead of 16 s (Cyclone 44-75 s instead of 11 s). A lockstep UAV
     // hears of its home's death in the clock, which the backup relays to
     // it, so it names the backup from the start.
-    if (backup != home) add_place(backup, s_.lockstep ? c.peers : c.reserve);
+    if (backup != home) add_place(backup, s.lockstep ? c.peers : c.reserve);
     return c;
   }
-  c.index = hub(role, index, replica).index;
+  if (role != "monitor") c.index = hub(role, index, replica).index;
   // Hubs name one another: the ground station every place agent, a place
-  // agent the ground station and every other place agent (not itself).
-  if (role != "ground") c.peers.push_back(hub("ground", 0));
-  for (core::RegionId r = 0; r < s_.regions; ++r) {
-    for (uint32_t k = 0; k < s_.replicas; ++k) {
+  // agent the ground station and every other place agent (not itself); a
+  // monitor is a member of every hub's cell.
+  if (role != "ground") c.peers.push_back(hub("ground", 0, 0));
+  for (core::RegionId r = 0; r < s.regions; ++r) {
+    for (uint32_t k = 0; k < s.replicas; ++k) {
       if (role == "place" && r == index && k == replica) continue;
       c.peers.push_back(hub("place", r, k));
     }
   }
+  return c;
+}
+
+}  // namespace
+
+bus::CellDiscovery CellLayout::cell_of(const std::string& role, uint32_t index, uint32_t replica) const {
+  auto c = cell_naming(s_, role, index, replica,
+                       [this](const std::string& r, uint32_t i, uint32_t k) { return hub(r, i, k); });
+  c.interface_address = address_of(host_of(role, index, replica));
   return c;
 }
 
@@ -151,6 +167,42 @@ std::optional<std::string> CellLayout::check(bool fastdds_members) const {
     }
   }
   return std::nullopt;
+}
+
+std::optional<std::string> check_hub_names(const HubNames& names) {
+  for (const auto& [what, name] : {std::pair{"place", &names.place}, std::pair{"ground", &names.ground}}) {
+    if (name->empty()) return std::string(what) + " name: empty";
+    for (std::size_t at = name->find('{'); at != std::string::npos; at = name->find('{', at + 1)) {
+      if (what == std::string("place") && name->compare(at, 8, "{region}") == 0) continue;
+      return std::string(what) + " name '" + *name + "': unknown placeholder at '" + name->substr(at) + "'" +
+             (what == std::string("place") ? " (only {region} is known)" : " (the ground station's name has none)");
+    }
+  }
+  if (names.place.find("{region}") == std::string::npos) {
+    return "place name '" + names.place + "' has no {region}: every region's place agent needs a name of its own";
+  }
+  return std::nullopt;
+}
+
+std::string hub_name(const HubNames& names, const std::string& role, uint32_t region) {
+  if (role == "ground") return names.ground;
+  std::string out = names.place;
+  const std::string number = std::to_string(region);
+  for (std::size_t at = out.find("{region}"); at != std::string::npos; at = out.find("{region}", at + number.size())) {
+    out.replace(at, 8, number);
+  }
+  return out;
+}
+
+bus::CellDiscovery named_cell(const SwarmShape& shape, const HubNames& names, const std::string& role, uint32_t index) {
+  SwarmShape s = shape;
+  s.regions = std::max(1U, s.regions);
+  s.replicas = 1;
+  auto c = cell_naming(s, role, index, 0, [&](const std::string& r, uint32_t i, uint32_t) {
+    return bus::CellPeer{hub_name(names, r, i), 0};
+  });
+  c.interface_address.clear();
+  return c;
 }
 
 bus::CellDiscovery monitor_cell(uint32_t domain, uint32_t hubs, const std::vector<std::string>& addresses,

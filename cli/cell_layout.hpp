@@ -69,6 +69,27 @@ class CellLayout {
   SwarmShape s_;
 };
 
+// Containers and pods (docs/deploy-containers.md): every process runs alone
+// at an address of its own and finds its hubs by name, so every hub takes
+// participant index 0 at its address and no index limit applies to the
+// swarm. The names are templates: {region} stands for the region's number.
+struct HubNames {
+  std::string place = "place-{region}";
+  std::string ground = "ground";
+};
+// Why `names` cannot name the hubs (a place template without {region}, a
+// placeholder other than {region}, an empty name), if they cannot.
+std::optional<std::string> check_hub_names(const HubNames& names);
+// The name of the ground station (role "ground") or of region `region`'s
+// place agent (role "place").
+std::string hub_name(const HubNames& names, const std::string& role, uint32_t region);
+// The cell of `role` ("ground", "place", "uav", "monitor") `index` when every
+// process is alone at its address: the same peers as CellLayout::cell_of on
+// one host with one replica per region, each a hub's *name* at index 0. The
+// interface address is left empty: the caller resolves the names and binds
+// the address on the route to them (resolve_named_cell in cell_command.hpp).
+bus::CellDiscovery named_cell(const SwarmShape& shape, const HubNames& names, const std::string& role, uint32_t index);
+
 // A monitor's cell (`pheromesh attach`): a member of every hub's cell. It
 // names indices 0 .. hubs - 1 on every host of `addresses` (loopback if
 // none) and binds `interface_address`.

@@ -19,6 +19,7 @@ struct Absent {
 constexpr Absent kAbsent[] = {
     {"run", "DDS (every UAV and place agent is a DDS process)"},
     {"attach", "DDS (it joins a running swarm's domain)"},
+    {"cell", "DDS (it names a DDS process's discovery peers)"},
     {"bench", "DDS (it runs swarms of processes)"},
     {"security", "DDS Security"},
     {"replay", "the web console (its HTTP server and the page built with npm)"},

@@ -1,4 +1,4 @@
-// `run`, `attach`, `bench`, `security` and `replay` (process_commands.hpp):
+// `run`, `attach`, `cell`, `bench`, `security` and `replay` (process_commands.hpp):
 // the subcommands of a full build.
 #include <spdlog/spdlog.h>
 
@@ -9,6 +9,7 @@
 #include "bench_lockstep.hpp"
 #include "bench_scale.hpp"
 #include "bench_soak.hpp"
+#include "cell_command.hpp"
 #include "launcher.hpp"
 #include "pheromesh/bus/bus.hpp"
 #include "pheromesh/cliutil/command_line.hpp"
@@ -82,6 +83,7 @@ class FullCommands final : public ProcessCommands {
 
   std::optional<int> run_parsed() override {
     if (at->parsed()) return run_attach(ao);
+    if (ce->parsed()) return run_cell_command(co);
     if (si->parsed()) return run_security_init(sio);
     if (rp->parsed()) return run_replay(rpo);
     if (bs->parsed()) return run_bench_scale(bso);
@@ -108,8 +110,9 @@ class FullCommands final : public ProcessCommands {
   BenchSoakOptions bko;
   AttachOptions ao;
   SecurityInitOptions sio;
+  CellCommandOptions co;
   CLI::App *r = nullptr, *rp = nullptr, *bs = nullptr, *bl = nullptr, *le = nullptr, *bk = nullptr, *at = nullptr,
-           *si = nullptr;
+           *si = nullptr, *ce = nullptr;
 
   void add(CLI::App& app) {
     ro.dds = bus::default_vendor();
@@ -370,6 +373,7 @@ class FullCommands final : public ProcessCommands {
                    "DDS Security: the swarm's directory of `pheromesh security init`; the monitor authenticates with "
                    "its read-only identity 'monitor' there (docs/security.md) [env PHEROMESH_SECURE]");
     at->footer(kAttachFooter);
+    ce = add_cell_command(app, co);
 
     auto* sec = app.add_subcommand("security", "DDS Security for a swarm: authentication, access control, encryption "
                                                "(docs/security.md)");

@@ -4,7 +4,9 @@
 #   place    pheromesh-place  --region R   R from $PHEROMESH_REGION, else the hostname's ordinal
 #   uav      pheromesh-uav    --id I       I from $PHEROMESH_UAV_ID, else the hostname's ordinal
 #   ground   pheromesh-ground              the swarm's ground station, writes $PHEROMESH_OUT/metrics.json
-#   monitor  pheromesh-ground --attach     watches a running swarm knowing only its domain
+#   monitor  pheromesh-ground --attach     watches a running swarm: in cells it names every
+#                                          hub (the scenario gives their number), else it
+#                                          needs only the domain
 # The hostname's ordinal is the number after its last '-': a Kubernetes
 # StatefulSet names its pods place-0, place-1, ... and each pod's hostname is
 # its name, so a StatefulSet of place agents owns regions 0..replicas-1.
@@ -13,21 +15,31 @@
 # Environment (each also has a flag of the same meaning; flags after the role
 # are passed on and come last, so they win):
 #   PHEROMESH_SCENARIO     scenario file, or the name of a shipped one (small-test);
-#                          not needed by monitor
+#                          needed by monitor only in cells
 #   PHEROMESH_DDS          cyclone | fastdds                       (read by the processes)
 #   PHEROMESH_DOMAIN       DDS domain id                           (read by the processes)
-#   PHEROMESH_DDS_PROFILE  DDS profile; default lan-unicast when PHEROMESH_DDS_PEERS
-#                          is set, else lan (a container's loopback reaches no peer,
-#                          so the processes' own default, onehost, is never right here)
-#   PHEROMESH_DDS_PEERS    unicast peers, host names or addresses  (read by the processes)
+#   PHEROMESH_DDS_PROFILE  DDS profile; default cells, or lan-unicast when
+#                          PHEROMESH_DDS_PEERS is set (a container's loopback reaches no
+#                          peer, so the processes' own default, onehost, is never right here)
+#   PHEROMESH_PLACE_NAME   cells: the name of region {region}'s place agent (default
+#                          place-{region}: compose's service names; on Kubernetes the
+#                          StatefulSet's pods under its headless Service,
+#                          place-{region}.pheromesh-swarm)
+#   PHEROMESH_GROUND_NAME  cells: the ground station's name (default ground)
+#                          In cells each process names only the hubs it talks to, by
+#                          these names (`pheromesh cell`, run here before the process):
+#                          every hub takes participant index 0 at its own address
+#   PHEROMESH_DDS_PEERS    lan-unicast: peers, host names or addresses (read by the processes)
 #   PHEROMESH_CONTROL_KEY  the swarm's shared command key, 64 hex digits (read by the processes)
 #   PHEROMESH_OUT          ground, monitor: folder for metrics.json (default /var/lib/pheromesh/out)
 #   PHEROMESH_HTTP         ground/monitor: serve the web console on this port, on every interface
 #   PHEROMESH_ARGS         more flags, split on spaces, before the command line's
-#   PHEROMESH_WAIT_PEERS   wait (up to PHEROMESH_WAIT_PEERS_S, 120 s) until the names of
-#                          PHEROMESH_DDS_PEERS resolve to this many addresses in all
-#                          before starting: peers are resolved once, at process start,
-#                          and a pod that starts with its neighbours may find none yet
+#   PHEROMESH_WAIT_PEERS   lan-unicast: wait (up to PHEROMESH_WAIT_PEERS_S, 120 s) until
+#                          the names of PHEROMESH_DDS_PEERS resolve to this many addresses
+#                          in all before starting: peers are resolved once, at process
+#                          start, and a pod that starts with its neighbours may find none
+#                          yet. In cells the names of the hubs are always waited for, up
+#                          to PHEROMESH_WAIT_PEERS_S
 #   PHEROMESH_AFTER_EXIT   exit (default) | hold: after the process ends with 0, keep the
 #                          container running until it is stopped. Under a StatefulSet or
 #                          a Deployment (restartPolicy Always) a finished UAV or place
@@ -87,7 +99,7 @@ if [ -z "${PHEROMESH_DDS_PROFILE:-}" ]; then
   if [ -n "${PHEROMESH_DDS_PEERS:-}" ]; then
     export PHEROMESH_DDS_PROFILE=lan-unicast
   else
-    export PHEROMESH_DDS_PROFILE=lan
+    export PHEROMESH_DDS_PROFILE=cells
   fi
 fi
 
@@ -114,6 +126,21 @@ case "$role" in
     ;;
 esac
 cmd+=("${extra[@]}" "$@")
+
+# Cells: the hubs this process talks to, by name (pheromesh cell prints
+# PHEROMESH_CELL and, for a member, its Fast DDS participant id).
+if [ "$PHEROMESH_DDS_PROFILE" = cells ] && [ -z "${PHEROMESH_CELL:-}" ]; then
+  at=()
+  case "$role" in
+    place) at=("$region") ;;
+    uav) at=("$id") ;;
+  esac
+  cell_env="$("$prefix/bin/pheromesh" cell "$role" "${at[@]}" --scenario "$(scenario)")" ||
+    die "$role: no cell: pheromesh cell failed (above); set PHEROMESH_PLACE_NAME and PHEROMESH_GROUND_NAME to the hubs' names"
+  while IFS= read -r line; do
+    [ -n "$line" ] && export "${line?}"
+  done <<< "$cell_env"
+fi
 
 # Distinct IPv4 addresses the peer names resolve to now.
 peer_addresses() {

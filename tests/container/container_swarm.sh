@@ -15,7 +15,7 @@
 # The figures it prints (seconds, sizes) go to OUT/times.txt.
 set -euo pipefail
 MODE=$1 SRC=$2 OUT=$3
-DOMAIN=${4:-160} VENDORS=${5:-cyclone}
+DOMAIN=${4:-90} VENDORS=${5:-cyclone}
 IMAGE=${PHEROMESH_IMAGE:-localhost/pheromesh:latest}
 PODMAN="$SRC/scripts/podman.sh"
 P() { "$PODMAN" "$@"; }
@@ -191,11 +191,17 @@ cleanup() {
 trap cleanup EXIT
 cleanup > /dev/null 2>&1
 
+# Cells by name: podman has no Service, so place-R.pheromesh-swarm and
+# ground.pheromesh-swarm do not resolve; the pods' own names (PREFIX-place-R,
+# PREFIX-ground), which podman's network DNS serves, stand in for them. Only
+# these two names differ from the manifests.
+NAMES=(--env "PHEROMESH_PLACE_NAME=${PREFIX}place-{region}" --env "PHEROMESH_GROUND_NAME=${PREFIX}ground")
 step "expand-statefulsets deploy/k8s/swarm.yaml (prefix $PREFIX)"
-"$SRC/deploy/k8s/expand-statefulsets" --prefix "$PREFIX" --image "$IMAGE" --env "PHEROMESH_DOMAIN=$DOMAIN" \
+"$SRC/deploy/k8s/expand-statefulsets" --prefix "$PREFIX" --image "$IMAGE" --env "PHEROMESH_DOMAIN=$DOMAIN" "${NAMES[@]}" \
   "$SRC/deploy/k8s/swarm.yaml" > "$PLAY" 2> "$OUT/expand.log" || { cat "$OUT/expand.log"; fail "expand-statefulsets failed"; }
 [ "$(grep -c '^kind: Pod$' "$PLAY")" = 9 ] || fail "expected 9 pods in $PLAY"
-"$SRC/deploy/k8s/expand-statefulsets" --prefix "$PREFIX" --image "$IMAGE" --env "PHEROMESH_DOMAIN=$DOMAIN" \
+grep -A1 'name: PHEROMESH_DDS_PROFILE$' "$PLAY" | grep -q 'value: cells$' || fail "deploy/k8s/swarm.yaml does not run in cells"
+"$SRC/deploy/k8s/expand-statefulsets" --prefix "$PREFIX" --image "$IMAGE" --env "PHEROMESH_DOMAIN=$DOMAIN" "${NAMES[@]}" \
   --env "PHEROMESH_DDS=$DDS_GROUND" --configmaps-from "$SRC/deploy/k8s/swarm.yaml" "$SRC/deploy/k8s/monitor.yaml" > "$MON" 2>> "$OUT/expand.log" ||
   { cat "$OUT/expand.log"; fail "expand-statefulsets failed on monitor.yaml"; }
 # Each role's vendor, set in its pods (the ConfigMap sets one for all).
@@ -217,7 +223,7 @@ printf '{"key":"%s"}' "$(printf %s "$KEY" | base64 -w0)" | P secret create "$SEC
 P network create "$NET" > /dev/null
 # Pod networks rarely carry multicast: this one carries none. Every multicast
 # frame between two pods on the network's bridge is counted and dropped, so
-# the swarm must discover itself by the unicast peers (lan-unicast).
+# the swarm must discover itself by unicast (cells, by the hubs' names).
 subnet=$(P network inspect --format '{{range .Subnets}}{{.Subnet}} {{end}}' "$NET" | awk '{print $1}')
 [ -n "$subnet" ] || fail "no subnet for the network $NET"
 nft add table bridge "$NFT"

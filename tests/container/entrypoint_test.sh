@@ -13,11 +13,24 @@ mkdir -p "$OUT/prefix/bin" "$OUT/prefix/share/pheromesh/scenarios"
 for p in pheromesh-place pheromesh-uav pheromesh-ground; do
   cat > "$OUT/prefix/bin/$p" << 'STUB'
 #!/usr/bin/env bash
-echo "$(basename "$0") $* [profile=${PHEROMESH_DDS_PROFILE:-}]"
+echo "$(basename "$0") $* [profile=${PHEROMESH_DDS_PROFILE:-}] [cell=${PHEROMESH_CELL:-}] [id=${PHEROMESH_PARTICIPANT_ID:-}]"
 exit "${STUB_EXIT:-0}"
 STUB
   chmod +x "$OUT/prefix/bin/$p"
 done
+# `pheromesh cell` stands in too: it prints the environment of a cell named
+# after its arguments (the real one is unit-tested: NamedCells.*).
+cat > "$OUT/prefix/bin/pheromesh" << 'STUB'
+#!/usr/bin/env bash
+[ "$1" = cell ] || exit 99
+if [ -n "${STUB_CELL_EXIT:-}" ]; then echo "pheromesh cell: place-7 did not resolve" >&2; exit "$STUB_CELL_EXIT"; fi
+shift
+args="$*" names="place-{region}"
+echo "PHEROMESH_CELL=stub:${args// /,}:${PHEROMESH_PLACE_NAME:-$names}"
+[ "$1" = uav ] && echo "PHEROMESH_PARTICIPANT_ID=1"
+exit 0
+STUB
+chmod +x "$OUT/prefix/bin/pheromesh"
 : > "$OUT/prefix/share/pheromesh/scenarios/small-test.textproto"
 S="$OUT/prefix/share/pheromesh/scenarios/small-test.textproto"
 
@@ -39,7 +52,18 @@ expect() {  # WHAT OUTPUT WANTED
 }
 
 out=$(run place-3 PHEROMESH_SCENARIO=small-test -- place)
-expect "region from the StatefulSet pod's hostname" "$out" "pheromesh-place --scenario $S --region 3 [profile=lan]"
+expect "region from the StatefulSet pod's hostname" "$out" "pheromesh-place --scenario $S --region 3 [profile=cells]"
+expect "cells by default: the cell of place 3 from pheromesh cell" "$out" "[cell=stub:place,3,--scenario,$S:place-{region}]"
+out=$(run uav-5 PHEROMESH_SCENARIO=small-test PHEROMESH_PLACE_NAME='place-{region}.swarm' -- uav)
+expect "a UAV's cell, the names from the environment, and its Fast DDS id" "$out" \
+  "[cell=stub:uav,5,--scenario,$S:place-{region}.swarm] [id=1]"
+out=$(run uav-5 PHEROMESH_SCENARIO=small-test PHEROMESH_CELL=peers=10.0.0.1:0 -- uav)
+expect "a cell given is kept" "$out" "[cell=peers=10.0.0.1:0]"
+out=$(run uav-5 PHEROMESH_SCENARIO=small-test STUB_CELL_EXIT=3 -- uav)
+expect "no cell: the process does not start, the reason is shown" "$out" "place-7 did not resolve"
+expect "... and named" "$out" "uav: no cell: pheromesh cell failed"
+expect "... with exit code 64" "$out" "rc=64"
+grep -qF "pheromesh-uav" <<< "$out" && fail "a UAV without a cell started: $out"
 out=$(run uav-12 ROLE=uav PHEROMESH_SCENARIO=small-test -- --ticks 50)
 expect "role from \$ROLE, id from the hostname, flags passed on" "$out" "pheromesh-uav --scenario $S --id 12 --ticks 50"
 out=$(run uav-12 PHEROMESH_UAV_ID=5 PHEROMESH_SCENARIO="$S" -- uav)
@@ -60,8 +84,12 @@ expect "a profile given is kept" "$out" "[profile=onehost]"
 out=$(run ground PHEROMESH_SCENARIO=small-test PHEROMESH_HTTP=8080 PHEROMESH_ARGS="--lease-ms 2000" -- ground --until-done)
 expect "ground: out folder, console on every interface, PHEROMESH_ARGS, then the command line" "$out" \
   "pheromesh-ground --scenario $S --out /var/lib/pheromesh/out --http 8080 --http-bind 0.0.0.0 --lease-ms 2000 --until-done"
-out=$(run watcher PHEROMESH_OUT=/o -- monitor)
-expect "monitor: attach, no scenario needed" "$out" "pheromesh-ground --attach --out /o [profile=lan]"
+out=$(run watcher PHEROMESH_OUT=/o PHEROMESH_DDS_PROFILE=lan -- monitor)
+expect "monitor: attach, no scenario needed with flat discovery" "$out" "pheromesh-ground --attach --out /o [profile=lan]"
+out=$(run watcher PHEROMESH_SCENARIO=small-test -- monitor)
+expect "monitor in cells: a member of every hub's cell" "$out" "[profile=cells] [cell=stub:monitor,--scenario,$S:place-{region}]"
+out=$(run watcher -- monitor)
+expect "monitor in cells: the scenario says how many hubs" "$out" "monitor: no scenario"
 out=$(run x -- echo hello)
 expect "any other first argument runs as it is" "$out" "hello"
 out=$(run x -- bogus-role-name-that-is-no-program)

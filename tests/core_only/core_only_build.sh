@@ -53,7 +53,7 @@ done
 [ "$(wc -l <"$out/sweep/runs.csv")" -eq 5 ] || fail "runs.csv has $(wc -l <"$out/sweep/runs.csv") lines, not 5"
 
 # What needs DDS or the web console is refused, saying why.
-for cmd in "run small-test" "attach" "bench scale small-test" "security init $out/sec" "replay $out/sim/sim.phrec" \
+for cmd in "run small-test" "attach" "cell uav 0" "bench scale small-test" "security init $out/sec" "replay $out/sim/sim.phrec" \
   "sweep small-test --distributed --out $out/sweep-d" "experiment shao-50x50 --runs 1 --distributed --out $out/exp-d"; do
   # shellcheck disable=SC2086
   "$bin" $cmd >"$out/refused.txt" 2>&1
@@ -61,4 +61,4 @@ for cmd in "run small-test" "attach" "bench scale small-test" "security init $ou
   [ "$rc" -eq 2 ] || { cat "$out/refused.txt"; fail "'pheromesh $cmd' exited $rc, not 2"; }
   grep -q "built core-only" "$out/refused.txt" || { cat "$out/refused.txt"; fail "'pheromesh $cmd' did not say why"; }
 done
-echo "core-only: built without DDS or npm; validate, sim (--tracks --record), experiment and sweep ran; run, attach, bench, security, replay and --distributed refused"
+echo "core-only: built without DDS or npm; validate, sim (--tracks --record), experiment and sweep ran; run, attach, cell, bench, security, replay and --distributed refused"

@@ -34,8 +34,8 @@ TEST(Cli, AnUnknownSubcommandOrFlagIsAnsweredWithTheNearestName) {
 TEST(Cli, HelpAndVersionAnswerInEveryProgram) {
   const Output help = run(kBin + "/pheromesh help");
   EXPECT_EQ(help.exit_code, 0) << help.text;
-  for (const char* sub : {"validate", "sim", "sweep", "experiment", "key", "run", "attach", "replay", "bench",
-                          "security"}) {
+  for (const char* sub :
+       {"validate", "sim", "sweep", "experiment", "key", "run", "attach", "cell", "replay", "bench", "security"}) {
     EXPECT_NE(help.text.find("  " + std::string(sub)), std::string::npos) << sub << "\n" << help.text;
   }
   const Output sim = run(kBin + "/pheromesh help sim");

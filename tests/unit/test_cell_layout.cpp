@@ -2,8 +2,12 @@
 // (cli/cell_layout.hpp; docs/dds.md, "Cell discovery").
 #include <gtest/gtest.h>
 
+#include <map>
+#include <memory>
 #include <set>
+#include <variant>
 
+#include "../../cli/cell_command.hpp"
 #include "../../cli/cell_layout.hpp"
 #include "pheromesh/bus/cell_discovery.hpp"
 
@@ -126,6 +130,133 @@ TEST(CellLayout, LoopbackIsALocalAddressAndTheRouteToItLeavesFromIt) {
   EXPECT_FALSE(is_local_address("not-an-address"));
   EXPECT_EQ(local_address_towards("127.0.0.1").value_or(""), "127.0.0.1");
   EXPECT_FALSE(local_address_towards("nowhere").has_value());
+}
+
+// Containers and pods: every process alone at its address, hubs by name.
+SwarmShape four_regions(bool lockstep = false) {
+  SwarmShape s;
+  s.regions = 4;
+  s.uavs = 8;
+  s.domain = 7;
+  s.lockstep = lockstep;
+  return s;
+}
+
+std::vector<std::string> names_of(const std::vector<bus::CellPeer>& peers) {
+  std::vector<std::string> out;
+  for (const auto& p : peers) {
+    EXPECT_EQ(p.index, 0U) << p.address;  // every hub takes index 0 at its own address
+    out.push_back(p.address);
+  }
+  return out;
+}
+
+TEST(NamedCells, EveryProcessNamesTheHubsItTalksToByTheTemplate) {
+  const HubNames k8s{"place-{region}.pheromesh-swarm", "ground.pheromesh-swarm"};
+  // UAV 6: home 6 % 4 = 2; its backup is a reserve in realtime, a peer in lockstep.
+  const auto uav = named_cell(four_regions(), k8s, "uav", 6);
+  EXPECT_FALSE(uav.index);
+  EXPECT_EQ(names_of(uav.peers), std::vector<std::string>{"place-2.pheromesh-swarm"});
+  ASSERT_EQ(uav.reserve.size(), 1U);
+  EXPECT_NE(uav.reserve[0].address, "place-2.pheromesh-swarm");
+  EXPECT_EQ(uav.domain, 7U);
+  EXPECT_TRUE(uav.interface_address.empty());
+  const auto lock = named_cell(four_regions(true), k8s, "uav", 6);
+  EXPECT_EQ(lock.peers.size(), 2U);
+  EXPECT_TRUE(lock.reserve.empty());
+  // A place agent: index 0, the ground station and the other three.
+  const auto place = named_cell(four_regions(), k8s, "place", 1);
+  ASSERT_TRUE(place.index);
+  EXPECT_EQ(*place.index, 0U);
+  EXPECT_EQ(names_of(place.peers), (std::vector<std::string>{"ground.pheromesh-swarm", "place-0.pheromesh-swarm",
+                                                             "place-2.pheromesh-swarm", "place-3.pheromesh-swarm"}));
+  const auto ground = named_cell(four_regions(), HubNames{}, "ground", 0);
+  EXPECT_EQ(names_of(ground.peers), (std::vector<std::string>{"place-0", "place-1", "place-2", "place-3"}));
+  // A monitor: a member of every hub's cell.
+  const auto monitor = named_cell(four_regions(), HubNames{}, "monitor", 0);
+  EXPECT_FALSE(monitor.index);
+  EXPECT_EQ(names_of(monitor.peers), (std::vector<std::string>{"ground", "place-0", "place-1", "place-2", "place-3"}));
+}
+
+TEST(NamedCells, TemplatesThatCannotNameEveryHubAreRefusedWithTheReason) {
+  EXPECT_FALSE(check_hub_names(HubNames{}));
+  EXPECT_EQ(hub_name(HubNames{"r{region}-{region}", "g"}, "place", 12), "r12-12");
+  const auto no_region = check_hub_names(HubNames{"place", "ground"});
+  ASSERT_TRUE(no_region);
+  EXPECT_NE(no_region->find("has no {region}"), std::string::npos) << *no_region;
+  const auto unknown = check_hub_names(HubNames{"place-{id}", "ground"});
+  ASSERT_TRUE(unknown);
+  EXPECT_NE(unknown->find("unknown placeholder at '{id}'"), std::string::npos) << *unknown;
+  EXPECT_TRUE(check_hub_names(HubNames{"place-{region}", "ground-{region}"}));
+  EXPECT_TRUE(check_hub_names(HubNames{"place-{region}", ""}));
+}
+
+TEST(NamedCells, NamesResolveToOneAddressEachAndTheProcessBindsItsRoute) {
+  const std::map<std::string, std::vector<std::string>> dns{{"ground", {"10.88.0.2"}},
+                                                            {"place-0", {"10.88.0.3"}},
+                                                            {"place-1", {"10.88.0.4"}},
+                                                            {"place-2", {"10.88.0.5"}},
+                                                            {"place-3", {"10.88.0.6"}}};
+  auto lookups = std::make_shared<int>(0);
+  const NameResolver resolve =
+      [&dns, lookups](const std::string& n) -> core::Result<std::optional<std::vector<std::string>>> {
+    ++*lookups;
+    auto it = dns.find(n);
+    if (it == dns.end()) return std::optional<std::vector<std::string>>{};
+    return std::optional<std::vector<std::string>>{it->second};
+  };
+  const auto route = [](const std::string& to) -> std::optional<std::string> {
+    return to.rfind("10.88.", 0) == 0 ? std::optional<std::string>("10.88.0.9") : std::nullopt;
+  };
+  auto r = resolve_named_cell(named_cell(four_regions(), HubNames{}, "uav", 6), resolve, route);
+  ASSERT_TRUE(r) << r.error().message;
+  const auto& cell = std::get<bus::CellDiscovery>(r.value());
+  EXPECT_EQ(bus::format_cell(cell), "peers=10.88.0.5:0;reserve=" + cell.reserve[0].address + ":0;iface=10.88.0.9");
+  EXPECT_EQ(cell_environment("uav", cell),
+            (std::vector<std::string>{"PHEROMESH_CELL=" + bus::format_cell(cell), "PHEROMESH_PARTICIPANT_ID=1"}));
+  EXPECT_EQ(cell_environment("place", cell).size(), 1U);  // a hub's index is in its cell
+  // The cell survives the round trip through its text.
+  auto parsed = bus::parse_cell(bus::format_cell(cell), 7);
+  ASSERT_TRUE(parsed) << parsed.error().message;
+  EXPECT_EQ(parsed->peers[0].address, "10.88.0.5");
+  // A place agent's names, each looked up once.
+  *lookups = 0;
+  ASSERT_TRUE(resolve_named_cell(named_cell(four_regions(), HubNames{}, "place", 0), resolve, route));
+  EXPECT_EQ(*lookups, 4);
+}
+
+TEST(NamedCells, UnresolvedNamesAreListedAndSharedOrManyAddressesRefused) {
+  std::map<std::string, std::vector<std::string>> dns{{"ground", {"10.88.0.2"}}, {"place-0", {"10.88.0.3"}}};
+  const auto resolver = [&dns](const std::string& n) -> core::Result<std::optional<std::vector<std::string>>> {
+    auto it = dns.find(n);
+    if (it == dns.end()) return std::optional<std::vector<std::string>>{};
+    return std::optional<std::vector<std::string>>{it->second};
+  };
+  const auto route = [](const std::string&) -> std::optional<std::string> { return "10.88.0.9"; };
+  const auto ground = named_cell(four_regions(), HubNames{}, "ground", 0);
+  auto waiting = resolve_named_cell(ground, resolver, route);
+  ASSERT_TRUE(waiting);
+  ASSERT_TRUE(std::holds_alternative<Unresolved>(waiting.value()));
+  EXPECT_EQ(std::get<Unresolved>(waiting.value()).names, (std::vector<std::string>{"place-1", "place-2", "place-3"}));
+  // Two hubs at one address would both take index 0 there.
+  dns["place-1"] = {"10.88.0.3"};
+  dns["place-2"] = {"10.88.0.5"};
+  dns["place-3"] = {"10.88.0.6"};
+  auto shared = resolve_named_cell(ground, resolver, route);
+  ASSERT_FALSE(shared);
+  EXPECT_NE(shared.error().message.find("'place-0' and 'place-1' resolve to the same address 10.88.0.3"),
+            std::string::npos)
+      << shared.error().message;
+  // A name for several processes (a scaled service) is not one hub.
+  dns["place-1"] = {"10.88.0.4", "10.88.0.7"};
+  auto many = resolve_named_cell(ground, resolver, route);
+  ASSERT_FALSE(many);
+  EXPECT_NE(many.error().message.find("'place-1' resolves to 2 addresses"), std::string::npos) << many.error().message;
+  // No route to the swarm.
+  dns["place-1"] = {"10.88.0.4"};
+  auto lost = resolve_named_cell(ground, resolver, [](const std::string&) { return std::optional<std::string>{}; });
+  ASSERT_FALSE(lost);
+  EXPECT_NE(lost.error().message.find("no route to 10.88.0.3"), std::string::npos) << lost.error().message;
 }
 
 }  // namespace
