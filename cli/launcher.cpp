@@ -194,10 +194,11 @@ void announce(const RunPlan& plan, const core::ScenarioConfig& s) {
     }
   }
   spdlog::info(
-      "run '{}' ({}): {} place agents, {} uavs, {} ticks, {} clock{}, over {} (domain {}, profile {}); logs in {}/logs",
+      "run '{}' ({}): {} place agents, {} uavs, {} ticks, {} clock{}, over {} (domain {}, profile {}{}); logs in "
+      "{}/logs",
       s.name, o.scenario, plan.regions, plan.uavs, plan.ticks, o.clock,
       plan.lockstep() ? "" : fmt::format(" at {:.1f} Hz", plan.rate_hz), plan.dds.describe(), o.domain, o.dds_profile,
-      o.out_dir);
+      o.secure.empty() ? "" : ", DDS Security: identities in " + o.secure, o.out_dir);
   if (s.plugin || s.python) spdlog::info("policy {}", policy_summary(s));
   if (const auto attach = cells_attach_command(plan)) spdlog::info("watch it with: {}", *attach);
   if (!plan.multi_host()) return;

@@ -479,6 +479,9 @@ std::optional<std::string> cells_attach_command(const RunPlan& plan) {
     for (const auto& a : o.host_addresses) peers += (peers.empty() ? "" : ",") + a;
     cmd += " --dds-peers " + peers;
   }
+  // A secure swarm admits only authenticated participants: the monitor's
+  // read-only identity is in the same directory.
+  if (!o.secure.empty()) cmd += " --secure " + o.secure;
   return cmd;
 }
 

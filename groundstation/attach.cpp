@@ -49,8 +49,9 @@ int attach(GroundConfig cfg, double timeout_s) {
     const auto bus = make_bus(/*standby=*/false);  // only to read the run
     if (!bus) return 3;
     bus->subscribe_scenario();
-    log->info("looking for a swarm on domain {} over {} (profile {}), up to {:.0f} s", cfg.common.domain, bus->vendor(),
-              cfg.common.dds_profile, timeout_s);
+    log->info("looking for a swarm on domain {} over {} (profile {}{}), up to {:.0f} s", cfg.common.domain,
+              bus->vendor(), cfg.common.dds_profile,
+              cfg.common.secure.empty() ? "" : ", DDS Security as 'monitor'", timeout_s);
     const auto deadline =
         std::chrono::steady_clock::now() + std::chrono::milliseconds(static_cast<int64_t>(timeout_s * 1000));
     std::vector<core::ScenarioMsg> got;

@@ -4,8 +4,8 @@
 // namespace attaches mid-run with only the domain id (and in cells the hosts'
 // addresses). Discovery in cells (the default, with multicast dropped on the
 // bridge so that nothing else can work), by multicast (profile lan) and by
-// unicast peers (lan-unicast, multicast dropped too). Traffic stays in the
-// namespaces this test makes. Domains 70-71, 74-76; needs root (ip netns).
+// unicast peers (lan-unicast, multicast dropped too); in cells also secure.
+// Traffic stays in the namespaces this test makes. Domains 70-71, 74-76; needs root (ip netns).
 #include <unistd.h>
 
 #include <regex>
@@ -88,8 +88,11 @@ std::optional<double> number_in(const std::string& text, const std::string& re) 
 // The three hosts' launchers, then a monitor in the fourth namespace once the
 // swarm flies; checks the swarm's metrics, each host's share and the monitor.
 // `standby`: every region has a standby on the next host, and host 0 kills
-// place agent 0 (its primary) mid-flight.
-void run_split_swarm(const std::string& tag, int domain, const std::string& profile_args, bool standby = false) {
+// place agent 0 (its primary) mid-flight. `secure`: every process and the
+// monitor authenticate with their identities (DDS Security; one directory of
+// `pheromesh security init`, read by every host).
+void run_split_swarm(const std::string& tag, int domain, const std::string& profile_args, bool standby = false,
+                     bool secure = false) {
   if (geteuid() != 0) GTEST_SKIP() << "network namespaces need root";
   // Without a profile flag the swarm flies in cells, the default.
   const bool cells = profile_args.find("--dds-profile") == std::string::npos;
@@ -98,9 +101,17 @@ void run_split_swarm(const std::string& tag, int domain, const std::string& prof
   const std::string out = out_dir(tag);
   const std::string key = run(kBin + "/pheromesh key").text.substr(0, 64);
   ASSERT_EQ(key.size(), 64U);
+  std::string secure_args;
+  if (secure) {
+    const std::string dir = out + "/sec";
+    const Output init = run(kBin + "/pheromesh security init " + dir + " --scenario " + kSrc +
+                            "/scenarios/small-test.textproto --uavs 6");
+    ASSERT_EQ(init.exit_code, 0) << init.text;
+    secure_args = " --secure " + dir;
+  }
   const std::string common = " --hosts " + std::to_string(kHosts) + " --domain " + std::to_string(domain) +
                              " --uavs 6 --ticks 375 --rate 25 --progress 0.5 " + profile_args +
-                             (standby ? " --standby" : "");
+                             (standby ? " --standby" : "") + secure_args;
   std::vector<Background> hosts;
   const auto t0 = Clock::now();
   for (int i = 0; i < kHosts; ++i) {
@@ -132,7 +143,7 @@ void run_split_swarm(const std::string& tag, int domain, const std::string& prof
   const Background monitor = start({"/bin/sh", "-c",
                                     "ip netns exec " + ns(kHosts) + " " + kBin + "/pheromesh attach --domain " +
                                         std::to_string(domain) + (cells ? std::string() : " --dds-profile " + profile) +
-                                        peers + " --out " + out + "/monitor --timeout 30 2>&1"},
+                                        peers + secure_args + " --out " + out + "/monitor --timeout 30 2>&1"},
                                    out + "/monitor.txt");
   std::vector<int> codes;
   for (const auto& h : hosts) codes.push_back(wait_exit(h.pid, std::chrono::seconds(180)));
@@ -174,6 +185,10 @@ void run_split_swarm(const std::string& tag, int domain, const std::string& prof
   }
   const std::string ground = slurp(ground_txt);
   if (cells) EXPECT_NE(ground.find("profile cells"), std::string::npos) << ground;
+  if (secure) {
+    EXPECT_NE(ground.find("profile cells, DDS Security: identities in " + out + "/sec"), std::string::npos) << ground;
+    EXPECT_NE(slurp(out + "/monitor.txt").find("DDS Security as 'monitor'"), std::string::npos);
+  }
   const auto discovery = number_in(ground, "discovery complete: .* heard ([0-9.]+) s after the launch");
   ASSERT_TRUE(discovery.has_value()) << ground;
   ::testing::Test::RecordProperty("discovery_s", std::to_string(*discovery));
@@ -210,8 +225,12 @@ TEST(Lan, ASwarmOverThreeHostsWithUnicastPeersCompletesWithoutMulticastAndALateM
                   "--dds-profile lan-unicast --dds-peers " + address(0) + "," + address(1) + "," + address(2));
 }
 
+// Secure (DDS Security) on one vendor; a mixed swarm cannot be secure
+// (docs/security.md), and flies open.
 TEST(LanCells, ASwarmOverThreeHostsInCellsByDefaultCompletesWithoutMulticastAndAMonitorNamingTheHostsAttaches) {
-  run_split_swarm("lan-cells", 75, "--dds-peers " + address(0) + "," + address(1) + "," + address(2));
+  const char* backend = std::getenv("PHEROMESH_DDS");
+  run_split_swarm("lan-cells", 75, "--dds-peers " + address(0) + "," + address(1) + "," + address(2),
+                  /*standby=*/false, /*secure=*/backend == nullptr || std::string(backend) != "mixed");
 }
 
 // Lockstep over three hosts in cells: the ground station on host 0 conducts

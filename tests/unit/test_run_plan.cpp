@@ -480,6 +480,10 @@ TEST(RunPlan, ARunWithoutAProfileFliesInCells) {
   EXPECT_EQ(value_of(process(p, "uav-0"), "--dds-profile"), "cells");
   EXPECT_NE(env_of(process(p, "uav-0"), "PHEROMESH_CELL"), "(unset)");
   EXPECT_EQ(cells_attach_command(p).value_or(""), "pheromesh attach --domain 0 --cell-hubs 5");
+  // A secure swarm's monitor authenticates from the same directory.
+  o.secure = "/etc/swarm-sec";
+  EXPECT_EQ(cells_attach_command(plan_of(o, small_test_with(10))).value_or(""),
+            "pheromesh attach --domain 0 --cell-hubs 5 --secure /etc/swarm-sec");
 }
 
 TEST(RunPlan, ARunWithoutAProfileWhoseCellsCannotBeOnOneHostFliesFlatAndSaysWhyButCellsAskedForAreRefused) {
