@@ -5,7 +5,7 @@
 // addresses). Discovery in cells (the default, with multicast dropped on the
 // bridge so that nothing else can work), by multicast (profile lan) and by
 // unicast peers (lan-unicast, multicast dropped too); in cells also secure.
-// Traffic stays in the namespaces this test makes. Domains 70-71, 74-76; needs root (ip netns).
+// Traffic stays in the namespaces this test makes. Domains 70-71, 74-77; needs root (ip netns).
 #include <unistd.h>
 
 #include <regex>
@@ -303,4 +303,77 @@ TEST(Cli, AMonitorWithNoSwarmOnItsDomainSaysSoAndAGroundStationNeedsAScenarioOrA
 
 TEST(Lan, AStandbyOnAnotherHostServesARegionWhoseHostKilledItsPrimaryInCells) {
   run_split_swarm("lan-standby", 74, "--dds-peers " + address(0) + "," + address(1) + "," + address(2), true);
+}
+
+// One host's link cut mid-run, in cells: the bridge drops host 2's frames
+// for 4 s, then carries them again. The ground station (host 0) sees region 2 go
+// dark and come back; UAV 2, which flies on host 2 beside its home place
+// agent (placement by locality), keeps its gateway through the cut and flies
+// every tick; the run ends by itself with every deposit accounted for.
+TEST(Lan, AHostWhoseLinkIsCutMidRunDarkensItsRegionAndItsUavFliesOnBesideItsHome) {
+  if (geteuid() != 0) GTEST_SKIP() << "network namespaces need root";
+  LanNet net(/*drop_multicast=*/true);
+  ASSERT_TRUE(net.ready());
+  const std::string out = out_dir("lan-cut");
+  const std::string key = run(kBin + "/pheromesh key").text.substr(0, 64);
+  std::vector<Background> hosts;
+  const auto t0 = Clock::now();
+  for (int i = 0; i < kHosts; ++i) {
+    hosts.push_back(start({"/bin/sh", "-c",
+                           "ip netns exec " + ns(i) + " env PHEROMESH_CONTROL_KEY=" + key + " " + kBin +
+                               "/pheromesh run " + kSrc + "/scenarios/small-test.textproto --hosts 3 --host-index " +
+                               std::to_string(i) + " --dds-peers " + address(0) + "," + address(1) + "," + address(2) +
+                               " --domain 77 --uavs 6 --ticks 375 --rate 25 --progress 0.5 --out " + out + "/host" +
+                               std::to_string(i) + " 2>&1"},
+                          out + "/host" + std::to_string(i) + ".txt"));
+  }
+  const std::string ground_txt = out + "/host0.txt";
+  const auto started = [&] { return slurp(ground_txt).find("sent to the swarm") != std::string::npos; };
+  while (!started() && Clock::now() - t0 < std::chrono::seconds(60))
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  ASSERT_TRUE(started()) << slurp(ground_txt);
+  std::this_thread::sleep_for(std::chrono::seconds(3));
+  // The cut: the switch drops every frame from and to host 2 (its cable is
+  // cut; the host does not notice, as a host behind a broken switch port
+  // does not).
+  const std::string sw = "ip netns exec " + kPrefix + "-sw nft ";
+  must(sw + "add table bridge phcut");
+  must(sw + "add chain bridge phcut cut '{ type filter hook forward priority 0; policy accept; }'");
+  must(sw + "add rule bridge phcut cut ip saddr " + address(2) + " drop");
+  must(sw + "add rule bridge phcut cut ip daddr " + address(2) + " drop");
+  const auto cut = Clock::now();
+  const auto dark = [&] {
+    return slurp(ground_txt).find("place agent 2 lost (liveliness)") != std::string::npos;
+  };
+  while (!dark() && Clock::now() - cut < std::chrono::seconds(4))
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  std::this_thread::sleep_for(std::chrono::seconds(4) - (Clock::now() - cut));
+  must(sw + "delete table bridge phcut");
+  std::vector<int> codes;
+  for (const auto& h : hosts) codes.push_back(wait_exit(h.pid, std::chrono::seconds(180)));
+  for (int i = 0; i < kHosts; ++i) {
+    EXPECT_EQ(codes[static_cast<std::size_t>(i)], 0) << "host " << i << ":\n"
+                                                     << slurp(out + "/host" + std::to_string(i) + ".txt");
+  }
+  const std::string ground = slurp(ground_txt);
+  // The ground station saw region 2 go dark, and come back.
+  EXPECT_NE(ground.find("place agent 2 lost (liveliness); region 2 has no live place agent"), std::string::npos)
+      << ground;
+  EXPECT_NE(ground.find("place agent 2 is back at tick"), std::string::npos) << ground;
+  // No other place agent went dark: the cut was host 2's alone.
+  for (int r : {0, 1, 3}) {
+    EXPECT_EQ(ground.find("place agent " + std::to_string(r) + " lost"), std::string::npos) << ground;
+  }
+  // UAV 2 (home 2, on host 2) flew every tick and kept its gateway.
+  const std::string uav2 = slurp(out + "/host2/logs/uav-2.log");
+  EXPECT_NE(uav2.find("uav 2 finished at tick 375"), std::string::npos) << uav2;
+  EXPECT_EQ(uav2.find("naming place agent"), std::string::npos) << uav2;  // no backup needed
+  const json m = read_metrics(out + "/host0");
+  ASSERT_FALSE(m.is_null()) << ground;
+  EXPECT_EQ(m["uavs"], 6);
+  EXPECT_EQ(m["place_agents_finished"], 4) << m.dump(2);
+  expect_accounting(m);
+  EXPECT_EQ(m["processes_crashed"], 0);
+  std::printf("[lan] lan-cut: deposits sent %lld, applied %lld, lost %lld\n", m["deposits_sent"].get<long long>(),
+              m["deposits_applied"].get<long long>(), m["deposits_lost"].get<long long>());
 }
