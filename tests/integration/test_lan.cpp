@@ -342,9 +342,7 @@ TEST(Lan, AHostWhoseLinkIsCutMidRunDarkensItsRegionAndItsUavFliesOnBesideItsHome
   must(sw + "add rule bridge phcut cut ip saddr " + address(2) + " drop");
   must(sw + "add rule bridge phcut cut ip daddr " + address(2) + " drop");
   const auto cut = Clock::now();
-  const auto dark = [&] {
-    return slurp(ground_txt).find("place agent 2 lost (liveliness)") != std::string::npos;
-  };
+  const auto dark = [&] { return slurp(ground_txt).find("place agent 2 lost (liveliness)") != std::string::npos; };
   while (!dark() && Clock::now() - cut < std::chrono::seconds(4))
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
   std::this_thread::sleep_for(std::chrono::seconds(4) - (Clock::now() - cut));
