@@ -51,6 +51,7 @@ uint32_t CellLayout::host_of(const std::string& role, uint32_t index, uint32_t r
   if (s_.hosts <= 1) return 0;
   if (role == "ground") return s_.ground_host;
   if (role == "place") return (index + replica) % s_.hosts;
+  if (auto pin = s_.uav_hosts.find(index); pin != s_.uav_hosts.end()) return pin->second;
   // A UAV flies beside its home place agent's primary.
   return host_of("place", core::home_region(index, s_.regions), 0);
 }
@@ -167,6 +168,46 @@ std::optional<std::string> CellLayout::check(bool fastdds_members) const {
     }
   }
   return std::nullopt;
+}
+
+core::Result<std::map<uint32_t, uint32_t>> parse_uav_pins(const std::string& text, uint32_t uavs, uint32_t hosts) {
+  std::map<uint32_t, uint32_t> pins;
+  if (text.empty()) return pins;
+  if (hosts <= 1) {
+    return core::Error{"--pin-uavs " + text + ": pins place UAVs on the hosts of --hosts; this swarm has one host"};
+  }
+  const auto number = [](const std::string& s) -> std::optional<uint32_t> {
+    if (s.empty() || s.size() > 9 || s.find_first_not_of("0123456789") != std::string::npos) return std::nullopt;
+    return static_cast<uint32_t>(std::stoul(s));
+  };
+  std::size_t start = 0;
+  while (start <= text.size()) {
+    const std::size_t comma = std::min(text.find(',', start), text.size());
+    const std::string item = text.substr(start, comma - start);
+    start = comma + 1;
+    const auto bad = [&](const std::string& why) {
+      return core::Error{"--pin-uavs: '" + item + "': " + why +
+                         " (expected U=H or A-B=H, comma-separated: UAV ids, "
+                         "host indices)"};
+    };
+    const std::size_t eq = item.find('=');
+    if (eq == std::string::npos) return bad("no '='");
+    const std::string ids = item.substr(0, eq);
+    const std::size_t dash = ids.find('-');
+    const auto first = number(ids.substr(0, dash));
+    const auto last = dash == std::string::npos ? first : number(ids.substr(dash + 1));
+    const auto host = number(item.substr(eq + 1));
+    if (!first || !last) return bad("the UAV ids are not numbers");
+    if (!host) return bad("the host is not a number");
+    if (*last < *first) return bad("the range runs backwards");
+    if (*last >= uavs) return bad("the swarm's UAVs are 0.." + std::to_string(uavs - 1));
+    if (*host >= hosts) return bad("the hosts are 0.." + std::to_string(hosts - 1));
+    for (uint32_t u = *first; u <= *last; ++u) {
+      if (!pins.emplace(u, *host).second) return bad("UAV " + std::to_string(u) + " is pinned twice");
+    }
+    if (comma == text.size()) break;
+  }
+  return pins;
 }
 
 std::optional<std::string> check_hub_names(const HubNames& names) {

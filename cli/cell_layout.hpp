@@ -19,11 +19,13 @@
 #pragma once
 
 #include <cstdint>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "pheromesh/bus/cell_discovery.hpp"
+#include "pheromesh/core/result.hpp"
 
 namespace pheromesh::cli {
 
@@ -41,7 +43,15 @@ struct SwarmShape {
   // Each host's IPv4 address, in host-index order; empty on one host
   // (loopback).
   std::vector<std::string> addresses;
+  // UAVs the user pinned to a host (--pin-uavs): UAV id -> host. The others
+  // fly beside their home place agent.
+  std::map<uint32_t, uint32_t> uav_hosts;
 };
+
+// --pin-uavs: "U=H" or "A-B=H" items, comma-separated (UAV ids, host
+// indices), each UAV at most once; an error names the item and what is
+// wrong with it.
+core::Result<std::map<uint32_t, uint32_t>> parse_uav_pins(const std::string& text, uint32_t uavs, uint32_t hosts);
 
 class CellLayout {
  public:

@@ -57,6 +57,7 @@ SEVERAL HOSTS (docs/deployment.md)
     export PHEROMESH_CONTROL_KEY=...      # the same on every host
     pheromesh run scenarios/small-test.textproto --hosts 3 --host-index 0 --dds-peers 10.0.0.1,10.0.0.2,10.0.0.3
     pheromesh run scenarios/small-test.textproto --hosts 3 --host-index 1 --dds-peers 10.0.0.1,10.0.0.2,10.0.0.3
+  A UAV may fly elsewhere: --pin-uavs 0-9=2,12=0 (UAV ids = host index, the same on every host).
   Flat discovery instead: --dds-profile lan (multicast) or lan-unicast --dds-peers ...
   Watch from anywhere on the LAN: pheromesh attach --dds-peers 10.0.0.1,10.0.0.2,10.0.0.3 --http 8080
 )";
@@ -178,6 +179,9 @@ class FullCommands final : public ProcessCommands {
     r->add_option("--host-index", ro.host_index, "This host's index, 0 .. hosts-1")->capture_default_str();
     r->add_option("--ground-host", ro.ground_host, "The host that runs the ground station (and the web console)")
         ->capture_default_str();
+    r->add_option("--pin-uavs", ro.pin_uavs,
+                  "With --hosts: UAVs that fly on a host of your choosing instead of beside their home place agent, "
+                  "U=H or A-B=H, comma-separated (e.g. 0-9=2,12=0); the same on every host");
     r->add_option("--domain", ro.domain, "DDS domain id (use distinct ids for swarms sharing a host)")
         ->check(CLI::Range(0, 232))
         ->capture_default_str();

@@ -56,6 +56,7 @@ core::Result<CellLayout> cell_layout(const RunPlan& p) {
   shape.domain = o.domain;
   shape.hosts = o.hosts;
   shape.ground_host = o.ground_host;
+  shape.uav_hosts = p.share.uav_hosts;
   if (p.multi_host()) shape.addresses = o.host_addresses;
   CellLayout layout(std::move(shape));
   if (auto err = layout.check(p.dds.uav != "cyclone")) return core::Error{*err};
@@ -338,6 +339,7 @@ bool HostShare::runs(const std::string& role, uint32_t index, uint32_t replica) 
   shape.regions = regions;
   shape.hosts = hosts;
   shape.ground_host = ground_host;
+  shape.uav_hosts = uav_hosts;
   return CellLayout(shape).host_of(role, index, replica) == host_index;
 }
 
@@ -387,7 +389,9 @@ core::Result<RunPlan> make_run_plan(const RunOptions& o, const core::ScenarioCon
   p.process_scenario = s.overrides.empty() ? o.scenario : (fs::path(o.out_dir) / kOverriddenScenarioFile).string();
   p.dds = dds;
   p.bin_dir = bin_dir;
-  p.share = {o.hosts, o.host_index, o.ground_host, n.regions};
+  auto pins = parse_uav_pins(o.pin_uavs, n.uavs, o.hosts);
+  if (!pins) return pins.error();
+  p.share = {o.hosts, o.host_index, o.ground_host, n.regions, std::move(pins).value()};
   p.clock = o.clock == "lockstep" ? RunClock::Lockstep : RunClock::Realtime;
   p.ticks = n.ticks;
   p.uavs = n.uavs;
@@ -462,7 +466,8 @@ std::optional<std::string> check_multi_host(const RunPlan& plan, ControlKey key,
         return "fault schedule: '" + e.text + "': " + t.process_name() + " does not run on host " +
                std::to_string(o.host_index) + " (--hosts " + std::to_string(o.hosts) +
                ": place agent R on host R % hosts, its standby on the next, UAV U on the host of place agent U % "
-               "regions, the ground station on --ground-host); give this fault to that host's pheromesh run";
+               "regions unless --pin-uavs puts it elsewhere, the ground station on --ground-host); give this fault "
+               "to that host's pheromesh run";
       }
     }
   }

@@ -8,6 +8,7 @@
 
 #include <chrono>
 #include <cstdint>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -63,6 +64,9 @@ struct RunOptions {
   uint32_t hosts = 1;
   uint32_t host_index = 0;
   uint32_t ground_host = 0;
+  // --pin-uavs: UAVs that fly on a host of the user's choosing instead of
+  // beside their home place agent ("U=H,A-B=H"; cell_layout.hpp).
+  std::string pin_uavs;
   std::string log_level = "info";
   double progress_s = 1.0;
   double start_timeout_s = 0;      // lockstep: the conductor's wait for every Ready (0: the ground station's default)
@@ -91,6 +95,7 @@ struct HostShare {
   uint32_t host_index = 0;
   uint32_t ground_host = 0;
   uint32_t regions = 1;  // a UAV runs on the host of its home place agent
+  std::map<uint32_t, uint32_t> uav_hosts;  // ... unless pinned (--pin-uavs)
   [[nodiscard]] bool multi_host() const { return hosts > 1; }
   // Whether this host runs process `index` (replica `replica`) of `role`.
   [[nodiscard]] bool runs(const std::string& role, uint32_t index, uint32_t replica = 0) const;

@@ -259,5 +259,39 @@ TEST(NamedCells, UnresolvedNamesAreListedAndSharedOrManyAddressesRefused) {
   EXPECT_NE(lost.error().message.find("no route to 10.88.0.3"), std::string::npos) << lost.error().message;
 }
 
+TEST(CellLayout, APinnedUavFliesOnItsHostAndNamesItsGatewaysWhereTheyAre) {
+  SwarmShape s = three_hosts();
+  s.uav_hosts = {{5, 2}};  // UAV 5's home is place agent 1, on host 1
+  const CellLayout l(s);
+  EXPECT_EQ(l.host_of("uav", 5), 2U);
+  EXPECT_EQ(l.host_of("uav", 1), 1U);  // not pinned: beside its home
+  const auto c = l.cell_of("uav", 5);
+  EXPECT_EQ(c.interface_address, "10.0.0.3");  // it binds its own host's address
+  ASSERT_EQ(c.peers.size(), 1U);
+  EXPECT_EQ(c.peers[0].address, "10.0.0.2");  // its home, on host 1
+}
+
+TEST(CellLayout, PinsAreParsedAndWhatCannotBeIsRefusedNamingTheItem) {
+  auto pins = parse_uav_pins("0-2=1,7=0", 10, 3);
+  ASSERT_TRUE(pins) << pins.error().message;
+  EXPECT_EQ(pins.value(), (std::map<uint32_t, uint32_t>{{0, 1}, {1, 1}, {2, 1}, {7, 0}}));
+  EXPECT_TRUE(parse_uav_pins("", 10, 1).value().empty());
+  const std::pair<std::string, std::string> refused[] = {
+      {"3=1", "this swarm has one host"},  // with hosts = 1 below
+      {"3", "'3': no '='"},
+      {"x=1", "the UAV ids are not numbers"},
+      {"3=y", "the host is not a number"},
+      {"5-2=1", "the range runs backwards"},
+      {"9-10=1", "the swarm's UAVs are 0..9"},
+      {"3=3", "the hosts are 0..2"},
+      {"1-3=0,3=2", "UAV 3 is pinned twice"},
+  };
+  for (const auto& [text, why] : refused) {
+    const auto r = parse_uav_pins(text, 10, text == "3=1" ? 1 : 3);
+    ASSERT_FALSE(r) << text;
+    EXPECT_NE(r.error().message.find(why), std::string::npos) << r.error().message;
+  }
+}
+
 }  // namespace
 }  // namespace pheromesh::cli

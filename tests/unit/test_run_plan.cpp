@@ -522,6 +522,14 @@ TEST(RunPlan, InCellsOverSeveralHostsEachProcessBindsItsHostsAddressAndNamesItsP
   EXPECT_FALSE(has(process(p, "uav-6"), "--dds-peers"));
   EXPECT_EQ(cells_attach_command(p).value_or(""),
             "pheromesh attach --domain 0 --cell-hubs 3 --dds-peers 10.0.0.1,10.0.0.2,10.0.0.3");
+  // --pin-uavs: UAV 6 flies on host 0 instead, UAV 1 (home 1, host 1) here;
+  // each still names its home at its host's address and binds its own.
+  o.pin_uavs = "6=0,1=2";
+  const RunPlan pinned = plan_of(o, small_test_with(10));
+  EXPECT_EQ(names(pinned), (std::vector<std::string>{"place-2", "uav-1", "uav-2"}));
+  EXPECT_EQ(env_of(process(pinned, "uav-1"), "PHEROMESH_CELL"), "peers=10.0.0.2:0;reserve=10.0.0.3:0;iface=10.0.0.3");
+  o.pin_uavs = "1=3";
+  EXPECT_NE(plan_error(o).find("--pin-uavs: '1=3': the hosts are 0..2"), std::string::npos) << plan_error(o);
 }
 
 TEST(RunPlan, InCellsAUavNamesItsHomeAndKeepsItsBackupInReserveAndTheHubsNameOneAnother) {
