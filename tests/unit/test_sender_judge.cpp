@@ -120,13 +120,16 @@ TEST(SenderJudge, ALockstepForwardedDepositIsTakenOnlyInThePlacePhaseOfItsTickAn
   d.uav = 0;
   d.seq = 12;
   d.tick = 40;
-  EXPECT_TRUE(judge_lockstep_forward(d, 40, false).taken());
-  const auto late = judge_lockstep_forward(d, 41, false);
+  EXPECT_TRUE(judge_lockstep_forward(d, 40, false, false).taken());
+  const auto late = judge_lockstep_forward(d, 41, false, false);
   EXPECT_EQ(late.refusal, Refusal::UnannouncedDeposit) << "never applied a tick late";
   EXPECT_NE(late.reason.find("of tick 40 forwarded in the place phase of tick 41"), std::string::npos) << late.reason;
-  EXPECT_EQ(judge_lockstep_forward(d, 39, false).refusal, Refusal::UnannouncedDeposit) << "nor early";
-  EXPECT_EQ(judge_lockstep_forward(d, 40, true).refusal, Refusal::ForeignWriter)
+  EXPECT_EQ(judge_lockstep_forward(d, 39, false, false).refusal, Refusal::UnannouncedDeposit) << "nor early";
+  EXPECT_EQ(judge_lockstep_forward(d, 40, true, false).refusal, Refusal::ForeignWriter)
       << "its gateway takes its deposits from its states";
+  EXPECT_EQ(judge_lockstep_forward(d, 41, true, true).refusal, Refusal::ForeignWriter) << "whatever it says";
+  EXPECT_TRUE(judge_lockstep_forward(d, 41, false, true).taken())
+      << "refused by the place core for what it says (a UAV outside the swarm, a seq far ahead), and counted so";
 }
 
 }  // namespace sender_judge_test

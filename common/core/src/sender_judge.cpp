@@ -85,13 +85,14 @@ IntakeVerdict judge_uav_report(const PhaseDoneMsg& m, RegionId self, const Swarm
                       Refusal::ForeignReport);
 }
 
-IntakeVerdict judge_lockstep_forward(const DepositMsg& d, uint32_t place_tick, bool gateway_of_uav) {
+IntakeVerdict judge_lockstep_forward(const DepositMsg& d, uint32_t place_tick, bool gateway_of_uav,
+                                     bool refused_anyway) {
   if (gateway_of_uav) {
     return IntakeVerdict::refuse(Refusal::ForeignWriter,
                                  "a deposit of uav " + std::to_string(d.uav) + " (seq " + std::to_string(d.seq) +
                                      ") forwarded to its own gateway, which takes its deposits from its states");
   }
-  if (d.tick != place_tick) {
+  if (d.tick != place_tick && !refused_anyway) {
     return IntakeVerdict::refuse(Refusal::UnannouncedDeposit,
                                  "a deposit of uav " + std::to_string(d.uav) + " (seq " + std::to_string(d.seq) +
                                      ") of tick " + std::to_string(d.tick) + " forwarded in the place phase of tick " +

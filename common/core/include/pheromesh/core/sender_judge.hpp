@@ -82,7 +82,11 @@ IntakeVerdict judge_uav_report(const PhaseDoneMsg& m, RegionId self, const Swarm
 // forward crosses a lockstep gateway) - ForeignWriter - or if it is not of
 // this tick: the conductor announced this place phase's deposits from what
 // the UAVs reported, and a deposit of another tick is none of them; applied
-// at this tick, a late one would land a tick late (UnannouncedDeposit).
-IntakeVerdict judge_lockstep_forward(const DepositMsg& d, uint32_t place_tick, bool gateway_of_uav);
+// at this tick, a late one would land a tick late (UnannouncedDeposit). One
+// the place core refuses anyway for what it says (`refused_anyway`:
+// malformed, a UAV outside the swarm, a sequence number it cannot have
+// reached) is left to it, and counted for that.
+IntakeVerdict judge_lockstep_forward(const DepositMsg& d, uint32_t place_tick, bool gateway_of_uav,
+                                     bool refused_anyway);
 
 }  // namespace pheromesh::core
