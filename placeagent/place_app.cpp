@@ -3,8 +3,8 @@
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
-#include <cmath>
 #include <chrono>
+#include <cmath>
 #include <thread>
 
 #include "pheromesh/runtime/lockstep_loop.hpp"
@@ -39,7 +39,7 @@ PlaceApp::PlaceApp(PlaceConfig cfg, core::ScenarioConfig scenario, std::unique_p
       state_writers_(std::chrono::milliseconds(cfg_.common.lease_ms) * (cfg_.common.lockstep() ? 6 : 1)),
       // A place agent writes its served UAVs every tick: silent for a lease, it is dead.
       forwarders_(std::max<core::PlaceVouch::Clock::duration>(std::chrono::seconds(1),
-                                                               std::chrono::milliseconds(cfg_.common.lease_ms))) {
+                                                              std::chrono::milliseconds(cfg_.common.lease_ms))) {
   for (uint32_t u = 0; u < scenario_.uavs; ++u) {
     if (core::home_region(u, geo_.region_count()) == cfg_.region) home_uavs_.push_back(u);
   }
@@ -48,6 +48,7 @@ PlaceApp::PlaceApp(PlaceConfig cfg, core::ScenarioConfig scenario, std::unique_p
     if (r != cfg_.region) other_regions_.push_back(r);
   }
   replicated_ = cfg_.common.standby || scenario_.standby;
+  names_ = {scenario_.uavs, geo_.region_count(), core::replicas_of(replicated_)};
   resend_.resend_deposits(true);  // lockstep only: the forwarded ones (the owners drop copies)
   present_others_ = other_regions_;
   // Realtime: a tile no owner sent for two seconds (at least 10 ticks) is
@@ -69,7 +70,8 @@ void PlaceApp::note_absent() {
                r);
     // Its UAVs whose backup this region is talk to this place agent now.
     for (uint32_t u = 0; u < scenario_.uavs; ++u) {
-      if (core::home_region(u, geo_.region_count()) == r && core::backup_region(u, geo_.region_count()) == cfg_.region) {
+      if (core::home_region(u, geo_.region_count()) == r &&
+          core::backup_region(u, geo_.region_count()) == cfg_.region) {
         adopt(u, views_.state(u));
       }
     }
@@ -126,9 +128,10 @@ void PlaceApp::log_summary(uint32_t tick) {
       resend_.resends(),
       deposits_lost_ > 0 ? fmt::format("; {} deposits for absent regions lost", deposits_lost_) : std::string());
   if (forwards_failed_ > 0) {
-    log_->info("  not forwarded {}: their region's place agent was not reachable or the write failed (lost unless "
-               "another replica of this region forwarded them)",
-               forwards_failed_);
+    log_->info(
+        "  not forwarded {}: their region's place agent was not reachable or the write failed (lost unless "
+        "another replica of this region forwarded them)",
+        forwards_failed_);
   }
   for (const auto& [reason, n] : l.rejected_by_reason) log_->info("  rejected {}: {}", n, reason);
   for (std::size_t i = 0; i < core::kRefusalCount; ++i) {
@@ -235,14 +238,51 @@ void PlaceApp::relay_clock(const core::ClockMsg& c) {
   ++clocks_relayed_;
 }
 
+void PlaceApp::route_carried(core::CarriedDeposits fate) {
+  switch (fate) {
+    case core::CarriedDeposits::Judge:
+      uplinked_.insert(uplinked_.end(), carried_.begin(), carried_.end());
+      break;
+    case core::CarriedDeposits::Reject:
+      refused_carried_.insert(refused_carried_.end(), carried_.begin(), carried_.end());
+      break;
+    case core::CarriedDeposits::Refuse:
+      audit_.refuse(core::Refusal::RefusedStateDeposit,
+                    fmt::format("{} deposit(s) carried by a state of no UAV of the swarm", carried_.size()),
+                    carried_.size());
+      break;
+  }
+}
+
+void PlaceApp::reject_carried() {
+  // Taken (the UAV's view confirms them; lockstep: they count among the
+  // deposits its state says it sent) but neither applied nor forwarded; a
+  // copy (a re-sent state) once.
+  rejected_carried_.clear();
+  for (const auto& d : refused_carried_) {
+    if (desk_.take(d, current_tick_) != core::DepositRoute::Copy) rejected_carried_.push_back(d);
+  }
+  refused_carried_.clear();
+  core_.reject(rejected_carried_, core::kRejectedWithState);
+  audit_.refuse(core::Refusal::RefusedStateDeposit,
+                fmt::format("{} deposit(s) carried by a state its gateway refused", rejected_carried_.size()),
+                rejected_carried_.size());
+}
+
 void PlaceApp::relay_reports() {
   // A report goes on as it came (the ground station checks it): the
   // conductor keys it by its UAV, and with standbys the reader takes the
   // owning replica's copy (exclusive ownership, bus/qos.hpp).
+  // Only a report of a UAV it can be the gateway of, from the UAV's own
+  // process (core::judge_uav_report), as its detections and broadcasts.
   reports_.clear();
   bus_->take_uav_reports(reports_);
+  const auto now = Clock::now();
   for (const auto& m : reports_) {
-    if (m.process >> 24U != core::kRoleUav) continue;  // only UAVs report through a place agent
+    const uint32_t uav = m.process & 0xFFFFFFU;
+    if (!audit_.admit(core::judge_uav_report(m, cfg_.region, names_, from_uav_process(uav, m.participant, now)))) {
+      continue;
+    }
     bus_->publish_phase_done(m);
     ++reports_relayed_;
   }
@@ -323,7 +363,7 @@ int PlaceApp::run() {
   bus_->subscribe_deposits(cfg_.region, /*history=*/cfg_.life <= 1);
   bus_->subscribe_home_states(cfg_.region, /*history=*/cfg_.life <= 1);  // the states carry deposits too
   if (cfg_.common.lockstep()) bus_->subscribe_uav_reports(cfg_.region);  // the lockstep tree
-  bus_->subscribe_uplinks(cfg_.region);  // relays between its UAVs and the swarm
+  bus_->subscribe_uplinks(cfg_.region);                                  // relays between its UAVs and the swarm
   bus_->subscribe_place_exchange(cfg_.region);
   bus_->subscribe_halos(core_.neighbours(), cfg_.region);
   bus_->offer_deposits(other_regions_);

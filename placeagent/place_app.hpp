@@ -26,6 +26,7 @@
 #include "pheromesh/core/place_vouch.hpp"
 #include "pheromesh/core/receipts.hpp"
 #include "pheromesh/core/scenario.hpp"
+#include "pheromesh/core/sender_judge.hpp"
 #include "pheromesh/core/tick_gaps.hpp"
 #include "pheromesh/core/view_server.hpp"
 #include "pheromesh/core/writer_latch.hpp"
@@ -43,9 +44,9 @@ namespace pheromesh::placeagent {
 struct PlaceConfig {
   runtime::CommonOptions common;
   core::RegionId region = 0;
-  uint16_t replica = 0;    // 0 the primary, 1.. hot standbys (--standby swarms)
-  double field_hz = 5.0;   // realtime: fields to the ground station per second (core::FieldToGround)
-  uint32_t life = 1;       // 2..: started again after its death (pheromesh run's restart): no deposit history
+  uint16_t replica = 0;   // 0 the primary, 1.. hot standbys (--standby swarms)
+  double field_hz = 5.0;  // realtime: fields to the ground station per second (core::FieldToGround)
+  uint32_t life = 1;      // 2..: started again after its death (pheromesh run's restart): no deposit history
 };
 
 class PlaceApp {
@@ -102,6 +103,12 @@ class PlaceApp {
   // A state of a UAV this place agent serves that check_home_state refused
   // (StateGate): told to the ground station, an empty view owed to the UAV.
   void answer_refused(const core::UavStateMsg& st);
+  // The deposits in carried_ of a state judged as `fate` (core::
+  // CarriedDeposits): on to take_deposits, kept for reject_carried, or refused.
+  void route_carried(core::CarriedDeposits fate);
+  // The deposits of states refused for their motion, taken since the last
+  // call: through the desk, then rejected and refused (take_deposits).
+  void reject_carried();
   // The served UAVs of every other present region (lockstep: of `tick`).
   void take_served(uint32_t tick);
   // Home UAVs whose newest state is of `tick` or later.
@@ -176,10 +183,11 @@ class PlaceApp {
   std::vector<core::RegionId> other_regions_;
   std::vector<core::RegionId> present_others_;  // other_regions_ without the absent ones
   std::set<core::RegionId> absent_;
-  std::size_t absent_seen_ = 0;  // follower_.absent() entries handled
-  bool replicated_ = false;      // --standby swarm
-  bool ready_ = false;           // lockstep: Ready reported (or tick 0 began without it)
-  bool linked_ = false;          // note_linked()
+  std::size_t absent_seen_ = 0;              // follower_.absent() entries handled
+  bool replicated_ = false;                  // --standby swarm
+  core::SwarmNames names_;                   // the UAV ids and place agents (region, replica) the run has
+  bool ready_ = false;                       // lockstep: Ready reported (or tick 0 began without it)
+  bool linked_ = false;                      // note_linked()
   std::vector<core::PhaseDoneMsg> reports_;  // relay_reports' inbox
   uint64_t clocks_relayed_ = 0, reports_relayed_ = 0, states_relayed_ = 0;
   std::vector<core::UavDeparture> departed_;
@@ -200,14 +208,15 @@ class PlaceApp {
   // serves is answered - relayed to the ground station as such, and an
   // empty view of its tick to the UAV (answer_refused, serve_views).
   core::StateGate gate_;
-  std::vector<uint32_t> refused_views_;  // UAVs owed an empty view at the next serve_views
+  std::vector<uint32_t> refused_views_;                 // UAVs owed an empty view at the next serve_views
   std::unordered_map<uint32_t, uint64_t> uav_process_;  // UAV -> the process of its latched state writer
   core::PlaceVouch forwarders_;                         // realtime: other place agents' processes (judge_forwarded)
   core::Parked<core::DepositMsg> parked_deposits_;
   // Reusable inboxes and outboxes.
   // uplinked_: deposits the UAVs' states carried, not yet routed (take_deposits).
   // carried_: those of the state take_home_states is judging.
-  std::vector<core::DepositMsg> taken_, inbox_, uplinked_, carried_;
+  // refused_carried_: those of states refused for their motion (reject_carried).
+  std::vector<core::DepositMsg> taken_, inbox_, uplinked_, carried_, refused_carried_, rejected_carried_;
   // relayed_: the states and departures one take_home_states relays to the ground station.
   std::vector<core::UavStateMsg> state_inbox_, home_states_, served_states_, relayed_;
   std::vector<uint32_t> served_;  // home UAVs that get a view this tick
@@ -225,7 +234,7 @@ class PlaceApp {
   // Counts for the health and the summary.
   uint64_t halos_missing_ = 0;
   uint64_t deposits_forwarded_ = 0;
-  uint64_t deposits_lost_ = 0;  // lockstep: home UAVs' deposits for absent regions, not forwarded
+  uint64_t deposits_lost_ = 0;    // lockstep: home UAVs' deposits for absent regions, not forwarded
   uint64_t forwards_failed_ = 0;  // deposits for other regions that could not be forwarded
 };
 

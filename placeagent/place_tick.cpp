@@ -33,6 +33,7 @@ void PlaceApp::take_deposits() {
   const std::size_t carried = taken_.size();
   bus_->take_deposits(taken_);
   judge_forwarded(carried);
+  reject_carried();
   for (const auto& d : taken_) {
     const auto route = desk_.take(d, current_tick_);
     log_->debug("took deposit uav {} seq {} tick {} region {}: {}", d.uav, d.seq, d.tick, d.region,
@@ -52,17 +53,13 @@ void PlaceApp::take_deposits() {
 
 void PlaceApp::judge_forwarded(std::size_t first) {
   if (cfg_.common.lockstep()) {
-    // A UAV's gateway forwards the UAV's deposits to their regions; to
-    // itself its states carry them. A forwarded deposit of a UAV whose
-    // gateway this place agent is came from no gateway - unless it is a
-    // copy of one taken before (a re-send of the UAV's old gateway, written
-    // before the clock made this place agent its gateway), which the desk
-    // drops as before.
+    // core::judge_lockstep_forward: not to the UAV's own gateway, and only
+    // of this place phase. A copy of one taken before (a re-send) the desk drops.
     auto out = std::remove_if(taken_.begin() + static_cast<std::ptrdiff_t>(first), taken_.end(), [&](const auto& d) {
-      if (std::find(gateway_uavs_.begin(), gateway_uavs_.end(), d.uav) == gateway_uavs_.end()) return false;
-      if (desk_.is_copy(d)) return false;
-      refuse_forwarded(d, "this place agent is its gateway, which takes its deposits from its states");
-      return true;
+      const bool gateway = std::find(gateway_uavs_.begin(), gateway_uavs_.end(), d.uav) != gateway_uavs_.end();
+      const bool says =
+          core::check_deposit(d, geo_, cfg_.region, core_.layer_count()) || core_.refuses(d, current_tick_);
+      return !desk_.is_copy(d) && !audit_.admit(core::judge_lockstep_forward(d, current_tick_, gateway, says));
     });
     taken_.erase(out, taken_.end());
     return;
@@ -76,7 +73,8 @@ void PlaceApp::judge_forwarded(std::size_t first) {
            core_.refuses(d, current_tick_);
   };
   // The common case: every forwarder known, nothing waits.
-  if (parked_deposits_.empty() && std::all_of(taken_.begin() + static_cast<std::ptrdiff_t>(first), taken_.end(), vouched)) {
+  if (parked_deposits_.empty() &&
+      std::all_of(taken_.begin() + static_cast<std::ptrdiff_t>(first), taken_.end(), vouched)) {
     return;
   }
   const auto now = Clock::now();
@@ -95,7 +93,8 @@ void PlaceApp::judge_forwarded(std::size_t first) {
   }
   // The drain after the last tick: what still waits will not be vouched for.
   if (last_tick_) {
-    for (const auto& d : parked_deposits_.take_all()) refuse_forwarded(d, "its process was never heard as a place agent");
+    for (const auto& d : parked_deposits_.take_all())
+      refuse_forwarded(d, "its process was never heard as a place agent");
   }
 }
 
@@ -133,9 +132,10 @@ void PlaceApp::forward_failed(const core::DepositMsg& d, const char* why) {
   // as received and rejected here, a standby's failed forwards of deposits
   // its primary got through counted twice (received 3332 of 3310 sent).
   if (forwards_failed_++ < 3) {
-    log_->warn("a deposit of uav {} for region {} was not forwarded: {} (counted lost unless another replica of "
-               "this region forwarded it)",
-               d.uav, d.region, why);
+    log_->warn(
+        "a deposit of uav {} for region {} was not forwarded: {} (counted lost unless another replica of "
+        "this region forwarded it)",
+        d.uav, d.region, why);
   }
 }
 
@@ -152,16 +152,15 @@ void PlaceApp::take_home_states(uint32_t tick) {
     // The deposits a state carries wait for take_deposits, which routes them
     // as if each had come alone (their own checks are core::DepositDesk's
     // and the place core's), unless the state came from a writer that is not
-    // its UAV's: those go with it, refused (a forger cannot send deposits in
-    // a UAV's name). The state goes on without them: into views and to the
-    // ground station.
+    // its UAV's or is refused: those go with it (core::carried_deposits; a
+    // forger cannot send deposits in a UAV's name). The state goes on
+    // without them: into views and to the ground station.
     carried_.clear();
     carried_.swap(st.deposits);
-    const auto take_carried = [&] { uplinked_.insert(uplinked_.end(), carried_.begin(), carried_.end()); };
     if (st.departed || st.implausible) {
       audit_.drop(fmt::format("a state of uav {} that says it {} (only a place agent says so)", st.uav,
                               st.departed ? "departed" : "was refused"));
-      take_carried();
+      route_carried(core::CarriedDeposits::Judge);
       continue;
     }
     const bool known = !core::check_uav_id(st.uav, scenario_.uavs);
@@ -185,11 +184,14 @@ void PlaceApp::take_home_states(uint32_t tick) {
       refuse_foreign_state(st.uav);
       continue;
     }
-    take_carried();
-    if (!adopted) continue;  // lockstep: its state counts from the tick its home is absent
+    if (!adopted) {  // lockstep: its state counts from the tick its home is absent
+      route_carried(core::CarriedDeposits::Judge);
+      continue;
+    }
     const core::UavStateMsg* before = views_.state(st.uav);
-    const core::Cell start = core::uav_start(scenario_, traits_, st.uav);
-    const auto judged = gate_.judge(st, before, start, traits_.max_step, ceiling, rules_);
+    const auto judged =
+        gate_.judge(st, before, core::uav_start(scenario_, traits_, st.uav), traits_.max_step, ceiling, rules_);
+    route_carried(core::carried_deposits(judged));  // no deposit of a refused state goes on
     if (judged.refused_motion) {
       // The UAV flew (or says it flew) further than its policy's max_step
       // allows: refused, counted once per tick, and answered.
@@ -219,9 +221,10 @@ void PlaceApp::take_home_states(uint32_t tick) {
     if (const core::UavStateMsg* last = views_.state(u)) gone = *last;
     gone.departed = true;
     relayed_.push_back(gone);
-    log_->info("uav {} departed (its state writer's liveliness lapsed: it died, hangs or its packets were lost); told "
-               "the ground station",
-               u);
+    log_->info(
+        "uav {} departed (its state writer's liveliness lapsed: it died, hangs or its packets were lost); told "
+        "the ground station",
+        u);
   }
   if (!relayed_.empty()) bus_->relay_states(relayed_, cfg_.region, cfg_.replica, tick);
 }
@@ -253,26 +256,13 @@ void PlaceApp::relay_uplinks() {
   bus_->take_uplink_detections(detections_up_);
   const auto now = Clock::now();
   for (const auto& d : detections_up_) {
-    if (core::check_uav_id(d.uav, scenario_.uavs)) {
-      audit_.refuse(core::Refusal::UnknownUav, fmt::format("a detection of uav {}", d.uav));
-      continue;
+    // Only of a UAV this place agent can be the gateway of (as its states),
+    // from the UAV's own process: the one that writes its states.
+    if (audit_.admit(core::judge_uplink("a detection", d.uav, cfg_.region, names_,
+                                        from_uav_process(d.uav, d.participant, now),
+                                        core::Refusal::ImplausibleDetection, core::Refusal::ForeignWriter))) {
+      bus_->relay_detection(d);
     }
-    // Only from a UAV this place agent can be the gateway of (as its
-    // states), and only from the UAV's own process: the one that writes the
-    // states this place agent takes from it.
-    if (core::home_region(d.uav, geo_.region_count()) != cfg_.region &&
-        core::backup_region(d.uav, geo_.region_count()) != cfg_.region) {
-      audit_.refuse(core::Refusal::ImplausibleDetection,
-                    fmt::format("a detection of uav {} at place agent {}, which is neither its home nor its backup",
-                                d.uav, cfg_.region));
-      continue;
-    }
-    if (!from_uav_process(d.uav, d.participant, now)) {
-      audit_.refuse(core::Refusal::ForeignWriter,
-                    fmt::format("a detection of uav {} from a process other than the one its states come from", d.uav));
-      continue;
-    }
-    bus_->relay_detection(d);
   }
   // A broadcast goes on only if it is well formed and of a UAV of the swarm.
   const auto admitted = [&](const core::BroadcastMsg& b) {
@@ -385,9 +375,9 @@ void PlaceApp::exchange_halos(uint32_t tick) {
       // this tick's phase done, so the conductor has not begun the next.
       if (demand_ && (h.tick < tick || is_absent(h.region))) continue;
       if (demand_ && h.tick > tick) {
-        audit_.refuse(core::Refusal::TickFarAhead,
-                      fmt::format("a halo ring of region {} for tick {} in the place phase of tick {}", h.region,
-                                  h.tick, tick));
+        audit_.refuse(
+            core::Refusal::TickFarAhead,
+            fmt::format("a halo ring of region {} for tick {} in the place phase of tick {}", h.region, h.tick, tick));
         continue;
       }
       const auto whole = core::expand_halo(h, geo_, cfg_.region);
@@ -442,11 +432,12 @@ void PlaceApp::take_served(uint32_t tick) {
     const uint32_t ceiling = tick_ceiling();
     const auto now = Clock::now();
     for (const auto& f : field_inbox_) {
-      if (f.region != cfg_.region && audit_.admit(core::check_field_chunk(f, ceiling, rules_))) {
-        // What only that place agent writes: it vouches for its process as
-        // a forwarder of deposits (judge_forwarded).
-        forwarders_.heard(core::place_id(f.region, f.replica), f.participant, now);
-        (void)forwarders_.claim(core::place_id(f.region, f.replica), f.participant, now);
+      if (f.region == cfg_.region || !audit_.admit(core::check_field_chunk(f, ceiling, rules_))) continue;
+      // What only that place agent writes, judged by who wrote it; it
+      // vouches for its process as a forwarder of deposits (judge_forwarded).
+      forwarders_.heard(core::place_id(f.region, f.replica), f.participant, now);
+      if (audit_.admit(core::judge_place_sample(forwarders_, f.region, f.replica, f.participant, now, names_, false,
+                                                "a served-UAVs chunk"))) {
         views_.update_served(f, tick);
       }
     }
@@ -463,7 +454,8 @@ void PlaceApp::send_tiles(uint32_t tick) {
   take_served(tick);  // held since before the deposits were applied (step); realtime: what came since
   // To each of them the tiles of this region their UAVs' views need, and nothing else.
   std::map<std::pair<int32_t, int32_t>, std::vector<std::size_t>> by_tile;
-  for (std::size_t i = 0; i < tiles_out_.size(); ++i) by_tile[{tiles_out_[i].tile.tx, tiles_out_[i].tile.ty}].push_back(i);
+  for (std::size_t i = 0; i < tiles_out_.size(); ++i)
+    by_tile[{tiles_out_[i].tile.tx, tiles_out_[i].tile.ty}].push_back(i);
   // Realtime: not to a place agent not heard of lately (it died: its views
   // are no one's).
   const uint32_t heard_since = demand_ || tick < tiles_stale_after_ ? 0 : tick - tiles_stale_after_;

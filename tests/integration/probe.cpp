@@ -68,13 +68,13 @@
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
-#include <condition_variable>
-#include <mutex>
 #include <cmath>
+#include <condition_variable>
 #include <cstdio>
 #include <cstdlib>
-#include <optional>
 #include <limits>
+#include <mutex>
+#include <optional>
 #include <set>
 #include <thread>
 
@@ -84,6 +84,7 @@
 #include "pheromesh/core/layers.hpp"
 #include "pheromesh/core/policy.hpp"
 #include "pheromesh/core/scenario.hpp"
+#include "pheromesh/core/uav_core.hpp"
 #include "pheromesh/runtime/process.hpp"
 
 using namespace pheromesh;
@@ -207,12 +208,12 @@ int hostile(bus::Bus& b, uint32_t region, uint32_t map_width) {
   auto deposit = [&](uint32_t seq, uint8_t kind, core::Cell c, float amount, core::RegionId r) {
     sent += b.publish_deposit({uav, seq, 1, r, kind, 0, c, amount, {}}, r) ? 1 : 0;
   };
-  deposit(1, 0, {1, 1}, std::numeric_limits<float>::quiet_NaN(), region);     // NaN amount
-  deposit(2, 0, {static_cast<int32_t>(map_width) + 7, 3}, 1.0F, region);      // cell outside the map
-  deposit(3, 9, {1, 1}, 1.0F, region);                                        // unknown kind
-  deposit(5, 0, {1, 1}, -std::numeric_limits<float>::infinity(), region);     // negative infinity
-  deposit(6, 0, {1, 1}, 1.0F, region);                                        // a valid one ...
-  deposit(6, 0, {1, 1}, 1.0F, region);                                        // ... replayed
+  deposit(1, 0, {1, 1}, std::numeric_limits<float>::quiet_NaN(), region);  // NaN amount
+  deposit(2, 0, {static_cast<int32_t>(map_width) + 7, 3}, 1.0F, region);   // cell outside the map
+  deposit(3, 9, {1, 1}, 1.0F, region);                                     // unknown kind
+  deposit(5, 0, {1, 1}, -std::numeric_limits<float>::infinity(), region);  // negative infinity
+  deposit(6, 0, {1, 1}, 1.0F, region);                                     // a valid one ...
+  deposit(6, 0, {1, 1}, 1.0F, region);                                     // ... replayed
   // Tiles: declared 2 x 2 but 9 values; a tile outside the map; NaN values.
   // Each on an instance (layer, tx, ty) no place agent writes, so a place
   // agent's next tile cannot replace it in a KEEP_LAST(1) reader before it is
@@ -264,6 +265,11 @@ int forge(bus::Bus& b, const std::string& scenario_path, uint32_t uavs, bool loc
   bus::Writer<core::UavStateMsg> impostor(b, bus::TopicKind::UavState);
   impostor.offer(victim_home);
   bus::Reader<core::UavStateMsg> states(b, {bus::routing::kAllHomes});
+  // Issue 42 D5: a report of UAV 0 into its home's report partition (as if
+  // UAV 0 wrote it: its gateway judges it by process).
+  const std::string uav0_reports = bus::routing::uav_report_partition(0);
+  bus::Writer<core::PhaseDoneMsg> reporter(b, bus::TopicKind::PhaseDone);
+  if (lockstep) reporter.offer(uav0_reports);
   // UAV 0's latest state (the forged detection is of its tick and far from
   // it) and the victim's (for the plausible forgery), taken while waiting:
   // a lockstep run is over in seconds.
@@ -302,8 +308,8 @@ int forge(bus::Bus& b, const std::string& scenario_path, uint32_t uavs, bool loc
       // victim's states came: forged samples written before a match are
       // lost, not refused (stop 39's flake).
       if (tick >= 5 && !at_tick5) at_tick5 = Clock::now();
-      const bool matched = b.matched_deposit_readers(0) > 0 && b.matched_deposit_readers(other) > 0 &&
-                           impostor.matched(victim_home) > 0;
+      const bool matched =
+          b.matched_deposit_readers(0) > 0 && b.matched_deposit_readers(other) > 0 && impostor.matched(victim_home) > 0;
       if (at_tick5 && ((matched && heard) || Clock::now() - *at_tick5 > std::chrono::seconds(3))) {
         // As in realtime, a second more for the receivers not waited for
         // above (the ground station, the other place agents) to match this
@@ -356,17 +362,26 @@ int forge(bus::Bus& b, const std::string& scenario_path, uint32_t uavs, bool loc
   // sequence number 2^32-1 under UAV 0's id (homed on region 0), forwarded
   // as if by region 0 to region 1; and (issue 28) the next 10 sequence
   // numbers UAV 0 will use, plausible in every field, into its home.
-  core::DepositMsg mark{stranger, 1, tick + 1, 0, static_cast<uint8_t>(core::DepositKind::TargetMark), 0,
-                        {r0.x0 + 1, r0.y0 + 1}, 1.0F, {}};
+  core::DepositMsg mark{
+      stranger, 1, tick + 1, 0, static_cast<uint8_t>(core::DepositKind::TargetMark), 0, {r0.x0 + 1, r0.y0 + 1},
+      1.0F,     {}};
   count(b.publish_deposit(mark, 0));
   const core::Rect r1 = geo.region_rect(other);
-  core::DepositMsg latch{0, std::numeric_limits<uint32_t>::max(), tick + 1, other,
-                         static_cast<uint8_t>(core::DepositKind::PathVisit), 0, {r1.x0 + 1, r1.y0 + 1}, 1.0F, {}};
+  core::DepositMsg latch{0,
+                         std::numeric_limits<uint32_t>::max(),
+                         tick + 1,
+                         other,
+                         static_cast<uint8_t>(core::DepositKind::PathVisit),
+                         0,
+                         {r1.x0 + 1, r1.y0 + 1},
+                         1.0F,
+                         {}};
   count(b.publish_deposit(latch, other));
   bool next_written = true;
   for (uint32_t k = 1; k <= 10; ++k) {
-    const core::DepositMsg next{0, uav0_seq + k, tick + 1, 0, static_cast<uint8_t>(core::DepositKind::PathVisit),
-                                0, {r0.x0 + 2, r0.y0 + 2}, 1.0F, {}};
+    const core::DepositMsg next{
+        0, uav0_seq + k,           tick + 1, 0, static_cast<uint8_t>(core::DepositKind::PathVisit),
+        0, {r0.x0 + 2, r0.y0 + 2}, 1.0F,     {}};
     next_written = b.publish_deposit(next, 0) && next_written;
   }
   count(next_written);
@@ -410,7 +425,17 @@ int forge(bus::Bus& b, const std::string& scenario_path, uint32_t uavs, bool loc
   st.view = {geo.width() - 2, geo.height() - 2};
   count(b.publish_uav_state(st));
   st.uav = stranger;
+  // Issue 42 D4: the stranger's state carries three plausible deposits of
+  // UAV 0 (its next sequence numbers, in region 0 near its latest state):
+  // refused with the state by the place agent it reaches, never forwarded
+  // to region 0 in a real place agent's name.
+  for (uint32_t k = 21; k <= 23; ++k) {
+    const core::Cell c = uav0 ? core::state_cell(*uav0) : core::Cell{r0.x0 + 1, r0.y0 + 1};
+    st.deposits.push_back(
+        {0, uav0_seq + k, tick, geo.region_of(c), static_cast<uint8_t>(core::DepositKind::PathVisit), 0, c, 1.0F, {}});
+  }
   count(b.publish_uav_state(st));
+  st.deposits.clear();
   st.uav = s.uavs > 1 ? 1 : 0;
   st.tick = far_tick;
   count(b.publish_uav_state(st));
@@ -431,6 +456,53 @@ int forge(bus::Bus& b, const std::string& scenario_path, uint32_t uavs, bool loc
     const core::Cell target = s.targets[static_cast<std::size_t>(far)];
     count(b.publish_detection({0, tick, far, target}));
     count(b.publish_detection({stranger, tick, far, target}));
+  }
+  // Issue 42 D5. Healths of place agents the run does not have (a standby
+  // of region 0 in a swarm without standbys, a region beyond the map's),
+  // with counters that would replace region 0's: refused at the ground
+  // station, and this process stays no place agent for any relay.
+  core::HealthMsg fake{0, tick, 0.0F, 5, 1, 0, 0, false};
+  fake.replica = 1;
+  count(b.publish_health(fake));
+  fake.replica = 0;
+  fake.region = geo.region_count();
+  count(b.publish_health(fake));
+  // A served-UAVs chunk naming UAV 0 where it is: as region 0's own replica
+  // (another process holds it) and as a standby it does not have.
+  if (uav0) {
+    core::UavStateMsg where = *uav0;
+    where.deposits.clear();
+    count(b.publish_served({0, 4, 6, tick, {}, {where}, 0}));
+    count(b.publish_served({0, 3, 6, tick, {}, {where}, 1}));
+  }
+  // Lockstep: a forwarded deposit of UAV 0 of the tick before, to region 1
+  // (its backup, not its gateway): no UAV announced it for any place phase
+  // to come; applied, it would land a tick late. Realtime: from a process
+  // that is no place agent's.
+  const core::Cell late_cell{r1.x0 + 1, r1.y0 + 1};
+  count(b.publish_deposit({0,
+                           uav0_seq + 30,
+                           tick > 0 ? tick - 1 : 0,
+                           other,
+                           static_cast<uint8_t>(core::DepositKind::PathVisit),
+                           0,
+                           late_cell,
+                           1.0F,
+                           {}},
+                          other));
+  // Lockstep reports (PhaseDone) of the next UAV phase, claiming deposits:
+  // of UAV 0 and of place agent 0 straight to the conductor, and of UAV 0
+  // into its home's report partition. A forged one taken would finish a
+  // phase for a process that has not, or announce deposits never made.
+  if (lockstep) {
+    core::PhaseDoneMsg done{
+        core::process_key(core::kRoleUav, 0), tick + 1, static_cast<uint8_t>(core::ClockPhase::Uav), 0, {{0, 5}}};
+    count(b.publish_phase_done(done));
+    count(reporter.write(done, uav0_reports));
+    done.process = core::process_key(core::kRolePlace, core::place_id(0, 0));
+    done.phase = static_cast<uint8_t>(core::ClockPhase::Place);
+    done.deposits.clear();
+    count(b.publish_phase_done(done));
   }
   // A clock that stops the run, from this process's own writer: to the place
   // agents, and as if relayed to every region's UAVs (the lockstep tree).
@@ -493,9 +565,7 @@ int idle(bus::Bus& b, uint32_t id, uint32_t regions) {
   return 0;
 }
 
-double epoch_s() {
-  return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
-}
+double epoch_s() { return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count(); }
 
 double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
@@ -505,8 +575,7 @@ double seconds_since(Clock::time_point t) { return std::chrono::duration<double>
 // `view_writers` false: no view writer at all (an experiment: a writer per
 // UAV makes every spoke learn all K of its hub's view writers, K^2 endpoint
 // announcements per cell); then the command writer's matches alone count.
-int hub(bus::Bus& b, uint32_t cell, uint32_t spokes, uint32_t first_uav, bool view_writers,
-        Clock::time_point started) {
+int hub(bus::Bus& b, uint32_t cell, uint32_t spokes, uint32_t first_uav, bool view_writers, Clock::time_point started) {
   b.subscribe_deposits(cell);
   b.subscribe_home_states(cell);
   std::vector<uint32_t> uavs(spokes);
@@ -633,10 +702,11 @@ int snoop(bus::Bus& b, double seconds, uint64_t until_tiles, uint64_t until_cloc
   const std::size_t total = tiles.size() + fields.size() + states.size() + detections.size() + events.size() +
                             health.size() + broadcasts.size() + scenarios.size() + commands.size() + clocks.size() +
                             dones.size();
-  std::printf("snooped %zu samples: tiles %zu fields %zu states %zu detections %zu events %zu health %zu broadcasts %zu "
-              "scenarios %zu commands %zu clocks %zu phase_done %zu; deposits written %u, most readers matched %u\n",
-              total, tiles.size(), fields.size(), states.size(), detections.size(), events.size(), health.size(),
-              broadcasts.size(), scenarios.size(), commands.size(), clocks.size(), dones.size(), injected, most_matched);
+  std::printf(
+      "snooped %zu samples: tiles %zu fields %zu states %zu detections %zu events %zu health %zu broadcasts %zu "
+      "scenarios %zu commands %zu clocks %zu phase_done %zu; deposits written %u, most readers matched %u\n",
+      total, tiles.size(), fields.size(), states.size(), detections.size(), events.size(), health.size(),
+      broadcasts.size(), scenarios.size(), commands.size(), clocks.size(), dones.size(), injected, most_matched);
   std::fflush(stdout);
   return 0;
 }
@@ -661,7 +731,8 @@ int offend(bus::Bus& b, const std::string& what, double linger_s) {
   std::fflush(stdout);
   // Transient-local: a reader that matches while this writer lives gets it.
   const auto until = Clock::now() + std::chrono::milliseconds(static_cast<int64_t>(linger_s * 1000));
-  while (!runtime::shutdown_requested() && Clock::now() < until) std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  while (!runtime::shutdown_requested() && Clock::now() < until)
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
   return 0;
 }
 
@@ -719,8 +790,7 @@ int main(int argc, char** argv) {
                  "[s] block this long before making the bus, deaf to signals (test of the watchdog)")
       ->check(CLI::Range(0.0, 3600.0));
   int64_t signal_grace_s = 2;
-  app.add_option("--grace", signal_grace_s,
-                 "[s] after SIGINT/SIGTERM the watchdog ends the process past this (exit 5)")
+  app.add_option("--grace", signal_grace_s, "[s] after SIGINT/SIGTERM the watchdog ends the process past this (exit 5)")
       ->check(CLI::Range(int64_t{1}, int64_t{600}));
   int64_t swarm_processes = -1;
   app.add_option("--swarm-processes", swarm_processes,

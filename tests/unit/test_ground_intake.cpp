@@ -223,11 +223,12 @@ TEST(GroundIntake, AFinishedUavsLastStateDoesNotCountAsBackButAFlyingOnesDoes) {
   GroundSamples again;
   again.departed_uavs = {0};
   rig.take(std::move(again), kUnlimited, t0 + 5s);
-  EXPECT_TRUE(texts(rig.take({}, kUnlimited, t0 + 6s), Kind::UavLost).empty()) << "a finished UAV that leaves is not lost";
+  EXPECT_TRUE(texts(rig.take({}, kUnlimited, t0 + 6s), Kind::UavLost).empty())
+      << "a finished UAV that leaves is not lost";
 }
 
 TEST(GroundIntake, ADepartedPlaceReplicaIsReportedWithTheReplicaThatServesItsRegionNow) {
-  Rig rig;
+  Rig rig(GroundIntake::Standby::Hot);  // standbys: only such a run has replica 1
   GroundSamples heard;
   heard.healths = {health(0, 0), health(0, 1), health(1, 0), health(1, 1), health(2, 0), health(3, 0)};
   heard.healths.back().finished = true;
@@ -264,7 +265,7 @@ TEST(GroundIntake, WithHotStandbysALostReplicaIsNoLongerWaitedForInAPlacePhase) 
 }
 
 TEST(GroundIntake, APlaceReplicaHeardAgainIsBackAndTheLowerReplicaOwnsItsRegionAgain) {
-  Rig rig;
+  Rig rig(GroundIntake::Standby::Hot);  // standbys: only such a run has replica 1
   GroundSamples heard;
   heard.healths = {health(0, 0), health(0, 1)};
   rig.take(std::move(heard));
@@ -277,7 +278,7 @@ TEST(GroundIntake, APlaceReplicaHeardAgainIsBackAndTheLowerReplicaOwnsItsRegionA
   GroundSamples primary;
   primary.healths = {health(0, 0, 12)};
   const Notes notes = rig.take(std::move(primary), kUnlimited, t0 + 4s);
-  EXPECT_EQ(texts(notes, Kind::PlaceBack), Texts{"place agent 0 is back at tick 12"});
+  EXPECT_EQ(texts(notes, Kind::PlaceBack), Texts{"place agent 0 is back at tick 12 (in step: waited for again)"});
   EXPECT_EQ(texts(notes, Kind::OwnerRegained), Texts{"region 0: replica 0 owns it again"});
   GroundSamples standby_gone;
   standby_gone.departed_places = {core::place_id(0, 1)};
@@ -286,7 +287,8 @@ TEST(GroundIntake, APlaceReplicaHeardAgainIsBackAndTheLowerReplicaOwnsItsRegionA
   GroundSamples standby;
   standby.healths = {health(0, 1, 13)};
   const Notes again = rig.take(std::move(standby), kUnlimited, t0 + 8s);
-  EXPECT_EQ(texts(again, Kind::PlaceBack), Texts{"place agent 0 (standby 1) is back at tick 13"});
+  EXPECT_EQ(texts(again, Kind::PlaceBack),
+            Texts{"place agent 0 (standby 1) is back at tick 13 (in step: waited for again)"});
   EXPECT_TRUE(texts(again, Kind::OwnerRegained).empty()) << "the primary owned region 0 throughout";
 }
 
@@ -328,11 +330,12 @@ TEST(GroundIntake, ALapseOfAProcessHeardAroundItIsNotedOnceAndNeverReportedLost)
   after.healths = {health(2, 0, 10)};
   after.states = {state(1, 11)};
   const Notes lapsed = rig.take(std::move(after), kUnlimited, t0 + 600ms);
-  EXPECT_EQ(texts(lapsed, Kind::LivenessLapsed),
-            (Texts{"uav 1: liveliness lapsed (packet loss?), still heard; not taken for lost (further lapses are counted "
-                   "at the end of the run)",
-                   "place agent 2: liveliness lapsed (packet loss?), still heard; not taken for lost (further lapses "
-                   "are counted at the end of the run)"}));
+  EXPECT_EQ(
+      texts(lapsed, Kind::LivenessLapsed),
+      (Texts{"uav 1: liveliness lapsed (packet loss?), still heard; not taken for lost (further lapses are counted "
+             "at the end of the run)",
+             "place agent 2: liveliness lapsed (packet loss?), still heard; not taken for lost (further lapses "
+             "are counted at the end of the run)"}));
   EXPECT_FALSE(rig.conductor->departed(1)) << "its state after the departure brought it back in the conductor";
   EXPECT_TRUE(texts(rig.take({}, kUnlimited, t0 + 3s), Kind::PlaceLost).empty());
   // Back: no note, as nobody was told it was lost.
@@ -348,7 +351,8 @@ TEST(GroundIntake, ALapseOfAProcessHeardAroundItIsNotedOnceAndNeverReportedLost)
   gone2.departed_places = {core::place_id(2, 0)};
   rig.take(std::move(gone2), kUnlimited, t0 + 5100ms);
   GroundSamples done;
-  done.phase_dones = {{core::process_key(core::kRolePlace, 2), 11, static_cast<uint8_t>(core::ClockPhase::Place), 0, {}}};
+  done.phase_dones = {
+      {core::process_key(core::kRolePlace, 2), 11, static_cast<uint8_t>(core::ClockPhase::Place), 0, {}}};
   const Notes late = rig.take(std::move(done), kUnlimited, t0 + 5500ms);
   EXPECT_TRUE(texts(late, Kind::LivenessLapsed).empty());
   EXPECT_TRUE(texts(late, Kind::PlaceLost).empty());
@@ -607,7 +611,8 @@ TEST(GroundIntake, AForgersRelaysAreRefusedAfterTheyWaitedAndItsHealthForAHeldRe
   ASSERT_EQ(rig.rec->uavs().count(0), 1U);
   rig.take({}, kUnlimited, t0 + 4200ms);
   EXPECT_EQ(rig.intake->parked(), 0U);
-  EXPECT_EQ(rig.rec->refused()[core::Refusal::ForeignWriter], 4U) << "the state, the departure and the chunk, after 4 s";
+  EXPECT_EQ(rig.rec->refused()[core::Refusal::ForeignWriter], 4U)
+      << "the state, the departure and the chunk, after 4 s";
   EXPECT_FALSE(rig.conductor->gone_for_good(1, t0 + 10s)) << "nobody was told uav 1 left";
   EXPECT_TRUE(std::isnan(rig.intake->field_value(0, {24, 24}))) << "the forged tile never reached the field";
 }
@@ -617,7 +622,7 @@ TEST(GroundIntake, AFieldChunkOrTileOfARegionFromAnotherPlaceAgentsProcessIsRefu
   hear_regions_0_and_1(rig);
   GroundSamples s;
   s.fields = {chunk(1, 5, 0, 1)};
-  s.fields[0].participant = 0xA;  // region 0's process, as region 1
+  s.fields[0].participant = 0xA;    // region 0's process, as region 1
   s.tiles = {tile(3, 0, 5, 0.5F)};  // tile (3,0) is region 1's
   s.tiles[0].participant = 0xA;
   rig.take(std::move(s), kUnlimited, t0 + 10ms);
@@ -644,6 +649,98 @@ TEST(GroundIntake, APlaceAgentStartedAgainTakesItsRegionByItsLaterLifeAndItsRela
   EXPECT_EQ(rig.rec->refused().total(), 0U);
   EXPECT_EQ(rig.intake->parked(), 0U);
   EXPECT_EQ(rig.rec->uavs().count(0), 1U);
+}
+
+}  // namespace
+}  // namespace pheromesh::console
+
+// Issue 42 D5: only names the run has, only from their holder
+// (core/sender_judge.hpp); detections judged against the position of their
+// own tick.
+namespace pheromesh::console {
+namespace {
+
+TEST(GroundIntake, AHealthOfAStandbyTheRunDoesNotHaveOrOfARegionBeyondTheMapIsRefusedAndMakesNoPlaceAgent) {
+  Rig rig;  // small-test: 4 regions, no standbys
+  GroundSamples forged;
+  forged.healths = {health(0, 1), health(7, 0)};
+  forged.healths[0].participant = 0xF;
+  forged.healths[0].deposits_applied = 1;  // counters that would replace region 0's in metrics.json
+  forged.healths[1].participant = 0xF;
+  forged.states = {from(state(0, 5), 0xF)};
+  rig.take(std::move(forged), kUnlimited, t0);
+  EXPECT_EQ(rig.rec->refused()[core::Refusal::UnknownPlace], 2U);
+  EXPECT_TRUE(rig.rec->replica_health().empty()) << "no counters of an id the run does not have";
+  EXPECT_EQ(rig.intake->parked(), 1U) << "its relay waits: its process holds no place id";
+  rig.take({}, kUnlimited, t0 + 4200ms);
+  EXPECT_EQ(rig.rec->refused()[core::Refusal::ForeignWriter], 1U) << "and is refused once it waited";
+  EXPECT_TRUE(rig.rec->uavs().empty());
+}
+
+TEST(GroundIntake, APhaseDoneFromAProcessThatIsNotTheUavsGatewayIsRefusedAndTheConductorNeverCountsIt) {
+  Rig rig(GroundIntake::Standby::None, GroundIntake::Pace::Lockstep);
+  GroundSamples h;
+  h.healths = {health_from(0, 0xA), health_from(1, 0xB), health_from(2, 0xC), health_from(3, 0xD)};
+  rig.take(std::move(h), kUnlimited, t0);
+  (void)rig.conductor->begin_phase(10, core::ClockPhase::Uav, t0);
+  const auto done = [](uint32_t uav, uint64_t participant) {
+    core::PhaseDoneMsg m{
+        core::process_key(core::kRoleUav, uav), 10, static_cast<uint8_t>(core::ClockPhase::Uav), 0, {}};
+    m.participant = participant;
+    return m;
+  };
+  GroundSamples forged;
+  forged.phase_dones = {done(0, 0xF), done(1, 0xF), done(2, 0xA), done(3, 0xB)};
+  core::PhaseDoneMsg place{core::process_key(core::kRolePlace, core::place_id(0, 0)),
+                           10,
+                           static_cast<uint8_t>(core::ClockPhase::Uav),
+                           0,
+                           {}};
+  place.participant = 0xF;
+  forged.phase_dones.push_back(place);
+  rig.take(std::move(forged), kUnlimited, t0 + 10ms);
+  EXPECT_EQ(rig.rec->refused()[core::Refusal::ForeignReport], 5U)
+      << "a forger's, and uav 2's and 3's from place agents that are neither their home nor their backup";
+  EXPECT_EQ(rig.conductor->status(t0 + 20ms).waiting, 4U) << "no UAV's report was taken";
+  GroundSamples real;
+  real.phase_dones = {done(0, 0xA), done(1, 0xC)};  // uav 0 through its home, uav 1 through its backup
+  rig.take(std::move(real), kUnlimited, t0 + 30ms);
+  EXPECT_EQ(rig.conductor->status(t0 + 40ms).waiting, 2U);
+  EXPECT_EQ(rig.rec->refused()[core::Refusal::ForeignReport], 5U);
+}
+
+TEST(GroundIntake, ADetectionOlderThanThePositionsKeptOfItsUavIsRefusedAsStale) {
+  Rig rig;
+  std::vector<core::UavStateMsg> flown;
+  // Uav 0 stays on target 0 (22,8) from tick 20 (reachable from its start)
+  // to 219: the ground keeps 128 of its positions, from tick 92.
+  for (uint32_t k = 20; k < 220; ++k) flown.push_back(state(0, k, 22, 8));
+  rig.take(states(flown));
+  GroundSamples old;
+  old.detections = {{0, 10, 0, {22, 8}}};
+  EXPECT_TRUE(texts(rig.take(std::move(old)), Kind::TargetAcquired).empty());
+  EXPECT_EQ(rig.rec->refused()[core::Refusal::StaleDetection], 1U) << "tick 10 is before the oldest kept (92)";
+  GroundSamples kept;
+  kept.detections = {{0, 150, 0, {22, 8}}};
+  EXPECT_EQ(texts(rig.take(std::move(kept)), Kind::TargetAcquired),
+            Texts{"target 0 at (22,8) first acquired by uav 0 at tick 150 (1/3)"});
+  for (std::size_t i = 0; i < core::kRefusalCount; ++i) {
+    if (static_cast<core::Refusal>(i) != core::Refusal::StaleDetection) {
+      EXPECT_EQ(rig.rec->refused()[static_cast<core::Refusal>(i)], 0U)
+          << core::refusal_name(static_cast<core::Refusal>(i));
+    }
+  }
+}
+
+TEST(GroundIntake, ADetectionOfAUavsFirstTicksIsJudgedWhileEveryPositionSinceItsFirstIsKept) {
+  Rig rig;
+  std::vector<core::UavStateMsg> flown;
+  for (uint32_t k = 20; k < 100; ++k) flown.push_back(state(0, k, 22, 8));
+  rig.take(states(flown));
+  GroundSamples s;
+  s.detections = {{0, 20, 0, {22, 8}}};
+  EXPECT_EQ(texts(rig.take(std::move(s)), Kind::TargetAcquired).size(), 1U);
+  EXPECT_EQ(rig.rec->refused()[core::Refusal::StaleDetection], 0U);
 }
 
 }  // namespace

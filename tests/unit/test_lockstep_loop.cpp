@@ -3,10 +3,10 @@
 // drives a follower's loop in another thread, tick by tick, as the ground
 // station drives a UAV.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
-#include <unistd.h>
 #include <spdlog/sinks/null_sink.h>
 #include <spdlog/spdlog.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <atomic>
 #include <chrono>
@@ -174,4 +174,20 @@ TEST(AwaitSamples, TakesUntilTheAwaitedSampleArrivesAndGivesUpAtTheBound) {
 }
 
 }  // namespace
+}  // namespace pheromesh::runtime
+
+namespace pheromesh::runtime {
+namespace sample_audit_test {  // named: the unit tests build as one unity source
+
+TEST(SampleAudit, RefusesSeveralSamplesAtOnceUnderOneReasonAndNoneForZero) {
+  SampleAudit audit(std::make_shared<spdlog::logger>("audit", std::make_shared<spdlog::sinks::null_sink_mt>()));
+  audit.refuse(core::Refusal::RefusedStateDeposit, "3 deposits of a refused state", 3);
+  audit.refuse(core::Refusal::RefusedStateDeposit, "no deposit", 0);
+  audit.refuse(core::Refusal::UnknownPlace, "a health of standby 1 of region 0");
+  EXPECT_EQ(audit.refused()[core::Refusal::RefusedStateDeposit], 3U);
+  EXPECT_EQ(audit.refused()[core::Refusal::UnknownPlace], 1U);
+  EXPECT_EQ(audit.refused().total(), 4U);
+}
+
+}  // namespace sample_audit_test
 }  // namespace pheromesh::runtime

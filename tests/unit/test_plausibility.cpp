@@ -201,9 +201,11 @@ TEST(Plausibility, RefusalCountsSaturateAndNameEveryReason) {
   EXPECT_EQ(c.total(), uint64_t{std::numeric_limits<uint32_t>::max()} + 2);
   std::vector<std::string> names;
   for (std::size_t i = 0; i < kRefusalCount; ++i) names.emplace_back(refusal_name(static_cast<Refusal>(i)));
-  EXPECT_EQ(names, (std::vector<std::string>{"unknown_uav", "seq_far_ahead", "tick_far_ahead", "value_out_of_range",
-                                             "foreign_clock", "implausible_detection", "implausible_state",
-                                             "foreign_writer", "implausible_deposit"}));
+  EXPECT_EQ(names,
+            (std::vector<std::string>{"unknown_uav", "seq_far_ahead", "tick_far_ahead", "value_out_of_range",
+                                      "foreign_clock", "implausible_detection", "implausible_state", "foreign_writer",
+                                      "implausible_deposit", "unknown_place", "stale_detection", "foreign_report",
+                                      "unannounced_deposit", "refused_state_deposit"}));
 }
 
 // --------------------------------------------------------- the place agent

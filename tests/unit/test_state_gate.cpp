@@ -7,12 +7,12 @@
 // while it declares 1.5 (tests/plugins/leaper.cpp).
 #include <gtest/gtest.h>
 
+#include <unistd.h>
 #include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <optional>
 #include <string>
-#include <unistd.h>
 
 #include "pheromesh/core/conductor.hpp"
 #include "pheromesh/core/intake.hpp"
@@ -128,6 +128,27 @@ TEST(StateGate, ARefusedStateAnswersTheConductorsUavPhaseButOccupiesNoTile) {
   const ClockMsg next = c.begin_phase(1, ClockPhase::Uav, t0);
   ASSERT_EQ(next.occupancy.size(), 1U);
   EXPECT_EQ(next.occupancy[0].count, 1U);
+}
+
+TEST(StateGate, TheConductorAnnouncesNoDepositOfARefusedStateToAnyRegion) {
+  LockstepConductor::Options o;
+  o.uavs = 2;
+  o.regions = 2;
+  LockstepConductor c(o);
+  const auto t0 = LockstepConductor::Clock::time_point{} + 100s;
+  (void)c.begin_phase(0, ClockPhase::Uav, t0);
+  // Each UAV reports 2 deposits for region 0 and 3 for region 1.
+  for (uint32_t u = 0; u < 2; ++u) {
+    c.on_phase_done({process_key(kRoleUav, u), 0, static_cast<uint8_t>(ClockPhase::Uav), 0, {{0, 2}, {1, 3}}});
+  }
+  c.on_uav_state(0, 0, {0, 0});
+  c.on_uav_refused(1, 0);  // its gateway rejects the 5 its refused state carried
+  ASSERT_TRUE(c.status(t0).complete);
+  const ClockMsg place = c.begin_phase(0, ClockPhase::Place, t0);
+  ASSERT_EQ(place.deposits.size(), 2U);
+  EXPECT_EQ(place.deposits[0].count, 2U) << "uav 0's only";
+  EXPECT_EQ(place.deposits[1].count, 3U);
+  EXPECT_EQ(c.deposits_lost(), 0U) << "rejected, not lost";
 }
 
 ScenarioConfig small_test() {
@@ -261,8 +282,8 @@ TEST_F(Leaper, MetricsJsonCarriesTheRefusalsAndTheSummaryNamesTheMove) {
                           " states refused, the first at tick 0"),
             std::string::npos)
       << lines[0];
-  EXPECT_EQ(lines[4].rfind(std::to_string(sim.recorder().states_refused()) + " states refused as implausible in all", 0),
-            0U)
+  EXPECT_EQ(
+      lines[4].rfind(std::to_string(sim.recorder().states_refused()) + " states refused as implausible in all", 0), 0U)
       << lines[4];
   // Nothing refused: no line, no key.
   Simulator honest(load("config { key: \"max_step\" number: 5 }"));
@@ -283,6 +304,36 @@ TEST_F(Leaper, ValidatesTrialFindsAMaxStepBelowWhatThePolicysMovesNeed) {
   EXPECT_NE(lines[0].find(" of its states refused in a trial of 20 ticks"), std::string::npos) << lines[0];
   // Declared honestly, nothing to say.
   EXPECT_TRUE(max_step_trial(load("config { key: \"max_step\" number: 5 }"), 20).empty());
+}
+
+TEST(StateGate, TheDepositsOfARefusedStateAreNeitherAppliedNorForwarded) {
+  Rules r;
+  StateGate gate;
+  const UavStateMsg first = state_at(0, 0, 2, 2);
+  EXPECT_EQ(carried_deposits(gate.judge(first, nullptr, {1, 1}, 1.5, 1, r.rules)), CarriedDeposits::Judge) << "taken";
+  EXPECT_EQ(carried_deposits(gate.judge(state_at(0, 1, 99, 2), &first, {1, 1}, 1.5, 2, r.rules)),
+            CarriedDeposits::Judge)
+      << "malformed (off the map): dropped, its deposits judged as deposits";
+  const auto leap = gate.judge(state_at(0, 1, 9, 2), &first, {1, 1}, 1.5, 2, r.rules);
+  EXPECT_EQ(carried_deposits(leap), CarriedDeposits::Reject) << "the UAV's own: rejected by its gateway, counted";
+  EXPECT_EQ(carried_deposits(gate.judge(state_at(0, 1, 9, 2), &first, {1, 1}, 1.5, 2, r.rules)),
+            CarriedDeposits::Reject)
+      << "a copy of it (the rest of the tick's deposits) too";
+  const auto stranger = gate.judge(state_at(9, 1, 2, 2), nullptr, {1, 1}, 1.5, 2, r.rules);
+  EXPECT_EQ(stranger.verdict.refusal, Refusal::UnknownUav);
+  EXPECT_EQ(carried_deposits(stranger), CarriedDeposits::Refuse) << "no UAV's: refused, in no ledger";
+  const auto ahead = gate.judge(state_at(0, 50, 2, 2), &first, {1, 1}, 1.5, 2, r.rules);
+  EXPECT_EQ(ahead.verdict.refusal, Refusal::TickFarAhead);
+  EXPECT_EQ(carried_deposits(ahead), CarriedDeposits::Refuse);
+}
+
+TEST(StateGate, ADetectionOlderThanTheKeptPositionsIsRefusedOnlyOnceOlderOnesWereDropped) {
+  DetectionMsg d{0, 10, 0, {22, 8}};
+  EXPECT_FALSE(check_detection_kept(d, std::nullopt)) << "every position since the UAV's first is kept";
+  EXPECT_FALSE(check_detection_kept(d, 10U));
+  const auto stale = check_detection_kept(d, 11U);
+  ASSERT_TRUE(stale);
+  EXPECT_NE(stale->find("older than the oldest of its positions kept (tick 11)"), std::string::npos) << *stale;
 }
 
 }  // namespace state_gate_test

@@ -61,7 +61,8 @@ GroundIntake::GroundIntake(const core::ScenarioConfig& scenario, Parts parts, St
       layer_ranges_(core::policy_traits(scenario).layer_ranges),
       lease_(lease),
       pace_(pace),
-      places_(place_takeover(lease, pace)) {}
+      places_(place_takeover(lease, pace)),
+      names_{scenario.uavs, geo_.region_count(), core::replicas_of(standby == Standby::Hot)} {}
 
 GroundIntake::Clock::duration GroundIntake::place_takeover(std::chrono::milliseconds lease, Pace pace) {
   // A place agent writes its health every half second (realtime) or every
@@ -92,21 +93,26 @@ GroundIntake::Notes GroundIntake::take(GroundSamples& in, uint32_t tick_ceiling,
 }
 
 std::size_t GroundIntake::parked() const {
-  return parked_states_.size() + parked_departures_.size() + parked_broadcasts_.size() + parked_detections_.size() + parked_events_.size() +
-         parked_fields_.size() + parked_tiles_.size();
+  return parked_states_.size() + parked_departures_.size() + parked_broadcasts_.size() + parked_detections_.size() +
+         parked_events_.size() + parked_fields_.size() + parked_tiles_.size();
 }
 
 void GroundIntake::vouch(GroundSamples& in, Clock::time_point now) {
   // A place agent gone: a process started again for it claims its id next.
   for (uint32_t id : in.departed_places) places_.release(id);
   for (const auto& h : in.healths) places_.heard(core::place_id(h.region, h.replica), h.participant, now);
+  // Only a place agent the run has, and only from the process that holds
+  // its id (core::judge_place_sample): a health under another id would
+  // make its process a place agent for every relay and put its counters
+  // into metrics.json.
   std::erase_if(in.healths, [&](const core::HealthMsg& h) {
     const uint32_t id = core::place_id(h.region, h.replica);
     const auto latest = p_.rec.replica_health().find(id);
     const bool new_life = latest != p_.rec.replica_health().end() && h.life > latest->second.life;
-    if (places_.claim(id, h.participant, now, new_life)) return false;
-    refuse(core::Refusal::ForeignWriter,
-           text("a health of ", who_text(Who::Place, id), " from a process other than the one heard as it"));
+    const auto v =
+        core::judge_place_sample(places_, h.region, h.replica, h.participant, now, names_, new_life, "a health");
+    if (v.taken()) return false;
+    refuse(v.refusal, v.reason);
     return true;
   });
   gate(parked_states_, in.states, now);
@@ -231,8 +237,9 @@ void GroundIntake::note_lapse(Who who, uint32_t id) {
   Liveness& l = (who == Who::Uav ? uav_live_ : place_live_)[id];
   if (std::exchange(l.lapse_noted, true)) return;
   note(Kind::LivenessLapsed, Level::Warn,
-       text(who_text(who, id), ": liveliness lapsed (packet loss?), still heard; not taken for lost (further lapses are "
-                               "counted at the end of the run)"));
+       text(who_text(who, id),
+            ": liveliness lapsed (packet loss?), still heard; not taken for lost (further lapses are "
+            "counted at the end of the run)"));
 }
 
 GroundIntake::Clock::duration GroundIntake::wait(const Liveness& l) const {
@@ -273,7 +280,8 @@ void GroundIntake::note_lost(Who who, uint32_t id) {
               *owner == 0 ? std::string("its primary") : text("standby ", *owner)));
   } else {
     note(Kind::PlaceLost, Level::Warn,
-         text(who_text(who, id), " lost (liveliness); region ", r, " has no live place agent: deposits into it are lost"));
+         text(who_text(who, id), " lost (liveliness); region ", r,
+              " has no live place agent: deposits into it are lost"));
   }
 }
 
@@ -312,10 +320,11 @@ void GroundIntake::on_states(const std::vector<core::UavStateMsg>& states, Clock
     const bool was_lost = heard(Who::Uav, s.uav, now, new_life);
     p_.conductor.heard_from(s.uav, now);
     if (s.implausible) note_refused_state(s);
-    const bool back = s.finished       ? p_.conductor.on_uav_finished(s.uav)
+    const bool back = s.finished      ? p_.conductor.on_uav_finished(s.uav)
                       : s.implausible ? p_.conductor.on_uav_refused(s.uav, s.tick)
                                       : p_.conductor.on_uav_state(s.uav, s.tick, geo_.tile_of(core::state_cell(s)));
-    if (back && was_lost && !s.finished) note(Kind::UavBack, Level::Info, text("uav ", s.uav, " is back at tick ", s.tick));
+    if (back && was_lost && !s.finished)
+      note(Kind::UavBack, Level::Info, text("uav ", s.uav, " is back at tick ", s.tick));
     p_.frames.heard_uav(s.uav, now);
     if (uncertainty_ != nullptr && !s.finished && !s.implausible) uncertainty_->observe(core::state_cell(s), s.tick);
   }
@@ -362,7 +371,8 @@ void GroundIntake::on_departed_uavs(const std::vector<core::UavDeparture>& gone,
 void GroundIntake::on_target_events(const std::vector<core::TargetEventMsg>& events) {
   for (const auto& e : events) {
     if (e.region < geo_.region_count() && !speaks_for_region(e.region, e.participant)) {
-      refuse(core::Refusal::ForeignWriter, text("a target event of region ", e.region, " from another place agent's process"));
+      refuse(core::Refusal::ForeignWriter,
+             text("a target event of region ", e.region, " from another place agent's process"));
       continue;
     }
     p_.rec.on_target_event(e);
@@ -467,6 +477,17 @@ void GroundIntake::on_departed_places(const std::vector<uint32_t>& gone, Clock::
 
 void GroundIntake::on_phase_dones(const std::vector<core::PhaseDoneMsg>& dones, Clock::time_point now) {
   for (const auto& d : dones) {
+    // Judged by who wrote it (core::judge_report): a forged report would
+    // finish a phase for a process that has not, or announce deposits that
+    // were never made.
+    if (const auto v = core::judge_report(d, places_, names_); !v.taken()) {
+      if (v.kind == core::IntakeVerdict::Kind::Drop) {
+        p_.rec.count_rejected_sample();
+      } else {
+        refuse(v.refusal, v.reason);
+      }
+      continue;
+    }
     p_.conductor.on_phase_done(d);
     const uint32_t id = d.process & 0xFFFFFFU;
     if (d.process >> 24U == core::kRoleUav && !core::check_uav_id(id, swarm_)) {

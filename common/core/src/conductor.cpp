@@ -8,7 +8,8 @@ namespace pheromesh::core {
 
 Result<GoneProcesses> parse_gone(const std::string& answer, uint32_t uavs, uint32_t regions) {
   const std::string prefix = "gone ";
-  if (answer.rfind(prefix, 0) != 0) return Error{"the launcher answered '" + answer + "', not 'gone NAME,...' or 'gone -'"};
+  if (answer.rfind(prefix, 0) != 0)
+    return Error{"the launcher answered '" + answer + "', not 'gone NAME,...' or 'gone -'"};
   const std::string list = answer.substr(prefix.size());
   GoneProcesses g;
   if (list == "-") return g;
@@ -42,8 +43,8 @@ Result<GoneProcesses> parse_gone(const std::string& answer, uint32_t uavs, uint3
     } else if (role == "place" && index < regions) {
       g.regions.push_back(index);
     } else {
-      return Error{"the launcher named '" + name + "' among the gone processes; this swarm has " + std::to_string(uavs) +
-                   " uavs and " + std::to_string(regions) + " place agents"};
+      return Error{"the launcher named '" + name + "' among the gone processes; this swarm has " +
+                   std::to_string(uavs) + " uavs and " + std::to_string(regions) + " place agents"};
     }
   }
   return g;
@@ -93,7 +94,9 @@ bool LockstepConductor::on_uav_refused(uint32_t uav, uint32_t tick) {
   return departed_since_.erase(uav) > 0;
 }
 
-bool LockstepConductor::on_uav_finished(uint32_t uav) { return !dropped_.contains(uav) && departed_since_.erase(uav) > 0; }
+bool LockstepConductor::on_uav_finished(uint32_t uav) {
+  return !dropped_.contains(uav) && departed_since_.erase(uav) > 0;
+}
 
 void LockstepConductor::on_broadcast(uint32_t uav, uint32_t tick) {
   broadcasters_[tick].insert(uav);
@@ -227,6 +230,13 @@ LockstepConductor::Status LockstepConductor::status(Clock::time_point now) {
       // applies nothing.
       const auto gateway = gateway_region(id, o_.regions, [&](RegionId r) { return absent_.contains(r); });
       if (gateway) ++states_reported_[*gateway];
+      // Its gateway refused its state of this tick: it applies and forwards
+      // none of the deposits the state carried (it rejects them,
+      // core::CarriedDeposits::Reject), so no region waits for them.
+      if (gateway && refused != refused_.end() && refused->second.contains(id)) {
+        if (!answered(id)) ++s.waiting;
+        continue;
+      }
       for (const auto& rc : it->second.deposits) {
         if (!gateway || absent_.contains(rc.region)) {
           lost_this_tick_ += rc.count;

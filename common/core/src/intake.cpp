@@ -109,4 +109,9 @@ IntakeVerdict check_field_chunk(const FieldMsg& f, uint32_t ceiling, const Intak
   return IntakeVerdict::take();
 }
 
+CarriedDeposits carried_deposits(const StateGate::Judged& j) {
+  if (j.refused_motion) return CarriedDeposits::Reject;
+  return j.verdict.kind == IntakeVerdict::Kind::Refuse ? CarriedDeposits::Refuse : CarriedDeposits::Judge;
+}
+
 }  // namespace pheromesh::core

@@ -26,6 +26,16 @@ const char* refusal_name(Refusal r) {
       return "foreign_writer";
     case Refusal::ImplausibleDeposit:
       return "implausible_deposit";
+    case Refusal::UnknownPlace:
+      return "unknown_place";
+    case Refusal::StaleDetection:
+      return "stale_detection";
+    case Refusal::ForeignReport:
+      return "foreign_report";
+    case Refusal::UnannouncedDeposit:
+      return "unannounced_deposit";
+    case Refusal::RefusedStateDeposit:
+      return "refused_state_deposit";
   }
   return "unknown";
 }
@@ -146,6 +156,12 @@ std::optional<std::string> check_detection(const DetectionMsg& d, std::span<cons
   if (dist <= reach) return std::nullopt;
   return "detection of target " + std::to_string(d.target) + " by uav " + std::to_string(d.uav) + " " +
          std::to_string(dist) + " cells away (it senses " + std::to_string(sensor_radius) + ")";
+}
+
+std::optional<std::string> check_detection_kept(const DetectionMsg& d, std::optional<uint32_t> oldest_kept) {
+  if (!oldest_kept || d.tick >= *oldest_kept) return std::nullopt;
+  return "a detection of uav " + std::to_string(d.uav) + " at tick " + std::to_string(d.tick) +
+         ", older than the oldest of its positions kept (tick " + std::to_string(*oldest_kept) + ")";
 }
 
 }  // namespace pheromesh::core

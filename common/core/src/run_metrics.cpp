@@ -77,12 +77,18 @@ bool RunRecorder::on_uav_state(const UavStateMsg& s) {
   if (starts_new_life(s)) u.earlier_lives_deposits += u.last.deposits_sent;
   // Not a stale copy (above): a tick that went back is a new life.
   const bool new_life = !u.recent.empty() && s.tick <= u.recent.back().tick;
-  if (new_life) u.recent.clear();
+  if (new_life) {
+    u.recent.clear();
+    u.forgot = false;
+  }
   u.last = s;
   u.heard_tick = new_life ? s.tick : std::max(u.heard_tick, s.tick);
   if (u.recent.empty() || s.tick > u.recent.back().tick) {
     u.recent.push_back({s.tick, static_cast<float>(s.x), static_cast<float>(s.y)});
-    if (u.recent.size() > UavStatus::kRecentFixes) u.recent.pop_front();
+    if (u.recent.size() > UavStatus::kRecentFixes) {
+      u.recent.pop_front();
+      u.forgot = true;
+    }
   }
   u.alive = true;
   u.finished = u.finished || s.finished;
@@ -105,9 +111,19 @@ void RunRecorder::release_pending(const UavStatus& u, uint32_t uav, uint32_t tic
       judge(d, nullptr);
       continue;
     }
-    const UavStateMsg seen = nearest_state(u, d.tick);
-    judge(d, &seen);
+    judge_kept(u, d);
   }
+}
+
+void RunRecorder::judge_kept(const UavStatus& u, const DetectionMsg& d) {
+  const std::optional<uint32_t> oldest =
+      u.forgot && !u.recent.empty() ? std::optional<uint32_t>(u.recent.front().tick) : std::nullopt;
+  if (check_detection_kept(d, oldest)) {
+    refused_.add(Refusal::StaleDetection);
+    return;
+  }
+  const UavStateMsg seen = nearest_state(u, d.tick);
+  judge(d, &seen);
 }
 
 void RunRecorder::on_refused_state(const UavStateMsg& s) {
@@ -193,8 +209,7 @@ bool RunRecorder::on_detection(const DetectionMsg& d) {
     judge(d, nullptr);
     return true;
   }
-  const UavStateMsg nearest = nearest_state(it->second, d.tick);
-  judge(d, &nearest);
+  judge_kept(it->second, d);
   return true;
 }
 
@@ -351,9 +366,12 @@ void RunRecorder::on_place_departed(uint32_t place) { departed_places_[place] = 
 
 std::string role_name(uint8_t role) {
   switch (static_cast<Role>(role)) {
-    case Role::Searcher: return "searcher";
-    case Role::Leader: return "leader";
-    case Role::Follower: return "follower";
+    case Role::Searcher:
+      return "searcher";
+    case Role::Leader:
+      return "leader";
+    case Role::Follower:
+      return "follower";
   }
   return "role-" + std::to_string(role);
 }
@@ -378,8 +396,8 @@ std::vector<TickRow> RunRecorder::tick_series() const {
   const auto reachable = static_cast<double>(coverage_.reachable_cells());
   // Changes per tick, summed below: deposits sent (count_in_series), UAVs
   // heard at exactly that tick, targets first found.
-  std::vector<int64_t> sent_delta(sent_delta_.begin(), sent_delta_.begin() + static_cast<std::ptrdiff_t>(
-                                                                               std::min(n, sent_delta_.size())));
+  std::vector<int64_t> sent_delta(sent_delta_.begin(),
+                                  sent_delta_.begin() + static_cast<std::ptrdiff_t>(std::min(n, sent_delta_.size())));
   sent_delta.resize(n, 0);
   for (std::size_t k = 0; k < std::min(n, reporting_.size()); ++k) rows[k].uavs_reporting = reporting_[k];
   std::vector<uint32_t> found(n, 0);
@@ -446,8 +464,9 @@ void RunRecorder::count_in_series(uint32_t uav, uint32_t tick, uint64_t sent) {
 
 std::vector<TrackRow> RunRecorder::tracks() const {
   std::vector<TrackRow> out = tracks_;
-  std::stable_sort(out.begin(), out.end(),
-                   [](const TrackRow& a, const TrackRow& b) { return std::tie(a.tick, a.uav) < std::tie(b.tick, b.uav); });
+  std::stable_sort(out.begin(), out.end(), [](const TrackRow& a, const TrackRow& b) {
+    return std::tie(a.tick, a.uav) < std::tie(b.tick, b.uav);
+  });
   // Of two states of one UAV and tick (the simulator's closing state, a
   // copy relayed twice), the later one.
   std::vector<TrackRow> unique;

@@ -24,13 +24,14 @@ Simulator::Simulator(ScenarioConfig scenario)
   empty_view_.assign(uavs_.size(), 0);
 }
 
-bool Simulator::through_gateway(RegionId gateway, UavStateMsg s, uint32_t tick) {
+bool Simulator::through_gateway(RegionId gateway, UavStateMsg s, uint32_t tick, CarriedDeposits* carried) {
   // As the place agent's take_home_states (placeagent/place_tick.cpp).
   const IntakeRules rules{geo_, places_.front()->layer_count(), traits_.layer_ranges, scenario_.uavs};
   auto it = accepted_.find({gateway, s.uav});
   const UavStateMsg* before = it == accepted_.end() ? nullptr : &it->second;
   const auto judged = gates_[gateway].judge(s, before, uav_start(scenario_, traits_, s.uav), traits_.max_step,
                                             lockstep_tick_ceiling(tick), rules);
+  if (carried != nullptr) *carried = carried_deposits(judged);
   if (judged.refused_motion) {
     if (!judged.copy) gate_refused_[gateway].add(Refusal::ImplausibleState);
     empty_view_[s.uav] = 1;
@@ -127,8 +128,8 @@ Result<std::vector<std::string>> Simulator::add_faults(const FaultSchedule& more
         killed = region_kill_.at(static_cast<RegionId>(t.index));
       }
       if (killed && *killed < next_tick_) {
-        return Error{"'" + e.text + "': " + t.role + ":" + std::to_string(t.index) + " is already dead (killed at tick " +
-                     std::to_string(*killed) + ")"};
+        return Error{"'" + e.text + "': " + t.role + ":" + std::to_string(t.index) +
+                     " is already dead (killed at tick " + std::to_string(*killed) + ")"};
       }
     }
   }
@@ -234,19 +235,27 @@ void Simulator::step(uint32_t tick) {
     const auto gateway = gateway_region(id, regions, dead_at(tick));
     const bool cut_off = !gateway;
     if (out.broadcast) broadcasts.push_back(*out.broadcast);
-    for (const DepositMsg& d : out.deposits) {
-      // Lost (no place agent to forward or apply it): RunRecorder::deposits_lost
-      // counts it, as sent and never received.
-      if (!cut_off && !region_dead(d.region, tick)) inbox_[d.region].push_back(d);
-    }
     deposits_sent_[i] += out.deposits.size();
     for (const DetectionMsg& d : out.detections) recorder_.on_detection(d);
     out.state.deposits_sent = deposits_sent_[i];
     out.state.tile_samples_received = tile_samples_[i];
+    CarriedDeposits carried = CarriedDeposits::Judge;
     if (cut_off) {
       recorder_.on_uav_state(out.state);  // heard, though no view shows it
-    } else if (through_gateway(*gateway, out.state, tick)) {
+    } else if (through_gateway(*gateway, out.state, tick, &carried)) {
       states.push_back(out.state);
+    }
+    if (carried == CarriedDeposits::Reject) {
+      // Its gateway refused its state: it applies and forwards none of the
+      // deposits the state carried, as the place agents (core/intake.hpp).
+      places_[*gateway]->reject(out.deposits, kRejectedWithState);
+      gate_refused_[*gateway].add(Refusal::RefusedStateDeposit, static_cast<uint32_t>(out.deposits.size()));
+      continue;
+    }
+    for (const DepositMsg& d : out.deposits) {
+      // Lost (no place agent to forward or apply it): RunRecorder::deposits_lost
+      // counts it, as sent and never received.
+      if (!cut_off && !region_dead(d.region, tick)) inbox_[d.region].push_back(d);
     }
   }
   states_by_tile_.clear();
@@ -354,7 +363,8 @@ float Simulator::field_value(int layer, Cell c) const { return places_[geo_.regi
 
 bool Simulator::gather_layer(int layer, std::span<float> out) const {
   const auto width = static_cast<std::size_t>(geo_.width());
-  if (layer < 0 || layer >= layer_count() || out.size() != width * static_cast<std::size_t>(geo_.height())) return false;
+  if (layer < 0 || layer >= layer_count() || out.size() != width * static_cast<std::size_t>(geo_.height()))
+    return false;
   for (std::size_t r = 0; r < places_.size(); ++r) {
     const Rect rect = geo_.region_rect(static_cast<RegionId>(r));
     const PlaceCore& p = *places_[r];

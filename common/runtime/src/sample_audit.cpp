@@ -2,6 +2,9 @@
 
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
+#include <cstdint>
+
 namespace pheromesh::runtime {
 
 bool SampleAudit::admit(const core::IntakeVerdict& v) {
@@ -18,9 +21,11 @@ bool SampleAudit::admit(const core::IntakeVerdict& v) {
   return false;
 }
 
-void SampleAudit::refuse(core::Refusal r, const std::string& what) {
-  refused_.add(r);
-  if (refused_.total() <= kRefusalsLogged) log_->warn("refused {} ({})", what, core::refusal_name(r));
+void SampleAudit::refuse(core::Refusal r, const std::string& what, std::size_t samples) {
+  if (samples == 0) return;
+  const bool logged = refused_.total() < kRefusalsLogged;
+  refused_.add(r, static_cast<uint32_t>(std::min<std::size_t>(samples, UINT32_MAX)));
+  if (logged) log_->warn("refused {} ({})", what, core::refusal_name(r));
 }
 
 void SampleAudit::drop(const std::string& what) {

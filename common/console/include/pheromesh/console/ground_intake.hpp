@@ -25,6 +25,7 @@
 #include "pheromesh/core/run_book.hpp"
 #include "pheromesh/core/run_metrics.hpp"
 #include "pheromesh/core/scenario.hpp"
+#include "pheromesh/core/sender_judge.hpp"
 #include "pheromesh/core/world.hpp"
 
 namespace pheromesh::console {
@@ -57,7 +58,8 @@ struct IntakeNote {
     PlaceBack,       // a place replica reported lost is heard again
     OwnerRegained,   // a region's output is owned by a lower replica again
     PlaceLost,       // a place replica's liveliness lapsed before it finished, and it was not heard around the lapse
-    LivenessLapsed,  // a process's liveliness lapsed while it was heard (the first time per process; the run's count at the end)
+    LivenessLapsed,  // a process's liveliness lapsed while it was heard (the first time per process; the run's count at
+                     // the end)
   };
   enum class Level : uint8_t { Info, Warn };
   Kind kind;
@@ -197,6 +199,7 @@ class GroundIntake {
   uint64_t lapses_ = 0;
   Notes notes_;  // of the call under way
   core::PlaceVouch places_;
+  core::SwarmNames names_;  // the UAV ids and place agents (region, replica) the run has
   core::Parked<core::UavStateMsg> parked_states_;
   core::Parked<core::UavDeparture> parked_departures_;
   core::Parked<core::BroadcastMsg> parked_broadcasts_;

@@ -51,8 +51,8 @@ namespace pheromesh::core {
 // region >= regions) and anything else are errors.
 struct GoneProcesses {
   std::vector<uint32_t> uavs;
-  std::vector<RegionId> regions;  // primaries (place-R)
-  std::vector<uint32_t> standbys; // standby replicas (place-R.rN), as place_id(R, N)
+  std::vector<RegionId> regions;   // primaries (place-R)
+  std::vector<uint32_t> standbys;  // standby replicas (place-R.rN), as place_id(R, N)
 };
 Result<GoneProcesses> parse_gone(const std::string& answer, uint32_t uavs, uint32_t regions);
 
@@ -75,8 +75,8 @@ class LockstepConductor {
 
   struct Status {
     bool complete = false;
-    bool timed_out = false;   // the phase's timeout passed before it completed
-    uint32_t waiting = 0;     // processes (or missing states/broadcasts) still awaited
+    bool timed_out = false;  // the phase's timeout passed before it completed
+    uint32_t waiting = 0;    // processes (or missing states/broadcasts) still awaited
     // The Ready phase: who has not reported ready yet (ids).
     std::vector<uint32_t> uavs_not_ready, regions_not_ready;
   };
@@ -89,8 +89,9 @@ class LockstepConductor {
   bool on_uav_state(uint32_t uav, uint32_t tick, TileCoord tile);
   // A state of `uav` its gateway refused as implausible (UavStateMsg::
   // implausible): the UAV's answer for `tick`, as a state is, but over no
-  // tile (no view waits for it as a neighbour). Returns true if the UAV had
-  // departed and is back.
+  // tile (no view waits for it as a neighbour), and its deposits of `tick`
+  // are announced to no region (its gateway rejects them: issue 42 D4).
+  // Returns true if the UAV had departed and is back.
   bool on_uav_refused(uint32_t uav, uint32_t tick);
   // A finished UAV's last state: it is back if it had departed, nothing else.
   bool on_uav_finished(uint32_t uav);
@@ -173,19 +174,19 @@ class LockstepConductor {
   uint32_t tick_ = 0;
   ClockPhase phase_ = ClockPhase::Uav;
   Clock::time_point deadline_{};
-  std::map<uint32_t, PhaseDoneMsg> done_;                 // process key -> latest report
+  std::map<uint32_t, PhaseDoneMsg> done_;                        // process key -> latest report
   std::map<uint32_t, std::map<uint32_t, TileCoord>> positions_;  // tick -> uav -> tile
-  std::map<uint32_t, std::set<uint32_t>> broadcasters_;   // tick -> UAVs that broadcast
-  std::map<uint32_t, std::set<uint32_t>> refused_;        // tick -> UAVs whose state of it was refused
-  std::map<RegionId, uint32_t> deposits_reported_;        // current tick's UAV phase
-  std::map<RegionId, uint32_t> states_reported_;          // current tick's UAV phase: states per home region
-  std::map<uint32_t, Clock::time_point> departed_since_;  // departed UAVs
-  std::set<uint32_t> places_gone_;                         // departed place replicas (place_id)
-  std::set<uint32_t> places_killed_;                       // place replicas the launcher killed (place_id)
-  std::map<uint32_t, Clock::time_point> heard_;           // UAV -> its latest sample
-  std::set<uint32_t> dropped_;                            // UAVs killed at a tick
-  std::set<RegionId> absent_;                             // regions whose place agent was killed, no standby
-  uint64_t lost_this_tick_ = 0;                           // current tick's UAV phase, for absent regions
+  std::map<uint32_t, std::set<uint32_t>> broadcasters_;          // tick -> UAVs that broadcast
+  std::map<uint32_t, std::set<uint32_t>> refused_;               // tick -> UAVs whose state of it was refused
+  std::map<RegionId, uint32_t> deposits_reported_;               // current tick's UAV phase
+  std::map<RegionId, uint32_t> states_reported_;                 // current tick's UAV phase: states per home region
+  std::map<uint32_t, Clock::time_point> departed_since_;         // departed UAVs
+  std::set<uint32_t> places_gone_;                               // departed place replicas (place_id)
+  std::set<uint32_t> places_killed_;                             // place replicas the launcher killed (place_id)
+  std::map<uint32_t, Clock::time_point> heard_;                  // UAV -> its latest sample
+  std::set<uint32_t> dropped_;                                   // UAVs killed at a tick
+  std::set<RegionId> absent_;                                    // regions whose place agent was killed, no standby
+  uint64_t lost_this_tick_ = 0;                                  // current tick's UAV phase, for absent regions
   uint64_t deposits_lost_ = 0;
 };
 

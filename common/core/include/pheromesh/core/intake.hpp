@@ -81,6 +81,26 @@ class StateGate {
   std::map<uint32_t, uint32_t> refused_tick_;
 };
 
+// What becomes of the deposits a judged state carries (issue 42 D4): a
+// gateway forwards no deposit of a state it refused.
+// - Judge: the state was taken, or dropped as malformed (a policy that
+//   reports a position off the map): they go on as any deposit, applied
+//   here or forwarded to their owners, and judged there.
+// - Reject: the state was refused for its motion - the UAV's own deposits,
+//   counted in its deposits_sent. Neither applied nor forwarded: its gateway
+//   takes them (they are confirmed to the UAV), counts them received and
+//   rejected ("carried by a state its gateway refused") and refused
+//   (Refusal::RefusedStateDeposit), so sent == applied + rejected holds; the
+//   conductor announces none of them to any region and the simulator does
+//   the same.
+// - Refuse: the state was refused for what it names - a UAV outside the
+//   swarm, a tick the run cannot have reached: no UAV's. Its deposits are
+//   refused with it (RefusedStateDeposit, one per deposit) and reach no
+//   ledger.
+enum class CarriedDeposits : uint8_t { Judge, Reject, Refuse };
+CarriedDeposits carried_deposits(const StateGate::Judged& j);
+inline constexpr const char* kRejectedWithState = "carried by a state its gateway refused";
+
 // What the gateway relays to the ground station for a refused state `s`:
 // `s` marked UavStateMsg::implausible, without its uplink.
 UavStateMsg refused_answer(const UavStateMsg& s);

@@ -15,7 +15,7 @@ namespace pheromesh::core {
 
 inline constexpr std::size_t kMaxTileCells = 1024;  // 32 x 32, idl bound
 inline constexpr std::size_t kMaxRingCells = 4096;  // idl bound
-inline constexpr std::size_t kRefusalCount = 9;     // core::Refusal (plausibility.hpp), idl REFUSAL_REASONS
+inline constexpr std::size_t kRefusalCount = 14;    // core::Refusal (plausibility.hpp), idl REFUSAL_REASONS
 
 struct TileMsg {
   uint8_t layer = 0;
@@ -69,9 +69,9 @@ struct UavStateMsg {
   uint64_t deposits_sent = 0;
   uint64_t tile_samples_received = 0;
   uint64_t samples_received = 0;  // DDS samples the UAV took (views, broadcasts, commands)
-  uint32_t ticks_late = 0;  // realtime ticks that started more than one tick period late
-  Cell view{};            // the cell whose neighbourhood the UAV reads next (its home place agent composes it)
-  bool finished = false;  // last state of a UAV that ended its run
+  uint32_t ticks_late = 0;        // realtime ticks that started more than one tick period late
+  Cell view{};                    // the cell whose neighbourhood the UAV reads next (its home place agent composes it)
+  bool finished = false;          // last state of a UAV that ended its run
   uint32_t tick_gap_max_ms = 0;   // [ms] realtime: longest gap between two tick starts (core/tick_gaps.hpp)
   uint32_t tick_gaps_over_2 = 0;  // realtime: gaps between tick starts longer than two periods
   uint64_t deposits_unconfirmed = 0;  // sent, but not (yet) confirmed received by its home place agent
@@ -161,8 +161,8 @@ struct HealthMsg {
   uint64_t deposits_rejected = 0;
   uint64_t halos_missing = 0;
   bool finished = false;
-  uint32_t tick_gap_max_ms = 0;   // [ms] realtime: longest gap between two tick starts (core/tick_gaps.hpp)
-  uint32_t tick_gaps_over_2 = 0;  // realtime: gaps between tick starts longer than two periods
+  uint32_t tick_gap_max_ms = 0;     // [ms] realtime: longest gap between two tick starts (core/tick_gaps.hpp)
+  uint32_t tick_gaps_over_2 = 0;    // realtime: gaps between tick starts longer than two periods
   uint16_t replica = 0;             // 0 the primary, 1.. standbys
   uint64_t deposits_duplicate = 0;  // copies of a deposit already received, dropped
   // Samples this place agent refused as implausible, per core::Refusal
@@ -200,9 +200,9 @@ struct HaloMsg {
 
 // A UAV's message to the whole swarm (partition "b").
 enum class BroadcastKind : uint8_t {
-  LeaderState = 0,  // Shao 2020 Sec. 5: x, y, vx, vy [cell, cell/tick], arrived (0/1)
-  TargetFound = 1,  // Shostak 2024 Sec. 5: x, y of the target [cell]
-  EtaIntervals = 2, // Duan 2009 eq. (4): pairs (T_min, T_max) [s] of the candidate trajectories
+  LeaderState = 0,   // Shao 2020 Sec. 5: x, y, vx, vy [cell, cell/tick], arrived (0/1)
+  TargetFound = 1,   // Shostak 2024 Sec. 5: x, y of the target [cell]
+  EtaIntervals = 2,  // Duan 2009 eq. (4): pairs (T_min, T_max) [s] of the candidate trajectories
 };
 inline constexpr uint8_t kBroadcastKindCount = 3;
 inline constexpr std::size_t kMaxBroadcastValues = 64;  // idl bound
@@ -297,6 +297,9 @@ struct PhaseDoneMsg {
   // UAV phase: what the UAV wrote (broadcasts 0 or 1, deposits per region).
   uint32_t broadcasts = 0;
   std::vector<RegionCount> deposits;
+  // Not on the wire: the writer's process (bus::SampleInfo::participant),
+  // by which the conductor and the gateways judge a report (sender_judge.hpp).
+  uint64_t participant = 0;
 };
 
 // The place agent that serves a UAV: it receives the UAV's state and
@@ -337,7 +340,7 @@ struct ViewMsg {
   uint32_t tick = 0;
   std::vector<TileMsg> tiles;  // tick and region filled in
   std::vector<UavStateMsg> uavs;
-  uint32_t deposit_ack = 0;  // highest seq of this UAV's deposits its home place agent received
+  uint32_t deposit_ack = 0;       // highest seq of this UAV's deposits its home place agent received
   uint32_t deposit_ack_from = 0;  // the first seq of them this life of the place agent received (0: none)
 };
 
@@ -382,9 +385,6 @@ std::size_t payload_bytes(const ScenarioMsg& m);
 std::size_t payload_bytes(const UavStateMsg& m);
 // Messages without sequences: their fixed part.
 template <typename M>
-  requires std::is_trivially_copyable_v<M>
-std::size_t payload_bytes(const M& /*m*/) {
-  return sizeof(M);
-}
+requires std::is_trivially_copyable_v<M> std::size_t payload_bytes(const M& /*m*/) { return sizeof(M); }
 
 }  // namespace pheromesh::core

@@ -28,12 +28,24 @@ enum class Refusal : uint8_t {
   TickFarAhead = 2,          // a tile, halo, field, view or state of a tick the sender cannot have reached yet
   ValueOutOfRange = 3,       // a tile or halo value outside its layer's physical range
   ForeignClock = 4,          // a lockstep clock sample from a writer other than the conductor first heard
-  ImplausibleDetection = 5,  // a detection of no target of the scenario, far from the reporting UAV, or sent to a place agent that does not serve the UAV
-  ImplausibleState = 6,      // a UAV state further from the last accepted one than the UAV can fly, or sent to a place agent that does not serve the UAV
-  ForeignWriter = 7,         // a sample from a writer or process other than the one heard as its sender: a UAV state (writer_latch.hpp), a UAV's detection or broadcast, a place agent's health, relay, tile or forwarded deposit (place_vouch.hpp)
-  ImplausibleDeposit = 8,    // a deposit in a cell its UAV cannot have reached from its last accepted state (check_deposit_reach)
+  ImplausibleDetection = 5,  // a detection of no target of the scenario, far from the reporting UAV, or sent to a place
+                             // agent that does not serve the UAV
+  ImplausibleState = 6,      // a UAV state further from the last accepted one than the UAV can fly, or sent to a place
+                             // agent that does not serve the UAV
+  ForeignWriter =
+      7,  // a sample from a writer or process other than the one heard as its sender: a UAV state (writer_latch.hpp), a
+          // UAV's detection or broadcast, a place agent's health, relay, tile or forwarded deposit (place_vouch.hpp)
+  ImplausibleDeposit =
+      8,  // a deposit in a cell its UAV cannot have reached from its last accepted state (check_deposit_reach)
+  UnknownPlace =
+      9,  // a health, served-UAVs chunk or place report of a (region, replica) the run does not have (check_place_id)
+  StaleDetection = 10,  // a detection older than the window of positions kept for its UAV (kKeptPositions)
+  ForeignReport = 11,   // a lockstep report (PhaseDone) from a process other than its sender's (report_judge.hpp)
+  UnannouncedDeposit =
+      12,  // lockstep: a forwarded deposit of a tick whose place phase no longer takes it (DepositDesk)
+  RefusedStateDeposit = 13,  // a deposit carried by a UAV state its gateway refused: neither applied nor forwarded
 };
-static_assert(kRefusalCount == 9, "messages.hpp kRefusalCount: one count per Refusal");
+static_assert(kRefusalCount == 14, "messages.hpp kRefusalCount: one count per Refusal");
 // "unknown_uav", "seq_far_ahead", ... (metrics.json, Prometheus labels).
 const char* refusal_name(Refusal r);
 
@@ -123,5 +135,12 @@ std::optional<std::string> check_deposit_reach(const DepositMsg& d, const UavSta
 // `sensor_radius` [cell].
 std::optional<std::string> check_detection(const DetectionMsg& d, std::span<const Cell> targets,
                                            const UavStateMsg* seen, double sensor_radius, double max_step);
+// A receiver keeps a window of each UAV's latest positions (the ground
+// station: 128, RunRecorder); `oldest_kept`: the tick of the oldest it keeps
+// once older ones were dropped (nullopt: none dropped, every position since
+// the UAV's first is kept). A detection of an earlier tick cannot be judged
+// against the position of its own tick, and is refused (StaleDetection)
+// rather than judged against a later one.
+std::optional<std::string> check_detection_kept(const DetectionMsg& d, std::optional<uint32_t> oldest_kept);
 
 }  // namespace pheromesh::core

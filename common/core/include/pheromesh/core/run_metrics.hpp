@@ -11,8 +11,8 @@
 #include <string>
 #include <vector>
 
-#include "pheromesh/core/messages.hpp"
 #include "pheromesh/core/marks.hpp"
+#include "pheromesh/core/messages.hpp"
 #include "pheromesh/core/metrics.hpp"
 #include "pheromesh/core/plausibility.hpp"
 #include "pheromesh/core/policy.hpp"
@@ -78,6 +78,9 @@ struct UavStatus {
   };
   std::deque<Fix> recent;
   static constexpr std::size_t kRecentFixes = 128;
+  // An older fix was dropped from `recent`: a detection of a tick before
+  // its first is older than what is kept, and refused (StaleDetection).
+  bool forgot = false;
 };
 
 class RunRecorder {
@@ -94,7 +97,11 @@ class RunRecorder {
   bool on_uav_state(const UavStateMsg& s);
   // A detection is judged against the reporting UAV's state of its tick, or
   // the nearest later one it holds (of its last 128); until one arrives it
-  // waits (true). Judged against the UAV's latest state instead, a detection
+  // waits (true). One of a tick before the oldest of the 128 kept (once
+  // older ones were dropped) is refused (Refusal::StaleDetection,
+  // check_detection_kept): the nearest later one is then further in time
+  // than the window, and its reach - max_step for every tick between -
+  // could cover the map. Judged against the UAV's latest state instead, a detection
   // of a tick long past had the reach of every tick flown since (issue 28:
   // forged detections a few ticks old were accepted). Detections of targets found
   // for the first time collect in take_first_acquisitions().
@@ -113,11 +120,11 @@ class RunRecorder {
   // hears them as UavStateMsg::implausible), the first one with the state it
   // was judged against: what `sim` and `run` say about them.
   struct RefusedStates {
-    uint64_t count = 0;         // one per tick (copies relayed again count once)
-    uint32_t last_tick = 0;     // of the latest refused state
-    UavStateMsg first{};        // the first refused state
-    UavStateMsg accepted{};     // the last accepted state before it ...
-    bool from_start = true;     // ... or none: it was judged from the start cell
+    uint64_t count = 0;      // one per tick (copies relayed again count once)
+    uint32_t last_tick = 0;  // of the latest refused state
+    UavStateMsg first{};     // the first refused state
+    UavStateMsg accepted{};  // the last accepted state before it ...
+    bool from_start = true;  // ... or none: it was judged from the start cell
     Cell start{};
   };
   [[nodiscard]] const std::map<uint32_t, RefusedStates>& refused_states() const { return refused_states_; }
@@ -270,6 +277,9 @@ class RunRecorder {
   std::vector<DetectionMsg> pending_;  // detections waiting for their UAV's state of their tick
   std::vector<DetectionMsg> first_acquisitions_;
   void judge(const DetectionMsg& d, const UavStateMsg* seen);
+  // Judges `d` against the nearest of `u`'s kept positions, or refuses it as
+  // older than they are (check_detection_kept).
+  void judge_kept(const UavStatus& u, const DetectionMsg& d);
   // The UAV's position at the kept state nearest `tick` (the first of that
   // tick or later; none kept that late: its last state).
   static UavStateMsg nearest_state(const UavStatus& u, uint32_t tick);

@@ -160,7 +160,7 @@ class Simulator {
   // schedule (add_faults).
   std::vector<HaloMsg> last_rings_;
   FaultSchedule faults_;
-  std::optional<bool> standby_all_;  // set_faults' `standby`
+  std::optional<bool> standby_all_;       // set_faults' `standby`
   std::vector<std::string> fault_notes_;  // set_faults' notes of faults_
   uint32_t next_tick_ = 0;
   bool finished_ = false;
@@ -176,8 +176,9 @@ class Simulator {
   std::vector<uint8_t> empty_view_;  // per UAV, 0 or 1 (not vector<bool>: std::exchange)
   // The state `s` of UAV `id` through its gateway `gateway` at `tick`: true
   // if it was accepted; a refused one goes to the recorder as the gateway's
-  // answer (UavStateMsg::implausible).
-  bool through_gateway(RegionId gateway, UavStateMsg s, uint32_t tick);
+  // answer (UavStateMsg::implausible). `carried` (if given): what becomes of
+  // the deposits the state carries (core::carried_deposits).
+  bool through_gateway(RegionId gateway, UavStateMsg s, uint32_t tick, CarriedDeposits* carried = nullptr);
   [[nodiscard]] HealthMsg health_of(const PlaceCore& p, uint32_t tick, bool final) const;
 
   [[nodiscard]] bool uav_gone(uint32_t u, uint32_t tick) const;

@@ -8,9 +8,9 @@
 //    value).
 //  * A UAV decides, once per tick (= one time cycle), a velocity from its own
 //    state, the UAVs it can see (view.neighbours) and the TPM of the eight
-//    cells around it (its tiles): ESUSTPM Liu 2022 eq. (6), Liu 2022 eq. (7), Liu 2022 eq. (8), Liu 2022 eq. (9) or a Liu 2022 Sec. 5.1 baseline. It
-//    then flies the cycle in Δt steps (Liu 2022 eq. (10), Liu 2022 eq. (11), reflected at the border)
-//    and sends one Observation per cell it enters, to the region owning it.
+//    cells around it (its tiles): ESUSTPM Liu 2022 eq. (6), Liu 2022 eq. (7), Liu 2022 eq. (8), Liu 2022 eq. (9) or a
+//    Liu 2022 Sec. 5.1 baseline. It then flies the cycle in Δt steps (Liu 2022 eq. (10), Liu 2022 eq. (11), reflected
+//    at the border) and sends one Observation per cell it enters, to the region owning it.
 // The loop is that of run_liu_swarm (liu/src/swarm.cpp); the differences are
 // listed in docs/policies/liu.md.
 #include <algorithm>
@@ -128,12 +128,23 @@ class LiuUavPolicy final : public UavPolicy {
     };
     LiuMove move;
     switch (c.search) {
-      case LiuPolicy::kEsustpm: move = esustpm_step(uav_, others_, tpm, p_); break;       // Liu 2022 eq. (6), Liu 2022 eq. (7), Liu 2022 eq. (8), Liu 2022 eq. (9)
-      case LiuPolicy::kRandom: move = random_search_step(uav_, rng_, p_); break;          // Liu 2022 eq. (12), Liu 2022 eq. (13)
-      case LiuPolicy::kBoids: move = boids_step(uav_, others_, p_); break;                // Liu 2022 Sec. 5.1.4
-      case LiuPolicy::kGuidedBoids: move = boids_guided_step(uav_, others_, tpm, p_); break;  // Liu 2022 Sec. 5.1.5
-      case LiuPolicy::kEsustpmDisperse: move = esustpm_disperse_step(uav_, others_, tpm, p_); break;  // ours
-      case LiuPolicy::kLawnmower: return;
+      case LiuPolicy::kEsustpm:
+        move = esustpm_step(uav_, others_, tpm, p_);
+        break;  // Liu 2022 eq. (6), Liu 2022 eq. (7), Liu 2022 eq. (8), Liu 2022 eq. (9)
+      case LiuPolicy::kRandom:
+        move = random_search_step(uav_, rng_, p_);
+        break;  // Liu 2022 eq. (12), Liu 2022 eq. (13)
+      case LiuPolicy::kBoids:
+        move = boids_step(uav_, others_, p_);
+        break;  // Liu 2022 Sec. 5.1.4
+      case LiuPolicy::kGuidedBoids:
+        move = boids_guided_step(uav_, others_, tpm, p_);
+        break;  // Liu 2022 Sec. 5.1.5
+      case LiuPolicy::kEsustpmDisperse:
+        move = esustpm_disperse_step(uav_, others_, tpm, p_);
+        break;  // ours
+      case LiuPolicy::kLawnmower:
+        return;
     }
     uav_.velocity = move.velocity;
   }
@@ -227,10 +238,14 @@ class LiuPlace final : public PlaceModel {
   [[nodiscard]] float value(int layer, Cell c) const override {
     if (!rect_.contains(c)) return 0.0F;
     switch (layer) {
-      case kTpm: return static_cast<float>(tpm_.probability(c));
-      case kVisited: return static_cast<float>(visited_[index(c)]);
-      case kConfirmed: return static_cast<float>(confirmed_[index(c)]);
-      default: return 0.0F;
+      case kTpm:
+        return static_cast<float>(tpm_.probability(c));
+      case kVisited:
+        return static_cast<float>(visited_[index(c)]);
+      case kConfirmed:
+        return static_cast<float>(confirmed_[index(c)]);
+      default:
+        return 0.0F;
     }
   }
 
@@ -305,6 +320,14 @@ PolicyTraits liu_traits(const ScenarioConfig& s) {
   // One cycle at the maximum speed (Liu 2022 Sec. 5), twice for margin [cell/tick].
   t.max_step = 2.0 * c.params.max_speed_mps * c.params.cycle_s / c.params.cell_size_m;
   t.layer_ranges = {{0.0F, 1.0F}, {0.0F, 1.0F}, {0.0F, 1.0F}};  // a probability (Liu 2022 eq. (3)) and two flags
+  // Mowers start at their lane's lower-left cell (LiuUavPolicy), not at the
+  // swarm's start cells: their gateways judge their first states from there
+  // (judged from the start cells, a mower's first states were refused as
+  // implausible, and with them, since issue 42 D4, the deposits they carried).
+  if (c.search == LiuPolicy::kLawnmower) {
+    for (uint32_t i = 0; i < s.uavs; ++i)
+      t.starts.push_back(lawnmower_start(lawnmower_lane(i, s.uavs, s.width, s.height)).cell);
+  }
   return t;
 }
 
@@ -335,7 +358,7 @@ std::map<std::string, double> liu_field_summary(const ScenarioConfig& s, const F
     }
   }
   return {
-      {"visited_cells", visited},                                    // Liu 2022 Table 2 "visited grid number"
+      {"visited_cells", visited},                                     // Liu 2022 Table 2 "visited grid number"
       {"environmental_uncertainty", environmental_uncertainty(tpm)},  // [bit] Liu 2022 Table 2, -Σ P log2 P
       {"confirmed_cells", confirmed},                                 // cells with P > θ once
       {"real_targets_confirmed", real},                               // Liu 2022 Table 2 "target found number"

@@ -22,8 +22,9 @@ class SampleAudit {
   explicit SampleAudit(std::shared_ptr<spdlog::logger> log) : log_(std::move(log)) {}
   // True if `v` takes the sample; otherwise counts and (the first few) logs it.
   bool admit(const core::IntakeVerdict& v);
-  // A refusal decided elsewhere (e.g. a clock sample of another writer).
-  void refuse(core::Refusal r, const std::string& what);
+  // A refusal decided elsewhere (e.g. a clock sample of another writer), of
+  // `samples` samples at once (0: nothing).
+  void refuse(core::Refusal r, const std::string& what, std::size_t samples = 1);
   void drop(const std::string& what);
 
   [[nodiscard]] uint64_t dropped() const { return dropped_; }
