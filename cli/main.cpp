@@ -8,7 +8,7 @@
 #include <CLI/CLI.hpp>
 #include <cstdio>
 
-#include "experiment_command.hpp"
+#include "experiments/experiment_command.hpp"
 #include "pheromesh/auth/control.hpp"
 #include "pheromesh/cliutil/command_line.hpp"
 #include "pheromesh/cliutil/scenario_paths.hpp"
@@ -20,7 +20,7 @@
 #include "scenario_overrides.hpp"
 #include "pheromesh/cliutil/scenario_paths.hpp"
 #include "sim_command.hpp"
-#include "sweep_command.hpp"
+#include "sweep/sweep_command.hpp"
 #ifdef PHEROMESH_WITH_PYTHON
 #include "pheromesh/pypolicy/enable.hpp"  // policies written in Python (docs/python.md)
 #endif

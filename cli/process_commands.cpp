@@ -5,12 +5,12 @@
 #include <CLI/CLI.hpp>
 #include <cstdlib>
 
-#include "attach_command.hpp"
-#include "bench_lockstep.hpp"
-#include "bench_scale.hpp"
-#include "bench_soak.hpp"
-#include "cell_command.hpp"
-#include "launcher.hpp"
+#include "launch/attach_command.hpp"
+#include "bench/commands/bench_lockstep.hpp"
+#include "bench/commands/bench_scale.hpp"
+#include "bench/commands/bench_soak.hpp"
+#include "launch/cell_command.hpp"
+#include "launch/launcher.hpp"
 #include "pheromesh/bus/bus.hpp"
 #include "pheromesh/cliutil/command_line.hpp"
 #include "pheromesh/runtime/process.hpp"

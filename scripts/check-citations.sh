@@ -16,7 +16,7 @@ cd "$root"
 
 files=$(
   {
-    find common agent placeagent groundstation cli bench tests \
+    find common agent placeagent groundstation cli launch sweep experiments bench tests \
       \( -name build -o -name 'build-*' -o -name .git -o -name node_modules \) -prune -o \
       -type f \( -name '*.cpp' -o -name '*.hpp' -o -name '*.h' -o -name '*.proto' -o -name '*.textproto' \) -print
     # docs/contributing.md shows the bad forms on purpose.

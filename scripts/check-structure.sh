@@ -7,7 +7,11 @@
 #     and nothing of the bus, the runtime, auth or the console;
 #   - auth, bus and runtime include nothing of the console;
 #   - the UAV and place agent shells include no room and nothing of the console;
-#   - the ground station includes no room.
+#   - the ground station includes no room;
+#   - the front door (cli/) parses and dispatches; its rooms: launch/
+#     includes nothing of sweep/, experiments/ or bench/; experiments/ nothing
+#     of sweep/ or bench/; sweep/ nothing of bench/; and no room includes
+#     cli/ but for its shared scenario overrides and `sim` runner.
 # Usage: check-structure.sh [repo root]; prints each violation, exits 1 if any.
 set -u
 root="${1:-$(cd "$(dirname "$0")/.." && pwd)}"
@@ -39,6 +43,13 @@ report "the core includes no Python (pypolicy registers a hook: core/python_poli
 report "auth, bus and runtime include nothing of the console" "$(inc common/auth common/bus common/runtime | grep -E '"pheromesh/console/')"
 report "UAV and place shells include no console and no room" "$(inc agent placeagent | grep -E "\"pheromesh/(console|$papers)/")"
 report "the ground station includes no room" "$(inc groundstation | grep -E "\"pheromesh/($papers)/")"
+# The front door's rooms include one another by folder ("launch/run_plan.hpp").
+room_inc() { grep -rnE --include='*.hpp' --include='*.cpp' '^[[:space:]]*#[[:space:]]*include[[:space:]]*"(cli|launch|sweep|experiments|bench)/' "$@" 2>/dev/null; }
+report "launch/ includes nothing of sweep/, experiments/ or bench/" "$(room_inc launch | grep -E '"(sweep|experiments|bench)/')"
+report "experiments/ includes nothing of sweep/ or bench/" "$(room_inc experiments | grep -E '"(sweep|bench)/')"
+report "sweep/ includes nothing of bench/" "$(room_inc sweep | grep -E '"bench/')"
+report "no room includes cli/ but its scenario overrides and sim runner" \
+  "$(room_inc launch sweep experiments bench | grep -E '"cli/' | grep -vE '"cli/(scenario_overrides|sim_command)\.hpp"')"
 if [ "$bad" -ne 0 ]; then
   echo "check-structure: the module map of docs/architecture.md is broken (above)" >&2
   exit 1

@@ -47,7 +47,7 @@ list() {
     \( -name '*.cpp' -o -name '*.hpp' -o -name '*.h' -o -name '*.proto' -o -name '*.textproto' -o -name '*.idl' \
     -o -name '*.md' -o -name '*.py' -o -name '*.sh' -o -name '*.ts' -o -name '*.js' \) -print 2>/dev/null | sort || true
 }
-code=$(list common agent placeagent groundstation cli bench fuzz examples idl web/src scenarios)
+code=$(list common agent placeagent groundstation cli launch sweep experiments bench fuzz examples idl web/src scenarios)
 tests=$(list tests)
 docs=$(list docs README.md)
 

@@ -1,7 +1,7 @@
 // `pheromesh run --dds`: which vendor each spawned process gets.
 #include <gtest/gtest.h>
 
-#include "dds_plan.hpp"
+#include "launch/dds_plan.hpp"
 
 using pheromesh::cli::DdsPlan;
 using pheromesh::cli::parse_dds_plan;

@@ -3,7 +3,7 @@
 // share <= 1 %").
 #include <gtest/gtest.h>
 
-#include "../../cli/bench_scale.hpp"
+#include "bench/commands/bench_scale.hpp"
 
 namespace pheromesh::cli {
 namespace {

@@ -1,5 +1,5 @@
 // Who runs where and names whom in cells, on one host and over several
-// (cli/cell_layout.hpp; docs/dds.md, "Cell discovery").
+// (launch/cell_layout.hpp; docs/dds.md, "Cell discovery").
 #include <gtest/gtest.h>
 
 #include <map>
@@ -7,8 +7,8 @@
 #include <set>
 #include <variant>
 
-#include "../../cli/cell_command.hpp"
-#include "../../cli/cell_layout.hpp"
+#include "launch/cell_command.hpp"
+#include "launch/cell_layout.hpp"
 #include "pheromesh/bus/cell_discovery.hpp"
 
 namespace pheromesh::cli {

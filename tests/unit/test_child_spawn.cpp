@@ -1,4 +1,4 @@
-// The children the CLI starts (cli/child_spawn.hpp) get their log and the
+// The children the CLI starts (launch/child_spawn.hpp) get their log and the
 // standard streams, and no other descriptor the parent held open without
 // close-on-exec. ctest hands its test processes its log as fd 3 that way; a
 // swarm that inherited it kept ctest waiting after a failed test.
@@ -13,7 +13,7 @@
 #include <sstream>
 #include <string>
 
-#include "../../cli/child_spawn.hpp"
+#include "launch/child_spawn.hpp"
 
 namespace pheromesh::cli {
 namespace {

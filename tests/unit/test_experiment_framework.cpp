@@ -1,7 +1,7 @@
 // The statistics and checks every experiment report relies on (issue 17):
 // confidence intervals, the automatic verdict, the variants' gain, scenario
 // patches, and the comparison of a simulator run with a run of real
-// processes (cli/experiments/flight.hpp). Numbers worked by hand.
+// processes (experiments/flight.hpp). Numbers worked by hand.
 #include <gtest/gtest.h>
 
 #include <cmath>

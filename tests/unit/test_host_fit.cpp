@@ -1,8 +1,8 @@
 // `pheromesh run`'s warning when a swarm exceeds what this host held on time
-// in the scale benchmark (cli/host_fit.hpp, header-only for these tests).
+// in the scale benchmark (launch/host_fit.hpp, header-only for these tests).
 #include <gtest/gtest.h>
 
-#include "../../cli/host_fit.hpp"
+#include "launch/host_fit.hpp"
 
 namespace pheromesh::cli {
 namespace {

@@ -1,4 +1,4 @@
-// The end of `pheromesh run` (cli/metrics_merge.hpp): the ground station's
+// The end of `pheromesh run` (launch/metrics_merge.hpp): the ground station's
 // metrics.json merged with the processes the launcher saw end, and the
 // run's exit code from how they ended.
 #include <gtest/gtest.h>
@@ -12,7 +12,7 @@
 #include <sstream>
 #include <vector>
 
-#include "../../cli/metrics_merge.hpp"
+#include "launch/metrics_merge.hpp"
 #include "json_schema_subset.hpp"
 #include "pheromesh/core/scenario.hpp"
 #include "pheromesh/core/simulator.hpp"

@@ -57,7 +57,7 @@ TEST(Plausibility, ASequenceNumberIsAcceptedOnlyAsFarAheadAsTheUavCanHaveDeposit
   expect_reason(check_seq_reachable(100 + 18945, 100, 10), "further ahead of 100");
   // Not above the last: a duplicate, the caller's business.
   EXPECT_FALSE(check_seq_reachable(50, 100, 0));
-  // The start of a restarted process's life (cli/launcher.cpp: life << 24).
+  // The start of a restarted process's life (launch/launcher.cpp: life << 24).
   EXPECT_FALSE(check_seq_reachable((1U << 24) + 1, 500, 3));
   EXPECT_FALSE(check_seq_reachable((2U << 24) + 1, 500, 3));
   expect_reason(check_seq_reachable((3U << 24) + 1, 500, 3), "further ahead");

@@ -1,8 +1,8 @@
-// The /proc parsers of the launcher's resource accounting (cli/proc_stats.hpp,
+// The /proc parsers of the launcher's resource accounting (launch/proc_stats.hpp,
 // header-only for these tests), on texts copied from a Linux 6.x host.
 #include <gtest/gtest.h>
 
-#include "../../cli/proc_stats.hpp"
+#include "launch/proc_stats.hpp"
 
 namespace pheromesh::cli {
 namespace {

@@ -1,4 +1,4 @@
-// `pheromesh run`'s plan (cli/run_plan.hpp): which processes a host starts,
+// `pheromesh run`'s plan (launch/run_plan.hpp): which processes a host starts,
 // with which arguments, and the deadlines of the run, from the options and
 // the scenario alone. The figures are the launcher's as it was before the
 // plan was lifted out of it.
@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 
-#include "../../cli/run_plan.hpp"
-#include "../../cli/scenario_overrides.hpp"
+#include "launch/run_plan.hpp"
+#include "cli/scenario_overrides.hpp"
 #include "pheromesh/bus/cell_discovery.hpp"
 #include "pheromesh/runtime/process.hpp"
 #include "pheromesh/core/scenario.hpp"

@@ -9,7 +9,7 @@
 
 #include <string>
 
-#include "../../cli/scenario_overrides.hpp"
+#include "cli/scenario_overrides.hpp"
 #include "../../common/core/src/field_override.hpp"
 #include "pheromesh/core/scenario.hpp"
 #include "pheromesh/core/scenario_limits.hpp"

@@ -17,9 +17,9 @@
 #include <string>
 #include <vector>
 
-#include "sweep_command.hpp"
-#include "sweep_grid.hpp"
-#include "sweep_report.hpp"
+#include "sweep/sweep_command.hpp"
+#include "sweep/sweep_grid.hpp"
+#include "sweep/sweep_report.hpp"
 #include "unit_support.hpp"
 
 namespace pheromesh {

@@ -18,7 +18,7 @@
 #include "pheromesh/core/simulator.hpp"
 #include "pheromesh/report/report.hpp"
 #include "pheromesh/report/tidy.hpp"
-#include "sim_command.hpp"
+#include "cli/sim_command.hpp"
 #include "unit_support.hpp"
 
 namespace pheromesh {

@@ -63,7 +63,7 @@ std::optional<std::string> check_uav_id(uint32_t uav, uint32_t swarm);
 
 // --- deposit sequence numbers ---------------------------------------------
 // A UAV numbers its deposits 1, 2, ... and a restarted process continues in
-// the next "life" above (life << 24, cli/launcher.cpp). A receiver that
+// the next "life" above (life << 24, launch/launcher.cpp). A receiver that
 // latched the highest accepted seq of a UAV would be locked out by one forged
 // seq 2^32-1; so a seq is accepted only if the UAV can have reached it: at
 // most kMaxDepositsPerTick per receiver tick since the last accepted one

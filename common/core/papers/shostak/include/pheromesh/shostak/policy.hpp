@@ -3,7 +3,7 @@
 //
 // The paper's constants keep their names from pheromesh/shostak/model.hpp (layers, Shostak 2024 eq. (1), Shostak 2024 eq. (2), Shostak 2024 eq. (3), Shostak 2024 eq. (4), Shostak 2024 eq. (5), Shostak 2024 eq. (6)
 // parameters, drift model); the rest are our choices for what the paper leaves
-// open, the same as the in-experiment swarm loop (cli/experiments/shostak.cpp,
+// open, the same as the in-experiment swarm loop (experiments/shostak.cpp,
 // SwarmSetup).
 #pragma once
 
@@ -37,7 +37,7 @@ struct ShostakConfig final : PolicyConfig {
   ShostakDriftParams drift;                     // ours: dead-reckoning drift, 0 = ideal pose (Shostak 2024 Sec. 4.1)
 
   // Ours (the paper gives none of these; values of SwarmSetup in
-  // cli/experiments/shostak.cpp).
+  // experiments/shostak.cpp).
   double speed_mps = 5.0;         // [m/s] cruise speed
   double altitude_m = 10.0;       // [m] take-off (and dispersal) altitude above the take-off point
   double min_altitude_m = 5.0;    // [m] waypoints' z clamped into [min, max]

@@ -18,7 +18,7 @@
 #include "pheromesh/core/faults.hpp"
 #include "pheromesh/core/result.hpp"
 #include "pheromesh/core/scenario.hpp"
-#include "scenario_overrides.hpp"
+#include "cli/scenario_overrides.hpp"
 
 namespace pheromesh::cli {
 

@@ -1,6 +1,6 @@
 // One process `pheromesh run` started, and how it ended: what the supervisor
-// (cli/supervisor.hpp) keeps of it and the metrics merge
-// (cli/metrics_merge.hpp) reports.
+// (launch/supervisor.hpp) keeps of it and the metrics merge
+// (launch/metrics_merge.hpp) reports.
 #pragma once
 
 #include <sys/types.h>

@@ -11,7 +11,7 @@
 #include <cstdint>
 #include <string>
 
-#include "scenario_overrides.hpp"
+#include "cli/scenario_overrides.hpp"
 
 namespace pheromesh::cli {
 

@@ -16,9 +16,9 @@
 #include <thread>
 #include <vector>
 
-#include "child_spawn.hpp"
+#include "launch/child_spawn.hpp"
 #include "experiments/flight.hpp"
-#include "launcher.hpp"
+#include "launch/launcher.hpp"
 #include "pheromesh/bus/bus.hpp"
 #include "pheromesh/core/atomic_file.hpp"
 #include "pheromesh/core/conductor.hpp"

@@ -15,7 +15,7 @@
 
 #include "host_fit.hpp"
 #include "metrics_merge.hpp"
-#include "sim_command.hpp"
+#include "cli/sim_command.hpp"
 #include "netns.hpp"
 #include "pheromesh/auth/control.hpp"
 #include "pheromesh/bus/bus.hpp"
@@ -26,7 +26,7 @@
 #include "pheromesh/core/scenario.hpp"
 #include "pheromesh/runtime/process.hpp"
 #include "pheromesh/report/report.hpp"
-#include "scenario_overrides.hpp"
+#include "cli/scenario_overrides.hpp"
 #include "supervisor.hpp"
 
 namespace pheromesh::cli {

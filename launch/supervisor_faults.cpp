@@ -4,7 +4,7 @@
 // agent), partition and loss (nft rules on the namespaces' bridge, made by
 // prepare_netns). Realtime runs time them by the launcher's clock, lockstep
 // runs by the conductor's `faults K` line (Supervisor::answer_faults). The
-// schedule itself is merged and checked by the plan (cli/run_plan.cpp).
+// schedule itself is merged and checked by the plan (launch/run_plan.cpp).
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 #include <unistd.h>

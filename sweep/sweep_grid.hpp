@@ -11,7 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "pheromesh/core/result.hpp"
-#include "scenario_overrides.hpp"
+#include "cli/scenario_overrides.hpp"
 
 namespace pheromesh::cli::sweep {
 

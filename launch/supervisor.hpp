@@ -1,7 +1,7 @@
 // The side of `pheromesh run` that acts on processes: starts those of a
 // RunPlan, reaps them, serves the ground station's control line (the
 // console's kill / restart / pause, the lockstep conductor's `faults K`),
-// injects the plan's faults (docs/faults.md; cli/supervisor_faults.cpp),
+// injects the plan's faults (docs/faults.md; launch/supervisor_faults.cpp),
 // watches the flight against the plan's deadlines and stops the roles in the
 // plan's order. What it saw becomes a RunRecord for the metrics merge.
 #pragma once

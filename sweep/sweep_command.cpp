@@ -13,12 +13,12 @@
 #include <thread>
 #include <vector>
 
-#include "child_spawn.hpp"
+#include "launch/child_spawn.hpp"
 #include "experiments/flight.hpp"
 #include "pheromesh/core/atomic_file.hpp"
 #include "pheromesh/core/simulator.hpp"
 #include "pheromesh/report/report.hpp"
-#include "sim_command.hpp"
+#include "cli/sim_command.hpp"
 #include "sweep_grid.hpp"
 #include "sweep_report.hpp"
 

@@ -9,7 +9,7 @@
 #include <sstream>
 #include <thread>
 
-#include "child_spawn.hpp"
+#include "launch/child_spawn.hpp"
 #include "pheromesh/core/atomic_file.hpp"
 
 namespace pheromesh::cli::experiments {

@@ -22,9 +22,9 @@
 #include <thread>
 #include <vector>
 
-#include "child_spawn.hpp"
+#include "launch/child_spawn.hpp"
 #include "experiments/experiment.hpp"
-#include "launcher.hpp"
+#include "launch/launcher.hpp"
 #include "pheromesh/bus/bus.hpp"
 #include "pheromesh/core/atomic_file.hpp"
 #include "pheromesh/runtime/process.hpp"

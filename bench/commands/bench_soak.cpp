@@ -21,11 +21,11 @@
 #include <thread>
 #include <vector>
 
-#include "child_spawn.hpp"
-#include "launcher.hpp"
+#include "launch/child_spawn.hpp"
+#include "launch/launcher.hpp"
 #include "pheromesh/core/atomic_file.hpp"
 #include "pheromesh/core/scenario.hpp"
-#include "proc_stats.hpp"
+#include "launch/proc_stats.hpp"
 
 namespace pheromesh::cli {
 

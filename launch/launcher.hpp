@@ -2,10 +2,10 @@
 // swarm as separate processes on this host, injects faults on a schedule
 // (docs/faults.md), stops everything in order and leaves OUT/metrics.json.
 //
-// Three parts: the RunPlan (cli/run_plan.hpp) decides from the options and
+// Three parts: the RunPlan (launch/run_plan.hpp) decides from the options and
 // the scenario what runs, with which arguments and deadlines; the Supervisor
-// (cli/supervisor.hpp) starts, watches, faults and stops the processes; the
-// metrics merge (cli/metrics_merge.hpp) turns what happened into
+// (launch/supervisor.hpp) starts, watches, faults and stops the processes; the
+// metrics merge (launch/metrics_merge.hpp) turns what happened into
 // metrics.json and the exit code. The Launcher checks and wires them.
 #pragma once
 
