@@ -4,8 +4,9 @@
 #   Liu 2022 Algorithm 1   Shao 2020 Sec. 4.2
 # Code, scenario and IDL comments: one equation (table, figure, ...) per
 # mention, so that grep finds every piece of code behind an equation. Prose
-# (*.md) may also name a range or a list of equations of one paper:
+# (*.md) may also name, after one label, a list of what it cites:
 #   Shao 2020 eqs. (1)–(8)   Ravankar 2016 eqs. (3), (4) and (27)–(33)
+#   Shao 2020 Sec. 5.1.1, eqs. (12)–(15) and Algorithms 2 and 3
 # (scripts/find-citation.sh finds a mention inside such a range). See
 # docs/contributing.md. Usage: check-citations.sh [repo root].
 # Prints file:line: text for each bad mention and exits 1 if there is one.
@@ -39,9 +40,13 @@ perl -CSO -Mutf8 -MEncode -ne '
   $t =~ s/"(?:\\.|[^"\\])*"//g if $ARGV !~ /\.md$/;
   my @why;
   my $prose = $ARGV =~ /\.md$/;
-  # Prose: a range or list of one paper\x27s equations, in the one form.
+  # Prose: one label, then a list of what it cites, in the one form:
+  # "Shao 2020 Sec. 5.1.1, eqs. (12)–(15) and Algorithms 2 and 3".
   my $eqs = qr/\(\d+\)(?:[–-]\(\d+\))?/;
-  $t =~ s/$cite eqs\. $eqs(?:(?:, | and )$eqs)*//g if $prose;
+  my $and = qr/(?:, and |, | and )/;
+  my $num = qr/\d+[a-z]?(?:\.\d+)*/;
+  my $item = qr/(?:eqs?\. $eqs(?:$and$eqs)*|(?:Secs?\.|Algorithms?|Tables?|Figs?\.) $num(?:$and$num)*)/;
+  $t =~ s/$cite $item(?:$and$item)*//g if $prose;
   push @why, "range or list after eq."
     if $t =~ /eq\. \(\d+\)\s*(?:[-–—]|to\b|,|and\b|or\b)\s*\(\d+\)/
       || $t =~ /eq\. \(\d+\)\s*(?:[-–—]|to\b|,|and\b|or\b)\s*\d/;

@@ -56,11 +56,14 @@ search() {
   local title=$1 files=$2
   [[ -n $files ]] || return 0
   # shellcheck disable=SC2086
-  out=$(AUTHOR="$author $year" KIND="$kind" NUMBER="$number" perl -CSD -Mutf8 -ne '
+  out=$(AUTHOR="$author $year" KIND="$kind" NUMBER="$number" perl -CSO -Mutf8 -MEncode -ne '
     BEGIN {
       $a = $ENV{AUTHOR}; $k = $ENV{KIND}; $n = $ENV{NUMBER};
       $sep = ($k eq "eq" || $k eq "Fig" || $k eq "Sec") ? "\\." : "";
     }
+    # Decoded leniently (a byte that is not UTF-8 becomes U+FFFD), as the
+    # check does: the test data holds such files.
+    $_ = Encode::decode("UTF-8", $_);
     my $hit = 0;
     if ($k eq "eq") {
       $hit = 1 if /\Q$a\E eq\. \(\Q$n\E\)/;
@@ -74,6 +77,27 @@ search() {
       }
     } else {
       $hit = 1 if /\Q$a\E \Q$k\E$sep \Q$n\E(?![0-9.]*[0-9])/;
+    }
+    # The prose form: one label, then a list ("A Y Sec. 5.1.1, eqs.
+    # (12)–(15) and Algorithms 2 and 3"); each number belongs to the kind
+    # named last before it.
+    my $eqs = qr/\(\d+\)(?:[–-]\(\d+\))?/;
+    my $and = qr/(?:, and |, | and )/;
+    my $num = qr/\d+[a-z]?(?:\.\d+)*/;
+    my $item = qr/(?:eqs?\. $eqs(?:$and$eqs)*|(?:Secs?\.|Algorithms?|Tables?|Figs?\.) $num(?:$and$num)*)/;
+    while (!$hit && /\Q$a\E ($item(?:$and$item)*)/g) {
+      my ($l, $cur) = ($1, "");
+      while (!$hit && $l =~ /(eqs?\.|Secs?\.|Algorithms?|Tables?|Figs?\.)|\((\d+)\)(?:[–-]\((\d+)\))?|(\d+[a-z]?(?:\.\d+)*)/g) {
+        if (defined $1) {
+          ($cur = $1) =~ s/s?\.?$//;
+          $cur = "eq" if $cur eq "eq" || $cur eq "eqs";
+        } elsif (defined $2) {
+          my ($lo, $hi) = ($2, defined $3 ? $3 : $2);
+          $hit = 1 if $cur eq "eq" && $k eq "eq" && $n >= $lo && $n <= $hi;
+        } elsif ($cur eq $k && $4 eq $n) {
+          $hit = 1;
+        }
+      }
     }
     if ($hit) { chomp(my $t = $_); $t =~ s/^\s+//; $t = substr($t, 0, 200) . " …" if length($t) > 200; print "$ARGV:$.: $t\n"; }
     close ARGV if eof;

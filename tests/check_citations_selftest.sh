@@ -54,6 +54,27 @@ for q in "Shao 2020 eq. 9" "Ravankar 2016 eq. 26"; do
   try find-citation.sh $q
   [[ $rc -eq 1 ]] || { echo "FAIL: find-citation.sh $q should find nothing (exit 1), got $rc"; exit 1; }
 done
+# One label, then a list of sections, equations, algorithms and figures:
+# passes in prose, and the finder finds each item (and no prefix of one).
+printf 'Shao 2020 Sec. 5.1.2, eqs. (17)–(24) and Algorithms 3 and 4; Shao 2020 Figs. 9 and 10b.\n' > "$tmp/docs/b.md"
+bash "$tmp/scripts/check-citations.sh" "$tmp" >/dev/null || { echo "FAIL: a labelled list in prose was refused"; exit 1; }
+for q in "Shao 2020 Sec. 5.1.2" "Shao 2020 eq. 20" "Shao 2020 Algorithm 4" "Shao 2020 Fig. 10b"; do
+  # shellcheck disable=SC2086
+  out=$(bash "$tmp/scripts/find-citation.sh" $q)
+  [[ $out == *"docs/b.md:1:"* ]] || { echo "FAIL: $q inside a labelled list not found:"; echo "$out"; exit 1; }
+done
+for q in "Shao 2020 Sec. 5.1" "Shao 2020 Fig. 10" "Shao 2020 Algorithm 2"; do
+  # shellcheck disable=SC2086
+  try find-citation.sh $q
+  [[ $out != *"docs/b.md"* ]] || { echo "FAIL: $q matched docs/b.md:"; echo "$out"; exit 1; }
+done
+# A list item after a break in the list needs its label again.
+printf 'Shao 2020 Sec. 5.1.1 (the leader), Sec. 5.1.2\n' > "$tmp/docs/b.md"
+try check-citations.sh "$tmp"
+if [[ $rc -ne 1 || $out != *"docs/b.md:1: section not as"* ]]; then
+  echo "FAIL: an unlabelled section after a break was not refused, got exit $rc:"; echo "$out"; exit 1
+fi
+rm "$tmp/docs/b.md"
 try find-citation.sh Smith 2020 eq. 1
 [[ $rc -eq 2 ]] || { echo "FAIL: an unknown paper should exit 2, got $rc"; exit 1; }
-echo "the check names a bad mention after a non-UTF-8 file, passes a clean tree and prose ranges, refuses ranges in code; the finder finds mentions inside ranges"
+echo "the check names a bad mention after a non-UTF-8 file, passes a clean tree, prose ranges and labelled lists, refuses ranges in code and unlabelled items after a break; the finder finds mentions inside ranges and lists"
