@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <chrono>
 #include <functional>
+#include <memory>
 #include <thread>
 
 #include "pheromesh/bus/bus.hpp"
@@ -408,8 +409,8 @@ TEST_P(Interop, ThePublishedRunReachesAReaderThatJoinsLaterIntact) {
   run.lease_ms = 1500;
   run.standby = true;
   run.shared_ownership = true;
+  // Written before the reader exists: a late joiner gets it (transient-local).
   ASSERT_TRUE(w_->publish_scenario(run));
-  std::this_thread::sleep_for(std::chrono::milliseconds(200));
   r_->subscribe_scenario();
   const auto got = wait_for<core::ScenarioMsg>([&](auto& v) { r_->take_scenarios(v); });
   ASSERT_EQ(got.size(), 1U);
@@ -536,7 +537,10 @@ TEST_P(Departure, LockstepResenderWritesTheTicksSamplesAgainAfterAQuietSpellOnly
   ASSERT_TRUE(w && r);
   r->subscribe_fields();
   r->subscribe_phase_done();
-  bus::LatestResender resend(*w, true, std::chrono::milliseconds(1000));
+  // Its own clock, moved by the test: "quiet for a second" without a second's sleep.
+  auto now = std::make_shared<Clock::time_point>(Clock::now());
+  const bus::LatestResender::Now clock = [now] { return *now; };
+  bus::LatestResender resend(*w, true, std::chrono::milliseconds(1000), clock);
   EXPECT_FALSE(resend.resend_if_quiet()) << "nothing remembered yet";
   const core::FieldMsg field{3, 0, 1, 9, {core::TileMsg{0, {2, 5}, 1, 0, 9, 1, {1.0F}}}, {}};
   ASSERT_TRUE(resend.field(field));
@@ -544,7 +548,9 @@ TEST_P(Departure, LockstepResenderWritesTheTicksSamplesAgainAfterAQuietSpellOnly
   EXPECT_FALSE(resend.resend_if_quiet()) << "published just now";
   const auto fields = wait_for<core::FieldMsg>([&](auto& v) { r->take_fields(v); });
   ASSERT_EQ(fields.size(), 1U);
-  std::this_thread::sleep_for(std::chrono::milliseconds(1100));
+  *now += std::chrono::milliseconds(999);
+  EXPECT_FALSE(resend.resend_if_quiet()) << "quiet for less than the period";
+  *now += std::chrono::milliseconds(1);
   EXPECT_TRUE(resend.resend_if_quiet());
   EXPECT_EQ(resend.resends(), 1U);
   const auto again = wait_for<core::FieldMsg>([&](auto& v) { r->take_fields(v); });
@@ -563,11 +569,11 @@ TEST_P(Departure, LockstepResenderWritesTheTicksSamplesAgainAfterAQuietSpellOnly
   EXPECT_EQ(dones.back().tick, 9U);
   // A new tick forgets the old samples; a disabled resender only publishes.
   resend.begin_tick();
-  std::this_thread::sleep_for(std::chrono::milliseconds(1100));
+  *now += std::chrono::seconds(2);
   EXPECT_FALSE(resend.resend_if_quiet());
-  bus::LatestResender off(*w, false, std::chrono::milliseconds(1));
+  bus::LatestResender off(*w, false, std::chrono::milliseconds(1), clock);
   ASSERT_TRUE(off.field(field));
-  std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  *now += std::chrono::milliseconds(5);
   EXPECT_FALSE(off.resend_if_quiet());
   EXPECT_EQ(off.resends(), 0U);
 }

@@ -819,7 +819,11 @@ int main(int argc, char** argv) {
   // Declared before the bus: it watches the bus's destruction too.
   Watchdog watchdog(d->parsed() ? std::optional(deadline) : std::nullopt, std::chrono::seconds(signal_grace_s));
   // sleep_for resumes after a signal (libstdc++ sleeps again for the rest).
-  if (stall_s > 0) std::this_thread::sleep_for(std::chrono::milliseconds(static_cast<int64_t>(stall_s * 1000)));
+  // The line says the watchdog and the handlers are in place (a test waits for it).
+  if (stall_s > 0) {
+    std::fprintf(stderr, "probe: stalling for %.1f s\n", stall_s);
+    std::this_thread::sleep_for(std::chrono::milliseconds(static_cast<int64_t>(stall_s * 1000)));
+  }
   bus::BusOptions o;
   o.process_name = "probe";
   o.domain = domain;

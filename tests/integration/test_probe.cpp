@@ -39,7 +39,7 @@ TEST(Probe, AProbeBlockedWhenSigtermArrivesEndsWithinTheGrace) {
   const std::string out = out_dir("probe-sigterm");
   const Background p =
       start({"/bin/sh", "-c", "exec " + probe("--stall 60 idle --id 0") + " 2>&1"}, out + "/probe.txt");
-  std::this_thread::sleep_for(std::chrono::milliseconds(300));  // let it reach the stall: a signal before is the same
+  ASSERT_TRUE(wait_for_text(out + "/probe.txt", "probe: stalling for", std::chrono::seconds(30))) << slurp(out + "/probe.txt");
   const auto t0 = Clock::now();
   ASSERT_EQ(kill(p.pid, SIGTERM), 0);
   const int code = wait_exit(p.pid, std::chrono::seconds(30));

@@ -26,6 +26,7 @@
 
 #include <chrono>
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <utility>
 #include <vector>
@@ -38,10 +39,13 @@ namespace pheromesh::bus {
 class LatestResender {
  public:
   using Clock = std::chrono::steady_clock;
+  // Where it reads the time: the steady clock, or a test's own.
+  using Now = std::function<Clock::time_point()>;
 
   // Disabled (realtime: new samples follow every tick anyway), it only publishes.
-  LatestResender(Bus& bus, bool enabled, std::chrono::milliseconds quiet = std::chrono::milliseconds(1000))
-      : bus_(bus), enabled_(enabled), quiet_(quiet) {}
+  LatestResender(Bus& bus, bool enabled, std::chrono::milliseconds quiet = std::chrono::milliseconds(1000),
+                 Now now = &Clock::now)
+      : bus_(bus), enabled_(enabled), quiet_(quiet), now_(std::move(now)), last_(now_()) {}
 
   // A new tick: the samples remembered so far are no longer re-sent.
   void begin_tick() {
@@ -59,7 +63,7 @@ class LatestResender {
     const bool ok = bus_.publish_deposit(m, via);
     if (enabled_ && deposits_on_) {
       deposits_.emplace_back(m, via);
-      last_ = Clock::now();
+      last_ = now_();
     }
     return ok;
   }
@@ -75,7 +79,7 @@ class LatestResender {
     const bool ok = bus_.publish_halo(m, to);
     if (enabled_) {
       halos_.emplace_back(m, to);
-      last_ = Clock::now();
+      last_ = now_();
     }
     return ok;
   }
@@ -88,7 +92,7 @@ class LatestResender {
   // Call from every wait loop: when nothing was published or re-sent for the
   // quiet period, publishes every remembered sample again. True if it did.
   bool resend_if_quiet() {
-    const auto now = Clock::now();
+    const auto now = now_();
     if (now - last_ < quiet_ ||
         (fields_.empty() && views_.empty() && halos_.empty() && !clock_ && !done_ && states_.empty() &&
          deposits_.empty())) {
@@ -122,7 +126,7 @@ class LatestResender {
   bool keep_field(const core::FieldMsg& m, FieldTo to, core::RegionId home, bool ok) {
     if (!enabled_) return ok;
     fields_.push_back(Field{m, to, home});
-    last_ = Clock::now();
+    last_ = now_();
     return ok;
   }
   bool publish(const Field& f) {
@@ -141,21 +145,22 @@ class LatestResender {
   bool remember(std::vector<M>& to, const M& m, bool ok) {
     if (!enabled_) return ok;
     to.push_back(m);
-    last_ = Clock::now();
+    last_ = now_();
     return ok;
   }
   template <typename M>
   bool remember(std::optional<M>& to, const M& m, bool ok) {
     if (!enabled_) return ok;
     to = m;
-    last_ = Clock::now();
+    last_ = now_();
     return ok;
   }
 
   Bus& bus_;
   bool enabled_;
   std::chrono::milliseconds quiet_;
-  Clock::time_point last_ = Clock::now();
+  Now now_;
+  Clock::time_point last_;
   std::vector<Field> fields_;
   std::vector<core::ViewMsg> views_;
   std::vector<std::pair<core::HaloMsg, core::RegionId>> halos_;
