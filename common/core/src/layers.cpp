@@ -274,6 +274,18 @@ float RegionField::value(Layer l, Cell c) const {
   return i ? layers_[layer_index(l)][*i] : 0.0F;
 }
 
+void RegionField::copy_rect(Layer l, const Rect& r, float* out) const {
+  assert(r.w >= 0 && r.h >= 0 && rect_.contains({r.x0, r.y0}) && rect_.contains({r.x0 + r.w - 1, r.y0 + r.h - 1}));
+  const std::vector<float>& v = layers_[layer_index(l)];
+  const auto w = static_cast<std::size_t>(r.w);
+  for (int32_t y = r.y0; y < r.y0 + r.h; ++y) {
+    const auto from = static_cast<std::size_t>(y - rect_.y0) * static_cast<std::size_t>(rect_.w) +
+                      static_cast<std::size_t>(r.x0 - rect_.x0);
+    std::copy_n(v.data() + from, w, out);
+    out += w;
+  }
+}
+
 // Cells outside rect() are ignored by the setters: they may come from a peer.
 void RegionField::set_obstacle_switch(Cell c) {
   if (const auto i = own_index(c)) k_eps_[*i] = 1;

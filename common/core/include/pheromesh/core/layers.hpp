@@ -69,6 +69,9 @@ class RegionField {
   // Row-major values over rect() for one layer.
   [[nodiscard]] std::span<const float> layer(Layer l) const;
   [[nodiscard]] float value(Layer l, Cell c) const;  // c must be in rect()
+  // The values of layer l over r (inside rect()), row-major into out
+  // (r.area() values), a row at a time.
+  void copy_rect(Layer l, const Rect& r, float* out) const;
   // Direct write access, for tests and for restoring state.
   [[nodiscard]] std::span<float> mutable_layer(Layer l);
 
