@@ -22,6 +22,7 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <cstring>
 #include <numbers>
 #include <optional>
 
@@ -76,20 +77,43 @@ inline float combine(float s, float nb, const StepCoeffs& c) {
 // per-cell operation order.
 constexpr std::size_t kBlock = 8;
 
-// s_j / |N(j)| once per padded cell instead of once per (i, j) pair.
-void weigh(const float* __restrict src, const float* __restrict inv_n, float* __restrict weighted, std::size_t n) {
-  std::size_t j = 0;
-  for (; j + kBlock <= n; j += kBlock) {
-    for (std::size_t l = 0; l < kBlock; ++l) weighted[j + l] = src[j + l] * inv_n[j + l];
+// The hot loops are compiled twice on x86-64 with GCC, for AVX2 and for the
+// baseline, and the loader picks one for the CPU (an ifunc). AVX2 without FMA:
+// the same IEEE float additions and multiplications in wider registers, so
+// both clones give the same bits (and the contraction guard above holds for
+// both).
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__)
+#define PHEROMESH_KERNEL __attribute__((target_clones("avx2", "default")))
+#else
+#define PHEROMESH_KERNEL
+#endif
+
+// s = v + k·d and s / |N(j)| for a run of n cells (the quantity that diffuses,
+// brackets of Shao 2020 eq. (1), and its share per neighbour, Shao 2020 eq. (2)).
+PHEROMESH_KERNEL void sources_and_weights(const float* __restrict v, const uint8_t* __restrict k, float d,
+                                          const float* __restrict inv_n, float* __restrict s,
+                                          float* __restrict weighted, std::size_t n) {
+  std::size_t i = 0;
+  for (; i + kBlock <= n; i += kBlock) {
+    for (std::size_t l = 0; l < kBlock; ++l) {
+      const float src = source(v[i + l], k[i + l], d);
+      s[i + l] = src;
+      weighted[i + l] = src * inv_n[i + l];
+    }
   }
-  for (; j < n; ++j) weighted[j] = src[j] * inv_n[j];
+  for (; i < n; ++i) {
+    s[i] = source(v[i], k[i], d);
+    weighted[i] = s[i] * inv_n[i];
+  }
 }
 
-// One output row: up/mid/dn are the weighted padded rows above, at and below
-// (pointing at padded column 0), s the own sources of the row, o the output.
+// One output run: up/mid/dn are the weighted padded rows above, at and below
+// (pointing at the padded column left of the run's first cell), s the own
+// sources of the run, o the output.
 template <bool kEvaporateNeighbourSum>
-void diffuse_row(const float* __restrict up, const float* __restrict mid, const float* __restrict dn,
-                 const float* __restrict s, float* __restrict o, std::size_t w, const StepCoeffs coeffs) {
+inline __attribute__((always_inline)) void diffuse_run(const float* __restrict up, const float* __restrict mid,
+                                                       const float* __restrict dn, const float* __restrict s,
+                                                       float* __restrict o, std::size_t w, const StepCoeffs coeffs) {
   const StepCoeffs c = coeffs;  // a local copy keeps the coefficients in registers
   std::size_t x = 0;
   for (; x + kBlock <= w; x += kBlock) {
@@ -108,30 +132,19 @@ void diffuse_row(const float* __restrict up, const float* __restrict mid, const 
   }
 }
 
-// Shao 2020 eq. (1), Shao 2020 eq. (2), Shao 2020 eq. (3), Shao 2020 eq. (4) over the w x h own cells of a (w+2) x (h+2) padded source
-// buffer. `weighted` is scratch of the padded size. No per-cell branches.
-template <bool kEvaporateNeighbourSum>
-void diffuse_padded(const float* src, const float* inv_n, float* weighted, std::size_t w, std::size_t h,
-                    const StepCoeffs& c, float* out) {
-  const std::size_t pw = w + 2;
-  weigh(src, inv_n, weighted, pw * (h + 2));
-  for (std::size_t y = 0; y < h; ++y) {
-    const float* up = weighted + y * pw;
-    diffuse_row<kEvaporateNeighbourSum>(up, up + pw, up + 2 * pw, src + (y + 1) * pw + 1, out + y * w, w, c);
-  }
+// Shao 2020 eq. (1) with Shao 2020 eq. (2) (target) and Shao 2020 eq. (3)
+// with Shao 2020 eq. (4) (obstacle), one clone each.
+PHEROMESH_KERNEL void diffuse_target_run(const float* up, const float* mid, const float* dn, const float* s, float* o,
+                                         std::size_t w, const StepCoeffs c) {
+  diffuse_run<false>(up, mid, dn, s, o, w, c);
 }
-
-// s = v + k·d for one row of n cells.
-void make_sources(const float* __restrict v, const uint8_t* __restrict k, float d, float* __restrict s, std::size_t n) {
-  std::size_t i = 0;
-  for (; i + kBlock <= n; i += kBlock) {
-    for (std::size_t l = 0; l < kBlock; ++l) s[i + l] = source(v[i + l], k[i + l], d);
-  }
-  for (; i < n; ++i) s[i] = source(v[i], k[i], d);
+PHEROMESH_KERNEL void diffuse_obstacle_run(const float* up, const float* mid, const float* dn, const float* s, float* o,
+                                           std::size_t w, const StepCoeffs c) {
+  diffuse_run<true>(up, mid, dn, s, o, w, c);
 }
 
 // σ = clamp(σ − Δσ, σmin, σ0), Shao 2020 eq. (5) and Shao 2020 eq. (8); clears Δσ.
-void update_path(float* __restrict sigma, float* __restrict delta, std::size_t n, float lo, float hi) {
+PHEROMESH_KERNEL void update_path(float* __restrict sigma, float* __restrict delta, std::size_t n, float lo, float hi) {
   std::size_t i = 0;
   for (; i + kBlock <= n; i += kBlock) {
     for (std::size_t l = 0; l < kBlock; ++l) {
@@ -143,6 +156,30 @@ void update_path(float* __restrict sigma, float* __restrict delta, std::size_t n
     sigma[i] = std::min(std::max(sigma[i] - delta[i], lo), hi);
     delta[i] = 0.0F;
   }
+}
+
+// Whether any of n floats is not +0 (the one float whose bits are all 0):
+// -0, denormals and NaN count as non-zero.
+bool any_nonzero_bits(const float* v, std::size_t n) {
+  uint32_t acc = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    uint32_t b = 0;
+    std::memcpy(&b, v + i, sizeof b);
+    acc |= b;
+  }
+  return acc != 0;
+}
+
+bool any_set(const uint8_t* k, std::size_t n) {
+  unsigned acc = 0;
+  for (std::size_t i = 0; i < n; ++i) acc |= k[i];
+  return acc != 0;
+}
+
+bool is_positive_zero(float f) {
+  uint32_t b = 1;
+  std::memcpy(&b, &f, sizeof b);
+  return b == 0;
 }
 
 // Index of cell (x, y) in the border ring of rect r (row-major over the border
@@ -246,8 +283,18 @@ RegionField::RegionField(const MapGeometry& geo, RegionId region, const ShaoLaye
   const auto ph = static_cast<std::size_t>(rect_.h) + 2;
   src_tau_.assign(pw * ph, 0.0F);
   src_eps_.assign(pw * ph, 0.0F);
-  weighted_.assign(pw * ph, 0.0F);
   inv_n_.assign(pw * ph, 0.0F);
+  chunks_ = (static_cast<std::size_t>(rect_.w) + kChunkCells - 1) / kChunkCells;
+  need_.assign(chunks_, 0);
+  for (int which = 0; which < 2; ++which) {
+    weighted_[which].assign(pw * ph, 0.0F);
+    active_[which].assign(static_cast<std::size_t>(rect_.h) * chunks_, 0);
+    sources_[which].assign(static_cast<std::size_t>(rect_.h) * chunks_, 0);
+  }
+  // A cell whose neighbourhood holds only +0 sources computes
+  // combine(+0, +0): skipped only where that is +0 again (E, G in [0, 1]).
+  sparse_[0] = is_positive_zero(combine<false>(0.0F, 0.0F, make_coeffs(p_.e_tau, p_.g_tau, p_.d_tau, false)));
+  sparse_[1] = is_positive_zero(combine<true>(0.0F, 0.0F, make_coeffs(p_.e_eps, p_.g_eps, p_.d_eps, true)));
   // 1/|N(j)| from the whole map (a region border is not a map border); 0 for
   // halo cells outside the map, so they never contribute.
   for (std::size_t py = 0; py < ph; ++py) {
@@ -266,7 +313,13 @@ std::optional<std::size_t> RegionField::own_index(Cell c) const {
 
 std::span<const float> RegionField::layer(Layer l) const { return layers_[layer_index(l)]; }
 
-std::span<float> RegionField::mutable_layer(Layer l) { return layers_[layer_index(l)]; }
+std::span<float> RegionField::mutable_layer(Layer l) {
+  // What was +0 may not be any more: the next step computes every cell.
+  if (l == Layer::Target) full_[0] = true;
+  if (l == Layer::Obstacle) full_[1] = true;
+  if (l == Layer::Path) path_full_ = true;
+  return layers_[layer_index(l)];
+}
 
 float RegionField::value(Layer l, Cell c) const {
   const auto i = own_index(c);
@@ -288,11 +341,18 @@ void RegionField::copy_rect(Layer l, const Rect& r, float* out) const {
 
 // Cells outside rect() are ignored by the setters: they may come from a peer.
 void RegionField::set_obstacle_switch(Cell c) {
-  if (const auto i = own_index(c)) k_eps_[*i] = 1;
+  if (const auto i = own_index(c)) {
+    k_eps_[*i] = 1;
+    active_[1][static_cast<std::size_t>(c.y - rect_.y0) * chunks_ + static_cast<std::size_t>(c.x - rect_.x0) / kChunkCells] = 1;
+  }
 }
 
 void RegionField::set_target_switch(Cell c, bool on) {
-  if (const auto i = own_index(c)) k_tau_[*i] = on ? 1 : 0;
+  if (const auto i = own_index(c)) {
+    k_tau_[*i] = on ? 1 : 0;
+    // Switched off, the chunk stays active until a step finds it all +0.
+    if (on) active_[0][static_cast<std::size_t>(c.y - rect_.y0) * chunks_ + static_cast<std::size_t>(c.x - rect_.x0) / kChunkCells] = 1;
+  }
 }
 
 bool RegionField::obstacle_switch(Cell c) const {
@@ -317,6 +377,10 @@ void RegionField::add_path_visit(Cell uav) {
   const int64_t x_hi = std::min<int64_t>(int64_t{uav.x} + reach, int64_t{rect_.x0} + rect_.w - 1);
   const int64_t y_lo = std::max<int64_t>(int64_t{uav.y} - reach, rect_.y0);
   const int64_t y_hi = std::min<int64_t>(int64_t{uav.y} + reach, int64_t{rect_.y0} + rect_.h - 1);
+  if (x_lo > x_hi || y_lo > y_hi) return;
+  // The next step updates σ inside this square only: elsewhere Δσ is 0.
+  path_visited_.push_back({static_cast<int32_t>(x_lo - rect_.x0), static_cast<int32_t>(y_lo - rect_.y0),
+                           static_cast<int32_t>(x_hi - x_lo + 1), static_cast<int32_t>(y_hi - y_lo + 1)});
   for (int64_t y = y_lo; y <= y_hi; ++y) {
     for (int64_t x = x_lo; x <= x_hi; ++x) {
       const int64_t dx = x - uav.x;
@@ -335,18 +399,35 @@ HaloRing RegionField::begin_step() {
   const auto w = static_cast<std::size_t>(rect_.w);
   const auto h = static_cast<std::size_t>(rect_.h);
   const std::size_t pw = w + 2;
-  const float d_tau = static_cast<float>(p_.d_tau);
-  const float d_eps = static_cast<float>(p_.d_eps);
-  const float* tau = layers_[layer_index(Layer::Target)].data();
-  const float* eps = layers_[layer_index(Layer::Obstacle)].data();
-  // Sources s = v + k·d of Shao 2020 eq. (1), Shao 2020 eq. (2), Shao 2020 eq. (3), Shao 2020 eq. (4) into the interior of the padded
-  // buffers; the halo keeps what neighbours sent last.
-  for (std::size_t y = 0; y < h; ++y) {
-    float* st = src_tau_.data() + (y + 1) * pw + 1;
-    float* se = src_eps_.data() + (y + 1) * pw + 1;
-    const std::size_t row = y * w;
-    make_sources(tau + row, k_tau_.data() + row, d_tau, st, w);
-    make_sources(eps + row, k_eps_.data() + row, d_eps, se, w);
+  const float d[2] = {static_cast<float>(p_.d_tau), static_cast<float>(p_.d_eps)};
+  const float* v[2] = {layers_[layer_index(Layer::Target)].data(), layers_[layer_index(Layer::Obstacle)].data()};
+  const uint8_t* k[2] = {k_tau_.data(), k_eps_.data()};
+  float* src[2] = {src_tau_.data(), src_eps_.data()};
+  // Sources s = v + k·d of Shao 2020 eq. (1) and Shao 2020 eq. (3), and their
+  // shares s / |N(j)| of Shao 2020 eq. (2) and Shao 2020 eq. (4), into the
+  // interior of the padded buffers; the halo keeps what neighbours sent last.
+  // Only chunks that are active, or whose sources were not all +0 (they
+  // become +0 now), are written: the others hold +0 already.
+  for (int which = 0; which < 2; ++which) {
+    if (full_[which]) std::fill(active_[which].begin(), active_[which].end(), uint8_t{1});
+    for (std::size_t y = 0; y < h; ++y) {
+      const uint8_t* act = active_[which].data() + y * chunks_;
+      uint8_t* nz = sources_[which].data() + y * chunks_;
+      for (std::size_t c = 0; c < chunks_;) {
+        if (act[c] == 0 && nz[c] == 0) {
+          ++c;
+          continue;
+        }
+        std::size_t e = c;
+        for (; e < chunks_ && (act[e] != 0 || nz[e] != 0); ++e) nz[e] = act[e];
+        const std::size_t x0 = c * kChunkCells;
+        const std::size_t x1 = std::min(e * kChunkCells, w);
+        const std::size_t p = (y + 1) * pw + 1 + x0;
+        sources_and_weights(v[which] + y * w + x0, k[which] + y * w + x0, d[which], inv_n_.data() + p, src[which] + p,
+                            weighted_[which].data() + p, x1 - x0);
+        c = e;
+      }
+    }
   }
 
   HaloRing ring;
@@ -381,30 +462,125 @@ void RegionField::accept_halo(const Rect& neighbour_rect, const HaloRing& ring) 
     src_tau_[p] = ring.target[*k];
     src_eps_[p] = ring.obstacle[*k];
   };
-  for (int64_t px = 0; px < pw; ++px) {
-    take(px, 0);
-    take(px, ph - 1);
+  // Only the part of our halo inside the neighbour's rect can be on its border.
+  const int64_t px_lo = std::max<int64_t>(int64_t{neighbour_rect.x0} - rect_.x0 + 1, 0);
+  const int64_t px_hi = std::min<int64_t>(int64_t{neighbour_rect.x0} + neighbour_rect.w - rect_.x0 + 1, pw);
+  const int64_t py_lo = std::max<int64_t>(int64_t{neighbour_rect.y0} - rect_.y0 + 1, 0);
+  const int64_t py_hi = std::min<int64_t>(int64_t{neighbour_rect.y0} + neighbour_rect.h - rect_.y0 + 1, ph);
+  if (px_lo >= px_hi || py_lo >= py_hi) return;
+  for (const int64_t py : {int64_t{0}, ph - 1}) {
+    if (py < py_lo || py >= py_hi) continue;
+    for (int64_t px = px_lo; px < px_hi; ++px) take(px, py);
   }
-  for (int64_t py = 1; py + 1 < ph; ++py) {
-    take(0, py);
-    take(pw - 1, py);
+  for (const int64_t px : {int64_t{0}, pw - 1}) {
+    if (px < px_lo || px >= px_hi) continue;
+    for (int64_t py = std::max<int64_t>(py_lo, 1); py < std::min<int64_t>(py_hi, ph - 1); ++py) take(px, py);
   }
 }
 
-void RegionField::finish_step() {
+void RegionField::diffuse(int which) {
   const auto w = static_cast<std::size_t>(rect_.w);
   const auto h = static_cast<std::size_t>(rect_.h);
-  diffuse_padded<false>(src_tau_.data(), inv_n_.data(), weighted_.data(), w, h,
-                        make_coeffs(p_.e_tau, p_.g_tau, p_.d_tau, false),
-                        layers_[layer_index(Layer::Target)].data());  // Shao 2020 eq. (1), Shao 2020 eq. (2)
-  diffuse_padded<true>(src_eps_.data(), inv_n_.data(), weighted_.data(), w, h,
-                       make_coeffs(p_.e_eps, p_.g_eps, p_.d_eps, true),
-                       layers_[layer_index(Layer::Obstacle)].data());  // Shao 2020 eq. (3), Shao 2020 eq. (4)
+  const std::size_t pw = w + 2;
+  const std::size_t ph = h + 2;
+  const bool target = which == 0;
+  const StepCoeffs c = target ? make_coeffs(p_.e_tau, p_.g_tau, p_.d_tau, false)
+                              : make_coeffs(p_.e_eps, p_.g_eps, p_.d_eps, true);
+  const float* src = target ? src_tau_.data() : src_eps_.data();
+  const uint8_t* k = target ? k_tau_.data() : k_eps_.data();
+  float* wt = weighted_[which].data();
+  float* out = layers_[layer_index(target ? Layer::Target : Layer::Obstacle)].data();
+  const uint8_t* nz = sources_[which].data();
+  uint8_t* act = active_[which].data();
+  // The halo's shares, as the neighbours' rings left them.
+  const auto weigh = [&](std::size_t p) { wt[p] = src[p] * inv_n_[p]; };
+  for (std::size_t px = 0; px < pw; ++px) {
+    weigh(px);
+    weigh((ph - 1) * pw + px);
+  }
+  for (std::size_t py = 1; py + 1 < ph; ++py) {
+    weigh(py * pw);
+    weigh(py * pw + pw - 1);
+  }
+  const bool all = full_[which] || !sparse_[which];
+  for (std::size_t y = 0; y < h; ++y) {
+    // The chunks of row y whose neighbourhood holds a source that is not +0.
+    std::fill(need_.begin(), need_.end(), static_cast<uint8_t>(all ? 1 : 0));
+    if (!all) {
+      for (std::size_t yy = y == 0 ? 0 : y - 1; yy <= std::min(y + 1, h - 1); ++yy) {
+        for (std::size_t i = 0; i < chunks_; ++i) {
+          if (nz[yy * chunks_ + i] == 0) continue;
+          need_[i] = 1;
+          if (i > 0) need_[i - 1] = 1;
+          if (i + 1 < chunks_) need_[i + 1] = 1;
+        }
+      }
+      for (const std::size_t py : {std::size_t{0}, ph - 1}) {  // the halo row above the first row, below the last
+        if ((py == 0 && y != 0) || (py == ph - 1 && y + 1 != h)) continue;
+        for (std::size_t i = 0; i < chunks_; ++i) {
+          const std::size_t x0 = i * kChunkCells;
+          const std::size_t x1 = std::min(x0 + kChunkCells, w) + 2;
+          if (any_nonzero_bits(src + py * pw + x0, x1 - x0)) need_[i] = 1;
+        }
+      }
+      for (std::size_t py = y; py < y + 3; ++py) {  // the halo columns left and right
+        if (any_nonzero_bits(src + py * pw, 1)) need_[0] = 1;
+        if (any_nonzero_bits(src + py * pw + pw - 1, 1)) need_[chunks_ - 1] = 1;
+      }
+    }
+    for (std::size_t i = 0; i < chunks_;) {
+      if (need_[i] == 0) {
+        ++i;  // every source around is +0: the cells stay +0 (sparse_)
+        continue;
+      }
+      std::size_t e = i;
+      while (e < chunks_ && need_[e] != 0) ++e;
+      const std::size_t x0 = i * kChunkCells;
+      const std::size_t x1 = std::min(e * kChunkCells, w);
+      const float* up = wt + y * pw + x0;
+      const float* s = src + (y + 1) * pw + 1 + x0;
+      float* o = out + y * w + x0;
+      if (target) {
+        diffuse_target_run(up, up + pw, up + 2 * pw, s, o, x1 - x0, c);  // Shao 2020 eq. (1)
+      } else {
+        diffuse_obstacle_run(up, up + pw, up + 2 * pw, s, o, x1 - x0, c);  // Shao 2020 eq. (3)
+      }
+      for (; i < e; ++i) {
+        const std::size_t a = y * w + i * kChunkCells;
+        const std::size_t n = std::min(kChunkCells, w - i * kChunkCells);
+        act[y * chunks_ + i] = any_nonzero_bits(out + a, n) || any_set(k + a, n) ? 1 : 0;
+      }
+    }
+  }
+  full_[which] = false;
+}
 
-  // Path: σ(t+1) = σ(t) − Δσ(t), Shao 2020 eq. (5), clamped into [σmin, σ0], Shao 2020 eq. (8).
+void RegionField::finish_step() {
+  if (rect_.w <= 0 || rect_.h <= 0) return;
+  diffuse(0);  // Shao 2020 eq. (1), Shao 2020 eq. (2)
+  diffuse(1);  // Shao 2020 eq. (3), Shao 2020 eq. (4)
+
+  // Path: σ(t+1) = σ(t) − Δσ(t), Shao 2020 eq. (5), clamped into [σmin, σ0],
+  // Shao 2020 eq. (8). Where Δσ is 0 a clamped σ stays what it is, so only
+  // the visited squares are updated (every cell once after mutable_layer).
   const float lo = static_cast<float>(p_.sigma_min);
   const float hi = static_cast<float>(p_.sigma0);
-  update_path(layers_[layer_index(Layer::Path)].data(), path_delta_.data(), w * h, lo, hi);
+  float* sigma = layers_[layer_index(Layer::Path)].data();
+  const auto w = static_cast<std::size_t>(rect_.w);
+  if (path_full_) {
+    update_path(sigma, path_delta_.data(), w * static_cast<std::size_t>(rect_.h), lo, hi);
+    path_full_ = false;
+  } else {
+    // A cell in two squares is clamped twice: the second time with Δσ = 0,
+    // which leaves it as it is.
+    for (const Rect& r : path_visited_) {
+      for (int32_t y = r.y0; y < r.y0 + r.h; ++y) {
+        const std::size_t a = static_cast<std::size_t>(y) * w + static_cast<std::size_t>(r.x0);
+        update_path(sigma + a, path_delta_.data() + a, static_cast<std::size_t>(r.w), lo, hi);
+      }
+    }
+  }
+  path_visited_.clear();
 }
 
 // ---------------------------------------------------------------------------

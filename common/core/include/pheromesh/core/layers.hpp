@@ -4,6 +4,7 @@
 // width is 1 cell; the constructor's geometry guarantees radius <= halo.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <optional>
 #include <span>
@@ -72,7 +73,9 @@ class RegionField {
   // The values of layer l over r (inside rect()), row-major into out
   // (r.area() values), a row at a time.
   void copy_rect(Layer l, const Rect& r, float* out) const;
-  // Direct write access, for tests and for restoring state.
+  // Direct write access, for tests and for restoring state. The next step
+  // then updates every cell of the layer (it forgets which ones were +0), so
+  // write through the span before that step's finish_step(), not after.
   [[nodiscard]] std::span<float> mutable_layer(Layer l);
 
   // Deposit switches. kε(i)=1 once an obstacle at i is marked (stays on).
@@ -98,7 +101,15 @@ class RegionField {
   // 3) Applies Shao 2020 eq. (1), Shao 2020 eq. (2), Shao 2020 eq. (3), Shao 2020 eq. (4) to target and obstacle layers using the halo, and
   //    Shao 2020 eq. (5), Shao 2020 eq. (8) to the path layer with the visits accumulated since the
   //    last step; clears the visits.
+  // A step costs what is not zero (issue 44): the cells of a layer whose
+  // whole 3 x 3 neighbourhood of sources is +0 keep their +0 without being
+  // computed (they would compute combine(+0, +0), which is +0 for the
+  // papers' coefficients; for others every cell is computed), and the path
+  // layer is updated only around the visits (σ − 0 clamped is σ again). The
+  // bits are those of computing every cell.
   void finish_step();
+  // Columns per chunk of the activity maps below.
+  static constexpr std::size_t kChunkCells = 16;
 
  private:
   const MapGeometry* geo_;
@@ -111,7 +122,21 @@ class RegionField {
   // (w+2) x (h+2) padded sources with the halo around them, and the
   // per-cell 1/|N(j)| weights for the padded area.
   std::vector<float> src_tau_, src_eps_, inv_n_;
-  std::vector<float> weighted_;  // scratch, padded size: source * 1/|N(j)|
+  // Padded size: source * 1/|N(j)|, per diffused layer (0 target, 1 obstacle).
+  std::vector<float> weighted_[2];
+  // Per diffused layer, one flag per row and chunk of kChunkCells columns:
+  // active (a value is not +0 or a switch is on; 0 means neither) and
+  // sources (its interior sources are not all +0; 0 means all are +0).
+  std::size_t chunks_ = 0;  // chunks per row
+  std::vector<uint8_t> active_[2], sources_[2];
+  std::vector<uint8_t> need_;  // scratch: the chunks of one row to compute
+  bool sparse_[2] = {false, false};  // combine(+0, +0) is +0 for the layer's coefficients
+  bool full_[2] = {true, true};      // compute every chunk at the next step (mutable_layer)
+  // Path: the rects (local cells) visited since the last step; every cell
+  // when path_full_ (the first step, mutable_layer).
+  std::vector<Rect> path_visited_;
+  bool path_full_ = true;
+  void diffuse(int which);
   // Row-major index of c in rect(), or nothing if c is outside it.
   [[nodiscard]] std::optional<std::size_t> own_index(Cell c) const;
 };
