@@ -46,6 +46,9 @@ void BM_RegionFieldStep(benchmark::State& state) {
   for (float& v : field.mutable_layer(Layer::Target)) v = static_cast<float>(rng.uniform01());
   for (float& v : field.mutable_layer(Layer::Obstacle)) v = static_cast<float>(rng.uniform01());
   for (int i = 0; i < side; ++i) field.set_target_switch({i, i}, true);
+  if (state.range(1) != 0) {
+    for (int y = 0; y < side; ++y) for (int x = 0; x < side; ++x) { field.set_target_switch({x, y}, true); field.set_obstacle_switch({x, y}); }
+  }
   const std::vector<Cell> uavs = uav_cells(side);
   for (auto _ : state) {
     for (const Cell& u : uavs) field.add_path_visit(u);
@@ -110,7 +113,7 @@ void BM_MemcpyLayers(benchmark::State& state) {
   state.SetBytesProcessed(state.iterations() * static_cast<int64_t>(bytes));
 }
 
-BENCHMARK(BM_RegionFieldStep)->Arg(100)->Arg(400);
+BENCHMARK(BM_RegionFieldStep)->Args({100, 0})->Args({400, 0})->Args({100, 1})->Args({400, 1});
 BENCHMARK(BM_NaiveStep)->Arg(100)->Arg(400);
 BENCHMARK(BM_MemcpyLayers)->Arg(100)->Arg(400);
 

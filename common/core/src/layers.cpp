@@ -20,6 +20,7 @@
 #include "pheromesh/core/layers.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cassert>
 #include <cmath>
 #include <cstring>
@@ -27,6 +28,11 @@
 #include <optional>
 
 // After the includes, so only this file's functions are affected.
+// The 8-lane vector helpers below are always inlined and file-local: the
+// ABI note GCC gives for passing them by value without AVX does not apply.
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic ignored "-Wpsabi"
+#endif
 #if defined(__clang__)
 #pragma clang fp contract(off)
 #elif defined(__GNUC__)
@@ -70,11 +76,9 @@ inline float combine(float s, float nb, const StepCoeffs& c) {
   }
 }
 
-// Lanes per block. At -O2 GCC 12 only vectorises loops whose trip count is a
-// known multiple of the vector width ("very cheap" cost model), so the hot
-// loops run in fixed blocks of 8 plus a scalar tail; the fixed inner loops
-// become SIMD code. Each lane is independent, so this does not change any
-// per-cell operation order.
+// Lanes per block: the blocked loops below run in fixed blocks of 8 plus a
+// scalar tail. Each lane is independent, so this does not change any per-cell
+// operation order.
 constexpr std::size_t kBlock = 8;
 
 // The hot loops are compiled twice on x86-64 with GCC, for AVX2 and for the
@@ -87,60 +91,110 @@ constexpr std::size_t kBlock = 8;
 #else
 #define PHEROMESH_KERNEL
 #endif
+#define PHEROMESH_INLINE inline __attribute__((always_inline))
+
+// Eight lanes written as GCC/Clang vector types rather than left to the
+// auto-vectoriser, which at -O2 packs these loops two floats at a time: one
+// AVX2 register in the AVX2 clone, two SSE registers in the baseline one.
+// Lane-wise + and * are the scalar IEEE operations, in the order written.
+typedef float F8 __attribute__((vector_size(32)));
+typedef int32_t I8 __attribute__((vector_size(32)));
+
+PHEROMESH_INLINE F8 load8(const float* p) {
+  F8 v;
+  std::memcpy(&v, p, sizeof v);
+  return v;
+}
+PHEROMESH_INLINE void store8(float* p, F8 v) { std::memcpy(p, &v, sizeof v); }
+PHEROMESH_INLINE F8 splat8(float f) { return F8{f, f, f, f, f, f, f, f}; }
 
 // s = v + k·d and s / |N(j)| for a run of n cells (the quantity that diffuses,
 // brackets of Shao 2020 eq. (1), and its share per neighbour, Shao 2020 eq. (2)).
-PHEROMESH_KERNEL void sources_and_weights(const float* __restrict v, const uint8_t* __restrict k, float d,
+// kd holds k·d per cell as source() adds it: d where the switch is on, +0
+// where it is off.
+PHEROMESH_KERNEL void sources_and_weights(const float* __restrict v, const float* __restrict kd,
                                           const float* __restrict inv_n, float* __restrict s,
                                           float* __restrict weighted, std::size_t n) {
   std::size_t i = 0;
   for (; i + kBlock <= n; i += kBlock) {
-    for (std::size_t l = 0; l < kBlock; ++l) {
-      const float src = source(v[i + l], k[i + l], d);
-      s[i + l] = src;
-      weighted[i + l] = src * inv_n[i + l];
-    }
+    const F8 src = load8(v + i) + load8(kd + i);
+    store8(s + i, src);
+    store8(weighted + i, src * load8(inv_n + i));
   }
   for (; i < n; ++i) {
-    s[i] = source(v[i], k[i], d);
+    s[i] = v[i] + kd[i];
     weighted[i] = s[i] * inv_n[i];
   }
 }
 
-// One output run: up/mid/dn are the weighted padded rows above, at and below
-// (pointing at the padded column left of the run's first cell), s the own
-// sources of the run, o the output.
+// The step coefficients in every lane, built once per run.
+struct StepCoeffs8 {
+  F8 self, g, evap;
+  explicit StepCoeffs8(const StepCoeffs& c) : self(splat8(c.self)), g(splat8(c.g)), evap(splat8(c.evap)) {}
+};
+
+// Shao 2020 eq. (1) or Shao 2020 eq. (3) for eight cells from their weighted
+// neighbour rows (u, m, d at the padded column left of the first cell).
 template <bool kEvaporateNeighbourSum>
-inline __attribute__((always_inline)) void diffuse_run(const float* __restrict up, const float* __restrict mid,
-                                                       const float* __restrict dn, const float* __restrict s,
-                                                       float* __restrict o, std::size_t w, const StepCoeffs coeffs) {
-  const StepCoeffs c = coeffs;  // a local copy keeps the coefficients in registers
-  std::size_t x = 0;
-  for (; x + kBlock <= w; x += kBlock) {
-    const float* u = up + x;
-    const float* m = mid + x;
-    const float* d = dn + x;
-    for (std::size_t l = 0; l < kBlock; ++l) {
-      // Same neighbour order as reference_diffuse; do not regroup.
-      const float nb = u[l] + u[l + 1] + u[l + 2] + m[l] + m[l + 2] + d[l] + d[l + 1] + d[l + 2];
-      o[x + l] = combine<kEvaporateNeighbourSum>(s[x + l], nb, c);
-    }
+PHEROMESH_INLINE F8 combine8(const float* u, const float* m, const float* d, const float* s, const StepCoeffs8& c) {
+  // Same neighbour order as reference_diffuse; do not regroup.
+  const F8 nb = load8(u) + load8(u + 1) + load8(u + 2) + load8(m) + load8(m + 2) + load8(d) + load8(d + 1) + load8(d + 2);
+  if constexpr (kEvaporateNeighbourSum) {
+    return c.evap * (c.self * load8(s) + c.g * nb);  // Shao 2020 eq. (3)
+  } else {
+    return c.self * load8(s) + c.g * nb;  // Shao 2020 eq. (1)
   }
-  for (; x < w; ++x) {
-    const float nb = up[x] + up[x + 1] + up[x + 2] + mid[x] + mid[x + 2] + dn[x] + dn[x + 1] + dn[x + 2];
-    o[x] = combine<kEvaporateNeighbourSum>(s[x], nb, c);
+}
+
+// One output run of w cells that begins at a chunk (kChunk cells) of its row:
+// up/mid/dn are the weighted padded rows above, at and below (pointing at the
+// padded column left of the run's first cell), s the own sources, o the
+// output, kd the switches' k·d. active[i] is set to whether chunk i of the
+// run holds a value or a k·d that is not +0.
+constexpr std::size_t kChunk = RegionField::kChunkCells;
+static_assert(kChunk == 2 * kBlock, "a chunk is two blocks");
+template <bool kEvaporateNeighbourSum>
+PHEROMESH_INLINE void diffuse_run(const float* __restrict up, const float* __restrict mid, const float* __restrict dn,
+                                  const float* __restrict s, float* __restrict o, const float* __restrict kd,
+                                  std::size_t w, const StepCoeffs coeffs, uint8_t* __restrict active) {
+  const StepCoeffs c = coeffs;  // a local copy keeps the coefficients in registers
+  const StepCoeffs8 c8(c);
+  std::size_t x = 0;
+  for (; x + kChunk <= w; x += kChunk) {
+    const F8 a = combine8<kEvaporateNeighbourSum>(up + x, mid + x, dn + x, s + x, c8);
+    const F8 b = combine8<kEvaporateNeighbourSum>(up + x + kBlock, mid + x + kBlock, dn + x + kBlock, s + x + kBlock, c8);
+    store8(o + x, a);
+    store8(o + x + kBlock, b);
+    const I8 bits = std::bit_cast<I8>(a) | std::bit_cast<I8>(b) | std::bit_cast<I8>(load8(kd + x)) |
+                    std::bit_cast<I8>(load8(kd + x + kBlock));
+    int32_t any = 0;
+    for (std::size_t l = 0; l < kBlock; ++l) any |= bits[l];
+    active[x / kChunk] = any != 0 ? 1 : 0;
+  }
+  if (x < w) {  // the last chunk of a row that is not a whole one
+    uint32_t any = 0;
+    for (std::size_t i = x; i < w; ++i) {
+      const float nb = up[i] + up[i + 1] + up[i + 2] + mid[i] + mid[i + 2] + dn[i] + dn[i + 1] + dn[i + 2];
+      o[i] = combine<kEvaporateNeighbourSum>(s[i], nb, c);
+      uint32_t b = 0;
+      uint32_t bk = 0;
+      std::memcpy(&b, o + i, sizeof b);
+      std::memcpy(&bk, kd + i, sizeof bk);
+      any |= b | bk;
+    }
+    active[x / kChunk] = any != 0 ? 1 : 0;
   }
 }
 
 // Shao 2020 eq. (1) with Shao 2020 eq. (2) (target) and Shao 2020 eq. (3)
 // with Shao 2020 eq. (4) (obstacle), one clone each.
 PHEROMESH_KERNEL void diffuse_target_run(const float* up, const float* mid, const float* dn, const float* s, float* o,
-                                         std::size_t w, const StepCoeffs c) {
-  diffuse_run<false>(up, mid, dn, s, o, w, c);
+                                         const float* kd, std::size_t w, const StepCoeffs c, uint8_t* active) {
+  diffuse_run<false>(up, mid, dn, s, o, kd, w, c, active);
 }
 PHEROMESH_KERNEL void diffuse_obstacle_run(const float* up, const float* mid, const float* dn, const float* s, float* o,
-                                           std::size_t w, const StepCoeffs c) {
-  diffuse_run<true>(up, mid, dn, s, o, w, c);
+                                           const float* kd, std::size_t w, const StepCoeffs c, uint8_t* active) {
+  diffuse_run<true>(up, mid, dn, s, o, kd, w, c, active);
 }
 
 // σ = clamp(σ − Δσ, σmin, σ0), Shao 2020 eq. (5) and Shao 2020 eq. (8); clears Δσ.
@@ -167,12 +221,6 @@ bool any_nonzero_bits(const float* v, std::size_t n) {
     std::memcpy(&b, v + i, sizeof b);
     acc |= b;
   }
-  return acc != 0;
-}
-
-bool any_set(const uint8_t* k, std::size_t n) {
-  unsigned acc = 0;
-  for (std::size_t i = 0; i < n; ++i) acc |= k[i];
   return acc != 0;
 }
 
@@ -287,6 +335,7 @@ RegionField::RegionField(const MapGeometry& geo, RegionId region, const ShaoLaye
   chunks_ = (static_cast<std::size_t>(rect_.w) + kChunkCells - 1) / kChunkCells;
   need_.assign(chunks_, 0);
   for (int which = 0; which < 2; ++which) {
+    kd_[which].assign(cells, 0.0F);
     weighted_[which].assign(pw * ph, 0.0F);
     active_[which].assign(static_cast<std::size_t>(rect_.h) * chunks_, 0);
     sources_[which].assign(static_cast<std::size_t>(rect_.h) * chunks_, 0);
@@ -343,6 +392,7 @@ void RegionField::copy_rect(Layer l, const Rect& r, float* out) const {
 void RegionField::set_obstacle_switch(Cell c) {
   if (const auto i = own_index(c)) {
     k_eps_[*i] = 1;
+    kd_[1][*i] = static_cast<float>(p_.d_eps);
     active_[1][static_cast<std::size_t>(c.y - rect_.y0) * chunks_ + static_cast<std::size_t>(c.x - rect_.x0) / kChunkCells] = 1;
   }
 }
@@ -350,6 +400,7 @@ void RegionField::set_obstacle_switch(Cell c) {
 void RegionField::set_target_switch(Cell c, bool on) {
   if (const auto i = own_index(c)) {
     k_tau_[*i] = on ? 1 : 0;
+    kd_[0][*i] = on ? static_cast<float>(p_.d_tau) : 0.0F;
     // Switched off, the chunk stays active until a step finds it all +0.
     if (on) active_[0][static_cast<std::size_t>(c.y - rect_.y0) * chunks_ + static_cast<std::size_t>(c.x - rect_.x0) / kChunkCells] = 1;
   }
@@ -399,9 +450,7 @@ HaloRing RegionField::begin_step() {
   const auto w = static_cast<std::size_t>(rect_.w);
   const auto h = static_cast<std::size_t>(rect_.h);
   const std::size_t pw = w + 2;
-  const float d[2] = {static_cast<float>(p_.d_tau), static_cast<float>(p_.d_eps)};
   const float* v[2] = {layers_[layer_index(Layer::Target)].data(), layers_[layer_index(Layer::Obstacle)].data()};
-  const uint8_t* k[2] = {k_tau_.data(), k_eps_.data()};
   float* src[2] = {src_tau_.data(), src_eps_.data()};
   // Sources s = v + k·d of Shao 2020 eq. (1) and Shao 2020 eq. (3), and their
   // shares s / |N(j)| of Shao 2020 eq. (2) and Shao 2020 eq. (4), into the
@@ -423,7 +472,7 @@ HaloRing RegionField::begin_step() {
         const std::size_t x0 = c * kChunkCells;
         const std::size_t x1 = std::min(e * kChunkCells, w);
         const std::size_t p = (y + 1) * pw + 1 + x0;
-        sources_and_weights(v[which] + y * w + x0, k[which] + y * w + x0, d[which], inv_n_.data() + p, src[which] + p,
+        sources_and_weights(v[which] + y * w + x0, kd_[which].data() + y * w + x0, inv_n_.data() + p, src[which] + p,
                             weighted_[which].data() + p, x1 - x0);
         c = e;
       }
@@ -487,7 +536,7 @@ void RegionField::diffuse(int which) {
   const StepCoeffs c = target ? make_coeffs(p_.e_tau, p_.g_tau, p_.d_tau, false)
                               : make_coeffs(p_.e_eps, p_.g_eps, p_.d_eps, true);
   const float* src = target ? src_tau_.data() : src_eps_.data();
-  const uint8_t* k = target ? k_tau_.data() : k_eps_.data();
+  const float* kd = kd_[which].data();
   float* wt = weighted_[which].data();
   float* out = layers_[layer_index(target ? Layer::Target : Layer::Obstacle)].data();
   const uint8_t* nz = sources_[which].data();
@@ -505,15 +554,20 @@ void RegionField::diffuse(int which) {
   const bool all = full_[which] || !sparse_[which];
   for (std::size_t y = 0; y < h; ++y) {
     // The chunks of row y whose neighbourhood holds a source that is not +0.
-    std::fill(need_.begin(), need_.end(), static_cast<uint8_t>(all ? 1 : 0));
-    if (!all) {
-      for (std::size_t yy = y == 0 ? 0 : y - 1; yy <= std::min(y + 1, h - 1); ++yy) {
-        for (std::size_t i = 0; i < chunks_; ++i) {
-          if (nz[yy * chunks_ + i] == 0) continue;
-          need_[i] = 1;
-          if (i > 0) need_[i - 1] = 1;
-          if (i + 1 < chunks_) need_[i + 1] = 1;
-        }
+    if (all) {
+      std::fill(need_.begin(), need_.end(), uint8_t{1});
+    } else {
+      // The rows above, at and below, then a chunk to each side.
+      const uint8_t* above = nz + (y == 0 ? y : y - 1) * chunks_;
+      const uint8_t* at = nz + y * chunks_;
+      const uint8_t* below = nz + std::min(y + 1, h - 1) * chunks_;
+      uint8_t left = 0;
+      uint8_t here = above[0] | at[0] | below[0];
+      for (std::size_t i = 0; i < chunks_; ++i) {
+        const uint8_t right = i + 1 < chunks_ ? static_cast<uint8_t>(above[i + 1] | at[i + 1] | below[i + 1]) : 0;
+        need_[i] = static_cast<uint8_t>(left | here | right);
+        left = here;
+        here = right;
       }
       for (const std::size_t py : {std::size_t{0}, ph - 1}) {  // the halo row above the first row, below the last
         if ((py == 0 && y != 0) || (py == ph - 1 && y + 1 != h)) continue;
@@ -540,16 +594,14 @@ void RegionField::diffuse(int which) {
       const float* up = wt + y * pw + x0;
       const float* s = src + (y + 1) * pw + 1 + x0;
       float* o = out + y * w + x0;
+      const float* ks = kd + y * w + x0;
+      uint8_t* a = act + y * chunks_ + i;
       if (target) {
-        diffuse_target_run(up, up + pw, up + 2 * pw, s, o, x1 - x0, c);  // Shao 2020 eq. (1)
+        diffuse_target_run(up, up + pw, up + 2 * pw, s, o, ks, x1 - x0, c, a);  // Shao 2020 eq. (1)
       } else {
-        diffuse_obstacle_run(up, up + pw, up + 2 * pw, s, o, x1 - x0, c);  // Shao 2020 eq. (3)
+        diffuse_obstacle_run(up, up + pw, up + 2 * pw, s, o, ks, x1 - x0, c, a);  // Shao 2020 eq. (3)
       }
-      for (; i < e; ++i) {
-        const std::size_t a = y * w + i * kChunkCells;
-        const std::size_t n = std::min(kChunkCells, w - i * kChunkCells);
-        act[y * chunks_ + i] = any_nonzero_bits(out + a, n) || any_set(k + a, n) ? 1 : 0;
-      }
+      i = e;
     }
   }
   full_[which] = false;

@@ -122,7 +122,10 @@ class RegionField {
   // (w+2) x (h+2) padded sources with the halo around them, and the
   // per-cell 1/|N(j)| weights for the padded area.
   std::vector<float> src_tau_, src_eps_, inv_n_;
-  // Padded size: source * 1/|N(j)|, per diffused layer (0 target, 1 obstacle).
+  // Per diffused layer (0 target, 1 obstacle): k·d per own cell (d where
+  // the switch is on, +0 where it is off: what a source adds), and, padded,
+  // source * 1/|N(j)|.
+  std::vector<float> kd_[2];
   std::vector<float> weighted_[2];
   // Per diffused layer, one flag per row and chunk of kChunkCells columns:
   // active (a value is not +0 or a switch is on; 0 means neither) and
