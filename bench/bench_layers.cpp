@@ -62,8 +62,8 @@ std::vector<Cell> uav_cells(int32_t side) {
 }
 
 ScenarioConfig scale_scenario(int32_t side) {
-  const std::string path =
-      std::string(PHEROMESH_SOURCE_DIR) + "/scenarios/scale-" + std::to_string(side) + "x" + std::to_string(side) + ".textproto";
+  const std::string path = std::string(PHEROMESH_SOURCE_DIR) + "/scenarios/scale-" + std::to_string(side) + "x" +
+                           std::to_string(side) + ".textproto";
   auto s = pheromesh::core::load_scenario(path);
   if (!s) {
     std::fprintf(stderr, "%s: %s\n", path.c_str(), s.error().message.c_str());

@@ -621,7 +621,8 @@ TEST(Diffusion, ANeighbourReadsOneSideOfARingAndACornerNeighbourOneCell) {
 // out and underflow.
 TEST(Diffusion, SkippingAllZeroNeighbourhoodsGivesTheBitsOfComputingEveryCell) {
   EXPECT_EQ(split_mismatches(MapGeometry(37, 29, 5, 3, 2), SplitRun{.steps = 300, .sparse = true}), 0);
-  EXPECT_EQ(split_mismatches(MapGeometry(70, 45, 10, 2, 2), SplitRun{.steps = 200, .trimmed = true, .sparse = true}), 0);
+  EXPECT_EQ(split_mismatches(MapGeometry(70, 45, 10, 2, 2), SplitRun{.steps = 200, .trimmed = true, .sparse = true}),
+            0);
   EXPECT_EQ(split_mismatches(MapGeometry(31, 7, 3, 4, 3), SplitRun{.steps = 100, .sparse = true}), 0);
   EXPECT_EQ(split_mismatches(MapGeometry(53, 40, 4, 1, 1), SplitRun{.steps = 300, .sparse = true}), 0);
 }

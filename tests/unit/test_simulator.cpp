@@ -109,7 +109,8 @@ TEST(Simulator, EveryTileAskedForBetweenTicksIsTheFieldOfThatTickAndChangesNothi
         ASSERT_EQ(m.values.size(), static_cast<std::size_t>(r.area()));
         for (int32_t y = 0; y < r.h; ++y) {
           for (int32_t x = 0; x < r.w; ++x) {
-            ASSERT_EQ(m.values[static_cast<std::size_t>(y * r.w + x)], asked.field_value(m.layer, {r.x0 + x, r.y0 + y}));
+            ASSERT_EQ(m.values[static_cast<std::size_t>(y * r.w + x)],
+                      asked.field_value(m.layer, {r.x0 + x, r.y0 + y}));
           }
         }
       }

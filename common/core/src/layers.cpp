@@ -138,7 +138,8 @@ struct StepCoeffs8 {
 template <bool kEvaporateNeighbourSum>
 PHEROMESH_INLINE F8 combine8(const float* u, const float* m, const float* d, const float* s, const StepCoeffs8& c) {
   // Same neighbour order as reference_diffuse; do not regroup.
-  const F8 nb = load8(u) + load8(u + 1) + load8(u + 2) + load8(m) + load8(m + 2) + load8(d) + load8(d + 1) + load8(d + 2);
+  const F8 nb =
+      load8(u) + load8(u + 1) + load8(u + 2) + load8(m) + load8(m + 2) + load8(d) + load8(d + 1) + load8(d + 2);
   if constexpr (kEvaporateNeighbourSum) {
     return c.evap * (c.self * load8(s) + c.g * nb);  // Shao 2020 eq. (3)
   } else {
@@ -162,7 +163,8 @@ PHEROMESH_INLINE void diffuse_run(const float* __restrict up, const float* __res
   std::size_t x = 0;
   for (; x + kChunk <= w; x += kChunk) {
     const F8 a = combine8<kEvaporateNeighbourSum>(up + x, mid + x, dn + x, s + x, c8);
-    const F8 b = combine8<kEvaporateNeighbourSum>(up + x + kBlock, mid + x + kBlock, dn + x + kBlock, s + x + kBlock, c8);
+    const F8 b =
+        combine8<kEvaporateNeighbourSum>(up + x + kBlock, mid + x + kBlock, dn + x + kBlock, s + x + kBlock, c8);
     store8(o + x, a);
     store8(o + x + kBlock, b);
     const I8 bits = std::bit_cast<I8>(a) | std::bit_cast<I8>(b) | std::bit_cast<I8>(load8(kd + x)) |
@@ -393,7 +395,7 @@ void RegionField::set_obstacle_switch(Cell c) {
   if (const auto i = own_index(c)) {
     k_eps_[*i] = 1;
     kd_[1][*i] = static_cast<float>(p_.d_eps);
-    active_[1][static_cast<std::size_t>(c.y - rect_.y0) * chunks_ + static_cast<std::size_t>(c.x - rect_.x0) / kChunkCells] = 1;
+    active_[1][chunk_of(c)] = 1;
   }
 }
 
@@ -402,7 +404,7 @@ void RegionField::set_target_switch(Cell c, bool on) {
     k_tau_[*i] = on ? 1 : 0;
     kd_[0][*i] = on ? static_cast<float>(p_.d_tau) : 0.0F;
     // Switched off, the chunk stays active until a step finds it all +0.
-    if (on) active_[0][static_cast<std::size_t>(c.y - rect_.y0) * chunks_ + static_cast<std::size_t>(c.x - rect_.x0) / kChunkCells] = 1;
+    if (on) active_[0][chunk_of(c)] = 1;
   }
 }
 
@@ -533,8 +535,8 @@ void RegionField::diffuse(int which) {
   const std::size_t pw = w + 2;
   const std::size_t ph = h + 2;
   const bool target = which == 0;
-  const StepCoeffs c = target ? make_coeffs(p_.e_tau, p_.g_tau, p_.d_tau, false)
-                              : make_coeffs(p_.e_eps, p_.g_eps, p_.d_eps, true);
+  const StepCoeffs c =
+      target ? make_coeffs(p_.e_tau, p_.g_tau, p_.d_tau, false) : make_coeffs(p_.e_eps, p_.g_eps, p_.d_eps, true);
   const float* src = target ? src_tau_.data() : src_eps_.data();
   const float* kd = kd_[which].data();
   float* wt = weighted_[which].data();

@@ -98,9 +98,10 @@ class RegionField {
   //    that are not neighbours are ignored. Missing rings leave the last value
   //    (initially 0) in the halo.
   void accept_halo(const Rect& neighbour_rect, const HaloRing& ring);
-  // 3) Applies Shao 2020 eq. (1), Shao 2020 eq. (2), Shao 2020 eq. (3), Shao 2020 eq. (4) to target and obstacle layers using the halo, and
-  //    Shao 2020 eq. (5), Shao 2020 eq. (8) to the path layer with the visits accumulated since the
-  //    last step; clears the visits.
+  // 3) Applies Shao 2020 eq. (1), Shao 2020 eq. (2), Shao 2020 eq. (3),
+  //    Shao 2020 eq. (4) to target and obstacle layers using the halo, and
+  //    Shao 2020 eq. (5), Shao 2020 eq. (8) to the path layer with the visits
+  //    accumulated since the last step; clears the visits.
   // A step costs what is not zero (issue 44): the cells of a layer whose
   // whole 3 x 3 neighbourhood of sources is +0 keep their +0 without being
   // computed (they would compute combine(+0, +0), which is +0 for the
@@ -132,13 +133,17 @@ class RegionField {
   // sources (its interior sources are not all +0; 0 means all are +0).
   std::size_t chunks_ = 0;  // chunks per row
   std::vector<uint8_t> active_[2], sources_[2];
-  std::vector<uint8_t> need_;  // scratch: the chunks of one row to compute
+  std::vector<uint8_t> need_;        // scratch: the chunks of one row to compute
   bool sparse_[2] = {false, false};  // combine(+0, +0) is +0 for the layer's coefficients
   bool full_[2] = {true, true};      // compute every chunk at the next step (mutable_layer)
   // Path: the rects (local cells) visited since the last step; every cell
   // when path_full_ (the first step, mutable_layer).
   std::vector<Rect> path_visited_;
   bool path_full_ = true;
+  // Index of own cell c's chunk in active_ and sources_.
+  [[nodiscard]] std::size_t chunk_of(Cell c) const {
+    return static_cast<std::size_t>(c.y - rect_.y0) * chunks_ + static_cast<std::size_t>(c.x - rect_.x0) / kChunkCells;
+  }
   void diffuse(int which);
   // Row-major index of c in rect(), or nothing if c is outside it.
   [[nodiscard]] std::optional<std::size_t> own_index(Cell c) const;

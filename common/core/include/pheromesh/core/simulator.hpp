@@ -150,9 +150,9 @@ class Simulator {
   // the few around it, and building every tile of a 400 x 400 map each tick
   // cost more than flying the swarm (issue 44). tile -> its layers.
   mutable std::map<std::pair<int32_t, int32_t>, std::vector<TileMsg>> tiles_;
-  mutable bool tiles_complete_ = false;     // tiles_ holds every published tile
-  std::optional<uint32_t> tiles_tick_;      // the place tick of the published tiles
-  std::vector<uint8_t> tiles_live_;         // per region: it published tiles at tiles_tick_
+  mutable bool tiles_complete_ = false;  // tiles_ holds every published tile
+  std::optional<uint32_t> tiles_tick_;   // the place tick of the published tiles
+  std::vector<uint8_t> tiles_live_;      // per region: it published tiles at tiles_tick_
   // The layers of tile t as published (nullptr: no live place agent published it).
   const std::vector<TileMsg>* published_tile(TileCoord t) const;
   std::vector<std::vector<DepositMsg>> inbox_;                         // per region
