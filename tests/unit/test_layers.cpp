@@ -325,6 +325,29 @@ void expect_same_layers(const RegionField& a, const RegionField& b) {
   }
 }
 
+// A step diffuses the sources begin_step() took: a switch set before
+// finish_step() joins the next step, a value written then is overwritten.
+TEST(Layers, ASwitchOrAValueSetBetweenBeginAndFinishWaitsForTheNextStep) {
+  const MapGeometry g(40, 12, 4, 1, 1);
+  RegionField during(g, 0, ShaoLayerParams{});
+  RegionField after(g, 0, ShaoLayerParams{});
+  fill_random(during, 9);
+  fill_random(after, 9);
+  (void)during.begin_step();
+  during.set_target_switch({3, 3}, true);
+  during.set_obstacle_switch({30, 8});
+  during.mutable_layer(Layer::Obstacle)[5] = 7.0F;
+  during.finish_step();
+  EXPECT_TRUE(during.target_switch({3, 3}));
+  step(after);
+  after.set_target_switch({3, 3}, true);
+  after.set_obstacle_switch({30, 8});
+  expect_same_layers(during, after);
+  step(during);
+  step(after);
+  expect_same_layers(during, after);
+}
+
 TEST(Halo, WrongSizeOrForeignRingIsIgnoredWithoutCrashing) {
   const MapGeometry g(20, 10, 5, 2, 1);
   RegionField victim(g, 0, ShaoLayerParams{});

@@ -108,23 +108,23 @@ PHEROMESH_INLINE F8 load8(const float* p) {
 PHEROMESH_INLINE void store8(float* p, F8 v) { std::memcpy(p, &v, sizeof v); }
 PHEROMESH_INLINE F8 splat8(float f) { return F8{f, f, f, f, f, f, f, f}; }
 
-// s = v + k·d and s / |N(j)| for a run of n cells (the quantity that diffuses,
-// brackets of Shao 2020 eq. (1), and its share per neighbour, Shao 2020 eq. (2)).
-// kd holds k·d per cell as source() adds it: d where the switch is on, +0
-// where it is off.
-PHEROMESH_KERNEL void sources_and_weights(const float* __restrict v, const float* __restrict kd,
-                                          const float* __restrict inv_n, float* __restrict s,
-                                          float* __restrict weighted, std::size_t n) {
+// (v + k·d) / |N(j)| for a run of n cells: the source of Shao 2020 eq. (1)
+// or Shao 2020 eq. (3) and its share per neighbour, Shao 2020 eq. (2). kd holds
+// k·d per cell as source() adds it: d where the switch is on, +0 where it is
+// off.
+PHEROMESH_KERNEL void weigh_sources(const float* __restrict v, const float* __restrict kd,
+                                    const float* __restrict inv_n, float* __restrict weighted, std::size_t n) {
   std::size_t i = 0;
-  for (; i + kBlock <= n; i += kBlock) {
-    const F8 src = load8(v + i) + load8(kd + i);
-    store8(s + i, src);
-    store8(weighted + i, src * load8(inv_n + i));
-  }
-  for (; i < n; ++i) {
-    s[i] = v[i] + kd[i];
-    weighted[i] = s[i] * inv_n[i];
-  }
+  for (; i + kBlock <= n; i += kBlock) store8(weighted + i, (load8(v + i) + load8(kd + i)) * load8(inv_n + i));
+  for (; i < n; ++i) weighted[i] = (v[i] + kd[i]) * inv_n[i];
+}
+
+// s / |N(j)| for n halo cells, whose sources s came from the neighbours.
+PHEROMESH_KERNEL void weigh_halo(const float* __restrict src, const float* __restrict inv_n, float* __restrict weighted,
+                                 std::size_t n) {
+  std::size_t i = 0;
+  for (; i + kBlock <= n; i += kBlock) store8(weighted + i, load8(src + i) * load8(inv_n + i));
+  for (; i < n; ++i) weighted[i] = src[i] * inv_n[i];
 }
 
 // The step coefficients in every lane, built once per run.
@@ -136,48 +136,55 @@ struct StepCoeffs8 {
 // Shao 2020 eq. (1) or Shao 2020 eq. (3) for eight cells from their weighted
 // neighbour rows (u, m, d at the padded column left of the first cell).
 template <bool kEvaporateNeighbourSum>
-PHEROMESH_INLINE F8 combine8(const float* u, const float* m, const float* d, const float* s, const StepCoeffs8& c) {
+PHEROMESH_INLINE F8 combine8(const float* u, const float* m, const float* d, const float* v, const float* kd,
+                             const StepCoeffs8& c) {
   // Same neighbour order as reference_diffuse; do not regroup.
   const F8 nb =
       load8(u) + load8(u + 1) + load8(u + 2) + load8(m) + load8(m + 2) + load8(d) + load8(d + 1) + load8(d + 2);
+  const F8 s = load8(v) + load8(kd);  // source()
   if constexpr (kEvaporateNeighbourSum) {
-    return c.evap * (c.self * load8(s) + c.g * nb);  // Shao 2020 eq. (3)
+    return c.evap * (c.self * s + c.g * nb);  // Shao 2020 eq. (3)
   } else {
-    return c.self * load8(s) + c.g * nb;  // Shao 2020 eq. (1)
+    return c.self * s + c.g * nb;  // Shao 2020 eq. (1)
   }
 }
 
 // One output run of w cells that begins at a chunk (kChunk cells) of its row:
 // up/mid/dn are the weighted padded rows above, at and below (pointing at the
-// padded column left of the run's first cell), s the own sources, o the
-// output, kd the switches' k·d. active[i] is set to whether chunk i of the
-// run holds a value or a k·d that is not +0.
+// padded column left of the run's first cell), v the values and kd the
+// switches' k·d of the run (their sum is the source), o the output, which may
+// be v itself: each block of eight is read before it is written. active[i]
+// is set to whether chunk i of the run holds a value or a k·d that is not +0.
 constexpr std::size_t kChunk = RegionField::kChunkCells;
 static_assert(kChunk == 2 * kBlock, "a chunk is two blocks");
 template <bool kEvaporateNeighbourSum>
 PHEROMESH_INLINE void diffuse_run(const float* __restrict up, const float* __restrict mid, const float* __restrict dn,
-                                  const float* __restrict s, float* __restrict o, const float* __restrict kd,
-                                  std::size_t w, const StepCoeffs coeffs, uint8_t* __restrict active) {
+                                  const float* v, const float* __restrict kd, float* o, std::size_t w,
+                                  const StepCoeffs coeffs, uint8_t* __restrict active) {
   const StepCoeffs c = coeffs;  // a local copy keeps the coefficients in registers
   const StepCoeffs8 c8(c);
   std::size_t x = 0;
   for (; x + kChunk <= w; x += kChunk) {
-    const F8 a = combine8<kEvaporateNeighbourSum>(up + x, mid + x, dn + x, s + x, c8);
-    const F8 b =
-        combine8<kEvaporateNeighbourSum>(up + x + kBlock, mid + x + kBlock, dn + x + kBlock, s + x + kBlock, c8);
+    const F8 a = combine8<kEvaporateNeighbourSum>(up + x, mid + x, dn + x, v + x, kd + x, c8);
+    const std::size_t y = x + kBlock;
+    const F8 b = combine8<kEvaporateNeighbourSum>(up + y, mid + y, dn + y, v + y, kd + y, c8);
     store8(o + x, a);
-    store8(o + x + kBlock, b);
+    store8(o + y, b);
     const I8 bits = std::bit_cast<I8>(a) | std::bit_cast<I8>(b) | std::bit_cast<I8>(load8(kd + x)) |
-                    std::bit_cast<I8>(load8(kd + x + kBlock));
-    int32_t any = 0;
-    for (std::size_t l = 0; l < kBlock; ++l) any |= bits[l];
+                    std::bit_cast<I8>(load8(kd + y));
+    // A lane that is not 0 settles it (in a field that is not +0 the first
+    // one nearly always does); else all eight are looked at.
+    int32_t any = bits[0];
+    if (any == 0) {
+      for (std::size_t l = 1; l < kBlock; ++l) any |= bits[l];
+    }
     active[x / kChunk] = any != 0 ? 1 : 0;
   }
   if (x < w) {  // the last chunk of a row that is not a whole one
     uint32_t any = 0;
     for (std::size_t i = x; i < w; ++i) {
       const float nb = up[i] + up[i + 1] + up[i + 2] + mid[i] + mid[i + 2] + dn[i] + dn[i + 1] + dn[i + 2];
-      o[i] = combine<kEvaporateNeighbourSum>(s[i], nb, c);
+      o[i] = combine<kEvaporateNeighbourSum>(v[i] + kd[i], nb, c);
       uint32_t b = 0;
       uint32_t bk = 0;
       std::memcpy(&b, o + i, sizeof b);
@@ -190,13 +197,15 @@ PHEROMESH_INLINE void diffuse_run(const float* __restrict up, const float* __res
 
 // Shao 2020 eq. (1) with Shao 2020 eq. (2) (target) and Shao 2020 eq. (3)
 // with Shao 2020 eq. (4) (obstacle), one clone each.
-PHEROMESH_KERNEL void diffuse_target_run(const float* up, const float* mid, const float* dn, const float* s, float* o,
-                                         const float* kd, std::size_t w, const StepCoeffs c, uint8_t* active) {
-  diffuse_run<false>(up, mid, dn, s, o, kd, w, c, active);
+PHEROMESH_KERNEL void diffuse_target_run(const float* up, const float* mid, const float* dn, const float* v,
+                                         const float* kd, float* o, std::size_t w, const StepCoeffs c,
+                                         uint8_t* active) {
+  diffuse_run<false>(up, mid, dn, v, kd, o, w, c, active);
 }
-PHEROMESH_KERNEL void diffuse_obstacle_run(const float* up, const float* mid, const float* dn, const float* s, float* o,
-                                           const float* kd, std::size_t w, const StepCoeffs c, uint8_t* active) {
-  diffuse_run<true>(up, mid, dn, s, o, kd, w, c, active);
+PHEROMESH_KERNEL void diffuse_obstacle_run(const float* up, const float* mid, const float* dn, const float* v,
+                                           const float* kd, float* o, std::size_t w, const StepCoeffs c,
+                                           uint8_t* active) {
+  diffuse_run<true>(up, mid, dn, v, kd, o, w, c, active);
 }
 
 // σ = clamp(σ − Δσ, σmin, σ0), Shao 2020 eq. (5) and Shao 2020 eq. (8); clears Δσ.
@@ -335,12 +344,12 @@ RegionField::RegionField(const MapGeometry& geo, RegionId region, const ShaoLaye
   src_eps_.assign(pw * ph, 0.0F);
   inv_n_.assign(pw * ph, 0.0F);
   chunks_ = (static_cast<std::size_t>(rect_.w) + kChunkCells - 1) / kChunkCells;
-  need_.assign(chunks_, 0);
+  need_.assign(static_cast<std::size_t>(rect_.h) * chunks_, 0);
+  rows_.assign(3 * pw, 0.0F);
+  wanted_.assign(chunks_, 0);
   for (int which = 0; which < 2; ++which) {
     kd_[which].assign(cells, 0.0F);
-    weighted_[which].assign(pw * ph, 0.0F);
     active_[which].assign(static_cast<std::size_t>(rect_.h) * chunks_, 0);
-    sources_[which].assign(static_cast<std::size_t>(rect_.h) * chunks_, 0);
   }
   // A cell whose neighbourhood holds only +0 sources computes
   // combine(+0, +0): skipped only where that is +0 again (E, G in [0, 1]).
@@ -352,6 +361,30 @@ RegionField::RegionField(const MapGeometry& geo, RegionId region, const ShaoLaye
     for (std::size_t px = 0; px < pw; ++px) {
       const Cell c{rect_.x0 - 1 + static_cast<int32_t>(px), rect_.y0 - 1 + static_cast<int32_t>(py)};
       if (geo.in_map(c)) inv_n_[py * pw + px] = inv_count(geo.neighbour_count(c));
+    }
+  }
+  // Shao 2020 eq. (7) for every offset a visit reaches, once (the same
+  // doubles add_path_visit would compute), when the square is small.
+  if (p_.d0 >= 0.0 && p_.d0 <= kPathTableReach) {
+    const auto reach = static_cast<int64_t>(std::floor(p_.d0));
+    for (int64_t dy = -reach; dy <= reach; ++dy) {
+      for (int64_t dx = -reach; dx <= reach; ++dx) {
+        path_table_.push_back(path_decrease(std::sqrt(static_cast<double>(dx * dx + dy * dy)), p_));
+      }
+    }
+  }
+  // Most padded rows have the weights of row 1 or 2 (a map edge, the
+  // interior): read those, which stay in the first-level cache.
+  inv_row_.resize(ph);
+  for (std::size_t py = 0; py < ph; ++py) {
+    inv_row_[py] = py * pw;
+    for (const std::size_t q : {std::size_t{1}, std::size_t{2}}) {
+      if (q < py && std::equal(inv_n_.begin() + static_cast<std::ptrdiff_t>(py * pw),
+                               inv_n_.begin() + static_cast<std::ptrdiff_t>((py + 1) * pw),
+                               inv_n_.begin() + static_cast<std::ptrdiff_t>(q * pw))) {
+        inv_row_[py] = q * pw;
+        break;
+      }
     }
   }
 }
@@ -366,8 +399,13 @@ std::span<const float> RegionField::layer(Layer l) const { return layers_[layer_
 
 std::span<float> RegionField::mutable_layer(Layer l) {
   // What was +0 may not be any more: the next step computes every cell.
-  if (l == Layer::Target) full_[0] = true;
-  if (l == Layer::Obstacle) full_[1] = true;
+  if (l == Layer::Target || l == Layer::Obstacle) {
+    const int which = l == Layer::Target ? 0 : 1;
+    full_[which] = true;
+    // Between begin_step and finish_step the step diffuses the sources of
+    // begin_step: keep the values they come from.
+    if (in_step_ && snapshot_[which].empty()) snapshot_[which] = layers_[layer_index(l)];
+  }
   if (l == Layer::Path) path_full_ = true;
   return layers_[layer_index(l)];
 }
@@ -394,18 +432,27 @@ void RegionField::copy_rect(Layer l, const Rect& r, float* out) const {
 void RegionField::set_obstacle_switch(Cell c) {
   if (const auto i = own_index(c)) {
     k_eps_[*i] = 1;
-    kd_[1][*i] = static_cast<float>(p_.d_eps);
-    active_[1][chunk_of(c)] = 1;
+    set_kd(1, c, *i, static_cast<float>(p_.d_eps));
   }
 }
 
 void RegionField::set_target_switch(Cell c, bool on) {
   if (const auto i = own_index(c)) {
     k_tau_[*i] = on ? 1 : 0;
-    kd_[0][*i] = on ? static_cast<float>(p_.d_tau) : 0.0F;
-    // Switched off, the chunk stays active until a step finds it all +0.
-    if (on) active_[0][chunk_of(c)] = 1;
+    set_kd(0, c, *i, on ? static_cast<float>(p_.d_tau) : 0.0F);
   }
+}
+
+void RegionField::set_kd(int which, Cell c, std::size_t i, float kd) {
+  // Between begin_step and finish_step the step diffuses the sources of
+  // begin_step: the switch joins them after it.
+  if (in_step_) {
+    pending_kd_.push_back({which, c, i, kd});
+    return;
+  }
+  kd_[which][i] = kd;
+  // Switched off, the chunk stays active until a step finds it all +0.
+  active_[which][chunk_of(c)] = 1;
 }
 
 bool RegionField::obstacle_switch(Cell c) const {
@@ -434,12 +481,19 @@ void RegionField::add_path_visit(Cell uav) {
   // The next step updates σ inside this square only: elsewhere Δσ is 0.
   path_visited_.push_back({static_cast<int32_t>(x_lo - rect_.x0), static_cast<int32_t>(y_lo - rect_.y0),
                            static_cast<int32_t>(x_hi - x_lo + 1), static_cast<int32_t>(y_hi - y_lo + 1)});
+  const bool table = !path_table_.empty();
+  const auto side = static_cast<std::size_t>(2 * reach + 1);
   for (int64_t y = y_lo; y <= y_hi; ++y) {
     for (int64_t x = x_lo; x <= x_hi; ++x) {
       const int64_t dx = x - uav.x;
       const int64_t dy = y - uav.y;
-      const double dist = std::sqrt(static_cast<double>(dx * dx + dy * dy));  // D_ij [cell]
-      const double delta = path_decrease(dist, p_);                          // Shao 2020 eq. (7)
+      double delta = 0.0;
+      if (table) {
+        delta = path_table_[static_cast<std::size_t>(dy + reach) * side + static_cast<std::size_t>(dx + reach)];
+      } else {
+        const double dist = std::sqrt(static_cast<double>(dx * dx + dy * dy));  // D_ij [cell]
+        delta = path_decrease(dist, p_);                                        // Shao 2020 eq. (7)
+      }
       if (delta == 0.0) continue;
       const auto i = static_cast<std::size_t>(y - rect_.y0) * static_cast<std::size_t>(rect_.w) +
                      static_cast<std::size_t>(x - rect_.x0);
@@ -451,48 +505,31 @@ void RegionField::add_path_visit(Cell uav) {
 HaloRing RegionField::begin_step() {
   const auto w = static_cast<std::size_t>(rect_.w);
   const auto h = static_cast<std::size_t>(rect_.h);
-  const std::size_t pw = w + 2;
-  const float* v[2] = {layers_[layer_index(Layer::Target)].data(), layers_[layer_index(Layer::Obstacle)].data()};
-  float* src[2] = {src_tau_.data(), src_eps_.data()};
-  // Sources s = v + k·d of Shao 2020 eq. (1) and Shao 2020 eq. (3), and their
-  // shares s / |N(j)| of Shao 2020 eq. (2) and Shao 2020 eq. (4), into the
-  // interior of the padded buffers; the halo keeps what neighbours sent last.
-  // Only chunks that are active, or whose sources were not all +0 (they
-  // become +0 now), are written: the others hold +0 already.
   for (int which = 0; which < 2; ++which) {
     if (full_[which]) std::fill(active_[which].begin(), active_[which].end(), uint8_t{1});
-    for (std::size_t y = 0; y < h; ++y) {
-      const uint8_t* act = active_[which].data() + y * chunks_;
-      uint8_t* nz = sources_[which].data() + y * chunks_;
-      for (std::size_t c = 0; c < chunks_;) {
-        if (act[c] == 0 && nz[c] == 0) {
-          ++c;
-          continue;
-        }
-        std::size_t e = c;
-        for (; e < chunks_ && (act[e] != 0 || nz[e] != 0); ++e) nz[e] = act[e];
-        const std::size_t x0 = c * kChunkCells;
-        const std::size_t x1 = std::min(e * kChunkCells, w);
-        const std::size_t p = (y + 1) * pw + 1 + x0;
-        sources_and_weights(v[which] + y * w + x0, kd_[which].data() + y * w + x0, inv_n_.data() + p, src[which] + p,
-                            weighted_[which].data() + p, x1 - x0);
-        c = e;
-      }
-    }
   }
-
+  in_step_ = true;
+  // The sources s = v + k·d of Shao 2020 eq. (1) and Shao 2020 eq. (3) on the
+  // border, for the neighbours' halos. finish_step takes the others from the
+  // same values and switches, which do not change before it.
   HaloRing ring;
   ring.region = region_;
   const std::size_t n = ring_size(rect_);
-  ring.target.reserve(n);
-  ring.obstacle.reserve(n);
-  const auto push = [&](std::size_t x, std::size_t y) {
-    const std::size_t p = (y + 1) * pw + (x + 1);
-    ring.target.push_back(src_tau_[p]);
-    ring.obstacle.push_back(src_eps_[p]);
+  ring.target.resize(n);
+  ring.obstacle.resize(n);
+  const float* tau = layers_[layer_index(Layer::Target)].data();
+  const float* eps = layers_[layer_index(Layer::Obstacle)].data();
+  const float* kd_tau = kd_[0].data();
+  const float* kd_eps = kd_[1].data();
+  std::size_t k = 0;
+  const auto put = [&](std::size_t x, std::size_t y) {
+    const std::size_t i = y * w + x;
+    ring.target[k] = tau[i] + kd_tau[i];
+    ring.obstacle[k] = eps[i] + kd_eps[i];
+    ++k;
   };
-  for_each_ring_cell(w, h, push);
-  assert(ring.target.size() == n);
+  for_each_ring_cell(w, h, put);
+  assert(k == n);
   return ring;
 }
 
@@ -537,82 +574,133 @@ void RegionField::diffuse(int which) {
   const bool target = which == 0;
   const StepCoeffs c =
       target ? make_coeffs(p_.e_tau, p_.g_tau, p_.d_tau, false) : make_coeffs(p_.e_eps, p_.g_eps, p_.d_eps, true);
-  const float* src = target ? src_tau_.data() : src_eps_.data();
+  const float* halo = target ? src_tau_.data() : src_eps_.data();  // padded: the neighbours' sources around
   const float* kd = kd_[which].data();
-  float* wt = weighted_[which].data();
   float* out = layers_[layer_index(target ? Layer::Target : Layer::Obstacle)].data();
-  const uint8_t* nz = sources_[which].data();
+  // The values of begin_step (the same array unless mutable_layer was called since).
+  const float* v = snapshot_[which].empty() ? out : snapshot_[which].data();
   uint8_t* act = active_[which].data();
-  // The halo's shares, as the neighbours' rings left them.
-  const auto weigh = [&](std::size_t p) { wt[p] = src[p] * inv_n_[p]; };
-  for (std::size_t px = 0; px < pw; ++px) {
-    weigh(px);
-    weigh((ph - 1) * pw + px);
-  }
-  for (std::size_t py = 1; py + 1 < ph; ++py) {
-    weigh(py * pw);
-    weigh(py * pw + pw - 1);
-  }
-  const bool all = full_[which] || !sparse_[which];
+
+  // Which chunks of every row to compute, from the activity of begin_step
+  // (act is rewritten row by row below): those whose 3 x 3 chunks, or the
+  // halo beside them, hold a source that is not +0.
+  // Every chunk is computed after mutable_layer, for coefficients that turn
+  // +0 into something else, and when every chunk is active anyway.
+  const bool all = full_[which] || !sparse_[which] ||
+                   std::find(act, act + h * chunks_, uint8_t{0}) == act + h * chunks_;
   for (std::size_t y = 0; y < h; ++y) {
-    // The chunks of row y whose neighbourhood holds a source that is not +0.
+    uint8_t* need = need_.data() + y * chunks_;
     if (all) {
-      std::fill(need_.begin(), need_.end(), uint8_t{1});
-    } else {
-      // The rows above, at and below, then a chunk to each side.
-      const uint8_t* above = nz + (y == 0 ? y : y - 1) * chunks_;
-      const uint8_t* at = nz + y * chunks_;
-      const uint8_t* below = nz + std::min(y + 1, h - 1) * chunks_;
-      uint8_t left = 0;
-      uint8_t here = above[0] | at[0] | below[0];
+      std::fill(need, need + chunks_, uint8_t{1});
+      continue;
+    }
+    // The rows above, at and below, then a chunk to each side.
+    const uint8_t* above = act + (y == 0 ? y : y - 1) * chunks_;
+    const uint8_t* at = act + y * chunks_;
+    const uint8_t* below = act + std::min(y + 1, h - 1) * chunks_;
+    uint8_t left = 0;
+    uint8_t here = above[0] | at[0] | below[0];
+    for (std::size_t i = 0; i < chunks_; ++i) {
+      const uint8_t right = i + 1 < chunks_ ? static_cast<uint8_t>(above[i + 1] | at[i + 1] | below[i + 1]) : 0;
+      need[i] = static_cast<uint8_t>(left | here | right);
+      left = here;
+      here = right;
+    }
+    for (const std::size_t py : {std::size_t{0}, ph - 1}) {  // the halo row above the first row, below the last
+      if ((py == 0 && y != 0) || (py == ph - 1 && y + 1 != h)) continue;
       for (std::size_t i = 0; i < chunks_; ++i) {
-        const uint8_t right = i + 1 < chunks_ ? static_cast<uint8_t>(above[i + 1] | at[i + 1] | below[i + 1]) : 0;
-        need_[i] = static_cast<uint8_t>(left | here | right);
-        left = here;
-        here = right;
+        const std::size_t x0 = i * kChunkCells;
+        const std::size_t x1 = std::min(x0 + kChunkCells, w) + 2;
+        if (any_nonzero_bits(halo + py * pw + x0, x1 - x0)) need[i] = 1;
       }
-      for (const std::size_t py : {std::size_t{0}, ph - 1}) {  // the halo row above the first row, below the last
-        if ((py == 0 && y != 0) || (py == ph - 1 && y + 1 != h)) continue;
-        for (std::size_t i = 0; i < chunks_; ++i) {
-          const std::size_t x0 = i * kChunkCells;
-          const std::size_t x1 = std::min(x0 + kChunkCells, w) + 2;
-          if (any_nonzero_bits(src + py * pw + x0, x1 - x0)) need_[i] = 1;
-        }
-      }
-      for (std::size_t py = y; py < y + 3; ++py) {  // the halo columns left and right
-        if (any_nonzero_bits(src + py * pw, 1)) need_[0] = 1;
-        if (any_nonzero_bits(src + py * pw + pw - 1, 1)) need_[chunks_ - 1] = 1;
+    }
+    for (std::size_t py = y; py < y + 3; ++py) {  // the halo columns left and right
+      if (any_nonzero_bits(halo + py * pw, 1)) need[0] = 1;
+      if (any_nonzero_bits(halo + py * pw + pw - 1, 1)) need[chunks_ - 1] = 1;
+    }
+  }
+
+  // The shares s / |N(j)| of padded row py, Shao 2020 eq. (2), into one of
+  // three rows kept in turn, over the columns the rows py - 2 .. py need
+  // (with one column each side): the other columns of that row are not read.
+  const auto weigh_row = [&](std::size_t py) {
+    float* dst = rows_.data() + (py % 3) * pw;
+    const float* inv = inv_n_.data() + inv_row_[py];
+    const float* hrow = halo + py * pw;
+    uint8_t* wanted = wanted_.data();
+    if (all) {
+      std::fill(wanted, wanted + chunks_, uint8_t{1});
+    } else {
+      std::fill(wanted, wanted + chunks_, uint8_t{0});
+      for (std::size_t y = py < 2 ? 0 : py - 2; y <= std::min(py, h - 1); ++y) {
+        const uint8_t* need = need_.data() + y * chunks_;
+        for (std::size_t k = 0; k < chunks_; ++k) wanted[k] = static_cast<uint8_t>(wanted[k] | need[k]);
       }
     }
     for (std::size_t i = 0; i < chunks_;) {
-      if (need_[i] == 0) {
+      if (wanted[i] == 0) {
+        ++i;
+        continue;
+      }
+      std::size_t e = i + 1;
+      while (e < chunks_ && wanted[e] != 0) ++e;
+      const std::size_t px0 = i * kChunkCells;                  // padded columns [px0, px1)
+      const std::size_t px1 = std::min(e * kChunkCells, w) + 2;
+      if (py == 0 || py + 1 == ph) {  // a halo row
+        weigh_halo(hrow + px0, inv + px0, dst + px0, px1 - px0);
+      } else {
+        const std::size_t in0 = std::max<std::size_t>(px0, 1);  // own columns [in0, in1)
+        const std::size_t in1 = std::min(px1, pw - 1);
+        if (px0 == 0) dst[0] = hrow[0] * inv[0];
+        const std::size_t row = (py - 1) * w;
+        weigh_sources(v + row + in0 - 1, kd + row + in0 - 1, inv + in0, dst + in0, in1 - in0);
+        if (px1 == pw) dst[pw - 1] = hrow[pw - 1] * inv[pw - 1];
+      }
+      i = e;
+    }
+  };
+
+  // Row y needs the shares of padded rows y, y + 1, y + 2, and its own
+  // values before it overwrites them: the shares of the row below it are
+  // taken first.
+  weigh_row(0);
+  weigh_row(1);
+  for (std::size_t y = 0; y < h; ++y) {
+    weigh_row(y + 2);
+    const uint8_t* need = need_.data() + y * chunks_;
+    for (std::size_t i = 0; i < chunks_;) {
+      if (need[i] == 0) {
         ++i;  // every source around is +0: the cells stay +0 (sparse_)
         continue;
       }
       std::size_t e = i;
-      while (e < chunks_ && need_[e] != 0) ++e;
+      while (e < chunks_ && need[e] != 0) ++e;
       const std::size_t x0 = i * kChunkCells;
       const std::size_t x1 = std::min(e * kChunkCells, w);
-      const float* up = wt + y * pw + x0;
-      const float* s = src + (y + 1) * pw + 1 + x0;
-      float* o = out + y * w + x0;
-      const float* ks = kd + y * w + x0;
-      uint8_t* a = act + y * chunks_ + i;
+      const float* up = rows_.data() + (y % 3) * pw + x0;
+      const float* mid = rows_.data() + ((y + 1) % 3) * pw + x0;
+      const float* dn = rows_.data() + ((y + 2) % 3) * pw + x0;
+      const std::size_t a = y * w + x0;
+      uint8_t* flags = act + y * chunks_ + i;
       if (target) {
-        diffuse_target_run(up, up + pw, up + 2 * pw, s, o, ks, x1 - x0, c, a);  // Shao 2020 eq. (1)
+        diffuse_target_run(up, mid, dn, v + a, kd + a, out + a, x1 - x0, c, flags);  // Shao 2020 eq. (1)
       } else {
-        diffuse_obstacle_run(up, up + pw, up + 2 * pw, s, o, ks, x1 - x0, c, a);  // Shao 2020 eq. (3)
+        diffuse_obstacle_run(up, mid, dn, v + a, kd + a, out + a, x1 - x0, c, flags);  // Shao 2020 eq. (3)
       }
       i = e;
     }
   }
   full_[which] = false;
+  snapshot_[which].clear();
 }
 
 void RegionField::finish_step() {
   if (rect_.w <= 0 || rect_.h <= 0) return;
   diffuse(0);  // Shao 2020 eq. (1), Shao 2020 eq. (2)
   diffuse(1);  // Shao 2020 eq. (3), Shao 2020 eq. (4)
+  in_step_ = false;
+  for (const PendingSwitch& sw : pending_kd_) set_kd(sw.which, sw.cell, sw.index, sw.kd);
+  pending_kd_.clear();
 
   // Path: σ(t+1) = σ(t) − Δσ(t), Shao 2020 eq. (5), clamped into [σmin, σ0],
   // Shao 2020 eq. (8). Where Δσ is 0 a clamped σ stays what it is, so only

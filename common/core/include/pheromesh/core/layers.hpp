@@ -75,7 +75,9 @@ class RegionField {
   void copy_rect(Layer l, const Rect& r, float* out) const;
   // Direct write access, for tests and for restoring state. The next step
   // then updates every cell of the layer (it forgets which ones were +0), so
-  // write through the span before that step's finish_step(), not after.
+  // write through the span before that step's begin_step(), not after (a
+  // call between begin_step() and finish_step() leaves that step's sources
+  // as begin_step() took them, and its writes are overwritten, as ever).
   [[nodiscard]] std::span<float> mutable_layer(Layer l);
 
   // Deposit switches. kε(i)=1 once an obstacle at i is marked (stays on).
@@ -120,26 +122,45 @@ class RegionField {
   std::vector<float> layers_[kLayerCount];
   std::vector<uint8_t> k_tau_, k_eps_;
   std::vector<float> path_delta_;
-  // (w+2) x (h+2) padded sources with the halo around them, and the
-  // per-cell 1/|N(j)| weights for the padded area.
+  // (w+2) x (h+2) padded: the neighbours' sources in the halo cells (the
+  // interior is not used: finish_step takes the own sources from the values
+  // and switches), and the per-cell 1/|N(j)| weights.
   std::vector<float> src_tau_, src_eps_, inv_n_;
+  // The padded row py of inv_n_ begins at inv_row_[py] (an equal earlier row if any).
+  std::vector<std::size_t> inv_row_;
   // Per diffused layer (0 target, 1 obstacle): k·d per own cell (d where
-  // the switch is on, +0 where it is off: what a source adds), and, padded,
-  // source * 1/|N(j)|.
+  // the switch is on, +0 where it is off: what a source adds).
   std::vector<float> kd_[2];
-  std::vector<float> weighted_[2];
   // Per diffused layer, one flag per row and chunk of kChunkCells columns:
-  // active (a value is not +0 or a switch is on; 0 means neither) and
-  // sources (its interior sources are not all +0; 0 means all are +0).
+  // active (a value or a k·d is not +0; 0 means neither).
   std::size_t chunks_ = 0;  // chunks per row
-  std::vector<uint8_t> active_[2], sources_[2];
-  std::vector<uint8_t> need_;        // scratch: the chunks of one row to compute
+  std::vector<uint8_t> active_[2];
+  std::vector<uint8_t> need_;        // scratch, per row and chunk: compute it this step
+  std::vector<float> rows_;          // scratch: three padded rows of shares s / |N(j)|
+  std::vector<uint8_t> wanted_;      // scratch, per chunk: the shares of a padded row to take
   bool sparse_[2] = {false, false};  // combine(+0, +0) is +0 for the layer's coefficients
   bool full_[2] = {true, true};      // compute every chunk at the next step (mutable_layer)
+  // Between begin_step and finish_step: switches set then wait for the end
+  // of the step, values written then (mutable_layer) are diffused from a
+  // copy taken before them, as begin_step saw them.
+  bool in_step_ = false;
+  struct PendingSwitch {
+    int which;
+    Cell cell;
+    std::size_t index;
+    float kd;
+  };
+  std::vector<PendingSwitch> pending_kd_;
+  std::vector<float> snapshot_[2];
+  void set_kd(int which, Cell c, std::size_t i, float kd);
   // Path: the rects (local cells) visited since the last step; every cell
   // when path_full_ (the first step, mutable_layer).
   std::vector<Rect> path_visited_;
   bool path_full_ = true;
+  // Shao 2020 eq. (7) per offset (dx, dy) in [-D0, D0]², row-major, when D0
+  // is at most kPathTableReach cells (empty otherwise: computed per visit).
+  static constexpr double kPathTableReach = 32.0;
+  std::vector<double> path_table_;
   // Index of own cell c's chunk in active_ and sources_.
   [[nodiscard]] std::size_t chunk_of(Cell c) const {
     return static_cast<std::size_t>(c.y - rect_.y0) * chunks_ + static_cast<std::size_t>(c.x - rect_.x0) / kChunkCells;
