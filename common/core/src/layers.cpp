@@ -586,8 +586,8 @@ void RegionField::diffuse(int which) {
   // halo beside them, hold a source that is not +0.
   // Every chunk is computed after mutable_layer, for coefficients that turn
   // +0 into something else, and when every chunk is active anyway.
-  const bool all = full_[which] || !sparse_[which] ||
-                   std::find(act, act + h * chunks_, uint8_t{0}) == act + h * chunks_;
+  const bool all =
+      full_[which] || !sparse_[which] || std::find(act, act + h * chunks_, uint8_t{0}) == act + h * chunks_;
   for (std::size_t y = 0; y < h; ++y) {
     uint8_t* need = need_.data() + y * chunks_;
     if (all) {
@@ -644,7 +644,7 @@ void RegionField::diffuse(int which) {
       }
       std::size_t e = i + 1;
       while (e < chunks_ && wanted[e] != 0) ++e;
-      const std::size_t px0 = i * kChunkCells;                  // padded columns [px0, px1)
+      const std::size_t px0 = i * kChunkCells;  // padded columns [px0, px1)
       const std::size_t px1 = std::min(e * kChunkCells, w) + 2;
       if (py == 0 || py + 1 == ph) {  // a halo row
         weigh_halo(hrow + px0, inv + px0, dst + px0, px1 - px0);
