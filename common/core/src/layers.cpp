@@ -566,34 +566,42 @@ void RegionField::accept_halo(const Rect& neighbour_rect, const HaloRing& ring) 
   }
 }
 
-void RegionField::diffuse(int which) {
+namespace {
+
+// Calls f(begin, end) for each maximal run [begin, end) of non-zero flags.
+template <typename F>
+void for_each_run(const uint8_t* flags, std::size_t n, F&& f) {
+  for (std::size_t i = 0; i < n;) {
+    if (flags[i] == 0) {
+      ++i;
+      continue;
+    }
+    std::size_t e = i + 1;
+    while (e < n && flags[e] != 0) ++e;
+    f(i, e);
+    i = e;
+  }
+}
+
+}  // namespace
+
+bool RegionField::mark_needed(int which) {
   const auto w = static_cast<std::size_t>(rect_.w);
   const auto h = static_cast<std::size_t>(rect_.h);
   const std::size_t pw = w + 2;
   const std::size_t ph = h + 2;
-  const bool target = which == 0;
-  const StepCoeffs c =
-      target ? make_coeffs(p_.e_tau, p_.g_tau, p_.d_tau, false) : make_coeffs(p_.e_eps, p_.g_eps, p_.d_eps, true);
-  const float* halo = target ? src_tau_.data() : src_eps_.data();  // padded: the neighbours' sources around
-  const float* kd = kd_[which].data();
-  float* out = layers_[layer_index(target ? Layer::Target : Layer::Obstacle)].data();
-  // The values of begin_step (the same array unless mutable_layer was called since).
-  const float* v = snapshot_[which].empty() ? out : snapshot_[which].data();
-  uint8_t* act = active_[which].data();
-
-  // Which chunks of every row to compute, from the activity of begin_step
-  // (act is rewritten row by row below): those whose 3 x 3 chunks, or the
-  // halo beside them, hold a source that is not +0.
-  // Every chunk is computed after mutable_layer, for coefficients that turn
-  // +0 into something else, and when every chunk is active anyway.
+  const float* halo = which == 0 ? src_tau_.data() : src_eps_.data();
+  const uint8_t* act = active_[which].data();
+  // Every chunk after mutable_layer, for coefficients that turn +0 into
+  // something else, and when every chunk is active anyway.
   const bool all =
       full_[which] || !sparse_[which] || std::find(act, act + h * chunks_, uint8_t{0}) == act + h * chunks_;
+  if (all) {
+    std::fill(need_.begin(), need_.end(), uint8_t{1});
+    return true;
+  }
   for (std::size_t y = 0; y < h; ++y) {
     uint8_t* need = need_.data() + y * chunks_;
-    if (all) {
-      std::fill(need, need + chunks_, uint8_t{1});
-      continue;
-    }
     // The rows above, at and below, then a chunk to each side.
     const uint8_t* above = act + (y == 0 ? y : y - 1) * chunks_;
     const uint8_t* at = act + y * chunks_;
@@ -619,62 +627,65 @@ void RegionField::diffuse(int which) {
       if (any_nonzero_bits(halo + py * pw + pw - 1, 1)) need[chunks_ - 1] = 1;
     }
   }
+  return false;
+}
 
-  // The shares s / |N(j)| of padded row py, Shao 2020 eq. (2), into one of
-  // three rows kept in turn, over the columns the rows py - 2 .. py need
-  // (with one column each side): the other columns of that row are not read.
-  const auto weigh_row = [&](std::size_t py) {
-    float* dst = rows_.data() + (py % 3) * pw;
-    const float* inv = inv_n_.data() + inv_row_[py];
-    const float* hrow = halo + py * pw;
-    uint8_t* wanted = wanted_.data();
-    if (all) {
-      std::fill(wanted, wanted + chunks_, uint8_t{1});
-    } else {
-      std::fill(wanted, wanted + chunks_, uint8_t{0});
-      for (std::size_t y = py < 2 ? 0 : py - 2; y <= std::min(py, h - 1); ++y) {
-        const uint8_t* need = need_.data() + y * chunks_;
-        for (std::size_t k = 0; k < chunks_; ++k) wanted[k] = static_cast<uint8_t>(wanted[k] | need[k]);
-      }
+void RegionField::weigh_row(int which, std::size_t py, bool all, const float* v) {
+  const auto w = static_cast<std::size_t>(rect_.w);
+  const auto h = static_cast<std::size_t>(rect_.h);
+  const std::size_t pw = w + 2;
+  const std::size_t ph = h + 2;
+  const float* kd = kd_[which].data();
+  float* dst = rows_.data() + (py % 3) * pw;
+  const float* inv = inv_n_.data() + inv_row_[py];
+  const float* hrow = (which == 0 ? src_tau_.data() : src_eps_.data()) + py * pw;
+  // The chunks the rows py - 2 .. py need.
+  uint8_t* wanted = wanted_.data();
+  std::fill(wanted, wanted + chunks_, static_cast<uint8_t>(all ? 1 : 0));
+  for (std::size_t y = py < 2 ? 0 : py - 2; !all && y <= std::min(py, h - 1); ++y) {
+    const uint8_t* need = need_.data() + y * chunks_;
+    for (std::size_t k = 0; k < chunks_; ++k) wanted[k] = static_cast<uint8_t>(wanted[k] | need[k]);
+  }
+  for_each_run(wanted, chunks_, [&](std::size_t i, std::size_t e) {
+    const std::size_t px0 = i * kChunkCells;  // padded columns [px0, px1)
+    const std::size_t px1 = std::min(e * kChunkCells, w) + 2;
+    if (py == 0 || py + 1 == ph) {  // a halo row
+      weigh_halo(hrow + px0, inv + px0, dst + px0, px1 - px0);
+      return;
     }
-    for (std::size_t i = 0; i < chunks_;) {
-      if (wanted[i] == 0) {
-        ++i;
-        continue;
-      }
-      std::size_t e = i + 1;
-      while (e < chunks_ && wanted[e] != 0) ++e;
-      const std::size_t px0 = i * kChunkCells;  // padded columns [px0, px1)
-      const std::size_t px1 = std::min(e * kChunkCells, w) + 2;
-      if (py == 0 || py + 1 == ph) {  // a halo row
-        weigh_halo(hrow + px0, inv + px0, dst + px0, px1 - px0);
-      } else {
-        const std::size_t in0 = std::max<std::size_t>(px0, 1);  // own columns [in0, in1)
-        const std::size_t in1 = std::min(px1, pw - 1);
-        if (px0 == 0) dst[0] = hrow[0] * inv[0];
-        const std::size_t row = (py - 1) * w;
-        weigh_sources(v + row + in0 - 1, kd + row + in0 - 1, inv + in0, dst + in0, in1 - in0);
-        if (px1 == pw) dst[pw - 1] = hrow[pw - 1] * inv[pw - 1];
-      }
-      i = e;
-    }
-  };
+    const std::size_t in0 = std::max<std::size_t>(px0, 1);  // own columns [in0, in1)
+    const std::size_t in1 = std::min(px1, pw - 1);
+    if (px0 == 0) dst[0] = hrow[0] * inv[0];
+    const std::size_t row = (py - 1) * w;
+    weigh_sources(v + row + in0 - 1, kd + row + in0 - 1, inv + in0, dst + in0, in1 - in0);
+    if (px1 == pw) dst[pw - 1] = hrow[pw - 1] * inv[pw - 1];
+  });
+}
 
+void RegionField::diffuse(int which) {
+  const auto w = static_cast<std::size_t>(rect_.w);
+  const auto h = static_cast<std::size_t>(rect_.h);
+  const std::size_t pw = w + 2;
+  const bool target = which == 0;
+  const StepCoeffs c =
+      target ? make_coeffs(p_.e_tau, p_.g_tau, p_.d_tau, false) : make_coeffs(p_.e_eps, p_.g_eps, p_.d_eps, true);
+  const float* kd = kd_[which].data();
+  float* out = layers_[layer_index(target ? Layer::Target : Layer::Obstacle)].data();
+  // The values of begin_step (the same array unless mutable_layer was called since).
+  const float* v = snapshot_[which].empty() ? out : snapshot_[which].data();
+  uint8_t* act = active_[which].data();
+  // Which chunks of every row to compute, from the activity of begin_step
+  // (act is rewritten row by row below).
+  const bool all = mark_needed(which);
   // Row y needs the shares of padded rows y, y + 1, y + 2, and its own
   // values before it overwrites them: the shares of the row below it are
   // taken first.
-  weigh_row(0);
-  weigh_row(1);
+  weigh_row(which, 0, all, v);
+  weigh_row(which, 1, all, v);
   for (std::size_t y = 0; y < h; ++y) {
-    weigh_row(y + 2);
-    const uint8_t* need = need_.data() + y * chunks_;
-    for (std::size_t i = 0; i < chunks_;) {
-      if (need[i] == 0) {
-        ++i;  // every source around is +0: the cells stay +0 (sparse_)
-        continue;
-      }
-      std::size_t e = i;
-      while (e < chunks_ && need[e] != 0) ++e;
+    weigh_row(which, y + 2, all, v);
+    // Chunks left out have only +0 sources around: their cells stay +0 (sparse_).
+    for_each_run(need_.data() + y * chunks_, chunks_, [&](std::size_t i, std::size_t e) {
       const std::size_t x0 = i * kChunkCells;
       const std::size_t x1 = std::min(e * kChunkCells, w);
       const float* up = rows_.data() + (y % 3) * pw + x0;
@@ -687,8 +698,7 @@ void RegionField::diffuse(int which) {
       } else {
         diffuse_obstacle_run(up, mid, dn, v + a, kd + a, out + a, x1 - x0, c, flags);  // Shao 2020 eq. (3)
       }
-      i = e;
-    }
+    });
   }
   full_[which] = false;
   snapshot_[which].clear();

@@ -165,6 +165,11 @@ class RegionField {
   [[nodiscard]] std::size_t chunk_of(Cell c) const {
     return static_cast<std::size_t>(c.y - rect_.y0) * chunks_ + static_cast<std::size_t>(c.x - rect_.x0) / kChunkCells;
   }
+  // A diffused layer's step (0 target, 1 obstacle): which chunks of every
+  // row to compute into need_ (true: all of them), the shares of padded row
+  // py into rows_, and the step itself.
+  bool mark_needed(int which);
+  void weigh_row(int which, std::size_t py, bool all, const float* v);
   void diffuse(int which);
   // Row-major index of c in rect(), or nothing if c is outside it.
   [[nodiscard]] std::optional<std::size_t> own_index(Cell c) const;
