@@ -7,6 +7,7 @@
 #include <climits>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <string_view>
 #include <vector>
 
@@ -324,6 +325,29 @@ void expect_same_layers(const RegionField& a, const RegionField& b) {
   }
 }
 
+// A step diffuses the sources begin_step() took: a switch set before
+// finish_step() joins the next step, a value written then is overwritten.
+TEST(Layers, ASwitchOrAValueSetBetweenBeginAndFinishWaitsForTheNextStep) {
+  const MapGeometry g(40, 12, 4, 1, 1);
+  RegionField during(g, 0, ShaoLayerParams{});
+  RegionField after(g, 0, ShaoLayerParams{});
+  fill_random(during, 9);
+  fill_random(after, 9);
+  (void)during.begin_step();
+  during.set_target_switch({3, 3}, true);
+  during.set_obstacle_switch({30, 8});
+  during.mutable_layer(Layer::Obstacle)[5] = 7.0F;
+  during.finish_step();
+  EXPECT_TRUE(during.target_switch({3, 3}));
+  step(after);
+  after.set_target_switch({3, 3}, true);
+  after.set_obstacle_switch({30, 8});
+  expect_same_layers(during, after);
+  step(during);
+  step(after);
+  expect_same_layers(during, after);
+}
+
 TEST(Halo, WrongSizeOrForeignRingIsIgnoredWithoutCrashing) {
   const MapGeometry g(20, 10, 5, 2, 1);
   RegionField victim(g, 0, ShaoLayerParams{});
@@ -410,6 +434,11 @@ struct SplitRun {
   // Each neighbour gets only the ring cells it reads (trim_halo), as the
   // place agents send them, and fills the rest with 0 (expand_halo).
   bool trimmed = false;
+  // A field that is mostly +0 (the steps then skip what is +0 around): few
+  // non-zero cells, some of them -0 or denormal, switches that change every
+  // tenth step only, and now and then a value written into the field
+  // between steps (mutable_layer).
+  bool sparse = false;
 };
 
 // Runs the regions of `g` and the whole-map reference side by side from the
@@ -430,7 +459,27 @@ int64_t split_mismatches(const MapGeometry& g, const SplitRun& run) {
   // Whole-map state.
   std::vector<float> tau(cells), eps(cells), sigma(cells, static_cast<float>(p.sigma0));
   std::vector<uint8_t> k_tau(cells), k_eps(cells);
+  // What a sparse field holds where it is not +0.
+  const auto odd_value = [&](double scale) {
+    switch (rng.uniform_below(4)) {
+      case 0:
+        return -0.0F;
+      case 1:
+        return std::numeric_limits<float>::denorm_min() * static_cast<float>(1 + rng.uniform_below(8));
+      case 2:
+        return std::numeric_limits<float>::min() * static_cast<float>(rng.uniform01());  // denormal
+      default:
+        return static_cast<float>(scale * rng.uniform01());
+    }
+  };
   for (std::size_t i = 0; i < cells; ++i) {
+    if (run.sparse) {
+      tau[i] = rng.uniform_below(40) == 0 ? odd_value(5.0) : 0.0F;
+      eps[i] = rng.uniform_below(40) == 0 ? odd_value(3.0) : 0.0F;
+      k_tau[i] = rng.uniform_below(200) == 0 ? 1 : 0;
+      k_eps[i] = rng.uniform_below(400) == 0 ? 1 : 0;
+      continue;
+    }
     tau[i] = static_cast<float>(5.0 * rng.uniform01());
     eps[i] = static_cast<float>(3.0 * rng.uniform01());
     k_tau[i] = rng.uniform_below(10) == 0 ? 1 : 0;
@@ -459,17 +508,28 @@ int64_t split_mismatches(const MapGeometry& g, const SplitRun& run) {
                 static_cast<int32_t>(rng.uniform_below(static_cast<uint32_t>(g.height())))};
   };
   for (int s = 0; s < run.steps; ++s) {
+    if (run.sparse && s % 7 == 3) {
+      // A value written between steps into the field that owns the cell.
+      const Cell c = random_cell();
+      const float v = odd_value(2.0);
+      RegionField& f = fields[g.region_of(c)];
+      const Layer l = s % 2 == 0 ? Layer::Target : Layer::Obstacle;
+      f.mutable_layer(l)[local(f.rect(), c)] = v;
+      (l == Layer::Target ? tau : eps)[g.index(c)] = v;
+    }
     // Revisit switches come and go; obstacles get marked. Every field is
     // told; those that do not own the cell ignore it.
-    for (int t = 0; t < 3; ++t) {
+    for (int t = 0; t < (run.sparse && s % 10 != 0 ? 0 : 3); ++t) {
       const Cell c = random_cell();
       const bool on = k_tau[g.index(c)] == 0;
       k_tau[g.index(c)] = on ? 1 : 0;
       for (RegionField& f : fields) f.set_target_switch(c, on);
     }
-    const Cell obstacle = random_cell();
-    k_eps[g.index(obstacle)] = 1;
-    for (RegionField& f : fields) f.set_obstacle_switch(obstacle);
+    if (!run.sparse || s % 10 == 0) {
+      const Cell obstacle = random_cell();
+      k_eps[g.index(obstacle)] = 1;
+      for (RegionField& f : fields) f.set_obstacle_switch(obstacle);
+    }
     // UAV visits, Shao 2020 eq. (6), Shao 2020 eq. (7); the oracle accumulates in the same UAV order.
     std::fill(delta.begin(), delta.end(), 0.0F);
     for (int u = 0; u < 5; ++u) {
@@ -574,6 +634,36 @@ TEST(Diffusion, ANeighbourReadsOneSideOfARingAndACornerNeighbourOneCell) {
   EXPECT_FALSE(expand_halo({0, 7, ring, ring}, g, 1));
   EXPECT_FALSE(expand_halo({9, 7, {}, {}}, g, 1));
   EXPECT_TRUE(expand_halo({0, 7, {}, {}}, g, 1)->target.empty());
+}
+
+// A step computes only the chunks whose neighbourhood holds a source that is
+// not +0 (layers.hpp): the cells it skips keep exactly what computing them
+// gives, on both sides of region borders, with -0, denormals (which decay to
+// the smallest denormal and stay there), switches turned on and off and
+// values written between steps. Long enough for the fields to spread, thin
+// out and underflow.
+TEST(Diffusion, SkippingAllZeroNeighbourhoodsGivesTheBitsOfComputingEveryCell) {
+  EXPECT_EQ(split_mismatches(MapGeometry(37, 29, 5, 3, 2), SplitRun{.steps = 300, .sparse = true}), 0);
+  EXPECT_EQ(split_mismatches(MapGeometry(70, 45, 10, 2, 2), SplitRun{.steps = 200, .trimmed = true, .sparse = true}),
+            0);
+  EXPECT_EQ(split_mismatches(MapGeometry(31, 7, 3, 4, 3), SplitRun{.steps = 100, .sparse = true}), 0);
+  EXPECT_EQ(split_mismatches(MapGeometry(53, 40, 4, 1, 1), SplitRun{.steps = 300, .sparse = true}), 0);
+}
+
+// The skipping needs combine(+0, +0) == +0; with coefficients that give -0
+// there (1 - E < 0 is no paper's, but a scenario file could ask for it) every
+// cell is computed, and a field of +0 turns into -0 as the equations say.
+TEST(Diffusion, CoefficientsThatTurnZeroIntoMinusZeroComputeEveryCell) {
+  const MapGeometry g(40, 3, 20, 1, 1);
+  ShaoLayerParams p;
+  p.e_tau = 2.0;  // (1 - E)(1 - G) < 0: (1-E)(1-G)·(+0) + G·(+0) is -0 + +0 = +0, G·nb too; still +0
+  p.g_tau = 0.0;
+  p.e_eps = 2.0;  // Shao 2020 eq. (3): (1 - E) < 0 multiplies a +0 brace: -0
+  p.g_eps = 0.0;
+  RegionField f(g, 0, p);
+  step(f);
+  for (const float v : f.layer(Layer::Target)) EXPECT_FALSE(std::signbit(v));
+  for (const float v : f.layer(Layer::Obstacle)) EXPECT_TRUE(std::signbit(v) && v == 0.0F);
 }
 
 TEST(Diffusion, SingleRegionMatchesUndividedMap) {

@@ -20,12 +20,19 @@
 #include "pheromesh/core/layers.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cassert>
 #include <cmath>
+#include <cstring>
 #include <numbers>
 #include <optional>
 
 // After the includes, so only this file's functions are affected.
+// The 8-lane vector helpers below are always inlined and file-local: the
+// ABI note GCC gives for passing them by value without AVX does not apply.
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic ignored "-Wpsabi"
+#endif
 #if defined(__clang__)
 #pragma clang fp contract(off)
 #elif defined(__GNUC__)
@@ -69,69 +76,140 @@ inline float combine(float s, float nb, const StepCoeffs& c) {
   }
 }
 
-// Lanes per block. At -O2 GCC 12 only vectorises loops whose trip count is a
-// known multiple of the vector width ("very cheap" cost model), so the hot
-// loops run in fixed blocks of 8 plus a scalar tail; the fixed inner loops
-// become SIMD code. Each lane is independent, so this does not change any
-// per-cell operation order.
+// Lanes per block: the blocked loops below run in fixed blocks of 8 plus a
+// scalar tail. Each lane is independent, so this does not change any per-cell
+// operation order.
 constexpr std::size_t kBlock = 8;
 
-// s_j / |N(j)| once per padded cell instead of once per (i, j) pair.
-void weigh(const float* __restrict src, const float* __restrict inv_n, float* __restrict weighted, std::size_t n) {
-  std::size_t j = 0;
-  for (; j + kBlock <= n; j += kBlock) {
-    for (std::size_t l = 0; l < kBlock; ++l) weighted[j + l] = src[j + l] * inv_n[j + l];
-  }
-  for (; j < n; ++j) weighted[j] = src[j] * inv_n[j];
-}
+// The hot loops are compiled twice on x86-64 with GCC, for AVX2 and for the
+// baseline, and the loader picks one for the CPU (an ifunc). AVX2 without FMA:
+// the same IEEE float additions and multiplications in wider registers, so
+// both clones give the same bits (and the contraction guard above holds for
+// both).
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__)
+#define PHEROMESH_KERNEL __attribute__((target_clones("avx2", "default")))
+#else
+#define PHEROMESH_KERNEL
+#endif
+#define PHEROMESH_INLINE inline __attribute__((always_inline))
 
-// One output row: up/mid/dn are the weighted padded rows above, at and below
-// (pointing at padded column 0), s the own sources of the row, o the output.
-template <bool kEvaporateNeighbourSum>
-void diffuse_row(const float* __restrict up, const float* __restrict mid, const float* __restrict dn,
-                 const float* __restrict s, float* __restrict o, std::size_t w, const StepCoeffs coeffs) {
-  const StepCoeffs c = coeffs;  // a local copy keeps the coefficients in registers
-  std::size_t x = 0;
-  for (; x + kBlock <= w; x += kBlock) {
-    const float* u = up + x;
-    const float* m = mid + x;
-    const float* d = dn + x;
-    for (std::size_t l = 0; l < kBlock; ++l) {
-      // Same neighbour order as reference_diffuse; do not regroup.
-      const float nb = u[l] + u[l + 1] + u[l + 2] + m[l] + m[l + 2] + d[l] + d[l + 1] + d[l + 2];
-      o[x + l] = combine<kEvaporateNeighbourSum>(s[x + l], nb, c);
-    }
-  }
-  for (; x < w; ++x) {
-    const float nb = up[x] + up[x + 1] + up[x + 2] + mid[x] + mid[x + 2] + dn[x] + dn[x + 1] + dn[x + 2];
-    o[x] = combine<kEvaporateNeighbourSum>(s[x], nb, c);
-  }
-}
+// Eight lanes written as GCC/Clang vector types rather than left to the
+// auto-vectoriser, which at -O2 packs these loops two floats at a time: one
+// AVX2 register in the AVX2 clone, two SSE registers in the baseline one.
+// Lane-wise + and * are the scalar IEEE operations, in the order written.
+typedef float F8 __attribute__((vector_size(32)));
+typedef int32_t I8 __attribute__((vector_size(32)));
 
-// Shao 2020 eq. (1), Shao 2020 eq. (2), Shao 2020 eq. (3), Shao 2020 eq. (4) over the w x h own cells of a (w+2) x (h+2) padded source
-// buffer. `weighted` is scratch of the padded size. No per-cell branches.
-template <bool kEvaporateNeighbourSum>
-void diffuse_padded(const float* src, const float* inv_n, float* weighted, std::size_t w, std::size_t h,
-                    const StepCoeffs& c, float* out) {
-  const std::size_t pw = w + 2;
-  weigh(src, inv_n, weighted, pw * (h + 2));
-  for (std::size_t y = 0; y < h; ++y) {
-    const float* up = weighted + y * pw;
-    diffuse_row<kEvaporateNeighbourSum>(up, up + pw, up + 2 * pw, src + (y + 1) * pw + 1, out + y * w, w, c);
-  }
+PHEROMESH_INLINE F8 load8(const float* p) {
+  F8 v;
+  std::memcpy(&v, p, sizeof v);
+  return v;
 }
+PHEROMESH_INLINE void store8(float* p, F8 v) { std::memcpy(p, &v, sizeof v); }
+PHEROMESH_INLINE F8 splat8(float f) { return F8{f, f, f, f, f, f, f, f}; }
 
-// s = v + k·d for one row of n cells.
-void make_sources(const float* __restrict v, const uint8_t* __restrict k, float d, float* __restrict s, std::size_t n) {
+// (v + k·d) / |N(j)| for a run of n cells: the source of Shao 2020 eq. (1)
+// or Shao 2020 eq. (3) and its share per neighbour, Shao 2020 eq. (2). kd holds
+// k·d per cell as source() adds it: d where the switch is on, +0 where it is
+// off.
+PHEROMESH_KERNEL void weigh_sources(const float* __restrict v, const float* __restrict kd,
+                                    const float* __restrict inv_n, float* __restrict weighted, std::size_t n) {
   std::size_t i = 0;
-  for (; i + kBlock <= n; i += kBlock) {
-    for (std::size_t l = 0; l < kBlock; ++l) s[i + l] = source(v[i + l], k[i + l], d);
+  for (; i + kBlock <= n; i += kBlock) store8(weighted + i, (load8(v + i) + load8(kd + i)) * load8(inv_n + i));
+  for (; i < n; ++i) weighted[i] = (v[i] + kd[i]) * inv_n[i];
+}
+
+// s / |N(j)| for n halo cells, whose sources s came from the neighbours.
+PHEROMESH_KERNEL void weigh_halo(const float* __restrict src, const float* __restrict inv_n, float* __restrict weighted,
+                                 std::size_t n) {
+  std::size_t i = 0;
+  for (; i + kBlock <= n; i += kBlock) store8(weighted + i, load8(src + i) * load8(inv_n + i));
+  for (; i < n; ++i) weighted[i] = src[i] * inv_n[i];
+}
+
+// The step coefficients in every lane, built once per run.
+struct StepCoeffs8 {
+  F8 self, g, evap;
+  explicit StepCoeffs8(const StepCoeffs& c) : self(splat8(c.self)), g(splat8(c.g)), evap(splat8(c.evap)) {}
+};
+
+// Shao 2020 eq. (1) or Shao 2020 eq. (3) for eight cells from their weighted
+// neighbour rows (u, m, d at the padded column left of the first cell).
+template <bool kEvaporateNeighbourSum>
+PHEROMESH_INLINE F8 combine8(const float* u, const float* m, const float* d, const float* v, const float* kd,
+                             const StepCoeffs8& c) {
+  // Same neighbour order as reference_diffuse; do not regroup.
+  const F8 nb =
+      load8(u) + load8(u + 1) + load8(u + 2) + load8(m) + load8(m + 2) + load8(d) + load8(d + 1) + load8(d + 2);
+  const F8 s = load8(v) + load8(kd);  // source()
+  if constexpr (kEvaporateNeighbourSum) {
+    return c.evap * (c.self * s + c.g * nb);  // Shao 2020 eq. (3)
+  } else {
+    return c.self * s + c.g * nb;  // Shao 2020 eq. (1)
   }
-  for (; i < n; ++i) s[i] = source(v[i], k[i], d);
+}
+
+// One output run of w cells that begins at a chunk (kChunk cells) of its row:
+// up/mid/dn are the weighted padded rows above, at and below (pointing at the
+// padded column left of the run's first cell), v the values and kd the
+// switches' k·d of the run (their sum is the source), o the output, which may
+// be v itself: each block of eight is read before it is written. active[i]
+// is set to whether chunk i of the run holds a value or a k·d that is not +0.
+constexpr std::size_t kChunk = RegionField::kChunkCells;
+static_assert(kChunk == 2 * kBlock, "a chunk is two blocks");
+template <bool kEvaporateNeighbourSum>
+PHEROMESH_INLINE void diffuse_run(const float* __restrict up, const float* __restrict mid, const float* __restrict dn,
+                                  const float* v, const float* __restrict kd, float* o, std::size_t w,
+                                  const StepCoeffs coeffs, uint8_t* __restrict active) {
+  const StepCoeffs c = coeffs;  // a local copy keeps the coefficients in registers
+  const StepCoeffs8 c8(c);
+  std::size_t x = 0;
+  for (; x + kChunk <= w; x += kChunk) {
+    const F8 a = combine8<kEvaporateNeighbourSum>(up + x, mid + x, dn + x, v + x, kd + x, c8);
+    const std::size_t y = x + kBlock;
+    const F8 b = combine8<kEvaporateNeighbourSum>(up + y, mid + y, dn + y, v + y, kd + y, c8);
+    store8(o + x, a);
+    store8(o + y, b);
+    const I8 bits = std::bit_cast<I8>(a) | std::bit_cast<I8>(b) | std::bit_cast<I8>(load8(kd + x)) |
+                    std::bit_cast<I8>(load8(kd + y));
+    // A lane that is not 0 settles it (in a field that is not +0 the first
+    // one nearly always does); else all eight are looked at.
+    int32_t any = bits[0];
+    if (any == 0) {
+      for (std::size_t l = 1; l < kBlock; ++l) any |= bits[l];
+    }
+    active[x / kChunk] = any != 0 ? 1 : 0;
+  }
+  if (x < w) {  // the last chunk of a row that is not a whole one
+    uint32_t any = 0;
+    for (std::size_t i = x; i < w; ++i) {
+      const float nb = up[i] + up[i + 1] + up[i + 2] + mid[i] + mid[i + 2] + dn[i] + dn[i + 1] + dn[i + 2];
+      o[i] = combine<kEvaporateNeighbourSum>(v[i] + kd[i], nb, c);
+      uint32_t b = 0;
+      uint32_t bk = 0;
+      std::memcpy(&b, o + i, sizeof b);
+      std::memcpy(&bk, kd + i, sizeof bk);
+      any |= b | bk;
+    }
+    active[x / kChunk] = any != 0 ? 1 : 0;
+  }
+}
+
+// Shao 2020 eq. (1) with Shao 2020 eq. (2) (target) and Shao 2020 eq. (3)
+// with Shao 2020 eq. (4) (obstacle), one clone each.
+PHEROMESH_KERNEL void diffuse_target_run(const float* up, const float* mid, const float* dn, const float* v,
+                                         const float* kd, float* o, std::size_t w, const StepCoeffs c,
+                                         uint8_t* active) {
+  diffuse_run<false>(up, mid, dn, v, kd, o, w, c, active);
+}
+PHEROMESH_KERNEL void diffuse_obstacle_run(const float* up, const float* mid, const float* dn, const float* v,
+                                           const float* kd, float* o, std::size_t w, const StepCoeffs c,
+                                           uint8_t* active) {
+  diffuse_run<true>(up, mid, dn, v, kd, o, w, c, active);
 }
 
 // σ = clamp(σ − Δσ, σmin, σ0), Shao 2020 eq. (5) and Shao 2020 eq. (8); clears Δσ.
-void update_path(float* __restrict sigma, float* __restrict delta, std::size_t n, float lo, float hi) {
+PHEROMESH_KERNEL void update_path(float* __restrict sigma, float* __restrict delta, std::size_t n, float lo, float hi) {
   std::size_t i = 0;
   for (; i + kBlock <= n; i += kBlock) {
     for (std::size_t l = 0; l < kBlock; ++l) {
@@ -143,6 +221,24 @@ void update_path(float* __restrict sigma, float* __restrict delta, std::size_t n
     sigma[i] = std::min(std::max(sigma[i] - delta[i], lo), hi);
     delta[i] = 0.0F;
   }
+}
+
+// Whether any of n floats is not +0 (the one float whose bits are all 0):
+// -0, denormals and NaN count as non-zero.
+bool any_nonzero_bits(const float* v, std::size_t n) {
+  uint32_t acc = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    uint32_t b = 0;
+    std::memcpy(&b, v + i, sizeof b);
+    acc |= b;
+  }
+  return acc != 0;
+}
+
+bool is_positive_zero(float f) {
+  uint32_t b = 1;
+  std::memcpy(&b, &f, sizeof b);
+  return b == 0;
 }
 
 // Index of cell (x, y) in the border ring of rect r (row-major over the border
@@ -246,14 +342,49 @@ RegionField::RegionField(const MapGeometry& geo, RegionId region, const ShaoLaye
   const auto ph = static_cast<std::size_t>(rect_.h) + 2;
   src_tau_.assign(pw * ph, 0.0F);
   src_eps_.assign(pw * ph, 0.0F);
-  weighted_.assign(pw * ph, 0.0F);
   inv_n_.assign(pw * ph, 0.0F);
+  chunks_ = (static_cast<std::size_t>(rect_.w) + kChunkCells - 1) / kChunkCells;
+  need_.assign(static_cast<std::size_t>(rect_.h) * chunks_, 0);
+  rows_.assign(3 * pw, 0.0F);
+  wanted_.assign(chunks_, 0);
+  for (int which = 0; which < 2; ++which) {
+    kd_[which].assign(cells, 0.0F);
+    active_[which].assign(static_cast<std::size_t>(rect_.h) * chunks_, 0);
+  }
+  // A cell whose neighbourhood holds only +0 sources computes
+  // combine(+0, +0): skipped only where that is +0 again (E, G in [0, 1]).
+  sparse_[0] = is_positive_zero(combine<false>(0.0F, 0.0F, make_coeffs(p_.e_tau, p_.g_tau, p_.d_tau, false)));
+  sparse_[1] = is_positive_zero(combine<true>(0.0F, 0.0F, make_coeffs(p_.e_eps, p_.g_eps, p_.d_eps, true)));
   // 1/|N(j)| from the whole map (a region border is not a map border); 0 for
   // halo cells outside the map, so they never contribute.
   for (std::size_t py = 0; py < ph; ++py) {
     for (std::size_t px = 0; px < pw; ++px) {
       const Cell c{rect_.x0 - 1 + static_cast<int32_t>(px), rect_.y0 - 1 + static_cast<int32_t>(py)};
       if (geo.in_map(c)) inv_n_[py * pw + px] = inv_count(geo.neighbour_count(c));
+    }
+  }
+  // Shao 2020 eq. (7) for every offset a visit reaches, once (the same
+  // doubles add_path_visit would compute), when the square is small.
+  if (p_.d0 >= 0.0 && p_.d0 <= kPathTableReach) {
+    const auto reach = static_cast<int64_t>(std::floor(p_.d0));
+    for (int64_t dy = -reach; dy <= reach; ++dy) {
+      for (int64_t dx = -reach; dx <= reach; ++dx) {
+        path_table_.push_back(path_decrease(std::sqrt(static_cast<double>(dx * dx + dy * dy)), p_));
+      }
+    }
+  }
+  // Most padded rows have the weights of row 1 or 2 (a map edge, the
+  // interior): read those, which stay in the first-level cache.
+  inv_row_.resize(ph);
+  for (std::size_t py = 0; py < ph; ++py) {
+    inv_row_[py] = py * pw;
+    for (const std::size_t q : {std::size_t{1}, std::size_t{2}}) {
+      if (q < py && std::equal(inv_n_.begin() + static_cast<std::ptrdiff_t>(py * pw),
+                               inv_n_.begin() + static_cast<std::ptrdiff_t>((py + 1) * pw),
+                               inv_n_.begin() + static_cast<std::ptrdiff_t>(q * pw))) {
+        inv_row_[py] = q * pw;
+        break;
+      }
     }
   }
 }
@@ -266,7 +397,18 @@ std::optional<std::size_t> RegionField::own_index(Cell c) const {
 
 std::span<const float> RegionField::layer(Layer l) const { return layers_[layer_index(l)]; }
 
-std::span<float> RegionField::mutable_layer(Layer l) { return layers_[layer_index(l)]; }
+std::span<float> RegionField::mutable_layer(Layer l) {
+  // What was +0 may not be any more: the next step computes every cell.
+  if (l == Layer::Target || l == Layer::Obstacle) {
+    const int which = l == Layer::Target ? 0 : 1;
+    full_[which] = true;
+    // Between begin_step and finish_step the step diffuses the sources of
+    // begin_step: keep the values they come from.
+    if (in_step_ && snapshot_[which].empty()) snapshot_[which] = layers_[layer_index(l)];
+  }
+  if (l == Layer::Path) path_full_ = true;
+  return layers_[layer_index(l)];
+}
 
 float RegionField::value(Layer l, Cell c) const {
   const auto i = own_index(c);
@@ -274,13 +416,43 @@ float RegionField::value(Layer l, Cell c) const {
   return i ? layers_[layer_index(l)][*i] : 0.0F;
 }
 
+void RegionField::copy_rect(Layer l, const Rect& r, float* out) const {
+  assert(r.w >= 0 && r.h >= 0 && rect_.contains({r.x0, r.y0}) && rect_.contains({r.x0 + r.w - 1, r.y0 + r.h - 1}));
+  const std::vector<float>& v = layers_[layer_index(l)];
+  const auto w = static_cast<std::size_t>(r.w);
+  for (int32_t y = r.y0; y < r.y0 + r.h; ++y) {
+    const auto from = static_cast<std::size_t>(y - rect_.y0) * static_cast<std::size_t>(rect_.w) +
+                      static_cast<std::size_t>(r.x0 - rect_.x0);
+    std::copy_n(v.data() + from, w, out);
+    out += w;
+  }
+}
+
 // Cells outside rect() are ignored by the setters: they may come from a peer.
 void RegionField::set_obstacle_switch(Cell c) {
-  if (const auto i = own_index(c)) k_eps_[*i] = 1;
+  if (const auto i = own_index(c)) {
+    k_eps_[*i] = 1;
+    set_kd(1, c, *i, static_cast<float>(p_.d_eps));
+  }
 }
 
 void RegionField::set_target_switch(Cell c, bool on) {
-  if (const auto i = own_index(c)) k_tau_[*i] = on ? 1 : 0;
+  if (const auto i = own_index(c)) {
+    k_tau_[*i] = on ? 1 : 0;
+    set_kd(0, c, *i, on ? static_cast<float>(p_.d_tau) : 0.0F);
+  }
+}
+
+void RegionField::set_kd(int which, Cell c, std::size_t i, float kd) {
+  // Between begin_step and finish_step the step diffuses the sources of
+  // begin_step: the switch joins them after it.
+  if (in_step_) {
+    pending_kd_.push_back({which, c, i, kd});
+    return;
+  }
+  kd_[which][i] = kd;
+  // Switched off, the chunk stays active until a step finds it all +0.
+  active_[which][chunk_of(c)] = 1;
 }
 
 bool RegionField::obstacle_switch(Cell c) const {
@@ -305,12 +477,23 @@ void RegionField::add_path_visit(Cell uav) {
   const int64_t x_hi = std::min<int64_t>(int64_t{uav.x} + reach, int64_t{rect_.x0} + rect_.w - 1);
   const int64_t y_lo = std::max<int64_t>(int64_t{uav.y} - reach, rect_.y0);
   const int64_t y_hi = std::min<int64_t>(int64_t{uav.y} + reach, int64_t{rect_.y0} + rect_.h - 1);
+  if (x_lo > x_hi || y_lo > y_hi) return;
+  // The next step updates σ inside this square only: elsewhere Δσ is 0.
+  path_visited_.push_back({static_cast<int32_t>(x_lo - rect_.x0), static_cast<int32_t>(y_lo - rect_.y0),
+                           static_cast<int32_t>(x_hi - x_lo + 1), static_cast<int32_t>(y_hi - y_lo + 1)});
+  const bool table = !path_table_.empty();
+  const auto side = static_cast<std::size_t>(2 * reach + 1);
   for (int64_t y = y_lo; y <= y_hi; ++y) {
     for (int64_t x = x_lo; x <= x_hi; ++x) {
       const int64_t dx = x - uav.x;
       const int64_t dy = y - uav.y;
-      const double dist = std::sqrt(static_cast<double>(dx * dx + dy * dy));  // D_ij [cell]
-      const double delta = path_decrease(dist, p_);                          // Shao 2020 eq. (7)
+      double delta = 0.0;
+      if (table) {
+        delta = path_table_[static_cast<std::size_t>(dy + reach) * side + static_cast<std::size_t>(dx + reach)];
+      } else {
+        const double dist = std::sqrt(static_cast<double>(dx * dx + dy * dy));  // D_ij [cell]
+        delta = path_decrease(dist, p_);                                        // Shao 2020 eq. (7)
+      }
       if (delta == 0.0) continue;
       const auto i = static_cast<std::size_t>(y - rect_.y0) * static_cast<std::size_t>(rect_.w) +
                      static_cast<std::size_t>(x - rect_.x0);
@@ -322,33 +505,31 @@ void RegionField::add_path_visit(Cell uav) {
 HaloRing RegionField::begin_step() {
   const auto w = static_cast<std::size_t>(rect_.w);
   const auto h = static_cast<std::size_t>(rect_.h);
-  const std::size_t pw = w + 2;
-  const float d_tau = static_cast<float>(p_.d_tau);
-  const float d_eps = static_cast<float>(p_.d_eps);
-  const float* tau = layers_[layer_index(Layer::Target)].data();
-  const float* eps = layers_[layer_index(Layer::Obstacle)].data();
-  // Sources s = v + k·d of Shao 2020 eq. (1), Shao 2020 eq. (2), Shao 2020 eq. (3), Shao 2020 eq. (4) into the interior of the padded
-  // buffers; the halo keeps what neighbours sent last.
-  for (std::size_t y = 0; y < h; ++y) {
-    float* st = src_tau_.data() + (y + 1) * pw + 1;
-    float* se = src_eps_.data() + (y + 1) * pw + 1;
-    const std::size_t row = y * w;
-    make_sources(tau + row, k_tau_.data() + row, d_tau, st, w);
-    make_sources(eps + row, k_eps_.data() + row, d_eps, se, w);
+  for (int which = 0; which < 2; ++which) {
+    if (full_[which]) std::fill(active_[which].begin(), active_[which].end(), uint8_t{1});
   }
-
+  in_step_ = true;
+  // The sources s = v + k·d of Shao 2020 eq. (1) and Shao 2020 eq. (3) on the
+  // border, for the neighbours' halos. finish_step takes the others from the
+  // same values and switches, which do not change before it.
   HaloRing ring;
   ring.region = region_;
   const std::size_t n = ring_size(rect_);
-  ring.target.reserve(n);
-  ring.obstacle.reserve(n);
-  const auto push = [&](std::size_t x, std::size_t y) {
-    const std::size_t p = (y + 1) * pw + (x + 1);
-    ring.target.push_back(src_tau_[p]);
-    ring.obstacle.push_back(src_eps_[p]);
+  ring.target.resize(n);
+  ring.obstacle.resize(n);
+  const float* tau = layers_[layer_index(Layer::Target)].data();
+  const float* eps = layers_[layer_index(Layer::Obstacle)].data();
+  const float* kd_tau = kd_[0].data();
+  const float* kd_eps = kd_[1].data();
+  std::size_t k = 0;
+  const auto put = [&](std::size_t x, std::size_t y) {
+    const std::size_t i = y * w + x;
+    ring.target[k] = tau[i] + kd_tau[i];
+    ring.obstacle[k] = eps[i] + kd_eps[i];
+    ++k;
   };
-  for_each_ring_cell(w, h, push);
-  assert(ring.target.size() == n);
+  for_each_ring_cell(w, h, put);
+  assert(k == n);
   return ring;
 }
 
@@ -369,30 +550,189 @@ void RegionField::accept_halo(const Rect& neighbour_rect, const HaloRing& ring) 
     src_tau_[p] = ring.target[*k];
     src_eps_[p] = ring.obstacle[*k];
   };
-  for (int64_t px = 0; px < pw; ++px) {
-    take(px, 0);
-    take(px, ph - 1);
+  // Only the part of our halo inside the neighbour's rect can be on its border.
+  const int64_t px_lo = std::max<int64_t>(int64_t{neighbour_rect.x0} - rect_.x0 + 1, 0);
+  const int64_t px_hi = std::min<int64_t>(int64_t{neighbour_rect.x0} + neighbour_rect.w - rect_.x0 + 1, pw);
+  const int64_t py_lo = std::max<int64_t>(int64_t{neighbour_rect.y0} - rect_.y0 + 1, 0);
+  const int64_t py_hi = std::min<int64_t>(int64_t{neighbour_rect.y0} + neighbour_rect.h - rect_.y0 + 1, ph);
+  if (px_lo >= px_hi || py_lo >= py_hi) return;
+  for (const int64_t py : {int64_t{0}, ph - 1}) {
+    if (py < py_lo || py >= py_hi) continue;
+    for (int64_t px = px_lo; px < px_hi; ++px) take(px, py);
   }
-  for (int64_t py = 1; py + 1 < ph; ++py) {
-    take(0, py);
-    take(pw - 1, py);
+  for (const int64_t px : {int64_t{0}, pw - 1}) {
+    if (px < px_lo || px >= px_hi) continue;
+    for (int64_t py = std::max<int64_t>(py_lo, 1); py < std::min<int64_t>(py_hi, ph - 1); ++py) take(px, py);
   }
 }
 
-void RegionField::finish_step() {
+namespace {
+
+// Calls f(begin, end) for each maximal run [begin, end) of non-zero flags.
+template <typename F>
+void for_each_run(const uint8_t* flags, std::size_t n, F&& f) {
+  for (std::size_t i = 0; i < n;) {
+    if (flags[i] == 0) {
+      ++i;
+      continue;
+    }
+    std::size_t e = i + 1;
+    while (e < n && flags[e] != 0) ++e;
+    f(i, e);
+    i = e;
+  }
+}
+
+}  // namespace
+
+bool RegionField::mark_needed(int which) {
   const auto w = static_cast<std::size_t>(rect_.w);
   const auto h = static_cast<std::size_t>(rect_.h);
-  diffuse_padded<false>(src_tau_.data(), inv_n_.data(), weighted_.data(), w, h,
-                        make_coeffs(p_.e_tau, p_.g_tau, p_.d_tau, false),
-                        layers_[layer_index(Layer::Target)].data());  // Shao 2020 eq. (1), Shao 2020 eq. (2)
-  diffuse_padded<true>(src_eps_.data(), inv_n_.data(), weighted_.data(), w, h,
-                       make_coeffs(p_.e_eps, p_.g_eps, p_.d_eps, true),
-                       layers_[layer_index(Layer::Obstacle)].data());  // Shao 2020 eq. (3), Shao 2020 eq. (4)
+  const std::size_t pw = w + 2;
+  const std::size_t ph = h + 2;
+  const float* halo = which == 0 ? src_tau_.data() : src_eps_.data();
+  const uint8_t* act = active_[which].data();
+  // Every chunk after mutable_layer, for coefficients that turn +0 into
+  // something else, and when every chunk is active anyway.
+  const bool all =
+      full_[which] || !sparse_[which] || std::find(act, act + h * chunks_, uint8_t{0}) == act + h * chunks_;
+  if (all) {
+    std::fill(need_.begin(), need_.end(), uint8_t{1});
+    return true;
+  }
+  for (std::size_t y = 0; y < h; ++y) {
+    uint8_t* need = need_.data() + y * chunks_;
+    // The rows above, at and below, then a chunk to each side.
+    const uint8_t* above = act + (y == 0 ? y : y - 1) * chunks_;
+    const uint8_t* at = act + y * chunks_;
+    const uint8_t* below = act + std::min(y + 1, h - 1) * chunks_;
+    uint8_t left = 0;
+    uint8_t here = above[0] | at[0] | below[0];
+    for (std::size_t i = 0; i < chunks_; ++i) {
+      const uint8_t right = i + 1 < chunks_ ? static_cast<uint8_t>(above[i + 1] | at[i + 1] | below[i + 1]) : 0;
+      need[i] = static_cast<uint8_t>(left | here | right);
+      left = here;
+      here = right;
+    }
+    for (const std::size_t py : {std::size_t{0}, ph - 1}) {  // the halo row above the first row, below the last
+      if ((py == 0 && y != 0) || (py == ph - 1 && y + 1 != h)) continue;
+      for (std::size_t i = 0; i < chunks_; ++i) {
+        const std::size_t x0 = i * kChunkCells;
+        const std::size_t x1 = std::min(x0 + kChunkCells, w) + 2;
+        if (any_nonzero_bits(halo + py * pw + x0, x1 - x0)) need[i] = 1;
+      }
+    }
+    for (std::size_t py = y; py < y + 3; ++py) {  // the halo columns left and right
+      if (any_nonzero_bits(halo + py * pw, 1)) need[0] = 1;
+      if (any_nonzero_bits(halo + py * pw + pw - 1, 1)) need[chunks_ - 1] = 1;
+    }
+  }
+  return false;
+}
 
-  // Path: σ(t+1) = σ(t) − Δσ(t), Shao 2020 eq. (5), clamped into [σmin, σ0], Shao 2020 eq. (8).
+void RegionField::weigh_row(int which, std::size_t py, bool all, const float* v) {
+  const auto w = static_cast<std::size_t>(rect_.w);
+  const auto h = static_cast<std::size_t>(rect_.h);
+  const std::size_t pw = w + 2;
+  const std::size_t ph = h + 2;
+  const float* kd = kd_[which].data();
+  float* dst = rows_.data() + (py % 3) * pw;
+  const float* inv = inv_n_.data() + inv_row_[py];
+  const float* hrow = (which == 0 ? src_tau_.data() : src_eps_.data()) + py * pw;
+  // The chunks the rows py - 2 .. py need.
+  uint8_t* wanted = wanted_.data();
+  std::fill(wanted, wanted + chunks_, static_cast<uint8_t>(all ? 1 : 0));
+  for (std::size_t y = py < 2 ? 0 : py - 2; !all && y <= std::min(py, h - 1); ++y) {
+    const uint8_t* need = need_.data() + y * chunks_;
+    for (std::size_t k = 0; k < chunks_; ++k) wanted[k] = static_cast<uint8_t>(wanted[k] | need[k]);
+  }
+  for_each_run(wanted, chunks_, [&](std::size_t i, std::size_t e) {
+    const std::size_t px0 = i * kChunkCells;  // padded columns [px0, px1)
+    const std::size_t px1 = std::min(e * kChunkCells, w) + 2;
+    if (py == 0 || py + 1 == ph) {  // a halo row
+      weigh_halo(hrow + px0, inv + px0, dst + px0, px1 - px0);
+      return;
+    }
+    const std::size_t in0 = std::max<std::size_t>(px0, 1);  // own columns [in0, in1)
+    const std::size_t in1 = std::min(px1, pw - 1);
+    if (px0 == 0) dst[0] = hrow[0] * inv[0];
+    const std::size_t row = (py - 1) * w;
+    weigh_sources(v + row + in0 - 1, kd + row + in0 - 1, inv + in0, dst + in0, in1 - in0);
+    if (px1 == pw) dst[pw - 1] = hrow[pw - 1] * inv[pw - 1];
+  });
+}
+
+void RegionField::diffuse(int which) {
+  const auto w = static_cast<std::size_t>(rect_.w);
+  const auto h = static_cast<std::size_t>(rect_.h);
+  const std::size_t pw = w + 2;
+  const bool target = which == 0;
+  const StepCoeffs c =
+      target ? make_coeffs(p_.e_tau, p_.g_tau, p_.d_tau, false) : make_coeffs(p_.e_eps, p_.g_eps, p_.d_eps, true);
+  const float* kd = kd_[which].data();
+  float* out = layers_[layer_index(target ? Layer::Target : Layer::Obstacle)].data();
+  // The values of begin_step (the same array unless mutable_layer was called since).
+  const float* v = snapshot_[which].empty() ? out : snapshot_[which].data();
+  uint8_t* act = active_[which].data();
+  // Which chunks of every row to compute, from the activity of begin_step
+  // (act is rewritten row by row below).
+  const bool all = mark_needed(which);
+  // Row y needs the shares of padded rows y, y + 1, y + 2, and its own
+  // values before it overwrites them: the shares of the row below it are
+  // taken first.
+  weigh_row(which, 0, all, v);
+  weigh_row(which, 1, all, v);
+  for (std::size_t y = 0; y < h; ++y) {
+    weigh_row(which, y + 2, all, v);
+    // Chunks left out have only +0 sources around: their cells stay +0 (sparse_).
+    for_each_run(need_.data() + y * chunks_, chunks_, [&](std::size_t i, std::size_t e) {
+      const std::size_t x0 = i * kChunkCells;
+      const std::size_t x1 = std::min(e * kChunkCells, w);
+      const float* up = rows_.data() + (y % 3) * pw + x0;
+      const float* mid = rows_.data() + ((y + 1) % 3) * pw + x0;
+      const float* dn = rows_.data() + ((y + 2) % 3) * pw + x0;
+      const std::size_t a = y * w + x0;
+      uint8_t* flags = act + y * chunks_ + i;
+      if (target) {
+        diffuse_target_run(up, mid, dn, v + a, kd + a, out + a, x1 - x0, c, flags);  // Shao 2020 eq. (1)
+      } else {
+        diffuse_obstacle_run(up, mid, dn, v + a, kd + a, out + a, x1 - x0, c, flags);  // Shao 2020 eq. (3)
+      }
+    });
+  }
+  full_[which] = false;
+  snapshot_[which].clear();
+}
+
+void RegionField::finish_step() {
+  if (rect_.w <= 0 || rect_.h <= 0) return;
+  diffuse(0);  // Shao 2020 eq. (1), Shao 2020 eq. (2)
+  diffuse(1);  // Shao 2020 eq. (3), Shao 2020 eq. (4)
+  in_step_ = false;
+  for (const PendingSwitch& sw : pending_kd_) set_kd(sw.which, sw.cell, sw.index, sw.kd);
+  pending_kd_.clear();
+
+  // Path: σ(t+1) = σ(t) − Δσ(t), Shao 2020 eq. (5), clamped into [σmin, σ0],
+  // Shao 2020 eq. (8). Where Δσ is 0 a clamped σ stays what it is, so only
+  // the visited squares are updated (every cell once after mutable_layer).
   const float lo = static_cast<float>(p_.sigma_min);
   const float hi = static_cast<float>(p_.sigma0);
-  update_path(layers_[layer_index(Layer::Path)].data(), path_delta_.data(), w * h, lo, hi);
+  float* sigma = layers_[layer_index(Layer::Path)].data();
+  const auto w = static_cast<std::size_t>(rect_.w);
+  if (path_full_) {
+    update_path(sigma, path_delta_.data(), w * static_cast<std::size_t>(rect_.h), lo, hi);
+    path_full_ = false;
+  } else {
+    // A cell in two squares is clamped twice: the second time with Δσ = 0,
+    // which leaves it as it is.
+    for (const Rect& r : path_visited_) {
+      for (int32_t y = r.y0; y < r.y0 + r.h; ++y) {
+        const std::size_t a = static_cast<std::size_t>(y) * w + static_cast<std::size_t>(r.x0);
+        update_path(sigma + a, path_delta_.data() + a, static_cast<std::size_t>(r.w), lo, hi);
+      }
+    }
+  }
+  path_visited_.clear();
 }
 
 // ---------------------------------------------------------------------------

@@ -94,21 +94,30 @@ bool PlaceCore::accept_halo(const HaloMsg& h) {
 
 void PlaceCore::finish_tick() { model_->finish_step(); }
 
+TileMsg PlaceCore::tile_layer(TileCoord t, int layer, uint32_t tick) const {
+  const Rect tr = geo_.tile_rect(t);
+  TileMsg m;
+  m.layer = static_cast<uint8_t>(layer);
+  m.tile = t;
+  m.tick = tick;
+  m.region = region_;
+  m.width = static_cast<uint16_t>(tr.w);
+  m.height = static_cast<uint16_t>(tr.h);
+  m.values.resize(static_cast<std::size_t>(tr.area()));
+  model_->copy_rect(layer, tr, m.values.data());
+  return m;
+}
+
+bool PlaceCore::tile(TileCoord t, uint32_t tick, std::vector<TileMsg>& out) const {
+  if (!geo_.valid_tile(t) || geo_.region_of_tile(t) != region_) return false;
+  for (int l = 0; l < layers_; ++l) out.push_back(tile_layer(t, l, tick));
+  return true;
+}
+
 void PlaceCore::tiles(uint32_t tick, TileSelection which, std::vector<TileMsg>& out) {
   for (std::size_t ti = 0; ti < tiles_.size(); ++ti) {
-    const Rect tr = geo_.tile_rect(tiles_[ti]);
     for (int l = 0; l < layers_; ++l) {
-      TileMsg m;
-      m.layer = static_cast<uint8_t>(l);
-      m.tile = tiles_[ti];
-      m.tick = tick;
-      m.region = region_;
-      m.width = static_cast<uint16_t>(tr.w);
-      m.height = static_cast<uint16_t>(tr.h);
-      m.values.reserve(static_cast<std::size_t>(tr.area()));
-      for (int32_t y = tr.y0; y < tr.y0 + tr.h; ++y) {
-        for (int32_t x = tr.x0; x < tr.x0 + tr.w; ++x) m.values.push_back(model_->value(l, {x, y}));
-      }
+      TileMsg m = tile_layer(tiles_[ti], l, tick);
       auto& last = published_[{ti, l}];
       if (which == TileSelection::Changed && last == m.values) continue;
       last = m.values;

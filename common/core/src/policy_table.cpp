@@ -70,6 +70,12 @@ PolicyTraits policy_traits(const ScenarioConfig& s) {
   PolicyTraits t = e.traits(s);
   t.broadcasts = e.broadcasts;
   t.layer_ranges.resize(t.layers.size(), ValueRange{0.0F, kMaxLayerValue});
+  // Every UAV's start cell once: uav_start is asked for each state and each
+  // deposit a gateway judges, and start_cell walks the whole start area.
+  if (t.starts.size() < s.uavs) {
+    const std::vector<Cell> all = start_cells(s);
+    t.starts.insert(t.starts.end(), all.begin() + static_cast<std::ptrdiff_t>(t.starts.size()), all.end());
+  }
   return t;
 }
 

@@ -11,11 +11,7 @@
 
 namespace pheromesh::core {
 
-std::vector<Cell> all_starts(const ScenarioConfig& s) {
-  std::vector<Cell> out;
-  for (uint32_t i = 0; i < s.uavs; ++i) out.push_back(start_cell(s, i));
-  return out;
-}
+std::vector<Cell> all_starts(const ScenarioConfig& s) { return start_cells(s); }
 
 RunRecorder::RunRecorder(const ScenarioConfig& scenario, const World& world)
     : scenario_(&scenario),

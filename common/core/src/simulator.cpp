@@ -215,10 +215,9 @@ void Simulator::step(uint32_t tick) {
       } else if (!blind) {
         u.begin_view();
         for (const TileCoord& t : u.neighbourhood()) {
-          auto it = tiles_.find({t.tx, t.ty});
-          if (it != tiles_.end()) {
-            for (const TileMsg& m : it->second) u.receive_tile(m);
-            tile_samples_[i] += it->second.size();
+          if (const std::vector<TileMsg>* layers = published_tile(t)) {
+            for (const TileMsg& m : *layers) u.receive_tile(m);
+            tile_samples_[i] += layers->size();
           }
           auto st = states_by_tile_.find({t.tx, t.ty});
           if (st != states_by_tile_.end()) {
@@ -296,14 +295,13 @@ void Simulator::step(uint32_t tick) {
   }
   last_rings_ = std::move(rings);
   for (const auto& e : events) recorder_.on_target_event(e);
-  // A dead region's tiles are in no view (its region is dark; core/faults.hpp).
-  std::vector<TileMsg> tiles;
-  for (std::size_t r = 0; r < places_.size(); ++r) {
-    if (region_dead(static_cast<RegionId>(r), tick)) continue;
-    places_[r]->tiles(tick, PlaceCore::TileSelection::All, tiles);
-  }
+  // The tiles of tick k, built when read (published_tile). A dead region's
+  // tiles are in no view (its region is dark; core/faults.hpp).
   tiles_.clear();
-  for (auto& t : tiles) tiles_[{t.tile.tx, t.tile.ty}].push_back(std::move(t));
+  tiles_complete_ = false;
+  tiles_tick_ = tick;
+  tiles_live_.assign(places_.size(), 0);
+  for (std::size_t r = 0; r < places_.size(); ++r) tiles_live_[r] = region_dead(static_cast<RegionId>(r), tick) ? 0 : 1;
   // Every live place agent's health of this tick, as a lockstep place agent
   // publishes it after its place phase (the per-tick ledger of series.csv).
   for (const auto& p : places_) {
@@ -311,6 +309,30 @@ void Simulator::step(uint32_t tick) {
     recorder_.on_health(health_of(*p, tick, false));
   }
   next_tick_ = tick + 1;
+}
+
+const std::vector<TileMsg>* Simulator::published_tile(TileCoord t) const {
+  if (!tiles_tick_ || !geo_.valid_tile(t)) return nullptr;
+  const auto key = std::make_pair(t.tx, t.ty);
+  if (auto it = tiles_.find(key); it != tiles_.end()) return &it->second;
+  const RegionId r = geo_.region_of_tile(t);
+  if (tiles_live_[r] == 0 || tiles_complete_) return nullptr;
+  // The place agents' fields do not change between their place phase and the
+  // next one, so a tile built now is the tile they published then.
+  std::vector<TileMsg> layers;
+  places_[r]->tile(t, *tiles_tick_, layers);
+  return &tiles_.emplace(key, std::move(layers)).first->second;
+}
+
+const std::map<std::pair<int32_t, int32_t>, std::vector<TileMsg>>& Simulator::tiles() const {
+  if (!tiles_complete_ && tiles_tick_) {
+    for (std::size_t r = 0; r < places_.size(); ++r) {
+      if (tiles_live_[r] == 0) continue;
+      for (const TileCoord& t : places_[r]->owned_tiles()) (void)published_tile(t);
+    }
+    tiles_complete_ = true;
+  }
+  return tiles_;
 }
 
 void Simulator::run(const std::function<void(uint32_t)>& on_tick) {

@@ -4,6 +4,7 @@
 // width is 1 cell; the constructor's geometry guarantees radius <= halo.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <optional>
 #include <span>
@@ -69,7 +70,14 @@ class RegionField {
   // Row-major values over rect() for one layer.
   [[nodiscard]] std::span<const float> layer(Layer l) const;
   [[nodiscard]] float value(Layer l, Cell c) const;  // c must be in rect()
-  // Direct write access, for tests and for restoring state.
+  // The values of layer l over r (inside rect()), row-major into out
+  // (r.area() values), a row at a time.
+  void copy_rect(Layer l, const Rect& r, float* out) const;
+  // Direct write access, for tests and for restoring state. The next step
+  // then updates every cell of the layer (it forgets which ones were +0), so
+  // write through the span before that step's begin_step(), not after (a
+  // call between begin_step() and finish_step() leaves that step's sources
+  // as begin_step() took them, and its writes are overwritten, as ever).
   [[nodiscard]] std::span<float> mutable_layer(Layer l);
 
   // Deposit switches. kε(i)=1 once an obstacle at i is marked (stays on).
@@ -92,10 +100,19 @@ class RegionField {
   //    that are not neighbours are ignored. Missing rings leave the last value
   //    (initially 0) in the halo.
   void accept_halo(const Rect& neighbour_rect, const HaloRing& ring);
-  // 3) Applies Shao 2020 eq. (1), Shao 2020 eq. (2), Shao 2020 eq. (3), Shao 2020 eq. (4) to target and obstacle layers using the halo, and
-  //    Shao 2020 eq. (5), Shao 2020 eq. (8) to the path layer with the visits accumulated since the
-  //    last step; clears the visits.
+  // 3) Applies Shao 2020 eq. (1), Shao 2020 eq. (2), Shao 2020 eq. (3),
+  //    Shao 2020 eq. (4) to target and obstacle layers using the halo, and
+  //    Shao 2020 eq. (5), Shao 2020 eq. (8) to the path layer with the visits
+  //    accumulated since the last step; clears the visits.
+  // A step costs what is not zero (issue 44): the cells of a layer whose
+  // whole 3 x 3 neighbourhood of sources is +0 keep their +0 without being
+  // computed (they would compute combine(+0, +0), which is +0 for the
+  // papers' coefficients; for others every cell is computed), and the path
+  // layer is updated only around the visits (σ − 0 clamped is σ again). The
+  // bits are those of computing every cell.
   void finish_step();
+  // Columns per chunk of the activity maps below.
+  static constexpr std::size_t kChunkCells = 16;
 
  private:
   const MapGeometry* geo_;
@@ -105,10 +122,55 @@ class RegionField {
   std::vector<float> layers_[kLayerCount];
   std::vector<uint8_t> k_tau_, k_eps_;
   std::vector<float> path_delta_;
-  // (w+2) x (h+2) padded sources with the halo around them, and the
-  // per-cell 1/|N(j)| weights for the padded area.
+  // (w+2) x (h+2) padded: the neighbours' sources in the halo cells (the
+  // interior is not used: finish_step takes the own sources from the values
+  // and switches), and the per-cell 1/|N(j)| weights.
   std::vector<float> src_tau_, src_eps_, inv_n_;
-  std::vector<float> weighted_;  // scratch, padded size: source * 1/|N(j)|
+  // The padded row py of inv_n_ begins at inv_row_[py] (an equal earlier row if any).
+  std::vector<std::size_t> inv_row_;
+  // Per diffused layer (0 target, 1 obstacle): k·d per own cell (d where
+  // the switch is on, +0 where it is off: what a source adds).
+  std::vector<float> kd_[2];
+  // Per diffused layer, one flag per row and chunk of kChunkCells columns:
+  // active (a value or a k·d is not +0; 0 means neither).
+  std::size_t chunks_ = 0;  // chunks per row
+  std::vector<uint8_t> active_[2];
+  std::vector<uint8_t> need_;        // scratch, per row and chunk: compute it this step
+  std::vector<float> rows_;          // scratch: three padded rows of shares s / |N(j)|
+  std::vector<uint8_t> wanted_;      // scratch, per chunk: the shares of a padded row to take
+  bool sparse_[2] = {false, false};  // combine(+0, +0) is +0 for the layer's coefficients
+  bool full_[2] = {true, true};      // compute every chunk at the next step (mutable_layer)
+  // Between begin_step and finish_step: switches set then wait for the end
+  // of the step, values written then (mutable_layer) are diffused from a
+  // copy taken before them, as begin_step saw them.
+  bool in_step_ = false;
+  struct PendingSwitch {
+    int which;
+    Cell cell;
+    std::size_t index;
+    float kd;
+  };
+  std::vector<PendingSwitch> pending_kd_;
+  std::vector<float> snapshot_[2];
+  void set_kd(int which, Cell c, std::size_t i, float kd);
+  // Path: the rects (local cells) visited since the last step; every cell
+  // when path_full_ (the first step, mutable_layer).
+  std::vector<Rect> path_visited_;
+  bool path_full_ = true;
+  // Shao 2020 eq. (7) per offset (dx, dy) in [-D0, D0]², row-major, when D0
+  // is at most kPathTableReach cells (empty otherwise: computed per visit).
+  static constexpr double kPathTableReach = 32.0;
+  std::vector<double> path_table_;
+  // Index of own cell c's chunk in active_ and sources_.
+  [[nodiscard]] std::size_t chunk_of(Cell c) const {
+    return static_cast<std::size_t>(c.y - rect_.y0) * chunks_ + static_cast<std::size_t>(c.x - rect_.x0) / kChunkCells;
+  }
+  // A diffused layer's step (0 target, 1 obstacle): which chunks of every
+  // row to compute into need_ (true: all of them), the shares of padded row
+  // py into rows_, and the step itself.
+  bool mark_needed(int which);
+  void weigh_row(int which, std::size_t py, bool all, const float* v);
+  void diffuse(int which);
   // Row-major index of c in rect(), or nothing if c is outside it.
   [[nodiscard]] std::optional<std::size_t> own_index(Cell c) const;
 };

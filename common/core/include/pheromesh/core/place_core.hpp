@@ -68,6 +68,11 @@ class PlaceCore {
   // changed since the last call with Changed.
   enum class TileSelection : uint8_t { All, Changed };
   void tiles(uint32_t tick, TileSelection which, std::vector<TileMsg>& out);
+  // One tile's messages, every layer in order, as tiles(tick, All) gives them
+  // (the simulator builds only the tiles some UAV reads); false and nothing
+  // appended for a tile this region does not own. Leaves what Changed
+  // compares against untouched.
+  bool tile(TileCoord t, uint32_t tick, std::vector<TileMsg>& out) const;
 
   [[nodiscard]] const DepositLedger& ledger() const { return ledger_; }
   [[nodiscard]] float value(int layer, Cell c) const { return model_->value(layer, c); }  // c in the region
@@ -92,6 +97,7 @@ class PlaceCore {
   std::map<uint32_t, SeqMark> last_seq_;  // per UAV: highest applied deposit seq
   std::map<std::pair<std::size_t, int>, std::vector<float>> published_;  // (tile, layer) -> values last sent
   DepositLedger ledger_;
+  [[nodiscard]] TileMsg tile_layer(TileCoord t, int layer, uint32_t tick) const;
 };
 
 // A region's border ring as one neighbour receives it (local traffic): only

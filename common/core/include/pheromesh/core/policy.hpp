@@ -130,6 +130,14 @@ class PlaceModel {
   // The layer update of the tick.
   virtual void finish_step() = 0;
   [[nodiscard]] virtual float value(int layer, Cell c) const = 0;  // c inside the region
+  // The values of `layer` over `r` (inside the region), row-major into out
+  // (r.area() values): what value() gives cell by cell. A model that holds
+  // its layers as arrays copies rows instead (a tile a tick for every view).
+  virtual void copy_rect(int layer, const Rect& r, float* out) const {
+    for (int32_t y = r.y0; y < r.y0 + r.h; ++y) {
+      for (int32_t x = r.x0; x < r.x0 + r.w; ++x) *out++ = value(layer, {x, y});
+    }
+  }
 };
 
 std::unique_ptr<UavPolicy> make_uav_policy(const ScenarioConfig& s, const MapGeometry& geo, const World& world,

@@ -155,5 +155,7 @@ Result<ScenarioConfig> patch_scenario(const ScenarioConfig& base, std::string_vi
 // Start cell of UAV `id` (0-based): deterministic for the scenario (free cells
 // of start_area in row-major order, distributed round-robin).
 Cell start_cell(const ScenarioConfig& s, uint32_t id);
+// start_cell of every UAV 0..s.uavs-1, the start area walked once.
+std::vector<Cell> start_cells(const ScenarioConfig& s);
 
 }  // namespace pheromesh::core

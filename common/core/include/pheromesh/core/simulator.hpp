@@ -119,7 +119,8 @@ class Simulator {
   void keep_tracks() { recorder_.keep_tracks(); }
   // The tiles every place agent published at the end of the last tick (what
   // the UAVs read next), by (tx, ty): `pheromesh sim --record`'s console.
-  [[nodiscard]] const std::map<std::pair<int32_t, int32_t>, std::vector<TileMsg>>& tiles() const { return tiles_; }
+  // Built on demand: a tick builds only the tiles some UAV reads.
+  [[nodiscard]] const std::map<std::pair<int32_t, int32_t>, std::vector<TileMsg>>& tiles() const;
   [[nodiscard]] const ScenarioConfig& scenario() const { return scenario_; }
   [[nodiscard]] const World& world() const { return world_; }
   // Final field value of layer `layer` at c (from the place agent owning c).
@@ -144,7 +145,16 @@ class Simulator {
   std::vector<std::unique_ptr<PlaceCore>> places_;
   std::vector<uint64_t> deposits_sent_;
   std::vector<uint64_t> tile_samples_;
-  std::map<std::pair<int32_t, int32_t>, std::vector<TileMsg>> tiles_;  // tile -> its layers, latest place tick
+  // The tiles the live place agents published at the end of place tick
+  // tiles_tick_ (none before the first), built when first read: a UAV reads
+  // the few around it, and building every tile of a 400 x 400 map each tick
+  // cost more than flying the swarm (issue 44). tile -> its layers.
+  mutable std::map<std::pair<int32_t, int32_t>, std::vector<TileMsg>> tiles_;
+  mutable bool tiles_complete_ = false;  // tiles_ holds every published tile
+  std::optional<uint32_t> tiles_tick_;   // the place tick of the published tiles
+  std::vector<uint8_t> tiles_live_;      // per region: it published tiles at tiles_tick_
+  // The layers of tile t as published (nullptr: no live place agent published it).
+  const std::vector<TileMsg>* published_tile(TileCoord t) const;
   std::vector<std::vector<DepositMsg>> inbox_;                         // per region
   std::map<std::pair<int32_t, int32_t>, std::vector<UavStateMsg>> states_by_tile_;  // UAV states of the last tick
   std::vector<BroadcastMsg> broadcasts_;                                            // broadcasts of the last tick

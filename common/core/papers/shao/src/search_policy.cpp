@@ -288,6 +288,9 @@ class ShaoPlace final : public PlaceModel {
   }
   void finish_step() override { field_.finish_step(); }
   [[nodiscard]] float value(int layer, Cell c) const override { return field_.value(static_cast<Layer>(layer), c); }
+  void copy_rect(int layer, const Rect& r, float* out) const override {
+    field_.copy_rect(static_cast<Layer>(layer), r, out);
+  }
 
  private:
   RegionField field_;
