@@ -6,6 +6,7 @@
 #include <chrono>
 #include <vector>
 
+#include "pheromesh/core/messages.hpp"
 #include "pheromesh/core/place_vouch.hpp"
 #include "pheromesh/core/writer_latch.hpp"
 

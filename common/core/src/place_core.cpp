@@ -75,6 +75,10 @@ bool PlaceCore::refuses(const DepositMsg& d, uint32_t tick) const {
   return check_seq_reachable(d.seq, it->second.seq, tick - std::min(it->second.tick, tick)).has_value();
 }
 
+bool PlaceCore::refuses_outright(const DepositMsg& d, uint32_t tick) const {
+  return check_deposit(d, geo_, region_, layers_).has_value() || refuses(d, tick);
+}
+
 void PlaceCore::reject(const std::vector<DepositMsg>& deposits, const std::string& reason) {
   ledger_.received += deposits.size();
   if (!deposits.empty()) ledger_.rejected_by_reason[reason] += deposits.size();

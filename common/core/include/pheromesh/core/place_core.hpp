@@ -55,6 +55,9 @@ class PlaceCore {
   // outside the swarm, a sequence number far ahead): lockstep place agents
   // count only the others toward the deposits a tick announced.
   [[nodiscard]] bool refuses(const DepositMsg& d, uint32_t tick) const;
+  // begin_tick at `tick` would turn `d` away for what it says, whoever
+  // sent it: malformed for this region (check_deposit), or refuses(d, tick).
+  [[nodiscard]] bool refuses_outright(const DepositMsg& d, uint32_t tick) const;
   // Deposits that can no longer be applied (they arrived after the last
   // lockstep tick): counted as rejected with `reason`.
   void reject(const std::vector<DepositMsg>& deposits, const std::string& reason);
