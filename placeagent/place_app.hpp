@@ -1,6 +1,8 @@
 // pheromesh-place: owns the pheromone tiles of one region (the software twin
-// of an RFID tag / unattended ground sensor). The logic is core::PlaceCore;
-// this shell wires it to the bus and a clock. It is also the home of the
+// of an RFID tag / unattended ground sensor). The logic is core::PlaceCore,
+// what it makes of each received sample core::PlaceIntake's and the tiles
+// each view needs core::ViewServer's; this shell wires them to the bus and a
+// clock. It is also the home of the
 // UAVs with core::home_region(uav) == its region, and the backup gateway of
 // those whose home is the previous region once that one died
 // (core::gateway_region): it forwards their deposits for other regions to

@@ -80,6 +80,11 @@ class PlaceCore {
   [[nodiscard]] const std::vector<TileCoord>& owned_tiles() const { return tiles_; }
 
  private:
+  // The sequence rule, judged here only (begin_tick, refuses): `d`'s
+  // sequence number is beyond what its UAV can have reached by `tick` since
+  // its last applied deposit (check_seq_reachable). A repeated one is
+  // DepositDesk's (a copy) or begin_tick's (a duplicate) to drop.
+  [[nodiscard]] bool seq_far_ahead(const DepositMsg& d, uint32_t tick) const;
   MapGeometry geo_;
   RegionId region_;
   int layers_;
