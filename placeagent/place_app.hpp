@@ -1,6 +1,8 @@
 // pheromesh-place: owns the pheromone tiles of one region (the software twin
-// of an RFID tag / unattended ground sensor). The logic is core::PlaceCore;
-// this shell wires it to the bus and a clock. It is also the home of the
+// of an RFID tag / unattended ground sensor). The logic is core::PlaceCore,
+// what it makes of each received sample core::PlaceIntake's and the tiles
+// each view needs core::ViewServer's; this shell wires them to the bus and a
+// clock. It is also the home of the
 // UAVs with core::home_region(uav) == its region, and the backup gateway of
 // those whose home is the previous region once that one died
 // (core::gateway_region): it forwards their deposits for other regions to
@@ -14,7 +16,6 @@
 #include <optional>
 #include <set>
 #include <string>
-#include <unordered_map>
 #include <vector>
 
 #include "pheromesh/bus/bus.hpp"
@@ -23,7 +24,7 @@
 #include "pheromesh/core/intake.hpp"
 #include "pheromesh/core/lockstep_follower.hpp"
 #include "pheromesh/core/place_core.hpp"
-#include "pheromesh/core/place_vouch.hpp"
+#include "pheromesh/core/place_intake.hpp"
 #include "pheromesh/core/receipts.hpp"
 #include "pheromesh/core/scenario.hpp"
 #include "pheromesh/core/sender_judge.hpp"
@@ -38,6 +39,9 @@
 namespace spdlog {
 class logger;
 }
+namespace CLI {
+class App;
+}
 
 namespace pheromesh::placeagent {
 
@@ -48,6 +52,12 @@ struct PlaceConfig {
   double field_hz = 5.0;  // realtime: fields to the ground station per second (core::FieldToGround)
   uint32_t life = 1;      // 2..: started again after its death (pheromesh run's restart): no deposit history
 };
+
+// The flags of pheromesh-place (`replica`: --replica, checked 0..999).
+void add_place_options(CLI::App& app, PlaceConfig& cfg, uint32_t& replica);
+// The flags against the scenario: nullopt if they fit, else the exit code
+// (the reason logged).
+std::optional<int> check_place_config(const PlaceConfig& cfg, const core::ScenarioConfig& scenario);
 
 class PlaceApp {
  public:
@@ -97,9 +107,8 @@ class PlaceApp {
   void forward(const core::DepositMsg& d);
   void forward_failed(const core::DepositMsg& d, const char* why);
   void take_home_states(uint32_t tick);
-  void refuse_foreign_state(uint32_t uav);
-  // ", and the N deposits it carried" for a refusal of a state with deposits.
-  [[nodiscard]] std::string carried_note() const;
+  // The departures of UAVs' state writers: told to the ground station (in relayed_).
+  void take_departures();
   // A state of a UAV this place agent serves that check_home_state refused
   // (StateGate): told to the ground station, an empty view owed to the UAV.
   void answer_refused(const core::UavStateMsg& st);
@@ -143,20 +152,9 @@ class PlaceApp {
   // Lockstep, between phases and after the Stop: also takes (and relays) the
   // states of the UAVs it serves.
   void relay_idle();
-  // Who forwarded a deposit (issue 28, core/place_vouch.hpp). Realtime: a
-  // deposit another process forwards is taken only from a place agent's
-  // process (one heard writing its region's served UAVs first), parked
-  // while its process is not known as one, refused (foreign_writer) after
-  // PlaceVouch::park_for(). Lockstep: a UAV's gateway takes the UAV's
-  // deposits only from its states (no one else forwards them to it).
-  // Judges the forwarded deposits in taken_ from index `first`.
+  // Who forwarded a deposit (issue 28, core::PlaceIntake::judge_forwarded):
+  // judges the forwarded deposits in taken_ from index `first`.
   void judge_forwarded(std::size_t first);
-  void refuse_forwarded(const core::DepositMsg& d, const char* why);
-  // `participant` is the process this place agent latched `uav`'s state
-  // writer in, or it cannot tell (a detection or broadcast of `uav` comes
-  // up from it); after the latch's silence another process may.
-  [[nodiscard]] bool from_uav_process(uint32_t uav, uint64_t participant,
-                                      std::chrono::steady_clock::time_point now) const;
 
   PlaceConfig cfg_;
   core::ScenarioConfig scenario_;
@@ -185,7 +183,6 @@ class PlaceApp {
   std::set<core::RegionId> absent_;
   std::size_t absent_seen_ = 0;              // follower_.absent() entries handled
   bool replicated_ = false;                  // --standby swarm
-  core::SwarmNames names_;                   // the UAV ids and place agents (region, replica) the run has
   bool ready_ = false;                       // lockstep: Ready reported (or tick 0 began without it)
   bool linked_ = false;                      // note_linked()
   std::vector<core::PhaseDoneMsg> reports_;  // relay_reports' inbox
@@ -196,22 +193,19 @@ class PlaceApp {
   uint32_t current_tick_ = 0;
   std::optional<TickDemand> demand_;       // the tick under way's (lockstep)
   std::map<uint32_t, uint32_t> heard_at_;  // home UAV -> place tick of its newest state
-  // Each UAV's state writer, as first heard (a plausible forged state from
-  // another writer would become the "last accepted" one and get the UAV's
-  // own refused; issue 28). Its departure gives the UAV up, and so does a
-  // silence of a lease (realtime: a UAV writes every tick) or of 6 leases
-  // (lockstep: a waiting UAV writes again every second, and under packet
-  // loss a tick takes seconds). A restarted UAV needs the silence: its new
-  // writer keeps the instance alive, so the old one's going is no departure.
-  core::WriterLatch state_writers_;
-  // The one plausibility rule (core::StateGate): a refused state of a UAV it
-  // serves is answered - relayed to the ground station as such, and an
-  // empty view of its tick to the UAV (answer_refused, serve_views).
-  core::StateGate gate_;
-  std::vector<uint32_t> refused_views_;                 // UAVs owed an empty view at the next serve_views
-  std::unordered_map<uint32_t, uint64_t> uav_process_;  // UAV -> the process of its latched state writer
-  core::PlaceVouch forwarders_;                         // realtime: other place agents' processes (judge_forwarded)
-  core::Parked<core::DepositMsg> parked_deposits_;
+  // The judgement of every received sample (core::PlaceIntake): each UAV's
+  // state writer as first heard (a plausible forged state from another
+  // writer would become the "last accepted" one and get the UAV's own
+  // refused; issue 28), given up at its departure or after a silence of a
+  // lease (realtime: a UAV writes every tick) or of 6 leases (lockstep: a
+  // waiting UAV writes again every second, and under packet loss a tick
+  // takes seconds); the one plausibility rule (core::StateGate): a refused
+  // state of a UAV it serves is answered - relayed to the ground station as
+  // such, and an empty view of its tick to the UAV (answer_refused,
+  // serve_views); the other place agents' processes, which forward deposits.
+  core::PlaceIntake intake_;
+  std::vector<uint32_t> refused_views_;        // UAVs owed an empty view at the next serve_views
+  std::vector<core::IntakeVerdict> verdicts_;  // judge_forwarded's refusals
   // Reusable inboxes and outboxes.
   // uplinked_: deposits the UAVs' states carried, not yet routed (take_deposits).
   // carried_: those of the state take_home_states is judging.

@@ -284,6 +284,21 @@ TEST(PlacePlausibility, ASequenceNumberFarAheadDoesNotLockTheUavOut) {
   EXPECT_EQ(p.ledger().refused.total(), 1U);
 }
 
+TEST(PlacePlausibility, ADepositRefusedOutrightIsOneTheTickTurnsAwayForWhatItSaysWhoeverSentIt) {
+  // What a place agent leaves to its core whoever forwarded it
+  // (core::PlaceIntake::judge_forwarded): malformed, a UAV outside the
+  // swarm, a sequence number it cannot have reached (issue 43).
+  const ScenarioConfig s = small_test();
+  PlaceCore p(s, 0);
+  EXPECT_FALSE(p.refuses_outright(visit(1, 1, 0), 0));
+  EXPECT_TRUE(p.refuses_outright(visit(900000, 1, 0), 0));
+  EXPECT_TRUE(p.refuses_outright(visit(1, kMaxSeq, 0), 0));
+  DepositMsg malformed = visit(1, 1, 0);
+  malformed.kind = 200;
+  EXPECT_TRUE(p.refuses_outright(malformed, 0));
+  EXPECT_FALSE(p.refuses(malformed, 0)) << "refuses() judges the name and the sequence only";
+}
+
 TEST(PlacePlausibility, GuardASequenceNumberTheLedgerLatchesLocksTheUavOut) {
   // What the seq check prevents: a forged seq that is accepted (here one
   // within reach) becomes the UAV's last, and its real deposits below it are

@@ -42,7 +42,7 @@ HaloRing PlaceCore::begin_tick(std::vector<DepositMsg>& deposits, uint32_t tick,
     auto it = last_seq_.find(d.uav);
     const std::optional<uint32_t> last = it == last_seq_.end() ? std::nullopt : std::optional<uint32_t>(it->second.seq);
     if (!reason && last && d.seq <= *last) reason = "duplicate or out-of-order sequence number";
-    if (!reason && check_seq_reachable(d.seq, last, tick - (last ? std::min(it->second.tick, tick) : 0))) {
+    if (!reason && seq_far_ahead(d, tick)) {
       reason = "sequence number far ahead of the uav's";
       ledger_.refused.add(Refusal::SeqFarAhead);
     }
@@ -69,10 +69,17 @@ HaloRing PlaceCore::begin_tick(std::vector<DepositMsg>& deposits, uint32_t tick,
 }
 
 bool PlaceCore::refuses(const DepositMsg& d, uint32_t tick) const {
-  if (check_uav_id(d.uav, swarm_)) return true;
+  return check_uav_id(d.uav, swarm_).has_value() || seq_far_ahead(d, tick);
+}
+
+bool PlaceCore::seq_far_ahead(const DepositMsg& d, uint32_t tick) const {
   auto it = last_seq_.find(d.uav);
   if (it == last_seq_.end()) return check_seq_reachable(d.seq, std::nullopt, tick).has_value();
   return check_seq_reachable(d.seq, it->second.seq, tick - std::min(it->second.tick, tick)).has_value();
+}
+
+bool PlaceCore::refuses_outright(const DepositMsg& d, uint32_t tick) const {
+  return check_deposit(d, geo_, region_, layers_).has_value() || refuses(d, tick);
 }
 
 void PlaceCore::reject(const std::vector<DepositMsg>& deposits, const std::string& reason) {

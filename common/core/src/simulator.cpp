@@ -25,7 +25,7 @@ Simulator::Simulator(ScenarioConfig scenario)
 }
 
 bool Simulator::through_gateway(RegionId gateway, UavStateMsg s, uint32_t tick, CarriedDeposits* carried) {
-  // As the place agent's take_home_states (placeagent/place_tick.cpp).
+  // As the place agent's take_home_states (core::PlaceIntake::judge_state).
   const IntakeRules rules{geo_, places_.front()->layer_count(), traits_.layer_ranges, scenario_.uavs};
   auto it = accepted_.find({gateway, s.uav});
   const UavStateMsg* before = it == accepted_.end() ? nullptr : &it->second;

@@ -113,6 +113,28 @@ std::vector<TileCoord> ViewServer::needed_tiles(std::span<const uint32_t> uavs, 
   return out;
 }
 
+void ViewServer::tiles_for(RegionId home, uint32_t heard_since, int32_t margin, std::span<const TileMsg> own,
+                           std::vector<TileMsg>& out) const {
+  const std::vector<uint32_t> uavs = served_by(home, heard_since);
+  if (uavs.empty()) return;
+  std::map<std::pair<int32_t, int32_t>, std::vector<std::size_t>> by_tile;
+  for (std::size_t i = 0; i < own.size(); ++i) by_tile[{own[i].tile.tx, own[i].tile.ty}].push_back(i);
+  for (const TileCoord t : needed_tiles(uavs, margin)) {
+    auto it = by_tile.find({t.tx, t.ty});
+    if (it == by_tile.end()) continue;  // another region's tile
+    for (std::size_t i : it->second) out.push_back(own[i]);
+  }
+}
+
+std::vector<RegionId> ViewServer::owners_for(std::span<const uint32_t> uavs, int32_t margin, RegionId self) const {
+  std::set<RegionId> owners;
+  for (const TileCoord t : needed_tiles(uavs, margin)) {
+    const RegionId r = geo_.region_of_tile(t);
+    if (r != self) owners.insert(r);
+  }
+  return {owners.begin(), owners.end()};
+}
+
 std::vector<TileCoord> ViewServer::neighbourhood(Cell c) const { return geo_.tiles_within(c, radius_); }
 
 const UavStateMsg* ViewServer::state(uint32_t uav) const {

@@ -55,6 +55,9 @@ class PlaceCore {
   // outside the swarm, a sequence number far ahead): lockstep place agents
   // count only the others toward the deposits a tick announced.
   [[nodiscard]] bool refuses(const DepositMsg& d, uint32_t tick) const;
+  // begin_tick at `tick` would turn `d` away for what it says, whoever
+  // sent it: malformed for this region (check_deposit), or refuses(d, tick).
+  [[nodiscard]] bool refuses_outright(const DepositMsg& d, uint32_t tick) const;
   // Deposits that can no longer be applied (they arrived after the last
   // lockstep tick): counted as rejected with `reason`.
   void reject(const std::vector<DepositMsg>& deposits, const std::string& reason);
@@ -82,6 +85,11 @@ class PlaceCore {
   [[nodiscard]] const std::vector<TileCoord>& owned_tiles() const { return tiles_; }
 
  private:
+  // The sequence rule, judged here only (begin_tick, refuses): `d`'s
+  // sequence number is beyond what its UAV can have reached by `tick` since
+  // its last applied deposit (check_seq_reachable). A repeated one is
+  // DepositDesk's (a copy) or begin_tick's (a duplicate) to drop.
+  [[nodiscard]] bool seq_far_ahead(const DepositMsg& d, uint32_t tick) const;
   MapGeometry geo_;
   RegionId region_;
   int layers_;

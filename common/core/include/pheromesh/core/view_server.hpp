@@ -67,6 +67,15 @@ class ViewServer {
   // their view cells, each widened by `margin` cells), sorted, without repeats;
   // UAVs whose state is unknown add nothing.
   [[nodiscard]] std::vector<TileCoord> needed_tiles(std::span<const uint32_t> uavs, int32_t margin = 0) const;
+  // The tile join (issue 43): of `own` (this region's tiles of a tick),
+  // those the views of the UAVs `home` serves need (served_by(home,
+  // heard_since), needed_tiles with `margin`), appended to `out` in the
+  // order of needed_tiles, each tile's layers in their order in `own`.
+  void tiles_for(RegionId home, uint32_t heard_since, int32_t margin, std::span<const TileMsg> own,
+                 std::vector<TileMsg>& out) const;
+  // The regions other than `self` whose tiles the views of `uavs` need
+  // (needed_tiles with `margin`), sorted, without repeats.
+  [[nodiscard]] std::vector<RegionId> owners_for(std::span<const uint32_t> uavs, int32_t margin, RegionId self) const;
 
   // The view of `uav` at (place) tick `tick` into `out`: the tiles of the
   // neighbourhood of its latest state's view cell that arrived at tick

@@ -1,0 +1,82 @@
+// The relays of a place agent (docs/architecture.md, "Relays"): the lockstep
+// tree (clocks down, its UAVs' reports up), its UAVs' detections and
+// broadcasts up, the swarm's broadcasts and the ground station's commands
+// down. Whether a sample goes on is core::PlaceIntake's judgement.
+#include <spdlog/spdlog.h>
+
+#include <chrono>
+#include <vector>
+
+#include "place_app.hpp"
+
+namespace pheromesh::placeagent {
+
+void PlaceApp::relay_uplinks() {
+  relay_reports();
+  // Detections and broadcasts of the UAVs it serves, up; the swarm's
+  // broadcasts (its own UAVs' among them, as it relayed them to "b"), down.
+  detections_up_.clear();
+  bus_->take_uplink_detections(detections_up_);
+  const auto now = std::chrono::steady_clock::now();
+  // Only of a UAV this place agent can be the gateway of (as its states),
+  // from the UAV's own process: the one that writes its states.
+  for (const auto& d : detections_up_) {
+    if (audit_.admit(intake_.judge_detection(d, now))) bus_->relay_detection(d);
+  }
+  // A broadcast goes on only if it is well formed and of a UAV of the swarm
+  // (going up: from the UAV's own process).
+  broadcasts_.clear();
+  bus_->take_uplink_broadcasts(broadcasts_);
+  for (const auto& b : broadcasts_) {
+    if (audit_.admit(intake_.judge_broadcast(b, /*up=*/true, now))) bus_->relay_broadcast_up(b);
+  }
+  broadcasts_.clear();
+  bus_->take_broadcasts(broadcasts_);
+  for (const auto& b : broadcasts_) {
+    if (audit_.admit(intake_.judge_broadcast(b, /*up=*/false, now))) bus_->relay_broadcast_down(b);
+  }
+  // The ground station's commands, as this place agent admitted them
+  // (each UAV checks their signatures again).
+  for (const auto& c : commands_->take()) bus_->relay_command(c);
+}
+
+void PlaceApp::relay_clock(const core::ClockMsg& c) {
+  bus_->relay_clock(c, cfg_.region);
+  ++clocks_relayed_;
+}
+
+void PlaceApp::relay_reports() {
+  // A report goes on as it came (the ground station checks it): the
+  // conductor keys it by its UAV, and with standbys the reader takes the
+  // owning replica's copy (exclusive ownership, bus/qos.hpp).
+  // Only a report of a UAV it can be the gateway of, from the UAV's own
+  // process (core::judge_uav_report), as its detections and broadcasts.
+  reports_.clear();
+  bus_->take_uav_reports(reports_);
+  const auto now = std::chrono::steady_clock::now();
+  for (const auto& m : reports_) {
+    if (!audit_.admit(intake_.judge_report(m, now))) continue;
+    bus_->publish_phase_done(m);
+    ++reports_relayed_;
+  }
+}
+
+void PlaceApp::keep_tree() {
+  if (!cfg_.common.lockstep()) return;
+  std::vector<core::ClockMsg> accepted;
+  runtime::take_clock(*bus_, follower_, audit_, &accepted);
+  for (const auto& c : accepted) relay_clock(c);
+  relay_uplinks();
+}
+
+void PlaceApp::relay_idle() {
+  // Between phases: the states of the UAV phase under way go to the ground
+  // station now (its conductor waits for them), and are this place agent's
+  // for the place phase that follows. A UAV whose home the clock lists
+  // absent from this tick on sends its state here already: adopt it first.
+  note_absent();
+  take_home_states(current_tick_);
+  relay_uplinks();
+}
+
+}  // namespace pheromesh::placeagent
