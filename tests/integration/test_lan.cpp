@@ -85,6 +85,23 @@ std::optional<double> number_in(const std::string& text, const std::string& re) 
   return std::nullopt;
 }
 
+// Every host's `pheromesh run` of small-test in cells (each in its
+// namespace, the same control key), with `args`; host I's output in
+// OUT/hostI.txt and its run in OUT/hostI.
+std::vector<Background> start_cell_hosts(const std::string& out, const std::string& args) {
+  const std::string key = run(kBin + "/pheromesh key").text.substr(0, 64);
+  std::vector<Background> hosts;
+  for (int i = 0; i < kHosts; ++i) {
+    hosts.push_back(start({"/bin/sh", "-c",
+                           "ip netns exec " + ns(i) + " env PHEROMESH_CONTROL_KEY=" + key + " " + kBin +
+                               "/pheromesh run " + kSrc + "/scenarios/small-test.textproto --hosts 3 --host-index " +
+                               std::to_string(i) + " --dds-peers " + address(0) + "," + address(1) + "," + address(2) +
+                               " " + args + " --out " + out + "/host" + std::to_string(i) + " 2>&1"},
+                          out + "/host" + std::to_string(i) + ".txt"));
+  }
+  return hosts;
+}
+
 // The three hosts' launchers, then a monitor in the fourth namespace once the
 // swarm flies; checks the swarm's metrics, each host's share and the monitor.
 // `standby`: every region has a standby on the next host, and host 0 kills
@@ -240,18 +257,8 @@ TEST(LanCells, ALockstepSwarmOverThreeHostsInCellsGivesTheSimulatorsNumbers) {
   LanNet net(/*drop_multicast=*/true);
   ASSERT_TRUE(net.ready());
   const std::string out = out_dir("lan-cells-lockstep");
-  const std::string key = run(kBin + "/pheromesh key").text.substr(0, 64);
   const std::string args = "--uavs 6 --ticks 150 --seed 4";
-  std::vector<Background> hosts;
-  for (int i = 0; i < kHosts; ++i) {
-    hosts.push_back(start({"/bin/sh", "-c",
-                           "ip netns exec " + ns(i) + " env PHEROMESH_CONTROL_KEY=" + key + " " + kBin +
-                               "/pheromesh run " + kSrc + "/scenarios/small-test.textproto --hosts 3 --host-index " +
-                               std::to_string(i) + " --dds-peers " + address(0) + "," + address(1) + "," + address(2) +
-                               " --domain 76 --clock lockstep --tracks " + args + " --out " + out + "/host" +
-                               std::to_string(i) + " 2>&1"},
-                          out + "/host" + std::to_string(i) + ".txt"));
-  }
+  const std::vector<Background> hosts = start_cell_hosts(out, "--domain 76 --clock lockstep --tracks " + args);
   for (int i = 0; i < kHosts; ++i) {
     EXPECT_EQ(wait_exit(hosts[static_cast<std::size_t>(i)].pid, std::chrono::seconds(180)), 0)
         << "host " << i << ":\n"
@@ -315,18 +322,9 @@ TEST(Lan, AHostWhoseLinkIsCutMidRunDarkensItsRegionAndItsUavFliesOnBesideItsHome
   LanNet net(/*drop_multicast=*/true);
   ASSERT_TRUE(net.ready());
   const std::string out = out_dir("lan-cut");
-  const std::string key = run(kBin + "/pheromesh key").text.substr(0, 64);
-  std::vector<Background> hosts;
   const auto t0 = Clock::now();
-  for (int i = 0; i < kHosts; ++i) {
-    hosts.push_back(start({"/bin/sh", "-c",
-                           "ip netns exec " + ns(i) + " env PHEROMESH_CONTROL_KEY=" + key + " " + kBin +
-                               "/pheromesh run " + kSrc + "/scenarios/small-test.textproto --hosts 3 --host-index " +
-                               std::to_string(i) + " --dds-peers " + address(0) + "," + address(1) + "," + address(2) +
-                               " --domain 77 --uavs 6 --ticks 375 --rate 25 --progress 0.5 --out " + out + "/host" +
-                               std::to_string(i) + " 2>&1"},
-                          out + "/host" + std::to_string(i) + ".txt"));
-  }
+  const std::vector<Background> hosts =
+      start_cell_hosts(out, "--domain 77 --uavs 6 --ticks 375 --rate 25 --progress 0.5");
   const std::string ground_txt = out + "/host0.txt";
   const auto started = [&] { return slurp(ground_txt).find("sent to the swarm") != std::string::npos; };
   while (!started() && Clock::now() - t0 < std::chrono::seconds(60))
