@@ -138,7 +138,7 @@ if [ "$PHEROMESH_DDS_PROFILE" = cells ] && [ -z "${PHEROMESH_CELL:-}" ]; then
   cell_env="$("$prefix/bin/pheromesh" cell "$role" "${at[@]}" --scenario "$(scenario)")" ||
     die "$role: no cell: pheromesh cell failed (above); set PHEROMESH_PLACE_NAME and PHEROMESH_GROUND_NAME to the hubs' names"
   while IFS= read -r line; do
-    [ -n "$line" ] && export "${line?}"
+    if [ -n "$line" ]; then export "${line?}"; fi
   done <<< "$cell_env"
 fi
 
