@@ -43,10 +43,11 @@ run() {
     [[ $stagger != 0 ]] && sleep "$stagger"
   done
   probes_stop "$out" "$n" "$timeout_s" "${pids[@]}"
-  local found median max
+  local found median max clean crashed worst
   read -r found median max < <(probes_times "$out")
-  printf "%-8s %4d %-7s all found by %4d/%-4d  median %6s s  max %6s s\n" "$vendor" "$n" "$mode" "$found" "$n" \
-    "$median" "$max"
+  read -r clean crashed worst < <(probes_ends "$out")
+  printf "%-8s %4d %-7s all found by %4d/%-4d  median %6s s  max %6s s  stopped: %d exit 0, %d crashed, worst code %d\n" \
+    "$vendor" "$n" "$mode" "$found" "$n" "$median" "$max" "$clean" "$crashed" "$worst"
 }
 echo "vendor      N mode    (time until a process has read every other one's record)"
 for vendor in $vendors; do

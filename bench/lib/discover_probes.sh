@@ -6,9 +6,14 @@
 #                        every probe stays until told (its record is
 #                        transient-local only while it lives): waits until all
 #                        N have heard every other one, or the probes' own
-#                        timeout (+5 s) has passed, then stops and reaps them
+#                        timeout (+5 s) has passed, then stops and reaps them;
+#                        each probe's exit code goes to OUT/exit-codes
 #   probes_times OUT     "FOUND MEDIAN MAX" of the probes that heard every
 #                        other one (seconds; "-" when none did)
+#   probes_ends OUT      how the probes ended: "CLEAN CRASHED WORST", CLEAN
+#                        those that exited 0 when stopped, CRASHED those
+#                        that died of a signal (code > 128: a segmentation
+#                        fault, an abort), WORST the highest code
 probes_stop() {
   local out=$1 n=$2 timeout_s=$3
   shift 3
@@ -18,7 +23,16 @@ probes_stop() {
     sleep 0.5
   done
   kill -TERM "$@" 2> /dev/null || true
-  for p in "$@"; do wait "$p" || true; done
+  local code
+  : > "$out/exit-codes"
+  for p in "$@"; do
+    code=0
+    wait "$p" || code=$?
+    echo "$code" >> "$out/exit-codes"
+  done
+}
+probes_ends() {
+  awk '$1 == 0 {c++} $1 > 128 {k++} $1 > w {w = $1} END {print c + 0, k + 0, w + 0}' "$1/exit-codes"
 }
 probes_times() {
   cat "$1"/*.txt | awk '/^discovered/ {print $4}' | sort -n |

@@ -55,16 +55,25 @@ TEST(PlaceVouch, ALaterLifeTakesItsIdFromAHolderSilentForASecondNotSooner) {
   EXPECT_FALSE(v.vouched(0xA));
 }
 
-TEST(PlaceVouch, ADepartureFreesTheIdAndTheProcessIsVouchedForOnlyByTheIdsItStillHolds) {
-  PlaceVouch v(2s);
+TEST(PlaceVouch, ADepartedIdGoesToTheNextProcessAndItsHolderIsVouchedForTillThen) {
+  PlaceVouch v(10s);  // a lockstep takeover
   ASSERT_TRUE(v.claim(1, 0xA, t0));
   ASSERT_TRUE(v.claim(2, 0xA, t0));  // a process that writes as two ids (tests)
-  v.release(1);
-  EXPECT_TRUE(v.vouched(0xA));
-  v.release(2);
-  EXPECT_FALSE(v.vouched(0xA));
+  v.departed(1);
+  v.departed(2);
+  EXPECT_TRUE(v.vouched(0xA)) << "a lapse under loss: its relays still arrive and are taken";
+  EXPECT_TRUE(v.speaks_for(1, 0xA));
+  // Place 1 was killed and started again: the new process takes id 1 at
+  // once (no takeover time), and the old one holds id 2 only.
   EXPECT_TRUE(v.claim(1, 0xC, t0 + 1ms));
-  EXPECT_EQ(v.park_for(), 4s) << "the takeover time and 2 s";
+  EXPECT_FALSE(v.speaks_for(1, 0xA));
+  EXPECT_TRUE(v.vouched(0xA));
+  // Place 2's holder is heard again (its health): the id is closed again.
+  v.heard(2, 0xA, t0 + 2ms);
+  EXPECT_FALSE(v.claim(2, 0xD, t0 + 3ms)) << "its holder lives: a forger cannot take its id";
+  EXPECT_TRUE(v.claim(2, 0xD, t0 + 3ms + 10s)) << "silent for the takeover time";
+  EXPECT_FALSE(v.vouched(0xA));
+  EXPECT_EQ(v.park_for(), 12s) << "the takeover time and 2 s";
 }
 
 TEST(WriterLatch, HoldsAnyCountsTheKeysEachWriterHoldsAcrossTakeoversAndReleases) {

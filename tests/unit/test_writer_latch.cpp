@@ -37,6 +37,23 @@ TEST(WriterLatch, ADepartureFreesTheKeyForTheNextWriterAccepted) {
   EXPECT_FALSE(latch.allows(3, 0xA, t0 + 2ms));
 }
 
+TEST(WriterLatch, AnOpenedKeyIsKeptByItsHolderUntilAnotherWriterTakesIt) {
+  WriterLatch latch;
+  latch.hold(3, 0xA, t0);
+  latch.open(3);
+  EXPECT_EQ(latch.holder(3), 0xAU);
+  EXPECT_TRUE(latch.holds_any(0xA));
+  EXPECT_TRUE(latch.allows(3, 0xB, t0 + 1ms));
+  latch.heard(3, 0xB, t0 + 1ms);  // not its holder: changes nothing
+  EXPECT_TRUE(latch.allows(3, 0xB, t0 + 1ms));
+  latch.heard(3, 0xA, t0 + 2ms);  // its holder again: closed
+  EXPECT_FALSE(latch.allows(3, 0xB, t0 + 3ms));
+  latch.open(3);
+  latch.hold(3, 0xB, t0 + 4ms);
+  EXPECT_FALSE(latch.holds_any(0xA));
+  EXPECT_FALSE(latch.allows(3, 0xA, t0 + 5ms)) << "taken: closed for the old holder";
+}
+
 TEST(WriterLatch, WithoutATakeoverASilentHolderKeepsTheKey) {
   WriterLatch latch;  // lockstep
   latch.hold(3, 0xA, t0);

@@ -98,8 +98,8 @@ std::size_t GroundIntake::parked() const {
 }
 
 void GroundIntake::vouch(GroundSamples& in, Clock::time_point now) {
-  // A place agent gone: a process started again for it claims its id next.
-  for (uint32_t id : in.departed_places) places_.release(id);
+  // A place agent departed: a process started again for it may claim its id.
+  for (uint32_t id : in.departed_places) places_.departed(id);
   for (const auto& h : in.healths) places_.heard(core::place_id(h.region, h.replica), h.participant, now);
   // Only a place agent the run has, and only from the process that holds
   // its id (core::judge_place_sample): a health under another id would
@@ -243,9 +243,9 @@ void GroundIntake::note_lapse(Who who, uint32_t id) {
 }
 
 GroundIntake::Clock::duration GroundIntake::wait(const Liveness& l) const {
-  const Clock::duration half_lease = lease_ / 2;
-  if (pace_ == Pace::Realtime) return half_lease;
-  return std::clamp<Clock::duration>(2 * l.longest_silence, half_lease, 10 * lease_);
+  if (pace_ == Pace::Realtime) return lease_ / 2;
+  const Clock::duration floor = place_takeover(std::chrono::duration_cast<std::chrono::milliseconds>(lease_), pace_);
+  return std::clamp<Clock::duration>(2 * l.longest_silence, floor, 3 * floor);
 }
 
 void GroundIntake::judge_departures(Clock::time_point now, bool all) {

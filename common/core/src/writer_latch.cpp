@@ -5,7 +5,7 @@ namespace pheromesh::core {
 bool WriterLatch::allows(uint32_t key, uint64_t writer, Clock::time_point now) const {
   if (writer == 0) return true;
   const auto it = held_.find(key);
-  if (it == held_.end() || it->second.writer == writer) return true;
+  if (it == held_.end() || it->second.writer == writer || it->second.open) return true;
   return takeover_after_ && now - it->second.last >= *takeover_after_;
 }
 
@@ -24,6 +24,11 @@ void WriterLatch::release(uint32_t key) {
   held_.erase(it);
 }
 
+void WriterLatch::open(uint32_t key) {
+  const auto it = held_.find(key);
+  if (it != held_.end()) it->second.open = true;
+}
+
 void WriterLatch::drop_holder(uint64_t writer) {
   const auto it = keys_of_.find(writer);
   if (it != keys_of_.end() && --it->second == 0) keys_of_.erase(it);
@@ -31,7 +36,9 @@ void WriterLatch::drop_holder(uint64_t writer) {
 
 void WriterLatch::heard(uint32_t key, uint64_t writer, Clock::time_point now) {
   const auto it = held_.find(key);
-  if (it != held_.end() && writer != 0 && it->second.writer == writer) it->second.last = now;
+  if (it == held_.end() || writer == 0 || it->second.writer != writer) return;
+  it->second.last = now;
+  it->second.open = false;
 }
 
 bool WriterLatch::held(uint32_t key, Clock::time_point now) const {

@@ -157,9 +157,14 @@ class GroundIntake {
   // heard every tick period. In lockstep a live process is heard once a
   // tick, and a tick under packet loss takes seconds (each lost sample waits
   // for a quiet second before it is sent again): there it is twice the
-  // longest silence of that process so far, at least half a lease and at
-  // most ten leases (a 10-tick run under 30 % loss, whose ticks took up to
-  // 3.6 s, once reported a live process lost when the wait was half a lease).
+  // longest silence of that process so far, at least the lockstep takeover
+  // time (place_takeover: 10 s, or six leases) and at most three times
+  // that. 10-tick runs under 30 % loss reported a live process lost when
+  // the wait was half a lease (ticks of up to 3.6 s), and again when it was
+  // twice the longest silence from half a lease up: a place agent silent
+  // for 0.9 s until then was next heard 7 s after its departure, in tick 0.
+  // A process that died stalls the lockstep tick anyway; a later "lost"
+  // costs nothing, a false one misleads.
   // The conductor and the recorder are told of every departure at once.
   struct Liveness {
     Clock::time_point heard{};                  // its newest sample

@@ -43,6 +43,11 @@ class WriterLatch {
   // The key's writer departed (every writer of the key vanished): the next
   // writer heard holds it.
   void release(uint32_t key);
+  // The key's writer departed, perhaps only for a while (its liveliness
+  // lapsed under packet loss): any writer may take the key now, but its
+  // holder keeps it - and counts in holds_any - until another writer holds
+  // it. Heard again (heard), the holder closes the key again.
+  void open(uint32_t key);
   [[nodiscard]] std::optional<uint64_t> holder(uint32_t key) const;
   // The key is held by a writer not silent for the takeover time.
   [[nodiscard]] bool held(uint32_t key, Clock::time_point now) const;
@@ -57,6 +62,7 @@ class WriterLatch {
   struct Held {
     uint64_t writer = 0;
     Clock::time_point last{};
+    bool open = false;  // open(): any writer may take it
   };
   void drop_holder(uint64_t writer);
   std::optional<Clock::duration> takeover_after_;
