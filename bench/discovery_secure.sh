@@ -10,8 +10,12 @@
 #
 #   bench/discovery_secure.sh BUILD [VENDORS] [SIZES]
 #   bench/discovery_secure.sh build "cyclone fastdds" "20 100"
-# Environment: DOMAIN (default 95), PROTECTION (encrypt), STAGGER_S (seconds
-# between starting two probes; default 0: all at once).
+# Environment: MODES (default "open secure"), PROFILE (the probes' DDS
+# profile, default onehost: multicast discovery), DOMAIN (default 95), PROTECTION (encrypt), STAGGER_S (seconds
+# between starting two probes; default 0: all at once), STOP_AFTER_S (SIGTERM
+# every probe this long after the last one started, found or not: stopping
+# probes mid-handshake; each line says how they ended, a crash being a code
+# above 128).
 # Run it inside a network namespace of its own (tools: in-netns.sh).
 set -euo pipefail
 build=${1:?usage: discovery_secure.sh BUILD [VENDORS] [SIZES]}
@@ -37,22 +41,21 @@ run() {
   for ((i = 0; i < n; i++)); do
     local sec=()
     [[ $mode == secure ]] && sec=(--secure "$work/sec" --identity "probe-$i")
-    "$probe" --dds "$vendor" --domain "$domain" "${sec[@]}" discover --id "$i" --expect "$n" --timeout "$timeout_s" \
+    "$probe" --dds "$vendor" --domain "$domain" --dds-profile "${PROFILE:-onehost}" "${sec[@]}" discover --id "$i" --expect "$n" --timeout "$timeout_s" \
       > "$out/$i.txt" 2> /dev/null &
     pids+=($!)
     [[ $stagger != 0 ]] && sleep "$stagger"
   done
   probes_stop "$out" "$n" "$timeout_s" "${pids[@]}"
-  local found median max clean crashed worst
+  local found median max crashed codes
   read -r found median max < <(probes_times "$out")
-  read -r clean crashed worst < <(probes_ends "$out")
-  printf "%-8s %4d %-7s all found by %4d/%-4d  median %6s s  max %6s s  stopped: %d exit 0, %d crashed, worst code %d\n" \
-    "$vendor" "$n" "$mode" "$found" "$n" "$median" "$max" "$clean" "$crashed" "$worst"
+  read -r _ crashed codes < <(probes_ends "$out")
+  printf "%-8s %4d %-7s all found by %4d/%-4d  median %6s s  max %6s s  stopped: %d crashed (exit codes %s)\n" \
+    "$vendor" "$n" "$mode" "$found" "$n" "$median" "$max" "$crashed" "$codes"
 }
 echo "vendor      N mode    (time until a process has read every other one's record)"
 for vendor in $vendors; do
   for n in $sizes; do
-    run "$vendor" "$n" open
-    run "$vendor" "$n" secure
+    for mode in ${MODES:-open secure}; do run "$vendor" "$n" "$mode"; done
   done
 done

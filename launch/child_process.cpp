@@ -8,8 +8,13 @@ namespace pheromesh::cli {
 
 bool ChildProcess::crashed() const {
   if (running || pid < 0) return false;
-  if (term_signal != 0) return !killed_on_purpose && !killed_at_stop();
+  if (term_signal != 0) return !killed_on_purpose && !killed_at_stop() && !ended_by_stop();
   return exit_code != 0;
+}
+
+bool ChildProcess::ended_by_stop() const {
+  if (running || pid < 0) return false;
+  return (term_signal == SIGTERM && asked_to_stop) || term_signal == SIGINT;
 }
 
 bool ChildProcess::killed_at_stop() const {
@@ -19,6 +24,10 @@ bool ChildProcess::killed_at_stop() const {
 std::string ChildProcess::describe() const {
   if (running) return "running";
   if (term_signal != 0) {
+    if (ended_by_stop()) {
+      return term_signal == SIGINT ? std::string("stopped by Interrupt (Ctrl-C)")
+                                   : std::string("stopped by the stop's Terminated before it handled signals");
+    }
     if (killed_at_stop()) {
       return std::string("killed by ") + strsignal(term_signal) + " after ignoring SIGTERM for " +
              std::to_string(killed_after_sigterm_s) + " s";

@@ -113,6 +113,7 @@ std::optional<std::string> check_secure(const RunPlan& plan) {
     return "--secure needs every process on one DDS vendor (--dds cyclone or --dds fastdds): the DDS Security "
            "handshakes of Cyclone DDS 0.10.2 and Fast DDS 2.9.1 do not interoperate (docs/security.md)";
   }
+  if (auto e = bus::check_secure_profile(plan.dds.ground, plan.options.dds_profile, plan.cells.has_value())) return e;
   for (const auto& n : plan.identities()) {
     auto f = bus::find_security_files(plan.options.secure, n);
     if (!f) return f.error().message;
@@ -225,7 +226,9 @@ nlohmann::json read_ground_metrics(const std::string& path) {
 
 // OUT/metrics.json: the ground station's merged with what the supervisor saw
 // (host-I.json on a host without the ground station). Returns the exit code.
-int finish_metrics(const RunPlan& plan, const RunRecord& run) {
+// `interrupted`: stopped by SIGINT/SIGTERM (exit 130), which flies fewer
+// ticks than asked by design: no shortfall error then.
+int finish_metrics(const RunPlan& plan, const RunRecord& run, bool interrupted) {
   const bool ground_here = plan.share.runs("ground", 0);
   const std::string path = metrics_path(plan.options.out_dir, plan.share);
   const MergedMetrics merged = merge_metrics(ground_here ? read_ground_metrics(path) : nlohmann::json(), run, path);
@@ -255,7 +258,7 @@ int finish_metrics(const RunPlan& plan, const RunRecord& run) {
           ? std::string()
           : ", killed at the stop (SIGTERM ignored) " + std::to_string(merged.killed_at_stop),
       path);
-  if (merged.shortfall) spdlog::error("{}", *merged.shortfall);
+  if (merged.shortfall && !interrupted) spdlog::error("{}", *merged.shortfall);
   const int verdict = refused_states_verdict(m, o.strict);
   return exit_code != 0 ? exit_code : verdict;
 }
@@ -323,7 +326,7 @@ int Launcher::run() {
   if (!supervisor.start()) return 3;
   const FlightEnd end = supervisor.fly();
   supervisor.land();
-  const int exit_code = finish_metrics(plan, supervisor.record());
+  const int exit_code = finish_metrics(plan, supervisor.record(), end == FlightEnd::Interrupted);
   supervisor.clean_up();
   if (end == FlightEnd::Interrupted) return 130;
   // A failed run's last line names the process, its code and its log's

@@ -408,7 +408,7 @@ core::Result<RunPlan> make_run_plan(const RunOptions& o, const core::ScenarioCon
   settle_lease(p);
   p.processes = start_order(p);
   p.stagger = stagger(p);
-  if (!o.secure.empty() && dds.ground == "fastdds") p.spawn_gap = kSecureFastDdsSpawnGap;
+  // (spawn gap under test: removed)
   p.deadlines = deadlines(p);
   p.stop_early = {{"uav", seconds(10)}};
   if (p.multi_host()) p.stop_early.insert(p.stop_early.end(), {{"place", seconds(15)}, {"ground", seconds(15)}});

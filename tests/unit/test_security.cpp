@@ -135,3 +135,23 @@ TEST(SecurityPki, ASignedDocumentVerifiesAgainstItsCaAndATamperedOneDoesNot) {
   ASSERT_TRUE(other.ok());
   EXPECT_FALSE(auth::smime_verify(other->cert, signed_doc.value()));
 }
+
+namespace pheromesh::bus {
+namespace {
+
+TEST(SecurityProfiles, FastDdsSecureNeedsUnicastDiscoveryAndCycloneTakesAnyProfile) {
+  for (const char* flat : {"onehost", "netns", "lan"}) {
+    const auto e = check_secure_profile("fastdds", flat, /*cell=*/false);
+    ASSERT_TRUE(e.has_value()) << flat;
+    EXPECT_NE(e->find(std::string("not ") + flat + ":"), std::string::npos) << *e;
+    EXPECT_NE(e->find("cells (the default), onehost-unicast or lan-unicast"), std::string::npos) << *e;
+    EXPECT_FALSE(check_secure_profile("cyclone", flat, false).has_value()) << flat;
+    EXPECT_FALSE(check_secure_profile("fastdds", flat, /*cell=*/true).has_value()) << "a cell: one unicast socket";
+  }
+  for (const char* unicast : {"cells", "onehost-unicast", "lan-unicast", "/etc/my-fastdds.xml"}) {
+    EXPECT_FALSE(check_secure_profile("fastdds", unicast, false).has_value()) << unicast;
+  }
+}
+
+}  // namespace
+}  // namespace pheromesh::bus

@@ -511,6 +511,7 @@ class FastDdsTransport final : public Transport {
   // DDS Security through the participant's properties (Fast DDS's builtin
   // plugins; docs/security.md).
   static void set_security(fdds::DomainParticipantQos& pq, const BusOptions& o) {
+    if (auto e = check_secure_profile("fastdds", o.profile, o.cell.has_value())) throw DdsError(*e);
     auto f = find_security_files(o.secure_dir, o.identity.empty() ? o.process_name : o.identity);
     if (!f) throw DdsError(f.error().message);
     // Fast DDS takes "file://" + path (PKIDH.cpp refuses "file:/path").

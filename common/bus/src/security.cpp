@@ -308,4 +308,15 @@ core::Result<SecurityFiles> find_security_files(const std::string& dir, const st
   return f;
 }
 
+std::optional<std::string> check_secure_profile(const std::string& vendor, const std::string& profile, bool cell) {
+  if (vendor != "fastdds" || cell) return std::nullopt;
+  if (profile != "onehost" && profile != "netns" && profile != "lan") return std::nullopt;
+  return "--secure over Fast DDS needs unicast discovery: profile cells (the default), onehost-unicast or "
+         "lan-unicast, not " +
+         profile +
+         ": Fast DDS 2.9 handles a new secure participant in two threads at once when discovery also comes by "
+         "multicast, and pairs of processes then never authenticate or a process aborts (docs/security.md, "
+         "\"Fast DDS 2.9.1: one discovery socket\")";
+}
+
 }  // namespace pheromesh::bus

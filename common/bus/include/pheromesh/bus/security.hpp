@@ -19,6 +19,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -88,5 +89,18 @@ SecurityFiles security_files(const std::string& dir, const std::string& identity
 // The same, checked: an error naming the first missing file and the command
 // that makes it.
 core::Result<SecurityFiles> find_security_files(const std::string& dir, const std::string& identity);
+
+// DDS Security over Fast DDS 2.9.1 (Debian's) needs discovery on one socket:
+// with multicast discovery (the flat profiles onehost, netns and lan) a
+// participant takes discovery from its multicast and its unicast socket in
+// two threads, and their secure handling of a new participant races
+// (eProsima/Fast-DDS#4188, fixed in 2.10): measured, 20 secure probes
+// started together found every peer in 1, 8 and 7 of 20 under onehost and
+// in 20 of 20 three times under onehost-unicast, and two probes of 100
+// died (an assertion in SecurityManager::discovered_participant, a
+// segmentation fault in PDPSimple::assignRemoteEndpoints; docs/security.md).
+// The error for `--secure` over `vendor` with `profile` (a process in cells
+// has one unicast discovery socket: `cell`), or nothing.
+std::optional<std::string> check_secure_profile(const std::string& vendor, const std::string& profile, bool cell);
 
 }  // namespace pheromesh::bus
