@@ -27,11 +27,6 @@ constexpr std::size_t kStaggerAbove = 64;
 // Each process adds discovery and shutdown work; the UAV deadline grows by
 // this much per process.
 constexpr milliseconds kDeadlinePerProcess{200};
-// --secure over Fast DDS: Fast DDS 2.9.1 leaves some pairs of secure
-// participants that start within the same instant unauthenticated for good
-// (measured: 4 of 10 probes started together never saw one peer in 120 s;
-// none when started 300 ms apart; docs/security.md). Start them apart.
-constexpr milliseconds kSecureFastDdsSpawnGap{300};
 
 bool onehost_profile(const std::string& profile) { return profile == "onehost" || profile == "onehost-unicast"; }
 
@@ -408,7 +403,6 @@ core::Result<RunPlan> make_run_plan(const RunOptions& o, const core::ScenarioCon
   settle_lease(p);
   p.processes = start_order(p);
   p.stagger = stagger(p);
-  // (spawn gap under test: removed)
   p.deadlines = deadlines(p);
   p.stop_early = {{"uav", seconds(10)}};
   if (p.multi_host()) p.stop_early.insert(p.stop_early.end(), {{"place", seconds(15)}, {"ground", seconds(15)}});
