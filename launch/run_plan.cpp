@@ -27,6 +27,12 @@ constexpr std::size_t kStaggerAbove = 64;
 // Each process adds discovery and shutdown work; the UAV deadline grows by
 // this much per process.
 constexpr milliseconds kDeadlinePerProcess{200};
+// --secure over Fast DDS: start the processes apart. Their PKI-DH handshakes
+// all at once swamp 2 cores: 117 secure processes in cells were discovered
+// in 35.6 s with the gap, in 113.6 s without it, and 5 625 deposits were
+// lost (2026-11-29, docs/security.md). The vendor race this gap was first
+// for is gone with unicast discovery (bus::check_secure_profile).
+constexpr milliseconds kSecureFastDdsSpawnGap{300};
 
 bool onehost_profile(const std::string& profile) { return profile == "onehost" || profile == "onehost-unicast"; }
 
@@ -403,6 +409,7 @@ core::Result<RunPlan> make_run_plan(const RunOptions& o, const core::ScenarioCon
   settle_lease(p);
   p.processes = start_order(p);
   p.stagger = stagger(p);
+  if (!o.secure.empty() && dds.ground == "fastdds") p.spawn_gap = kSecureFastDdsSpawnGap;
   p.deadlines = deadlines(p);
   p.stop_early = {{"uav", seconds(10)}};
   if (p.multi_host()) p.stop_early.insert(p.stop_early.end(), {{"place", seconds(15)}, {"ground", seconds(15)}});

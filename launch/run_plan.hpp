@@ -201,6 +201,9 @@ struct RunPlan {
   // sizes Cyclone's heartbeat (bus::kQuietHeartbeatAbove).
   uint32_t host_processes = 0;
   std::optional<Stagger> stagger;
+  // --secure over Fast DDS: processes start this far apart (run_plan.cpp,
+  // docs/security.md).
+  std::chrono::milliseconds spawn_gap{0};
   RunDeadlines deadlines{};
   // When the UAVs are over (interrupted, or past their deadline): the UAVs,
   // and over several hosts this host's place agents and ground station.

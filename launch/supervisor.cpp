@@ -192,6 +192,16 @@ void Supervisor::log_console_url(const std::string& token) const {
   }
 }
 
+void Supervisor::wait_spawn_gap() {
+  if (plan_.spawn_gap.count() == 0) return;
+  const auto until = last_spawn_ + plan_.spawn_gap;
+  while (Clock::now() < until) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    reap();
+  }
+  last_spawn_ = Clock::now();
+}
+
 uint32_t Supervisor::participant_for(const std::string& name) const {
   // A restarted process gets its old id (its ports are free).
   const auto known = participant_of_.find(name);
@@ -199,6 +209,7 @@ uint32_t Supervisor::participant_for(const std::string& name) const {
 }
 
 void Supervisor::spawn(PlannedProcess p) {
+  wait_spawn_gap();
   participant_of_[p.name] = p.participant_id;
   // Network faults: the process runs in its own network namespace.
   int netns_fd = -1;

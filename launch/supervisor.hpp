@@ -66,6 +66,7 @@ class Supervisor {
   std::optional<std::string> first_failure_;
   // Starting.
   void spawn(PlannedProcess p);
+  void wait_spawn_gap();
   // The Fast DDS participant id of a process: its earlier life's, or the
   // next of this host's numbering.
   [[nodiscard]] uint32_t participant_for(const std::string& name) const;
@@ -146,6 +147,7 @@ class Supervisor {
   std::map<std::string, uint32_t> participant_of_;  // process name -> Fast DDS participant id on this host
   std::map<uint32_t, uint32_t> lives_;              // uav -> restarts so far
   std::map<uint32_t, uint32_t> top_replica_;        // region -> highest replica number started
+  std::chrono::steady_clock::time_point last_spawn_{};
   pid_t discovery_server_pid_ = -1;
 
   // The control line.

@@ -428,6 +428,15 @@ TEST(RunPlan, ARestartedUavFliesTheTicksLeftWithItsDepositsNumberedAboveItsEarli
   EXPECT_EQ(value_of(standby, "--replica"), "2");
 }
 
+TEST(RunPlan, SecureFastDdsProcessesStartThreeHundredMillisecondsApart) {
+  RunOptions o = options();
+  o.secure = "/etc/phm";
+  EXPECT_EQ(plan_of(o, "fastdds").spawn_gap, milliseconds(300));
+  EXPECT_EQ(plan_of(o, "cyclone").spawn_gap, milliseconds(0));
+  o.secure.clear();
+  EXPECT_EQ(plan_of(o, "fastdds").spawn_gap, milliseconds(0));
+}
+
 }  // namespace
 }  // namespace pheromesh::cli
 
