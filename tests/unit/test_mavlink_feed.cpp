@@ -222,6 +222,20 @@ TEST(MavlinkFeed, LossesAndTargetsBecomeStatusTextsAndTheQueueIsBounded) {
     if (auto t = ml::decode<ml::StatusText>(f)) texts.push_back(t->text);
   }
   EXPECT_EQ(texts, (std::vector<std::string>{"place agent 1 lost", "target 0 found"}));
+  // A long line goes in chunks of 50 bytes under one id, numbered from 0.
+  const std::string long_line =
+      "target 1 at (7,22) first acquired by uav 3 at tick 117 (0.2 s after it was first seen)";
+  feed.note({IntakeNote::Kind::TargetAcquired, IntakeNote::Level::Info, long_line});
+  std::vector<ml::StatusText> chunks;
+  for (const auto& f : frames_of(feed.due(w.rec, t0 + 1ms))) {
+    if (auto t = ml::decode<ml::StatusText>(f)) chunks.push_back(*t);
+  }
+  ASSERT_EQ(chunks.size(), 2U);
+  EXPECT_EQ(chunks[0].text + chunks[1].text, long_line);
+  EXPECT_NE(chunks[0].id, 0);
+  EXPECT_EQ(chunks[1].id, chunks[0].id);
+  EXPECT_EQ(chunks[0].chunk_seq, 0);
+  EXPECT_EQ(chunks[1].chunk_seq, 1);
   for (std::size_t i = 0; i < kMavlinkTextQueue + 5; ++i) {
     feed.note({IntakeNote::Kind::UavLost, IntakeNote::Level::Warn, "uav lost"});
   }

@@ -25,7 +25,8 @@ uint16_t cdeg(double deg) { return static_cast<uint16_t>(std::lround(deg * 100.0
 
 core::Result<MavlinkTarget> parse_mavlink_target(std::string_view value, std::string_view flag) {
   const auto bad = [&](const std::string& why) -> core::Result<MavlinkTarget> {
-    return core::Error{std::string(flag) + " " + std::string(value) + ": " + why +
+    // CLI11 names the flag itself: with flag "" the message starts at the value.
+    return core::Error{(flag.empty() ? std::string() : std::string(flag) + " ") + std::string(value) + ": " + why +
                        "; give udp:HOST:PORT, e.g. udp:127.0.0.1:14550 (QGroundControl listens on UDP 14550)"};
   };
   constexpr std::string_view kScheme = "udp:";
@@ -110,14 +111,28 @@ std::vector<std::vector<uint8_t>> MavlinkFeed::due(const core::RunRecorder& rec,
     positions(rec, now, boot_ms);
   }
   while (!texts_.empty()) {
-    ml::StatusText t;
-    t.severity = ml::kSeverityNotice;
-    t.text = texts_.front();
+    status_text(texts_.front());
     texts_.pop_front();
-    put(ml::encode(t, {next_seq(kMavlinkGroundSysid), kMavlinkGroundSysid, kMavlinkCompid, 0}));
   }
   stats_.datagrams += out_.size();
   return std::move(out_);
+}
+
+void MavlinkFeed::status_text(const std::string& text) {
+  // A text longer than one STATUSTEXT goes in chunks of 50 bytes under one
+  // non-zero id, chunk_seq counting from 0 (common.xml, STATUSTEXT); a
+  // single chunk has id 0. Cut at kMavlinkTextChunks chunks.
+  const std::size_t n = ml::StatusText::kTextLen;
+  const std::size_t chunks = std::min<std::size_t>((text.size() + n - 1) / n, kMavlinkTextChunks);
+  if (chunks > 1 && ++text_id_ == 0) ++text_id_;
+  for (std::size_t c = 0; c < std::max<std::size_t>(chunks, 1); ++c) {
+    ml::StatusText t;
+    t.severity = ml::kSeverityNotice;
+    t.text = text.substr(std::min(text.size(), c * n), n);
+    t.id = chunks > 1 ? text_id_ : 0;
+    t.chunk_seq = static_cast<uint8_t>(c);
+    put(ml::encode(t, {next_seq(kMavlinkGroundSysid), kMavlinkGroundSysid, kMavlinkCompid, 0}));
+  }
 }
 
 void MavlinkFeed::heartbeats(const core::RunRecorder& rec) {

@@ -50,6 +50,7 @@ inline constexpr uint8_t kMavlinkGroundSysid = 251;         // the ground statio
 inline constexpr uint8_t kMavlinkCompid = 1;                // MAV_COMP_ID_AUTOPILOT1
 inline constexpr std::size_t kMavlinkDatagramBytes = 1200;  // frames are packed up to this (below any MTU)
 inline constexpr std::size_t kMavlinkTextQueue = 32;        // STATUSTEXTs waiting; more are counted and dropped
+inline constexpr std::size_t kMavlinkTextChunks = 4;        // a text is sent in at most 4 chunks of 50 bytes
 
 // A UAV's ADSB_VEHICLE ICAO address (24 bits, a block no real aircraft is
 // given by the examples we know: 0xFA0000 + id) and callsign ("PH" + id).
@@ -86,6 +87,7 @@ class MavlinkFeed {
   void heartbeats(const core::RunRecorder& rec);
   void positions(const core::RunRecorder& rec, Clock::time_point now, uint32_t boot_ms);
   void ground_status(const core::RunRecorder& rec);
+  void status_text(const std::string& text);
   void put(std::vector<uint8_t> frame);
   uint8_t next_seq(uint8_t sysid) { return seq_[sysid]++; }
 
@@ -98,6 +100,7 @@ class MavlinkFeed {
   bool paused_ = false;
   std::array<uint8_t, 256> seq_{};
   std::deque<std::string> texts_;
+  uint16_t text_id_ = 0;                            // of the last text sent in chunks
   std::map<uint32_t, Clock::time_point> heard_at_;  // by UAV: when its newest tick arrived (ADS-B tslc)
   std::map<uint32_t, uint32_t> heard_tick_;
   std::vector<std::vector<uint8_t>> out_;  // datagrams of the call under way
