@@ -124,9 +124,13 @@ uint8_t GroundApp::carry_out(const ml::CommandGate::Command& c) {
       break;
     }
     case A::Stop:
+      // pheromesh run's launcher stops the whole swarm in order; without one
+      // (several hosts, containers) the End of --until-done ends the run.
       what = "stop";
       if (cfg_.attach) {
         a = {409, "a monitor ends nothing"};
+      } else if (launcher_.connected()) {
+        a = launcher_.ask("stop");
       } else {
         end_run();
         a = ended_ ? console::ConsoleSource::Answer{200, "the End went out"}

@@ -2,7 +2,8 @@
 // by a MAVLink library nobody here wrote: web/e2e/mavlink_gcs.mjs decodes
 // the stream of a real `pheromesh run --mavlink` with node-mavlink and
 // mavlink-mappings (installed with the web console's npm tools), and sends
-// an unsigned and a signed pause. Domain 98.
+// an unsigned and a signed pause, a signed continue, then a signed disarm
+// that stops the run. Domain 98.
 #include <arpa/inet.h>
 #include <netinet/in.h>
 #include <sys/socket.h>
@@ -31,6 +32,7 @@ int free_udp_port() {
 }
 
 struct Track {
+  uint32_t tick;
   uint32_t uav;
   double x, y;  // [cell]
 };
@@ -44,7 +46,8 @@ std::vector<Track> read_tracks(const std::string& path) {
     std::stringstream s(line);
     std::string tick, uav, x, y;
     if (std::getline(s, tick, ',') && std::getline(s, uav, ',') && std::getline(s, x, ',') && std::getline(s, y, ',')) {
-      out.push_back({static_cast<uint32_t>(std::stoul(uav)), std::stod(x), std::stod(y)});
+      out.push_back({static_cast<uint32_t>(std::stoul(tick)), static_cast<uint32_t>(std::stoul(uav)), std::stod(x),
+                     std::stod(y)});
     }
   }
   return out;
@@ -78,9 +81,10 @@ TEST(Mavlink, NodeMavlinkDecodesTheSwarmAndOnlyASignedPauseStopsIt) {
   const int port = free_udp_port();
   const Frame geo{47.4, 8.5, 2.0};
   Background gcs = start({"/usr/bin/env", "node", script, "--port", std::to_string(port), "--uavs", "4", "--key-file",
-                          out + "/mavlink.key", "--report", report, "--timeout", "60"},
+                          out + "/mavlink.key", "--report", report, "--timeout", "60", "--stop", "1"},
                          out + "-gcs.txt");
-  // 750 ticks at 50 Hz: 15 s of flight, and the pause on top.
+  // 750 ticks at 50 Hz: 15 s of flight and the pause on top, were it not
+  // stopped from the station after about 8 s.
   Background run = start_run("small-test.textproto", out, 98,
                              "--tracks --mavlink udp:127.0.0.1:" + std::to_string(port) +
                                  " --mavlink-rate-hz 10 --set run.ticks=750 --set geo.origin_lat_deg=47.4 --set "
@@ -90,7 +94,11 @@ TEST(Mavlink, NodeMavlinkDecodesTheSwarmAndOnlyASignedPauseStopsIt) {
   EXPECT_EQ(gcs_rc, 0) << slurp(out + "-gcs.txt");
   const int run_rc = wait_exit(run.pid, std::chrono::seconds(90));
   run.pid = -1;
-  ASSERT_EQ(run_rc, 0) << slurp(out + ".txt");
+  // The station's stop is the operator's interrupt: the swarm stopped in
+  // order, the outputs written, exit 130 (docs/exit-codes.md).
+  ASSERT_EQ(run_rc, 130) << slurp(out + ".txt");
+  EXPECT_NE(slurp(out + ".txt").find("a MAVLink station's disarm"), std::string::npos) << slurp(out + ".txt");
+  ASSERT_FALSE(read_metrics(out).empty()) << "no metrics.json";
 
   const json r = json::parse(slurp(report));
   EXPECT_EQ(r["crc_errors"], 0);
@@ -105,6 +113,10 @@ TEST(Mavlink, NodeMavlinkDecodesTheSwarmAndOnlyASignedPauseStopsIt) {
   // station recorded for that UAV (OUT/tracks.csv, docs/outputs.md).
   const auto tracks = read_tracks(out + "/tracks.csv");
   ASSERT_FALSE(tracks.empty());
+  // The stop came long before tick 750.
+  uint32_t last_tick = 0;
+  for (const Track& t : tracks) last_tick = std::max(last_tick, t.tick);
+  EXPECT_LT(last_tick, 700U);
   std::size_t checked = 0;
   for (const auto& p : r["positions"]) {
     const uint32_t uav = p["sysid"].get<uint32_t>() - 1;
@@ -122,6 +134,6 @@ TEST(Mavlink, NodeMavlinkDecodesTheSwarmAndOnlyASignedPauseStopsIt) {
   // The ground station counted the unsigned pause and took the two signed commands.
   const json m = json::parse(slurp(out + "/mavlink.json"));
   EXPECT_GE(m["commands"]["unsigned_refused"].get<int>(), 1) << m.dump();
-  EXPECT_EQ(m["commands"]["accepted"], 2) << m.dump();
+  EXPECT_EQ(m["commands"]["accepted"], 3) << m.dump();
   EXPECT_EQ(m["commands"]["bad_signature"], 0) << m.dump();
 }

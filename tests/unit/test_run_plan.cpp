@@ -382,6 +382,9 @@ TEST(RunPlan, MavlinkGoesToTheGroundStationOnlyAndOnlyWhenAsked) {
   const RunPlan p = plan_of(o);
   EXPECT_EQ(value_of(process(p, "ground"), "--mavlink"), "udp:127.0.0.1:14550");
   EXPECT_DOUBLE_EQ(std::stod(value_of(process(p, "ground"), "--mavlink-rate-hz")), 2.5);
+  // The line to the launcher: a station's pause extends the deadline, its stop ends the run.
+  EXPECT_EQ(process(p, "ground").control, ControlLine::Fd3);
+  EXPECT_EQ(value_of(process(p, "ground"), "--launcher-fd"), "3");
   for (const PlannedProcess& c : p.processes) {
     if (c.name != "ground") EXPECT_FALSE(has(c, "--mavlink")) << c.name;
   }

@@ -11,7 +11,9 @@
 //   3. sends the same pause signed by node-mavlink with the key in
 //      --key-file: an ACCEPTED COMMAND_ACK, heartbeats turn STANDBY and the
 //      positions stop changing;
-//   4. sends a signed continue: ACCEPTED, and the UAVs fly again.
+//   4. sends a signed continue: ACCEPTED, and the UAVs fly again;
+//   5. with --stop, sends a signed disarm (MAV_CMD_COMPONENT_ARM_DISARM, 0):
+//      ACCEPTED, and the ground station ends the run (its frames stop).
 //
 // Writes --report (JSON: every GLOBAL_POSITION_INT decoded, the counters) and
 // exits 0 if every check held, 1 with the reason otherwise.
@@ -26,11 +28,11 @@ import {
   minimal,
 } from "node-mavlink";
 
-const usage = "node mavlink_gcs.mjs --port P --uavs N --key-file FILE --report FILE [--timeout S]";
-const flags = { timeout: "60" };
+const usage = "node mavlink_gcs.mjs --port P --uavs N --key-file FILE --report FILE [--timeout S] [--stop 1]";
+const flags = { timeout: "60", stop: "0" };
 for (let i = 2; i < process.argv.length; i += 2) {
   const name = process.argv[i].replace(/^--/, "");
-  if (!["port", "uavs", "key-file", "report", "timeout"].includes(name) || i + 1 >= process.argv.length) {
+  if (!["port", "uavs", "key-file", "report", "timeout", "stop"].includes(name) || i + 1 >= process.argv.length) {
     console.error(usage);
     process.exit(2);
   }
@@ -53,6 +55,7 @@ const MAV_TYPE_QUADROTOR = 2;
 const MAV_STATE_STANDBY = 3;
 const MAV_STATE_ACTIVE = 4;
 const MAV_CMD_DO_PAUSE_CONTINUE = 193;
+const MAV_CMD_COMPONENT_ARM_DISARM = 400;
 const MAV_RESULT_ACCEPTED = 0;
 
 // What was heard.
@@ -106,11 +109,11 @@ async function until(what, cond) {
 }
 
 let seq = 0;
-function commandLong(param1) {
+function commandLong(param1, command = MAV_CMD_DO_PAUSE_CONTINUE) {
   const c = new common.CommandLong();
   c.targetSystem = GROUND_SYSID;
   c.targetComponent = 1;
-  c.command = MAV_CMD_DO_PAUSE_CONTINUE;
+  c.command = command;
   c._param1 = param1;
   return c;
 }
@@ -124,9 +127,9 @@ async function sendUnsigned(param1) {
   const protocol = new MavLinkProtocolV2(255, 190);
   await send(protocol.serialize(commandLong(param1), seq++ & 255));
 }
-async function sendSigned(param1, key) {
+async function sendSigned(param1, key, command = MAV_CMD_DO_PAUSE_CONTINUE) {
   const protocol = new MavLinkProtocolV2(255, 190, MavLinkProtocolV2.IFLAG_SIGNED);
-  await send(protocol.sign(protocol.serialize(commandLong(param1), seq++ & 255), 1, key));
+  await send(protocol.sign(protocol.serialize(commandLong(param1, command), seq++ & 255), 1, key));
 }
 
 // The newest position of every UAV system.
@@ -192,6 +195,25 @@ async function main() {
   before = latest();
   await sleep(1500);
   expect(moved(before, latest()) > 0, "the UAVs fly again after continue");
+
+  // 5. Signed disarm: the run ends.
+  if (flags.stop === "1") {
+    await sleep(5);
+    await sendSigned(0, key, MAV_CMD_COMPONENT_ARM_DISARM);
+    await until("the COMMAND_ACK of the signed disarm", () => heard.acks.length >= 3);
+    expect(heard.acks[2].command === MAV_CMD_COMPONENT_ARM_DISARM && heard.acks[2].result === MAV_RESULT_ACCEPTED,
+      "the signed disarm (stop) is ACCEPTED");
+    let last = heard.packets;
+    let quietSince = Date.now();
+    await until("the ground station to fall silent (the run ended)", () => {
+      if (heard.packets !== last) {
+        last = heard.packets;
+        quietSince = Date.now();
+      }
+      return Date.now() - quietSince > 2000;
+    });
+    log("ok: the stream ended after the stop");
+  }
   expect(heard.crcErrors === 0, `no CRC error in ${heard.packets} packets`);
   expect(splitter.invalidPackages === 0 && splitter.unknownPackagesCount === 0,
     `node-mavlink found no invalid or unknown packet (valid ${splitter.validPackages})`);
