@@ -62,6 +62,7 @@ TEST(MavlinkAdsb, IcaoAddressAndCallsignComeFromTheUavId) {
 // A swarm of 300 UAVs on a 60 x 60 map of 2 m cells at 45° N 7° E, 10 Hz.
 struct Swarm {
   core::ScenarioConfig s;
+  core::MapGeometry geo;  // World keeps a pointer to it
   core::World world;
   core::RunRecorder rec;
   static core::ScenarioConfig scenario() {
@@ -73,7 +74,7 @@ struct Swarm {
     EXPECT_TRUE(r.ok()) << r.error().message;
     return r.value();
   }
-  Swarm() : s(scenario()), world(s.geometry(), s.obstacles, s.targets), rec(s, world) {}
+  Swarm() : s(scenario()), geo(s.geometry()), world(geo, s.obstacles, s.targets), rec(s, world) {}
   // At tick 1000 + t: any cell of the map is within reach of the start cell
   // (the recorder refuses a state the UAV could not have flown to).
   void state(uint32_t uav, uint32_t t, double x, double y, double vx = 0, double vy = 0) {
