@@ -27,13 +27,15 @@ namespace {
 
 // --mavlink and --mavlink-rate-hz of `run` and `attach`, checked as the
 // ground station checks them (console/mavlink_feed.hpp).
-void add_mavlink_options(CLI::App* c, std::string& target, double& rate_hz) {
-  c->add_option(
-       "--mavlink", target,
-       "Stream the swarm to a MAVLink ground-control station at udp:HOST:PORT (QGroundControl: "
-       "udp:127.0.0.1:14550): UAVs 0..249 as vehicles 1..250, every UAV as ADS-B traffic, the ground "
-       "station as system 251 with place-agent losses and found targets; it takes pause, continue and stop "
-       "signed with the swarm's MAVLink key, which the ground station writes to OUT/mavlink.key (docs/mavlink.md)")
+void add_mavlink_options(CLI::App* c, std::string& target, double& rate_hz, bool monitor) {
+  const std::string stream =
+      "Stream the swarm to a MAVLink ground-control station at udp:HOST:PORT (QGroundControl: "
+      "udp:127.0.0.1:14550): UAVs 0..249 as vehicles 1..250, every UAV as ADS-B traffic, the ground station as "
+      "system 251 with place-agent losses and found targets; ";
+  c->add_option("--mavlink", target,
+                stream + (monitor ? "a monitor takes no command from it (docs/mavlink.md)"
+                                  : "it takes pause, continue and stop signed with the swarm's MAVLink key, which "
+                                    "the ground station writes to OUT/mavlink.key (docs/mavlink.md)"))
       ->check([](const std::string& v) {
         const auto t = console::parse_mavlink_target(v, "");
         return t ? std::string() : t.error().message;
@@ -256,7 +258,7 @@ class FullCommands final : public ProcessCommands {
     r->add_flag("--no-record", ro.no_record, "Do not record the console");
     r->add_flag("--tracks", ro.tracks,
                 "The ground station also writes OUT/tracks.csv: every UAV state it heard (docs/outputs.md)");
-    add_mavlink_options(r, ro.mavlink, ro.mavlink_rate_hz);
+    add_mavlink_options(r, ro.mavlink, ro.mavlink_rate_hz, false);
 
     rp = app.add_subcommand("replay", "Serve the web console from a recording (OUT/console.phrec of `run --http`), "
                                             "with a time slider");
@@ -390,7 +392,7 @@ class FullCommands final : public ProcessCommands {
     at->add_option("--http-bind", ao.http_bind, "Address the console listens on (0.0.0.0: every interface)")
         ->capture_default_str();
     at->add_option("--record", ao.record, "Record the console to this file (for pheromesh replay)");
-    add_mavlink_options(at, ao.mavlink, ao.mavlink_rate_hz);
+    add_mavlink_options(at, ao.mavlink, ao.mavlink_rate_hz, true);
     at->add_option("--timeout", ao.timeout_s, "Longest wait for a running swarm [s], > 0")
         ->check(CLI::Range(0.01, 86400.0))
         ->capture_default_str();
