@@ -137,3 +137,21 @@ TEST(Mavlink, NodeMavlinkDecodesTheSwarmAndOnlyASignedPauseStopsIt) {
   EXPECT_EQ(m["commands"]["accepted"], 3) << m.dump();
   EXPECT_EQ(m["commands"]["bad_signature"], 0) << m.dump();
 }
+
+// A --mavlink that is not udp:HOST:PORT, or a rate out of range, is refused
+// by every program that takes it, naming the flag, before anything starts
+// (no DDS: these never get that far).
+TEST(Mavlink, ABadTargetOrRateIsRefusedNamingTheFlagBeforeAnythingStarts) {
+  const std::string scenario = kSrc + "/scenarios/small-test.textproto";
+  for (const std::string& program : {kBin + "/pheromesh run " + scenario, kBin + "/pheromesh attach --domain 98",
+                                     kBin + "/pheromesh-ground --scenario " + scenario}) {
+    const Output target = run(program + " --mavlink tcp:127.0.0.1:14550");
+    EXPECT_EQ(target.exit_code, 105) << program;  // a flag's value fails its check (docs/exit-codes.md)
+    EXPECT_NE(target.text.find("--mavlink"), std::string::npos) << target.text;
+    EXPECT_NE(target.text.find("give udp:HOST:PORT"), std::string::npos) << target.text;
+    const Output rate = run(program + " --mavlink udp:127.0.0.1:14550 --mavlink-rate-hz 50");
+    EXPECT_EQ(rate.exit_code, 105) << program;
+    EXPECT_NE(rate.text.find("--mavlink-rate-hz"), std::string::npos) << rate.text;
+    EXPECT_NE(rate.text.find("must be between 0.2 and 20 [Hz]"), std::string::npos) << rate.text;
+  }
+}
