@@ -5,24 +5,53 @@
 #include <CLI/CLI.hpp>
 #include <cstdlib>
 
-#include "launch/attach_command.hpp"
 #include "bench/commands/bench_lockstep.hpp"
 #include "bench/commands/bench_scale.hpp"
 #include "bench/commands/bench_soak.hpp"
+#include "launch/attach_command.hpp"
 #include "launch/cell_command.hpp"
 #include "launch/launcher.hpp"
 #include "pheromesh/bus/bus.hpp"
 #include "pheromesh/cliutil/command_line.hpp"
+#include "pheromesh/cliutil/scenario_paths.hpp"
+#include "pheromesh/console/mavlink_feed.hpp"
 #include "pheromesh/runtime/process.hpp"
 #include "process_commands.hpp"
 #include "replay_command.hpp"
 #include "scenario_overrides.hpp"
-#include "pheromesh/cliutil/scenario_paths.hpp"
 #include "security_command.hpp"
 
 namespace pheromesh::cli {
 
 namespace {
+
+// --mavlink and --mavlink-rate-hz of `run` and `attach`, checked as the
+// ground station checks them (console/mavlink_feed.hpp).
+void add_mavlink_options(CLI::App* c, std::string& target, double& rate_hz, bool monitor) {
+  const std::string stream =
+      "Stream the swarm to a MAVLink ground-control station at udp:HOST:PORT (QGroundControl: "
+      "udp:127.0.0.1:14550): UAVs 0..249 as vehicles 1..250, every UAV as ADS-B traffic, the ground station as "
+      "system 251 with place-agent losses and found targets; ";
+  c->add_option("--mavlink", target,
+                stream + (monitor ? "a monitor takes no command from it (docs/mavlink.md)"
+                                  : "it takes pause, continue and stop signed with the swarm's MAVLink key, which "
+                                    "the ground station writes to OUT/mavlink.key (docs/mavlink.md)"))
+      ->check([](const std::string& v) {
+        const auto t = console::parse_mavlink_target(v, "");
+        return t ? std::string() : t.error().message;
+      });
+  c->add_option("--mavlink-rate-hz", rate_hz,
+                "With --mavlink: position, attitude and ADS-B reports per UAV per second [Hz], 0.2..20 (heartbeats "
+                "at 1 Hz)")
+      ->capture_default_str()
+      ->check([](const std::string& v) {
+        char* end = nullptr;
+        const double hz = std::strtod(v.c_str(), &end);
+        if (end == v.c_str() || *end != '\0') return v + ": not a number";
+        const auto r = console::check_mavlink_rate(hz, "");
+        return r ? std::string() : r.error().message;
+      });
+}
 
 constexpr const char* kRunFooter = R"(FAULTS (--faults, and `fault:` lines in the scenario; docs/faults.md)
   One event per item, items separated by ';':
@@ -229,6 +258,7 @@ class FullCommands final : public ProcessCommands {
     r->add_flag("--no-record", ro.no_record, "Do not record the console");
     r->add_flag("--tracks", ro.tracks,
                 "The ground station also writes OUT/tracks.csv: every UAV state it heard (docs/outputs.md)");
+    add_mavlink_options(r, ro.mavlink, ro.mavlink_rate_hz, false);
 
     rp = app.add_subcommand("replay", "Serve the web console from a recording (OUT/console.phrec of `run --http`), "
                                             "with a time slider");
@@ -362,6 +392,7 @@ class FullCommands final : public ProcessCommands {
     at->add_option("--http-bind", ao.http_bind, "Address the console listens on (0.0.0.0: every interface)")
         ->capture_default_str();
     at->add_option("--record", ao.record, "Record the console to this file (for pheromesh replay)");
+    add_mavlink_options(at, ao.mavlink, ao.mavlink_rate_hz, true);
     at->add_option("--timeout", ao.timeout_s, "Longest wait for a running swarm [s], > 0")
         ->check(CLI::Range(0.01, 86400.0))
         ->capture_default_str();

@@ -144,6 +144,7 @@ void GroundApp::take_samples() {
 
 void GroundApp::log_notes(const console::GroundIntake::Notes& notes) {
   for (const auto& n : notes) {
+    if (mavlink_feed_) mavlink_feed_->note(n);
     log_->log(n.level == console::IntakeNote::Level::Warn ? spdlog::level::warn : spdlog::level::info, "{}", n.text);
   }
 }
@@ -211,6 +212,7 @@ int GroundApp::finish() {
   log_notes(intake_.judge_pending());
   print_progress();
   if (console_) close_console();
+  finish_mavlink();
   return write_results();
 }
 
@@ -301,6 +303,7 @@ int GroundApp::run() {
              cfg_.common.domain, bus_->vendor(), cfg_.common.clock, cfg_.expect_uavs, geo_.region_count());
   next_progress_ = Clock::now();
   start_console();
+  start_mavlink();
   bool ok = true;
   if (cfg_.common.lockstep() && !cfg_.attach) ok = conduct();
   if (cfg_.until_done && cfg_.common.lockstep()) end_run();

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "console_live.hpp"
+#include "mavlink_link.hpp"
 #include "pheromesh/auth/control.hpp"
 #include "pheromesh/bus/bus.hpp"
 #include "pheromesh/bus/resend.hpp"
@@ -19,6 +20,7 @@
 #include "pheromesh/console/frame_builder.hpp"
 #include "pheromesh/console/ground_intake.hpp"
 #include "pheromesh/console/launcher_link.hpp"
+#include "pheromesh/console/mavlink_feed.hpp"
 #include "pheromesh/console/recording.hpp"
 #include "pheromesh/console/server.hpp"
 #include "pheromesh/console/uncertainty.hpp"
@@ -27,6 +29,7 @@
 #include "pheromesh/core/run_metrics.hpp"
 #include "pheromesh/core/scenario.hpp"
 #include "pheromesh/core/world.hpp"
+#include "pheromesh/mavlink/command_gate.hpp"
 #include "pheromesh/runtime/process.hpp"
 
 namespace spdlog {
@@ -81,6 +84,10 @@ struct GroundConfig {
   // the scenario from the place agents, conducts nothing, starts and ends
   // nothing, sends no commands; it stops when every place agent finished.
   bool attach = false;
+  // --mavlink udp:HOST:PORT: stream the swarm to a MAVLink ground-control
+  // station and take its signed commands (docs/mavlink.md); empty: none.
+  std::string mavlink;
+  double mavlink_rate_hz = console::kMavlinkDefaultRateHz;  // [Hz] positions per UAV
 };
 
 class GroundApp {
@@ -131,6 +138,12 @@ class GroundApp {
   // The launcher or the console killed these.
   void drop_uav(uint32_t uav, uint32_t tick);
   void drop_region(core::RegionId r, uint32_t tick);
+
+  // --- MAVLink (ground_mavlink.cpp)
+  void start_mavlink();
+  void service_mavlink();                                     // the stream due now, and the commands that arrived
+  uint8_t carry_out(const mavlink::CommandGate::Command& c);  // its MAV_RESULT
+  void finish_mavlink();                                      // the totals: log and OUT/mavlink.json
 
   // --- the end
   int finish();
@@ -192,6 +205,13 @@ class GroundApp {
   bool paused_ = false;
   bool recording_failed_ = false;
   bool ended_ = false;  // --until-done: the End went out
+
+  // --- MAVLink
+  std::unique_ptr<MavlinkLink> mavlink_;
+  std::unique_ptr<console::MavlinkFeed> mavlink_feed_;
+  std::unique_ptr<mavlink::CommandGate> mavlink_gate_;
+  std::optional<mavlink::SecretKey> mavlink_key_;
+  uint64_t mavlink_refusals_logged_ = 0;
 };
 
 // pheromesh-ground --attach (attach.cpp): finds the running swarm on the

@@ -112,6 +112,7 @@ void GroundApp::close_console() {
 }
 
 void GroundApp::service() {
+  service_mavlink();
   if (!console_) return;
   for (auto& p : console_->take_pending()) p->done.set_value(execute(p->body, p->who));
   log_refusals();

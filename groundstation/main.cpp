@@ -10,6 +10,7 @@
 
 #include "ground_app.hpp"
 #include "pheromesh/cliutil/command_line.hpp"
+#include "pheromesh/console/mavlink_feed.hpp"
 #include "pheromesh/core/scenario.hpp"
 #ifdef PHEROMESH_WITH_PYTHON
 #include "pheromesh/pypolicy/enable.hpp"  // policies written in Python (docs/python.md)
@@ -70,6 +71,29 @@ int main(int argc, char** argv) {
       ->delimiter(',');
   app.add_option("--faults-timeout", cfg.faults_timeout_s, "Lockstep: longest wait for the launcher's answer to \"faults K\" [s]")
       ->capture_default_str();
+  app.add_option("--mavlink", cfg.mavlink,
+                 "Stream the swarm to a MAVLink ground-control station (QGroundControl, Mission Planner) at "
+                 "udp:HOST:PORT, e.g. udp:127.0.0.1:14550: UAVs 0..249 as vehicles (systems 1..250), every UAV as "
+                 "ADS-B traffic, this ground station as system 251; it takes pause, continue and stop signed with the "
+                 "swarm's MAVLink key, which it writes to OUT/mavlink.key (docs/mavlink.md)")
+      ->check([](const std::string& v) {
+        const auto t = console::parse_mavlink_target(v, "");
+        return t ? std::string() : t.error().message;
+      });
+  app.add_option("--mavlink-rate-hz", cfg.mavlink_rate_hz,
+                 "With --mavlink: position, attitude and ADS-B reports per UAV per second [Hz], 0.2..20 (heartbeats "
+                 "go at 1 Hz)")
+      ->capture_default_str()
+      ->check([](const std::string& v) {
+        double hz = 0;
+        try {
+          hz = std::stod(v);
+        } catch (const std::exception&) {
+          return v + ": not a number";
+        }
+        const auto r = console::check_mavlink_rate(hz, "");
+        return r ? std::string() : r.error().message;
+      });
   double attach_timeout_s = 60.0;
   app.add_flag("--attach", cfg.attach,
                "Monitor a running swarm found by its domain id alone: take the scenario and the run's options from its "

@@ -118,6 +118,9 @@ int run_attach(AttachOptions o) {
   if (!o.dds_peers.empty()) args.insert(args.end(), {"--dds-peers", o.dds_peers});
   if (o.http_port) args.insert(args.end(), {"--http", std::to_string(*o.http_port), "--http-bind", o.http_bind});
   if (!o.record.empty()) args.insert(args.end(), {"--record", o.record});
+  if (!o.mavlink.empty()) {
+    args.insert(args.end(), {"--mavlink", o.mavlink, "--mavlink-rate-hz", std::to_string(o.mavlink_rate_hz)});
+  }
   if (!o.secure.empty()) args.insert(args.end(), {"--secure", o.secure});
   std::error_code ec;
   std::filesystem::create_directories(o.out_dir, ec);

@@ -17,6 +17,8 @@ struct AttachOptions {
   std::optional<uint16_t> http_port;
   std::string http_bind = "127.0.0.1";
   std::string record;
+  std::string mavlink;           // stream to a MAVLink station, "udp:HOST:PORT" (docs/mavlink.md); empty: none
+  double mavlink_rate_hz = 4.0;  // [Hz]
   double timeout_s = 60;
   double progress_s = 1.0;
   std::string log_level = "info";

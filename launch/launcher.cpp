@@ -306,7 +306,8 @@ int Launcher::run() {
   }
   fs::create_directories(fs::path(plan.options.out_dir) / "logs");
   // Never leave an earlier run's files beside this one's (docs/outputs.md).
-  for (const char* f : {"metrics.json", "series.csv", "tracks.csv", "final_field.txt", "final_field.csv"}) {
+  for (const char* f : {"metrics.json", "series.csv", "tracks.csv", "final_field.txt", "final_field.csv",
+                        "mavlink.json", "mavlink.key"}) {
     fs::remove(fs::path(plan.options.out_dir) / f);
   }
   if (plan.process_scenario != o_.scenario) {

@@ -160,9 +160,13 @@ PlannedProcess ground(const RunPlan& p, uint32_t participant_id) {
   if (p.multi_host()) args.emplace_back("--until-done");
   if (o.start_timeout_s > 0) args.insert(args.end(), {"--start-timeout", std::to_string(o.start_timeout_s)});
   if (o.tracks) args.emplace_back("--tracks");
+  if (!o.mavlink.empty()) {
+    args.insert(args.end(), {"--mavlink", o.mavlink, "--mavlink-rate-hz", std::to_string(o.mavlink_rate_hz)});
+  }
   // The ground station's line to us: the console's kill / restart requests,
-  // and the lockstep conductor's `faults K`.
-  const bool control = o.http_port || p.lockstep_faults();
+  // the lockstep conductor's `faults K`, and pause / stop from a console or
+  // a MAVLink station (a pause extends the deadline; docs/mavlink.md).
+  const bool control = o.http_port || p.lockstep_faults() || !o.mavlink.empty();
   if (control) args.insert(args.end(), {"--launcher-fd", "3"});
   if (p.lockstep_faults()) {
     std::string list;

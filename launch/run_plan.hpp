@@ -82,6 +82,9 @@ struct RunOptions {
   std::string record;  // default with --http: OUT/console.phrec
   bool no_record = false;
   bool tracks = false;  // the ground station also writes OUT/tracks.csv
+  // The ground station streams to a MAVLink station (docs/mavlink.md): "udp:HOST:PORT", empty: none.
+  std::string mavlink;
+  double mavlink_rate_hz = 4.0;  // [Hz] (console::kMavlinkDefaultRateHz)
   std::string secure;  // DDS Security: the directory of `pheromesh security init` (docs/security.md)
   bool strict = false;  // a state refused as implausible fails the run (kExitRefusedStates)
 };

@@ -648,6 +648,13 @@ std::string Supervisor::handle_control(const std::string& line) {
     paused_since_.reset();
     return "ok resumed";
   }
+  if (line == "stop") {
+    // A MAVLink station's stop (docs/mavlink.md): as the operator's SIGINT,
+    // the swarm is stopped in order and the run ends as interrupted.
+    spdlog::warn("the ground station asks to stop the run (a MAVLink station's disarm): stopping the swarm");
+    runtime::request_shutdown();
+    return "ok stopping the swarm";
+  }
   if (line.rfind("faults ", 0) == 0) {
     const std::string k = line.substr(7);
     if (k.empty() || k.size() > 9 || k.find_first_not_of("0123456789") != std::string::npos) {

@@ -6,6 +6,8 @@
 #     src/policy_table.cpp, names each room's entry without including it),
 #     and nothing of the bus, the runtime, auth or the console;
 #   - auth, bus and runtime include nothing of the console;
+#   - the MAVLink library (common/mavlink) includes only itself, and the
+#     core nothing of it;
 #   - the UAV and place agent shells include no room and nothing of the console;
 #   - the ground station includes no room;
 #   - the front door (cli/) parses and dispatches; its rooms: launch/
@@ -40,6 +42,8 @@ report "the front door includes only the core, report and console" \
 report "the core includes no report" "$(inc common/core | grep -E '"pheromesh/report/')"
 report "the core includes no Python (pypolicy registers a hook: core/python_policy.hpp)" \
   "$(inc common/core | grep -E '"pheromesh/pypolicy/'; grep -rlE --include='*.hpp' --include='*.cpp' '#[[:space:]]*include[[:space:]]*[<"](Python\.h|pybind11/)' common/core)"
+report "the MAVLink library includes only itself" "$(inc common/mavlink | grep -vE '"pheromesh/mavlink/')"
+report "the core includes no MAVLink" "$(inc common/core | grep -E '"pheromesh/mavlink/')"
 report "auth, bus and runtime include nothing of the console" "$(inc common/auth common/bus common/runtime | grep -E '"pheromesh/console/')"
 report "UAV and place shells include no console and no room" "$(inc agent placeagent | grep -E "\"pheromesh/(console|$papers)/")"
 report "the ground station includes no room" "$(inc groundstation | grep -E "\"pheromesh/($papers)/")"

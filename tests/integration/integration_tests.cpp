@@ -2,9 +2,9 @@
 // Each test uses its own DDS domain so tests can run in parallel. Domains
 // 21-30 are used here; each test_policy_<name>.cpp takes its own:
 // shao_navigation 31, liu 32, shostak 33, ravankar 34, duan 35; vendors
-// 36-37; experiment --distributed 38; sweep --distributed 39 (test_sweep.cpp); faults 45-49; lan 70-74; plausibility (test_plausibility.cpp)
-// 80-81; console limits 85 (port 18660); security 90-93; cells 56-57 (test_cells.cpp). The Cli tests of
-// scenario limits start no DDS participant and use none.
+// 36-37; experiment --distributed 38; sweep --distributed 39 (test_sweep.cpp); faults 45-49; lan 70-74; plausibility
+// (test_plausibility.cpp) 80-81; console limits 85 (port 18660); security 90-93; cells 56-57 (test_cells.cpp); mavlink
+// 98 (test_mavlink.cpp, a free UDP port). The Cli tests of scenario limits start no DDS participant and use none.
 #include "harness.hpp"
 
 #include <fstream>

@@ -374,6 +374,22 @@ TEST(RunPlan, TheWebConsoleRecordsToTheOutputFolderUnlessToldOtherwise) {
   EXPECT_EQ(value_of(process(plan_of(o), "ground"), "--record"), "/tmp/x.phrec");
 }
 
+TEST(RunPlan, MavlinkGoesToTheGroundStationOnlyAndOnlyWhenAsked) {
+  RunOptions o = options();
+  EXPECT_FALSE(has(process(plan_of(o), "ground"), "--mavlink"));
+  o.mavlink = "udp:127.0.0.1:14550";
+  o.mavlink_rate_hz = 2.5;
+  const RunPlan p = plan_of(o);
+  EXPECT_EQ(value_of(process(p, "ground"), "--mavlink"), "udp:127.0.0.1:14550");
+  EXPECT_DOUBLE_EQ(std::stod(value_of(process(p, "ground"), "--mavlink-rate-hz")), 2.5);
+  // The line to the launcher: a station's pause extends the deadline, its stop ends the run.
+  EXPECT_EQ(process(p, "ground").control, ControlLine::Fd3);
+  EXPECT_EQ(value_of(process(p, "ground"), "--launcher-fd"), "3");
+  for (const PlannedProcess& c : p.processes) {
+    if (c.name != "ground") EXPECT_FALSE(has(c, "--mavlink")) << c.name;
+  }
+}
+
 TEST(RunPlan, AStandbyFaultMakesEveryProcessAStandbyRunWithoutStartingReplicas) {
   RunOptions o = options();
   o.faults_spec = "standby place:1 @2s";

@@ -105,7 +105,7 @@ TEST(ScenarioOverrides, AnUnknownComponentNamesItAndTheFieldsAtItsLevel) {
             "--set swarm.uav=20: 'uav' is not a field of swarm (Swarm); its fields: uavs, start_area");
   EXPECT_EQ(error_of(small_test({"swarms.uavs=20"})),
             "--set swarms.uavs=20: 'swarms' is not a field of the scenario; its fields: name, map, swarm, run, shao, "
-            "policy, fault");
+            "policy, fault, geo");
   EXPECT_NE(error_of(small_test({"swarm..uavs=2"})).find("is not a field path"), std::string::npos);
 }
 

@@ -128,6 +128,24 @@ void build_policy(const pb::Scenario& msg, const Node& root, Validator& v, Scena
   entry->parse(p.GetReflection()->GetMessage(p, member), pn.child(member->name().c_str()), v, cfg);
 }
 
+// scenario.geo: where the map lies on the Earth (geodetic.hpp).
+void build_geo(const pb::Scenario& msg, const Node& root, Validator& v, ScenarioConfig& cfg) {
+  if (!msg.has_geo()) return;
+  const pb::Geo& g = msg.geo();
+  const Node gn = root.child("geo");
+  GeoFrame& f = cfg.geo;
+  if (g.has_origin_lat_deg()) f.origin_lat_deg = g.origin_lat_deg();
+  if (g.has_origin_lon_deg()) f.origin_lon_deg = g.origin_lon_deg();
+  if (g.has_origin_alt_m()) f.origin_alt_m = g.origin_alt_m();
+  if (g.has_cell_size_m()) f.cell_size_m = g.cell_size_m();
+  if (g.has_flight_height_m()) f.flight_height_m = g.flight_height_m();
+  v.real_in(gn, "origin_lat_deg", f.origin_lat_deg, -kGeoMaxAbsLatDeg, false, kGeoMaxAbsLatDeg, false);
+  v.real_in(gn, "origin_lon_deg", f.origin_lon_deg, -180.0, false, 180.0, false);
+  v.real_in(gn, "origin_alt_m", f.origin_alt_m, kGeoMinAltM, false, kGeoMaxAltM, false);
+  v.real_in(gn, "cell_size_m", f.cell_size_m, 0.0, true, kGeoMaxCellSizeM, false);
+  v.real_in(gn, "flight_height_m", f.flight_height_m, 0.0, false, kGeoMaxFlightHeightM, false);
+}
+
 // scenario.fault: one fault schedule line each (faults.hpp), one clock for
 // all. UAV indices are checked by `pheromesh run`, which may change the
 // swarm's size; regions are the map's.
@@ -363,6 +381,7 @@ ScenarioConfig build(const pb::Scenario& msg, const TextFormat::ParseInfoTree& t
   v.real_in(rn, "tick_rate_hz", cfg.tick_rate_hz, 0.0, true, kMaxTickRateHz, false);
   if (run.has_seed()) cfg.seed = run.seed();
 
+  build_geo(msg, root, v, cfg);
   build_room_fields(msg, root, v, cfg);
   build_policy(msg, root, v, cfg, site);
   build_faults(msg, root, v, cfg);

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "pheromesh/core/faults.hpp"
+#include "pheromesh/core/geodetic.hpp"
 #include "pheromesh/core/grid.hpp"
 #include "pheromesh/core/result.hpp"
 #include "pheromesh/core/shao_params.hpp"
@@ -114,6 +115,8 @@ struct ScenarioConfig {
   // The scenario's `fault:` lines (docs/faults.md), sorted by time; `pheromesh
   // run` adds --faults to them.
   FaultSchedule faults;
+  // `geo`: where the map lies on the Earth (geodetic.hpp), for MAVLink.
+  GeoFrame geo;
 
   [[nodiscard]] MapGeometry geometry() const { return {width, height, tile_size, regions_x, regions_y}; }
 
