@@ -102,5 +102,17 @@ TEST(World, StartsOnObstaclesOrOffTheMapAreIgnoredByReachability) {
   EXPECT_EQ(count, 30 - 5);
 }
 
+TEST(World, KeepsItsOwnGeometryWhenBuiltFromATemporary) {
+  // As `World(scenario.geometry(), ...)` does: the geometry is a temporary.
+  const World w(MapGeometry(12, 9, 3, 1, 1), {{2, 2, 1, 1}}, {});
+  const auto churn = [] { return MapGeometry(1, 1, 1, 1, 1); };  // reuses the stack where the temporary was
+  EXPECT_EQ(churn().width(), 1);
+  EXPECT_EQ(w.geometry().width(), 12);
+  EXPECT_EQ(w.geometry().height(), 9);
+  EXPECT_TRUE(w.is_obstacle({2, 2}));
+  EXPECT_FALSE(w.is_obstacle({11, 8}));
+  EXPECT_FALSE(w.is_obstacle({12, 8})) << "outside the map";
+}
+
 }  // namespace
 }  // namespace pheromesh::core

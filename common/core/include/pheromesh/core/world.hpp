@@ -11,9 +11,11 @@ namespace pheromesh::core {
 
 class World {
  public:
+  // `geo` is copied (seven numbers): a World built from a temporary, such as
+  // `World(scenario.geometry(), ...)`, once kept a pointer to it.
   World(const MapGeometry& geo, const std::vector<Rect>& obstacles, const std::vector<Cell>& targets);
 
-  [[nodiscard]] const MapGeometry& geometry() const { return *geo_; }
+  [[nodiscard]] const MapGeometry& geometry() const { return geo_; }
   // Pop-ups during a run (ground-station commands). add_obstacle clips to
   // the map and returns the number of cells that became obstacles;
   // add_target returns the new target's index.
@@ -38,7 +40,7 @@ class World {
   [[nodiscard]] std::vector<uint8_t> reachable_from(const std::vector<Cell>& starts) const;
 
  private:
-  const MapGeometry* geo_;
+  MapGeometry geo_;
   std::vector<uint8_t> obstacle_;
   std::vector<int32_t> target_index_;
   std::vector<Cell> targets_;
