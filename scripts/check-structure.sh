@@ -89,7 +89,6 @@ common/core/src/simulator.cpp Simulator::step
 common/pypolicy/src/bindings.cpp bind_policy_types
 common/pypolicy/src/pypolicy.cpp build
 common/report/src/report.cpp metrics_json
-experiments/duan.cpp run_table3
 experiments/experiment_command.cpp run_one
 experiments/liu.cpp run_priors
 experiments/liu.cpp run_table2
