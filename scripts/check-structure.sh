@@ -96,7 +96,6 @@ experiments/liu.cpp table2_investigation
 experiments/ravankar.cpp run_corridor
 experiments/ravankar.cpp run_trails
 experiments/report_writer.cpp write_report
-experiments/shao_navigation.cpp run_fig10
 experiments/shao_robustness.cpp run_robustness_experiment
 experiments/shostak.cpp run_convergence
 experiments/shostak.cpp run_swarm
