@@ -368,7 +368,7 @@ struct LookBudget {
   double mower_looks, mower_eu;
 };
 
-// "The claim" of the investigation: Table 2's ranking against our means.
+// "The claim" of the investigation: Liu 2022 Table 2's ranking against our means.
 std::string table2_claim(const Samples& samples) {
   const auto m = [&](std::size_t si, std::size_t mi, const std::vector<double> MethodSamples::*f) {
     return fmt(mean(samples[si][mi][0].*f), 2);
