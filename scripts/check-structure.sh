@@ -93,7 +93,6 @@ experiments/experiment_command.cpp run_one
 experiments/ravankar.cpp run_corridor
 experiments/ravankar.cpp run_trails
 experiments/report_writer.cpp write_report
-experiments/shao_robustness.cpp run_robustness_experiment
 experiments/shostak.cpp run_convergence
 experiments/shostak.cpp run_swarm
 sweep/sweep_command.cpp run_sweep
