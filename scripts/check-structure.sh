@@ -90,8 +90,6 @@ common/pypolicy/src/bindings.cpp bind_policy_types
 common/pypolicy/src/pypolicy.cpp build
 common/report/src/report.cpp metrics_json
 experiments/experiment_command.cpp run_one
-experiments/ravankar.cpp run_corridor
-experiments/ravankar.cpp run_trails
 experiments/report_writer.cpp write_report
 experiments/shostak.cpp run_convergence
 experiments/shostak.cpp run_swarm
