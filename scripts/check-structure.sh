@@ -91,8 +91,6 @@ common/pypolicy/src/pypolicy.cpp build
 common/report/src/report.cpp metrics_json
 experiments/experiment_command.cpp run_one
 experiments/report_writer.cpp write_report
-experiments/shostak.cpp run_convergence
-experiments/shostak.cpp run_swarm
 sweep/sweep_command.cpp run_sweep
 sweep/sweep_report.cpp svg_error_bars
 sweep/sweep_report.cpp sweep_markdown
