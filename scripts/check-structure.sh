@@ -74,7 +74,6 @@ common/bus/src/qos.cpp topic_qos
 common/console/server/server.cpp ConsoleServer::start
 common/console/src/frame_builder.cpp FrameBuilder::build
 common/console/src/swarm_metrics.cpp swarm_metrics_text
-common/core/papers/duan/src/experiment.cpp duan_table3
 common/core/papers/duan/src/scenario.cpp build_duan
 common/core/papers/liu/src/scenario.cpp build_liu
 common/core/papers/liu/src/swarm.cpp run_liu_swarm
