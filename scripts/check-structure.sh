@@ -79,7 +79,6 @@ common/core/papers/liu/src/scenario.cpp build_liu
 common/core/papers/liu/src/swarm.cpp run_liu_swarm
 common/core/papers/ravankar/src/scenario.cpp build_ravankar
 common/core/papers/shao/src/scenario.cpp build_shao_navigation
-common/core/papers/shostak/src/experiment.cpp shostak_swarm_run
 common/core/papers/shostak/src/scenario.cpp build_shostak
 common/core/src/conductor.cpp LockstepConductor::status
 common/core/src/field_override.cpp set_field
