@@ -86,7 +86,6 @@ common/core/src/scenario.cpp build
 common/core/src/simulator.cpp Simulator::step
 common/pypolicy/src/bindings.cpp bind_policy_types
 common/pypolicy/src/pypolicy.cpp build
-common/report/src/report.cpp metrics_json
 sweep/sweep_command.cpp run_sweep
 sweep/sweep_report.cpp svg_error_bars
 sweep/sweep_report.cpp sweep_markdown
