@@ -82,7 +82,6 @@ common/core/papers/shao/src/scenario.cpp build_shao_navigation
 common/core/papers/shostak/src/scenario.cpp build_shostak
 common/core/src/conductor.cpp LockstepConductor::status
 common/core/src/field_override.cpp set_field
-common/core/src/scenario.cpp build
 common/core/src/simulator.cpp Simulator::step
 common/pypolicy/src/bindings.cpp bind_policy_types
 common/pypolicy/src/pypolicy.cpp build
