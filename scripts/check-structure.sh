@@ -75,7 +75,6 @@ common/console/server/server.cpp ConsoleServer::start
 common/console/src/frame_builder.cpp FrameBuilder::build
 common/console/src/swarm_metrics.cpp swarm_metrics_text
 common/core/papers/duan/src/scenario.cpp build_duan
-common/core/papers/liu/src/scenario.cpp build_liu
 common/core/papers/ravankar/src/scenario.cpp build_ravankar
 common/core/papers/shao/src/scenario.cpp build_shao_navigation
 common/core/papers/shostak/src/scenario.cpp build_shostak
