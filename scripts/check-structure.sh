@@ -76,7 +76,6 @@ common/console/src/frame_builder.cpp FrameBuilder::build
 common/console/src/swarm_metrics.cpp swarm_metrics_text
 common/core/papers/ravankar/src/scenario.cpp build_ravankar
 common/core/papers/shao/src/scenario.cpp build_shao_navigation
-common/core/papers/shostak/src/scenario.cpp build_shostak
 common/core/src/conductor.cpp LockstepConductor::status
 common/core/src/field_override.cpp set_field
 common/core/src/simulator.cpp Simulator::step
