@@ -69,7 +69,6 @@ bench/commands/bench_scale.cpp write_results
 bench/commands/bench_soak.cpp run_bench_soak
 cli/main.cpp main
 cli/security_command.cpp run_security_init
-cli/sim_command.cpp simulate
 common/bus/src/qos.cpp topic_qos
 common/console/server/server.cpp ConsoleServer::start
 common/console/src/frame_builder.cpp FrameBuilder::build
