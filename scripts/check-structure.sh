@@ -79,8 +79,6 @@ common/core/src/simulator.cpp Simulator::step
 common/pypolicy/src/bindings.cpp bind_policy_types
 common/pypolicy/src/pypolicy.cpp build
 sweep/sweep_command.cpp run_sweep
-sweep/sweep_report.cpp svg_error_bars
-sweep/sweep_report.cpp sweep_markdown
 EOF
 )
 long_functions=$(find agent placeagent groundstation cli launch sweep experiments bench common \

@@ -436,11 +436,11 @@ std::string plot_file(const std::string& metric, const std::string& param) {
   return name + ".svg";
 }
 
-std::string sweep_markdown(const MarkdownInput& in) {
-  std::ostringstream md;
+namespace {
+
+// The title, the command and how many runs this invocation made.
+void write_sweep_intro(std::ostringstream& md, const MarkdownInput& in) {
   md << "# Sweep of " << in.scenario << "\n\n```sh\n" << in.command << "\n```\n\n";
-  std::size_t swept = 0;
-  for (const auto& p : in.params) swept += p.swept() ? 1 : 0;
   md << in.cells.size() << " combination" << (in.cells.size() == 1 ? "" : "s") << " × " << in.seeds.size() << " seed"
      << (in.seeds.size() == 1 ? "" : "s") << " = " << in.runs.size() << " runs on the in-process simulator (the "
      << "same code and schedule as `pheromesh sim`; every run folder in `runs/` holds its `metrics.json`). This "
@@ -449,6 +449,10 @@ std::string sweep_markdown(const MarkdownInput& in) {
   if (in.executed > 0 && in.wall_s > 0)
     md << " (" << fixed_text(static_cast<double>(in.executed) / in.wall_s, 1) << " runs/s)";
   md << "; " << in.skipped << " had finished before and were kept.\n\n";
+}
+
+// The grid's parameters and seeds, and what the files hold.
+void write_sweep_grid(std::ostringstream& md, const MarkdownInput& in) {
   md << "## Grid\n\n| parameter | values | given as |\n|---|---|---|\n";
   for (const auto& p : in.params) {
     std::string values;
@@ -467,48 +471,47 @@ std::string sweep_markdown(const MarkdownInput& in) {
         "`ticks_to_coverage_50`, `ticks_to_coverage_90` and `ticks_to_all_targets` are censored at the run's last "
         "tick: a run that did not get there within it has no value (an empty cell of runs.csv), its mean is over "
         "the runs that did, and summary.csv's `missing` counts the others.\n\n";
-  md << "## Summary\n\nMean [95 % interval] over the seeds of each combination";
-  if (in.plotted.empty()) {
-    md << ": no metric differs between runs.\n\n";
-  } else {
-    md << ".\n\n| cell |";
-    for (const auto& p : in.params) {
-      if (p.swept()) md << " `" << p.path << "` |";
-    }
-    md << " n |";
-    for (const auto& m : in.plotted) md << " " << md_cell(m) << " |";
-    md << "\n|---|";
-    for (std::size_t i = 0; i < swept + 1 + in.plotted.size(); ++i) md << "---|";
-    md << "\n";
-    for (const auto& c : in.cells) {
-      md << "| " << c.index << " |";
-      for (std::size_t k = 0; k < in.params.size(); ++k) {
-        if (in.params[k].swept()) md << " " << md_cell(in.params[k].values[c.choice[k]]) << " |";
-      }
-      std::size_t n = 0;
-      for (const auto& r : in.runs) n += r.cell == c.index ? 1 : 0;
-      md << " " << n << " |";
-      for (const auto& m : in.plotted) {
-        std::vector<double> v;
-        for (const auto& r : in.runs) {
-          if (r.cell != c.index) continue;
-          auto it = r.metrics.find(m);
-          if (it != r.metrics.end()) v.push_back(it->second);
-        }
-        const Stats s = stats_of(v, proportion_metric(in.runs, m));
-        md << " " << short_text(s.mean);
-        if (s.n > 1) md << " [" << short_text(s.lo) << ", " << short_text(s.hi) << "]";
-        md << " |";
-      }
-      md << "\n";
-    }
-    md << "\n";
+}
+
+// The summary table's row of combination c.
+void write_summary_row(std::ostringstream& md, const MarkdownInput& in, const Cell& c) {
+  md << "| " << c.index << " |";
+  for (std::size_t k = 0; k < in.params.size(); ++k) {
+    if (in.params[k].swept()) md << " " << md_cell(in.params[k].values[c.choice[k]]) << " |";
   }
-  if (!in.constant.empty()) {
-    md << "The same in every run (not plotted):";
-    for (const auto& m : in.constant) md << " `" << m << "`";
-    md << ".\n\n";
+  std::size_t n = 0;
+  for (const auto& r : in.runs) n += r.cell == c.index ? 1 : 0;
+  md << " " << n << " |";
+  for (const auto& m : in.plotted) {
+    std::vector<double> v;
+    for (const auto& r : in.runs) {
+      if (r.cell != c.index) continue;
+      auto it = r.metrics.find(m);
+      if (it != r.metrics.end()) v.push_back(it->second);
+    }
+    const Stats s = stats_of(v, proportion_metric(in.runs, m));
+    md << " " << short_text(s.mean);
+    if (s.n > 1) md << " [" << short_text(s.lo) << ", " << short_text(s.hi) << "]";
+    md << " |";
   }
+  md << "\n";
+}
+
+void write_summary_table(std::ostringstream& md, const MarkdownInput& in, std::size_t swept) {
+  md << ".\n\n| cell |";
+  for (const auto& p : in.params) {
+    if (p.swept()) md << " `" << p.path << "` |";
+  }
+  md << " n |";
+  for (const auto& m : in.plotted) md << " " << md_cell(m) << " |";
+  md << "\n|---|";
+  for (std::size_t i = 0; i < swept + 1 + in.plotted.size(); ++i) md << "---|";
+  md << "\n";
+  for (const auto& c : in.cells) write_summary_row(md, in, c);
+  md << "\n";
+}
+
+void write_plots_section(std::ostringstream& md, const MarkdownInput& in, std::size_t swept) {
   md << "## Plots\n\n";
   if (swept == 0 || in.plotted.empty()) {
     md << "None: " << (swept == 0 ? "no parameter takes more than one value" : "no plotted metric differs between runs")
@@ -526,20 +529,44 @@ std::string sweep_markdown(const MarkdownInput& in) {
     }
     md << "\n";
   }
-  if (in.distributed) {
-    std::size_t equal = 0;
-    for (const auto& c : *in.distributed) equal += c.equal ? 1 : 0;
-    md << "## On real processes (`--distributed`)\n\n"
-       << equal << " of " << in.distributed->size() << " sampled runs flown as `pheromesh run --clock lockstep --dds "
-       << in.dds
-       << "` gave the simulator's numbers (metrics.json) and a byte-identical final_field.txt.\n\n"
-          "| run | combination | lockstep == sim | wall [s] |\n|---|---|---|---|\n";
-    for (const auto& c : *in.distributed) {
-      md << "| " << c.id << " | " << md_cell(c.cell) << " | " << md_cell(c.equal ? "yes" : "**no**: " + c.verdict)
-         << " | " << fixed_text(c.seconds, 1) << " |\n";
-    }
-    md << "\n";
+}
+
+void write_distributed_section(std::ostringstream& md, const MarkdownInput& in) {
+  std::size_t equal = 0;
+  for (const auto& c : *in.distributed) equal += c.equal ? 1 : 0;
+  md << "## On real processes (`--distributed`)\n\n"
+     << equal << " of " << in.distributed->size() << " sampled runs flown as `pheromesh run --clock lockstep --dds "
+     << in.dds
+     << "` gave the simulator's numbers (metrics.json) and a byte-identical final_field.txt.\n\n"
+        "| run | combination | lockstep == sim | wall [s] |\n|---|---|---|---|\n";
+  for (const auto& c : *in.distributed) {
+    md << "| " << c.id << " | " << md_cell(c.cell) << " | " << md_cell(c.equal ? "yes" : "**no**: " + c.verdict)
+       << " | " << fixed_text(c.seconds, 1) << " |\n";
   }
+  md << "\n";
+}
+
+}  // namespace
+
+std::string sweep_markdown(const MarkdownInput& in) {
+  std::ostringstream md;
+  std::size_t swept = 0;
+  for (const auto& p : in.params) swept += p.swept() ? 1 : 0;
+  write_sweep_intro(md, in);
+  write_sweep_grid(md, in);
+  md << "## Summary\n\nMean [95 % interval] over the seeds of each combination";
+  if (in.plotted.empty()) {
+    md << ": no metric differs between runs.\n\n";
+  } else {
+    write_summary_table(md, in, swept);
+  }
+  if (!in.constant.empty()) {
+    md << "The same in every run (not plotted):";
+    for (const auto& m : in.constant) md << " `" << m << "`";
+    md << ".\n\n";
+  }
+  write_plots_section(md, in, swept);
+  if (in.distributed) write_distributed_section(md, in);
   return md.str();
 }
 
