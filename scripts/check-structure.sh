@@ -78,7 +78,6 @@ common/core/src/field_override.cpp set_field
 common/core/src/simulator.cpp Simulator::step
 common/pypolicy/src/bindings.cpp bind_policy_types
 common/pypolicy/src/pypolicy.cpp build
-sweep/sweep_command.cpp run_sweep
 EOF
 )
 long_functions=$(find agent placeagent groundstation cli launch sweep experiments bench common \
