@@ -74,7 +74,6 @@ common/console/server/server.cpp ConsoleServer::start
 common/console/src/frame_builder.cpp FrameBuilder::build
 common/console/src/swarm_metrics.cpp swarm_metrics_text
 common/core/src/conductor.cpp LockstepConductor::status
-common/core/src/field_override.cpp set_field
 common/core/src/simulator.cpp Simulator::step
 common/pypolicy/src/bindings.cpp bind_policy_types
 common/pypolicy/src/pypolicy.cpp build
