@@ -187,6 +187,8 @@ std::string svg_plot(const Plot& p) {
   return o.str();
 }
 
+namespace {
+
 void write_rows_table(std::ostringstream& md, const Report& r) {
   md << "| metric | paper | ours (mean ± sd) | 95 % CI | runs | ours / paper | verdict | note |\n"
         "|---|---|---|---|---|---|---|---|\n";
@@ -272,6 +274,8 @@ std::string results_csv(const Report& r) {
   }
   return csv.str();
 }
+
+}  // namespace
 
 bool write_report(const Report& r, const std::string& out_dir, double wall_seconds, std::string& error) {
   std::error_code ec;
