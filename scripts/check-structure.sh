@@ -67,7 +67,6 @@ bench/bench_latency.cpp main
 bench/commands/bench_scale.cpp run_bench_scale
 bench/commands/bench_scale.cpp write_results
 bench/commands/bench_soak.cpp run_bench_soak
-cli/security_command.cpp run_security_init
 common/bus/src/qos.cpp topic_qos
 common/console/server/server.cpp ConsoleServer::start
 common/console/src/frame_builder.cpp FrameBuilder::build
