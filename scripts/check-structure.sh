@@ -70,7 +70,6 @@ bench/commands/bench_soak.cpp run_bench_soak
 common/bus/src/qos.cpp topic_qos
 common/console/server/server.cpp ConsoleServer::start
 common/console/src/frame_builder.cpp FrameBuilder::build
-common/console/src/swarm_metrics.cpp swarm_metrics_text
 common/core/src/conductor.cpp LockstepConductor::status
 common/core/src/simulator.cpp Simulator::step
 common/pypolicy/src/bindings.cpp bind_policy_types
