@@ -69,7 +69,6 @@ bench/commands/bench_scale.cpp write_results
 bench/commands/bench_soak.cpp run_bench_soak
 common/bus/src/qos.cpp topic_qos
 common/console/server/server.cpp ConsoleServer::start
-common/console/src/frame_builder.cpp FrameBuilder::build
 common/core/src/conductor.cpp LockstepConductor::status
 common/core/src/simulator.cpp Simulator::step
 common/pypolicy/src/bindings.cpp bind_policy_types
