@@ -76,7 +76,6 @@ common/pypolicy/src/bindings.cpp bind_policy_types
 common/pypolicy/src/pypolicy.cpp build
 bench/bench_latency.cpp main
 bench/commands/bench_scale.cpp run_bench_scale
-bench/commands/bench_scale.cpp write_results
 bench/commands/bench_soak.cpp run_bench_soak
 EOF
 )
