@@ -90,38 +90,27 @@ int validate(const std::string& path, const pheromesh::cli::OverrideFlags& overr
   return 0;
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
-  using namespace pheromesh;
-#ifdef PHEROMESH_WITH_PYTHON
-  pypolicy::enable_python_policies();
-#endif
-  CLI::App app{
-      "pheromesh: a UAV swarm coordinating through digital pheromones over DDS.\n\n"
-      "Examples:\n"
-      "  pheromesh validate scenarios/shao2020-50x50.textproto\n"
-      "  pheromesh run scenarios/shao2020-50x50.textproto --ticks 600 --out out/demo\n"
-      "  pheromesh run scenarios/small-test.textproto --uavs 6 --duration 20 --faults \"kill uav:1 @5s; stop uav:4 @8s "
-      "for 3s\"\n"
-      "  pheromesh sim scenarios/shao2020-100x100.textproto --seed 7 --out out/sim\n"
-      "  pheromesh run scenarios/small-test.textproto --clock lockstep --ticks 100   # same numbers as sim\n"
-      "  pheromesh bench scale scenarios/scale-100x100.textproto --max 400            # cost per swarm size\n"
-      "  pheromesh bench lockstep --swarms small-test:10 --dds cyclone                 # where a lockstep tick's time "
-      "goes\n",
-      "pheromesh"};
-  app.require_subcommand(1);
-  app.footer("`pheromesh help SUBCOMMAND` (or `pheromesh SUBCOMMAND --help`) explains one.");
-  cli::add_version_flag(app);
+// The front door's own commands: their options, filled in by the parse, and
+// their subcommands, to ask which one was given.
+struct FrontDoor {
   std::string log_level = "info";
-  app.add_option("--log-level", log_level,
-                 "Log level of this program: trace, debug, info, warn, error, critical or off (run's processes: "
-                 "--process-log-level)")
-      ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error", "critical", "off"}))
-      ->capture_default_str();
-
   std::string validate_path;
-  auto* v = app.add_subcommand(
+  pheromesh::cli::OverrideFlags validate_overrides;
+  pheromesh::cli::SimOptions so;
+  pheromesh::cli::SweepOptions swo;
+  pheromesh::cli::ExperimentOptions eo;
+  CLI::App* v = nullptr;
+  CLI::App* sim = nullptr;
+  CLI::App* sw = nullptr;
+  CLI::App* ex = nullptr;
+  CLI::App* key = nullptr;
+};
+
+void add_validate_command(CLI::App& app, FrontDoor& fd) {
+  using namespace pheromesh;
+  std::string& validate_path = fd.validate_path;
+  cli::OverrideFlags& validate_overrides = fd.validate_overrides;
+  CLI::App* v = fd.v = app.add_subcommand(
       "validate",
       "Check a scenario file and print its policy, size, run and cost, with a warning for each block its policy "
       "ignores; errors name the file, line and field. Also refused: strings that are not UTF-8, and "
@@ -130,18 +119,22 @@ int main(int argc, char** argv) {
   v->add_option("SCENARIO", validate_path, cli::kScenarioArgHelp)
       ->required()
       ->transform(CLI::Validator(cli::resolve_scenario_argument, "FILE|NAME"));
-  cli::OverrideFlags validate_overrides;
   cli::add_override_options(*v, validate_overrides,
                             {cli::FieldFlag::Uavs, cli::FieldFlag::Ticks, cli::FieldFlag::Seed, cli::FieldFlag::Rate});
   v->footer(std::string(cli::kSetFooter) + R"(
 Examples:
   pheromesh validate small-test
   pheromesh validate small-test --set swarm.uavs=8 --set shao.aco.alpha=2    prints the overrides it applied)");
+}
 
-  cli::SimOptions so;
-  auto* sim = app.add_subcommand("sim", "Run the whole swarm in this process, deterministically (no DDS): the same "
-                                        "core code and lockstep schedule as `run --clock lockstep`, the same "
-                                        "OUT/metrics.json, series.csv and final_field.txt/.csv (docs/outputs.md)");
+void add_sim_command(CLI::App& app, FrontDoor& fd) {
+  using namespace pheromesh;
+  cli::SimOptions& so = fd.so;
+  CLI::App* sim = fd.sim =
+      app.add_subcommand("sim",
+                         "Run the whole swarm in this process, deterministically (no DDS): the same "
+                         "core code and lockstep schedule as `run --clock lockstep`, the same "
+                         "OUT/metrics.json, series.csv and final_field.txt/.csv (docs/outputs.md)");
   sim->add_option("SCENARIO", so.scenario, cli::kScenarioArgHelp)
       ->required()
       ->transform(CLI::Validator(cli::resolve_scenario_argument, "FILE|NAME"));
@@ -165,12 +158,16 @@ Examples:
 Examples:
   pheromesh sim small-test --ticks 100 --out out/sim
   pheromesh sim small-test --set shao.aco.alpha=2 --set swarm.uavs=8 --seed 3)");
+}
 
-  cli::SweepOptions swo;
-  auto* sw = app.add_subcommand(
-      "sweep", "Run a scenario on the in-process simulator for every combination of parameter values (--set "
-               "PATH=V1,V2,...) and every seed (--seeds 1-20), in parallel (--jobs) and resumably; write runs.csv, "
-               "summary.csv (mean, sd, 95 % interval per combination), SVG plots and sweep.md; print runs/s");
+void add_sweep_command(CLI::App& app, FrontDoor& fd) {
+  using namespace pheromesh;
+  cli::SweepOptions& swo = fd.swo;
+  CLI::App* sw = fd.sw = app.add_subcommand(
+      "sweep",
+      "Run a scenario on the in-process simulator for every combination of parameter values (--set "
+      "PATH=V1,V2,...) and every seed (--seeds 1-20), in parallel (--jobs) and resumably; write runs.csv, "
+      "summary.csv (mean, sd, 95 % interval per combination), SVG plots and sweep.md; print runs/s");
   sw->add_option("SCENARIO", swo.scenario, cli::kScenarioArgHelp)
       ->required()
       ->transform(CLI::Validator(cli::resolve_scenario_argument, "FILE|NAME"));
@@ -200,10 +197,15 @@ Examples:
       ->check(CLI::Range(0U, 232U))
       ->capture_default_str();
   sw->footer(std::string(cli::kSweepFooter) + "\n" + cli::kSetFooter);
+}
 
-  cli::ExperimentOptions eo;
-  auto* ex = app.add_subcommand("experiment", "Run one of the papers' experiments as Monte Carlo with the simulator and "
-                                              "write a report (Markdown + CSV + SVG) with our numbers beside the paper's");
+void add_experiment_command(CLI::App& app, FrontDoor& fd) {
+  using namespace pheromesh;
+  cli::ExperimentOptions& eo = fd.eo;
+  CLI::App* ex = fd.ex =
+      app.add_subcommand("experiment",
+                         "Run one of the papers' experiments as Monte Carlo with the simulator and "
+                         "write a report (Markdown + CSV + SVG) with our numbers beside the paper's");
   ex->add_option("NAME", eo.name, "Experiment (see --list)");
   ex->add_flag("--list", eo.list, "List the experiments and our verdict on each paper claim");
   ex->add_flag("--all", eo.all,
@@ -234,24 +236,23 @@ Examples:
                                                     names the overrides; run.seed is the experiment's)
 
 )" + std::string(cli::kSetFooter));
+}
 
-  auto* key = app.add_subcommand("key",
-                                 "Print a new random control key (64 hex digits) for $PHEROMESH_CONTROL_KEY: "
-                                 "every host of a swarm over several hosts exports the same one");
-  // run, attach, bench, security, replay (or, built core-only, what they need).
-  const auto processes = cli::add_process_commands(app);
-
-  if (auto rc = cli::parse_command_line(app, argc, argv)) return *rc;
-  auto logger = spdlog::stderr_color_mt("pheromesh");
-  logger->set_pattern("%H:%M:%S.%e %^%-5l%$ [%n] %v");
-  logger->set_level(spdlog::level::from_str(log_level));
-  spdlog::set_default_logger(logger);
-
+// Runs the command the parse chose; an exception that escapes one is reported.
+int dispatch(FrontDoor& fd, pheromesh::cli::ProcessCommands& processes, int argc, char** argv) {
+  using namespace pheromesh;
+  cli::SweepOptions& swo = fd.swo;
+  const cli::ExperimentOptions& eo = fd.eo;
+  CLI::App* v = fd.v;
+  CLI::App* key = fd.key;
+  CLI::App* ex = fd.ex;
+  CLI::App* sw = fd.sw;
+  CLI::App* sim = fd.sim;
   // Every command inside one try: an exception that escapes one (a policy
   // plugin's code may throw from any step, docs/writing-a-policy.md) is
   // reported and gives exit 4, never an abort without a message.
   try {
-    if (v->parsed()) return validate(validate_path, validate_overrides);
+    if (v->parsed()) return validate(fd.validate_path, fd.validate_overrides);
     if (key->parsed()) {
       std::printf("%s\n", auth::random_control_key_hex().c_str());
       return 0;
@@ -260,16 +261,64 @@ Examples:
       std::fprintf(stderr, "--distributed flies runs as DDS processes (pheromesh run): %s\n", cli::kCoreOnlyHint);
       return 2;
     }
-    if (sim->parsed()) return cli::run_sim(so);
+    if (sim->parsed()) return cli::run_sim(fd.so);
     if (ex->parsed()) return cli::run_experiment_command(eo);
     if (sw->parsed()) {
       swo.command = cli::command_line(argc, argv);
       return cli::run_sweep(swo);
     }
-    if (auto rc = processes->run_parsed()) return *rc;
+    if (auto rc = processes.run_parsed()) return *rc;
   } catch (const std::exception& e) {
     spdlog::critical("fatal: {}", e.what());
     return 4;
   }
   return 2;  // unreachable: require_subcommand(1)
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  using namespace pheromesh;
+#ifdef PHEROMESH_WITH_PYTHON
+  pypolicy::enable_python_policies();
+#endif
+  CLI::App app{
+      "pheromesh: a UAV swarm coordinating through digital pheromones over DDS.\n\n"
+      "Examples:\n"
+      "  pheromesh validate scenarios/shao2020-50x50.textproto\n"
+      "  pheromesh run scenarios/shao2020-50x50.textproto --ticks 600 --out out/demo\n"
+      "  pheromesh run scenarios/small-test.textproto --uavs 6 --duration 20 --faults \"kill uav:1 @5s; stop uav:4 @8s "
+      "for 3s\"\n"
+      "  pheromesh sim scenarios/shao2020-100x100.textproto --seed 7 --out out/sim\n"
+      "  pheromesh run scenarios/small-test.textproto --clock lockstep --ticks 100   # same numbers as sim\n"
+      "  pheromesh bench scale scenarios/scale-100x100.textproto --max 400            # cost per swarm size\n"
+      "  pheromesh bench lockstep --swarms small-test:10 --dds cyclone                 # where a lockstep tick's time "
+      "goes\n",
+      "pheromesh"};
+  app.require_subcommand(1);
+  app.footer("`pheromesh help SUBCOMMAND` (or `pheromesh SUBCOMMAND --help`) explains one.");
+  cli::add_version_flag(app);
+  FrontDoor fd;
+  app.add_option("--log-level", fd.log_level,
+                 "Log level of this program: trace, debug, info, warn, error, critical or off (run's processes: "
+                 "--process-log-level)")
+      ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error", "critical", "off"}))
+      ->capture_default_str();
+
+  add_validate_command(app, fd);
+  add_sim_command(app, fd);
+  add_sweep_command(app, fd);
+  add_experiment_command(app, fd);
+  fd.key = app.add_subcommand("key",
+                              "Print a new random control key (64 hex digits) for $PHEROMESH_CONTROL_KEY: "
+                              "every host of a swarm over several hosts exports the same one");
+  // run, attach, bench, security, replay (or, built core-only, what they need).
+  const auto processes = cli::add_process_commands(app);
+
+  if (auto rc = cli::parse_command_line(app, argc, argv)) return *rc;
+  auto logger = spdlog::stderr_color_mt("pheromesh");
+  logger->set_pattern("%H:%M:%S.%e %^%-5l%$ [%n] %v");
+  logger->set_level(spdlog::level::from_str(fd.log_level));
+  spdlog::set_default_logger(logger);
+  return dispatch(fd, *processes, argc, argv);
 }

@@ -56,15 +56,9 @@ std::vector<fs::path> earlier_files(const fs::path& dir) {
   return out;
 }
 
-}  // namespace
-
-int run_security_init(const SecurityInitOptions& o) {
-  auto protection = bus::parse_protection(o.protection);
-  if (!protection) {
-    spdlog::error("{}", protection.error().message);
-    return 2;
-  }
-  bus::SwarmShape shape;
+// The swarm's size from the options, else from the scenario; 0, or 2 with
+// the error logged.
+int swarm_shape_of(const SecurityInitOptions& o, bus::SwarmShape& shape) {
   shape.uavs = o.uavs;
   shape.regions = o.regions;
   shape.standby = o.standby ? 1 : 0;
@@ -88,11 +82,15 @@ int run_security_init(const SecurityInitOptions& o) {
     spdlog::error("--days must be at least 1");
     return 2;
   }
+  return 0;
+}
 
-  const fs::path dir(o.dir);
+// DIR made (the owner's only) and empty of an earlier init's files (--force);
+// 0, or 2 with the error logged.
+int prepare_security_dir(const fs::path& dir, bool force) {
   std::error_code ec;
   const std::vector<fs::path> earlier = earlier_files(dir);
-  if (!earlier.empty() && !o.force) {
+  if (!earlier.empty() && !force) {
     spdlog::error("{} already holds a swarm's security files ({} and {} more); pass --force to replace them all "
                   "(every process of the swarm then needs the new ones)",
                   dir.string(), earlier.front().string(), earlier.size() - 1);
@@ -106,6 +104,42 @@ int run_security_init(const SecurityInitOptions& o) {
   }
   // Private keys live here: the directory is the owner's only.
   fs::permissions(dir, fs::perms::owner_all, ec);
+  return 0;
+}
+
+// One process's folder: its key and certificate, signed by the CA, and its
+// signed permissions; an error message if a step fails.
+std::optional<std::string> write_identity(const fs::path& dir, const bus::Grant& g, const auth::KeyPair& ca,
+                                          const auth::Validity& v, const std::string& from, const std::string& to) {
+  std::error_code ec;
+  const fs::path d = dir / g.name;
+  fs::create_directories(d, ec);
+  if (ec) return "cannot make " + d.string() + ": " + ec.message();
+  auto id = auth::make_identity(ca, g.name, v);
+  if (!id) return id.error().message;
+  const std::string perms = bus::permissions_xml(g, from, to);
+  auto perms_signed = auth::smime_sign(ca, perms);
+  if (!perms_signed) return perms_signed.error().message;
+  if (auto e = write_file(d / "key.pem", id->key, 0600)) return e;
+  if (auto e = write_file(d / "cert.pem", id->cert, 0644)) return e;
+  if (auto e = write_file(d / "permissions.xml", perms, 0644)) return e;
+  if (auto e = write_file(d / "permissions.p7s", perms_signed.value(), 0644)) return e;
+  return std::nullopt;
+}
+
+}  // namespace
+
+int run_security_init(const SecurityInitOptions& o) {
+  auto protection = bus::parse_protection(o.protection);
+  if (!protection) {
+    spdlog::error("{}", protection.error().message);
+    return 2;
+  }
+  bus::SwarmShape shape;
+  if (const int rc = swarm_shape_of(o, shape); rc != 0) return rc;
+
+  const fs::path dir(o.dir);
+  if (const int rc = prepare_security_dir(dir, o.force); rc != 0) return rc;
 
   const auth::Validity v = auth::validity_from_now(o.days);
   const std::string from = auth::permissions_date(v.not_before), to = auth::permissions_date(v.not_after);
@@ -129,18 +163,7 @@ int run_security_init(const SecurityInitOptions& o) {
   std::string names;
   const std::vector<bus::Grant> grants = bus::swarm_grants(shape);
   for (const auto& g : grants) {
-    const fs::path d = dir / g.name;
-    fs::create_directories(d, ec);
-    if (ec) return fail("cannot make " + d.string() + ": " + ec.message());
-    auto id = auth::make_identity(ca.value(), g.name, v);
-    if (!id) return fail(id.error().message);
-    const std::string perms = bus::permissions_xml(g, from, to);
-    auto perms_signed = auth::smime_sign(ca.value(), perms);
-    if (!perms_signed) return fail(perms_signed.error().message);
-    if (auto e = write_file(d / "key.pem", id->key, 0600)) return fail(*e);
-    if (auto e = write_file(d / "cert.pem", id->cert, 0644)) return fail(*e);
-    if (auto e = write_file(d / "permissions.xml", perms, 0644)) return fail(*e);
-    if (auto e = write_file(d / "permissions.p7s", perms_signed.value(), 0644)) return fail(*e);
+    if (auto e = write_identity(dir, g, ca.value(), v, from, to)) return fail(*e);
     names += g.name + "\n";
   }
   if (auto e = write_file(dir / "identities.txt", names, 0644)) return fail(*e);

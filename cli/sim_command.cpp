@@ -59,16 +59,16 @@ int run_sim(const SimOptions& o) {
   return simulate(s, faults, o);
 }
 
-int simulate(const core::ScenarioConfig& s, const core::FaultSchedule& faults, const SimOptions& o) {
-  const core::MapGeometry geo = s.geometry();
-  spdlog::info("sim '{}': {} regions, {} uavs, {} ticks, seed {}", s.name, geo.region_count(), s.uavs, s.ticks, s.seed);
+namespace {
 
-  core::Simulator sim(s);
+// The fault schedule on the simulator, and what it means in the log; false
+// if the simulator refuses it.
+bool apply_faults(core::Simulator& sim, const core::ScenarioConfig& s, const core::FaultSchedule& faults) {
   if (!faults.empty()) {
     auto notes = sim.set_faults(faults, s.standby);
     if (!notes) {
       spdlog::error("faults: {}", notes.error().message);
-      return 2;
+      return false;
     }
     for (const auto& n : notes.value()) spdlog::info("faults: {}", n);
     for (const auto& [u, k] : faults.uav_kills()) {
@@ -82,27 +82,36 @@ int simulate(const core::ScenarioConfig& s, const core::FaultSchedule& faults, c
   } else if (s.standby) {
     spdlog::info("faults: standbys (--standby, run.standby) without a fault schedule change nothing");
   }
-  if (o.tracks) sim.keep_tracks();
-  std::unique_ptr<frontdoor::SimRecording> recording;
-  if (!o.record.empty()) {
-    // Usually inside OUT, which the run has not made yet.
-    if (const auto parent = std::filesystem::path(o.record).parent_path(); !parent.empty()) {
-      std::error_code ec;
-      std::filesystem::create_directories(parent, ec);
-      if (ec) {
-        spdlog::error("cannot record the console: cannot create {}: {}", parent.string(), ec.message());
-        return 5;
-      }
+  return true;
+}
+
+// --record: the console recording (its folder made first); nullptr and an
+// error in the log if it cannot be opened.
+std::unique_ptr<frontdoor::SimRecording> open_recording(const std::string& path, const core::Simulator& sim) {
+  const std::string& record = path;
+  // Usually inside OUT, which the run has not made yet.
+  if (const auto parent = std::filesystem::path(record).parent_path(); !parent.empty()) {
+    std::error_code ec;
+    std::filesystem::create_directories(parent, ec);
+    if (ec) {
+      spdlog::error("cannot record the console: cannot create {}: {}", parent.string(), ec.message());
+      return nullptr;
     }
-    auto opened = frontdoor::SimRecording::open(o.record, sim);
-    if (!opened) {
-      spdlog::error("cannot record the console: {}", opened.error().message);
-      return 5;
-    }
-    recording = std::move(opened).value();
-    spdlog::info("recording the console to {} (pheromesh replay {})", o.record, o.record);
   }
-  bool recording_failed = false;
+  auto opened = frontdoor::SimRecording::open(record, sim);
+  if (!opened) {
+    spdlog::error("cannot record the console: {}", opened.error().message);
+    return nullptr;
+  }
+  auto recording = std::move(opened).value();
+  spdlog::info("recording the console to {} (pheromesh replay {})", record, record);
+  return recording;
+}
+
+// Runs the simulator to the end with a progress line every tenth of the run;
+// returns the wall time [s]. recording_failed: a frame could not be written.
+double run_with_progress(core::Simulator& sim, const core::ScenarioConfig& s, const SimOptions& o,
+                         frontdoor::SimRecording* recording, bool& recording_failed) {
   const auto t0 = std::chrono::steady_clock::now();
   uint32_t next_report = s.ticks / 10;
   sim.run([&](uint32_t k) {
@@ -117,6 +126,52 @@ int simulate(const core::ScenarioConfig& s, const core::FaultSchedule& faults, c
     }
   });
   const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return secs;
+}
+
+// 0, or 5 if the recording is incomplete.
+int close_recording(frontdoor::SimRecording& recording, bool recording_failed, const std::string& path) {
+  const std::string& record = path;
+  auto closed = recording.close();
+  if (recording_failed || !closed) {
+    spdlog::error("the recording {} is incomplete: {}", record,
+                  closed ? std::string("a frame could not be written") : closed.error().message);
+    return 5;
+  }
+  spdlog::info("recorded {} console frames ({} bytes) in {}", recording.frames(), closed.value(), record);
+  return 0;
+}
+
+void log_summary(const core::Simulator& sim, const core::ScenarioConfig& s, const SimOptions& o,
+                 const core::FaultSchedule& faults, const nlohmann::json& j, double secs) {
+  spdlog::info("done in {:.2f} s ({:.0f} UAV-steps/s): coverage {:.1f}%, targets {}/{} at ticks {} -> {}/metrics.json",
+               secs, static_cast<double>(sim.uav_steps()) / secs, 100.0 * sim.recorder().coverage().coverage(),
+               sim.recorder().acquisitions().found(), s.targets.size(), j["acquisition_ticks"].dump(), o.out_dir);
+  if (!faults.empty()) {
+    spdlog::info("faults: {} uav(s) and {} place agent(s) killed, {} region(s) frozen; deposits sent {} = applied {} "
+                 "+ rejected {} + lost {}",
+                 sim.recorder().uavs_killed(), sim.recorder().places_killed(), sim.recorder().regions_frozen(),
+                 j["deposits_sent"].get<uint64_t>(), j["deposits_applied"].get<uint64_t>(),
+                 j["deposits_rejected"].get<uint64_t>(), j["deposits_lost"].get<uint64_t>());
+  }
+}
+
+}  // namespace
+
+int simulate(const core::ScenarioConfig& s, const core::FaultSchedule& faults, const SimOptions& o) {
+  const core::MapGeometry geo = s.geometry();
+  spdlog::info("sim '{}': {} regions, {} uavs, {} ticks, seed {}", s.name, geo.region_count(), s.uavs, s.ticks, s.seed);
+
+  core::Simulator sim(s);
+  if (!apply_faults(sim, s, faults)) return 2;
+  if (o.tracks) sim.keep_tracks();
+  std::unique_ptr<frontdoor::SimRecording> recording;
+  if (!o.record.empty()) {
+    recording = open_recording(o.record, sim);
+    if (!recording) return 5;
+  }
+  bool recording_failed = false;
+  const double secs = run_with_progress(sim, s, o, recording.get(), recording_failed);
 
   std::string error;
   const auto j = sim_metrics(sim, secs);
@@ -129,24 +184,9 @@ int simulate(const core::ScenarioConfig& s, const core::FaultSchedule& faults, c
     return 5;
   }
   if (recording) {
-    auto closed = recording->close();
-    if (recording_failed || !closed) {
-      spdlog::error("the recording {} is incomplete: {}", o.record,
-                    closed ? std::string("a frame could not be written") : closed.error().message);
-      return 5;
-    }
-    spdlog::info("recorded {} console frames ({} bytes) in {}", recording->frames(), closed.value(), o.record);
+    if (const int rc = close_recording(*recording, recording_failed, o.record); rc != 0) return rc;
   }
-  spdlog::info("done in {:.2f} s ({:.0f} UAV-steps/s): coverage {:.1f}%, targets {}/{} at ticks {} -> {}/metrics.json",
-               secs, static_cast<double>(sim.uav_steps()) / secs, 100.0 * sim.recorder().coverage().coverage(),
-               sim.recorder().acquisitions().found(), s.targets.size(), j["acquisition_ticks"].dump(), o.out_dir);
-  if (!faults.empty()) {
-    spdlog::info("faults: {} uav(s) and {} place agent(s) killed, {} region(s) frozen; deposits sent {} = applied {} "
-                 "+ rejected {} + lost {}",
-                 sim.recorder().uavs_killed(), sim.recorder().places_killed(), sim.recorder().regions_frozen(),
-                 j["deposits_sent"].get<uint64_t>(), j["deposits_applied"].get<uint64_t>(),
-                 j["deposits_rejected"].get<uint64_t>(), j["deposits_lost"].get<uint64_t>());
-  }
+  log_summary(sim, s, o, faults, j, secs);
   return refused_states_verdict(j, o.strict);
 }
 

@@ -49,29 +49,101 @@ std::string fmt(double v, int prec = 2) {
   return b;
 }
 
-Outcome run_one(const experiments::Experiment& chosen, const ExperimentOptions& o, const std::string& out) {
-  Outcome r;
-  r.experiment = &chosen;
-  r.runs = o.runs > 0 ? o.runs : chosen.paper_runs;
+void configure_distributed(const ExperimentOptions& o, const std::string& out) {
   experiments::DistributedOptions dist;
   dist.enabled = o.distributed;
   dist.dds = o.dds;
   dist.domain = o.domain;
   dist.work_dir = out + "/distributed";
   experiments::set_distributed(dist);
+}
+
+// An experiment seeds its runs itself: false (and a message) for an override of run.seed.
+bool overrides_leave_the_seed(const core::ScenarioOverrides& overrides) {
+  for (const auto& ov : overrides) {
+    if (ov.path == "run.seed") {
+      std::fprintf(stderr, "%s: an experiment seeds its runs itself (1, 2, ... --runs); leave run.seed out\n",
+                   ov.source.c_str());
+      return false;
+    }
+  }
+  return true;
+}
+
+// After the run: an override must have reached a scenario file; the report's setup names it.
+bool note_overrides(Outcome& r, const core::ScenarioOverrides& overrides) {
+  const experiments::Experiment& chosen = *r.experiment;
+  if (experiments::overridden_loads() == 0) {
+    std::fprintf(stderr,
+                 "experiment %s builds its scenarios in code and reads no scenario file: %s cannot change "
+                 "them\n",
+                 chosen.name.c_str(), core::describe_overrides(overrides).c_str());
+    return false;
+  }
+  r.report.setup += " Overrides applied to every scenario file it read: `" + core::describe_overrides(overrides) + "`.";
+  std::printf("%s: overrides %s\n", chosen.name.c_str(), core::describe_overrides(overrides).c_str());
+  return true;
+}
+
+// The console summary: one line per row and per comparison.
+void print_summary(const Outcome& r, const std::string& out) {
+  const experiments::Experiment& chosen = *r.experiment;
+  std::printf("%s: %u runs in %.1f s -> %s/report.md\n", chosen.name.c_str(), r.runs, r.wall_s, out.c_str());
+  std::printf("%-46s %10s %18s %8s  %s\n", "metric", "paper", "ours (mean ± sd)", "ratio", "verdict");
+  for (const auto& row : r.report.rows) {
+    const double m = experiments::mean(row.ours);
+    char ours[64];
+    std::snprintf(ours, sizeof ours, "%.2f ± %.2f", m, experiments::stddev(row.ours));
+    const std::string verdict = row.verdict.empty() ? experiments::auto_verdict(row) : row.verdict;
+    std::printf("%-46s %10s %18s %8s  %s\n", row.metric.c_str(),
+                row.paper ? std::to_string(*row.paper).substr(0, 8).c_str() : "–", ours,
+                row.paper && *row.paper != 0 ? std::to_string(m / *row.paper).substr(0, 5).c_str() : "–",
+                verdict.empty() ? "–" : verdict.substr(0, 60).c_str());
+  }
+  for (const auto& c : r.report.comparisons) {
+    const auto g = experiments::gain_of(c);
+    std::printf("variant %s vs %s, %s: gain %.1f %% [%.1f, %.1f]\n", c.variant.c_str(), c.baseline.c_str(),
+                c.metric.c_str(), 100 * g.gain, 100 * g.ci.lo, 100 * g.ci.hi);
+  }
+}
+
+// --distributed: how many runs on real processes equal the simulator.
+void check_distributed(Outcome& r) {
+  const experiments::Experiment& chosen = *r.experiment;
+  const auto& checks = experiments::distributed_checks();
+  r.checks = checks.size();
+  for (const auto& c : checks) {
+    r.checks_equal += c.equal ? 1 : 0;
+    if (!c.equal)
+      std::fprintf(stderr, "distributed run %s differs from the simulator:\n%s\n", c.label.c_str(),
+                   c.differences.c_str());
+  }
+  std::printf("distributed: %zu of %zu runs on real processes equal the simulator\n", r.checks_equal, r.checks);
+  if (checks.empty()) {
+    std::fprintf(
+        stderr,
+        "experiment %s flies no run that real processes can check (it is closed-form or runs a model of its own)\n",
+        chosen.name.c_str());
+    r.status = 3;
+  } else if (r.checks_equal != r.checks) {
+    r.status = 4;
+  }
+}
+
+Outcome run_one(const experiments::Experiment& chosen, const ExperimentOptions& o, const std::string& out) {
+  Outcome r;
+  r.experiment = &chosen;
+  r.runs = o.runs > 0 ? o.runs : chosen.paper_runs;
+  configure_distributed(o, out);
   auto overrides = overrides_of(o.overrides);
   if (!overrides) {
     std::fprintf(stderr, "%s\n", overrides.error().message.c_str());
     r.status = 2;
     return r;
   }
-  for (const auto& ov : overrides.value()) {
-    if (ov.path == "run.seed") {
-      std::fprintf(stderr, "%s: an experiment seeds its runs itself (1, 2, ... --runs); leave run.seed out\n",
-                   ov.source.c_str());
-      r.status = 2;
-      return r;
-    }
+  if (!overrides_leave_the_seed(overrides.value())) {
+    r.status = 2;
+    return r;
   }
   experiments::set_overrides(overrides.value());
   const auto t0 = std::chrono::steady_clock::now();
@@ -85,18 +157,9 @@ Outcome run_one(const experiments::Experiment& chosen, const ExperimentOptions& 
     return r;
   }
   r.wall_s = elapsed();
-  if (!overrides->empty()) {
-    if (experiments::overridden_loads() == 0) {
-      std::fprintf(stderr,
-                   "experiment %s builds its scenarios in code and reads no scenario file: %s cannot change "
-                   "them\n",
-                   chosen.name.c_str(), core::describe_overrides(overrides.value()).c_str());
-      r.status = 2;
-      return r;
-    }
-    r.report.setup +=
-        " Overrides applied to every scenario file it read: `" + core::describe_overrides(overrides.value()) + "`.";
-    std::printf("%s: overrides %s\n", chosen.name.c_str(), core::describe_overrides(overrides.value()).c_str());
+  if (!overrides->empty() && !note_overrides(r, overrides.value())) {
+    r.status = 2;
+    return r;
   }
   std::string error;
   if (!experiments::write_report(r.report, out, r.wall_s, error)) {
@@ -104,38 +167,8 @@ Outcome run_one(const experiments::Experiment& chosen, const ExperimentOptions& 
     r.status = 5;
     return r;
   }
-  std::printf("%s: %u runs in %.1f s -> %s/report.md\n", chosen.name.c_str(), r.runs, r.wall_s, out.c_str());
-  std::printf("%-46s %10s %18s %8s  %s\n", "metric", "paper", "ours (mean ± sd)", "ratio", "verdict");
-  for (const auto& row : r.report.rows) {
-    const double m = experiments::mean(row.ours);
-    char ours[64];
-    std::snprintf(ours, sizeof ours, "%.2f ± %.2f", m, experiments::stddev(row.ours));
-    const std::string verdict = row.verdict.empty() ? experiments::auto_verdict(row) : row.verdict;
-    std::printf("%-46s %10s %18s %8s  %s\n", row.metric.c_str(), row.paper ? std::to_string(*row.paper).substr(0, 8).c_str() : "–",
-                ours, row.paper && *row.paper != 0 ? std::to_string(m / *row.paper).substr(0, 5).c_str() : "–",
-                verdict.empty() ? "–" : verdict.substr(0, 60).c_str());
-  }
-  for (const auto& c : r.report.comparisons) {
-    const auto g = experiments::gain_of(c);
-    std::printf("variant %s vs %s, %s: gain %.1f %% [%.1f, %.1f]\n", c.variant.c_str(), c.baseline.c_str(),
-                c.metric.c_str(), 100 * g.gain, 100 * g.ci.lo, 100 * g.ci.hi);
-  }
-  if (o.distributed) {
-    const auto& checks = experiments::distributed_checks();
-    r.checks = checks.size();
-    for (const auto& c : checks) {
-      r.checks_equal += c.equal ? 1 : 0;
-      if (!c.equal) std::fprintf(stderr, "distributed run %s differs from the simulator:\n%s\n", c.label.c_str(), c.differences.c_str());
-    }
-    std::printf("distributed: %zu of %zu runs on real processes equal the simulator\n", r.checks_equal, r.checks);
-    if (checks.empty()) {
-      std::fprintf(stderr, "experiment %s flies no run that real processes can check (it is closed-form or runs a model of its own)\n",
-                   chosen.name.c_str());
-      r.status = 3;
-    } else if (r.checks_equal != r.checks) {
-      r.status = 4;
-    }
-  }
+  print_summary(r, out);
+  if (o.distributed) check_distributed(r);
   return r;
 }
 

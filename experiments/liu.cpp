@@ -368,109 +368,114 @@ struct LookBudget {
   double mower_looks, mower_eu;
 };
 
-// The investigation of Liu 2022 Table 2 (docs/policies/liu.md holds the same text).
-// Every number in it is computed from this report's runs.
-std::string table2_investigation(const Samples& samples, const LookBudget& b, const Study& study, uint32_t study_runs) {
+// "The claim" of the investigation: Liu 2022 Table 2's ranking against our means.
+std::string table2_claim(const Samples& samples) {
   const auto m = [&](std::size_t si, std::size_t mi, const std::vector<double> MethodSamples::*f) {
     return fmt(mean(samples[si][mi][0].*f), 2);
   };
-  std::string md = "## Investigation: Table 2's ranking, examined (issue 17)\n\n";
-  md +=
-      "### The claim\n\n"
-      "Table 2 (and Figs. 11–12, 20–22, 28–30) ranks ESUSTPM first: the lowest EU (40.23 bit with targets, 40.24 "
-      "without), the most targets found (3, the only method to find all), and second only to the mower on visited "
-      "cells (89 / 95). Ours, 10x10, ten UAVs, 200 cycles, the same sensor and TPM for every method: ESUSTPM's EU "
-      "is " +
-      m(0, 0, &MethodSamples::eu) + " bit (noisy sensor) and " + m(1, 0, &MethodSamples::eu) +
-      " (Algorithm 1's), against random search's " + m(0, 2, &MethodSamples::eu) + " / " + m(1, 2, &MethodSamples::eu) +
-      "; it visits " + m(0, 0, &MethodSamples::visited) + " / " + m(1, 0, &MethodSamples::visited) +
-      " cells against unguided Boids' " + m(0, 3, &MethodSamples::visited) + " / " + m(1, 3, &MethodSamples::visited) +
-      " and guided Boids' " + m(0, 4, &MethodSamples::visited) + " / " + m(1, 4, &MethodSamples::visited) +
-      "; with Algorithm 1's sensor it confirms " + m(1, 0, &MethodSamples::found) + " targets against guided Boids' " +
-      m(1, 4, &MethodSamples::found) +
-      ", with the noisy sensor nobody confirms more than a fraction of one. The rank rows above give the verdicts.\n\n";
+  return "### The claim\n\n"
+         "Table 2 (and Figs. 11–12, 20–22, 28–30) ranks ESUSTPM first: the lowest EU (40.23 bit with targets, 40.24 "
+         "without), the most targets found (3, the only method to find all), and second only to the mower on visited "
+         "cells (89 / 95). Ours, 10x10, ten UAVs, 200 cycles, the same sensor and TPM for every method: ESUSTPM's EU "
+         "is " +
+         m(0, 0, &MethodSamples::eu) + " bit (noisy sensor) and " + m(1, 0, &MethodSamples::eu) +
+         " (Algorithm 1's), against random search's " + m(0, 2, &MethodSamples::eu) + " / " +
+         m(1, 2, &MethodSamples::eu) + "; it visits " + m(0, 0, &MethodSamples::visited) + " / " +
+         m(1, 0, &MethodSamples::visited) + " cells against unguided Boids' " + m(0, 3, &MethodSamples::visited) +
+         " / " + m(1, 3, &MethodSamples::visited) + " and guided Boids' " + m(0, 4, &MethodSamples::visited) + " / " +
+         m(1, 4, &MethodSamples::visited) + "; with Algorithm 1's sensor it confirms " +
+         m(1, 0, &MethodSamples::found) + " targets against guided Boids' " + m(1, 4, &MethodSamples::found) +
+         ", with the noisy sensor nobody confirms more than a fraction of one. The rank rows above give the "
+         "verdicts.\n\n";
+}
 
-  md +=
-      "### Second, independent reading of eqs. (1)–(14) against the code\n\n"
-      "| paper | what it says | code | agrees? |\n|---|---|---|---|\n"
-      "| eq. (1) | bivariate Gaussian density of a target, σ1, σ2, ρ | `gaussian_mixture_prior` (liu/src/tpm.cpp) | "
-      "yes; σ0 and ρ unstated (ours σ0 = 1 cell, ρ = 0); not used by Table 2 (uniform prior) |\n"
-      "| eq. (2) | P_mn = Σ α_i ∬_cell f_i | `gaussian_mixture_prior` | yes; α_i unstated (1), clipped to [0, 1] |\n"
-      "| eq. (3) | an unsearched cell keeps P | only entered cells are updated (`run_liu_swarm`, `LiuPlace::apply`) | "
-      "yes |\n"
-      "| eq. (4) | detection: P' = Pd P / ((Pd − Pf) P + Pf) | `tpm_after_detection` | yes (hand-worked tests "
-      "in test_liu_tpm.cpp) |\n"
-      "| eq. (5) | miss: P' = (1 − Pd) P / (1 − Pf) as printed | `tpm_after_miss`, `MissUpdate::kAsPrinted` | yes; "
-      "the print is not the Bayesian posterior (that is `kBayes`, in the study) |\n"
-      "| Alg. 1 | update branches on whether the cell holds a target | `LiuSensor::kAlgorithm1` | yes; the "
-      "`noisy` reading draws detections with Pd / Pf instead (both reported) |\n"
-      "| §2.4 | the sensor reads P of its cell and the 8 around; senses a target only in its own cell | one "
-      "update per cell *entered*; the 8 neighbours only guide rule 4 | yes; \"when the UAV arrives\" read as "
-      "entering a cell (the start cell is visited, not observed) |\n"
-      "| eq. (6) | mvel = ¼ Σ β_i F_i/‖F_i‖ over 3 nearest neighbours and the best nearby cell | "
-      "`esustpm_objective_velocity` | yes; F_i points from the neighbour to the UAV, so β > 0 (d < c) repels "
-      "(§5 \"repel each other when the distance ... is less than the safe distance\"); rule 4 uses |β_4| towards "
-      "the cell (literally β_4 < 0 at 141 m would push the UAV *away* from a diagonal best cell) |\n"
-      "| eqs. (7)–(9) | g = t(1 − e^{−(d−c)²/δ'²}), a = k(d−c)e^{−(d−c)²/δ²}, β = a g | `liu_gain` | yes "
-      "(hand-worked in test_liu_tpm.cpp) |\n"
-      "| eqs. (10)–(11) | P += mvel Δt | `advance_uav`, clipped to 10 m/s, reflected at the border (§2.2) | yes |\n"
-      "| eqs. (12)–(13) | random direction rnd(2,1)/‖·‖, step S = 10 | `random_direction`, "
-      "`random_search_step` | yes; a new direction each cycle; the collision avoidance §5.1.2 mentions is not "
-      "specified and not modelled |\n"
-      "| eq. (14) | mower P += b l Δt, b reversed at the border, l = 10 | `mower_advance` | yes; one row per "
-      "UAV (10 rows, 10 UAVs), each from its row's west end |\n"
-      "| §5.1.4–5.1.5 | Boids with / without guidance, safe distance 120 m | `boids_step`, "
-      "`boids_guided_step` | the rule weights are not given (ours equal; weights 2 in the study) |\n"
-      "| Table 2 \"environmental uncertainty\" | not defined | `environmental_uncertainty` = −Σ P log2 P | "
-      "unstated; fits: our no-target mower with Algorithm 1's sensor gives exactly " +
-      fmt(b.mower_eu, 2) +
-      " (Table 2: 52.34). Σ H(P) (binary entropy) cannot fit: an untouched 10x10 map alone is 100 bit |\n"
-      "| Table 2 \"visited grid number\" | not defined | `VisitedCells`: cells any UAV has been over, start "
-      "cells included | unstated |\n"
-      "| the baselines' sensing | not said | every method runs the same loop: same sensor draw per cell "
-      "entered, same eqs. (4)–(5), same θ, same visited and EU bookkeeping (`run_liu_swarm`; "
-      "`LiuUavPolicy::observe` on the real swarm); only the velocity decision differs | fair baselines by "
-      "construction |\n\n"
-      "No bug was found on this second reading: the code computes what the equations say, and every departure "
-      "is a choice where the paper is silent, each in the list below and in the study.\n\n";
+std::string table2_second_reading(const LookBudget& b) {
+  return "### Second, independent reading of eqs. (1)–(14) against the code\n\n"
+         "| paper | what it says | code | agrees? |\n|---|---|---|---|\n"
+         "| eq. (1) | bivariate Gaussian density of a target, σ1, σ2, ρ | `gaussian_mixture_prior` (liu/src/tpm.cpp) | "
+         "yes; σ0 and ρ unstated (ours σ0 = 1 cell, ρ = 0); not used by Table 2 (uniform prior) |\n"
+         "| eq. (2) | P_mn = Σ α_i ∬_cell f_i | `gaussian_mixture_prior` | yes; α_i unstated (1), clipped to [0, 1] |\n"
+         "| eq. (3) | an unsearched cell keeps P | only entered cells are updated (`run_liu_swarm`, `LiuPlace::apply`) "
+         "| "
+         "yes |\n"
+         "| eq. (4) | detection: P' = Pd P / ((Pd − Pf) P + Pf) | `tpm_after_detection` | yes (hand-worked tests "
+         "in test_liu_tpm.cpp) |\n"
+         "| eq. (5) | miss: P' = (1 − Pd) P / (1 − Pf) as printed | `tpm_after_miss`, `MissUpdate::kAsPrinted` | yes; "
+         "the print is not the Bayesian posterior (that is `kBayes`, in the study) |\n"
+         "| Alg. 1 | update branches on whether the cell holds a target | `LiuSensor::kAlgorithm1` | yes; the "
+         "`noisy` reading draws detections with Pd / Pf instead (both reported) |\n"
+         "| §2.4 | the sensor reads P of its cell and the 8 around; senses a target only in its own cell | one "
+         "update per cell *entered*; the 8 neighbours only guide rule 4 | yes; \"when the UAV arrives\" read as "
+         "entering a cell (the start cell is visited, not observed) |\n"
+         "| eq. (6) | mvel = ¼ Σ β_i F_i/‖F_i‖ over 3 nearest neighbours and the best nearby cell | "
+         "`esustpm_objective_velocity` | yes; F_i points from the neighbour to the UAV, so β > 0 (d < c) repels "
+         "(§5 \"repel each other when the distance ... is less than the safe distance\"); rule 4 uses |β_4| towards "
+         "the cell (literally β_4 < 0 at 141 m would push the UAV *away* from a diagonal best cell) |\n"
+         "| eqs. (7)–(9) | g = t(1 − e^{−(d−c)²/δ'²}), a = k(d−c)e^{−(d−c)²/δ²}, β = a g | `liu_gain` | yes "
+         "(hand-worked in test_liu_tpm.cpp) |\n"
+         "| eqs. (10)–(11) | P += mvel Δt | `advance_uav`, clipped to 10 m/s, reflected at the border (§2.2) | yes |\n"
+         "| eqs. (12)–(13) | random direction rnd(2,1)/‖·‖, step S = 10 | `random_direction`, "
+         "`random_search_step` | yes; a new direction each cycle; the collision avoidance §5.1.2 mentions is not "
+         "specified and not modelled |\n"
+         "| eq. (14) | mower P += b l Δt, b reversed at the border, l = 10 | `mower_advance` | yes; one row per "
+         "UAV (10 rows, 10 UAVs), each from its row's west end |\n"
+         "| §5.1.4–5.1.5 | Boids with / without guidance, safe distance 120 m | `boids_step`, "
+         "`boids_guided_step` | the rule weights are not given (ours equal; weights 2 in the study) |\n"
+         "| Table 2 \"environmental uncertainty\" | not defined | `environmental_uncertainty` = −Σ P log2 P | "
+         "unstated; fits: our no-target mower with Algorithm 1's sensor gives exactly " +
+         fmt(b.mower_eu, 2) +
+         " (Table 2: 52.34). Σ H(P) (binary entropy) cannot fit: an untouched 10x10 map alone is 100 bit |\n"
+         "| Table 2 \"visited grid number\" | not defined | `VisitedCells`: cells any UAV has been over, start "
+         "cells included | unstated |\n"
+         "| the baselines' sensing | not said | every method runs the same loop: same sensor draw per cell "
+         "entered, same eqs. (4)–(5), same θ, same visited and EU bookkeeping (`run_liu_swarm`; "
+         "`LiuUavPolicy::observe` on the real swarm); only the velocity decision differs | fair baselines by "
+         "construction |\n\n"
+         "No bug was found on this second reading: the code computes what the equations say, and every departure "
+         "is a choice where the paper is silent, each in the list below and in the study.\n\n";
+}
 
-  md +=
-      "### Quantities the paper leaves unstated\n\n"
-      "Map 10x10 (stated), cell size 100 m (inferred from §5's coordinates), 10 UAVs (stated), speed 10 m/s "
-      "(stated), Δt = 10 ms (stated), 200 cycles (stated), Pd = 0.3 / Pf = 0.1 (stated), targets and start "
-      "positions (stated), Table 1's rule constants (stated). **Unstated:** the length of a time cycle (ours 1 s: "
-      "how many Δt a cycle holds), whether the sensor is noisy or Algorithm 1's truth branch, whether eq. (5) is "
-      "meant as printed or as the Bayesian posterior, θ (ours 0.95), the start velocity (ours max speed, random "
-      "heading), the communication range (ours unlimited), how \"the three closest neighbours chosen by the "
-      "distance and TPM\" weighs the TPM (ours: distance only), whether a confirmed cell keeps attracting rule 4 "
-      "(ours: no, §4), the Boids rule weights (ours equal), the EU formula, what counts as visited, and how many "
-      "runs Table 2 shows (ours 10, as §5.4).\n\n";
+std::string table2_unstated() {
+  return "### Quantities the paper leaves unstated\n\n"
+         "Map 10x10 (stated), cell size 100 m (inferred from §5's coordinates), 10 UAVs (stated), speed 10 m/s "
+         "(stated), Δt = 10 ms (stated), 200 cycles (stated), Pd = 0.3 / Pf = 0.1 (stated), targets and start "
+         "positions (stated), Table 1's rule constants (stated). **Unstated:** the length of a time cycle (ours 1 s: "
+         "how many Δt a cycle holds), whether the sensor is noisy or Algorithm 1's truth branch, whether eq. (5) is "
+         "meant as printed or as the Bayesian posterior, θ (ours 0.95), the start velocity (ours max speed, random "
+         "heading), the communication range (ours unlimited), how \"the three closest neighbours chosen by the "
+         "distance and TPM\" weighs the TPM (ours: distance only), whether a confirmed cell keeps attracting rule 4 "
+         "(ours: no, §4), the Boids rule weights (ours equal), the EU formula, what counts as visited, and how many "
+         "runs Table 2 shows (ours 10, as §5.4).\n\n";
+}
 
-  md +=
-      "### The look budget: Table 2's ESUSTPM row is out of reach\n\n"
-      "Under −Σ P log2 P with printed eq. (5), a cell's EU *rises* after one or two misses (0.50 → 0.53 → 0.52 "
-      "bit) and falls only after three or more: the EU of a search is set by how many looks it makes and how "
-      "it spreads them. Without targets and with Algorithm 1's sensor every look is a miss, so the lowest EU "
-      "any search can leave with 95 visited cells (85 of them looked at: the 10 start cells are visited without "
-      "a look) is an exact minimum over allocations of the looks (`liu_lowest_eu`, dynamic programming). "
-      "ESUSTPM made " +
-      std::to_string(b.looks_mean) + " looks per run on average (most " + std::to_string(b.looks_max) +
-      "; its zig-zag enters more cells per metre than the mower's " + fmt(b.mower_looks, 0) +
-      "): the lowest reachable EU is " + fmt(b.bound_mean, 2) + " bit with " + std::to_string(b.looks_mean) +
-      " looks and " + fmt(b.bound_max, 2) + " with " + std::to_string(b.looks_max) +
-      ", above Table 2's 40.24, which needs at least " + std::to_string(b.needed) +
-      " looks perfectly spread. A longer cycle gives more looks, but the same cycle gives the mower more looks "
-      "too, and Table 2's mower EU of 52.34 — which our 1 s cycle reproduces exactly — fixes the mower at about "
-      "two looks per cell. So the two rows of Table 2 cannot both hold under one cycle length with this EU.\n\n";
+std::string table2_look_budget(const LookBudget& b) {
+  return "### The look budget: Table 2's ESUSTPM row is out of reach\n\n"
+         "Under −Σ P log2 P with printed eq. (5), a cell's EU *rises* after one or two misses (0.50 → 0.53 → 0.52 "
+         "bit) and falls only after three or more: the EU of a search is set by how many looks it makes and how "
+         "it spreads them. Without targets and with Algorithm 1's sensor every look is a miss, so the lowest EU "
+         "any search can leave with 95 visited cells (85 of them looked at: the 10 start cells are visited without "
+         "a look) is an exact minimum over allocations of the looks (`liu_lowest_eu`, dynamic programming). "
+         "ESUSTPM made " +
+         std::to_string(b.looks_mean) + " looks per run on average (most " + std::to_string(b.looks_max) +
+         "; its zig-zag enters more cells per metre than the mower's " + fmt(b.mower_looks, 0) +
+         "): the lowest reachable EU is " + fmt(b.bound_mean, 2) + " bit with " + std::to_string(b.looks_mean) +
+         " looks and " + fmt(b.bound_max, 2) + " with " + std::to_string(b.looks_max) +
+         ", above Table 2's 40.24, which needs at least " + std::to_string(b.needed) +
+         " looks perfectly spread. A longer cycle gives more looks, but the same cycle gives the mower more looks "
+         "too, and Table 2's mower EU of 52.34 — which our 1 s cycle reproduces exactly — fixes the mower at about "
+         "two looks per cell. So the two rows of Table 2 cannot both hold under one cycle length with this EU.\n\n";
+}
 
-  md +=
-      "### Sensitivity study\n\n"
-      "Each unstated quantity varied alone from our reading (and one pair), " +
-      std::to_string(study_runs) +
-      " runs per setting, every method with the same seeds; the \"rank EU as Σ H(P)\" column ranks by the "
-      "binary-entropy EU of the same final maps.\n" +
-      study.md + "\n";
+std::string table2_sensitivity(const Study& study, uint32_t study_runs) {
+  return "### Sensitivity study\n\n"
+         "Each unstated quantity varied alone from our reading (and one pair), " +
+         std::to_string(study_runs) +
+         " runs per setting, every method with the same seeds; the \"rank EU as Σ H(P)\" column ranks by the "
+         "binary-entropy EU of the same final maps.\n" +
+         study.md + "\n";
+}
 
+std::string table2_conclusion(const Study& study) {
   // Conclusion, from the study's numbers.
   double min_rank_eu = 1e9, min_rank_eu_b = 1e9;
   std::string at_eu, at_eu_b;
@@ -491,31 +496,42 @@ std::string table2_investigation(const Samples& samples, const LookBudget& b, co
   }
   std::string vis_list;
   for (const auto& v : vis_ok) vis_list += (vis_list.empty() ? "" : "; ") + v;
-  md +=
-      "### Conclusion\n\n"
-      "**Not reproducible under any fair reading.** In none of the " +
-      std::to_string(study.cells.size()) + " settings × sensors is ESUSTPM first on EU: its best mean rank is " +
-      fmt(min_rank_eu, 1) + " (" + at_eu + "), and " + fmt(min_rank_eu_b, 1) + " (" + at_eu_b +
-      ") if EU is read as the binary entropy. It reaches Table 2's visited-cell rank (2, after the mower) only in: " +
-      (vis_list.empty() ? std::string("no setting") : vis_list) +
-      " — settings whose mower EU is far from Table 2's 52.34, which our reading reproduces. The look budget "
-      "above shows why no reading of the cycle can give both. The ranking the paper reports is not a matter of "
-      "our reading or a bug of ours: with its own equations, Table 1's constants and the same sensor for "
-      "every method, ESUSTPM's swarm holds a lattice (|β| ≈ 6000 m/s within 20 m of c = 120 m, as strong as "
-      "rule 4) and drifts as one body, and the EU metric that fits the mower rewards re-entering few cells, "
-      "which random search and Boids do more. The parts that are reproduced: the mower (100 cells; 52.34 bit "
-      "exactly with Algorithm 1's sensor), random search's EU, guided Boids' visited cells, and, with "
-      "Algorithm 1's sensor, ESUSTPM confirming nearly all three targets (row above).\n\n"
-      "**A variant that does what the paper wanted.** ESUSTPM-disperse (`search: \"esustpm_disperse\"`, "
-      "docs/policies/liu.md) keeps eqs. (6)–(9) and rule 4 but drops the attracting half of the neighbour rules "
-      "(β_i < 0, i ≤ 3). Same sensor, TPM, speed and seeds: see the variants table (visited cells at cycle 200, "
-      "and the distributed policy). It pays for it in this EU (it spreads its looks even more), the price of "
-      "the metric's reward for re-entry.\n";
+  return "### Conclusion\n\n"
+         "**Not reproducible under any fair reading.** In none of the " +
+         std::to_string(study.cells.size()) + " settings × sensors is ESUSTPM first on EU: its best mean rank is " +
+         fmt(min_rank_eu, 1) + " (" + at_eu + "), and " + fmt(min_rank_eu_b, 1) + " (" + at_eu_b +
+         ") if EU is read as the binary entropy. It reaches Table 2's visited-cell rank (2, after the mower) only "
+         "in: " +
+         (vis_list.empty() ? std::string("no setting") : vis_list) +
+         " — settings whose mower EU is far from Table 2's 52.34, which our reading reproduces. The look budget "
+         "above shows why no reading of the cycle can give both. The ranking the paper reports is not a matter of "
+         "our reading or a bug of ours: with its own equations, Table 1's constants and the same sensor for "
+         "every method, ESUSTPM's swarm holds a lattice (|β| ≈ 6000 m/s within 20 m of c = 120 m, as strong as "
+         "rule 4) and drifts as one body, and the EU metric that fits the mower rewards re-entering few cells, "
+         "which random search and Boids do more. The parts that are reproduced: the mower (100 cells; 52.34 bit "
+         "exactly with Algorithm 1's sensor), random search's EU, guided Boids' visited cells, and, with "
+         "Algorithm 1's sensor, ESUSTPM confirming nearly all three targets (row above).\n\n"
+         "**A variant that does what the paper wanted.** ESUSTPM-disperse (`search: \"esustpm_disperse\"`, "
+         "docs/policies/liu.md) keeps eqs. (6)–(9) and rule 4 but drops the attracting half of the neighbour rules "
+         "(β_i < 0, i ≤ 3). Same sensor, TPM, speed and seeds: see the variants table (visited cells at cycle 200, "
+         "and the distributed policy). It pays for it in this EU (it spreads its looks even more), the price of "
+         "the metric's reward for re-entry.\n";
+}
+
+// The investigation of Liu 2022 Table 2 (docs/policies/liu.md holds the same text).
+// Every number in it is computed from this report's runs.
+std::string table2_investigation(const Samples& samples, const LookBudget& b, const Study& study, uint32_t study_runs) {
+  std::string md = "## Investigation: Table 2's ranking, examined (issue 17)\n\n";
+  md += table2_claim(samples);
+  md += table2_second_reading(b);
+  md += table2_unstated();
+  md += table2_look_budget(b);
+  md += table2_sensitivity(study, study_runs);
+  md += table2_conclusion(study);
   return md;
 }
 
-Report run_table2(uint32_t runs, const Progress& progress) {
-  Report rep;
+void describe_table2(Report& rep, uint32_t runs) {
   rep.title = "Liu 2022 Table 2 — five search methods, with and without targets, and ESUSTPM-disperse (ours)";
   rep.source = "Liu et al. 2022, §5.1–5.2, Table 2, Figs. 11–12 and 20–22";
   rep.setup = common_setup(runs) +
@@ -524,15 +540,15 @@ Report run_table2(uint32_t runs, const Progress& progress) {
               "bookkeeping (run_liu_swarm): only the velocity decision differs";
   rep.csv_header = {"run", "seed", "sensor", "method", "targets", "visited", "final_eu", "found",
                     "confirmation_cycles", "false_confirmations", "observations"};
+}
+
+// Flies every (run, sensor, method, with/without targets) in the simulator;
+// samples[sensor][method][variant], variant 0 = with targets, 1 = without.
+Samples fly_table2(Report& rep, uint32_t runs, const Progress& progress, uint32_t& done, uint32_t total) {
   const auto& ms = methods();
   const auto& ss = sensors();
-  // samples[sensor][method][variant], variant 0 = with targets, 1 = without
   std::vector<std::vector<std::array<MethodSamples, 2>>> samples(ss.size(),
-                                                                std::vector<std::array<MethodSamples, 2>>(ms.size()));
-  const uint32_t study_runs = runs;
-  const uint32_t total = runs * static_cast<uint32_t>(ss.size() * ms.size() * 2) +
-                         study_runs * static_cast<uint32_t>(ss.size() * settings().size() * ms.size());
-  uint32_t done = 0;
+                                                                 std::vector<std::array<MethodSamples, 2>>(ms.size()));
   for (uint32_t run = 0; run < runs; ++run) {
     const uint64_t seed = run + 1;
     for (std::size_t si = 0; si < ss.size(); ++si) {
@@ -553,120 +569,160 @@ Report run_table2(uint32_t runs, const Progress& progress) {
       }
     }
   }
-  const auto paper_of = [](const MethodSpec& m, double v) -> std::optional<double> {
-    if (!m.paper_method) return std::nullopt;
-    return v;
-  };
-  for (std::size_t si = 0; si < ss.size(); ++si) {
-    const std::string& tag = ss[si].tag;
-    const LiuSensor sensor = ss[si].sensor;
-    for (std::size_t mi = 0; mi < ms.size(); ++mi) {
-      const MethodSpec& m = ms[mi];
-      const MethodSamples& w = samples[si][mi][0];
-      const MethodSamples& wo = samples[si][mi][1];
-      const std::string fc = "false confirmations per run: " + fmt(mean(w.false_conf)) + " (with targets), " +
-                             fmt(mean(wo.false_conf)) + " (without)";
-      const auto add = [&](const std::string& metric, double paper, const std::vector<double>& ours,
-                           const std::string& unit, const std::string& note, Metric kind) {
-        Row r{m.name + " " + metric + tag, paper_of(m, paper), ours, unit, note, ""};
-        if (m.paper_method) r.verdict = table2_verdict(r, kind, m.policy, sensor);
-        rep.rows.push_back(std::move(r));
-      };
-      add("visited", m.visited, w.visited, "cell", "", Metric::kVisited);
-      add("EU", m.eu, w.eu, "bit", "", Metric::kEu);
-      add("found", m.found, w.found, "target", fc, Metric::kFound);
-      add("visited, no targets", m.visited_nt, wo.visited, "cell", "", Metric::kVisited);
-      add("EU, no targets", m.eu_nt, wo.eu, "bit", "", Metric::kEu);
-    }
-    // Liu 2022 Table 2's claim is a ranking: ESUSTPM's rank among the five, per run.
-    for (int variant = 0; variant < 2; ++variant) {
-      const auto v = static_cast<std::size_t>(variant);
-      std::vector<const std::vector<double>*> vis, eu, found;
-      for (std::size_t mi = 0; mi < kPaperMethods; ++mi) {
-        vis.push_back(&samples[si][mi][v].visited);
-        eu.push_back(&samples[si][mi][v].eu);
-        found.push_back(&samples[si][mi][v].found);
-      }
-      const std::string nt = variant == 0 ? "" : ", no targets";
-      // Verdict on "ESUSTPM ranks `paper`": reproduced when its mean rank is
-      // within half a rank of the paper's; reversed when a baseline the paper
-      // ranks below it beats it with disjoint 95 % CIs; otherwise differs.
-      const auto rank_row = [&](const std::string& what, double paper,
-                                const std::vector<const std::vector<double>*>& per_method, bool lower_is_better,
-                                const std::string& why) {
-        std::vector<double> ranks = esustpm_rank(per_method, lower_is_better);
-        const Interval mine = ci95(*per_method[0]);
-        std::string beaten_by;
-        for (std::size_t mi = 1; mi < per_method.size(); ++mi) {
-          const bool paper_ranks_it_below = what != "visited cells" || ms[mi].policy != LiuPolicy::kLawnmower;
-          const Interval other = ci95(*per_method[mi]);
-          const bool beats = lower_is_better ? other.hi < mine.lo : other.lo > mine.hi;
-          if (paper_ranks_it_below && beats) beaten_by += (beaten_by.empty() ? "" : ", ") + ms[mi].name;
-        }
-        const double mr = mean(ranks);
-        std::string verdict;
-        if (mr <= paper + 0.5) {
-          verdict = "reproduced";
-        } else if (!beaten_by.empty()) {
-          verdict = "reversed: " + beaten_by + " beat" + (beaten_by.find(',') == std::string::npos ? "s" : "") +
-                    " it (disjoint 95 % CIs); " + why;
-        } else {
-          verdict = "differs: mean rank " + fmt(mr, 1) + ", no baseline significantly better; " + why;
-        }
-        rep.rows.push_back({"ESUSTPM's rank on " + what + nt + tag + " (1 = best of the five)", paper, std::move(ranks),
-                            "rank", "per run, ties share their mean rank", verdict});
-      };
-      rank_row("EU", 1, eu, true, "this EU falls only where a cell is looked at ≥ 3 times");
-      rank_row("visited cells", 2, vis, false, "Table 1's rules hold a lattice that drifts as one body");
-      if (variant == 0) {
-        rank_row("targets found", 1, found, false,
-                 sensor == LiuSensor::kNoisy ? "under the printed eq. (5) almost nobody confirms a target"
-                                             : "guided Boids re-enter target cells as often");
-      }
-    }
-    // Plots: Liu 2022 Fig. 21 (EU, targets), Liu 2022 Fig. 12 (EU, no targets), Liu 2022 Fig. 20 (visited), Liu 2022 Fig. 22 (found).
-    const std::string sensor_name = sensor == LiuSensor::kNoisy ? "noisy sensor" : "Algorithm 1 sensor";
-    Plot eu_t{"fig21-eu-" + ss[si].file + ".svg", "EU vs cycle, 3 targets (Fig. 21), " + sensor_name, "cycle",
-              "environmental uncertainty [bit]", {}};
-    Plot eu_nt{"fig12-eu-" + ss[si].file + ".svg", "EU vs cycle, no targets (Fig. 12), " + sensor_name, "cycle",
-               "environmental uncertainty [bit]", {}};
-    Plot vis{"fig20-visited-" + ss[si].file + ".svg", "Visited cells vs cycle, 3 targets (Fig. 20), " + sensor_name,
-             "cycle", "visited cells", {}};
-    Plot found{"fig22-found-" + ss[si].file + ".svg", "Targets found vs cycle (Fig. 22), " + sensor_name, "cycle",
-               "targets confirmed (mean)", {}};
-    for (std::size_t mi = 0; mi < ms.size(); ++mi) {
-      eu_t.series.push_back(mean_series(ms[mi].name, samples[si][mi][0].eu_series));
-      eu_nt.series.push_back(mean_series(ms[mi].name, samples[si][mi][1].eu_series));
-      vis.series.push_back(mean_series(ms[mi].name, samples[si][mi][0].visited_series));
-      found.series.push_back(mean_series(ms[mi].name, samples[si][mi][0].found_series));
-    }
-    rep.plots.push_back(std::move(eu_t));
-    rep.plots.push_back(std::move(eu_nt));
-    rep.plots.push_back(std::move(vis));
-    rep.plots.push_back(std::move(found));
+  return samples;
+}
 
-    // Our variant against the paper's policy, same sensor, same seeds.
-    const MethodSamples& e = samples[si][0][0];
-    const MethodSamples& d = samples[si][kDisperse][0];
-    const std::string base = "ESUSTPM (Liu 2022, search \"esustpm\")";
-    const std::string var = "ESUSTPM-disperse (ours, search \"esustpm_disperse\", docs/policies/liu.md)";
-    rep.comparisons.push_back({"visited cells at cycle 200, 3 targets" + tag, "cell", base, var, false, e.visited,
-                               d.visited, "Table 2's first column"});
-    rep.comparisons.push_back({"EU at cycle 200, 3 targets" + tag, "bit", base, var, true, e.eu, d.eu,
-                               "Table 2's second column (lower is better)"});
-    rep.comparisons.push_back(
-        {"targets found by cycle 200" + tag, "target", base, var, false, e.found, d.found, "Table 2's third column"});
-    rep.comparisons.push_back({"cycles to confirm all three targets" + tag, "cycle", base, var, true, e.all_found_cycle,
-                               d.all_found_cycle, "a run that never confirms all three counts as 200 (censored)"});
+std::optional<double> paper_value(const MethodSpec& m, double v) {
+  if (!m.paper_method) return std::nullopt;
+  return v;
+}
+
+// The five Liu 2022 Table 2 rows of each method under sensor si.
+void add_method_rows(Report& rep, const Samples& samples, std::size_t si) {
+  const auto& ms = methods();
+  const std::string& tag = sensors()[si].tag;
+  const LiuSensor sensor = sensors()[si].sensor;
+  for (std::size_t mi = 0; mi < ms.size(); ++mi) {
+    const MethodSpec& m = ms[mi];
+    const MethodSamples& w = samples[si][mi][0];
+    const MethodSamples& wo = samples[si][mi][1];
+    const std::string fc = "false confirmations per run: " + fmt(mean(w.false_conf)) + " (with targets), " +
+                           fmt(mean(wo.false_conf)) + " (without)";
+    const auto add = [&](const std::string& metric, double paper, const std::vector<double>& ours,
+                         const std::string& unit, const std::string& note, Metric kind) {
+      Row r{m.name + " " + metric + tag, paper_value(m, paper), ours, unit, note, ""};
+      if (m.paper_method) r.verdict = table2_verdict(r, kind, m.policy, sensor);
+      rep.rows.push_back(std::move(r));
+    };
+    add("visited", m.visited, w.visited, "cell", "", Metric::kVisited);
+    add("EU", m.eu, w.eu, "bit", "", Metric::kEu);
+    add("found", m.found, w.found, "target", fc, Metric::kFound);
+    add("visited, no targets", m.visited_nt, wo.visited, "cell", "", Metric::kVisited);
+    add("EU, no targets", m.eu_nt, wo.eu, "bit", "", Metric::kEu);
   }
-  // The same searches as the distributed `liu` policy: the TPM in the place
-  // agents, one sensor stream per UAV, neighbours from the UAV's view.
-  const std::string file = "liu2022-table2.textproto";
-  struct Flown {
-    std::string name, patch, via;
-    bool paper;
-  };
-  const std::vector<Flown> flown{
+}
+
+// Verdict on "ESUSTPM ranks `paper`": reproduced when its mean rank is
+// within half a rank of the paper's; reversed when a baseline the paper
+// ranks below it beats it with disjoint 95 % CIs; otherwise differs.
+void add_rank_row(Report& rep, const std::string& what, double paper,
+                  const std::vector<const std::vector<double>*>& per_method, bool lower_is_better,
+                  const std::string& why, const std::string& suffix) {
+  const auto& ms = methods();
+  std::vector<double> ranks = esustpm_rank(per_method, lower_is_better);
+  const Interval mine = ci95(*per_method[0]);
+  std::string beaten_by;
+  for (std::size_t mi = 1; mi < per_method.size(); ++mi) {
+    const bool paper_ranks_it_below = what != "visited cells" || ms[mi].policy != LiuPolicy::kLawnmower;
+    const Interval other = ci95(*per_method[mi]);
+    const bool beats = lower_is_better ? other.hi < mine.lo : other.lo > mine.hi;
+    if (paper_ranks_it_below && beats) beaten_by += (beaten_by.empty() ? "" : ", ") + ms[mi].name;
+  }
+  const double mr = mean(ranks);
+  std::string verdict;
+  if (mr <= paper + 0.5) {
+    verdict = "reproduced";
+  } else if (!beaten_by.empty()) {
+    verdict = "reversed: " + beaten_by + " beat" + (beaten_by.find(',') == std::string::npos ? "s" : "") +
+              " it (disjoint 95 % CIs); " + why;
+  } else {
+    verdict = "differs: mean rank " + fmt(mr, 1) + ", no baseline significantly better; " + why;
+  }
+  rep.rows.push_back({"ESUSTPM's rank on " + what + suffix + " (1 = best of the five)", paper, std::move(ranks), "rank",
+                      "per run, ties share their mean rank", verdict});
+}
+
+// Liu 2022 Table 2's claim is a ranking: ESUSTPM's rank among the five, per run.
+void add_rank_rows(Report& rep, const Samples& samples, std::size_t si) {
+  const std::string& tag = sensors()[si].tag;
+  const LiuSensor sensor = sensors()[si].sensor;
+  for (int variant = 0; variant < 2; ++variant) {
+    const auto v = static_cast<std::size_t>(variant);
+    std::vector<const std::vector<double>*> vis, eu, found;
+    for (std::size_t mi = 0; mi < kPaperMethods; ++mi) {
+      vis.push_back(&samples[si][mi][v].visited);
+      eu.push_back(&samples[si][mi][v].eu);
+      found.push_back(&samples[si][mi][v].found);
+    }
+    const std::string nt = variant == 0 ? "" : ", no targets";
+    add_rank_row(rep, "EU", 1, eu, true, "this EU falls only where a cell is looked at ≥ 3 times", nt + tag);
+    add_rank_row(rep, "visited cells", 2, vis, false, "Table 1's rules hold a lattice that drifts as one body",
+                 nt + tag);
+    if (variant == 0) {
+      add_rank_row(rep, "targets found", 1, found, false,
+                   sensor == LiuSensor::kNoisy ? "under the printed eq. (5) almost nobody confirms a target"
+                                               : "guided Boids re-enter target cells as often",
+                   nt + tag);
+    }
+  }
+}
+
+// Plots: Liu 2022 Fig. 21 (EU, targets), Liu 2022 Fig. 12 (EU, no targets), Liu 2022 Fig. 20 (visited), Liu 2022 Fig.
+// 22 (found).
+void add_table2_plots(Report& rep, const Samples& samples, std::size_t si) {
+  const auto& ms = methods();
+  const auto& ss = sensors();
+  const LiuSensor sensor = ss[si].sensor;
+  const std::string sensor_name = sensor == LiuSensor::kNoisy ? "noisy sensor" : "Algorithm 1 sensor";
+  Plot eu_t{"fig21-eu-" + ss[si].file + ".svg",
+            "EU vs cycle, 3 targets (Fig. 21), " + sensor_name,
+            "cycle",
+            "environmental uncertainty [bit]",
+            {}};
+  Plot eu_nt{"fig12-eu-" + ss[si].file + ".svg",
+             "EU vs cycle, no targets (Fig. 12), " + sensor_name,
+             "cycle",
+             "environmental uncertainty [bit]",
+             {}};
+  Plot vis{"fig20-visited-" + ss[si].file + ".svg",
+           "Visited cells vs cycle, 3 targets (Fig. 20), " + sensor_name,
+           "cycle",
+           "visited cells",
+           {}};
+  Plot found{"fig22-found-" + ss[si].file + ".svg",
+             "Targets found vs cycle (Fig. 22), " + sensor_name,
+             "cycle",
+             "targets confirmed (mean)",
+             {}};
+  for (std::size_t mi = 0; mi < ms.size(); ++mi) {
+    eu_t.series.push_back(mean_series(ms[mi].name, samples[si][mi][0].eu_series));
+    eu_nt.series.push_back(mean_series(ms[mi].name, samples[si][mi][1].eu_series));
+    vis.series.push_back(mean_series(ms[mi].name, samples[si][mi][0].visited_series));
+    found.series.push_back(mean_series(ms[mi].name, samples[si][mi][0].found_series));
+  }
+  rep.plots.push_back(std::move(eu_t));
+  rep.plots.push_back(std::move(eu_nt));
+  rep.plots.push_back(std::move(vis));
+  rep.plots.push_back(std::move(found));
+}
+
+// Our variant against the paper's policy, same sensor, same seeds.
+void add_disperse_comparisons(Report& rep, const Samples& samples, std::size_t si) {
+  const std::string& tag = sensors()[si].tag;
+  const MethodSamples& e = samples[si][0][0];
+  const MethodSamples& d = samples[si][kDisperse][0];
+  const std::string base = "ESUSTPM (Liu 2022, search \"esustpm\")";
+  const std::string var = "ESUSTPM-disperse (ours, search \"esustpm_disperse\", docs/policies/liu.md)";
+  rep.comparisons.push_back({"visited cells at cycle 200, 3 targets" + tag, "cell", base, var, false, e.visited,
+                             d.visited, "Table 2's first column"});
+  rep.comparisons.push_back({"EU at cycle 200, 3 targets" + tag, "bit", base, var, true, e.eu, d.eu,
+                             "Table 2's second column (lower is better)"});
+  rep.comparisons.push_back(
+      {"targets found by cycle 200" + tag, "target", base, var, false, e.found, d.found, "Table 2's third column"});
+  rep.comparisons.push_back({"cycles to confirm all three targets" + tag, "cycle", base, var, true, e.all_found_cycle,
+                             d.all_found_cycle, "a run that never confirms all three counts as 200 (censored)"});
+}
+
+// One search flown as the distributed `liu` policy.
+struct DistributedSearch {
+  std::string name, patch, via;
+  bool paper;
+};
+
+// The same searches as the distributed `liu` policy: the TPM in the place
+// agents, one sensor stream per UAV, neighbours from the UAV's view.
+const std::vector<DistributedSearch>& distributed_searches() {
+  static const std::vector<DistributedSearch> flown{
       {"ESUSTPM", "", "policy `liu`, scenarios/liu2022-table2.textproto (noisy sensor)", true},
       {"ESUSTPM-disperse (ours)", "name: \"liu2022-table2-disperse\" policy { liu { search: \"esustpm_disperse\" } }",
        "policy `liu`, scenarios/liu2022-table2-disperse.textproto (noisy sensor)", false},
@@ -676,29 +732,39 @@ Report run_table2(uint32_t runs, const Progress& progress) {
        "name: \"liu2022-table2-disperse-alg1\" policy { liu { search: \"esustpm_disperse\" sensor: \"algorithm1\" } }",
        "policy `liu`, liu2022-table2 with search \"esustpm_disperse\", sensor \"algorithm1\"", false},
   };
-  std::vector<std::vector<std::map<std::string, double>>> dist;
-  for (const Flown& f : flown) {
-    dist.push_back(simulate_scenario(file, runs, f.patch));  // the text goes to the processes with --distributed
-    const auto& r = dist.back();
-    const auto paper = [&](double v) -> std::optional<double> {
-      if (!f.paper) return std::nullopt;
-      return v;
-    };
-    const std::string via = f.via + ", in-process simulator = lockstep run of the processes";
-    for (auto [key, label, pv, unit] : std::vector<std::tuple<std::string, std::string, double, std::string>>{
-             {"visited_cells", "visited cells", 89, "cell"},
-             {"environmental_uncertainty", "EU", 40.23, "bit"},
-             {"real_targets_confirmed", "targets found", 3, "target"}}) {
-      Row row{f.name + " " + label + ", distributed policy", paper(pv), field_samples(r, key), unit, via, ""};
-      if (f.paper) {
-        const Metric kind = key == "visited_cells"            ? Metric::kVisited
-                            : key == "real_targets_confirmed" ? Metric::kFound
-                                                              : Metric::kEu;
-        row.verdict = table2_verdict(row, kind, LiuPolicy::kEsustpm,
-                                     f.patch.empty() ? LiuSensor::kNoisy : LiuSensor::kAlgorithm1);
-      }
-      rep.rows.push_back(std::move(row));
+  return flown;
+}
+
+// The rows of one distributed search (its samples in r).
+void add_distributed_rows(Report& rep, const DistributedSearch& f,
+                          const std::vector<std::map<std::string, double>>& r) {
+  const auto paper = [&](double v) -> std::optional<double> {
+    if (!f.paper) return std::nullopt;
+    return v;
+  };
+  const std::string via = f.via + ", in-process simulator = lockstep run of the processes";
+  for (auto [key, label, pv, unit] : std::vector<std::tuple<std::string, std::string, double, std::string>>{
+           {"visited_cells", "visited cells", 89, "cell"},
+           {"environmental_uncertainty", "EU", 40.23, "bit"},
+           {"real_targets_confirmed", "targets found", 3, "target"}}) {
+    Row row{f.name + " " + label + ", distributed policy", paper(pv), field_samples(r, key), unit, via, ""};
+    if (f.paper) {
+      const Metric kind = key == "visited_cells"            ? Metric::kVisited
+                          : key == "real_targets_confirmed" ? Metric::kFound
+                                                            : Metric::kEu;
+      row.verdict =
+          table2_verdict(row, kind, LiuPolicy::kEsustpm, f.patch.empty() ? LiuSensor::kNoisy : LiuSensor::kAlgorithm1);
     }
+    rep.rows.push_back(std::move(row));
+  }
+}
+
+void add_distributed_table2(Report& rep, uint32_t runs) {
+  const std::string file = "liu2022-table2.textproto";
+  std::vector<std::vector<std::map<std::string, double>>> dist;
+  for (const DistributedSearch& f : distributed_searches()) {
+    dist.push_back(simulate_scenario(file, runs, f.patch));  // the text goes to the processes with --distributed
+    add_distributed_rows(rep, f, dist.back());
   }
   rep.comparisons.push_back(
       {"visited cells at tick 200, distributed policy (noisy sensor)", "cell", "ESUSTPM (policy liu, search esustpm)",
@@ -708,8 +774,10 @@ Report run_table2(uint32_t runs, const Progress& progress) {
       {"visited cells at tick 200, distributed policy [Alg. 1 sensor]", "cell", "ESUSTPM (policy liu, search esustpm)",
        "ESUSTPM-disperse (policy liu, search esustpm_disperse)", false, field_samples(dist[2], "visited_cells"),
        field_samples(dist[3], "visited_cells"), "the real-swarm policy: place agents hold the TPM"});
+}
 
-  // The look budget: how low can EU go at all, having visited Liu 2022 Table 2's cells?
+// The look budget: how low can EU go at all, having visited Liu 2022 Table 2's cells?
+LookBudget look_budget(const Samples& samples) {
   const core::LiuParams lp;
   const MethodSamples& e_nt = samples[1][0][1];  // ESUSTPM, Liu 2022 Algorithm 1 sensor, no targets
   const MethodSamples& m_nt = samples[1][1][1];  // mower, the same
@@ -721,25 +789,48 @@ Report run_table2(uint32_t runs, const Progress& progress) {
   const double bound_max = core::liu_lowest_eu(85, 100, looks_max, lp);
   int needed = looks_max;
   while (needed < 2000 && core::liu_lowest_eu(85, 100, needed, lp) > 40.24) needed += 10;
+  return LookBudget{looks_mean, looks_max, bound_mean, bound_max, needed, mean(m_nt.observations), mean(m_nt.eu)};
+}
+
+void add_look_budget_row(Report& rep, const LookBudget& b) {
   rep.rows.push_back(
       {"lowest EU any search can reach with 95 cells visited and ESUSTPM's look budget, no targets "
        "[Alg. 1 sensor]",
        40.24,
-       {bound_max},
+       {b.bound_max},
        "bit",
-       "exact minimum over every allocation of the " + std::to_string(looks_max) +
-           " looks (the most ESUSTPM made in a run; mean " + std::to_string(looks_mean) + " → " + fmt(bound_mean, 2) +
-           " bit); Table 2's 40.24 needs ≥ " + std::to_string(needed) +
-           " looks. Mower looks per run: " + fmt(mean(m_nt.observations), 0),
-       bound_max > 40.24 ? "differs: Table 2's pair (95 cells, 40.24 bit) is out of reach of any search "
-                           "with these looks"
-                         : "reproduced: the pair is within reach of these looks"});
+       "exact minimum over every allocation of the " + std::to_string(b.looks_max) +
+           " looks (the most ESUSTPM made in a run; mean " + std::to_string(b.looks_mean) + " → " +
+           fmt(b.bound_mean, 2) + " bit); Table 2's 40.24 needs ≥ " + std::to_string(b.needed) +
+           " looks. Mower looks per run: " + fmt(b.mower_looks, 0),
+       b.bound_max > 40.24 ? "differs: Table 2's pair (95 cells, 40.24 bit) is out of reach of any search "
+                             "with these looks"
+                           : "reproduced: the pair is within reach of these looks"});
+}
+
+Report run_table2(uint32_t runs, const Progress& progress) {
+  Report rep;
+  describe_table2(rep, runs);
+  const auto& ms = methods();
+  const auto& ss = sensors();
+  const uint32_t study_runs = runs;
+  const uint32_t total = runs * static_cast<uint32_t>(ss.size() * ms.size() * 2) +
+                         study_runs * static_cast<uint32_t>(ss.size() * settings().size() * ms.size());
+  uint32_t done = 0;
+  const Samples samples = fly_table2(rep, runs, progress, done, total);
+  for (std::size_t si = 0; si < ss.size(); ++si) {
+    add_method_rows(rep, samples, si);
+    add_rank_rows(rep, samples, si);
+    add_table2_plots(rep, samples, si);
+    add_disperse_comparisons(rep, samples, si);
+  }
+  add_distributed_table2(rep, runs);
+  const LookBudget budget = look_budget(samples);
+  add_look_budget_row(rep, budget);
 
   // The sensitivity study.
   const Study study = sensitivity_study(study_runs, progress, done, total);
-  rep.investigation = table2_investigation(
-      samples, LookBudget{looks_mean, looks_max, bound_mean, bound_max, needed, mean(m_nt.observations), mean(m_nt.eu)},
-      study, study_runs);
+  rep.investigation = table2_investigation(samples, budget, study, study_runs);
   rep.notes = table2_notes(samples);
   rep.notes.push_back("The sensitivity study's runs are summarised in the investigation's tables, not in results.csv.");
   return rep;
@@ -780,8 +871,9 @@ struct PriorSamples {
   double prior_eu = 0.0, prior_absent = 0.0, prior_unexpected = 0.0;
 };
 
-Report run_priors(uint32_t runs, const Progress& progress) {
-  Report rep;
+using PriorSampleTable = std::vector<std::vector<PriorSamples>>;  // [sensor][scenario]
+
+void describe_priors(Report& rep, uint32_t runs) {
   rep.title = "Liu 2022 §5.3 — ESUSTPM with accurate, wrong and no prior information (Figs. 24–27)";
   rep.source = "Liu et al. 2022, §5.3, Figs. 23–27";
   rep.setup = common_setup(runs) +
@@ -791,108 +883,122 @@ Report run_priors(uint32_t runs, const Progress& progress) {
               "target at (700, 500) absent (Fig. 27a); prior at the three, the only target at (300, 200) (Fig. 27b)";
   rep.csv_header = {"run", "seed", "sensor", "scenario", "found", "all_found_cycle", "confirmation_cycles",
                     "final_eu", "false_confirmations", "p_700_500", "p_300_200"};
+}
+
+// Flies scenario k under sensor si once and adds it to s and the CSV.
+void fly_prior_run(Report& rep, std::size_t si, std::size_t k, uint32_t run, PriorSamples& s) {
   const auto& sc = prior_scenarios();
   const auto& ss = sensors();
-  std::vector<std::vector<PriorSamples>> samples(ss.size(), std::vector<PriorSamples>(sc.size()));
   const std::size_t absent = map_index(core::kLiuAbsentPriorTarget);
   const std::size_t unexpected = map_index(core::kLiuUnexpectedTarget);
-  const uint32_t total = runs * static_cast<uint32_t>(ss.size() * sc.size());
-  uint32_t done = 0;
-  for (uint32_t run = 0; run < runs; ++run) {
-    const uint64_t seed = run + 1;
-    for (std::size_t si = 0; si < ss.size(); ++si) {
-      for (std::size_t k = 0; k < sc.size(); ++k) {
-        LiuSwarmConfig c;
-        c.policy = LiuPolicy::kEsustpm;
-        c.sensor = ss[si].sensor;
-        c.prior = sc[k].prior;
-        c.targets = sc[k].targets;
-        const LiuSwarmResult r = simulate(c, seed);
-        PriorSamples& s = samples[si][k];
-        const std::vector<double> prior = core::liu_prior_map(c);
-        s.prior_eu = r.eu_per_cycle.front();
-        s.prior_absent = prior[absent];
-        s.prior_unexpected = prior[unexpected];
-        s.all_found.push_back(r.all_found_cycle ? 1.0 : 0.0);
-        if (r.all_found_cycle) s.all_found_cycle.push_back(*r.all_found_cycle);
-        s.found.push_back(r.targets_found);
-        s.final_eu.push_back(r.final_eu);
-        s.eu_drop.push_back(r.eu_per_cycle.front() - r.final_eu);
-        s.false_conf.push_back(r.false_confirmations);
-        s.p_absent.push_back(r.final_tpm[absent]);
-        s.p_unexpected.push_back(r.final_tpm[unexpected]);
-        s.eu_series.push_back(r.eu_per_cycle);
-        s.found_series.push_back(r.found_per_cycle);
-        rep.csv_rows.push_back({std::to_string(run), std::to_string(seed), ss[si].file, sc[k].name,
-                                std::to_string(r.targets_found),
-                                r.all_found_cycle ? std::to_string(*r.all_found_cycle) : "", confirmation_list(r),
-                                fmt(r.final_eu, 4), std::to_string(r.false_confirmations),
-                                fmt(r.final_tpm[absent], 4), fmt(r.final_tpm[unexpected], 4)});
-        progress(++done, total);
-      }
+  const uint64_t seed = run + 1;
+  LiuSwarmConfig c;
+  c.policy = LiuPolicy::kEsustpm;
+  c.sensor = ss[si].sensor;
+  c.prior = sc[k].prior;
+  c.targets = sc[k].targets;
+  const LiuSwarmResult r = simulate(c, seed);
+  const std::vector<double> prior = core::liu_prior_map(c);
+  s.prior_eu = r.eu_per_cycle.front();
+  s.prior_absent = prior[absent];
+  s.prior_unexpected = prior[unexpected];
+  s.all_found.push_back(r.all_found_cycle ? 1.0 : 0.0);
+  if (r.all_found_cycle) s.all_found_cycle.push_back(*r.all_found_cycle);
+  s.found.push_back(r.targets_found);
+  s.final_eu.push_back(r.final_eu);
+  s.eu_drop.push_back(r.eu_per_cycle.front() - r.final_eu);
+  s.false_conf.push_back(r.false_confirmations);
+  s.p_absent.push_back(r.final_tpm[absent]);
+  s.p_unexpected.push_back(r.final_tpm[unexpected]);
+  s.eu_series.push_back(r.eu_per_cycle);
+  s.found_series.push_back(r.found_per_cycle);
+  rep.csv_rows.push_back({std::to_string(run), std::to_string(seed), ss[si].file, sc[k].name,
+                          std::to_string(r.targets_found), r.all_found_cycle ? std::to_string(*r.all_found_cycle) : "",
+                          confirmation_list(r), fmt(r.final_eu, 4), std::to_string(r.false_confirmations),
+                          fmt(r.final_tpm[absent], 4), fmt(r.final_tpm[unexpected], 4)});
+}
+
+// The rows of every scenario under sensor si.
+void add_prior_rows(Report& rep, const PriorSampleTable& samples, std::size_t si, uint32_t runs) {
+  const auto& sc = prior_scenarios();
+  const std::string& tag = sensors()[si].tag;
+  for (std::size_t k = 0; k < sc.size(); ++k) {
+    const PriorSamples& s = samples[si][k];
+    const std::string n = sc[k].name + ": ";
+    const std::size_t targets = sc[k].targets.size();
+    rep.rows.push_back({n + "all " + std::to_string(targets) + " target(s) confirmed" + tag, std::nullopt, s.all_found,
+                        "share of runs", "", ""});
+    rep.rows.push_back({n + "cycles to confirm all targets" + tag, std::nullopt, s.all_found_cycle, "cycle",
+                        std::to_string(s.all_found_cycle.size()) + " of " + std::to_string(runs) +
+                            " runs confirmed all; the others are left out",
+                        ""});
+    rep.rows.push_back({n + "targets found" + tag, std::nullopt, s.found, "target",
+                        "false confirmations per run: " + fmt(mean(s.false_conf)), ""});
+    rep.rows.push_back({n + "final EU" + tag, std::nullopt, s.final_eu, "bit", "prior EU " + fmt(s.prior_eu), ""});
+    rep.rows.push_back({n + "EU drop from the prior" + tag, std::nullopt, s.eu_drop, "bit", "", ""});
+    if (sc[k].prior == LiuPrior::kWrong && targets == 2) {
+      rep.rows.push_back({n + "final P at (700, 500), no target" + tag, std::nullopt, s.p_absent, "",
+                          "prior " + fmt(s.prior_absent, 3) + "; the paper: the cell \"becomes white\"", ""});
+    }
+    if (sc[k].prior == LiuPrior::kWrong && targets == 1) {
+      rep.rows.push_back({n + "final P at (300, 200), the target" + tag, std::nullopt, s.p_unexpected, "",
+                          "prior " + fmt(s.prior_unexpected, 4) + "; the paper: the cell \"becomes red\"", ""});
     }
   }
-  for (std::size_t si = 0; si < ss.size(); ++si) {
-    const std::string& tag = ss[si].tag;
-    for (std::size_t k = 0; k < sc.size(); ++k) {
-      const PriorSamples& s = samples[si][k];
-      const std::string n = sc[k].name + ": ";
-      const std::size_t targets = sc[k].targets.size();
-      rep.rows.push_back({n + "all " + std::to_string(targets) + " target(s) confirmed" + tag, std::nullopt,
-                          s.all_found, "share of runs", "", ""});
-      rep.rows.push_back({n + "cycles to confirm all targets" + tag, std::nullopt, s.all_found_cycle, "cycle",
-                          std::to_string(s.all_found_cycle.size()) + " of " + std::to_string(runs) +
-                              " runs confirmed all; the others are left out",
-                          ""});
-      rep.rows.push_back({n + "targets found" + tag, std::nullopt, s.found, "target",
-                          "false confirmations per run: " + fmt(mean(s.false_conf)), ""});
-      rep.rows.push_back({n + "final EU" + tag, std::nullopt, s.final_eu, "bit", "prior EU " + fmt(s.prior_eu), ""});
-      rep.rows.push_back({n + "EU drop from the prior" + tag, std::nullopt, s.eu_drop, "bit", "", ""});
-      if (sc[k].prior == LiuPrior::kWrong && targets == 2) {
-        rep.rows.push_back({n + "final P at (700, 500), no target" + tag, std::nullopt, s.p_absent, "",
-                            "prior " + fmt(s.prior_absent, 3) + "; the paper: the cell \"becomes white\"", ""});
-      }
-      if (sc[k].prior == LiuPrior::kWrong && targets == 1) {
-        rep.rows.push_back({n + "final P at (300, 200), the target" + tag, std::nullopt, s.p_unexpected, "",
-                            "prior " + fmt(s.prior_unexpected, 4) + "; the paper: the cell \"becomes red\"", ""});
-      }
-    }
-    const std::string sensor_name = ss[si].sensor == LiuSensor::kNoisy ? "noisy sensor" : "Algorithm 1 sensor";
-    Plot found{"fig25-found-" + ss[si].file + ".svg", "Targets found vs cycle (Fig. 25), " + sensor_name, "cycle",
-               "targets confirmed (mean)", {}};
-    Plot eu{"priors-eu-" + ss[si].file + ".svg", "EU vs cycle by prior, " + sensor_name, "cycle",
-            "environmental uncertainty [bit]", {}};
-    for (std::size_t k = 0; k < sc.size(); ++k) {
-      found.series.push_back(mean_series(sc[k].name, samples[si][k].found_series));
-      eu.series.push_back(mean_series(sc[k].name, samples[si][k].eu_series));
-    }
-    rep.plots.push_back(std::move(found));
-    rep.plots.push_back(std::move(eu));
+}
+
+void add_prior_plots(Report& rep, const PriorSampleTable& samples, std::size_t si) {
+  const auto& sc = prior_scenarios();
+  const auto& ss = sensors();
+  const std::string sensor_name = ss[si].sensor == LiuSensor::kNoisy ? "noisy sensor" : "Algorithm 1 sensor";
+  Plot found{"fig25-found-" + ss[si].file + ".svg",
+             "Targets found vs cycle (Fig. 25), " + sensor_name,
+             "cycle",
+             "targets confirmed (mean)",
+             {}};
+  Plot eu{"priors-eu-" + ss[si].file + ".svg",
+          "EU vs cycle by prior, " + sensor_name,
+          "cycle",
+          "environmental uncertainty [bit]",
+          {}};
+  for (std::size_t k = 0; k < sc.size(); ++k) {
+    found.series.push_back(mean_series(sc[k].name, samples[si][k].found_series));
+    eu.series.push_back(mean_series(sc[k].name, samples[si][k].eu_series));
   }
-  // The paper's qualitative claims against ours, per sensor.
-  for (std::size_t si = 0; si < ss.size(); ++si) {
-    const PriorSamples& uni = samples[si][0];
-    const PriorSamples& acc = samples[si][1];
-    const PriorSamples& a27 = samples[si][2];
-    const PriorSamples& b27 = samples[si][3];
-    const std::string sensor_name = ss[si].sensor == LiuSensor::kNoisy ? "Noisy sensor" : "Algorithm 1 sensor";
-    const double su = mean(uni.all_found), sa = mean(acc.all_found);
-    const double cu = mean(uni.all_found_cycle), ca = mean(acc.all_found_cycle);
-    const bool faster = sa > su || (sa == su && sa > 0 && ca < cu);
-    rep.notes.push_back(
-        sensor_name + ", Figs. 25–26 (\"accurate prior information can improve the searching efficiency\"): all "
-        "three targets confirmed in " + fmt(100 * sa, 0) + " % of runs with the accurate prior (mean cycle " +
-        fmt(ca, 1) + ") vs " + fmt(100 * su, 0) + " % with the uniform 0.5 (mean cycle " + fmt(cu, 1) + "). " +
-        (faster ? "Ours shows the claim." : "Ours does not show the claim.") +
-        " Fig. 27a (absent target \"becomes white\"): P at (700, 500) went from " + fmt(a27.prior_absent, 3) +
-        " to " + fmt(mean(a27.p_absent), 3) + " on average; both real targets confirmed in " +
-        fmt(100 * mean(a27.all_found), 0) + " % of runs. Fig. 27b (unexpected target \"becomes red\"): (300, 200) "
-        "confirmed in " + fmt(100 * mean(b27.all_found), 0) + " % of runs (prior there " +
-        fmt(b27.prior_unexpected, 4) + ", final mean " + fmt(mean(b27.p_unexpected), 3) + "). " +
-        (mean(b27.all_found) >= 0.5 && mean(a27.p_absent) < a27.prior_absent
-             ? "The wrong priors are overcome."
-             : "The wrong priors are not overcome in most runs."));
-  }
+  rep.plots.push_back(std::move(found));
+  rep.plots.push_back(std::move(eu));
+}
+
+// The paper's qualitative claims against ours under sensor si.
+std::string prior_claims_note(const PriorSampleTable& samples, std::size_t si) {
+  const auto& ss = sensors();
+  const PriorSamples& uni = samples[si][0];
+  const PriorSamples& acc = samples[si][1];
+  const PriorSamples& a27 = samples[si][2];
+  const PriorSamples& b27 = samples[si][3];
+  const std::string sensor_name = ss[si].sensor == LiuSensor::kNoisy ? "Noisy sensor" : "Algorithm 1 sensor";
+  const double su = mean(uni.all_found), sa = mean(acc.all_found);
+  const double cu = mean(uni.all_found_cycle), ca = mean(acc.all_found_cycle);
+  const bool faster = sa > su || (sa == su && sa > 0 && ca < cu);
+  return (sensor_name +
+          ", Figs. 25–26 (\"accurate prior information can improve the searching efficiency\"): all "
+          "three targets confirmed in " +
+          fmt(100 * sa, 0) + " % of runs with the accurate prior (mean cycle " + fmt(ca, 1) + ") vs " +
+          fmt(100 * su, 0) + " % with the uniform 0.5 (mean cycle " + fmt(cu, 1) + "). " +
+          (faster ? "Ours shows the claim." : "Ours does not show the claim.") +
+          " Fig. 27a (absent target \"becomes white\"): P at (700, 500) went from " + fmt(a27.prior_absent, 3) +
+          " to " + fmt(mean(a27.p_absent), 3) + " on average; both real targets confirmed in " +
+          fmt(100 * mean(a27.all_found), 0) +
+          " % of runs. Fig. 27b (unexpected target \"becomes red\"): (300, 200) "
+          "confirmed in " +
+          fmt(100 * mean(b27.all_found), 0) + " % of runs (prior there " + fmt(b27.prior_unexpected, 4) +
+          ", final mean " + fmt(mean(b27.p_unexpected), 3) + "). " +
+          (mean(b27.all_found) >= 0.5 && mean(a27.p_absent) < a27.prior_absent
+               ? "The wrong priors are overcome."
+               : "The wrong priors are not overcome in most runs."));
+}
+
+void add_prior_notes(Report& rep, const PriorSampleTable& samples) {
   rep.notes.insert(
       rep.notes.end(),
       {"Runs: the paper does not say how many runs Fig. 26's boxplots hold; 10 as in §5.4.",
@@ -909,6 +1015,30 @@ Report run_priors(uint32_t runs, const Progress& progress) {
            " bit (most cells ≈ 0) against 50 for the uniform map. The \"EU drop\" rows give the change.",
        "Same simulation and choices as liu-table2 (cycle of 1 s, one TPM update per cell entry, θ = 0.95, "
        "printed eq. 5, random start headings, confirmed cells released from guidance); see its notes."});
+}
+
+Report run_priors(uint32_t runs, const Progress& progress) {
+  Report rep;
+  describe_priors(rep, runs);
+  const auto& sc = prior_scenarios();
+  const auto& ss = sensors();
+  std::vector<std::vector<PriorSamples>> samples(ss.size(), std::vector<PriorSamples>(sc.size()));
+  const uint32_t total = runs * static_cast<uint32_t>(ss.size() * sc.size());
+  uint32_t done = 0;
+  for (uint32_t run = 0; run < runs; ++run) {
+    for (std::size_t si = 0; si < ss.size(); ++si) {
+      for (std::size_t k = 0; k < sc.size(); ++k) {
+        fly_prior_run(rep, si, k, run, samples[si][k]);
+        progress(++done, total);
+      }
+    }
+  }
+  for (std::size_t si = 0; si < ss.size(); ++si) {
+    add_prior_rows(rep, samples, si, runs);
+    add_prior_plots(rep, samples, si);
+  }
+  for (std::size_t si = 0; si < ss.size(); ++si) rep.notes.push_back(prior_claims_note(samples, si));
+  add_prior_notes(rep, samples);
   return rep;
 }
 

@@ -139,20 +139,22 @@ Report run_evaporation(uint32_t /*runs*/, const Progress& progress) {
   return rep;
 }
 
-Report run_trails(uint32_t /*runs*/, const Progress& progress) {
-  const RavankarFollowerParams fp;  // δ = 0.1, P0 = 100 (the cap), Ravankar 2016 Table 2 bands
-  Report rep;
-  rep.title = "Ravankar 2016 Fig. 23 / Table 2 — trail rejection below δ·P0 and speed adaptation";
-  rep.source = "Ravankar et al. 2016, eq. (24), Figs. 22–24 (real corridor), Figs. 25–27 and Table 2";
-  rep.setup = "follower rule: follow iff sensed ≥ δ·P0 = 0.1·100 = 10, speed from Table 2; a trail cell deposited at "
-              "the cap (100) and Fig. 23's L11 (11.35) evaporating with K = 0.0057, P_a = 0 (RavankarField, 1 s "
-              "steps); deterministic, 1 run";
+double follows(double p, const RavankarFollowerParams& fp) { return core::ravankar_follows(p, fp) ? 1.0 : 0.0; }
 
-  auto follows = [&](double p) { return core::ravankar_follows(p, fp) ? 1.0 : 0.0; };
-  rep.rows.push_back({"Fig. 23 L11 (11.35): follower keeps to the trail", 1.0, {follows(11.35)}, "1 = yes",
-                      "threshold 10 (\"blue areas above threshold\")", "reproduced"});
-  rep.rows.push_back({"Fig. 23 L12 (8.15): follower keeps to the trail", 0.0, {follows(8.15)}, "1 = yes",
-                      "the paper: Turtlebot abandons the trail after L12", "reproduced"});
+// Ravankar 2016 Fig. 23's decisions, and the times a trail deposited at the cap takes to cross each band.
+void add_trail_rows(Report& rep, const RavankarFollowerParams& fp) {
+  rep.rows.push_back({"Fig. 23 L11 (11.35): follower keeps to the trail",
+                      1.0,
+                      {follows(11.35, fp)},
+                      "1 = yes",
+                      "threshold 10 (\"blue areas above threshold\")",
+                      "reproduced"});
+  rep.rows.push_back({"Fig. 23 L12 (8.15): follower keeps to the trail",
+                      0.0,
+                      {follows(8.15, fp)},
+                      "1 = yes",
+                      "the paper: Turtlebot abandons the trail after L12",
+                      "reproduced"});
   rep.rows.push_back({"Table 2 speed at L11 (11.35)", 0.15, {core::ravankar_speed(11.35, fp)}, "m/s",
                       "band 0–15; Fig. 27(b) itself is not readable from the text", "reproduced"});
 
@@ -177,18 +179,24 @@ Report run_trails(uint32_t /*runs*/, const Progress& progress) {
                       "exact " + fmt(value_or_nan(core::ravankar_time_to_level(11.35, 0.0, kK, 10.0)), 1) +
                           " s: a follower that far behind the leader would also give up at L11",
                       ""});
+}
 
-  // Plots: Ravankar 2016 Table 2, and the evaporating cap-level trail as a follower sees it.
+// Plot: Ravankar 2016 Table 2, speed and decision against the sensed level.
+void add_speed_band_plot(Report& rep, const RavankarFollowerParams& fp) {
   Plot bands{"table2.svg", "Follower speed vs sensed pheromone (Table 2)", "sensed pheromone", "speed [m/s]", {}};
   Series sp{"speed (Table 2)", {}}, follow{"follows (1) / rejects (0)", {}};
   for (int i = 0; i <= 1000; ++i) {
     const double p = 0.1 * i;
     sp.points.emplace_back(p, core::ravankar_speed(p, fp));
-    follow.points.emplace_back(p, follows(p));
+    follow.points.emplace_back(p, follows(p, fp));
   }
   bands.series = {sp, follow};
   rep.plots.push_back(bands);
+}
 
+// Plot and CSV: the evaporating cap-level trail as a follower sees it.
+void add_trail_plot(Report& rep, const RavankarFollowerParams& fp) {
+  const RavankarEvaporationParams e{kK, 0.0};
   Plot trail{"trail.svg", "A trail cell deposited at 100, K = 0.0057, P_a = 0", "t [s]", "pheromone / speed·100", {}};
   Series level{"sensed pheromone", {}}, speed{"follower speed ·100 [m/s]", {}}, thr{"δ·P0 = 10", {}};
   RavankarField field({0, 0, 1, 1}, 100.0);
@@ -204,14 +212,16 @@ Report run_trails(uint32_t /*runs*/, const Progress& progress) {
     level.points.emplace_back(t, v);
     speed.points.emplace_back(t, 100.0 * s);
     if (t % 5 == 0) {
-      rep.csv_rows.push_back({std::to_string(t), fmt(v, 4), follows(v) > 0.5 ? "1" : "0", fmt(s, 2)});
+      rep.csv_rows.push_back({std::to_string(t), fmt(v, 4), follows(v, fp) > 0.5 ? "1" : "0", fmt(s, 2)});
     }
   }
   thr.points = {{0.0, 10.0}, {500.0, 10.0}};
   trail.series = {level, speed, thr};
   rep.plots.push_back(trail);
+}
 
-  rep.notes = {
+std::vector<std::string> trails_notes() {
+  return {
       "δ·P0: the paper sets the corridor threshold to 10, and the deposit cap is 100 (\"maximum pheromone threshold "
       "of 100\"), so δ = 0.1 and P0 = 100. Fig. 23 gives only two numbers, L11 = 11.35 and L12 = 8.15. The rule "
       "reproduces the reported decision: keep to the trail at L11 and reject it at L12.",
@@ -223,10 +233,25 @@ Report run_trails(uint32_t /*runs*/, const Progress& progress) {
       "the \"18 in 300 s\" statement. With P_a ≥ 10 a trail never falls below the threshold, so it is never rejected "
       "on evaporation alone. The paper gives no timing for followers, so these rows have no paper value.",
   };
+}
+
+Report run_trails(uint32_t /*runs*/, const Progress& progress) {
+  const RavankarFollowerParams fp;  // δ = 0.1, P0 = 100 (the cap), Ravankar 2016 Table 2 bands
+  Report rep;
+  rep.title = "Ravankar 2016 Fig. 23 / Table 2 — trail rejection below δ·P0 and speed adaptation";
+  rep.source = "Ravankar et al. 2016, eq. (24), Figs. 22–24 (real corridor), Figs. 25–27 and Table 2";
+  rep.setup =
+      "follower rule: follow iff sensed ≥ δ·P0 = 0.1·100 = 10, speed from Table 2; a trail cell deposited at "
+      "the cap (100) and Fig. 23's L11 (11.35) evaporating with K = 0.0057, P_a = 0 (RavankarField, 1 s "
+      "steps); deterministic, 1 run";
+  add_trail_rows(rep, fp);
+  // Plots: Ravankar 2016 Table 2, and the evaporating cap-level trail as a follower sees it.
+  add_speed_band_plot(rep, fp);
+  add_trail_plot(rep, fp);
+  rep.notes = trails_notes();
   progress(1, 1);
   return rep;
 }
-
 
 // ------------------------------------------------------------ the corridor swarm
 
@@ -262,33 +287,11 @@ CorridorRun fly_corridor(const core::ScenarioConfig& s, bool check) {
   return out;
 }
 
-Report run_corridor(uint32_t runs, const Progress& progress) {
-  auto loaded = load_shipped("ravankar2016-corridor.textproto");
-  if (!loaded) throw std::runtime_error(loaded.error().message);
-  const core::ScenarioConfig paper = loaded.value();
-  auto patched = core::patch_scenario(
-      paper, "name: \"ravankar2016-corridor-retreat\" policy { ravankar { reject_explore: \"retreat\" } }",
-      "ravankar2016-corridor-retreat");
-  if (!patched) throw std::runtime_error(patched.error().message);
-  const core::ScenarioConfig retreat = patched.value();
-  const auto& c = paper.config_of<core::RavankarConfig>();
-  // Where the leader's last position fix can happen: the end of fix_area [m].
-  const double lost_from_m = c.fix_area ? (c.fix_area->x0 + c.fix_area->w) * c.cell_size_m : 0.0;
-
-  Report rep;
-  rep.title = "Ravankar 2016 Figs. 22–24 — followers in the corridor once the leader is lost: onward vs ravankar_retreat";
-  rep.source = "Ravankar et al. 2016, eq. (24), Figs. 22–24 (L11 / L12, locations A and B) and Table 2";
-  rep.setup = "scenarios/ravankar2016-corridor.textproto (1 leader + 4 followers 10 s apart, 44 x 8 cells of 1 m, "
-              "3 place agents, the leader fixed only while x < " + fmt(lost_from_m, 0) + " m, 300 ticks of 1 s) for "
-              "seeds 1.." + std::to_string(runs) + ", each flown twice through fly(): as shipped (reject_explore: "
-              "onward, our reading of the paper) and with `policy { ravankar { reject_explore: \"retreat\" } }`; "
-              "in-process simulator (the code and schedule of `pheromesh run --clock lockstep`); true positions";
-
-  std::vector<double> reach_o, reach_r, depth_o, depth_r, gap_o, gap_r, arrive_o, arrive_r, leader_x;
-  rep.csv_header = {"seed", "leader_x_m", "mean_reach_onward_m", "mean_reach_retreat_m", "mean_depth_onward_m",
-                    "mean_depth_retreat_m", "arrived_onward", "arrived_retreat"};
-  const auto summarise = [&](const CorridorRun& r, std::vector<double>& reach, std::vector<double>& depth,
-                             std::vector<double>& gap, std::vector<double>& arrive) {
+// Per-run means over the followers of corridor runs: one sample per run.
+struct CorridorSamples {
+  std::vector<double> reach, depth, gap, arrive;
+  // lost_from_m: where the leader's last position fix can happen [m].
+  void add(const CorridorRun& r, double lost_from_m) {
     double sr = 0, sd = 0, sg = 0, sa = 0;
     for (std::size_t f = 0; f < r.reach_m.size(); ++f) {
       sr += r.reach_m[f];
@@ -301,37 +304,89 @@ Report run_corridor(uint32_t runs, const Progress& progress) {
     depth.push_back(sd / n);
     gap.push_back(sg / n);
     arrive.push_back(sa / n);
-  };
+  }
+};
+
+// The shipped corridor (onward, our reading of the paper) and its retreat variant.
+struct CorridorScenarios {
+  core::ScenarioConfig paper, retreat;
+  double lost_from_m = 0.0;  // the end of fix_area [m]
+};
+
+CorridorScenarios corridor_scenarios() {
+  CorridorScenarios out;
+  auto loaded = load_shipped("ravankar2016-corridor.textproto");
+  if (!loaded) throw std::runtime_error(loaded.error().message);
+  const core::ScenarioConfig paper = loaded.value();
+  auto patched = core::patch_scenario(
+      paper, "name: \"ravankar2016-corridor-retreat\" policy { ravankar { reject_explore: \"retreat\" } }",
+      "ravankar2016-corridor-retreat");
+  if (!patched) throw std::runtime_error(patched.error().message);
+  const core::ScenarioConfig retreat = patched.value();
+  const auto& c = paper.config_of<core::RavankarConfig>();
+  // Where the leader's last position fix can happen: the end of fix_area [m].
+  const double lost_from_m = c.fix_area ? (c.fix_area->x0 + c.fix_area->w) * c.cell_size_m : 0.0;
+  out.paper = paper;
+  out.retreat = retreat;
+  out.lost_from_m = lost_from_m;
+  return out;
+}
+
+void describe_corridor(Report& rep, double lost_from_m, uint32_t runs) {
+  rep.title = "Ravankar 2016 Figs. 22–24 — followers in the corridor once the leader is lost: onward vs ravankar_retreat";
+  rep.source = "Ravankar et al. 2016, eq. (24), Figs. 22–24 (L11 / L12, locations A and B) and Table 2";
+  rep.setup = "scenarios/ravankar2016-corridor.textproto (1 leader + 4 followers 10 s apart, 44 x 8 cells of 1 m, "
+              "3 place agents, the leader fixed only while x < " + fmt(lost_from_m, 0) + " m, 300 ticks of 1 s) for "
+              "seeds 1.." + std::to_string(runs) + ", each flown twice through fly(): as shipped (reject_explore: "
+              "onward, our reading of the paper) and with `policy { ravankar { reject_explore: \"retreat\" } }`; "
+              "in-process simulator (the code and schedule of `pheromesh run --clock lockstep`); true positions";
+}
+
+// Both readings per seed; the CSV row of each seed.
+void fly_corridors(Report& rep, const CorridorScenarios& sc, uint32_t runs, const Progress& progress,
+                   std::vector<double>& leader_x, CorridorSamples& onward, CorridorSamples& retreat) {
+  rep.csv_header = {"seed",
+                    "leader_x_m",
+                    "mean_reach_onward_m",
+                    "mean_reach_retreat_m",
+                    "mean_depth_onward_m",
+                    "mean_depth_retreat_m",
+                    "arrived_onward",
+                    "arrived_retreat"};
   for (uint32_t run = 0; run < runs; ++run) {
-    core::ScenarioConfig so = paper, sr = retreat;
+    core::ScenarioConfig so = sc.paper, sr = sc.retreat;
     so.seed = sr.seed = run + 1;
     const CorridorRun o = fly_corridor(so, true);
     const CorridorRun r = fly_corridor(sr, true);
     leader_x.push_back(o.leader_x_m);
-    summarise(o, reach_o, depth_o, gap_o, arrive_o);
-    summarise(r, reach_r, depth_r, gap_r, arrive_r);
-    rep.csv_rows.push_back({std::to_string(so.seed), fmt(o.leader_x_m, 2), fmt(reach_o.back(), 2),
-                            fmt(reach_r.back(), 2), fmt(depth_o.back(), 2), fmt(depth_r.back(), 2),
-                            fmt(arrive_o.back(), 2), fmt(arrive_r.back(), 2)});
+    onward.add(o, sc.lost_from_m);
+    retreat.add(r, sc.lost_from_m);
+    rep.csv_rows.push_back({std::to_string(so.seed), fmt(o.leader_x_m, 2), fmt(onward.reach.back(), 2),
+                            fmt(retreat.reach.back(), 2), fmt(onward.depth.back(), 2), fmt(retreat.depth.back(), 2),
+                            fmt(onward.arrive.back(), 2), fmt(retreat.arrive.back(), 2)});
     progress(run + 1, runs);
   }
+}
+
+void add_corridor_rows(Report& rep, double lost_from_m, const std::vector<double>& leader_x,
+                       const CorridorSamples& onward, const CorridorSamples& retreat) {
   const std::string lost = fmt(lost_from_m, 0) + " m";
   rep.rows = {
       {"leader's true x at the end (route end 38.5 m)", std::nullopt, leader_x, "m",
        "the leader believes it reached the end; its wheel noise and the lost fixes put it short", ""},
-      {"followers' farthest x, onward (our reading of the paper)", std::nullopt, reach_o, "m",
+      {"followers' farthest x, onward (our reading of the paper)", std::nullopt, onward.reach, "m",
        "mean over the 4 followers of a run", ""},
-      {"followers' depth beyond the last fix (" + lost + "), onward", std::nullopt, depth_o, "m",
+      {"followers' depth beyond the last fix (" + lost + "), onward", std::nullopt, onward.depth, "m",
        "Fig. 24: the paper's follower turns away at L12 and explores B, not the lost leader's A", ""},
-      {"followers' depth beyond the last fix (" + lost + "), ravankar_retreat (ours)", std::nullopt, depth_r, "m",
+      {"followers' depth beyond the last fix (" + lost + "), ravankar_retreat (ours)", std::nullopt, retreat.depth, "m",
        "the trail is rejected at the same place; the walk then starts back along the trail", ""},
-      {"followers' final distance to the leader, onward", std::nullopt, gap_o, "m", "", ""},
-      {"followers' final distance to the leader, ravankar_retreat", std::nullopt, gap_r, "m",
+      {"followers' final distance to the leader, onward", std::nullopt, onward.gap, "m", "", ""},
+      {"followers' final distance to the leader, ravankar_retreat", std::nullopt, retreat.gap, "m",
        "the cost of the variant: the followers stay farther from where the leader ended", ""},
-      {"followers within 2 m of the route's end at some time, onward", std::nullopt, arrive_o, "share",
+      {"followers within 2 m of the route's end at some time, onward", std::nullopt, onward.arrive, "share",
        "reached only by walking on through the zone the paper wants avoided", ""},
-      {"followers within 2 m of the route's end at some time, ravankar_retreat", std::nullopt, arrive_r, "share", "",
-       ""},
+      {"followers within 2 m of the route's end at some time, ravankar_retreat", std::nullopt, retreat.arrive, "share",
+       "", ""},
   };
   Comparison cmp;
   cmp.metric = "followers' depth into the zone where the leader was lost (x beyond its last fix, " + lost + ")";
@@ -339,58 +394,77 @@ Report run_corridor(uint32_t runs, const Progress& progress) {
   cmp.baseline = "ravankar, reject_explore: onward (our reading of the paper's \"its own exploration\")";
   cmp.variant = "ravankar_retreat (ours, docs/policies/ravankar.md)";
   cmp.lower_is_better = true;
-  cmp.baseline_samples = depth_o;
-  cmp.variant_samples = depth_r;
+  cmp.baseline_samples = onward.depth;
+  cmp.variant_samples = retreat.depth;
   cmp.note = "paired by seed; one sample per run = the mean over its 4 followers";
   rep.comparisons.push_back(cmp);
+}
 
-  // Sensitivity to the quantity of ours that shapes a rejecting follower's
-  // walk: its speed (the paper gives none). Simulator only, 20 seeds each.
-  const uint32_t sens_runs = std::min<uint32_t>(runs, 20);
+// One row of the explore-speed table: both readings flown at speed v.
+std::string explore_speed_row(const core::ScenarioConfig& paper, double lost_from_m, double v, uint32_t sens_runs) {
+  const std::string speed = "explore_speed_mps: " + fmt(v, 2);
+  auto so_base = core::patch_scenario(paper, "policy { ravankar { " + speed + " } }", "explore-speed");
+  auto sr_base = core::patch_scenario(paper, "policy { ravankar { " + speed + " reject_explore: \"retreat\" } }",
+                                      "explore-speed-retreat");
+  if (!so_base || !sr_base) throw std::runtime_error("explore_speed_mps patch");
+  CorridorSamples a, b;
+  for (uint32_t run = 0; run < sens_runs; ++run) {
+    core::ScenarioConfig so = so_base.value(), sr = sr_base.value();
+    so.seed = sr.seed = run + 1;
+    a.add(fly_corridor(so, false), lost_from_m);
+    b.add(fly_corridor(sr, false), lost_from_m);
+  }
+  Comparison sc;
+  sc.lower_is_better = true;
+  sc.baseline_samples = a.depth;
+  sc.variant_samples = b.depth;
+  const Gain g = gain_of(sc);
+  return "| " + fmt(v, 2) + " | " + fmt(mean(a.depth), 2) + " ± " + fmt(stddev(a.depth), 2) + " | " +
+         fmt(mean(b.depth), 2) + " ± " + fmt(stddev(b.depth), 2) + " | " + fmt(100.0 * g.gain, 1) + " % [" +
+         fmt(100.0 * g.ci.lo, 1) + ", " + fmt(100.0 * g.ci.hi, 1) + "] |\n";
+}
+
+// Sensitivity to the quantity of ours that shapes a rejecting follower's
+// walk: its speed (the paper gives none). Simulator only, 20 seeds each.
+std::string explore_speed_table(const core::ScenarioConfig& paper, double lost_from_m, uint32_t sens_runs) {
   std::string sens = "| explore_speed_mps (ours; shipped 0.5) | onward: depth [m] mean ± sd | ravankar_retreat: depth "
                      "[m] mean ± sd | gain [95 % CI] |\n|---|---|---|---|\n";
-  for (const double v : {0.25, 0.5, 1.0}) {
-    const std::string speed = "explore_speed_mps: " + fmt(v, 2);
-    auto so_base = core::patch_scenario(paper, "policy { ravankar { " + speed + " } }", "explore-speed");
-    auto sr_base = core::patch_scenario(paper, "policy { ravankar { " + speed + " reject_explore: \"retreat\" } }",
-                                        "explore-speed-retreat");
-    if (!so_base || !sr_base) throw std::runtime_error("explore_speed_mps patch");
-    std::vector<double> a, b, unused1, unused2, unused3, unused4, unused5, unused6;
-    for (uint32_t run = 0; run < sens_runs; ++run) {
-      core::ScenarioConfig so = so_base.value(), sr = sr_base.value();
-      so.seed = sr.seed = run + 1;
-      summarise(fly_corridor(so, false), unused1, a, unused2, unused3);
-      summarise(fly_corridor(sr, false), unused4, b, unused5, unused6);
-    }
-    Comparison sc;
-    sc.lower_is_better = true;
-    sc.baseline_samples = a;
-    sc.variant_samples = b;
-    const Gain g = gain_of(sc);
-    sens += "| " + fmt(v, 2) + " | " + fmt(mean(a), 2) + " ± " + fmt(stddev(a), 2) + " | " + fmt(mean(b), 2) +
-            " ± " + fmt(stddev(b), 2) + " | " + fmt(100.0 * g.gain, 1) + " % [" + fmt(100.0 * g.ci.lo, 1) + ", " +
-            fmt(100.0 * g.ci.hi, 1) + "] |\n";
-  }
-  rep.investigation =
-      "**Second reading.** The paper's claim (Figs. 22–24): the leader deposits γ = τ/(λ1·λ2) (eq. (12)) over its "
-      "error ellipse (eq. (14)); once it is lost its trail falls below δ·P0 = 10 (L12: 8.15), the follower rejects "
-      "it (eq. (24)) and \"carries its own exploration\", going to B and not to the lost leader's A. Our followers "
-      "reject the trail where the paper's does, a few metres past the leader's last position fix, where its "
-      "ellipse has grown and the trail falls below 10 (x ≈ 31–32 m; the retreat rows bound it: those followers "
-      "turn back there). What the follower does next the paper leaves open. Our reading of it "
-      "(onward) is a correlated random walk that starts from the follower's current heading, which points on "
-      "into the lost leader's zone; so our followers still drift about 6 m deep into it, a part of the way "
-      "toward A, and some reach the route's end.\n\n"
-      "**Unstated quantities.** Where the rejecting follower's exploration starts and how fast it walks "
-      "(explore_speed_mps, ours 0.5 m/s, the leader's speed), the corridor's layout and where the leader loses "
-      "its fixes (scenarios/ravankar2016-corridor.textproto), K and P_a (those of Figs. 6–7). The table flies "
-      "both readings of the start for three walking speeds (simulator only, seeds 1.." +
-      std::to_string(sens_runs) + "):\n\n" + sens +
-      "\n**Conclusion.** Fig. 24 is reproduced in kind (the trail is rejected just past the leader's last fix); how "
-      "far from A the follower then stays depends on an unstated choice. ravankar_retreat, which starts the "
-      "follower's own exploration back along the trail it rejected, keeps the followers about half as deep in the "
-      "lost leader's zone under every walking speed tried. Its cost is in the rows above: fewer followers ever "
-      "reach the route's end, which is the point of rejecting the trail.";
+  for (const double v : {0.25, 0.5, 1.0}) sens += explore_speed_row(paper, lost_from_m, v, sens_runs);
+  return sens;
+}
+
+std::string corridor_investigation(uint32_t sens_runs, const std::string& sens) {
+  return "**Second reading.** The paper's claim (Figs. 22–24): the leader deposits γ = τ/(λ1·λ2) (eq. (12)) over its "
+         "error ellipse (eq. (14)); once it is lost its trail falls below δ·P0 = 10 (L12: 8.15), the follower rejects "
+         "it (eq. (24)) and \"carries its own exploration\", going to B and not to the lost leader's A. Our followers "
+         "reject the trail where the paper's does, a few metres past the leader's last position fix, where its "
+         "ellipse has grown and the trail falls below 10 (x ≈ 31–32 m; the retreat rows bound it: those followers "
+         "turn back there). What the follower does next the paper leaves open. Our reading of it "
+         "(onward) is a correlated random walk that starts from the follower's current heading, which points on "
+         "into the lost leader's zone; so our followers still drift about 6 m deep into it, a part of the way "
+         "toward A, and some reach the route's end.\n\n"
+         "**Unstated quantities.** Where the rejecting follower's exploration starts and how fast it walks "
+         "(explore_speed_mps, ours 0.5 m/s, the leader's speed), the corridor's layout and where the leader loses "
+         "its fixes (scenarios/ravankar2016-corridor.textproto), K and P_a (those of Figs. 6–7). The table flies "
+         "both readings of the start for three walking speeds (simulator only, seeds 1.." +
+         std::to_string(sens_runs) + "):\n\n" + sens +
+         "\n**Conclusion.** Fig. 24 is reproduced in kind (the trail is rejected just past the leader's last fix); how "
+         "far from A the follower then stays depends on an unstated choice. ravankar_retreat, which starts the "
+         "follower's own exploration back along the trail it rejected, keeps the followers about half as deep in the "
+         "lost leader's zone under every walking speed tried. Its cost is in the rows above: fewer followers ever "
+         "reach the route's end, which is the point of rejecting the trail.";
+}
+
+Report run_corridor(uint32_t runs, const Progress& progress) {
+  const CorridorScenarios sc = corridor_scenarios();
+  Report rep;
+  describe_corridor(rep, sc.lost_from_m, runs);
+  std::vector<double> leader_x;
+  CorridorSamples onward, retreat;
+  fly_corridors(rep, sc, runs, progress, leader_x, onward, retreat);
+  add_corridor_rows(rep, sc.lost_from_m, leader_x, onward, retreat);
+  const uint32_t sens_runs = std::min<uint32_t>(runs, 20);
+  rep.investigation = corridor_investigation(sens_runs, explore_speed_table(sc.paper, sc.lost_from_m, sens_runs));
   return rep;
 }
 

@@ -187,16 +187,9 @@ std::string svg_plot(const Plot& p) {
   return o.str();
 }
 
-bool write_report(const Report& r, const std::string& out_dir, double wall_seconds, std::string& error) {
-  std::error_code ec;
-  std::filesystem::create_directories(out_dir, ec);
-  const std::filesystem::path dir(out_dir);
-  // Built in memory and written atomically (core/atomic_file.hpp), so an
-  // interrupted experiment leaves the previous report or none, never half.
-  std::ostringstream md;
-  md << "# " << r.title << "\n\n";
-  md << "*Source:* " << r.source << "  \n*Setup:* " << r.setup << "  \n*Wall time:* " << num(wall_seconds, 1) << " s"
-     << (distributed_checks().empty() ? "" : " (with the runs on real processes)") << "\n\n";
+namespace {
+
+void write_rows_table(std::ostringstream& md, const Report& r) {
   md << "| metric | paper | ours (mean ± sd) | 95 % CI | runs | ours / paper | verdict | note |\n"
         "|---|---|---|---|---|---|---|---|\n";
   for (const auto& row : r.rows) {
@@ -211,48 +204,67 @@ bool write_report(const Report& r, const std::string& out_dir, double wall_secon
        << (row.paper && *row.paper != 0 && std::isfinite(m) ? num(m / *row.paper, 3) : "–") << " | " << verdict << " | "
        << row.note << " |\n";
   }
-  if (!r.comparisons.empty()) {
-    md << "\n## Our variants against the paper's policy\n\n"
-          "Gain = improvement on the paper's policy as a share of its mean; its 95 % interval is a percentile "
-          "bootstrap over the runs (10 000 resamples).\n\n"
-          "| metric | paper's policy: mean [95 % CI] | variant: mean [95 % CI] | runs | gain [95 % CI] | ≥ 20 %? | note |\n"
-          "|---|---|---|---|---|---|---|\n";
-    for (const auto& c : r.comparisons) {
-      const Interval cb = ci95(c.baseline_samples), cv = ci95(c.variant_samples);
-      const Gain g = gain_of(c);
-      const std::string meets = g.ci.lo >= 0.2 ? "yes (whole interval)" : g.gain >= 0.2 ? "mean only" : "no";
-      md << "| " << c.metric << (c.unit.empty() ? "" : " [" + c.unit + "]") << " | " << c.baseline << ": "
-         << num(mean(c.baseline_samples)) << " [" << num(cb.lo) << ", " << num(cb.hi) << "] | " << c.variant << ": "
-         << num(mean(c.variant_samples)) << " [" << num(cv.lo) << ", " << num(cv.hi) << "] | "
-         << c.baseline_samples.size() << " / " << c.variant_samples.size() << " | " << num(100 * g.gain, 1) << " % ["
-         << num(100 * g.ci.lo, 1) << ", " << num(100 * g.ci.hi, 1) << "] | " << meets << " | " << c.note << " |\n";
-    }
+}
+
+void write_comparisons(std::ostringstream& md, const Report& r) {
+  md << "\n## Our variants against the paper's policy\n\n"
+        "Gain = improvement on the paper's policy as a share of its mean; its 95 % interval is a percentile "
+        "bootstrap over the runs (10 000 resamples).\n\n"
+        "| metric | paper's policy: mean [95 % CI] | variant: mean [95 % CI] | runs | gain [95 % CI] | ≥ 20 %? | note "
+        "|\n"
+        "|---|---|---|---|---|---|---|\n";
+  for (const auto& c : r.comparisons) {
+    const Interval cb = ci95(c.baseline_samples), cv = ci95(c.variant_samples);
+    const Gain g = gain_of(c);
+    const std::string meets = g.ci.lo >= 0.2 ? "yes (whole interval)" : g.gain >= 0.2 ? "mean only" : "no";
+    md << "| " << c.metric << (c.unit.empty() ? "" : " [" + c.unit + "]") << " | " << c.baseline << ": "
+       << num(mean(c.baseline_samples)) << " [" << num(cb.lo) << ", " << num(cb.hi) << "] | " << c.variant << ": "
+       << num(mean(c.variant_samples)) << " [" << num(cv.lo) << ", " << num(cv.hi) << "] | "
+       << c.baseline_samples.size() << " / " << c.variant_samples.size() << " | " << num(100 * g.gain, 1) << " % ["
+       << num(100 * g.ci.lo, 1) << ", " << num(100 * g.ci.hi, 1) << "] | " << meets << " | " << c.note << " |\n";
   }
+}
+
+// The runs flown again by real processes (--distributed) against the simulator.
+void write_distributed_checks(std::ostringstream& md, const std::vector<DistributedCheck>& checks) {
+  std::size_t equal = 0;
+  for (const auto& c : checks) equal += c.equal ? 1 : 0;
+  md << "\n## The same runs on real processes (`--distributed`)\n\n"
+     << equal << " of " << checks.size() << " runs flown by real processes (`pheromesh run --clock lockstep --dds "
+     << distributed_options().dds
+     << "`) gave exactly the simulator's numbers for the same scenario text and seed (metrics.json: ticks, "
+        "coverage, covered cells, targets found, acquisition ticks, revisit responses, leader arrival, deposits "
+        "sent, and every field summary).\n\n| run | equal | simulator [s] | processes [s] | differences |\n"
+        "|---|---|---|---|---|\n";
+  for (const auto& c : checks) {
+    std::string d = c.differences;
+    for (auto& ch : d) ch = ch == '\n' ? ';' : ch == '|' ? '/' : ch;
+    const std::string dir = c.run_dir.empty() ? "" : std::filesystem::path(c.run_dir).filename().string() + ": ";
+    md << "| " << dir << c.label << " | " << (c.equal ? "yes" : "**no**") << " | " << num(c.sim_seconds, 2) << " | "
+       << num(c.process_seconds, 1) << " | " << (d.empty() ? "–" : d) << " |\n";
+  }
+}
+
+std::string report_markdown(const Report& r, double wall_seconds) {
+  std::ostringstream md;
+  md << "# " << r.title << "\n\n";
+  md << "*Source:* " << r.source << "  \n*Setup:* " << r.setup << "  \n*Wall time:* " << num(wall_seconds, 1) << " s"
+     << (distributed_checks().empty() ? "" : " (with the runs on real processes)") << "\n\n";
+  write_rows_table(md, r);
+  if (!r.comparisons.empty()) write_comparisons(md, r);
   if (!r.tables.empty()) md << "\n" << r.tables << "\n";
   if (!r.investigation.empty()) md << "\n" << r.investigation << "\n";
-  if (const auto& checks = distributed_checks(); !checks.empty()) {
-    std::size_t equal = 0;
-    for (const auto& c : checks) equal += c.equal ? 1 : 0;
-    md << "\n## The same runs on real processes (`--distributed`)\n\n" << equal << " of " << checks.size()
-       << " runs flown by real processes (`pheromesh run --clock lockstep --dds " << distributed_options().dds
-       << "`) gave exactly the simulator's numbers for the same scenario text and seed (metrics.json: ticks, "
-          "coverage, covered cells, targets found, acquisition ticks, revisit responses, leader arrival, deposits "
-          "sent, and every field summary).\n\n| run | equal | simulator [s] | processes [s] | differences |\n"
-          "|---|---|---|---|---|\n";
-    for (const auto& c : checks) {
-      std::string d = c.differences;
-      for (auto& ch : d) ch = ch == '\n' ? ';' : ch == '|' ? '/' : ch;
-      const std::string dir = c.run_dir.empty() ? "" : std::filesystem::path(c.run_dir).filename().string() + ": ";
-      md << "| " << dir << c.label << " | " << (c.equal ? "yes" : "**no**") << " | " << num(c.sim_seconds, 2) << " | "
-         << num(c.process_seconds, 1) << " | " << (d.empty() ? "–" : d) << " |\n";
-    }
-  }
+  if (const auto& checks = distributed_checks(); !checks.empty()) write_distributed_checks(md, checks);
   for (const auto& p : r.plots) md << "\n![" << p.title << "](" << p.file << ")\n";
   if (!r.notes.empty()) {
     md << "\n## Notes\n\n";
     for (const auto& n : r.notes) md << "* " << n << "\n";
   }
   md << "\nRaw per-run values: [results.csv](results.csv)\n";
+  return md.str();
+}
+
+std::string results_csv(const Report& r) {
   std::ostringstream csv;
   for (std::size_t i = 0; i < r.csv_header.size(); ++i) csv << (i ? "," : "") << csv_escape(r.csv_header[i]);
   csv << "\n";
@@ -260,7 +272,19 @@ bool write_report(const Report& r, const std::string& out_dir, double wall_secon
     for (std::size_t i = 0; i < row.size(); ++i) csv << (i ? "," : "") << csv_escape(row[i]);
     csv << "\n";
   }
-  std::vector<std::pair<std::string, std::string>> files{{"report.md", md.str()}, {"results.csv", csv.str()}};
+  return csv.str();
+}
+
+}  // namespace
+
+bool write_report(const Report& r, const std::string& out_dir, double wall_seconds, std::string& error) {
+  std::error_code ec;
+  std::filesystem::create_directories(out_dir, ec);
+  const std::filesystem::path dir(out_dir);
+  // Built in memory and written atomically (core/atomic_file.hpp), so an
+  // interrupted experiment leaves the previous report or none, never half.
+  std::vector<std::pair<std::string, std::string>> files{{"report.md", report_markdown(r, wall_seconds)},
+                                                         {"results.csv", results_csv(r)}};
   for (const auto& p : r.plots) files.emplace_back(p.file, svg_plot(p));
   for (const auto& [name, text] : files) {
     if (auto written = core::write_file_atomically((dir / name).string(), text); !written) {

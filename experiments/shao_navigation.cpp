@@ -236,15 +236,13 @@ std::vector<double> paired_difference(const std::vector<std::optional<double>>& 
   return d;
 }
 
-Report run_fig10(uint32_t runs, const Progress& progress) {
-  const uint32_t layouts = std::max<uint32_t>(runs, 1);
-  const core::ScenarioConfig shipped_vector = load("shao2020-navigation.textproto");
-  const core::ScenarioConfig shipped_scalar = load("shao2020-navigation-scalar.textproto");
-  const core::ScenarioConfig shipped_gradient = load("shao2020-navigation-gradient.textproto");
-  const core::ScenarioConfig layout_base = load("shao2020-navigation-layout.textproto");
+// The sweep's legs by index: the paper's two leaders and their readings, our variants.
+constexpr std::size_t kVec = 0, kVecProj = 1, kSca = 2, kScaLattice = 5, kGrad = 8, kPull = 9;
 
-  // The paper reading on every layout, then the sensitivity legs. Legs 0, 2
-  // and 8 are the headline (the paper's two leaders and our variant).
+// The sensitivity study as data: the paper reading on every layout, then the
+// other legs. Legs 0, 2 and 8 are the headline (the paper's two leaders and
+// our variant).
+std::vector<SweepLeg> sensitivity_legs() {
   const std::string vproj = R"(policy { shao_navigation { leader_pheromones: "vector" vector_choice: "projection" } })";
   const std::vector<std::pair<std::string, std::string>> fields = {
       {"Eτ = 0.005", "shao { layers { e_tau: 0.005 } }"},
@@ -295,12 +293,18 @@ Report run_fig10(uint32_t runs, const Progress& progress) {
     sweep.push_back({"layout", "gradient (ours), " + wide, kGradientLeg, true, scalar, true});
     sweep.push_back({"layout", "pull (ours), " + wide, kPullLeg, true, scalar, true});
   }
-  constexpr std::size_t kVec = 0, kVecProj = 1, kSca = 2, kScaLattice = 5, kGrad = 8, kPull = 9;
-  const uint32_t total = static_cast<uint32_t>(sweep.size()) * (layouts + 1) + 3;
-  uint32_t done = 0;
-  const auto tick = [&] { progress(++done, total); };
+  return sweep;
+}
 
-  Report rep;
+// Counts the experiment's flights for the progress report.
+struct FlightCounter {
+  const Progress& progress;
+  uint32_t total;
+  uint32_t done = 0;
+  void tick() { progress(++done, total); }
+};
+
+void describe_fig10(Report& rep, uint32_t layouts) {
   rep.title = "Shao 2020 Fig. 10 — leader navigation with vector vs scalar pheromones";
   rep.source = "Shao et al. 2020, §5.1.1 eqs. (12)-(15), Algorithm 2, §5.2, Table 2, Figs. 9-10";
   rep.setup =
@@ -313,8 +317,14 @@ Report run_fig10(uint32_t runs, const Progress& progress) {
       "layout (shao2020-navigation.textproto / -scalar / -gradient). In-process simulator; the headline runs "
       "also fly as processes with --distributed.";
   rep.csv_header = {"group", "setting", "layout", "arrival_iterations"};
+}
 
-  // The shipped layout: Shao 2020 Fig. 10's paths, and the followers' distance.
+using ShippedRuns = std::vector<std::pair<std::string, LegRun>>;
+
+// The shipped layout: Shao 2020 Fig. 10's paths, and the followers' distance.
+ShippedRuns fly_shipped(Report& rep, const core::ScenarioConfig& shipped_vector,
+                        const core::ScenarioConfig& shipped_scalar, const core::ScenarioConfig& shipped_gradient,
+                        FlightCounter& counter) {
   Plot paths{"fig10.svg", "Leader paths on the shipped layout (Fig. 10)", "x [cell]", "y [cell]", {}};
   std::vector<std::pair<std::string, LegRun>> shipped;
   for (const auto& [name, s] : {std::pair<std::string, const core::ScenarioConfig*>{"vector", &shipped_vector},
@@ -325,83 +335,85 @@ Report run_fig10(uint32_t runs, const Progress& progress) {
     paths.series.push_back(r.track);
     rep.csv_rows.push_back({"shipped", name, "shipped", r.arrival ? fixed(*r.arrival, 0) : ""});
     shipped.emplace_back(name, std::move(r));
-    tick();
+    counter.tick();
   }
   rep.plots.push_back(paths);
+  return shipped;
+}
 
+// The shipped layout's value of a leg (already flown for the three headline legs).
+std::optional<double> shipped_arrival(std::size_t i, const SweepLeg& leg, const ShippedRuns& shipped,
+                                      const core::ScenarioConfig& shipped_vector) {
+  if (leg.group == "leader reading" && leg.with_obstacles) {
+    if (i == kVec) return shipped[0].second.arrival;
+    if (i == kSca) return shipped[1].second.arrival;
+    if (i == kGrad) return shipped[2].second.arrival;
+    return run_leg(patched(shipped_vector, leg.setting, "shao2020-navigation"), false).arrival;
+  }
+  if (leg.with_obstacles && !leg.wide_targets) {
+    return run_leg(patched(shipped_vector, leg.setting, "shao2020-navigation"), false).arrival;
+  }
+  return std::nullopt;
+}
+
+std::vector<SweepResult> fly_sweep(Report& rep, const std::vector<SweepLeg>& sweep, const ShippedRuns& shipped,
+                                   const core::ScenarioConfig& shipped_vector, const core::ScenarioConfig& layout_base,
+                                   uint32_t layouts, FlightCounter& counter) {
   std::vector<SweepResult> results(sweep.size());
   for (std::size_t i = 0; i < sweep.size(); ++i) {
     const SweepLeg& leg = sweep[i];
     // The paper's legs and the variant are the headline: checked on the real
     // swarm with --distributed. The rest only explores.
     const bool headline = i == kVec || i == kSca || i == kGrad || i == kPull;
-    if (leg.group == "leader reading" && leg.with_obstacles) {
-      // The shipped layout's value of the same leader (already flown for the three headline legs).
-      if (i == kVec)
-        results[i].shipped = shipped[0].second.arrival;
-      else if (i == kSca)
-        results[i].shipped = shipped[1].second.arrival;
-      else if (i == kGrad)
-        results[i].shipped = shipped[2].second.arrival;
-      else
-        results[i].shipped = run_leg(patched(shipped_vector, leg.setting, "shao2020-navigation"), false).arrival;
-    } else if (leg.with_obstacles && !leg.wide_targets) {
-      results[i].shipped = run_leg(patched(shipped_vector, leg.setting, "shao2020-navigation"), false).arrival;
-    }
-    tick();
+    results[i].shipped = shipped_arrival(i, leg, shipped, shipped_vector);
+    counter.tick();
     for (uint32_t k = 1; k <= layouts; ++k) {
       const LegRun r =
           run_leg(layout_scenario(layout_base, k, leg.setting, leg.with_obstacles, leg.wide_targets), headline);
       results[i].per_layout.push_back(r.arrival);
       if (r.arrival) results[i].arrivals.push_back(*r.arrival);
       rep.csv_rows.push_back({leg.group, leg.label, std::to_string(k), r.arrival ? fixed(*r.arrival, 0) : ""});
-      tick();
+      counter.tick();
     }
   }
+  return results;
+}
 
-  // --- Rows: the paper's two figures on the drawn layouts and on the shipped one.
-  const SweepResult& vec = results[kVec];
-  const SweepResult& sca = results[kSca];
-  const SweepResult& grad = results[kGrad];
-  const auto never = [](const SweepResult& r) { return r.per_layout.size() - r.arrivals.size(); };
-  // The rows of one reading of Shao 2020 Fig. 10: both leaders and their paired difference.
-  const auto fig10_rows = [&](const std::string& reading, const SweepResult& v, const std::string& v_note,
-                              const SweepResult& sc, const std::string& s_note) {
-    const double vm = mean(v.arrivals);
-    const double sm = mean(sc.arrivals);
-    const std::vector<double> diff = paired_difference(v.per_layout, sc.per_layout);
-    const Interval ci = ci95(diff);
-    // The claim is the order: reversed when the vector leader is significantly slower.
-    const bool reversed = !diff.empty() && ci.lo > 0;
-    const std::string order = "vector " + fixed(vm) + " vs scalar " + fixed(sm);
-    Row vr{
-        "iterations to the centre, vector pheromones, " + reading, kPaperVector, v.arrivals, "iteration", v_note, ""};
-    if (never(v) > 0) vr.note += "; " + std::to_string(never(v)) + " layout(s) never arrived";
-    if (reversed) vr.verdict = "reversed: slower than the scalar leader (" + order + ")";
-    Row sr{
-        "iterations to the centre, scalar pheromones, " + reading, kPaperScalar, sc.arrivals, "iteration", s_note, ""};
-    if (never(sc) > 0) sr.note += "; " + std::to_string(never(sc)) + " layout(s) never arrived";
-    if (reversed) sr.verdict = "reversed: faster than the vector leader (" + order + ")";
-    Row dr{
-        "vector minus scalar, paired per layout, " + reading, kPaperVector - kPaperScalar, diff, "iteration", "", ""};
-    dr.note =
-        "layouts where both arrived; negative = vector sooner; 95 % CI [" + fixed(ci.lo) + ", " + fixed(ci.hi) + "]";
-    if (diff.empty())
-      dr.verdict = "differs: no layout where both arrived";
-    else if (reversed)
-      dr.verdict = "reversed: the vector leader is slower";
-    else if (ci.hi < 0)
-      dr.verdict = "reproduced in sign: the vector leader is sooner";
-    else
-      dr.verdict = "differs: no significant difference either way";
-    rep.rows.push_back(vr);
-    rep.rows.push_back(sr);
-    rep.rows.push_back(dr);
-  };
-  fig10_rows("paper reading (drawn layouts)", vec, "s_t = the s_d of largest norm (our reading of 'max_d s_d')", sca,
-             "best sector mean of λTa τ + λTh ε + λTr σ, ρ per iteration (the paper does not say)");
-  fig10_rows("reading X (drawn layouts)", results[kVecProj], "s_t = the s_d of largest component along its sector",
-             results[kScaLattice], "best sector mean, one lattice step (1 or √2 cells) per iteration as in §4");
+std::size_t never_arrived(const SweepResult& r) { return r.per_layout.size() - r.arrivals.size(); }
+
+// The rows of one reading of Shao 2020 Fig. 10: both leaders and their paired difference.
+void add_fig10_rows(Report& rep, const std::string& reading, const SweepResult& v, const std::string& v_note,
+                    const SweepResult& sc, const std::string& s_note) {
+  const double vm = mean(v.arrivals);
+  const double sm = mean(sc.arrivals);
+  const std::vector<double> diff = paired_difference(v.per_layout, sc.per_layout);
+  const Interval ci = ci95(diff);
+  // The claim is the order: reversed when the vector leader is significantly slower.
+  const bool reversed = !diff.empty() && ci.lo > 0;
+  const std::string order = "vector " + fixed(vm) + " vs scalar " + fixed(sm);
+  Row vr{"iterations to the centre, vector pheromones, " + reading, kPaperVector, v.arrivals, "iteration", v_note, ""};
+  if (never_arrived(v) > 0) vr.note += "; " + std::to_string(never_arrived(v)) + " layout(s) never arrived";
+  if (reversed) vr.verdict = "reversed: slower than the scalar leader (" + order + ")";
+  Row sr{"iterations to the centre, scalar pheromones, " + reading, kPaperScalar, sc.arrivals, "iteration", s_note, ""};
+  if (never_arrived(sc) > 0) sr.note += "; " + std::to_string(never_arrived(sc)) + " layout(s) never arrived";
+  if (reversed) sr.verdict = "reversed: faster than the vector leader (" + order + ")";
+  Row dr{"vector minus scalar, paired per layout, " + reading, kPaperVector - kPaperScalar, diff, "iteration", "", ""};
+  dr.note =
+      "layouts where both arrived; negative = vector sooner; 95 % CI [" + fixed(ci.lo) + ", " + fixed(ci.hi) + "]";
+  if (diff.empty())
+    dr.verdict = "differs: no layout where both arrived";
+  else if (reversed)
+    dr.verdict = "reversed: the vector leader is slower";
+  else if (ci.hi < 0)
+    dr.verdict = "reproduced in sign: the vector leader is sooner";
+  else
+    dr.verdict = "differs: no significant difference either way";
+  rep.rows.push_back(vr);
+  rep.rows.push_back(sr);
+  rep.rows.push_back(dr);
+}
+
+void add_shipped_rows(Report& rep, const ShippedRuns& shipped) {
   const std::optional<double>& sv = shipped[0].second.arrival;
   const std::optional<double>& ss = shipped[1].second.arrival;
   {
@@ -429,35 +441,58 @@ Report run_fig10(uint32_t runs, const Progress& progress) {
                         r.arrival ? std::vector<double>{r.follower_distance} : std::vector<double>{}, "cell",
                         "not in the paper", ""});
   }
+}
 
-  // --- The named variant against the paper's vector leader, same layouts.
-  {
-    Comparison c;
-    c.metric = "iterations for the leader to reach the centre (drawn layouts)";
-    c.unit = "iteration";
-    c.baseline = "vector leader (Shao 2020 eqs. (12)-(15), s_t = largest ‖s_d‖)";
-    c.variant = "leader_pheromones: \"gradient\" (ours: s_d summed over all sectors, docs/policies/shao-navigation.md)";
-    c.lower_is_better = true;
-    c.baseline_samples = vec.arrivals;
-    c.variant_samples = grad.arrivals;
-    c.note = "layouts 1.." + std::to_string(layouts) + "; vector never arrived on " + std::to_string(never(vec)) +
-             ", gradient on " + std::to_string(never(grad)) + " (left out of the samples)";
-    rep.comparisons.push_back(c);
-    Comparison pull = c;
-    pull.variant = "leader_pheromones: \"pull\" (ours: the s_d that pull into their own sector, summed)";
-    pull.variant_samples = results[kPull].arrivals;
-    pull.note = "layouts 1.." + std::to_string(layouts) + "; vector never arrived on " + std::to_string(never(vec)) +
-                ", pull on " + std::to_string(never(results[kPull])) + " (left out of the samples)";
-    rep.comparisons.push_back(pull);
-    // Not a variant: the other fair reading of "s_t = max_d s_d", for scale.
-    Comparison r = c;
-    r.variant = "vector leader, s_t = the s_d of largest component along its sector (a reading of the paper, not ours)";
-    r.variant_samples = results[kVecProj].arrivals;
-    r.note = "the same layouts; projection never arrived on " + std::to_string(never(results[kVecProj]));
-    rep.comparisons.push_back(r);
+// --- The named variant against the paper's vector leader, same layouts.
+void add_leader_comparisons(Report& rep, const std::vector<SweepResult>& results, uint32_t layouts) {
+  const SweepResult& vec = results[kVec];
+  const SweepResult& grad = results[kGrad];
+  Comparison c;
+  c.metric = "iterations for the leader to reach the centre (drawn layouts)";
+  c.unit = "iteration";
+  c.baseline = "vector leader (Shao 2020 eqs. (12)-(15), s_t = largest ‖s_d‖)";
+  c.variant = "leader_pheromones: \"gradient\" (ours: s_d summed over all sectors, docs/policies/shao-navigation.md)";
+  c.lower_is_better = true;
+  c.baseline_samples = vec.arrivals;
+  c.variant_samples = grad.arrivals;
+  c.note = "layouts 1.." + std::to_string(layouts) + "; vector never arrived on " + std::to_string(never_arrived(vec)) +
+           ", gradient on " + std::to_string(never_arrived(grad)) + " (left out of the samples)";
+  rep.comparisons.push_back(c);
+  Comparison pull = c;
+  pull.variant = "leader_pheromones: \"pull\" (ours: the s_d that pull into their own sector, summed)";
+  pull.variant_samples = results[kPull].arrivals;
+  pull.note = "layouts 1.." + std::to_string(layouts) + "; vector never arrived on " +
+              std::to_string(never_arrived(vec)) + ", pull on " + std::to_string(never_arrived(results[kPull])) +
+              " (left out of the samples)";
+  rep.comparisons.push_back(pull);
+  // Not a variant: the other fair reading of "s_t = max_d s_d", for scale.
+  Comparison r = c;
+  r.variant = "vector leader, s_t = the s_d of largest component along its sector (a reading of the paper, not ours)";
+  r.variant_samples = results[kVecProj].arrivals;
+  r.note = "the same layouts; projection never arrived on " + std::to_string(never_arrived(results[kVecProj]));
+  rep.comparisons.push_back(r);
+}
+
+// How often leg i arrives before its partner (the scalar leader of its group) on the same layout.
+std::string sooner_cell(const std::vector<SweepLeg>& sweep, const std::vector<SweepResult>& results, std::size_t i) {
+  std::string sooner = "–";
+  if (sweep[i].partner >= 0) {
+    const auto partner = static_cast<std::size_t>(sweep[i].partner);
+    int wins = 0, either = 0;
+    for (std::size_t k = 0; k < results[i].per_layout.size(); ++k) {
+      const auto& a = results[i].per_layout[k];
+      const auto& b = results[partner].per_layout[k];
+      if (a && (!b || *a < *b)) ++wins;
+      if (a || b) ++either;
+    }
+    sooner = std::to_string(wins) + "/" + std::to_string(either);
   }
+  return sooner;
+}
 
-  // --- Investigation: the sensitivity table.
+// --- Investigation: the sensitivity table.
+std::string sensitivity_table(const std::vector<SweepLeg>& sweep, const std::vector<SweepResult>& results,
+                              uint32_t layouts) {
   std::string t;
   t += "### Sensitivity study (all settings tried)\n\n";
   t += "Arrival in iterations after the hold: mean ± sd [95 % CI] over layouts 1.." + std::to_string(layouts) +
@@ -469,31 +504,21 @@ Report run_fig10(uint32_t runs, const Progress& progress) {
   t += "| group | setting | drawn layouts | shipped layout | sooner than the scalar (mean) leader of its group "
        "|\n|---|---|---|---|---|\n";
   for (std::size_t i = 0; i < sweep.size(); ++i) {
-    std::string sooner = "–";
-    if (sweep[i].partner >= 0) {
-      const auto partner = static_cast<std::size_t>(sweep[i].partner);
-      int wins = 0, either = 0;
-      for (std::size_t k = 0; k < results[i].per_layout.size(); ++k) {
-        const auto& a = results[i].per_layout[k];
-        const auto& b = results[partner].per_layout[k];
-        if (a && (!b || *a < *b)) ++wins;
-        if (a || b) ++either;
-      }
-      sooner = std::to_string(wins) + "/" + std::to_string(either);
-    }
+    const std::string sooner = sooner_cell(sweep, results, i);
     t += "| " + sweep[i].group + " | " + sweep[i].label + " | " + mean_ci_cell(results[i].arrivals, layouts) + " | " +
          (sweep[i].with_obstacles && !sweep[i].wide_targets ? arrival_cell(results[i].shipped) : "–") + " | " + sooner +
          " |\n";
   }
-  const auto cell = [&](std::size_t i) { return mean_ci_cell(results[i].arrivals, layouts); };
-  const auto leg_of = [&sweep](const std::string& label) {
-    const auto it = std::find_if(sweep.begin(), sweep.end(), [&label](const SweepLeg& l) { return l.label == label; });
-    if (it == sweep.end()) throw std::logic_error("no sweep leg " + label);
-    return static_cast<std::size_t>(it - sweep.begin());
-  };
-  const std::size_t open_vec = leg_of("vector (norm), no obstacles");
-  const std::size_t open_sca = leg_of("scalar (mean), no obstacles");
-  const std::size_t hold300_sca = leg_of("scalar (mean), hold 300 ticks (the shipped file's)");
+  return t;
+}
+
+std::size_t leg_index(const std::vector<SweepLeg>& sweep, const std::string& label) {
+  const auto it = std::find_if(sweep.begin(), sweep.end(), [&label](const SweepLeg& l) { return l.label == label; });
+  if (it == sweep.end()) throw std::logic_error("no sweep leg " + label);
+  return static_cast<std::size_t>(it - sweep.begin());
+}
+
+std::string fig10_second_reading() {
   std::string head;
   head += "### Second reading\n\n";
   head +=
@@ -514,6 +539,16 @@ Report run_fig10(uint32_t runs, const Progress& progress) {
       "centre\" counts (ours: the tick the leader is on the centre after Algorithm 2's \"go there\", at most "
       "⌈sensorLD/ρ⌉ = 3 iterations after it first sees it, not swept). Stated and kept: sensorLD = 5, ρ = 2, λ = "
       "(1, -0.3, 0.3), eight sectors, 500 iterations.\n\n";
+  return head;
+}
+
+std::string fig10_conclusion(const std::vector<SweepLeg>& sweep, const std::vector<SweepResult>& results,
+                             uint32_t layouts) {
+  const auto cell = [&](std::size_t i) { return mean_ci_cell(results[i].arrivals, layouts); };
+  const std::size_t open_vec = leg_index(sweep, "vector (norm), no obstacles");
+  const std::size_t open_sca = leg_index(sweep, "scalar (mean), no obstacles");
+  const std::size_t hold300_sca = leg_index(sweep, "scalar (mean), hold 300 ticks (the shipped file's)");
+  std::string head;
   head += "### Conclusion\n\n";
   head += "Paper reading (norm, scalar mean at ρ): vector " + cell(kVec) + " against scalar " + cell(kSca) +
           " iterations: reversed. The vector leader loses only where obstacles are: on the same layouts without "
@@ -535,9 +570,11 @@ Report run_fig10(uint32_t runs, const Progress& progress) {
           std::to_string(results[hold300_sca].arrivals.size()) + " of " + std::to_string(layouts) +
           " drawn layouts; with the default 20 layouts, hold 1000 (the drawn layouts' base) is the shortest hold tried "
           "where both paper-reading leaders arrive on at least 19.\n\n";
-  rep.investigation = head + t;
+  return head;
+}
 
-  rep.notes = {
+std::vector<std::string> fig10_notes() {
+  return {
       "The leader and the followers have no random element: a seed changes only the §4 search after arrival. The "
       "Monte Carlo dimension is the layout (the paper's is unknown).",
       "The paper gives neither the start, the target region, the obstacles of Fig. 1 nor the parameters of the §5 "
@@ -548,6 +585,36 @@ Report run_fig10(uint32_t runs, const Progress& progress) {
       "docs/policies/shao-navigation.md has the line-by-line second reading of eqs. (12)-(15), the list of unstated "
       "quantities and the conclusion.",
   };
+}
+
+Report run_fig10(uint32_t runs, const Progress& progress) {
+  const uint32_t layouts = std::max<uint32_t>(runs, 1);
+  const core::ScenarioConfig shipped_vector = load("shao2020-navigation.textproto");
+  const core::ScenarioConfig shipped_scalar = load("shao2020-navigation-scalar.textproto");
+  const core::ScenarioConfig shipped_gradient = load("shao2020-navigation-gradient.textproto");
+  const core::ScenarioConfig layout_base = load("shao2020-navigation-layout.textproto");
+  const std::vector<SweepLeg> sweep = sensitivity_legs();
+  FlightCounter counter{progress, static_cast<uint32_t>(sweep.size()) * (layouts + 1) + 3};
+
+  Report rep;
+  describe_fig10(rep, layouts);
+  const ShippedRuns shipped = fly_shipped(rep, shipped_vector, shipped_scalar, shipped_gradient, counter);
+  const std::vector<SweepResult> results =
+      fly_sweep(rep, sweep, shipped, shipped_vector, layout_base, layouts, counter);
+
+  // --- Rows: the paper's two figures on the drawn layouts and on the shipped one.
+  add_fig10_rows(rep, "paper reading (drawn layouts)", results[kVec],
+                 "s_t = the s_d of largest norm (our reading of 'max_d s_d')", results[kSca],
+                 "best sector mean of λTa τ + λTh ε + λTr σ, ρ per iteration (the paper does not say)");
+  add_fig10_rows(rep, "reading X (drawn layouts)", results[kVecProj],
+                 "s_t = the s_d of largest component along its sector", results[kScaLattice],
+                 "best sector mean, one lattice step (1 or √2 cells) per iteration as in §4");
+  add_shipped_rows(rep, shipped);
+  add_leader_comparisons(rep, results, layouts);
+
+  rep.investigation =
+      fig10_second_reading() + fig10_conclusion(sweep, results, layouts) + sensitivity_table(sweep, results, layouts);
+  rep.notes = fig10_notes();
   return rep;
 }
 

@@ -142,56 +142,77 @@ std::string verdict(const std::map<Key, Cell>& cells, uint32_t kill_tick) {
   return v;
 }
 
-Report run_robustness_experiment(uint32_t runs, const Progress& progress) {
-  const std::string file = "shao2020-50x50.textproto";
+// What the robustness runs fly: the scenario, its horizon, both searches, both
+// kill ticks and the table's ticks within the horizon.
+struct RobustnessPlan {
+  core::ScenarioConfig base;
+  uint32_t horizon = 0;
+  std::vector<ShaoRoute> routes;
+  std::vector<uint32_t> kill_ticks;
+  std::vector<uint32_t> ticks;
+};
+
+RobustnessPlan robustness_plan(const std::string& file) {
   auto loaded = load_shipped(file);
   if (!loaded) throw std::runtime_error(loaded.error().message);
-  const core::ScenarioConfig base = loaded.value();
-  const uint32_t horizon = base.ticks;
-  const std::vector<ShaoRoute> routes = {ShaoRoute::Pheromone, ShaoRoute::LawnmowerTransit};
-  const std::vector<uint32_t> kill_ticks = {kKillTick, kSecondKillTick};
-  std::map<Key, Cell> cells;
-  Report rep;
-  rep.title = "Shao 2020 Sec. 4.3.3 — robustness to UAV losses: pheromone search vs fixed routes, " + base.name;
+  RobustnessPlan plan;
+  plan.base = loaded.value();
+  plan.horizon = plan.base.ticks;
+  plan.routes = {ShaoRoute::Pheromone, ShaoRoute::LawnmowerTransit};
+  plan.kill_ticks = {kKillTick, kSecondKillTick};
+  for (uint32_t t : kTableTicks) {
+    if (t <= plan.horizon) plan.ticks.push_back(t);
+  }
+  return plan;
+}
+
+void describe_robustness(Report& rep, const std::string& file, const RobustnessPlan& plan, uint32_t runs) {
+  rep.title = "Shao 2020 Sec. 4.3.3 — robustness to UAV losses: pheromone search vs fixed routes, " + plan.base.name;
   rep.source = "Shao et al. 2020, Sec. 4.3.3 (the claim after Fig. 6; the paper shows no numbers for it)";
-  rep.setup = "scenarios/" + file + " unchanged (" + std::to_string(base.uavs) + " UAVs, " + std::to_string(horizon) +
-              " iterations = Nc, Shao 2020 Table 1 parameters); " + std::to_string(runs) +
-              " runs per cell with seeds 1.." + std::to_string(runs) + "; 0 %, 10 %, 30 % of the UAVs (0, " +
-              std::to_string(core::kill_count(0.1, base.uavs)) + ", " +
-              std::to_string(core::kill_count(0.3, base.uavs)) + ") killed at tick " + std::to_string(kKillTick) +
+  rep.setup = "scenarios/" + file + " unchanged (" + std::to_string(plan.base.uavs) + " UAVs, " +
+              std::to_string(plan.horizon) + " iterations = Nc, Shao 2020 Table 1 parameters); " +
+              std::to_string(runs) + " runs per cell with seeds 1.." + std::to_string(runs) +
+              "; 0 %, 10 %, 30 % of the UAVs (0, " + std::to_string(core::kill_count(0.1, plan.base.uavs)) + ", " +
+              std::to_string(core::kill_count(0.3, plan.base.uavs)) + ") killed at tick " + std::to_string(kKillTick) +
               " (and, as a check, at tick " + std::to_string(kSecondKillTick) +
               "), drawn per seed, the same UAVs in both searches; in-process "
               "simulator with its fault semantics (docs/faults.md)";
   rep.csv_header = {"search",      "kill_share",    "kill_tick",     "seed",         "killed",
                     "ticks_to_95", "targets_found", "deposits_sent", "deposits_lost"};
-  std::vector<uint32_t> ticks;
-  for (uint32_t t : kTableTicks) {
-    if (t <= horizon) ticks.push_back(t);
-  }
-  for (uint32_t t : ticks) rep.csv_header.push_back("coverage_at_" + std::to_string(t));
+  for (uint32_t t : plan.ticks) rep.csv_header.push_back("coverage_at_" + std::to_string(t));
+}
+
+std::vector<std::string> robustness_csv_row(ShaoRoute route, std::size_t si, uint32_t kt, uint64_t seed,
+                                            const core::RobustnessRun& r, const std::vector<uint32_t>& ticks) {
+  std::string killed;
+  for (uint32_t u : r.killed) killed += (killed.empty() ? "" : " ") + std::to_string(u);
+  std::vector<std::string> row = {route == ShaoRoute::Pheromone ? "pheromone" : "lawnmower_transit",
+                                  fmt(kShares[si], 2),
+                                  si == 0 ? "" : std::to_string(kt),
+                                  std::to_string(seed),
+                                  killed,
+                                  r.reached ? std::to_string(*r.reached) : "",
+                                  std::to_string(r.targets_found),
+                                  std::to_string(r.deposits_sent),
+                                  std::to_string(r.deposits_lost)};
+  for (uint32_t t : ticks) row.push_back(fmt(r.coverage[t], 4));
+  return row;
+}
+
+// Flies every seed, share and kill tick with both searches; one CSV row each.
+std::map<Key, Cell> fly_robustness(Report& rep, const RobustnessPlan& plan, uint32_t runs, const Progress& progress) {
+  std::map<Key, Cell> cells;
   // Without kills the kill tick changes nothing: one run serves both ticks.
   for (uint32_t run = 0; run < runs; ++run) {
     const uint64_t seed = run + 1;
     for (std::size_t si = 0; si < kShares.size(); ++si) {
-      for (uint32_t kt : kill_ticks) {
-        if (si == 0 && kt != kill_ticks.front()) continue;
-        for (ShaoRoute route : routes) {
-          core::RobustnessRun r = core::run_robustness(base, route, kShares[si], seed, kt, kGoal);
-          std::string killed;
-          for (uint32_t u : r.killed) killed += (killed.empty() ? "" : " ") + std::to_string(u);
-          std::vector<std::string> row = {route == ShaoRoute::Pheromone ? "pheromone" : "lawnmower_transit",
-                                          fmt(kShares[si], 2),
-                                          si == 0 ? "" : std::to_string(kt),
-                                          std::to_string(seed),
-                                          killed,
-                                          r.reached ? std::to_string(*r.reached) : "",
-                                          std::to_string(r.targets_found),
-                                          std::to_string(r.deposits_sent),
-                                          std::to_string(r.deposits_lost)};
-          for (uint32_t t : ticks) row.push_back(fmt(r.coverage[t], 4));
-          rep.csv_rows.push_back(std::move(row));
+      for (uint32_t kt : plan.kill_ticks) {
+        if (si == 0 && kt != plan.kill_ticks.front()) continue;
+        for (ShaoRoute route : plan.routes) {
+          core::RobustnessRun r = core::run_robustness(plan.base, route, kShares[si], seed, kt, kGoal);
+          rep.csv_rows.push_back(robustness_csv_row(route, si, kt, seed, r, plan.ticks));
           if (si == 0) {
-            for (uint32_t k : kill_ticks) cells[{k, static_cast<int>(route), si}].runs.push_back(r);
+            for (uint32_t k : plan.kill_ticks) cells[{k, static_cast<int>(route), si}].runs.push_back(r);
           } else {
             cells[{kt, static_cast<int>(route), si}].runs.push_back(std::move(r));
           }
@@ -200,8 +221,12 @@ Report run_robustness_experiment(uint32_t runs, const Progress& progress) {
     }
     progress(run + 1, runs);  // one seed: both searches, every share and kill tick
   }
-  // Rows (main kill tick): time to 95 %, coverage at tick 100 and at the end.
-  for (ShaoRoute route : routes) {
+  return cells;
+}
+
+// Rows (main kill tick): time to 95 %.
+void add_time_to_95_rows(Report& rep, const std::map<Key, Cell>& cells, const RobustnessPlan& plan) {
+  for (ShaoRoute route : plan.routes) {
     for (std::size_t si = 0; si < kShares.size(); ++si) {
       const Cell& c = cells.at({kKillTick, static_cast<int>(route), si});
       const std::string who = std::string(route_name(route)) + ", " + pct(kShares[si]) + " killed";
@@ -227,14 +252,18 @@ Report run_robustness_experiment(uint32_t runs, const Progress& progress) {
                           v});
     }
   }
-  for (uint32_t t : {100U, horizon}) {
-    for (ShaoRoute route : routes) {
+}
+
+// Rows (main kill tick): coverage at tick 100 and at the end.
+void add_coverage_rows(Report& rep, const std::map<Key, Cell>& cells, const RobustnessPlan& plan) {
+  for (uint32_t t : {100U, plan.horizon}) {
+    for (ShaoRoute route : plan.routes) {
       for (std::size_t si = 0; si < kShares.size(); ++si) {
         const Cell& c = cells.at({kKillTick, static_cast<int>(route), si});
         // The claim's "can adapt dynamically": with UAVs killed the pheromone
         // search ends ahead of the fixed routes (judged at the horizon).
         std::string v;
-        if (t == horizon && route == ShaoRoute::Pheromone && si > 0) {
+        if (t == plan.horizon && route == ShaoRoute::Pheromone && si > 0) {
           const Cell& l = cells.at({kKillTick, static_cast<int>(ShaoRoute::LawnmowerTransit), si});
           const double pm = mean(c.coverage_at(t)), lm = mean(l.coverage_at(t));
           v = pm > lm ? "reproduced: ends ahead of the fixed routes' " + fmt(lm, 3)
@@ -246,25 +275,30 @@ Report run_robustness_experiment(uint32_t runs, const Progress& progress) {
       }
     }
   }
-  rep.tables = cross_table(cells, kKillTick, runs, ticks, routes) + "\n" +
-               cross_table(cells, kSecondKillTick, runs, ticks, routes);
-  // Plots: mean coverage over the first 300 ticks, and the time to 95 %.
+}
+
+// Plot: mean coverage over the first 300 ticks.
+void add_coverage_plot(Report& rep, const std::map<Key, Cell>& cells, const RobustnessPlan& plan) {
   Plot cov{
       "coverage.svg", "Coverage, UAVs killed at tick " + std::to_string(kKillTick), "iteration", "coverage (mean)", {}};
-  for (ShaoRoute route : routes) {
+  for (ShaoRoute route : plan.routes) {
     for (std::size_t si = 0; si < kShares.size(); ++si) {
       const Cell& c = cells.at({kKillTick, static_cast<int>(route), si});
       Series s{std::string(route == ShaoRoute::Pheromone ? "pheromone" : "lawnmower") + ", " + pct(kShares[si]), {}};
-      for (uint32_t t = 0; t <= std::min<uint32_t>(300, horizon); t += 5)
+      for (uint32_t t = 0; t <= std::min<uint32_t>(300, plan.horizon); t += 5)
         s.points.emplace_back(t, mean(c.coverage_at(t)));
       cov.series.push_back(std::move(s));
     }
   }
   rep.plots.push_back(cov);
+}
+
+// Plot: the time to 95 %.
+void add_time_to_95_plot(Report& rep, const std::map<Key, Cell>& cells, const RobustnessPlan& plan) {
   Plot t95{
       "ticks_to_95.svg", "Ticks to 95 % coverage (runs that reach it)", "share of UAVs killed [%]", "ticks (mean)", {}};
-  for (uint32_t kt : kill_ticks) {
-    for (ShaoRoute route : routes) {
+  for (uint32_t kt : plan.kill_ticks) {
+    for (ShaoRoute route : plan.routes) {
       Series s{std::string(route == ShaoRoute::Pheromone ? "pheromone" : "lawnmower") + ", kill @" + std::to_string(kt),
                {}};
       for (std::size_t si = 0; si < kShares.size(); ++si) {
@@ -275,7 +309,10 @@ Report run_robustness_experiment(uint32_t runs, const Progress& progress) {
     }
   }
   rep.plots.push_back(t95);
-  rep.notes = {
+}
+
+std::vector<std::string> robustness_notes(const std::map<Key, Cell>& cells, uint32_t horizon) {
+  return {
       verdict(cells, kKillTick),
       verdict(cells, kSecondKillTick),
       "Pheromone search: the Shao 2020 Algorithm 1 policy of the scenario, unchanged (Shao 2020 Table 1 parameters; "
@@ -299,6 +336,21 @@ Report run_robustness_experiment(uint32_t runs, const Progress& progress) {
           std::to_string(horizon) +
           " iterations are counted in the 'runs reaching 95 %' column and left out of the mean ± sd.",
   };
+}
+
+Report run_robustness_experiment(uint32_t runs, const Progress& progress) {
+  const std::string file = "shao2020-50x50.textproto";
+  const RobustnessPlan plan = robustness_plan(file);
+  Report rep;
+  describe_robustness(rep, file, plan, runs);
+  const std::map<Key, Cell> cells = fly_robustness(rep, plan, runs, progress);
+  add_time_to_95_rows(rep, cells, plan);
+  add_coverage_rows(rep, cells, plan);
+  rep.tables = cross_table(cells, kKillTick, runs, plan.ticks, plan.routes) + "\n" +
+               cross_table(cells, kSecondKillTick, runs, plan.ticks, plan.routes);
+  add_coverage_plot(rep, cells, plan);
+  add_time_to_95_plot(rep, cells, plan);
+  rep.notes = robustness_notes(cells, plan.horizon);
   return rep;
 }
 

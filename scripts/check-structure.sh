@@ -14,6 +14,9 @@
 #     includes nothing of sweep/, experiments/ or bench/; experiments/ nothing
 #     of sweep/ or bench/; sweep/ nothing of bench/; and no room includes
 #     cli/ but for its shared scenario overrides and `sim` runner.
+# It also keeps functions short (STYLE.md, "Short functions"): no function
+# definition outside tests is over 80 lines (scripts/function-lengths.awk
+# measures them), but for the allow-list below, which may only shrink.
 # Usage: check-structure.sh [repo root]; prints each violation, exits 1 if any.
 set -u
 root="${1:-$(cd "$(dirname "$0")/.." && pwd)}"
@@ -54,8 +57,50 @@ report "experiments/ includes nothing of sweep/ or bench/" "$(room_inc experimen
 report "sweep/ includes nothing of bench/" "$(room_inc sweep | grep -E '"bench/')"
 report "no room includes cli/ but its scenario overrides and sim runner" \
   "$(room_inc launch sweep experiments bench | grep -E '"cli/' | grep -vE '"cli/(scenario_overrides|sim_command)\.hpp"')"
+# --- short functions ---------------------------------------------------------
+# No function outside tests over 80 lines, from its signature's last line to
+# its closing brace. A table is data plus a loop. The allow-list holds the
+# functions not yet split, as "FILE FUNCTION"; an entry whose function has
+# become short must go (the check says so), so the list only shrinks.
+max_function_lines=80
+allowed_long_functions=$(grep -v '^#' <<'EOF'
+# Files another change owns for now (the MAVLink option): split them after it lands.
+cli/process_commands.cpp add
+# Members whose split needs private helpers declared in their class's header
+# (core/simulator.hpp, core/conductor.hpp, console/server.hpp): a header change
+# that rebuilds most of the tree; left for a change that does only that.
+common/core/src/simulator.cpp Simulator::step
+common/core/src/conductor.cpp LockstepConductor::status
+common/console/server/server.cpp ConsoleServer::start
+# One switch whose length is its per-topic reasons; it wants to become the
+# table STYLE.md asks for (QoS as one table), not a mechanical split.
+common/bus/src/qos.cpp topic_qos
+# Not reached yet (issue 43 D4 continues): Python bindings and benchmarks.
+common/pypolicy/src/bindings.cpp bind_policy_types
+common/pypolicy/src/pypolicy.cpp build
+bench/bench_latency.cpp main
+bench/commands/bench_scale.cpp run_bench_scale
+bench/commands/bench_soak.cpp run_bench_soak
+EOF
+)
+long_functions=$(find agent placeagent groundstation cli launch sweep experiments bench common \
+                   \( -name '*.cpp' -o -name '*.hpp' \) -not -path '*test*' -print 2>/dev/null | sort |
+                 xargs -r awk -v limit="$max_function_lines" -f scripts/function-lengths.awk)
+over=""
+while read -r where n name; do
+  [ -z "$where" ] && continue
+  grep -qxF "${where%%:*} $name" <<<"$allowed_long_functions" && continue
+  over+="$where: $name is $n lines"$'\n'
+done <<<"$long_functions"
+report "no function over $max_function_lines lines (split it: named helpers, tables as data)" "${over%$'\n'}"
+stale=""
+while read -r file name; do
+  [ -z "$file" ] && continue
+  grep -qE "^$file:[0-9]+ [0-9]+ $name\$" <<<"$long_functions" || stale+="$file $name"$'\n'
+done <<<"$allowed_long_functions"
+report "allow-listed long function is short now (or gone): remove it from the list" "${stale%$'\n'}"
 if [ "$bad" -ne 0 ]; then
-  echo "check-structure: the module map of docs/architecture.md is broken (above)" >&2
+  echo "check-structure: the module map of docs/architecture.md or the function-length limit is broken (above)" >&2
   exit 1
 fi
 echo "check-structure: ok"

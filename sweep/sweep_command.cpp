@@ -358,8 +358,11 @@ std::string command_line(int argc, const char* const* argv) {
   return line;
 }
 
-int run_sweep(const SweepOptions& o) {
-  Plan p;
+namespace {
+
+// The plan from the options: parameters, seeds, grid, runs, scenario name and
+// output folder (prepared); 0, or the exit status of the first refusal.
+int plan_sweep(const SweepOptions& o, Plan& p) {
   p.scenario_path = o.scenario;
   auto params = sweep::parameters_of(o.overrides);
   if (!params) {
@@ -391,30 +394,32 @@ int run_sweep(const SweepOptions& o) {
   }
   p.out = o.out_dir.empty() ? fs::path("out/sweeps") / p.scenario_name : fs::path(o.out_dir);
   if (const int st = prepare_out(p); st != 0) return st;
+  return 0;
+}
 
-  std::vector<nlohmann::json> results(p.runs.size());
+// The metrics of the runs that finished before, in `results`; the indices of the others.
+std::vector<std::size_t> pending_runs(const Plan& p, std::vector<nlohmann::json>& results) {
   std::vector<std::size_t> todo;
   for (std::size_t i = 0; i < p.runs.size(); ++i) {
     results[i] = finished_metrics(p.out / "runs" / p.runs[i].id);
     if (results[i].is_discarded()) todo.push_back(i);
   }
-  const unsigned hw = std::max(1U, std::thread::hardware_concurrency());
-  const unsigned jobs = o.jobs > 0 ? o.jobs : hw;
-  const std::size_t skipped = p.runs.size() - todo.size();
-  std::size_t swept = 0;
-  for (const auto& prm : p.params) swept += prm.swept() ? 1 : 0;
+  return todo;
+}
+
+void announce_sweep(const Plan& p, std::size_t skipped, std::size_t todo, std::size_t swept) {
   std::printf("sweep %s: %zu combination%s of %zu swept parameter%s x %zu seed%s = %zu runs -> %s\n",
               p.scenario_name.c_str(), p.cells.size(), p.cells.size() == 1 ? "" : "s", swept, swept == 1 ? "" : "s",
               p.seeds.size(), p.seeds.size() == 1 ? "" : "s", p.runs.size(), p.out.string().c_str());
   if (skipped > 0) {
     std::printf("sweep: %zu of %zu runs finished before (%s/runs), skipped; %zu left\n", skipped, p.runs.size(),
-                p.out.string().c_str(), todo.size());
+                p.out.string().c_str(), todo);
   }
   std::fflush(stdout);
-  const auto t0 = Clock::now();
-  if (const int st = run_all(p, todo, jobs, o.quiet, results); st != 0) return st;
-  const double wall_s = seconds_since(t0);
+}
 
+sweep::MarkdownInput markdown_input(const SweepOptions& o, const Plan& p, const std::vector<nlohmann::json>& results,
+                                    std::size_t executed, std::size_t skipped, unsigned jobs, double wall_s) {
   sweep::MarkdownInput md;
   md.command = o.command;
   md.scenario = p.scenario_name;
@@ -422,14 +427,18 @@ int run_sweep(const SweepOptions& o) {
   md.seeds = p.seeds;
   md.cells = p.cells;
   md.jobs = jobs;
-  md.executed = todo.size();
+  md.executed = executed;
   md.skipped = skipped;
   md.wall_s = wall_s;
   md.dds = o.dds;
   for (std::size_t i = 0; i < p.runs.size(); ++i) {
     md.runs.push_back({p.runs[i].cell, p.runs[i].seed, p.runs[i].id, sweep::flatten_scalars(results[i])});
   }
-  const auto columns = sweep::metric_columns(md.runs);
+  return md;
+}
+
+// The plotted metrics, and the headline ones that are the same in every run.
+void pick_plotted(sweep::MarkdownInput& md, const std::vector<std::string>& columns) {
   md.plotted = sweep::plotted_metrics(md.runs, columns);
   for (const char* m : {"coverage", "targets_found", "covered_cells", "deposits_sent"}) {
     if (std::find(md.plotted.begin(), md.plotted.end(), m) == md.plotted.end() &&
@@ -437,32 +446,64 @@ int run_sweep(const SweepOptions& o) {
       md.constant.emplace_back(m);
     }
   }
+}
 
+// --distributed: a sample of the runs flown as processes; 4 if one differs from the simulator.
+int fly_distributed_sample(const SweepOptions& o, const Plan& p, const std::vector<nlohmann::json>& results,
+                           sweep::MarkdownInput& md) {
   int status = 0;
-  if (o.distributed) {
-    md.distributed.emplace();
-    const auto sample = sweep::sample_runs(p.runs.size(), o.distributed_sample);
-    std::printf("distributed: flying %zu of the runs as processes (pheromesh run --clock lockstep --dds %s)\n",
-                sample.size(), o.dds.c_str());
+  md.distributed.emplace();
+  const auto sample = sweep::sample_runs(p.runs.size(), o.distributed_sample);
+  std::printf("distributed: flying %zu of the runs as processes (pheromesh run --clock lockstep --dds %s)\n",
+              sample.size(), o.dds.c_str());
+  std::fflush(stdout);
+  for (std::size_t i : sample) {
+    auto c = fly_and_compare(p, p.runs[i], results[i], o);
+    std::printf("distributed %s (%s): lockstep == sim: %s (%.1f s)\n", c.id.c_str(), c.cell.c_str(),
+                c.equal ? "yes" : ("no: " + c.verdict).c_str(), c.seconds);
     std::fflush(stdout);
-    for (std::size_t i : sample) {
-      auto c = fly_and_compare(p, p.runs[i], results[i], o);
-      std::printf("distributed %s (%s): lockstep == sim: %s (%.1f s)\n", c.id.c_str(), c.cell.c_str(),
-                  c.equal ? "yes" : ("no: " + c.verdict).c_str(), c.seconds);
-      std::fflush(stdout);
-      if (!c.equal) status = 4;
-      md.distributed->push_back(std::move(c));
-    }
+    if (!c.equal) status = 4;
+    md.distributed->push_back(std::move(c));
   }
-  if (const int st = write_outputs(p, md, columns); st != 0) return st;
-  if (todo.empty()) {
+  return status;
+}
+
+void report_sweep(const Plan& p, const sweep::MarkdownInput& md, std::size_t executed, double wall_s, unsigned jobs,
+                  std::size_t swept) {
+  if (executed == 0) {
     std::printf("sweep: every run had finished before; nothing to run (runs/s: none measured)\n");
   } else {
-    std::printf("sweep: %zu runs in %.2f s on %u job%s: %.1f runs/s\n", todo.size(), wall_s, jobs, jobs == 1 ? "" : "s",
-                static_cast<double>(todo.size()) / wall_s);
+    std::printf("sweep: %zu runs in %.2f s on %u job%s: %.1f runs/s\n", executed, wall_s, jobs, jobs == 1 ? "" : "s",
+                static_cast<double>(executed) / wall_s);
   }
   std::printf("sweep: %s/sweep.md, runs.csv (%zu rows), summary.csv, %zu plots\n", p.out.string().c_str(),
               md.runs.size(), md.plotted.size() * swept);
+}
+
+}  // namespace
+
+int run_sweep(const SweepOptions& o) {
+  Plan p;
+  if (const int st = plan_sweep(o, p); st != 0) return st;
+
+  std::vector<nlohmann::json> results(p.runs.size());
+  const std::vector<std::size_t> todo = pending_runs(p, results);
+  const unsigned hw = std::max(1U, std::thread::hardware_concurrency());
+  const unsigned jobs = o.jobs > 0 ? o.jobs : hw;
+  const std::size_t skipped = p.runs.size() - todo.size();
+  std::size_t swept = 0;
+  for (const auto& prm : p.params) swept += prm.swept() ? 1 : 0;
+  announce_sweep(p, skipped, todo.size(), swept);
+  const auto t0 = Clock::now();
+  if (const int st = run_all(p, todo, jobs, o.quiet, results); st != 0) return st;
+  const double wall_s = seconds_since(t0);
+
+  sweep::MarkdownInput md = markdown_input(o, p, results, todo.size(), skipped, jobs, wall_s);
+  const auto columns = sweep::metric_columns(md.runs);
+  pick_plotted(md, columns);
+  const int status = o.distributed ? fly_distributed_sample(o, p, results, md) : 0;
+  if (const int st = write_outputs(p, md, columns); st != 0) return st;
+  report_sweep(p, md, todo.size(), wall_s, jobs, swept);
   return status;
 }
 

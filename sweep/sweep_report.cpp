@@ -286,8 +286,19 @@ BarPlot plot_of(const std::vector<Parameter>& params, const std::vector<Cell>& c
   return p;
 }
 
-std::string svg_error_bars(const BarPlot& p) {
-  const double W = 760, H = 460, L = 80, R = 230, T = 44, B = 64;
+namespace {
+
+// The plot's frame [px] and its axes: the ranges and the step between y ticks.
+struct BarFrame {
+  double W = 760, H = 460, L = 80, R = 230, T = 44, B = 64;
+  double x0 = 0, x1 = 1, y0 = 0, y1 = 1;
+  double step = 1;
+  [[nodiscard]] double sx(double x) const { return L + (x - x0) / (x1 - x0) * (W - L - R); }
+  [[nodiscard]] double sy(double y) const { return H - B - (y - y0) / (y1 - y0) * (H - T - B); }
+};
+
+BarFrame bar_frame(const BarPlot& p) {
+  BarFrame f;
   double x0 = std::numeric_limits<double>::max(), x1 = -x0, y0 = x0, y1 = -x0;
   for (const auto& s : p.series) {
     for (const auto& pt : s.points) {
@@ -311,27 +322,32 @@ std::string svg_error_bars(const BarPlot& p) {
   const double mag = std::pow(10.0, std::floor(std::log10(raw)));
   const double step = raw / mag <= 1 ? mag : raw / mag <= 2 ? 2 * mag : raw / mag <= 5 ? 5 * mag : 10 * mag;
   y0 = std::floor(y0 / step) * step, y1 = std::ceil(y1 / step) * step;
-  auto sx = [&](double x) { return L + (x - x0) / (x1 - x0) * (W - L - R); };
-  auto sy = [&](double y) { return H - B - (y - y0) / (y1 - y0) * (H - T - B); };
-  const char* colours[] = {"#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b", "#17becf"};
-  std::ostringstream o;
-  o << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << W << "\" height=\"" << H
+  f.x0 = x0, f.x1 = x1, f.y0 = y0, f.y1 = y1, f.step = step;
+  return f;
+}
+
+// The header, the title, the axes and the y ticks with grid lines.
+void write_bar_frame(std::ostringstream& o, const BarPlot& p, const BarFrame& f) {
+  o << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << f.W << "\" height=\"" << f.H
     << "\" font-family=\"sans-serif\" font-size=\"12\">\n<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";
-  o << "<text x=\"" << (L + W - R) / 2 << "\" y=\"24\" text-anchor=\"middle\" font-size=\"15\">" << xml_escape(p.title)
-    << "</text>\n";
-  o << "<line x1=\"" << L << "\" y1=\"" << H - B << "\" x2=\"" << W - R << "\" y2=\"" << H - B
-    << "\" stroke=\"black\"/>\n<line x1=\"" << L << "\" y1=\"" << T << "\" x2=\"" << L << "\" y2=\"" << H - B
+  o << "<text x=\"" << (f.L + f.W - f.R) / 2 << "\" y=\"24\" text-anchor=\"middle\" font-size=\"15\">"
+    << xml_escape(p.title) << "</text>\n";
+  o << "<line x1=\"" << f.L << "\" y1=\"" << f.H - f.B << "\" x2=\"" << f.W - f.R << "\" y2=\"" << f.H - f.B
+    << "\" stroke=\"black\"/>\n<line x1=\"" << f.L << "\" y1=\"" << f.T << "\" x2=\"" << f.L << "\" y2=\"" << f.H - f.B
     << "\" stroke=\"black\"/>\n";
   // y ticks with grid lines.
-  const auto y_steps = static_cast<int>(std::lround((y1 - y0) / step));
+  const auto y_steps = static_cast<int>(std::lround((f.y1 - f.y0) / f.step));
   for (int i = 0; i <= y_steps; ++i) {
-    const double yv = y0 + step * i;
-    o << "<line x1=\"" << L << "\" y1=\"" << sy(yv) << "\" x2=\"" << W - R << "\" y2=\"" << sy(yv)
-      << "\" stroke=\"#e4e4e4\"/>\n<text x=\"" << L - 6 << "\" y=\"" << sy(yv) + 4 << "\" text-anchor=\"end\">"
+    const double yv = f.y0 + f.step * i;
+    o << "<line x1=\"" << f.L << "\" y1=\"" << f.sy(yv) << "\" x2=\"" << f.W - f.R << "\" y2=\"" << f.sy(yv)
+      << "\" stroke=\"#e4e4e4\"/>\n<text x=\"" << f.L - 6 << "\" y=\"" << f.sy(yv) + 4 << "\" text-anchor=\"end\">"
       << tick_text(yv) << "</text>\n";
   }
-  // x ticks: every category, or every value a series has when there are at
-  // most ten, else six evenly spaced.
+}
+
+// x ticks: every category, or every value a series has when there are at
+// most ten, else six evenly spaced.
+std::vector<std::pair<double, std::string>> bar_xticks(const BarPlot& p, const BarFrame& f) {
   std::vector<std::pair<double, std::string>> xticks;
   if (!p.categories.empty()) {
     for (std::size_t i = 0; i < p.categories.size(); ++i) xticks.emplace_back(static_cast<double>(i), p.categories[i]);
@@ -343,50 +359,69 @@ std::string svg_error_bars(const BarPlot& p) {
     if (values.size() <= 10) {
       for (double v : values) xticks.emplace_back(v, tick_text(v));
     } else {
-      for (int i = 0; i <= 5; ++i) xticks.emplace_back(x0 + (x1 - x0) * i / 5.0, tick_text(x0 + (x1 - x0) * i / 5.0));
+      for (int i = 0; i <= 5; ++i)
+        xticks.emplace_back(f.x0 + (f.x1 - f.x0) * i / 5.0, tick_text(f.x0 + (f.x1 - f.x0) * i / 5.0));
     }
   }
+  return xticks;
+}
+
+void write_x_axis(std::ostringstream& o, const BarPlot& p, const BarFrame& f,
+                  const std::vector<std::pair<double, std::string>>& xticks) {
   for (const auto& [v, label] : xticks) {
-    o << "<line x1=\"" << sx(v) << "\" y1=\"" << H - B << "\" x2=\"" << sx(v) << "\" y2=\"" << H - B + 5
-      << "\" stroke=\"black\"/>\n<text x=\"" << sx(v) << "\" y=\"" << H - B + 19 << "\" text-anchor=\"middle\">"
+    o << "<line x1=\"" << f.sx(v) << "\" y1=\"" << f.H - f.B << "\" x2=\"" << f.sx(v) << "\" y2=\"" << f.H - f.B + 5
+      << "\" stroke=\"black\"/>\n<text x=\"" << f.sx(v) << "\" y=\"" << f.H - f.B + 19 << "\" text-anchor=\"middle\">"
       << xml_escape(label) << "</text>\n";
   }
-  o << "<text x=\"" << (L + W - R) / 2 << "\" y=\"" << H - 18 << "\" text-anchor=\"middle\">" << xml_escape(p.x_label)
-    << "</text>\n";
-  o << "<text transform=\"translate(18," << (T + H - B) / 2 << ") rotate(-90)\" text-anchor=\"middle\">"
+  o << "<text x=\"" << (f.L + f.W - f.R) / 2 << "\" y=\"" << f.H - 18 << "\" text-anchor=\"middle\">"
+    << xml_escape(p.x_label) << "</text>\n";
+  o << "<text transform=\"translate(18," << (f.T + f.H - f.B) / 2 << ") rotate(-90)\" text-anchor=\"middle\">"
     << xml_escape(p.y_label) << "</text>\n";
-  for (std::size_t si = 0; si < p.series.size(); ++si) {
-    const auto& s = p.series[si];
-    const char* colour = colours[si % 7];
-    // Series side by side at one x, a few pixels apart, so that their bars
-    // do not hide each other.
-    const double dodge = 6.0 * (static_cast<double>(si) - static_cast<double>(p.series.size() - 1) / 2.0);
-    auto sx = [&](double x) { return L + (x - x0) / (x1 - x0) * (W - L - R) + dodge; };
-    std::string line;
-    for (const auto& pt : s.points) {
-      if (!std::isfinite(pt.stats.mean)) continue;
-      line += std::to_string(sx(pt.x)) + "," + std::to_string(sy(pt.stats.mean)) + " ";
-    }
-    if (!line.empty()) {
-      o << "<polyline fill=\"none\" stroke=\"" << colour << "\" stroke-width=\"2\" points=\"" << line << "\"/>\n";
-    }
-    for (const auto& pt : s.points) {
-      if (!std::isfinite(pt.stats.mean)) continue;
-      const double cx = sx(pt.x);
-      if (pt.stats.n > 1 && pt.stats.hi > pt.stats.lo) {
-        o << "<path d=\"M" << cx << "," << sy(pt.stats.lo) << "V" << sy(pt.stats.hi) << "M" << cx - 5 << ","
-          << sy(pt.stats.lo) << "h10M" << cx - 5 << "," << sy(pt.stats.hi) << "h10\" stroke=\"" << colour
-          << "\" stroke-opacity=\"0.7\" fill=\"none\"/>\n";
-      }
-      o << "<circle cx=\"" << cx << "\" cy=\"" << sy(pt.stats.mean) << "\" r=\"3.5\" fill=\"" << colour
-        << "\"><title>mean " << tick_text(pt.stats.mean) << ", 95 % interval " << tick_text(pt.stats.lo) << " – "
-        << tick_text(pt.stats.hi) << ", n " << pt.stats.n << "</title></circle>\n";
-    }
-    const double ly = T + 10 + 20.0 * static_cast<double>(si);
-    o << "<line x1=\"" << W - R + 16 << "\" y1=\"" << ly << "\" x2=\"" << W - R + 40 << "\" y2=\"" << ly
-      << "\" stroke=\"" << colour << "\" stroke-width=\"2\"/>\n<text x=\"" << W - R + 46 << "\" y=\"" << ly + 4 << "\">"
-      << xml_escape(s.name) << "</text>\n";
+}
+
+// Series si: its line, its points with their intervals, its legend entry.
+void write_bar_series(std::ostringstream& o, const BarPlot& p, const BarFrame& f, std::size_t si) {
+  const char* colours[] = {"#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b", "#17becf"};
+  const auto& s = p.series[si];
+  const char* colour = colours[si % 7];
+  // Series side by side at one x, a few pixels apart, so that their bars
+  // do not hide each other.
+  const double dodge = 6.0 * (static_cast<double>(si) - static_cast<double>(p.series.size() - 1) / 2.0);
+  auto sx = [&](double x) { return f.L + (x - f.x0) / (f.x1 - f.x0) * (f.W - f.L - f.R) + dodge; };
+  std::string line;
+  for (const auto& pt : s.points) {
+    if (!std::isfinite(pt.stats.mean)) continue;
+    line += std::to_string(sx(pt.x)) + "," + std::to_string(f.sy(pt.stats.mean)) + " ";
   }
+  if (!line.empty()) {
+    o << "<polyline fill=\"none\" stroke=\"" << colour << "\" stroke-width=\"2\" points=\"" << line << "\"/>\n";
+  }
+  for (const auto& pt : s.points) {
+    if (!std::isfinite(pt.stats.mean)) continue;
+    const double cx = sx(pt.x);
+    if (pt.stats.n > 1 && pt.stats.hi > pt.stats.lo) {
+      o << "<path d=\"M" << cx << "," << f.sy(pt.stats.lo) << "V" << f.sy(pt.stats.hi) << "M" << cx - 5 << ","
+        << f.sy(pt.stats.lo) << "h10M" << cx - 5 << "," << f.sy(pt.stats.hi) << "h10\" stroke=\"" << colour
+        << "\" stroke-opacity=\"0.7\" fill=\"none\"/>\n";
+    }
+    o << "<circle cx=\"" << cx << "\" cy=\"" << f.sy(pt.stats.mean) << "\" r=\"3.5\" fill=\"" << colour
+      << "\"><title>mean " << tick_text(pt.stats.mean) << ", 95 % interval " << tick_text(pt.stats.lo) << " – "
+      << tick_text(pt.stats.hi) << ", n " << pt.stats.n << "</title></circle>\n";
+  }
+  const double ly = f.T + 10 + 20.0 * static_cast<double>(si);
+  o << "<line x1=\"" << f.W - f.R + 16 << "\" y1=\"" << ly << "\" x2=\"" << f.W - f.R + 40 << "\" y2=\"" << ly
+    << "\" stroke=\"" << colour << "\" stroke-width=\"2\"/>\n<text x=\"" << f.W - f.R + 46 << "\" y=\"" << ly + 4
+    << "\">" << xml_escape(s.name) << "</text>\n";
+}
+
+}  // namespace
+
+std::string svg_error_bars(const BarPlot& p) {
+  const BarFrame f = bar_frame(p);
+  std::ostringstream o;
+  write_bar_frame(o, p, f);
+  write_x_axis(o, p, f, bar_xticks(p, f));
+  for (std::size_t si = 0; si < p.series.size(); ++si) write_bar_series(o, p, f, si);
   o << "</svg>\n";
   return o.str();
 }
@@ -401,11 +436,11 @@ std::string plot_file(const std::string& metric, const std::string& param) {
   return name + ".svg";
 }
 
-std::string sweep_markdown(const MarkdownInput& in) {
-  std::ostringstream md;
+namespace {
+
+// The title, the command and how many runs this invocation made.
+void write_sweep_intro(std::ostringstream& md, const MarkdownInput& in) {
   md << "# Sweep of " << in.scenario << "\n\n```sh\n" << in.command << "\n```\n\n";
-  std::size_t swept = 0;
-  for (const auto& p : in.params) swept += p.swept() ? 1 : 0;
   md << in.cells.size() << " combination" << (in.cells.size() == 1 ? "" : "s") << " × " << in.seeds.size() << " seed"
      << (in.seeds.size() == 1 ? "" : "s") << " = " << in.runs.size() << " runs on the in-process simulator (the "
      << "same code and schedule as `pheromesh sim`; every run folder in `runs/` holds its `metrics.json`). This "
@@ -414,6 +449,10 @@ std::string sweep_markdown(const MarkdownInput& in) {
   if (in.executed > 0 && in.wall_s > 0)
     md << " (" << fixed_text(static_cast<double>(in.executed) / in.wall_s, 1) << " runs/s)";
   md << "; " << in.skipped << " had finished before and were kept.\n\n";
+}
+
+// The grid's parameters and seeds, and what the files hold.
+void write_sweep_grid(std::ostringstream& md, const MarkdownInput& in) {
   md << "## Grid\n\n| parameter | values | given as |\n|---|---|---|\n";
   for (const auto& p : in.params) {
     std::string values;
@@ -432,48 +471,47 @@ std::string sweep_markdown(const MarkdownInput& in) {
         "`ticks_to_coverage_50`, `ticks_to_coverage_90` and `ticks_to_all_targets` are censored at the run's last "
         "tick: a run that did not get there within it has no value (an empty cell of runs.csv), its mean is over "
         "the runs that did, and summary.csv's `missing` counts the others.\n\n";
-  md << "## Summary\n\nMean [95 % interval] over the seeds of each combination";
-  if (in.plotted.empty()) {
-    md << ": no metric differs between runs.\n\n";
-  } else {
-    md << ".\n\n| cell |";
-    for (const auto& p : in.params) {
-      if (p.swept()) md << " `" << p.path << "` |";
-    }
-    md << " n |";
-    for (const auto& m : in.plotted) md << " " << md_cell(m) << " |";
-    md << "\n|---|";
-    for (std::size_t i = 0; i < swept + 1 + in.plotted.size(); ++i) md << "---|";
-    md << "\n";
-    for (const auto& c : in.cells) {
-      md << "| " << c.index << " |";
-      for (std::size_t k = 0; k < in.params.size(); ++k) {
-        if (in.params[k].swept()) md << " " << md_cell(in.params[k].values[c.choice[k]]) << " |";
-      }
-      std::size_t n = 0;
-      for (const auto& r : in.runs) n += r.cell == c.index ? 1 : 0;
-      md << " " << n << " |";
-      for (const auto& m : in.plotted) {
-        std::vector<double> v;
-        for (const auto& r : in.runs) {
-          if (r.cell != c.index) continue;
-          auto it = r.metrics.find(m);
-          if (it != r.metrics.end()) v.push_back(it->second);
-        }
-        const Stats s = stats_of(v, proportion_metric(in.runs, m));
-        md << " " << short_text(s.mean);
-        if (s.n > 1) md << " [" << short_text(s.lo) << ", " << short_text(s.hi) << "]";
-        md << " |";
-      }
-      md << "\n";
-    }
-    md << "\n";
+}
+
+// The summary table's row of combination c.
+void write_summary_row(std::ostringstream& md, const MarkdownInput& in, const Cell& c) {
+  md << "| " << c.index << " |";
+  for (std::size_t k = 0; k < in.params.size(); ++k) {
+    if (in.params[k].swept()) md << " " << md_cell(in.params[k].values[c.choice[k]]) << " |";
   }
-  if (!in.constant.empty()) {
-    md << "The same in every run (not plotted):";
-    for (const auto& m : in.constant) md << " `" << m << "`";
-    md << ".\n\n";
+  std::size_t n = 0;
+  for (const auto& r : in.runs) n += r.cell == c.index ? 1 : 0;
+  md << " " << n << " |";
+  for (const auto& m : in.plotted) {
+    std::vector<double> v;
+    for (const auto& r : in.runs) {
+      if (r.cell != c.index) continue;
+      auto it = r.metrics.find(m);
+      if (it != r.metrics.end()) v.push_back(it->second);
+    }
+    const Stats s = stats_of(v, proportion_metric(in.runs, m));
+    md << " " << short_text(s.mean);
+    if (s.n > 1) md << " [" << short_text(s.lo) << ", " << short_text(s.hi) << "]";
+    md << " |";
   }
+  md << "\n";
+}
+
+void write_summary_table(std::ostringstream& md, const MarkdownInput& in, std::size_t swept) {
+  md << ".\n\n| cell |";
+  for (const auto& p : in.params) {
+    if (p.swept()) md << " `" << p.path << "` |";
+  }
+  md << " n |";
+  for (const auto& m : in.plotted) md << " " << md_cell(m) << " |";
+  md << "\n|---|";
+  for (std::size_t i = 0; i < swept + 1 + in.plotted.size(); ++i) md << "---|";
+  md << "\n";
+  for (const auto& c : in.cells) write_summary_row(md, in, c);
+  md << "\n";
+}
+
+void write_plots_section(std::ostringstream& md, const MarkdownInput& in, std::size_t swept) {
   md << "## Plots\n\n";
   if (swept == 0 || in.plotted.empty()) {
     md << "None: " << (swept == 0 ? "no parameter takes more than one value" : "no plotted metric differs between runs")
@@ -491,20 +529,44 @@ std::string sweep_markdown(const MarkdownInput& in) {
     }
     md << "\n";
   }
-  if (in.distributed) {
-    std::size_t equal = 0;
-    for (const auto& c : *in.distributed) equal += c.equal ? 1 : 0;
-    md << "## On real processes (`--distributed`)\n\n"
-       << equal << " of " << in.distributed->size() << " sampled runs flown as `pheromesh run --clock lockstep --dds "
-       << in.dds
-       << "` gave the simulator's numbers (metrics.json) and a byte-identical final_field.txt.\n\n"
-          "| run | combination | lockstep == sim | wall [s] |\n|---|---|---|---|\n";
-    for (const auto& c : *in.distributed) {
-      md << "| " << c.id << " | " << md_cell(c.cell) << " | " << md_cell(c.equal ? "yes" : "**no**: " + c.verdict)
-         << " | " << fixed_text(c.seconds, 1) << " |\n";
-    }
-    md << "\n";
+}
+
+void write_distributed_section(std::ostringstream& md, const MarkdownInput& in) {
+  std::size_t equal = 0;
+  for (const auto& c : *in.distributed) equal += c.equal ? 1 : 0;
+  md << "## On real processes (`--distributed`)\n\n"
+     << equal << " of " << in.distributed->size() << " sampled runs flown as `pheromesh run --clock lockstep --dds "
+     << in.dds
+     << "` gave the simulator's numbers (metrics.json) and a byte-identical final_field.txt.\n\n"
+        "| run | combination | lockstep == sim | wall [s] |\n|---|---|---|---|\n";
+  for (const auto& c : *in.distributed) {
+    md << "| " << c.id << " | " << md_cell(c.cell) << " | " << md_cell(c.equal ? "yes" : "**no**: " + c.verdict)
+       << " | " << fixed_text(c.seconds, 1) << " |\n";
   }
+  md << "\n";
+}
+
+}  // namespace
+
+std::string sweep_markdown(const MarkdownInput& in) {
+  std::ostringstream md;
+  std::size_t swept = 0;
+  for (const auto& p : in.params) swept += p.swept() ? 1 : 0;
+  write_sweep_intro(md, in);
+  write_sweep_grid(md, in);
+  md << "## Summary\n\nMean [95 % interval] over the seeds of each combination";
+  if (in.plotted.empty()) {
+    md << ": no metric differs between runs.\n\n";
+  } else {
+    write_summary_table(md, in, swept);
+  }
+  if (!in.constant.empty()) {
+    md << "The same in every run (not plotted):";
+    for (const auto& m : in.constant) md << " `" << m << "`";
+    md << ".\n\n";
+  }
+  write_plots_section(md, in, swept);
+  if (in.distributed) write_distributed_section(md, in);
   return md.str();
 }
 

@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <cerrno>
 #include <chrono>
 #include <cmath>
@@ -268,16 +269,8 @@ std::string host_description() {
   return std::to_string(std::thread::hardware_concurrency()) + " hardware threads, " + kernel;
 }
 
-// Rewritten after every run, so that an interrupted bench leaves what it measured.
-bool write_results(const Plan& p, const std::vector<ScaleRow>& rows, const std::vector<std::string>& skipped,
-                   std::string& error) {
-  const fs::path dir(p.o.out_dir);
-  Json summary = Json::object();
-  const auto lines = summary_lines(rows, p.vendors, p.o.ticks, summary);
-
-  // Built in memory, written atomically (core/atomic_file.hpp): a bench
-  // killed while writing leaves the previous run's results whole.
-  std::vector<std::pair<std::string, std::string>> files;
+std::string scale_markdown(const Plan& p, const std::vector<ScaleRow>& rows, const std::vector<std::string>& lines,
+                           const std::vector<std::string>& skipped) {
   std::ostringstream md;
   md << "# pheromesh bench scale\n\n"
      << "*Scenario:* " << p.o.scenario << "  \n*Per run:* " << p.o.ticks << " ticks at " << p.o.rate_hz << " Hz, lease "
@@ -291,7 +284,10 @@ bool write_results(const Plan& p, const std::vector<ScaleRow>& rows, const std::
      << "## How it is measured\n\n```\n"
      << kBenchScaleFooter << "```\n\n"
      << "Each run's own output: `V-N/run.txt`, its metrics: `V-N/metrics.json`, its processes' logs: `V-N/logs/`.\n";
+  return md.str();
+}
 
+std::string scale_csv(const std::vector<ScaleRow>& rows) {
   std::ostringstream csv;
   csv << "vendor,uavs,exit_code";
   for (const auto& c : columns()) csv << "," << c.key;
@@ -303,7 +299,10 @@ bool write_results(const Plan& p, const std::vector<ScaleRow>& rows, const std::
     }
     csv << "\n";
   }
+  return csv.str();
+}
 
+Json scale_rows_json(const std::vector<ScaleRow>& rows) {
   Json j_rows = Json::array();
   for (const auto& r : rows) {
     Json jr = {{"vendor", r.vendor}, {"uavs", r.uavs}, {"exit_code", r.exit_code}, {"dir", r.dir}};
@@ -319,33 +318,63 @@ bool write_results(const Plan& p, const std::vector<ScaleRow>& rows, const std::
     }
     j_rows.push_back(std::move(jr));
   }
+  return j_rows;
+}
+
+// The plots as data: file, title, y label and the row field they draw.
+struct ScalePlot {
+  const char* file;
+  const char* title;
+  const char* y_label;
+  const char* key;
+};
+
+constexpr std::array<ScalePlot, 4> kScalePlots{{
+    {"late_share.svg", "Late UAV ticks vs swarm size", "late ticks [%]", "late_pct"},
+    {"cpu_per_uav_tick.svg", "CPU of the whole swarm per UAV tick", "CPU user+sys [ms / UAV tick]",
+     "swarm_cpu_ms_per_tick"},
+    {"pss_per_uav.svg", "Memory per UAV process (PSS, mean)", "PSS [MiB]", "pss_uav_mib"},
+    {"discovery.svg", "Discovery: launch to every process heard", "discovery [s]", "discovery_s"},
+}};
+
+// One line per vendor; a missing figure leaves a gap (the SVG writer skips it).
+std::string scale_plot_svg(const Plan& p, const std::vector<ScaleRow>& rows, const ScalePlot& sp) {
+  const char* file = sp.file;
+  const char* title = sp.title;
+  const char* y_label = sp.y_label;
+  const char* key = sp.key;
+  experiments::Plot pl{file, title, "UAVs (N)", y_label, {}};
+  for (const auto& vendor : p.vendors) {
+    experiments::Series s{vendor, {}};
+    for (const auto& r : rows) {
+      if (r.vendor != vendor) continue;
+      const Value v = r.get(key);
+      s.points.emplace_back(static_cast<double>(r.uavs), v ? *v : std::nan(""));
+    }
+    pl.series.push_back(std::move(s));
+  }
+  return experiments::svg_plot(pl);
+}
+
+// Rewritten after every run, so that an interrupted bench leaves what it measured.
+bool write_results(const Plan& p, const std::vector<ScaleRow>& rows, const std::vector<std::string>& skipped,
+                   std::string& error) {
+  const fs::path dir(p.o.out_dir);
+  Json summary = Json::object();
+  const auto lines = summary_lines(rows, p.vendors, p.o.ticks, summary);
+
+  // Built in memory, written atomically (core/atomic_file.hpp): a bench
+  // killed while writing leaves the previous run's results whole.
+  std::vector<std::pair<std::string, std::string>> files;
+  files.emplace_back("scale.md", scale_markdown(p, rows, lines, skipped));
+  files.emplace_back("scale.csv", scale_csv(rows));
+  const Json j_rows = scale_rows_json(rows);
   const Json j = {{"scenario", p.o.scenario}, {"ticks", p.o.ticks},   {"rate_hz", p.o.rate_hz},
                   {"lease_ms", p.o.lease_ms}, {"domain", p.o.domain}, {"extra", p.o.extra},
                   {"host", p.host},           {"rows", j_rows},       {"summary", summary},
                   {"skipped", skipped}};
-  files.emplace_back("scale.md", md.str());
-  files.emplace_back("scale.csv", csv.str());
   files.emplace_back("scale.json", report::json_text(j, 2) + "\n");
-
-  // One line per vendor; a missing figure leaves a gap (the SVG writer skips it).
-  auto plot = [&](const char* file, const char* title, const char* y_label, const char* key) {
-    experiments::Plot pl{file, title, "UAVs (N)", y_label, {}};
-    for (const auto& vendor : p.vendors) {
-      experiments::Series s{vendor, {}};
-      for (const auto& r : rows) {
-        if (r.vendor != vendor) continue;
-        const Value v = r.get(key);
-        s.points.emplace_back(static_cast<double>(r.uavs), v ? *v : std::nan(""));
-      }
-      pl.series.push_back(std::move(s));
-    }
-    files.emplace_back(file, experiments::svg_plot(pl));
-  };
-  plot("late_share.svg", "Late UAV ticks vs swarm size", "late ticks [%]", "late_pct");
-  plot("cpu_per_uav_tick.svg", "CPU of the whole swarm per UAV tick", "CPU user+sys [ms / UAV tick]",
-       "swarm_cpu_ms_per_tick");
-  plot("pss_per_uav.svg", "Memory per UAV process (PSS, mean)", "PSS [MiB]", "pss_uav_mib");
-  plot("discovery.svg", "Discovery: launch to every process heard", "discovery [s]", "discovery_s");
+  for (const ScalePlot& sp : kScalePlots) files.emplace_back(sp.file, scale_plot_svg(p, rows, sp));
   for (const auto& [name, text] : files) {
     if (auto written = core::write_file_atomically((dir / name).string(), text); !written) {
       error = written.error().message;

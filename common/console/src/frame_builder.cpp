@@ -6,13 +6,13 @@
 
 namespace pheromesh::console {
 
-Frame FrameBuilder::build(const ConsoleState& last, const Sources& s, Clock::time_point now, double t_s) {
-  Frame f;
-  f.version = last.version + 1;
-  f.t_s = t_s;
-  f.tick = s.rec.max_tick();
-  f.paused = s.paused;
-  // Layers: quantised tiles that changed (all of a layer whose scale changed).
+namespace {
+
+using Clock = FrameBuilder::Clock;
+
+// Layers: quantised tiles that changed (all of a layer whose scale changed).
+void add_changed_tiles(Frame& f, const ConsoleState& last, const FrameBuilder::Sources& s,
+                       const core::MapGeometry& geo) {
   std::vector<float> max_of(last.layers.size(), 0.0F);
   for (const auto& [key, t] : s.tiles) {
     if (key.first < 0 || static_cast<std::size_t>(key.first) >= max_of.size()) continue;
@@ -31,9 +31,13 @@ Frame FrameBuilder::build(const ConsoleState& last, const Sources& s, Clock::tim
     const auto& tiles = last.layers[l].tiles;
     auto it = tiles.find(key.second);
     if (scale[l] == last.layers[l].scale && it != tiles.end() && it->second.q == q) continue;
-    f.tiles.push_back({static_cast<uint16_t>(l), key.second.first, key.second.second, geo_.tile_rect(t.tile), t.tick, q});
+    f.tiles.push_back(
+        {static_cast<uint16_t>(l), key.second.first, key.second.second, geo.tile_rect(t.tile), t.tick, q});
   }
-  // UAVs
+}
+
+void add_uav_views(Frame& f, const FrameBuilder::Sources& s, const std::map<uint32_t, Clock::time_point>& uav_heard,
+                   Clock::time_point now) {
   for (const auto& [id, u] : s.rec.uavs()) {
     UavView v;
     v.id = id;
@@ -42,14 +46,48 @@ Frame FrameBuilder::build(const ConsoleState& last, const Sources& s, Clock::tim
     v.heading = u.last.heading;
     v.role = u.last.role;
     v.tick = u.last.tick;
-    auto heard = uav_heard_.find(id);
-    const bool quiet = heard == uav_heard_.end() || now - heard->second > kUavStaleAfter;
+    auto heard = uav_heard.find(id);
+    const bool quiet = heard == uav_heard.end() || now - heard->second > FrameBuilder::kUavStaleAfter;
     v.liveness = u.finished ? Liveness::Finished
                  : !u.alive ? Liveness::Dead
                  : (quiet && !s.paused) ? Liveness::Stale
                                         : Liveness::Alive;
     f.uavs.push_back(v);
   }
+}
+
+// Targets and obstacles.
+void add_targets_and_obstacles(Frame& f, const FrameBuilder::Sources& s,
+                               const std::map<int32_t, std::pair<uint32_t, uint32_t>>& found_by,
+                               const std::map<std::pair<int32_t, int32_t>, bool>& revisit_due) {
+  for (std::size_t i = 0; i < s.world.targets().size(); ++i) {
+    TargetView t;
+    t.cell = s.world.targets()[i];
+    t.popup = i >= s.scenario_targets;
+    if (auto first = s.rec.acquisitions().first(i)) {
+      t.status = TargetStatus::Found;
+      t.found_tick = *first;
+      if (auto by = found_by.find(static_cast<int32_t>(i)); by != found_by.end()) t.found_by = by->second.first;
+    }
+    if (auto due = revisit_due.find({t.cell.x, t.cell.y}); due != revisit_due.end() && due->second) {
+      t.status = TargetStatus::RevisitDue;
+    }
+    f.targets.push_back(t);
+  }
+  for (const auto& r : s.obstacles) f.obstacles.push_back({r, false});
+  for (const auto& r : s.popup_obstacles) f.obstacles.push_back({r, true});
+}
+
+}  // namespace
+
+Frame FrameBuilder::build(const ConsoleState& last, const Sources& s, Clock::time_point now, double t_s) {
+  Frame f;
+  f.version = last.version + 1;
+  f.t_s = t_s;
+  f.tick = s.rec.max_tick();
+  f.paused = s.paused;
+  add_changed_tiles(f, last, s, geo_);
+  add_uav_views(f, s, uav_heard_, now);
   // Place agents
   for (core::RegionId r = 0; r < geo_.region_count(); ++r) {
     RegionView v;
@@ -88,23 +126,7 @@ Frame FrameBuilder::build(const ConsoleState& last, const Sources& s, Clock::tim
     }
     f.regions.push_back(v);
   }
-  // Targets and obstacles
-  for (std::size_t i = 0; i < s.world.targets().size(); ++i) {
-    TargetView t;
-    t.cell = s.world.targets()[i];
-    t.popup = i >= s.scenario_targets;
-    if (auto first = s.rec.acquisitions().first(i)) {
-      t.status = TargetStatus::Found;
-      t.found_tick = *first;
-      if (auto by = found_by_.find(static_cast<int32_t>(i)); by != found_by_.end()) t.found_by = by->second.first;
-    }
-    if (auto due = revisit_due_.find({t.cell.x, t.cell.y}); due != revisit_due_.end() && due->second) {
-      t.status = TargetStatus::RevisitDue;
-    }
-    f.targets.push_back(t);
-  }
-  for (const auto& r : s.obstacles) f.obstacles.push_back({r, false});
-  for (const auto& r : s.popup_obstacles) f.obstacles.push_back({r, true});
+  add_targets_and_obstacles(f, s, found_by_, revisit_due_);
   return f;
 }
 

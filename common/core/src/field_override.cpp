@@ -249,6 +249,69 @@ Result<std::string> set_parameter(Message& m, const FieldDescriptor* config, con
 
 }  // namespace
 
+namespace {
+
+// A parameter line (`config { key: ... }`) named by its position: refused.
+// The entry's key, if there is one, says the name.
+Error keyed_by_position(const Message& msg, const FieldDescriptor* fd, const Step& step, std::string_view path,
+                        const std::string& at, const std::string& here) {
+  const Message* m = &msg;
+  const Reflection* r = msg.GetReflection();
+  std::string key;
+  if (step.index && *step.index < r->FieldSize(*m, fd)) {
+    const Message& e = r->GetRepeatedMessage(*m, fd, *step.index);
+    key = e.GetReflection()->GetString(e, e.GetDescriptor()->FindFieldByName("key"));
+  }
+  const std::string by_name = (at.empty() ? std::string() : at + ".") + "param." + (key.empty() ? "NAME" : key);
+  return Error{
+      "'" + std::string(path) + "': a parameter is set by its key, " + by_name + "=VALUE" +
+      (key.empty() ? std::string() : " (" + here + "[" + std::to_string(*step.index) + "] is \"" + key + "\")") +
+      "; by its position it would set another parameter once the " + step.name + " lines are reordered"};
+}
+
+// A repeated field needs the index of an existing entry, any other field none.
+std::optional<Error> index_error(const Message& msg, const FieldDescriptor* fd, const Step& step,
+                                 const std::string& here, const std::string& example_tail) {
+  const Message* m = &msg;
+  const Reflection* r = msg.GetReflection();
+  if (fd->is_repeated()) {
+    const int size = r->FieldSize(*m, fd);
+    if (!step.index) {
+      return Error{here + " is a repeated field (" + std::to_string(size) +
+                   " entries): name one entry by its index, e.g. " + here + "[0]" + example_tail +
+                   "; an override changes an entry, it does not add or remove one"};
+    }
+    if (*step.index >= size) {
+      return Error{here + "[" + std::to_string(*step.index) + "]: no such entry, " + here + " has " +
+                   std::to_string(size) + (size == 1 ? " entry" : " entries") +
+                   (size > 0 ? " (0.." + std::to_string(size - 1) + ")" : "") +
+                   "; an override changes an entry, it does not add one"};
+    }
+  } else if (step.index) {
+    return Error{here + " is not a repeated field: leave out [" + std::to_string(*step.index) + "]"};
+  }
+  return std::nullopt;
+}
+
+// Another member of the field's oneof is set: an override does not switch it.
+std::optional<Error> oneof_error(const Message& msg, const FieldDescriptor* fd, const Step& step, const std::string& at,
+                                 const std::string& canonical) {
+  const Message* m = &msg;
+  const Reflection* r = msg.GetReflection();
+  if (const auto* oneof = fd->real_containing_oneof()) {
+    const FieldDescriptor* chosen = r->GetOneofFieldDescriptor(*m, oneof);
+    if (chosen != nullptr && chosen != fd) {
+      const std::string prefix = at.empty() ? "" : at + ".";
+      return Error{canonical + ": " + prefix + step.name + " and " + prefix + chosen->name() +
+                   " are members of the oneof " + prefix + oneof->name() + ", and " + prefix + chosen->name() +
+                   " is set; an override does not switch a oneof to another member (change it in the file)"};
+    }
+  }
+  return std::nullopt;
+}
+
+}  // namespace
+
 Result<std::string> set_field(Message& msg, std::string_view path, std::string_view value, std::string_view root_name) {
   auto split = split_path(path);
   if (!split) return split.error();
@@ -278,45 +341,10 @@ Result<std::string> set_field(Message& msg, std::string_view path, std::string_v
     const std::string example_tail =
         message && fd->message_type()->field_count() > 0 ? "." + fd->message_type()->field(0)->name() : "";
     if (fd->is_map()) return Error{here + " is a map field, which --set does not reach"};
-    if (keyed_parameters(fd)) {
-      // By position: refused. The entry's key, if there is one, says the name.
-      std::string key;
-      if (step.index && *step.index < r->FieldSize(*m, fd)) {
-        const Message& e = r->GetRepeatedMessage(*m, fd, *step.index);
-        key = e.GetReflection()->GetString(e, e.GetDescriptor()->FindFieldByName("key"));
-      }
-      const std::string by_name = (at.empty() ? std::string() : at + ".") + "param." + (key.empty() ? "NAME" : key);
-      return Error{"'" + std::string(path) + "': a parameter is set by its key, " + by_name + "=VALUE" +
-                   (key.empty() ? std::string() : " (" + here + "[" + std::to_string(*step.index) + "] is \"" + key + "\")") +
-                   "; by its position it would set another parameter once the " + step.name +
-                   " lines are reordered"};
-    }
-    if (fd->is_repeated()) {
-      const int size = r->FieldSize(*m, fd);
-      if (!step.index) {
-        return Error{here + " is a repeated field (" + std::to_string(size) +
-                     " entries): name one entry by its index, e.g. " + here + "[0]" + example_tail +
-                     "; an override changes an entry, it does not add or remove one"};
-      }
-      if (*step.index >= size) {
-        return Error{here + "[" + std::to_string(*step.index) + "]: no such entry, " + here + " has " +
-                     std::to_string(size) + (size == 1 ? " entry" : " entries") +
-                     (size > 0 ? " (0.." + std::to_string(size - 1) + ")" : "") +
-                     "; an override changes an entry, it does not add one"};
-      }
-    } else if (step.index) {
-      return Error{here + " is not a repeated field: leave out [" + std::to_string(*step.index) + "]"};
-    }
+    if (keyed_parameters(fd)) return keyed_by_position(*m, fd, step, path, at, here);
+    if (auto err = index_error(*m, fd, step, here, example_tail)) return *err;
     const std::string canonical = step.index ? here + "[" + std::to_string(*step.index) + "]" : here;
-    if (const auto* oneof = fd->real_containing_oneof()) {
-      const FieldDescriptor* chosen = r->GetOneofFieldDescriptor(*m, oneof);
-      if (chosen != nullptr && chosen != fd) {
-        const std::string prefix = at.empty() ? "" : at + ".";
-        return Error{canonical + ": " + prefix + step.name + " and " + prefix + chosen->name() +
-                     " are members of the oneof " + prefix + oneof->name() + ", and " + prefix + chosen->name() +
-                     " is set; an override does not switch a oneof to another member (change it in the file)"};
-      }
-    }
+    if (auto err = oneof_error(*m, fd, step, at, canonical)) return *err;
     const bool last = i + 1 == steps.size();
     if (message) {
       if (last) {

@@ -249,19 +249,11 @@ void check_scenario_limits(const Node& root, const ScenarioConfig& cfg, const Sc
   }
 }
 
-ScenarioConfig build(const pb::Scenario& msg, const TextFormat::ParseInfoTree& tree, const std::string& display_name,
-                     const ScenarioLimits& limits, Validator& v, const PluginSite* site) {
-  ScenarioConfig cfg;
-  const Node root(pb::Scenario::descriptor(), &tree, Loc{1, 1}, "");
-  cfg.name = msg.has_name() ? msg.name() : std::filesystem::path(display_name).stem().string();
-  if (!msg.has_name() && !valid_utf8(cfg.name)) {
-    v.fail(root, "name", "is not set, and the file name is not valid UTF-8 to stand in for it; set name: \"...\"");
-  }
+namespace {
 
-  // --- map -------------------------------------------------------------------
-  const Node mn = root.child("map");
+// map.width and map.height; the map's size when both are valid.
+std::optional<MapSize> build_map_size(const pb::Scenario& msg, const Node& mn, Validator& v, ScenarioConfig& cfg) {
   const pb::Map& m = msg.map();
-  if (!msg.has_map()) v.required(root, "map");
   bool size_ok = true;
   if (!m.has_width()) {
     if (msg.has_map()) v.required(mn, "width");
@@ -278,7 +270,17 @@ ScenarioConfig build(const pb::Scenario& msg, const TextFormat::ParseInfoTree& t
     cfg.height = m.height();
   }
   const std::optional<MapSize> map = size_ok ? std::optional<MapSize>(MapSize{cfg.width, cfg.height}) : std::nullopt;
+  return map;
+}
 
+// Whether map.tile_size and the regions are valid.
+struct TilingChecks {
+  bool tile_ok = false;
+  bool regions_ok = false;
+};
+
+TilingChecks build_tiling(const pb::Map& m, const Node& mn, const std::optional<MapSize>& map, Validator& v,
+                          ScenarioConfig& cfg) {
   if (m.has_tile_size()) cfg.tile_size = m.tile_size();
   const bool tile_ok = v.int_between(mn, "tile_size", cfg.tile_size, kMinTileSize, kMaxTileSize,
                                      "a tile must fit one DDS sample of <= 1024 cells");
@@ -294,17 +296,23 @@ ScenarioConfig build(const pb::Scenario& msg, const TextFormat::ParseInfoTree& t
     v.int_between(mn, "regions_x", cfg.regions_x, 1, kMaxMapSide);
     v.int_between(mn, "regions_y", cfg.regions_y, 1, kMaxMapSide);
   }
+  return {tile_ok, regions_ok};
+}
 
-  // Valid obstacles with their index, for the checks that depend on them.
+// Valid obstacles with their index, for the checks that depend on them.
+std::vector<std::pair<int, Rect>> build_obstacles(const pb::Map& m, const Node& mn, const std::optional<MapSize>& map,
+                                                  Validator& v, ScenarioConfig& cfg) {
   std::vector<std::pair<int, Rect>> valid_obstacles;
   for (int i = 0; i < m.obstacles_size(); ++i) {
     const pb::Rect& o = m.obstacles(i);
     cfg.obstacles.push_back(Rect{o.x(), o.y(), o.w(), o.h()});
     if (auto r = check_rect(v, mn.child("obstacles", i), o, map)) valid_obstacles.emplace_back(i, *r);
   }
-  std::vector<Rect> obstacle_rects;
-  for (const auto& [i, r] : valid_obstacles) obstacle_rects.push_back(r);
+  return valid_obstacles;
+}
 
+void build_targets(const pb::Map& m, const Node& mn, const std::optional<MapSize>& map,
+                   const std::vector<std::pair<int, Rect>>& valid_obstacles, Validator& v, ScenarioConfig& cfg) {
   std::vector<std::pair<int, Cell>> valid_targets;
   for (int i = 0; i < m.targets_size(); ++i) {
     const pb::Cell& t = m.targets(i);
@@ -340,8 +348,12 @@ ScenarioConfig build(const pb::Scenario& msg, const TextFormat::ParseInfoTree& t
     }
     if (ok) valid_targets.emplace_back(i, c);
   }
+}
 
-  // --- swarm -----------------------------------------------------------------
+// swarm.uavs and swarm.start_area; whether swarm.uavs is valid.
+bool build_swarm(const pb::Scenario& msg, const Node& root, const std::string& display_name,
+                 const std::optional<MapSize>& map, const std::vector<Rect>& obstacle_rects, Validator& v,
+                 ScenarioConfig& cfg) {
   const Node sn = root.child("swarm");
   const pb::Swarm& s = msg.swarm();
   int64_t uavs = cfg.uavs;
@@ -371,8 +383,10 @@ ScenarioConfig build(const pb::Scenario& msg, const TextFormat::ParseInfoTree& t
       v.fail(an, "has " + format_number(n_free) + " free (non-obstacle) cells, fewer than swarm.uavs = " + format_number(uavs));
     }
   }
+  return uavs_ok;
+}
 
-  // --- run -------------------------------------------------------------------
+void build_run(const pb::Scenario& msg, const Node& root, Validator& v, ScenarioConfig& cfg) {
   const Node rn = root.child("run");
   const pb::Run& run = msg.run();
   if (run.has_ticks() && v.int_between(rn, "ticks", run.ticks(), 1, kMaxU32)) cfg.ticks = static_cast<uint32_t>(run.ticks());
@@ -380,12 +394,41 @@ ScenarioConfig build(const pb::Scenario& msg, const TextFormat::ParseInfoTree& t
   if (run.has_standby()) cfg.standby = run.standby();
   v.real_in(rn, "tick_rate_hz", cfg.tick_rate_hz, 0.0, true, kMaxTickRateHz, false);
   if (run.has_seed()) cfg.seed = run.seed();
+}
+
+}  // namespace
+
+ScenarioConfig build(const pb::Scenario& msg, const TextFormat::ParseInfoTree& tree, const std::string& display_name,
+                     const ScenarioLimits& limits, Validator& v, const PluginSite* site) {
+  ScenarioConfig cfg;
+  const Node root(pb::Scenario::descriptor(), &tree, Loc{1, 1}, "");
+  cfg.name = msg.has_name() ? msg.name() : std::filesystem::path(display_name).stem().string();
+  if (!msg.has_name() && !valid_utf8(cfg.name)) {
+    v.fail(root, "name", "is not set, and the file name is not valid UTF-8 to stand in for it; set name: \"...\"");
+  }
+
+  // --- map -------------------------------------------------------------------
+  const Node mn = root.child("map");
+  const pb::Map& m = msg.map();
+  if (!msg.has_map()) v.required(root, "map");
+  const std::optional<MapSize> map = build_map_size(msg, mn, v, cfg);
+  const TilingChecks tiling = build_tiling(m, mn, map, v, cfg);
+  const std::vector<std::pair<int, Rect>> valid_obstacles = build_obstacles(m, mn, map, v, cfg);
+  std::vector<Rect> obstacle_rects;
+  for (const auto& [i, r] : valid_obstacles) obstacle_rects.push_back(r);
+  build_targets(m, mn, map, valid_obstacles, v, cfg);
+
+  // --- swarm -----------------------------------------------------------------
+  const bool uavs_ok = build_swarm(msg, root, display_name, map, obstacle_rects, v, cfg);
+
+  // --- run -------------------------------------------------------------------
+  build_run(msg, root, v, cfg);
 
   build_geo(msg, root, v, cfg);
   build_room_fields(msg, root, v, cfg);
   build_policy(msg, root, v, cfg, site);
   build_faults(msg, root, v, cfg);
-  if (map && tile_ok && regions_ok && uavs_ok) check_scenario_limits(root, cfg, limits, v);
+  if (map && tiling.tile_ok && tiling.regions_ok && uavs_ok) check_scenario_limits(root, cfg, limits, v);
   return cfg;
 }
 

@@ -17,26 +17,48 @@ nlohmann::json duration_summary(std::vector<double> ms) {
   return {{"n", s.n}, {"mean", s.mean}, {"p50", s.p50}, {"p90", s.p90}, {"p99", s.p99}, {"max", s.max}};
 }
 
-nlohmann::json metrics_json(const core::RunRecorder& r, const RunInfo& info) {
-  const auto& s = r.scenario();
+namespace {
+
+// What the parts of metrics_json read: the recorder, the run's description
+// and whether processes flew it, on a realtime clock.
+struct MetricsContext {
+  const core::RunRecorder& r;
+  const RunInfo& info;
+  bool processes;
+  // Realtime timekeeping (late ticks, gaps between tick starts) does not
+  // apply to conducted ticks.
+  bool realtime;
+};
+
+// Deposit counts and finished agents over the place agents (primaries).
+struct PlaceTotals {
   uint64_t applied = 0, rejected = 0, received = 0;
-  uint32_t finished_places = 0;
+  uint32_t finished = 0;
+};
+
+PlaceTotals place_totals(const core::RunRecorder& r) {
+  PlaceTotals t;
   for (const auto& [region, h] : r.health()) {
-    applied += h.deposits_applied;
-    rejected += h.deposits_rejected;
-    received += h.deposits_received;
-    finished_places += h.finished ? 1 : 0;
+    t.applied += h.deposits_applied;
+    t.rejected += h.deposits_rejected;
+    t.received += h.deposits_received;
+    t.finished += h.finished ? 1 : 0;
   }
-  nlohmann::json j;
+  return t;
+}
+
+// The run: program, scenario, runner, size, coverage and targets.
+void add_run_identity(nlohmann::json& j, const MetricsContext& c) {
+  const core::RunRecorder& r = c.r;
+  const RunInfo& info = c.info;
+  const bool processes = c.processes;
+  const auto& s = r.scenario();
+  const uint32_t finished_places = place_totals(r).finished;
   j["version"] = PHEROMESH_VERSION;  // of the program that wrote it (CMake project version)
   j["scenario"] = s.name;
   j["scenario_file"] = s.source_path;
   j["policy"] = s.policy;
   j["seed"] = s.seed;
-  const bool processes = info.runner == Runner::Processes;
-  // Realtime timekeeping (late ticks, gaps between tick starts) does not
-  // apply to conducted ticks.
-  const bool realtime = processes && info.clock == "realtime";
   j["runner"] = processes ? "processes" : "simulator";
   if (processes) j["dds"] = info.transport;
   j["clock"] = info.clock;
@@ -53,19 +75,33 @@ nlohmann::json metrics_json(const core::RunRecorder& r, const RunInfo& info) {
   j["acquisition_ticks"] = r.acquisitions().acquisition_ticks();
   j["revisit_response_ticks"] = r.revisit_response_ticks();
   if (r.leader_arrival_tick()) j["leader_arrival_tick"] = *r.leader_arrival_tick();
-  // Times to get there, censored at the last tick: absent if not reached.
-  const std::vector<core::TickRow> rows = r.tick_series();
+}
+
+// Times to get there, censored at the last tick: absent if not reached.
+void add_times_to_goals(nlohmann::json& j, const core::RunRecorder& r, const std::vector<core::TickRow>& rows) {
   if (const auto t = core::first_tick_at_coverage(rows, 0.5)) j["ticks_to_coverage_50"] = *t;
   if (const auto t = core::first_tick_at_coverage(rows, 0.9)) j["ticks_to_coverage_90"] = *t;
   if (const auto t = core::all_targets_found_tick(r.acquisitions())) j["ticks_to_all_targets"] = *t;
+}
+
+void add_deposits(nlohmann::json& j, const MetricsContext& c) {
+  const core::RunRecorder& r = c.r;
+  const PlaceTotals totals = place_totals(r);
   j["deposits_sent"] = r.deposits_sent();
-  j["deposits_received"] = received;
-  j["deposits_applied"] = applied;
-  j["deposits_rejected"] = rejected;
+  j["deposits_received"] = totals.received;
+  j["deposits_applied"] = totals.applied;
+  j["deposits_rejected"] = totals.rejected;
   // No silent loss (docs/faults.md): what the UAVs sent and no place agent
   // counted, and what the UAVs themselves saw unconfirmed by their home.
   j["deposits_lost"] = r.deposits_lost();
-  if (processes) j["deposits_unconfirmed_by_uavs"] = r.deposits_unconfirmed_by_uavs();
+  if (c.processes) j["deposits_unconfirmed_by_uavs"] = r.deposits_unconfirmed_by_uavs();
+}
+
+// Every place agent and replica, and what the place agents receive.
+void add_place_replicas(nlohmann::json& j, const MetricsContext& c) {
+  const core::RunRecorder& r = c.r;
+  const RunInfo& info = c.info;
+  const bool processes = c.processes;
   uint64_t duplicates = 0;
   nlohmann::json replicas = nlohmann::json::object();
   for (const auto& [id, h] : r.replica_health()) {
@@ -98,6 +134,11 @@ nlohmann::json metrics_json(const core::RunRecorder& r, const RunInfo& info) {
   if (info.ground_bytes_received) {
     j["ground_bytes_received_per_tick"] = static_cast<double>(*info.ground_bytes_received) / (r.max_tick() + 1.0);
   }
+}
+
+void add_faults(nlohmann::json& j, const MetricsContext& c) {
+  const core::RunRecorder& r = c.r;
+  const bool processes = c.processes;
   if (processes) j["place_agents_alive"] = r.regions_alive();
   j["uavs_killed"] = r.uavs_killed();
   j["places_killed"] = r.places_killed();
@@ -107,8 +148,11 @@ nlohmann::json metrics_json(const core::RunRecorder& r, const RunInfo& info) {
     j["uav_states_stale"] = r.states_stale();
     j["uav_departures_stale"] = r.departures_stale();
   }
-  // Well-formed samples refused as implausible (core/plausibility.hpp), per
-  // reason: in total and by who refused them.
+}
+
+// Well-formed samples refused as implausible (core/plausibility.hpp), per
+// reason: in total and by who refused them.
+void add_refusals(nlohmann::json& j, const core::RunRecorder& r) {
   const core::RefusalCounts by_places = r.refused_by_places(), by_uavs = r.refused_by_uavs();
   nlohmann::json refused = nlohmann::json::object();
   nlohmann::json refused_by = {{"places", nlohmann::json::object()}, {"uavs", nlohmann::json::object()},
@@ -123,23 +167,36 @@ nlohmann::json metrics_json(const core::RunRecorder& r, const RunInfo& info) {
   }
   j["refused"] = refused;
   j["refused_by"] = refused_by;
-  // The states each UAV's gateway refused as implausible (the same in the
-  // simulator and the processes: core::StateGate), for the run's summary.
-  if (!r.refused_states().empty()) {
-    nlohmann::json states = {{"max_step", r.max_step()}, {"total", r.states_refused()}, {"uavs", nlohmann::json::object()}};
-    for (const auto& [uav, rs] : r.refused_states()) {
-      const core::RefusedMove m = core::first_refused_move(rs);
-      states["uavs"][std::to_string(uav)] = {{"count", rs.count},
-                                            {"first_tick", rs.first.tick},
-                                            {"moved_cells", m.cells},
-                                            {"in_ticks", m.ticks},
-                                            {"from", rs.from_start ? "start" : "last_accepted"}};
-    }
-    j["states_refused"] = states;
+}
+
+// The states each UAV's gateway refused as implausible (the same in the
+// simulator and the processes: core::StateGate), for the run's summary.
+void add_refused_states(nlohmann::json& j, const core::RunRecorder& r) {
+  if (r.refused_states().empty()) return;
+  nlohmann::json states = {
+      {"max_step", r.max_step()}, {"total", r.states_refused()}, {"uavs", nlohmann::json::object()}};
+  for (const auto& [uav, rs] : r.refused_states()) {
+    const core::RefusedMove m = core::first_refused_move(rs);
+    states["uavs"][std::to_string(uav)] = {{"count", rs.count},
+                                           {"first_tick", rs.first.tick},
+                                           {"moved_cells", m.cells},
+                                           {"in_ticks", m.ticks},
+                                           {"from", rs.from_start ? "start" : "last_accepted"}};
   }
-  // The launcher owns process accounting and overwrites these two.
-  j["processes_killed"] = 0;
-  j["processes_crashed"] = 0;
+  j["states_refused"] = states;
+}
+
+// Sums over the UAVs for the traffic figures.
+struct UavTotals {
+  uint64_t tile_samples = 0, uav_ticks = 0, samples = 0;
+};
+
+// Each UAV's status, and keeping time (realtime): UAV ticks flown, and those
+// that started more than one tick period late, over the swarm and for the worst UAV.
+UavTotals add_uav_status(nlohmann::json& j, const MetricsContext& c) {
+  const core::RunRecorder& r = c.r;
+  const bool processes = c.processes;
+  const bool realtime = c.realtime;
   nlohmann::json per_uav = nlohmann::json::object();
   uint64_t tile_samples = 0, uav_ticks = 0, ticks_late = 0, samples = 0;
   double late_share_max = 0.0;
@@ -166,17 +223,21 @@ nlohmann::json metrics_json(const core::RunRecorder& r, const RunInfo& info) {
     if (u.last.tick > 0) late_share_max = std::max(late_share_max, static_cast<double>(u.last.ticks_late) / u.last.tick);
   }
   j["uav_status"] = per_uav;
-  // Keeping time (realtime): UAV ticks flown, and those that started more
-  // than one tick period late, over the swarm and for the worst UAV.
   j["uav_ticks_flown"] = uav_ticks;
   if (realtime) {
     j["uav_ticks_late"] = ticks_late;
     j["uav_late_share"] = uav_ticks > 0 ? static_cast<double>(ticks_late) / static_cast<double>(uav_ticks) : 0.0;
     j["uav_late_share_max"] = late_share_max;
   }
-  // Survivors keep their clock (issue 14): the longest gap between two tick
-  // starts of a UAV / place agent that ran to the end, in tick periods, and
-  // the gaps longer than two periods, summed. Realtime runs only (0 in lockstep).
+  return {tile_samples, uav_ticks, samples};
+}
+
+// Survivors keep their clock (issue 14): the longest gap between two tick
+// starts of a UAV / place agent that ran to the end, in tick periods, and
+// the gaps longer than two periods, summed. Realtime runs only (0 in lockstep).
+void add_tick_gaps(nlohmann::json& j, const MetricsContext& c) {
+  const core::RunRecorder& r = c.r;
+  const auto& s = r.scenario();
   uint32_t uav_gap_ms = 0, uav_gaps = 0, place_gap_ms = 0, place_gaps = 0;
   for (const auto& [id, u] : r.uavs()) {
     if (!u.finished) continue;
@@ -191,15 +252,17 @@ nlohmann::json metrics_json(const core::RunRecorder& r, const RunInfo& info) {
     place_gap_by_region[std::to_string(region)] = {{"tick_gap_max_ms", h.tick_gap_max_ms},
                                                    {"tick_gaps_over_2", h.tick_gaps_over_2}};
   }
-  if (realtime) {
-    j["uav_tick_gap_max_ms"] = uav_gap_ms;
-    j["uav_tick_gap_max_periods"] = core::gap_periods(uav_gap_ms, s.tick_rate_hz);
-    j["uav_tick_gaps_over_2"] = uav_gaps;
-    j["place_tick_gap_max_ms"] = place_gap_ms;
-    j["place_tick_gap_max_periods"] = core::gap_periods(place_gap_ms, s.tick_rate_hz);
-    j["place_tick_gaps_over_2"] = place_gaps;
-    j["place_tick_gaps"] = place_gap_by_region;
-  }
+  if (!c.realtime) return;
+  j["uav_tick_gap_max_ms"] = uav_gap_ms;
+  j["uav_tick_gap_max_periods"] = core::gap_periods(uav_gap_ms, s.tick_rate_hz);
+  j["uav_tick_gaps_over_2"] = uav_gaps;
+  j["place_tick_gap_max_ms"] = place_gap_ms;
+  j["place_tick_gap_max_periods"] = core::gap_periods(place_gap_ms, s.tick_rate_hz);
+  j["place_tick_gaps_over_2"] = place_gaps;
+  j["place_tick_gaps"] = place_gap_by_region;
+}
+
+void add_lockstep(nlohmann::json& j, const RunInfo& info) {
   if (info.discovery_s) j["discovery_s"] = *info.discovery_s;
   if (!info.uav_phase_ms.empty() || !info.place_phase_ms.empty()) {
     double conducted_ms = 0;
@@ -212,15 +275,12 @@ nlohmann::json metrics_json(const core::RunRecorder& r, const RunInfo& info) {
         {"ticks_per_s",
          conducted_ms > 0 ? 1000.0 * static_cast<double>(info.place_phase_ms.size()) / conducted_ms : 0.0}};
   }
-  // Neighbourhood traffic: tile samples a UAV received per tick, on average.
-  j["tile_samples_per_uav_tick"] =
-      uav_ticks > 0 ? static_cast<double>(tile_samples) / static_cast<double>(uav_ticks) : 0.0;
-  // Every DDS sample a UAV took (its views, broadcasts, commands) per tick.
-  if (processes) {
-    j["samples_per_uav_tick"] = uav_ticks > 0 ? static_cast<double>(samples) / static_cast<double>(uav_ticks) : 0.0;
-  }
-  // [tick, coverage] every kCoverageSeriesEvery ticks and at the last tick,
-  // each once: the rows of series.csv at those ticks.
+}
+
+// [tick, coverage] every kCoverageSeriesEvery ticks and at the last tick,
+// each once: the rows of series.csv at those ticks; and the field's summary.
+void add_coverage_series_and_field(nlohmann::json& j, const core::RunRecorder& r,
+                                   const std::vector<core::TickRow>& rows) {
   nlohmann::json series = nlohmann::json::array();
   for (const core::TickRow& row : rows) {
     if (row.tick % kCoverageSeriesEvery == 0 || row.tick + 1 == rows.size()) series.push_back({row.tick, row.coverage});
@@ -229,6 +289,37 @@ nlohmann::json metrics_json(const core::RunRecorder& r, const RunInfo& info) {
   nlohmann::json field = nlohmann::json::object();
   for (const auto& [k, v] : r.field_summary()) field[k] = v;
   j["field"] = field;
+}
+
+}  // namespace
+
+nlohmann::json metrics_json(const core::RunRecorder& r, const RunInfo& info) {
+  const bool processes = info.runner == Runner::Processes;
+  const MetricsContext c{r, info, processes, processes && info.clock == "realtime"};
+  nlohmann::json j;
+  add_run_identity(j, c);
+  const std::vector<core::TickRow> rows = r.tick_series();
+  add_times_to_goals(j, r, rows);
+  add_deposits(j, c);
+  add_place_replicas(j, c);
+  add_faults(j, c);
+  add_refusals(j, r);
+  add_refused_states(j, r);
+  // The launcher owns process accounting and overwrites these two.
+  j["processes_killed"] = 0;
+  j["processes_crashed"] = 0;
+  const UavTotals totals = add_uav_status(j, c);
+  const uint64_t uav_ticks = totals.uav_ticks, tile_samples = totals.tile_samples, samples = totals.samples;
+  add_tick_gaps(j, c);
+  add_lockstep(j, info);
+  // Neighbourhood traffic: tile samples a UAV received per tick, on average.
+  j["tile_samples_per_uav_tick"] =
+      uav_ticks > 0 ? static_cast<double>(tile_samples) / static_cast<double>(uav_ticks) : 0.0;
+  // Every DDS sample a UAV took (its views, broadcasts, commands) per tick.
+  if (processes) {
+    j["samples_per_uav_tick"] = uav_ticks > 0 ? static_cast<double>(samples) / static_cast<double>(uav_ticks) : 0.0;
+  }
+  add_coverage_series_and_field(j, r, rows);
   return j;
 }
 

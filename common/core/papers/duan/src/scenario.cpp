@@ -60,8 +60,8 @@ std::optional<DuanPopup> build_threat(const pb::DuanPolicy::Threat& t, const Nod
   return out;
 }
 
-void build_duan(const pb::DuanPolicy& msg, const Node& n, Validator& v, ScenarioConfig& cfg) {
-  DuanConfig c;
+// The real-valued parameters, and the initial pheromone they imply.
+void read_duan_reals(const pb::DuanPolicy& msg, const Node& n, Validator& v, DuanConfig& c) {
   DuanAcoParams& a = c.aco;
   if (msg.has_node_spacing_km()) c.node_spacing_km = msg.node_spacing_km();
   if (msg.has_f()) c.f = msg.f();
@@ -91,6 +91,11 @@ void build_duan(const pb::DuanPolicy& msg, const Node& n, Validator& v, Scenario
     v.real_in(n, "v_max_mps", c.speeds.max_mps, c.speeds.min_mps, false, kInf, false);
   }
   v.real_in(n, "dt_s", c.dt_s, 0.0, true, kInf, false);
+}
+
+// Iterations, ants, candidates and the ETA wait.
+void read_duan_counts(const pb::DuanPolicy& msg, const Node& n, Validator& v, DuanConfig& c) {
+  DuanAcoParams& a = c.aco;
   if (msg.has_iterations() && v.int_between(n, "iterations", msg.iterations(), 1, kMaxIterations)) {
     a.iterations = static_cast<uint32_t>(msg.iterations());
   }
@@ -102,6 +107,10 @@ void build_duan(const pb::DuanPolicy& msg, const Node& n, Validator& v, Scenario
   if (msg.has_eta_wait_ticks() && v.int_between(n, "eta_wait_ticks", msg.eta_wait_ticks(), 0, kMaxEtaWaitTicks)) {
     c.eta_wait_ticks = static_cast<uint32_t>(msg.eta_wait_ticks());
   }
+}
+
+// The turn limit, the deposit rule and the planner.
+void read_duan_rules(const pb::DuanPolicy& msg, const Node& n, Validator& v, DuanAcoParams& a) {
   if (msg.has_max_turn_deg()) {
     // Below 45° no diagonal turn is left on the 8-neighbour mesh.
     if (v.real_in(n, "max_turn_deg", msg.max_turn_deg(), 45.0, false, 180.0, false)) {
@@ -130,14 +139,10 @@ void build_duan(const pb::DuanPolicy& msg, const Node& n, Validator& v, Scenario
              "must be \"paper\", \"line_of_sight\" or \"safe_line_of_sight\" (got \"" + msg.planner() + "\")");
     }
   }
+}
 
-  for (int i = 0; i < msg.threats_size(); ++i) {
-    if (auto t = build_threat(msg.threats(i), n.child("threats", i), v, false, cfg.ticks)) c.threats.push_back(t->threat);
-  }
-  for (int i = 0; i < msg.popups_size(); ++i) {
-    if (auto t = build_threat(msg.popups(i), n.child("popups", i), v, true, cfg.ticks)) c.popups.push_back(*t);
-  }
-
+// One start and target per UAV.
+void read_duan_uavs(const pb::DuanPolicy& msg, const Node& n, Validator& v, const ScenarioConfig& cfg, DuanConfig& c) {
   const std::optional<MapSize> map =
       cfg.width > 0 && cfg.height > 0 ? std::optional<MapSize>(MapSize{cfg.width, cfg.height}) : std::nullopt;
   if (msg.uavs_size() != static_cast<int>(cfg.uavs)) {
@@ -163,6 +168,21 @@ void build_duan(const pb::DuanPolicy& msg, const Node& n, Validator& v, Scenario
       c.uavs.push_back({*start, *target});
     }
   }
+}
+
+void build_duan(const pb::DuanPolicy& msg, const Node& n, Validator& v, ScenarioConfig& cfg) {
+  DuanConfig c;
+  read_duan_reals(msg, n, v, c);
+  read_duan_counts(msg, n, v, c);
+  read_duan_rules(msg, n, v, c.aco);
+  for (int i = 0; i < msg.threats_size(); ++i) {
+    if (auto t = build_threat(msg.threats(i), n.child("threats", i), v, false, cfg.ticks))
+      c.threats.push_back(t->threat);
+  }
+  for (int i = 0; i < msg.popups_size(); ++i) {
+    if (auto t = build_threat(msg.popups(i), n.child("popups", i), v, true, cfg.ticks)) c.popups.push_back(*t);
+  }
+  read_duan_uavs(msg, n, v, cfg, c);
   cfg.set_policy_config(std::move(c));
 }
 

@@ -27,10 +27,9 @@ void read_choice(Validator& v, const Node& n, const char* field, bool has, const
   v.fail(n, field, "must be one of " + names + " (got \"" + got + "\")");
 }
 
-void build_liu(const pb::LiuPolicy& msg, const Node& n, Validator& v, ScenarioConfig& cfg) {
-  LiuConfig c;
+// The string enumerations: search, prior, sensor, start velocity and point, miss update.
+void read_liu_choices(const pb::LiuPolicy& msg, const Node& n, Validator& v, LiuConfig& c) {
   LiuParams& p = c.params;
-
   read_choice<LiuPolicy, 6>(v, n, "search", msg.has_search(), msg.search(),
                             {{{"esustpm", LiuPolicy::kEsustpm},
                               {"lawnmower", LiuPolicy::kLawnmower},
@@ -52,8 +51,10 @@ void build_liu(const pb::LiuPolicy& msg, const Node& n, Validator& v, ScenarioCo
   read_choice<MissUpdate, 2>(v, n, "miss_update", msg.has_miss_update(), msg.miss_update(),
                              {{{"as_printed", MissUpdate::kAsPrinted}, {"bayes", MissUpdate::kBayes}}}, p.miss_update);
   if (msg.has_release_confirmed_cells()) c.release_confirmed_cells = msg.release_confirmed_cells();
+}
 
-  // Prior.
+// Prior.
+void read_liu_prior(const pb::LiuPolicy& msg, const Node& n, Validator& v, const ScenarioConfig& cfg, LiuConfig& c) {
   const std::optional<MapSize> map =
       cfg.width > 0 && cfg.height > 0 ? std::optional<MapSize>(MapSize{cfg.width, cfg.height}) : std::nullopt;
   for (int i = 0; i < msg.wrong_prior_cells_size(); ++i) {
@@ -68,8 +69,10 @@ void build_liu(const pb::LiuPolicy& msg, const Node& n, Validator& v, ScenarioCo
   if (msg.has_prior_weight()) c.prior_weight = msg.prior_weight();
   v.real_in(n, "prior_sigma", c.prior_sigma_cells, 0.0, true, kInf, false);
   v.real_in(n, "prior_weight", c.prior_weight, 0.0, false, kInf, false);
+}
 
-  // Sensor and TPM.
+// Sensor and TPM.
+void read_liu_sensor(const pb::LiuPolicy& msg, const Node& n, Validator& v, LiuParams& p) {
   if (msg.has_p_detection()) p.p_detection = msg.p_detection();
   if (msg.has_p_false_alarm()) p.p_false_alarm = msg.p_false_alarm();
   if (msg.has_confirm_threshold()) p.confirm_threshold = msg.confirm_threshold();
@@ -78,8 +81,10 @@ void build_liu(const pb::LiuPolicy& msg, const Node& n, Validator& v, ScenarioCo
   v.real_in(n, "p_false_alarm", p.p_false_alarm, 0.0, false, 1.0, true);  // Liu 2022 eq. (5) divides by 1 - P_f
   v.real_in(n, "confirm_threshold", p.confirm_threshold, 0.0, true, 1.0, true);
   v.real_in(n, "initial_probability", p.initial_probability, 0.0, false, 1.0, false);
+}
 
-  // Liu 2022 Table 1: one value for the four rules.
+// Liu 2022 Table 1: one value for the four rules.
+void read_liu_rules(const pb::LiuPolicy& msg, const Node& n, Validator& v, LiuParams& p) {
   const auto all = [](std::array<double, 4>& a, double x) { a.fill(x); };
   if (msg.has_k()) all(p.k, msg.k());
   if (msg.has_t()) all(p.t, msg.t());
@@ -91,8 +96,10 @@ void build_liu(const pb::LiuPolicy& msg, const Node& n, Validator& v, ScenarioCo
   v.real_in(n, "c", p.c[0], 0.0, false, kInf, false);
   v.real_in(n, "delta", p.delta[0], 0.0, true, kInf, false);
   v.real_in(n, "delta_prime", p.delta_prime[0], 0.0, true, kInf, false);
+}
 
-  // Space and time.
+// Space and time.
+void read_liu_space_time(const pb::LiuPolicy& msg, const Node& n, Validator& v, LiuParams& p) {
   if (msg.has_cell_size_m()) p.cell_size_m = msg.cell_size_m();
   if (msg.has_max_speed_mps()) p.max_speed_mps = msg.max_speed_mps();
   if (msg.has_dt_s()) p.dt_s = msg.dt_s();
@@ -108,8 +115,10 @@ void build_liu(const pb::LiuPolicy& msg, const Node& n, Validator& v, ScenarioCo
   }
   v.real_in(n, "random_step_mps", p.random_step_mps, 0.0, true, kInf, false);
   v.real_in(n, "mower_step_mps", p.mower_step_mps, 0.0, true, kInf, false);
+}
 
-  // Boids.
+// Boids.
+void read_liu_boids(const pb::LiuPolicy& msg, const Node& n, Validator& v, LiuParams& p) {
   if (msg.has_boids_safe_distance_m()) p.boids_safe_distance_m = msg.boids_safe_distance_m();
   if (msg.has_boids_separation_weight()) p.boids_separation_weight = msg.boids_separation_weight();
   if (msg.has_boids_alignment_weight()) p.boids_alignment_weight = msg.boids_alignment_weight();
@@ -120,7 +129,16 @@ void build_liu(const pb::LiuPolicy& msg, const Node& n, Validator& v, ScenarioCo
   v.real_in(n, "boids_alignment_weight", p.boids_alignment_weight, 0.0, false, kInf, false);
   v.real_in(n, "boids_cohesion_weight", p.boids_cohesion_weight, 0.0, false, kInf, false);
   v.real_in(n, "boids_guidance_weight", p.boids_guidance_weight, 0.0, false, kInf, false);
+}
 
+void build_liu(const pb::LiuPolicy& msg, const Node& n, Validator& v, ScenarioConfig& cfg) {
+  LiuConfig c;
+  read_liu_choices(msg, n, v, c);
+  read_liu_prior(msg, n, v, cfg, c);
+  read_liu_sensor(msg, n, v, c.params);
+  read_liu_rules(msg, n, v, c.params);
+  read_liu_space_time(msg, n, v, c.params);
+  read_liu_boids(msg, n, v, c.params);
   if (msg.has_view_radius()) {
     c.view_radius_cells = msg.view_radius();
     v.real_in(n, "view_radius", msg.view_radius(), 0.0, true, kMaxSensorRadius, false);

@@ -135,6 +135,147 @@ std::vector<double> liu_prior_map(const LiuSwarmConfig& config) {
   return gaussian_mixture_prior(p.grid_width, p.grid_height, components);
 }
 
+namespace {
+
+// The indices of the targets in each cell.
+std::vector<std::vector<std::size_t>> targets_by_cell(const LiuSwarmConfig& config, int32_t w, int32_t h) {
+  const LiuParams& p = config.params;
+  std::vector<std::vector<std::size_t>> targets_in(static_cast<std::size_t>(w) * static_cast<std::size_t>(h));
+  for (std::size_t t = 0; t < config.targets.size(); ++t) {
+    targets_in[cell_index(cell_of(config.targets[t], p), w)].push_back(t);
+  }
+  return targets_in;
+}
+
+// UAVs and their start velocities, the mowers' lanes and each UAV's stream.
+struct LiuFleet {
+  std::vector<LiuUav> uavs;
+  std::vector<LiuMower> mowers;
+  std::vector<Rng> rng;
+};
+
+LiuFleet launch_fleet(const LiuSwarmConfig& config, uint64_t seed, int32_t w, int32_t h) {
+  const LiuParams& p = config.params;
+  const std::size_t n = p.uav_count;
+  const bool mower = config.policy == LiuPolicy::kLawnmower;
+  LiuFleet f;
+  f.uavs.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (mower) {
+      const Rect lane = lawnmower_lane(static_cast<uint32_t>(i), static_cast<uint32_t>(n), w, h);
+      f.mowers.push_back(LiuMower{lane});
+      f.uavs[i].position = cell_centre(lawnmower_start(lane).cell, p.cell_size_m);
+    } else {
+      f.uavs[i].position = config.starts[i];
+    }
+    f.rng.emplace_back(stream_seed(seed, "liu-uav", static_cast<uint32_t>(i)));
+    if (!mower && config.start_velocity == LiuStartVelocity::kRandomHeading) {
+      const Vec2 d = random_direction(f.rng[i]);  // Liu 2022 eq. (12)
+      f.uavs[i].velocity = Vec2{d.x * p.max_speed_mps, d.y * p.max_speed_mps};
+    }
+  }
+  return f;
+}
+
+// Decisions from the state at the start of the cycle, all UAVs at once.
+void decide_velocities(const LiuSwarmConfig& config, LiuFleet& f, const TpmLookup& lookup,
+                       std::vector<LiuUav>& others) {
+  const LiuParams& p = config.params;
+  const std::size_t n = f.uavs.size();
+  std::vector<Vec2> velocity(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    others.clear();
+    for (std::size_t j = 0; j < n; ++j) {
+      if (j != i) others.push_back(f.uavs[j]);
+    }
+    LiuMove move;
+    switch (config.policy) {
+      case LiuPolicy::kEsustpm:
+        move = esustpm_step(f.uavs[i], others, lookup, p);
+        break;
+      case LiuPolicy::kRandom:
+        move = random_search_step(f.uavs[i], f.rng[i], p);
+        break;
+      case LiuPolicy::kBoids:
+        move = boids_step(f.uavs[i], others, p);
+        break;
+      case LiuPolicy::kGuidedBoids:
+        move = boids_guided_step(f.uavs[i], others, lookup, p);
+        break;
+      case LiuPolicy::kEsustpmDisperse:
+        move = esustpm_disperse_step(f.uavs[i], others, lookup, p);
+        break;
+      case LiuPolicy::kLawnmower:
+        break;
+    }
+    velocity[i] = move.velocity;
+  }
+  for (std::size_t i = 0; i < n; ++i) f.uavs[i].velocity = velocity[i];
+}
+
+// What a run's cells hold and have shown: the targets per cell, the TPM, the
+// confirmed (latched) cells and the sensor's stream.
+struct LiuSearchState {
+  const std::vector<std::vector<std::size_t>>& targets_in;
+  TargetProbabilityMap& tpm;
+  std::vector<uint8_t>& latched;
+  Rng& sensor;
+};
+
+// A UAV entered cell `now` in `cycle`: one observation, and a confirmation if the TPM passes θ.
+void observe_cell(const LiuSwarmConfig& config, LiuSearchState& st, Cell now, uint32_t cycle, LiuSwarmResult& out) {
+  const LiuParams& p = config.params;
+  const std::size_t k = cell_index(now, p.grid_width);
+  const bool target = !st.targets_in[k].empty();
+  bool detected = target;  // Liu 2022 Algorithm 1: the branch is on the truth
+  if (config.sensor == LiuSensor::kNoisy) {
+    const double draw = st.sensor.uniform01();
+    detected = target ? draw < p.p_detection : draw < p.p_false_alarm;
+  }
+  st.tpm.observe(now, detected);  // Liu 2022 eq. (4) or Liu 2022 eq. (5)
+  ++out.observations;
+  if (st.latched[k] == 0 && st.tpm.confirmed(now)) {  // "the TEP of a grid is more than the given value"
+    st.latched[k] = 1;
+    if (target) {
+      for (const std::size_t t : st.targets_in[k]) out.confirmation_cycle[t] = cycle;
+      out.targets_found += static_cast<uint32_t>(st.targets_in[k].size());
+    } else {
+      ++out.false_confirmations;
+    }
+  }
+}
+
+// Fly the cycle in Δt steps (Liu 2022 eq. (10), Liu 2022 eq. (11)); observe every cell entered.
+void fly_cycle(const LiuSwarmConfig& config, LiuFleet& f, std::vector<Cell>& cell, VisitedCells& visited,
+               LiuSearchState& st, uint32_t cycle, LiuSwarmResult& out) {
+  const LiuParams& p = config.params;
+  const bool mower = config.policy == LiuPolicy::kLawnmower;
+  const auto substeps = static_cast<uint32_t>(std::max(1.0, std::round(p.cycle_s / p.dt_s)));
+  const double dt = p.cycle_s / substeps;
+  for (uint32_t s = 0; s < substeps; ++s) {
+    for (std::size_t i = 0; i < f.uavs.size(); ++i) {
+      if (mower) {
+        mower_advance(f.mowers[i], f.uavs[i], dt, p);
+      } else {
+        f.uavs[i] = advance_uav(f.uavs[i], f.uavs[i].velocity, dt, p);
+      }
+      const Cell now = cell_of(f.uavs[i].position, p);
+      if (now == cell[i]) continue;
+      cell[i] = now;
+      visited.visit(now);
+      observe_cell(config, st, now, cycle, out);
+    }
+  }
+}
+
+void record_cycle(LiuSwarmResult& out, const TargetProbabilityMap& tpm, const VisitedCells& visited) {
+  out.eu_per_cycle.push_back(environmental_uncertainty(tpm.values()));
+  out.visited_per_cycle.push_back(visited.count());
+  out.found_per_cycle.push_back(out.targets_found);
+}
+
+}  // namespace
+
 Result<LiuSwarmResult> run_liu_swarm(const LiuSwarmConfig& config, uint64_t seed) {
   if (auto e = check_config(config)) return *e;
   const LiuParams& p = config.params;
@@ -145,12 +286,7 @@ Result<LiuSwarmResult> run_liu_swarm(const LiuSwarmConfig& config, uint64_t seed
   auto made = TargetProbabilityMap::from_map(map, prior, w, h, p);
   if (!made) return made.error();
   TargetProbabilityMap tpm = std::move(made.value());
-
-  // Targets by cell.
-  std::vector<std::vector<std::size_t>> targets_in(static_cast<std::size_t>(w) * static_cast<std::size_t>(h));
-  for (std::size_t t = 0; t < config.targets.size(); ++t) {
-    targets_in[cell_index(cell_of(config.targets[t], p), w)].push_back(t);
-  }
+  const std::vector<std::vector<std::size_t>> targets_in = targets_by_cell(config, w, h);
 
   LiuSwarmResult out;
   out.confirmation_cycle.assign(config.targets.size(), std::nullopt);
@@ -160,101 +296,25 @@ Result<LiuSwarmResult> run_liu_swarm(const LiuSwarmConfig& config, uint64_t seed
     if (config.release_confirmed_cells && latched[cell_index(c, w)] != 0) return std::nullopt;
     return tpm.probability(c);
   };
-
-  // UAVs and their start velocities.
-  const std::size_t n = p.uav_count;
-  const bool mower = config.policy == LiuPolicy::kLawnmower;
-  std::vector<LiuUav> uavs(n);
-  std::vector<LiuMower> mowers;
-  std::vector<Rng> uav_rng;
-  for (std::size_t i = 0; i < n; ++i) {
-    if (mower) {
-      const Rect lane = lawnmower_lane(static_cast<uint32_t>(i), static_cast<uint32_t>(n), w, h);
-      mowers.push_back(LiuMower{lane});
-      uavs[i].position = cell_centre(lawnmower_start(lane).cell, p.cell_size_m);
-    } else {
-      uavs[i].position = config.starts[i];
-    }
-    uav_rng.emplace_back(stream_seed(seed, "liu-uav", static_cast<uint32_t>(i)));
-    if (!mower && config.start_velocity == LiuStartVelocity::kRandomHeading) {
-      const Vec2 d = random_direction(uav_rng[i]);  // Liu 2022 eq. (12)
-      uavs[i].velocity = Vec2{d.x * p.max_speed_mps, d.y * p.max_speed_mps};
-    }
-  }
+  LiuFleet fleet = launch_fleet(config, seed, w, h);
   Rng sensor(stream_seed(seed, "liu-sensor", 0));
+  LiuSearchState st{targets_in, tpm, latched, sensor};
 
+  const std::size_t n = p.uav_count;
   VisitedCells visited(w, h);
   std::vector<Cell> cell(n);
   for (std::size_t i = 0; i < n; ++i) {
-    cell[i] = cell_of(uavs[i].position, p);
+    cell[i] = cell_of(fleet.uavs[i].position, p);
     visited.visit(cell[i]);  // visited, but not observed: the UAV has not arrived there
   }
-  out.eu_per_cycle.push_back(environmental_uncertainty(tpm.values()));
-  out.visited_per_cycle.push_back(visited.count());
-  out.found_per_cycle.push_back(0);
+  record_cycle(out, tpm, visited);  // found: 0
 
-  const auto substeps = static_cast<uint32_t>(std::max(1.0, std::round(p.cycle_s / p.dt_s)));
-  const double dt = p.cycle_s / substeps;
   std::vector<LiuUav> others;
   others.reserve(n);
-
   for (uint32_t cycle = 1; cycle <= p.cycles; ++cycle) {
-    // Decisions from the state at the start of the cycle, all UAVs at once.
-    if (!mower) {
-      std::vector<Vec2> velocity(n);
-      for (std::size_t i = 0; i < n; ++i) {
-        others.clear();
-        for (std::size_t j = 0; j < n; ++j) {
-          if (j != i) others.push_back(uavs[j]);
-        }
-        LiuMove move;
-        switch (config.policy) {
-          case LiuPolicy::kEsustpm: move = esustpm_step(uavs[i], others, lookup, p); break;
-          case LiuPolicy::kRandom: move = random_search_step(uavs[i], uav_rng[i], p); break;
-          case LiuPolicy::kBoids: move = boids_step(uavs[i], others, p); break;
-          case LiuPolicy::kGuidedBoids: move = boids_guided_step(uavs[i], others, lookup, p); break;
-          case LiuPolicy::kEsustpmDisperse: move = esustpm_disperse_step(uavs[i], others, lookup, p); break;
-          case LiuPolicy::kLawnmower: break;
-        }
-        velocity[i] = move.velocity;
-      }
-      for (std::size_t i = 0; i < n; ++i) uavs[i].velocity = velocity[i];
-    }
-    // Fly the cycle in Δt steps (Liu 2022 eq. (10), Liu 2022 eq. (11)); observe every cell entered.
-    for (uint32_t s = 0; s < substeps; ++s) {
-      for (std::size_t i = 0; i < n; ++i) {
-        if (mower) {
-          mower_advance(mowers[i], uavs[i], dt, p);
-        } else {
-          uavs[i] = advance_uav(uavs[i], uavs[i].velocity, dt, p);
-        }
-        const Cell now = cell_of(uavs[i].position, p);
-        if (now == cell[i]) continue;
-        cell[i] = now;
-        visited.visit(now);
-        const std::size_t k = cell_index(now, w);
-        const bool target = !targets_in[k].empty();
-        bool detected = target;  // Liu 2022 Algorithm 1: the branch is on the truth
-        if (config.sensor == LiuSensor::kNoisy) {
-          const double draw = sensor.uniform01();
-          detected = target ? draw < p.p_detection : draw < p.p_false_alarm;
-        }
-        tpm.observe(now, detected);  // Liu 2022 eq. (4) or Liu 2022 eq. (5)
-        ++out.observations;
-        if (latched[k] == 0 && tpm.confirmed(now)) {  // "the TEP of a grid is more than the given value"
-          latched[k] = 1;
-          if (target) {
-            for (const std::size_t t : targets_in[k]) out.confirmation_cycle[t] = cycle;
-            out.targets_found += static_cast<uint32_t>(targets_in[k].size());
-          } else {
-            ++out.false_confirmations;
-          }
-        }
-      }
-    }
-    out.eu_per_cycle.push_back(environmental_uncertainty(tpm.values()));
-    out.visited_per_cycle.push_back(visited.count());
-    out.found_per_cycle.push_back(out.targets_found);
+    if (config.policy != LiuPolicy::kLawnmower) decide_velocities(config, fleet, lookup, others);
+    fly_cycle(config, fleet, cell, visited, st, cycle, out);
+    record_cycle(out, tpm, visited);
   }
 
   if (!config.targets.empty() && out.targets_found == config.targets.size()) {

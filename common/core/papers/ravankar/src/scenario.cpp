@@ -22,11 +22,9 @@ bool read_count(Validator& v, const Node& n, const char* field, bool has, int64_
   return true;
 }
 
-void build_ravankar(const pb::RavankarPolicy& msg, const Node& n, Validator& v, ScenarioConfig& cfg) {
-  RavankarConfig c;
-  const std::optional<MapSize> map =
-      cfg.width > 0 && cfg.height > 0 ? std::optional<MapSize>(MapSize{cfg.width, cfg.height}) : std::nullopt;
-
+// dt, the cell size, the leaders and their route; whether cell_size_m is valid.
+bool read_ravankar_leaders(const pb::RavankarPolicy& msg, const Node& n, Validator& v, const ScenarioConfig& cfg,
+                           const std::optional<MapSize>& map, RavankarConfig& c) {
   if (msg.has_dt_s()) c.dt_s = msg.dt_s();
   v.real_in(n, "dt_s", c.dt_s, 0.0, true, kMaxDtS, false);
   if (msg.has_cell_size_m()) c.cell_size_m = msg.cell_size_m();
@@ -44,7 +42,12 @@ void build_ravankar(const pb::RavankarPolicy& msg, const Node& n, Validator& v, 
   }
   if (msg.has_leader_speed_mps()) c.leader_speed_mps = msg.leader_speed_mps();
   v.real_in(n, "leader_speed_mps", c.leader_speed_mps, 0.0, true, kMaxSpeedMps, false);
+  return cell_ok;
+}
 
+// Whether max_deposit is valid.
+bool read_ravankar_deposit(const pb::RavankarPolicy& msg, const Node& n, Validator& v, bool cell_ok,
+                           RavankarConfig& c) {
   // Deposit, Ravankar 2016 eq. (12), Ravankar 2016 eq. (13), Ravankar 2016 eq. (14).
   RavankarDepositParams& d = c.deposit;
   if (msg.has_tau()) d.tau = msg.tau();
@@ -71,7 +74,12 @@ void build_ravankar(const pb::RavankarPolicy& msg, const Node& n, Validator& v, 
       v.fail(n, "spread", "must be \"peak\" or \"total\" (got \"" + msg.spread() + "\")");
     }
   }
+  return cap_ok;
+}
 
+void read_ravankar_evaporation_and_followers(const pb::RavankarPolicy& msg, const Node& n, Validator& v, bool cap_ok,
+                                             RavankarConfig& c) {
+  const RavankarDepositParams& d = c.deposit;
   // Evaporation, Ravankar 2016 eq. (17), Ravankar 2016 eq. (18), Ravankar 2016 eq. (19), Ravankar 2016 eq. (20), Ravankar 2016 eq. (21), Ravankar 2016 eq. (22).
   if (msg.has_k_per_s()) c.evaporation.k_per_s = msg.k_per_s();
   v.real_in(n, "k_per_s", c.evaporation.k_per_s, 0.0, false, kInf, false);
@@ -86,7 +94,10 @@ void build_ravankar(const pb::RavankarPolicy& msg, const Node& n, Validator& v, 
   }
   if (msg.has_delta()) c.follower.delta = msg.delta();
   v.real_in(n, "delta", c.follower.delta, 0.0, true, 1.0, false);
+}
 
+void read_ravankar_motion(const pb::RavankarPolicy& msg, const Node& n, Validator& v, const std::optional<MapSize>& map,
+                          RavankarConfig& c) {
   // Motion, Ravankar 2016 eq. (27), Ravankar 2016 eq. (28), Ravankar 2016 eq. (29), Ravankar 2016 eq. (30), Ravankar 2016 eq. (31), Ravankar 2016 eq. (32), Ravankar 2016 eq. (33), and fixes.
   if (msg.has_wheel_separation_m()) c.motion.wheel_separation_m = msg.wheel_separation_m();
   v.real_in(n, "wheel_separation_m", c.motion.wheel_separation_m, 0.0, true, kInf, false);
@@ -99,7 +110,10 @@ void build_ravankar(const pb::RavankarPolicy& msg, const Node& n, Validator& v, 
   if (msg.has_fix_area()) {
     c.fix_area = check_rect(v, n.child("fix_area"), msg.fix_area(), map);
   }
+}
 
+// How often the trail is laid, by whom, and what a follower does once it rejects it.
+void read_ravankar_trail(const pb::RavankarPolicy& msg, const Node& n, Validator& v, RavankarConfig& c) {
   read_count(v, n, "deposit_every_ticks", msg.has_deposit_every_ticks(), msg.deposit_every_ticks(), 1, kMaxU32,
              c.deposit_every_ticks);
   if (msg.has_followers_deposit()) c.followers_deposit = msg.followers_deposit();
@@ -116,6 +130,17 @@ void build_ravankar(const pb::RavankarPolicy& msg, const Node& n, Validator& v, 
       v.fail(n, "reject_explore", "must be \"onward\" or \"retreat\" (got \"" + msg.reject_explore() + "\")");
     }
   }
+}
+
+void build_ravankar(const pb::RavankarPolicy& msg, const Node& n, Validator& v, ScenarioConfig& cfg) {
+  RavankarConfig c;
+  const std::optional<MapSize> map =
+      cfg.width > 0 && cfg.height > 0 ? std::optional<MapSize>(MapSize{cfg.width, cfg.height}) : std::nullopt;
+  const bool cell_ok = read_ravankar_leaders(msg, n, v, cfg, map, c);
+  const bool cap_ok = read_ravankar_deposit(msg, n, v, cell_ok, c);
+  read_ravankar_evaporation_and_followers(msg, n, v, cap_ok, c);
+  read_ravankar_motion(msg, n, v, map, c);
+  read_ravankar_trail(msg, n, v, c);
   cfg.set_policy_config(std::move(c));
 }
 

@@ -91,8 +91,9 @@ void build_shao_search(const pb::ShaoSearchPolicy& msg, const Node& n, Validator
   cfg.set_policy_config(std::move(c));
 }
 
-void build_shao_navigation(const pb::ShaoNavigationPolicy& msg, const Node& n, Validator& v, ScenarioConfig& cfg) {
-  ShaoNavigationConfig c;
+// The target region and which pheromones the leader reads.
+void read_navigation_leader(const pb::ShaoNavigationPolicy& msg, const Node& n, Validator& v, const ScenarioConfig& cfg,
+                            ShaoNavigationConfig& c) {
   if (!msg.has_region_centre()) {
     v.required(n, "region_centre");
   } else {
@@ -114,7 +115,11 @@ void build_shao_navigation(const pb::ShaoNavigationPolicy& msg, const Node& n, V
              "must be \"vector\", \"scalar\", \"gradient\" or \"pull\" (got \"" + msg.leader_pheromones() + "\")");
     }
   }
-  // Readings of Shao 2020 Sec. 5.1.1 the paper leaves open (navigation.hpp).
+}
+
+// Readings of Shao 2020 Sec. 5.1.1 the paper leaves open (navigation.hpp).
+void read_navigation_readings(const pb::ShaoNavigationPolicy& msg, const Node& n, Validator& v,
+                              ShaoNavigationConfig& c) {
   if (msg.has_vector_choice()) {
     if (msg.vector_choice() == "norm") {
       c.params.vector_choice = VectorSectorChoice::Norm;
@@ -153,10 +158,10 @@ void build_shao_navigation(const pb::ShaoNavigationPolicy& msg, const Node& n, V
       v.fail(n, "neighbour_gradient", "must be \"towards\" or \"away\" (got \"" + msg.neighbour_gradient() + "\")");
     }
   }
-  if (msg.has_hold_ticks() && v.int_between(n, "hold_ticks", msg.hold_ticks(), 0, kMaxU32)) {
-    c.hold_ticks = static_cast<uint32_t>(msg.hold_ticks());
-  }
-  ShaoNavParams& p = c.params;
+}
+
+void read_navigation_params(const pb::ShaoNavigationPolicy& msg, const Node& n, Validator& v, const ScenarioConfig& cfg,
+                            ShaoNavParams& p) {
   // The leader weighs the layers with the search's λ (Shao 2020 Table 2 uses
   // the same 1, -0.3, 0.3 as Shao 2020 Table 1).
   p.lambda_target = cfg.aco.lambda_target;
@@ -176,6 +181,16 @@ void build_shao_navigation(const pb::ShaoNavigationPolicy& msg, const Node& n, V
   v.real_in(n, "c1", p.c1, 0.0, false, kInf, false);
   v.real_in(n, "c2", p.c2, 0.0, false, kInf, false);
   v.real_in(n, "follower_range", p.follower_range, 0.0, true, kMaxSensorRadius, false);
+}
+
+void build_shao_navigation(const pb::ShaoNavigationPolicy& msg, const Node& n, Validator& v, ScenarioConfig& cfg) {
+  ShaoNavigationConfig c;
+  read_navigation_leader(msg, n, v, cfg, c);
+  read_navigation_readings(msg, n, v, c);
+  if (msg.has_hold_ticks() && v.int_between(n, "hold_ticks", msg.hold_ticks(), 0, kMaxU32)) {
+    c.hold_ticks = static_cast<uint32_t>(msg.hold_ticks());
+  }
+  read_navigation_params(msg, n, v, cfg, c.params);
   cfg.set_policy_config(std::move(c));
 }
 

@@ -12,11 +12,9 @@ namespace pheromesh::core::scenario_detail {
 namespace {
 constexpr double kDegToRad = std::numbers::pi / 180.0;
 
-void build_shostak(const pb::ShostakPolicy& msg, const Node& n, Validator& v, ScenarioConfig& cfg) {
-  ShostakConfig c;
+// dt and the layers of Shostak 2024 eq. (1) and Shostak 2024 eq. (2); whether cell_size_m is valid.
+bool read_shostak_layers(const pb::ShostakPolicy& msg, const Node& n, Validator& v, ShostakConfig& c) {
   ShostakLayerParams& lp = c.layers;
-  ShostakAcoParams& aco = c.aco;
-
   if (msg.has_dt_s()) c.dt_s = msg.dt_s();
   if (msg.has_cell_size_m()) lp.cell_size_m = msg.cell_size_m();
   if (msg.has_rho()) lp.evaporation_rate = msg.rho();
@@ -37,7 +35,13 @@ void build_shostak(const pb::ShostakPolicy& msg, const Node& n, Validator& v, Sc
   v.real_in(n, "explored_max", lp.explored_max, 0.0, true, kInf, false);
   v.real_in(n, "hazard_max", lp.hazard_max, 0.0, true, kInf, false);
   v.real_in(n, "target_max", lp.target_max, 0.0, true, kInf, false);
+  return cell_ok;
+}
 
+// The waypoint roulette (candidates, step, pitch, α, β, η floor).
+void read_shostak_aco(const pb::ShostakPolicy& msg, const Node& n, Validator& v, bool cell_ok, ShostakConfig& c) {
+  const ShostakLayerParams& lp = c.layers;
+  ShostakAcoParams& aco = c.aco;
   if (msg.has_candidates() && v.int_between(n, "candidates", msg.candidates(), 1, 64)) {
     aco.candidate_count = static_cast<uint32_t>(msg.candidates());
   }
@@ -59,7 +63,11 @@ void build_shostak(const pb::ShostakPolicy& msg, const Node& n, Validator& v, Sc
   v.real_in(n, "alpha", aco.alpha, 0.0, false, kInf, false);
   v.real_in(n, "beta", aco.beta, 0.0, false, kInf, false);
   v.real_in(n, "eta_floor", aco.eta_floor, 0.0, false, 1.0, false);
+}
 
+// Speed, altitudes, dispersal and the sensors' ranges.
+void read_shostak_flight(const pb::ShostakPolicy& msg, const Node& n, Validator& v, bool cell_ok, ShostakConfig& c) {
+  const ShostakLayerParams& lp = c.layers;
   if (msg.has_speed_mps()) c.speed_mps = msg.speed_mps();
   if (msg.has_altitude_m()) c.altitude_m = msg.altitude_m();
   if (msg.has_min_altitude_m()) c.min_altitude_m = msg.min_altitude_m();
@@ -84,7 +92,11 @@ void build_shostak(const pb::ShostakPolicy& msg, const Node& n, Validator& v, Sc
                                      format_number(c.detect_radius_m) + " m)");
   }
   v.real_in(n, "lidar_range_m", c.lidar_range_m, 0.0, false, kInf, false);
+}
 
+// One frame yaw per UAV at most.
+void read_shostak_frames(const pb::ShostakPolicy& msg, const Node& n, Validator& v, const ScenarioConfig& cfg,
+                         ShostakConfig& c) {
   c.frame_yaw_rad.clear();
   for (int i = 0; i < msg.frame_yaw_deg_size(); ++i) {
     const double yaw = msg.frame_yaw_deg(i);
@@ -98,7 +110,10 @@ void build_shostak(const pb::ShostakPolicy& msg, const Node& n, Validator& v, Sc
     }
     c.frame_yaw_rad.push_back(yaw * kDegToRad);
   }
+}
 
+// The drift of the UAVs' pose and the convergence rule.
+void read_shostak_drift_and_converge(const pb::ShostakPolicy& msg, const Node& n, Validator& v, ShostakConfig& c) {
   if (msg.has_position_noise_m2_per_m()) c.drift.position_noise_m2_per_m = msg.position_noise_m2_per_m();
   if (msg.has_yaw_noise_rad2_per_m()) c.drift.yaw_noise_rad2_per_m = msg.yaw_noise_rad2_per_m();
   v.real_in(n, "position_noise_m2_per_m", c.drift.position_noise_m2_per_m, 0.0, false, kInf, false);
@@ -112,6 +127,15 @@ void build_shostak(const pb::ShostakPolicy& msg, const Node& n, Validator& v, Sc
       v.fail(n, "converge", "must be \"roulette\" or \"beeline\" (got \"" + msg.converge() + "\")");
     }
   }
+}
+
+void build_shostak(const pb::ShostakPolicy& msg, const Node& n, Validator& v, ScenarioConfig& cfg) {
+  ShostakConfig c;
+  const bool cell_ok = read_shostak_layers(msg, n, v, c);
+  read_shostak_aco(msg, n, v, cell_ok, c);
+  read_shostak_flight(msg, n, v, cell_ok, c);
+  read_shostak_frames(msg, n, v, cfg, c);
+  read_shostak_drift_and_converge(msg, n, v, c);
   cfg.set_policy_config(std::move(c));
 }
 
