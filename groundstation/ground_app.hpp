@@ -36,6 +36,10 @@ namespace spdlog {
 class logger;
 }
 
+namespace CLI {
+class App;
+}  // namespace CLI
+
 namespace pheromesh::groundstation {
 
 // Time as the flags give it (seconds) and as waits take it; shared by the
@@ -213,6 +217,10 @@ class GroundApp {
   std::optional<mavlink::SecretKey> mavlink_key_;
   uint64_t mavlink_refusals_logged_ = 0;
 };
+
+// pheromesh-ground's flags into `cfg` (ground_options.cpp); --attach-timeout
+// into `attach_timeout_s`.
+void add_ground_options(CLI::App& app, GroundConfig& cfg, double& attach_timeout_s);
 
 // pheromesh-ground --attach (attach.cpp): finds the running swarm on the
 // domain, takes its scenario and options, then runs a GroundApp as a monitor.
