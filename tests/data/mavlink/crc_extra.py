@@ -12,12 +12,7 @@ for f in ['minimal.xml','standard.xml','common.xml']:
     for m in r.iter('message'):
         msgs[int(m.get('id'))]=m
 sizes={'uint8_t':1,'int8_t':1,'char':1,'uint16_t':2,'int16_t':2,'uint32_t':4,'int32_t':4,'float':4,'uint64_t':8,'int64_t':8,'double':8}
-def crc_acc(b,crc):
-    tmp=b^(crc&0xff); tmp=(tmp^(tmp<<4))&0xff
-    return ((crc>>8)^(tmp<<8)^(tmp<<3)^(tmp>>4))&0xffff
-def crcs(bs,crc=0xffff):
-    for b in bs: crc=crc_acc(b,crc)
-    return crc
+from x25 import crc_acc, crcs
 for mid in [0,1,33,30,74,246,253,76,77]:
     m=msgs[mid]
     fields=[];ext=False

@@ -3,12 +3,7 @@
 # and hashlib, the CRC written out from the MAVLink spec. Run by hand:
 #   python3 reference_frames.py
 import struct, hashlib
-def crc_acc(b,crc):
-    tmp=b^(crc&0xff); tmp=(tmp^(tmp<<4))&0xff
-    return ((crc>>8)^(tmp<<8)^(tmp<<3)^(tmp>>4))&0xffff
-def crcs(bs,crc=0xffff):
-    for b in bs: crc=crc_acc(b,crc)
-    return crc
+from x25 import crc_acc, crcs
 def frame(seq,sysid,compid,msgid,payload,extra,key=None,link=0,ts=0):
     p=payload.rstrip(b'\0') or payload[:1]
     inc=1 if key else 0
