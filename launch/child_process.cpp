@@ -26,7 +26,7 @@ std::string ChildProcess::describe() const {
   if (term_signal != 0) {
     if (ended_by_stop()) {
       return term_signal == SIGINT ? std::string("stopped by Interrupt (Ctrl-C)")
-                                   : std::string("stopped by the stop's Terminated before it handled signals");
+                                   : std::string("stopped by the launcher's SIGTERM before it handled signals");
     }
     if (killed_at_stop()) {
       return std::string("killed by ") + strsignal(term_signal) + " after ignoring SIGTERM for " +

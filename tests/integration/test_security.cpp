@@ -162,7 +162,7 @@ TEST(Security, SecureProcessesStoppedWhileTheyAuthenticateAndWhileTheyFlyEndClea
     // no segmentation fault, no abort, no SIGKILL.
     for (const auto& p : m["processes"]) {
       const std::string status = p["status"];
-      EXPECT_TRUE(status == "exited with 0" || status == "stopped by the stop's Terminated before it handled signals")
+      EXPECT_TRUE(status == "exited with 0" || status == "stopped by the launcher's SIGTERM before it handled signals")
           << name << ": " << p.dump() << "\n"
           << slurp(run_out + ".txt");
       EXPECT_EQ(p["crashed"], false) << name << ": " << p.dump();

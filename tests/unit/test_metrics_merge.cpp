@@ -236,7 +236,7 @@ TEST(MetricsMerge, AProcessEndedByTheStopsSigtermOrByCtrlCIsStoppedNotCrashed) {
   ps[1].asked_to_stop = true;
   ps[4].asked_to_stop = true;
   EXPECT_FALSE(ps[1].crashed());
-  EXPECT_EQ(ps[1].describe(), "stopped by the stop's Terminated before it handled signals");
+  EXPECT_EQ(ps[1].describe(), "stopped by the launcher's SIGTERM before it handled signals");
   EXPECT_FALSE(ps[2].crashed());
   EXPECT_EQ(ps[2].describe(), "stopped by Interrupt (Ctrl-C)");
   EXPECT_TRUE(ps[3].crashed()) << "a SIGTERM the launcher did not send";
