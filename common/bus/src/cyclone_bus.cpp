@@ -124,6 +124,7 @@ class CycloneTransport final : public Transport {
 
   bool write(EndpointId writer, const void* message) override {
     const Entry& e = entry(writer);
+    pace_.wrote(static_cast<std::size_t>(writer));
     return codec(e.kind).write(*this, e.entity, message);
   }
 
@@ -132,13 +133,12 @@ class CycloneTransport final : public Transport {
     codec(e.kind).take(*this, e.entity, e.watch, sink);
   }
 
-  // Manual-by-topic writers (qos.cpp) are asserted while the process keeps
-  // taking from its bus, at most ten times per lease (vendor_pace.hpp).
+  // Manual-by-topic writers (qos.cpp) that wrote nothing lately are asserted
+  // while the process keeps taking from its bus, at most ten times per lease
+  // (vendor_pace.hpp).
   void keep_alive() override {
-    if (!pace_.due()) return;
-    for (const Entry& e : entries_) {
-      if (e.endpoint == Endpoint::Writer && manual_liveliness(e.kind)) dds_assert_liveliness(e.entity);
-    }
+    pace_.round(std::chrono::steady_clock::now(), manual_writers_,
+                [&](std::size_t i) { dds_assert_liveliness(entries_[i].entity); });
   }
 
   bool wait(std::span<const EndpointId> readers, std::chrono::steady_clock::time_point deadline) override {
@@ -254,6 +254,7 @@ class CycloneTransport final : public Transport {
 
   EndpointId add(const Entry& e) {
     entries_.push_back(e);
+    if (e.endpoint == Endpoint::Writer && manual_liveliness(e.kind)) manual_writers_.push_back(entries_.size() - 1);
     return static_cast<EndpointId>(entries_.size() - 1);
   }
   [[nodiscard]] const Entry& entry(EndpointId id) const { return entries_.at(static_cast<std::size_t>(id)); }
@@ -302,6 +303,7 @@ class CycloneTransport final : public Transport {
 
   BusOptions opt_;
   KeepAlivePace pace_;
+  std::vector<std::size_t> manual_writers_;  // indices into entries_
   BusStats stats_;
   dds_entity_t domain_ = 0;
   dds_entity_t participant_ = 0;

@@ -308,6 +308,7 @@ class FastDdsTransport final : public Transport {
 
   bool write(EndpointId writer, const void* message) override {
     const Entry& e = entry(writer);
+    pace_.wrote(static_cast<std::size_t>(writer));
     return codec(e.kind).write(*this, e.writer, message);
   }
 
@@ -319,13 +320,13 @@ class FastDdsTransport final : public Transport {
     }
   }
 
-  // Manual-by-topic writers (qos.cpp) are asserted while the process keeps
-  // taking from its bus, at most ten times per lease (vendor_pace.hpp).
+  // Manual-by-topic writers (qos.cpp) that wrote nothing lately are asserted
+  // while the process keeps taking from its bus, at most ten times per lease
+  // (vendor_pace.hpp).
   void keep_alive() override {
-    if (!pace_.due()) return;
-    for (const Entry& e : entries_) {
-      if (e.writer != nullptr && manual_liveliness(e.kind)) e.writer->assert_liveliness();
-    }
+    pace_.round(std::chrono::steady_clock::now(), manual_writers_, [&](std::size_t i) {
+      if (entries_[i].writer != nullptr) entries_[i].writer->assert_liveliness();
+    });
   }
 
   bool wait(std::span<const EndpointId> readers, std::chrono::steady_clock::time_point deadline) override {
@@ -480,7 +481,9 @@ class FastDdsTransport final : public Transport {
   }
 
   EndpointId add(Entry e) {
+    const bool manual = e.is_writer && manual_liveliness(e.kind);
     entries_.push_back(std::move(e));
+    if (manual) manual_writers_.push_back(entries_.size() - 1);
     return static_cast<EndpointId>(entries_.size() - 1);
   }
   [[nodiscard]] Entry& entry(EndpointId id) { return entries_.at(static_cast<std::size_t>(id)); }
@@ -530,6 +533,7 @@ class FastDdsTransport final : public Transport {
 
   BusOptions opt_;
   KeepAlivePace pace_;
+  std::vector<std::size_t> manual_writers_;  // indices into entries_
   BusStats stats_;
   std::shared_ptr<spdlog::logger> log_ = spdlog::default_logger();
   fdds::DomainParticipant* participant_ = nullptr;
