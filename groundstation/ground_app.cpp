@@ -116,6 +116,8 @@ void GroundApp::note_discovery(Clock::time_point now) {
   const auto a = publish_swarm_command(start);
   if (a.status == 200) {
     log_->info("{}", a.message);
+    // The launcher measures the steady flight from here (metrics.json "steady").
+    if (launcher_.connected()) (void)launcher_.ask("started");
   } else {
     log_->warn("cannot start the swarm: {}", a.message);
   }

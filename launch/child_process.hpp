@@ -39,6 +39,9 @@ struct ChildProcess {
                            // forked copy of the launcher had
   // The one look at it during the flight (Supervisor::sample_resources).
   std::optional<ProcessSample> sample;
+  // Its CPU at the start and the end of the steady window of a realtime
+  // flight (Supervisor::sample_window; metrics.json "steady").
+  std::optional<CpuSample> window_cpu[2];
   // Ended by itself with an error, or by a signal nobody sent on purpose
   // (the SIGKILL after an ignored SIGTERM is killed_at_stop instead).
   [[nodiscard]] bool crashed() const;

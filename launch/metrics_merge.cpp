@@ -97,7 +97,64 @@ void add_udp(nlohmann::json& m, const std::optional<UdpCounters>& start, const s
   m["udp_out_datagrams"] = udp ? nlohmann::json(end->out_datagrams - start->out_datagrams) : nlohmann::json(nullptr);
 }
 
+// The steady window's per-role sums (the processes sampled at both ends).
+struct SteadySums {
+  std::map<std::string, double> cpu_ns, ctx_voluntary, ctx_involuntary, threads;
+  uint32_t uavs = 0;
+
+  void add(const ChildProcess& c) {
+    const auto& a = c.window_cpu[0];
+    const auto& b = c.window_cpu[1];
+    if (!a || !b || b->cpu_ns < a->cpu_ns) return;  // started, ended or restarted inside the window
+    if (c.role == "uav") ++uavs;
+    cpu_ns[c.role] += static_cast<double>(b->cpu_ns - a->cpu_ns);
+    ctx_voluntary[c.role] += static_cast<double>(b->ctx_voluntary - std::min(a->ctx_voluntary, b->ctx_voluntary));
+    ctx_involuntary[c.role] +=
+        static_cast<double>(b->ctx_involuntary - std::min(a->ctx_involuntary, b->ctx_involuntary));
+    for (const auto& [group, ns] : b->thread_ns) {
+      const auto it = a->thread_ns.find(group);
+      const uint64_t before = it == a->thread_ns.end() ? 0 : it->second;
+      if (ns > before) threads[c.role + "/" + group] += static_cast<double>(ns - before);
+    }
+  }
+};
+
+nlohmann::json per_tick(const std::map<std::string, double>& sums, double scale, bool with_all) {
+  nlohmann::json j = nlohmann::json::object();
+  double all = 0;
+  for (const auto& [key, v] : sums) {
+    j[key] = round3(v * scale);
+    all += v;
+  }
+  if (with_all) j["all"] = round3(all * scale);
+  return j;
+}
+
 }  // namespace
+
+nlohmann::json steady_json(std::span<const ChildProcess> processes, const std::optional<SteadyWindow>& w) {
+  if (!w || w->seconds <= 0 || w->rate_hz <= 0) return nullptr;
+  SteadySums sums;
+  for (const auto& c : processes) sums.add(c);
+  // The UAV ticks due in the window: each UAV sampled at both ends flies one
+  // per period (late ticks are reported beside, uav_late_share).
+  const double uav_ticks = static_cast<double>(sums.uavs) * w->rate_hz * w->seconds;
+  if (uav_ticks <= 0) return nullptr;
+  const double ms = 1e-6 / uav_ticks;
+  nlohmann::json j = {{"window_s", round3(w->seconds)},
+                      {"uavs", sums.uavs},
+                      {"uav_ticks", round3(uav_ticks)},
+                      {"cpu_ms_per_uav_tick", per_tick(sums.cpu_ns, ms, true)},
+                      {"ctx_voluntary_per_uav_tick", per_tick(sums.ctx_voluntary, 1.0 / uav_ticks, true)},
+                      {"ctx_involuntary_per_uav_tick", per_tick(sums.ctx_involuntary, 1.0 / uav_ticks, true)},
+                      {"threads_cpu_ms_per_uav_tick", per_tick(sums.threads, ms, false)}};
+  const bool udp = w->udp_start && w->udp_end && w->udp_end->in_datagrams >= w->udp_start->in_datagrams;
+  j["udp_in_per_uav_tick"] =
+      udp ? nlohmann::json(
+                round3(static_cast<double>(w->udp_end->in_datagrams - w->udp_start->in_datagrams) / uav_ticks))
+          : nlohmann::json(nullptr);
+  return j;
+}
 
 std::string metrics_path(const std::string& out_dir, const HostShare& share) {
   const bool ground_here = share.runs("ground", 0);
@@ -216,6 +273,7 @@ MergedMetrics merge_metrics(nlohmann::json ground, const RunRecord& run, const s
   m["processes"] = std::move(procs);
   m["dds"] = run.dds;
   m["resources"] = resources_json(run.processes);
+  m["steady"] = steady_json(run.processes, run.steady);
   m["resources_sampled_at_s"] = opt_json(run.resources_sampled_at_s);
   m["wall_s"] = opt_json(run.wall_s);
   m["run_t0_unix_ms"] = run.run_t0_unix_ms;

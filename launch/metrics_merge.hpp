@@ -17,6 +17,14 @@
 
 namespace pheromesh::cli {
 
+// The steady window of a realtime flight: two looks at every process
+// (ChildProcess::window_cpu), from a fifth to four fifths of the flight.
+struct SteadyWindow {
+  double seconds = 0;
+  double rate_hz = 0;
+  std::optional<UdpCounters> udp_start, udp_end;
+};
+
 // What the launcher knows at the end of the run.
 struct RunRecord {
   std::span<const ChildProcess> processes;  // every process started, restarts included
@@ -29,7 +37,11 @@ struct RunRecord {
   int64_t run_t0_unix_ms = 0;                    // the first spawn, Unix time [ms]
   std::optional<UdpCounters> udp_start, udp_end;
   uint32_t ticks_asked = 0;  // each UAV's ticks (RunPlan::ticks); 0: not known, the flight is not judged
+  std::optional<SteadyWindow> steady;
 };
+// metrics.json "steady": what one UAV tick costs the swarm while it flies
+// (the window), per role and per thread group; null without a window.
+nlohmann::json steady_json(std::span<const ChildProcess> processes, const std::optional<SteadyWindow>& w);
 
 struct MergedMetrics {
   nlohmann::json metrics;

@@ -1,5 +1,6 @@
 #include "proc_stats.hpp"
 
+#include <dirent.h>
 #include <fcntl.h>
 #include <unistd.h>
 
@@ -48,6 +49,34 @@ std::optional<ProcessSample> sample_process(pid_t pid) {
     }
   }
   if (!any) return std::nullopt;
+  return s;
+}
+
+std::optional<CpuSample> sample_cpu(pid_t pid) {
+  char path[96];
+  std::snprintf(path, sizeof path, "/proc/%d/status", static_cast<int>(pid));
+  const auto status = read_small_file(path);
+  if (!status || parse_status_state(*status) == 'Z') return std::nullopt;
+  CpuSample s;
+  s.ctx_voluntary = detail::field_after(*status, "voluntary_ctxt_switches").value_or(0);
+  s.ctx_involuntary = detail::field_after(*status, "nonvoluntary_ctxt_switches").value_or(0);
+  std::snprintf(path, sizeof path, "/proc/%d/task", static_cast<int>(pid));
+  DIR* dir = opendir(path);
+  if (dir == nullptr) return std::nullopt;
+  while (const dirent* e = readdir(dir)) {
+    if (e->d_name[0] < '0' || e->d_name[0] > '9') continue;
+    char task[320];
+    std::snprintf(task, sizeof task, "/proc/%d/task/%s/stat", static_cast<int>(pid), e->d_name);
+    const auto stat = read_small_file(task);
+    std::snprintf(task, sizeof task, "/proc/%d/task/%s/schedstat", static_cast<int>(pid), e->d_name);
+    const auto sched = read_small_file(task);
+    const auto name = stat ? parse_stat_cpu(*stat) : std::nullopt;
+    const auto ns = sched ? parse_schedstat_run_ns(*sched) : std::nullopt;
+    if (!name || !ns) continue;  // the thread ended meanwhile
+    s.cpu_ns += *ns;
+    s.thread_ns[thread_group(name->comm)] += *ns;
+  }
+  closedir(dir);
   return s;
 }
 

@@ -7,6 +7,7 @@
 #include <sys/types.h>
 
 #include <cstdint>
+#include <map>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -125,6 +126,61 @@ inline std::optional<UdpCounters> parse_snmp_udp(std::string_view text) {
   return UdpCounters{*in, *out};
 }
 
+// /proc/PID/stat (and /proc/PID/task/TID/stat): "pid (comm) state ..."; the
+// comm may hold blanks and parentheses, so the fields are counted after the
+// last ')'. utime and stime are fields 14 and 15 [clock ticks].
+struct StatCpu {
+  std::string comm;
+  uint64_t ticks = 0;  // utime + stime
+};
+inline std::optional<StatCpu> parse_stat_cpu(std::string_view text) {
+  const std::size_t open = text.find('('), close = text.rfind(')');
+  if (open == std::string_view::npos || close == std::string_view::npos || close < open) return std::nullopt;
+  StatCpu s{std::string(text.substr(open + 1, close - open - 1)), 0};
+  // After ") ": field 3 (state) is the first; utime is the 12th from there.
+  std::string_view rest = text.substr(close + 1);
+  uint64_t values[2] = {0, 0};
+  int field = 2, got = 0;
+  std::size_t i = 0;
+  while (i < rest.size() && got < 2) {
+    while (i < rest.size() && rest[i] == ' ') ++i;
+    if (i >= rest.size()) break;
+    ++field;
+    const std::size_t b = i;
+    while (i < rest.size() && rest[i] != ' ' && rest[i] != '\n') ++i;
+    if (field == 14 || field == 15) {
+      uint64_t v = 0;
+      for (std::size_t k = b; k < i; ++k) {
+        if (rest[k] < '0' || rest[k] > '9') return std::nullopt;
+        v = v * 10 + static_cast<uint64_t>(rest[k] - '0');
+      }
+      values[got++] = v;
+    }
+  }
+  if (got < 2) return std::nullopt;
+  s.ticks = values[0] + values[1];
+  return s;
+}
+
+// /proc/PID/task/TID/schedstat: "run_ns wait_ns timeslices": the time the
+// thread ran [ns], exact (utime and stime are counted in 10 ms ticks, too
+// coarse for a UAV's threads over seconds).
+inline std::optional<uint64_t> parse_schedstat_run_ns(std::string_view text) {
+  uint64_t v = 0;
+  std::size_t i = 0;
+  for (; i < text.size() && text[i] >= '0' && text[i] <= '9'; ++i) v = v * 10 + static_cast<uint64_t>(text[i] - '0');
+  if (i == 0 || (i < text.size() && text[i] != ' ' && text[i] != '\n')) return std::nullopt;
+  return v;
+}
+
+// A thread's group in the CPU breakdown: its name without a trailing number
+// (Cyclone's "recvUC1" and "recvUC2" are one group, "recvUC").
+inline std::string thread_group(std::string_view comm) {
+  std::size_t n = comm.size();
+  while (n > 0 && comm[n - 1] >= '0' && comm[n - 1] <= '9') --n;
+  return std::string(n == 0 ? comm : comm.substr(0, n));
+}
+
 // --- readers ------------------------------------------------------------------
 
 // The whole of a small /proc file (up to 64 KiB) with open/read, or nothing
@@ -139,6 +195,17 @@ struct ProcessSample {
 // Nothing if the process has vanished (neither file readable) or is a zombie
 // waiting to be reaped.
 std::optional<ProcessSample> sample_process(pid_t pid);
+
+// The CPU a running process's live threads used so far, and how often it
+// was switched out: /proc/PID/status and each thread's task/TID/stat (its
+// name) and schedstat (its time).
+struct CpuSample {
+  uint64_t cpu_ns = 0;                        // the threads' run time, summed [ns]
+  uint64_t ctx_voluntary = 0;                 // status: voluntary_ctxt_switches (it waited)
+  uint64_t ctx_involuntary = 0;               // status: nonvoluntary_ctxt_switches (it was preempted)
+  std::map<std::string, uint64_t> thread_ns;  // thread_group(name) -> run time of those threads [ns]
+};
+std::optional<CpuSample> sample_cpu(pid_t pid);
 
 // This network namespace's IPv4 UDP counters (/proc/net/snmp): every socket
 // of every process on the host (in this namespace), not only ours.

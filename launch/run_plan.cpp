@@ -165,8 +165,10 @@ PlannedProcess ground(const RunPlan& p, uint32_t participant_id) {
   }
   // The ground station's line to us: the console's kill / restart requests,
   // the lockstep conductor's `faults K`, and pause / stop from a console or
-  // a MAVLink station (a pause extends the deadline; docs/mavlink.md).
-  const bool control = o.http_port || p.lockstep_faults() || !o.mavlink.empty();
+  // a MAVLink station (a pause extends the deadline; docs/mavlink.md), and
+  // in realtime the swarm's start, from which the launcher measures the
+  // steady flight (metrics.json "steady").
+  const bool control = o.http_port || p.lockstep_faults() || !o.mavlink.empty() || !p.lockstep();
   if (control) args.insert(args.end(), {"--launcher-fd", "3"});
   if (p.lockstep_faults()) {
     std::string list;

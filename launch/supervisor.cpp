@@ -517,6 +517,24 @@ FlightEnd Supervisor::fly() {
 
 void Supervisor::watch_resources(Clock::time_point now, Clock::duration paused) {
   if (!sampled_ && now >= t0_ + plan_.deadlines.resource_sample + paused) sample_resources();
+  // The steady window: discovery and the start are over, the end not near.
+  if (!started_at_ || plan_.lockstep() || windows_taken_ >= 2) return;
+  const auto flight = std::chrono::duration<double>(plan_.ticks / plan_.rate_hz);
+  const double share = windows_taken_ == 0 ? 0.2 : 0.8;
+  if (now >= *started_at_ + paused + std::chrono::duration_cast<Clock::duration>(flight * share)) {
+    sample_window(windows_taken_);
+  }
+}
+
+void Supervisor::sample_window(int end) {
+  // Every running process's CPU, context switches and threads' CPU; a
+  // process that ended or restarted between the two ends is left out.
+  for (auto& c : children_) {
+    if (c.running) c.window_cpu[end] = sample_cpu(c.pid);
+  }
+  window_at_[end] = Clock::now();
+  window_udp_[end] = netns_ ? netns_->udp_counters() : read_udp_counters();
+  windows_taken_ = end + 1;
 }
 
 void Supervisor::watch_conductor(Clock::time_point now) {
@@ -580,6 +598,10 @@ RunRecord Supervisor::record() const {
   r.udp_start = udp_start_;
   r.udp_end = udp_end_;
   r.ticks_asked = plan_.ticks;
+  if (windows_taken_ == 2) {
+    r.steady = SteadyWindow{std::chrono::duration<double>(window_at_[1] - window_at_[0]).count(), plan_.rate_hz,
+                            window_udp_[0], window_udp_[1]};
+  }
   return r;
 }
 
@@ -647,6 +669,12 @@ std::string Supervisor::handle_control(const std::string& line) {
     if (paused_since_) paused_total_ += now - *paused_since_;
     paused_since_.reset();
     return "ok resumed";
+  }
+  if (line == "started") {
+    // The ground station started the swarm (realtime): the steady window
+    // counts from here (watch_resources).
+    if (!started_at_) started_at_ = now;
+    return "ok";
   }
   if (line == "stop") {
     // A MAVLink station's stop (docs/mavlink.md): as the operator's SIGINT,

@@ -98,6 +98,7 @@ class Supervisor {
   [[nodiscard]] bool flying() const;
   ChildProcess* find(const std::string& name);
   void sample_resources();
+  void sample_window(int end);  // 0: the steady window's start, 1: its end
   void clean_fastdds_shm() const;
 
   // The flight's watches, each at most once per 10 ms round.
@@ -181,6 +182,12 @@ class Supervisor {
   std::optional<double> wall_s_;                    // first spawn -> every child ended [s]
   std::optional<double> sampled_at_s_;              // when sample_resources ran, after the first spawn [s]
   std::optional<UdpCounters> udp_start_, udp_end_;
+  // The steady window of a realtime flight (metrics.json "steady"): from a
+  // fifth to four fifths of the flight after the ground station's start.
+  std::optional<std::chrono::steady_clock::time_point> started_at_;  // the ground station said "started"
+  int windows_taken_ = 0;                                            // 0, 1 (start sampled) or 2
+  std::chrono::steady_clock::time_point window_at_[2];
+  std::optional<UdpCounters> window_udp_[2];
 };
 
 }  // namespace pheromesh::cli

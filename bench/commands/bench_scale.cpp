@@ -46,6 +46,11 @@ const char* const kBenchScaleFooter =
     "  threads      per process (/proc/PID/status at the same moment), mean per role\n"
     "  UDP in/tick  IPv4 UDP datagrams received on the whole host (/proc/net/snmp, before the first spawn and\n"
     "               after the last process ended) per UAV tick: anything else on the host using UDP counts too\n"
+    "  flying       the same while the swarm flies: from a fifth to four fifths of the flight after the ground\n"
+    "               station's start (discovery and the end left out), per UAV tick due in that window (UAVs running\n"
+    "               at both ends x rate x window); in scale.md's budget table also by role (UAV, place agent,\n"
+    "               ground station, from /proc/PID/stat), by thread (/proc/PID/task/*/stat, grouped by name) and\n"
+    "               context switches (/proc/PID/status: waits and preemptions). Realtime runs only\n"
     "With --repeat K each size runs K times (a row each); a size holds only if every one of its runs held.\n"
     "A vendor's larger sizes are skipped once a size has more late ticks than --stop-late-share. Missing figures\n"
     "are printed as n/a. Results: OUT/scale.md (the table), OUT/scale.csv, OUT/scale.json and OUT/*.svg plots.\n"
@@ -76,6 +81,7 @@ const std::vector<Column>& columns() {
       {"uav_cpu_user_ms_per_tick", "UAV usr ms/tick", 2},
       {"uav_cpu_sys_ms_per_tick", "UAV sys ms/tick", 2},
       {"swarm_cpu_ms_per_tick", "swarm ms/tick", 2},
+      {"flying_cpu_ms_per_tick", "flying ms/tick", 3},
       {"pss_uav_mib", "PSS uav MiB", 1},
       {"pss_place_mib", "PSS place MiB", 1},
       {"pss_ground_mib", "PSS ground MiB", 1},
@@ -85,6 +91,7 @@ const std::vector<Column>& columns() {
       {"threads_uav", "thr uav", 1},
       {"threads_place", "thr place", 1},
       {"udp_in_per_tick", "UDP in/tick", 1},
+      {"flying_udp_in_per_tick", "flying UDP/tick", 1},
       {"uav_ticks_flown", "ticks flown", 0},
       {"processes_crashed", "crashed", 0},
       {"uav_lost", "lost", 0},
@@ -99,6 +106,7 @@ struct ScaleRow {
   int exit_code = -1;
   std::string dir;
   std::map<std::string, Value> v;
+  Json steady;  // metrics.json "steady": the flight's budget per UAV tick
   [[nodiscard]] Value get(const std::string& key) const {
     const auto it = v.find(key);
     return it == v.end() ? std::nullopt : it->second;
@@ -181,6 +189,9 @@ void fill_row(ScaleRow& row, const Json& m) {
   row.v["threads_place"] = number_at(m, "resources.place.threads_mean");
   row.v["udp_in_per_tick"] = per(number_at(m, "udp_in_datagrams"), ticks);
   row.v["uav_ticks_flown"] = ticks;
+  row.v["flying_cpu_ms_per_tick"] = number_at(m, "steady.cpu_ms_per_uav_tick.all");
+  row.v["flying_udp_in_per_tick"] = number_at(m, "steady.udp_in_per_uav_tick");
+  row.steady = m.value("steady", Json());
   row.v["processes_crashed"] = number_at(m, "processes_crashed");
   row.v["uav_lost"] = number_at(m, "uav_lost");
 }
@@ -212,6 +223,38 @@ std::string markdown_table(const std::vector<ScaleRow>& rows) {
       << " | " << r.exit_code << " |";
     for (const auto& c : columns()) o << " " << fmt_value(r.get(c.key), c.precision) << " |";
     o << "\n";
+  }
+  return o.str();
+}
+
+// The steady window's budget of one UAV tick, per row: CPU by role and by
+// thread group, context switches, datagrams (metrics.json "steady").
+std::string budget_table(const std::vector<ScaleRow>& rows) {
+  std::ostringstream o;
+  o << "| vendor | N | window s | CPU ms/tick: all | UAV | place | ground | ctx switches/tick (waits + preempted) | "
+       "UDP in/tick | threads: CPU ms/tick |\n|---|--:|--:|--:|--:|--:|--:|--:|--:|---|\n";
+  for (const auto& r : rows) {
+    if (!r.steady.is_object()) continue;
+    const auto at = [&](const std::string& path) { return number_at(r.steady, path); };
+    o << "| " << r.vendor << (r.run > 1 ? " (run " + std::to_string(r.run) + ")" : std::string()) << " | " << r.uavs
+      << " | " << fmt_value(at("window_s"), 1);
+    for (const char* role : {"all", "uav", "place", "ground"}) {
+      o << " | " << fmt_value(at(std::string("cpu_ms_per_uav_tick.") + role), 3);
+    }
+    o << " | " << fmt_value(at("ctx_voluntary_per_uav_tick.all"), 1) << " + "
+      << fmt_value(at("ctx_involuntary_per_uav_tick.all"), 1) << " | " << fmt_value(at("udp_in_per_uav_tick"), 1)
+      << " |";
+    // The thread groups, costliest first.
+    std::vector<std::pair<double, std::string>> groups;
+    const Json threads = r.steady.value("threads_cpu_ms_per_uav_tick", Json::object());
+    for (const auto& [name, ms] : threads.items()) {
+      if (ms.is_number() && ms.get<double>() >= 0.001) groups.emplace_back(ms.get<double>(), name);
+    }
+    std::sort(groups.rbegin(), groups.rend());
+    for (std::size_t i = 0; i < groups.size() && i < 8; ++i) {
+      o << (i == 0 ? " " : ", ") << groups[i].second << " " << fmt_value(groups[i].first, 3);
+    }
+    o << " |\n";
   }
   return o.str();
 }
@@ -279,6 +322,10 @@ std::string scale_markdown(const Plan& p, const std::vector<ScaleRow>& rows, con
      << markdown_table(rows) << "\n";
   for (const auto& l : lines) md << "* " << l << "\n";
   for (const auto& s : skipped) md << "* " << s << "\n";
+  md << "\n## Where a UAV tick goes, while the swarm flies\n\n"
+     << "From a fifth to four fifths of the flight after the ground station's start (metrics.json \"steady\"), per UAV "
+        "tick due in that window:\n\n"
+     << budget_table(rows);
   md << "\n![late share](late_share.svg)\n![CPU per UAV tick](cpu_per_uav_tick.svg)\n"
      << "![PSS per UAV](pss_per_uav.svg)\n![discovery](discovery.svg)\n\n"
      << "## How it is measured\n\n```\n"
@@ -305,7 +352,8 @@ std::string scale_csv(const std::vector<ScaleRow>& rows) {
 Json scale_rows_json(const std::vector<ScaleRow>& rows) {
   Json j_rows = Json::array();
   for (const auto& r : rows) {
-    Json jr = {{"vendor", r.vendor}, {"uavs", r.uavs}, {"exit_code", r.exit_code}, {"dir", r.dir}};
+    Json jr = {
+        {"vendor", r.vendor}, {"uavs", r.uavs}, {"exit_code", r.exit_code}, {"dir", r.dir}, {"steady", r.steady}};
     for (const auto& c : columns()) {
       const Value v = rounded(r.get(c.key), c.precision);
       if (!v) {

@@ -316,6 +316,40 @@ TEST(MetricsMerge, ResourcesSumCpuPerRoleAndAverageTheSampledProcesses) {
   EXPECT_TRUE(merge_metrics(ground_metrics(), r, "m.json").metrics["udp_in_datagrams"].is_null());
 }
 
+TEST(MetricsMerge, TheSteadyWindowGivesCpuContextSwitchesThreadsAndDatagramsPerUavTickDue) {
+  std::vector<ChildProcess> ps{ended("uav-0", "uav", 0), ended("uav-1", "uav", 0), ended("place-0", "place", 0),
+                               ended("uav-2", "uav", 0)};
+  // Two UAVs and a place agent seen at both ends of a 2 s window at 5 Hz:
+  // 2 x 5 x 2 = 20 UAV ticks due. uav-2 was seen only at the start (it
+  // ended inside the window) and counts for nothing.
+  ps[0].window_cpu[0] = CpuSample{1'000'000, 10, 1, {{"recv", 400'000}, {"tev", 600'000}}};
+  ps[0].window_cpu[1] = CpuSample{5'000'000, 30, 3, {{"recv", 2'400'000}, {"tev", 2'600'000}}};
+  ps[1].window_cpu[0] = CpuSample{0, 0, 0, {{"recv", 0}}};
+  ps[1].window_cpu[1] = CpuSample{2'000'000, 20, 1, {{"recv", 2'000'000}}};
+  ps[2].window_cpu[0] = CpuSample{10'000'000, 100, 10, {{"recv", 10'000'000}}};
+  ps[2].window_cpu[1] = CpuSample{30'000'000, 120, 50, {{"recv", 30'000'000}}};
+  ps[3].window_cpu[0] = CpuSample{1'000'000, 0, 0, {}};
+  RunRecord r = record_of(ps);
+  r.steady = SteadyWindow{2.0, 5.0, UdpCounters{1000, 0}, UdpCounters{1300, 0}};
+  const nlohmann::json s = merge_metrics(ground_metrics(), r, "m.json").metrics["steady"];
+  ASSERT_TRUE(s.is_object());
+  EXPECT_EQ(s["uavs"], 2);
+  EXPECT_DOUBLE_EQ(s["uav_ticks"].get<double>(), 20.0);
+  // UAVs: 4 ms + 2 ms over 20 ticks; the place agent 20 ms over 20.
+  EXPECT_DOUBLE_EQ(s["cpu_ms_per_uav_tick"]["uav"].get<double>(), 0.3);
+  EXPECT_DOUBLE_EQ(s["cpu_ms_per_uav_tick"]["place"].get<double>(), 1.0);
+  EXPECT_DOUBLE_EQ(s["cpu_ms_per_uav_tick"]["all"].get<double>(), 1.3);
+  EXPECT_FALSE(s["cpu_ms_per_uav_tick"].contains("ground"));
+  EXPECT_DOUBLE_EQ(s["ctx_voluntary_per_uav_tick"]["all"].get<double>(), 3.0);        // (20 + 20 + 20) / 20
+  EXPECT_DOUBLE_EQ(s["ctx_involuntary_per_uav_tick"]["place"].get<double>(), 2.0);    // 40 / 20
+  EXPECT_DOUBLE_EQ(s["threads_cpu_ms_per_uav_tick"]["uav/recv"].get<double>(), 0.2);  // (2 + 2) ms / 20
+  EXPECT_DOUBLE_EQ(s["threads_cpu_ms_per_uav_tick"]["uav/tev"].get<double>(), 0.1);
+  EXPECT_DOUBLE_EQ(s["udp_in_per_uav_tick"].get<double>(), 15.0);  // 300 / 20
+  // No window (lockstep, or the flight ended before it closed): null.
+  r.steady.reset();
+  EXPECT_TRUE(merge_metrics(ground_metrics(), r, "m.json").metrics["steady"].is_null());
+}
+
 // What `pheromesh run` writes: a ground station's metrics (from a
 // simulated recorder, through the function the ground station calls) merged
 // with the launcher's processes, faults and resources.

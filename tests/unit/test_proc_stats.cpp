@@ -67,5 +67,32 @@ TEST(ProcStats, SnmpWithoutUdpValuesIsNothing) {
   EXPECT_FALSE(parse_snmp_udp("Udp: InDatagrams OutDatagrams\nUdp: 1 x\n").has_value());
 }
 
+TEST(ProcStats, StatGivesTheNameAndUserPlusSystemTicksEvenWithBlanksAndParenthesesInTheName) {
+  // Fields 14 (utime) and 15 (stime), counted after the last ')'.
+  const auto s = parse_stat_cpu("4242 (dq.builtins) S 1 4242 4242 0 -1 4194560 300 0 0 0 17 5 0 0 20 0 9 0 123\n");
+  ASSERT_TRUE(s.has_value());
+  EXPECT_EQ(s->comm, "dq.builtins");
+  EXPECT_EQ(s->ticks, 22U);
+  const auto odd = parse_stat_cpu("7 (a (b) c) R 1 7 7 0 -1 0 0 0 0 0 100 250 0 0 20 0 1 0 5");
+  ASSERT_TRUE(odd.has_value());
+  EXPECT_EQ(odd->comm, "a (b) c");
+  EXPECT_EQ(odd->ticks, 350U);
+  EXPECT_FALSE(parse_stat_cpu("7 (short) R 1 2").has_value());
+  EXPECT_FALSE(parse_stat_cpu("no parentheses").has_value());
+}
+
+TEST(ProcStats, SchedstatGivesTheRunTimeInNanoseconds) {
+  EXPECT_EQ(parse_schedstat_run_ns("145489 3129691 2\n"), 145489U);
+  EXPECT_FALSE(parse_schedstat_run_ns("").has_value());
+  EXPECT_FALSE(parse_schedstat_run_ns("12x 3 4").has_value());
+}
+
+TEST(ProcStats, AThreadsGroupIsItsNameWithoutATrailingNumber) {
+  EXPECT_EQ(thread_group("recvUC12"), "recvUC");
+  EXPECT_EQ(thread_group("tev"), "tev");
+  EXPECT_EQ(thread_group("dq.builtins"), "dq.builtins");
+  EXPECT_EQ(thread_group("42"), "42");  // all digits: the name stays
+}
+
 }  // namespace
 }  // namespace pheromesh::cli

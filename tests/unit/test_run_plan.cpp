@@ -148,7 +148,13 @@ TEST(RunPlan, ParticipantIdsLogFilesAndStandardErrorFollowTheStartOrder) {
   EXPECT_EQ(uav7.log_path, "/tmp/r/logs/uav-7.log");
   EXPECT_EQ(uav7.stderr_to, StderrTo::Log);
   EXPECT_EQ(process(p, "ground").stderr_to, StderrTo::Launcher);
-  EXPECT_EQ(process(p, "ground").control, ControlLine::None);
+  // Realtime: the ground station tells the launcher when it started the
+  // swarm (the steady window of metrics.json); lockstep without faults,
+  // a console or MAVLink has no control line.
+  EXPECT_EQ(process(p, "ground").control, ControlLine::Fd3);
+  EXPECT_EQ(value_of(process(p, "ground"), "--launcher-fd"), "3");
+  o.clock = "lockstep";
+  EXPECT_EQ(process(plan_of(o, small_test_with(10)), "ground").control, ControlLine::None);
 }
 
 TEST(RunPlan, OptionsGivenArePassedOnAndOptionsLeftOutAreNot) {
