@@ -435,6 +435,42 @@ INSTANTIATE_TEST_SUITE_P(Vendors, Interop,
                                          Pair{"fastdds", "cyclone"}),
                          pair_name);
 
+// A realtime swarm's views are best effort (bus/qos.hpp, Pacing): written
+// every tick, they reach the UAV across vendors once matched; one written
+// before the match is not kept for it (volatile).
+class RealtimeViews : public testing::TestWithParam<Pair> {};
+
+TEST_P(RealtimeViews, AViewWrittenEachTickReachesItsUavAcrossVendorsBestEffort) {
+  bus::BusOptions o;
+  o.domain = 61;
+  o.pacing = bus::Pacing::Realtime;
+  o.process_name = "place";
+  auto w = bus::make_bus(GetParam().writer, o);
+  o.process_name = "uav-5";
+  auto r = bus::make_bus(GetParam().reader, o);
+  ASSERT_TRUE(w && r);
+  r.value()->join_uav(5, 3);
+  core::ViewMsg view{5, 0, {}, {}};
+  view.deposit_ack = 7;
+  std::vector<core::ViewMsg> got;
+  const auto deadline = Clock::now() + std::chrono::seconds(15);
+  while (got.empty() && Clock::now() < deadline) {
+    ++view.tick;  // a tick's view, as a realtime place agent writes them
+    ASSERT_TRUE(w.value()->publish_view(view));
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    r.value()->take_views(got);
+  }
+  ASSERT_FALSE(got.empty()) << "no view in 15 s";
+  EXPECT_EQ(got.back().uav, 5U);
+  EXPECT_EQ(got.back().deposit_ack, 7U);
+  EXPECT_GE(got.back().tick, 1U);
+}
+
+INSTANTIATE_TEST_SUITE_P(Vendors, RealtimeViews,
+                         testing::Values(Pair{"cyclone", "cyclone"}, Pair{"fastdds", "fastdds"},
+                                         Pair{"cyclone", "fastdds"}, Pair{"fastdds", "cyclone"}),
+                         pair_name);
+
 TEST(Peers, AddressesAreKeptNamesResolveToTheirAddressesAndUnknownNamesAreListed) {
   const auto p = bus::resolve_peers(" 10.0.0.2, localhost,10.0.0.2,,no-such-host.invalid ");
   ASSERT_TRUE(static_cast<bool>(p)) << p.error().message;

@@ -35,6 +35,31 @@ TEST(Qos, ReplicatedSwarmsMeanTheSameOnCycloneAndFastDds) {
   }
 }
 
+TEST(Qos, ARealtimeSwarmsViewsAreBestEffortAndVolatileOnBothVendorsAndNothingElseChanges) {
+  const auto lease = std::chrono::milliseconds(1000);
+  for (const Replication r : {Replication{}, Replication{true, 999}}) {
+    for (const TopicKind k : kAllTopicKinds) {
+      for (const Endpoint e : {Endpoint::Writer, Endpoint::Reader}) {
+        const QosSpec lockstep = endpoint_qos(k, e, lease, r);
+        const QosSpec realtime = endpoint_qos(k, e, lease, r, Pacing::Realtime);
+        if (k == TopicKind::View) {
+          EXPECT_EQ(realtime.reliability, QosSpec::Reliability::BestEffort);
+          EXPECT_EQ(realtime.durability, QosSpec::Durability::Volatile);
+          EXPECT_EQ(lockstep.reliability, QosSpec::Reliability::Reliable) << "lockstep waits for every view";
+          QosSpec rest = realtime;
+          rest.reliability = lockstep.reliability;
+          rest.durability = lockstep.durability;
+          EXPECT_EQ(rest, lockstep) << "only reliability and durability differ";
+        } else {
+          EXPECT_EQ(realtime, lockstep) << to_string(k);
+        }
+        EXPECT_EQ(cyclone_effective_qos(k, e, lease, r, Pacing::Realtime), realtime) << to_string(k);
+        EXPECT_EQ(fastdds_effective_qos(k, e, lease, r, Pacing::Realtime), realtime) << to_string(k);
+      }
+    }
+  }
+}
+
 TEST(Qos, APlaceReplicasOutputIsExclusiveWithAStrengthAndALease) {
   using std::chrono::milliseconds;
   const auto lease = milliseconds(800);

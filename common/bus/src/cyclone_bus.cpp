@@ -239,13 +239,14 @@ class CycloneTransport final : public Transport {
     dds_qset_partition(pq.get(), static_cast<uint32_t>(names.size()), names.data());
     if (e.endpoint == Endpoint::Writer) {
       const dds_entity_t publisher = PHM_DDS(dds_create_publisher(participant_, pq.get(), nullptr));
-      QosPtr wq = to_cyclone(endpoint_qos(e.kind, Endpoint::Writer, opt_.liveliness_lease, opt_.replication));
+      QosPtr wq =
+          to_cyclone(endpoint_qos(e.kind, Endpoint::Writer, opt_.liveliness_lease, opt_.replication, opt_.pacing));
       e.entity = PHM_DDS(dds_create_writer(publisher, topic(e.kind), wq.get(), nullptr));
       return;
     }
     const dds_entity_t subscriber = PHM_DDS(dds_create_subscriber(participant_, pq.get(), nullptr));
-    QosPtr rq = to_cyclone(
-        reader_qos_for(endpoint_qos(e.kind, Endpoint::Reader, opt_.liveliness_lease, opt_.replication), e.watch));
+    QosPtr rq = to_cyclone(reader_qos_for(
+        endpoint_qos(e.kind, Endpoint::Reader, opt_.liveliness_lease, opt_.replication, opt_.pacing), e.watch));
     e.entity = PHM_DDS(dds_create_reader(subscriber, topic(e.kind), rq.get(), nullptr));
     // A read condition on its unread samples (including the no-writers
     // notifications of departures) wakes wait().
@@ -260,7 +261,7 @@ class CycloneTransport final : public Transport {
   [[nodiscard]] const Entry& entry(EndpointId id) const { return entries_.at(static_cast<std::size_t>(id)); }
 
   [[nodiscard]] bool manual_liveliness(TopicKind k) const {
-    return endpoint_qos(k, Endpoint::Writer, opt_.liveliness_lease, opt_.replication).liveliness ==
+    return endpoint_qos(k, Endpoint::Writer, opt_.liveliness_lease, opt_.replication, opt_.pacing).liveliness ==
            QosSpec::Liveliness::ManualByTopic;
   }
 
@@ -368,8 +369,8 @@ const Codec& CycloneTransport::codec(TopicKind k) {
 }  // namespace
 
 QosSpec cyclone_effective_qos(TopicKind kind, Endpoint endpoint, std::chrono::milliseconds lease,
-                              const Replication& replication) {
-  const QosPtr q = to_cyclone(endpoint_qos(kind, endpoint, lease, replication));
+                              const Replication& replication, Pacing pacing) {
+  const QosPtr q = to_cyclone(endpoint_qos(kind, endpoint, lease, replication, pacing));
   QosSpec s;
   dds_reliability_kind_t rel{};
   dds_duration_t blocking = 0;

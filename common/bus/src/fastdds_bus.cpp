@@ -448,8 +448,8 @@ class FastDdsTransport final : public Transport {
       pq.partition().push_back(partition.c_str());
       fdds::Publisher* publisher =
           PHM_FASTDDS(participant_->create_publisher(pq), "cannot create a publisher for partition " + partition);
-      const fdds::DataWriterQos q =
-          to_fastdds_writer(endpoint_qos(e.kind, Endpoint::Writer, opt_.liveliness_lease, opt_.replication));
+      const fdds::DataWriterQos q = to_fastdds_writer(
+          endpoint_qos(e.kind, Endpoint::Writer, opt_.liveliness_lease, opt_.replication, opt_.pacing));
       e.writer = PHM_FASTDDS(publisher->create_datawriter(topic(e.kind), q),
                              std::string("cannot create a writer of ") + to_string(e.kind) + " in partition " +
                                  partition + permissions_hint());
@@ -459,8 +459,8 @@ class FastDdsTransport final : public Transport {
     for (const auto& p : e.partitions) sq.partition().push_back(p.c_str());
     fdds::Subscriber* subscriber = PHM_FASTDDS(participant_->create_subscriber(sq), "cannot create a subscriber");
     const fdds::StatusMask mask = e.watch ? fdds::StatusMask::liveliness_changed() : fdds::StatusMask::none();
-    const fdds::DataReaderQos q = to_fastdds_reader(
-        reader_qos_for(endpoint_qos(e.kind, Endpoint::Reader, opt_.liveliness_lease, opt_.replication), e.watch_kind));
+    const fdds::DataReaderQos q = to_fastdds_reader(reader_qos_for(
+        endpoint_qos(e.kind, Endpoint::Reader, opt_.liveliness_lease, opt_.replication, opt_.pacing), e.watch_kind));
     e.reader = PHM_FASTDDS(subscriber->create_datareader(topic(e.kind), q, e.watch.get(), mask),
                            std::string("cannot create a reader of ") + to_string(e.kind) + permissions_hint());
     // Every reader can wake wait(): its data-available status condition.
@@ -489,7 +489,7 @@ class FastDdsTransport final : public Transport {
   [[nodiscard]] Entry& entry(EndpointId id) { return entries_.at(static_cast<std::size_t>(id)); }
 
   [[nodiscard]] bool manual_liveliness(TopicKind k) const {
-    return endpoint_qos(k, Endpoint::Writer, opt_.liveliness_lease, opt_.replication).liveliness ==
+    return endpoint_qos(k, Endpoint::Writer, opt_.liveliness_lease, opt_.replication, opt_.pacing).liveliness ==
            QosSpec::Liveliness::ManualByTopic;
   }
 
@@ -593,8 +593,8 @@ core::Result<std::unique_ptr<Transport>> make_fastdds_transport(const BusOptions
 }
 
 QosSpec fastdds_effective_qos(TopicKind kind, Endpoint endpoint, std::chrono::milliseconds lease,
-                              const Replication& replication) {
-  const QosSpec spec = endpoint_qos(kind, endpoint, lease, replication);
+                              const Replication& replication, Pacing pacing) {
+  const QosSpec spec = endpoint_qos(kind, endpoint, lease, replication, pacing);
   if (endpoint == Endpoint::Writer) {
     const fdds::DataWriterQos q = to_fastdds_writer(spec);
     QosSpec s = read_back(q);

@@ -145,7 +145,7 @@ class MemoryTransport final : public Transport {
 
   EndpointId open_writer(TopicKind kind, const std::string& partition) override {
     std::lock_guard<std::mutex> lock(domain_->mutex);
-    const QosSpec q = endpoint_qos(kind, Endpoint::Writer, opt_.liveliness_lease, opt_.replication);
+    const QosSpec q = endpoint_qos(kind, Endpoint::Writer, opt_.liveliness_lease, opt_.replication, opt_.pacing);
     domain_->writers.push_back({this, kind, partition, q, domain_->next_writer++, {}, participant_});
     return add({&domain_->writers.back(), nullptr});
   }
@@ -153,8 +153,8 @@ class MemoryTransport final : public Transport {
   EndpointId open_reader(TopicKind kind, const std::vector<std::string>& partitions, Watch watch) override {
     {
       std::lock_guard<std::mutex> lock(domain_->mutex);
-      const QosSpec q =
-          reader_qos_for(endpoint_qos(kind, Endpoint::Reader, opt_.liveliness_lease, opt_.replication), watch);
+      const QosSpec q = reader_qos_for(
+          endpoint_qos(kind, Endpoint::Reader, opt_.liveliness_lease, opt_.replication, opt_.pacing), watch);
       domain_->readers.push_back({this, kind, partitions, q, watch, {}});
       auto& r = domain_->readers.back();
       // Transient-local: the history of the writers it matches.

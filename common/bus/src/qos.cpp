@@ -165,8 +165,20 @@ bool replicated(TopicKind kind) {
   }
 }
 
-QosSpec endpoint_qos(TopicKind kind, Endpoint endpoint, std::chrono::milliseconds lease, const Replication& r) {
+QosSpec endpoint_qos(TopicKind kind, Endpoint endpoint, std::chrono::milliseconds lease, const Replication& r,
+                     Pacing pacing) {
   QosSpec q = topic_qos(kind, endpoint, lease);
+  if (pacing == Pacing::Realtime && kind == TopicKind::View) {
+    // A realtime view is superseded by the next tick's, and the deposit
+    // receipts it carries are cumulative (core/receipts.hpp): a lost one
+    // costs nothing the next does not bring. Best effort drops the
+    // acknowledgement each view asked for, one datagram per UAV tick and a
+    // wake-up of the sending place agent (measured: docs/benchmarks.md,
+    // "Where a UAV tick goes"); volatile, as late joiners need no history
+    // of something replaced each tick.
+    q.reliability = QosSpec::Reliability::BestEffort;
+    q.durability = QosSpec::Durability::Volatile;
+  }
   if (!r.exclusive || !replicated(kind)) return q;
   q.ownership = QosSpec::Ownership::Exclusive;
   if (endpoint == Endpoint::Writer && r.strength > 0) {

@@ -241,6 +241,7 @@ core::Result<bus::BusOptions> bus_options(const CommonOptions& o, const std::str
   if (b.replication.exclusive && o.place_replica >= 0) {
     b.replication.strength = std::max(1, kPrimaryStrength - o.place_replica);
   }
+  b.pacing = o.lockstep() ? bus::Pacing::Lockstep : bus::Pacing::Realtime;
   b.process_name = process_name;
   b.domain = o.domain;
   b.profile = o.dds_profile;

@@ -88,6 +88,9 @@ struct BusOptions {
   std::optional<CellDiscovery> cell;
   // Hot-standby place agents in this swarm (qos.hpp, docs/faults.md).
   Replication replication;
+  // The swarm's clock: what a realtime swarm replaces every tick goes best
+  // effort (qos.hpp, endpoint_qos). Every process of a swarm must agree.
+  Pacing pacing = Pacing::Lockstep;
   // DDS Security (security.hpp, docs/security.md): the directory `pheromesh
   // security init` made, and the identity in it this process uses (empty:
   // its process_name). Empty secure_dir: no security, the open profile.

@@ -92,8 +92,13 @@ struct Replication {
 };
 // Kinds whose readers take each instance from one owner in a replicated swarm.
 bool replicated(TopicKind kind);
-// topic_qos with the swarm's replication applied.
-QosSpec endpoint_qos(TopicKind kind, Endpoint endpoint, std::chrono::milliseconds lease, const Replication& r);
+// The swarm's clock, as far as the QoS goes: in a realtime swarm a UAV's
+// view is replaced by the next one every tick, and goes best effort
+// (endpoint_qos); lockstep waits for every one of them.
+enum class Pacing : uint8_t { Lockstep, Realtime };
+// topic_qos with the swarm's replication and pacing applied.
+QosSpec endpoint_qos(TopicKind kind, Endpoint endpoint, std::chrono::milliseconds lease, const Replication& r,
+                     Pacing pacing = Pacing::Lockstep);
 
 // The DDS topic name and type name of a kind (the same on every vendor).
 const char* topic_name(TopicKind kind);
