@@ -25,21 +25,19 @@ namespace pheromesh::cli {
 
 namespace {
 
-// --mavlink and --mavlink-rate-hz of `run` and `attach`, checked as the
-// ground station checks them (console/mavlink_feed.hpp).
-void add_mavlink_options(CLI::App* c, std::string& target, double& rate_hz, bool monitor) {
-  const std::string stream =
-      "Stream the swarm to a MAVLink ground-control station at udp:HOST:PORT (QGroundControl: "
-      "udp:127.0.0.1:14550): UAVs 0..249 as vehicles 1..250, every UAV as ADS-B traffic, the ground station as "
-      "system 251 with place-agent losses and found targets; ";
-  c->add_option("--mavlink", target,
-                stream + (monitor ? "a monitor takes no command from it (docs/mavlink.md)"
-                                  : "it takes pause, continue and stop signed with the swarm's MAVLink key, which "
-                                    "the ground station writes to OUT/mavlink.key (docs/mavlink.md)"))
-      ->check([](const std::string& v) {
-        const auto t = console::parse_mavlink_target(v, "");
-        return t ? std::string() : t.error().message;
-      });
+// --mavlink and --mavlink-rate-hz of `run`, `attach` and `replay`, checked
+// as the ground station checks them (console/mavlink_feed.hpp). `source`:
+// what is streamed; `commands`: what the stream takes from the station.
+void add_mavlink_options(CLI::App* c, std::string& target, double& rate_hz, const std::string& source,
+                         const std::string& commands) {
+  const std::string stream = "Stream " + source +
+                             " to a MAVLink ground-control station at udp:HOST:PORT (QGroundControl: "
+                             "udp:127.0.0.1:14550): UAVs 0..249 as vehicles 1..250, every UAV as ADS-B traffic, the "
+                             "ground station as system 251 with place-agent losses and found targets; ";
+  c->add_option("--mavlink", target, stream + commands + " (docs/mavlink.md)")->check([](const std::string& v) {
+    const auto t = console::parse_mavlink_target(v, "");
+    return t ? std::string() : t.error().message;
+  });
   c->add_option("--mavlink-rate-hz", rate_hz,
                 "With --mavlink: position, attitude and ADS-B reports per UAV per second [Hz], 0.2..20 (heartbeats "
                 "at 1 Hz)")
@@ -258,14 +256,23 @@ class FullCommands final : public ProcessCommands {
     r->add_flag("--no-record", ro.no_record, "Do not record the console");
     r->add_flag("--tracks", ro.tracks,
                 "The ground station also writes OUT/tracks.csv: every UAV state it heard (docs/outputs.md)");
-    add_mavlink_options(r, ro.mavlink, ro.mavlink_rate_hz, false);
+    add_mavlink_options(r, ro.mavlink, ro.mavlink_rate_hz, "the swarm",
+                        "it takes pause, continue and stop signed with the swarm's MAVLink key, which the ground "
+                        "station writes to OUT/mavlink.key");
 
-    rp = app.add_subcommand("replay", "Serve the web console from a recording (OUT/console.phrec of `run --http`), "
-                                            "with a time slider");
+    rp = app.add_subcommand("replay",
+                            "Serve the web console from a recording (OUT/console.phrec of `run --http`), "
+                            "with a time slider; with --mavlink, also stream it to a MAVLink "
+                            "ground-control station as the live run was streamed");
     rp->add_option("FILE", rpo.file, "Recording")->required()->check(CLI::ExistingFile);
     rp->add_option("--http", rpo.port, "Port of the console (0: any free port)")->capture_default_str();
     rp->add_option("--http-bind", rpo.bind, "Address the console listens on")->capture_default_str();
     rp->add_flag("--check", rpo.check, "Only read the recording and say what it holds");
+    add_mavlink_options(rp, rpo.mavlink, rpo.mavlink_rate_hz,
+                        "the recording, from its first frame at the pace it was recorded (its last state is held at "
+                        "the end),",
+                        "a station's pause and continue (unsigned: a replay holds no key) pause and continue the "
+                        "playback; disarm and every other command get COMMAND_ACK UNSUPPORTED");
 
     auto* bench = app.add_subcommand("bench", "Benchmarks of whole swarms (they print figures; they are not tests)");
     bench->require_subcommand(1);
@@ -392,7 +399,7 @@ class FullCommands final : public ProcessCommands {
     at->add_option("--http-bind", ao.http_bind, "Address the console listens on (0.0.0.0: every interface)")
         ->capture_default_str();
     at->add_option("--record", ao.record, "Record the console to this file (for pheromesh replay)");
-    add_mavlink_options(at, ao.mavlink, ao.mavlink_rate_hz, true);
+    add_mavlink_options(at, ao.mavlink, ao.mavlink_rate_hz, "the swarm", "a monitor takes no command from it");
     at->add_option("--timeout", ao.timeout_s, "Longest wait for a running swarm [s], > 0")
         ->check(CLI::Range(0.01, 86400.0))
         ->capture_default_str();
