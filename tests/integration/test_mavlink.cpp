@@ -162,9 +162,12 @@ TEST(Mavlink, AReplayStreamsTheRecordedRunAndTakesPauseAndContinueForItsPlayback
   Background gcs = start({"/usr/bin/env", "node", script, "--port", std::to_string(port), "--uavs", "4", "--replay",
                           "1", "--report", report, "--timeout", "60"},
                          out + "-gcs.txt");
-  Background replay = start({kBin + "/pheromesh", "replay", out + "/run.phrec", "--http", "0", "--mavlink",
-                             "udp:127.0.0.1:" + std::to_string(port), "--mavlink-rate-hz", "10"},
-                            out + "-replay.txt");
+  // exec: the SIGINT below reaches the replay itself; its log (stderr) beside its stdout.
+  Background replay =
+      start({"/bin/sh", "-c",
+             "exec " + kBin + "/pheromesh replay " + out +
+                 "/run.phrec --http 0 --mavlink udp:127.0.0.1:" + std::to_string(port) + " --mavlink-rate-hz 10 2>&1"},
+            out + "-replay.txt");
   const int gcs_rc = wait_exit(gcs.pid, std::chrono::seconds(75));
   gcs.pid = -1;
   EXPECT_EQ(gcs_rc, 0) << slurp(out + "-gcs.txt") << slurp(out + "-replay.txt");
