@@ -51,6 +51,18 @@ void add_mavlink_options(CLI::App* c, std::string& target, double& rate_hz, cons
       });
 }
 
+constexpr const char* kHostsFileHelp =
+    "The swarm's hosts in a file, one per line in host-index order: an IPv4 address or a name that resolves to one "
+    "address; '#' starts a comment, blank lines are skipped. It stands for --hosts (its number of entries) and "
+    "--dds-peers (its entries), which must then be left out, $PHEROMESH_DDS_PEERS too; --host-index, left out, is "
+    "the one entry that is an address of this host (docs/deployment.md)";
+
+// Where --dds-peers came from, for a hosts file's refusal of it.
+std::string peers_from(const CLI::App& c, const std::string& peers) {
+  if (c.count("--dds-peers") > 0) return "--dds-peers";
+  return peers.empty() ? "" : "$PHEROMESH_DDS_PEERS";
+}
+
 constexpr const char* kRunFooter = R"(FAULTS (--faults, and `fault:` lines in the scenario; docs/faults.md)
   One event per item, items separated by ';':
     kill      TARGETS @TIME                     SIGKILL
@@ -84,6 +96,8 @@ SEVERAL HOSTS (docs/deployment.md)
     export PHEROMESH_CONTROL_KEY=...      # the same on every host
     pheromesh run scenarios/small-test.textproto --hosts 3 --host-index 0 --dds-peers 10.0.0.1,10.0.0.2,10.0.0.3
     pheromesh run scenarios/small-test.textproto --hosts 3 --host-index 1 --dds-peers 10.0.0.1,10.0.0.2,10.0.0.3
+  Or the same list in a file, one host per line (# comments), the index found by this host's address:
+    pheromesh run scenarios/small-test.textproto --hosts-file hosts.txt
   A UAV may fly elsewhere: --pin-uavs 0-9=2,12=0 (UAV ids = host index, the same on every host).
   Flat discovery instead: --dds-profile lan (multicast) or lan-unicast --dds-peers ...
   Watch from anywhere on the LAN: pheromesh attach --dds-peers 10.0.0.1,10.0.0.2,10.0.0.3 --http 8080
@@ -110,7 +124,10 @@ class FullCommands final : public ProcessCommands {
   explicit FullCommands(CLI::App& app) { add(app); }
 
   std::optional<int> run_parsed() override {
-    if (at->parsed()) return run_attach(ao);
+    if (at->parsed()) {
+      ao.dds_peers_from = peers_from(*at, ao.dds_peers);
+      return run_attach(ao);
+    }
     if (ce->parsed()) return run_cell_command(co);
     if (si->parsed()) return run_security_init(sio);
     if (rp->parsed()) return run_replay(rpo);
@@ -121,6 +138,10 @@ class FullCommands final : public ProcessCommands {
     }
     if (bk->parsed()) return run_bench_soak(bko);
     if (!r->parsed()) return std::nullopt;
+    // A hosts file refuses --hosts and --dds-peers beside it and picks the index itself.
+    ro.hosts_given = r->count("--hosts") > 0;
+    ro.host_index_given = r->count("--host-index") > 0;
+    ro.dds_peers_from = peers_from(*r, ro.dds_peers);
     try {
       return Launcher(ro).run();
     } catch (const std::exception& e) {
@@ -203,7 +224,11 @@ class FullCommands final : public ProcessCommands {
                   "(see SEVERAL HOSTS below)")
         ->check(CLI::Range(1U, 1000U))
         ->capture_default_str();
-    r->add_option("--host-index", ro.host_index, "This host's index, 0 .. hosts-1")->capture_default_str();
+    r->add_option("--host-index", ro.host_index,
+                  "This host's index, 0 .. hosts-1; with --hosts-file, left out: the one entry that is an address "
+                  "of this host")
+        ->capture_default_str();
+    r->add_option("--hosts-file", ro.hosts_file, kHostsFileHelp)->check(CLI::ExistingFile);
     r->add_option("--ground-host", ro.ground_host, "The host that runs the ground station (and the web console)")
         ->capture_default_str();
     r->add_option("--pin-uavs", ro.pin_uavs,
@@ -388,6 +413,10 @@ class FullCommands final : public ProcessCommands {
         ->capture_default_str();
     at->add_option("--dds-peers", ao.dds_peers,
                    "The swarm's hosts, comma-separated (cells, lan-unicast) [env PHEROMESH_DDS_PEERS]");
+    at->add_option("--hosts-file", ao.hosts_file,
+                   "The swarm's hosts, one per line, as `pheromesh run --hosts-file` takes them: stands for "
+                   "--dds-peers, which must then be left out (as must $PHEROMESH_DDS_PEERS) (docs/deployment.md)")
+        ->check(CLI::ExistingFile);
     at->add_option("--cell-hubs", ao.cell_hubs,
                    "cells: the most hubs (ground station and place agent replicas) on one host of the swarm, as "
                    "`pheromesh run` prints it; without it the monitor names all 120 indices a hub can have");
