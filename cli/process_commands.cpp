@@ -25,21 +25,19 @@ namespace pheromesh::cli {
 
 namespace {
 
-// --mavlink and --mavlink-rate-hz of `run` and `attach`, checked as the
-// ground station checks them (console/mavlink_feed.hpp).
-void add_mavlink_options(CLI::App* c, std::string& target, double& rate_hz, bool monitor) {
-  const std::string stream =
-      "Stream the swarm to a MAVLink ground-control station at udp:HOST:PORT (QGroundControl: "
-      "udp:127.0.0.1:14550): UAVs 0..249 as vehicles 1..250, every UAV as ADS-B traffic, the ground station as "
-      "system 251 with place-agent losses and found targets; ";
-  c->add_option("--mavlink", target,
-                stream + (monitor ? "a monitor takes no command from it (docs/mavlink.md)"
-                                  : "it takes pause, continue and stop signed with the swarm's MAVLink key, which "
-                                    "the ground station writes to OUT/mavlink.key (docs/mavlink.md)"))
-      ->check([](const std::string& v) {
-        const auto t = console::parse_mavlink_target(v, "");
-        return t ? std::string() : t.error().message;
-      });
+// --mavlink and --mavlink-rate-hz of `run`, `attach` and `replay`, checked
+// as the ground station checks them (console/mavlink_feed.hpp). `source`:
+// what is streamed; `commands`: what the stream takes from the station.
+void add_mavlink_options(CLI::App* c, std::string& target, double& rate_hz, const std::string& source,
+                         const std::string& commands) {
+  const std::string stream = "Stream " + source +
+                             " to a MAVLink ground-control station at udp:HOST:PORT (QGroundControl: "
+                             "udp:127.0.0.1:14550): UAVs 0..249 as vehicles 1..250, every UAV as ADS-B traffic, the "
+                             "ground station as system 251 with place-agent losses and found targets; ";
+  c->add_option("--mavlink", target, stream + commands + " (docs/mavlink.md)")->check([](const std::string& v) {
+    const auto t = console::parse_mavlink_target(v, "");
+    return t ? std::string() : t.error().message;
+  });
   c->add_option("--mavlink-rate-hz", rate_hz,
                 "With --mavlink: position, attitude and ADS-B reports per UAV per second [Hz], 0.2..20 (heartbeats "
                 "at 1 Hz)")
@@ -51,6 +49,18 @@ void add_mavlink_options(CLI::App* c, std::string& target, double& rate_hz, bool
         const auto r = console::check_mavlink_rate(hz, "");
         return r ? std::string() : r.error().message;
       });
+}
+
+constexpr const char* kHostsFileHelp =
+    "The swarm's hosts in a file, one per line in host-index order: an IPv4 address or a name that resolves to one "
+    "address; '#' starts a comment, blank lines are skipped. It stands for --hosts (its number of entries) and "
+    "--dds-peers (its entries), which must then be left out, $PHEROMESH_DDS_PEERS too; --host-index, left out, is "
+    "the one entry that is an address of this host (docs/deployment.md)";
+
+// Where --dds-peers came from, for a hosts file's refusal of it.
+std::string peers_from(const CLI::App& c, const std::string& peers) {
+  if (c.count("--dds-peers") > 0) return "--dds-peers";
+  return peers.empty() ? "" : "$PHEROMESH_DDS_PEERS";
 }
 
 constexpr const char* kRunFooter = R"(FAULTS (--faults, and `fault:` lines in the scenario; docs/faults.md)
@@ -86,6 +96,8 @@ SEVERAL HOSTS (docs/deployment.md)
     export PHEROMESH_CONTROL_KEY=...      # the same on every host
     pheromesh run scenarios/small-test.textproto --hosts 3 --host-index 0 --dds-peers 10.0.0.1,10.0.0.2,10.0.0.3
     pheromesh run scenarios/small-test.textproto --hosts 3 --host-index 1 --dds-peers 10.0.0.1,10.0.0.2,10.0.0.3
+  Or the same list in a file, one host per line (# comments), the index found by this host's address:
+    pheromesh run scenarios/small-test.textproto --hosts-file hosts.txt
   A UAV may fly elsewhere: --pin-uavs 0-9=2,12=0 (UAV ids = host index, the same on every host).
   Flat discovery instead: --dds-profile lan (multicast) or lan-unicast --dds-peers ...
   Watch from anywhere on the LAN: pheromesh attach --dds-peers 10.0.0.1,10.0.0.2,10.0.0.3 --http 8080
@@ -112,7 +124,10 @@ class FullCommands final : public ProcessCommands {
   explicit FullCommands(CLI::App& app) { add(app); }
 
   std::optional<int> run_parsed() override {
-    if (at->parsed()) return run_attach(ao);
+    if (at->parsed()) {
+      ao.dds_peers_from = peers_from(*at, ao.dds_peers);
+      return run_attach(ao);
+    }
     if (ce->parsed()) return run_cell_command(co);
     if (si->parsed()) return run_security_init(sio);
     if (rp->parsed()) return run_replay(rpo);
@@ -123,6 +138,10 @@ class FullCommands final : public ProcessCommands {
     }
     if (bk->parsed()) return run_bench_soak(bko);
     if (!r->parsed()) return std::nullopt;
+    // A hosts file refuses --hosts and --dds-peers beside it and picks the index itself.
+    ro.hosts_given = r->count("--hosts") > 0;
+    ro.host_index_given = r->count("--host-index") > 0;
+    ro.dds_peers_from = peers_from(*r, ro.dds_peers);
     try {
       return Launcher(ro).run();
     } catch (const std::exception& e) {
@@ -205,7 +224,11 @@ class FullCommands final : public ProcessCommands {
                   "(see SEVERAL HOSTS below)")
         ->check(CLI::Range(1U, 1000U))
         ->capture_default_str();
-    r->add_option("--host-index", ro.host_index, "This host's index, 0 .. hosts-1")->capture_default_str();
+    r->add_option("--host-index", ro.host_index,
+                  "This host's index, 0 .. hosts-1; with --hosts-file, left out: the one entry that is an address "
+                  "of this host")
+        ->capture_default_str();
+    r->add_option("--hosts-file", ro.hosts_file, kHostsFileHelp)->check(CLI::ExistingFile);
     r->add_option("--ground-host", ro.ground_host, "The host that runs the ground station (and the web console)")
         ->capture_default_str();
     r->add_option("--pin-uavs", ro.pin_uavs,
@@ -258,14 +281,23 @@ class FullCommands final : public ProcessCommands {
     r->add_flag("--no-record", ro.no_record, "Do not record the console");
     r->add_flag("--tracks", ro.tracks,
                 "The ground station also writes OUT/tracks.csv: every UAV state it heard (docs/outputs.md)");
-    add_mavlink_options(r, ro.mavlink, ro.mavlink_rate_hz, false);
+    add_mavlink_options(r, ro.mavlink, ro.mavlink_rate_hz, "the swarm",
+                        "it takes pause, continue and stop signed with the swarm's MAVLink key, which the ground "
+                        "station writes to OUT/mavlink.key");
 
-    rp = app.add_subcommand("replay", "Serve the web console from a recording (OUT/console.phrec of `run --http`), "
-                                            "with a time slider");
+    rp = app.add_subcommand("replay",
+                            "Serve the web console from a recording (OUT/console.phrec of `run --http`), "
+                            "with a time slider; with --mavlink, also stream it to a MAVLink "
+                            "ground-control station as the live run was streamed");
     rp->add_option("FILE", rpo.file, "Recording")->required()->check(CLI::ExistingFile);
     rp->add_option("--http", rpo.port, "Port of the console (0: any free port)")->capture_default_str();
     rp->add_option("--http-bind", rpo.bind, "Address the console listens on")->capture_default_str();
     rp->add_flag("--check", rpo.check, "Only read the recording and say what it holds");
+    add_mavlink_options(rp, rpo.mavlink, rpo.mavlink_rate_hz,
+                        "the recording, from its first frame at the pace it was recorded (its last state is held at "
+                        "the end),",
+                        "a station's pause and continue (unsigned: a replay holds no key) pause and continue the "
+                        "playback; disarm and every other command get COMMAND_ACK UNSUPPORTED");
 
     auto* bench = app.add_subcommand("bench", "Benchmarks of whole swarms (they print figures; they are not tests)");
     bench->require_subcommand(1);
@@ -381,6 +413,10 @@ class FullCommands final : public ProcessCommands {
         ->capture_default_str();
     at->add_option("--dds-peers", ao.dds_peers,
                    "The swarm's hosts, comma-separated (cells, lan-unicast) [env PHEROMESH_DDS_PEERS]");
+    at->add_option("--hosts-file", ao.hosts_file,
+                   "The swarm's hosts, one per line, as `pheromesh run --hosts-file` takes them: stands for "
+                   "--dds-peers, which must then be left out (as must $PHEROMESH_DDS_PEERS) (docs/deployment.md)")
+        ->check(CLI::ExistingFile);
     at->add_option("--cell-hubs", ao.cell_hubs,
                    "cells: the most hubs (ground station and place agent replicas) on one host of the swarm, as "
                    "`pheromesh run` prints it; without it the monitor names all 120 indices a hub can have");
@@ -392,7 +428,7 @@ class FullCommands final : public ProcessCommands {
     at->add_option("--http-bind", ao.http_bind, "Address the console listens on (0.0.0.0: every interface)")
         ->capture_default_str();
     at->add_option("--record", ao.record, "Record the console to this file (for pheromesh replay)");
-    add_mavlink_options(at, ao.mavlink, ao.mavlink_rate_hz, true);
+    add_mavlink_options(at, ao.mavlink, ao.mavlink_rate_hz, "the swarm", "a monitor takes no command from it");
     at->add_option("--timeout", ao.timeout_s, "Longest wait for a running swarm [s], > 0")
         ->check(CLI::Range(0.01, 86400.0))
         ->capture_default_str();

@@ -6,6 +6,8 @@
 #include <mutex>
 #include <thread>
 
+#include "groundstation/mavlink_link.hpp"
+#include "pheromesh/console/mavlink_replay.hpp"
 #include "pheromesh/console/prometheus.hpp"
 #include "pheromesh/console/recording.hpp"
 #include "pheromesh/console/server.hpp"
@@ -19,6 +21,7 @@ namespace {
 class ReplaySource final : public console::ConsoleSource {
  public:
   explicit ReplaySource(console::Recording rec) : index_(std::move(rec)) {}
+  [[nodiscard]] const console::Recording& recording() const { return index_.recording(); }
 
   nlohmann::json info() override {
     const auto& r = index_.recording();
@@ -71,6 +74,79 @@ class ReplaySource final : public console::ConsoleSource {
   console::RefusalLimiter log_limit_{5, 10.0};  // as the ground station's
 };
 
+// The recording to a MAVLink station (--mavlink, docs/mavlink.md): the
+// frames console::MavlinkReplay plays, sent over the ground station's
+// non-blocking socket; a station's pause and continue steer the playback.
+class ReplayStream {
+ public:
+  using Clock = console::MavlinkReplay::Clock;
+  ReplayStream(const console::Recording& rec, double rate_hz, std::unique_ptr<groundstation::MavlinkLink> link)
+      : link_(std::move(link)), replay_(rec, rate_hz, Clock::now()) {}
+
+  void service(Clock::time_point now) {
+    for (const auto& d : replay_.due(now)) link_->send(d);
+    if (replay_.ended() && !end_logged_) {
+      end_logged_ = true;
+      spdlog::info("MAVLink: the recording has been played to its end ({:.1f} s); its last state is held",
+                   replay_.played_s());
+    }
+    for (const auto& d : link_->receive(kDatagramsPerService)) {
+      for (const auto& c : gate_.take(d.bytes, std::chrono::system_clock::now())) {
+        const uint8_t result = replay_.command(c, now);
+        log_command(c, result);
+        link_->reply(d.from, replay_.ack(c, result));
+      }
+    }
+  }
+
+  void finish() const {
+    const auto& f = replay_.stats();
+    spdlog::info("MAVLink: sent {} frames in {} datagrams ({} dropped); commands taken {}, malformed input {}",
+                 f.frames, f.datagrams, link_->dropped(), gate_.stats().accepted, gate_.malformed());
+  }
+
+ private:
+  void log_command(const mavlink::CommandGate::Command& c, uint8_t result) const {
+    const std::string who = "mavlink " + std::to_string(c.from_sysid) + "/" + std::to_string(c.from_compid);
+    if (result == mavlink::kResultAccepted) {
+      spdlog::info("command from {}: {} the playback at {:.1f} s of the recording", who,
+                   replay_.paused() ? "paused" : "continued", replay_.played_s());
+    } else {
+      spdlog::warn(
+          "command from {}: MAVLink command {} (param1 {}) is unsupported: a replay only pauses and "
+          "continues its playback (docs/mavlink.md)",
+          who, c.message.command, c.message.param[0]);
+    }
+  }
+
+  static constexpr std::size_t kDatagramsPerService = 64;  // as the ground station's
+  std::unique_ptr<groundstation::MavlinkLink> link_;
+  console::MavlinkReplay replay_;
+  // A replay holds no key and steers no swarm: unsigned commands are taken.
+  mavlink::CommandGate gate_{std::nullopt, mavlink::CommandGate::Signatures::NotChecked};
+  bool end_logged_ = false;
+};
+
+// The stream of --mavlink, or why not (the flag's value was checked by the parser).
+core::Result<std::unique_ptr<ReplayStream>> open_stream(const ReplayOptions& o, const console::Recording& rec) {
+  const auto target = console::parse_mavlink_target(o.mavlink);
+  if (!target) return target.error();
+  auto link = groundstation::MavlinkLink::open(target.value());
+  if (!link) return link.error();
+  if (!rec.info.geo) {
+    spdlog::warn(
+        "{} does not say where its map lies (recorded before recordings held the scenario's geo block): "
+        "the MAVLink stream puts cell (0, 0) at 0 deg N 0 deg E with 1 m cells",
+        o.file);
+  }
+  const uint32_t uavs = rec.info.uavs_expected, vehicles = std::min(uavs, console::kMavlinkMaxVehicles);
+  spdlog::info(
+      "MAVLink to udp:{} at {} Hz: the recording at its recorded pace, UAVs 0..{} as systems 1..{}, all {} "
+      "as ADS-B traffic; a station's pause and continue pause and continue the playback",
+      link.value()->peer(), o.mavlink_rate_hz, vehicles == 0 ? 0 : vehicles - 1, vehicles, uavs);
+  return std::make_unique<ReplayStream>(rec, o.mavlink_rate_hz, std::move(link).value());
+}
+
 }  // namespace
 
 int run_replay(const ReplayOptions& o) {
@@ -99,9 +175,25 @@ int run_replay(const ReplayOptions& o) {
     spdlog::error("{}", port.error().message);
     return 3;
   }
+  std::unique_ptr<ReplayStream> stream;
+  if (!o.mavlink.empty()) {
+    auto opened = open_stream(o, source.recording());
+    if (!opened) {
+      spdlog::error("{}", opened.error().message);
+      server.stop();
+      return 2;
+    }
+    stream = std::move(opened).value();
+  }
   runtime::install_shutdown_handlers();
   spdlog::info("replay at {} (Ctrl-C to stop)", server.url());
-  while (!runtime::shutdown_requested()) std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  // With a stream, a pass every 10 ms: --mavlink-rate-hz is at most 20 Hz.
+  const auto pass = std::chrono::milliseconds(stream ? 10 : 100);
+  while (!runtime::shutdown_requested()) {
+    if (stream) stream->service(ReplayStream::Clock::now());
+    std::this_thread::sleep_for(pass);
+  }
+  if (stream) stream->finish();
   server.stop();
   return 0;
 }

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "cell_layout.hpp"
+#include "hosts_file.hpp"
 #include "launcher.hpp"
 #include "pheromesh/bus/bus.hpp"
 #include "pheromesh/bus/cell_discovery.hpp"
@@ -72,6 +73,18 @@ core::Result<bus::CellDiscovery> attach_cell(const AttachOptions& o) {
 }  // namespace
 
 int run_attach(AttachOptions o) {
+  if (!o.hosts_file.empty()) {
+    auto file = read_hosts_file(o.hosts_file);
+    HostsFlags flags;
+    flags.dds_peers = o.dds_peers;
+    flags.dds_peers_from = o.dds_peers_from;
+    auto peers = file ? attach_peers(file.value(), flags) : core::Result<std::string>(file.error());
+    if (!peers) {
+      spdlog::error("{}", peers.error().message);
+      return 2;
+    }
+    o.dds_peers = peers.value();
+  }
   if (auto err = check_attach(o)) {
     spdlog::error("{}", *err);
     return 2;

@@ -13,6 +13,8 @@ struct AttachOptions {
   std::string dds;
   std::string dds_profile = "cells";  // as `pheromesh run`'s default
   std::string dds_peers;
+  std::string dds_peers_from;  // "--dds-peers" or "$PHEROMESH_DDS_PEERS" when dds_peers came from one
+  std::string hosts_file;      // --hosts-file (hosts_file.hpp): stands for --dds-peers
   std::string out_dir = "out/attach";
   std::optional<uint16_t> http_port;
   std::string http_bind = "127.0.0.1";

@@ -13,20 +13,21 @@
 #include <thread>
 #include <variant>
 
-#include "host_fit.hpp"
-#include "metrics_merge.hpp"
+#include "cli/scenario_overrides.hpp"
 #include "cli/sim_command.hpp"
+#include "host_fit.hpp"
+#include "hosts_file.hpp"
+#include "metrics_merge.hpp"
 #include "netns.hpp"
 #include "pheromesh/auth/control.hpp"
 #include "pheromesh/bus/bus.hpp"
 #include "pheromesh/bus/security.hpp"
 #include "pheromesh/core/atomic_file.hpp"
-#include "pheromesh/core/scenario_warnings.hpp"
 #include "pheromesh/core/plugin_loader.hpp"
 #include "pheromesh/core/scenario.hpp"
-#include "pheromesh/runtime/process.hpp"
+#include "pheromesh/core/scenario_warnings.hpp"
 #include "pheromesh/report/report.hpp"
-#include "cli/scenario_overrides.hpp"
+#include "pheromesh/runtime/process.hpp"
 #include "supervisor.hpp"
 
 namespace pheromesh::cli {
@@ -137,6 +138,26 @@ std::optional<std::string> check_plugin_pin(const RunPlan& plan, const core::Sce
          s.plugin->sha256 + "\" } }`, so that every host refuses another build (docs/writing-a-policy.md)";
 }
 
+// --hosts-file: --hosts, --dds-peers and this host's index from the file.
+std::optional<std::string> apply_hosts_file(RunOptions& o) {
+  if (o.hosts_file.empty()) return std::nullopt;
+  auto file = read_hosts_file(o.hosts_file);
+  if (!file) return file.error().message;
+  HostsFlags flags;
+  if (o.hosts_given) flags.hosts = o.hosts;
+  if (o.host_index_given) flags.host_index = o.host_index;
+  flags.dds_peers = o.dds_peers;
+  flags.dds_peers_from = o.dds_peers_from;
+  auto chosen = choose_host(file.value(), flags, is_local_address);
+  if (!chosen) return chosen.error().message;
+  o.hosts = chosen->hosts;
+  o.host_index = chosen->host_index;
+  o.dds_peers = chosen->dds_peers;
+  spdlog::info("--hosts-file {}: {} hosts, this is host {} (line {}, {})", o.hosts_file, o.hosts, o.host_index,
+               file->hosts[o.host_index].line, file->hosts[o.host_index].name);
+  return std::nullopt;
+}
+
 // Cells over several hosts: --dds-peers as one IPv4 address per host, in
 // host order, this host's among this host's addresses.
 std::optional<std::string> resolve_host_addresses(RunOptions& o) {
@@ -171,6 +192,7 @@ std::variant<RunPlan, Refusal> plan_run(RunOptions o, const core::ScenarioConfig
   if (!dds) return Refusal{2, dds.error().message};
   const std::string bin_dir = executable_dir();
   if (auto refused = check_executables(bin_dir)) return *refused;
+  if (auto err = apply_hosts_file(o)) return Refusal{2, *err};
   if (auto err = resolve_host_addresses(o)) return Refusal{2, *err};
   auto plan = make_run_plan(o, s, dds.value(), bin_dir);
   if (!plan) return Refusal{2, plan.error().message};

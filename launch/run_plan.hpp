@@ -64,6 +64,14 @@ struct RunOptions {
   uint32_t hosts = 1;
   uint32_t host_index = 0;
   uint32_t ground_host = 0;
+  // --hosts-file (hosts_file.hpp): stands for --hosts and --dds-peers, and
+  // without --host-index names this host by its address. The launcher
+  // applies it (apply_hosts_file) before it resolves the peers; the flags
+  // given beside it, which it refuses or replaces, are told apart by these.
+  std::string hosts_file;
+  bool hosts_given = false;       // --hosts on the command line
+  bool host_index_given = false;  // --host-index on the command line
+  std::string dds_peers_from;     // "--dds-peers" or "$PHEROMESH_DDS_PEERS" when dds_peers came from one
   // --pin-uavs: UAVs that fly on a host of the user's choosing instead of
   // beside their home place agent ("U=H,A-B=H"; cell_layout.hpp).
   std::string pin_uavs;

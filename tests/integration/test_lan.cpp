@@ -87,16 +87,27 @@ std::optional<double> number_in(const std::string& text, const std::string& re) 
 
 // Every host's `pheromesh run` of small-test in cells (each in its
 // namespace, the same control key), with `args`; host I's output in
-// OUT/hostI.txt and its run in OUT/hostI.
-std::vector<Background> start_cell_hosts(const std::string& out, const std::string& args) {
+// OUT/hostI.txt and its run in OUT/hostI. Host `from_file` (if any) names the
+// hosts in OUT/hosts.txt instead (--hosts-file, no --hosts, --dds-peers or
+// --host-index: it finds itself by its address).
+std::vector<Background> start_cell_hosts(const std::string& out, const std::string& args, int from_file = -1) {
   const std::string key = run(kBin + "/pheromesh key").text.substr(0, 64);
+  {
+    std::ofstream f(out + "/hosts.txt");
+    f << "# the test's hosts, in host-index order\n"
+      << address(0) << "   # the ground station\n\n"
+      << address(1) << "\n"
+      << address(2) << "\n";
+  }
   std::vector<Background> hosts;
   for (int i = 0; i < kHosts; ++i) {
+    const std::string where = i == from_file ? " --hosts-file " + out + "/hosts.txt"
+                                             : " --hosts 3 --host-index " + std::to_string(i) + " --dds-peers " +
+                                                   address(0) + "," + address(1) + "," + address(2);
     hosts.push_back(start({"/bin/sh", "-c",
                            "ip netns exec " + ns(i) + " env PHEROMESH_CONTROL_KEY=" + key + " " + kBin +
-                               "/pheromesh run " + kSrc + "/scenarios/small-test.textproto --hosts 3 --host-index " +
-                               std::to_string(i) + " --dds-peers " + address(0) + "," + address(1) + "," + address(2) +
-                               " " + args + " --out " + out + "/host" + std::to_string(i) + " 2>&1"},
+                               "/pheromesh run " + kSrc + "/scenarios/small-test.textproto" + where + " " + args +
+                               " --out " + out + "/host" + std::to_string(i) + " 2>&1"},
                           out + "/host" + std::to_string(i) + ".txt"));
   }
   return hosts;
@@ -108,8 +119,9 @@ std::vector<Background> start_cell_hosts(const std::string& out, const std::stri
 // place agent 0 (its primary) mid-flight. `secure`: every process and the
 // monitor authenticate with their identities (DDS Security; one directory of
 // `pheromesh security init`, read by every host).
+// `monitor_file`: the monitor names the hosts by a hosts file (--hosts-file).
 void run_split_swarm(const std::string& tag, int domain, const std::string& profile_args, bool standby = false,
-                     bool secure = false) {
+                     bool secure = false, bool monitor_file = false) {
   if (geteuid() != 0) GTEST_SKIP() << "network namespaces need root";
   // Without a profile flag the swarm flies in cells, the default.
   const bool cells = profile_args.find("--dds-profile") == std::string::npos;
@@ -150,7 +162,10 @@ void run_split_swarm(const std::string& tag, int domain, const std::string& prof
   // once heard no place agent for 5 s) still sees the whole swarm fly.
   std::this_thread::sleep_for(std::chrono::seconds(2));
   std::string peers;
-  if (profile_args.find("--dds-peers") != std::string::npos) {
+  if (monitor_file) {
+    std::ofstream(out + "/monitor-hosts.txt") << address(0) << "\n" << address(1) << "\n" << address(2) << "\n";
+    peers = " --hosts-file " + out + "/monitor-hosts.txt";
+  } else if (profile_args.find("--dds-peers") != std::string::npos) {
     peers = " --dds-peers " + address(0) + "," + address(1) + "," + address(2);
   }
   const std::string profile = cells                                                   ? "cells"
@@ -243,28 +258,35 @@ TEST(Lan, ASwarmOverThreeHostsWithUnicastPeersCompletesWithoutMulticastAndALateM
 }
 
 // Secure (DDS Security) on one vendor; a mixed swarm cannot be secure
-// (docs/security.md), and flies open.
+// (docs/security.md), and flies open. The monitor names the hosts by a hosts file.
 TEST(LanCells, ASwarmOverThreeHostsInCellsByDefaultCompletesWithoutMulticastAndAMonitorNamingTheHostsAttaches) {
   const char* backend = std::getenv("PHEROMESH_DDS");
   run_split_swarm("lan-cells", 75, "--dds-peers " + address(0) + "," + address(1) + "," + address(2),
-                  /*standby=*/false, /*secure=*/backend == nullptr || std::string(backend) != "mixed");
+                  /*standby=*/false, /*secure=*/backend == nullptr || std::string(backend) != "mixed",
+                  /*monitor_file=*/true);
 }
 
 // Lockstep over three hosts in cells: the ground station on host 0 conducts
-// every host's processes, and the swarm's numbers are the simulator's.
+// every host's processes, and the swarm's numbers are the simulator's. Host
+// 2 names the hosts with a hosts file and finds its own index there.
 TEST(LanCells, ALockstepSwarmOverThreeHostsInCellsGivesTheSimulatorsNumbers) {
   if (geteuid() != 0) GTEST_SKIP() << "network namespaces need root";
   LanNet net(/*drop_multicast=*/true);
   ASSERT_TRUE(net.ready());
   const std::string out = out_dir("lan-cells-lockstep");
   const std::string args = "--uavs 6 --ticks 150 --seed 4";
-  const std::vector<Background> hosts = start_cell_hosts(out, "--domain 76 --clock lockstep --tracks " + args);
+  const std::vector<Background> hosts =
+      start_cell_hosts(out, "--domain 76 --clock lockstep --tracks " + args, /*from_file=*/2);
   for (int i = 0; i < kHosts; ++i) {
     EXPECT_EQ(wait_exit(hosts[static_cast<std::size_t>(i)].pid, std::chrono::seconds(180)), 0)
         << "host " << i << ":\n"
         << slurp(out + "/host" + std::to_string(i) + ".txt");
   }
   expect_same_as_sim(out + "/host0", "small-test.textproto", args, "lan-cells-lockstep");
+  const std::string host2 = slurp(out + "/host2.txt");
+  EXPECT_NE(host2.find("--hosts-file " + out + "/hosts.txt: 3 hosts, this is host 2 (line 5, " + address(2) + ")"),
+            std::string::npos)
+      << host2;
 }
 
 // What a swarm over several hosts cannot do is refused before anything
@@ -293,6 +315,47 @@ TEST(Cli, SeveralHostsRefuseWhatCannotWorkAndSayWhatToDo) {
     EXPECT_EQ(o.exit_code, 2) << c.args << "\n" << o.text;
     EXPECT_NE(o.text.find(c.says), std::string::npos) << c.args << "\n" << o.text;
   }
+  // --hosts-file: what the file cannot be, named by file and line, and the
+  // flags it stands for given beside it (docs/deployment.md).
+  const std::string files = out_dir("lan-cli-hosts");
+  const auto hosts_file = [&](const std::string& name, const std::string& text) {
+    std::ofstream(files + "/" + name) << text;
+    return files + "/" + name;
+  };
+  const std::string two = hosts_file("two.txt", "127.0.0.1\n192.0.2.7\n");
+  const std::vector<Case> file_cases{
+      {key, "--hosts-file " + hosts_file("empty.txt", "# no host yet\n\n"), "empty.txt: no host in it"},
+      {key, "--hosts-file " + hosts_file("words.txt", "127.0.0.1\n192.0.2.7 192.0.2.8\n"),
+       "words.txt:2: '192.0.2.7 192.0.2.8': one host per line"},
+      {key, "--hosts-file " + hosts_file("twice.txt", "127.0.0.1\n192.0.2.7\n127.0.0.1 # again\n"),
+       "twice.txt:3: '127.0.0.1' is 127.0.0.1, as line 1"},
+      {key, "--hosts-file " + hosts_file("unknown.txt", "127.0.0.1\nno-such-host.invalid\n"),
+       "unknown.txt:2: 'no-such-host.invalid': does not resolve"},
+      {key, "--hosts-file " + two + " --hosts 2", "gives --hosts (2 hosts): leave --hosts 2 out"},
+      {key, "--hosts-file " + two + " --host-index 0 --dds-peers 127.0.0.1,192.0.2.7",
+       "gives --dds-peers (every host's address, in its order): leave --dds-peers"},
+      {key + "PHEROMESH_DDS_PEERS=127.0.0.1 ", "--hosts-file " + two, "leave $PHEROMESH_DDS_PEERS (127.0.0.1) out"},
+      {key, "--hosts-file " + two + " --host-index 2", "--host-index 2 is not below the 2 hosts of --hosts-file"},
+      {key, "--hosts-file " + hosts_file("elsewhere.txt", "192.0.2.7\n192.0.2.8\n"),
+       "no entry is an address of this host; give --host-index"},
+      {key, "--hosts-file " + hosts_file("loopbacks.txt", "127.0.0.1\n127.0.0.2\n"),
+       "several entries are addresses of this host (host 0 (line 1, 127.0.0.1), host 1 (line 2, 127.0.0.2))"},
+      // The file's list, checked as --dds-peers' is: entry 1 is not this host's.
+      {key, "--hosts-file " + two + " --host-index 1", "no interface of this host has that address"},
+  };
+  for (const auto& c : file_cases) {
+    const Output o = run("env " + c.env + base + c.args);
+    EXPECT_EQ(o.exit_code, 2) << c.args << "\n" << o.text;
+    EXPECT_NE(o.text.find(c.says), std::string::npos) << c.args << "\n" << o.text;
+  }
+  const Output missing = run("env " + key + base + "--hosts-file " + files + "/none.txt");
+  EXPECT_EQ(missing.exit_code, 105) << missing.text;  // a flag's value fails its check (docs/exit-codes.md)
+  const Output attach = run(kBin + "/pheromesh attach --domain 72 --timeout 1 --out " + files +
+                            "/attach --hosts-file " + two + " --dds-peers 127.0.0.1");
+  EXPECT_EQ(attach.exit_code, 2) << attach.text;
+  EXPECT_NE(attach.text.find("gives --dds-peers (every host's address): leave --dds-peers (127.0.0.1) out"),
+            std::string::npos)
+      << attach.text;
   // A key for every host.
   const Output k = run(kBin + "/pheromesh key");
   EXPECT_EQ(k.exit_code, 0);

@@ -3,10 +3,13 @@
 // the stream of a real `pheromesh run --mavlink` with node-mavlink and
 // mavlink-mappings (installed with the web console's npm tools), and sends
 // an unsigned and a signed pause, a signed continue, then a signed disarm
-// that stops the run. Domain 98.
+// that stops the run; and the stream of `pheromesh replay --mavlink` of a
+// recording, whose playback the station pauses and continues. Domain 98.
 #include <arpa/inet.h>
 #include <netinet/in.h>
 #include <sys/socket.h>
+
+#include <csignal>
 
 #include <cmath>
 #include <numbers>
@@ -138,13 +141,80 @@ TEST(Mavlink, NodeMavlinkDecodesTheSwarmAndOnlyASignedPauseStopsIt) {
   EXPECT_EQ(m["commands"]["bad_signature"], 0) << m.dump();
 }
 
+// `pheromesh replay --mavlink` of a recording (the simulator's, 30 s of
+// simulated time, 4 UAVs): node-mavlink decodes the stream, whose positions
+// are the run's (tracks.csv), and steers the playback with unsigned
+// commands: pause and continue ACCEPTED, disarm UNSUPPORTED. No DDS.
+TEST(Mavlink, AReplayStreamsTheRecordedRunAndTakesPauseAndContinueForItsPlayback) {
+  const std::string e2e = PHEROMESH_WEB_E2E_DIR;
+  const std::string script = e2e + "/mavlink_gcs.mjs";
+  if (!fs::exists(script) || !fs::exists(e2e + "/../node_modules/node-mavlink/package.json")) {
+    GTEST_SKIP() << "no " << script << " beside node_modules/node-mavlink: build the web console (npm)";
+  }
+  const std::string out = out_dir("mavlink-replay");
+  const Output sim = run(kBin + "/pheromesh sim " + kSrc + "/scenarios/small-test.textproto --ticks 1500 --quiet " +
+                         "--tracks --record " + out + "/run.phrec --out " + out +
+                         " --set geo.origin_lat_deg=47.4 --set geo.origin_lon_deg=8.5 --set geo.origin_alt_m=400 " +
+                         "--set geo.cell_size_m=2");
+  ASSERT_EQ(sim.exit_code, 0) << sim.text;
+  const std::string report = out + "-gcs.json";
+  const int port = free_udp_port();
+  Background gcs = start({"/usr/bin/env", "node", script, "--port", std::to_string(port), "--uavs", "4", "--replay",
+                          "1", "--report", report, "--timeout", "60"},
+                         out + "-gcs.txt");
+  // exec: the SIGINT below reaches the replay itself; its log (stderr) beside its stdout.
+  Background replay =
+      start({"/bin/sh", "-c",
+             "exec " + kBin + "/pheromesh replay " + out +
+                 "/run.phrec --http 0 --mavlink udp:127.0.0.1:" + std::to_string(port) + " --mavlink-rate-hz 10 2>&1"},
+            out + "-replay.txt");
+  const int gcs_rc = wait_exit(gcs.pid, std::chrono::seconds(75));
+  gcs.pid = -1;
+  EXPECT_EQ(gcs_rc, 0) << slurp(out + "-gcs.txt") << slurp(out + "-replay.txt");
+  // The replay runs until it is stopped, as without --mavlink.
+  ::kill(replay.pid, SIGINT);
+  EXPECT_EQ(wait_exit(replay.pid, std::chrono::seconds(20)), 0);
+  replay.pid = -1;
+  const std::string log = slurp(out + "-replay.txt");
+  EXPECT_NE(log.find("MAVLink to udp:127.0.0.1:" + std::to_string(port)), std::string::npos) << log;
+  EXPECT_NE(log.find("paused the playback at"), std::string::npos) << log;
+  EXPECT_NE(log.find("MAVLink command 400 (param1 0) is unsupported"), std::string::npos) << log;
+
+  const json r = json::parse(slurp(report));
+  EXPECT_EQ(r["crc_errors"], 0);
+  EXPECT_EQ(r["invalid_packets"], 0);
+  for (const char* m : {"HEARTBEAT", "GLOBAL_POSITION_INT", "ATTITUDE", "ADSB_VEHICLE", "SYS_STATUS"}) {
+    EXPECT_GT(r["by_message"].value(m, 0), 0) << m;
+  }
+  EXPECT_EQ(r["heartbeat_systems"], json({1, 2, 3, 4}));
+  // Every position lies within one cell of one the run recorded for that UAV.
+  const Frame geo{47.4, 8.5, 2.0};
+  const auto tracks = read_tracks(out + "/tracks.csv");
+  ASSERT_FALSE(tracks.empty());
+  std::size_t checked = 0;
+  for (const auto& p : r["positions"]) {
+    const uint32_t uav = p["sysid"].get<uint32_t>() - 1;
+    const auto [x, y] = geo.cell_of(p["lat"].get<double>(), p["lon"].get<double>());
+    double nearest = 1e9;
+    for (const Track& t : tracks) {
+      if (t.uav == uav) nearest = std::min(nearest, std::hypot(t.x - x, t.y - y));
+    }
+    EXPECT_LE(nearest, 1.0) << "uav " << uav << " at (" << x << ", " << y << ")";
+    EXPECT_EQ(p["alt"], 430000);  // 400 m ground + 30 m flight height [mm]
+    ++checked;
+  }
+  EXPECT_GT(checked, 40U);
+}
+
 // A --mavlink that is not udp:HOST:PORT, or a rate out of range, is refused
 // by every program that takes it, naming the flag, before anything starts
 // (no DDS: these never get that far).
 TEST(Mavlink, ABadTargetOrRateIsRefusedNamingTheFlagBeforeAnythingStarts) {
   const std::string scenario = kSrc + "/scenarios/small-test.textproto";
-  for (const std::string& program : {kBin + "/pheromesh run " + scenario, kBin + "/pheromesh attach --domain 98",
-                                     kBin + "/pheromesh-ground --scenario " + scenario}) {
+  // replay's FILE is only checked to exist before the flags are.
+  for (const std::string& program :
+       {kBin + "/pheromesh run " + scenario, kBin + "/pheromesh attach --domain 98",
+        kBin + "/pheromesh-ground --scenario " + scenario, kBin + "/pheromesh replay " + scenario}) {
     const Output target = run(program + " --mavlink tcp:127.0.0.1:14550");
     EXPECT_EQ(target.exit_code, 105) << program;  // a flag's value fails its check (docs/exit-codes.md)
     EXPECT_NE(target.text.find("--mavlink"), std::string::npos) << target.text;

@@ -140,6 +140,7 @@ ConsoleInfo make_info() {
   i.sensor_radius = 2.5;
   i.clock = "lockstep";
   i.dds = "cyclone";
+  i.geo = core::GeoFrame{47.397, 8.545, 488.0, 2.5, 40.0};
   return i;
 }
 
@@ -238,6 +239,14 @@ void expect_info_eq(const ConsoleInfo& a, const ConsoleInfo& b) {
   EXPECT_EQ(a.sensor_radius, b.sensor_radius);
   EXPECT_EQ(a.clock, b.clock);
   EXPECT_EQ(a.dds, b.dds);
+  ASSERT_EQ(a.geo.has_value(), b.geo.has_value());
+  if (a.geo) {
+    EXPECT_EQ(a.geo->origin_lat_deg, b.geo->origin_lat_deg);
+    EXPECT_EQ(a.geo->origin_lon_deg, b.geo->origin_lon_deg);
+    EXPECT_EQ(a.geo->origin_alt_m, b.geo->origin_alt_m);
+    EXPECT_EQ(a.geo->cell_size_m, b.geo->cell_size_m);
+    EXPECT_EQ(a.geo->flight_height_m, b.geo->flight_height_m);
+  }
 }
 
 void expect_uav_eq(const UavView& a, const UavView& b, bool with_track) {
@@ -397,6 +406,19 @@ TEST(ConsoleRecording, RoundTripKeepsEveryField) {
   EXPECT_EQ(rec->writer.rfind("pheromesh ", 0), 0U) << rec->writer;
   ASSERT_EQ(rec->frames.size(), frames.size());
   for (std::size_t k = 0; k < frames.size(); ++k) expect_frame_eq(rec->frames[k], frames[k]);
+}
+
+// A recording written before ConsoleInfo carried the map's place reads
+// with no geo frame (a replay's MAVLink stream then says so), not a made-up one.
+TEST(ConsoleRecording, ARecordingWithoutTheMapsPlaceReadsWithNoGeoFrame) {
+  TempDir dir;
+  const std::string path = dir.file("old.phmrec");
+  ConsoleInfo info = make_info();
+  info.geo.reset();
+  write_recording(path, info, make_frames());
+  const auto rec = read_recording(path);
+  ASSERT_TRUE(rec.ok()) << rec.error().message;
+  EXPECT_FALSE(rec->info.geo.has_value());
 }
 
 TEST(ConsoleRecording, FileStartsWithMagicThenHeaderThenOneRecordPerFrame) {

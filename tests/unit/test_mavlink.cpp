@@ -266,6 +266,25 @@ TEST(MavlinkCommandGate, UnsignedAndBadlySignedCommandsAreCountedAndDropped) {
   EXPECT_EQ(gate.stats().accepted, 0U);
 }
 
+// `pheromesh replay --mavlink` holds no key: its gate takes a command signed
+// or not, and the same signed frame twice (nothing it steers needs that).
+TEST(MavlinkCommandGate, AGateThatChecksNoSignatureTakesUnsignedAndSignedCommandsAlike) {
+  const SecretKey key = counting_key();
+  CommandGate gate(std::nullopt, CommandGate::Signatures::NotChecked);
+  const auto now = std::chrono::system_clock::now();
+  const Bytes signed_pause = encode(pause_command(), Header{}, Signing{&key, 0, signing_timestamp(now)});
+  for (const Bytes& d : {encode(pause_command(), Header{}), signed_pause, signed_pause}) {
+    const auto cmds = gate.take(d, now);
+    ASSERT_EQ(cmds.size(), 1U);
+    EXPECT_EQ(cmds[0].action, CommandGate::Action::Pause);
+  }
+  EXPECT_EQ(gate.stats().accepted, 3U);
+  EXPECT_EQ(gate.stats().unsigned_refused + gate.stats().bad_signature + gate.stats().replayed, 0U);
+  // Its guard: the same three frames through a keyless gate that requires signatures.
+  CommandGate required(std::nullopt);
+  for (const Bytes& d : {encode(pause_command(), Header{}), signed_pause}) EXPECT_TRUE(required.take(d, now).empty());
+}
+
 TEST(MavlinkCommandGate, ContinueDisarmAndOthersAreMappedAndHeartbeatsIgnored) {
   const SecretKey key = counting_key();
   CommandGate gate(key);

@@ -15,6 +15,12 @@
 //   5. with --stop, sends a signed disarm (MAV_CMD_COMPONENT_ARM_DISARM, 0):
 //      ACCEPTED, and the ground station ends the run (its frames stop).
 //
+// With --replay 1 it listens to `pheromesh replay --mavlink` instead, which
+// holds no key: after step 1 it sends an unsigned pause (ACCEPTED, STANDBY
+// heartbeats, the positions stand still), an unsigned continue (ACCEPTED,
+// the UAVs move again) and an unsigned disarm (UNSUPPORTED: the stream goes
+// on).
+//
 // Writes --report (JSON: every GLOBAL_POSITION_INT decoded, the counters) and
 // exits 0 if every check held, 1 with the reason otherwise.
 import dgram from "node:dgram";
@@ -28,17 +34,20 @@ import {
   minimal,
 } from "node-mavlink";
 
-const usage = "node mavlink_gcs.mjs --port P --uavs N --key-file FILE --report FILE [--timeout S] [--stop 1]";
-const flags = { timeout: "60", stop: "0" };
+const usage =
+  "node mavlink_gcs.mjs --port P --uavs N (--key-file FILE | --replay 1) --report FILE [--timeout S] [--stop 1]";
+const flags = { timeout: "60", stop: "0", replay: "0" };
 for (let i = 2; i < process.argv.length; i += 2) {
   const name = process.argv[i].replace(/^--/, "");
-  if (!["port", "uavs", "key-file", "report", "timeout", "stop"].includes(name) || i + 1 >= process.argv.length) {
+  if (!["port", "uavs", "key-file", "report", "timeout", "stop", "replay"].includes(name) ||
+      i + 1 >= process.argv.length) {
     console.error(usage);
     process.exit(2);
   }
   flags[name] = process.argv[i + 1];
 }
-for (const f of ["port", "uavs", "key-file", "report"]) {
+const replay = flags.replay === "1";
+for (const f of ["port", "uavs", "report", ...(replay ? [] : ["key-file"])]) {
   if (flags[f] === undefined) {
     console.error(usage);
     process.exit(2);
@@ -57,6 +66,7 @@ const MAV_STATE_ACTIVE = 4;
 const MAV_CMD_DO_PAUSE_CONTINUE = 193;
 const MAV_CMD_COMPONENT_ARM_DISARM = 400;
 const MAV_RESULT_ACCEPTED = 0;
+const MAV_RESULT_UNSUPPORTED = 3;
 
 // What was heard.
 const heard = {
@@ -165,7 +175,48 @@ async function main() {
     expect(h.type === MAV_TYPE_QUADROTOR && h.status === MAV_STATE_ACTIVE, `system ${s} is an ACTIVE quadrotor`);
   }
   expect(heard.adsb.size === uavs, `ADSB_VEHICLE of all ${uavs} UAVs (${[...heard.adsb.keys()].join(" ")})`);
+  if (replay) {
+    await steerReplay(systems);
+  } else {
+    await steerSwarm(systems);
+  }
+  expect(heard.crcErrors === 0, `no CRC error in ${heard.packets} packets`);
+  expect(splitter.invalidPackages === 0 && splitter.unknownPackagesCount === 0,
+    `node-mavlink found no invalid or unknown packet (valid ${splitter.validPackages})`);
+}
 
+// --replay 1: unsigned pause and continue steer the playback; disarm is unsupported.
+async function steerReplay(systems) {
+  await sendUnsigned(0);
+  await until("the COMMAND_ACK of the pause", () => heard.acks.length >= 1);
+  expect(heard.acks[0].command === MAV_CMD_DO_PAUSE_CONTINUE && heard.acks[0].result === MAV_RESULT_ACCEPTED,
+    "the unsigned pause of a replay is ACCEPTED");
+  await until("STANDBY heartbeats", () =>
+    systems.every((s) => heard.heartbeats.get(s).status === MAV_STATE_STANDBY && heard.heartbeats.get(s).t > heard.acks[0].t));
+  let before = latest();
+  await sleep(1500);
+  expect(moved(before, latest()) === 0, "no UAV moves while the playback is paused");
+  await sendUnsigned(1);
+  await until("the COMMAND_ACK of the continue", () => heard.acks.length >= 2);
+  expect(heard.acks[1].result === MAV_RESULT_ACCEPTED, "the unsigned continue is ACCEPTED");
+  before = latest();
+  await sleep(1500);
+  expect(moved(before, latest()) > 0, "the UAVs move again after continue");
+  const c = new common.CommandLong();
+  c.targetSystem = GROUND_SYSID;
+  c.targetComponent = 1;
+  c.command = MAV_CMD_COMPONENT_ARM_DISARM;
+  c._param1 = 0;
+  await send(new MavLinkProtocolV2(255, 190).serialize(c, seq++ & 255));
+  await until("the COMMAND_ACK of the disarm", () => heard.acks.length >= 3);
+  expect(heard.acks[2].command === MAV_CMD_COMPONENT_ARM_DISARM && heard.acks[2].result === MAV_RESULT_UNSUPPORTED,
+    "a replay's disarm is UNSUPPORTED");
+  const packets = heard.packets;
+  await sleep(1000);
+  expect(heard.packets > packets, "the stream goes on after the disarm");
+}
+
+async function steerSwarm(systems) {
   // 2. Unsigned pause: refused, nothing stops.
   const key = Buffer.from(fs.readFileSync(flags["key-file"], "utf8").trim(), "hex");
   expect(key.length === 32, "the MAVLink key is 32 bytes");
@@ -214,9 +265,6 @@ async function main() {
     });
     log("ok: the stream ended after the stop");
   }
-  expect(heard.crcErrors === 0, `no CRC error in ${heard.packets} packets`);
-  expect(splitter.invalidPackages === 0 && splitter.unknownPackagesCount === 0,
-    `node-mavlink found no invalid or unknown packet (valid ${splitter.validPackages})`);
 }
 
 let failure = null;

@@ -60,11 +60,27 @@ core::Result<double> check_mavlink_rate(double hz, std::string_view flag) {
 uint32_t mavlink_icao_address(uint32_t uav) { return 0xFA0000U + (uav & 0xFFFFU); }
 std::string mavlink_callsign(uint32_t uav) { return "PH" + std::to_string(uav); }
 
-MavlinkFeed::MavlinkFeed(const core::ScenarioConfig& scenario, double rate_hz, Clock::time_point start)
-    : geo_(scenario.geo),
-      cells_per_tick_to_mps_(scenario.geo.cell_size_m * scenario.tick_rate_hz),
-      regions_(scenario.geometry().region_count()),
-      targets_(scenario.targets.size()),
+MavlinkRun mavlink_run_of(const core::ScenarioConfig& scenario) {
+  return {scenario.geo, scenario.tick_rate_hz, scenario.geometry().region_count(), scenario.targets.size()};
+}
+
+MavlinkSwarm mavlink_swarm_of(const core::RunRecorder& rec, uint32_t regions) {
+  MavlinkSwarm out;
+  for (core::RegionId r = 0; r < regions; ++r) out.places_lost += rec.region_departed(r) ? 1U : 0U;
+  for (const auto& [id, u] : rec.uavs()) {
+    out.uavs_lost += u.alive ? 0U : 1U;
+    if (!u.heard) continue;
+    out.uavs.push_back({id, u.heard_tick, u.last.x, u.last.y, u.last.vx, u.last.vy, u.alive, u.finished});
+  }
+  out.targets_found = rec.acquisitions().found();
+  return out;
+}
+
+MavlinkFeed::MavlinkFeed(const MavlinkRun& run, double rate_hz, Clock::time_point start)
+    : geo_(run.geo),
+      cells_per_tick_to_mps_(run.geo.cell_size_m * run.tick_rate_hz),
+      regions_(run.regions),
+      targets_(run.targets),
       position_period_(std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(1.0 / rate_hz))),
       start_(start),
       next_heartbeat_(start),
@@ -89,26 +105,25 @@ void MavlinkFeed::put(std::vector<uint8_t> frame) {
   out_.back().insert(out_.back().end(), frame.begin(), frame.end());
 }
 
-std::vector<std::vector<uint8_t>> MavlinkFeed::due(const core::RunRecorder& rec, Clock::time_point now) {
+std::vector<std::vector<uint8_t>> MavlinkFeed::due(const MavlinkSwarm& swarm, Clock::time_point now) {
   out_.clear();
   const auto boot_ms =
       static_cast<uint32_t>(std::chrono::duration_cast<std::chrono::milliseconds>(now - start_).count());
-  for (const auto& [id, u] : rec.uavs()) {
-    if (!u.heard) continue;
-    auto [it, fresh] = heard_tick_.try_emplace(id, u.heard_tick);
-    if (fresh || it->second != u.heard_tick) {
-      it->second = u.heard_tick;
-      heard_at_[id] = now;
+  for (const MavlinkUav& u : swarm.uavs) {
+    auto [it, fresh] = heard_tick_.try_emplace(u.id, u.tick);
+    if (fresh || it->second != u.tick) {
+      it->second = u.tick;
+      heard_at_[u.id] = now;
     }
   }
   if (now >= next_heartbeat_) {
     next_heartbeat_ = std::max(next_heartbeat_ + std::chrono::seconds(1), now);
-    heartbeats(rec);
-    ground_status(rec);
+    heartbeats(swarm);
+    ground_status(swarm);
   }
   if (now >= next_position_) {
     next_position_ = std::max(next_position_ + position_period_, now);
-    positions(rec, now, boot_ms);
+    positions(swarm, now, boot_ms);
   }
   while (!texts_.empty()) {
     status_text(texts_.front());
@@ -135,16 +150,16 @@ void MavlinkFeed::status_text(const std::string& text) {
   }
 }
 
-void MavlinkFeed::heartbeats(const core::RunRecorder& rec) {
+void MavlinkFeed::heartbeats(const MavlinkSwarm& swarm) {
   ml::Heartbeat g;
   g.type = ml::kMavTypeGcs;
   g.autopilot = ml::kMavAutopilotInvalid;
   g.system_status = ml::kMavStateActive;
   put(ml::encode(g, {next_seq(kMavlinkGroundSysid), kMavlinkGroundSysid, kMavlinkCompid, 0}));
-  for (const auto& [id, u] : rec.uavs()) {
+  for (const MavlinkUav& u : swarm.uavs) {
     // A lost UAV falls silent: the station reports the link lost, as for a real one.
-    if (id >= kMavlinkMaxVehicles || !u.heard || !u.alive) continue;
-    const auto sysid = static_cast<uint8_t>(id + 1);
+    if (u.id >= kMavlinkMaxVehicles || !u.alive) continue;
+    const auto sysid = static_cast<uint8_t>(u.id + 1);
     ml::Heartbeat h;
     h.type = ml::kMavTypeQuadrotor;
     h.autopilot = ml::kMavAutopilotGeneric;
@@ -158,66 +173,66 @@ void MavlinkFeed::heartbeats(const core::RunRecorder& rec) {
   }
 }
 
-void MavlinkFeed::ground_status(const core::RunRecorder& rec) {
+void MavlinkFeed::ground_status(const MavlinkSwarm& swarm) {
   // SYS_STATUS of the ground station (docs/mavlink.md): the swarm's health
   // in the counters a station shows.
-  uint32_t places_lost = 0;
-  for (core::RegionId r = 0; r < regions_; ++r) places_lost += rec.region_departed(r) ? 1U : 0U;
-  uint32_t uavs_lost = 0;
-  for (const auto& [id, u] : rec.uavs()) uavs_lost += u.alive ? 0U : 1U;
+  const uint32_t places_lost = swarm.places_lost, uavs_lost = swarm.uavs_lost;
   ml::SysStatus s;
   s.drop_rate_comm = regions_ == 0 ? 0 : static_cast<uint16_t>(10000U * places_lost / regions_);
   s.errors_count[0] = static_cast<uint16_t>(std::min<uint32_t>(places_lost, UINT16_MAX));
   s.errors_count[1] = static_cast<uint16_t>(std::min<uint32_t>(uavs_lost, UINT16_MAX));
-  s.errors_count[2] = static_cast<uint16_t>(std::min<std::size_t>(rec.acquisitions().found(), UINT16_MAX));
+  s.errors_count[2] = static_cast<uint16_t>(std::min<std::size_t>(swarm.targets_found, UINT16_MAX));
   s.errors_count[3] = static_cast<uint16_t>(std::min<std::size_t>(targets_, UINT16_MAX));
   s.voltage_battery = UINT16_MAX;
   put(ml::encode(s, {next_seq(kMavlinkGroundSysid), kMavlinkGroundSysid, kMavlinkCompid, 0}));
 }
 
-void MavlinkFeed::positions(const core::RunRecorder& rec, Clock::time_point now, uint32_t boot_ms) {
-  for (const auto& [id, u] : rec.uavs()) {
-    if (!u.heard || !u.alive) continue;
-    const core::UavStateMsg& s = u.last;
-    const core::GeoPoint g = core::map_to_geo(geo_, {s.x, s.y});
-    const double east_mps = s.vx * cells_per_tick_to_mps_;
-    const double north_mps = -s.vy * cells_per_tick_to_mps_;  // rows grow to the south
-    const double heading = core::heading_deg(s.vx, s.vy);
-    if (id < kMavlinkMaxVehicles) {
-      const auto sysid = static_cast<uint8_t>(id + 1);
-      ml::GlobalPositionInt p;
-      p.time_boot_ms = boot_ms;
-      p.lat = deg_e7(g.lat_deg);
-      p.lon = deg_e7(g.lon_deg);
-      p.alt = mm(g.alt_m);
-      p.relative_alt = mm(geo_.flight_height_m);
-      p.vx = cm_s16(north_mps);
-      p.vy = cm_s16(east_mps);
-      p.hdg = cdeg(heading);
-      put(ml::encode(p, {next_seq(sysid), sysid, kMavlinkCompid, 0}));
-      ml::Attitude a;
-      a.time_boot_ms = boot_ms;
-      const double yaw = heading > 180.0 ? heading - 360.0 : heading;
-      a.yaw = static_cast<float>(yaw * std::numbers::pi / 180.0);
-      put(ml::encode(a, {next_seq(sysid), sysid, kMavlinkCompid, 0}));
-    }
-    ml::AdsbVehicle v;
-    v.icao_address = mavlink_icao_address(id);
-    v.lat = deg_e7(g.lat_deg);
-    v.lon = deg_e7(g.lon_deg);
-    v.altitude = mm(g.alt_m);
-    v.heading = cdeg(heading);
-    v.hor_velocity = cm_u16(std::hypot(east_mps, north_mps));
-    v.flags = ml::kAdsbFlagValidCoords | ml::kAdsbFlagValidAltitude | ml::kAdsbFlagValidHeading |
-              ml::kAdsbFlagValidVelocity | ml::kAdsbFlagValidCallsign | ml::kAdsbFlagSimulated;
-    v.altitude_type = ml::kAdsbAltitudeGeometric;
-    v.callsign = mavlink_callsign(id);
-    v.emitter_type = ml::kAdsbEmitterUav;
-    const auto heard = heard_at_.find(id);
-    const double silent_s = heard == heard_at_.end() ? 0.0 : std::chrono::duration<double>(now - heard->second).count();
-    v.tslc = static_cast<uint8_t>(std::clamp(silent_s, 0.0, 255.0));
-    put(ml::encode(v, {next_seq(kMavlinkGroundSysid), kMavlinkGroundSysid, kMavlinkCompid, 0}));
+void MavlinkFeed::positions(const MavlinkSwarm& swarm, Clock::time_point now, uint32_t boot_ms) {
+  for (const MavlinkUav& u : swarm.uavs) {
+    if (u.alive) position(u, now, boot_ms);
   }
+}
+
+void MavlinkFeed::position(const MavlinkUav& u, Clock::time_point now, uint32_t boot_ms) {
+  const uint32_t id = u.id;
+  const core::GeoPoint g = core::map_to_geo(geo_, {u.x, u.y});
+  const double east_mps = u.vx * cells_per_tick_to_mps_;
+  const double north_mps = -u.vy * cells_per_tick_to_mps_;  // rows grow to the south
+  const double heading = core::heading_deg(u.vx, u.vy);
+  if (id < kMavlinkMaxVehicles) {
+    const auto sysid = static_cast<uint8_t>(id + 1);
+    ml::GlobalPositionInt p;
+    p.time_boot_ms = boot_ms;
+    p.lat = deg_e7(g.lat_deg);
+    p.lon = deg_e7(g.lon_deg);
+    p.alt = mm(g.alt_m);
+    p.relative_alt = mm(geo_.flight_height_m);
+    p.vx = cm_s16(north_mps);
+    p.vy = cm_s16(east_mps);
+    p.hdg = cdeg(heading);
+    put(ml::encode(p, {next_seq(sysid), sysid, kMavlinkCompid, 0}));
+    ml::Attitude a;
+    a.time_boot_ms = boot_ms;
+    const double yaw = heading > 180.0 ? heading - 360.0 : heading;
+    a.yaw = static_cast<float>(yaw * std::numbers::pi / 180.0);
+    put(ml::encode(a, {next_seq(sysid), sysid, kMavlinkCompid, 0}));
+  }
+  ml::AdsbVehicle v;
+  v.icao_address = mavlink_icao_address(id);
+  v.lat = deg_e7(g.lat_deg);
+  v.lon = deg_e7(g.lon_deg);
+  v.altitude = mm(g.alt_m);
+  v.heading = cdeg(heading);
+  v.hor_velocity = cm_u16(std::hypot(east_mps, north_mps));
+  v.flags = ml::kAdsbFlagValidCoords | ml::kAdsbFlagValidAltitude | ml::kAdsbFlagValidHeading |
+            ml::kAdsbFlagValidVelocity | ml::kAdsbFlagValidCallsign | ml::kAdsbFlagSimulated;
+  v.altitude_type = ml::kAdsbAltitudeGeometric;
+  v.callsign = mavlink_callsign(id);
+  v.emitter_type = ml::kAdsbEmitterUav;
+  const auto heard = heard_at_.find(id);
+  const double silent_s = heard == heard_at_.end() ? 0.0 : std::chrono::duration<double>(now - heard->second).count();
+  v.tslc = static_cast<uint8_t>(std::clamp(silent_s, 0.0, 255.0));
+  put(ml::encode(v, {next_seq(kMavlinkGroundSysid), kMavlinkGroundSysid, kMavlinkCompid, 0}));
 }
 
 std::vector<uint8_t> MavlinkFeed::ack(const mavlink::CommandGate::Command& c, uint8_t result,

@@ -137,6 +137,14 @@ void to_pb(const ConsoleInfo& i, pb::ConsoleInfo* out) {
   out->set_sensor_radius(i.sensor_radius);
   out->set_clock(utf8(i.clock));
   out->set_dds(utf8(i.dds));
+  if (i.geo) {
+    pb::Geo* g = out->mutable_geo();
+    g->set_origin_lat_deg(i.geo->origin_lat_deg);
+    g->set_origin_lon_deg(i.geo->origin_lon_deg);
+    g->set_origin_alt_m(i.geo->origin_alt_m);
+    g->set_cell_size_m(i.geo->cell_size_m);
+    g->set_flight_height_m(i.geo->flight_height_m);
+  }
 }
 
 void to_pb(const Frame& f, pb::Frame* out) {
@@ -285,6 +293,11 @@ ConsoleInfo from_pb(const pb::ConsoleInfo& i) {
   out.sensor_radius = i.sensor_radius();
   out.clock = i.clock();
   out.dds = i.dds();
+  if (i.has_geo()) {
+    const pb::Geo& g = i.geo();
+    out.geo =
+        core::GeoFrame{g.origin_lat_deg(), g.origin_lon_deg(), g.origin_alt_m(), g.cell_size_m(), g.flight_height_m()};
+  }
   return out;
 }
 

@@ -42,6 +42,7 @@ ConsoleInfo console_info_of(const core::ScenarioConfig& s) {
   info.ticks = s.ticks;
   info.uavs_expected = s.uavs;
   info.sensor_radius = traits.sensor_radius;
+  info.geo = s.geo;
   return info;
 }
 

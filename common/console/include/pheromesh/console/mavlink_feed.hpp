@@ -1,8 +1,9 @@
 // The swarm as a MAVLink ground-control station sees it (docs/mavlink.md):
 // what the ground station streams over UDP with --mavlink, built from what
-// its intake already heard (the run recorder's UAVs, its notes), and the
-// answer to a command. Pure: no socket; the time is passed in, and the
-// shell sends the datagrams returned.
+// its intake already heard (the run recorder's UAVs, its notes), or what
+// `pheromesh replay --mavlink` rebuilt from a recording (mavlink_replay.hpp),
+// and the answer to a command. Pure: no socket; the time is passed in, and
+// the shell sends the datagrams returned.
 //
 // Systems: UAV i (0 <= i < 250) is MAVLink system i + 1, component 1 (its
 // HEARTBEAT at 1 Hz; GLOBAL_POSITION_INT and ATTITUDE at --mavlink-rate-hz);
@@ -57,6 +58,35 @@ inline constexpr std::size_t kMavlinkTextChunks = 4;        // a text is sent in
 uint32_t mavlink_icao_address(uint32_t uav);
 std::string mavlink_callsign(uint32_t uav);
 
+// What the feed needs of a run, from its scenario or a recording's ConsoleInfo.
+struct MavlinkRun {
+  core::GeoFrame geo;
+  double tick_rate_hz = 0;  // [Hz]
+  uint32_t regions = 0;
+  std::size_t targets = 0;
+};
+MavlinkRun mavlink_run_of(const core::ScenarioConfig& scenario);
+
+// One UAV as the stream shows it.
+struct MavlinkUav {
+  uint32_t id = 0;
+  uint32_t tick = 0;      // of its newest state (a new one restarts ADS-B tslc)
+  double x = 0, y = 0;    // [cell]
+  double vx = 0, vy = 0;  // [cell/tick]
+  bool alive = true;      // false: lost, it falls silent
+  bool finished = false;  // POWEROFF
+};
+// The swarm at one moment: every UAV heard (by id), and the counters of the
+// ground station's SYS_STATUS.
+struct MavlinkSwarm {
+  std::vector<MavlinkUav> uavs;
+  uint32_t places_lost = 0;  // regions
+  uint32_t uavs_lost = 0;
+  std::size_t targets_found = 0;
+};
+// The run recorder's view of the swarm (`regions`: the scenario's).
+MavlinkSwarm mavlink_swarm_of(const core::RunRecorder& rec, uint32_t regions);
+
 class MavlinkFeed {
  public:
   using Clock = std::chrono::steady_clock;
@@ -68,7 +98,9 @@ class MavlinkFeed {
 
   // `rate_hz`: positions, attitudes and ADS-B per UAV [Hz], checked by
   // check_mavlink_rate. `start`: time_boot_ms counts from it.
-  MavlinkFeed(const core::ScenarioConfig& scenario, double rate_hz, Clock::time_point start);
+  MavlinkFeed(const MavlinkRun& run, double rate_hz, Clock::time_point start);
+  MavlinkFeed(const core::ScenarioConfig& scenario, double rate_hz, Clock::time_point start)
+      : MavlinkFeed(mavlink_run_of(scenario), rate_hz, start) {}
 
   // Pause and resume from any source: a paused UAV is STANDBY.
   void set_paused(bool paused) { paused_ = paused; }
@@ -76,7 +108,10 @@ class MavlinkFeed {
   void note(const IntakeNote& n);
   // Everything due at `now`, packed into datagrams; `rec` is the intake's
   // view of the swarm.
-  std::vector<std::vector<uint8_t>> due(const core::RunRecorder& rec, Clock::time_point now);
+  std::vector<std::vector<uint8_t>> due(const core::RunRecorder& rec, Clock::time_point now) {
+    return due(mavlink_swarm_of(rec, regions_), now);
+  }
+  std::vector<std::vector<uint8_t>> due(const MavlinkSwarm& swarm, Clock::time_point now);
   // A COMMAND_ACK from the ground station to the sender of `c`, signed if `signing` is.
   std::vector<uint8_t> ack(const mavlink::CommandGate::Command& c, uint8_t result,
                            const std::optional<mavlink::Signing>& signing);
@@ -84,9 +119,10 @@ class MavlinkFeed {
   [[nodiscard]] const Stats& stats() const { return stats_; }
 
  private:
-  void heartbeats(const core::RunRecorder& rec);
-  void positions(const core::RunRecorder& rec, Clock::time_point now, uint32_t boot_ms);
-  void ground_status(const core::RunRecorder& rec);
+  void heartbeats(const MavlinkSwarm& swarm);
+  void positions(const MavlinkSwarm& swarm, Clock::time_point now, uint32_t boot_ms);
+  void position(const MavlinkUav& u, Clock::time_point now, uint32_t boot_ms);
+  void ground_status(const MavlinkSwarm& swarm);
   void status_text(const std::string& text);
   void put(std::vector<uint8_t> frame);
   uint8_t next_seq(uint8_t sysid) { return seq_[sysid]++; }

@@ -13,6 +13,7 @@
 #include <utility>
 #include <vector>
 
+#include "pheromesh/core/geodetic.hpp"
 #include "pheromesh/core/grid.hpp"
 
 namespace pheromesh::core {
@@ -38,6 +39,9 @@ struct ConsoleInfo {
   double sensor_radius = 0;  // [cell]
   std::string clock;         // realtime | lockstep
   std::string dds;           // the ground station's vendor
+  // Where the map lies (the scenario's geo block), for a replay's MAVLink
+  // stream; absent in recordings made before it was recorded.
+  std::optional<core::GeoFrame> geo;
 };
 
 // One pheromone layer of one tile, quantised to 8 bits: value = q / 255 * scale.

@@ -11,6 +11,10 @@
 // and commands we do not carry out (these get a signed COMMAND_ACK
 // UNSUPPORTED). Frames of other messages (a GCS's own HEARTBEAT) are
 // ignored. Pure: the wall time is passed in.
+//
+// A gate made with Signatures::NotChecked (`pheromesh replay --mavlink`,
+// which holds no key and whose commands steer only its own playback) takes
+// every well-formed COMMAND_LONG, signed or not, and checks no signature.
 #pragma once
 
 #include <chrono>
@@ -48,8 +52,11 @@ class CommandGate {
   // A timestamp this far behind the local clock is refused [10 µs] (one minute).
   static constexpr uint64_t kMaxAge = 6'000'000;
 
-  // `key`: the swarm's MAVLink key; without it every command is refused.
-  explicit CommandGate(std::optional<SecretKey> key) : key_(key) {}
+  enum class Signatures : uint8_t { Required, NotChecked };
+  // `key`: the swarm's MAVLink key; without it every command is refused
+  // (unless signatures are NotChecked).
+  explicit CommandGate(std::optional<SecretKey> key, Signatures signatures = Signatures::Required)
+      : key_(key), signatures_(signatures) {}
   // The commands of one datagram received at `now`.
   std::vector<Command> take(std::span<const uint8_t> datagram, std::chrono::system_clock::time_point now);
   [[nodiscard]] const Stats& stats() const { return stats_; }
@@ -62,6 +69,7 @@ class CommandGate {
   bool fresh(const Frame& f, uint64_t now_ts);
 
   std::optional<SecretKey> key_;
+  Signatures signatures_;
   Decoder decoder_;
   Stats stats_;
   using Stream = std::tuple<uint8_t, uint8_t, uint8_t>;  // sysid, compid, link id
