@@ -258,6 +258,35 @@ std::pair<double, double> ddsperf(const std::string& tmp, uint32_t domain) {
   return {percentile(p50, 0.5), percentile(p99, 0.5)};
 }
 
+// The table of `rows` beside ddsperf's round trip, and the JSON if asked.
+void report(const std::vector<Row>& rows, double rtt50, double rtt99, double rate, const std::string& json_path) {
+  std::printf(
+      "\n| backend | p50 [us] | p99 [us] | mean [us] | p50 / ddsperf RTT p50 | samples | lost | place RSS [MiB] | "
+      "uav-side RSS [MiB] |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|\n");
+  nlohmann::json j;
+  for (const auto& r : rows) {
+    std::printf("| %s | %.0f | %.0f | %.0f | %.1f | %d | %d | %.1f | %.1f |\n", r.name.c_str(), r.p50, r.p99, r.mean,
+                rtt50 > 0 ? r.p50 / rtt50 : 0.0, r.n, r.lost, static_cast<double>(r.place_rss_kb) / 1024.0,
+                static_cast<double>(r.client_rss_kb) / 1024.0);
+    j["backends"].push_back({{"backend", r.name},
+                             {"place", r.place},
+                             {"client", r.client},
+                             {"p50_us", r.p50},
+                             {"p99_us", r.p99},
+                             {"mean_us", r.mean},
+                             {"samples", r.n},
+                             {"lost", r.lost},
+                             {"place_rss_kb", r.place_rss_kb},
+                             {"client_rss_kb", r.client_rss_kb}});
+  }
+  std::printf("| ddsperf ping/pong round trip (cyclone, 12 B) | %.0f | %.0f | | 1.0 | | | | |\n", rtt50, rtt99);
+  j["ddsperf_rtt_p50_us"] = rtt50;
+  j["ddsperf_rtt_p99_us"] = rtt99;
+  j["rate_hz"] = rate;
+  if (!json_path.empty()) std::ofstream(json_path) << j.dump(2) << "\n";
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -321,22 +350,7 @@ int main(int argc, char** argv) {
     ++domain;
   }
   const auto [rtt50, rtt99] = ddsperf(tmp, domain);
-  std::printf("\n| backend | p50 [us] | p99 [us] | mean [us] | p50 / ddsperf RTT p50 | samples | lost | place RSS [MiB] | uav-side RSS [MiB] |\n");
-  std::printf("|---|---|---|---|---|---|---|---|---|\n");
-  nlohmann::json j;
-  for (const auto& r : rows) {
-    std::printf("| %s | %.0f | %.0f | %.0f | %.1f | %d | %d | %.1f | %.1f |\n", r.name.c_str(), r.p50, r.p99, r.mean,
-                rtt50 > 0 ? r.p50 / rtt50 : 0.0, r.n, r.lost, static_cast<double>(r.place_rss_kb) / 1024.0,
-                static_cast<double>(r.client_rss_kb) / 1024.0);
-    j["backends"].push_back({{"backend", r.name}, {"place", r.place}, {"client", r.client}, {"p50_us", r.p50},
-                             {"p99_us", r.p99}, {"mean_us", r.mean}, {"samples", r.n}, {"lost", r.lost},
-                             {"place_rss_kb", r.place_rss_kb}, {"client_rss_kb", r.client_rss_kb}});
-  }
-  std::printf("| ddsperf ping/pong round trip (cyclone, 12 B) | %.0f | %.0f | | 1.0 | | | | |\n", rtt50, rtt99);
-  j["ddsperf_rtt_p50_us"] = rtt50;
-  j["ddsperf_rtt_p99_us"] = rtt99;
-  j["rate_hz"] = rate;
-  if (!json_path.empty()) std::ofstream(json_path) << j.dump(2) << "\n";
+  report(rows, rtt50, rtt99, rate, json_path);
   fs::remove_all(tmp);
   bool ok = rtt50 > 0;
   for (const auto& r : rows) ok = ok && r.n > 0;

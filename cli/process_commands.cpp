@@ -164,6 +164,16 @@ class FullCommands final : public ProcessCommands {
            *si = nullptr, *ce = nullptr;
 
   void add(CLI::App& app) {
+    add_run(app);
+    add_replay(app);
+    add_bench(app);
+    add_attach(app);
+    ce = add_cell_command(app, co);
+    add_security(app);
+  }
+
+  // `pheromesh run`: its flags by group, in the order --help lists them.
+  void add_run(CLI::App& app) {
     ro.dds = bus::default_vendor();
     if (const char* p = std::getenv("PHEROMESH_DDS_PROFILE"); p != nullptr && *p != '\0') ro.dds_profile = p;
     r = app.add_subcommand("run", "Run a swarm on this host: one process per place agent and UAV, plus the "
@@ -194,6 +204,13 @@ class FullCommands final : public ProcessCommands {
     r->footer(std::string(kRunFooter) + "\n" + cli::kSetFooter +
               "  pheromesh run small-test --set shao.aco.alpha=2 --uavs 6 --duration 20   the overrides are logged,\n"
               "                                          and every process reads OUT/scenario.textproto\n");
+    add_run_middleware();
+    add_run_hosts_and_clock();
+    add_run_console();
+  }
+
+  // run: the DDS vendor, profile and peers; --strict, --standby.
+  void add_run_middleware() {
     r->add_option("--dds", ro.dds,
                   "DDS vendor of the processes: cyclone, fastdds, or mixed (ground on cyclone; place agents "
                   "cyclone/fastdds alternating by index, UAVs fastdds/cyclone), or per role, e.g. "
@@ -219,6 +236,10 @@ class FullCommands final : public ProcessCommands {
     r->add_option("--dds-peers", ro.dds_peers,
                   "Every host of the swarm, comma-separated addresses or names: in cells one per host in --host-index "
                   "order; lan-unicast: unicast discovery peers [env PHEROMESH_DDS_PEERS]");
+  }
+
+  // run: several hosts, the domain, the clock, and how the processes start.
+  void add_run_hosts_and_clock() {
     r->add_option("--hosts", ro.hosts,
                   "Hosts the swarm is split over; each runs this command with its --host-index "
                   "(see SEVERAL HOSTS below)")
@@ -260,6 +281,10 @@ class FullCommands final : public ProcessCommands {
                   "process is discovered by every other one, and hundreds at once flood a small host")
         ->check(CLI::Range(0.0, 10000.0))
         ->capture_default_str();
+  }
+
+  // run: progress, the start timeout, the web console, security, the recording, tracks and MAVLink.
+  void add_run_console() {
     r->add_option("--progress", ro.progress_s, "Seconds between the ground station's progress lines [s], > 0")
         ->check(CLI::Range(0.01, 86400.0))
         ->capture_default_str();
@@ -284,7 +309,9 @@ class FullCommands final : public ProcessCommands {
     add_mavlink_options(r, ro.mavlink, ro.mavlink_rate_hz, "the swarm",
                         "it takes pause, continue and stop signed with the swarm's MAVLink key, which the ground "
                         "station writes to OUT/mavlink.key");
+  }
 
+  void add_replay(CLI::App& app) {
     rp = app.add_subcommand("replay",
                             "Serve the web console from a recording (OUT/console.phrec of `run --http`), "
                             "with a time slider; with --mavlink, also stream it to a MAVLink "
@@ -298,13 +325,22 @@ class FullCommands final : public ProcessCommands {
                         "the end),",
                         "a station's pause and continue (unsigned: a replay holds no key) pause and continue the "
                         "playback; disarm and every other command get COMMAND_ACK UNSUPPORTED");
+  }
 
+  void add_bench(CLI::App& app) {
     auto* bench = app.add_subcommand("bench", "Benchmarks of whole swarms (they print figures; they are not tests)");
     bench->require_subcommand(1);
-    bs = bench->add_subcommand(
-        "scale", "Run `pheromesh run` with swarms of increasing size, per DDS vendor, and tabulate what each size costs: "
-                 "late ticks, discovery time, CPU per UAV tick, memory (PSS/RSS) and threads per process, UDP datagrams "
-                 "per UAV tick");
+    add_bench_scale(*bench);
+    add_bench_lockstep(*bench);
+    add_bench_soak(*bench);
+  }
+
+  void add_bench_scale(CLI::App& bench) {
+    bs = bench.add_subcommand(
+        "scale",
+        "Run `pheromesh run` with swarms of increasing size, per DDS vendor, and tabulate what each size costs: "
+        "late ticks, discovery time, CPU per UAV tick, memory (PSS/RSS) and threads per process, UDP datagrams "
+        "per UAV tick");
     bs->add_option("SCENARIO", bso.scenario, "Scenario file, e.g. scenarios/scale-100x100.textproto (its start area "
                                              "must hold the largest size)")
         ->required()
@@ -333,8 +369,10 @@ class FullCommands final : public ProcessCommands {
     bs->add_option("--domain", bso.domain, "DDS domain id of the runs")->check(CLI::Range(0, 232))->capture_default_str();
     bs->add_option("--extra", bso.extra, "More arguments for `pheromesh run`, in one string, e.g. \"--dds-profile default\"");
     bs->footer(cli::kBenchScaleFooter);
+  }
 
-    bl = bench->add_subcommand(
+  void add_bench_lockstep(CLI::App& bench) {
+    bl = bench.add_subcommand(
         "lockstep",
         "Where a lockstep tick's time goes: ticks/s and the time of each UAV and place phase of `pheromesh run "
         "--clock lockstep`, per swarm and DDS vendor, against the in-process simulator and the round trip of "
@@ -358,14 +396,17 @@ class FullCommands final : public ProcessCommands {
                    "Another build's pheromesh (e.g. of the commit before a change): each run is flown with it too and the "
                    "two compared by wall time");
     bl->footer(cli::kBenchLockstepFooter);
-    le = bench->add_subcommand("lockstep-echo", "The other end of bench lockstep's floor measurement");
+    le = bench.add_subcommand("lockstep-echo", "The other end of bench lockstep's floor measurement");
     le->group("");  // hidden: bench lockstep starts it
     le->add_option("--dds", leo.dds)->check(CLI::IsMember({"cyclone", "fastdds"}));
     le->add_option("--domain", leo.domain)->check(CLI::Range(0, 232));
+  }
 
-    bk = bench->add_subcommand(
-        "soak", "Run one swarm for a long time with a fault every so often, and report the RSS, open file descriptors "
-                "and threads of every role (uav, place, ground, launcher) over time, with growth per hour");
+  void add_bench_soak(CLI::App& bench) {
+    bk = bench.add_subcommand(
+        "soak",
+        "Run one swarm for a long time with a fault every so often, and report the RSS, open file descriptors "
+        "and threads of every role (uav, place, ground, launcher) over time, with growth per hour");
     bk->add_option("SCENARIO", bko.scenario, cli::kScenarioArgHelp)
         ->required()
         ->transform(CLI::Validator(cli::resolve_scenario_argument, "FILE|NAME"));
@@ -395,7 +436,9 @@ class FullCommands final : public ProcessCommands {
     bk->add_option("--out", bko.out_dir, "Output folder: soak.md, soak.csv, soak-processes.csv, run/")->capture_default_str();
     bk->add_option("--extra", bko.extra, "More arguments for `pheromesh run`, in one string");
     bk->footer(cli::kBenchSoakFooter);
+  }
 
+  void add_attach(CLI::App& app) {
     ao.dds = bus::default_vendor();
     if (const char* p = std::getenv("PHEROMESH_DDS_PROFILE"); p != nullptr && *p != '\0') ao.dds_profile = p;
     if (const char* p = std::getenv("PHEROMESH_DDS_PEERS"); p != nullptr) ao.dds_peers = p;
@@ -444,8 +487,9 @@ class FullCommands final : public ProcessCommands {
                    "DDS Security: the swarm's directory of `pheromesh security init`; the monitor authenticates with "
                    "its read-only identity 'monitor' there (docs/security.md) [env PHEROMESH_SECURE]");
     at->footer(kAttachFooter);
-    ce = add_cell_command(app, co);
+  }
 
+  void add_security(CLI::App& app) {
     auto* sec = app.add_subcommand("security", "DDS Security for a swarm: authentication, access control, encryption "
                                                "(docs/security.md)");
     sec->require_subcommand(1);
@@ -471,7 +515,6 @@ class FullCommands final : public ProcessCommands {
         ->capture_default_str();
     si->add_flag("--force", sio.force, "Replace the files of an earlier `security init` in DIR");
     si->footer(cli::kSecurityFooter);
-
   }
 };
 

@@ -6,11 +6,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdlib>
-#include <filesystem>
 
 #include "pheromesh/core/policy.hpp"
-#include "pheromesh/report/report.hpp"
-#include "pheromesh/report/tidy.hpp"
 
 namespace pheromesh::groundstation {
 
@@ -186,72 +183,6 @@ void GroundApp::wait_for_data(Clock::time_point until) {
              until);
 }
 
-void GroundApp::end_run() {
-  ended_ = true;
-  core::CommandMsg end;
-  end.kind = static_cast<uint8_t>(core::CommandKind::End);
-  const auto a = publish_swarm_command(end);
-  if (a.status == 200) {
-    log_->info("every uav finished or is gone: {}", a.message);
-  } else {
-    log_->error("every uav finished or is gone, but the end of the run cannot be announced: {}", a.message);
-  }
-}
-
-void GroundApp::drain() {
-  // After an End the place agents, maybe on other hosts, finish their last
-  // tick and publish it: longer.
-  const auto deadline = Clock::now() + std::chrono::seconds(ended_ ? 10 : 3);
-  for (;;) {
-    poll();
-    if (book_.places_finished(rec_) || Clock::now() > deadline) break;
-    wait_for_data(std::min(deadline, Clock::now() + std::chrono::milliseconds(20)));
-  }
-}
-
-int GroundApp::finish() {
-  drain();
-  log_notes(intake_.judge_pending());
-  print_progress();
-  if (console_) close_console();
-  finish_mavlink();
-  return write_results();
-}
-
-int GroundApp::write_results() {
-  const auto field_value = [this](int layer, core::Cell c) { return intake_.field_value(layer, c); };
-  rec_.set_field_summary(core::field_summary(scenario_, field_value));
-  std::string error;
-  const report::RunInfo info{bus_->vendor(),
-                              cfg_.common.clock,
-                              report::Runner::Processes,
-                              cfg_.expect_uavs,
-                              book_.discovery_s(),
-                              conductor_.phase_times().uav_ms,
-                              conductor_.phase_times().place_ms,
-                              bus_->stats().bytes_taken};
-  if (!report::write_json(cfg_.out_dir, "metrics.json", report::metrics_json(rec_, info), error)) {
-    log_->error("{}", error);
-    return 5;
-  }
-  const std::filesystem::path out(cfg_.out_dir);
-  const std::vector<std::string>& layers = core::policy_traits(scenario_).layers;
-  const std::string field_path = (out / "final_field.txt").string();
-  const bool field_ok = report::write_field(field_path, geo_, layers, field_value);
-  if (!field_ok) log_->error("cannot write {}", field_path);
-  // The tidy files (docs/outputs.md): in lockstep equal to the simulator's.
-  std::vector<core::Result<std::size_t>> tidy;
-  tidy.push_back(report::write_series_csv((out / "series.csv").string(), rec_.tick_series()));
-  tidy.push_back(report::write_field_csv((out / "final_field.csv").string(), geo_, layers, field_value));
-  if (cfg_.tracks) tidy.push_back(report::write_tracks_csv((out / "tracks.csv").string(), rec_.tracks()));
-  for (const auto& w : tidy) {
-    if (!w) log_->error("{}", w.error().message);
-  }
-  log_->info("wrote {}/metrics.json, series.csv, final_field.txt and final_field.csv{}", cfg_.out_dir,
-             cfg_.tracks ? ", tracks.csv" : "");
-  return 0;
-}
-
 core::RunBook::Heard GroundApp::heard() const { return {frame_builder_.uavs_heard(), frame_builder_.regions_heard()}; }
 
 void GroundApp::note_full_state() {
@@ -269,28 +200,11 @@ bool GroundApp::end_if_over() {
     return true;
   }
   if (cfg_.attach) {
-    // A monitor that came late can miss a place agent that ended before it
-    // was discovered (no health, no departure): once every place agent it
-    // heard has finished and 5 s passed, the run is over (before, it waited
-    // for the missing one for good).
-    const auto& heard = rec_.replica_health();
-    const bool all_finished = !heard.empty() && std::all_of(heard.begin(), heard.end(), [&](const auto& kv) {
-      return kv.second.finished || rec_.place_departed(kv.first);
-    });
-    if (!all_finished) {
-      heard_places_finished_.reset();
-    } else if (!heard_places_finished_) {
-      heard_places_finished_ = Clock::now();
-    } else if (Clock::now() - *heard_places_finished_ > std::chrono::seconds(5)) {
-      std::vector<core::RegionId> missing;
-      for (core::RegionId r = 0; r < geo_.region_count(); ++r) {
-        const bool any = std::any_of(heard.begin(), heard.end(),
-                                     [&](const auto& kv) { return core::place_id_region(kv.first) == r; });
-        if (!any) missing.push_back(r);
-      }
-      log_->warn("every place agent heard has finished and none other was heard for 5 s: the run is over; never heard "
-                 "region(s) {} (they ended before this monitor found them)",
-                 fmt::join(missing, ", "));
+    if (const auto never_heard = intake_.heard_places_over(Clock::now())) {
+      log_->warn(
+          "every place agent heard has finished and none other was heard for 5 s: the run is over; never heard "
+          "region(s) {} (they ended before this monitor found them)",
+          fmt::join(*never_heard, ", "));
       return true;
     }
   }

@@ -136,7 +136,6 @@ class GroundApp {
   // Before the launcher kills at `tick`: waits (bounded) until every live
   // place replica's health of the tick before is here.
   void await_health_before_kills(uint32_t tick);
-  [[nodiscard]] std::vector<uint32_t> places_without_health_of(uint32_t tick) const;
   // The launcher's answer; meanwhile takes samples and keeps the clock going out.
   [[nodiscard]] console::ConsoleSource::Answer ask_faults(uint32_t tick);
   // The launcher or the console killed these.
@@ -188,7 +187,6 @@ class GroundApp {
   console::GroundIntake intake_;         // every received sample: checks, and who hears of it
   console::GroundSamples samples_;       // reusable inbox
   Clock::time_point next_progress_;
-  std::optional<Clock::time_point> heard_places_finished_;  // attach: since when every place agent heard has finished
 
   // --- web console
   std::unique_ptr<LiveConsole> console_;

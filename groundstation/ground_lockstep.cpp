@@ -165,21 +165,6 @@ console::ConsoleSource::Answer GroundApp::ask_faults(uint32_t tick) {
   return answer.get();
 }
 
-std::vector<uint32_t> GroundApp::places_without_health_of(uint32_t tick) const {
-  std::vector<uint32_t> missing;
-  const auto& latest = rec_.replica_health();
-  for (core::RegionId r = 0; r < geo_.region_count(); ++r) {
-    if (conductor_.absent(r)) continue;
-    for (uint16_t rep = 0; rep <= (cfg_.standby ? 1 : 0); ++rep) {
-      const uint32_t place = core::place_id(r, rep);
-      if (conductor_.place_gone(place)) continue;
-      auto it = latest.find(place);
-      if (it == latest.end() || it->second.tick < tick) missing.push_back(place);
-    }
-  }
-  return missing;
-}
-
 void GroundApp::await_health_before_kills(uint32_t tick) {
   // A place agent publishes its health of a tick just before its PhaseDone,
   // without waiting for it to be delivered (place_app.cpp). Killed right
@@ -189,7 +174,7 @@ void GroundApp::await_health_before_kills(uint32_t tick) {
   // health of the tick before is here (the records are reliable: they come).
   if (tick == 0) return;
   const auto deadline = Clock::now() + millis(cfg_.phase_timeout_s);
-  auto missing = places_without_health_of(tick - 1);
+  auto missing = intake_.places_without_health_of(tick - 1);
   while (!missing.empty() && !runtime::shutdown_requested()) {
     if (Clock::now() > deadline) {
       log_->warn(
@@ -201,7 +186,7 @@ void GroundApp::await_health_before_kills(uint32_t tick) {
     poll();
     resend_.resend_if_quiet();
     wait_for_data(Clock::now() + std::chrono::milliseconds(10));
-    missing = places_without_health_of(tick - 1);
+    missing = intake_.places_without_health_of(tick - 1);
   }
 }
 

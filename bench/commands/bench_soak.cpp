@@ -19,6 +19,7 @@
 #include <sstream>
 #include <string>
 #include <thread>
+#include <variant>
 #include <vector>
 
 #include "launch/child_spawn.hpp"
@@ -285,12 +286,23 @@ std::string soak_fault_schedule(double duration_s, double every_s, uint32_t uavs
   return out;
 }
 
-int run_bench_soak(const BenchSoakOptions& o) {
-  const double duration_s = parse_duration_s(o.duration);
-  const double every_s = o.fault_every == "0" ? 0 : parse_duration_s(o.fault_every);
-  const double sample_s = parse_duration_s(o.sample_every);
-  const double warmup_s = parse_duration_s(o.warmup);
-  if (duration_s <= 0 || every_s < 0 || sample_s <= 0 || warmup_s < 0) {
+namespace {
+
+// The soak as the options and the scenario give it.
+struct SoakPlan {
+  double duration_s = 0, every_s = 0, sample_s = 0, warmup_s = 0;
+  uint32_t regions = 0, places = 0, uavs = 0;
+  std::string faults;  // --faults of the run
+};
+
+// The plan, or the exit code (the reason printed).
+std::variant<SoakPlan, int> plan_soak(const BenchSoakOptions& o) {
+  SoakPlan p;
+  p.duration_s = parse_duration_s(o.duration);
+  p.every_s = o.fault_every == "0" ? 0 : parse_duration_s(o.fault_every);
+  p.sample_s = parse_duration_s(o.sample_every);
+  p.warmup_s = parse_duration_s(o.warmup);
+  if (p.duration_s <= 0 || p.every_s < 0 || p.sample_s <= 0 || p.warmup_s < 0) {
     std::fprintf(stderr, "bench soak: --duration, --fault-every, --sample-every and --warmup take e.g. 1h, 10m, 60s, 500ms\n");
     return 2;
   }
@@ -299,16 +311,156 @@ int run_bench_soak(const BenchSoakOptions& o) {
     std::fprintf(stderr, "%s\n", scenario.error().message.c_str());
     return 2;
   }
-  const uint32_t regions = scenario->geometry().region_count();
-  const uint32_t places = regions * (scenario->standby ? 2U : 1U);
-  if (o.processes < places + 2) {
-    std::fprintf(stderr, "bench soak: --processes %u leaves no UAV: the scenario has %u place agents and a ground station\n",
-                 o.processes, places);
+  p.regions = scenario->geometry().region_count();
+  p.places = p.regions * (scenario->standby ? 2U : 1U);
+  if (o.processes < p.places + 2) {
+    std::fprintf(stderr,
+                 "bench soak: --processes %u leaves no UAV: the scenario has %u place agents and a ground station\n",
+                 o.processes, p.places);
     return 2;
   }
-  const uint32_t uavs = o.processes - places - 1;
-  const std::string faults = soak_fault_schedule(duration_s, every_s, uavs, regions);
+  p.uavs = o.processes - p.places - 1;
+  p.faults = soak_fault_schedule(p.duration_s, p.every_s, p.uavs, p.regions);
+  return p;
+}
 
+// The `pheromesh run` command line of the soak.
+std::vector<std::string> soak_run_args(const BenchSoakOptions& o, const SoakPlan& p, const std::string& exe,
+                                       const fs::path& dir) {
+  std::vector<std::string> args{exe,
+                                "run",
+                                o.scenario,
+                                "--uavs",
+                                std::to_string(p.uavs),
+                                "--rate",
+                                fmt(o.rate_hz, 3),
+                                "--duration",
+                                fmt(p.duration_s, 1),
+                                "--lease-ms",
+                                std::to_string(o.lease_ms),
+                                "--dds",
+                                o.dds,
+                                "--domain",
+                                std::to_string(o.domain),
+                                "--out",
+                                (dir / "run").string(),
+                                "--progress",
+                                "30"};
+  if (!p.faults.empty()) {
+    args.emplace_back("--faults");
+    args.push_back(p.faults);
+  }
+  std::istringstream extra(o.extra);
+  for (std::string w; extra >> w;) args.push_back(w);
+  return args;
+}
+
+// What the sampling saw: per role over time, every process's rows, the last
+// sample's time.
+struct SoakSeries {
+  std::map<std::string, std::vector<RoleSample>> roles;
+  std::string proc_csv = "t_s,role,pid,rss_mib,fds,threads\n";
+  double last_t = 0;
+  std::size_t max_uavs_seen = 0;
+  bool ended = false;
+};
+
+// One sample of the launcher's tree at `t` [s] into `s` (none once the swarm shuts down).
+void sample_soak(pid_t pid, double t, bool forwarded, SoakSeries& s) {
+  const auto procs = sample_tree(pid);
+  // The swarm's own shutdown at the end (UAVs end their flights, then the
+  // place agents stop) is not a state worth fitting: sampling ends when
+  // the UAVs drop below 80 % of the most seen, which one fault never does
+  // in a swarm of ten or more.
+  std::size_t uavs_now = 0;
+  for (const auto& p : procs) uavs_now += p.role == "uav" ? 1U : 0U;
+  s.max_uavs_seen = std::max(s.max_uavs_seen, uavs_now);
+  s.ended = s.ended || forwarded ||
+            (s.max_uavs_seen > 0 && static_cast<double>(uavs_now) < 0.8 * static_cast<double>(s.max_uavs_seen));
+  const bool shutting_down = s.ended;
+  if (procs.empty() || shutting_down) return;
+  s.last_t = t;
+  for (const auto& p : procs) {
+    s.proc_csv += fmt(t, 1) + "," + p.role + "," + std::to_string(p.pid) + "," + fmt(p.rss_mib, 2) + "," +
+                  std::to_string(p.fds) + "," + std::to_string(p.threads) + "\n";
+  }
+  std::string line;
+  for (const char* role : kRoles) {
+    const RoleSample r = aggregate(t, procs, role);
+    s.roles[role].push_back(r);
+    if (r.count > 0) {
+      line += std::string(line.empty() ? "" : "  ") + role + " " + std::to_string(r.count) + "x " + fmt(r.rss_mean) +
+              " MiB " + fmt(r.fds_mean, 0) + " fd " + fmt(r.threads_mean, 0) + " thr";
+    }
+  }
+  std::printf("[%6.0f s] %s\n", t, line.c_str());
+  std::fflush(stdout);
+}
+
+// Samples the launcher `pid` every plan.sample_s until it exits; its wait status.
+int watch_soak(pid_t pid, const BenchSoakOptions& o, const SoakPlan& plan, SoakSeries& s) {
+  const auto start = Clock::now();
+  // The launcher bounds its own run by ticks; this only guards against a hung
+  // one. Generous: on an overloaded host ticks run late and the swarm's
+  // flight takes longer than --duration (measured: 200 processes on 2 shared
+  // cores flew 600 s worth of ticks in ~1000 s).
+  const auto deadline = start + std::chrono::duration<double>(2.0 * plan.duration_s + 0.5 * o.processes + 300.0);
+  auto next_sample = start + std::chrono::seconds(2);
+  int status = 0;
+  bool forwarded = false;
+  for (;;) {
+    if (waitpid(pid, &status, WNOHANG) == pid) return status;
+    const auto now = Clock::now();
+    if ((g_interrupted.load() || now > deadline) && !forwarded) {
+      kill(pid, SIGINT);  // the launcher stops its swarm in order and writes metrics.json
+      forwarded = true;
+    }
+    if (now >= next_sample) {
+      sample_soak(pid, std::chrono::duration<double>(now - start).count(), forwarded, s);
+      // A sample that took longer than the period (a loaded host) is not
+      // followed by a burst of catch-up samples.
+      next_sample = std::max(
+          next_sample + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(plan.sample_s)),
+          Clock::now());
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  }
+}
+
+std::string soak_role_csv(const std::map<std::string, std::vector<RoleSample>>& roles) {
+  std::string csv = "t_s,role,count,rss_mib_mean,rss_mib_max,rss_mib_sum,fds_mean,fds_max,threads_mean,threads_max\n";
+  for (const char* role : kRoles) {
+    auto it = roles.find(role);
+    if (it == roles.end()) continue;
+    for (const auto& r : it->second) {
+      csv += fmt(r.t_s, 1) + "," + role + "," + std::to_string(r.count) + "," + fmt(r.rss_mean, 2) + "," +
+             fmt(r.rss_max, 2) + "," + fmt(r.rss_sum, 1) + "," + fmt(r.fds_mean, 2) + "," + fmt(r.fds_max, 0) + "," +
+             fmt(r.threads_mean, 2) + "," + fmt(r.threads_max, 0) + "\n";
+    }
+  }
+  return csv;
+}
+
+// Starts the launcher with its output on `fd` (closed here); its pid, or -1
+// (the reason printed). SIGINT and SIGTERM end the soak in order from now on.
+pid_t start_soak(const std::string& exe, const std::vector<std::string>& args, int fd) {
+  struct sigaction sa {};
+  sa.sa_handler = on_signal;
+  sigemptyset(&sa.sa_mask);
+  sigaction(SIGINT, &sa, nullptr);
+  sigaction(SIGTERM, &sa, nullptr);
+  const pid_t pid = spawn_logged_child(exe, args, fd, /*default_signals=*/true);
+  if (pid < 0) std::fprintf(stderr, "fork failed: %s\n", std::strerror(errno));
+  close(fd);
+  return pid;
+}
+
+}  // namespace
+
+int run_bench_soak(const BenchSoakOptions& o) {
+  const auto planned = plan_soak(o);
+  if (const int* rc = std::get_if<int>(&planned)) return *rc;
+  const SoakPlan& plan = std::get<SoakPlan>(planned);
   const fs::path dir(o.out_dir);
   std::error_code ec;
   fs::create_directories(dir, ec);
@@ -317,115 +469,30 @@ int run_bench_soak(const BenchSoakOptions& o) {
     return 5;
   }
   const std::string exe = executable_dir() + "/pheromesh";
-  std::vector<std::string> args{exe, "run", o.scenario, "--uavs", std::to_string(uavs), "--rate", fmt(o.rate_hz, 3),
-                                "--duration", fmt(duration_s, 1), "--lease-ms", std::to_string(o.lease_ms), "--dds",
-                                o.dds, "--domain", std::to_string(o.domain), "--out", (dir / "run").string(),
-                                "--progress", "30"};
-  if (!faults.empty()) {
-    args.emplace_back("--faults");
-    args.push_back(faults);
-  }
-  {
-    std::istringstream extra(o.extra);
-    for (std::string w; extra >> w;) args.push_back(w);
-  }
+  const std::vector<std::string> args = soak_run_args(o, plan, exe, dir);
   const std::string log = (dir / "run.txt").string();
   const int fd = open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
   if (fd < 0) {
     std::fprintf(stderr, "cannot write %s: %s\n", log.c_str(), std::strerror(errno));
     return 5;
   }
-  std::printf("bench soak: %u UAVs + %u place agents + 1 ground station for %.0f s, a fault every %.0f s, sampled every %.0f s -> %s\n",
-              uavs, places, duration_s, every_s, sample_s, o.out_dir.c_str());
+  std::printf(
+      "bench soak: %u UAVs + %u place agents + 1 ground station for %.0f s, a fault every %.0f s, sampled every %.0f s "
+      "-> %s\n",
+      plan.uavs, plan.places, plan.duration_s, plan.every_s, plan.sample_s, o.out_dir.c_str());
   std::fflush(stdout);
-  struct sigaction sa {};
-  sa.sa_handler = on_signal;
-  sigemptyset(&sa.sa_mask);
-  sigaction(SIGINT, &sa, nullptr);
-  sigaction(SIGTERM, &sa, nullptr);
+  const pid_t pid = start_soak(exe, args, fd);
+  if (pid < 0) return 5;
 
-  const pid_t pid = spawn_logged_child(exe, args, fd, /*default_signals=*/true);
-  if (pid < 0) {
-    std::fprintf(stderr, "fork failed: %s\n", std::strerror(errno));
-    close(fd);
-    return 5;
-  }
-  close(fd);
-
-  std::string proc_csv = "t_s,role,pid,rss_mib,fds,threads\n";
-  std::map<std::string, std::vector<RoleSample>> series;
-  const auto start = Clock::now();
-  // The launcher bounds its own run by ticks; this only guards against a hung
-  // one. Generous: on an overloaded host ticks run late and the swarm's
-  // flight takes longer than --duration (measured: 200 processes on 2 shared
-  // cores flew 600 s worth of ticks in ~1000 s).
-  const auto deadline = start + std::chrono::duration<double>(2.0 * duration_s + 0.5 * o.processes + 300.0);
-  auto next_sample = start + std::chrono::seconds(2);
-  int status = 0;
-  bool exited = false, forwarded = false, ended = false;
-  std::size_t max_uavs_seen = 0;
-  double last_t = 0;
-  while (!exited) {
-    if (waitpid(pid, &status, WNOHANG) == pid) {
-      exited = true;
-      break;
-    }
-    const auto now = Clock::now();
-    if ((g_interrupted.load() || now > deadline) && !forwarded) {
-      kill(pid, SIGINT);  // the launcher stops its swarm in order and writes metrics.json
-      forwarded = true;
-    }
-    if (now >= next_sample) {
-      const double t = std::chrono::duration<double>(now - start).count();
-      const auto procs = sample_tree(pid);
-      // The swarm's own shutdown at the end (UAVs end their flights, then the
-      // place agents stop) is not a state worth fitting: sampling ends when
-      // the UAVs drop below 80 % of the most seen, which one fault never does
-      // in a swarm of ten or more.
-      std::size_t uavs_now = 0;
-      for (const auto& p : procs) uavs_now += p.role == "uav" ? 1U : 0U;
-      max_uavs_seen = std::max(max_uavs_seen, uavs_now);
-      ended = ended || forwarded || (max_uavs_seen > 0 && static_cast<double>(uavs_now) < 0.8 * static_cast<double>(max_uavs_seen));
-      const bool shutting_down = ended;
-      if (!procs.empty() && !shutting_down) {
-        last_t = t;
-        for (const auto& p : procs) {
-          proc_csv += fmt(t, 1) + "," + p.role + "," + std::to_string(p.pid) + "," + fmt(p.rss_mib, 2) + "," +
-                      std::to_string(p.fds) + "," + std::to_string(p.threads) + "\n";
-        }
-        std::string line;
-        for (const char* role : kRoles) {
-          const RoleSample r = aggregate(t, procs, role);
-          series[role].push_back(r);
-          if (r.count > 0) {
-            line += std::string(line.empty() ? "" : "  ") + role + " " + std::to_string(r.count) + "x " +
-                    fmt(r.rss_mean) + " MiB " + fmt(r.fds_mean, 0) + " fd " + fmt(r.threads_mean, 0) + " thr";
-          }
-        }
-        std::printf("[%6.0f s] %s\n", t, line.c_str());
-        std::fflush(stdout);
-      }
-      // A sample that took longer than the period (a loaded host) is not
-      // followed by a burst of catch-up samples.
-      next_sample = std::max(next_sample + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(sample_s)),
-                             Clock::now());
-    }
-    std::this_thread::sleep_for(std::chrono::milliseconds(200));
-  }
+  SoakSeries series;
+  const int status = watch_soak(pid, o, plan, series);
   const int exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-
-  std::string role_csv = "t_s,role,count,rss_mib_mean,rss_mib_max,rss_mib_sum,fds_mean,fds_max,threads_mean,threads_max\n";
-  for (const char* role : kRoles) {
-    for (const auto& r : series[role]) {
-      role_csv += fmt(r.t_s, 1) + "," + role + "," + std::to_string(r.count) + "," + fmt(r.rss_mean, 2) + "," +
-                  fmt(r.rss_max, 2) + "," + fmt(r.rss_sum, 1) + "," + fmt(r.fds_mean, 2) + "," + fmt(r.fds_max, 0) +
-                  "," + fmt(r.threads_mean, 2) + "," + fmt(r.threads_max, 0) + "\n";
-    }
-  }
-  const std::string md =
-      summary_markdown(o, duration_s, warmup_s, uavs, places, faults, exit_code, last_t, series);
+  const std::string role_csv = soak_role_csv(series.roles);
+  const std::string md = summary_markdown(o, plan.duration_s, plan.warmup_s, plan.uavs, plan.places, plan.faults,
+                                          exit_code, series.last_t, series.roles);
   for (const auto& [name, text] : {std::pair<std::string, const std::string&>{"soak.md", md},
-                                   {"soak.csv", role_csv}, {"soak-processes.csv", proc_csv}}) {
+                                   {"soak.csv", role_csv},
+                                   {"soak-processes.csv", series.proc_csv}}) {
     if (auto w = core::write_file_atomically((dir / name).string(), text); !w) {
       std::fprintf(stderr, "%s\n", w.error().message.c_str());
       return 5;

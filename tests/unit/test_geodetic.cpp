@@ -1,5 +1,5 @@
-// The scenario's geodetic frame (common/core/src/geodetic.cpp) and its
-// `geo` block (common/core/src/scenario.cpp).
+// The scenario's geodetic frame (common/core/src/field/geodetic.cpp) and its
+// `geo` block (common/core/src/scenario/scenario.cpp).
 #include "pheromesh/core/geodetic.hpp"
 
 #include <gtest/gtest.h>

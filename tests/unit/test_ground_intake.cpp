@@ -772,5 +772,52 @@ TEST(GroundIntake, ADetectionOfAUavsFirstTicksIsJudgedWhileEveryPositionSinceIts
   EXPECT_EQ(rig.rec->refused()[core::Refusal::StaleDetection], 0U);
 }
 
+TEST(GroundIntake, BeforeAKillItWaitsForTheHealthOfEveryLiveReplicaOfTheTickAndNotForADroppedRegionOrAGoneStandby) {
+  Rig rig(GroundIntake::Standby::Hot);
+  GroundSamples heard;
+  heard.healths = {health(0, 0, 5), health(0, 1, 4), health(1, 0, 5), health(3, 0, 6), health(3, 1, 5)};
+  rig.take(std::move(heard));
+  EXPECT_EQ(
+      rig.intake->places_without_health_of(5),
+      (std::vector<uint32_t>{core::place_id(0, 1), core::place_id(1, 1), core::place_id(2, 0), core::place_id(2, 1)}))
+      << "an older health is no health of the tick; region 3's of tick 6 is";
+  EXPECT_TRUE(rig.intake->places_without_health_of(4).size() == 3U) << "region 0's standby has tick 4's";
+  ASSERT_TRUE(rig.conductor->drop_region(2));
+  rig.conductor->on_place_killed(core::place_id(1, 1));
+  EXPECT_EQ(rig.intake->places_without_health_of(5), std::vector<uint32_t>{core::place_id(0, 1)});
+  Rig single;  // no standbys: replica 1 is never waited for
+  EXPECT_EQ(
+      single.intake->places_without_health_of(0),
+      (std::vector<uint32_t>{core::place_id(0, 0), core::place_id(1, 0), core::place_id(2, 0), core::place_id(3, 0)}));
+}
+
+TEST(GroundIntake, AMonitorsRunIsOverFiveSecondsAfterEveryPlaceAgentItHeardFinishedAndNamesTheRegionsNeverHeard) {
+  Rig rig;
+  EXPECT_FALSE(rig.intake->heard_places_over(t0 + 60s)) << "none heard: not over";
+  GroundSamples heard;
+  heard.healths = {health(0, 0), health(1, 0)};
+  heard.healths[0].finished = true;
+  rig.take(std::move(heard));
+  EXPECT_FALSE(rig.intake->heard_places_over(t0)) << "region 1's place agent has not finished";
+  GroundSamples last;
+  last.healths = {health(1, 0, 11)};
+  last.healths[0].finished = true;
+  rig.take(std::move(last), kUnlimited, t0 + 1s);
+  EXPECT_FALSE(rig.intake->heard_places_over(t0 + 1s));
+  EXPECT_FALSE(rig.intake->heard_places_over(t0 + 6s)) << "5 s, not more";
+  EXPECT_EQ(rig.intake->heard_places_over(t0 + 6s + 1ms), (std::vector<core::RegionId>{2, 3}));
+  // One more place agent heard, not finished: the wait starts again once it is.
+  GroundSamples late;
+  late.healths = {health(2, 0, 11)};
+  rig.take(std::move(late), kUnlimited, t0 + 7s);
+  EXPECT_FALSE(rig.intake->heard_places_over(t0 + 7s));
+  GroundSamples gone;
+  gone.departed_places = {core::place_id(2, 0)};
+  rig.take(std::move(gone), kUnlimited, t0 + 8s);
+  EXPECT_FALSE(rig.intake->heard_places_over(t0 + 8s)) << "a departure counts as finished; the 5 s start now";
+  EXPECT_FALSE(rig.intake->heard_places_over(t0 + 13s));
+  EXPECT_EQ(rig.intake->heard_places_over(t0 + 14s), (std::vector<core::RegionId>{3}));
+}
+
 }  // namespace
 }  // namespace pheromesh::console

@@ -1,4 +1,4 @@
-// The policy table (pheromesh/core/policy_table.hpp, core/src/policy_table.cpp):
+// The policy table (pheromesh/core/policy_table.hpp, core/src/policy/policy_table.cpp):
 // one entry per member of the scenario's policy oneof, and everything that
 // differs per policy reached through the entry.
 #include "pheromesh/core/policy_table.hpp"

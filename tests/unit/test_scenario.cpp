@@ -1,4 +1,4 @@
-// Scenario loading and validation (common/core/src/scenario.cpp).
+// Scenario loading and validation (common/core/src/scenario/scenario.cpp).
 #include "pheromesh/core/scenario.hpp"
 
 #include <gtest/gtest.h>

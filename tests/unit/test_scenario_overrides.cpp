@@ -1,7 +1,7 @@
 // Overrides (`--set PATH=VALUE`, `--uavs N`, ...): one field of the parsed
 // scenario changed by its textproto path, then validated like the file
 // (core::load_scenario with overrides; the generic setter of
-// common/core/src/field_override.hpp; the CLI's flags in
+// common/core/src/scenario/field_override.hpp; the CLI's flags in
 // cli/scenario_overrides.hpp).
 #include <google/protobuf/descriptor.pb.h>
 #include <google/protobuf/wrappers.pb.h>
@@ -9,8 +9,8 @@
 
 #include <string>
 
+#include "../../common/core/src/scenario/field_override.hpp"
 #include "cli/scenario_overrides.hpp"
-#include "../../common/core/src/field_override.hpp"
 #include "pheromesh/core/scenario.hpp"
 #include "pheromesh/core/scenario_limits.hpp"
 #include "pheromesh/liu/policy.hpp"

@@ -47,6 +47,21 @@ struct ConsoleServer::Impl {
   // Long-polls may hold at most all workers but two, so that /metrics,
   // /api/info and commands always find one.
   [[nodiscard]] unsigned max_polls() const { return opt.limits.threads > 2 ? opt.limits.threads - 2 : 1; }
+
+  // Every answer: counted, with its body's size.
+  void count(const httplib::Response& res) {
+    ++requests;
+    body_bytes += res.body.size();
+  }
+  // Before the body is read: true if the request was refused on its head
+  // (and answered).
+  bool refuse_head(const httplib::Request& req, httplib::Response& res);
+  // The routes of the console's API, /metrics and the web assets.
+  void route(httplib::Server& http);
+  void serve_frame(const httplib::Request& req, httplib::Response& res);
+  void serve_command(const httplib::Request& req, httplib::Response& res);
+  // Binds as the options ask: the port, or an error naming the address.
+  core::Result<uint16_t> bind(httplib::Server& http);
 };
 
 namespace {
@@ -76,40 +91,78 @@ ConsoleServer::ConsoleServer(ConsoleSource& source, ServerOptions options) : imp
 
 ConsoleServer::~ConsoleServer() { stop(); }
 
-core::Result<uint16_t> ConsoleServer::start() {
-  Impl& m = *impl_;
-  m.http = std::make_unique<detail::GuardedServer>(
-      m.opt.limits, [&m](Refusal reason, int status, const std::string& who, const std::string& what) {
-        m.refuse(reason, status, who, what);
-      });
-  auto& http = *m.http;
-  const auto count = [&m](httplib::Response& res) {
-    ++m.requests;
-    m.body_bytes += res.body.size();
-  };
-  // Before the body is read: a request refused on its head (no token, a body
-  // too large or of unknown length, compressed) is answered at once, its
-  // body never read, and its connection closed after the answer.
-  const auto refuse_head = [&m, count](const httplib::Request& req, httplib::Response& res) {
-    const RequestHead head{req.method, req.path, header(req, "Content-Length"), header(req, "Transfer-Encoding"),
-                           header(req, "Content-Encoding"), header(req, "Authorization")};
-    const auto verdict = check_request_head(head, m.opt.token, m.opt.limits.max_body);
-    if (!verdict) return false;
-    answer_json(res, verdict->status, verdict->message);
-    detail::GuardedServer::close_after_answer();
-    // The library answers "Connection: close" when the request asked for it.
-    const_cast<httplib::Request&>(req).set_header("Connection", "close");  // the server's own object, not const
-    std::string what = req.method + " " + req.path;
-    if (head.content_length) what += " (Content-Length " + std::string(*head.content_length).substr(0, 24) + ")";
-    m.refuse(verdict->reason, verdict->status, who(req), what);
+// A request refused on its head (no token, a body too large or of unknown
+// length, compressed) is answered at once, its body never read, and its
+// connection closed after the answer.
+bool ConsoleServer::Impl::refuse_head(const httplib::Request& req, httplib::Response& res) {
+  const RequestHead head{req.method,
+                         req.path,
+                         header(req, "Content-Length"),
+                         header(req, "Transfer-Encoding"),
+                         header(req, "Content-Encoding"),
+                         header(req, "Authorization")};
+  const auto verdict = check_request_head(head, opt.token, opt.limits.max_body);
+  if (!verdict) return false;
+  answer_json(res, verdict->status, verdict->message);
+  detail::GuardedServer::close_after_answer();
+  // The library answers "Connection: close" when the request asked for it.
+  const_cast<httplib::Request&>(req).set_header("Connection", "close");  // the server's own object, not const
+  std::string what = req.method + " " + req.path;
+  if (head.content_length) what += " (Content-Length " + std::string(*head.content_length).substr(0, 24) + ")";
+  refuse(verdict->reason, verdict->status, who(req), what);
+  count(res);
+  return true;
+}
+
+void ConsoleServer::Impl::serve_frame(const httplib::Request& req, httplib::Response& res) {
+  const auto q = parse_frame_query(req.params);
+  if (!q) {
+    answer_json(res, 400, q.error().message);
+    refuse(Refusal::BadRequest, 400, who(req), "GET /api/frame: " + q.error().message);
     count(res);
-    return true;
-  };
+    return;
+  }
+  // A long-poll beyond the limits is not refused but answered at once
+  // with the frame as it is (no wait): the seventh tab of one browser
+  // degrades to polling (the page waits 250 ms after an answer without
+  // news that came back at once) instead of breaking, and a flood of
+  // long-polls still holds no more workers than the limits allow.
+  const bool held = q->wait && take_poll(req.remote_addr);
+  if (q->wait && !held) {
+    ++long_polls_unheld;
+    res.set_header("X-Pheromesh-Long-Poll", "not-held");
+  }
+  try {
+    res.set_content(dump(source->frame(q->layer, q->since, q->t, held)), "application/json");
+  } catch (...) {
+    if (held) give_poll(req.remote_addr);
+    throw;
+  }
+  if (held) give_poll(req.remote_addr);
+  res.set_header("Cache-Control", "no-store");
+  ++frame_requests;
+  count(res);
+}
+
+void ConsoleServer::Impl::serve_command(const httplib::Request& req, httplib::Response& res) {
+  // The token was checked before the body was read (refuse_head).
+  const auto body = parse_command_body(req.body);
+  if (!body) {
+    answer_json(res, 400, body.error().message);
+  } else {
+    const auto a = source->command(body.value(), who(req));
+    res.status = a.status;
+    res.set_content(dump({{"ok", a.status == 200}, {"message", a.message}}), "application/json");
+  }
+  count(res);
+}
+
+void ConsoleServer::Impl::route(httplib::Server& http) {
   // gzip, never brotli: the packaged cpp-httplib compresses brotli at quality
   // 11, which took 8.7 s for one 47 KB frame on a loaded 2-core host (gzip:
   // 0.3 s) and held the browser's updates below 1 per second. The library
   // picks brotli whenever "br" appears in Accept-Encoding, so it is taken out.
-  http.set_pre_routing_handler([refuse_head](const httplib::Request& req, httplib::Response& res) {
+  http.set_pre_routing_handler([this](const httplib::Request& req, httplib::Response& res) {
     if (refuse_head(req, res)) return httplib::Server::HandlerResponse::Handled;
     auto& headers = const_cast<httplib::Request&>(req).headers;  // the server's own object, not const
     auto [first, last] = headers.equal_range("Accept-Encoding");
@@ -120,60 +173,20 @@ core::Result<uint16_t> ConsoleServer::start() {
   });
   // A client that asks before sending its body ("Expect: 100-continue", as
   // curl does for large bodies) gets the refusal instead of "continue".
-  http.set_expect_100_continue_handler([refuse_head](const httplib::Request& req, httplib::Response& res) {
-    return refuse_head(req, res) ? res.status : 100;
-  });
-  http.Get("/api/info", [&m, count](const httplib::Request&, httplib::Response& res) {
-    res.set_content(dump(m.source->info()), "application/json");
+  http.set_expect_100_continue_handler(
+      [this](const httplib::Request& req, httplib::Response& res) { return refuse_head(req, res) ? res.status : 100; });
+  http.Get("/api/info", [this](const httplib::Request&, httplib::Response& res) {
+    res.set_content(dump(source->info()), "application/json");
     res.set_header("Cache-Control", "no-store");
     count(res);
   });
-  http.Get("/api/frame", [&m, count](const httplib::Request& req, httplib::Response& res) {
-    const auto q = parse_frame_query(req.params);
-    if (!q) {
-      answer_json(res, 400, q.error().message);
-      m.refuse(Refusal::BadRequest, 400, who(req), "GET /api/frame: " + q.error().message);
-      count(res);
-      return;
-    }
-    // A long-poll beyond the limits is not refused but answered at once
-    // with the frame as it is (no wait): the seventh tab of one browser
-    // degrades to polling (the page waits 250 ms after an answer without
-    // news that came back at once) instead of breaking, and a flood of
-    // long-polls still holds no more workers than the limits allow.
-    const bool held = q->wait && m.take_poll(req.remote_addr);
-    if (q->wait && !held) {
-      ++m.long_polls_unheld;
-      res.set_header("X-Pheromesh-Long-Poll", "not-held");
-    }
-    try {
-      res.set_content(dump(m.source->frame(q->layer, q->since, q->t, held)), "application/json");
-    } catch (...) {
-      if (held) m.give_poll(req.remote_addr);
-      throw;
-    }
-    if (held) m.give_poll(req.remote_addr);
-    res.set_header("Cache-Control", "no-store");
-    ++m.frame_requests;
+  http.Get("/api/frame", [this](const httplib::Request& req, httplib::Response& res) { serve_frame(req, res); });
+  http.Post("/api/command", [this](const httplib::Request& req, httplib::Response& res) { serve_command(req, res); });
+  http.Get("/metrics", [this](const httplib::Request&, httplib::Response& res) {
+    res.set_content(source->metrics(), kExpositionContentType);
     count(res);
   });
-  http.Post("/api/command", [&m, count](const httplib::Request& req, httplib::Response& res) {
-    // The token was checked before the body was read (refuse_head).
-    const auto body = parse_command_body(req.body);
-    if (!body) {
-      answer_json(res, 400, body.error().message);
-    } else {
-      const auto a = m.source->command(body.value(), who(req));
-      res.status = a.status;
-      res.set_content(dump({{"ok", a.status == 200}, {"message", a.message}}), "application/json");
-    }
-    count(res);
-  });
-  http.Get("/metrics", [&m, count](const httplib::Request&, httplib::Response& res) {
-    res.set_content(m.source->metrics(), kExpositionContentType);
-    count(res);
-  });
-  http.Get(R"(/.*)", [count](const httplib::Request& req, httplib::Response& res) {
+  http.Get(R"(/.*)", [this](const httplib::Request& req, httplib::Response& res) {
     const web::Asset* a = web::find_asset(req.path);
     if (a == nullptr) {
       res.status = 404;
@@ -183,6 +196,9 @@ core::Result<uint16_t> ConsoleServer::start() {
     }
     count(res);
   });
+}
+
+core::Result<uint16_t> ConsoleServer::Impl::bind(httplib::Server& http) {
   // SO_REUSEADDR only: the library's default also sets SO_REUSEPORT, with
   // which a second console binds a port already in use and the two share
   // its connections. A taken port must be an error.
@@ -190,14 +206,27 @@ core::Result<uint16_t> ConsoleServer::start() {
     int yes = 1;
     setsockopt(sock, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof yes);
   });
-  const int port = m.opt.port == 0 ? http.bind_to_any_port(m.opt.bind) : (http.bind_to_port(m.opt.bind, m.opt.port) ? m.opt.port : -1);
-  if (port <= 0) {
-    return core::Error{"cannot listen on " + m.opt.bind + ":" + std::to_string(m.opt.port) +
+  const int bound =
+      opt.port == 0 ? http.bind_to_any_port(opt.bind) : (http.bind_to_port(opt.bind, opt.port) ? opt.port : -1);
+  if (bound <= 0) {
+    return core::Error{"cannot listen on " + opt.bind + ":" + std::to_string(opt.port) +
                        " (in use, or not an address of this host)"};
   }
-  m.port = static_cast<uint16_t>(port);
-  http.start_workers();
-  m.thread = std::thread([&http] { http.listen_after_bind(); });
+  return static_cast<uint16_t>(bound);
+}
+
+core::Result<uint16_t> ConsoleServer::start() {
+  Impl& m = *impl_;
+  m.http = std::make_unique<detail::GuardedServer>(
+      m.opt.limits, [&m](Refusal reason, int status, const std::string& who, const std::string& what) {
+        m.refuse(reason, status, who, what);
+      });
+  m.route(*m.http);
+  auto port = m.bind(*m.http);
+  if (!port) return port;
+  m.port = port.value();
+  m.http->start_workers();
+  m.thread = std::thread([&http = *m.http] { http.listen_after_bind(); });
   return m.port;
 }
 

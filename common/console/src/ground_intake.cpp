@@ -292,6 +292,43 @@ std::string GroundIntake::who_text(Who who, uint32_t id) const {
   return replica > 0 ? text("standby ", replica, " of region ", r) : text("place agent ", r);
 }
 
+std::vector<uint32_t> GroundIntake::places_without_health_of(uint32_t tick) const {
+  std::vector<uint32_t> missing;
+  const auto& latest = p_.rec.replica_health();
+  const uint16_t last_replica = standby_ == Standby::Hot ? 1 : 0;
+  for (core::RegionId r = 0; r < geo_.region_count(); ++r) {
+    if (p_.conductor.absent(r)) continue;
+    for (uint16_t rep = 0; rep <= last_replica; ++rep) {
+      const uint32_t place = core::place_id(r, rep);
+      if (p_.conductor.place_gone(place)) continue;
+      auto it = latest.find(place);
+      if (it == latest.end() || it->second.tick < tick) missing.push_back(place);
+    }
+  }
+  return missing;
+}
+
+std::optional<std::vector<core::RegionId>> GroundIntake::heard_places_over(Clock::time_point now,
+                                                                           Clock::duration quiet) {
+  const auto& heard = p_.rec.replica_health();
+  const bool all_finished = !heard.empty() && std::all_of(heard.begin(), heard.end(), [&](const auto& kv) {
+    return kv.second.finished || p_.rec.place_departed(kv.first);
+  });
+  if (!all_finished) {
+    heard_places_finished_.reset();
+    return std::nullopt;
+  }
+  if (!heard_places_finished_) heard_places_finished_ = now;
+  if (now - *heard_places_finished_ <= quiet) return std::nullopt;
+  std::vector<core::RegionId> never_heard;
+  for (core::RegionId r = 0; r < geo_.region_count(); ++r) {
+    const bool any =
+        std::any_of(heard.begin(), heard.end(), [&](const auto& kv) { return core::place_id_region(kv.first) == r; });
+    if (!any) never_heard.push_back(r);
+  }
+  return never_heard;
+}
+
 float GroundIntake::field_value(int layer, core::Cell c) const {
   const core::TileCoord t = geo_.tile_of(c);
   auto it = tiles_.find({layer, {t.tx, t.ty}});

@@ -147,11 +147,8 @@ class PlaceModel:
         raise NotImplementedError(f"{type(self).__name__}.value(layer, x, y) is not written")
 )PY";
 
-}  // namespace
-
-void bind_policy_types(py::module_& m) {
-  m.doc() = "pheromesh's policy API: what a policy written in Python sees (docs/python.md)";
-
+// The random stream and what a UAV hears of the others.
+void bind_basics(py::module_& m) {
   py::class_<core::Rng>(m, "Rng", "A UAV's random stream (xoshiro256**; the same numbers on every platform)")
       .def(py::init<uint64_t>(), py::arg("seed"))
       .def("next", &core::Rng::next, "The next 64 random bits")
@@ -179,7 +176,10 @@ void bind_policy_types(py::module_& m) {
       .def_readonly("tick", &core::BroadcastMsg::tick)
       .def_readonly("kind", &core::BroadcastMsg::kind)
       .def_readonly("values", &core::BroadcastMsg::values);
+}
 
+// What a UAV knows at the start of its tick.
+void bind_view(py::module_& m) {
   py::class_<ViewHandle>(m, "View", "What a UAV knows at the start of its tick; valid during that step only")
       .def_property_readonly("tick", [](const ViewHandle& h) { return live(h).tick; })
       .def(
@@ -208,7 +208,10 @@ void bind_policy_types(py::module_& m) {
             return std::vector<core::BroadcastMsg>(b.begin(), b.end());
           },
           "The broadcasts of the tick before, own included, by UAV id");
+}
 
+// What a UAV does in its tick.
+void bind_actions(py::module_& m) {
   py::class_<ActionsHandle>(m, "Actions", "What a UAV does in its tick; valid during that step only")
       .def(
           "deposit",
@@ -275,7 +278,10 @@ void bind_policy_types(py::module_& m) {
           },
           py::arg("kind"), py::arg("values"),
           "Sends one message to the swarm this tick (the last call wins); needs broadcasts = True on the class");
+}
 
+// What a place model sees: deposits, its region, the final field.
+void bind_place_types(py::module_& m) {
   py::class_<core::DepositMsg>(m, "Deposit", "A deposit a UAV sent to a place agent")
       .def_readonly("uav", &core::DepositMsg::uav)
       .def_readonly("seq", &core::DepositMsg::seq)
@@ -308,7 +314,10 @@ void bind_policy_types(py::module_& m) {
             return (*h.lookup)(layer, core::Cell{x, y});
           },
           py::arg("layer"), py::arg("x"), py::arg("y"), "The pheromone of `layer` at cell (x, y)");
+}
 
+// One UAV, and the heading helpers.
+void bind_uav(py::module_& m) {
   py::class_<UavHandle>(m, "Uav", "One UAV: its id, the map, the world it senses and its random stream")
       .def_readonly("id", &UavHandle::id)
       .def_property_readonly("start", [](const UavHandle& u) { return py::make_tuple(u.start.x, u.start.y); },
@@ -353,6 +362,18 @@ void bind_policy_types(py::module_& m) {
   m.def(
       "rotate", [](int heading, int eighths) { return static_cast<int>(core::rotate(static_cast<core::Heading>(((heading % 8) + 8) % 8), eighths)); },
       py::arg("heading"), py::arg("eighths"), "The heading turned by `eighths` x 45 degrees counter-clockwise");
+}
+
+}  // namespace
+
+void bind_policy_types(py::module_& m) {
+  m.doc() = "pheromesh's policy API: what a policy written in Python sees (docs/python.md)";
+
+  bind_basics(m);
+  bind_view(m);
+  bind_actions(m);
+  bind_place_types(m);
+  bind_uav(m);
 
   py::exec(kPythonPart, m.attr("__dict__"));
   // The classes defined by exec belong to this module, not to __main__.

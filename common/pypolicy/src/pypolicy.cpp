@@ -439,15 +439,12 @@ std::string joined(const std::vector<std::string>& v) {
   return out.empty() ? std::string("(none)") : out;
 }
 
-Errors build(const core::PythonPolicyBlock& block, core::PluginConfig& config, core::ScenarioConfig& cfg) {
-  ensure_interpreter();
-  py::gil_scoped_acquire gil;
+// Imports the block's module into `module` and finds its class `cls`, a
+// subclass of pheromesh.UavPolicy; the errors, none if it did.
+Errors import_class(const core::PythonPolicyBlock& block, const py::module_& api, py::module_& module,
+                    py::object& cls) {
   const std::string qualified = block.module + "." + block.class_name;
-  const py::module_ api = api_module();
-  provide_pheromesh_module(api);
-
   const std::vector<std::string> searched = set_search_path(block.scenario_dir);
-  py::module_ module;
   try {
     module = py::module_::import(block.module.c_str());
   } catch (py::error_already_set& e) {
@@ -464,15 +461,20 @@ Errors build(const core::PythonPolicyBlock& block, core::PluginConfig& config, c
     return {{"class", "the module \"" + block.module + "\" (" + file_of(module) +
                           ") has no class \"" + block.class_name + "\""}};
   }
-  py::object cls = module.attr(block.class_name.c_str());
+  cls = module.attr(block.class_name.c_str());
   const py::object base = api.attr("UavPolicy");
   if (!py::isinstance<py::type>(cls) || PyObject_IsSubclass(cls.ptr(), base.ptr()) != 1) {
     PyErr_Clear();
     return {{"class", "\"" + qualified + "\" is not a subclass of pheromesh.UavPolicy"}};
   }
+  return {};
+}
 
-  // The name, unique among the policies of this process.
-  std::string name = block.class_name;
+// The policy's name (its class's `name`, else the class's), unique among the
+// policies of this process; the errors, none if it is.
+Errors policy_name(const py::object& cls, const core::PythonPolicyBlock& block, const std::string& qualified,
+                   std::string& name) {
+  name = block.class_name;
   if (py::object n = cls.attr("name"); !n.is_none()) {
     if (!py::isinstance<py::str>(n) || py::str(n).cast<std::string>().empty()) {
       return {{"class", qualified + ".name must be a non-empty str (or None: the class's name)"}};
@@ -495,15 +497,17 @@ Errors build(const core::PythonPolicyBlock& block, core::PluginConfig& config, c
     return {{"class", "the policy name \"" + name + "\" of " + qualified +
                           " is a built-in policy's or a plugin's; set the class's `name`"}};
   }
+  return {};
+}
 
-  // The parameters: the class's defaults, replaced by the scenario's values.
+// The parameters into c->config: the class's defaults, replaced by the
+// scenario's values. The errors of the class; a value of the scenario that
+// does not fit goes to `config` (params_ok false).
+Errors read_parameters(const py::object& cls, const std::string& qualified, core::PluginConfig& config,
+                       PythonPolicyConfig& c, bool& params_ok) {
   py::object params = cls.attr("parameters");
   if (!py::isinstance<py::dict>(params)) return {{"class", qualified + ".parameters must be a dict {key: default}"}};
-  auto c = std::make_shared<PythonPolicyConfig>();
-  c->name = name;
-  c->qualified = qualified;
-  c->cls = cls;
-  bool params_ok = true;
+  params_ok = true;
   for (const auto& [k, dflt] : py::dict(params)) {
     if (!py::isinstance<py::str>(k)) return {{"class", qualified + ".parameters: every key must be a str"}};
     const std::string key = py::str(k).cast<std::string>();
@@ -533,15 +537,16 @@ Errors build(const core::PythonPolicyBlock& block, core::PluginConfig& config, c
         if (const auto v = config.flag(key)) value = py::bool_(*v);
         break;
     }
-    c->config[k] = value;
+    c.config[k] = value;
   }
-  cfg.policy = name;  // for the errors of unread keys, which the parser adds
-  if (!params_ok) return {};
+  return {};
+}
 
-  // The traits, from the parameters.
+// The traits and layers from the parameters (cls.traits(config)), checked; the errors, none if they fit.
+Errors read_traits(const py::object& cls, const std::string& qualified, PythonPolicyConfig& c) {
   py::object traits;
   try {
-    traits = cls.attr("traits")(py::dict(c->config));
+    traits = cls.attr("traits")(py::dict(c.config));
   } catch (py::error_already_set& e) {
     return {{"class", qualified + ".traits(config) raised:\n" + describe(e)}};
   }
@@ -552,54 +557,84 @@ Errors build(const core::PythonPolicyBlock& block, core::PluginConfig& config, c
       spec.evaporation = l.attr("evaporation").cast<double>();
       spec.diffusion = l.attr("diffusion").cast<double>();
       spec.max = static_cast<float>(l.attr("max").cast<double>());
-      c->layers.push_back(std::move(spec));
+      c.layers.push_back(std::move(spec));
     }
-    c->traits.sensor_radius = traits.attr("sensor_radius").cast<double>();
-    c->traits.view_radius = traits.attr("view_radius").cast<double>();
-    c->traits.max_step = traits.attr("max_step").cast<double>();
+    c.traits.sensor_radius = traits.attr("sensor_radius").cast<double>();
+    c.traits.view_radius = traits.attr("view_radius").cast<double>();
+    c.traits.max_step = traits.attr("max_step").cast<double>();
   } catch (const std::exception& e) {
     return {{"class", qualified + ".traits(config) must return a pheromesh.Traits of pheromesh.Layer: " +
                           std::string(e.what())}};
   }
-  if (c->layers.empty()) return {{"class", qualified + ".traits(config) declares no layer"}};
-  if (auto ok = core::check_layer_specs(c->layers); !ok) {
+  if (c.layers.empty()) return {{"class", qualified + ".traits(config) declares no layer"}};
+  if (auto ok = core::check_layer_specs(c.layers); !ok) {
     return {{"class", qualified + ".traits(config): " + ok.error().message}};
   }
-  for (const auto& [what, v, lo, hi] : {std::tuple{"sensor_radius", c->traits.sensor_radius, 0.0, 64.0},
-                                        std::tuple{"view_radius", c->traits.view_radius, 0.0, 64.0},
-                                        std::tuple{"max_step", c->traits.max_step, 0.0, 64.0}}) {
+  for (const auto& [what, v, lo, hi] : {std::tuple{"sensor_radius", c.traits.sensor_radius, 0.0, 64.0},
+                                        std::tuple{"view_radius", c.traits.view_radius, 0.0, 64.0},
+                                        std::tuple{"max_step", c.traits.max_step, 0.0, 64.0}}) {
     if (!(v > lo && v <= hi)) {
       return {{"class", qualified + ".traits(config): " + what + " must be in (0, 64] (got " + std::to_string(v) +
                             ")"}};
     }
   }
-  core::declare_layers(c->traits, c->layers);
-  c->place_cls = py::getattr(cls, "place_model", py::none());
-  if (!c->place_cls.is_none() &&
-      (!py::isinstance<py::type>(c->place_cls) ||
-       PyObject_IsSubclass(c->place_cls.ptr(), api.attr("PlaceModel").ptr()) != 1)) {
+  core::declare_layers(c.traits, c.layers);
+  return {};
+}
+
+// The class's place model (None, or a subclass of pheromesh.PlaceModel); the errors, none if it fits.
+Errors read_place_model(const py::object& cls, const py::module_& api, const std::string& qualified,
+                        PythonPolicyConfig& c) {
+  c.place_cls = py::getattr(cls, "place_model", py::none());
+  if (!c.place_cls.is_none() && (!py::isinstance<py::type>(c.place_cls) ||
+                                 PyObject_IsSubclass(c.place_cls.ptr(), api.attr("PlaceModel").ptr()) != 1)) {
     PyErr_Clear();
     return {{"class", qualified + ".place_model must be a subclass of pheromesh.PlaceModel (or None)"}};
   }
-  const bool broadcasts = py::hasattr(cls, "broadcasts") && py::bool_(cls.attr("broadcasts"));
+  return {};
+}
 
-  {
-    std::lock_guard lock(g_mutex);
-    auto [it, added] = registry().try_emplace(name);
-    if (added) {
-      it->second.cls = cls;
-      it->second.entry = core::PolicyEntry{
-          .name = it->first,
-          .parse = nullptr,
-          .parse_scenario_fields = nullptr,
-          .traits = &entry_traits,
-          .broadcasts = broadcasts,
-          .make_uav = &entry_make_uav,
-          .make_place = &entry_make_place,
-          .field_summary = &entry_field_summary,
-      };
-    }
-  }
+// `name` in this process's registry of Python policies, once.
+void register_policy(const std::string& name, const py::object& cls, bool broadcasts) {
+  std::lock_guard lock(g_mutex);
+  auto [it, added] = registry().try_emplace(name);
+  if (!added) return;
+  it->second.cls = cls;
+  it->second.entry = core::PolicyEntry{
+      .name = it->first,
+      .parse = nullptr,
+      .parse_scenario_fields = nullptr,
+      .traits = &entry_traits,
+      .broadcasts = broadcasts,
+      .make_uav = &entry_make_uav,
+      .make_place = &entry_make_place,
+      .field_summary = &entry_field_summary,
+  };
+}
+
+Errors build(const core::PythonPolicyBlock& block, core::PluginConfig& config, core::ScenarioConfig& cfg) {
+  ensure_interpreter();
+  py::gil_scoped_acquire gil;
+  const std::string qualified = block.module + "." + block.class_name;
+  const py::module_ api = api_module();
+  provide_pheromesh_module(api);
+  py::module_ module;
+  py::object cls;
+  if (auto e = import_class(block, api, module, cls); !e.empty()) return e;
+  std::string name;
+  if (auto e = policy_name(cls, block, qualified, name); !e.empty()) return e;
+  auto c = std::make_shared<PythonPolicyConfig>();
+  c->name = name;
+  c->qualified = qualified;
+  c->cls = cls;
+  bool params_ok = true;
+  if (auto e = read_parameters(cls, qualified, config, *c, params_ok); !e.empty()) return e;
+  cfg.policy = name;  // for the errors of unread keys, which the parser adds
+  if (!params_ok) return {};
+  if (auto e = read_traits(cls, qualified, *c); !e.empty()) return e;
+  if (auto e = read_place_model(cls, api, qualified, *c); !e.empty()) return e;
+  const bool broadcasts = py::hasattr(cls, "broadcasts") && py::bool_(cls.attr("broadcasts"));
+  register_policy(name, cls, broadcasts);
   cfg.policy = name;
   cfg.python = core::ScenarioConfig::PythonSource{block.module, block.class_name,
                                                   file_of(module)};

@@ -107,6 +107,19 @@ class GroundIntake {
   // Samples waiting for their process to be heard as a place agent (vouch).
   [[nodiscard]] std::size_t parked() const;
 
+  // Lockstep, before the launcher kills at a tick: the live place replicas
+  // (core::place_id) whose health of `tick` or later has not arrived. A
+  // region the conductor dropped and a replica it holds gone are not waited
+  // for; replica 1 only with hot standbys.
+  [[nodiscard]] std::vector<uint32_t> places_without_health_of(uint32_t tick) const;
+  // A monitor (--attach) that came late can miss a place agent that ended
+  // before it was discovered (no health, no departure). The run is over for
+  // it once every place agent it heard has finished or departed, and
+  // nothing changed that for `quiet`: then the regions never heard (maybe
+  // none), else nullopt. Called with the time as it goes on.
+  [[nodiscard]] std::optional<std::vector<core::RegionId>> heard_places_over(
+      Clock::time_point now, Clock::duration quiet = std::chrono::seconds(5));
+
   // The newest plausible tile of each (layer, tile).
   [[nodiscard]] const std::map<FrameBuilder::TileKey, core::TileMsg>& tiles() const { return tiles_; }
   // The value of the newest tile at cell c of `layer`; NaN where no tile arrived.
@@ -203,6 +216,7 @@ class GroundIntake {
   std::vector<std::pair<Who, uint32_t>> pending_;       // departures not judged yet, in their order
   uint64_t lapses_ = 0;
   Notes notes_;  // of the call under way
+  std::optional<Clock::time_point> heard_places_finished_;  // heard_places_over: since when
   core::PlaceVouch places_;
   core::SwarmNames names_;  // the UAV ids and place agents (region, replica) the run has
   core::Parked<core::UavStateMsg> parked_states_;

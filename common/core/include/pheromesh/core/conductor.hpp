@@ -166,6 +166,13 @@ class LockstepConductor {
   [[nodiscard]] bool waited_for_uav(uint32_t uav, Clock::time_point now) const {
     return !dropped_.contains(uav) && !gone_for_good(uav, now);
   }
+  // status() by phase: the Ready phase's; how many processes of a UAV or
+  // place phase have not reported it; once every UAV did, what their reports
+  // announce (deposits and states per region, deposits lost) and how many
+  // answers are still missing.
+  [[nodiscard]] Status ready_status(Clock::time_point now) const;
+  [[nodiscard]] uint32_t not_reported(Clock::time_point now) const;
+  uint32_t tally_uav_reports(Clock::time_point now);
 
   Options o_;
   PhaseTimes times_;

@@ -152,7 +152,7 @@ std::map<std::string, double> field_summary(const ScenarioConfig& s, const Field
 
 // Each paper's factories (traits, UAV policy, place model, field summary)
 // are declared in its room (pheromesh/<paper>/policy.hpp) and reached through
-// its entry of the policy table (policy_table.hpp, core/src/policy_table.cpp).
+// its entry of the policy table (policy_table.hpp, core/src/policy/policy_table.cpp).
 
 // Heading (0..7) closest to a velocity; `fallback` for a zero velocity.
 uint8_t heading_of_velocity(double vx, double vy, uint8_t fallback);

@@ -1,6 +1,6 @@
 // The policy table: one entry per policy, each exported by its paper's room
 // (common/core/papers/<paper>/, pheromesh/<paper>/policy.hpp), listed one
-// line each in core/src/policy_table.cpp. Everything the rest of pheromesh
+// line each in core/src/policy/policy_table.cpp. Everything the rest of pheromesh
 // does differently per policy goes through an entry: the scenario parser
 // reads `policy { <name> { ... } }` with entry.parse, and policy_traits,
 // make_uav_policy, make_place_model and field_summary (policy.hpp) call the
@@ -31,7 +31,7 @@ class Message;
 
 namespace pheromesh::core {
 
-// The scenario parser's helpers (core/src/scenario_internal.hpp): where a
+// The scenario parser's helpers (core/src/scenario/scenario_internal.hpp): where a
 // field stands in the file, and the errors collected with file, line and
 // field path.
 namespace scenario_detail {
@@ -70,7 +70,7 @@ struct PolicyEntry {
   std::map<std::string, double> (*field_summary)(const ScenarioConfig& s, const FieldLookup& value);
 };
 
-// Every built-in policy, in the order of core/src/policy_table.cpp (no plugin).
+// Every built-in policy, in the order of core/src/policy/policy_table.cpp (no plugin).
 std::span<const PolicyEntry* const> policy_table();
 // The entry named `name`, built in or of a plugin this process loaded; null if none.
 const PolicyEntry* find_policy(std::string_view name);

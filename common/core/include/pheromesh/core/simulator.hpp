@@ -190,6 +190,16 @@ class Simulator {
   // the deposits the state carries (core::carried_deposits).
   bool through_gateway(RegionId gateway, UavStateMsg s, uint32_t tick, CarriedDeposits* carried = nullptr);
   [[nodiscard]] HealthMsg health_of(const PlaceCore& p, uint32_t tick, bool final) const;
+  // step() in its parts, in order: the kills of `tick` (for the metrics),
+  // the UAV phase (each live UAV: its view, then its flight), the place
+  // phase, and what the tick publishes (tiles, health).
+  void note_kills(uint32_t tick);
+  void uav_phase(uint32_t tick);
+  void show_view(std::size_t uav, uint32_t tick);
+  void fly_uav(std::size_t uav, uint32_t tick, UavCore::Output& out, std::vector<UavStateMsg>& states,
+               std::vector<BroadcastMsg>& broadcasts);
+  void place_phase(uint32_t tick);
+  void publish_tick(uint32_t tick);
 
   [[nodiscard]] bool uav_gone(uint32_t u, uint32_t tick) const;
   [[nodiscard]] bool region_dead(RegionId r, uint32_t tick) const;

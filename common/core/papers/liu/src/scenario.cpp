@@ -4,7 +4,7 @@
 #include <utility>
 
 #include "pheromesh/liu/policy.hpp"
-#include "scenario_internal.hpp"
+#include "scenario/scenario_internal.hpp"
 
 namespace pheromesh::core::scenario_detail {
 

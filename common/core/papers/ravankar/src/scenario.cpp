@@ -3,7 +3,7 @@
 #include <utility>
 
 #include "pheromesh/ravankar/policy.hpp"
-#include "scenario_internal.hpp"
+#include "scenario/scenario_internal.hpp"
 
 namespace pheromesh::core::scenario_detail {
 

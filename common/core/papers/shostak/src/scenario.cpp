@@ -5,7 +5,7 @@
 #include <utility>
 
 #include "pheromesh/shostak/policy.hpp"
-#include "scenario_internal.hpp"
+#include "scenario/scenario_internal.hpp"
 
 namespace pheromesh::core::scenario_detail {
 

@@ -163,32 +163,34 @@ ClockMsg LockstepConductor::announce(uint32_t tick, ClockPhase phase) const {
   return m;
 }
 
-LockstepConductor::Status LockstepConductor::status(Clock::time_point now) {
+LockstepConductor::Status LockstepConductor::ready_status(Clock::time_point now) const {
+  // Every UAV and every place agent, each once.
+  Status s;
+  const auto ready = [&](uint32_t r, uint32_t id) {
+    auto it = done_.find(process_key(r, id));
+    return it != done_.end() && it->second.phase == static_cast<uint8_t>(ClockPhase::Ready);
+  };
+  for (uint32_t id = 0; id < o_.uavs; ++id) {
+    if (!dropped_.contains(id) && !ready(kRoleUav, id)) s.uavs_not_ready.push_back(id);
+  }
+  for (uint32_t id = 0; id < o_.regions; ++id) {
+    if (!absent_.contains(id) && !ready(kRolePlace, id)) s.regions_not_ready.push_back(id);
+  }
+  s.waiting = static_cast<uint32_t>(s.uavs_not_ready.size() + s.regions_not_ready.size());
+  s.complete = s.waiting == 0;
+  s.timed_out = !s.complete && now > deadline_;
+  return s;
+}
+
+uint32_t LockstepConductor::not_reported(Clock::time_point now) const {
   const bool uav_phase = phase_ == ClockPhase::Uav;
   const uint32_t role = uav_phase ? kRoleUav : kRolePlace;
   const uint32_t count = uav_phase ? o_.uavs : o_.regions;
-  Status s;
-  if (phase_ == ClockPhase::Ready) {
-    // Every UAV and every place agent, each once.
-    const auto ready = [&](uint32_t r, uint32_t id) {
-      auto it = done_.find(process_key(r, id));
-      return it != done_.end() && it->second.phase == static_cast<uint8_t>(ClockPhase::Ready);
-    };
-    for (uint32_t id = 0; id < o_.uavs; ++id) {
-      if (!dropped_.contains(id) && !ready(kRoleUav, id)) s.uavs_not_ready.push_back(id);
-    }
-    for (uint32_t id = 0; id < o_.regions; ++id) {
-      if (!absent_.contains(id) && !ready(kRolePlace, id)) s.regions_not_ready.push_back(id);
-    }
-    s.waiting = static_cast<uint32_t>(s.uavs_not_ready.size() + s.regions_not_ready.size());
-    s.complete = s.waiting == 0;
-    s.timed_out = !s.complete && now > deadline_;
-    return s;
-  }
   const auto reported = [&](uint32_t key) {
     auto it = done_.find(key);
     return it != done_.end() && it->second.tick == tick_ && it->second.phase == static_cast<uint8_t>(phase_);
   };
+  uint32_t waiting = 0;
   for (uint32_t id = 0; id < count; ++id) {
     if (uav_phase && !waited_for_uav(id, now)) continue;  // dead UAVs are not waited for
     if (!uav_phase && absent_.contains(id)) continue;     // nor absent place agents
@@ -200,55 +202,67 @@ LockstepConductor::Status LockstepConductor::status(Clock::time_point now) {
         const uint32_t place = place_id(id, static_cast<uint16_t>(rep));
         if (places_gone_.contains(place)) continue;
         any = true;
-        s.waiting += reported(process_key(role, place)) ? 0 : 1;
+        waiting += reported(process_key(role, place)) ? 0 : 1;
       }
-      if (!any) s.waiting += reported(process_key(role, id)) ? 0 : 1;
+      if (!any) waiting += reported(process_key(role, id)) ? 0 : 1;
       continue;
     }
-    s.waiting += reported(process_key(role, id)) ? 0 : 1;
+    waiting += reported(process_key(role, id)) ? 0 : 1;
   }
-  if (s.waiting == 0 && uav_phase) {
-    // Every UAV's state and reported broadcast of this tick must be here
-    // before the next announcements are computed from them.
-    uint32_t broadcasts = 0;
-    deposits_reported_.clear();
-    states_reported_.clear();
-    lost_this_tick_ = 0;
-    auto pos = positions_.find(tick_);
-    auto refused = refused_.find(tick_);
-    // Its state, or its gateway's refusal of it (an answer too).
-    const auto answered = [&](uint32_t id) {
-      return (pos != positions_.end() && pos->second.contains(id)) ||
-             (refused != refused_.end() && refused->second.contains(id));
-    };
-    for (uint32_t id = 0; id < count; ++id) {
-      auto it = done_.find(process_key(role, id));
-      if (!waited_for_uav(id, now) || it == done_.end()) continue;
-      broadcasts += it->second.broadcasts;
-      // A UAV's state and deposits go through its gateway (its home, else its
-      // backup); with none alive nothing is forwarded, and an absent owner
-      // applies nothing.
-      const auto gateway = gateway_region(id, o_.regions, [&](RegionId r) { return absent_.contains(r); });
-      if (gateway) ++states_reported_[*gateway];
-      // Its gateway refused its state of this tick: it applies and forwards
-      // none of the deposits the state carried (it rejects them,
-      // core::CarriedDeposits::Reject), so no region waits for them.
-      if (gateway && refused != refused_.end() && refused->second.contains(id)) {
-        if (!answered(id)) ++s.waiting;
-        continue;
-      }
-      for (const auto& rc : it->second.deposits) {
-        if (!gateway || absent_.contains(rc.region)) {
-          lost_this_tick_ += rc.count;
-        } else {
-          deposits_reported_[rc.region] += rc.count;
-        }
-      }
-      if (!answered(id)) ++s.waiting;
+  return waiting;
+}
+
+uint32_t LockstepConductor::tally_uav_reports(Clock::time_point now) {
+  // Every UAV's state and reported broadcast of this tick must be here
+  // before the next announcements are computed from them.
+  uint32_t waiting = 0;
+  uint32_t broadcasts = 0;
+  deposits_reported_.clear();
+  states_reported_.clear();
+  lost_this_tick_ = 0;
+  auto pos = positions_.find(tick_);
+  auto refused = refused_.find(tick_);
+  // Its state, or its gateway's refusal of it (an answer too).
+  const auto answered = [&](uint32_t id) {
+    return (pos != positions_.end() && pos->second.contains(id)) ||
+           (refused != refused_.end() && refused->second.contains(id));
+  };
+  for (uint32_t id = 0; id < o_.uavs; ++id) {
+    auto it = done_.find(process_key(kRoleUav, id));
+    if (!waited_for_uav(id, now) || it == done_.end()) continue;
+    broadcasts += it->second.broadcasts;
+    // A UAV's state and deposits go through its gateway (its home, else its
+    // backup); with none alive nothing is forwarded, and an absent owner
+    // applies nothing.
+    const auto gateway = gateway_region(id, o_.regions, [&](RegionId r) { return absent_.contains(r); });
+    if (gateway) ++states_reported_[*gateway];
+    // Its gateway refused its state of this tick: it applies and forwards
+    // none of the deposits the state carried (it rejects them,
+    // core::CarriedDeposits::Reject), so no region waits for them.
+    if (gateway && refused != refused_.end() && refused->second.contains(id)) {
+      if (!answered(id)) ++waiting;
+      continue;
     }
-    auto b = broadcasters_.find(tick_);
-    if ((b == broadcasters_.end() ? 0U : static_cast<uint32_t>(b->second.size())) < broadcasts) ++s.waiting;
+    for (const auto& rc : it->second.deposits) {
+      if (!gateway || absent_.contains(rc.region)) {
+        lost_this_tick_ += rc.count;
+      } else {
+        deposits_reported_[rc.region] += rc.count;
+      }
+    }
+    if (!answered(id)) ++waiting;
   }
+  auto b = broadcasters_.find(tick_);
+  if ((b == broadcasters_.end() ? 0U : static_cast<uint32_t>(b->second.size())) < broadcasts) ++waiting;
+  return waiting;
+}
+
+LockstepConductor::Status LockstepConductor::status(Clock::time_point now) {
+  if (phase_ == ClockPhase::Ready) return ready_status(now);
+  const bool uav_phase = phase_ == ClockPhase::Uav;
+  Status s;
+  s.waiting = not_reported(now);
+  if (s.waiting == 0 && uav_phase) s.waiting = tally_uav_reports(now);
   s.complete = s.waiting == 0;
   s.timed_out = !s.complete && now > deadline_;
   if (s.complete && !timed_) {

@@ -24,7 +24,7 @@
 #include "pheromesh/core/plugin_loader.hpp"
 #include "pheromesh/core/python_policy.hpp"
 #include "pheromesh/core/sha256.hpp"
-#include "scenario_internal.hpp"
+#include "scenario/scenario_internal.hpp"
 
 namespace pheromesh::core::scenario_detail {
 namespace {

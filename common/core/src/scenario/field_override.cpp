@@ -1,4 +1,4 @@
-#include "field_override.hpp"
+#include "scenario/field_override.hpp"
 
 #include <google/protobuf/descriptor.h>
 

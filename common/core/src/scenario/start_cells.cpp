@@ -4,7 +4,7 @@
 #include <cstdint>
 
 #include "pheromesh/core/scenario.hpp"
-#include "start_cells_internal.hpp"
+#include "scenario/start_cells_internal.hpp"
 
 namespace pheromesh::core {
 namespace scenario_detail {

@@ -27,11 +27,11 @@
 #include <system_error>
 #include <utility>
 
-#include "field_override.hpp"
+#include "scenario/field_override.hpp"
 #include "pheromesh/core/scenario_limits.hpp"
 #include "pheromesh/core/scenario_warnings.hpp"
-#include "scenario_internal.hpp"
-#include "start_cells_internal.hpp"
+#include "scenario/scenario_internal.hpp"
+#include "scenario/start_cells_internal.hpp"
 
 namespace pheromesh::core {
 namespace scenario_detail {
@@ -120,7 +120,7 @@ void build_policy(const pb::Scenario& msg, const Node& root, Validator& v, Scena
   const PolicyEntry* entry = find_policy(member->name());
   if (entry == nullptr) {
     v.fail(pn, member->name().c_str(),
-           "is a policy of scenario.proto without an entry in the policy table (core/src/policy_table.cpp: " +
+           "is a policy of scenario.proto without an entry in the policy table (core/src/policy/policy_table.cpp: " +
                policy_names() + ")");
     return;
   }

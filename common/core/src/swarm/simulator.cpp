@@ -175,6 +175,14 @@ bool Simulator::region_dead(RegionId r, uint32_t tick) const {
 }
 
 void Simulator::step(uint32_t tick) {
+  note_kills(tick);
+  uav_phase(tick);
+  place_phase(tick);
+  publish_tick(tick);
+  next_tick_ = tick + 1;
+}
+
+void Simulator::note_kills(uint32_t tick) {
   // Kills that take effect at this tick, for the metrics.
   for (const auto& [u, k] : uav_kill_) {
     if (k != tick) continue;
@@ -190,6 +198,9 @@ void Simulator::step(uint32_t tick) {
       recorder_.on_health(health_of(*places_[r], tick == 0 ? 0 : tick - 1, false));
     }
   }
+}
+
+void Simulator::uav_phase(uint32_t tick) {
   // UAV phase: every UAV sees the tiles of its neighbourhood as the place
   // agents published them at the end of tick k-1 (nothing at tick 0, as no
   // place agent has ticked yet).
@@ -198,64 +209,10 @@ void Simulator::step(uint32_t tick) {
   UavCore::Output out;
   std::vector<UavStateMsg> states;
   std::vector<BroadcastMsg> broadcasts;
-  const auto regions = static_cast<uint32_t>(places_.size());
   for (std::size_t i = 0; i < uavs_.size(); ++i) {
-    const auto id = static_cast<uint32_t>(i);
-    if (uav_gone(id, tick)) continue;
-    UavCore& u = *uavs_[i];
-    // The view of place tick k-1 comes from the UAV's gateway then (its home,
-    // else its backup): empty if both were dead.
-    const auto dead_at = [&](uint32_t k) { return [this, k](RegionId r) { return region_dead(r, k); }; };
-    const bool blind = tick > 0 && !gateway_region(id, regions, dead_at(tick - 1));
-    const bool empty_view = std::exchange(empty_view_[i], uint8_t{0}) != 0;
-    if (tick > 0) {
-      if (!blind && empty_view) {
-        // Its state of tick k-1 was refused: its gateway sent an empty view.
-        u.begin_view();
-      } else if (!blind) {
-        u.begin_view();
-        for (const TileCoord& t : u.neighbourhood()) {
-          if (const std::vector<TileMsg>* layers = published_tile(t)) {
-            for (const TileMsg& m : *layers) u.receive_tile(m);
-            tile_samples_[i] += layers->size();
-          }
-          auto st = states_by_tile_.find({t.tx, t.ty});
-          if (st != states_by_tile_.end()) {
-            for (const UavStateMsg& s : st->second) u.receive_neighbour(s);
-          }
-        }
-      }
-      for (const BroadcastMsg& b : broadcasts_) u.receive_broadcast(b);
-    }
-    u.step(tick, out);
-    ++uav_steps_;
-    // The gateway publishes this state with its field of tick k; with no
-    // live gateway nobody does.
-    const auto gateway = gateway_region(id, regions, dead_at(tick));
-    const bool cut_off = !gateway;
-    if (out.broadcast) broadcasts.push_back(*out.broadcast);
-    deposits_sent_[i] += out.deposits.size();
-    for (const DetectionMsg& d : out.detections) recorder_.on_detection(d);
-    out.state.deposits_sent = deposits_sent_[i];
-    out.state.tile_samples_received = tile_samples_[i];
-    CarriedDeposits carried = CarriedDeposits::Judge;
-    if (cut_off) {
-      recorder_.on_uav_state(out.state);  // heard, though no view shows it
-    } else if (through_gateway(*gateway, out.state, tick, &carried)) {
-      states.push_back(out.state);
-    }
-    if (carried == CarriedDeposits::Reject) {
-      // Its gateway refused its state: it applies and forwards none of the
-      // deposits the state carried, as the place agents (core/intake.hpp).
-      places_[*gateway]->reject(out.deposits, kRejectedWithState);
-      gate_refused_[*gateway].add(Refusal::RefusedStateDeposit, static_cast<uint32_t>(out.deposits.size()));
-      continue;
-    }
-    for (const DepositMsg& d : out.deposits) {
-      // Lost (no place agent to forward or apply it): RunRecorder::deposits_lost
-      // counts it, as sent and never received.
-      if (!cut_off && !region_dead(d.region, tick)) inbox_[d.region].push_back(d);
-    }
+    if (uav_gone(static_cast<uint32_t>(i), tick)) continue;
+    show_view(i, tick);
+    fly_uav(i, tick, out, states, broadcasts);
   }
   states_by_tile_.clear();
   for (const UavStateMsg& s : states) {
@@ -263,6 +220,73 @@ void Simulator::step(uint32_t tick) {
     states_by_tile_[{t.tx, t.ty}].push_back(s);
   }
   broadcasts_ = std::move(broadcasts);
+}
+
+void Simulator::show_view(std::size_t i, uint32_t tick) {
+  const auto id = static_cast<uint32_t>(i);
+  const auto regions = static_cast<uint32_t>(places_.size());
+  UavCore& u = *uavs_[i];
+  // The view of place tick k-1 comes from the UAV's gateway then (its home,
+  // else its backup): empty if both were dead.
+  const auto dead_at = [&](uint32_t k) { return [this, k](RegionId r) { return region_dead(r, k); }; };
+  const bool blind = tick > 0 && !gateway_region(id, regions, dead_at(tick - 1));
+  const bool empty_view = std::exchange(empty_view_[i], uint8_t{0}) != 0;
+  if (tick == 0) return;
+  if (!blind && empty_view) {
+    // Its state of tick k-1 was refused: its gateway sent an empty view.
+    u.begin_view();
+  } else if (!blind) {
+    u.begin_view();
+    for (const TileCoord& t : u.neighbourhood()) {
+      if (const std::vector<TileMsg>* layers = published_tile(t)) {
+        for (const TileMsg& m : *layers) u.receive_tile(m);
+        tile_samples_[i] += layers->size();
+      }
+      auto st = states_by_tile_.find({t.tx, t.ty});
+      if (st != states_by_tile_.end()) {
+        for (const UavStateMsg& s : st->second) u.receive_neighbour(s);
+      }
+    }
+  }
+  for (const BroadcastMsg& b : broadcasts_) u.receive_broadcast(b);
+}
+
+void Simulator::fly_uav(std::size_t i, uint32_t tick, UavCore::Output& out, std::vector<UavStateMsg>& states,
+                        std::vector<BroadcastMsg>& broadcasts) {
+  const auto id = static_cast<uint32_t>(i);
+  const auto regions = static_cast<uint32_t>(places_.size());
+  uavs_[i]->step(tick, out);
+  ++uav_steps_;
+  // The gateway publishes this state with its field of tick k; with no
+  // live gateway nobody does.
+  const auto gateway = gateway_region(id, regions, [this, tick](RegionId r) { return region_dead(r, tick); });
+  const bool cut_off = !gateway;
+  if (out.broadcast) broadcasts.push_back(*out.broadcast);
+  deposits_sent_[i] += out.deposits.size();
+  for (const DetectionMsg& d : out.detections) recorder_.on_detection(d);
+  out.state.deposits_sent = deposits_sent_[i];
+  out.state.tile_samples_received = tile_samples_[i];
+  CarriedDeposits carried = CarriedDeposits::Judge;
+  if (cut_off) {
+    recorder_.on_uav_state(out.state);  // heard, though no view shows it
+  } else if (through_gateway(*gateway, out.state, tick, &carried)) {
+    states.push_back(out.state);
+  }
+  if (carried == CarriedDeposits::Reject) {
+    // Its gateway refused its state: it applies and forwards none of the
+    // deposits the state carried, as the place agents (core/intake.hpp).
+    places_[*gateway]->reject(out.deposits, kRejectedWithState);
+    gate_refused_[*gateway].add(Refusal::RefusedStateDeposit, static_cast<uint32_t>(out.deposits.size()));
+    return;
+  }
+  for (const DepositMsg& d : out.deposits) {
+    // Lost (no place agent to forward or apply it): RunRecorder::deposits_lost
+    // counts it, as sent and never received.
+    if (!cut_off && !region_dead(d.region, tick)) inbox_[d.region].push_back(d);
+  }
+}
+
+void Simulator::place_phase(uint32_t tick) {
   // Place phase: deposits of tick k, rings of tick k, update, tiles of tick k.
   // A dead region does none of it: its last ring stays what its neighbours'
   // diffusion uses; its tiles are in no view from now on.
@@ -295,6 +319,9 @@ void Simulator::step(uint32_t tick) {
   }
   last_rings_ = std::move(rings);
   for (const auto& e : events) recorder_.on_target_event(e);
+}
+
+void Simulator::publish_tick(uint32_t tick) {
   // The tiles of tick k, built when read (published_tile). A dead region's
   // tiles are in no view (its region is dark; core/faults.hpp).
   tiles_.clear();
@@ -308,7 +335,6 @@ void Simulator::step(uint32_t tick) {
     if (region_dead(p->region(), tick)) continue;
     recorder_.on_health(health_of(*p, tick, false));
   }
-  next_tick_ = tick + 1;
 }
 
 const std::vector<TileMsg>* Simulator::published_tile(TileCoord t) const {
