@@ -328,6 +328,16 @@ int bound_teardown(int code, std::chrono::milliseconds grace) {
   return code;
 }
 
+namespace {
+// One nanosleep, not retried when a signal interrupts it (std::this_thread::
+// sleep_for sleeps on after the handler): the caller looks at the shutdown
+// flag the handler set.
+void sleep_slice(std::chrono::nanoseconds d) {
+  timespec ts{static_cast<time_t>(d.count() / 1'000'000'000), static_cast<long>(d.count() % 1'000'000'000)};
+  (void)nanosleep(&ts, nullptr);
+}
+}  // namespace
+
 TickClock::TickClock(double rate_hz)
     : period_(std::chrono::nanoseconds(static_cast<int64_t>(1e9 / rate_hz))),
       next_(std::chrono::steady_clock::now()),
@@ -342,9 +352,13 @@ bool TickClock::wait_next() {
     ++late_ticks_;
     next_ = now;
   }
-  // Sleep in slices so a shutdown request is seen within 50 ms.
+  // Sleep in slices so a shutdown request is seen within 250 ms (a signal
+  // to this thread ends the slice at once). At 5 Hz that is one sleep per
+  // tick: 50 ms slices were four, and each wake-up a context switch of
+  // every UAV (measured: 4.0 voluntary switches per UAV tick, 1.0 after;
+  // docs/benchmarks.md, "Where a UAV tick goes").
   while (!shutdown_requested() && now < next_) {
-    std::this_thread::sleep_for(std::min<std::chrono::nanoseconds>(next_ - now, std::chrono::milliseconds(50)));
+    sleep_slice(std::min<std::chrono::nanoseconds>(next_ - now, std::chrono::milliseconds(250)));
     now = std::chrono::steady_clock::now();
   }
   ++window_ticks_;
