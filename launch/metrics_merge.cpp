@@ -273,7 +273,9 @@ MergedMetrics merge_metrics(nlohmann::json ground, const RunRecord& run, const s
   m["processes"] = std::move(procs);
   m["dds"] = run.dds;
   m["resources"] = resources_json(run.processes);
-  m["steady"] = steady_json(run.processes, run.steady);
+  // Left out where it does not apply: lockstep, or a flight that ended
+  // before its window closed (docs/outputs.md).
+  if (auto steady = steady_json(run.processes, run.steady); !steady.is_null()) m["steady"] = std::move(steady);
   m["resources_sampled_at_s"] = opt_json(run.resources_sampled_at_s);
   m["wall_s"] = opt_json(run.wall_s);
   m["run_t0_unix_ms"] = run.run_t0_unix_ms;
