@@ -513,9 +513,9 @@ int run_swarm(const Plan& p, const std::string& vendor, uint32_t uavs, const fs:
   }
 }
 
-}  // namespace
-
-int run_bench_scale(const BenchScaleOptions& o) {
+// The sizes and vendors of the bench, or the exit code of a refusal (said on
+// stderr).
+std::optional<int> plan_bench(const BenchScaleOptions& o, Plan& p) {
   std::string error;
   auto sizes = parse_sizes(o.sizes, error);
   if (!sizes) {
@@ -529,7 +529,7 @@ int run_bench_scale(const BenchScaleOptions& o) {
     std::fprintf(stderr, "no size left with --max %u\n", o.max_uavs);
     return 2;
   }
-  Plan p{o, {}, *sizes, split(o.extra, " \t"), host_description()};
+  p.sizes = *sizes;
   const auto available = bus::available_vendors();
   auto built = [&](const std::string& v) {
     return std::find(available.begin(), available.end(), v) != available.end();
@@ -549,6 +549,66 @@ int run_bench_scale(const BenchScaleOptions& o) {
     std::fprintf(stderr, "--dds: no vendor given\n");
     return 2;
   }
+  return std::nullopt;
+}
+
+// Run k of size n on `vendor`: its row, from its metrics.json (n/a without).
+ScaleRow run_row(const Plan& p, const std::string& vendor, uint32_t n, uint32_t k, const std::string& progress) {
+  const BenchScaleOptions& o = p.o;
+  const std::string tag = vendor + "-" + std::to_string(n) + (o.repeat > 1 ? "-run" + std::to_string(k) : "");
+  const fs::path dir = fs::path(o.out_dir) / tag;
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  fs::remove(dir / "metrics.json", ec);  // never read an earlier bench's
+  std::fprintf(stderr, "[%s] %s N=%u run %u of %u: running (output in %s) ...\n", progress.c_str(), vendor.c_str(), n,
+               k, std::max(1U, o.repeat), (dir / "run.txt").c_str());
+  ScaleRow row;
+  row.vendor = vendor;
+  row.run = k;
+  row.uavs = n;
+  row.dir = dir.string();
+  row.exit_code = run_swarm(p, vendor, n, dir);
+  Json m;
+  if (std::ifstream in(dir / "metrics.json"); in) {
+    try {
+      in >> m;
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "  %s: not valid JSON: %s\n", (dir / "metrics.json").c_str(), e.what());
+      m = Json();
+    }
+  }
+  if (m.is_object()) {
+    fill_row(row, m);
+    if (const Value u = number_at(m, "uavs"); u && *u != n) {
+      std::fprintf(stderr, "  note: metrics.json says %.0f uavs, %u were asked for\n", *u, n);
+    }
+  } else {
+    std::fprintf(stderr, "  no metrics.json: every figure of this row is n/a (see %s)\n", (dir / "run.txt").c_str());
+  }
+  std::fprintf(stderr, "  exit %d, wall %s s, discovery %s s, late %s %% (max %s %%), swarm CPU %s ms per UAV tick\n",
+               row.exit_code, fmt_value(row.get("wall_s"), 1).c_str(), fmt_value(row.get("discovery_s"), 1).c_str(),
+               fmt_value(row.get("late_pct"), 2).c_str(), fmt_value(row.get("late_max_pct"), 1).c_str(),
+               fmt_value(row.get("swarm_cpu_ms_per_tick"), 2).c_str());
+  return row;
+}
+
+// The table, the verdicts and where the results are, on stdout.
+void print_results(const Plan& p, const std::vector<ScaleRow>& rows, const std::vector<std::string>& skipped) {
+  std::printf("%s\n", markdown_table(rows).c_str());
+  Json summary;
+  for (const auto& l : summary_lines(rows, p.vendors, p.o.ticks, summary)) std::printf("%s\n", l.c_str());
+  for (const auto& s : skipped) std::printf("%s\n", s.c_str());
+  std::printf(
+      "\n-> %s/scale.md, scale.csv, scale.json, late_share.svg, cpu_per_uav_tick.svg, pss_per_uav.svg, "
+      "discovery.svg\n",
+      p.o.out_dir.c_str());
+}
+
+}  // namespace
+
+int run_bench_scale(const BenchScaleOptions& o) {
+  Plan p{o, {}, {}, split(o.extra, " \t"), host_description()};
+  if (const auto refused = plan_bench(o, p)) return *refused;
   std::error_code ec;
   fs::create_directories(o.out_dir, ec);
   if (ec) {
@@ -556,7 +616,6 @@ int run_bench_scale(const BenchScaleOptions& o) {
     return 5;
   }
   runtime::install_shutdown_handlers();
-
   const std::size_t total = p.sizes.size() * p.vendors.size() * std::max(1U, o.repeat);
   std::fprintf(stderr, "bench scale: %s, sizes", o.scenario.c_str());
   for (auto n : p.sizes) std::fprintf(stderr, " %u", n);
@@ -567,6 +626,7 @@ int run_bench_scale(const BenchScaleOptions& o) {
   std::map<std::string, uint32_t> stopped_at;  // vendor -> the size that exceeded --stop-late-share
   std::size_t done = 0;
   bool interrupted = false;
+  std::string error;
   for (const uint32_t n : p.sizes) {
     for (const auto& vendor : p.vendors) {
       if (interrupted) break;
@@ -576,68 +636,25 @@ int run_bench_scale(const BenchScaleOptions& o) {
         continue;
       }
       for (uint32_t k = 1; k <= std::max(1U, o.repeat) && !interrupted; ++k) {
-      ++done;
-      const std::string tag = vendor + "-" + std::to_string(n) + (o.repeat > 1 ? "-run" + std::to_string(k) : "");
-      const fs::path dir = fs::path(o.out_dir) / tag;
-      fs::create_directories(dir, ec);
-      fs::remove(dir / "metrics.json", ec);  // never read an earlier bench's
-      std::fprintf(stderr, "[%zu/%zu] %s N=%u run %u of %u: running (output in %s) ...\n", done, total, vendor.c_str(), n,
-                   k, std::max(1U, o.repeat), (dir / "run.txt").c_str());
-      ScaleRow row;
-      row.vendor = vendor;
-      row.run = k;
-      row.uavs = n;
-      row.dir = dir.string();
-      row.exit_code = run_swarm(p, vendor, n, dir);
-      Json m;
-      if (std::ifstream in(dir / "metrics.json"); in) {
-        try {
-          in >> m;
-        } catch (const std::exception& e) {
-          std::fprintf(stderr, "  %s: not valid JSON: %s\n", (dir / "metrics.json").c_str(), e.what());
-          m = Json();
+        rows.push_back(run_row(p, vendor, n, k, std::to_string(++done) + "/" + std::to_string(total)));
+        if (const Value late = rows.back().get("late_pct"); late && *late > 100.0 * o.stop_late_share) {
+          stopped_at[vendor] = n;
+          std::fprintf(stderr, "  late share above %.1f %%: no larger sizes for %s\n", 100.0 * o.stop_late_share,
+                       vendor.c_str());
         }
-      }
-      if (m.is_object()) {
-        fill_row(row, m);
-        if (const Value u = number_at(m, "uavs"); u && *u != n) {
-          std::fprintf(stderr, "  note: metrics.json says %.0f uavs, %u were asked for\n", *u, n);
+        if (!write_results(p, rows, skipped, error)) {
+          std::fprintf(stderr, "%s\n", error.c_str());
+          return 5;
         }
-      } else {
-        std::fprintf(stderr, "  no metrics.json: every figure of this row is n/a (see %s)\n",
-                     (dir / "run.txt").c_str());
-      }
-      std::fprintf(stderr,
-                   "  exit %d, wall %s s, discovery %s s, late %s %% (max %s %%), swarm CPU %s ms per UAV tick\n",
-                   row.exit_code, fmt_value(row.get("wall_s"), 1).c_str(), fmt_value(row.get("discovery_s"), 1).c_str(),
-                   fmt_value(row.get("late_pct"), 2).c_str(), fmt_value(row.get("late_max_pct"), 1).c_str(),
-                   fmt_value(row.get("swarm_cpu_ms_per_tick"), 2).c_str());
-      if (const Value late = row.get("late_pct"); late && *late > 100.0 * o.stop_late_share) {
-        stopped_at[vendor] = n;
-        std::fprintf(stderr, "  late share above %.1f %%: no larger sizes for %s\n", 100.0 * o.stop_late_share,
-                     vendor.c_str());
-      }
-      rows.push_back(std::move(row));
-      if (!write_results(p, rows, skipped, error)) {
-        std::fprintf(stderr, "%s\n", error.c_str());
-        return 5;
-      }
-      interrupted = runtime::shutdown_requested();
+        interrupted = runtime::shutdown_requested();
       }
     }
   }
-  if (!write_results(p, rows, skipped, error)) {
+  if (!write_results(p, rows, skipped, error)) {  // the sizes skipped after the last run
     std::fprintf(stderr, "%s\n", error.c_str());
     return 5;
   }
-  std::printf("%s\n", markdown_table(rows).c_str());
-  Json summary;
-  for (const auto& l : summary_lines(rows, p.vendors, p.o.ticks, summary)) std::printf("%s\n", l.c_str());
-  for (const auto& s : skipped) std::printf("%s\n", s.c_str());
-  std::printf(
-      "\n-> %s/scale.md, scale.csv, scale.json, late_share.svg, cpu_per_uav_tick.svg, pss_per_uav.svg, "
-      "discovery.svg\n",
-      o.out_dir.c_str());
+  print_results(p, rows, skipped);
   if (interrupted) {
     std::fprintf(stderr, "interrupted: the table holds the runs made so far\n");
     return 130;

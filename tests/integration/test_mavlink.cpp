@@ -71,6 +71,24 @@ struct Frame {
   }
 };
 
+// Checks that every decoded position lies within one cell of a position the
+// run recorded for that UAV, at the flight height; returns how many it checked.
+std::size_t positions_near_tracks(const json& positions, const std::vector<Track>& tracks, const Frame& geo) {
+  std::size_t checked = 0;
+  for (const auto& p : positions) {
+    const uint32_t uav = p["sysid"].get<uint32_t>() - 1;
+    const auto [x, y] = geo.cell_of(p["lat"].get<double>(), p["lon"].get<double>());
+    double nearest = 1e9;
+    for (const Track& t : tracks) {
+      if (t.uav == uav) nearest = std::min(nearest, std::hypot(t.x - x, t.y - y));
+    }
+    EXPECT_LE(nearest, 1.0) << "uav " << uav << " at (" << x << ", " << y << ")";
+    EXPECT_EQ(p["alt"], 430000);  // 400 m ground + 30 m flight height [mm]
+    ++checked;
+  }
+  return checked;
+}
+
 }  // namespace
 
 TEST(Mavlink, NodeMavlinkDecodesTheSwarmAndOnlyASignedPauseStopsIt) {
@@ -120,19 +138,7 @@ TEST(Mavlink, NodeMavlinkDecodesTheSwarmAndOnlyASignedPauseStopsIt) {
   uint32_t last_tick = 0;
   for (const Track& t : tracks) last_tick = std::max(last_tick, t.tick);
   EXPECT_LT(last_tick, 700U);
-  std::size_t checked = 0;
-  for (const auto& p : r["positions"]) {
-    const uint32_t uav = p["sysid"].get<uint32_t>() - 1;
-    const auto [x, y] = geo.cell_of(p["lat"].get<double>(), p["lon"].get<double>());
-    double nearest = 1e9;
-    for (const Track& t : tracks) {
-      if (t.uav == uav) nearest = std::min(nearest, std::hypot(t.x - x, t.y - y));
-    }
-    EXPECT_LE(nearest, 1.0) << "uav " << uav << " at (" << x << ", " << y << ")";
-    EXPECT_EQ(p["alt"], 430000);  // 400 m ground + 30 m flight height [mm]
-    ++checked;
-  }
-  EXPECT_GT(checked, 40U);
+  EXPECT_GT(positions_near_tracks(r["positions"], tracks, geo), 40U);
 
   // The ground station counted the unsigned pause and took the two signed commands.
   const json m = json::parse(slurp(out + "/mavlink.json"));
@@ -191,19 +197,7 @@ TEST(Mavlink, AReplayStreamsTheRecordedRunAndTakesPauseAndContinueForItsPlayback
   const Frame geo{47.4, 8.5, 2.0};
   const auto tracks = read_tracks(out + "/tracks.csv");
   ASSERT_FALSE(tracks.empty());
-  std::size_t checked = 0;
-  for (const auto& p : r["positions"]) {
-    const uint32_t uav = p["sysid"].get<uint32_t>() - 1;
-    const auto [x, y] = geo.cell_of(p["lat"].get<double>(), p["lon"].get<double>());
-    double nearest = 1e9;
-    for (const Track& t : tracks) {
-      if (t.uav == uav) nearest = std::min(nearest, std::hypot(t.x - x, t.y - y));
-    }
-    EXPECT_LE(nearest, 1.0) << "uav " << uav << " at (" << x << ", " << y << ")";
-    EXPECT_EQ(p["alt"], 430000);  // 400 m ground + 30 m flight height [mm]
-    ++checked;
-  }
-  EXPECT_GT(checked, 40U);
+  EXPECT_GT(positions_near_tracks(r["positions"], tracks, geo), 40U);
 }
 
 // A --mavlink that is not udp:HOST:PORT, or a rate out of range, is refused

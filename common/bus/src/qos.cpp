@@ -1,148 +1,112 @@
 #include "pheromesh/bus/qos.hpp"
 
 #include <stdexcept>
+#include <string>
 
 namespace pheromesh::bus {
 
-QosSpec topic_qos(TopicKind kind, Endpoint endpoint, std::chrono::milliseconds lease) {
-  using R = QosSpec::Reliability;
-  using D = QosSpec::Durability;
-  using H = QosSpec::History;
-  const bool reader = endpoint == Endpoint::Reader;
-  QosSpec q;
-  q.reliability = R::Reliable;
-  // Only the writers the ground station and the home place agents watch for
-  // departures (UAV state, place-agent health: manual-by-topic, below) have
-  // a finite lease. Any finite automatic lease makes every participant
-  // assert its liveliness to every other one periodically (Cyclone's and
-  // Fast DDS's participant-message / WLP writers), traffic that grows as N²
-  // with the swarm whether or not anything is published (measured: issue 12,
-  // docs/dds.md "Scale").
-  q.liveliness_lease = QosSpec::kInfiniteLease;
-  // Transient-local everywhere, also where late joiners do not matter:
-  // a writer may match a reader before the reader has matched the writer, and
-  // a sample written in that window reaches a volatile reader or not
-  // depending on the vendor (a Cyclone reader drops what a Fast DDS writer
-  // sent before the match; measured: deposits, detections and ground UAV
-  // states went missing across vendors). A transient-local reader asks for
-  // the writer's history once it matches, so nothing written is lost.
-  q.durability = D::TransientLocal;
-  auto keep_last = [&](int32_t depth) {
-    q.history = H::KeepLast;
-    q.depth = depth;
-  };
-  auto keep_all = [&] {
-    q.history = H::KeepAll;
-    q.depth = 0;
-  };
-  switch (kind) {
-    case TopicKind::Health:
-      // The ground station tells a lost place agent by this writer's
-      // liveliness. Manual-by-topic, writer and reader: Fast DDS 2.9 keeps
-      // every remote writer that an automatic reader watches alive as long
-      // as any Fast DDS participant sends its automatic liveliness message
-      // (WLPListener asserts them all), so a killed Fast DDS process was
-      // never reported (measured); with a manual-by-topic reader the lease is
-      // tracked per writer on both vendors.
-      q.liveliness = QosSpec::Liveliness::ManualByTopic;
-      q.liveliness_lease = lease;
-      // Every record, not only the latest: a lockstep place agent publishes
-      // one per place phase, and the ground station's series.csv counts the
-      // deposits applied by each tick from them (docs/outputs.md). With a
-      // depth of 1 a record still unacknowledged when the next tick's was
-      // written was replaced (measured: tick 0's, now and then).
-      keep_last(64);
-      break;
-    case TopicKind::Tile:
-    case TopicKind::PhaseDone:
-    case TopicKind::Scenario:
-      // Latest value per key, also for late joiners.
-      keep_last(1);
-      break;
-    case TopicKind::Clock:
-    case TopicKind::RelayedClock:
-      // A late joiner gets the latest clock. A reader keeps every clock
-      // sample until it is taken: every writer's sample of the one instance
-      // would otherwise replace the one before, and a forged clock (a Stop)
-      // written between two of the conductor's - a few ms apart in lockstep
-      // - would vanish uncounted instead of being refused
-      // (core::LockstepFollower, plausibility.hpp).
-      keep_last(reader ? 16 : 1);
-      break;
-    case TopicKind::Halo:
-      keep_last(1);
-      break;
-    case TopicKind::UavState:
-      // A UAV's uplink to its gateway (its state and its deposits): every
-      // sample matters, KEEP_ALL reader (UavHome), a writer history of 64
-      // ticks. The gateway tells a lost UAV by this writer's liveliness:
-      // manual-by-topic, as for Health.
-      q.liveliness = QosSpec::Liveliness::ManualByTopic;
-      q.liveliness_lease = lease;
-      if (reader) {
-        keep_all();
-      } else {
-        keep_last(64);
-      }
-      break;
-    case TopicKind::GroundState:
-      // The states (and departures) of the UAVs a place agent serves, relayed
-      // to the ground station, which records every one: a RegionField of
-      // states only per place agent and take (Bus::relay_states), keyed by
-      // region, without the liveliness (a departure is a state here,
-      // UavStateMsg::departed). Every batch matters: KEEP_ALL reader.
-      if (reader) {
-        keep_all();
-      } else {
-        keep_last(64);
-      }
-      break;
-    case TopicKind::UavHome:
-      // The gateway place agent reads every state of each UAV it serves:
-      // each carries the deposits the UAV made since the one before
-      // (UavStateMsg::deposits), so none may replace another before it is
-      // taken (the UAV's writer keeps the last 64). Reader only; the writer
-      // is the UAV's UavState writer, whose liveliness it must accept.
-      q.liveliness = QosSpec::Liveliness::ManualByTopic;
-      q.liveliness_lease = lease;
-      keep_all();
-      break;
-    case TopicKind::View:
-    case TopicKind::Field:
-      // The latest view of a UAV, the latest field chunk of a region: a newer
-      // one replaces an older one. Lockstep never has two in flight (each is
-      // acknowledged before the phase that produced it reports done).
-      keep_last(1);
-      break;
-    case TopicKind::Broadcast:
-      // Every broadcast matters; a few ticks of them for late joiners.
-      if (reader) {
-        keep_all();
-      } else {
-        keep_last(8);
-      }
-      break;
-    case TopicKind::Command:
-      // Few and all of them matter, also to a process that starts late (a
-      // restarted UAV must see every pop-up obstacle so far): a deep history.
-      if (reader) {
-        keep_all();
-      } else {
-        keep_last(256);
-      }
-      break;
-    case TopicKind::Deposit:
-    case TopicKind::Detection:
-    case TopicKind::TargetEvent:
-      // Every sample matters (pheromone accounting): deep writer history,
-      // KEEP_ALL readers.
-      if (reader) {
-        keep_all();
-      } else {
-        keep_last(4096);
-      }
-      break;
+namespace {
+
+// The QoS of every topic, as one table (docs/dds.md, "QoS"). Every endpoint
+// is reliable and transient-local, also where late joiners do not matter: a
+// writer may match a reader before the reader has matched the writer, and a
+// sample written in that window reaches a volatile reader or not depending on
+// the vendor (a Cyclone reader drops what a Fast DDS writer sent before the
+// match; measured: deposits, detections and ground UAV states went missing
+// across vendors). A transient-local reader asks for the writer's history once
+// it matches, so nothing written is lost.
+//
+// Only the writers the ground station and the home place agents watch for
+// departures (`watched`: UAV state, place-agent health) have a finite lease,
+// manual-by-topic. Any finite automatic lease makes every participant assert
+// its liveliness to every other one periodically (Cyclone's and Fast DDS's
+// participant-message / WLP writers), traffic that grows as N² with the swarm
+// whether or not anything is published (measured: issue 12, docs/dds.md
+// "Scale"). Manual-by-topic on writer and reader: Fast DDS 2.9 keeps every
+// remote writer that an automatic reader watches alive as long as any Fast DDS
+// participant sends its automatic liveliness message (WLPListener asserts them
+// all), so a killed Fast DDS process was never reported (measured); with a
+// manual-by-topic reader the lease is tracked per writer on both vendors.
+constexpr int32_t kKeepAll = 0;
+struct QosRow {
+  TopicKind kind;
+  int32_t writer_depth;  // keep-last depth of its writers' history; kKeepAll: keep-all
+  int32_t reader_depth;  // likewise, of its readers
+  bool watched;          // manual-by-topic liveliness with the process's lease
+};
+constexpr QosRow kQosTable[] = {
+    // Place-agent health: every record, not only the latest. A lockstep place
+    // agent publishes one per place phase, and the ground station's
+    // series.csv counts the deposits applied by each tick from them
+    // (docs/outputs.md). With a depth of 1 a record still unacknowledged when
+    // the next tick's was written was replaced (measured: tick 0's, now and
+    // then). The ground station tells a lost place agent by its liveliness.
+    {TopicKind::Health, 64, 64, true},
+    // Latest value per key, also for late joiners.
+    {TopicKind::Tile, 1, 1, false},
+    {TopicKind::PhaseDone, 1, 1, false},
+    {TopicKind::Scenario, 1, 1, false},
+    {TopicKind::Halo, 1, 1, false},
+    // A late joiner gets the latest clock. A reader keeps every clock sample
+    // until it is taken: every writer's sample of the one instance would
+    // otherwise replace the one before, and a forged clock (a Stop) written
+    // between two of the conductor's - a few ms apart in lockstep - would
+    // vanish uncounted instead of being refused (core::LockstepFollower,
+    // plausibility.hpp).
+    {TopicKind::Clock, 1, 16, false},
+    {TopicKind::RelayedClock, 1, 16, false},
+    // A UAV's uplink to its gateway (its state and its deposits): every sample
+    // matters, a keep-all reader (UavHome), a writer history of 64 ticks. The
+    // gateway tells a lost UAV by this writer's liveliness.
+    {TopicKind::UavState, 64, kKeepAll, true},
+    // The states (and departures) of the UAVs a place agent serves, relayed to
+    // the ground station, which records every one: a RegionField of states
+    // only per place agent and take (Bus::relay_states), keyed by region,
+    // without the liveliness (a departure is a state here,
+    // UavStateMsg::departed). Every batch matters: keep-all reader.
+    {TopicKind::GroundState, 64, kKeepAll, false},
+    // The gateway place agent reads every state of each UAV it serves: each
+    // carries the deposits the UAV made since the one before
+    // (UavStateMsg::deposits), so none may replace another before it is taken
+    // (the UAV's writer keeps the last 64). Reader only; the writer is the
+    // UAV's UavState writer, whose liveliness it must accept.
+    {TopicKind::UavHome, kKeepAll, kKeepAll, true},
+    // The latest view of a UAV, the latest field chunk of a region: a newer
+    // one replaces an older one. Lockstep never has two in flight (each is
+    // acknowledged before the phase that produced it reports done).
+    {TopicKind::View, 1, 1, false},
+    {TopicKind::Field, 1, 1, false},
+    // Every broadcast matters; a few ticks of them for late joiners.
+    {TopicKind::Broadcast, 8, kKeepAll, false},
+    // Few and all of them matter, also to a process that starts late (a
+    // restarted UAV must see every pop-up obstacle so far): a deep history.
+    {TopicKind::Command, 256, kKeepAll, false},
+    // Every sample matters (pheromone accounting): deep writer history,
+    // keep-all readers.
+    {TopicKind::Deposit, 4096, kKeepAll, false},
+    {TopicKind::Detection, 4096, kKeepAll, false},
+    {TopicKind::TargetEvent, 4096, kKeepAll, false},
+};
+
+const QosRow& qos_row(TopicKind kind) {
+  for (const QosRow& r : kQosTable) {
+    if (r.kind == kind) return r;
   }
+  throw std::logic_error("no QoS row for topic kind " + std::to_string(static_cast<int>(kind)));
+}
+
+}  // namespace
+
+QosSpec topic_qos(TopicKind kind, Endpoint endpoint, std::chrono::milliseconds lease) {
+  const QosRow& row = qos_row(kind);
+  QosSpec q;
+  q.reliability = QosSpec::Reliability::Reliable;
+  q.durability = QosSpec::Durability::TransientLocal;
+  q.liveliness = row.watched ? QosSpec::Liveliness::ManualByTopic : QosSpec::Liveliness::Automatic;
+  q.liveliness_lease = row.watched ? lease : QosSpec::kInfiniteLease;
+  const int32_t depth = endpoint == Endpoint::Reader ? row.reader_depth : row.writer_depth;
+  q.history = depth == kKeepAll ? QosSpec::History::KeepAll : QosSpec::History::KeepLast;
+  q.depth = depth;
   return q;
 }
 
