@@ -528,13 +528,22 @@ void Supervisor::watch_resources(Clock::time_point now, Clock::duration paused) 
 
 void Supervisor::sample_window(int end) {
   // Every running process's CPU, context switches and threads' CPU; a
-  // process that ended or restarted between the two ends is left out.
+  // process that ended or restarted between the two ends is left out. On a
+  // host the swarm keeps busy one pass over a thousand processes takes
+  // seconds (measured: 6.6 s at 1000 UAVs): the window's ends are the
+  // middles of the passes.
+  const auto t = Clock::now();
   for (auto& c : children_) {
     if (c.running) c.window_cpu[end] = sample_cpu(c.pid);
   }
-  window_at_[end] = Clock::now();
+  const auto done = Clock::now();
+  window_at_[end] = t + (done - t) / 2;
   window_udp_[end] = netns_ ? netns_->udp_counters() : read_udp_counters();
   windows_taken_ = end + 1;
+  spdlog::debug(
+      "steady window {}: {} processes sampled in {:.0f} ms", end == 0 ? "opens" : "closes",
+      std::count_if(children_.begin(), children_.end(), [&](const auto& c) { return c.window_cpu[end].has_value(); }),
+      std::chrono::duration<double, std::milli>(done - t).count());
 }
 
 void Supervisor::watch_conductor(Clock::time_point now) {
