@@ -94,7 +94,14 @@ void write_seeds(const std::string& dir) {
   d.x(3);
   d.y(3);
   d.amount(1.0F);
-  write_seed<msg::DepositPubSubType>(dir, "deposit", 0, d);
+  msg::Deposit visit = d;
+  visit.seq(5);
+  visit.kind(0);
+  msg::DepositBatch batch;
+  batch.forwarder(2);
+  batch.tick(6);
+  batch.deposits({d, visit});
+  write_seed<msg::DepositBatchPubSubType>(dir, "deposit", 0, batch);
   msg::TileState t;
   t.layer(0);
   t.tx(2);
@@ -186,10 +193,12 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, std::size_t size) {
   const std::size_t n = size - 1;
   switch (data[0] % 15) {
     case 0: {
-      msg::Deposit s;
-      if (!deserialize<msg::DepositPubSubType>(p, n, s)) return 0;
-      if (auto d = in::Convert<core::DepositMsg>::in(s)) {
-        (void)core::check_deposit(*d, kGeo, d->region < kGeo.region_count() ? d->region : 0, kLayers);
+      msg::DepositBatch s;
+      if (!deserialize<msg::DepositBatchPubSubType>(p, n, s)) return 0;
+      if (auto b = in::Convert<core::DepositBatchMsg>::in(s)) {
+        for (const auto& d : b->deposits) {
+          (void)core::check_deposit(d, kGeo, d.region < kGeo.region_count() ? d.region : 0, kLayers);
+        }
       }
       break;
     }

@@ -104,7 +104,8 @@ class PlaceApp {
   // Takes deposits into inbox_ and forwards the others to their owner's place
   // agent (logs it if it is unreachable: forward_failed).
   void take_deposits();
-  void forward(const core::DepositMsg& d);
+  void forward(const core::DepositMsg& d);  // into to_forward_
+  void flush_forwards();                    // to_forward_ out, a batch per owner
   void forward_failed(const core::DepositMsg& d, const char* why);
   void take_home_states(uint32_t tick);
   // The departures of UAVs' state writers: told to the ground station (in relayed_).
@@ -227,6 +228,7 @@ class PlaceApp {
   core::ViewMsg view_;
   // Counts for the health and the summary.
   uint64_t halos_missing_ = 0;
+  std::map<core::RegionId, std::vector<core::DepositMsg>> to_forward_;  // this take's, by owner (flush_forwards)
   uint64_t deposits_forwarded_ = 0;
   uint64_t deposits_lost_ = 0;    // lockstep: home UAVs' deposits for absent regions, not forwarded
   uint64_t forwards_failed_ = 0;  // deposits for other regions that could not be forwarded

@@ -38,6 +38,7 @@ void PlaceApp::take_deposits() {
         break;
     }
   }
+  flush_forwards();
 }
 
 void PlaceApp::judge_forwarded(std::size_t first) {
@@ -56,15 +57,29 @@ void PlaceApp::judge_forwarded(std::size_t first) {
 }
 
 void PlaceApp::forward(const core::DepositMsg& d) {
-  // A home UAV's deposit for another region: to the owner's place agent.
+  // A home UAV's deposit for another region: to the owner's place agent,
+  // with the others of this take for that region (flush_forwards).
   if (is_absent(d.region)) {
     ++deposits_lost_;  // the conductor counts it lost (deposits_lost)
   } else if (bus_->matched_deposit_readers(d.region) == 0) {
     forward_failed(d, "its place agent was not reachable");
-  } else if (resend_.deposit(d, d.region)) {
-    ++deposits_forwarded_;
   } else {
-    forward_failed(d, "writing it failed");
+    to_forward_[d.region].push_back(d);
+  }
+}
+
+void PlaceApp::flush_forwards() {
+  // One sample per owner and take (core::deposit_batches), not one per
+  // deposit: each sample costs its own DATA, HEARTBEAT and ACKNACK.
+  for (auto& [owner, deposits] : to_forward_) {
+    for (const auto& batch : core::deposit_batches(cfg_.region, current_tick_, deposits)) {
+      if (resend_.deposits(batch, owner)) {
+        deposits_forwarded_ += batch.deposits.size();
+      } else {
+        for (const auto& d : batch.deposits) forward_failed(d, "writing it failed");
+      }
+    }
+    deposits.clear();
   }
 }
 

@@ -76,10 +76,16 @@ TEST_P(Interop, EveryMessageArrivesIntact) {
   // The other topics need no wait: every endpoint is transient-local, so a
   // sample written before its reader matched still arrives (wait_for polls).
 
+  // A forwarded batch: both deposits arrive, in order, each as it was written.
   const core::DepositMsg dep{11, 42, 9, 7, 4, 2, {-3, 17}, 0.25F, {1.5F, -0.5F, 2.0F}};
-  ASSERT_TRUE(w_->publish_deposit(dep, 7));
-  const auto deps = wait_for<core::DepositMsg>([&](auto& v) { r_->take_deposits(v); });
-  ASSERT_EQ(deps.size(), 1U);
+  const core::DepositMsg visit{12, 5, 9, 7, 0, 0, {4, 6}, 1.0F, {}};
+  ASSERT_TRUE(w_->publish_deposits({3, 9, {dep, visit}}, 7));
+  const auto deps = wait_for<core::DepositMsg>([&](auto& v) { r_->take_deposits(v); }, 2);
+  ASSERT_EQ(deps.size(), 2U);
+  EXPECT_EQ(deps[1].uav, 12U);
+  EXPECT_EQ(deps[1].seq, 5U);
+  EXPECT_EQ(deps[1].cell.x, 4);
+  EXPECT_EQ(deps[1].participant, deps[0].participant);
   EXPECT_EQ(deps[0].uav, 11U);
   EXPECT_EQ(deps[0].seq, 42U);
   EXPECT_EQ(deps[0].tick, 9U);
@@ -390,7 +396,8 @@ TEST_P(Interop, SamplesOverTheIdlBoundsAreRefusedBeforeWriting) {
   EXPECT_FALSE(w_->publish_field(field));
   field.tiles = {tile};  // a tile over its own bound inside a field
   EXPECT_FALSE(w_->publish_field(field));
-  EXPECT_EQ(w_->stats().writes_refused, 6U);
+  EXPECT_FALSE(w_->publish_deposits({0, 1, std::vector<core::DepositMsg>(core::kMaxForwardDeposits + 1)}, 0));
+  EXPECT_EQ(w_->stats().writes_refused, 7U);
   EXPECT_EQ(w_->stats().writes_failed, 0U);
 }
 

@@ -5,6 +5,8 @@
 
 #include <cstdint>
 #include <cstring>
+#include <fstream>
+#include <iterator>
 #include <vector>
 
 #include <fastcdr/exceptions/Exception.h>
@@ -44,30 +46,74 @@ TEST(FastDdsSamples, GuardTheGeneratedTypeSupportThrowsOnTheSamePayload) {
   EXPECT_THROW(type.deserialize(&payload, &d), eprosima::fastcdr::exception::Exception);
 }
 
-TEST(FastDdsSamples, AWellFormedDepositDeserializesAndConverts) {
-  msg::Deposit in;
-  in.uav(3);
-  in.seq(7);
-  in.region(1);
-  in.kind(2);
-  in.x(12);
-  in.y(-4);
-  in.amount(0.5F);
-  msg::DepositPubSubType plain;
+TEST(FastDdsSamples, AWellFormedDepositBatchDeserializesAndConverts) {
+  msg::Deposit first;
+  first.uav(3);
+  first.seq(7);
+  first.region(1);
+  first.kind(2);
+  first.x(12);
+  first.y(-4);
+  first.amount(0.5F);
+  msg::Deposit second = first;
+  second.seq(8);
+  second.kind(0);
+  msg::DepositBatch in;
+  in.forwarder(4);
+  in.tick(9);
+  in.deposits({first, second});
+  msg::DepositBatchPubSubType plain;
   eprosima::fastrtps::rtps::SerializedPayload_t payload(plain.m_typeSize);
   ASSERT_TRUE(plain.serialize(&in, &payload));
-  msg::Deposit out;
-  SafePubSub<msg::DepositPubSubType> type;
+  msg::DepositBatch out;
+  SafePubSub<msg::DepositBatchPubSubType> type;
   ASSERT_TRUE(type.deserialize(&payload, &out));
-  const auto d = Convert<core::DepositMsg>::in(out);
-  ASSERT_TRUE(d.has_value());
-  EXPECT_EQ(d->uav, 3U);
-  EXPECT_EQ(d->seq, 7U);
-  EXPECT_EQ(d->region, 1U);
-  EXPECT_EQ(d->kind, 2);
-  EXPECT_EQ(d->cell.x, 12);
-  EXPECT_EQ(d->cell.y, -4);
-  EXPECT_FLOAT_EQ(d->amount, 0.5F);
+  const auto b = Convert<core::DepositBatchMsg>::in(out);
+  ASSERT_TRUE(b.has_value());
+  EXPECT_EQ(b->forwarder, 4U);
+  EXPECT_EQ(b->tick, 9U);
+  ASSERT_EQ(b->deposits.size(), 2U);
+  const core::DepositMsg& d = b->deposits[0];
+  EXPECT_EQ(d.uav, 3U);
+  EXPECT_EQ(d.seq, 7U);
+  EXPECT_EQ(d.region, 1U);
+  EXPECT_EQ(d.kind, 2);
+  EXPECT_EQ(d.cell.x, 12);
+  EXPECT_EQ(d.cell.y, -4);
+  EXPECT_FLOAT_EQ(d.amount, 0.5F);
+  EXPECT_EQ(b->deposits[1].seq, 8U);
+  EXPECT_EQ(b->deposits[1].kind, 0);
+}
+
+// The fuzz harness's committed seed of the deposit topic (its first byte
+// picks the topic) is a well-formed batch of two deposits: the harness
+// starts from a sample the receivers take.
+TEST(FastDdsSamples, TheFuzzSeedOfTheDepositTopicIsAWellFormedBatch) {
+  std::ifstream in(PHEROMESH_SOURCE_DIR "/fuzz/corpus/fuzz_fastdds_samples/seed-deposit", std::ios::binary);
+  ASSERT_TRUE(in.good());
+  std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  ASSERT_GT(bytes.size(), 1U);
+  EXPECT_EQ(bytes[0] % 15, 0) << "the harness's selector of the deposit topic";
+  auto payload = payload_of({bytes.begin() + 1, bytes.end()});
+  msg::DepositBatch s;
+  SafePubSub<msg::DepositBatchPubSubType> type;
+  ASSERT_TRUE(type.deserialize(&payload, &s));
+  const auto b = Convert<core::DepositBatchMsg>::in(s);
+  ASSERT_TRUE(b.has_value());
+  EXPECT_EQ(b->forwarder, 2U);
+  ASSERT_EQ(b->deposits.size(), 2U);
+  EXPECT_EQ(b->deposits[0].seq, 4U);
+  EXPECT_EQ(b->deposits[1].seq, 5U);
+  EXPECT_EQ(b->deposits[1].cell.x, 3);
+}
+
+// A batch whose sequence is over MAX_FORWARD_DEPOSITS is not taken.
+TEST(FastDdsSamples, ADepositBatchOverItsBoundIsNotConverted) {
+  msg::DepositBatch over;
+  over.deposits(std::vector<msg::Deposit>(core::kMaxForwardDeposits + 1));
+  EXPECT_FALSE(Convert<core::DepositBatchMsg>::in(over).has_value());
+  over.deposits().pop_back();
+  EXPECT_TRUE(Convert<core::DepositBatchMsg>::in(over).has_value());
 }
 
 }  // namespace

@@ -83,14 +83,19 @@ TEST_F(MemoryBus, AUavsDepositsTravelInItsStateToItsHomeWhichForwardsThoseOfAnot
   EXPECT_EQ(at1[0].deposits[0].cell.y, 5);
   EXPECT_EQ(at1[0].deposits[1].region, 2U);
   EXPECT_TRUE(at2.empty());
-  // Forwarded by place agent 1 into region 2's partition: now 2 has it.
+  // Forwarded by place agent 1 into region 2's partition, in one batch with
+  // the other deposit of this take for region 2: now 2 has both, in order,
+  // each naming the forwarder's process.
   place1->offer_deposits(std::vector<core::RegionId>{2});
   EXPECT_EQ(place1->matched_deposit_readers(2), 1U);
-  ASSERT_TRUE(place1->publish_deposit(at1[0].deposits[1], 2));
+  ASSERT_TRUE(place1->publish_deposits({1, 4, {at1[0].deposits[1], deposit(7, 3, 2)}}, 2));
   std::vector<core::DepositMsg> got2;
   place2->take_deposits(got2);
-  ASSERT_EQ(got2.size(), 1U);
+  ASSERT_EQ(got2.size(), 2U);
   EXPECT_EQ(got2[0].seq, 2U);
+  EXPECT_EQ(got2[1].seq, 3U);
+  EXPECT_NE(got2[0].participant, 0U);
+  EXPECT_EQ(got2[1].participant, got2[0].participant);
   EXPECT_EQ(uav->vendor(), "memory");
 }
 

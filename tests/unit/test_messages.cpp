@@ -287,5 +287,30 @@ TEST(UplinkSamples, AStateCarriesItsTicksDepositsInSamplesOfAtMostTheBoundEachWi
   EXPECT_EQ(payload_bytes(samples[2]), sizeof(UavStateMsg) + 2 * sizeof(DepositMsg));
 }
 
+TEST(DepositBatches, AForwardersDepositsForOneOwnerGoInBatchesOfAtMostTheBoundInOrder) {
+  // None: no sample at all (nothing to forward).
+  EXPECT_TRUE(deposit_batches(2, 9, {}).empty());
+  // 256 + 256 + 3 = 515 deposits: three batches, in order, each naming the
+  // forwarder and its tick.
+  std::vector<DepositMsg> deposits(2 * kMaxForwardDeposits + 3);
+  for (std::size_t i = 0; i < deposits.size(); ++i) deposits[i].seq = static_cast<uint32_t>(11 + i);
+  const auto batches = deposit_batches(2, 9, deposits);
+  ASSERT_EQ(batches.size(), 3U);
+  EXPECT_EQ(batches[0].deposits.size(), kMaxForwardDeposits);
+  EXPECT_EQ(batches[1].deposits.size(), kMaxForwardDeposits);
+  ASSERT_EQ(batches[2].deposits.size(), 3U);
+  EXPECT_EQ(batches[0].deposits.front().seq, 11U);
+  EXPECT_EQ(batches[1].deposits.front().seq, 11U + 256U);
+  EXPECT_EQ(batches[2].deposits.back().seq, 11U + 514U);
+  for (const auto& b : batches) {
+    EXPECT_EQ(b.forwarder, 2U);
+    EXPECT_EQ(b.tick, 9U);
+  }
+  // Exactly the bound: one batch.
+  deposits.resize(kMaxForwardDeposits);
+  EXPECT_EQ(deposit_batches(2, 9, deposits).size(), 1U);
+  EXPECT_EQ(payload_bytes(batches[2]), sizeof(DepositBatchMsg) + 3 * sizeof(DepositMsg));
+}
+
 }  // namespace
 }  // namespace pheromesh::core

@@ -36,7 +36,7 @@ struct Bus::Roles {
         scenarios(b) {}
 
   Writer<core::TileMsg> tiles;
-  Writer<core::DepositMsg> deposits;
+  Writer<core::DepositBatchMsg> deposits;
   Writer<core::UavStateMsg> states;
   Writer<core::ViewMsg> views;
   Writer<core::FieldMsg> fields;
@@ -62,7 +62,8 @@ struct Bus::Roles {
   std::optional<Reader<core::FieldMsg>> field_in, served_in, tiles_in;
   std::optional<Reader<core::UavStateMsg>> home_states_in;
   std::optional<Reader<core::FieldMsg>> ground_states_in;
-  std::optional<Reader<core::DepositMsg>> deposit_in;
+  std::optional<Reader<core::DepositBatchMsg>> deposit_in;
+  std::vector<core::DepositBatchMsg> batches_in;  // take_deposits' scratch
   std::optional<Reader<core::HaloMsg>> halo_in;
   std::optional<Reader<core::TileMsg>> tile_in;
   std::optional<Reader<core::DetectionMsg>> detection_in, detection_up_in;
@@ -107,8 +108,12 @@ BusStats Bus::stats() const {
 
 // ------------------------------------------------------------------ publish
 bool Bus::publish_tile(const core::TileMsg& m) { return roles_->tiles.write(m); }
-bool Bus::publish_deposit(const core::DepositMsg& m, core::RegionId via) {
+bool Bus::publish_deposits(const core::DepositBatchMsg& m, core::RegionId via) {
   return roles_->deposits.write(m, region_partition(via));
+}
+
+bool Bus::publish_deposit(const core::DepositMsg& m, core::RegionId via) {
+  return publish_deposits({roles_->relay_for.value_or(0), m.tick, {m}}, via);
 }
 bool Bus::publish_uav_state(const core::UavStateMsg& m) {
   if (!roles_->home) throw BusMisuse("publish_uav_state before join_uav");
@@ -325,7 +330,17 @@ void take_from(Transport& t, std::optional<Reader<M>>& reader, std::vector<M>& o
 }
 }  // namespace
 
-void Bus::take_deposits(std::vector<core::DepositMsg>& out) { take_from(*transport_, roles_->deposit_in, out); }
+void Bus::take_deposits(std::vector<core::DepositMsg>& out) {
+  auto& batches = roles_->batches_in;
+  batches.clear();
+  take_from(*transport_, roles_->deposit_in, batches);
+  for (auto& b : batches) {
+    for (auto& d : b.deposits) {
+      d.participant = b.participant;
+      out.push_back(d);
+    }
+  }
+}
 void Bus::take_halos(std::vector<core::HaloMsg>& out) { take_from(*transport_, roles_->halo_in, out); }
 void Bus::take_tiles(std::vector<core::TileMsg>& out) { take_from(*transport_, roles_->tile_in, out); }
 void Bus::take_fields(std::vector<core::FieldMsg>& out) { take_from(*transport_, roles_->field_in, out); }

@@ -185,15 +185,25 @@ struct Convert<core::TileMsg> {
 };
 
 template <>
-struct Convert<core::DepositMsg> {
-  using Sample = pheromesh_msg_Deposit;
-  static const dds_topic_descriptor_t* descriptor() { return &pheromesh_msg_Deposit_desc; }
+struct Convert<core::DepositBatchMsg> {
+  using Sample = pheromesh_msg_DepositBatch;
+  static const dds_topic_descriptor_t* descriptor() { return &pheromesh_msg_DepositBatch_desc; }
   template <typename Write>
-  static bool out(const core::DepositMsg& m, Write&& write) {
-    const Sample s = deposit_out(m);
+  static bool out(const core::DepositBatchMsg& m, Write&& write) {
+    Sample s{m.forwarder, m.tick, {}};
+    std::vector<pheromesh_msg_Deposit> deposits;
+    deposits.reserve(m.deposits.size());
+    for (const auto& d : m.deposits) deposits.push_back(deposit_out(d));
+    borrow(s.deposits, deposits);
     return write(&s);
   }
-  static std::optional<core::DepositMsg> in(const Sample& s) { return deposit_in(s); }
+  static std::optional<core::DepositBatchMsg> in(const Sample& s) {
+    if (!seq_ok(s.deposits, core::kMaxForwardDeposits)) return std::nullopt;
+    core::DepositBatchMsg m{s.forwarder, s.tick, {}};
+    m.deposits.reserve(s.deposits._length);
+    for (uint32_t i = 0; i < s.deposits._length; ++i) m.deposits.push_back(deposit_in(s.deposits._buffer[i]));
+    return m;
+  }
 };
 
 template <>

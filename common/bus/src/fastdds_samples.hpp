@@ -209,11 +209,24 @@ struct Convert<core::TileMsg> {
 };
 
 template <>
-struct Convert<core::DepositMsg> {
-  using Sample = msg::Deposit;
-  using PubSub = msg::DepositPubSubType;
-  static Sample out(const core::DepositMsg& m) { return deposit_out(m); }
-  static std::optional<core::DepositMsg> in(const Sample& s) { return deposit_in(s); }
+struct Convert<core::DepositBatchMsg> {
+  using Sample = msg::DepositBatch;
+  using PubSub = msg::DepositBatchPubSubType;
+  static Sample out(const core::DepositBatchMsg& m) {
+    Sample s;
+    s.forwarder(m.forwarder);
+    s.tick(m.tick);
+    s.deposits().reserve(m.deposits.size());
+    for (const auto& d : m.deposits) s.deposits().push_back(deposit_out(d));
+    return s;
+  }
+  static std::optional<core::DepositBatchMsg> in(const Sample& s) {
+    if (s.deposits().size() > core::kMaxForwardDeposits) return std::nullopt;
+    core::DepositBatchMsg m{s.forwarder(), s.tick(), {}};
+    m.deposits.reserve(s.deposits().size());
+    for (const auto& d : s.deposits()) m.deposits.push_back(deposit_in(d));
+    return m;
+  }
 };
 
 template <>

@@ -184,7 +184,8 @@ const char* topic_name(TopicKind kind) {
 const char* type_name(TopicKind kind) {
   switch (kind) {
     case TopicKind::Tile: return "pheromesh::msg::TileState";
-    case TopicKind::Deposit: return "pheromesh::msg::Deposit";
+    case TopicKind::Deposit:
+      return "pheromesh::msg::DepositBatch";
     case TopicKind::UavState:
     case TopicKind::UavHome: return "pheromesh::msg::UavState";
     case TopicKind::Detection: return "pheromesh::msg::Detection";

@@ -184,6 +184,20 @@ std::size_t payload_bytes(const ScenarioMsg& m) { return sizeof(m) + m.text.size
 
 std::size_t payload_bytes(const UavStateMsg& m) { return sizeof(m) + m.deposits.size() * sizeof(DepositMsg); }
 
+std::size_t payload_bytes(const DepositBatchMsg& m) { return sizeof(m) + m.deposits.size() * sizeof(DepositMsg); }
+
+std::vector<DepositBatchMsg> deposit_batches(RegionId forwarder, uint32_t tick, std::span<const DepositMsg> deposits) {
+  std::vector<DepositBatchMsg> out;
+  for (std::size_t next = 0; next < deposits.size(); next += kMaxForwardDeposits) {
+    const std::size_t n = std::min(kMaxForwardDeposits, deposits.size() - next);
+    out.push_back({forwarder,
+                   tick,
+                   {deposits.begin() + static_cast<std::ptrdiff_t>(next),
+                    deposits.begin() + static_cast<std::ptrdiff_t>(next + n)}});
+  }
+  return out;
+}
+
 std::vector<UavStateMsg> uplink_samples(const UavStateMsg& s, const std::vector<DepositMsg>& deposits) {
   std::vector<UavStateMsg> out;
   std::size_t next = 0;

@@ -119,9 +119,13 @@ class Bus {
 
   // --- publishing; false if the sample was refused (bounds) or the write failed
   bool publish_tile(const core::TileMsg& m);
-  // Into the deposit partition of `via`: the owner m.region, when a place
-  // agent forwards it (a UAV's deposits travel in its state,
+  // Into the deposit partition of `via`, the owner of the deposits: a place
+  // agent forwards its home UAVs' deposits for one region in one batch per
+  // take (core::deposit_batches; a UAV's deposits travel in its state,
   // UavStateMsg::deposits).
+  bool publish_deposits(const core::DepositBatchMsg& m, core::RegionId via);
+  // One deposit, as a batch of one (its forwarder: the region this process
+  // relays for, else 0; tests, probes and the latency bench).
   bool publish_deposit(const core::DepositMsg& m, core::RegionId via);
   bool publish_uav_state(const core::UavStateMsg& m);  // to the home given to join_uav; BusMisuse before
   bool publish_view(const core::ViewMsg& m);           // to UAV m.uav
@@ -240,6 +244,8 @@ class Bus {
   // --- taking: append what arrived since the last call (a role not
   // subscribed takes nothing). Every take keeps this process's
   // manual-by-topic writers alive (Transport::keep_alive).
+  // Each deposit of the batches taken, in order, as if it had come alone
+  // (its participant: the batch's writer's).
   void take_deposits(std::vector<core::DepositMsg>& out);
   void take_halos(std::vector<core::HaloMsg>& out);
   // Tiles of the fields (and of TileState writers), ground station only.

@@ -59,8 +59,8 @@ class LatestResender {
   }
   // Re-send deposits too (lockstep processes whose readers drop copies: see above).
   void resend_deposits(bool on) { deposits_on_ = on; }
-  bool deposit(const core::DepositMsg& m, core::RegionId via) {
-    const bool ok = bus_.publish_deposit(m, via);
+  bool deposits(const core::DepositBatchMsg& m, core::RegionId via) {
+    const bool ok = bus_.publish_deposits(m, via);
     if (enabled_ && deposits_on_) {
       deposits_.emplace_back(m, via);
       last_ = now_();
@@ -98,7 +98,7 @@ class LatestResender {
          deposits_.empty())) {
       return false;
     }
-    for (const auto& [m, via] : deposits_) bus_.publish_deposit(m, via);
+    for (const auto& [m, via] : deposits_) bus_.publish_deposits(m, via);
     for (const auto& f : fields_) publish(f);
     for (const auto& m : views_) bus_.publish_view(m);
     for (const auto& [m, to] : halos_) bus_.publish_halo(m, to);
@@ -168,7 +168,7 @@ class LatestResender {
   std::optional<core::PhaseDoneMsg> done_;
   std::vector<core::UavStateMsg> states_;
   bool deposits_on_ = false;
-  std::vector<std::pair<core::DepositMsg, core::RegionId>> deposits_;
+  std::vector<std::pair<core::DepositBatchMsg, core::RegionId>> deposits_;
   uint64_t resends_ = 0;
 };
 

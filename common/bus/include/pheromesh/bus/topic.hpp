@@ -70,13 +70,15 @@ struct Topic<core::TileMsg> {
   }
 };
 
-// Routed by the writer: a UAV writes to its home's "r.<home>", a place agent
-// forwards to the owner's (Bus::publish_deposit's `via`).
+// Routed by the writer: a place agent forwards a batch to the owner's
+// "r.<owner>" (Bus::publish_deposits' `via`).
 template <>
-struct Topic<core::DepositMsg> {
+struct Topic<core::DepositBatchMsg> {
   static constexpr TopicKind kind = TopicKind::Deposit;
-  static uint64_t key(const core::DepositMsg& m) { return m.uav; }
-  static BoundCheck oversize(const core::DepositMsg& /*m*/) { return std::nullopt; }
+  static uint64_t key(const core::DepositBatchMsg& m) { return m.forwarder; }
+  static BoundCheck oversize(const core::DepositBatchMsg& m) {
+    return detail::over("forwarded deposits", m.deposits.size(), core::kMaxForwardDeposits);
+  }
 };
 
 // Routed by the writer: "s.<gateway>" of the UAV (Bus::join_uav,
@@ -210,9 +212,9 @@ struct Topic<core::ScenarioMsg> {
 template <typename... M>
 struct MessageList {};
 using Messages =
-    MessageList<core::TileMsg, core::DepositMsg, core::UavStateMsg, core::ViewMsg, core::FieldMsg, core::DetectionMsg,
-                core::TargetEventMsg, core::HealthMsg, core::HaloMsg, core::BroadcastMsg, core::ClockMsg,
-                core::PhaseDoneMsg, core::CommandMsg, core::ScenarioMsg>;
+    MessageList<core::TileMsg, core::DepositBatchMsg, core::UavStateMsg, core::ViewMsg, core::FieldMsg,
+                core::DetectionMsg, core::TargetEventMsg, core::HealthMsg, core::HaloMsg, core::BroadcastMsg,
+                core::ClockMsg, core::PhaseDoneMsg, core::CommandMsg, core::ScenarioMsg>;
 
 // Routed by the message itself (Topic<M>::partition), or by the writer.
 template <typename M>

@@ -5,6 +5,7 @@
 #include <array>
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <string>
 #include <type_traits>
 #include <vector>
@@ -56,6 +57,25 @@ struct DepositMsg {
   // as the receiving bus names it; 0 if unknown or written by this process.
   uint64_t participant = 0;
 };
+
+// The deposits one place agent forwards to the owner of one region in one
+// take (idl DepositBatch): one sample per destination and take, not one per
+// deposit (issue 44: the per-deposit samples were 3 of the 12.7 RTPS
+// submessages of a UAV tick at 500 UAVs). The receiver takes each deposit
+// as if it had come alone.
+struct DepositBatchMsg {
+  RegionId forwarder = 0;  // the forwarding place agent's region (the key)
+  uint32_t tick = 0;       // the forwarder's place tick
+  std::vector<DepositMsg> deposits;
+  // Not on the wire: the writer's process (bus::SampleInfo::participant).
+  uint64_t participant = 0;
+};
+inline constexpr std::size_t kMaxForwardDeposits = 256;  // idl MAX_FORWARD_DEPOSITS
+
+// The batches that carry `deposits` (all for one destination) from
+// `forwarder` at place tick `tick`: kMaxForwardDeposits each, in order,
+// none when there are none.
+std::vector<DepositBatchMsg> deposit_batches(RegionId forwarder, uint32_t tick, std::span<const DepositMsg> deposits);
 
 enum class Role : uint8_t { Searcher = 0, Leader = 1, Follower = 2 };
 
@@ -383,6 +403,7 @@ std::size_t payload_bytes(const ClockMsg& m);
 std::size_t payload_bytes(const PhaseDoneMsg& m);
 std::size_t payload_bytes(const ScenarioMsg& m);
 std::size_t payload_bytes(const UavStateMsg& m);
+std::size_t payload_bytes(const DepositBatchMsg& m);
 // Messages without sequences: their fixed part.
 template <typename M>
 requires std::is_trivially_copyable_v<M> std::size_t payload_bytes(const M& /*m*/) { return sizeof(M); }
