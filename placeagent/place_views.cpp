@@ -61,7 +61,7 @@ void PlaceApp::take_served(uint32_t tick) {
       if (audit_.admit(intake_.judge_served_chunk(f, now))) views_.update_served(f, tick);
     }
   };
-  const auto r = runtime::await_samples(*bus_, {bus::TopicKind::Field}, {}, &resend_, take,
+  const auto r = runtime::await_samples(*bus_, {bus::TopicKind::PlaceField}, {}, &resend_, take,
                                         [&] { return !demand_ || views_.holds_served(tick, present_others_); });
   if (r != runtime::Awaited::Done) {
     log_->error("tick {}: the served UAVs of some regions did not arrive ({}); sending tiles for the latest", tick,
@@ -108,7 +108,7 @@ void PlaceApp::receive_tiles(uint32_t tick) {
       views_.update_tiles(f, demand_ ? f.tick : tick);
     }
   };
-  const auto r = runtime::await_samples(*bus_, {bus::TopicKind::Field}, {}, &resend_, take,
+  const auto r = runtime::await_samples(*bus_, {bus::TopicKind::PlaceField}, {}, &resend_, take,
                                         [&] { return !demand_ || views_.holds_tiles(tick, owners); });
   if (r != runtime::Awaited::Done) {
     log_->error("tick {}: the tiles of some regions did not arrive ({}); views go without them", tick,

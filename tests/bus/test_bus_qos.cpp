@@ -35,17 +35,17 @@ TEST(Qos, ReplicatedSwarmsMeanTheSameOnCycloneAndFastDds) {
   }
 }
 
-TEST(Qos, ARealtimeSwarmsViewsAreBestEffortAndVolatileOnBothVendorsAndNothingElseChanges) {
+TEST(Qos, ARealtimeSwarmsViewsAndPlaceFieldsAreBestEffortAndVolatileOnBothVendorsAndNothingElseChanges) {
   const auto lease = std::chrono::milliseconds(1000);
   for (const Replication r : {Replication{}, Replication{true, 999}}) {
     for (const TopicKind k : kAllTopicKinds) {
       for (const Endpoint e : {Endpoint::Writer, Endpoint::Reader}) {
         const QosSpec lockstep = endpoint_qos(k, e, lease, r);
         const QosSpec realtime = endpoint_qos(k, e, lease, r, Pacing::Realtime);
-        if (k == TopicKind::View) {
+        if (k == TopicKind::View || k == TopicKind::PlaceField) {
           EXPECT_EQ(realtime.reliability, QosSpec::Reliability::BestEffort);
           EXPECT_EQ(realtime.durability, QosSpec::Durability::Volatile);
-          EXPECT_EQ(lockstep.reliability, QosSpec::Reliability::Reliable) << "lockstep waits for every view";
+          EXPECT_EQ(lockstep.reliability, QosSpec::Reliability::Reliable) << "lockstep waits for every one";
           QosSpec rest = realtime;
           rest.reliability = lockstep.reliability;
           rest.durability = lockstep.durability;
@@ -64,8 +64,8 @@ TEST(Qos, APlaceReplicasOutputIsExclusiveWithAStrengthAndALease) {
   using std::chrono::milliseconds;
   const auto lease = milliseconds(800);
   const Replication replica{true, 999};
-  for (const TopicKind k : {TopicKind::Field, TopicKind::View, TopicKind::Halo, TopicKind::TargetEvent,
-                            TopicKind::PhaseDone}) {
+  for (const TopicKind k : {TopicKind::Field, TopicKind::PlaceField, TopicKind::View, TopicKind::Halo,
+                            TopicKind::TargetEvent, TopicKind::PhaseDone}) {
     const QosSpec w = endpoint_qos(k, Endpoint::Writer, lease, replica);
     EXPECT_EQ(w.ownership, QosSpec::Ownership::Exclusive) << to_string(k);
     EXPECT_EQ(w.ownership_strength, 999) << to_string(k);

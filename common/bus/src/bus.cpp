@@ -31,6 +31,7 @@ struct Bus::Roles {
         clock(b),
         relayed_clock(b, TopicKind::RelayedClock),
         ground_states(b, TopicKind::GroundState),
+        place_fields(b, TopicKind::PlaceField),
         phase_done(b),
         commands(b),
         scenarios(b) {}
@@ -48,6 +49,7 @@ struct Bus::Roles {
   Writer<core::ClockMsg> clock;
   Writer<core::ClockMsg> relayed_clock;  // a place agent's, to the UAVs it serves
   Writer<core::FieldMsg> ground_states;  // a place agent's, relaying its UAVs' states to the ground (batched)
+  Writer<core::FieldMsg> place_fields;   // a place agent's, to the others: served UAVs, tiles for views
   Writer<core::PhaseDoneMsg> phase_done;
   Writer<core::CommandMsg> commands;
   Writer<core::ScenarioMsg> scenarios;
@@ -121,9 +123,9 @@ bool Bus::publish_uav_state(const core::UavStateMsg& m) {
 }
 bool Bus::publish_view(const core::ViewMsg& m) { return roles_->views.write(m); }
 bool Bus::publish_field(const core::FieldMsg& m) { return roles_->fields.write(m); }
-bool Bus::publish_served(const core::FieldMsg& m) { return roles_->fields.write(m, kServedPartition); }
+bool Bus::publish_served(const core::FieldMsg& m) { return roles_->place_fields.write(m, kServedPartition); }
 bool Bus::publish_tiles_for(const core::FieldMsg& m, core::RegionId home) {
-  return roles_->fields.write(m, tiles_for_partition(home));
+  return roles_->place_fields.write(m, tiles_for_partition(home));
 }
 bool Bus::publish_detection(const core::DetectionMsg& m) {
   if (roles_->home) return roles_->detections.write(m, detection_uplink_partition(*roles_->home));
@@ -238,13 +240,13 @@ void Bus::subscribe_home_states(core::RegionId own, bool history) {
 void Bus::subscribe_fields() { roles_->field_in.emplace(*this, std::vector<std::string>{kFieldPartition}); }
 
 void Bus::subscribe_place_exchange(core::RegionId own) {
-  roles_->served_in.emplace(*this, std::vector<std::string>{kServedPartition});
-  roles_->tiles_in.emplace(*this, std::vector<std::string>{tiles_for_partition(own)});
+  roles_->served_in.emplace(*this, std::vector<std::string>{kServedPartition}, TopicKind::PlaceField);
+  roles_->tiles_in.emplace(*this, std::vector<std::string>{tiles_for_partition(own)}, TopicKind::PlaceField);
 }
 
 void Bus::offer_place_exchange(std::span<const core::RegionId> others) {
-  roles_->fields.offer(kServedPartition);
-  for (auto r : others) roles_->fields.offer(tiles_for_partition(r));
+  roles_->place_fields.offer(kServedPartition);
+  for (auto r : others) roles_->place_fields.offer(tiles_for_partition(r));
 }
 
 void Bus::offer_views(std::span<const uint32_t> uavs) {

@@ -76,6 +76,7 @@ constexpr QosRow kQosTable[] = {
     // acknowledged before the phase that produced it reports done).
     {TopicKind::View, 1, 1, false},
     {TopicKind::Field, 1, 1, false},
+    {TopicKind::PlaceField, 1, 1, false},
     // Every broadcast matters; a few ticks of them for late joiners.
     {TopicKind::Broadcast, 8, kKeepAll, false},
     // Few and all of them matter, also to a process that starts late (a
@@ -113,6 +114,7 @@ QosSpec topic_qos(TopicKind kind, Endpoint endpoint, std::chrono::milliseconds l
 bool replicated(TopicKind kind) {
   switch (kind) {
     case TopicKind::Field:
+    case TopicKind::PlaceField:
     case TopicKind::View:
     case TopicKind::Halo:
     case TopicKind::TargetEvent:
@@ -132,14 +134,18 @@ bool replicated(TopicKind kind) {
 QosSpec endpoint_qos(TopicKind kind, Endpoint endpoint, std::chrono::milliseconds lease, const Replication& r,
                      Pacing pacing) {
   QosSpec q = topic_qos(kind, endpoint, lease);
-  if (pacing == Pacing::Realtime && kind == TopicKind::View) {
+  if (pacing == Pacing::Realtime && (kind == TopicKind::View || kind == TopicKind::PlaceField)) {
     // A realtime view is superseded by the next tick's, and the deposit
     // receipts it carries are cumulative (core/receipts.hpp): a lost one
     // costs nothing the next does not bring. Best effort drops the
     // acknowledgement each view asked for, one datagram per UAV tick and a
     // wake-up of the sending place agent (measured: docs/benchmarks.md,
     // "Where a UAV tick goes"); volatile, as late joiners need no history
-    // of something replaced each tick.
+    // of something replaced each tick. The same for what place agents send
+    // each other each tick (the UAVs they serve, the tiles for views): a
+    // view uses tiles an owner sent lately, and a deposit is judged against
+    // the newest state of its UAV held, whatever its tick
+    // (check_deposit_reach). The field to the ground station stays reliable.
     q.reliability = QosSpec::Reliability::BestEffort;
     q.durability = QosSpec::Durability::Volatile;
   }
@@ -177,6 +183,8 @@ const char* topic_name(TopicKind kind) {
     case TopicKind::RelayedClock: return "pheromesh_clock_relay";
     case TopicKind::GroundState:
       return "pheromesh_uav_state_ground";
+    case TopicKind::PlaceField:
+      return "pheromesh_place_field";
   }
   throw std::logic_error("unknown topic kind");
 }
@@ -199,7 +207,9 @@ const char* type_name(TopicKind kind) {
     case TopicKind::Command: return "pheromesh::msg::Command";
     case TopicKind::View: return "pheromesh::msg::View";
     case TopicKind::Field:
-    case TopicKind::GroundState: return "pheromesh::msg::RegionField";
+    case TopicKind::GroundState:
+    case TopicKind::PlaceField:
+      return "pheromesh::msg::RegionField";
     case TopicKind::Scenario:
       return "pheromesh::msg::RunScenario";
   }
@@ -226,6 +236,8 @@ const char* to_string(TopicKind kind) {
     case TopicKind::RelayedClock: return "relayed-clock";
     case TopicKind::GroundState:
       return "ground-state";
+    case TopicKind::PlaceField:
+      return "place-field";
   }
   return "?";
 }

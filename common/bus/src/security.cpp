@@ -79,7 +79,8 @@ Grant place_grant(const std::string& name, core::RegionId region) {
   // detections and broadcasts up, and of the swarm's broadcasts and the
   // ground station's commands down to its UAVs.
   g.publish = {{topic(TopicKind::Tile), {"t.*"}},
-               {topic(TopicKind::Field), {kFieldPartition, kServedPartition, kAllTilesFor}},
+               {topic(TopicKind::Field), {kFieldPartition}},
+               {topic(TopicKind::PlaceField), {kServedPartition, kAllTilesFor}},
                {topic(TopicKind::Halo), {"h." + std::to_string(region) + ".*"}},
                {topic(TopicKind::View), {"u.*"}},
                {topic(TopicKind::Deposit), {"r.*"}},
@@ -94,7 +95,7 @@ Grant place_grant(const std::string& name, core::RegionId region) {
                {topic(TopicKind::Command), {command_downlink_partition(region)}}};
   g.subscribe = {{topic(TopicKind::Deposit), {region_partition(region)}},
                  {topic(TopicKind::UavState), {home_partition(region)}},
-                 {topic(TopicKind::Field), {kServedPartition, tiles_for_partition(region)}},
+                 {topic(TopicKind::PlaceField), {kServedPartition, tiles_for_partition(region)}},
                  {topic(TopicKind::Halo), {"h.*." + std::to_string(region)}},
                  {topic(TopicKind::Clock), {kClockPartition}},
                  {topic(TopicKind::PhaseDone), {uav_report_partition(region)}},

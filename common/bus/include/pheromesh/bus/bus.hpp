@@ -19,8 +19,9 @@
 //                   for other regions to their owner
 //   views        -> "u.<uav>": from the home place agent to that UAV only
 //   region fields (tiles + home UAV states) -> "f": the ground station
-//   served UAV states -> "p": every other place agent
-//   tiles for a home's views -> "f.<home>": that place agent only
+//   served UAV states -> "p": every other place agent  } PlaceField: a topic
+//   tiles for a home's views -> "f.<home>": that place   } of their own
+//                   agent only
 //   halo rings   -> "h.<from>.<to>": what neighbour <to> reads of <from>'s border ring
 //   UAV broadcasts (to the whole swarm) -> "bu.<gateway>", relayed by the
 //                   gateway to "b" (every place agent, the ground), and by

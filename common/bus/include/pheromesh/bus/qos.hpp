@@ -22,7 +22,10 @@ namespace pheromesh::bus {
 // field's type on a topic of its own ("pheromesh_uav_state_ground": the
 // states a place agent relays to the ground station, with the departures of
 // the UAVs it serves, batched), replicated like the other topics place
-// agents write.
+// agents write. PlaceField is the same type on "pheromesh_place_field":
+// what place agents send each other each tick (the UAVs each serves, the
+// tiles for another's views), best effort in realtime (endpoint_qos) while
+// the field to the ground station stays reliable.
 enum class TopicKind : uint8_t {
   Tile,
   Deposit,
@@ -41,12 +44,13 @@ enum class TopicKind : uint8_t {
   Scenario,
   RelayedClock,
   GroundState,
+  PlaceField,  // place agents among themselves: served UAVs, tiles for views (a RegionField)
 };
 inline constexpr TopicKind kAllTopicKinds[] = {
-    TopicKind::Tile,        TopicKind::Deposit, TopicKind::UavState, TopicKind::UavHome, TopicKind::Detection,
-    TopicKind::TargetEvent, TopicKind::Health,  TopicKind::Halo,     TopicKind::Clock,   TopicKind::PhaseDone,
-    TopicKind::Broadcast,   TopicKind::Command, TopicKind::View,     TopicKind::Field,   TopicKind::Scenario,
-    TopicKind::RelayedClock, TopicKind::GroundState};
+    TopicKind::Tile,         TopicKind::Deposit,     TopicKind::UavState,  TopicKind::UavHome, TopicKind::Detection,
+    TopicKind::TargetEvent,  TopicKind::Health,      TopicKind::Halo,      TopicKind::Clock,   TopicKind::PhaseDone,
+    TopicKind::Broadcast,    TopicKind::Command,     TopicKind::View,      TopicKind::Field,   TopicKind::Scenario,
+    TopicKind::RelayedClock, TopicKind::GroundState, TopicKind::PlaceField};
 
 enum class Endpoint : uint8_t { Writer, Reader };
 

@@ -229,10 +229,10 @@ constexpr TopicKind topic_of(TopicKind k) { return k == TopicKind::UavHome ? Top
 // FieldMsg (of states only: one sample per place agent and take).
 constexpr TopicKind message_kind(TopicKind k) {
   if (k == TopicKind::RelayedClock) return TopicKind::Clock;
-  if (k == TopicKind::GroundState) return TopicKind::Field;
+  if (k == TopicKind::GroundState || k == TopicKind::PlaceField) return TopicKind::Field;
   return topic_of(k);
 }
-inline constexpr std::size_t kTopicKindCount = static_cast<std::size_t>(TopicKind::GroundState) + 1;
+inline constexpr std::size_t kTopicKindCount = static_cast<std::size_t>(TopicKind::PlaceField) + 1;
 constexpr std::size_t index_of(TopicKind k) { return static_cast<std::size_t>(k); }
 
 }  // namespace pheromesh::bus
