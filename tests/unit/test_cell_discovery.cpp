@@ -74,6 +74,15 @@ TEST(CellDiscovery, ACycloneMemberAnnouncesItselfOnlyToItsHubsPortWithoutMultica
   EXPECT_TRUE(has(xml, "<SPDPInterval>5s</SPDPInterval>"));          // a hub started late is found soon
 }
 
+TEST(CellDiscovery, ACycloneCellOfALargeSwarmHeartbeatsEverySecondAndASmallOneKeepsCyclonesDefault) {
+  const CellDiscovery c = member_of(3, 7);
+  // Above 40 processes on the host (kQuietHeartbeatAbove, bus/src/dds_profiles.hpp).
+  EXPECT_TRUE(has(cyclone_cell_config(c, 41), "<HeartbeatInterval>1s</HeartbeatInterval></Internal>"));
+  EXPECT_TRUE(has(cyclone_cell_config(c, 500), "<HeartbeatInterval>1s</HeartbeatInterval></Internal>"));
+  EXPECT_FALSE(has(cyclone_cell_config(c, 40), "HeartbeatInterval"));
+  EXPECT_FALSE(has(cyclone_cell_config(c), "HeartbeatInterval")) << "not known: Cyclone's default";
+}
+
 TEST(CellDiscovery, ACycloneHubWithoutPeersNamesOnlyItselfSoCycloneAddsNoDefaultPeers) {
   const std::string xml = cyclone_cell_config(hub(3, 7));
   EXPECT_TRUE(has(xml, "<ParticipantIndex>7</ParticipantIndex>"));

@@ -1,5 +1,7 @@
 #include "pheromesh/bus/cell_discovery.hpp"
 
+#include "dds_profiles.hpp"
+
 #include <arpa/inet.h>
 #include <netinet/in.h>
 
@@ -120,7 +122,7 @@ core::Result<CellDiscovery> parse_cell(const std::string& text, uint32_t domain)
   return check_cell(cell);
 }
 
-std::string cyclone_cell_config(const CellDiscovery& cell) {
+std::string cyclone_cell_config(const CellDiscovery& cell, uint32_t swarm_processes) {
   // ParticipantIndex none: a member's unicast ports come from the kernel, so
   // any number of members share a host and a domain (an index would cap them
   // at 120 per domain). Cyclone calls that "unicast discovery impossible",
@@ -150,7 +152,15 @@ std::string cyclone_cell_config(const CellDiscovery& cell) {
   // our profiles; it costs one datagram per member per 5 s.
   //
   // The settings besides discovery are cyclone-onehost-unicast.xml's, for
-  // the same reasons (written there).
+  // the same reasons (written there), its heartbeat interval among them. In
+  // a cell it matters for the data, not discovery: Cyclone asks for an
+  // acknowledgement with a write that comes 4/5 of an interval after the one
+  // before, so at 100 ms every 5 Hz write of a keep-last writer (a UAV's
+  // state, a batch of deposits, a halo) brought an ACKNACK back, one datagram
+  // and a wake-up each. At 1 s the heartbeats that go with the writes are
+  // final: a reader that misses a sample still asks for it (issue 44,
+  // docs/benchmarks.md "Where a UAV tick goes").
+  const std::string hb = cyclone_heartbeat(swarm_processes);
   return R"(<CycloneDDS xmlns="https://cdds.io/config"><Domain Id="any"><General><Interfaces><NetworkInterface address=")" +
          cell.interface_address +
          R"("/></Interfaces><AllowMulticast>false</AllowMulticast><MaxMessageSize>65500B</MaxMessageSize>)"
@@ -160,7 +170,9 @@ std::string cyclone_cell_config(const CellDiscovery& cell) {
          (peers.empty() ? std::string() : "<Peers>" + peers + "</Peers>") +
          R"(</Discovery><Internal><WriterLingerDuration>0s</WriterLingerDuration>)"
          R"(<GenerateKeyhash>true</GenerateKeyhash><MultipleReceiveThreads>false</MultipleReceiveThreads>)"
-         R"(<SocketReceiveBufferSize min="default" max="4MiB"/></Internal></Domain></CycloneDDS>)";
+         R"(<SocketReceiveBufferSize min="default" max="4MiB"/>)" +
+         (hb.empty() ? std::string() : "<HeartbeatInterval>" + hb + "</HeartbeatInterval>") +
+         R"(</Internal></Domain></CycloneDDS>)";
 }
 
 FastDdsCellProfile fastdds_cell_profile(const CellDiscovery& cell) {

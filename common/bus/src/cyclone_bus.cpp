@@ -217,7 +217,7 @@ class CycloneTransport final : public Transport {
   };
 
   void create_participant() {
-    const std::string config = opt_.cell ? cyclone_cell_config(*opt_.cell)
+    const std::string config = opt_.cell ? cyclone_cell_config(*opt_.cell, opt_.swarm_processes)
                                          : cyclone_config(opt_.profile, opt_.peers, opt_.swarm_processes);
     if (!config.empty()) {
       // Returns an error if the domain already exists in this process; that is

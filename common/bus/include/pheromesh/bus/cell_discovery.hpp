@@ -91,8 +91,10 @@ core::Result<CellDiscovery> check_cell(const CellDiscovery& cell);
 
 // Cyclone DDS configuration XML (a <CycloneDDS> document for
 // dds_create_domain): no multicast, the peers with their ports, the
-// participant index or none, and the one-host profile's other settings.
-std::string cyclone_cell_config(const CellDiscovery& cell);
+// participant index or none, and the one-host profile's other settings,
+// its heartbeat interval for `swarm_processes` among them (cyclone_heartbeat
+// in dds_profiles.hpp).
+std::string cyclone_cell_config(const CellDiscovery& cell, uint32_t swarm_processes = 0);
 
 // A Fast DDS XML profile document and the name of its participant profile:
 // UDP on the interface only, metatraffic unicast only, initial peers with
