@@ -10,9 +10,12 @@
 //                                 written for it (by its root element), so one
 //                                 --dds-profile serves a mixed swarm.
 #pragma once
+#include <chrono>
 #include <cstdint>
 #include <string>
 #include <vector>
+
+#include "pheromesh/bus/qos.hpp"
 
 namespace pheromesh::bus {
 
@@ -40,6 +43,22 @@ inline constexpr uint32_t kQuietHeartbeatAbove = 40;
 // The HeartbeatInterval for a one-host swarm of that many processes; empty:
 // Cyclone's default (100 ms).
 std::string cyclone_heartbeat(uint32_t swarm_processes);
+
+// How a Fast DDS reliable writer asks for acknowledgements. Fast DDS 2.9
+// piggybacks a heartbeat that wants an answer on every write, so each 5 Hz
+// write of a realtime swarm (a UAV's state, a batch of deposits, a halo)
+// brought an ACKNACK back: one datagram and a wake-up each (issue 44,
+// docs/benchmarks.md "Where a UAV tick goes"). A realtime swarm of more than
+// kQuietHeartbeatAbove processes heartbeats once a second instead, without
+// piggybacking, as Cyclone's cells do (cyclone_heartbeat): a reader that
+// missed a sample asks for it within a second. Lockstep keeps 100 ms and the
+// piggyback: a lost sample would stall its tick until the next heartbeat.
+struct FastDdsWriterPace {
+  std::chrono::milliseconds heartbeat{100};
+  bool piggyback = true;
+  bool operator==(const FastDdsWriterPace&) const = default;
+};
+FastDdsWriterPace fastdds_writer_pace(Pacing pacing, uint32_t swarm_processes);
 
 struct FastDdsProfile {
   std::string xml;   // built-in profiles: the XML text ...

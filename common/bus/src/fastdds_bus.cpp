@@ -136,7 +136,7 @@ void apply_common(const QosSpec& spec, Endpoint endpoint, Q& q) {
       spec.ownership == QosSpec::Ownership::Exclusive ? fdds::EXCLUSIVE_OWNERSHIP_QOS : fdds::SHARED_OWNERSHIP_QOS;
 }
 
-fdds::DataWriterQos to_fastdds_writer(const QosSpec& spec) {
+fdds::DataWriterQos to_fastdds_writer(const QosSpec& spec, const FastDdsWriterPace& pace = {}) {
   fdds::DataWriterQos q = fdds::DATAWRITER_QOS_DEFAULT;
   apply_common(spec, Endpoint::Writer, q);
   q.ownership_strength().value = static_cast<uint32_t>(spec.ownership_strength);
@@ -147,7 +147,10 @@ fdds::DataWriterQos to_fastdds_writer(const QosSpec& spec) {
           : to_duration(std::max(std::chrono::milliseconds(1), spec.liveliness_lease * 2 / 5));
   // Fast DDS heartbeats every 3 s by default: a lost sample would stall a
   // lockstep tick that long. Cyclone's writers heartbeat about every 100 ms.
-  q.reliable_writer_qos().times.heartbeatPeriod = to_duration(std::chrono::milliseconds(100));
+  // A large realtime swarm: every second, not with each write
+  // (fastdds_writer_pace).
+  q.reliable_writer_qos().times.heartbeatPeriod = to_duration(pace.heartbeat);
+  q.reliable_writer_qos().disable_heartbeat_piggyback = !pace.piggyback;
   return q;
 }
 
@@ -450,7 +453,8 @@ class FastDdsTransport final : public Transport {
       fdds::Publisher* publisher =
           PHM_FASTDDS(participant_->create_publisher(pq), "cannot create a publisher for partition " + partition);
       const fdds::DataWriterQos q = to_fastdds_writer(
-          endpoint_qos(e.kind, Endpoint::Writer, opt_.liveliness_lease, opt_.replication, opt_.pacing));
+          endpoint_qos(e.kind, Endpoint::Writer, opt_.liveliness_lease, opt_.replication, opt_.pacing),
+          fastdds_writer_pace(opt_.pacing, opt_.swarm_processes));
       e.writer = PHM_FASTDDS(publisher->create_datawriter(topic(e.kind), q),
                              std::string("cannot create a writer of ") + to_string(e.kind) + " in partition " +
                                  partition + permissions_hint());
