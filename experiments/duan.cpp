@@ -372,12 +372,6 @@ void add_distributed_rows(Report& rep, const core::Duan2009Scenario& sc,
   }
 }
 
-std::vector<double> hits_within(const std::vector<double>& iterations, uint32_t limit) {
-  std::vector<double> hit;  // per run: 1 if T_a ≤ 174 s within Nc_max
-  for (const double k : iterations) hit.push_back(k <= limit ? 1.0 : 0.0);
-  return hit;
-}
-
 // Our variant (DuanPlanner::LineOfSight, policy planner "line_of_sight"):
 // the same colonies, seeds and random draws; each walk is shortcut before
 // it becomes a candidate. Measured side by side with the paper's planner.

@@ -185,6 +185,25 @@ inline bool wait_for_text(const std::string& path, const std::string& text, std:
   return false;
 }
 
+// The tick of the ground station's last progress line ("[ground] tick    12 |
+// ...") in `path`; 0 before the first.
+inline uint32_t progress_tick(const std::string& path) {
+  const std::string text = slurp(path);
+  const auto at = text.rfind("] tick ");
+  if (at == std::string::npos) return 0;
+  return static_cast<uint32_t>(std::strtoul(text.c_str() + at + 7, nullptr, 10));
+}
+
+// Waits until the ground station's progress lines in `path` reach `tick`
+// (bounded); false if they did not.
+inline bool wait_for_tick(const std::string& path, uint32_t tick, std::chrono::seconds bound) {
+  const auto deadline = Clock::now() + bound;
+  while (progress_tick(path) < tick && Clock::now() < deadline) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  return progress_tick(path) >= tick;
+}
+
 // Coverage recorded at the last progress line at or before `tick`.
 inline double coverage_at(const json& m, uint32_t tick) {
   double c = 0;

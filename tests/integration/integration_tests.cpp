@@ -3,8 +3,9 @@
 // 21-30 are used here; each test_policy_<name>.cpp takes its own:
 // shao_navigation 31, liu 32, shostak 33, ravankar 34, duan 35; vendors
 // 36-37; experiment --distributed 38; sweep --distributed 39 (test_sweep.cpp); faults 45-49; lan 70-74; plausibility
-// (test_plausibility.cpp) 80-81; console limits 85 (port 18660); security 90-93; cells 56-57 (test_cells.cpp); mavlink
-// 98 (test_mavlink.cpp, a free UDP port). The Cli tests of scenario limits start no DDS participant and use none.
+// (test_plausibility.cpp) 80-81; console limits 85 (port 18660); bad input's console port 18661; security 90-93; cells
+// 56-57 (test_cells.cpp); mavlink 98 (test_mavlink.cpp, a free UDP port). The Cli tests of scenario limits start no DDS
+// participant and use none.
 #include "harness.hpp"
 
 #include <fstream>
@@ -305,19 +306,58 @@ TEST(Distributed, AnExperimentsRunsOnRealProcessesGiveTheSimulatorsNumbersRunByR
             std::string::npos);
 }
 
+namespace {
+
+// The value of a Prometheus sample, `name{labels}` exactly, in `metrics`
+// (a console's /metrics); -1 if it is not there.
+double prometheus_sample(const std::string& metrics, const std::string& sample) {
+  const std::string line = "\n" + sample + " ";
+  const auto at = metrics.find(line);
+  if (at == std::string::npos) return -1;
+  return std::strtod(metrics.c_str() + at + line.size(), nullptr);
+}
+
+}  // namespace
+
 TEST(BadInput, MalformedSamplesAreRejectedAndCountedAndNothingCrashes) {
   const std::string out = out_dir("hostile");
   const int domain = 25;
-  // The hostile probe speaks flat discovery: the swarm flies in the flat profile.
-  const Background swarm =
-      start_run("small-test.textproto", out, domain, "--uavs 2 --ticks 150 --rate 25 --dds-profile onehost");
-  const Output h = run(kBin + "/pheromesh-test-probe --domain " + std::to_string(domain) + " hostile --region 0 --map-width 30");
-  ASSERT_EQ(h.exit_code, 0) << h.text;
+  const std::string url = "http://127.0.0.1:18661";
+  // The hostile probe speaks flat discovery: the swarm flies in the flat
+  // profile. The console's counters say when the probe's samples were taken.
+  const Background swarm = start_run("small-test.textproto", out, domain,
+                                     "--uavs 2 --ticks 150 --rate 25 --dds-profile onehost --http 18661");
+  Background probe = start({kBin + "/pheromesh-test-probe", "--domain", std::to_string(domain), "hostile", "--region",
+                            "0", "--map-width", "30"},
+                           out + "-probe.txt");
+  ASSERT_TRUE(wait_for_text(probe.out_path, "hostile deposits", std::chrono::seconds(60))) << slurp(probe.out_path);
   // 6 deposits written (5 malformed or replayed, 1 valid), 3 malformed tiles
   // written, the oversized tile refused by the bus before writing. (A deposit
   // for a region that is not the receiver's cannot reach it: deposits are
   // routed by region partition; check_deposit's unit test covers it.)
-  EXPECT_NE(h.text.find("hostile deposits 6 valid 1 tiles 3 oversized_written 0 refused 1"), std::string::npos) << h.text;
+  EXPECT_NE(slurp(probe.out_path).find("hostile deposits 6 valid 1 tiles 3 oversized_written 0 refused 1"),
+            std::string::npos)
+      << slurp(probe.out_path);
+  // The probe stays (its writers alive: deleting them disposes instances a
+  // receiver may not have taken yet) until the ground station counted the
+  // 3 tiles and place agent 0's health the 6 deposits.
+  double tiles_counted = -1, deposits_counted = -1;  // -1: no /metrics answered yet
+  const auto counted = [&] { return tiles_counted >= 3 && deposits_counted >= 6; };
+  const auto deadline = Clock::now() + std::chrono::seconds(30);
+  while (!counted() && Clock::now() < deadline) {
+    const std::string metrics = run("curl -s " + url + "/metrics").text;
+    if (!metrics.empty()) {
+      tiles_counted = prometheus_sample(metrics, "pheromesh_samples_rejected_total");
+      deposits_counted = prometheus_sample(metrics, "pheromesh_region_deposits_rejected_total{region=\"0\"}");
+    }
+    if (!counted()) std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  }
+  kill(probe.pid, SIGTERM);
+  EXPECT_EQ(wait_exit(probe.pid, std::chrono::seconds(30)), 0) << slurp(probe.out_path);
+  ASSERT_TRUE(counted()) << "within 30 s of the probe's writes the console counted " << tiles_counted
+                         << " rejected samples (3 wanted) and " << deposits_counted
+                         << " rejected deposits of region 0 (6 wanted)\n"
+                         << slurp(swarm.out_path);
   ASSERT_EQ(wait_exit(swarm.pid, std::chrono::seconds(90)), 0) << slurp(swarm.out_path);
   const json m = read_metrics(out);
   ASSERT_FALSE(m.is_null());

@@ -5,7 +5,9 @@
 //                                it sees N participants (itself included),
 //                                then stay until SIGTERM (bounded).
 //   hostile --region R           send malformed deposits and tiles into a
-//                                running swarm; print what it sent.
+//                                running swarm; print what it sent, then
+//                                stay until SIGTERM (bounded, 60 s): the test
+//                                ends it once the swarm counted them.
 //   forge --scenario F --uavs N  well-formed but forged samples (issue 16, the
 //                                attacks docs/architecture.md "What a receiver
 //                                refuses" lists) into a running swarm, once
@@ -230,8 +232,16 @@ int hostile(bus::Bus& b, uint32_t region, uint32_t map_width) {
   std::fflush(stdout);
   // Acknowledged samples are in the readers' caches, but deleting our writers
   // at exit disposes their instances, which can replace a sample the ground
-  // station has not taken yet (it polls every 20 ms). Stay a moment.
-  std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  // station has not taken yet (it polls every 20 ms). The probe cannot see
+  // what was taken; the test can (the console's counters), and ends it then.
+  const auto until = Clock::now() + std::chrono::seconds(60);
+  while (!runtime::shutdown_requested() && Clock::now() < until) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  if (!runtime::shutdown_requested()) {
+    std::printf("hostile: no SIGTERM within 60 s\n");
+    return 1;
+  }
   return 0;
 }
 
@@ -536,6 +546,8 @@ int forge(bus::Bus& b, const std::string& scenario_path, uint32_t uavs, bool loc
   std::printf("forged %d samples at tick %u\n", sent, tick);
   std::fflush(stdout);
   // Leave the samples time to be taken before our writers go (see hostile).
+  // A fixed wait still: the console counts each receiver's refusals, but the
+  // forge tests run no console, and what to wait for is a count per receiver.
   std::this_thread::sleep_for(std::chrono::milliseconds(500));
   return 0;
 }

@@ -157,10 +157,13 @@ void run_split_swarm(const std::string& tag, int domain, const std::string& prof
   while (!started() && Clock::now() - t0 < std::chrono::seconds(60))
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
   ASSERT_TRUE(started()) << slurp(ground_txt);
-  // Mid-flight: the flight takes 15 s, so that a monitor that discovers
-  // slowly (Fast DDS over unicast peers, on a host running other tests: it
-  // once heard no place agent for 5 s) still sees the whole swarm fly.
-  std::this_thread::sleep_for(std::chrono::seconds(2));
+  // Mid-flight: once the ground station's progress passed tick 50 (2 s of
+  // the 15 s flight), so that a monitor that discovers slowly (Fast DDS over
+  // unicast peers, on a host running other tests: it once heard no place
+  // agent for 5 s) still sees the whole swarm fly.
+  ASSERT_TRUE(wait_for_tick(ground_txt, 50, std::chrono::seconds(60)))
+      << "the swarm's progress did not reach tick 50 within 60 s of its start:\n"
+      << slurp(ground_txt);
   std::string peers;
   if (monitor_file) {
     std::ofstream(out + "/monitor-hosts.txt") << address(0) << "\n" << address(1) << "\n" << address(2) << "\n";
@@ -376,7 +379,7 @@ TEST(Lan, AStandbyOnAnotherHostServesARegionWhoseHostKilledItsPrimaryInCells) {
 }
 
 // One host's link cut mid-run, in cells: the bridge drops host 2's frames
-// for 4 s, then carries them again. The ground station (host 0) sees region 2 go
+// for 100 ticks of the run (4 s), then carries them again. The ground station (host 0) sees region 2 go
 // dark and come back; UAV 2, which flies on host 2 beside its home place
 // agent (placement by locality), keeps its gateway through the cut and flies
 // every tick; the run ends by itself with every deposit accounted for.
@@ -393,7 +396,11 @@ TEST(Lan, AHostWhoseLinkIsCutMidRunDarkensItsRegionAndItsUavFliesOnBesideItsHome
   while (!started() && Clock::now() - t0 < std::chrono::seconds(60))
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
   ASSERT_TRUE(started()) << slurp(ground_txt);
-  std::this_thread::sleep_for(std::chrono::seconds(3));
+  // Well into the flight (tick 75 of 375, every region heard): the cut
+  // falls mid-run, with time left for region 2 to come back before the end.
+  ASSERT_TRUE(wait_for_tick(ground_txt, 75, std::chrono::seconds(60)))
+      << "the swarm's progress did not reach tick 75 within 60 s of its start:\n"
+      << slurp(ground_txt);
   // The cut: the switch drops every frame from and to host 2 (its cable is
   // cut; the host does not notice, as a host behind a broken switch port
   // does not).
@@ -402,12 +409,17 @@ TEST(Lan, AHostWhoseLinkIsCutMidRunDarkensItsRegionAndItsUavFliesOnBesideItsHome
   must(sw + "add chain bridge phcut cut '{ type filter hook forward priority 0; policy accept; }'");
   must(sw + "add rule bridge phcut cut ip saddr " + address(2) + " drop");
   must(sw + "add rule bridge phcut cut ip daddr " + address(2) + " drop");
-  const auto cut = Clock::now();
-  const auto dark = [&] { return slurp(ground_txt).find("place agent 2 lost (liveliness)") != std::string::npos; };
-  while (!dark() && Clock::now() - cut < std::chrono::seconds(4))
-    std::this_thread::sleep_for(std::chrono::milliseconds(100));
-  std::this_thread::sleep_for(std::chrono::seconds(4) - (Clock::now() - cut));
+  // It lasts 100 ticks of the run (4 s at 25 Hz: the outage is what the test
+  // is about) and at least until the ground station reports region 2 dark;
+  // then the link carries frames again.
+  const uint32_t cut_tick = progress_tick(ground_txt);
+  const bool dark = wait_for_text(ground_txt, "place agent 2 lost (liveliness)", std::chrono::seconds(15));
+  const bool long_enough = wait_for_tick(ground_txt, cut_tick + 100, std::chrono::seconds(30));
   must(sw + "delete table bridge phcut");
+  ASSERT_TRUE(dark) << "the ground station did not report place agent 2 lost within 15 s of the cut:\n"
+                    << slurp(ground_txt);
+  ASSERT_TRUE(long_enough) << "the run's progress did not pass tick " << cut_tick + 100 << " within 30 s of the cut:\n"
+                           << slurp(ground_txt);
   std::vector<int> codes;
   for (const auto& h : hosts) codes.push_back(wait_exit(h.pid, std::chrono::seconds(180)));
   for (int i = 0; i < kHosts; ++i) {

@@ -73,14 +73,6 @@ struct LauncherGroup {
   LauncherGroup& operator=(const LauncherGroup&) = delete;
 };
 
-// The tick of the ground station's last progress line ("tick    12 | ...") in `path`.
-uint32_t progress_tick(const std::string& path) {
-  const std::string text = slurp(path);
-  const auto at = text.rfind("] tick ");
-  if (at == std::string::npos) return 0;
-  return static_cast<uint32_t>(std::strtoul(text.c_str() + at + 7, nullptr, 10));
-}
-
 // A swarm started process by process, with this test as its launcher: it
 // holds the ground station's control socket and answers "faults K" by
 // killing (and reaping) what the schedule kills at tick K - what

@@ -15,7 +15,7 @@ namespace {
 using namespace std::chrono_literals;
 using Clock = FrameBuilder::Clock;
 
-struct Rig {
+struct FrameRig {
   core::ScenarioConfig scenario;
   core::MapGeometry geo{1, 1, 1, 1, 1};
   std::unique_ptr<core::World> world;
@@ -23,7 +23,7 @@ struct Rig {
   std::map<FrameBuilder::TileKey, core::TileMsg> tiles;
   std::vector<core::Rect> popups;
   ConsoleState last;
-  Rig() {
+  FrameRig() {
     auto s = core::load_scenario(std::string(PHEROMESH_SOURCE_DIR) + "/scenarios/small-test.textproto");
     EXPECT_TRUE(s.ok());
     scenario = s.value();
@@ -43,7 +43,7 @@ struct Rig {
   }
 };
 
-core::UavStateMsg state(uint32_t uav, uint32_t tick, bool finished = false) {
+core::UavStateMsg uav_state(uint32_t uav, uint32_t tick, bool finished = false) {
   core::UavStateMsg s;
   s.uav = uav;
   s.tick = tick;
@@ -61,11 +61,11 @@ const UavView& uav(const Frame& f, uint32_t id) {
 }
 
 TEST(FrameBuilder, AUavIsStaleAfterOneQuietSecondUnlessPausedThenDeadOrFinished) {
-  Rig rig;
+  FrameRig rig;
   FrameBuilder b(rig.geo);
   const auto t0 = Clock::time_point{} + 100s;
-  ASSERT_TRUE(rig.rec->on_uav_state(state(0, 1)));
-  ASSERT_TRUE(rig.rec->on_uav_state(state(1, 1)));
+  ASSERT_TRUE(rig.rec->on_uav_state(uav_state(0, 1)));
+  ASSERT_TRUE(rig.rec->on_uav_state(uav_state(1, 1)));
   b.heard_uav(0, t0);
   b.heard_uav(1, t0);
   EXPECT_EQ(b.uavs_heard(), 2U);
@@ -73,7 +73,7 @@ TEST(FrameBuilder, AUavIsStaleAfterOneQuietSecondUnlessPausedThenDeadOrFinished)
   EXPECT_EQ(uav(rig.build(b, t0 + 1001ms), 0).liveness, Liveness::Stale);
   EXPECT_EQ(uav(rig.build(b, t0 + 5s, true), 0).liveness, Liveness::Alive) << "a paused swarm is quiet on purpose";
   rig.rec->on_uav_departed(0);
-  ASSERT_TRUE(rig.rec->on_uav_state(state(1, 2, true)));
+  ASSERT_TRUE(rig.rec->on_uav_state(uav_state(1, 2, true)));
   const Frame f = rig.build(b, t0 + 1500ms);
   EXPECT_EQ(uav(f, 0).liveness, Liveness::Dead);
   EXPECT_EQ(uav(f, 1).liveness, Liveness::Finished);
@@ -81,7 +81,7 @@ TEST(FrameBuilder, AUavIsStaleAfterOneQuietSecondUnlessPausedThenDeadOrFinished)
 }
 
 TEST(FrameBuilder, APlaceAgentIsStaleAfterTwoQuietSecondsAndItsRateIsAppliedDepositsPerSecond) {
-  Rig rig;
+  FrameRig rig;
   FrameBuilder b(rig.geo);
   const auto t0 = Clock::time_point{} + 100s;
   core::HealthMsg h;
@@ -107,7 +107,7 @@ TEST(FrameBuilder, APlaceAgentIsStaleAfterTwoQuietSecondsAndItsRateIsAppliedDepo
 }
 
 TEST(FrameBuilder, ARegionWhosePrimaryDiedIsAliveOnItsStandbyAndShowsWhichReplicaServesIt) {
-  Rig rig;
+  FrameRig rig;
   FrameBuilder b(rig.geo);
   const auto t0 = Clock::time_point{} + 100s;
   core::HealthMsg h;
@@ -129,7 +129,7 @@ TEST(FrameBuilder, ARegionWhosePrimaryDiedIsAliveOnItsStandbyAndShowsWhichReplic
 }
 
 TEST(FrameBuilder, OnlyChangedTilesAreSentAndAScaleChangeResendsTheLayer) {
-  Rig rig;
+  FrameRig rig;
   FrameBuilder b(rig.geo);
   const auto t0 = Clock::time_point{} + 100s;
   core::TileMsg t;
@@ -155,12 +155,12 @@ TEST(FrameBuilder, OnlyChangedTilesAreSentAndAScaleChangeResendsTheLayer) {
 }
 
 TEST(FrameBuilder, TargetsShowWhoFoundThemRevisitsDueAndPopUps) {
-  Rig rig;
+  FrameRig rig;
   FrameBuilder b(rig.geo);
   const auto t0 = Clock::time_point{} + 100s;
   // The recorder judges a detection by the UAV's state (core/plausibility.hpp):
   // UAV 2 flew next to target 1.
-  core::UavStateMsg near = state(2, 20);
+  core::UavStateMsg near = uav_state(2, 20);
   near.x = rig.scenario.targets[1].x;
   near.y = rig.scenario.targets[1].y - 1;
   ASSERT_TRUE(rig.rec->on_uav_state(near));

@@ -21,7 +21,7 @@ ScenarioConfig small_test() {
   return s.value();
 }
 
-struct Rig {
+struct IntakeRig {
   ScenarioConfig s = small_test();
   MapGeometry geo = s.geometry();
   PolicyTraits traits = policy_traits(s);
@@ -49,7 +49,7 @@ struct Rig {
 };
 
 TEST(Intake, AViewForAnotherUavIsDroppedAndOneOfATickFarAheadIsRefused) {
-  Rig r;
+  IntakeRig r;
   ViewMsg v;
   v.uav = 2;
   v.tick = 10;
@@ -68,7 +68,7 @@ TEST(Intake, AViewForAnotherUavIsDroppedAndOneOfATickFarAheadIsRefused) {
 }
 
 TEST(Intake, ATileOrNeighbourInsideAViewIsJudgedAlone) {
-  Rig r;
+  IntakeRig r;
   TileMsg bad = r.tile(3, 0.5F);
   bad.values.resize(35);  // 6 x 6 cells need 36 values
   EXPECT_EQ(check_view_tile(bad, r.rules).kind, IntakeVerdict::Kind::Drop);
@@ -80,7 +80,7 @@ TEST(Intake, ATileOrNeighbourInsideAViewIsJudgedAlone) {
 }
 
 TEST(Intake, AFieldChunkIsMalformedForANonexistentRegionAndRefusedWithAStranger) {
-  Rig r;
+  IntakeRig r;
   FieldMsg f;
   f.region = 3;
   f.tick = 5;
@@ -99,7 +99,7 @@ TEST(Intake, AFieldChunkIsMalformedForANonexistentRegionAndRefusedWithAStranger)
 }
 
 TEST(Intake, AHomeStateThatJumpsFurtherThanTheUavFliesIsRefused) {
-  Rig r;
+  IntakeRig r;
   const UavStateMsg before = r.state(1, 5);
   UavStateMsg next = r.state(1, 6);
   next.x = 4.5;  // one cell in one tick

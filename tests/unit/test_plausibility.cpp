@@ -331,7 +331,7 @@ TEST(PlacePlausibility, HaloRingsOutsideTheLayersRangeAreRefused) {
 
 // ------------------------------------------------------------- the recorder
 
-struct Rig {
+struct PlausibilityRig {
   ScenarioConfig scenario = small_test();
   MapGeometry geo = scenario.geometry();  // the world keeps a pointer to it
   World world{geo, scenario.obstacles, scenario.targets};
@@ -339,7 +339,7 @@ struct Rig {
 };
 
 TEST(RecorderPlausibility, ForgedStatesMoveNeitherCoverageNorTheUavs) {
-  Rig r;
+  PlausibilityRig r;
   const Cell start = start_cell(r.scenario, 0);
   ASSERT_TRUE(r.rec.on_uav_state(state_at(0, 0, start.x, start.y)));
   const double before = r.rec.coverage().coverage();
@@ -363,14 +363,14 @@ TEST(RecorderPlausibility, ForgedStatesMoveNeitherCoverageNorTheUavs) {
 TEST(RecorderPlausibility, GuardAnUncheckedStateWouldMoveCoverage) {
   // The same far cell from a UAV allowed to be there (its first state at a
   // late tick) does raise coverage: the refusal above is what kept it flat.
-  Rig r;
+  PlausibilityRig r;
   const double before = r.rec.coverage().coverage();
   ASSERT_TRUE(r.rec.on_uav_state(state_at(1, 100, 25, 25)));
   EXPECT_GT(r.rec.coverage().coverage(), before);
 }
 
 TEST(RecorderPlausibility, ForgedDetectionsDoNotCountAsTargetsFound) {
-  Rig r;
+  PlausibilityRig r;
   const Cell start = start_cell(r.scenario, 2);
   ASSERT_TRUE(r.rec.on_uav_state(state_at(2, 5, start.x, start.y)));
   const Cell far = r.scenario.targets[2];                 // (25, 26): far from the start area
@@ -386,7 +386,7 @@ TEST(RecorderPlausibility, ForgedDetectionsDoNotCountAsTargetsFound) {
 TEST(RecorderPlausibility, ADetectionWaitsForTheStateOfItsTickAndThenCounts) {
   // Guard and honest case: the UAV flies next to the target; its detection
   // arrives before its state of that tick (two topics) and still counts.
-  Rig r;
+  PlausibilityRig r;
   const Cell t = r.scenario.targets[0];  // (22, 8)
   ASSERT_TRUE(r.rec.on_uav_state(state_at(3, 40, t.x - 1, t.y)));
   ASSERT_TRUE(r.rec.on_detection({3, 41, 0, t}));
@@ -403,7 +403,7 @@ TEST(RecorderPlausibility, ADetectionOfATickLongPastIsJudgedByTheStateOfThatTick
   // Issue 28: judged against the UAV's latest state, a detection 20 ticks
   // old had the reach of 20 ticks of flight, and a forged one of a target
   // the UAV never came near was accepted.
-  Rig r;
+  PlausibilityRig r;
   const Cell t = r.scenario.targets[0];  // (22, 8)
   // Far from the target at tick 40, then flying towards it.
   for (uint32_t k = 40; k <= 60; ++k) {

@@ -1,7 +1,7 @@
-// The Duan 2009 policy (common/core/src/policy_duan.cpp): the place model's
+// The Duan 2009 policy (common/core/papers/duan/src/policy.cpp): the place model's
 // point-pheromone sum and reports, Duan 2009 eq. (10)'s Σ_{j≠i} from the published sum,
-// the ETA from broadcast intervals (Duan 2009 eq. (4), Duan 2009 eq. (5), Duan 2009 eq. (6), Duan 2009 Fig. 6), the UAV's planning
-// phase, deposits and flight, and the scenario parser's errors.
+// the ETA from broadcast intervals (Duan 2009 eq. (4), Duan 2009 eq. (5), Duan 2009 eq. (6), Duan 2009 Fig. 6), the
+// UAV's planning phase, deposits and flight, and the scenario parser's errors.
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -9,7 +9,14 @@ namespace pheromesh::core {
 namespace {
 
 constexpr std::array<Cell, kHeadingCount> kSteps{{
-    {1, 0}, {1, 1}, {0, 1}, {-1, 1}, {-1, 0}, {-1, -1}, {0, -1}, {1, -1},
+    {1, 0},
+    {1, 1},
+    {0, 1},
+    {-1, 1},
+    {-1, 0},
+    {-1, -1},
+    {0, -1},
+    {1, -1},
 }};
 
 }  // namespace

@@ -9,12 +9,18 @@ namespace pheromesh::core {
 
 const char* to_string(FaultAction a) {
   switch (a) {
-    case FaultAction::Kill: return "kill";
-    case FaultAction::Stop: return "stop";
-    case FaultAction::Restart: return "restart";
-    case FaultAction::Standby: return "standby";
-    case FaultAction::Partition: return "partition";
-    case FaultAction::Loss: return "loss";
+    case FaultAction::Kill:
+      return "kill";
+    case FaultAction::Stop:
+      return "stop";
+    case FaultAction::Restart:
+      return "restart";
+    case FaultAction::Standby:
+      return "standby";
+    case FaultAction::Partition:
+      return "partition";
+    case FaultAction::Loss:
+      return "loss";
   }
   return "?";
 }
@@ -122,13 +128,20 @@ Result<FaultEvent> parse_event(const std::string& item) {
   auto bad = [&](const std::string& why) { return Error{"'" + item + "': " + why + " (" + kGrammar + ")"}; };
   if (w.empty()) return bad("empty");
   const std::string& verb = w[0];
-  if (verb == "kill") e.action = FaultAction::Kill;
-  else if (verb == "stop") e.action = FaultAction::Stop;
-  else if (verb == "restart") e.action = FaultAction::Restart;
-  else if (verb == "standby") e.action = FaultAction::Standby;
-  else if (verb == "partition") e.action = FaultAction::Partition;
-  else if (verb == "loss") e.action = FaultAction::Loss;
-  else return bad("unknown action '" + verb + "'");
+  if (verb == "kill")
+    e.action = FaultAction::Kill;
+  else if (verb == "stop")
+    e.action = FaultAction::Stop;
+  else if (verb == "restart")
+    e.action = FaultAction::Restart;
+  else if (verb == "standby")
+    e.action = FaultAction::Standby;
+  else if (verb == "partition")
+    e.action = FaultAction::Partition;
+  else if (verb == "loss")
+    e.action = FaultAction::Loss;
+  else
+    return bad("unknown action '" + verb + "'");
   std::size_t i = 1;
   if (e.action == FaultAction::Loss) {
     if (i >= w.size() || !w[i].ends_with("%")) return bad("loss needs a share, e.g. 30%");
@@ -218,13 +231,13 @@ Result<FaultSchedule> parse_fault_schedule(const std::string& text, const std::s
 }
 
 bool FaultSchedule::in_ticks() const {
-  return !events.empty() && std::all_of(events.begin(), events.end(), [](const auto& e) { return e.at_tick.has_value(); });
+  return !events.empty() &&
+         std::all_of(events.begin(), events.end(), [](const auto& e) { return e.at_tick.has_value(); });
 }
 
 bool FaultSchedule::has_network() const {
-  return std::any_of(events.begin(), events.end(), [](const auto& e) {
-    return e.action == FaultAction::Partition || e.action == FaultAction::Loss;
-  });
+  return std::any_of(events.begin(), events.end(),
+                     [](const auto& e) { return e.action == FaultAction::Partition || e.action == FaultAction::Loss; });
 }
 
 namespace {
@@ -245,7 +258,8 @@ std::vector<std::pair<uint32_t, uint32_t>> kills_of(const FaultSchedule& s, cons
 std::vector<std::pair<uint32_t, uint32_t>> FaultSchedule::uav_kills() const { return kills_of(*this, "uav"); }
 std::vector<std::pair<uint32_t, uint32_t>> FaultSchedule::place_kills() const { return kills_of(*this, "place"); }
 
-std::optional<std::string> check_fault_schedule(const FaultSchedule& s, uint32_t uavs, uint32_t regions, bool lockstep) {
+std::optional<std::string> check_fault_schedule(const FaultSchedule& s, uint32_t uavs, uint32_t regions,
+                                                bool lockstep) {
   for (const auto& e : s.events) {
     if (lockstep && !e.at_tick) {
       return "'" + e.text + "': a lockstep run (and the simulator) times faults in ticks, e.g. @40t";
