@@ -10,7 +10,10 @@ HEARTBEAT and ACKNACK submessages of every topic inside a window.
 SKIP_S: the window starts this long after the first packet (leave discovery
 out); the UAV ticks of the window are UAVS x RATE_HZ x WINDOW_S. A writer
 whose announcement was not captured is "?"; built-in (discovery, liveliness)
-endpoints are "builtin". Acknowledgements name the writer they answer."""
+endpoints are "builtin". Acknowledgements name the writer they answer. A
+heartbeat with the FINAL flag (its writer wants no answer; a reader that
+misses a sample still asks) counts as "HEARTBEAT(final)", apart from those
+that ask for an ACKNACK."""
 import collections
 import struct
 import sys
@@ -93,7 +96,8 @@ def main():
                         learn_topic(body, flags, le, topics)
                 else:
                     key = prefix + body[4:8]
-                subs.append((KINDS[sid], key, len(body)))
+                kind = KINDS[sid] + ("(final)" if sid == 0x07 and flags & 2 else "")
+                subs.append((kind, key, len(body)))
             if ln == 0:
                 break
             p += 4 + ln
@@ -109,9 +113,9 @@ def main():
             size[(topic, kind)] += n
     print(f"window {skip:g}-{skip + window:g} s, {ticks:.0f} UAV ticks: {datagrams / ticks:.2f} RTPS datagrams per UAV tick"
           f" ({len(topics)} writers' topics learnt)")
-    print(f"  {'topic':28s} {'submessage':10s} {'per UAV tick':>12s} {'mean bytes':>10s}")
+    print(f"  {'topic':28s} {'submessage':16s} {'per UAV tick':>12s} {'mean bytes':>10s}")
     for (topic, kind), v in sorted(count.items(), key=lambda kv: -kv[1]):
-        print(f"  {topic:28s} {kind:10s} {v / ticks:12.3f} {size[(topic, kind)] / v:10.0f}")
+        print(f"  {topic:28s} {kind:16s} {v / ticks:12.3f} {size[(topic, kind)] / v:10.0f}")
 
 
 if __name__ == "__main__":
