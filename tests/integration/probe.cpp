@@ -14,8 +14,11 @@
 //                                its lockstep clock passed tick 5 (--lockstep)
 //                                or its place agents 0 and 1 are matched, and
 //                                the plausible ones of issue 28 (UAV 0's next
-//                                deposits, an in-range field chunk); print
-//                                what it sent.
+//                                deposits, an in-range field chunk), once
+//                                every receiver matched the writer it is
+//                                written with; print what it sent, then stay
+//                                until SIGTERM (bounded, 300 s): the test ends
+//                                it once the swarm has exited.
 //   idle --id I --regions R      a UAV's endpoints and nothing else, until
 //                                SIGTERM: what discovery alone costs
 //                                (bench/discovery_idle.sh).
@@ -74,6 +77,7 @@
 #include <condition_variable>
 #include <cstdio>
 #include <cstdlib>
+#include <functional>
 #include <limits>
 #include <mutex>
 #include <optional>
@@ -280,6 +284,64 @@ int forge(bus::Bus& b, const std::string& scenario_path, uint32_t uavs, bool loc
   const std::string uav0_reports = bus::routing::uav_report_partition(0);
   bus::Writer<core::PhaseDoneMsg> reporter(b, bus::TopicKind::PhaseDone);
   if (lockstep) reporter.offer(uav0_reports);
+  // Every other writer a forgery is written with, opened now, and how many
+  // readers each must have matched before anything is forged: a sample
+  // written before its receiver matched the writer is lost, not refused.
+  // The receivers: the ground station (tiles, field chunks, healths; the
+  // conductor of lockstep reports), every place agent (served-UAVs chunks,
+  // lockstep clocks), one place agent (tiles for views, halo, states,
+  // detections). The clocks as relayed to each region's UAVs wait for no
+  // match (a region may serve no UAV).
+  const core::RegionId to_one = geo.region_count() > 1 ? 1 : 0;
+  const uint32_t places = geo.region_count();
+  bus::Writer<core::TileMsg> tiles(b);
+  bus::Writer<core::FieldMsg> fields(b);
+  bus::Writer<core::FieldMsg> place_fields(b, bus::TopicKind::PlaceField);
+  bus::Writer<core::HaloMsg> halos(b);
+  bus::Writer<core::DetectionMsg> detections(b);
+  bus::Writer<core::HealthMsg> healths(b);
+  bus::Writer<core::ClockMsg> clocks(b);
+  bus::Writer<core::PhaseDoneMsg> reports(b);
+  const std::string served_part = bus::routing::kServedPartition,
+                    tiles_for_part = bus::routing::tiles_for_partition(to_one),
+                    halo_part = bus::routing::halo_partition(0, to_one),
+                    detection_part = bus::routing::detection_uplink_partition(state_home);
+  struct Match {
+    const char* what;
+    std::function<uint32_t()> matched;
+    uint32_t want;
+  };
+  const std::vector<Match> matches = [&] {
+    std::vector<Match> m{
+        {"deposits to region 0", [&] { return b.matched_deposit_readers(0); }, 1},
+        {"deposits to region 1", [&] { return b.matched_deposit_readers(other); }, 1},
+        {"tiles", [&, p = tiles.offer(bus::routing::tile_partition({0, 0}))] { return b.transport().matched(p); }, 1},
+        {"field chunks", [&, p = fields.offer(bus::routing::kFieldPartition)] { return b.transport().matched(p); }, 1},
+        {"served UAVs", [&, p = place_fields.offer(served_part)] { return b.transport().matched(p); }, places},
+        {"tiles for views", [&, p = place_fields.offer(tiles_for_part)] { return b.transport().matched(p); }, 1},
+        {"halo", [&, p = halos.offer(halo_part)] { return b.transport().matched(p); }, 1},
+        {"states", [&] { return b.matched_state_readers(); }, 1},
+        {"detections", [&, p = detections.offer(detection_part)] { return b.transport().matched(p); }, 1},
+        {"healths", [&, p = healths.offer(bus::routing::kGroundPartition)] { return b.transport().matched(p); }, 1},
+        {"impostor state", [&] { return impostor.matched(victim_home); }, 1}};
+    if (lockstep) {
+      m.push_back({"clocks", [&, p = clocks.offer(bus::routing::kClockPartition)] { return b.transport().matched(p); },
+                   places});
+      m.push_back(
+          {"reports", [&, p = reports.offer(bus::routing::kClockPartition)] { return b.transport().matched(p); }, 1});
+      m.push_back({"UAV 0's reports", [&] { return reporter.matched(uav0_reports); }, 1});
+    }
+    return m;
+  }();
+  // The first writer still short of its receivers ("" once all matched).
+  const auto unmatched = [&]() -> std::string {
+    for (const auto& m : matches) {
+      if (const uint32_t n = m.matched(); n < m.want) {
+        return std::string(m.what) + " (" + std::to_string(n) + " of " + std::to_string(m.want) + " readers)";
+      }
+    }
+    return "";
+  };
   // UAV 0's latest state (the forged detection is of its tick and far from
   // it) and the victim's (for the plausible forgery), taken while waiting:
   // a lockstep run is over in seconds.
@@ -313,24 +375,16 @@ int forge(bus::Bus& b, const std::string& scenario_path, uint32_t uavs, bool loc
       clock.clear();
       b.take_clock(clock);
       for (const auto& c : clock) tick = std::max(tick, c.tick);
-      // From tick 5, up to 3 s more (a run is over in seconds) until the
-      // receivers matched this process's writers and UAV 0's and the
-      // victim's states came: forged samples written before a match are
-      // lost, not refused (stop 39's flake).
+      // From tick 5, up to 3 s more (a run is over in seconds) until every
+      // receiver matched its writer and UAV 0's and the victim's states
+      // came (stop 39's flake: forged samples written before a match).
       if (tick >= 5 && !at_tick5) at_tick5 = Clock::now();
-      const bool matched =
-          b.matched_deposit_readers(0) > 0 && b.matched_deposit_readers(other) > 0 && impostor.matched(victim_home) > 0;
-      if (at_tick5 && ((matched && heard) || Clock::now() - *at_tick5 > std::chrono::seconds(3))) {
-        // As in realtime, a second more for the receivers not waited for
-        // above (the ground station, the other place agents) to match this
-        // process's other writers: in a fresh clone's suite (-j2) forged
-        // detections, states and clocks still went nowhere.
-        std::this_thread::sleep_for(std::chrono::seconds(1));
-        take_states();
+      if (at_tick5 && (unmatched().empty() && heard)) break;
+      if (at_tick5 && Clock::now() - *at_tick5 > std::chrono::seconds(3)) {
+        std::printf("forging although not matched: %s\n", unmatched().c_str());
         break;
       }
-    } else if (b.matched_deposit_readers(0) > 0 && b.matched_deposit_readers(other) > 0) {
-      std::this_thread::sleep_for(std::chrono::seconds(1));
+    } else if (unmatched().empty()) {
       break;
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
@@ -399,33 +453,32 @@ int forge(bus::Bus& b, const std::string& scenario_path, uint32_t uavs, bool loc
   const core::Rect t00 = geo.tile_rect({0, 0});
   const auto cells = static_cast<std::size_t>(t00.area());
   const auto w = static_cast<uint16_t>(t00.w), h = static_cast<uint16_t>(t00.h);
-  count(b.publish_tile({0, {0, 0}, tick, 0, w, h, std::vector<float>(cells, kHuge)}));
-  count(b.publish_tile({1, {0, 0}, far_tick, 0, w, h, std::vector<float>(cells, 0.5F)}));
+  count(tiles.write({0, {0, 0}, tick, 0, w, h, std::vector<float>(cells, kHuge)}));
+  count(tiles.write({1, {0, 0}, far_tick, 0, w, h, std::vector<float>(cells, 0.5F)}));
   // Field chunks of region 0 (on chunk instances its place agent does not
   // write): 1e30 values, and a tick far ahead.
   core::TileMsg patch{0, {0, 0}, tick, 0, w, h, std::vector<float>(cells, kHuge)};
-  count(b.publish_field({0, 5, 6, tick, {patch}, {}, 0}));
+  count(fields.write({0, 5, 6, tick, {patch}, {}, 0}, bus::routing::kFieldPartition));
   // The same 1e30 tile as region 0's tiles for region 1's views, and a
   // served-UAVs chunk of region 0 naming a UAV that does not exist (what the
   // place agents exchange among themselves).
-  count(b.publish_tiles_for({0, 5, 6, tick, {patch}, {}, 0}, geo.region_count() > 1 ? 1 : 0));
+  count(place_fields.write({0, 5, 6, tick, {patch}, {}, 0}, tiles_for_part));
   core::UavStateMsg ghost;
   ghost.uav = stranger;
   ghost.tick = tick;
-  count(b.publish_served({0, 5, 6, tick, {}, {ghost}, 0}));
+  count(place_fields.write({0, 5, 6, tick, {}, {ghost}, 0}, served_part));
   patch.values.assign(cells, 0.5F);
   // Plausible (issue 28): region 0's tile (0,0) in range, of the next tick.
   patch.tick = tick + 1;
-  count(b.publish_field({0, 3, 6, tick + 1, {patch}, {}, 0}));
+  count(fields.write({0, 3, 6, tick + 1, {patch}, {}, 0}, bus::routing::kFieldPartition));
   patch.tick = far_tick;
-  count(b.publish_field({0, 4, 6, far_tick, {patch}, {}, 0}));
+  count(fields.write({0, 4, 6, far_tick, {patch}, {}, 0}, bus::routing::kFieldPartition));
   // The same tile in range but far ahead, for region 1's views.
-  count(b.publish_tiles_for({0, 4, 6, far_tick, {patch}, {}, 0}, other));
+  count(place_fields.write({0, 4, 6, far_tick, {patch}, {}, 0}, tiles_for_part));
   // Region 0's border ring as its neighbour region 1 reads it, with 1e30, for
   // the next place phase.
-  const core::RegionId ring_to = geo.region_count() > 1 ? 1 : 0;
-  const std::size_t ring = core::ring_indices_facing(geo, r0, geo.region_rect(ring_to)).size();
-  count(b.publish_halo({0, tick + 1, std::vector<float>(ring, kHuge), std::vector<float>(ring, 0.0F)}, ring_to));
+  const std::size_t ring = core::ring_indices_facing(geo, r0, geo.region_rect(to_one)).size();
+  count(halos.write({0, tick + 1, std::vector<float>(ring, kHuge), std::vector<float>(ring, 0.0F)}, halo_part));
   // States: UAV 0 across the map, a UAV that does not exist, UAV 1 far ahead in time.
   core::UavStateMsg st;
   st.uav = 0;
@@ -464,8 +517,8 @@ int forge(bus::Bus& b, const std::string& scenario_path, uint32_t uavs, bool loc
       }
     }
     const core::Cell target = s.targets[static_cast<std::size_t>(far)];
-    count(b.publish_detection({0, tick, far, target}));
-    count(b.publish_detection({stranger, tick, far, target}));
+    count(detections.write({0, tick, far, target}, detection_part));
+    count(detections.write({stranger, tick, far, target}, detection_part));
   }
   // Issue 42 D5. Healths of place agents the run does not have (a standby
   // of region 0 in a swarm without standbys, a region beyond the map's),
@@ -473,17 +526,17 @@ int forge(bus::Bus& b, const std::string& scenario_path, uint32_t uavs, bool loc
   // station, and this process stays no place agent for any relay.
   core::HealthMsg fake{0, tick, 0.0F, 5, 1, 0, 0, false};
   fake.replica = 1;
-  count(b.publish_health(fake));
+  count(healths.write(fake, bus::routing::kGroundPartition));
   fake.replica = 0;
   fake.region = geo.region_count();
-  count(b.publish_health(fake));
+  count(healths.write(fake, bus::routing::kGroundPartition));
   // A served-UAVs chunk naming UAV 0 where it is: as region 0's own replica
   // (another process holds it) and as a standby it does not have.
   if (uav0) {
     core::UavStateMsg where = *uav0;
     where.deposits.clear();
-    count(b.publish_served({0, 4, 6, tick, {}, {where}, 0}));
-    count(b.publish_served({0, 3, 6, tick, {}, {where}, 1}));
+    count(place_fields.write({0, 4, 6, tick, {}, {where}, 0}, served_part));
+    count(place_fields.write({0, 3, 6, tick, {}, {where}, 1}, served_part));
   }
   // Lockstep: a forwarded deposit of UAV 0 of the tick before, to region 1
   // (its backup, not its gateway): no UAV announced it for any place phase
@@ -507,19 +560,19 @@ int forge(bus::Bus& b, const std::string& scenario_path, uint32_t uavs, bool loc
   if (lockstep) {
     core::PhaseDoneMsg done{
         core::process_key(core::kRoleUav, 0), tick + 1, static_cast<uint8_t>(core::ClockPhase::Uav), 0, {{0, 5}}};
-    count(b.publish_phase_done(done));
+    count(reports.write(done, bus::routing::kClockPartition));
     count(reporter.write(done, uav0_reports));
     done.process = core::process_key(core::kRolePlace, core::place_id(0, 0));
     done.phase = static_cast<uint8_t>(core::ClockPhase::Place);
     done.deposits.clear();
-    count(b.publish_phase_done(done));
+    count(reports.write(done, bus::routing::kClockPartition));
   }
   // A clock that stops the run, from this process's own writer: to the place
   // agents, and as if relayed to every region's UAVs (the lockstep tree).
   core::ClockMsg stop;
   stop.tick = tick;
   stop.phase = static_cast<uint8_t>(core::ClockPhase::Stop);
-  count(b.publish_clock(stop));
+  count(clocks.write(stop, bus::routing::kClockPartition));
   for (core::RegionId r = 0; r < geo.region_count(); ++r) count(b.relay_clock(stop, r));
   // Last (it waits for a match; the detections above must go out at their
   // tick): the victim one cell from where it was, a tick later - a state it
@@ -545,10 +598,17 @@ int forge(bus::Bus& b, const std::string& scenario_path, uint32_t uavs, bool loc
   b.flush(std::chrono::seconds(5));
   std::printf("forged %d samples at tick %u\n", sent, tick);
   std::fflush(stdout);
-  // Leave the samples time to be taken before our writers go (see hostile).
-  // A fixed wait still: the console counts each receiver's refusals, but the
-  // forge tests run no console, and what to wait for is a count per receiver.
-  std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  // Our writers stay until the test ends us, after the swarm has exited:
+  // deleting them would dispose their instances, which can replace a sample
+  // a receiver has not taken yet (see hostile).
+  const auto until = Clock::now() + std::chrono::seconds(300);
+  while (!runtime::shutdown_requested() && Clock::now() < until) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  if (!runtime::shutdown_requested()) {
+    std::printf("forge: no SIGTERM within 300 s\n");
+    return 1;
+  }
   return 0;
 }
 
