@@ -165,6 +165,7 @@ class PlaceApp {
   std::shared_ptr<spdlog::logger> log_;
   runtime::SampleAudit audit_;       // received samples dropped and refused (deposits and rings: core_)
   core::LockstepFollower follower_;  // lockstep: the conductor's clock, the phases to run
+  core::UavClockRelay uav_clocks_;   // which of them go on to the UAVs served
   core::PlaceCore core_;
   double rate_ = 0.0;
   core::TickGaps gaps_;  // realtime: gaps between tick starts (reported in the health)

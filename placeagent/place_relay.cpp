@@ -41,6 +41,7 @@ void PlaceApp::relay_uplinks() {
 }
 
 void PlaceApp::relay_clock(const core::ClockMsg& c) {
+  if (!uav_clocks_.relays(c)) return;
   bus_->relay_clock(c, cfg_.region);
   ++clocks_relayed_;
 }

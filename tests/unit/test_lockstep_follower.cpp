@@ -145,5 +145,21 @@ TEST(LockstepFollower, AnAbsentRegionIsRememberedFromTheFirstTickThatListedIt) {
   EXPECT_TRUE(f.skips(11)) << "a clock of tick 11 after tick 8 skipped ticks";
 }
 
+TEST(UavClockRelay, APlaceAgentRelaysReadyUavAndStopClocksButAPlacePhaseOnlyWhenResentOrNewlyAbsent) {
+  UavClockRelay relay;
+  EXPECT_TRUE(relay.relays(clock_of(0, ClockPhase::Ready)));
+  EXPECT_TRUE(relay.relays(clock_of(1, ClockPhase::Uav)));
+  EXPECT_FALSE(relay.relays(clock_of(1, ClockPhase::Place))) << "a UAV runs no place phase";
+  EXPECT_TRUE(relay.relays(clock_of(1, ClockPhase::Place))) << "re-sent: the conductor waits, the UAVs hear it lives";
+  EXPECT_TRUE(relay.relays(clock_of(2, ClockPhase::Uav)));
+  EXPECT_FALSE(relay.relays(clock_of(2, ClockPhase::Place)));
+  // Region 3 listed absent first in a place phase: the UAVs hear that tick.
+  EXPECT_TRUE(relay.relays(clock_of(3, ClockPhase::Place, 7, {3})));
+  EXPECT_TRUE(relay.relays(clock_of(4, ClockPhase::Uav, 7, {3})));
+  EXPECT_FALSE(relay.relays(clock_of(4, ClockPhase::Place, 7, {3}))) << "region 3 was relayed absent already";
+  EXPECT_TRUE(relay.relays(clock_of(5, ClockPhase::Place, 7, {3, 1}))) << "region 1 is newly absent";
+  EXPECT_TRUE(relay.relays(clock_of(5, ClockPhase::Stop)));
+}
+
 }  // namespace
 }  // namespace pheromesh::core

@@ -52,4 +52,18 @@ std::optional<uint32_t> LockstepFollower::absent_since(RegionId r) const {
   return it->second;
 }
 
+bool UavClockRelay::relays(const ClockMsg& c) {
+  bool new_absent = false;
+  for (RegionId r : c.absent) {
+    if (std::find(absent_.begin(), absent_.end(), r) == absent_.end()) {
+      absent_.push_back(r);
+      new_absent = true;
+    }
+  }
+  if (c.phase != static_cast<uint8_t>(ClockPhase::Place)) return true;
+  const bool resent = place_tick_ && c.tick <= *place_tick_;
+  place_tick_ = std::max(place_tick_.value_or(0), c.tick);
+  return resent || new_absent;
+}
+
 }  // namespace pheromesh::core

@@ -79,4 +79,21 @@ class LockstepFollower {
   std::map<RegionId, uint32_t> absent_;
 };
 
+// Which clocks a place agent relays to the UAVs it serves (the lockstep
+// tree): a UAV runs UAV phases only, so a Place-phase clock is not relayed -
+// unless it is a re-send (the conductor re-sends its clock after a quiet
+// second while it waits: it keeps the UAVs' ConductorWatch fed through a
+// long place phase) or lists an absent region the clocks relayed before did
+// not (a UAV remembers the first tick that listed it). Ready, UAV and Stop
+// clocks always go. Halves the clocks a UAV hears a tick.
+class UavClockRelay {
+ public:
+  // Whether `c`, accepted from the conductor, goes on to the UAVs.
+  bool relays(const ClockMsg& c);
+
+ private:
+  std::optional<uint32_t> place_tick_;  // the newest Place-phase clock seen
+  std::vector<RegionId> absent_;        // the absent regions relayed so far
+};
+
 }  // namespace pheromesh::core
