@@ -41,9 +41,10 @@ void PlaceApp::relay_uplinks() {
 }
 
 void PlaceApp::relay_clock(const core::ClockMsg& c) {
-  if (!uav_clocks_.relays(c)) return;
-  bus_->relay_clock(c, cfg_.region);
-  ++clocks_relayed_;
+  const auto to = uav_clocks_.relays(c);
+  if (to.home) bus_->relay_clock(c, cfg_.region);
+  if (to.backups) bus_->relay_clock_to_backups(c, cfg_.region);
+  clocks_relayed_ += (to.home ? 1 : 0) + (to.backups ? 1 : 0);
 }
 
 void PlaceApp::relay_reports() {

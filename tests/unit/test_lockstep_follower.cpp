@@ -145,20 +145,28 @@ TEST(LockstepFollower, AnAbsentRegionIsRememberedFromTheFirstTickThatListedIt) {
   EXPECT_TRUE(f.skips(11)) << "a clock of tick 11 after tick 8 skipped ticks";
 }
 
-TEST(UavClockRelay, APlaceAgentRelaysReadyUavAndStopClocksButAPlacePhaseOnlyWhenResentOrNewlyAbsent) {
+// "home": to the UAVs homed on the place agent; "backups": to those it backs up.
+std::string to(UavClockRelay::To t) { return std::string(t.home ? "home" : "-") + "/" + (t.backups ? "backups" : "-"); }
+
+TEST(UavClockRelay, EachUavHearsOneClockATickFromItsHomeAndItsBackupOnlyWhatItNeedsWhileItsHomeLives) {
   UavClockRelay relay;
-  EXPECT_TRUE(relay.relays(clock_of(0, ClockPhase::Ready)));
-  EXPECT_TRUE(relay.relays(clock_of(1, ClockPhase::Uav)));
-  EXPECT_FALSE(relay.relays(clock_of(1, ClockPhase::Place))) << "a UAV runs no place phase";
-  EXPECT_TRUE(relay.relays(clock_of(1, ClockPhase::Place))) << "re-sent: the conductor waits, the UAVs hear it lives";
-  EXPECT_TRUE(relay.relays(clock_of(2, ClockPhase::Uav)));
-  EXPECT_FALSE(relay.relays(clock_of(2, ClockPhase::Place)));
-  // Region 3 listed absent first in a place phase: the UAVs hear that tick.
-  EXPECT_TRUE(relay.relays(clock_of(3, ClockPhase::Place, 7, {3})));
-  EXPECT_TRUE(relay.relays(clock_of(4, ClockPhase::Uav, 7, {3})));
-  EXPECT_FALSE(relay.relays(clock_of(4, ClockPhase::Place, 7, {3}))) << "region 3 was relayed absent already";
-  EXPECT_TRUE(relay.relays(clock_of(5, ClockPhase::Place, 7, {3, 1}))) << "region 1 is newly absent";
-  EXPECT_TRUE(relay.relays(clock_of(5, ClockPhase::Stop)));
+  EXPECT_EQ(to(relay.relays(clock_of(0, ClockPhase::Ready))), "home/backups") << "every UAV latches its relays";
+  EXPECT_EQ(to(relay.relays(clock_of(0, ClockPhase::Ready))), "home/backups");
+  EXPECT_EQ(to(relay.relays(clock_of(1, ClockPhase::Uav))), "home/-");
+  EXPECT_EQ(to(relay.relays(clock_of(1, ClockPhase::Place))), "-/-") << "a UAV runs no place phase";
+  EXPECT_EQ(to(relay.relays(clock_of(1, ClockPhase::Place))), "home/backups")
+      << "re-sent: the conductor waits, every UAV hears it lives (a backed-up UAV's home may be dead, not yet absent)";
+  EXPECT_EQ(to(relay.relays(clock_of(2, ClockPhase::Uav))), "home/-");
+  EXPECT_EQ(to(relay.relays(clock_of(2, ClockPhase::Uav))), "home/backups") << "re-sent";
+  EXPECT_EQ(to(relay.relays(clock_of(2, ClockPhase::Place))), "-/-");
+  // Region 3 listed absent first in a place phase: every UAV hears that
+  // tick, and the UAVs it backs up every UAV clock from then on.
+  EXPECT_EQ(to(relay.relays(clock_of(3, ClockPhase::Place, 7, {3}))), "home/backups");
+  EXPECT_EQ(to(relay.relays(clock_of(4, ClockPhase::Uav, 7, {3}))), "home/backups");
+  EXPECT_EQ(to(relay.relays(clock_of(4, ClockPhase::Place, 7, {3}))), "-/-") << "region 3 was relayed absent already";
+  EXPECT_EQ(to(relay.relays(clock_of(5, ClockPhase::Uav, 7, {3}))), "home/backups");
+  EXPECT_EQ(to(relay.relays(clock_of(5, ClockPhase::Place, 7, {3, 1}))), "home/backups") << "region 1 is newly absent";
+  EXPECT_EQ(to(relay.relays(clock_of(5, ClockPhase::Stop))), "home/backups");
 }
 
 }  // namespace

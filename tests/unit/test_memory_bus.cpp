@@ -365,10 +365,14 @@ TEST_F(MemoryBus, TheLockstepTreeCarriesTheClockDownThroughThePlaceAgentsAndTheR
   place1->take_clock(clocks);
   ASSERT_EQ(clocks.size(), 1U);
   ASSERT_TRUE(place1->relay_clock(clocks[0], 1));
-  ASSERT_TRUE(place2->relay_clock(clocks[0], 2));
+  ASSERT_TRUE(place2->relay_clock(clocks[0], 2));  // to the UAVs homed on 2
   clocks.clear();
   uav->take_clock(clocks);
-  ASSERT_EQ(clocks.size(), 2U) << "from its home and its backup";
+  ASSERT_EQ(clocks.size(), 1U) << "from its home only: region 2 is its backup";
+  ASSERT_TRUE(place2->relay_clock_to_backups(clocks[0], 2));
+  ASSERT_TRUE(place1->relay_clock_to_backups(clocks[0], 1));  // to the UAVs 1 backs up
+  uav->take_clock(clocks);
+  ASSERT_EQ(clocks.size(), 2U) << "and from its backup, to the UAVs it backs up";
   EXPECT_NE(clocks[0].writer, clocks[1].writer);
   // Up: its report reaches its gateway only; the gateway relays it to the conductor.
   const core::PhaseDoneMsg report{core::process_key(core::kRoleUav, 7), 3, 0, 0, {{1, 2}}};

@@ -57,7 +57,8 @@ TEST(SecurityGrants, AUavWritesOnlyItsOwnStateToItsHomeAndNeverDepositsTilesCloc
   EXPECT_FALSE(allows(g->subscribe, "pheromesh_command", "k"));
   EXPECT_FALSE(allows(g->publish, "pheromesh_phase_done", "d.1"));
   EXPECT_TRUE(allows(g->subscribe, "pheromesh_clock_relay", "c.2"));
-  EXPECT_TRUE(allows(g->subscribe, "pheromesh_clock_relay", "c.3"));
+  EXPECT_TRUE(allows(g->subscribe, "pheromesh_clock_relay", "cb.3")) << "as its backup relays it";
+  EXPECT_FALSE(allows(g->subscribe, "pheromesh_clock_relay", "c.3")) << "to the UAVs homed on 3";
   EXPECT_FALSE(names_topic(g->subscribe, "pheromesh_clock"));
 }
 
@@ -73,6 +74,9 @@ TEST(SecurityGrants, OnlyTheGroundStationWritesTheClockAPlaceAgentRelaysItToItsO
     if (place) {
       const std::string region = g.name.substr(6, 1);  // place-R, place-R.rN (R < 10 here)
       EXPECT_TRUE(allows(g.publish, "pheromesh_clock_relay", "c." + region)) << g.name;
+      EXPECT_TRUE(allows(g.publish, "pheromesh_clock_relay", "cb." + region)) << g.name;
+      EXPECT_FALSE(allows(g.publish, "pheromesh_clock_relay", "cb." + std::string(region == "0" ? "1" : "0")))
+          << g.name;
       EXPECT_TRUE(allows(g.subscribe, "pheromesh_phase_done", "d." + region)) << g.name;
       EXPECT_FALSE(allows(g.publish, "pheromesh_clock_relay", "c." + std::string(region == "0" ? "1" : "0")))
           << g.name;

@@ -176,6 +176,9 @@ bool Bus::publish_phase_done(const core::PhaseDoneMsg& m) {
 bool Bus::relay_clock(const core::ClockMsg& m, core::RegionId own) {
   return roles_->relayed_clock.write(m, uav_clock_partition(own));
 }
+bool Bus::relay_clock_to_backups(const core::ClockMsg& m, core::RegionId own) {
+  return roles_->relayed_clock.write(m, uav_backup_clock_partition(own));
+}
 bool Bus::publish_command(const core::CommandMsg& m) { return roles_->commands.write(m); }
 bool Bus::publish_scenario(const core::ScenarioMsg& m) { return roles_->scenarios.write(m); }
 
@@ -297,15 +300,16 @@ void Bus::join_clock_tree(std::span<const core::RegionId> gateways) {
   roles_->clock_tree = true;
   roles_->phase_done.offer(uav_report_partition(*roles_->home));
   std::vector<std::string> parts;
-  for (auto r : gateways) {
-    if (std::find(parts.begin(), parts.end(), uav_clock_partition(r)) == parts.end()) {
-      parts.push_back(uav_clock_partition(r));
-    }
+  for (std::size_t i = 0; i < gateways.size(); ++i) {
+    if (i > 0 && gateways[i] == gateways[0]) continue;  // one region: its home backs it up too
+    const std::string p = i == 0 ? uav_clock_partition(gateways[i]) : uav_backup_clock_partition(gateways[i]);
+    if (std::find(parts.begin(), parts.end(), p) == parts.end()) parts.push_back(p);
   }
   roles_->clock_in.emplace(*this, parts, TopicKind::RelayedClock);
 }
 void Bus::subscribe_uav_reports(core::RegionId own) {
   roles_->relayed_clock.offer(uav_clock_partition(own));
+  roles_->relayed_clock.offer(uav_backup_clock_partition(own));
   roles_->reports_in.emplace(*this, std::vector<std::string>{uav_report_partition(own)});
 }
 void Bus::subscribe_phase_done() { roles_->done_in.emplace(*this, std::vector<std::string>{kClockPartition}); }

@@ -52,7 +52,7 @@ Grant uav_grant(uint32_t uav, uint32_t regions) {
     detections.push_back(detection_uplink_partition(r));
     broadcasts_up.push_back(broadcast_uplink_partition(r));
     reports.push_back(uav_report_partition(r));
-    clocks.push_back(uav_clock_partition(r));
+    clocks.push_back(r == home ? uav_clock_partition(r) : uav_backup_clock_partition(r));
     broadcasts_down.push_back(broadcast_downlink_partition(r));
     commands.push_back(command_downlink_partition(r));
   }
@@ -88,7 +88,7 @@ Grant place_grant(const std::string& name, core::RegionId region) {
                {topic(TopicKind::TargetEvent), {kGroundPartition}},
                {topic(TopicKind::Scenario), {kGroundPartition}},
                {topic(TopicKind::PhaseDone), {kClockPartition}},
-               {topic(TopicKind::RelayedClock), {uav_clock_partition(region)}},
+               {topic(TopicKind::RelayedClock), {uav_clock_partition(region), uav_backup_clock_partition(region)}},
                {topic(TopicKind::GroundState), {kGroundPartition}},
                {topic(TopicKind::Detection), {kGroundPartition}},
                {topic(TopicKind::Broadcast), {kBroadcastPartition, broadcast_downlink_partition(region)}},

@@ -1,6 +1,7 @@
 #include "pheromesh/core/lockstep_follower.hpp"
 
 #include <algorithm>
+#include <map>
 
 namespace pheromesh::core {
 
@@ -52,7 +53,7 @@ std::optional<uint32_t> LockstepFollower::absent_since(RegionId r) const {
   return it->second;
 }
 
-bool UavClockRelay::relays(const ClockMsg& c) {
+UavClockRelay::To UavClockRelay::relays(const ClockMsg& c) {
   bool new_absent = false;
   for (RegionId r : c.absent) {
     if (std::find(absent_.begin(), absent_.end(), r) == absent_.end()) {
@@ -60,10 +61,20 @@ bool UavClockRelay::relays(const ClockMsg& c) {
       new_absent = true;
     }
   }
-  if (c.phase != static_cast<uint8_t>(ClockPhase::Place)) return true;
-  const bool resent = place_tick_ && c.tick <= *place_tick_;
-  place_tick_ = std::max(place_tick_.value_or(0), c.tick);
-  return resent || new_absent;
+  const auto newest = newest_.find(c.phase);
+  const bool resent = newest != newest_.end() && c.tick <= newest->second;
+  if (!resent) newest_[c.phase] = c.tick;
+  const bool needed = resent || new_absent;
+  switch (static_cast<ClockPhase>(c.phase)) {
+    case ClockPhase::Uav:
+      return {true, needed || !absent_.empty()};
+    case ClockPhase::Place:
+      return {needed, needed};
+    case ClockPhase::Ready:
+    case ClockPhase::Stop:
+      break;
+  }
+  return {true, true};
 }
 
 }  // namespace pheromesh::core

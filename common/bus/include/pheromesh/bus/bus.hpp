@@ -147,8 +147,9 @@ class Bus {
 
   // --- lockstep clock: a tree (docs/architecture.md, "Time"). The conductor
   // and the place agents meet in "c"; each place agent relays every clock
-  // it accepted to the UAVs it serves ("c.<region>") and their reports to
-  // the conductor ("d.<region>" -> "c").
+  // it accepted to the UAVs it serves ("c.<region>" to those homed on it,
+  // "cb.<region>" to those it is the backup of) and their reports to the
+  // conductor ("d.<region>" -> "c").
   bool publish_clock(const core::ClockMsg& m);  // conductor
   // A lockstep UAV's report goes to its gateway place agent (join_clock_tree,
   // move_uplink); anyone else's to the conductor.
@@ -158,13 +159,15 @@ class Bus {
   void take_clock(std::vector<core::ClockMsg>& out);
   void take_phase_done(std::vector<core::PhaseDoneMsg>& out);
   // A lockstep UAV, after join_uav: its report writer to its gateway, and
-  // its reader of the clock as its gateways relay it (its home and its
-  // backup, so that it hears the tick at which its home is listed absent).
+  // its reader of the clock as its gateways relay it (gateways[0]: its home,
+  // to the UAVs homed there; the others: its backups, to the UAVs they back
+  // up, so that it hears the tick at which its home is listed absent).
   void join_clock_tree(std::span<const core::RegionId> gateways);
   // A place agent of `own`: its clock writer to the UAVs it serves and its
   // reader of their reports, opened now.
   void subscribe_uav_reports(core::RegionId own);
-  bool relay_clock(const core::ClockMsg& m, core::RegionId own);
+  bool relay_clock(const core::ClockMsg& m, core::RegionId own);             // to the UAVs homed on `own`
+  bool relay_clock_to_backups(const core::ClockMsg& m, core::RegionId own);  // to those `own` backs up
   void take_uav_reports(std::vector<core::PhaseDoneMsg>& out);
   // Readers matched by this UAV's report writer to its gateway (0 before join_clock_tree).
   [[nodiscard]] uint32_t matched_report_readers();

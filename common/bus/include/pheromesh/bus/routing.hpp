@@ -24,9 +24,12 @@ inline std::string view_partition(uint32_t uav) { return "u." + std::to_string(u
 inline std::string tiles_for_partition(core::RegionId home) { return "f." + std::to_string(home); }
 inline constexpr const char* kAllTilesFor = "f.*";
 // The lockstep tree (docs/architecture.md, "Time"): the clock a place agent
-// relays to the UAVs it serves, and the reports those UAVs send it to relay
-// to the conductor (whose own clock and reports travel in "c").
+// relays to the UAVs it serves - those homed on it ("c.<r>") and those it is
+// the backup of ("cb.<r>": only what they need while their home lives,
+// core::UavClockRelay) - and the reports those UAVs send it to relay to the
+// conductor (whose own clock and reports travel in "c").
 inline std::string uav_clock_partition(core::RegionId gateway) { return "c." + std::to_string(gateway); }
+inline std::string uav_backup_clock_partition(core::RegionId backup) { return "cb." + std::to_string(backup); }
 inline std::string uav_report_partition(core::RegionId gateway) { return "d." + std::to_string(gateway); }
 // Relays (docs/architecture.md, "Relays"): a UAV talks to its gateway place
 // agents only. Its detections and broadcasts go up to its gateway, which

@@ -80,20 +80,30 @@ class LockstepFollower {
 };
 
 // Which clocks a place agent relays to the UAVs it serves (the lockstep
-// tree): a UAV runs UAV phases only, so a Place-phase clock is not relayed -
-// unless it is a re-send (the conductor re-sends its clock after a quiet
-// second while it waits: it keeps the UAVs' ConductorWatch fed through a
-// long place phase) or lists an absent region the clocks relayed before did
-// not (a UAV remembers the first tick that listed it). Ready, UAV and Stop
-// clocks always go. Halves the clocks a UAV hears a tick.
+// tree), so that a UAV hears one clock a tick, not four:
+//  * to the UAVs homed on it: Ready, UAV and Stop clocks; a Place-phase
+//    clock (a UAV runs UAV phases only) only when it is a re-send (the
+//    conductor re-sends its clock after a quiet second while it waits: it
+//    keeps the UAVs' ConductorWatch fed through a long phase) or lists an
+//    absent region no clock before did (a UAV remembers the first tick that
+//    listed it);
+//  * to the UAVs it is the backup of, whose home relays them the clock:
+//    Ready and Stop clocks (a UAV latches its relays at Ready), re-sends
+//    (their home may be dead but not yet listed absent) and clocks newly
+//    listing an absent region; and every UAV clock once any region is
+//    absent (it may be their home: this place agent is their gateway now).
 class UavClockRelay {
  public:
-  // Whether `c`, accepted from the conductor, goes on to the UAVs.
-  bool relays(const ClockMsg& c);
+  struct To {
+    bool home = false;     // to the UAVs homed on this place agent
+    bool backups = false;  // to the UAVs this place agent backs up
+  };
+  // Where `c`, accepted from the conductor, goes on to.
+  To relays(const ClockMsg& c);
 
  private:
-  std::optional<uint32_t> place_tick_;  // the newest Place-phase clock seen
-  std::vector<RegionId> absent_;        // the absent regions relayed so far
+  std::map<uint8_t, uint32_t> newest_;  // the newest tick seen, per phase
+  std::vector<RegionId> absent_;        // the absent regions seen so far
 };
 
 }  // namespace pheromesh::core
