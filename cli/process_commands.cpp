@@ -5,6 +5,7 @@
 #include <CLI/CLI.hpp>
 #include <cstdlib>
 
+#include "bench/commands/bench_floor.hpp"
 #include "bench/commands/bench_lockstep.hpp"
 #include "bench/commands/bench_scale.hpp"
 #include "bench/commands/bench_soak.hpp"
@@ -368,6 +369,17 @@ class FullCommands final : public ProcessCommands {
         ->capture_default_str();
     bs->add_option("--domain", bso.domain, "DDS domain id of the runs")->check(CLI::Range(0, 232))->capture_default_str();
     bs->add_option("--extra", bso.extra, "More arguments for `pheromesh run`, in one string, e.g. \"--dds-profile default\"");
+    bs->add_option("--floor-pings", bso.floor_pings,
+                   "Round trips per vendor for the floor, before the runs (0: no floor)")
+        ->check(CLI::Range(0U, 100000U))
+        ->capture_default_str();
+    bs->add_option("--floor-view-bytes", bso.floor_view_bytes, "Payload of the floor's sample down (a UAV's view) [B]")
+        ->check(CLI::Range(0U, 32768U))
+        ->capture_default_str();
+    bs->add_option("--floor-uplink-bytes", bso.floor_uplink_bytes,
+                   "Payload of the floor's sample up (a UAV's state with its deposits) [B]")
+        ->check(CLI::Range(0U, 32768U))
+        ->capture_default_str();
     bs->footer(cli::kBenchScaleFooter);
   }
 
@@ -400,6 +412,7 @@ class FullCommands final : public ProcessCommands {
     le->group("");  // hidden: bench lockstep starts it
     le->add_option("--dds", leo.dds)->check(CLI::IsMember({"cyclone", "fastdds"}));
     le->add_option("--domain", leo.domain)->check(CLI::Range(0, 232));
+    le->add_option("--answer-bytes", leo.answer_bytes)->check(CLI::Range(0U, 32768U));
   }
 
   void add_bench_soak(CLI::App& bench) {

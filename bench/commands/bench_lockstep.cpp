@@ -1,5 +1,7 @@
 #include "bench_lockstep.hpp"
 
+#include "bench_floor.hpp"
+
 #include <fcntl.h>
 #include <spdlog/spdlog.h>
 #include <sys/wait.h>
@@ -57,13 +59,6 @@ struct Swarm {
   core::ScenarioConfig scenario;
 };
 
-struct Floor {
-  std::string pairing;  // "cyclone", "fastdds", "mixed"
-  core::SampleSummary rtt_ms;
-  uint32_t lost = 0;
-  std::string error;
-};
-
 struct Row {
   std::string swarm, vendor;
   std::string build = "this";  // or "baseline" (--baseline)
@@ -114,85 +109,6 @@ std::string slurp(const fs::path& p) {
   std::ostringstream o;
   o << f.rdbuf();
   return o.str();
-}
-
-// The floor for one pairing: this process writes clocks with `mine`, the
-// echo child answers with `theirs`.
-Floor measure_floor(const std::string& pairing, const BenchLockstepOptions& o) {
-  Floor f;
-  f.pairing = pairing;
-  const std::string mine = pairing == "fastdds" ? "fastdds" : "cyclone";
-  const std::string theirs = pairing == "cyclone" ? "cyclone" : "fastdds";
-  const uint32_t domain = o.domain + 1;
-  bus::BusOptions bo;
-  bo.process_name = "bench-lockstep";
-  bo.domain = domain;
-  auto made = bus::make_bus(mine, bo);
-  if (!made) {
-    f.error = made.error().message;
-    return f;
-  }
-  auto& b = *made.value();
-  b.subscribe_phase_done();
-  const fs::path log = fs::path(o.out_dir) / ("echo-" + pairing + ".log");
-  const std::string exe = executable_dir() + "/pheromesh";
-  const int fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-  if (fd < 0) {
-    f.error = "cannot write " + log.string();
-    return f;
-  }
-  const pid_t child = spawn_logged_child(
-      exe, {exe, "bench", "lockstep-echo", "--dds", theirs, "--domain", std::to_string(domain)}, fd, true);
-  ::close(fd);
-  if (child < 0) {
-    f.error = "cannot start the echo process";
-    return f;
-  }
-  std::vector<core::PhaseDoneMsg> dones;
-  // One ping: true when the answer of `tick` came before `bound`.
-  const auto ping = [&](uint32_t tick, std::chrono::milliseconds bound) {
-    core::ClockMsg c;
-    c.tick = tick;
-    c.phase = static_cast<uint8_t>(core::ClockPhase::Uav);
-    b.publish_clock(c);
-    const auto deadline = Clock::now() + bound;
-    while (Clock::now() < deadline) {
-      dones.clear();
-      b.take_phase_done(dones);
-      for (const auto& d : dones) {
-        if (d.tick == tick) return true;
-      }
-      b.wait({bus::TopicKind::PhaseDone}, deadline);
-    }
-    return false;
-  };
-  // Discovery: tick 0 until it is answered (30 s at most).
-  bool up = false;
-  for (int i = 0; i < 300 && !up && !runtime::shutdown_requested(); ++i) up = ping(0, std::chrono::milliseconds(100));
-  if (!up) {
-    f.error = "the echo process did not answer within 30 s (" + log.string() + ")";
-  } else {
-    std::vector<double> rtt;
-    for (uint32_t i = 1; i <= o.pings && !runtime::shutdown_requested(); ++i) {
-      const auto t0 = Clock::now();
-      if (ping(i, std::chrono::seconds(2))) {
-        rtt.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
-      } else {
-        ++f.lost;
-      }
-    }
-    f.rtt_ms = core::summarize(std::move(rtt));
-  }
-  b.publish_clock(core::LockstepConductor::stop(0));
-  int status = 0;
-  for (int i = 0; i < 100 && waitpid(child, &status, WNOHANG) == 0; ++i) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(50));
-  }
-  if (waitpid(child, &status, WNOHANG) == 0) {
-    kill(child, SIGKILL);
-    waitpid(child, &status, 0);
-  }
-  return f;
 }
 
 Row fly_swarm(const Swarm& s, const std::string& vendor, double sim_ms, const experiments::RunNumbers& sim,
@@ -389,7 +305,7 @@ int run_bench_lockstep(const BenchLockstepOptions& o) {
   for (const auto& v : vendors) {
     std::printf("floor %s: %u round trips ...\n", v.c_str(), o.pings);
     std::fflush(stdout);
-    floors.push_back(measure_floor(v, o));
+    floors.push_back(measure_floor({v, o.domain + 1, o.pings, o.out_dir}));
     if (runtime::shutdown_requested()) return 130;
   }
   std::vector<Row> rows;
@@ -428,32 +344,6 @@ int run_bench_lockstep(const BenchLockstepOptions& o) {
     return 5;
   }
   return all_equal ? 0 : 4;
-}
-
-int run_lockstep_echo(const LockstepEchoOptions& o) {
-  bus::BusOptions bo;
-  bo.process_name = "bench-lockstep-echo";
-  bo.domain = o.domain;
-  auto made = bus::make_bus(o.dds, bo);
-  if (!made) {
-    spdlog::error("{}", made.error().message);
-    return 2;
-  }
-  auto& b = *made.value();
-  b.subscribe_clock();
-  std::vector<core::ClockMsg> clocks;
-  const auto deadline =
-      Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(o.timeout_s));
-  while (Clock::now() < deadline && !runtime::shutdown_requested()) {
-    clocks.clear();
-    b.take_clock(clocks);
-    for (const auto& c : clocks) {
-      if (c.phase == static_cast<uint8_t>(core::ClockPhase::Stop)) return 0;
-      b.publish_phase_done({core::process_key(core::kRoleUav, 0), c.tick, c.phase, 0, {}});
-    }
-    b.wait({bus::TopicKind::Clock}, std::min(deadline, Clock::now() + std::chrono::milliseconds(100)));
-  }
-  return runtime::shutdown_requested() ? 0 : 1;
 }
 
 }  // namespace pheromesh::cli

@@ -27,21 +27,11 @@ struct BenchLockstepOptions {
   std::string baseline;
 };
 
-// The other end of the floor measurement (`pheromesh bench lockstep-echo`,
-// hidden): answers every clock sample with a PhaseDone of its tick until a
-// Stop, or until `timeout_s` passes.
-struct LockstepEchoOptions {
-  std::string dds = "cyclone";
-  uint32_t domain = 44;
-  double timeout_s = 120;
-};
-
 extern const char* const kBenchLockstepFooter;
 
 // 0 when every run was made and equal to the simulator, 4 if a run differed
 // or failed (its row says why), 2 on bad options, 5 if the results cannot be
 // written, 130 if interrupted.
 int run_bench_lockstep(const BenchLockstepOptions& o);
-int run_lockstep_echo(const LockstepEchoOptions& o);
 
 }  // namespace pheromesh::cli

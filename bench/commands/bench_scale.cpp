@@ -1,5 +1,7 @@
 #include "bench_scale.hpp"
 
+#include "bench_floor.hpp"
+
 #include <fcntl.h>
 #include <sys/utsname.h>
 #include <sys/wait.h>
@@ -52,6 +54,11 @@ const char* const kBenchScaleFooter =
     "               ground station, from /proc/PID/stat), by thread (/proc/PID/task/*/stat, grouped by name) and\n"
     "               context switches (/proc/PID/status: waits and preemptions). Realtime runs only\n"
     "With --repeat K each size runs K times (a row each); a size holds only if every one of its runs held.\n"
+    "  floor        per vendor, before the runs: --floor-pings round trips between this process and a child\n"
+    "               (`pheromesh bench lockstep-echo`) of a sample of --floor-view-bytes down and one of\n"
+    "               --floor-uplink-bytes up, and the CPU both spent per round trip (/proc/PID/task/*/schedstat):\n"
+    "               what one UAV tick (its view in, its state out) cannot cost less than; scale.md sets the\n"
+    "               flying swarm CPU per UAV tick against it\n"
     "A vendor's larger sizes are skipped once a size has more late ticks than --stop-late-share. Missing figures\n"
     "are printed as n/a. Results: OUT/scale.md (the table), OUT/scale.csv, OUT/scale.json and OUT/*.svg plots.\n"
     "Keep the host otherwise idle; on a small host stop early with --max.\n\n"
@@ -304,7 +311,36 @@ struct Plan {
   std::vector<uint32_t> sizes;
   std::vector<std::string> extra;
   std::string host;
+  std::vector<Floor> floors;  // per vendor (--floor-pings)
 };
+
+// The floor per vendor, and each size's flying swarm CPU per UAV tick as a
+// multiple of it.
+std::string floor_table(const Plan& p, const std::vector<ScaleRow>& rows) {
+  std::ostringstream o;
+  o << "| vendor | view B down, uplink B up | RTT p50 / p99 ms | lost | floor: CPU ms per round trip | flying swarm "
+       "CPU "
+       "per UAV tick, x floor |\n|---|---|--:|--:|--:|---|\n";
+  for (const auto& f : p.floors) {
+    o << "| " << f.pairing << " | " << f.down_bytes << ", " << f.up_bytes << " | ";
+    if (!f.error.empty()) {
+      o << "n/a | n/a | n/a | " << f.error << " |\n";
+      continue;
+    }
+    o << fmt_value(f.rtt_ms.p50, 3) << " / " << fmt_value(f.rtt_ms.p99, 3) << " | " << f.lost << " | "
+      << fmt_value(f.cpu_ms, 4) << " |";
+    std::string sep = " ";
+    for (const auto& r : rows) {
+      const Value flying = r.get("flying_cpu_ms_per_tick");
+      if (r.vendor != f.pairing || !flying || !f.cpu_ms || *f.cpu_ms <= 0) continue;
+      o << sep << "N=" << r.uavs << ": " << fmt_value(flying, 3) << " ms = " << fmt_value(*flying / *f.cpu_ms, 1)
+        << "x";
+      sep = "; ";
+    }
+    o << " |\n";
+  }
+  return o.str();
+}
 
 std::string host_description() {
   utsname u{};
@@ -326,6 +362,9 @@ std::string scale_markdown(const Plan& p, const std::vector<ScaleRow>& rows, con
      << "From a fifth to four fifths of the flight after the ground station's start (metrics.json \"steady\"), per UAV "
         "tick due in that window:\n\n"
      << budget_table(rows);
+  if (!p.floors.empty()) {
+    md << "\n## The floor: a view down and an uplink up between two processes\n\n" << floor_table(p, rows);
+  }
   md << "\n![late share](late_share.svg)\n![CPU per UAV tick](cpu_per_uav_tick.svg)\n"
      << "![PSS per UAV](pss_per_uav.svg)\n![discovery](discovery.svg)\n\n"
      << "## How it is measured\n\n```\n"
@@ -404,6 +443,21 @@ std::string scale_plot_svg(const Plan& p, const std::vector<ScaleRow>& rows, con
   return experiments::svg_plot(pl);
 }
 
+Json floors_json(const std::vector<Floor>& floors) {
+  Json out = Json::array();
+  for (const auto& f : floors) {
+    out.push_back({{"vendor", f.pairing},
+                   {"down_bytes", f.down_bytes},
+                   {"up_bytes", f.up_bytes},
+                   {"rtt_ms_p50", f.rtt_ms.p50},
+                   {"rtt_ms_p99", f.rtt_ms.p99},
+                   {"lost", f.lost},
+                   {"cpu_ms_per_round_trip", f.cpu_ms ? Json(*f.cpu_ms) : Json(nullptr)},
+                   {"error", f.error}});
+  }
+  return out;
+}
+
 // Rewritten after every run, so that an interrupted bench leaves what it measured.
 bool write_results(const Plan& p, const std::vector<ScaleRow>& rows, const std::vector<std::string>& skipped,
                    std::string& error) {
@@ -417,10 +471,17 @@ bool write_results(const Plan& p, const std::vector<ScaleRow>& rows, const std::
   files.emplace_back("scale.md", scale_markdown(p, rows, lines, skipped));
   files.emplace_back("scale.csv", scale_csv(rows));
   const Json j_rows = scale_rows_json(rows);
-  const Json j = {{"scenario", p.o.scenario}, {"ticks", p.o.ticks},   {"rate_hz", p.o.rate_hz},
-                  {"lease_ms", p.o.lease_ms}, {"domain", p.o.domain}, {"extra", p.o.extra},
-                  {"host", p.host},           {"rows", j_rows},       {"summary", summary},
-                  {"skipped", skipped}};
+  const Json j = {{"scenario", p.o.scenario},
+                  {"ticks", p.o.ticks},
+                  {"rate_hz", p.o.rate_hz},
+                  {"lease_ms", p.o.lease_ms},
+                  {"domain", p.o.domain},
+                  {"extra", p.o.extra},
+                  {"host", p.host},
+                  {"rows", j_rows},
+                  {"summary", summary},
+                  {"skipped", skipped},
+                  {"floors", floors_json(p.floors)}};
   files.emplace_back("scale.json", report::json_text(j, 2) + "\n");
   for (const ScalePlot& sp : kScalePlots) files.emplace_back(sp.file, scale_plot_svg(p, rows, sp));
   for (const auto& [name, text] : files) {
@@ -621,6 +682,15 @@ int run_bench_scale(const BenchScaleOptions& o) {
   for (auto n : p.sizes) std::fprintf(stderr, " %u", n);
   std::fprintf(stderr, ", vendors %s, %u ticks at %.1f Hz (%.0f s of flight per run); results in %s\n", o.dds.c_str(),
                o.ticks, o.rate_hz, o.ticks / o.rate_hz, o.out_dir.c_str());
+  for (const auto& vendor : p.vendors) {
+    if (o.floor_pings == 0 || runtime::shutdown_requested()) break;
+    std::fprintf(stderr, "floor %s: %u round trips of %u B down and %u B up ...\n", vendor.c_str(), o.floor_pings,
+                 o.floor_view_bytes, o.floor_uplink_bytes);
+    p.floors.push_back(
+        measure_floor({vendor, o.domain + 1, o.floor_pings, o.out_dir, o.floor_view_bytes, o.floor_uplink_bytes}));
+    const Floor& f = p.floors.back();
+    if (!f.error.empty()) std::fprintf(stderr, "  floor %s: %s\n", vendor.c_str(), f.error.c_str());
+  }
   std::vector<ScaleRow> rows;
   std::vector<std::string> skipped;
   std::map<std::string, uint32_t> stopped_at;  // vendor -> the size that exceeded --stop-late-share

@@ -24,6 +24,14 @@ struct BenchScaleOptions {
   uint32_t domain = 40;
   std::string extra;    // more arguments for `pheromesh run`, split at blanks
   uint32_t repeat = 1;  // runs of each size and vendor; a size holds only if every run held it
+  // The floor, per vendor before the runs (bench_floor.hpp): round trips of
+  // a view-sized sample down and an uplink-sized one up between two
+  // processes (0: none). The default sizes are the mean DATA payloads of
+  // pheromesh_view and pheromesh_uav_state that bench/tick_traffic.sh counted
+  // at 500 UAVs on scale-100x100 (docs/benchmarks.md).
+  uint32_t floor_pings = 300;
+  uint32_t floor_view_bytes = 10700;
+  uint32_t floor_uplink_bytes = 280;
 };
 
 // One run of the benchmark as its summary judges it.

@@ -154,5 +154,38 @@ TEST(Cli, ADurationIsANumberWithAnOptionalUnitAndAnythingElseIsRefused) {
   EXPECT_NE(level.text.find("critical"), std::string::npos) << level.text;
 }
 
+// Issue 44 D1: bench scale measures, before its runs, the floor of a UAV tick
+// per vendor - a view-sized sample down and an uplink-sized one up between
+// two processes, and the CPU both spent - and sets each run's flying CPU per
+// UAV tick against it. Two UAVs for ten ticks per vendor; domains 108-109.
+TEST(Cli, BenchScaleMeasuresTheFloorOfAViewDownAndAnUplinkUpPerVendorBeforeItsRuns) {
+  const std::string out = out_dir("bench-scale-floor");
+  const Output r =
+      run(kBin + "/pheromesh bench scale " + kSrc + "/scenarios/small-test.textproto --sizes 2 --ticks 10 " +
+          "--rate 10 --dds cyclone,fastdds --floor-pings 40 --domain 108 --out " + out);
+  ASSERT_EQ(r.exit_code, 0) << r.text;
+  const json j = json::parse(slurp(out + "/scale.json"), nullptr, false);
+  ASSERT_TRUE(j.is_object()) << slurp(out + "/scale.json");
+  ASSERT_EQ(j["floors"].size(), 2U) << j["floors"].dump(2);
+  for (std::size_t i = 0; i < 2; ++i) {
+    const json& f = j["floors"][i];
+    EXPECT_EQ(f["vendor"], i == 0 ? "cyclone" : "fastdds");
+    EXPECT_EQ(f["error"], "") << f.dump();
+    // 10700 B rounded down to whole 8-byte counts, 280 B exactly.
+    EXPECT_EQ(f["down_bytes"], 10696);
+    EXPECT_EQ(f["up_bytes"], 280);
+    EXPECT_EQ(f["lost"], 0);
+    ASSERT_TRUE(f["cpu_ms_per_round_trip"].is_number()) << f.dump();
+    EXPECT_GT(f["cpu_ms_per_round_trip"].get<double>(), 0.0);
+    EXPECT_LT(f["cpu_ms_per_round_trip"].get<double>(), 50.0) << "two processes, one sample each way";
+    EXPECT_GT(f["rtt_ms_p50"].get<double>(), 0.0);
+  }
+  ASSERT_EQ(j["rows"].size(), 2U);
+  for (const auto& row : j["rows"]) EXPECT_EQ(row["exit_code"], 0) << row.dump();
+  const std::string md = slurp(out + "/scale.md");
+  EXPECT_NE(md.find("## The floor: a view down and an uplink up between two processes"), std::string::npos) << md;
+  EXPECT_NE(md.find("| cyclone | 10696, 280 |"), std::string::npos) << md;
+}
+
 }  // namespace
 }  // namespace pheromesh::itest
