@@ -56,6 +56,36 @@ std::optional<double> cpu_ns(pid_t pid) {
   return sum;
 }
 
+// `pheromesh bench lockstep-echo` over `dds`, its output into `log`; -1
+// (and `error` says why) if it could not be started.
+pid_t spawn_echo(const FloorOptions& o, const std::string& dds, const fs::path& log, std::string& error) {
+  const std::string exe = executable_dir() + "/pheromesh";
+  const int fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (fd < 0) {
+    error = "cannot write " + log.string();
+    return -1;
+  }
+  const pid_t child = spawn_logged_child(exe,
+                                         {exe, "bench", "lockstep-echo", "--dds", dds, "--domain",
+                                          std::to_string(o.domain), "--answer-bytes", std::to_string(o.up_bytes)},
+                                         fd, true);
+  ::close(fd);
+  if (child < 0) error = "cannot start the echo process";
+  return child;
+}
+
+// The echo ends at the Stop it was sent; killed after 5 s if it did not.
+void reap_echo(pid_t child) {
+  int status = 0;
+  for (int i = 0; i < 100 && waitpid(child, &status, WNOHANG) == 0; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  if (waitpid(child, &status, WNOHANG) == 0) {
+    kill(child, SIGKILL);
+    waitpid(child, &status, 0);
+  }
+}
+
 }  // namespace
 
 Floor measure_floor(const FloorOptions& o) {
@@ -74,21 +104,8 @@ Floor measure_floor(const FloorOptions& o) {
   auto& b = *made.value();
   b.subscribe_phase_done();
   const fs::path log = fs::path(o.out_dir) / ("echo-" + o.pairing + ".log");
-  const std::string exe = executable_dir() + "/pheromesh";
-  const int fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-  if (fd < 0) {
-    f.error = "cannot write " + log.string();
-    return f;
-  }
-  const pid_t child = spawn_logged_child(exe,
-                                         {exe, "bench", "lockstep-echo", "--dds", theirs, "--domain",
-                                          std::to_string(o.domain), "--answer-bytes", std::to_string(o.up_bytes)},
-                                         fd, true);
-  ::close(fd);
-  if (child < 0) {
-    f.error = "cannot start the echo process";
-    return f;
-  }
+  const pid_t child = spawn_echo(o, theirs, log, f.error);
+  if (child < 0) return f;
   core::ClockMsg c;
   c.phase = static_cast<uint8_t>(core::ClockPhase::Uav);
   c.deposits = padding(o.down_bytes);
@@ -133,14 +150,7 @@ Floor measure_floor(const FloorOptions& o) {
     f.rtt_ms = core::summarize(std::move(rtt));
   }
   b.publish_clock(core::LockstepConductor::stop(0));
-  int status = 0;
-  for (int i = 0; i < 100 && waitpid(child, &status, WNOHANG) == 0; ++i) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(50));
-  }
-  if (waitpid(child, &status, WNOHANG) == 0) {
-    kill(child, SIGKILL);
-    waitpid(child, &status, 0);
-  }
+  reap_echo(child);
   return f;
 }
 
