@@ -454,7 +454,7 @@ TEST(Cli, SimRefusesZeroTicksOrUavsAndAnImpossibleSwarmAndSetChangesTheRun) {
   const std::string sim = kBin + "/pheromesh sim " + kSrc + "/scenarios/small-test.textproto --quiet";
   const std::pair<std::string, std::string> refused[] = {
       {" --ticks 0", "--ticks 0: field 'run.ticks': must be between 1 and 4294967295 (got 0)"},
-      {" --uavs 0", "--uavs 0: field 'swarm.uavs': must be between 1 and 1000 (got 0)"},
+      {" --uavs 0", "--uavs 0: field 'swarm.uavs': must be between 1 and 5000 (got 0)"},
       {" --uavs 50", "--uavs 50: field 'swarm.uavs': the start area holds 16 UAVs"},
       {" --set swarm.uav=2", "--set swarm.uav=2: 'uav' is not a field of swarm (Swarm); its fields: uavs, start_area"},
       {" --set swarm.uavs=two", "--set swarm.uavs=two: 'two' is not an integer (swarm.uavs is int32)"},

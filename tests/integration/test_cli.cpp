@@ -90,7 +90,7 @@ TEST(Cli, ProcessProgramsTakeShippedNamesAndRefuseFlagValuesTheFileCouldNotHold)
       {"/pheromesh-uav --scenario small-test --id 0 --uavs 50",
        "--uavs 50: field 'swarm.uavs': the start area holds 16 UAVs"},
       {"/pheromesh-uav --scenario small-test --id 0 --uavs 0",
-       "--uavs 0: field 'swarm.uavs': must be between 1 and 1000 (got 0)"},
+       "--uavs 0: field 'swarm.uavs': must be between 1 and 5000 (got 0)"},
       {"/pheromesh-place --scenario small-test --region 0 --ticks 0",
        "--ticks 0: field 'run.ticks': must be between 1 and 4294967295 (got 0)"},
       {"/pheromesh-ground --scenario small-test --rate 0", "--rate 0: field 'run.tick_rate_hz': must be in (0, 1000]"},

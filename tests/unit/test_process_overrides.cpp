@@ -23,7 +23,7 @@ TEST(ProcessOverrides, AValueTheFileMayNotHoldIsRefusedNamingTheFlag) {
   EXPECT_EQ(error_of(load_scenario(o)), "--ticks 0: field 'run.ticks': must be between 1 and 4294967295 (got 0)");
   o.ticks.reset();
   o.uavs = "0";
-  EXPECT_EQ(error_of(load_scenario(o)), "--uavs 0: field 'swarm.uavs': must be between 1 and 1000 (got 0)");
+  EXPECT_EQ(error_of(load_scenario(o)), "--uavs 0: field 'swarm.uavs': must be between 1 and 5000 (got 0)");
   o.uavs = "50";  // small-test's start area is 4 x 4
   EXPECT_NE(error_of(load_scenario(o)).find("--uavs 50: field 'swarm.uavs': the start area holds 16 UAVs"),
             std::string::npos)

@@ -47,6 +47,28 @@ TEST(ScenarioLimits, TheDefaultRefusesTheMapThatUsedToAbortAndAcceptsTwoThousand
   EXPECT_TRUE(parse_scenario(scenario(2048, 2048, 32, 1, 1, 2), "big", l).ok());
 }
 
+// Issue 44 D5: 5000 UAVs at most; above 1024 (MAX_OCCUPANCY: the lockstep
+// clock lists the UAVs per occupied tile) only on a map of at most 1024 tiles.
+TEST(ScenarioLimits, MoreThan1024UavsNeedAMapOfAtMost1024TilesAnd5000IsTheMost) {
+  ScenarioLimits l;
+  l.max_processes = 10000;
+  l.max_swarm_mib = 1 << 20;
+  EXPECT_TRUE(parse_scenario(scenario(100, 100, 10, 4, 4, 2000), "s", l).ok()) << "100 tiles";
+  EXPECT_TRUE(parse_scenario(scenario(320, 320, 10, 4, 4, 2000), "s", l).ok()) << "1024 tiles";
+  const auto over = parse_scenario(scenario(330, 330, 10, 4, 4, 2000), "s", l);
+  ASSERT_FALSE(over.ok());
+  EXPECT_NE(over.error().message.find("field 'swarm.uavs': more than 1024 UAVs (2000) need a map of at most 1024 "
+                                      "tiles, this one has 1089"),
+            std::string::npos)
+      << over.error().message;
+  EXPECT_TRUE(parse_scenario(scenario(330, 330, 10, 4, 4, 1024), "s", l).ok()) << "1024 UAVs fit any map";
+  EXPECT_TRUE(parse_scenario(scenario(100, 100, 10, 4, 4, 5000), "s", l).ok());
+  const auto most = parse_scenario(scenario(100, 100, 10, 4, 4, 5001), "s", l);
+  ASSERT_FALSE(most.ok());
+  EXPECT_NE(most.error().message.find("must be between 1 and 5000 (got 5001)"), std::string::npos)
+      << most.error().message;
+}
+
 TEST(ScenarioLimits, RegionsOverTheLimitAreRefusedAtRegionsX) {
   ScenarioLimits l;
   l.max_regions = 12;

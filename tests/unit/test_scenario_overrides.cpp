@@ -146,7 +146,7 @@ TEST(ScenarioOverrides, ARepeatedFieldNeedsTheIndexOfAnEntryThatExists) {
 
 TEST(ScenarioOverrides, AnOverriddenValueIsValidatedLikeTheFileAndTheErrorNamesTheOverride) {
   EXPECT_EQ(error_of(small_test({"swarm.uavs=0"})),
-            "--set swarm.uavs=0: field 'swarm.uavs': must be between 1 and 1000 (got 0)");
+            "--set swarm.uavs=0: field 'swarm.uavs': must be between 1 and 5000 (got 0)");
   // A check of a whole entry (not the field set) is reported at the entry's
   // line in the file, and the overrides are named after it.
   const std::string on_obstacle = error_of(small_test({"map.targets[0].x=10", "map.targets[0].y=6"}));
@@ -232,7 +232,7 @@ TEST(OverrideFlags, FieldFlagsAreOverridesOfTheirFieldsAndAreValidatedLikeTheFil
   f.ticks.reset();
   f.uavs = "0";
   EXPECT_EQ(error_of(cli::load_overridden(scenario_file("small-test"), f)),
-            "--uavs 0: field 'swarm.uavs': must be between 1 and 1000 (got 0)");
+            "--uavs 0: field 'swarm.uavs': must be between 1 and 5000 (got 0)");
   f.uavs = "50";
   EXPECT_NE(error_of(cli::load_overridden(scenario_file("small-test"), f))
                 .find("--uavs 50: field 'swarm.uavs': the start area holds 16 UAVs"),

@@ -53,6 +53,20 @@ TEST(ViewServer, AViewHoldsTheTilesWithinTheRadiusOfTheViewCellAndTheUavsOverThe
   EXPECT_FALSE(vs.compose(9, 5, 0, 5, v)) << "no state of UAV 9 is known";
 }
 
+TEST(ViewServer, AViewCrowdedPastTheIdlBoundKeepsTheNearestNeighboursInIdOrder) {
+  ViewServer vs(geo(), 1, 3.0);
+  vs.update_state(uav(1, 5, 5.0, 5.0));
+  // 1100 neighbours over tile (0,0): UAV 2+k at distance 0.001 k from UAV 1,
+  // all but the 76 farthest (ids 1026..1101) kept.
+  for (uint32_t k = 0; k < 1100; ++k) vs.update_state(uav(2 + k, 5, 5.0 + 0.001 * k, 5.0));
+  ViewMsg v;
+  ASSERT_TRUE(vs.compose(1, 5, 0, 0, v));
+  ASSERT_EQ(v.uavs.size(), kMaxViewUavs);
+  EXPECT_EQ(v.uavs.front().uav, 2U);
+  EXPECT_EQ(v.uavs.back().uav, 2U + kMaxViewUavs - 1);
+  EXPECT_TRUE(std::is_sorted(v.uavs.begin(), v.uavs.end(), [](const auto& a, const auto& b) { return a.uav < b.uav; }));
+}
+
 TEST(ViewServer, NeighboursFollowTheirNewestStateAndOldOrFinishedOnesAreLeftOut) {
   ViewServer vs(geo(), 1, 3.0);
   vs.update_state(uav(1, 10, 5, 5));

@@ -165,6 +165,20 @@ bool ViewServer::compose(uint32_t uav, uint32_t tick, uint32_t max_age, uint32_t
       out.uavs.push_back(s);
     }
   }
+  // At most kMaxViewUavs (the IDL bound; only a swarm of more UAVs can
+  // crowd a view so): the nearest, ties by id.
+  if (out.uavs.size() > kMaxViewUavs) {
+    const auto d2 = [&](const UavStateMsg& s) {
+      const double dx = s.x - self->x, dy = s.y - self->y;
+      return dx * dx + dy * dy;
+    };
+    std::nth_element(out.uavs.begin(), out.uavs.begin() + static_cast<std::ptrdiff_t>(kMaxViewUavs), out.uavs.end(),
+                     [&](const auto& a, const auto& b) {
+                       const double da = d2(a), db = d2(b);
+                       return da < db || (da == db && a.uav < b.uav);
+                     });
+    out.uavs.resize(kMaxViewUavs);
+  }
   // By id, like the readers of the tiles would have delivered them per UAV.
   std::sort(out.uavs.begin(), out.uavs.end(), [](const auto& a, const auto& b) { return a.uav < b.uav; });
   return true;

@@ -27,9 +27,10 @@
 #include <system_error>
 #include <utility>
 
-#include "scenario/field_override.hpp"
+#include "pheromesh/core/messages.hpp"
 #include "pheromesh/core/scenario_limits.hpp"
 #include "pheromesh/core/scenario_warnings.hpp"
+#include "scenario/field_override.hpp"
 #include "scenario/scenario_internal.hpp"
 #include "scenario/start_cells_internal.hpp"
 
@@ -358,7 +359,20 @@ bool build_swarm(const pb::Scenario& msg, const Node& root, const std::string& d
   const pb::Swarm& s = msg.swarm();
   int64_t uavs = cfg.uavs;
   if (s.has_uavs()) uavs = s.uavs();
-  const bool uavs_ok = v.int_between(sn, "uavs", uavs, 1, kMaxUavs);
+  bool uavs_ok = v.int_between(sn, "uavs", uavs, 1, kMaxUavs);
+  if (uavs_ok && map && uavs > static_cast<int64_t>(kMaxOccupancy) && cfg.tile_size > 0) {
+    const int64_t tiles =
+        ((map->width + cfg.tile_size - 1) / cfg.tile_size) * int64_t{(map->height + cfg.tile_size - 1) / cfg.tile_size};
+    if (tiles > static_cast<int64_t>(kMaxOccupancy)) {
+      v.fail(sn, "uavs",
+             "more than " + format_number(static_cast<int64_t>(kMaxOccupancy)) + " UAVs (" + format_number(uavs) +
+                 ") need a map of at most " + format_number(static_cast<int64_t>(kMaxOccupancy)) +
+                 " tiles, this one has " + format_number(tiles) +
+                 " (the lockstep clock lists the UAVs over each occupied tile): give fewer UAVs or a larger "
+                 "map.tile_size");
+      uavs_ok = false;
+    }
+  }
   if (uavs_ok) cfg.uavs = static_cast<uint32_t>(uavs);
   std::optional<Rect> start;
   const Node an = sn.child("start_area");

@@ -34,7 +34,12 @@ constexpr int32_t kMinMapSide = 4;      // [cell]
 constexpr int32_t kMaxMapSide = 4096;   // [cell]
 constexpr int32_t kMinTileSize = 4;     // [cell]
 constexpr int32_t kMaxTileSize = 32;    // [cell]; 32 x 32 = 1024 cells, one DDS sample
-constexpr int32_t kMaxUavs = 1000;
+// UAV processes of one swarm. Up to 1024 every bound of the IDL holds
+// whatever the map; above, a lockstep clock lists the UAVs per occupied
+// tile (MAX_OCCUPANCY entries), so the map must have at most that many
+// tiles (build_swarm), and a view carries at most MAX_VIEW_UAVS neighbours
+// (core::ViewServer::compose keeps the nearest).
+constexpr int32_t kMaxUavs = 5000;
 constexpr double kMaxTickRateHz = 1000.0;
 constexpr double kMaxSensorRadius = 64.0;  // [cell]
 constexpr int64_t kMaxU32 = std::numeric_limits<uint32_t>::max();
