@@ -16,12 +16,12 @@ struct HostFit {
   // UAV processes whose discovery completed and whose ticks kept time
   // (< 1 % late) at 5 Hz on 2 cores, per vendor (bench scale, issue 12).
   static constexpr uint32_t kHeldOnTwoCores = 100;
-  // The same in cells, the default profile (bench scale, issue 25): Cyclone 750
-  // (discovery 18 s; 1000 held in one of two runs: in the other a place
-  // agent stalled 10 s and 4 % of the UAV ticks were not flown), Fast DDS 500
-  // (discovery 15-21 s; at 750 64-102 s, and 11-28 % not flown).
-  static constexpr uint32_t kCellsCycloneOnTwoCores = 750;
-  static constexpr uint32_t kCellsFastDdsOnTwoCores = 500;
+  // The same in cells, the default profile, since issue 44 cut what a UAV
+  // tick costs (bench scale --repeat 2, 150 ticks): Cyclone 2000 in each of
+  // two runs (discovery 64-68 s, 0.08-0.34 % late; no larger size was run),
+  // Fast DDS 1000 in each of two runs (discovery 138-164 s, none late).
+  static constexpr uint32_t kCellsCycloneOnTwoCores = 2000;
+  static constexpr uint32_t kCellsFastDdsOnTwoCores = 1000;
   static constexpr double kMeasuredRateHz = 5.0;
   static constexpr uint32_t kMeasuredCores = 2;
 };
@@ -52,15 +52,15 @@ inline std::optional<std::string> host_fit_warning(uint32_t uavs, double rate_hz
     // (each host's cells discover only their own UAVs).
     why = std::to_string(uavs) + " UAV processes: on " + std::to_string(cores) +
           " cores `pheromesh bench scale` in cells held " + std::to_string(held) + " UAVs on time over " +
-          (dds == "cyclone" ? "Cyclone (discovery 18 s at 750; at 1000 one run of two lost 4 % of its ticks)"
-                             : "Fast DDS (discovery 15-21 s at 500; 64-102 s at 750)") +
+          (dds == "cyclone" ? "Cyclone (discovery 64-68 s at 2000; no larger swarm was measured)"
+                            : "Fast DDS (discovery 2.3-2.7 min at 1000)") +
           "; split the swarm over more hosts (--hosts H --dds-peers A,B,..., docs/deployment.md): each holds as many";
   } else if (uavs > held && !discovery_server) {
     why = std::to_string(uavs) + " UAV processes: on " + std::to_string(cores) +
           " cores `pheromesh bench scale` saw flat discovery complete for " + std::to_string(held) +
           " UAVs (Cyclone 33.5 s, Fast DDS 20.8 s on 2 cores) and not for 150, where some UAVs never found their "
           "place agent; cells, the default profile (leave --dds-profile out), where each process discovers only "
-          "those it talks to, held 750 UAVs on Cyclone and 500 on Fast DDS";
+          "those it talks to, held 2000 UAVs on Cyclone and 1000 on Fast DDS";
     if (dds == "fastdds") {
       why += "; with --dds fastdds, --discovery-server discovers through one server (250 UAVs on time in the benchmark)";
     }

@@ -29,26 +29,26 @@ TEST(HostFit, TooFastSuggestsARateThatFits) {
 }
 
 TEST(HostFit, CellsHoldWhatTheirBenchmarkMeasuredAndTheFlatProfileSuggestsThem) {
-  EXPECT_FALSE(host_fit_warning(750, 5.0, 2, "cyclone", false, /*cells=*/true).has_value());
-  const auto cyclone = host_fit_warning(1000, 5.0, 2, "cyclone", false, /*cells=*/true);
+  EXPECT_FALSE(host_fit_warning(2000, 5.0, 2, "cyclone", false, /*cells=*/true).has_value());
+  const auto cyclone = host_fit_warning(2001, 5.0, 2, "cyclone", false, /*cells=*/true);
   ASSERT_TRUE(cyclone.has_value());
-  EXPECT_NE(cyclone->find("held 750 UAVs on time over Cyclone"), std::string::npos) << *cyclone;
-  EXPECT_FALSE(host_fit_warning(500, 5.0, 2, "fastdds", false, /*cells=*/true).has_value());
-  const auto fast = host_fit_warning(750, 5.0, 2, "fastdds", false, /*cells=*/true);
+  EXPECT_NE(cyclone->find("held 2000 UAVs on time over Cyclone"), std::string::npos) << *cyclone;
+  EXPECT_FALSE(host_fit_warning(1000, 5.0, 2, "fastdds", false, /*cells=*/true).has_value());
+  const auto fast = host_fit_warning(1001, 5.0, 2, "fastdds", false, /*cells=*/true);
   ASSERT_TRUE(fast.has_value());
-  EXPECT_NE(fast->find("held 500 UAVs on time over Fast DDS"), std::string::npos) << *fast;
+  EXPECT_NE(fast->find("held 1000 UAVs on time over Fast DDS"), std::string::npos) << *fast;
   const auto flat = host_fit_warning(300, 1.0, 2, "cyclone", false);
   ASSERT_TRUE(flat.has_value());
   EXPECT_NE(flat->find("cells, the default profile"), std::string::npos) << *flat;
 }
 
 TEST(HostFit, ACellsSwarmAboveItsCountIsToldToAddHostsNotToSlowDown) {
-  const auto w = host_fit_warning(1500, 5.0, 2, "cyclone", false, /*cells=*/true);
+  const auto w = host_fit_warning(2500, 5.0, 2, "cyclone", false, /*cells=*/true);
   ASSERT_TRUE(w.has_value());
   EXPECT_NE(w->find("--hosts"), std::string::npos) << *w;
   EXPECT_EQ(w->find("--rate"), std::string::npos) << "a lower rate does not make discovery hold: " << *w;
   // Within the count, the 300 UAVs at 5 Hz in cells are within the
-  // flight budget too (750 x 5 UAV ticks per second on Cyclone).
+  // flight budget too (2000 x 5 UAV ticks per second on Cyclone).
   EXPECT_FALSE(host_fit_warning(300, 5.0, 2, "cyclone", false, /*cells=*/true).has_value());
 }
 
