@@ -32,8 +32,21 @@ UavCore::UavCore(const ScenarioConfig& scenario, const World& world, uint32_t id
 void UavCore::receive_neighbour(const UavStateMsg& s) {
   if (s.uav == id_) return;
   auto& by_tick = neighbours_[s.uav];
-  by_tick[s.tick] = s;
-  while (by_tick.size() > kKeepTicks) by_tick.erase(by_tick.begin());
+  if (auto it = by_tick.find(s.tick); it != by_tick.end()) {
+    it->second = s;
+    return;
+  }
+  if (by_tick.size() < kKeepTicks) {
+    by_tick.emplace(s.tick, s);
+    return;
+  }
+  // Full: the oldest tick goes, unless this one is older still. Its node is
+  // reused (a view brings each neighbour's state every tick: no allocation).
+  if (s.tick < by_tick.begin()->first) return;
+  auto node = by_tick.extract(by_tick.begin());
+  node.key() = s.tick;
+  node.mapped() = s;
+  by_tick.insert(std::move(node));
 }
 
 void UavCore::receive_broadcast(const BroadcastMsg& b) {

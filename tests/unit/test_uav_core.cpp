@@ -1,0 +1,48 @@
+// UavCore's neighbourhood (core/uav_core.hpp): the states of the UAVs near
+// it, a few ticks of each, as lockstep's holds_tick reads them.
+#include "pheromesh/core/uav_core.hpp"
+
+#include <gtest/gtest.h>
+
+#include "pheromesh/core/scenario.hpp"
+#include "pheromesh/core/world.hpp"
+
+namespace pheromesh::core {
+namespace {
+
+UavStateMsg at(uint32_t uav, uint32_t tick, double x, double y) {
+  UavStateMsg s;
+  s.uav = uav;
+  s.tick = tick;
+  s.x = x;
+  s.y = y;
+  s.view = {static_cast<int32_t>(x), static_cast<int32_t>(y)};
+  return s;
+}
+
+TEST(UavCore, ANeighboursLastFourTicksAreKeptAnOlderOneChangesNothingAndATickHeardAgainIsReplaced) {
+  const auto r = parse_scenario(
+      "map { width: 20 height: 20 tile_size: 10 }\nswarm { uavs: 2 start_area { x: 0 y: 0 w: 2 h: 2 } }\n", "n");
+  ASSERT_TRUE(r.ok()) << r.error().message;
+  const ScenarioConfig& s = r.value();
+  const MapGeometry geo = s.geometry();
+  const World world(geo, s.obstacles, s.targets);
+  UavCore uav(s, world, 0);
+  // One UAV besides this one over tile (0,0), at each tick asked about.
+  const std::vector<TileCount> one{{{0, 0}, 1}};
+  for (uint32_t t = 1; t <= 6; ++t) uav.receive_neighbour(at(1, t, 2.0, 2.0));
+  EXPECT_FALSE(uav.holds_tick(2, one, 0)) << "ticks 1 and 2 made room for 5 and 6";
+  for (uint32_t t = 3; t <= 6; ++t) EXPECT_TRUE(uav.holds_tick(t, one, 0)) << t;
+  uav.receive_neighbour(at(1, 1, 2.0, 2.0));  // older than every tick kept
+  EXPECT_FALSE(uav.holds_tick(1, one, 0));
+  EXPECT_TRUE(uav.holds_tick(3, one, 0)) << "an older state pushes out none";
+  uav.receive_neighbour(at(1, 5, 15.0, 15.0));  // tick 5 again, over tile (1,1)
+  EXPECT_FALSE(uav.holds_tick(5, one, 0)) << "the state of tick 5 heard last is the one kept";
+  uav.receive_neighbour(at(1, 7, 2.0, 2.0));
+  EXPECT_FALSE(uav.holds_tick(3, one, 0));
+  EXPECT_TRUE(uav.holds_tick(7, one, 0));
+  EXPECT_TRUE(uav.holds_tick(4, one, 0));
+}
+
+}  // namespace
+}  // namespace pheromesh::core
