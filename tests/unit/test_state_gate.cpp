@@ -22,6 +22,7 @@
 #include "pheromesh/core/simulator.hpp"
 #include "pheromesh/core/world.hpp"
 #include "pheromesh/report/report.hpp"
+#include "unit_support.hpp"
 
 namespace pheromesh::core {
 namespace state_gate_test {  // named: the unit tests build as one unity source
@@ -29,15 +30,7 @@ namespace state_gate_test {  // named: the unit tests build as one unity source
 namespace fs = std::filesystem;
 using namespace std::chrono_literals;
 
-UavStateMsg state_at(uint32_t uav, uint32_t tick, double x, double y) {
-  UavStateMsg s;
-  s.uav = uav;
-  s.tick = tick;
-  s.x = x;
-  s.y = y;
-  s.view = {static_cast<int32_t>(x), static_cast<int32_t>(y)};
-  return s;
-}
+using test::state_at;
 
 struct Rules {
   MapGeometry geo{30, 30, 6, 2, 2};

@@ -6,19 +6,12 @@
 
 #include "pheromesh/core/scenario.hpp"
 #include "pheromesh/core/world.hpp"
+#include "unit_support.hpp"
 
 namespace pheromesh::core {
 namespace {
 
-UavStateMsg at(uint32_t uav, uint32_t tick, double x, double y) {
-  UavStateMsg s;
-  s.uav = uav;
-  s.tick = tick;
-  s.x = x;
-  s.y = y;
-  s.view = {static_cast<int32_t>(x), static_cast<int32_t>(y)};
-  return s;
-}
+const auto at = test::state_at;
 
 TEST(UavCore, ANeighboursLastFourTicksAreKeptAnOlderOneChangesNothingAndATickHeardAgainIsReplaced) {
   const auto r = parse_scenario(

@@ -4,6 +4,7 @@
 #include <algorithm>
 
 #include "pheromesh/core/view_server.hpp"
+#include "unit_support.hpp"
 
 namespace pheromesh::core {
 namespace {
@@ -15,15 +16,7 @@ TileMsg tile(int layer, TileCoord t, uint32_t tick, float v) {
   return {static_cast<uint8_t>(layer), t, tick, 0, 10, 10, std::vector<float>(100, v)};
 }
 
-UavStateMsg uav(uint32_t id, uint32_t tick, double x, double y) {
-  UavStateMsg s;
-  s.uav = id;
-  s.tick = tick;
-  s.x = x;
-  s.y = y;
-  s.view = {static_cast<int32_t>(x), static_cast<int32_t>(y)};
-  return s;
-}
+const auto uav = test::state_at;
 
 TEST(ViewServer, AViewHoldsTheTilesWithinTheRadiusOfTheViewCellAndTheUavsOverThem) {
   const MapGeometry g = geo();

@@ -13,6 +13,8 @@
 #include <sstream>
 #include <string>
 
+#include "pheromesh/core/messages.hpp"
+
 namespace pheromesh::test {
 
 inline constexpr double kEps = 1e-9;
@@ -33,6 +35,17 @@ inline std::string slurp(const std::filesystem::path& p) {
 inline void expect_reason(const std::optional<std::string>& reason, const std::string& word) {
   ASSERT_TRUE(reason.has_value()) << "expected a reason containing '" << word << "'";
   EXPECT_NE(reason->find(word), std::string::npos) << *reason;
+}
+
+// A UAV's state at (x, y) of `tick`, its view around that cell.
+inline core::UavStateMsg state_at(uint32_t uav, uint32_t tick, double x, double y) {
+  core::UavStateMsg s;
+  s.uav = uav;
+  s.tick = tick;
+  s.x = x;
+  s.y = y;
+  s.view = {static_cast<int32_t>(x), static_cast<int32_t>(y)};
+  return s;
 }
 
 }  // namespace pheromesh::test
