@@ -199,6 +199,17 @@ int discover(bus::Bus& b, uint32_t id, uint32_t expect, Clock::time_point deadli
   return 0;
 }
 
+// Stays (its writers with it) until SIGTERM: 0, or 1 if none came within `bound`.
+int stay_until_ended(const char* what, std::chrono::seconds bound) {
+  const auto until = Clock::now() + bound;
+  while (!runtime::shutdown_requested() && Clock::now() < until) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  if (runtime::shutdown_requested()) return 0;
+  std::printf("%s: no SIGTERM within %lld s\n", what, static_cast<long long>(bound.count()));
+  return 1;
+}
+
 int hostile(bus::Bus& b, uint32_t region, uint32_t map_width) {
   b.offer_deposits(std::vector<core::RegionId>{region});
   const auto deadline = Clock::now() + std::chrono::seconds(20);
@@ -238,15 +249,7 @@ int hostile(bus::Bus& b, uint32_t region, uint32_t map_width) {
   // at exit disposes their instances, which can replace a sample the ground
   // station has not taken yet (it polls every 20 ms). The probe cannot see
   // what was taken; the test can (the console's counters), and ends it then.
-  const auto until = Clock::now() + std::chrono::seconds(60);
-  while (!runtime::shutdown_requested() && Clock::now() < until) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));
-  }
-  if (!runtime::shutdown_requested()) {
-    std::printf("hostile: no SIGTERM within 60 s\n");
-    return 1;
-  }
-  return 0;
+  return stay_until_ended("hostile", std::chrono::seconds(60));
 }
 
 int forge(bus::Bus& b, const std::string& scenario_path, uint32_t uavs, bool lockstep) {
@@ -601,15 +604,7 @@ int forge(bus::Bus& b, const std::string& scenario_path, uint32_t uavs, bool loc
   // Our writers stay until the test ends us, after the swarm has exited:
   // deleting them would dispose their instances, which can replace a sample
   // a receiver has not taken yet (see hostile).
-  const auto until = Clock::now() + std::chrono::seconds(300);
-  while (!runtime::shutdown_requested() && Clock::now() < until) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));
-  }
-  if (!runtime::shutdown_requested()) {
-    std::printf("forge: no SIGTERM within 300 s\n");
-    return 1;
-  }
-  return 0;
+  return stay_until_ended("forge", std::chrono::seconds(300));
 }
 
 // Exactly the endpoints a realtime UAV creates (UavApp::run), homed on
