@@ -37,5 +37,27 @@ TEST(UavCore, ANeighboursLastFourTicksAreKeptAnOlderOneChangesNothingAndATickHea
   EXPECT_TRUE(uav.holds_tick(4, one, 0));
 }
 
+TEST(UavCore, AStepForgetsTheUavsNotHeardForMoreThanFourTicksAndALateStateBringsOneBack) {
+  const auto r = parse_scenario(
+      "map { width: 20 height: 20 tile_size: 10 }\nswarm { uavs: 3 start_area { x: 0 y: 0 w: 2 h: 2 } }\n", "n");
+  ASSERT_TRUE(r.ok()) << r.error().message;
+  const ScenarioConfig& s = r.value();
+  const MapGeometry geo = s.geometry();
+  const World world(geo, s.obstacles, s.targets);
+  UavCore uav(s, world, 0);
+  uav.receive_neighbour(at(1, 0, 2.0, 2.0));  // heard last at tick 0
+  uav.receive_neighbour(at(2, 1, 3.0, 3.0));  // and at tick 1
+  EXPECT_EQ(uav.neighbours_held(), 2U);
+  UavCore::Output out;
+  uav.step(5, out);  // tick 0 + 4 < 5: UAV 1 can show in no view from tick 5 on
+  EXPECT_EQ(uav.neighbours_held(), 1U);
+  uav.step(6, out);
+  EXPECT_EQ(uav.neighbours_held(), 0U);
+  // A late state of UAV 1 of tick 5 is held again, as it would have been.
+  uav.receive_neighbour(at(1, 5, 2.0, 2.0));
+  EXPECT_EQ(uav.neighbours_held(), 1U);
+  EXPECT_TRUE(uav.holds_tick(5, {{{0, 0}, 1}}, 0));
+}
+
 }  // namespace
 }  // namespace pheromesh::core

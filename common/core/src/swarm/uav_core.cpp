@@ -94,8 +94,19 @@ void UavCore::step(uint32_t tick, Output& out) {
   // What this UAV sees: the states and broadcasts of the previous tick
   // (exact), or the latest ones (realtime), of UAVs over its neighbourhood.
   view_states_.clear();
-  for (const auto& [uav, by_tick] : neighbours_) {
-    if (by_tick.empty()) continue;
+  for (auto n = neighbours_.begin(); n != neighbours_.end();) {
+    const auto& by_tick = n->second;
+    // A UAV not heard for more than kKeepTicks ticks can show in no view from
+    // now on (exact: none of tick-1; realtime: too old) nor count for
+    // holds_tick, which asks of later ticks: it goes, so that this
+    // loop, the neighbours' lookups and holds_tick pass over the UAVs around
+    // this one, not over every UAV it ever saw (a late state of it starts
+    // it again, as it would have been kept).
+    if (by_tick.empty() || by_tick.rbegin()->first + kKeepTicks < tick) {
+      n = neighbours_.erase(n);
+      continue;
+    }
+    ++n;
     const UavStateMsg* s = nullptr;
     if (exact_) {
       if (tick == 0) continue;

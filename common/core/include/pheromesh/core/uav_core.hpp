@@ -56,6 +56,9 @@ class UavCore {
   [[nodiscard]] const TileCache& tiles() const { return cache_; }
   [[nodiscard]] Cell cell() const { return policy_->cell(); }
   [[nodiscard]] const UavStateMsg& last_state() const { return last_state_; }
+  // How many other UAVs it holds states of: those heard within the last few
+  // ticks (a step forgets the others).
+  [[nodiscard]] std::size_t neighbours_held() const { return neighbours_.size(); }
   [[nodiscard]] uint32_t id() const { return id_; }
   // What the last step decided on (for debug traces).
   [[nodiscard]] std::size_t last_view_neighbours() const { return view_states_.size(); }
