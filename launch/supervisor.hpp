@@ -188,6 +188,10 @@ class Supervisor {
   int windows_taken_ = 0;                                            // 0, 1 (start sampled) or 2
   std::chrono::steady_clock::time_point window_at_[2];
   std::optional<UdpCounters> window_udp_[2];
+  // How long the passes over the processes took (the window's opening and
+  // the resource sample): the window's closing pass starts that much before
+  // four fifths of the flight, so that it ends there, not after the UAVs.
+  std::chrono::steady_clock::duration passes_{};
 };
 
 }  // namespace pheromesh::cli

@@ -2,6 +2,8 @@
 // header-only for these tests), on texts copied from a Linux 6.x host.
 #include <gtest/gtest.h>
 
+#include <vector>
+
 #include "launch/proc_stats.hpp"
 
 namespace pheromesh::cli {
@@ -92,6 +94,23 @@ TEST(ProcStats, AThreadsGroupIsItsNameWithoutATrailingNumber) {
   EXPECT_EQ(thread_group("tev"), "tev");
   EXPECT_EQ(thread_group("dq.builtins"), "dq.builtins");
   EXPECT_EQ(thread_group("42"), "42");  // all digits: the name stays
+}
+
+TEST(ProcStats, TheResourceSampleTakesKOfNUavsSpreadEvenly) {
+  const auto taken = [](std::size_t n, std::size_t k) {
+    std::vector<std::size_t> out;
+    for (std::size_t i = 0; i < n; ++i) {
+      if (evenly_taken(i, n, k)) out.push_back(i);
+    }
+    return out;
+  };
+  // 10 of 4: the first of each run of 10 / 4 = 2.5 (floor(i * 4 / 10) steps at 0, 3, 5, 8).
+  EXPECT_EQ(taken(10, 4), (std::vector<std::size_t>{0, 3, 5, 8}));
+  EXPECT_EQ(taken(3, 4), (std::vector<std::size_t>{0, 1, 2})) << "fewer than k: every one";
+  EXPECT_EQ(taken(4, 4), (std::vector<std::size_t>{0, 1, 2, 3}));
+  EXPECT_EQ(taken(1517, 200).size(), 200U);
+  EXPECT_EQ(taken(2000, 200).size(), 200U);
+  EXPECT_EQ(taken(2000, 200)[1], 10U);
 }
 
 }  // namespace
