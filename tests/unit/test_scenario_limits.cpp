@@ -106,17 +106,33 @@ TEST(ScenarioLimits, ProcessMemoryNamesTheLargestProcessAndTheWayOut) {
   EXPECT_LT(estimate_cost(split.value()).place_mib, c.place_mib);
 }
 
-TEST(ScenarioLimits, SwarmMemoryAddsUpEveryProcess) {
+TEST(ScenarioLimits, SwarmMemoryAddsUpEveryProcessWithTheSharedLibrariesOnce) {
   const auto cfg = parse_scenario(scenario(200, 200, 10, 2, 2, 100), "s", ScenarioLimits{});
   ASSERT_TRUE(cfg.ok()) << cfg.error().message;
   const ScenarioCost c = estimate_cost(cfg.value());
-  EXPECT_NEAR(c.swarm_mib, 100 * c.uav_mib + 4 * c.place_mib + c.ground_mib, 1e-9);
+  // 105 processes, each with the 16 MiB of libraries they share, which are
+  // in memory once: 104 x 16 MiB less than the sum of their RSS.
+  EXPECT_NEAR(c.swarm_mib, 100 * c.uav_mib + 4 * c.place_mib + c.ground_mib - 104 * 16.0, 1e-9);
   ScenarioLimits l;
   l.max_swarm_mib = static_cast<int64_t>(std::ceil(c.swarm_mib)) - 1;
   expect_refused(parse_scenario(scenario(200, 200, 10, 2, 2, 100), "s", l), "field 'swarm.uavs'",
                  "the swarm's 105 processes would need about", kMaxSwarmMibEnv);
   l.max_swarm_mib += 1;
   EXPECT_TRUE(parse_scenario(scenario(200, 200, 10, 2, 2, 100), "s", l).ok());
+}
+
+TEST(ScenarioLimits, TwoThousandUavsOnTheScaleMapFitTheDefaultSwarmMemory) {
+  // The measured swarm (PSS: 2000 x 5.1 MiB + 16 x 22 + 21, about 10.6 GiB)
+  // and the estimate: 2000 x (22 + 5 B x 10 000 cells) + 16 place agents +
+  // the ground station, less 2016 x 16 MiB of shared libraries, about 12 GiB.
+  ScenarioLimits l;
+  l.max_processes = 2100;
+  const auto cfg = parse_scenario(scenario(100, 100, 10, 4, 4, 2000), "s", l);
+  ASSERT_TRUE(cfg.ok()) << cfg.error().message;
+  const ScenarioCost c = estimate_cost(cfg.value());
+  EXPECT_GT(c.swarm_mib, 10.6 * 1024) << "not below what was measured";
+  EXPECT_LT(c.swarm_mib, 13.0 * 1024);
+  EXPECT_LT(c.swarm_mib, static_cast<double>(ScenarioLimits{}.max_swarm_mib));
 }
 
 TEST(ScenarioLimits, EnvironmentVariablesRaiseTheLimitsAndBadValuesAreErrors) {

@@ -23,7 +23,8 @@ struct ScenarioLimits {
   int64_t max_regions = 256;                     // place-agent regions     $PHEROMESH_MAX_REGIONS
   int64_t max_processes = 1024;                  // UAVs + place agents (x2 with standby) + ground  $PHEROMESH_MAX_PROCESSES
   int64_t max_process_mib = 2048;                // estimated RSS of the largest process [MiB]  $PHEROMESH_MAX_PROCESS_MIB
-  int64_t max_swarm_mib = 32768;                 // estimated RSS of all processes together [MiB]  $PHEROMESH_MAX_SWARM_MIB
+  int64_t max_swarm_mib =
+      32768;  // estimated memory of all processes together, shared libraries once [MiB]  $PHEROMESH_MAX_SWARM_MIB
 
   // The defaults, with each limit whose variable is set replaced by it; an
   // error names a variable that is not a positive integer.
@@ -47,7 +48,7 @@ struct ScenarioCost {
   double uav_mib = 0;
   double place_mib = 0;   // the place agent of the largest region
   double ground_mib = 0;
-  double swarm_mib = 0;   // every process together
+  double swarm_mib = 0;  // every process together, the libraries they share counted once
   [[nodiscard]] double largest_mib() const;
   [[nodiscard]] const char* largest_role() const;  // "ground station", "place agent" or "UAV"
 };
