@@ -13,14 +13,21 @@ namespace {
 
 const auto at = test::state_at;
 
-TEST(UavCore, ANeighboursLastFourTicksAreKeptAnOlderOneChangesNothingAndATickHeardAgainIsReplaced) {
-  const auto r = parse_scenario(
-      "map { width: 20 height: 20 tile_size: 10 }\nswarm { uavs: 2 start_area { x: 0 y: 0 w: 2 h: 2 } }\n", "n");
-  ASSERT_TRUE(r.ok()) << r.error().message;
-  const ScenarioConfig& s = r.value();
-  const MapGeometry geo = s.geometry();
-  const World world(geo, s.obstacles, s.targets);
-  UavCore uav(s, world, 0);
+// UAV 0 of a swarm of three on a 20 x 20 map of 10-cell tiles, all starting
+// over tile (0,0).
+class UavCore3 : public ::testing::Test {
+ protected:
+  ScenarioConfig s = parse_scenario(
+                         "map { width: 20 height: 20 tile_size: 10 }\n"
+                         "swarm { uavs: 3 start_area { x: 0 y: 0 w: 2 h: 2 } }\n",
+                         "n")
+                         .value();
+  MapGeometry geo = s.geometry();
+  World world{geo, s.obstacles, s.targets};
+  UavCore uav{s, world, 0};
+};
+
+TEST_F(UavCore3, ANeighboursLastFourTicksAreKeptAnOlderOneChangesNothingAndATickHeardAgainIsReplaced) {
   // One UAV besides this one over tile (0,0), at each tick asked about.
   const std::vector<TileCount> one{{{0, 0}, 1}};
   for (uint32_t t = 1; t <= 6; ++t) uav.receive_neighbour(at(1, t, 2.0, 2.0));
@@ -37,14 +44,7 @@ TEST(UavCore, ANeighboursLastFourTicksAreKeptAnOlderOneChangesNothingAndATickHea
   EXPECT_TRUE(uav.holds_tick(4, one, 0));
 }
 
-TEST(UavCore, AStepForgetsTheUavsNotHeardForMoreThanFourTicksAndALateStateBringsOneBack) {
-  const auto r = parse_scenario(
-      "map { width: 20 height: 20 tile_size: 10 }\nswarm { uavs: 3 start_area { x: 0 y: 0 w: 2 h: 2 } }\n", "n");
-  ASSERT_TRUE(r.ok()) << r.error().message;
-  const ScenarioConfig& s = r.value();
-  const MapGeometry geo = s.geometry();
-  const World world(geo, s.obstacles, s.targets);
-  UavCore uav(s, world, 0);
+TEST_F(UavCore3, AStepForgetsTheUavsNotHeardForMoreThanFourTicksAndALateStateBringsOneBack) {
   uav.receive_neighbour(at(1, 0, 2.0, 2.0));  // heard last at tick 0
   uav.receive_neighbour(at(2, 1, 3.0, 3.0));  // and at tick 1
   EXPECT_EQ(uav.neighbours_held(), 2U);
