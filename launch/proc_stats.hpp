@@ -183,14 +183,14 @@ inline std::string thread_group(std::string_view comm) {
 
 // --- readers ------------------------------------------------------------------
 
-// The whole of a small /proc file (up to 64 KiB) with open/read, or nothing
-// if it cannot be opened (the process has gone, or no such file).
 // Of n items in order, whether the i-th is one of k spread evenly over them
 // (every one when n <= k): the first of each run of n / k.
 inline bool evenly_taken(std::size_t i, std::size_t n, std::size_t k) {
   return n <= k || i == 0 || (i * k) / n != ((i - 1) * k) / n;
 }
 
+// The whole of a small /proc file (up to 64 KiB) with open/read, or nothing
+// if it cannot be opened (the process has gone, or no such file).
 std::optional<std::string> read_small_file(const char* path);
 
 // One look at a running process.

@@ -153,12 +153,11 @@ bool Supervisor::start() {
   } else {
     setenv(runtime::kOneHostEnv, "1", 1);
   }
-  const bool ground_here = !plan_.processes.empty() && plan_.processes.front().role == "ground";
-  if (ground_here && plan_.processes.front().control == ControlLine::Fd3) open_control_line();
+  if (ground_here() && plan_.processes.front().control == ControlLine::Fd3) open_control_line();
   std::string token;
   if (plan_.options.http_port) token = console::random_token();
   if (plan_.options.discovery_server && !start_discovery_server()) return false;
-  if (ground_here) {
+  if (ground_here()) {
     PlannedProcess ground = plan_.processes.front();
     if (!token.empty()) ground.env.push_back("PHEROMESH_CONSOLE_TOKEN=" + token);
     spawn(std::move(ground));
@@ -531,9 +530,8 @@ void Supervisor::watch_resources(Clock::time_point now, Clock::duration paused) 
   // flight counted from the launch: at 2000 UAVs it held no UAV). Lockstep,
   // or the ground station on another host (no "started" comes): 60 % of the
   // flight after every process of this host started.
-  const bool ground_here = !plan_.processes.empty() && plan_.processes.front().role == "ground";
   if (!sampled_) {
-    const bool after_start = ground_here && !plan_.lockstep();
+    const bool after_start = ground_here() && !plan_.lockstep();
     if (after_start ? windows_taken_ >= 1 : now >= t0_ + plan_.deadlines.resource_sample + paused) sample_resources();
   }
   // The steady window: discovery and the start are over, the end not near.

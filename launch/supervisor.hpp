@@ -99,6 +99,10 @@ class Supervisor {
   ChildProcess* find(const std::string& name);
   void sample_resources();
   void sample_window(int end);  // 0: the steady window's start, 1: its end
+  // The ground station is one of this host's processes (the plan starts it first).
+  [[nodiscard]] bool ground_here() const {
+    return !plan_.processes.empty() && plan_.processes.front().role == "ground";
+  }
   void clean_fastdds_shm() const;
 
   // The flight's watches, each at most once per 10 ms round.

@@ -23,8 +23,7 @@ struct ScenarioLimits {
   int64_t max_regions = 256;                     // place-agent regions     $PHEROMESH_MAX_REGIONS
   int64_t max_processes = 1024;                  // UAVs + place agents (x2 with standby) + ground  $PHEROMESH_MAX_PROCESSES
   int64_t max_process_mib = 2048;                // estimated RSS of the largest process [MiB]  $PHEROMESH_MAX_PROCESS_MIB
-  int64_t max_swarm_mib =
-      32768;  // estimated memory of all processes together, shared libraries once [MiB]  $PHEROMESH_MAX_SWARM_MIB
+  int64_t max_swarm_mib = 32768;  // estimated memory of all processes, libraries once [MiB]  $PHEROMESH_MAX_SWARM_MIB
 
   // The defaults, with each limit whose variable is set replaced by it; an
   // error names a variable that is not a positive integer.
