@@ -145,6 +145,12 @@ void write_seeds(const std::string& dir) {
   rc.count(5);
   c.deposits({rc});
   c.absent({2});
+  msg::ServedUav su;
+  su.uav(4);
+  su.region(1);
+  su.x(3.5);
+  su.view_x(3);
+  c.served({su});
   write_seed<msg::ClockCommandPubSubType>(dir, "clock", 7, c);
   msg::PhaseDone pd;
   pd.process(core::process_key(core::kRoleUav, 2));

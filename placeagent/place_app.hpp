@@ -70,6 +70,9 @@ class PlaceApp {
   struct TickDemand {
     uint32_t deposits = 0;  // of this tick, for this region
     uint32_t states = 0;    // of this tick, of the home UAVs
+    // Every region's served UAVs of this tick, as the place clock lists them
+    // (the clock's, alive during the step).
+    const std::vector<core::ServedUav>* served = nullptr;
   };
   enum class HealthKind : uint8_t { Running, Final };
 
@@ -119,7 +122,8 @@ class PlaceApp {
   // The deposits of states refused for their motion, taken since the last
   // call: through the desk, then rejected and refused (take_deposits).
   void reject_carried();
-  // The served UAVs of every other present region (lockstep: of `tick`).
+  // The served UAVs of every other present region (lockstep: of `tick`, as
+  // the place clock lists them; realtime: the chunks that came).
   void take_served(uint32_t tick);
   // Home UAVs whose newest state is of `tick` or later.
   [[nodiscard]] uint32_t home_states_of(uint32_t tick) const;
@@ -194,6 +198,7 @@ class PlaceApp {
   std::vector<core::BroadcastMsg> broadcasts_;
   uint32_t current_tick_ = 0;
   std::optional<TickDemand> demand_;       // the tick under way's (lockstep)
+  std::optional<uint32_t> served_listed_;  // lockstep: the tick whose clock's served UAVs views_ holds
   std::map<uint32_t, uint32_t> heard_at_;  // home UAV -> place tick of its newest state
   // The judgement of every received sample (core::PlaceIntake): each UAV's
   // state writer as first heard (a plausible forged state from another
@@ -216,6 +221,8 @@ class PlaceApp {
   // relayed_: the states and departures one take_home_states relays to the ground station.
   std::vector<core::UavStateMsg> state_inbox_, home_states_, served_states_, relayed_;
   std::vector<uint32_t> served_;  // home UAVs that get a view this tick
+  std::vector<uint32_t> listed_;  // lockstep: the UAVs the place clock lists as this region's (sorted)
+  std::vector<std::string> malformed_;  // lockstep: the place clock's served UAVs not taken, and why
   std::vector<core::TileMsg> tiles_for_;
   uint32_t tiles_stale_after_ = 10;  // realtime: place ticks a tile not sent again is still shown
   std::vector<core::FieldMsg> field_inbox_;

@@ -42,8 +42,17 @@ void PlaceApp::relay_uplinks() {
 
 void PlaceApp::relay_clock(const core::ClockMsg& c) {
   const auto to = uav_clocks_.relays(c);
-  if (to.home) bus_->relay_clock(c, cfg_.region);
-  if (to.backups) bus_->relay_clock_to_backups(c, cfg_.region);
+  if (!to.home && !to.backups) return;
+  // A UAV needs no place phase's served UAVs (only the place agents do).
+  const core::ClockMsg* out = &c;
+  core::ClockMsg bare;
+  if (!c.served.empty()) {
+    bare = c;
+    bare.served.clear();
+    out = &bare;
+  }
+  if (to.home) bus_->relay_clock(*out, cfg_.region);
+  if (to.backups) bus_->relay_clock_to_backups(*out, cfg_.region);
   clocks_relayed_ += (to.home ? 1 : 0) + (to.backups ? 1 : 0);
 }
 

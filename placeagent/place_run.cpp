@@ -98,6 +98,7 @@ runtime::PhaseOutcome PlaceApp::run_place_phase(const core::ClockMsg& c) {
   TickDemand demand;
   for (const auto& rc : c.deposits) demand.deposits += rc.region == cfg_.region ? rc.count : 0;
   for (const auto& rc : c.states) demand.states += rc.region == cfg_.region ? rc.count : 0;
+  demand.served = &c.served;
   log_->debug("tick {}: the clock asks for {} deposits and {} home UAV states", c.tick, demand.deposits, demand.states);
   step(c.tick, demand);
   publish_health(c.tick, HealthKind::Running);

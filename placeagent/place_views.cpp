@@ -25,9 +25,19 @@ constexpr uint32_t kNeighbourAge = 4;
 void PlaceApp::publish_served(uint32_t tick) {
   // The home UAVs that get a view this tick and where they are, to every
   // other place agent: each owner sends back the tiles their views need.
-  // Lockstep: those that took part in this tick's UAV phase.
+  // Lockstep: those that took part in this tick's UAV phase, of those the
+  // place clock lists as this region's (every owner sends tiles for that
+  // list), and nothing is sent: the clock told every place agent.
   served_.clear();
   served_states_.clear();
+  const bool from_clock = demand_ && demand_->served != nullptr;
+  listed_.clear();
+  if (from_clock) {
+    for (const auto& s : *demand_->served) {
+      if (s.region == cfg_.region) listed_.push_back(s.uav);
+    }
+    std::sort(listed_.begin(), listed_.end());
+  }
   for (uint32_t u : gateway_uavs_) {
     const core::UavStateMsg* st = views_.state(u);
     if (st == nullptr || st->finished) continue;
@@ -35,9 +45,14 @@ void PlaceApp::publish_served(uint32_t tick) {
     // Its newest state was refused: it gets an empty view (serve_views), not
     // one around a position it has left.
     if (const auto refused = intake_.refused_tick(u); refused && *refused > st->tick) continue;
+    if (from_clock && !std::binary_search(listed_.begin(), listed_.end(), u)) {
+      log_->warn("tick {}: uav {} is not among the UAVs the clock lists for this region; it gets no view", tick, u);
+      continue;
+    }
     served_.push_back(u);
     served_states_.push_back(*st);
   }
+  if (from_clock) return;
   for (auto& f : core::make_field_chunks(cfg_.region, tick, {}, served_states_)) {
     f.replica = cfg_.replica;
     resend_.served(f);
@@ -46,8 +61,17 @@ void PlaceApp::publish_served(uint32_t tick) {
 
 void PlaceApp::take_served(uint32_t tick) {
   // Which UAVs every other place agent serves and where they are: exactly
-  // this tick's (lockstep). Before the deposits are applied: they are judged
-  // against these positions (deposit_reach).
+  // this tick's (lockstep: as the place clock lists them). Before the
+  // deposits are applied: they are judged against these positions
+  // (deposit_reach).
+  if (demand_ && demand_->served != nullptr) {
+    if (served_listed_ == tick) return;
+    served_listed_ = tick;
+    malformed_.clear();
+    views_.update_served(*demand_->served, tick, present_others_, scenario_.uavs, malformed_);
+    for (auto& why : malformed_) (void)audit_.admit(core::IntakeVerdict::drop("the place clock's " + why));
+    return;
+  }
   const auto take = [&] {
     keep_tree();  // the lockstep tree goes on while this phase waits
     field_inbox_.clear();

@@ -357,6 +357,56 @@ TEST(ConductorFaults, AnAbsentRegionIsListedNotWaitedForAndItsDepositsAreCounted
   EXPECT_EQ(c.deposits_lost(), 3U) << "uavs 1 and 3 deposit through their backup";
 }
 
+TEST(Conductor, APlacePhaseListsEveryUavWhoseStateArrivedWithItsPoseAndItsGateway) {
+  // Four UAVs, two regions; region 1's place agent is absent from tick 4:
+  // its home UAVs (1 and 3) are served by their backup, region 0. A UAV
+  // whose state was refused, or that was dropped, is served by no one.
+  C::Options o = two_uavs_two_regions();
+  o.uavs = 5;
+  C c(o);
+  const auto t0 = C::Clock::time_point{} + 100s;
+  c.begin_phase(3, ClockPhase::Uav, t0);
+  ServedUav pose{99, 7, 2.5, 3.5, 0.5, -1.0, 3, 1, {4, 6}, 12};  // uav and region are the conductor's to fill
+  for (uint32_t u : {0U, 1U, 2U, 3U}) {
+    c.on_phase_done(uav_done(u, 3));
+    pose.x = 2.5 + u;
+    c.on_uav_state(u, 3, {0, 0}, pose);
+  }
+  c.on_phase_done(uav_done(4, 3));
+  c.on_uav_refused(4, 3);
+  ASSERT_TRUE(c.status(t0).complete);
+  const ClockMsg place = c.begin_phase(3, ClockPhase::Place, t0);
+  ASSERT_EQ(place.served.size(), 4U) << "uav 4's state was refused";
+  for (uint32_t u = 0; u < 4; ++u) {
+    EXPECT_EQ(place.served[u].uav, u);
+    EXPECT_EQ(place.served[u].region, u % 2) << "its home";
+    EXPECT_DOUBLE_EQ(place.served[u].x, 2.5 + u);
+    EXPECT_DOUBLE_EQ(place.served[u].y, 3.5);
+    EXPECT_DOUBLE_EQ(place.served[u].vx, 0.5);
+    EXPECT_DOUBLE_EQ(place.served[u].vy, -1.0);
+    EXPECT_EQ(place.served[u].heading, 3U);
+    EXPECT_EQ(place.served[u].role, 1U);
+    EXPECT_EQ(place.served[u].view, (Cell{4, 6}));
+    EXPECT_EQ(place.served[u].deposits_sent, 12U);
+  }
+  EXPECT_TRUE(c.begin_phase(3, ClockPhase::Uav, t0).served.empty()) << "only a place phase lists them";
+
+  c.drop_region(1);
+  EXPECT_TRUE(c.drop_uav(2));
+  c.begin_phase(4, ClockPhase::Uav, t0);
+  for (uint32_t u : {0U, 1U, 3U}) {
+    c.on_phase_done(uav_done(u, 4));
+    c.on_uav_state(u, 4, {0, 0}, pose);
+  }
+  c.on_uav_state(2, 4, {0, 0}, pose);  // written before it was killed
+  c.on_phase_done(uav_done(4, 4));
+  c.on_uav_refused(4, 4);
+  ASSERT_TRUE(c.status(t0).complete);
+  const ClockMsg later = c.begin_phase(4, ClockPhase::Place, t0);
+  ASSERT_EQ(later.served.size(), 3U) << "uav 2 was dropped, uav 4's state refused";
+  for (const auto& s : later.served) EXPECT_EQ(s.region, 0U) << "uav " << s.uav << ": region 1 is absent";
+}
+
 TEST(ConductorFaults, AUavWhoseHomeAndBackupAreBothAbsentHasItsDepositsCountedLost) {
   // Two regions: each is the other's backup. Both absent: every deposit is lost.
   C c(four_uavs_two_regions());

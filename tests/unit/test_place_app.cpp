@@ -112,10 +112,12 @@ int fly_one_tick() {
   st.deposits = {d};
   uav->publish_uav_state(st);
 
-  // Place phase 0: exactly that deposit and that state.
+  // Place phase 0: exactly that deposit and that state, and the UAV served
+  // by region 0 (the conductor lists every UAV whose state it accepted).
   core::ClockMsg place_phase = clock_of(0, core::ClockPhase::Place);
   place_phase.deposits = {{0, 1}};
   place_phase.states = {{0, 1}};
+  place_phase.served = {{0, 0, st.x, st.y, 0.0, 0.0, 0, 0, start}};
   conductor->publish_clock(place_phase);
   if (!done_of(*conductor, 0, core::ClockPhase::Place)) return stop(12);
   std::vector<core::ViewMsg> views;

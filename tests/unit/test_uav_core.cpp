@@ -59,5 +59,37 @@ TEST_F(UavCore3, AStepForgetsTheUavsNotHeardForMoreThanFourTicksAndALateStateBri
   EXPECT_TRUE(uav.holds_tick(5, {{{0, 0}, 1}}, 0));
 }
 
+TEST_F(UavCore3, ANeighbourIsKnownByItsPoseWhoeverSentIt) {
+  // A neighbour's state as a view brings it, counters and all; the step
+  // decides on its pose only (the place clock lists other regions' UAVs by
+  // pose, and the simulator must show the same).
+  UavStateMsg full = at(1, 4, 2.5, 3.5);
+  full.vx = 0.5;
+  full.heading = 2;
+  full.role = 1;
+  full.view = {2, 3};
+  full.deposits_sent = 9;
+  full.samples_received = 40;
+  full.ticks_late = 3;
+  full.refused[0] = 2;
+  uav.receive_neighbour(full);
+  UavCore::Output out;
+  uav.step(5, out);
+  ASSERT_EQ(uav.last_view_states().size(), 1U);
+  const UavStateMsg& seen = uav.last_view_states()[0];
+  EXPECT_EQ(seen.uav, 1U);
+  EXPECT_EQ(seen.tick, 4U);
+  EXPECT_DOUBLE_EQ(seen.x, 2.5);
+  EXPECT_DOUBLE_EQ(seen.y, 3.5);
+  EXPECT_DOUBLE_EQ(seen.vx, 0.5);
+  EXPECT_EQ(seen.heading, 2U);
+  EXPECT_EQ(seen.role, 1U);
+  EXPECT_EQ(seen.view, (Cell{2, 3}));
+  EXPECT_EQ(seen.deposits_sent, 0U);
+  EXPECT_EQ(seen.samples_received, 0U);
+  EXPECT_EQ(seen.ticks_late, 0U);
+  EXPECT_EQ(seen.refused[0], 0U);
+}
+
 }  // namespace
 }  // namespace pheromesh::core

@@ -127,6 +127,43 @@ TEST(ViewServer, AServedListIsReplacedOnlyOnceEveryChunkOfANewerTickArrived) {
   EXPECT_EQ(vs.served_by(3).size(), kMaxFieldUavs + 1);
 }
 
+TEST(ViewServer, APlaceClocksServedListIsEveryRegionsServedUavsAndDropsWhatIsMalformed) {
+  // Lockstep: the place clock lists every served UAV with its gateway
+  // (ClockMsg::served) instead of each region's chunk.
+  ViewServer vs(geo(), 1, 3.0);
+  const std::vector<RegionId> others{1, 2};
+  std::vector<ServedUav> served{
+      {4, 1, 12.5, 3.5, 1.0, 0.0, 2, 0, {12, 3}},
+      {5, 0, 2.5, 2.5, 0.0, 0.0, 0, 0, {2, 2}},  // this place agent's own region: not taken
+      {6, 1, 15.5, 8.5, 0.0, 1.0, 4, 2, {15, 8}, 30},
+      {50, 1, 5.5, 5.5, 0.0, 0.0, 0, 0, {5, 5}},   // not a UAV of the swarm of 10
+      {7, 1, 400.5, 5.5, 0.0, 0.0, 0, 0, {5, 5}},  // off the map
+      {8, 9, 5.5, 5.5, 0.0, 0.0, 0, 0, {5, 5}},    // a region not asked for
+  };
+  std::vector<std::string> malformed;
+  EXPECT_FALSE(vs.holds_served(7, others));
+  vs.update_served(served, 7, others, 10, malformed);
+  EXPECT_TRUE(vs.holds_served(7, others)) << "region 2 serves nobody: its (empty) list is complete too";
+  EXPECT_EQ(vs.served_by(1), (std::vector<uint32_t>{4, 6}));
+  EXPECT_TRUE(vs.served_by(2).empty());
+  ASSERT_EQ(malformed.size(), 2U);
+  EXPECT_NE(malformed[0].find("uav 50"), std::string::npos) << malformed[0];
+  EXPECT_NE(malformed[1].find("uav 7"), std::string::npos) << malformed[1];
+  EXPECT_EQ(vs.state(5), nullptr);
+  EXPECT_EQ(vs.state(8), nullptr);
+  // The state a neighbour is shown with: its pose of the tick.
+  const UavStateMsg* s = vs.state(6);
+  ASSERT_NE(s, nullptr);
+  EXPECT_EQ(s->tick, 7U);
+  EXPECT_DOUBLE_EQ(s->x, 15.5);
+  EXPECT_DOUBLE_EQ(s->vy, 1.0);
+  EXPECT_EQ(s->heading, 4U);
+  EXPECT_EQ(s->role, 2U);
+  EXPECT_EQ(s->view, (Cell{15, 8}));
+  EXPECT_EQ(s->deposits_sent, 30U) << "where a backup that adopts it counts its deposits from";
+  EXPECT_EQ(vs.needed_tiles(vs.served_by(1)), (std::vector<TileCoord>{{0, 0}, {1, 0}, {1, 1}}));
+}
+
 TEST(ViewServer, ARegionNotHeardOfSinceAGivenTickServesNobody) {
   // Realtime: the owners stop sending tiles to a place agent that died (its
   // last served list would otherwise stand for ever).

@@ -408,6 +408,11 @@ struct Convert<core::ClockMsg> {
     const std::vector<pheromesh_msg_RegionCount> deposits = region_counts_out(m.deposits);
     const std::vector<uint32_t> absent(m.absent.begin(), m.absent.end());
     const std::vector<pheromesh_msg_RegionCount> states = region_counts_out(m.states);
+    std::vector<pheromesh_msg_ServedUav> served;
+    served.reserve(m.served.size());
+    for (const auto& u : m.served) {
+      served.push_back({u.uav, u.region, u.x, u.y, u.vx, u.vy, u.heading, u.role, u.view.x, u.view.y, u.deposits_sent});
+    }
     Sample s{};
     s.tick = m.tick;
     s.phase = m.phase;
@@ -416,11 +421,13 @@ struct Convert<core::ClockMsg> {
     borrow(s.deposits, deposits);
     borrow(s.absent, absent);
     borrow(s.states, states);
+    borrow(s.served, served);
     return write(&s);
   }
   static std::optional<core::ClockMsg> in(const Sample& s) {
     if (!seq_ok(s.occupancy, core::kMaxOccupancy) || !seq_ok(s.deposits, core::kMaxRegionCounts) ||
-        !seq_ok(s.absent, core::kMaxRegionCounts) || !seq_ok(s.states, core::kMaxRegionCounts)) {
+        !seq_ok(s.absent, core::kMaxRegionCounts) || !seq_ok(s.states, core::kMaxRegionCounts) ||
+        !seq_ok(s.served, core::kMaxClockServed)) {
       return std::nullopt;
     }
     core::ClockMsg c;
@@ -433,6 +440,12 @@ struct Convert<core::ClockMsg> {
     for (uint32_t i = 0; i < s.occupancy._length; ++i) {
       const auto& t = s.occupancy._buffer[i];
       c.occupancy.push_back({{t.tx, t.ty}, t.count});
+    }
+    c.served.reserve(s.served._length);
+    for (uint32_t i = 0; i < s.served._length; ++i) {
+      const auto& u = s.served._buffer[i];
+      c.served.push_back(
+          {u.uav, u.region, u.x, u.y, u.vx, u.vy, u.heading, u.role, {u.view_x, u.view_y}, u.deposits_sent});
     }
     return c;
   }

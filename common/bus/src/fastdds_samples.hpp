@@ -440,11 +440,30 @@ struct Convert<core::ClockMsg> {
     s.deposits(region_counts_out(m.deposits));
     s.absent(std::vector<uint32_t>(m.absent.begin(), m.absent.end()));
     s.states(region_counts_out(m.states));
+    std::vector<msg::ServedUav> served;
+    served.reserve(m.served.size());
+    for (const auto& u : m.served) {
+      msg::ServedUav o;
+      o.uav(u.uav);
+      o.region(u.region);
+      o.x(u.x);
+      o.y(u.y);
+      o.vx(u.vx);
+      o.vy(u.vy);
+      o.heading(u.heading);
+      o.role(u.role);
+      o.view_x(u.view.x);
+      o.view_y(u.view.y);
+      o.deposits_sent(u.deposits_sent);
+      served.push_back(o);
+    }
+    s.served(std::move(served));
     return s;
   }
   static std::optional<core::ClockMsg> in(const Sample& s) {
     if (s.occupancy().size() > core::kMaxOccupancy || !region_counts_ok(s.deposits()) ||
-        s.absent().size() > core::kMaxRegionCounts || !region_counts_ok(s.states())) {
+        s.absent().size() > core::kMaxRegionCounts || !region_counts_ok(s.states()) ||
+        s.served().size() > core::kMaxClockServed) {
       return std::nullopt;
     }
     core::ClockMsg c;
@@ -455,6 +474,19 @@ struct Convert<core::ClockMsg> {
     c.absent.assign(s.absent().begin(), s.absent().end());
     c.states = region_counts_in(s.states());
     for (const auto& t : s.occupancy()) c.occupancy.push_back({{t.tx(), t.ty()}, t.count()});
+    c.served.reserve(s.served().size());
+    for (const auto& u : s.served()) {
+      c.served.push_back({u.uav(),
+                          u.region(),
+                          u.x(),
+                          u.y(),
+                          u.vx(),
+                          u.vy(),
+                          u.heading(),
+                          u.role(),
+                          {u.view_x(), u.view_y()},
+                          u.deposits_sent()});
+    }
     return c;
   }
 };

@@ -359,7 +359,8 @@ void GroundIntake::on_states(const std::vector<core::UavStateMsg>& states, Clock
     if (s.implausible) note_refused_state(s);
     const bool back = s.finished      ? p_.conductor.on_uav_finished(s.uav)
                       : s.implausible ? p_.conductor.on_uav_refused(s.uav, s.tick)
-                                      : p_.conductor.on_uav_state(s.uav, s.tick, geo_.tile_of(core::state_cell(s)));
+                                      : p_.conductor.on_uav_state(s.uav, s.tick, geo_.tile_of(core::state_cell(s)),
+                                                                  core::served_pose(s));
     if (back && was_lost && !s.finished)
       note(Kind::UavBack, Level::Info, text("uav ", s.uav, " is back at tick ", s.tick));
     p_.frames.heard_uav(s.uav, now);

@@ -80,9 +80,10 @@ void trim(M& by_tick) {
 }
 }  // namespace
 
-bool LockstepConductor::on_uav_state(uint32_t uav, uint32_t tick, TileCoord tile) {
+bool LockstepConductor::on_uav_state(uint32_t uav, uint32_t tick, TileCoord tile, ServedUav pose) {
   if (dropped_.contains(uav)) return false;  // a sample it wrote before it was killed
-  positions_[tick][uav] = tile;
+  pose.uav = uav;
+  positions_[tick][uav] = {tile, pose};
   trim(positions_);
   return departed_since_.erase(uav) > 0;
 }
@@ -147,6 +148,20 @@ ClockMsg LockstepConductor::announce(uint32_t tick, ClockPhase phase) const {
     // and the states of this tick each region's place agent must hold.
     for (const auto& [region, n] : deposits_reported_) m.deposits.push_back({region, n});
     for (const auto& [region, n] : states_reported_) m.states.push_back({region, n});
+    // Every UAV whose state of this tick is here, with its gateway: the
+    // place agent that composes its view (a UAV with neither home nor
+    // backup present gets none). Each place agent sends the tiles these
+    // UAVs' views need and shows them as neighbours (docs/architecture.md,
+    // "Time").
+    if (auto it = positions_.find(tick); it != positions_.end()) {
+      for (const auto& [uav, heard] : it->second) {
+        const auto gateway = gateway_region(uav, o_.regions, [&](RegionId r) { return absent_.contains(r); });
+        if (!gateway || dropped_.contains(uav)) continue;
+        ServedUav u = heard.pose;
+        u.region = *gateway;
+        m.served.push_back(u);
+      }
+    }
     return m;
   }
   if (phase != ClockPhase::Uav || tick == 0) return m;
@@ -154,7 +169,7 @@ ClockMsg LockstepConductor::announce(uint32_t tick, ClockPhase phase) const {
   // broadcasts it produced (each UAV waits until it holds all of them).
   if (auto it = positions_.find(tick - 1); it != positions_.end()) {
     std::map<std::pair<int32_t, int32_t>, uint32_t> count;
-    for (const auto& [uav, t] : it->second) ++count[{t.tx, t.ty}];
+    for (const auto& [uav, heard] : it->second) ++count[{heard.tile.tx, heard.tile.ty}];
     for (const auto& [t, n] : count) m.occupancy.push_back({{t.first, t.second}, n});
   }
   if (auto it = broadcasters_.find(tick - 1); it != broadcasters_.end()) {

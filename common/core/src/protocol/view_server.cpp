@@ -47,6 +47,26 @@ void ViewServer::update_served(const FieldMsg& f, uint32_t arrived) {
   if (a.complete(a.tick)) a.served = a.uavs;
 }
 
+void ViewServer::update_served(std::span<const ServedUav> served, uint32_t tick, std::span<const RegionId> regions,
+                               uint32_t swarm, std::vector<std::string>& malformed) {
+  std::map<RegionId, FieldMsg> by_region;
+  for (RegionId r : regions) by_region[r] = FieldMsg{r, 0, 1, tick, {}, {}, 0, 0};
+  for (const ServedUav& u : served) {
+    auto it = by_region.find(u.region);
+    if (it == by_region.end()) continue;
+    UavStateMsg s = neighbour_state(u, tick);
+    if (u.uav >= swarm) {
+      malformed.push_back("served uav " + std::to_string(u.uav) + ": not a UAV of the swarm of " +
+                          std::to_string(swarm));
+    } else if (auto reason = check_uav_state(s, geo_)) {
+      malformed.push_back("served uav " + std::to_string(u.uav) + ": " + *reason);
+    } else {
+      it->second.uavs.push_back(std::move(s));
+    }
+  }
+  for (const auto& [r, f] : by_region) update_served(f, tick);
+}
+
 void ViewServer::update_tiles(const FieldMsg& f, uint32_t arrived) {
   for (const auto& t : f.tiles) update_tile(t, arrived);
   arrive(tiles_from_, f);

@@ -29,8 +29,14 @@ UavCore::UavCore(const ScenarioConfig& scenario, const World& world, uint32_t id
   update_neighbourhood();
 }
 
-void UavCore::receive_neighbour(const UavStateMsg& s) {
-  if (s.uav == id_) return;
+void UavCore::receive_neighbour(const UavStateMsg& full) {
+  if (full.uav == id_) return;
+  // A neighbour is known by its pose (and whether it finished), whoever sent
+  // it: a lockstep place phase lists the other regions' UAVs by pose only
+  // (ClockMsg::served), and the simulator's views must show the same.
+  UavStateMsg s = neighbour_state(served_pose(full), full.tick);
+  s.deposits_sent = 0;
+  s.finished = full.finished;
   auto& by_tick = neighbours_[s.uav];
   if (auto it = by_tick.find(s.tick); it != by_tick.end()) {
     it->second = s;

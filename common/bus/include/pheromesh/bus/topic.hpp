@@ -174,7 +174,8 @@ struct Topic<core::ClockMsg> {
     if (auto o = detail::over("clock occupancy", m.occupancy.size(), core::kMaxOccupancy)) return o;
     if (auto o = detail::over("clock deposit counts", m.deposits.size(), core::kMaxRegionCounts)) return o;
     if (auto o = detail::over("clock absent regions", m.absent.size(), core::kMaxRegionCounts)) return o;
-    return detail::over("clock state counts", m.states.size(), core::kMaxRegionCounts);
+    if (auto o = detail::over("clock state counts", m.states.size(), core::kMaxRegionCounts)) return o;
+    return detail::over("clock served UAVs", m.served.size(), core::kMaxClockServed);
   }
 };
 

@@ -84,9 +84,11 @@ class LockstepConductor {
   explicit LockstepConductor(Options o) : o_(o) {}
 
   // --- what the ground station heard
-  // A valid state of `uav` over `tile` (not finished). Returns true if the
-  // UAV had departed and is back.
-  bool on_uav_state(uint32_t uav, uint32_t tick, TileCoord tile);
+  // A valid state of `uav` over `tile` (not finished), with its pose (x, y,
+  // velocity, heading, role, view cell; its uav and region are the
+  // conductor's to fill): the place phase of `tick` lists it as served
+  // (ClockMsg::served). Returns true if the UAV had departed and is back.
+  bool on_uav_state(uint32_t uav, uint32_t tick, TileCoord tile, ServedUav pose = {});
   // A state of `uav` its gateway refused as implausible (UavStateMsg::
   // implausible): the UAV's answer for `tick`, as a state is, but over no
   // tile (no view waits for it as a neighbour), and its deposits of `tick`
@@ -182,7 +184,11 @@ class LockstepConductor {
   ClockPhase phase_ = ClockPhase::Uav;
   Clock::time_point deadline_{};
   std::map<uint32_t, PhaseDoneMsg> done_;                        // process key -> latest report
-  std::map<uint32_t, std::map<uint32_t, TileCoord>> positions_;  // tick -> uav -> tile
+  struct Heard {
+    TileCoord tile;
+    ServedUav pose;
+  };
+  std::map<uint32_t, std::map<uint32_t, Heard>> positions_;      // tick -> uav -> its state's tile and pose
   std::map<uint32_t, std::set<uint32_t>> broadcasters_;          // tick -> UAVs that broadcast
   std::map<uint32_t, std::set<uint32_t>> refused_;               // tick -> UAVs whose state of it was refused
   std::map<RegionId, uint32_t> deposits_reported_;               // current tick's UAV phase

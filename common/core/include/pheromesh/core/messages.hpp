@@ -283,6 +283,42 @@ struct RegionCount {
   RegionId region = 0;
   uint32_t count = 0;
 };
+// A UAV a place phase serves (ClockMsg::served): its pose after the UAV
+// phase and its gateway, the region whose place agent composes its view.
+inline constexpr std::size_t kMaxClockServed = 8192;  // idl bound
+struct ServedUav {
+  uint32_t uav = 0;
+  RegionId region = 0;
+  double x = 0, y = 0;    // [cell]
+  double vx = 0, vy = 0;  // [cell/tick]
+  uint8_t heading = 0;
+  uint8_t role = 0;
+  Cell view{};
+  // The deposits it sent so far (UavStateMsg::deposits_sent): a backup that
+  // adopts it when its home is killed counts its deposits from there.
+  uint64_t deposits_sent = 0;
+  bool operator==(const ServedUav&) const = default;
+};
+// The pose of a state, as a place phase lists it (region left to the caller).
+inline ServedUav served_pose(const UavStateMsg& s) {
+  return {s.uav, 0, s.x, s.y, s.vx, s.vy, s.heading, s.role, s.view, s.deposits_sent};
+}
+// A served UAV as a state of `tick`: its pose and the deposits it sent
+// (a UAV knows a neighbour by its pose alone, UavCore::receive_neighbour).
+inline UavStateMsg neighbour_state(const ServedUav& u, uint32_t tick) {
+  UavStateMsg s;
+  s.uav = u.uav;
+  s.tick = tick;
+  s.x = u.x;
+  s.y = u.y;
+  s.vx = u.vx;
+  s.vy = u.vy;
+  s.heading = u.heading;
+  s.role = u.role;
+  s.view = u.view;
+  s.deposits_sent = u.deposits_sent;
+  return s;
+}
 struct ClockMsg {
   uint32_t tick = 0;
   uint8_t phase = 0;  // ClockPhase
@@ -301,6 +337,11 @@ struct ClockMsg {
   // UAV phase k). It waits for these exact samples instead of the UAVs
   // waiting for acknowledgements.
   std::vector<RegionCount> states;
+  // Place phase k: every UAV whose state of tick k the conductor accepted,
+  // with its gateway (LockstepConductor::announce). Each place agent learns
+  // from it which tiles every other region's views need and which
+  // neighbours to show; no place agent sends its served UAVs to the others.
+  std::vector<ServedUav> served;
   // Not on the wire: who wrote the sample, as the receiving bus identifies
   // the DDS writer (Cyclone: its publication handle; Fast DDS: its GUID,
   // folded). A forger can copy every field but not this (plausibility.hpp).

@@ -87,7 +87,9 @@ struct UavView {
   uint32_t tick = 0;
   const TileCache* tiles = nullptr;
   // States (of tick - 1 in lockstep and in the simulator) of the other UAVs
-  // over the tiles of this UAV's neighbourhood, by id.
+  // over the tiles of this UAV's neighbourhood, by id: each its pose (uav,
+  // tick, x, y, vx, vy, heading, role, view) and `finished`; the counters
+  // of a state are zero here.
   std::span<const UavStateMsg> neighbours;
   // Broadcasts (of tick - 1 in lockstep and in the simulator; those received
   // since the last tick in realtime), own included, by UAV id.

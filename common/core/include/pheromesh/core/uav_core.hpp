@@ -62,6 +62,8 @@ class UavCore {
   [[nodiscard]] uint32_t id() const { return id_; }
   // What the last step decided on (for debug traces).
   [[nodiscard]] std::size_t last_view_neighbours() const { return view_states_.size(); }
+  // The neighbours' states the last step decided on (UavView::neighbours).
+  [[nodiscard]] std::span<const UavStateMsg> last_view_states() const { return view_states_; }
   [[nodiscard]] std::size_t last_view_broadcasts() const { return view_broadcasts_.size(); }
 
  private:

@@ -44,6 +44,14 @@ class ViewServer {
   // arrived at this place agent's tick `arrived`: the states, and which UAVs
   // that region serves (served_by).
   void update_served(const FieldMsg& f, uint32_t arrived = 0);
+  // Lockstep: the served UAVs of every region in `regions` as the place
+  // clock of `tick` lists them (ClockMsg::served), in place of each region's
+  // chunk: a region listed with no UAV serves none. An entry of a region
+  // not in `regions` is not taken; one of a UAV outside the swarm (id >=
+  // `swarm`) or with a pose off the map is malformed, and its reason goes
+  // to `malformed`.
+  void update_served(std::span<const ServedUav> served, uint32_t tick, std::span<const RegionId> regions,
+                     uint32_t swarm, std::vector<std::string>& malformed);
   // A chunk of tiles an owner sent for this place agent's views (`f.<own>`),
   // arrived at tick `arrived`.
   void update_tiles(const FieldMsg& f, uint32_t arrived);
