@@ -29,21 +29,34 @@ UavCore::UavCore(const ScenarioConfig& scenario, const World& world, uint32_t id
   update_neighbourhood();
 }
 
-void UavCore::receive_neighbour(const UavStateMsg& full) {
-  if (full.uav == id_) return;
-  // A neighbour is known by its pose (and whether it finished), whoever sent
-  // it: a lockstep place phase lists the other regions' UAVs by pose only
-  // (ClockMsg::served), and the simulator's views must show the same.
-  UavStateMsg s = neighbour_state(served_pose(full), full.tick);
-  s.deposits_sent = 0;
-  s.finished = full.finished;
+namespace {
+// A neighbour is known by its pose (and whether it finished), whoever sent
+// it: a lockstep place phase lists the other regions' UAVs by pose only
+// (ClockMsg::served), and the simulator's views must show the same. Every
+// state held is one of these, so its counters are already zero.
+void hold_pose(UavStateMsg& held, const UavStateMsg& s) {
+  held.uav = s.uav;
+  held.tick = s.tick;
+  held.x = s.x;
+  held.y = s.y;
+  held.vx = s.vx;
+  held.vy = s.vy;
+  held.heading = s.heading;
+  held.role = s.role;
+  held.view = s.view;
+  held.finished = s.finished;
+}
+}  // namespace
+
+void UavCore::receive_neighbour(const UavStateMsg& s) {
+  if (s.uav == id_) return;
   auto& by_tick = neighbours_[s.uav];
   if (auto it = by_tick.find(s.tick); it != by_tick.end()) {
-    it->second = s;
+    hold_pose(it->second, s);
     return;
   }
   if (by_tick.size() < kKeepTicks) {
-    by_tick.emplace(s.tick, s);
+    hold_pose(by_tick[s.tick], s);
     return;
   }
   // Full: the oldest tick goes, unless this one is older still. Its node is
@@ -51,7 +64,7 @@ void UavCore::receive_neighbour(const UavStateMsg& full) {
   if (s.tick < by_tick.begin()->first) return;
   auto node = by_tick.extract(by_tick.begin());
   node.key() = s.tick;
-  node.mapped() = s;
+  hold_pose(node.mapped(), s);
   by_tick.insert(std::move(node));
 }
 
