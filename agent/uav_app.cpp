@@ -199,12 +199,17 @@ void UavApp::run_uav_phase(const core::ClockMsg& c, uint32_t ticks) {
   handle_commands();
   resend_.begin_tick();
   step(c.tick, StepKind::Fly);
-  // Report what this phase wrote: the conductor announces it to the place
-  // agents (deposits) and to the UAVs (broadcasts), which wait for it.
-  core::PhaseDoneMsg report{
-      core::process_key(core::kRoleUav, cfg_.id), c.tick, c.phase, broadcast_written_ ? 1U : 0U, {}};
-  for (const auto& [region, n] : written_) report.deposits.push_back({region, n});
-  resend_.phase_done(report);
+  // What this phase wrote goes to the conductor, which announces it to the
+  // place agents (deposits) and to the UAVs (broadcasts): its gateway
+  // reports it from the state just written (core::UplinkReports), one
+  // sample less per UAV tick. With no gateway (home and backup gone, no
+  // standby) this UAV reports itself, its deposits lost on the way.
+  if (!gateway_) {
+    core::PhaseDoneMsg report{
+        core::process_key(core::kRoleUav, cfg_.id), c.tick, c.phase, broadcast_written_ ? 1U : 0U, {}};
+    for (const auto& [region, n] : written_) report.deposits.push_back({region, n});
+    resend_.phase_done(report);
+  }
   // After the last UAV phase this UAV waits for the conductor's stop, which
   // comes after the last place phase: the launcher stops the place agents
   // once every UAV has ended, and they must have finished it.

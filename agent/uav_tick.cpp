@@ -101,6 +101,12 @@ void UavApp::step(uint32_t tick, StepKind kind) {
   s.deposits_unconfirmed = receipts_.unconfirmed() + deposits_undeliverable_;
   s.view = core_.cell();  // the home place agent composes the next view around it
   s.refused = audit_.refused().n;
+  if (cfg_.common.lockstep() && !finished) {
+    // Its answer for the UAV phase, which its gateway reports for it once
+    // it holds the whole uplink (core::UplinkReports).
+    s.tick_deposits = static_cast<uint32_t>(uplink_.size());
+    s.broadcasts = broadcast_written_ ? 1 : 0;
+  }
   // deposits_sent counts the deposits this state carries (a place agent
   // holds every deposit of the tick once it holds the tick's last sample).
   s.deposits_sent = deposits_sent_ + uplink_.size();

@@ -29,6 +29,7 @@
 #include "pheromesh/core/scenario.hpp"
 #include "pheromesh/core/sender_judge.hpp"
 #include "pheromesh/core/tick_gaps.hpp"
+#include "pheromesh/core/uplink_reports.hpp"
 #include "pheromesh/core/view_server.hpp"
 #include "pheromesh/core/writer_latch.hpp"
 #include "pheromesh/runtime/commands.hpp"
@@ -211,6 +212,7 @@ class PlaceApp {
   // such, and an empty view of its tick to the UAV (answer_refused,
   // serve_views); the other place agents' processes, which forward deposits.
   core::PlaceIntake intake_;
+  core::UplinkReports uplink_reports_;         // lockstep: its UAVs' reports, made from their states
   std::vector<uint32_t> refused_views_;        // UAVs owed an empty view at the next serve_views
   std::vector<core::IntakeVerdict> verdicts_;  // judge_forwarded's refusals
   // Reusable inboxes and outboxes.

@@ -118,9 +118,21 @@ void PlaceApp::take_home_states(uint32_t tick) {
         intake_.judge_state(st, carried_.size(), before, adopted_.contains(st.uav),
                             core::uav_start(scenario_, traits_, st.uav), traits_.max_step, ceiling, rules_, now);
     if (call.adopt) adopt(st.uav, nullptr);
+    // Lockstep: the UAV's report of its phase, made here from its state
+    // (core::UplinkReports) once every deposit of its uplink is here.
+    const bool report = cfg_.common.lockstep() && !st.finished;
+    std::optional<core::PhaseDoneMsg> done;
+    if (report && call.accept) done = uplink_reports_.on_state(st, carried_);
+    if (report && call.answer) done = core::UplinkReports::on_refused(st);
+    st.tick_deposits = 0;  // the gateway's to use: nested or relayed, a state carries none
+    st.broadcasts = 0;
     if (call.carried) route_carried(*call.carried);
     const bool taken = audit_.admit(call.verdict);
     if (call.answer) answer_refused(st);
+    if (done) {
+      bus_->publish_phase_done(*done);
+      ++reports_relayed_;
+    }
     if (!taken || !call.accept) continue;
     intake_.accept_state(st, now);
     if (before == nullptr || st.tick > before->tick) heard_at_[st.uav] = tick;

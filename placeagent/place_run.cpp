@@ -170,10 +170,11 @@ int PlaceApp::run() {
   bus_->subscribe_home_states(cfg_.region, /*history=*/cfg_.life <= 1);  // the states carry deposits too
   if (cfg_.common.lockstep()) bus_->subscribe_uav_reports(cfg_.region);  // the lockstep tree
   bus_->subscribe_uplinks(cfg_.region);                                  // relays between its UAVs and the swarm
-  bus_->subscribe_place_exchange(cfg_.region);
+  // Lockstep: the place clock lists every region's served UAVs; no `p`.
+  bus_->subscribe_place_exchange(cfg_.region, /*served=*/!cfg_.common.lockstep());
   bus_->subscribe_halos(core_.neighbours(), cfg_.region);
   bus_->offer_deposits(other_regions_);
-  bus_->offer_place_exchange(other_regions_);
+  bus_->offer_place_exchange(other_regions_, /*served=*/!cfg_.common.lockstep());
   bus_->offer_views(home_uavs_);
   commands_ = std::make_unique<runtime::SwarmCommands>(*bus_, log_);
   // The run, for monitors that attach with only the domain id.

@@ -320,7 +320,9 @@ int forge(bus::Bus& b, const std::string& scenario_path, uint32_t uavs, bool loc
         {"deposits to region 1", [&] { return b.matched_deposit_readers(other); }, 1},
         {"tiles", [&, p = tiles.offer(bus::routing::tile_partition({0, 0}))] { return b.transport().matched(p); }, 1},
         {"field chunks", [&, p = fields.offer(bus::routing::kFieldPartition)] { return b.transport().matched(p); }, 1},
-        {"served UAVs", [&, p = place_fields.offer(served_part)] { return b.transport().matched(p); }, places},
+        // A lockstep place agent reads no served UAVs (the place clock lists them).
+        {"served UAVs", [&, p = place_fields.offer(served_part)] { return b.transport().matched(p); },
+         lockstep ? 0U : places},
         {"tiles for views", [&, p = place_fields.offer(tiles_for_part)] { return b.transport().matched(p); }, 1},
         {"halo", [&, p = halos.offer(halo_part)] { return b.transport().matched(p); }, 1},
         {"states", [&] { return b.matched_state_readers(); }, 1},

@@ -242,13 +242,13 @@ void Bus::subscribe_home_states(core::RegionId own, bool history) {
 
 void Bus::subscribe_fields() { roles_->field_in.emplace(*this, std::vector<std::string>{kFieldPartition}); }
 
-void Bus::subscribe_place_exchange(core::RegionId own) {
-  roles_->served_in.emplace(*this, std::vector<std::string>{kServedPartition}, TopicKind::PlaceField);
+void Bus::subscribe_place_exchange(core::RegionId own, bool served) {
+  if (served) roles_->served_in.emplace(*this, std::vector<std::string>{kServedPartition}, TopicKind::PlaceField);
   roles_->tiles_in.emplace(*this, std::vector<std::string>{tiles_for_partition(own)}, TopicKind::PlaceField);
 }
 
-void Bus::offer_place_exchange(std::span<const core::RegionId> others) {
-  roles_->place_fields.offer(kServedPartition);
+void Bus::offer_place_exchange(std::span<const core::RegionId> others, bool served) {
+  if (served) roles_->place_fields.offer(kServedPartition);
   for (auto r : others) roles_->place_fields.offer(tiles_for_partition(r));
 }
 

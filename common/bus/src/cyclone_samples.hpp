@@ -81,6 +81,8 @@ inline pheromesh_msg_UavState state_out(const core::UavStateMsg& m) {
                            {},
                            m.departed,
                            m.implausible,
+                           m.tick_deposits,
+                           m.broadcasts,
                            {}};  // deposits: only the UavState topic's writer sets them (Convert below)
   std::copy(m.refused.begin(), m.refused.end(), s.refused);
   return s;
@@ -117,6 +119,8 @@ inline core::UavStateMsg state_in(const pheromesh_msg_UavState& s) {
   std::copy(std::begin(s.refused), std::end(s.refused), m.refused.begin());
   m.departed = s.departed;
   m.implausible = s.implausible;
+  m.tick_deposits = s.tick_deposits;
+  m.broadcasts = s.broadcasts;
   return m;
 }
 

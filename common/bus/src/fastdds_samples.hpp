@@ -96,6 +96,8 @@ inline core::UavStateMsg state_in(const msg::UavState& s) {
   std::copy(s.refused().begin(), s.refused().end(), m.refused.begin());
   m.departed = s.departed();
   m.implausible = s.implausible();
+  m.tick_deposits = s.tick_deposits();
+  m.broadcasts = s.broadcasts();
   return m;
 }
 
@@ -122,6 +124,8 @@ inline msg::UavState state_out(const core::UavStateMsg& m) {
   std::copy(m.refused.begin(), m.refused.end(), s.refused().begin());
   s.departed(m.departed);
   s.implausible(m.implausible);
+  s.tick_deposits(m.tick_deposits);
+  s.broadcasts(m.broadcasts);
   return s;
 }
 

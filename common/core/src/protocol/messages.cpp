@@ -114,6 +114,9 @@ std::optional<std::string> check_uav_state(const UavStateMsg& s, const MapGeomet
   if (s.role >= kRoleCount) {
     return "unknown role " + std::to_string(s.role);
   }
+  if (s.broadcasts > 1) {
+    return "UAV state says it wrote " + std::to_string(s.broadcasts) + " broadcasts in its tick (at most 1)";
+  }
   if (s.view.x < 0 || s.view.y < 0 || s.view.x >= geo.width() || s.view.y >= geo.height()) {
     return "UAV view cell (" + std::to_string(s.view.x) + ", " + std::to_string(s.view.y) + ") outside the map";
   }

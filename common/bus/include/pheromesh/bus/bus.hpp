@@ -225,10 +225,11 @@ class Bus {
   void subscribe_deposits(core::RegionId own, bool history = true);
   void subscribe_home_states(core::RegionId own, bool history = true);
   void subscribe_fields();  // the ground station
-  // A place agent: the other place agents' served states and the tiles sent
+  // A place agent: the other place agents' served states (`served`: only in
+  // realtime; in lockstep the place clock lists them) and the tiles sent
   // for its own UAVs' views; and its writers of both, opened now.
-  void subscribe_place_exchange(core::RegionId own);
-  void offer_place_exchange(std::span<const core::RegionId> others);
+  void subscribe_place_exchange(core::RegionId own, bool served = true);
+  void offer_place_exchange(std::span<const core::RegionId> others, bool served = true);
   // A place agent: the view writers of the UAVs homed on it, created before
   // they fly (publish_view would otherwise create one on first use).
   void offer_views(std::span<const uint32_t> uavs);

@@ -108,6 +108,13 @@ struct UavStateMsg {
   // neighbours and views never see it (docs/architecture.md "Plausibility").
   // A UAV never sets it (its gateway refuses such a state as malformed).
   bool implausible = false;
+  // Lockstep, set by the UAV: its answer for the UAV phase of `tick`, which
+  // its gateway reports for it (core::UplinkReports): the deposits this
+  // tick's uplink carries in all its samples, and the broadcasts it wrote
+  // in the tick (0 or 1). Zero in realtime, in a view, a field and a state
+  // relayed to the ground.
+  uint32_t tick_deposits = 0;
+  uint8_t broadcasts = 0;
   // Not on the wire: who wrote the sample, as the receiving bus identifies
   // the DDS writer (as ClockMsg::writer). The UAV's gateway latches it
   // (core/writer_latch.hpp).
