@@ -179,7 +179,10 @@ void GroundApp::progress_if_due() {
 
 void GroundApp::wait_for_data(Clock::time_point until) {
   using K = bus::TopicKind;
-  bus_->wait({K::UavState, K::Field, K::Tile, K::Detection, K::TargetEvent, K::Health, K::Broadcast, K::PhaseDone},
+  // The UAVs' states come relayed by their gateways (GroundState): a lockstep
+  // UAV phase is complete when the last of them or of their reports is here.
+  bus_->wait({K::UavState, K::GroundState, K::Field, K::Tile, K::Detection, K::TargetEvent, K::Health, K::Broadcast,
+              K::PhaseDone},
              until);
 }
 

@@ -213,6 +213,7 @@ class PlaceApp {
   // serve_views); the other place agents' processes, which forward deposits.
   core::PlaceIntake intake_;
   core::UplinkReports uplink_reports_;         // lockstep: its UAVs' reports, made from their states
+  std::vector<core::PhaseDoneMsg> reports_out_;  // lockstep: those of a take, published after its states
   std::vector<uint32_t> refused_views_;        // UAVs owed an empty view at the next serve_views
   std::vector<core::IntakeVerdict> verdicts_;  // judge_forwarded's refusals
   // Reusable inboxes and outboxes.

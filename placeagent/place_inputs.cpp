@@ -129,10 +129,7 @@ void PlaceApp::take_home_states(uint32_t tick) {
     if (call.carried) route_carried(*call.carried);
     const bool taken = audit_.admit(call.verdict);
     if (call.answer) answer_refused(st);
-    if (done) {
-      bus_->publish_phase_done(*done);
-      ++reports_relayed_;
-    }
+    if (done) reports_out_.push_back(std::move(*done));
     if (!taken || !call.accept) continue;
     intake_.accept_state(st, now);
     if (before == nullptr || st.tick > before->tick) heard_at_[st.uav] = tick;
@@ -144,6 +141,11 @@ void PlaceApp::take_home_states(uint32_t tick) {
   }
   take_departures();
   if (!relayed_.empty()) bus_->relay_states(relayed_, cfg_.region, cfg_.replica, tick);
+  // After the states: the conductor's UAV phase is complete when the last
+  // report is here, and it has the states by then.
+  for (const auto& m : reports_out_) bus_->publish_phase_done(m);
+  reports_relayed_ += reports_out_.size();
+  reports_out_.clear();
 }
 
 void PlaceApp::take_departures() {
