@@ -123,7 +123,11 @@ class GroundApp {
   // --- lockstep (ground_lockstep.cpp)
   // The conductor: returns false if a phase timed out.
   bool conduct();
-  bool run_phase(uint32_t tick, core::ClockPhase phase);
+  // `next_uav_phase`: a place phase that begins the UAV phase of tick+1
+  // (core::LockstepConductor::begin_phase); it returns once both are complete.
+  bool run_phase(uint32_t tick, core::ClockPhase phase, bool next_uav_phase = false);
+  // Whether the place phase of `tick` may begin the UAV phase of tick+1.
+  [[nodiscard]] bool fuses_after(uint32_t tick, uint32_t ticks) const;
   // Paused from the console: the next tick is not announced (the last clock
   // is, again, so the swarm knows the conductor lives).
   void hold_while_paused();

@@ -47,10 +47,17 @@ bool GroundApp::conduct() {
   log_->info("conducting {} lockstep ticks", ticks);
   // Tick 0 waits until every process matched what it deposits to.
   bool ok = run_phase(0, core::ClockPhase::Ready);
+  bool uav_phase_run = false;  // the UAV phase of k ran with the place phase of k-1
   for (uint32_t k = 0; k <= ticks && ok && !runtime::shutdown_requested(); ++k) {
-    hold_while_paused();
-    if (std::find(cfg_.fault_ticks.begin(), cfg_.fault_ticks.end(), k) != cfg_.fault_ticks.end()) ok = apply_faults(k);
-    ok = ok && run_phase(k, core::ClockPhase::Uav) && run_phase(k, core::ClockPhase::Place);
+    if (!uav_phase_run) {
+      hold_while_paused();
+      if (std::find(cfg_.fault_ticks.begin(), cfg_.fault_ticks.end(), k) != cfg_.fault_ticks.end()) {
+        ok = apply_faults(k);
+      }
+      ok = ok && run_phase(k, core::ClockPhase::Uav);
+    }
+    uav_phase_run = fuses_after(k, ticks);
+    ok = ok && run_phase(k, core::ClockPhase::Place, uav_phase_run);
     progress_if_due();
     service();
   }
@@ -90,15 +97,28 @@ bool GroundApp::await_last_fields(uint32_t ticks) {
   return true;
 }
 
-bool GroundApp::run_phase(uint32_t tick, core::ClockPhase phase) {
+bool GroundApp::fuses_after(uint32_t tick, uint32_t ticks) const {
+  // Not after the last tick, not before a tick with faults (the launcher
+  // kills before its UAV phase), not while paused (the pause holds before a
+  // UAV phase), and never with standbys (the conductor would not).
+  const uint32_t next = tick + 1;
+  return next <= ticks && !cfg_.standby && !paused_ &&
+         std::find(cfg_.fault_ticks.begin(), cfg_.fault_ticks.end(), next) == cfg_.fault_ticks.end();
+}
+
+bool GroundApp::run_phase(uint32_t tick, core::ClockPhase phase, bool next_uav_phase) {
   book_.note_conducted(tick);
   poll();
   resend_.begin_tick();
   const auto t0 = Clock::now();
-  resend_.clock(conductor_.begin_phase(tick, phase, t0));
+  resend_.clock(conductor_.begin_phase(tick, phase, t0, next_uav_phase));
   for (;;) {
     poll();
     const auto st = conductor_.status(Clock::now());
+    // A fused place phase goes on as the next tick's UAV phase.
+    if (conductor_.tick() != tick) book_.note_conducted(conductor_.tick());
+    tick = conductor_.tick();
+    phase = conductor_.phase();
     if (st.complete) {
       log_->debug("lockstep tick {} {} phase: {} ms", tick, phase_name(phase),
                   std::chrono::duration_cast<std::chrono::milliseconds>(Clock::now() - t0).count());

@@ -148,6 +148,7 @@ class PlaceApp {
   // UAVs it serves, and their reports to the conductor. Called from every
   // lockstep wait, so neither waits while this place agent runs a phase.
   void relay_clock(const core::ClockMsg& c);
+  void relay_one_clock(const core::ClockMsg& c);
   void relay_reports();
   void keep_tree();
   // Relays (docs/architecture.md, "Relays"): its UAVs' reports, detections

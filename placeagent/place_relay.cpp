@@ -41,6 +41,14 @@ void PlaceApp::relay_uplinks() {
 }
 
 void PlaceApp::relay_clock(const core::ClockMsg& c) {
+  // A place clock that begins the next UAV phase: its UAV clock goes down
+  // now, while this place agent runs its place phase (the UAVs wait for
+  // their views of it).
+  if (const auto uav = core::uav_clock_begun_by(c)) relay_one_clock(*uav);
+  relay_one_clock(c);
+}
+
+void PlaceApp::relay_one_clock(const core::ClockMsg& c) {
   const auto to = uav_clocks_.relays(c);
   if (!to.home && !to.backups) return;
   // A UAV needs no place phase's served UAVs (only the place agents do).

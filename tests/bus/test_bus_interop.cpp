@@ -298,6 +298,7 @@ TEST_P(Interop, EveryMessageArrivesIntact) {
   clk.deposits = {{0, 10}, {7, 20}};
   clk.absent = {2, 9};
   clk.states = {{1, 3}, {6, 2}};
+  clk.next_uav_phase = true;
   ASSERT_TRUE(w_->publish_clock(clk));
   const auto clks = wait_for<core::ClockMsg>([&](auto& v) { r_->take_clock(v); });
   ASSERT_EQ(clks.size(), 1U);
@@ -315,6 +316,7 @@ TEST_P(Interop, EveryMessageArrivesIntact) {
   ASSERT_EQ(clks[0].states.size(), 2U);
   EXPECT_EQ(clks[0].states[1].region, 6U);
   EXPECT_EQ(clks[0].states[1].count, 2U);
+  EXPECT_TRUE(clks[0].next_uav_phase);
 
   // The writer joined as UAV 5, homed on 3: in the lockstep tree its report
   // goes to place agent 3's reader, not to the conductor's.

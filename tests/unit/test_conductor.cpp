@@ -99,6 +99,78 @@ TEST(Conductor, EachPhaseIsTimedFromItsClockToTheStatusThatFoundItComplete) {
   EXPECT_DOUBLE_EQ(c.phase_times().place_ms[0], 0.5);
 }
 
+TEST(Conductor, APlacePhaseThatBeginsTheNextUavPhaseCompletesWithBothAndTimesEachPart) {
+  C c(two_uavs_two_regions());
+  const auto t0 = C::Clock::time_point{} + 100s;
+  c.begin_phase(0, ClockPhase::Uav, t0);
+  c.on_phase_done(uav_done(0, 0, 1, {{1, 2}}));
+  c.on_phase_done(uav_done(1, 0));
+  c.on_uav_state(0, 0, {0, 0});
+  c.on_uav_state(1, 0, {1, 0});
+  c.on_broadcast(0, 0);
+  ASSERT_TRUE(c.status(t0 + 4ms).complete);
+  // The place clock of tick 0 begins UAV phase 1: it announces what the UAV
+  // clock of tick 1 would (the one broadcast of tick 0, the UAVs over each
+  // tile), as well as the place phase's deposits.
+  const auto t1 = t0 + 10ms;
+  const ClockMsg fused = c.begin_phase(0, ClockPhase::Place, t1, /*next_uav_phase=*/true);
+  EXPECT_TRUE(fused.next_uav_phase);
+  EXPECT_EQ(fused.phase, static_cast<uint8_t>(ClockPhase::Place));
+  EXPECT_EQ(fused.tick, 0U);
+  EXPECT_EQ(fused.broadcasts, 1U);
+  ASSERT_EQ(fused.occupancy.size(), 2U);
+  ASSERT_EQ(fused.deposits.size(), 1U);
+  EXPECT_EQ(fused.deposits[0].count, 2U);
+  EXPECT_EQ(c.phase(), ClockPhase::Place);
+  // UAV 0 got its view early and reports tick 1 while region 1 still works on tick 0.
+  c.on_phase_done(uav_done(0, 1));
+  c.on_uav_state(0, 1, {0, 0});
+  c.on_phase_done(place_done(0, 0));
+  auto s = c.status(t1 + 5ms);
+  EXPECT_FALSE(s.complete);
+  EXPECT_EQ(s.waiting, 1U) << "region 1's place phase";
+  EXPECT_EQ(c.phase(), ClockPhase::Place);
+  c.on_phase_done(place_done(1, 0));
+  s = c.status(t1 + 6ms);
+  EXPECT_FALSE(s.complete) << "the UAV phase of tick 1 is not: uav 1 has not reported it";
+  EXPECT_EQ(s.waiting, 1U);
+  EXPECT_EQ(c.phase(), ClockPhase::Uav) << "what is under way now is UAV phase 1";
+  EXPECT_EQ(c.tick(), 1U);
+  c.on_phase_done(uav_done(1, 1, 0, {{0, 3}}));
+  EXPECT_FALSE(c.status(t1 + 8ms).complete) << "and its state";
+  c.on_uav_state(1, 1, {1, 0});
+  ASSERT_TRUE(c.status(t1 + 9ms).complete);
+  // Each part timed: the place phase from its clock, the UAV phase from the
+  // place phase's end, so that they add up to the tick's time.
+  ASSERT_EQ(c.phase_times().place_ms.size(), 1U);
+  EXPECT_DOUBLE_EQ(c.phase_times().place_ms[0], 6.0);
+  ASSERT_EQ(c.phase_times().uav_ms.size(), 2U);
+  EXPECT_DOUBLE_EQ(c.phase_times().uav_ms[1], 3.0);
+  // The place phase of tick 1 announces what UAV phase 1 reported.
+  const ClockMsg place1 = c.begin_phase(1, ClockPhase::Place, t1 + 10ms);
+  EXPECT_FALSE(place1.next_uav_phase);
+  ASSERT_EQ(place1.deposits.size(), 1U);
+  EXPECT_EQ(place1.deposits[0].region, 0U);
+  EXPECT_EQ(place1.deposits[0].count, 3U);
+  EXPECT_EQ(place1.served.size(), 2U);
+}
+
+TEST(LockstepConductorStandby, APlacePhaseWithStandbysDoesNotBeginTheNextUavPhase) {
+  C::Options o = two_uavs_two_regions();
+  o.standbys = 1;
+  C c(o);
+  const auto t0 = C::Clock::time_point{} + 100s;
+  const ClockMsg m = c.begin_phase(0, ClockPhase::Place, t0, /*next_uav_phase=*/true);
+  EXPECT_FALSE(m.next_uav_phase) << "a standby may still take the inputs of its place phase when the UAVs act";
+  for (uint16_t rep : {0, 1}) {
+    for (RegionId r : {0U, 1U}) {
+      c.on_phase_done({process_key(kRolePlace, place_id(r, rep)), 0, static_cast<uint8_t>(ClockPhase::Place), 0, {}});
+    }
+  }
+  EXPECT_TRUE(c.status(t0).complete);
+  EXPECT_EQ(c.phase(), ClockPhase::Place);
+}
+
 TEST(Conductor, ALatePhaseDoneIsWaitedForAndAnOldOneDoesNotCount) {
   C c(two_uavs_two_regions());
   const auto t0 = C::Clock::time_point{} + 100s;

@@ -169,5 +169,40 @@ TEST(UavClockRelay, EachUavHearsOneClockATickFromItsHomeAndItsBackupOnlyWhatItNe
   EXPECT_EQ(to(relay.relays(clock_of(5, ClockPhase::Stop))), "home/backups");
 }
 
+TEST(UavClockRelay, APlaceClockThatBeginsTheNextUavPhaseGivesTheUavsThatClockFromTheSameWriter) {
+  ClockMsg place = clock_of(4, ClockPhase::Place, 9, {2});
+  EXPECT_FALSE(uav_clock_begun_by(place)) << "a place clock on its own begins nothing";
+  place.next_uav_phase = true;
+  place.broadcasts = 3;
+  place.occupancy = {{{1, 2}, 5}};
+  place.deposits = {{0, 8}};
+  place.served = {ServedUav{}};
+  const auto uav = uav_clock_begun_by(place);
+  ASSERT_TRUE(uav);
+  EXPECT_EQ(uav->tick, 5U);
+  EXPECT_EQ(uav->phase, static_cast<uint8_t>(ClockPhase::Uav));
+  EXPECT_EQ(uav->broadcasts, 3U);
+  ASSERT_EQ(uav->occupancy.size(), 1U);
+  EXPECT_EQ(uav->occupancy[0].count, 5U);
+  EXPECT_EQ(uav->absent, (std::vector<RegionId>{2}));
+  EXPECT_EQ(uav->writer, 9U) << "the conductor latched by the follower";
+  EXPECT_TRUE(uav->deposits.empty() && uav->served.empty()) << "the place phase's, not a UAV's";
+  EXPECT_FALSE(uav->next_uav_phase);
+  // A UAV follower runs it as UAV phase 5, and the place clock not at all.
+  auto f = uav_follower(F::Clock::time_point{} + 1s);
+  std::vector<ClockMsg> taken{clock_of(0, ClockPhase::Ready, 9), place, *uav};
+  EXPECT_TRUE(f.offer(taken, F::Clock::time_point{} + 2s).empty());
+  f.done(0);
+  const auto next = f.next_phase();
+  ASSERT_TRUE(next);
+  EXPECT_EQ(next->tick, 5U);
+  EXPECT_EQ(next->phase, static_cast<uint8_t>(ClockPhase::Uav));
+  EXPECT_FALSE(f.next_phase());
+  // A UAV clock that carries the flag (no conductor writes one) begins nothing.
+  ClockMsg odd = clock_of(4, ClockPhase::Uav);
+  odd.next_uav_phase = true;
+  EXPECT_FALSE(uav_clock_begun_by(odd));
+}
+
 }  // namespace
 }  // namespace pheromesh::core

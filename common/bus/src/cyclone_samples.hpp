@@ -426,6 +426,7 @@ struct Convert<core::ClockMsg> {
     borrow(s.absent, absent);
     borrow(s.states, states);
     borrow(s.served, served);
+    s.next_uav_phase = m.next_uav_phase;
     return write(&s);
   }
   static std::optional<core::ClockMsg> in(const Sample& s) {
@@ -438,6 +439,7 @@ struct Convert<core::ClockMsg> {
     c.tick = s.tick;
     c.phase = s.phase;
     c.broadcasts = s.broadcasts;
+    c.next_uav_phase = s.next_uav_phase;
     c.deposits = region_counts_in(s.deposits);
     c.absent = seq_in<core::RegionId>(s.absent);
     c.states = region_counts_in(s.states);

@@ -462,6 +462,7 @@ struct Convert<core::ClockMsg> {
       served.push_back(o);
     }
     s.served(std::move(served));
+    s.next_uav_phase(m.next_uav_phase);
     return s;
   }
   static std::optional<core::ClockMsg> in(const Sample& s) {
@@ -474,6 +475,7 @@ struct Convert<core::ClockMsg> {
     c.tick = s.tick();
     c.phase = s.phase();
     c.broadcasts = s.broadcasts();
+    c.next_uav_phase = s.next_uav_phase();
     c.deposits = region_counts_in(s.deposits());
     c.absent.assign(s.absent().begin(), s.absent().end());
     c.states = region_counts_in(s.states());

@@ -119,16 +119,43 @@ bool LockstepConductor::gone_for_good(uint32_t uav, Clock::time_point now) const
   return now - since > o_.departed_grace;
 }
 
-ClockMsg LockstepConductor::begin_phase(uint32_t tick, ClockPhase phase, Clock::time_point now) {
+ClockMsg LockstepConductor::begin_phase(uint32_t tick, ClockPhase phase, Clock::time_point now, bool next_uav_phase) {
   tick_ = tick;
   phase_ = phase;
   deadline_ = now + (phase == ClockPhase::Ready ? o_.start_timeout : o_.phase_timeout);
   begun_at_ = now;
   timed_ = false;
+  next_uav_phase_ = next_uav_phase && phase == ClockPhase::Place && o_.standbys == 0;
   // The UAV phase just completed: what it reported for absent regions is lost.
   if (phase == ClockPhase::Place) deposits_lost_ += std::exchange(lost_this_tick_, 0);
   if (phase == ClockPhase::Uav) lost_this_tick_ = 0;
-  return announce(tick, phase);
+  ClockMsg m = announce(tick, phase);
+  if (next_uav_phase_) {
+    // What the UAV clock of tick+1 announces (a UAV waits for the broadcasts
+    // of `tick` it lists), on this clock.
+    ClockMsg uav = announce(tick + 1, ClockPhase::Uav);
+    m.next_uav_phase = true;
+    m.broadcasts = uav.broadcasts;
+    m.occupancy = std::move(uav.occupancy);
+  }
+  return m;
+}
+
+void LockstepConductor::turn_to_next_uav_phase(Clock::time_point now) {
+  next_uav_phase_ = false;
+  tick_ += 1;
+  phase_ = ClockPhase::Uav;
+  deadline_ = now + o_.phase_timeout;
+  begun_at_ = now;
+  timed_ = false;
+  lost_this_tick_ = 0;
+}
+
+void LockstepConductor::record_time(Clock::time_point now) {
+  if (timed_) return;
+  timed_ = true;
+  (phase_ == ClockPhase::Uav ? times_.uav_ms : times_.place_ms)
+      .push_back(std::chrono::duration<double, std::milli>(now - begun_at_).count());
 }
 
 ClockMsg LockstepConductor::stop(uint32_t ticks) {
@@ -274,17 +301,19 @@ uint32_t LockstepConductor::tally_uav_reports(Clock::time_point now) {
 
 LockstepConductor::Status LockstepConductor::status(Clock::time_point now) {
   if (phase_ == ClockPhase::Ready) return ready_status(now);
-  const bool uav_phase = phase_ == ClockPhase::Uav;
+  if (next_uav_phase_ && not_reported(now) == 0) {
+    // The place phase is complete; the UAV phase it began goes on (its
+    // reports may all be here already).
+    record_time(now);
+    turn_to_next_uav_phase(now);
+  }
   Status s;
   s.waiting = not_reported(now);
-  if (s.waiting == 0 && uav_phase) s.waiting = tally_uav_reports(now);
-  s.complete = s.waiting == 0;
+  if (s.waiting == 0 && phase_ == ClockPhase::Uav) s.waiting = tally_uav_reports(now);
+  // A fused place phase is complete with the UAV phase after it.
+  s.complete = s.waiting == 0 && !next_uav_phase_;
   s.timed_out = !s.complete && now > deadline_;
-  if (s.complete && !timed_) {
-    timed_ = true;
-    (uav_phase ? times_.uav_ms : times_.place_ms)
-        .push_back(std::chrono::duration<double, std::milli>(now - begun_at_).count());
-  }
+  if (s.complete) record_time(now);
   return s;
 }
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <map>
+#include <optional>
 
 namespace pheromesh::core {
 
@@ -51,6 +52,18 @@ std::optional<uint32_t> LockstepFollower::absent_since(RegionId r) const {
   auto it = absent_.find(r);
   if (it == absent_.end()) return std::nullopt;
   return it->second;
+}
+
+std::optional<ClockMsg> uav_clock_begun_by(const ClockMsg& c) {
+  if (!c.next_uav_phase || c.phase != static_cast<uint8_t>(ClockPhase::Place)) return std::nullopt;
+  ClockMsg u;
+  u.tick = c.tick + 1;
+  u.phase = static_cast<uint8_t>(ClockPhase::Uav);
+  u.broadcasts = c.broadcasts;
+  u.occupancy = c.occupancy;
+  u.absent = c.absent;
+  u.writer = c.writer;
+  return u;
 }
 
 UavClockRelay::To UavClockRelay::relays(const ClockMsg& c) {

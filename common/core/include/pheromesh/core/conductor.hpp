@@ -144,14 +144,33 @@ class LockstepConductor {
 
   // --- the protocol
   // Starts phase `phase` of `tick` and returns the clock to publish.
-  ClockMsg begin_phase(uint32_t tick, ClockPhase phase, Clock::time_point now);
-  // Where the phase begun last stands at `now`.
+  //
+  // A place phase with `next_uav_phase` also begins the UAV phase of tick+1
+  // (ClockMsg::next_uav_phase): it announces what a UAV clock of tick+1
+  // would, each place agent relays that UAV clock at once, and a UAV acts on
+  // it as soon as its view of place tick `tick` is here, so a UAV no longer
+  // waits for the slowest place agent, nor for two more hops (the place
+  // agents' reports here, the UAV clock back down). status() is complete
+  // once the place phase and then that UAV phase are: the phase under way
+  // (tick(), phase()) turns into the UAV phase when the place phase
+  // completes. Only a swarm without standbys fuses (a standby may still be
+  // taking the inputs of its place phase when the primary has served the
+  // views, and a state of tick+1 must not reach it then); the caller does
+  // not fuse before a tick with faults (the launcher must kill before the
+  // UAV phase) nor while paused.
+  ClockMsg begin_phase(uint32_t tick, ClockPhase phase, Clock::time_point now, bool next_uav_phase = false);
+  // Where the phase under way stands at `now`.
   Status status(Clock::time_point now);
+  // The phase under way and its tick.
+  [[nodiscard]] uint32_t tick() const { return tick_; }
+  [[nodiscard]] ClockPhase phase() const { return phase_; }
   // The clock that ends the run after `ticks`.
   [[nodiscard]] static ClockMsg stop(uint32_t ticks);
 
   // Where the conducted time went: for every UAV and place phase, the time
-  // from begin_phase to the first status that found it complete [ms].
+  // from begin_phase to the first status that found it complete [ms]. A UAV
+  // phase begun with a place phase is timed from that place phase's end, so
+  // that a tick's UAV and place times add up to its time.
   struct PhaseTimes {
     std::vector<double> uav_ms;
     std::vector<double> place_ms;
@@ -163,6 +182,10 @@ class LockstepConductor {
 
  private:
   [[nodiscard]] ClockMsg announce(uint32_t tick, ClockPhase phase) const;
+  // The place phase of a fused pair is complete: the UAV phase of the next
+  // tick is the phase under way from `now`.
+  void turn_to_next_uav_phase(Clock::time_point now);
+  void record_time(Clock::time_point now);
   void keep_recent();
 
   [[nodiscard]] bool waited_for_uav(uint32_t uav, Clock::time_point now) const {
@@ -179,7 +202,8 @@ class LockstepConductor {
   Options o_;
   PhaseTimes times_;
   Clock::time_point begun_at_{};
-  bool timed_ = false;  // the phase begun last is complete and its time recorded
+  bool timed_ = false;           // the phase under way is complete and its time recorded
+  bool next_uav_phase_ = false;  // the place phase under way began the next tick's UAV phase
   uint32_t tick_ = 0;
   ClockPhase phase_ = ClockPhase::Uav;
   Clock::time_point deadline_{};

@@ -79,6 +79,13 @@ class LockstepFollower {
   std::map<RegionId, uint32_t> absent_;
 };
 
+// The UAV clock of tick k+1 that a place clock of tick k begins
+// (ClockMsg::next_uav_phase; LockstepConductor::begin_phase), as the
+// conductor would have sent it: its broadcasts, occupancy and absent
+// regions, from the same writer. Nothing for any other clock. A place agent
+// relays it to the UAVs it serves as it accepts the place clock.
+std::optional<ClockMsg> uav_clock_begun_by(const ClockMsg& c);
+
 // Which clocks a place agent relays to the UAVs it serves (the lockstep
 // tree), so that a UAV hears one clock a tick, not four:
 //  * to the UAVs homed on it: Ready, UAV and Stop clocks; a Place-phase

@@ -349,6 +349,12 @@ struct ClockMsg {
   // from it which tiles every other region's views need and which
   // neighbours to show; no place agent sends its served UAVs to the others.
   std::vector<ServedUav> served;
+  // Place phase k: the UAV phase k+1 begins with it (the conductor does not
+  // wait for every place agent's report before it: LockstepConductor::
+  // begin_phase); `broadcasts` and `occupancy` are that UAV phase's. Each
+  // place agent relays the UAV clock (uav_clock_begun_by) at once, and a UAV
+  // acts on it once its view of place tick k is here.
+  bool next_uav_phase = false;
   // Not on the wire: who wrote the sample, as the receiving bus identifies
   // the DDS writer (Cyclone: its publication handle; Fast DDS: its GUID,
   // folded). A forger can copy every field but not this (plausibility.hpp).
