@@ -149,6 +149,7 @@ class PlaceApp {
   // lockstep wait, so neither waits while this place agent runs a phase.
   void relay_clock(const core::ClockMsg& c);
   void relay_one_clock(const core::ClockMsg& c);
+  void relay_uav_clock_after_views(uint32_t tick);
   void relay_reports();
   void keep_tree();
   // Relays (docs/architecture.md, "Relays"): its UAVs' reports, detections
@@ -172,6 +173,8 @@ class PlaceApp {
   runtime::SampleAudit audit_;       // received samples dropped and refused (deposits and rings: core_)
   core::LockstepFollower follower_;  // lockstep: the conductor's clock, the phases to run
   core::UavClockRelay uav_clocks_;   // which of them go on to the UAVs served
+  // The UAV clock a place clock began, relayed after this place phase's views.
+  std::optional<core::ClockMsg> uav_clock_after_views_;
   core::PlaceCore core_;
   double rate_ = 0.0;
   core::TickGaps gaps_;  // realtime: gaps between tick starts (reported in the health)

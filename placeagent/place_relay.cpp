@@ -41,11 +41,27 @@ void PlaceApp::relay_uplinks() {
 }
 
 void PlaceApp::relay_clock(const core::ClockMsg& c) {
-  // A place clock that begins the next UAV phase: its UAV clock goes down
-  // now, while this place agent runs its place phase (the UAVs wait for
-  // their views of it).
-  if (const auto uav = core::uav_clock_begun_by(c)) relay_one_clock(*uav);
+  // A place clock that begins the next UAV phase: a UAV acts on its UAV
+  // clock once it holds its view of this place tick, so the clock goes down
+  // right after the views (relay_uav_clock_after_views): the UAV wakes once
+  // for both, not for the clock and again for its view. Once this place
+  // phase is done (a re-send), at once.
+  if (auto uav = core::uav_clock_begun_by(c)) {
+    const auto done = follower_.last_done();
+    if (done && *done >= c.tick) {
+      relay_one_clock(*uav);
+    } else {
+      uav_clock_after_views_ = std::move(uav);
+    }
+  }
   relay_one_clock(c);
+}
+
+void PlaceApp::relay_uav_clock_after_views(uint32_t tick) {
+  // The UAV clock of the tick after this place phase's, or an older one.
+  if (!uav_clock_after_views_ || uav_clock_after_views_->tick > tick + 1) return;
+  relay_one_clock(*uav_clock_after_views_);
+  uav_clock_after_views_.reset();
 }
 
 void PlaceApp::relay_one_clock(const core::ClockMsg& c) {

@@ -90,6 +90,7 @@ void PlaceApp::step(uint32_t tick, std::optional<TickDemand> demand) {
   tiles_out_.clear();
   core_.tiles(tick, core::PlaceCore::TileSelection::All, tiles_out_);
   serve_views(tick);
+  relay_uav_clock_after_views(tick);  // lockstep: the UAV phase this place clock began
 }
 
 }  // namespace pheromesh::placeagent

@@ -8,6 +8,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <map>
@@ -76,6 +77,8 @@ int fly_one_tick() {
   conductor->subscribe_health();
   auto uav = bus::make_memory_bus(domain);
   uav->join_uav(0, 0);
+  const std::vector<core::RegionId> gateways{0, 0};
+  uav->join_clock_tree(gateways);
   PlaceConfig cfg;
   cfg.common.clock = "lockstep";
   std::atomic<int> rc{-1};
@@ -118,9 +121,24 @@ int fly_one_tick() {
   place_phase.deposits = {{0, 1}};
   place_phase.states = {{0, 1}};
   place_phase.served = {{0, 0, st.x, st.y, 0.0, 0.0, 0, 0, start}};
+  // ... which begins UAV phase 1 (the conductor waits for no place report
+  // before it): the place agent relays that UAV clock, after the view.
+  place_phase.next_uav_phase = true;
+  place_phase.broadcasts = 0;
   conductor->publish_clock(place_phase);
-  if (!done_of(*conductor, 0, core::ClockPhase::Place)) return stop(12);
+  std::vector<core::ClockMsg> clocks;
+  const auto uav_clock_1 = [&] {
+    return std::any_of(clocks.begin(), clocks.end(), [](const core::ClockMsg& c) {
+      return c.tick == 1 && c.phase == static_cast<uint8_t>(core::ClockPhase::Uav);
+    });
+  };
+  if (!await(
+          *uav, bus::TopicKind::RelayedClock, [&] { uav->take_clock(clocks); }, uav_clock_1))
+    return stop(20);
   std::vector<core::ViewMsg> views;
+  uav->take_views(views);
+  if (views.empty() || views.back().tick != 0) return stop(21);  // written before the clock
+  if (!done_of(*conductor, 0, core::ClockPhase::Place)) return stop(12);
   if (!await(
           *uav, bus::TopicKind::View, [&] { uav->take_views(views); },
           [&] { return !views.empty() && views.back().tick == 0; })) {
