@@ -140,10 +140,11 @@ void PlaceApp::take_home_states(uint32_t tick) {
     ++states_relayed_;
   }
   take_departures();
-  if (!relayed_.empty()) bus_->relay_states(relayed_, cfg_.region, cfg_.replica, tick);
-  // After the states: the conductor's UAV phase is complete when the last
-  // report is here, and it has the states by then.
-  for (const auto& m : reports_out_) bus_->publish_phase_done(m);
+  // The reports with the states, in one sample: the conductor's UAV phase
+  // is complete when the last report is here, and it has the states by then.
+  if (!relayed_.empty() || !reports_out_.empty()) {
+    bus_->relay_states(relayed_, cfg_.region, cfg_.replica, tick, reports_out_);
+  }
   reports_relayed_ += reports_out_.size();
   reports_out_.clear();
 }

@@ -128,7 +128,10 @@ TEST_P(Interop, EveryMessageArrivesIntact) {
   gone.uav = 6;
   gone.departed = true;
   gone.deposits.clear();
-  ASSERT_TRUE(w_->relay_states(std::vector<core::UavStateMsg>{gone}, 3, 0, 41));
+  // With it, the gateway's report of UAV 5's phase of tick 12 (lockstep).
+  const core::PhaseDoneMsg report{
+      core::process_key(core::kRoleUav, 5), 12, static_cast<uint8_t>(core::ClockPhase::Uav), 1, {{3, 2}, {9, 1}}};
+  ASSERT_TRUE(w_->relay_states(std::vector<core::UavStateMsg>{gone}, 3, 0, 41, std::vector{report}));
   const auto states = wait_for<core::UavStateMsg>([&](auto& v) { r_->take_uav_states(v); }, 2);
   ASSERT_EQ(states.size(), 2U);
   // `uplink`: a state on the UavState topics carries its deposits; nested
@@ -188,6 +191,20 @@ TEST_P(Interop, EveryMessageArrivesIntact) {
   ASSERT_EQ(departed.size(), 1U);
   EXPECT_EQ(departed[0].uav, 6U);
   EXPECT_EQ(departed[0].last_tick, std::optional<uint32_t>{12}) << "the relay's last state of it";
+  // The report came in the departure's batch: it is taken as a PhaseDone,
+  // stamped with the relaying process (judged by it, sender_judge.hpp).
+  std::vector<core::PhaseDoneMsg> relayed;
+  r_->take_phase_done(relayed);
+  ASSERT_EQ(relayed.size(), 1U);
+  EXPECT_EQ(relayed[0].process, report.process);
+  EXPECT_EQ(relayed[0].tick, 12U);
+  EXPECT_EQ(relayed[0].phase, static_cast<uint8_t>(core::ClockPhase::Uav));
+  EXPECT_EQ(relayed[0].broadcasts, 1U);
+  ASSERT_EQ(relayed[0].deposits.size(), 2U);
+  EXPECT_EQ(relayed[0].deposits[1].region, 9U);
+  EXPECT_EQ(relayed[0].deposits[1].count, 1U);
+  EXPECT_NE(relayed[0].participant, 0U);
+  EXPECT_EQ(relayed[0].participant, departed[0].participant);
 
   // A view, to UAV 5 only, and a field chunk: nested tiles and states.
   core::ViewMsg view{5, 33, {tile, core::TileMsg{1, {3, 5}, 0, 0, 1, 2, {4.5F, -1.0F}}}, {st, st}};

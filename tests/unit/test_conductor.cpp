@@ -183,6 +183,10 @@ TEST(Conductor, ALatePhaseDoneIsWaitedForAndAnOldOneDoesNotCount) {
   EXPECT_EQ(s.waiting, 1U);
   c.on_phase_done(place_done(1, 3));  // late, within the timeout
   EXPECT_TRUE(c.status(t0 + 59s).complete);
+  // A report of an older tick does not replace a newer one (a lagging
+  // replica's copy of a gateway's report comes after the other's next one).
+  c.on_phase_done(place_done(1, 2));
+  EXPECT_TRUE(c.status(t0 + 59s).complete);
   // A UAV phase report does not complete a place phase of the same tick.
   c.begin_phase(4, ClockPhase::Place, t0);
   c.on_phase_done(place_done(0, 4));

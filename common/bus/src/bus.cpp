@@ -6,6 +6,7 @@
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
+#include <iterator>
 #include <optional>
 #include <utility>
 
@@ -79,6 +80,7 @@ struct Bus::Roles {
 
   std::vector<uint32_t> departed_uavs;  // a place agent's home UAVs, as its reader saw them
   std::vector<core::UavDeparture> relayed_departures;  // the ground station's, as the place agents relayed them
+  std::vector<core::PhaseDoneMsg> relayed_reports;     // the ground station's, relayed with the states
   std::vector<uint32_t> departed_regions;  // core::place_id
 };
 
@@ -150,20 +152,27 @@ bool Bus::relay_command(const core::CommandMsg& m) {
   if (!roles_->relay_for) throw BusMisuse("relay_command before subscribe_uplinks");
   return roles_->commands.write(m, command_downlink_partition(*roles_->relay_for));
 }
-bool Bus::relay_states(std::span<const core::UavStateMsg> states, core::RegionId own, uint16_t replica,
-                       uint32_t tick) {
-  // One sample per kMaxFieldUavs states (one in any swarm the bounds allow a
-  // place agent to serve), not one per state.
+bool Bus::relay_states(std::span<const core::UavStateMsg> states, core::RegionId own, uint16_t replica, uint32_t tick,
+                       std::span<const core::PhaseDoneMsg> reports) {
+  // One sample per kMaxFieldUavs states and reports (one in any swarm the
+  // bounds allow a place agent to serve), not one per state and report;
+  // each report in the sample of its state or after it.
   bool ok = true;
-  for (std::size_t first = 0; first < states.size(); first += core::kMaxFieldUavs) {
-    const std::size_t n = std::min(core::kMaxFieldUavs, states.size() - first);
+  std::size_t state = 0, report = 0;
+  while (state < states.size() || report < reports.size()) {
+    const std::size_t n = std::min(core::kMaxFieldUavs, states.size() - state);
+    const std::size_t r = state + n < states.size() ? 0 : std::min(core::kMaxFieldUavs, reports.size() - report);
     core::FieldMsg batch;
     batch.region = own;
     batch.chunks = 1;
     batch.tick = tick;
     batch.replica = replica;
-    batch.uavs.assign(states.begin() + static_cast<std::ptrdiff_t>(first),
-                      states.begin() + static_cast<std::ptrdiff_t>(first + n));
+    batch.uavs.assign(states.begin() + static_cast<std::ptrdiff_t>(state),
+                      states.begin() + static_cast<std::ptrdiff_t>(state + n));
+    batch.reports.assign(reports.begin() + static_cast<std::ptrdiff_t>(report),
+                         reports.begin() + static_cast<std::ptrdiff_t>(report + r));
+    state += n;
+    report += r;
     ok = roles_->ground_states.write(batch, kGroundPartition) && ok;
   }
   return ok;
@@ -363,7 +372,13 @@ void Bus::take_uplink_broadcasts(std::vector<core::BroadcastMsg>& out) {
 void Bus::take_target_events(std::vector<core::TargetEventMsg>& out) { take_from(*transport_, roles_->event_in, out); }
 void Bus::take_broadcasts(std::vector<core::BroadcastMsg>& out) { take_from(*transport_, roles_->broadcast_in, out); }
 void Bus::take_clock(std::vector<core::ClockMsg>& out) { take_from(*transport_, roles_->clock_in, out); }
-void Bus::take_phase_done(std::vector<core::PhaseDoneMsg>& out) { take_from(*transport_, roles_->done_in, out); }
+void Bus::take_phase_done(std::vector<core::PhaseDoneMsg>& out) {
+  take_from(*transport_, roles_->done_in, out);
+  // Those relayed with the states (take_uav_states, which the ground station calls first).
+  out.insert(out.end(), std::make_move_iterator(roles_->relayed_reports.begin()),
+             std::make_move_iterator(roles_->relayed_reports.end()));
+  roles_->relayed_reports.clear();
+}
 void Bus::take_uav_reports(std::vector<core::PhaseDoneMsg>& out) { take_from(*transport_, roles_->reports_in, out); }
 void Bus::take_commands(std::vector<core::CommandMsg>& out) { take_from(*transport_, roles_->command_in, out); }
 void Bus::take_scenarios(std::vector<core::ScenarioMsg>& out) { take_from(*transport_, roles_->scenario_in, out); }
@@ -381,6 +396,12 @@ void Bus::take_uav_states(std::vector<core::UavStateMsg>& out) {
     relayed_batches_.clear();
     roles_->ground_states_in->take(relayed_batches_);
     for (auto& batch : relayed_batches_) {
+      // The gateway's reports of its UAVs' phase: taken with the PhaseDone
+      // samples (take_phase_done), judged by who relayed them.
+      for (auto& r : batch.reports) {
+        r.participant = batch.participant;
+        roles_->relayed_reports.push_back(std::move(r));
+      }
       for (auto& st : batch.uavs) {
         st.participant = batch.participant;  // the relaying place agent's process
         if (st.departed) {

@@ -261,6 +261,39 @@ struct Convert<core::ViewMsg> {
   }
 };
 
+// A gateway's reports of its UAVs' UAV phase (FieldMsg::reports) as
+// UavReport samples, and the buffers they point into.
+struct ReportsOut {
+  explicit ReportsOut(const std::vector<core::PhaseDoneMsg>& reports) {
+    deposits.reserve(reports.size());
+    for (const auto& r : reports) deposits.push_back(region_counts_out(r.deposits));
+    out.reserve(reports.size());
+    for (std::size_t i = 0; i < reports.size(); ++i) {
+      pheromesh_msg_UavReport u{};
+      u.uav = reports[i].process & core::kProcessIdMask;
+      u.tick = reports[i].tick;
+      u.broadcasts = reports[i].broadcasts;
+      borrow(u.deposits, deposits[i]);
+      out.push_back(u);
+    }
+  }
+  std::vector<std::vector<pheromesh_msg_RegionCount>> deposits;
+  std::vector<pheromesh_msg_UavReport> out;
+};
+
+// False (the sample is malformed) if a report is over a bound.
+inline bool reports_in(const dds_sequence_pheromesh_msg_UavReport& s, std::vector<core::PhaseDoneMsg>& out) {
+  if (!seq_ok(s, core::kMaxFieldUavs)) return false;
+  out.reserve(s._length);
+  for (uint32_t i = 0; i < s._length; ++i) {
+    const auto& r = s._buffer[i];
+    if (!seq_ok(r.deposits, core::kMaxRegionCounts) || r.uav > core::kProcessIdMask) return false;
+    out.push_back({core::process_key(core::kRoleUav, r.uav), r.tick, static_cast<uint8_t>(core::ClockPhase::Uav),
+                   r.broadcasts, region_counts_in(r.deposits)});
+  }
+  return true;
+}
+
 template <>
 struct Convert<core::FieldMsg> {
   using Sample = pheromesh_msg_RegionField;
@@ -268,6 +301,7 @@ struct Convert<core::FieldMsg> {
   template <typename Write>
   static bool out(const core::FieldMsg& m, Write&& write) {
     const NestedOut nested(m.tiles, m.uavs);
+    const ReportsOut reports(m.reports);
     Sample s{};
     s.region = m.region;
     s.chunk = m.chunk;
@@ -276,6 +310,7 @@ struct Convert<core::FieldMsg> {
     s.replica = m.replica;
     borrow(s.tiles, nested.patches);
     borrow(s.uavs, nested.states);
+    borrow(s.reports, reports.out);
     return write(&s);
   }
   static std::optional<core::FieldMsg> in(const Sample& s) {
@@ -287,6 +322,7 @@ struct Convert<core::FieldMsg> {
     f.replica = s.replica;
     if (!nested_in(s, core::kMaxFieldTiles, core::kMaxFieldUavs, f.tick, f.region, f.tiles, f.uavs))
       return std::nullopt;
+    if (!reports_in(s.reports, f.reports)) return std::nullopt;
     return f;
   }
 };

@@ -281,6 +281,33 @@ struct Convert<core::ViewMsg> {
   }
 };
 
+// A gateway's reports of its UAVs' UAV phase (FieldMsg::reports) as UavReport.
+inline std::vector<msg::UavReport> reports_out(const std::vector<core::PhaseDoneMsg>& reports) {
+  std::vector<msg::UavReport> out;
+  out.reserve(reports.size());
+  for (const auto& r : reports) {
+    msg::UavReport u;
+    u.uav(r.process & core::kProcessIdMask);
+    u.tick(r.tick);
+    u.broadcasts(r.broadcasts);
+    u.deposits(region_counts_out(r.deposits));
+    out.push_back(std::move(u));
+  }
+  return out;
+}
+
+// False (the sample is malformed) if a report is over a bound.
+inline bool reports_in(const std::vector<msg::UavReport>& v, std::vector<core::PhaseDoneMsg>& out) {
+  if (v.size() > core::kMaxFieldUavs) return false;
+  out.reserve(v.size());
+  for (const auto& r : v) {
+    if (!region_counts_ok(r.deposits()) || r.uav() > core::kProcessIdMask) return false;
+    out.push_back({core::process_key(core::kRoleUav, r.uav()), r.tick(), static_cast<uint8_t>(core::ClockPhase::Uav),
+                   r.broadcasts(), region_counts_in(r.deposits())});
+  }
+  return true;
+}
+
 template <>
 struct Convert<core::FieldMsg> {
   using Sample = msg::RegionField;
@@ -294,6 +321,7 @@ struct Convert<core::FieldMsg> {
     s.replica(m.replica);
     s.tiles(patches_out(m.tiles));
     s.uavs(states_out(m.uavs));
+    s.reports(reports_out(m.reports));
     return s;
   }
   static std::optional<core::FieldMsg> in(const Sample& s) {
@@ -304,6 +332,7 @@ struct Convert<core::FieldMsg> {
     f.tick = s.tick();
     f.replica = s.replica();
     if (!unpack(s, core::kMaxFieldTiles, core::kMaxFieldUavs, f.tick, f.region, f.tiles, f.uavs)) return std::nullopt;
+    if (!reports_in(s.reports(), f.reports)) return std::nullopt;
     return f;
   }
 };

@@ -104,7 +104,13 @@ void LockstepConductor::on_broadcast(uint32_t uav, uint32_t tick) {
   trim(broadcasters_);
 }
 
-void LockstepConductor::on_phase_done(const PhaseDoneMsg& m) { done_[m.process] = m; }
+void LockstepConductor::on_phase_done(const PhaseDoneMsg& m) {
+  // A report of an older tick does not replace a newer one: a lagging
+  // replica's copy of a gateway's report of a UAV's phase comes after the
+  // first replica's report of the next tick.
+  auto [it, fresh] = done_.try_emplace(m.process, m);
+  if (!fresh && m.tick >= it->second.tick) it->second = m;
+}
 
 bool LockstepConductor::on_uav_departed(uint32_t uav, Clock::time_point now) {
   if (dropped_.contains(uav)) return false;  // known: killed at a tick

@@ -167,6 +167,7 @@ std::size_t payload_bytes(const ViewMsg& m) {
 std::size_t payload_bytes(const FieldMsg& m) {
   std::size_t n = sizeof(m) + m.uavs.size() * sizeof(UavStateMsg);
   for (const auto& t : m.tiles) n += payload_bytes(t);
+  for (const auto& r : m.reports) n += payload_bytes(r);
   return n;
 }
 

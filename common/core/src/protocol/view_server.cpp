@@ -50,7 +50,7 @@ void ViewServer::update_served(const FieldMsg& f, uint32_t arrived) {
 void ViewServer::update_served(std::span<const ServedUav> served, uint32_t tick, std::span<const RegionId> regions,
                                uint32_t swarm, std::vector<std::string>& malformed) {
   std::map<RegionId, FieldMsg> by_region;
-  for (RegionId r : regions) by_region[r] = FieldMsg{r, 0, 1, tick, {}, {}, 0, 0};
+  for (RegionId r : regions) by_region[r] = FieldMsg{r, 0, 1, tick, {}, {}, 0, {}, 0};
   for (const ServedUav& u : served) {
     auto it = by_region.find(u.region);
     if (it == by_region.end()) continue;

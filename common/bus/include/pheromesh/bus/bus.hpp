@@ -183,8 +183,11 @@ class Bus {
   bool relay_detection(const core::DetectionMsg& m);      // to the ground station
   // To the ground station: the states (and departure notes) the place
   // agent of `own` (replica `replica`) admitted in one take, at its tick
-  // `tick`, in one sample (GroundState carries a FieldMsg of states only).
-  bool relay_states(std::span<const core::UavStateMsg> states, core::RegionId own, uint16_t replica, uint32_t tick);
+  // `tick`, in one sample (GroundState carries a FieldMsg of states only),
+  // and after them the lockstep reports it made of its UAVs' UAV phase
+  // (FieldMsg::reports; the ground station takes them with take_phase_done).
+  bool relay_states(std::span<const core::UavStateMsg> states, core::RegionId own, uint16_t replica, uint32_t tick,
+                    std::span<const core::PhaseDoneMsg> reports = {});
   bool relay_broadcast_up(const core::BroadcastMsg& m);   // to every place agent and the ground
   bool relay_broadcast_down(const core::BroadcastMsg& m); // to the UAVs it serves
   bool relay_command(const core::CommandMsg& m);          // to the UAVs it serves

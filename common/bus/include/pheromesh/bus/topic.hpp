@@ -114,6 +114,10 @@ struct Topic<core::FieldMsg> {
   static BoundCheck oversize(const core::FieldMsg& m) {
     if (auto o = detail::over("field tiles", m.tiles.size(), core::kMaxFieldTiles)) return o;
     if (auto o = detail::over("field states", m.uavs.size(), core::kMaxFieldUavs)) return o;
+    if (auto o = detail::over("field reports", m.reports.size(), core::kMaxFieldUavs)) return o;
+    for (const auto& r : m.reports) {
+      if (auto o = detail::over("field report deposits", r.deposits.size(), core::kMaxRegionCounts)) return o;
+    }
     return detail::tiles_over("field tile values", m.tiles);
   }
 };

@@ -98,6 +98,7 @@ class LockstepConductor {
   // A finished UAV's last state: it is back if it had departed, nothing else.
   bool on_uav_finished(uint32_t uav);
   void on_broadcast(uint32_t uav, uint32_t tick);
+  // A report of an older tick than the process's latest is not news.
   void on_phase_done(const PhaseDoneMsg& m);
   // The UAV's liveliness lapsed. Returns true the first time (until it is back).
   bool on_uav_departed(uint32_t uav, Clock::time_point now);

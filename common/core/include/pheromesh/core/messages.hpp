@@ -363,7 +363,8 @@ struct ClockMsg {
 inline constexpr uint32_t kRoleUav = 1;
 inline constexpr uint32_t kRolePlace = 2;
 inline constexpr uint32_t kRoleGround = 3;
-inline constexpr uint32_t process_key(uint32_t role, uint32_t id) { return role << 24U | (id & 0xFFFFFFU); }
+inline constexpr uint32_t kProcessIdMask = 0xFFFFFFU;  // the id bits of a process key
+inline constexpr uint32_t process_key(uint32_t role, uint32_t id) { return role << 24U | (id & kProcessIdMask); }
 struct PhaseDoneMsg {
   uint32_t process = 0;  // process_key(role, id)
   uint32_t tick = 0;
@@ -428,6 +429,11 @@ struct FieldMsg {
   std::vector<TileMsg> tiles;  // tick and region filled in
   std::vector<UavStateMsg> uavs;
   uint16_t replica = 0;  // the place replica that wrote it
+  // Relayed states (lockstep): the gateway's reports of its UAVs' UAV phase
+  // (core::UplinkReports), each a PhaseDoneMsg of role UAV and phase Uav,
+  // in the sample of the states they belong with: one sample up, not one
+  // per UAV. Bound kMaxFieldUavs.
+  std::vector<PhaseDoneMsg> reports;
   // Not on the wire: the writer's process (bus::SampleInfo::participant),
   // as the receiving bus names it; 0 if unknown or written by this process.
   uint64_t participant = 0;
