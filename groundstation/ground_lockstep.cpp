@@ -136,8 +136,9 @@ bool GroundApp::run_phase(uint32_t tick, core::ClockPhase phase, bool next_uav_p
       return false;
     }
     if (st.timed_out || runtime::shutdown_requested()) {
-      log_->error("lockstep tick {} {} phase: {} process(es) did not finish within {} s", tick,
-                  phase == core::ClockPhase::Uav ? "uav" : "place", st.waiting, cfg_.phase_timeout_s);
+      log_->error("lockstep tick {} {} phase: {} process(es) did not finish within {} s ({})", tick,
+                  phase == core::ClockPhase::Uav ? "uav" : "place", st.waiting, cfg_.phase_timeout_s,
+                  not_ready_list(st));
       return false;
     }
     progress_if_due();

@@ -54,9 +54,19 @@ int PlaceApp::run_realtime() {
 }
 
 bool PlaceApp::note_linked() {
+  // Every other region's place agent reads the deposits it forwards and the
+  // tiles it sends for their UAVs' views, and each neighbour its ring: a
+  // sample written to a reader not yet matched waits for the match and the
+  // writer's next heartbeat (1 s in a large swarm), and so would the first
+  // tick.
   if (!linked_) {
+    const auto& neighbours = core_.neighbours();
     linked_ = std::all_of(other_regions_.begin(), other_regions_.end(),
-                          [&](core::RegionId r) { return bus_->matched_deposit_readers(r) >= 1; });
+                          [&](core::RegionId r) {
+                            return bus_->matched_deposit_readers(r) >= 1 && bus_->matched_tile_readers(r) >= 1;
+                          }) &&
+              std::all_of(neighbours.begin(), neighbours.end(),
+                          [&](core::RegionId n) { return bus_->matched_halo_readers(cfg_.region, n) >= 1; });
   }
   return linked_;
 }
@@ -173,6 +183,7 @@ int PlaceApp::run() {
   // Lockstep: the place clock lists every region's served UAVs; no `p`.
   bus_->subscribe_place_exchange(cfg_.region, /*served=*/!cfg_.common.lockstep());
   bus_->subscribe_halos(core_.neighbours(), cfg_.region);
+  bus_->offer_halos(core_.neighbours(), cfg_.region);
   bus_->offer_deposits(other_regions_);
   bus_->offer_place_exchange(other_regions_, /*served=*/!cfg_.common.lockstep());
   bus_->offer_views(home_uavs_);

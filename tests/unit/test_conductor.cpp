@@ -129,15 +129,19 @@ TEST(Conductor, APlacePhaseThatBeginsTheNextUavPhaseCompletesWithBothAndTimesEac
   auto s = c.status(t1 + 5ms);
   EXPECT_FALSE(s.complete);
   EXPECT_EQ(s.waiting, 1U) << "region 1's place phase";
+  EXPECT_EQ(s.regions_not_ready, std::vector<uint32_t>{1}) << "named in a phase that times out";
   EXPECT_EQ(c.phase(), ClockPhase::Place);
   c.on_phase_done(place_done(1, 0));
   s = c.status(t1 + 6ms);
   EXPECT_FALSE(s.complete) << "the UAV phase of tick 1 is not: uav 1 has not reported it";
   EXPECT_EQ(s.waiting, 1U);
+  EXPECT_EQ(s.uavs_not_ready, std::vector<uint32_t>{1});
   EXPECT_EQ(c.phase(), ClockPhase::Uav) << "what is under way now is UAV phase 1";
   EXPECT_EQ(c.tick(), 1U);
   c.on_phase_done(uav_done(1, 1, 0, {{0, 3}}));
-  EXPECT_FALSE(c.status(t1 + 8ms).complete) << "and its state";
+  s = c.status(t1 + 8ms);
+  EXPECT_FALSE(s.complete) << "and its state";
+  EXPECT_EQ(s.uavs_not_ready, std::vector<uint32_t>{1}) << "whose state is missing";
   c.on_uav_state(1, 1, {1, 0});
   ASSERT_TRUE(c.status(t1 + 9ms).complete);
   // Each part timed: the place phase from its clock, the UAV phase from the

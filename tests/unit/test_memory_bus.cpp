@@ -61,6 +61,26 @@ struct Gateways {
   std::unique_ptr<Bus> place1, place2, uav;
 };
 
+TEST_F(MemoryBus, APlaceAgentSeesItsTileAndRingReadersMatchedBeforeItWritesToThem) {
+  // What a place agent's Ready waits for besides its deposit readers
+  // (PlaceApp::note_linked): the other region's tiles reader and its
+  // neighbour's ring reader, counted on writers opened before flying.
+  auto place1 = make_memory_bus(domain_);
+  auto place2 = make_memory_bus(domain_);
+  const std::vector<core::RegionId> to2{2};
+  place1->offer_place_exchange(to2, /*served=*/false);
+  place1->offer_halos(to2, 1);
+  EXPECT_EQ(place1->matched_tile_readers(2), 0U);
+  EXPECT_EQ(place1->matched_halo_readers(1, 2), 0U);
+  place2->subscribe_place_exchange(2, /*served=*/false);
+  EXPECT_EQ(place1->matched_tile_readers(2), 1U);
+  EXPECT_EQ(place1->matched_halo_readers(1, 2), 0U) << "2 reads no ring of 1 yet";
+  const std::vector<core::RegionId> from1{1};
+  place2->subscribe_halos(from1, 2);
+  EXPECT_EQ(place1->matched_halo_readers(1, 2), 1U);
+  EXPECT_EQ(place1->matched_tile_readers(3), 0U) << "no writer for region 3";
+}
+
 TEST_F(MemoryBus, AUavsDepositsTravelInItsStateToItsHomeWhichForwardsThoseOfAnotherRegionToItsOwner) {
   auto uav = make_memory_bus(domain_);
   auto place1 = make_memory_bus(domain_);

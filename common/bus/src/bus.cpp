@@ -465,6 +465,18 @@ uint32_t Bus::matched_deposit_readers(core::RegionId region) const {
   return roles_->deposits.matched(region_partition(region));
 }
 
+uint32_t Bus::matched_tile_readers(core::RegionId home) const {
+  return roles_->place_fields.matched(tiles_for_partition(home));
+}
+
+uint32_t Bus::matched_halo_readers(core::RegionId own, core::RegionId neighbour) const {
+  return roles_->halos.matched(halo_partition(own, neighbour));
+}
+
+void Bus::offer_halos(std::span<const core::RegionId> neighbours, core::RegionId own) {
+  for (core::RegionId n : neighbours) roles_->halos.offer(halo_partition(own, n));
+}
+
 void Bus::offer_deposits(std::span<const core::RegionId> regions) {
   for (core::RegionId r : regions) roles_->deposits.offer(region_partition(r));
 }

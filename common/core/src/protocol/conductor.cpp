@@ -230,7 +230,7 @@ LockstepConductor::Status LockstepConductor::ready_status(Clock::time_point now)
   return s;
 }
 
-uint32_t LockstepConductor::not_reported(Clock::time_point now) const {
+uint32_t LockstepConductor::not_reported(Clock::time_point now, Status* who) const {
   const bool uav_phase = phase_ == ClockPhase::Uav;
   const uint32_t role = uav_phase ? kRoleUav : kRolePlace;
   const uint32_t count = uav_phase ? o_.uavs : o_.regions;
@@ -250,17 +250,24 @@ uint32_t LockstepConductor::not_reported(Clock::time_point now) const {
         const uint32_t place = place_id(id, static_cast<uint16_t>(rep));
         if (places_gone_.contains(place)) continue;
         any = true;
-        waiting += reported(process_key(role, place)) ? 0 : 1;
+        if (!reported(process_key(role, place))) note(waiting, who, id);
       }
-      if (!any) waiting += reported(process_key(role, id)) ? 0 : 1;
+      if (!any && !reported(process_key(role, id))) note(waiting, who, id);
       continue;
     }
-    waiting += reported(process_key(role, id)) ? 0 : 1;
+    if (!reported(process_key(role, id))) note(waiting, who, id);
   }
   return waiting;
 }
 
-uint32_t LockstepConductor::tally_uav_reports(Clock::time_point now) {
+void LockstepConductor::note(uint32_t& waiting, Status* who, uint32_t id) const {
+  ++waiting;
+  if (who == nullptr) return;
+  auto& ids = phase_ == ClockPhase::Uav ? who->uavs_not_ready : who->regions_not_ready;
+  if (ids.empty() || ids.back() != id) ids.push_back(id);
+}
+
+uint32_t LockstepConductor::tally_uav_reports(Clock::time_point now, Status* who) {
   // Every UAV's state and reported broadcast of this tick must be here
   // before the next announcements are computed from them.
   uint32_t waiting = 0;
@@ -288,7 +295,7 @@ uint32_t LockstepConductor::tally_uav_reports(Clock::time_point now) {
     // none of the deposits the state carried (it rejects them,
     // core::CarriedDeposits::Reject), so no region waits for them.
     if (gateway && refused != refused_.end() && refused->second.contains(id)) {
-      if (!answered(id)) ++waiting;
+      if (!answered(id)) note(waiting, who, id);
       continue;
     }
     for (const auto& rc : it->second.deposits) {
@@ -298,7 +305,7 @@ uint32_t LockstepConductor::tally_uav_reports(Clock::time_point now) {
         deposits_reported_[rc.region] += rc.count;
       }
     }
-    if (!answered(id)) ++waiting;
+    if (!answered(id)) note(waiting, who, id);
   }
   auto b = broadcasters_.find(tick_);
   if ((b == broadcasters_.end() ? 0U : static_cast<uint32_t>(b->second.size())) < broadcasts) ++waiting;
@@ -314,8 +321,8 @@ LockstepConductor::Status LockstepConductor::status(Clock::time_point now) {
     turn_to_next_uav_phase(now);
   }
   Status s;
-  s.waiting = not_reported(now);
-  if (s.waiting == 0 && phase_ == ClockPhase::Uav) s.waiting = tally_uav_reports(now);
+  s.waiting = not_reported(now, &s);
+  if (s.waiting == 0 && phase_ == ClockPhase::Uav) s.waiting = tally_uav_reports(now, &s);
   // A fused place phase is complete with the UAV phase after it.
   s.complete = s.waiting == 0 && !next_uav_phase_;
   s.timed_out = !s.complete && now > deadline_;

@@ -294,6 +294,13 @@ class Bus {
   // `region` (a place agent: the owner it forwards to); 0 if it has no such
   // writer. A query only: the writers are opened by offer_deposits.
   [[nodiscard]] uint32_t matched_deposit_readers(core::RegionId region) const;
+  // A place agent's readers of what it sends the others: the tiles for the
+  // views of `home`'s UAVs (offer_place_exchange), its ring to `neighbour`
+  // (offer_halos).
+  [[nodiscard]] uint32_t matched_tile_readers(core::RegionId home) const;
+  [[nodiscard]] uint32_t matched_halo_readers(core::RegionId own, core::RegionId neighbour) const;
+  // Opens the writers of its rings to its neighbours before flying.
+  void offer_halos(std::span<const core::RegionId> neighbours, core::RegionId own);
   // Readers matched by this UAV's state writer to its gateway (the gateway
   // place agent and its standbys; 0 before join_uav).
   [[nodiscard]] uint32_t matched_state_readers();

@@ -77,7 +77,9 @@ class LockstepConductor {
     bool complete = false;
     bool timed_out = false;  // the phase's timeout passed before it completed
     uint32_t waiting = 0;    // processes (or missing states/broadcasts) still awaited
-    // The Ready phase: who has not reported ready yet (ids).
+    // Who has not reported the phase yet (ids; in a UAV phase also a UAV
+    // whose state is still missing; a region once, however many of its
+    // replicas are missing).
     std::vector<uint32_t> uavs_not_ready, regions_not_ready;
   };
 
@@ -197,8 +199,10 @@ class LockstepConductor {
   // announce (deposits and states per region, deposits lost) and how many
   // answers are still missing.
   [[nodiscard]] Status ready_status(Clock::time_point now) const;
-  [[nodiscard]] uint32_t not_reported(Clock::time_point now) const;
-  uint32_t tally_uav_reports(Clock::time_point now);
+  // Both count what is missing and, given `who`, name it.
+  [[nodiscard]] uint32_t not_reported(Clock::time_point now, Status* who = nullptr) const;
+  uint32_t tally_uav_reports(Clock::time_point now, Status* who = nullptr);
+  void note(uint32_t& waiting, Status* who, uint32_t id) const;
 
   Options o_;
   PhaseTimes times_;
