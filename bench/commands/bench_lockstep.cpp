@@ -43,16 +43,17 @@ const char* const kBenchLockstepFooter =
     "           phase's completion); wall is the whole run, discovery and shutdown included\n"
     "  floor    the round trip of one pheromesh sample (clock -> PhaseDone) between this process and a child\n"
     "           process, per vendor pairing (mixed: cyclone -> fastdds), on loopback; a lockstep tick is at least\n"
-    "           9 sequential hops (the lockstep tree: clock to the place agents and on to the UAVs, their\n"
-    "           PhaseDone to the place agents and on to the conductor, clock to the place agents, halo rings,\n"
-    "           fields, PhaseDone; the views travel while the next clock does), so floor = 9 x RTT/2\n"
+    "           7 sequential hops (the lockstep tree: views and the UAV clock to the UAVs, their states to the\n"
+    "           place agents and on with their reports to the conductor, the place clock to the place agents,\n"
+    "           forwarded deposits, halo rings, tiles for the views; the place agents' reports travel while\n"
+    "           the UAVs act), so floor = 7 x RTT/2\n"
     "  = sim    whether the run's numbers (ticks, coverage, targets, revisits, deposits, field summary) equal\n"
     "           the simulator's\n"
     "Results: OUT/lockstep.md and OUT/lockstep.json. Keep the host otherwise idle.\n";
 
 namespace {
 
-constexpr double kHopsPerTick = 9.0;
+constexpr double kHopsPerTick = 7.0;
 
 struct Swarm {
   std::string label;  // "small-test:10"
@@ -190,7 +191,7 @@ std::string report(const std::vector<Floor>& floors, const std::vector<Row>& row
       fmt::format("# pheromesh bench lockstep\n\n{} ticks per run, {} round trips per pairing.\n\n", o.ticks, o.pings);
   md += "## Floor: one pheromesh sample there and back between two processes\n\n";
   md +=
-      "| pairing | RTT p50 [ms] | RTT p99 [ms] | lost | floor per tick (9 hops) [ms] | floor [ticks/s] "
+      "| pairing | RTT p50 [ms] | RTT p99 [ms] | lost | floor per tick (7 hops) [ms] | floor [ticks/s] "
       "|\n|---|---|---|---|---|---|\n";
   for (const auto& f : floors) {
     if (!f.error.empty()) {
