@@ -34,18 +34,16 @@ TEST(Profiles, ALargeOneHostSwarmAsksForAcknowledgementsEverySecondASmallOneEver
   EXPECT_EQ(cyclone_heartbeat(0), "");
 }
 
-TEST(DdsProfiles, AFastDdsWriterOfALargeRealtimeSwarmHeartbeatsEverySecondWithoutPiggybackingAndLockstepKeeps100ms) {
+TEST(DdsProfiles, AFastDdsWriterOfALargeSwarmHeartbeatsEverySecondWithoutPiggybackingAndASmallOneEvery100ms) {
   using std::chrono::milliseconds;
-  const FastDdsWriterPace quiet = fastdds_writer_pace(Pacing::Realtime, kQuietHeartbeatAbove + 1);
+  const FastDdsWriterPace quiet = fastdds_writer_pace(kQuietHeartbeatAbove + 1);
   EXPECT_EQ(quiet.heartbeat, milliseconds(1000));
   EXPECT_FALSE(quiet.piggyback);
-  EXPECT_EQ(fastdds_writer_pace(Pacing::Realtime, 500), quiet);
-  // A small swarm, an unknown size, and lockstep of any size: every 100 ms
-  // and with every write (a lockstep tick must not wait for a heartbeat).
+  EXPECT_EQ(fastdds_writer_pace(500), quiet);
+  // A small swarm and an unknown size: every 100 ms and with every write.
   const FastDdsWriterPace prompt{milliseconds(100), true};
-  EXPECT_EQ(fastdds_writer_pace(Pacing::Realtime, kQuietHeartbeatAbove), prompt);
-  EXPECT_EQ(fastdds_writer_pace(Pacing::Realtime, 0), prompt);
-  EXPECT_EQ(fastdds_writer_pace(Pacing::Lockstep, 500), prompt);
+  EXPECT_EQ(fastdds_writer_pace(kQuietHeartbeatAbove), prompt);
+  EXPECT_EQ(fastdds_writer_pace(0), prompt);
 }
 
 }  // namespace

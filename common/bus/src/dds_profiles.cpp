@@ -71,8 +71,8 @@ std::string cyclone_heartbeat(uint32_t swarm_processes) {
   return swarm_processes > kQuietHeartbeatAbove ? "1s" : "";
 }
 
-FastDdsWriterPace fastdds_writer_pace(Pacing pacing, uint32_t swarm_processes) {
-  if (pacing == Pacing::Realtime && swarm_processes > kQuietHeartbeatAbove) {
+FastDdsWriterPace fastdds_writer_pace(uint32_t swarm_processes) {
+  if (swarm_processes > kQuietHeartbeatAbove) {
     return {std::chrono::milliseconds(1000), false};
   }
   return {};

@@ -48,17 +48,21 @@ std::string cyclone_heartbeat(uint32_t swarm_processes);
 // piggybacks a heartbeat that wants an answer on every write, so each 5 Hz
 // write of a realtime swarm (a UAV's state, a batch of deposits, a halo)
 // brought an ACKNACK back: one datagram and a wake-up each (issue 44,
-// docs/benchmarks.md "Where a UAV tick goes"). A realtime swarm of more than
+// docs/benchmarks.md "Where a UAV tick goes"). A swarm of more than
 // kQuietHeartbeatAbove processes heartbeats once a second instead, without
-// piggybacking, as Cyclone's cells do (cyclone_heartbeat): a reader that
-// missed a sample asks for it within a second. Lockstep keeps 100 ms and the
-// piggyback: a lost sample would stall its tick until the next heartbeat.
+// piggybacking, as Cyclone's one-host profiles do (cyclone_heartbeat): a
+// reader that missed a sample asks for it within a second. That holds for
+// lockstep too: at 100 ms every writer that wrote in a tick still had an
+// unacknowledged sample at its next heartbeat, and the heartbeats, their
+// ACKNACKs and the timer wake-ups behind both cost a 100-UAV lockstep swarm
+// a quarter of its ticks per second (docs/benchmarks.md, "Lockstep
+// heartbeats"). A small swarm keeps 100 ms and the piggyback.
 struct FastDdsWriterPace {
   std::chrono::milliseconds heartbeat{100};
   bool piggyback = true;
   bool operator==(const FastDdsWriterPace&) const = default;
 };
-FastDdsWriterPace fastdds_writer_pace(Pacing pacing, uint32_t swarm_processes);
+FastDdsWriterPace fastdds_writer_pace(uint32_t swarm_processes);
 
 struct FastDdsProfile {
   std::string xml;   // built-in profiles: the XML text ...

@@ -454,7 +454,7 @@ class FastDdsTransport final : public Transport {
           PHM_FASTDDS(participant_->create_publisher(pq), "cannot create a publisher for partition " + partition);
       const fdds::DataWriterQos q = to_fastdds_writer(
           endpoint_qos(e.kind, Endpoint::Writer, opt_.liveliness_lease, opt_.replication, opt_.pacing),
-          fastdds_writer_pace(opt_.pacing, opt_.swarm_processes));
+          fastdds_writer_pace(opt_.swarm_processes));
       e.writer = PHM_FASTDDS(publisher->create_datawriter(topic(e.kind), q),
                              std::string("cannot create a writer of ") + to_string(e.kind) + " in partition " +
                                  partition + permissions_hint());
