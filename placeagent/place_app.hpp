@@ -150,6 +150,9 @@ class PlaceApp {
   void relay_clock(const core::ClockMsg& c);
   void relay_one_clock(const core::ClockMsg& c);
   void relay_uav_clock_after_views(uint32_t tick);
+  // The UAV clock the views of place tick `tick` carry to the UAVs homed
+  // here (nullptr: none), decided once per clock (core::UavClockRelay).
+  const core::ClockMsg* clock_for_views(uint32_t tick);
   void relay_reports();
   void keep_tree();
   // Relays (docs/architecture.md, "Relays"): its UAVs' reports, detections
@@ -175,6 +178,10 @@ class PlaceApp {
   core::UavClockRelay uav_clocks_;   // which of them go on to the UAVs served
   // The UAV clock a place clock began, relayed after this place phase's views.
   std::optional<core::ClockMsg> uav_clock_after_views_;
+  // Where it goes, once decided (clock_for_views), and the home UAVs whose
+  // view carried it: the relay writes it only for the others.
+  std::optional<core::UavClockRelay::To> view_clock_to_;
+  std::vector<uint32_t> clocked_views_;
   core::PlaceCore core_;
   double rate_ = 0.0;
   core::TickGaps gaps_;  // realtime: gaps between tick starts (reported in the health)

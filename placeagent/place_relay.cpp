@@ -4,6 +4,7 @@
 // down. Whether a sample goes on is core::PlaceIntake's judgement.
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <chrono>
 #include <vector>
 
@@ -57,11 +58,33 @@ void PlaceApp::relay_clock(const core::ClockMsg& c) {
   relay_one_clock(c);
 }
 
+const core::ClockMsg* PlaceApp::clock_for_views(uint32_t tick) {
+  if (!uav_clock_after_views_ || uav_clock_after_views_->tick != tick + 1) return nullptr;
+  if (!view_clock_to_) view_clock_to_ = uav_clocks_.relays(*uav_clock_after_views_);
+  return view_clock_to_->home ? &*uav_clock_after_views_ : nullptr;
+}
+
 void PlaceApp::relay_uav_clock_after_views(uint32_t tick) {
   // The UAV clock of the tick after this place phase's, or an older one.
   if (!uav_clock_after_views_ || uav_clock_after_views_->tick > tick + 1) return;
-  relay_one_clock(*uav_clock_after_views_);
+  const core::ClockMsg& c = *uav_clock_after_views_;
+  if (!view_clock_to_) {
+    relay_one_clock(c);
+  } else {
+    // The views carried it to the home UAVs in clocked_views_ (serve_views):
+    // the relay writer goes only to those without such a view and to the
+    // UAVs this place agent backs up.
+    const auto to = *view_clock_to_;
+    const bool all_home = to.home && std::all_of(home_uavs_.begin(), home_uavs_.end(), [&](uint32_t u) {
+                            return std::find(clocked_views_.begin(), clocked_views_.end(), u) != clocked_views_.end();
+                          });
+    if (to.home && !all_home) bus_->relay_clock(c, cfg_.region);
+    if (to.backups) bus_->relay_clock_to_backups(c, cfg_.region);
+    clocks_relayed_ += (to.home ? 1 : 0) + (to.backups ? 1 : 0);
+  }
   uav_clock_after_views_.reset();
+  view_clock_to_.reset();
+  clocked_views_.clear();
 }
 
 void PlaceApp::relay_one_clock(const core::ClockMsg& c) {

@@ -162,10 +162,22 @@ void PlaceApp::serve_views(uint32_t tick) {
   // Lockstep: tiles of this tick only; realtime: tiles an owner sent lately
   // (a dead owner's region goes dark after that).
   const uint32_t min_tile_tick = demand_ ? tick : (tick > tiles_stale_after_ ? tick - tiles_stale_after_ : 0);
+  // Lockstep: a home UAV's view carries the UAV clock this place clock
+  // began, so that it wakes once for both (relay_uav_clock_after_views
+  // relays it to those whose view did not).
+  const core::ClockMsg* clock = clock_for_views(tick);
+  clocked_views_.clear();
+  const auto carry_clock = [&](uint32_t u) {
+    view_.clock.reset();
+    if (clock == nullptr || !std::binary_search(home_uavs_.begin(), home_uavs_.end(), u)) return;
+    view_.clock = *clock;
+    clocked_views_.push_back(u);
+  };
   for (uint32_t u : served_) {
     if (views_.compose(u, tick, demand_ ? 0 : kNeighbourAge, min_tile_tick, view_)) {
       view_.deposit_ack = desk_.ack(u);
       view_.deposit_ack_from = desk_.ack_from(u);
+      carry_clock(u);
       resend_.view(view_);
     }
   }
@@ -179,9 +191,11 @@ void PlaceApp::serve_views(uint32_t tick) {
     view_.uavs.clear();
     view_.deposit_ack = desk_.ack(u);
     view_.deposit_ack_from = desk_.ack_from(u);
+    carry_clock(u);
     resend_.view(view_);
   }
   refused_views_.clear();
+  view_.clock.reset();
 }
 
 }  // namespace pheromesh::placeagent

@@ -57,6 +57,47 @@ class Interop : public testing::TestWithParam<Pair> {
   std::unique_ptr<bus::Bus> w_, r_;
 };
 
+TEST_P(Interop, AViewCarriesItsUavClockToALockstepUavAsAClockOfTheProcessThatRelaysItsClocks) {
+  r_->join_uav(5, 3);
+  r_->join_clock_tree(std::vector<core::RegionId>{3, 4});
+  w_->subscribe_uav_reports(3);  // place agent 3: its relay writers
+  core::ClockMsg uav_clock;
+  uav_clock.tick = 19;
+  uav_clock.phase = static_cast<uint8_t>(core::ClockPhase::Uav);
+  uav_clock.broadcasts = 2;
+  uav_clock.occupancy = {{{1, 2}, 3}, {{4, 5}, 6}};
+  uav_clock.absent = {2, 9};
+  core::ViewMsg view{5, 18, {core::TileMsg{0, {1, 2}, 0, 0, 1, 1, {4.0F}}}, {}};
+  view.clock = uav_clock;
+  ASSERT_TRUE(w_->publish_view(view));
+  const auto clocks = wait_for<core::ClockMsg>([&](auto& v) { r_->take_clock(v); });
+  ASSERT_EQ(clocks.size(), 1U);
+  EXPECT_EQ(clocks[0].tick, 19U);
+  EXPECT_EQ(clocks[0].phase, static_cast<uint8_t>(core::ClockPhase::Uav));
+  EXPECT_EQ(clocks[0].broadcasts, 2U);
+  ASSERT_EQ(clocks[0].occupancy.size(), 2U);
+  EXPECT_EQ(clocks[0].occupancy[1].tile.tx, 4);
+  EXPECT_EQ(clocks[0].occupancy[1].count, 6U);
+  EXPECT_EQ(clocks[0].absent, (std::vector<core::RegionId>{2, 9}));
+  EXPECT_FALSE(clocks[0].next_uav_phase);
+  EXPECT_NE(clocks[0].writer, 0U);
+  std::vector<core::ViewMsg> views;
+  r_->take_views(views);
+  ASSERT_EQ(views.size(), 1U) << "take_clock holds the view for take_views";
+  EXPECT_EQ(views[0].tick, 18U);
+  ASSERT_EQ(views[0].tiles.size(), 1U);
+  EXPECT_FALSE(views[0].clock.has_value());
+  // The clock the same process relays names the same writer.
+  core::ClockMsg next = uav_clock;
+  next.tick = 20;
+  ASSERT_TRUE(w_->relay_clock(next, 3));
+  const auto relayed = wait_for<core::ClockMsg>([&](auto& v) { r_->take_clock(v); });
+  ASSERT_EQ(relayed.size(), 1U);
+  EXPECT_EQ(relayed[0].tick, 20U);
+  EXPECT_EQ(relayed[0].writer, clocks[0].writer);
+  EXPECT_EQ(r_->stats().samples_dropped, 0U);
+}
+
 TEST_P(Interop, EveryMessageArrivesIntact) {
   // Subscriptions first, then one match to know both buses are up.
   r_->subscribe_deposits(7);

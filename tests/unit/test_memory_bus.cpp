@@ -167,6 +167,63 @@ TEST_F(MemoryBus, AViewReachesOnlyTheUavItIsFor) {
   EXPECT_TRUE(v6.empty());
 }
 
+TEST_F(MemoryBus, AViewsClockGoesToALockstepUavAsAClockOfThePlaceAgentsProcessAndNowhereElse) {
+  auto place = make_memory_bus(domain_);
+  auto lockstep = make_memory_bus(domain_);
+  auto realtime = make_memory_bus(domain_);
+  lockstep->join_uav(5, 3);
+  lockstep->join_clock_tree(std::vector<core::RegionId>{3, 4});
+  realtime->join_uav(6, 3);
+  place->subscribe_uav_reports(3);  // place agent 3: its relay writers
+  place->offer_views(std::vector<uint32_t>{5, 6});
+  core::ClockMsg uav_clock;
+  uav_clock.tick = 19;
+  uav_clock.phase = static_cast<uint8_t>(core::ClockPhase::Uav);
+  uav_clock.broadcasts = 2;
+  uav_clock.occupancy = {{{1, 2}, 3}};
+  uav_clock.absent = {6};
+  for (uint32_t uav : {5U, 6U}) {
+    core::ViewMsg v{uav, 18, {}, {}};
+    v.clock = uav_clock;
+    ASSERT_TRUE(place->publish_view(v));
+  }
+  // The lockstep UAV's clock comes with take_clock (which holds the view
+  // for take_views); the view comes without it.
+  std::vector<core::ClockMsg> clocks;
+  lockstep->take_clock(clocks);
+  ASSERT_EQ(clocks.size(), 1U);
+  EXPECT_EQ(clocks[0].tick, 19U);
+  EXPECT_EQ(clocks[0].phase, static_cast<uint8_t>(core::ClockPhase::Uav));
+  EXPECT_EQ(clocks[0].broadcasts, 2U);
+  ASSERT_EQ(clocks[0].occupancy.size(), 1U);
+  EXPECT_EQ(clocks[0].occupancy[0].count, 3U);
+  EXPECT_EQ(clocks[0].absent, std::vector<core::RegionId>{6});
+  EXPECT_NE(clocks[0].writer, 0U);
+  std::vector<core::ViewMsg> views;
+  lockstep->take_views(views);
+  ASSERT_EQ(views.size(), 1U);
+  EXPECT_EQ(views[0].tick, 18U);
+  EXPECT_FALSE(views[0].clock.has_value());
+  // The clock the same place agent relays names the same writer: its
+  // process, through either of its writers (core::LockstepFollower latches it).
+  core::ClockMsg next = uav_clock;
+  next.tick = 20;
+  ASSERT_TRUE(place->relay_clock(next, 3));
+  std::vector<core::ClockMsg> relayed;
+  lockstep->take_clock(relayed);
+  ASSERT_EQ(relayed.size(), 1U);
+  EXPECT_EQ(relayed[0].tick, 20U);
+  EXPECT_EQ(relayed[0].writer, clocks[0].writer);
+  // A UAV outside the lockstep tree takes no clock from its view.
+  std::vector<core::ViewMsg> plain;
+  realtime->take_views(plain);
+  ASSERT_EQ(plain.size(), 1U);
+  EXPECT_FALSE(plain[0].clock.has_value());
+  std::vector<core::ClockMsg> none;
+  realtime->take_clock(none);
+  EXPECT_TRUE(none.empty());
+}
+
 TEST_F(MemoryBus, ALateReaderGetsTheLatestChunkOfEachRegionsFieldOnly) {
   // Transient-local, keep-last 1 per instance (region, chunk).
   auto place = make_memory_bus(domain_);

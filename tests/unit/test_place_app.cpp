@@ -122,7 +122,8 @@ int fly_one_tick() {
   place_phase.states = {{0, 1}};
   place_phase.served = {{0, 0, st.x, st.y, 0.0, 0.0, 0, 0, start}};
   // ... which begins UAV phase 1 (the conductor waits for no place report
-  // before it): the place agent relays that UAV clock, after the view.
+  // before it): the place agent gives that UAV clock in the view of tick 0
+  // (the UAV's bus hands it out as a clock and holds the view).
   place_phase.next_uav_phase = true;
   place_phase.broadcasts = 0;
   conductor->publish_clock(place_phase);
@@ -137,7 +138,7 @@ int fly_one_tick() {
     return stop(20);
   std::vector<core::ViewMsg> views;
   uav->take_views(views);
-  if (views.empty() || views.back().tick != 0) return stop(21);  // written before the clock
+  if (views.empty() || views.back().tick != 0) return stop(21);  // the view that carried it
   if (!done_of(*conductor, 0, core::ClockPhase::Place)) return stop(12);
   if (!await(
           *uav, bus::TopicKind::View, [&] { uav->take_views(views); },

@@ -361,7 +361,27 @@ void Bus::take_tiles(std::vector<core::TileMsg>& out) { take_from(*transport_, r
 void Bus::take_fields(std::vector<core::FieldMsg>& out) { take_from(*transport_, roles_->field_in, out); }
 void Bus::take_served(std::vector<core::FieldMsg>& out) { take_from(*transport_, roles_->served_in, out); }
 void Bus::take_tiles_for_views(std::vector<core::FieldMsg>& out) { take_from(*transport_, roles_->tiles_in, out); }
-void Bus::take_views(std::vector<core::ViewMsg>& out) { take_from(*transport_, roles_->view_in, out); }
+void Bus::take_views(std::vector<core::ViewMsg>& out) {
+  out.insert(out.end(), std::make_move_iterator(held_views_.begin()), std::make_move_iterator(held_views_.end()));
+  held_views_.clear();
+  const std::size_t first = out.size();
+  take_from(*transport_, roles_->view_in, out);
+  lift_clocks(out, first);
+}
+void Bus::lift_clocks(std::vector<core::ViewMsg>& views, std::size_t first) {
+  for (std::size_t i = first; i < views.size(); ++i) {
+    auto& v = views[i];
+    if (!v.clock) continue;
+    // Only a lockstep UAV takes a clock from its view, and only as the
+    // process that wrote the view (0: the vendor no longer knows it).
+    if (roles_->clock_tree && v.participant != 0) {
+      v.clock->writer = v.participant;
+      v.clock->participant = v.participant;
+      view_clocks_.push_back(std::move(*v.clock));
+    }
+    v.clock.reset();
+  }
+}
 void Bus::take_detections(std::vector<core::DetectionMsg>& out) { take_from(*transport_, roles_->detection_in, out); }
 void Bus::take_uplink_detections(std::vector<core::DetectionMsg>& out) {
   take_from(*transport_, roles_->detection_up_in, out);
@@ -371,7 +391,28 @@ void Bus::take_uplink_broadcasts(std::vector<core::BroadcastMsg>& out) {
 }
 void Bus::take_target_events(std::vector<core::TargetEventMsg>& out) { take_from(*transport_, roles_->event_in, out); }
 void Bus::take_broadcasts(std::vector<core::BroadcastMsg>& out) { take_from(*transport_, roles_->broadcast_in, out); }
-void Bus::take_clock(std::vector<core::ClockMsg>& out) { take_from(*transport_, roles_->clock_in, out); }
+void Bus::take_clock(std::vector<core::ClockMsg>& out) {
+  if (!roles_->clock_tree) {
+    take_from(*transport_, roles_->clock_in, out);
+    return;
+  }
+  // A UAV: the clocks in its views too (the views wait for take_views). A
+  // place agent relays the clock through its relay writer and its view
+  // writer, so a clock names the process: the UAV latches its gateways by
+  // it (core::LockstepFollower).
+  if (roles_->view_in) {
+    const std::size_t held = held_views_.size();
+    roles_->view_in->take(held_views_);
+    lift_clocks(held_views_, held);
+  }
+  const std::size_t first = out.size();
+  take_from(*transport_, roles_->clock_in, out);
+  for (std::size_t i = first; i < out.size(); ++i) {
+    if (out[i].participant != 0) out[i].writer = out[i].participant;
+  }
+  out.insert(out.end(), std::make_move_iterator(view_clocks_.begin()), std::make_move_iterator(view_clocks_.end()));
+  view_clocks_.clear();
+}
 void Bus::take_phase_done(std::vector<core::PhaseDoneMsg>& out) {
   take_from(*transport_, roles_->done_in, out);
   // Those relayed with the states (take_uav_states, which the ground station calls first).

@@ -232,6 +232,69 @@ struct Convert<core::UavStateMsg> {
   }
 };
 
+// A clock as a borrowed C struct (`sample`), with the buffers it points into.
+struct ClockOut {
+  explicit ClockOut(const core::ClockMsg& m)
+      : deposits(region_counts_out(m.deposits)),
+        absent(m.absent.begin(), m.absent.end()),
+        states(region_counts_out(m.states)) {
+    occupancy.reserve(m.occupancy.size());
+    for (const auto& t : m.occupancy) {
+      occupancy.push_back({static_cast<uint16_t>(t.tile.tx), static_cast<uint16_t>(t.tile.ty),
+                           static_cast<uint16_t>(std::min<uint32_t>(t.count, UINT16_MAX))});
+    }
+    served.reserve(m.served.size());
+    for (const auto& u : m.served) {
+      served.push_back({u.uav, u.region, u.x, u.y, u.vx, u.vy, u.heading, u.role, u.view.x, u.view.y, u.deposits_sent});
+    }
+    sample.tick = m.tick;
+    sample.phase = m.phase;
+    sample.broadcasts = m.broadcasts;
+    borrow(sample.occupancy, occupancy);
+    borrow(sample.deposits, deposits);
+    borrow(sample.absent, absent);
+    borrow(sample.states, states);
+    borrow(sample.served, served);
+    sample.next_uav_phase = m.next_uav_phase;
+  }
+  ClockOut(const ClockOut&) = delete;
+  ClockOut& operator=(const ClockOut&) = delete;
+  std::vector<pheromesh_msg_TileCount> occupancy;
+  std::vector<pheromesh_msg_RegionCount> deposits;
+  std::vector<uint32_t> absent;
+  std::vector<pheromesh_msg_RegionCount> states;
+  std::vector<pheromesh_msg_ServedUav> served;
+  pheromesh_msg_ClockCommand sample{};
+};
+
+// A received clock; nothing if malformed.
+inline std::optional<core::ClockMsg> clock_in(const pheromesh_msg_ClockCommand& s) {
+  if (!seq_ok(s.occupancy, core::kMaxOccupancy) || !seq_ok(s.deposits, core::kMaxRegionCounts) ||
+      !seq_ok(s.absent, core::kMaxRegionCounts) || !seq_ok(s.states, core::kMaxRegionCounts) ||
+      !seq_ok(s.served, core::kMaxClockServed)) {
+    return std::nullopt;
+  }
+  core::ClockMsg c;
+  c.tick = s.tick;
+  c.phase = s.phase;
+  c.broadcasts = s.broadcasts;
+  c.next_uav_phase = s.next_uav_phase;
+  c.deposits = region_counts_in(s.deposits);
+  c.absent = seq_in<core::RegionId>(s.absent);
+  c.states = region_counts_in(s.states);
+  for (uint32_t i = 0; i < s.occupancy._length; ++i) {
+    const auto& t = s.occupancy._buffer[i];
+    c.occupancy.push_back({{t.tx, t.ty}, t.count});
+  }
+  c.served.reserve(s.served._length);
+  for (uint32_t i = 0; i < s.served._length; ++i) {
+    const auto& u = s.served._buffer[i];
+    c.served.push_back(
+        {u.uav, u.region, u.x, u.y, u.vx, u.vy, u.heading, u.role, {u.view_x, u.view_y}, u.deposits_sent});
+  }
+  return c;
+}
+
 template <>
 struct Convert<core::ViewMsg> {
   using Sample = pheromesh_msg_View;
@@ -246,6 +309,14 @@ struct Convert<core::ViewMsg> {
     s.deposit_ack_from = m.deposit_ack_from;
     borrow(s.tiles, nested.patches);
     borrow(s.uavs, nested.states);
+    std::optional<ClockOut> clock;
+    if (m.clock) {
+      clock.emplace(*m.clock);
+      s.clock._buffer = &clock->sample;
+      s.clock._length = 1;
+      s.clock._maximum = 1;
+      s.clock._release = false;
+    }
     return write(&s);
   }
   static std::optional<core::ViewMsg> in(const Sample& s) {
@@ -256,6 +327,11 @@ struct Convert<core::ViewMsg> {
     v.deposit_ack_from = s.deposit_ack_from;
     if (!nested_in(s, core::kMaxViewTiles, core::kMaxViewUavs, v.tick, core::RegionId{0}, v.tiles, v.uavs)) {
       return std::nullopt;
+    }
+    if (!seq_ok(s.clock, 1)) return std::nullopt;
+    if (s.clock._length == 1) {
+      v.clock = clock_in(s.clock._buffer[0]);
+      if (!v.clock) return std::nullopt;
     }
     return v;
   }
@@ -439,58 +515,10 @@ struct Convert<core::ClockMsg> {
   static const dds_topic_descriptor_t* descriptor() { return &pheromesh_msg_ClockCommand_desc; }
   template <typename Write>
   static bool out(const core::ClockMsg& m, Write&& write) {
-    std::vector<pheromesh_msg_TileCount> occupancy;
-    occupancy.reserve(m.occupancy.size());
-    for (const auto& t : m.occupancy) {
-      occupancy.push_back({static_cast<uint16_t>(t.tile.tx), static_cast<uint16_t>(t.tile.ty),
-                           static_cast<uint16_t>(std::min<uint32_t>(t.count, UINT16_MAX))});
-    }
-    const std::vector<pheromesh_msg_RegionCount> deposits = region_counts_out(m.deposits);
-    const std::vector<uint32_t> absent(m.absent.begin(), m.absent.end());
-    const std::vector<pheromesh_msg_RegionCount> states = region_counts_out(m.states);
-    std::vector<pheromesh_msg_ServedUav> served;
-    served.reserve(m.served.size());
-    for (const auto& u : m.served) {
-      served.push_back({u.uav, u.region, u.x, u.y, u.vx, u.vy, u.heading, u.role, u.view.x, u.view.y, u.deposits_sent});
-    }
-    Sample s{};
-    s.tick = m.tick;
-    s.phase = m.phase;
-    s.broadcasts = m.broadcasts;
-    borrow(s.occupancy, occupancy);
-    borrow(s.deposits, deposits);
-    borrow(s.absent, absent);
-    borrow(s.states, states);
-    borrow(s.served, served);
-    s.next_uav_phase = m.next_uav_phase;
-    return write(&s);
+    const ClockOut clock(m);
+    return write(&clock.sample);
   }
-  static std::optional<core::ClockMsg> in(const Sample& s) {
-    if (!seq_ok(s.occupancy, core::kMaxOccupancy) || !seq_ok(s.deposits, core::kMaxRegionCounts) ||
-        !seq_ok(s.absent, core::kMaxRegionCounts) || !seq_ok(s.states, core::kMaxRegionCounts) ||
-        !seq_ok(s.served, core::kMaxClockServed)) {
-      return std::nullopt;
-    }
-    core::ClockMsg c;
-    c.tick = s.tick;
-    c.phase = s.phase;
-    c.broadcasts = s.broadcasts;
-    c.next_uav_phase = s.next_uav_phase;
-    c.deposits = region_counts_in(s.deposits);
-    c.absent = seq_in<core::RegionId>(s.absent);
-    c.states = region_counts_in(s.states);
-    for (uint32_t i = 0; i < s.occupancy._length; ++i) {
-      const auto& t = s.occupancy._buffer[i];
-      c.occupancy.push_back({{t.tx, t.ty}, t.count});
-    }
-    c.served.reserve(s.served._length);
-    for (uint32_t i = 0; i < s.served._length; ++i) {
-      const auto& u = s.served._buffer[i];
-      c.served.push_back(
-          {u.uav, u.region, u.x, u.y, u.vx, u.vy, u.heading, u.role, {u.view_x, u.view_y}, u.deposits_sent});
-    }
-    return c;
-  }
+  static std::optional<core::ClockMsg> in(const Sample& s) { return clock_in(s); }
 };
 
 template <>

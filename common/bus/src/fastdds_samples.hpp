@@ -254,6 +254,78 @@ struct Convert<core::UavStateMsg> {
   }
 };
 
+// A clock as a sample, and back (nothing if malformed).
+inline msg::ClockCommand clock_out(const core::ClockMsg& m) {
+  msg::ClockCommand s;
+  s.tick(m.tick);
+  s.phase(m.phase);
+  s.broadcasts(m.broadcasts);
+  std::vector<msg::TileCount> occupancy;
+  occupancy.reserve(m.occupancy.size());
+  for (const auto& t : m.occupancy) {
+    msg::TileCount c;
+    c.tx(static_cast<uint16_t>(t.tile.tx));
+    c.ty(static_cast<uint16_t>(t.tile.ty));
+    c.count(static_cast<uint16_t>(std::min<uint32_t>(t.count, UINT16_MAX)));
+    occupancy.push_back(c);
+  }
+  s.occupancy(std::move(occupancy));
+  s.deposits(region_counts_out(m.deposits));
+  s.absent(std::vector<uint32_t>(m.absent.begin(), m.absent.end()));
+  s.states(region_counts_out(m.states));
+  std::vector<msg::ServedUav> served;
+  served.reserve(m.served.size());
+  for (const auto& u : m.served) {
+    msg::ServedUav o;
+    o.uav(u.uav);
+    o.region(u.region);
+    o.x(u.x);
+    o.y(u.y);
+    o.vx(u.vx);
+    o.vy(u.vy);
+    o.heading(u.heading);
+    o.role(u.role);
+    o.view_x(u.view.x);
+    o.view_y(u.view.y);
+    o.deposits_sent(u.deposits_sent);
+    served.push_back(o);
+  }
+  s.served(std::move(served));
+  s.next_uav_phase(m.next_uav_phase);
+  return s;
+}
+
+inline std::optional<core::ClockMsg> clock_in(const msg::ClockCommand& s) {
+  if (s.occupancy().size() > core::kMaxOccupancy || !region_counts_ok(s.deposits()) ||
+      s.absent().size() > core::kMaxRegionCounts || !region_counts_ok(s.states()) ||
+      s.served().size() > core::kMaxClockServed) {
+    return std::nullopt;
+  }
+  core::ClockMsg c;
+  c.tick = s.tick();
+  c.phase = s.phase();
+  c.broadcasts = s.broadcasts();
+  c.next_uav_phase = s.next_uav_phase();
+  c.deposits = region_counts_in(s.deposits());
+  c.absent.assign(s.absent().begin(), s.absent().end());
+  c.states = region_counts_in(s.states());
+  for (const auto& t : s.occupancy()) c.occupancy.push_back({{t.tx(), t.ty()}, t.count()});
+  c.served.reserve(s.served().size());
+  for (const auto& u : s.served()) {
+    c.served.push_back({u.uav(),
+                        u.region(),
+                        u.x(),
+                        u.y(),
+                        u.vx(),
+                        u.vy(),
+                        u.heading(),
+                        u.role(),
+                        {u.view_x(), u.view_y()},
+                        u.deposits_sent()});
+  }
+  return c;
+}
+
 template <>
 struct Convert<core::ViewMsg> {
   using Sample = msg::View;
@@ -266,6 +338,7 @@ struct Convert<core::ViewMsg> {
     s.deposit_ack_from(m.deposit_ack_from);
     s.tiles(patches_out(m.tiles));
     s.uavs(states_out(m.uavs));
+    if (m.clock) s.clock().push_back(clock_out(*m.clock));
     return s;
   }
   static std::optional<core::ViewMsg> in(const Sample& s) {
@@ -276,6 +349,11 @@ struct Convert<core::ViewMsg> {
     v.deposit_ack_from = s.deposit_ack_from();
     if (!unpack(s, core::kMaxViewTiles, core::kMaxViewUavs, v.tick, core::RegionId{0}, v.tiles, v.uavs)) {
       return std::nullopt;
+    }
+    if (s.clock().size() > 1) return std::nullopt;
+    if (!s.clock().empty()) {
+      v.clock = clock_in(s.clock().front());
+      if (!v.clock) return std::nullopt;
     }
     return v;
   }
@@ -455,75 +533,8 @@ template <>
 struct Convert<core::ClockMsg> {
   using Sample = msg::ClockCommand;
   using PubSub = msg::ClockCommandPubSubType;
-  static Sample out(const core::ClockMsg& m) {
-    Sample s;
-    s.tick(m.tick);
-    s.phase(m.phase);
-    s.broadcasts(m.broadcasts);
-    std::vector<msg::TileCount> occupancy;
-    occupancy.reserve(m.occupancy.size());
-    for (const auto& t : m.occupancy) {
-      msg::TileCount c;
-      c.tx(static_cast<uint16_t>(t.tile.tx));
-      c.ty(static_cast<uint16_t>(t.tile.ty));
-      c.count(static_cast<uint16_t>(std::min<uint32_t>(t.count, UINT16_MAX)));
-      occupancy.push_back(c);
-    }
-    s.occupancy(std::move(occupancy));
-    s.deposits(region_counts_out(m.deposits));
-    s.absent(std::vector<uint32_t>(m.absent.begin(), m.absent.end()));
-    s.states(region_counts_out(m.states));
-    std::vector<msg::ServedUav> served;
-    served.reserve(m.served.size());
-    for (const auto& u : m.served) {
-      msg::ServedUav o;
-      o.uav(u.uav);
-      o.region(u.region);
-      o.x(u.x);
-      o.y(u.y);
-      o.vx(u.vx);
-      o.vy(u.vy);
-      o.heading(u.heading);
-      o.role(u.role);
-      o.view_x(u.view.x);
-      o.view_y(u.view.y);
-      o.deposits_sent(u.deposits_sent);
-      served.push_back(o);
-    }
-    s.served(std::move(served));
-    s.next_uav_phase(m.next_uav_phase);
-    return s;
-  }
-  static std::optional<core::ClockMsg> in(const Sample& s) {
-    if (s.occupancy().size() > core::kMaxOccupancy || !region_counts_ok(s.deposits()) ||
-        s.absent().size() > core::kMaxRegionCounts || !region_counts_ok(s.states()) ||
-        s.served().size() > core::kMaxClockServed) {
-      return std::nullopt;
-    }
-    core::ClockMsg c;
-    c.tick = s.tick();
-    c.phase = s.phase();
-    c.broadcasts = s.broadcasts();
-    c.next_uav_phase = s.next_uav_phase();
-    c.deposits = region_counts_in(s.deposits());
-    c.absent.assign(s.absent().begin(), s.absent().end());
-    c.states = region_counts_in(s.states());
-    for (const auto& t : s.occupancy()) c.occupancy.push_back({{t.tx(), t.ty()}, t.count()});
-    c.served.reserve(s.served().size());
-    for (const auto& u : s.served()) {
-      c.served.push_back({u.uav(),
-                          u.region(),
-                          u.x(),
-                          u.y(),
-                          u.vx(),
-                          u.vy(),
-                          u.heading(),
-                          u.role(),
-                          {u.view_x(), u.view_y()},
-                          u.deposits_sent()});
-    }
-    return c;
-  }
+  static Sample out(const core::ClockMsg& m) { return clock_out(m); }
+  static std::optional<core::ClockMsg> in(const Sample& s) { return clock_in(s); }
 };
 
 template <>

@@ -66,7 +66,8 @@ LockstepEnd LockstepLoop::run() {
                 bus::TopicKind::Broadcast, bus::TopicKind::Command},
                until);
     } else {
-      bus.wait({bus::TopicKind::Clock, bus::TopicKind::RelayedClock}, until);
+      // A UAV: its clock comes relayed or in its view (bus::Bus::take_clock).
+      bus.wait({bus::TopicKind::Clock, bus::TopicKind::RelayedClock, bus::TopicKind::View}, until);
     }
   }
   return LockstepEnd::Stopped;

@@ -156,6 +156,9 @@ class Bus {
   bool publish_phase_done(const core::PhaseDoneMsg& m);
   void subscribe_clock();       // place agents: the conductor's clock
   void subscribe_phase_done();  // conductor
+  // A UAV (join_clock_tree): also the clocks its views carry
+  // (core::ViewMsg::clock; the views wait for take_views), and each clock
+  // names the process that wrote it (ClockMsg::writer), not the DDS writer.
   void take_clock(std::vector<core::ClockMsg>& out);
   void take_phase_done(std::vector<core::PhaseDoneMsg>& out);
   // A lockstep UAV, after join_uav: its report writer to its gateway, and
@@ -261,6 +264,8 @@ class Bus {
   void take_fields(std::vector<core::FieldMsg>& out);
   void take_served(std::vector<core::FieldMsg>& out);
   void take_tiles_for_views(std::vector<core::FieldMsg>& out);
+  // Views without their clock: a lockstep UAV's go to take_clock, any
+  // other's are dropped (a place agent attaches them in lockstep only).
   void take_views(std::vector<core::ViewMsg>& out);
   void take_uav_states(std::vector<core::UavStateMsg>& out);
   void take_detections(std::vector<core::DetectionMsg>& out);
@@ -326,6 +331,9 @@ class Bus {
   uint64_t writes_refused_ = 0;
   uint64_t samples_taken_ = 0, bytes_taken_ = 0;
   std::vector<core::FieldMsg> relayed_batches_;  // take_uav_states' buffer
+  std::vector<core::ViewMsg> held_views_;        // taken by take_clock, for take_views
+  std::vector<core::ClockMsg> view_clocks_;      // lifted out of views, for take_clock
+  void lift_clocks(std::vector<core::ViewMsg>& views, std::size_t first);
 };
 
 // Vendors compiled into this build, e.g. {"cyclone"}.

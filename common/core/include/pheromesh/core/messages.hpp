@@ -357,8 +357,13 @@ struct ClockMsg {
   bool next_uav_phase = false;
   // Not on the wire: who wrote the sample, as the receiving bus identifies
   // the DDS writer (Cyclone: its publication handle; Fast DDS: its GUID,
-  // folded). A forger can copy every field but not this (plausibility.hpp).
+  // folded). A UAV's bus names the writer's process instead
+  // (bus::Bus::take_clock): a place agent gives it the clock through two
+  // writers, relayed or in its view (ViewMsg::clock). A forger can copy
+  // every field but not this (plausibility.hpp).
   uint64_t writer = 0;
+  // Not on the wire: the writer's process (bus::SampleInfo::participant).
+  uint64_t participant = 0;
 };
 inline constexpr uint32_t kRoleUav = 1;
 inline constexpr uint32_t kRolePlace = 2;
@@ -417,6 +422,12 @@ struct ViewMsg {
   std::vector<UavStateMsg> uavs;
   uint32_t deposit_ack = 0;       // highest seq of this UAV's deposits its home place agent received
   uint32_t deposit_ack_from = 0;  // the first seq of them this life of the place agent received (0: none)
+  // Lockstep: the UAV clock of tick + 1 that this view's place phase began
+  // (idl View.clock), or none. The receiving bus hands it out as a clock
+  // (bus::Bus::take_clock), not with the view.
+  std::optional<ClockMsg> clock;
+  // Not on the wire: the writer's process (bus::SampleInfo::participant).
+  uint64_t participant = 0;
 };
 
 // One chunk of a region's field of `tick` and of the latest states of the
