@@ -123,6 +123,14 @@ void write_seeds(const std::string& dir) {
   v.tiles({patch(), patch()});
   v.uavs({state()});
   write_seed<msg::ViewPubSubType>(dir, "view", 4, v);
+  msg::ClockCommand vc;  // a lockstep view's UAV clock
+  vc.tick(1);
+  msg::TileCount occupied;
+  occupied.tx(1);
+  occupied.count(1);
+  vc.occupancy({occupied});
+  v.clock({vc});
+  write_seed<msg::ViewPubSubType>(dir, "view-clock", 4, v);
   msg::Halo h;
   h.region(0);
   h.target(std::vector<float>(core::ring_size(kGeo.region_rect(0)), 0.1F));
@@ -229,7 +237,10 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, std::size_t size) {
     case 4: {
       msg::View s;
       if (!deserialize<msg::ViewPubSubType>(p, n, s)) return 0;
-      if (auto v = in::Convert<core::ViewMsg>::in(s)) check_nested(v->tiles, v->uavs);
+      if (auto v = in::Convert<core::ViewMsg>::in(s)) {
+        check_nested(v->tiles, v->uavs);
+        if (v->clock && v->clock->occupancy.size() > core::kMaxOccupancy) std::abort();
+      }
       break;
     }
     case 5: {
