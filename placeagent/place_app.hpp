@@ -149,6 +149,8 @@ class PlaceApp {
   // lockstep wait, so neither waits while this place agent runs a phase.
   void relay_clock(const core::ClockMsg& c);
   void relay_one_clock(const core::ClockMsg& c);
+  // Writes `c` on the relay writer to the UAVs `to` names.
+  void send_clock(const core::ClockMsg& c, core::UavClockRelay::To to);
   void relay_uav_clock_after_views(uint32_t tick);
   // The UAV clock the views of place tick `tick` carry to the UAVs homed
   // here (nullptr: none), decided once per clock (core::UavClockRelay).

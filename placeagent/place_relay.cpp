@@ -71,24 +71,24 @@ void PlaceApp::relay_uav_clock_after_views(uint32_t tick) {
   if (!view_clock_to_) {
     relay_one_clock(c);
   } else {
-    // The views carried it to the home UAVs in clocked_views_ (serve_views):
-    // the relay writer goes only to those without such a view and to the
-    // UAVs this place agent backs up.
-    const auto to = *view_clock_to_;
-    const bool all_home = to.home && std::all_of(home_uavs_.begin(), home_uavs_.end(), [&](uint32_t u) {
-                            return std::find(clocked_views_.begin(), clocked_views_.end(), u) != clocked_views_.end();
-                          });
-    if (to.home && !all_home) bus_->relay_clock(c, cfg_.region);
-    if (to.backups) bus_->relay_clock_to_backups(c, cfg_.region);
-    clocks_relayed_ += (to.home ? 1 : 0) + (to.backups ? 1 : 0);
+    // Decided when the views went (clock_for_views): the home UAVs whose
+    // view carried it need it relayed no more.
+    auto to = *view_clock_to_;
+    std::sort(clocked_views_.begin(), clocked_views_.end());
+    if (to.home && std::includes(clocked_views_.begin(), clocked_views_.end(), home_uavs_.begin(), home_uavs_.end())) {
+      to.home = false;
+      ++clocks_relayed_;
+    }
+    send_clock(c, to);
   }
   uav_clock_after_views_.reset();
   view_clock_to_.reset();
   clocked_views_.clear();
 }
 
-void PlaceApp::relay_one_clock(const core::ClockMsg& c) {
-  const auto to = uav_clocks_.relays(c);
+void PlaceApp::relay_one_clock(const core::ClockMsg& c) { send_clock(c, uav_clocks_.relays(c)); }
+
+void PlaceApp::send_clock(const core::ClockMsg& c, core::UavClockRelay::To to) {
   if (!to.home && !to.backups) return;
   // A UAV needs no place phase's served UAVs (only the place agents do).
   const core::ClockMsg* out = &c;
