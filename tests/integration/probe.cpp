@@ -16,7 +16,10 @@
 //                                the plausible ones of issue 28 (UAV 0's next
 //                                deposits, an in-range field chunk), once
 //                                every receiver matched the writer it is
-//                                written with; print what it sent, then stay
+//                                written with (and stayed matched 0.5 s in
+//                                lockstep, 1.5 s in realtime: the receiver's
+//                                side of a match may come later); print
+//                                what it sent, then stay
 //                                until SIGTERM (bounded, 300 s): the test ends
 //                                it once the swarm has exited.
 //   idle --id I --regions R      a UAV's endpoints and nothing else, until
@@ -366,8 +369,23 @@ int forge(bus::Bus& b, const std::string& scenario_path, uint32_t uavs, bool loc
     return uav0 && uav0->tick > 0 && last_of_victim && last_of_victim->tick > 0;
   };
   // Wait until the swarm runs: every receiver has latched its conductor.
+  // A match seen here is this side's: the receiver matches the forger's
+  // writer when the forger's announcement of it reaches the receiver, which
+  // may come later (a mixed realtime run once lost the 1e30 and far-ahead
+  // chunks and the halo that way: written to a reader that did not yet
+  // know their writer). So every writer stays matched for `settle` first.
   uint32_t tick = 1;
   const auto deadline = Clock::now() + std::chrono::seconds(90);
+  const auto settle = std::chrono::milliseconds(lockstep ? 500 : 1500);
+  std::optional<Clock::time_point> all_matched;
+  const auto settled = [&] {
+    if (!unmatched().empty()) {
+      all_matched.reset();
+      return false;
+    }
+    if (!all_matched) all_matched = Clock::now();
+    return Clock::now() - *all_matched >= settle;
+  };
   std::vector<core::ClockMsg> clock;
   std::optional<Clock::time_point> at_tick5;
   for (;;) {
@@ -384,12 +402,14 @@ int forge(bus::Bus& b, const std::string& scenario_path, uint32_t uavs, bool loc
       // receiver matched its writer and UAV 0's and the victim's states
       // came (stop 39's flake: forged samples written before a match).
       if (tick >= 5 && !at_tick5) at_tick5 = Clock::now();
-      if (at_tick5 && (unmatched().empty() && heard)) break;
+      const bool ready = settled();
+      if (at_tick5 && ready && heard) break;
       if (at_tick5 && Clock::now() - *at_tick5 > std::chrono::seconds(3)) {
-        std::printf("forging although not matched: %s\n", unmatched().c_str());
+        const std::string short_of = unmatched();
+        std::printf("forging although not %s: %s\n", short_of.empty() ? "settled" : "matched", short_of.c_str());
         break;
       }
-    } else if (unmatched().empty()) {
+    } else if (settled()) {
       break;
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
