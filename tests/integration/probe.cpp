@@ -223,6 +223,9 @@ int hostile(bus::Bus& b, uint32_t region, uint32_t map_width) {
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
+  // This side's match: the place agent's side of it (and the ground
+  // station's of the tile writer) may come later (forge, below).
+  std::this_thread::sleep_for(std::chrono::seconds(1));
   const uint32_t uav = 900000;  // not a UAV of the swarm
   int sent = 0;
   auto deposit = [&](uint32_t seq, uint8_t kind, core::Cell c, float amount, core::RegionId r) {
