@@ -407,6 +407,12 @@ class FullCommands final : public ProcessCommands {
     bl->add_option("--baseline", blo.baseline,
                    "Another build's pheromesh (e.g. of the commit before a change): each run is flown with it too and the "
                    "two compared by wall time");
+    bl->add_option("--repeat", blo.repeat,
+                   "Runs per swarm, vendor and build; with --baseline the builds alternate, each going first every "
+                   "other round. The report adds the median and the range of ticks/s and of this build's paired "
+                   "ratio to the baseline (one run moves by ±20 % on a busy 2-core host)")
+        ->check(CLI::Range(1U, 50U))
+        ->capture_default_str();
     bl->footer(cli::kBenchLockstepFooter);
     le = bench.add_subcommand("lockstep-echo", "The other end of bench lockstep's floor measurement");
     le->group("");  // hidden: bench lockstep starts it

@@ -7,6 +7,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <csignal>
 #include <cstdio>
@@ -49,6 +50,10 @@ const char* const kBenchLockstepFooter =
     "           the UAVs act), so floor = 7 x RTT/2\n"
     "  = sim    whether the run's numbers (ticks, coverage, targets, revisits, deposits, field summary) equal\n"
     "           the simulator's\n"
+    "With --repeat N every run is flown N times (with --baseline the builds alternate, and every other round the\n"
+    "baseline goes first); the report adds per build the median and range of ticks/s, and of this build's ratio\n"
+    "to the baseline's run of the same round. One run moves by up to ±20 % on a busy 2-core host: a lever of\n"
+    "10 % needs --repeat 5 or more.\n"
     "Results: OUT/lockstep.md and OUT/lockstep.json. Keep the host otherwise idle.\n";
 
 namespace {
@@ -63,11 +68,13 @@ struct Swarm {
 struct Row {
   std::string swarm, vendor;
   std::string build = "this";  // or "baseline" (--baseline)
+  uint32_t round = 0;          // 0 .. --repeat - 1
   double sim_ms_per_tick = 0;
   double wall_s = 0;
   double ticks_per_s = 0;  // conducted
   core::SampleSummary uav_ms, place_ms;
   bool equal = false;
+  bool flown = false;  // it ended and wrote metrics.json
   std::string error;  // the run failed, or how it differed
 };
 
@@ -113,14 +120,16 @@ std::string slurp(const fs::path& p) {
 }
 
 Row fly_swarm(const Swarm& s, const std::string& vendor, double sim_ms, const experiments::RunNumbers& sim,
-              const BenchLockstepOptions& o, const std::string& build) {
+              const BenchLockstepOptions& o, const std::string& build, uint32_t round) {
   Row r;
   r.swarm = s.label;
   r.vendor = vendor;
   r.build = build;
+  r.round = round;
   r.sim_ms_per_tick = sim_ms;
   const fs::path dir = fs::path(o.out_dir) / s.label.substr(0, s.label.find(':')) /
-                       (std::to_string(s.scenario.uavs) + "-" + vendor + (build == "this" ? "" : "-" + build));
+                       (std::to_string(s.scenario.uavs) + "-" + vendor + (build == "this" ? "" : "-" + build) +
+                        (o.repeat > 1 ? "-r" + std::to_string(round + 1) : ""));
   std::error_code ec;
   fs::remove_all(dir, ec);
   fs::create_directories(dir, ec);
@@ -162,6 +171,7 @@ Row fly_swarm(const Swarm& s, const std::string& vendor, double sim_ms, const ex
     r.error = error;
     return r;
   }
+  r.flown = true;
   r.error = experiments::differences(sim, proc);
   r.equal = r.error.empty();
   const auto j = nlohmann::json::parse(text, nullptr, false);
@@ -186,6 +196,79 @@ Row fly_swarm(const Swarm& s, const std::string& vendor, double sim_ms, const ex
 
 std::string fmt_ms(double v) { return fmt::format("{:.2f}", v); }
 
+// Ticks/s from the conductor, or (a build whose ground station does not time
+// its phases) the ticks over the whole run's wall time; 0 for a failed run.
+double rate(const Row& r, uint32_t ticks) {
+  if (!r.flown) return 0;
+  if (r.ticks_per_s > 0) return r.ticks_per_s;
+  return r.wall_s > 0 ? (ticks + 1) / r.wall_s : 0;
+}
+
+// What --repeat adds: per swarm, vendor and build the median (nearest rank)
+// and range of ticks/s over its runs; with a baseline, the ratio of this
+// build's ticks/s to the baseline's run of the same round (flown next to it).
+struct Spread {
+  std::string swarm, vendor, build;
+  std::size_t runs = 0;
+  double median = 0, min = 0, max = 0;
+};
+
+Spread spread_of(const std::string& swarm, const std::string& vendor, const std::string& build,
+                 std::vector<double> values) {
+  Spread s{swarm, vendor, build};
+  if (values.empty()) return s;
+  const auto sum = core::summarize(values);
+  s.runs = sum.n;
+  s.median = sum.p50;
+  s.min = *std::min_element(values.begin(), values.end());
+  s.max = sum.max;
+  return s;
+}
+
+std::vector<Spread> spreads(const std::vector<Row>& rows, const BenchLockstepOptions& o) {
+  std::vector<Spread> out;
+  std::vector<std::pair<std::string, std::string>> seen;
+  for (const auto& r : rows) {
+    const std::pair<std::string, std::string> key{r.swarm, r.vendor};
+    if (std::find(seen.begin(), seen.end(), key) != seen.end()) continue;
+    seen.push_back(key);
+    std::vector<double> mine, theirs, ratios;
+    for (const auto& a : rows) {
+      if (a.swarm != r.swarm || a.vendor != r.vendor || rate(a, o.ticks) <= 0) continue;
+      (a.build == "this" ? mine : theirs).push_back(rate(a, o.ticks));
+      if (a.build != "this") continue;
+      for (const auto& b : rows) {
+        if (b.build == "baseline" && b.swarm == a.swarm && b.vendor == a.vendor && b.round == a.round &&
+            rate(b, o.ticks) > 0) {
+          ratios.push_back(rate(a, o.ticks) / rate(b, o.ticks));
+        }
+      }
+    }
+    out.push_back(spread_of(r.swarm, r.vendor, "this", mine));
+    if (!o.baseline.empty()) {
+      out.push_back(spread_of(r.swarm, r.vendor, "baseline", theirs));
+      out.push_back(spread_of(r.swarm, r.vendor, "this / baseline", ratios));
+    }
+  }
+  return out;
+}
+
+std::string repeat_report(const std::vector<Row>& rows, const BenchLockstepOptions& o) {
+  std::string md = fmt::format(
+      "\n## Over {} runs each: median (nearest rank) and range\n\nticks/s from the conductor (a build without its "
+      "phase times: ticks over the run's wall time); this / baseline: the ratio of the two runs of one round, "
+      "flown one after the other, the order swapped every other round.\n\n"
+      "| swarm | dds | build | runs | ticks/s median | min – max |\n|---|---|---|---|---|---|\n",
+      o.repeat);
+  for (const auto& s : spreads(rows, o)) {
+    const bool ratio = s.build.find('/') != std::string::npos;
+    const char* f = ratio ? "| {} | {} | {} | {} | {:.2f}× | {:.2f}× – {:.2f}× |\n"
+                          : "| {} | {} | {} | {} | {:.1f} | {:.1f} – {:.1f} |\n";
+    md += fmt::format(fmt::runtime(f), s.swarm, s.vendor, s.build, s.runs, s.median, s.min, s.max);
+  }
+  return md;
+}
+
 std::string report(const std::vector<Floor>& floors, const std::vector<Row>& rows, const BenchLockstepOptions& o) {
   std::string md =
       fmt::format("# pheromesh bench lockstep\n\n{} ticks per run, {} round trips per pairing.\n\n", o.ticks, o.pings);
@@ -203,10 +286,9 @@ std::string report(const std::vector<Floor>& floors, const std::vector<Row>& row
                       f.lost, fmt_ms(floor_ms), floor_ms > 0 ? 1000.0 / floor_ms : 0.0);
   }
   md +=
-      "\n## Lockstep runs\n\n| swarm | dds | build | ticks/s | ms/tick | UAV phase p50 / p99 [ms] | place phase p50 / "
-      "p99 "
-      "[ms] | sim [ms/tick] | × sim | × floor | wall [s] | = sim "
-      "|\n|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+      "\n## Lockstep runs\n\n| swarm | dds | build | run | ticks/s | ms/tick | UAV phase p50 / p99 [ms] | place phase "
+      "p50 / p99 [ms] | sim [ms/tick] | × sim | × floor | wall [s] | = sim "
+      "|\n|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const auto& r : rows) {
     const double ms = r.ticks_per_s > 0 ? 1000.0 / r.ticks_per_s : 0.0;
     double floor_ms = 0;
@@ -218,30 +300,31 @@ std::string report(const std::vector<Floor>& floors, const std::vector<Row>& row
       // A build whose ground station does not time its phases: the wall time
       // of the whole run (start-up and shutdown included) per tick.
       const double wall_ms = 1000.0 * r.wall_s / (o.ticks + 1);
-      md += fmt::format("| {} | {} | {} | {:.0f} (wall) | {} (wall) | – | – | {} | {:.0f} | {} | {:.1f} | {} |\n",
-                        r.swarm, r.vendor, r.build, 1000.0 / wall_ms, fmt_ms(wall_ms), fmt_ms(r.sim_ms_per_tick),
-                        r.sim_ms_per_tick > 0 ? wall_ms / r.sim_ms_per_tick : 0.0,
+      md += fmt::format("| {} | {} | {} | {} | {:.0f} (wall) | {} (wall) | – | – | {} | {:.0f} | {} | {:.1f} | {} |\n",
+                        r.swarm, r.vendor, r.build, r.round + 1, 1000.0 / wall_ms, fmt_ms(wall_ms),
+                        fmt_ms(r.sim_ms_per_tick), r.sim_ms_per_tick > 0 ? wall_ms / r.sim_ms_per_tick : 0.0,
                         floor_ms > 0 ? fmt::format("{:.1f}", wall_ms / floor_ms) : std::string("–"), r.wall_s, verdict);
       continue;
     }
-    md += fmt::format("| {} | {} | {} | {:.0f} | {} | {} / {} | {} / {} | {} | {:.0f} | {} | {:.1f} | {} |\n", r.swarm,
-                      r.vendor, r.build, r.ticks_per_s, fmt_ms(ms), fmt_ms(r.uav_ms.p50), fmt_ms(r.uav_ms.p99),
-                      fmt_ms(r.place_ms.p50), fmt_ms(r.place_ms.p99), fmt_ms(r.sim_ms_per_tick),
+    md += fmt::format("| {} | {} | {} | {} | {:.0f} | {} | {} / {} | {} / {} | {} | {:.0f} | {} | {:.1f} | {} |\n",
+                      r.swarm, r.vendor, r.build, r.round + 1, r.ticks_per_s, fmt_ms(ms), fmt_ms(r.uav_ms.p50),
+                      fmt_ms(r.uav_ms.p99), fmt_ms(r.place_ms.p50), fmt_ms(r.place_ms.p99), fmt_ms(r.sim_ms_per_tick),
                       r.sim_ms_per_tick > 0 ? ms / r.sim_ms_per_tick : 0.0,
                       floor_ms > 0 ? fmt::format("{:.1f}", ms / floor_ms) : std::string("–"), r.wall_s, verdict);
   }
   if (!o.baseline.empty()) {
     md += "\n## This build against the baseline (" + o.baseline + "): wall time of the same run\n\n";
-    md += "| swarm | dds | baseline [s] | this build [s] | speed-up |\n|---|---|---|---|---|\n";
+    md += "| swarm | dds | run | baseline [s] | this build [s] | speed-up |\n|---|---|---|---|---|---|\n";
     for (const auto& b : rows) {
       if (b.build != "baseline") continue;
       for (const auto& r : rows) {
-        if (r.build != "this" || r.swarm != b.swarm || r.vendor != b.vendor) continue;
-        md += fmt::format("| {} | {} | {:.1f} | {:.1f} | {:.1f}× |\n", r.swarm, r.vendor, b.wall_s, r.wall_s,
-                          r.wall_s > 0 ? b.wall_s / r.wall_s : 0.0);
+        if (r.build != "this" || r.swarm != b.swarm || r.vendor != b.vendor || r.round != b.round) continue;
+        md += fmt::format("| {} | {} | {} | {:.1f} | {:.1f} | {:.1f}× |\n", r.swarm, r.vendor, r.round + 1, b.wall_s,
+                          r.wall_s, r.wall_s > 0 ? b.wall_s / r.wall_s : 0.0);
       }
     }
   }
+  if (o.repeat > 1) md += repeat_report(rows, o);
   return md;
 }
 
@@ -251,7 +334,7 @@ nlohmann::json summary_json(const core::SampleSummary& s) {
 
 nlohmann::json results_json(const std::vector<Floor>& floors, const std::vector<Row>& rows,
                             const BenchLockstepOptions& o) {
-  nlohmann::json j{{"ticks", o.ticks}, {"pings", o.pings}, {"hops_per_tick", kHopsPerTick}};
+  nlohmann::json j{{"ticks", o.ticks}, {"pings", o.pings}, {"hops_per_tick", kHopsPerTick}, {"repeat", o.repeat}};
   for (const auto& f : floors) {
     j["floor"].push_back(
         {{"pairing", f.pairing}, {"rtt_ms", summary_json(f.rtt_ms)}, {"lost", f.lost}, {"error", f.error}});
@@ -260,6 +343,7 @@ nlohmann::json results_json(const std::vector<Floor>& floors, const std::vector<
     j["runs"].push_back({{"swarm", r.swarm},
                          {"dds", r.vendor},
                          {"build", r.build},
+                         {"round", r.round + 1},
                          {"ticks_per_s", r.ticks_per_s},
                          {"uav_phase_ms", summary_json(r.uav_ms)},
                          {"place_phase_ms", summary_json(r.place_ms)},
@@ -267,6 +351,17 @@ nlohmann::json results_json(const std::vector<Floor>& floors, const std::vector<
                          {"wall_s", r.wall_s},
                          {"equal_to_sim", r.equal},
                          {"error", r.error}});
+  }
+  if (o.repeat > 1) {
+    for (const auto& s : spreads(rows, o)) {
+      j["medians"].push_back({{"swarm", s.swarm},
+                              {"dds", s.vendor},
+                              {"build", s.build},
+                              {"runs", s.runs},
+                              {"median", s.median},
+                              {"min", s.min},
+                              {"max", s.max}});
+    }
   }
   return j;
 }
@@ -318,17 +413,21 @@ int run_bench_lockstep(const BenchLockstepOptions& o) {
     const double sim_ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count() / (s.scenario.ticks + 1);
     const auto numbers = experiments::numbers_of(sim.recorder());
     for (const auto& v : vendors) {
-      std::printf("%s over %s: %u lockstep ticks ...\n", s.label.c_str(), v.c_str(), s.scenario.ticks);
-      std::fflush(stdout);
-      rows.push_back(fly_swarm(s, v, sim_ms, numbers, o, "this"));
-      all_equal = all_equal && rows.back().equal;
-      if (runtime::shutdown_requested()) return 130;
-      if (o.baseline.empty()) continue;
-      std::printf("%s over %s with the baseline build ...\n", s.label.c_str(), v.c_str());
-      std::fflush(stdout);
-      rows.push_back(fly_swarm(s, v, sim_ms, numbers, o, "baseline"));
-      all_equal = all_equal && rows.back().equal;
-      if (runtime::shutdown_requested()) return 130;
+      for (uint32_t round = 0; round < o.repeat; ++round) {
+        // With a baseline, every other round flies it first.
+        std::vector<std::string> builds{"this"};
+        if (!o.baseline.empty()) builds.insert(round % 2 == 1 ? builds.begin() : builds.end(), "baseline");
+        for (const auto& build : builds) {
+          std::printf("%s over %s%s%s: %u lockstep ticks ...\n", s.label.c_str(), v.c_str(),
+                      build == "this" ? "" : " with the baseline build",
+                      o.repeat > 1 ? fmt::format(" (round {} of {})", round + 1, o.repeat).c_str() : "",
+                      s.scenario.ticks);
+          std::fflush(stdout);
+          rows.push_back(fly_swarm(s, v, sim_ms, numbers, o, build, round));
+          all_equal = all_equal && rows.back().equal;
+          if (runtime::shutdown_requested()) return 130;
+        }
+      }
     }
   }
   const std::string md = report(floors, rows, o);

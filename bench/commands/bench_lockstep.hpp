@@ -25,6 +25,11 @@ struct BenchLockstepOptions {
   // Another build's `pheromesh` (e.g. of the commit before a change): every
   // run is flown with it too, in the same bench, and compared by wall time.
   std::string baseline;
+  // Runs per swarm, vendor and build. With a baseline the builds alternate
+  // and swap which goes first every other round (this, baseline; baseline,
+  // this; ...), so that a drift of the host falls on both; the report gives
+  // the median and the range of each, and of the paired ratios.
+  uint32_t repeat = 1;
 };
 
 extern const char* const kBenchLockstepFooter;

@@ -187,5 +187,54 @@ TEST(Cli, BenchScaleMeasuresTheFloorOfAViewDownAndAnUplinkUpPerVendorBeforeItsRu
   EXPECT_NE(md.find("| cyclone | 10696, 280 |"), std::string::npos) << md;
 }
 
+// bench lockstep --repeat: every run flown N times, with a baseline the
+// builds alternating and swapping which goes first every other round; the
+// report gives per build the median and range of ticks/s and of the paired
+// ratio. This build as its own baseline, 2 UAVs for 20 ticks, Cyclone;
+// domains 110-111. A repeat of 0 is refused.
+TEST(Cli, BenchLockstepRepeatAlternatesTheBuildsAndReportsMediansAndRanges) {
+  const std::string out = out_dir("bench-lockstep-repeat");
+  const std::string bin = kBin + "/pheromesh";
+  const Output r = run(bin + " bench lockstep --swarms small-test:2 --dds cyclone --ticks 20 --pings 10 --repeat 2 " +
+                       "--baseline " + bin + " --domain 110 --out " + out);
+  ASSERT_EQ(r.exit_code, 0) << r.text;
+  const json j = json::parse(slurp(out + "/lockstep.json"), nullptr, false);
+  ASSERT_TRUE(j.is_object()) << slurp(out + "/lockstep.json");
+  EXPECT_EQ(j["repeat"], 2);
+  ASSERT_EQ(j["runs"].size(), 4U) << j["runs"].dump(2);
+  // Round 1: this, baseline; round 2: baseline, this.
+  const std::pair<const char*, int> order[] = {{"this", 1}, {"baseline", 1}, {"baseline", 2}, {"this", 2}};
+  for (std::size_t i = 0; i < 4; ++i) {
+    const json& run_i = j["runs"][i];
+    EXPECT_EQ(run_i["build"], order[i].first) << i;
+    EXPECT_EQ(run_i["round"], order[i].second) << i;
+    EXPECT_EQ(run_i["equal_to_sim"], true) << run_i.dump();
+    EXPECT_GT(run_i["ticks_per_s"].get<double>(), 0.0) << run_i.dump();
+  }
+  ASSERT_EQ(j["medians"].size(), 3U) << j["medians"].dump(2);
+  const auto tps = [&](std::size_t i) { return j["runs"][i]["ticks_per_s"].get<double>(); };
+  const json& mine = j["medians"][0];
+  EXPECT_EQ(mine["build"], "this");
+  EXPECT_EQ(mine["runs"], 2);
+  // Nearest rank: the lower of two.
+  EXPECT_DOUBLE_EQ(mine["median"].get<double>(), std::min(tps(0), tps(3)));
+  EXPECT_DOUBLE_EQ(mine["max"].get<double>(), std::max(tps(0), tps(3)));
+  EXPECT_EQ(j["medians"][1]["build"], "baseline");
+  EXPECT_DOUBLE_EQ(j["medians"][1]["min"].get<double>(), std::min(tps(1), tps(2)));
+  const json& ratio = j["medians"][2];
+  EXPECT_EQ(ratio["build"], "this / baseline");
+  EXPECT_EQ(ratio["runs"], 2);
+  const double r1 = tps(0) / tps(1), r2 = tps(3) / tps(2);
+  EXPECT_DOUBLE_EQ(ratio["min"].get<double>(), std::min(r1, r2));
+  EXPECT_DOUBLE_EQ(ratio["max"].get<double>(), std::max(r1, r2));
+  const std::string md = slurp(out + "/lockstep.md");
+  EXPECT_NE(md.find("## Over 2 runs each: median (nearest rank) and range"), std::string::npos) << md;
+  EXPECT_NE(md.find("| small-test:2 | cyclone | this / baseline | 2 |"), std::string::npos) << md;
+
+  const Output zero = run(bin + " bench lockstep --repeat 0 --out " + out + "-zero");
+  EXPECT_NE(zero.exit_code, 0) << zero.text;
+  EXPECT_NE(zero.text.find("--repeat"), std::string::npos) << zero.text;
+}
+
 }  // namespace
 }  // namespace pheromesh::itest
