@@ -671,10 +671,23 @@ TEST_P(Departure, LockstepResenderWritesTheTicksSamplesAgainAfterAQuietSpellOnly
   }
   ASSERT_FALSE(dones.empty());
   EXPECT_EQ(dones.back().tick, 9U);
-  // A new tick forgets the old samples; a disabled resender only publishes.
+  // A new tick forgets the old samples; what it remembers in their place is
+  // re-sent, and only that.
   resend.begin_tick();
   *now += std::chrono::seconds(2);
   EXPECT_FALSE(resend.resend_if_quiet());
+  const core::FieldMsg next{3, 0, 1, 10, {core::TileMsg{0, {2, 6}, 10, 0, 9, 1, {2.0F}}}, {}};
+  ASSERT_TRUE(resend.field(next));
+  ASSERT_EQ(wait_for<core::FieldMsg>([&](auto& v) { r->take_fields(v); }).size(), 1U);
+  *now += std::chrono::seconds(1);
+  EXPECT_TRUE(resend.resend_if_quiet());
+  const auto latest = wait_for<core::FieldMsg>([&](auto& v) { r->take_fields(v); });
+  ASSERT_EQ(latest.size(), 1U);
+  EXPECT_EQ(latest[0].tick, 10U);
+  ASSERT_EQ(latest[0].tiles.size(), 1U);
+  EXPECT_EQ(latest[0].tiles[0].tile.ty, 6);
+  EXPECT_EQ(latest[0].tiles[0].values, std::vector<float>{2.0F});
+  // A disabled resender only publishes.
   bus::LatestResender off(*w, false, std::chrono::milliseconds(1), clock);
   ASSERT_TRUE(off.field(field));
   *now += std::chrono::milliseconds(5);
