@@ -25,7 +25,6 @@
 #pragma once
 
 #include <chrono>
-#include <cstddef>
 #include <cstdint>
 #include <functional>
 #include <optional>
@@ -36,31 +35,6 @@
 #include "pheromesh/core/messages.hpp"
 
 namespace pheromesh::bus {
-
-// The samples of one tick, kept in storage that outlives the tick: a new
-// tick overwrites the slots of the last (copy-assigning a view or a field
-// chunk reuses the capacity of its tiles' values), so a lockstep process
-// that remembers every sample it writes no longer allocates and frees a
-// copy of each, every tick (a place agent's views and field chunks).
-template <typename M>
-class TickSlots {
- public:
-  void clear() { n_ = 0; }
-  // The next slot, to assign the sample to (what it held is the last tick's).
-  M& next() {
-    if (n_ == items_.size()) items_.emplace_back();
-    return items_[n_++];
-  }
-  void put(const M& m) { next() = m; }
-  [[nodiscard]] bool empty() const { return n_ == 0; }
-  [[nodiscard]] std::size_t size() const { return n_; }
-  [[nodiscard]] auto begin() const { return items_.begin(); }
-  [[nodiscard]] auto end() const { return items_.begin() + static_cast<std::ptrdiff_t>(n_); }
-
- private:
-  std::vector<M> items_;
-  std::size_t n_ = 0;
-};
 
 class LatestResender {
  public:
@@ -88,9 +62,7 @@ class LatestResender {
   bool deposits(const core::DepositBatchMsg& m, core::RegionId via) {
     const bool ok = bus_.publish_deposits(m, via);
     if (enabled_ && deposits_on_) {
-      auto& slot = deposits_.next();
-      slot.first = m;
-      slot.second = via;
+      deposits_.emplace_back(m, via);
       last_ = now_();
     }
     return ok;
@@ -106,9 +78,7 @@ class LatestResender {
   bool halo(const core::HaloMsg& m, core::RegionId to) {
     const bool ok = bus_.publish_halo(m, to);
     if (enabled_) {
-      auto& slot = halos_.next();
-      slot.first = m;
-      slot.second = to;
+      halos_.emplace_back(m, to);
       last_ = now_();
     }
     return ok;
@@ -155,10 +125,7 @@ class LatestResender {
   };
   bool keep_field(const core::FieldMsg& m, FieldTo to, core::RegionId home, bool ok) {
     if (!enabled_) return ok;
-    auto& slot = fields_.next();
-    slot.m = m;
-    slot.to = to;
-    slot.home = home;
+    fields_.push_back(Field{m, to, home});
     last_ = now_();
     return ok;
   }
@@ -175,9 +142,9 @@ class LatestResender {
   }
 
   template <typename M>
-  bool remember(TickSlots<M>& to, const M& m, bool ok) {
+  bool remember(std::vector<M>& to, const M& m, bool ok) {
     if (!enabled_) return ok;
-    to.put(m);
+    to.push_back(m);
     last_ = now_();
     return ok;
   }
@@ -194,14 +161,14 @@ class LatestResender {
   std::chrono::milliseconds quiet_;
   Now now_;
   Clock::time_point last_;
-  TickSlots<Field> fields_;
-  TickSlots<core::ViewMsg> views_;
-  TickSlots<std::pair<core::HaloMsg, core::RegionId>> halos_;
+  std::vector<Field> fields_;
+  std::vector<core::ViewMsg> views_;
+  std::vector<std::pair<core::HaloMsg, core::RegionId>> halos_;
   std::optional<core::ClockMsg> clock_;
   std::optional<core::PhaseDoneMsg> done_;
-  TickSlots<core::UavStateMsg> states_;
+  std::vector<core::UavStateMsg> states_;
   bool deposits_on_ = false;
-  TickSlots<std::pair<core::DepositBatchMsg, core::RegionId>> deposits_;
+  std::vector<std::pair<core::DepositBatchMsg, core::RegionId>> deposits_;
   uint64_t resends_ = 0;
 };
 
