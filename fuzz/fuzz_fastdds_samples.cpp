@@ -121,7 +121,14 @@ void write_seeds(const std::string& dir) {
   msg::View v;
   v.uav(2);
   v.tiles({patch(), patch()});
-  v.uavs({state()});
+  msg::Neighbour near;
+  near.uav(1);
+  near.tick(1);
+  near.x(3.5);
+  near.y(4.5);
+  near.view_x(3);
+  near.view_y(4);
+  v.uavs({near});
   write_seed<msg::ViewPubSubType>(dir, "view", 4, v);
   msg::ClockCommand vc;  // a lockstep view's UAV clock
   vc.tick(1);

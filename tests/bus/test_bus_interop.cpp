@@ -265,8 +265,27 @@ TEST_P(Interop, EveryMessageArrivesIntact) {
   EXPECT_EQ(views[0].tiles[1].tile.tx, 3);
   EXPECT_EQ(views[0].tiles[1].height, 2);
   EXPECT_EQ(views[0].tiles[1].values, (std::vector<float>{4.5F, -1.0F}));
+  // A view's neighbours (IDL Neighbour) carry what the reading UAV uses of
+  // a state - its pose, the cell it reads next, whether it finished - and
+  // none of its accounting.
   ASSERT_EQ(views[0].uavs.size(), 2U);
-  for (const auto& s : views[0].uavs) expect_state(s, false);
+  for (const auto& s : views[0].uavs) {
+    EXPECT_EQ(s.uav, 5U);
+    EXPECT_EQ(s.tick, 12U);
+    EXPECT_EQ(s.x, 1.25);
+    EXPECT_EQ(s.y, -2.5);
+    EXPECT_EQ(s.vx, 0.125);
+    EXPECT_EQ(s.vy, 3.0);
+    EXPECT_EQ(s.heading, 6);
+    EXPECT_EQ(s.role, 2);
+    EXPECT_EQ(s.view.x, 3);
+    EXPECT_EQ(s.view.y, 4);
+    EXPECT_TRUE(s.finished);
+    EXPECT_EQ(s.deposits_sent, 0U);
+    EXPECT_EQ(s.samples_received, 0U);
+    EXPECT_EQ(s.tick_gap_max_ms, 0U);
+    EXPECT_TRUE(s.deposits.empty());
+  }
   const core::ViewMsg other{6, 33, {tile}, {}};  // UAV 6's view: not for this reader
   ASSERT_TRUE(w_->publish_view(other));
 

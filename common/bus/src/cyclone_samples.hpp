@@ -124,7 +124,37 @@ inline core::UavStateMsg state_in(const pheromesh_msg_UavState& s) {
   return m;
 }
 
-// The nested tiles and states of a view or field, as borrowed C structs.
+// A neighbour in a view: the fields of its state the reading UAV uses
+// (core::UavCore::receive_neighbour); the rest arrive as zero.
+inline pheromesh_msg_Neighbour neighbour_out(const core::UavStateMsg& m) {
+  return {m.uav, m.tick, m.x, m.y, m.vx, m.vy, m.heading, m.role, m.view.x, m.view.y, m.finished};
+}
+
+inline core::UavStateMsg state_in(const pheromesh_msg_Neighbour& s) {
+  core::UavStateMsg m;
+  m.uav = s.uav;
+  m.tick = s.tick;
+  m.x = s.x;
+  m.y = s.y;
+  m.vx = s.vx;
+  m.vy = s.vy;
+  m.heading = s.heading;
+  m.role = s.role;
+  m.view = {s.view_x, s.view_y};
+  m.finished = s.finished;
+  return m;
+}
+
+inline pheromesh_msg_UavState wire_state(const core::UavStateMsg& m, const pheromesh_msg_UavState* /*as*/) {
+  return state_out(m);
+}
+inline pheromesh_msg_Neighbour wire_state(const core::UavStateMsg& m, const pheromesh_msg_Neighbour* /*as*/) {
+  return neighbour_out(m);
+}
+
+// The nested tiles and states of a view (its states as Neighbours) or field
+// (as UavStates), as borrowed C structs.
+template <typename State>
 struct NestedOut {
   explicit NestedOut(const std::vector<core::TileMsg>& tiles, const std::vector<core::UavStateMsg>& uavs)
       : patches(tiles.size()) {
@@ -138,10 +168,10 @@ struct NestedOut {
       borrow(patches[i].values, t.values);
     }
     states.reserve(uavs.size());
-    for (const auto& u : uavs) states.push_back(state_out(u));
+    for (const auto& u : uavs) states.push_back(wire_state(u, static_cast<const State*>(nullptr)));
   }
   std::vector<pheromesh_msg_TilePatch> patches;
-  std::vector<pheromesh_msg_UavState> states;
+  std::vector<State> states;
 };
 
 // Tiles and states of a received view or field; false if malformed.
@@ -301,7 +331,7 @@ struct Convert<core::ViewMsg> {
   static const dds_topic_descriptor_t* descriptor() { return &pheromesh_msg_View_desc; }
   template <typename Write>
   static bool out(const core::ViewMsg& m, Write&& write) {
-    const NestedOut nested(m.tiles, m.uavs);
+    const NestedOut<pheromesh_msg_Neighbour> nested(m.tiles, m.uavs);
     Sample s{};
     s.uav = m.uav;
     s.tick = m.tick;
@@ -376,7 +406,7 @@ struct Convert<core::FieldMsg> {
   static const dds_topic_descriptor_t* descriptor() { return &pheromesh_msg_RegionField_desc; }
   template <typename Write>
   static bool out(const core::FieldMsg& m, Write&& write) {
-    const NestedOut nested(m.tiles, m.uavs);
+    const NestedOut<pheromesh_msg_UavState> nested(m.tiles, m.uavs);
     const ReportsOut reports(m.reports);
     Sample s{};
     s.region = m.region;

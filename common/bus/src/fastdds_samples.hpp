@@ -157,6 +157,43 @@ inline std::vector<msg::UavState> states_out(const std::vector<core::UavStateMsg
   return out;
 }
 
+// A neighbour in a view: the fields of its state the reading UAV uses
+// (core::UavCore::receive_neighbour); the rest arrive as zero.
+inline std::vector<msg::Neighbour> neighbours_out(const std::vector<core::UavStateMsg>& states) {
+  std::vector<msg::Neighbour> out(states.size());
+  for (std::size_t i = 0; i < states.size(); ++i) {
+    const auto& m = states[i];
+    auto& s = out[i];
+    s.uav(m.uav);
+    s.tick(m.tick);
+    s.x(m.x);
+    s.y(m.y);
+    s.vx(m.vx);
+    s.vy(m.vy);
+    s.heading(m.heading);
+    s.role(m.role);
+    s.view_x(m.view.x);
+    s.view_y(m.view.y);
+    s.finished(m.finished);
+  }
+  return out;
+}
+
+inline core::UavStateMsg state_in(const msg::Neighbour& s) {
+  core::UavStateMsg m;
+  m.uav = s.uav();
+  m.tick = s.tick();
+  m.x = s.x();
+  m.y = s.y();
+  m.vx = s.vx();
+  m.vy = s.vy();
+  m.heading = s.heading();
+  m.role = s.role();
+  m.view = {s.view_x(), s.view_y()};
+  m.finished = s.finished();
+  return m;
+}
+
 inline std::vector<msg::TilePatch> patches_out(const std::vector<core::TileMsg>& tiles) {
   std::vector<msg::TilePatch> out(tiles.size());
   for (std::size_t i = 0; i < tiles.size(); ++i) {
@@ -337,7 +374,7 @@ struct Convert<core::ViewMsg> {
     s.deposit_ack(m.deposit_ack);
     s.deposit_ack_from(m.deposit_ack_from);
     s.tiles(patches_out(m.tiles));
-    s.uavs(states_out(m.uavs));
+    s.uavs(neighbours_out(m.uavs));
     if (m.clock) s.clock().push_back(clock_out(*m.clock));
     return s;
   }
