@@ -334,7 +334,7 @@ void take_as(CycloneTransport& t, dds_entity_t reader, Watch watch, TakeSink& si
       if (info[i].valid_data) {
         who.participant = t.participant_of(reader, info[i].publication_handle);
         if (auto m = cyclone::Convert<M>::in(s)) {
-          sink.sample(&*m, who);
+          sink.sample_owned(&*m, who);
         } else {
           t.dropped();
         }

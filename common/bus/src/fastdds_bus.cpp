@@ -558,8 +558,8 @@ void take_as(FastDdsTransport& t, fdds::DataReader* reader, TakeSink& sink) {
     if (info.valid_data) {
       if (auto m = in::Convert<M>::in(sample)) {
         // The publication handle is the writer's GUID: its prefix names the participant.
-        sink.sample(&*m, {writer_id(info.publication_handle), writer_id(info.instance_handle),
-                          participant_id(info.publication_handle.value)});
+        sink.sample_owned(&*m, {writer_id(info.publication_handle), writer_id(info.instance_handle),
+                                participant_id(info.publication_handle.value)});
       } else {
         t.dropped();
       }

@@ -95,7 +95,13 @@ inline uint64_t participant_id(const uint8_t* guid_prefix12) {
 class TakeSink {
  public:
   virtual ~TakeSink() = default;
+  // A message the transport shares (the in-memory transport's, one for every
+  // reader): the sink copies what it keeps.
   virtual void sample(const void* message, const SampleInfo& info) = 0;
+  // A message the transport converted for this take and drops after the
+  // call (a DDS sample's): the sink may move from it - a view's tiles and
+  // neighbours are not copied again.
+  virtual void sample_owned(void* message, const SampleInfo& info) { sample(message, info); }
   // Every writer of an instance, or one writer, is gone (Watch::
   // SamplesAndDepartures readers only). `key_message` holds the instance's
   // key fields when the vendor delivers them, else nullptr: then `info`

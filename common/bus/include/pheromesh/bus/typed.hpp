@@ -99,15 +99,10 @@ class Reader {
     Sink(std::vector<M>& out, std::vector<uint32_t>& departed, Seen* seen)
         : out_(out), departed_(departed), seen_(seen) {}
     void sample(const void* message, const SampleInfo& info) override {
-      M m = *static_cast<const M*>(message);
-      if constexpr (requires(M & x, uint64_t w) { x.writer = w; }) m.writer = info.writer;  // ClockMsg
-      if constexpr (requires(M & x, uint64_t p) { x.participant = p; }) m.participant = info.participant;
-      if (seen_ != nullptr) {
-        const auto key = static_cast<uint32_t>(Topic<M>::key(m));
-        seen_->by_writer[info.writer] = key;
-        if (info.instance != 0) seen_->by_instance[info.instance] = key;
-      }
-      out_.push_back(std::move(m));
+      keep(M(*static_cast<const M*>(message)), info);
+    }
+    void sample_owned(void* message, const SampleInfo& info) override {
+      keep(std::move(*static_cast<M*>(message)), info);
     }
     void gone(const void* key_message, const SampleInfo& info) override {
       if (seen_ == nullptr) return;
@@ -121,6 +116,16 @@ class Reader {
     }
 
    private:
+    void keep(M&& m, const SampleInfo& info) {
+      if constexpr (requires(M & x, uint64_t w) { x.writer = w; }) m.writer = info.writer;  // ClockMsg
+      if constexpr (requires(M & x, uint64_t p) { x.participant = p; }) m.participant = info.participant;
+      if (seen_ != nullptr) {
+        const auto key = static_cast<uint32_t>(Topic<M>::key(m));
+        seen_->by_writer[info.writer] = key;
+        if (info.instance != 0) seen_->by_instance[info.instance] = key;
+      }
+      out_.push_back(std::move(m));
+    }
     std::vector<M>& out_;
     std::vector<uint32_t>& departed_;
     Seen* seen_;  // null: departures not watched
