@@ -175,9 +175,8 @@ TEST_P(Interop, EveryMessageArrivesIntact) {
   ASSERT_TRUE(w_->relay_states(std::vector<core::UavStateMsg>{gone}, 3, 0, 41, std::vector{report}));
   const auto states = wait_for<core::UavStateMsg>([&](auto& v) { r_->take_uav_states(v); }, 2);
   ASSERT_EQ(states.size(), 2U);
-  // `uplink`: a state on the UavState topics carries its deposits; nested
-  // in a view or a field it goes without them.
-  const auto expect_state = [](const core::UavStateMsg& s, bool uplink = true) {
+  // Its pose: all a view's neighbour carries (IDL Neighbour).
+  const auto expect_pose = [](const core::UavStateMsg& s) {
     EXPECT_EQ(s.uav, 5U);
     EXPECT_EQ(s.tick, 12U);
     EXPECT_EQ(s.x, 1.25);
@@ -186,13 +185,18 @@ TEST_P(Interop, EveryMessageArrivesIntact) {
     EXPECT_EQ(s.vy, 3.0);
     EXPECT_EQ(s.heading, 6);
     EXPECT_EQ(s.role, 2);
+    EXPECT_EQ(s.view.x, 3);
+    EXPECT_EQ(s.view.y, 4);
+    EXPECT_TRUE(s.finished);
+  };
+  // `uplink`: a state on the UavState topics carries its deposits; nested
+  // in a field it goes without them.
+  const auto expect_state = [&](const core::UavStateMsg& s, bool uplink = true) {
+    expect_pose(s);
     EXPECT_EQ(s.deposits_sent, 1234567890123ULL);
     EXPECT_EQ(s.tile_samples_received, 99U);
     EXPECT_EQ(s.samples_received, 1ULL << 40U);
     EXPECT_EQ(s.ticks_late, 8U);
-    EXPECT_EQ(s.view.x, 3);
-    EXPECT_EQ(s.view.y, 4);
-    EXPECT_TRUE(s.finished);
     EXPECT_EQ(s.tick_gap_max_ms, 1003U);
     EXPECT_EQ(s.tick_gaps_over_2, 7U);
     if (!uplink) {
@@ -270,17 +274,7 @@ TEST_P(Interop, EveryMessageArrivesIntact) {
   // none of its accounting.
   ASSERT_EQ(views[0].uavs.size(), 2U);
   for (const auto& s : views[0].uavs) {
-    EXPECT_EQ(s.uav, 5U);
-    EXPECT_EQ(s.tick, 12U);
-    EXPECT_EQ(s.x, 1.25);
-    EXPECT_EQ(s.y, -2.5);
-    EXPECT_EQ(s.vx, 0.125);
-    EXPECT_EQ(s.vy, 3.0);
-    EXPECT_EQ(s.heading, 6);
-    EXPECT_EQ(s.role, 2);
-    EXPECT_EQ(s.view.x, 3);
-    EXPECT_EQ(s.view.y, 4);
-    EXPECT_TRUE(s.finished);
+    expect_pose(s);
     EXPECT_EQ(s.deposits_sent, 0U);
     EXPECT_EQ(s.samples_received, 0U);
     EXPECT_EQ(s.tick_gap_max_ms, 0U);

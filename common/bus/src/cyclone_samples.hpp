@@ -97,7 +97,9 @@ inline core::DepositMsg deposit_in(const pheromesh_msg_Deposit& s) {
   return {s.uav, s.seq, s.tick, s.region, s.kind, s.layer, {s.x, s.y}, s.amount, {s.spread[0], s.spread[1], s.spread[2]}};
 }
 
-inline core::UavStateMsg state_in(const pheromesh_msg_UavState& s) {
+// The pose of a UavState or a Neighbour (the fields both have).
+template <typename S>
+core::UavStateMsg pose_in(const S& s) {
   core::UavStateMsg m;
   m.uav = s.uav;
   m.tick = s.tick;
@@ -107,12 +109,17 @@ inline core::UavStateMsg state_in(const pheromesh_msg_UavState& s) {
   m.vy = s.vy;
   m.heading = s.heading;
   m.role = s.role;
+  m.view = {s.view_x, s.view_y};
+  m.finished = s.finished;
+  return m;
+}
+
+inline core::UavStateMsg state_in(const pheromesh_msg_UavState& s) {
+  core::UavStateMsg m = pose_in(s);
   m.deposits_sent = s.deposits_sent;
   m.tile_samples_received = s.tile_samples_received;
   m.samples_received = s.samples_received;
   m.ticks_late = s.ticks_late;
-  m.view = {s.view_x, s.view_y};
-  m.finished = s.finished;
   m.tick_gap_max_ms = s.tick_gap_max_ms;
   m.tick_gaps_over_2 = s.tick_gaps_over_2;
   m.deposits_unconfirmed = s.deposits_unconfirmed;
@@ -130,20 +137,7 @@ inline pheromesh_msg_Neighbour neighbour_out(const core::UavStateMsg& m) {
   return {m.uav, m.tick, m.x, m.y, m.vx, m.vy, m.heading, m.role, m.view.x, m.view.y, m.finished};
 }
 
-inline core::UavStateMsg state_in(const pheromesh_msg_Neighbour& s) {
-  core::UavStateMsg m;
-  m.uav = s.uav;
-  m.tick = s.tick;
-  m.x = s.x;
-  m.y = s.y;
-  m.vx = s.vx;
-  m.vy = s.vy;
-  m.heading = s.heading;
-  m.role = s.role;
-  m.view = {s.view_x, s.view_y};
-  m.finished = s.finished;
-  return m;
-}
+inline core::UavStateMsg state_in(const pheromesh_msg_Neighbour& s) { return pose_in(s); }
 
 inline pheromesh_msg_UavState wire_state(const core::UavStateMsg& m, const pheromesh_msg_UavState* /*as*/) {
   return state_out(m);

@@ -74,7 +74,9 @@ inline std::vector<msg::RegionCount> region_counts_out(const std::vector<core::R
   return out;
 }
 
-inline core::UavStateMsg state_in(const msg::UavState& s) {
+// The pose of a UavState or a Neighbour (the fields both have).
+template <typename S>
+core::UavStateMsg pose_in(const S& s) {
   core::UavStateMsg m;
   m.uav = s.uav();
   m.tick = s.tick();
@@ -84,12 +86,31 @@ inline core::UavStateMsg state_in(const msg::UavState& s) {
   m.vy = s.vy();
   m.heading = s.heading();
   m.role = s.role();
+  m.view = {s.view_x(), s.view_y()};
+  m.finished = s.finished();
+  return m;
+}
+template <typename S>
+void pose_out(const core::UavStateMsg& m, S& s) {
+  s.uav(m.uav);
+  s.tick(m.tick);
+  s.x(m.x);
+  s.y(m.y);
+  s.vx(m.vx);
+  s.vy(m.vy);
+  s.heading(m.heading);
+  s.role(m.role);
+  s.view_x(m.view.x);
+  s.view_y(m.view.y);
+  s.finished(m.finished);
+}
+
+inline core::UavStateMsg state_in(const msg::UavState& s) {
+  core::UavStateMsg m = pose_in(s);
   m.deposits_sent = s.deposits_sent();
   m.tile_samples_received = s.tile_samples_received();
   m.samples_received = s.samples_received();
   m.ticks_late = s.ticks_late();
-  m.view = {s.view_x(), s.view_y()};
-  m.finished = s.finished();
   m.tick_gap_max_ms = s.tick_gap_max_ms();
   m.tick_gaps_over_2 = s.tick_gaps_over_2();
   m.deposits_unconfirmed = s.deposits_unconfirmed();
@@ -103,21 +124,11 @@ inline core::UavStateMsg state_in(const msg::UavState& s) {
 
 inline msg::UavState state_out(const core::UavStateMsg& m) {
   msg::UavState s;
-  s.uav(m.uav);
-  s.tick(m.tick);
-  s.x(m.x);
-  s.y(m.y);
-  s.vx(m.vx);
-  s.vy(m.vy);
-  s.heading(m.heading);
-  s.role(m.role);
+  pose_out(m, s);
   s.deposits_sent(m.deposits_sent);
   s.tile_samples_received(m.tile_samples_received);
   s.samples_received(m.samples_received);
   s.ticks_late(m.ticks_late);
-  s.view_x(m.view.x);
-  s.view_y(m.view.y);
-  s.finished(m.finished);
   s.deposits_unconfirmed(m.deposits_unconfirmed);
   s.tick_gap_max_ms(m.tick_gap_max_ms);
   s.tick_gaps_over_2(m.tick_gaps_over_2);
@@ -161,38 +172,11 @@ inline std::vector<msg::UavState> states_out(const std::vector<core::UavStateMsg
 // (core::UavCore::receive_neighbour); the rest arrive as zero.
 inline std::vector<msg::Neighbour> neighbours_out(const std::vector<core::UavStateMsg>& states) {
   std::vector<msg::Neighbour> out(states.size());
-  for (std::size_t i = 0; i < states.size(); ++i) {
-    const auto& m = states[i];
-    auto& s = out[i];
-    s.uav(m.uav);
-    s.tick(m.tick);
-    s.x(m.x);
-    s.y(m.y);
-    s.vx(m.vx);
-    s.vy(m.vy);
-    s.heading(m.heading);
-    s.role(m.role);
-    s.view_x(m.view.x);
-    s.view_y(m.view.y);
-    s.finished(m.finished);
-  }
+  for (std::size_t i = 0; i < states.size(); ++i) pose_out(states[i], out[i]);
   return out;
 }
 
-inline core::UavStateMsg state_in(const msg::Neighbour& s) {
-  core::UavStateMsg m;
-  m.uav = s.uav();
-  m.tick = s.tick();
-  m.x = s.x();
-  m.y = s.y();
-  m.vx = s.vx();
-  m.vy = s.vy();
-  m.heading = s.heading();
-  m.role = s.role();
-  m.view = {s.view_x(), s.view_y()};
-  m.finished = s.finished();
-  return m;
-}
+inline core::UavStateMsg state_in(const msg::Neighbour& s) { return pose_in(s); }
 
 inline std::vector<msg::TilePatch> patches_out(const std::vector<core::TileMsg>& tiles) {
   std::vector<msg::TilePatch> out(tiles.size());
