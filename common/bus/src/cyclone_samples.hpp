@@ -139,16 +139,9 @@ inline pheromesh_msg_Neighbour neighbour_out(const core::UavStateMsg& m) {
 
 inline core::UavStateMsg state_in(const pheromesh_msg_Neighbour& s) { return pose_in(s); }
 
-inline pheromesh_msg_UavState wire_state(const core::UavStateMsg& m, const pheromesh_msg_UavState* /*as*/) {
-  return state_out(m);
-}
-inline pheromesh_msg_Neighbour wire_state(const core::UavStateMsg& m, const pheromesh_msg_Neighbour* /*as*/) {
-  return neighbour_out(m);
-}
-
 // The nested tiles and states of a view (its states as Neighbours) or field
 // (as UavStates), as borrowed C structs.
-template <typename State>
+template <typename State, State (*state_as)(const core::UavStateMsg&)>
 struct NestedOut {
   explicit NestedOut(const std::vector<core::TileMsg>& tiles, const std::vector<core::UavStateMsg>& uavs)
       : patches(tiles.size()) {
@@ -162,7 +155,7 @@ struct NestedOut {
       borrow(patches[i].values, t.values);
     }
     states.reserve(uavs.size());
-    for (const auto& u : uavs) states.push_back(wire_state(u, static_cast<const State*>(nullptr)));
+    for (const auto& u : uavs) states.push_back(state_as(u));
   }
   std::vector<pheromesh_msg_TilePatch> patches;
   std::vector<State> states;
@@ -325,7 +318,7 @@ struct Convert<core::ViewMsg> {
   static const dds_topic_descriptor_t* descriptor() { return &pheromesh_msg_View_desc; }
   template <typename Write>
   static bool out(const core::ViewMsg& m, Write&& write) {
-    const NestedOut<pheromesh_msg_Neighbour> nested(m.tiles, m.uavs);
+    const NestedOut<pheromesh_msg_Neighbour, neighbour_out> nested(m.tiles, m.uavs);
     Sample s{};
     s.uav = m.uav;
     s.tick = m.tick;
@@ -400,7 +393,7 @@ struct Convert<core::FieldMsg> {
   static const dds_topic_descriptor_t* descriptor() { return &pheromesh_msg_RegionField_desc; }
   template <typename Write>
   static bool out(const core::FieldMsg& m, Write&& write) {
-    const NestedOut<pheromesh_msg_UavState> nested(m.tiles, m.uavs);
+    const NestedOut<pheromesh_msg_UavState, state_out> nested(m.tiles, m.uavs);
     const ReportsOut reports(m.reports);
     Sample s{};
     s.region = m.region;
