@@ -668,7 +668,7 @@ void print_results(const Plan& p, const std::vector<ScaleRow>& rows, const std::
 }  // namespace
 
 int run_bench_scale(const BenchScaleOptions& o) {
-  Plan p{o, {}, {}, split(o.extra, " \t"), host_description()};
+  Plan p{o, {}, {}, split(o.extra, " \t"), host_description(), {}};
   if (const auto refused = plan_bench(o, p)) return *refused;
   std::error_code ec;
   fs::create_directories(o.out_dir, ec);
