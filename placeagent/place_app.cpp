@@ -24,7 +24,7 @@ PlaceApp::PlaceApp(PlaceConfig cfg, core::ScenarioConfig scenario, std::unique_p
       rate_(scenario_.tick_rate_hz),
       gaps_(std::chrono::nanoseconds(static_cast<int64_t>(1e9 / scenario_.tick_rate_hz))),
       traits_(core::policy_traits(scenario_)),
-      views_(geo_, static_cast<int>(traits_.layers.size()), traits_.view_radius),
+      views_(geo_, static_cast<int>(traits_.layers.size()), traits_.view_radius, traits_.reads_neighbours),
       rules_{geo_, core_.layer_count(), traits_.layer_ranges, scenario_.uavs},
       desk_(cfg_.region, geo_.region_count(), scenario_.uavs,
             cfg_.common.standby || scenario_.standby || cfg_.common.lockstep()),

@@ -39,7 +39,7 @@ class Walk(pheromesh.UavPolicy):
         if config["mark"] > 100:
             raise ValueError("mark must be at most 100")
         return pheromesh.Traits([pheromesh.Layer("trail", evaporation=0.05, diffusion=0.1, max=100)],
-                                sensor_radius=1.5, view_radius=2.0, max_step=1.5)
+                                sensor_radius=1.5, view_radius=2.0, max_step=1.5, reads_neighbours=False)
 
     def __init__(self, config, uav):
         super().__init__(config, uav)
@@ -146,6 +146,7 @@ TEST_F(PythonScenario, AScenarioImportsTheClassBesideItAndTheTableFindsItsEntry)
   EXPECT_EQ(t.layer_ranges[0].hi, 100.0F);
   EXPECT_EQ(t.view_radius, 2.0);
   EXPECT_EQ(t.sensor_radius, 1.5);
+  EXPECT_FALSE(t.reads_neighbours) << "Traits(..., reads_neighbours=False)";
 }
 
 TEST_F(PythonScenario, TheSimulatorStepsTheClassAndASeedGivesTheSameRun) {

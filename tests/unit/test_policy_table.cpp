@@ -11,7 +11,9 @@
 #include <string>
 #include <vector>
 
+#include "pheromesh/core/policy.hpp"
 #include "pheromesh/core/scenario.hpp"
+#include "pheromesh/core/world.hpp"
 #include "pheromesh/shao/policy.hpp"
 #include "unit_support.hpp"
 
@@ -168,6 +170,49 @@ TEST(PolicyTable, ShaoNavigationReadsTheLambdasOfShaoAco) {
   ASSERT_EQ(r->policy, "shao_navigation");
   EXPECT_DOUBLE_EQ(r->aco.lambda_path, 0.7);
   EXPECT_DOUBLE_EQ(r->config_of<ShaoNavigationConfig>().params.lambda_path, 0.7);
+}
+
+TEST(PolicyTable, APolicyThatSaysItReadsNoNeighboursStepsTheSameWithoutThem) {
+  // PolicyTraits::reads_neighbours false lets the place agents and the
+  // simulator leave the neighbours out of its views: two UAVs of the same
+  // policy and id, one shown five neighbours around it every tick and one
+  // none, must act the same for 40 ticks.
+  std::set<std::string> reading;
+  for (const auto& [policy, scenario] : scenario_of_each_policy()) {
+    const ScenarioConfig s = shipped(scenario);
+    const PolicyTraits traits = policy_traits(s);
+    if (traits.reads_neighbours) {
+      reading.insert(policy);
+      continue;
+    }
+    const MapGeometry geo = s.geometry();
+    const World world(geo, s.obstacles, s.targets);
+    const PolicyEntry& entry = policy_entry(s);
+    auto shown = entry.make_uav(s, geo, world, 0);
+    auto alone = entry.make_uav(s, geo, world, 0);
+    const TileCache tiles(geo, static_cast<int>(traits.layers.size()));
+    UavActions a, b;
+    for (uint32_t tick = 0; tick < 40; ++tick) {
+      std::vector<UavStateMsg> around;
+      const Cell c = shown->cell();
+      for (uint32_t n = 1; n <= 5; ++n) {
+        around.push_back(test::state_at(n, tick, std::clamp(c.x + static_cast<int32_t>(n) - 3, 0, s.width - 1),
+                                        std::clamp(c.y + 1, 0, s.height - 1)));
+      }
+      a.clear();
+      b.clear();
+      shown->step(UavView{tick, &tiles, around, {}}, a);
+      alone->step(UavView{tick, &tiles, {}, {}}, b);
+      ASSERT_EQ(shown->cell(), alone->cell()) << policy << " tick " << tick;
+      EXPECT_EQ(a.state.x, b.state.x) << policy << " tick " << tick;
+      EXPECT_EQ(a.state.y, b.state.y) << policy << " tick " << tick;
+      EXPECT_EQ(a.deposits.size(), b.deposits.size()) << policy << " tick " << tick;
+      EXPECT_EQ(a.broadcast.has_value(), b.broadcast.has_value()) << policy << " tick " << tick;
+    }
+  }
+  // The two that steer by their neighbours (Shao 2020 Sec. 5 followers,
+  // Liu 2022's nearest neighbours) keep them.
+  EXPECT_EQ(reading, (std::set<std::string>{"shao_navigation", "liu"}));
 }
 
 }  // namespace

@@ -46,6 +46,24 @@ TEST(ViewServer, AViewHoldsTheTilesWithinTheRadiusOfTheViewCellAndTheUavsOverThe
   EXPECT_FALSE(vs.compose(9, 5, 0, 5, v)) << "no state of UAV 9 is known";
 }
 
+TEST(ViewServer, APolicyThatReadsNoNeighboursGetsViewsOfTilesOnly) {
+  // PolicyTraits::reads_neighbours false: the same view as above, without UAV 2.
+  ViewServer vs(geo(), 1, 3.0, false);
+  for (int32_t tx = 0; tx < 2; ++tx) {
+    for (int32_t ty = 0; ty < 2; ++ty) vs.update_tile(tile(0, {tx, ty}, 5, 1.0F), 5);
+  }
+  vs.update_state(uav(1, 5, 11, 11));
+  vs.update_state(uav(2, 5, 8, 8));
+  ViewMsg v;
+  v.uavs.push_back(uav(7, 4, 1, 1));  // what a reused message held is gone too
+  ASSERT_TRUE(vs.compose(1, 5, 0, 5, v));
+  EXPECT_EQ(v.tiles.size(), 4U);
+  EXPECT_TRUE(v.uavs.empty());
+  // UAV 2's own view is composed as well: it is served, only not shown.
+  ASSERT_TRUE(vs.compose(2, 5, 0, 5, v));
+  EXPECT_TRUE(v.uavs.empty());
+}
+
 TEST(ViewServer, AViewCrowdedPastTheIdlBoundKeepsTheNearestNeighboursInIdOrder) {
   ViewServer vs(geo(), 1, 3.0);
   vs.update_state(uav(1, 5, 5.0, 5.0));

@@ -72,13 +72,16 @@ class Traits:
     """What a policy looks like from outside: its layers (index = the layer
     number a deposit names), the sensor radius of the coverage metric, the
     radius of the tiles a UAV reads, and the farthest a UAV flies in a tick
-    (cells; the plausibility check refuses farther)."""
+    (cells; the plausibility check refuses farther). reads_neighbours=False
+    says that step() never reads view.neighbours: its views then carry
+    none, which saves most of a crowded swarm's view traffic."""
 
-    def __init__(self, layers, sensor_radius=4.0, view_radius=5.0, max_step=1.5):
+    def __init__(self, layers, sensor_radius=4.0, view_radius=5.0, max_step=1.5, reads_neighbours=True):
         self.layers = list(layers)
         self.sensor_radius = float(sensor_radius)
         self.view_radius = float(view_radius)
         self.max_step = float(max_step)
+        self.reads_neighbours = bool(reads_neighbours)
 
 
 class UavPolicy:

@@ -562,6 +562,8 @@ Errors read_traits(const py::object& cls, const std::string& qualified, PythonPo
     c.traits.sensor_radius = traits.attr("sensor_radius").cast<double>();
     c.traits.view_radius = traits.attr("view_radius").cast<double>();
     c.traits.max_step = traits.attr("max_step").cast<double>();
+    // Absent on a Traits-like object of an older script: it reads them.
+    c.traits.reads_neighbours = py::getattr(traits, "reads_neighbours", py::bool_(true)).cast<bool>();
   } catch (const std::exception& e) {
     return {{"class", qualified + ".traits(config) must return a pheromesh.Traits of pheromesh.Layer: " +
                           std::string(e.what())}};

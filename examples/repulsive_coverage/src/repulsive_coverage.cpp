@@ -79,6 +79,7 @@ PolicyTraits traits(const ScenarioConfig& s) {
   t.sensor_radius = c.sensor_radius;
   t.view_radius = 2.0;  // the 8 neighbours, with a margin
   t.max_step = 1.5;     // one cell, diagonals included (sqrt 2)
+  t.reads_neighbours = false;  // it steers by the layer alone: its views carry no other UAVs
   t.deposit_reach = 0.0;  // it marks the cell it is over: a place agent refuses a mark anywhere else
   return t;
 }

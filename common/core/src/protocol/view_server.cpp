@@ -7,8 +7,8 @@
 
 namespace pheromesh::core {
 
-ViewServer::ViewServer(const MapGeometry& geo, int layers, double view_radius)
-    : geo_(geo), layers_(layers), radius_(static_cast<int32_t>(std::ceil(view_radius))) {}
+ViewServer::ViewServer(const MapGeometry& geo, int layers, double view_radius, bool neighbours)
+    : geo_(geo), layers_(layers), radius_(static_cast<int32_t>(std::ceil(view_radius))), neighbours_(neighbours) {}
 
 void ViewServer::update_tile(const TileMsg& t, uint32_t arrived) {
   auto [it, fresh] = tiles_.try_emplace({t.tile.tx, t.tile.ty, static_cast<int>(t.layer)}, Held{t, arrived});
@@ -176,6 +176,7 @@ bool ViewServer::compose(uint32_t uav, uint32_t tick, uint32_t max_age, uint32_t
       auto it = tiles_.find({t.tx, t.ty, l});
       if (it != tiles_.end() && it->second.arrived >= min_tile_tick) out.tiles.push_back(it->second.tile);
     }
+    if (!neighbours_) continue;
     auto o = over_.find({t.tx, t.ty});
     if (o == over_.end()) continue;
     for (uint32_t other : o->second) {

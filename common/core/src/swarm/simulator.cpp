@@ -215,6 +215,9 @@ void Simulator::uav_phase(uint32_t tick) {
     fly_uav(i, tick, out, states, broadcasts);
   }
   states_by_tile_.clear();
+  // A policy that reads no neighbours is shown none (PolicyTraits), as a
+  // place agent composes its views.
+  if (!traits_.reads_neighbours) states.clear();
   for (const UavStateMsg& s : states) {
     const TileCoord t = geo_.tile_of(state_cell(s));
     states_by_tile_[{t.tx, t.ty}].push_back(s);

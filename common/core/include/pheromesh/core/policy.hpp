@@ -40,6 +40,11 @@ struct PolicyTraits {
   std::vector<std::string> layers;  // layer names, index = TileState.layer
   double sensor_radius = 4.0;       // [cell] for the coverage metric
   double view_radius = 5.0;         // [cell] tiles (and the UAVs over them) a UAV reads
+  // Its step reads UavView::neighbours. A policy that never does says false:
+  // its UAVs' views then carry no neighbours (the place agents compose none,
+  // the simulator shows none), and a crowded swarm's views are mostly those.
+  // The default keeps them, so that a policy that reads them gets them.
+  bool reads_neighbours = true;
   // Its UAVs may broadcast to the swarm (PolicyEntry::broadcasts); a UAV then
   // creates its writer at start.
   bool broadcasts = false;

@@ -44,7 +44,8 @@ namespace pheromesh::core {
 // messages (messages.hpp) — or the meaning of a deposit kind. A loader
 // refuses a library of another version, naming both. (A change that only adds
 // a free function does not need a bump.)
-inline constexpr uint32_t kPolicyPluginAbi = 4;  // 3: PlaceModel::copy_rect; 4: ClockMsg::served, neighbours by pose
+// 3: PlaceModel::copy_rect; 4: ClockMsg::served, neighbours by pose; 5: PolicyTraits::reads_neighbours
+inline constexpr uint32_t kPolicyPluginAbi = 5;
 
 // A second guard beside the version, in case a bump was forgotten: the sizes
 // of the types a plugin shares with pheromesh, folded into one number. A

@@ -32,8 +32,10 @@ namespace pheromesh::core {
 class ViewServer {
  public:
   // `view_radius` [cell]: the policy's (policy_traits); a UAV reads the tiles
-  // within ceil(view_radius) of its view cell, as UavCore does.
-  ViewServer(const MapGeometry& geo, int layers, double view_radius);
+  // within ceil(view_radius) of its view cell, as UavCore does. Without
+  // `neighbours` (PolicyTraits::reads_neighbours) a view carries no other
+  // UAVs' states, only tiles.
+  ViewServer(const MapGeometry& geo, int layers, double view_radius, bool neighbours = true);
 
   // The latest value of a tile layer (an older tick never replaces a newer
   // one), which arrived at this place agent's tick `arrived` (compose).
@@ -117,6 +119,7 @@ class ViewServer {
   MapGeometry geo_;
   int layers_;
   int32_t radius_;
+  bool neighbours_;
   struct Held {
     TileMsg tile;
     uint32_t arrived = 0;

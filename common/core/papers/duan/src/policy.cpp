@@ -561,6 +561,9 @@ PolicyTraits duan_traits(const ScenarioConfig& s) {
   // limit bound it), and Duan 2009 eq. (10) needs the others' point pheromone wherever
   // it goes: every UAV reads the whole map.
   t.view_radius = static_cast<double>(std::max(s.width, s.height));
+  // The others' point pheromone and broadcasts, never their poses: without
+  // this every view would carry every UAV of the swarm.
+  t.reads_neighbours = false;
   // V_max for one tick on the mesh, twice for margin [node/tick]; UAVs start
   // at their missions' start nodes (Duan 2009 Table 2).
   const DuanConfig& c = s.config_of<DuanConfig>();

@@ -359,6 +359,7 @@ PolicyTraits ravankar_traits(const ScenarioConfig& s) {
   // A follower reads the 8 neighbours of the cell under its estimate, which
   // lies near its true cell: the tiles within z_rng + 1 cell.
   t.view_radius = std::ceil(range_cells) + 1.0;
+  t.reads_neighbours = false;  // the pheromone trail only
   // The faster of the two speeds for one tick, four times for the wheel
   // noise and the position fixes (measured: at most 1.08 cells at 0.5 m/s) [cell/tick].
   t.max_step = 4.0 * std::max(c.leader_speed_mps, c.explore_speed_mps) * c.dt_s / c.cell_size_m;

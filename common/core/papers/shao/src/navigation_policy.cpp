@@ -127,6 +127,7 @@ class ShaoNavigationUav final : public UavPolicy {
 
 PolicyTraits shao_navigation_traits(const ScenarioConfig& s) {
   PolicyTraits t = shao_search_traits(s);
+  t.reads_neighbours = true;  // a follower steers by the UAVs around it (step: view.neighbours)
   const auto& p = s.config_of<ShaoNavigationConfig>().params;
   t.view_radius = std::max({t.view_radius, std::ceil(p.leader_sensor_radius) + 1.0, std::ceil(p.follower_range) + 1.0});
   // Followers' speed is not bounded (navigation.cpp: Shao 2020 gives no limit;

@@ -305,6 +305,7 @@ PolicyTraits shao_search_traits(const ScenarioConfig& s) {
   t.sensor_radius = s.aco.sensor_radius;
   // The tiles within the sensor radius plus one step.
   t.view_radius = std::ceil(s.aco.sensor_radius) + 1.0;
+  t.reads_neighbours = false;  // the field and the broadcasts only
   t.max_step = 1.5;  // [cell/tick] one grid step, √2 on a diagonal (Shao 2020 eq. (9) headings)
   // Path visits on its cell, target and obstacle marks where it senses them.
   t.deposit_reach = s.aco.sensor_radius;

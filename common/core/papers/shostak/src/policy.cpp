@@ -342,6 +342,7 @@ PolicyTraits shostak_traits(const ScenarioConfig& s) {
   t.sensor_radius = c.detect_radius_m / c.layers.cell_size_m;
   // The tiles under the 15 m candidate ring (d·cos ψ <= d) plus one cell.
   t.view_radius = std::ceil(c.aco.step_m / c.layers.cell_size_m) + 1.0;
+  t.reads_neighbours = false;  // the field and the broadcast targets only
   // Cruise speed for one tick, three times for the dead-reckoning drift [cell/tick].
   t.max_step = 3.0 * c.speed_mps * c.dt_s / c.layers.cell_size_m;
   // τmax of each layer (Shostak 2024 Sec. 2: [0, 10], [0, 10], [0, 100]).
