@@ -59,7 +59,7 @@ LockstepEnd LockstepLoop::run() {
     if (resend.resend_if_quiet()) {
       log.debug("tick {}: nothing new for 1 s; re-sent this tick's samples", follower.last_done().value_or(0));
     }
-    const auto until = Clock::now() + std::chrono::milliseconds(100);
+    const auto until = Clock::now() + kShutdownSlice;
     if (wake_on_reports) {
       // A place agent: whatever it relays (before_round takes it all).
       bus.wait({bus::TopicKind::Clock, bus::TopicKind::PhaseDone, bus::TopicKind::UavHome, bus::TopicKind::Detection,

@@ -352,13 +352,13 @@ bool TickClock::wait_next() {
     ++late_ticks_;
     next_ = now;
   }
-  // Sleep in slices so a shutdown request is seen within 250 ms (a signal
+  // Sleep in slices so a shutdown request is seen within kShutdownSlice (a signal
   // to this thread ends the slice at once). At 5 Hz that is one sleep per
   // tick: 50 ms slices were four, and each wake-up a context switch of
   // every UAV (measured: 4.0 voluntary switches per UAV tick, 1.0 after;
   // docs/benchmarks.md, "Where a UAV tick goes").
   while (!shutdown_requested() && now < next_) {
-    sleep_slice(std::min<std::chrono::nanoseconds>(next_ - now, std::chrono::milliseconds(250)));
+    sleep_slice(std::min<std::chrono::nanoseconds>(next_ - now, kShutdownSlice));
     now = std::chrono::steady_clock::now();
   }
   ++window_ticks_;

@@ -19,7 +19,7 @@ enum class Awaited : uint8_t { Done, TimedOut, ShutDown };
 
 struct AwaitBounds {
   std::chrono::milliseconds bound{30000};  // [ms] the whole wait
-  std::chrono::milliseconds slice{100};    // [ms] the longest single sleep on the bus
+  std::chrono::milliseconds slice{kShutdownSlice};  // [ms] the longest single sleep on the bus
 };
 
 // Calls take() then done() until done() holds; between rounds re-sends

@@ -103,6 +103,12 @@ bool streams_differ(int a, int b);
 
 // SIGINT/SIGTERM set a flag (the handler does nothing else).
 void install_shutdown_handlers();
+// The longest a process sleeps without looking at that flag (TickClock, the
+// lockstep waits): a shutdown request is seen within it. Every wake-up of an
+// idle process is a context switch; a 1000-UAV lockstep swarm waits about
+// 250 ms a tick, so 100 ms slices woke each UAV two or three times a tick
+// for nothing (docs/benchmarks.md, "Views without neighbours").
+inline constexpr std::chrono::milliseconds kShutdownSlice{250};
 [[nodiscard]] bool shutdown_requested();
 void request_shutdown();  // for tests and internal stops
 
