@@ -228,6 +228,10 @@ int UavApp::run_lockstep(uint32_t ticks) {
                                run_uav_phase(c, ticks);
                                return runtime::PhaseOutcome::Continue;
                              }};
+  // A phase whose view (with its clock) and broadcasts are here runs in the
+  // thread that received the last of them: one wake-up a tick, not two.
+  loop.ready = [&](const core::ClockMsg& c) { return ready_for(c); };
+  loop.inputs = {bus::TopicKind::Clock, bus::TopicKind::RelayedClock, bus::TopicKind::View, bus::TopicKind::Broadcast};
   conductor_lost_ = loop.run() == runtime::LockstepEnd::ConductorLost;
   return static_cast<int>(follower_.last_done().value_or(0));
 }

@@ -54,6 +54,11 @@ class UavApp {
   // around this UAV and the states of the UAVs over them) and the broadcasts
   // the clock announced of UAV tick `tick` have arrived.
   void wait_for_tick(uint32_t tick, const core::ClockMsg& announced);
+  // Whether the UAV phase of clock `c` can run now without waiting: what
+  // wait_for_tick waits for is here (it takes what the bus holds), and the
+  // gateway stays (a new one is opened and waited for). The lockstep loop
+  // runs such a phase in the bus's receive thread (runtime::LockstepLoop::ready).
+  bool ready_for(const core::ClockMsg& c);
   // Fly: decide, move, deposit and publish the state of `tick`. Finish: only
   // the last state, marked finished.
   enum class StepKind : uint8_t { Fly, Finish };

@@ -58,6 +58,16 @@ void UavApp::wait_for_tick(uint32_t tick, const core::ClockMsg& announced) {
               broadcasts() ? "" : (view() ? "the announced broadcasts" : " and the announced broadcasts"));
 }
 
+bool UavApp::ready_for(const core::ClockMsg& c) {
+  if (gateway_at(c.tick) != gateway_) return false;
+  if (c.tick == 0) return true;
+  receive();
+  // As wait_for_tick waits for the view and the broadcasts of tick - 1.
+  const uint32_t tick = c.tick - 1;
+  const bool view = !gateway_at(tick) || (view_tick_ && *view_tick_ >= tick);
+  return view && core_.holds_tick(tick, {}, c.broadcasts);
+}
+
 void UavApp::step(uint32_t tick, StepKind kind) {
   const bool finished = kind == StepKind::Finish;
   written_.clear();

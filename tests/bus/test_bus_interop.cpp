@@ -8,7 +8,9 @@
 #include <chrono>
 #include <functional>
 #include <memory>
+#include <mutex>
 #include <thread>
+#include <vector>
 
 #include "pheromesh/bus/bus.hpp"
 #include "pheromesh/bus/resend.hpp"
@@ -643,6 +645,73 @@ TEST_P(Departure, AWaitReturnsWhenDataArrivesAndNotBefore) {
   }
   ASSERT_EQ(got.size(), 1U);
   EXPECT_EQ(got[0].tick, 7U);
+}
+
+TEST_P(Departure, OnDataCallsBackInTheVendorsThreadForTheNamedKindsOnlyUntilRemoved) {
+  // bus::Bus::on_data, as a lockstep UAV answers in the receive thread:
+  // the callback runs in the thread that delivers the sample, for a
+  // sample of a kind it names, and the reader still holds the sample for a
+  // take there; a kind it does not name calls nothing; once removed,
+  // nothing calls it any more.
+  auto w = make(GetParam().writer, "writer");
+  auto r = make(GetParam().reader, "reader");
+  ASSERT_TRUE(w && r);
+  r->subscribe_fields();
+  r->subscribe_broadcasts();
+  std::mutex m;
+  std::vector<core::FieldMsg> taken;
+  std::vector<std::thread::id> threads;
+  const std::vector<bus::TopicKind> kinds{bus::TopicKind::Field};
+  ASSERT_TRUE(r->on_data(kinds, [&] {
+    std::lock_guard<std::mutex> lock(m);
+    threads.push_back(std::this_thread::get_id());
+    r->take_fields(taken);
+  }));
+  ASSERT_TRUE(w->publish_broadcast({1, 2, 0, {1.0}}));
+  ASSERT_TRUE(w->publish_field({0, 0, 1, 7, {}, {}}));
+  const auto deadline = Clock::now() + std::chrono::seconds(20);
+  for (;;) {
+    {
+      std::lock_guard<std::mutex> lock(m);
+      if (!taken.empty() || Clock::now() > deadline) break;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  {
+    std::lock_guard<std::mutex> lock(m);
+    ASSERT_EQ(taken.size(), 1U) << "the callback took the field in 20 s";
+    EXPECT_EQ(taken[0].tick, 7U);
+    // Across vendors the sample came over UDP: a receive thread of the
+    // reader's vendor. (One vendor delivers to a reader of the same process
+    // in the writer's thread, here the test's.)
+    if (GetParam().writer != GetParam().reader) {
+      for (const auto& t : threads) EXPECT_NE(t, std::this_thread::get_id());
+    }
+  }
+  std::vector<core::BroadcastMsg> broadcasts;
+  const auto until = Clock::now() + std::chrono::seconds(20);
+  while (broadcasts.empty() && Clock::now() < until) {
+    r->wait({bus::TopicKind::Broadcast}, until);
+    r->take_broadcasts(broadcasts);
+  }
+  EXPECT_EQ(broadcasts.size(), 1U) << "a kind not named stays for take";
+  ASSERT_TRUE(r->on_data({}, {}));
+  std::size_t calls = 0;
+  {
+    std::lock_guard<std::mutex> lock(m);
+    calls = threads.size();
+  }
+  ASSERT_TRUE(w->publish_field({0, 0, 1, 8, {}, {}}));
+  std::vector<core::FieldMsg> later;
+  const auto again = Clock::now() + std::chrono::seconds(20);
+  while (later.empty() && Clock::now() < again) {
+    r->wait({bus::TopicKind::Field}, again);
+    r->take_fields(later);
+  }
+  ASSERT_EQ(later.size(), 1U);
+  EXPECT_EQ(later[0].tick, 8U);
+  std::lock_guard<std::mutex> lock(m);
+  EXPECT_EQ(threads.size(), calls) << "called after it was removed";
 }
 
 TEST_P(Departure, LockstepResenderWritesTheTicksSamplesAgainAfterAQuietSpellOnly) {

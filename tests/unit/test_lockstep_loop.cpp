@@ -10,8 +10,13 @@
 
 #include <atomic>
 #include <chrono>
+#include <exception>
 #include <functional>
+#include <mutex>
+#include <numeric>
+#include <stdexcept>
 #include <thread>
+#include <utility>
 #include <vector>
 
 #include "pheromesh/bus/memory.hpp"
@@ -89,6 +94,165 @@ TEST(LockstepLoop, RunsEachUavPhaseTheConductorAnnouncesOnceAndEndsOnItsStop) {
   EXPECT_EQ(end.load(), static_cast<int>(LockstepEnd::Stopped));
   EXPECT_EQ(ran, (std::vector<uint32_t>{0, 1, 2}));
   EXPECT_EQ(follower.last_done(), 2U);
+}
+
+// A UAV's loop whose phases may run in the thread that delivers its samples
+// (LockstepLoop::ready). The in-memory bus delivers in the writer's thread:
+// the test's, as the conductor. `ready` and `phase` see every clock.
+struct ReceivingUav {
+  std::shared_ptr<bus::MemoryDomain> domain = bus::make_memory_domain();
+  std::unique_ptr<bus::Bus> conductor = bus::make_memory_bus(domain);
+  std::unique_ptr<bus::Bus> uav = bus::make_memory_bus(domain);
+  std::shared_ptr<spdlog::logger> log = quiet_logger();
+  bus::LatestResender resend{*uav, true};
+  SampleAudit audit{log};
+  core::LockstepFollower follower{core::ClockPhase::Uav, core::ConductorWatch(6s, 300s, Clock::now())};
+  std::thread::id loop_thread;
+  std::atomic<int> end{-1};
+  std::exception_ptr thrown;
+  std::atomic<bool> started{false};
+  std::thread t;
+
+  ReceivingUav(std::function<bool(const core::ClockMsg&)> ready, std::function<void(const core::ClockMsg&)> phase) {
+    conductor->subscribe_phase_done();
+    uav->subscribe_clock();
+    t = std::thread([this, ready, phase] {
+      loop_thread = std::this_thread::get_id();
+      LockstepLoop loop{*uav,
+                        follower,
+                        resend,
+                        audit,
+                        *log,
+                        1000,
+                        [this] { started = true; },
+                        [&](const core::ClockMsg& c) {
+                          phase(c);
+                          resend.phase_done({core::process_key(core::kRoleUav, 0), c.tick, c.phase, 0, {}});
+                          return PhaseOutcome::Continue;
+                        }};
+      loop.ready = ready;
+      loop.inputs = {bus::TopicKind::Clock};
+      try {
+        end = static_cast<int>(loop.run());
+      } catch (...) {
+        thrown = std::current_exception();
+        end = 100;
+      }
+    });
+    const auto deadline = Clock::now() + 5s;
+    while (!started && Clock::now() < deadline) std::this_thread::sleep_for(1ms);
+  }
+  ~ReceivingUav() {
+    if (t.joinable()) {
+      conductor->publish_clock(core::LockstepConductor::stop(1000));
+      t.join();
+    }
+  }
+  ReceivingUav(const ReceivingUav&) = delete;
+  ReceivingUav& operator=(const ReceivingUav&) = delete;
+};
+
+TEST(LockstepLoop, AReadyPhaseRunsInTheThreadThatDeliveredItsClockEachOnceInOrder) {
+  std::mutex m;
+  std::vector<uint32_t> ran;
+  std::vector<std::thread::id> on;
+  ReceivingUav u([](const core::ClockMsg&) { return true; },
+                 [&](const core::ClockMsg& c) {
+                   std::lock_guard<std::mutex> lock(m);
+                   ran.push_back(c.tick);
+                   on.push_back(std::this_thread::get_id());
+                 });
+  constexpr uint32_t kTicks = 20;
+  for (uint32_t k = 0; k < kTicks; ++k) {
+    ASSERT_TRUE(u.conductor->publish_clock(clock_of(k, core::ClockPhase::Uav)));
+    ASSERT_TRUE(done_of(*u.conductor, k)) << "tick " << k;
+    ASSERT_TRUE(u.conductor->publish_clock(clock_of(k, core::ClockPhase::Uav)));  // a re-send: not run again
+  }
+  ASSERT_TRUE(u.conductor->publish_clock(core::LockstepConductor::stop(kTicks)));
+  u.t.join();
+  EXPECT_EQ(u.end.load(), static_cast<int>(LockstepEnd::Stopped));
+  std::vector<uint32_t> expected(kTicks);
+  std::iota(expected.begin(), expected.end(), 0U);
+  EXPECT_EQ(ran, expected);
+  // The main thread runs a round when it starts and after each quiet
+  // 250 ms; the clocks come faster, so (almost) all ran in the delivering
+  // thread, the test's.
+  const auto here = std::count(on.begin(), on.end(), std::this_thread::get_id());
+  EXPECT_GE(here, static_cast<long>(kTicks) / 2) << "of " << kTicks << " phases";
+  EXPECT_EQ(here + std::count(on.begin(), on.end(), u.loop_thread), static_cast<long>(kTicks));
+}
+
+TEST(LockstepLoop, APhaseThatIsNotReadyIsLeftToTheMainThreadOrToTheSampleThatMakesItReady) {
+  std::mutex m;
+  std::atomic<bool> view_here{false};
+  std::vector<std::pair<uint32_t, bool>> ran;  // tick, in the loop's own thread
+  std::thread::id loop_thread;
+  ReceivingUav u([&](const core::ClockMsg& c) { return c.tick != 1 || view_here.load(); },
+                 [&](const core::ClockMsg& c) {
+                   std::lock_guard<std::mutex> lock(m);
+                   // Never in the delivering thread while it is not ready.
+                   if (c.tick == 1 && std::this_thread::get_id() != loop_thread) EXPECT_TRUE(view_here.load());
+                   ran.emplace_back(c.tick, std::this_thread::get_id() == loop_thread);
+                 });
+  loop_thread = u.loop_thread;
+  ASSERT_TRUE(u.conductor->publish_clock(clock_of(0, core::ClockPhase::Uav)));
+  ASSERT_TRUE(done_of(*u.conductor, 0));
+  // Tick 1 is not ready in the delivering thread: the main thread runs it
+  // after its slice (a UAV's phase would wait there for its view).
+  ASSERT_TRUE(u.conductor->publish_clock(clock_of(1, core::ClockPhase::Uav)));
+  ASSERT_TRUE(done_of(*u.conductor, 1));
+  {
+    std::lock_guard<std::mutex> lock(m);
+    ASSERT_EQ(ran.size(), 2U);
+    EXPECT_TRUE(ran[1].second) << "tick 1 ran in the delivering thread while it was not ready";
+  }
+  view_here = true;
+  ASSERT_TRUE(u.conductor->publish_clock(clock_of(2, core::ClockPhase::Uav)));
+  ASSERT_TRUE(done_of(*u.conductor, 2));
+  ASSERT_TRUE(u.conductor->publish_clock(core::LockstepConductor::stop(3)));
+  u.t.join();
+  EXPECT_EQ(u.end.load(), static_cast<int>(LockstepEnd::Stopped));
+  ASSERT_EQ(ran.size(), 3U);
+  EXPECT_EQ(ran[0].first, 0U);
+  EXPECT_EQ(ran[1].first, 1U);
+  EXPECT_EQ(ran[2].first, 2U);
+}
+
+TEST(LockstepLoop, WhatAPhaseThrowsInTheDeliveringThreadIsThrownByRunInItsOwn) {
+  ReceivingUav u([](const core::ClockMsg&) { return true; },
+                 [](const core::ClockMsg& c) {
+                   if (c.tick == 1) throw std::runtime_error("phase 1 failed");
+                 });
+  ASSERT_TRUE(u.conductor->publish_clock(clock_of(0, core::ClockPhase::Uav)));
+  ASSERT_TRUE(done_of(*u.conductor, 0));
+  // The conductor's write returns: the exception does not cross the
+  // delivering thread (a vendor's C frames).
+  EXPECT_NO_THROW(u.conductor->publish_clock(clock_of(1, core::ClockPhase::Uav)));
+  u.t.join();
+  ASSERT_TRUE(u.thrown);
+  try {
+    std::rethrow_exception(u.thrown);
+  } catch (const std::runtime_error& e) {
+    EXPECT_STREQ(e.what(), "phase 1 failed");
+  }
+}
+
+TEST(LockstepFollower, APhaseGivenBackComesFirstAgain) {
+  core::LockstepFollower f(core::ClockPhase::Uav, core::ConductorWatch(6s, 300s, Clock::now()));
+  std::vector<core::ClockMsg> taken{clock_of(0, core::ClockPhase::Uav), clock_of(1, core::ClockPhase::Uav)};
+  for (auto& c : taken) c.writer = 7;
+  f.offer(taken, Clock::now());
+  auto first = f.next_phase();
+  ASSERT_TRUE(first);
+  EXPECT_EQ(first->tick, 0U);
+  f.put_back(*first);
+  auto again = f.next_phase();
+  ASSERT_TRUE(again);
+  EXPECT_EQ(again->tick, 0U);
+  f.done(0);
+  auto next = f.next_phase();
+  ASSERT_TRUE(next);
+  EXPECT_EQ(next->tick, 1U);
 }
 
 // A place agent's loop whose conductor sent the clock of tick 0 and then fell

@@ -478,8 +478,8 @@ void Bus::take_departed_regions(std::vector<uint32_t>& out) {
 
 // ------------------------------------------------------- wait, flush, match
 namespace {
-std::vector<EndpointId> of_kinds(const std::vector<std::pair<TopicKind, EndpointId>>& endpoints,
-                                 std::initializer_list<TopicKind> kinds) {
+template <typename Kinds>
+std::vector<EndpointId> of_kinds(const std::vector<std::pair<TopicKind, EndpointId>>& endpoints, const Kinds& kinds) {
   std::vector<EndpointId> ids;
   for (const auto& [kind, id] : endpoints) {
     if (std::find(kinds.begin(), kinds.end(), kind) != kinds.end()) ids.push_back(id);
@@ -490,6 +490,11 @@ std::vector<EndpointId> of_kinds(const std::vector<std::pair<TopicKind, Endpoint
 
 bool Bus::wait(std::initializer_list<TopicKind> kinds, std::chrono::steady_clock::time_point deadline) {
   return transport_->wait(of_kinds(readers_, kinds), deadline);
+}
+
+bool Bus::on_data(std::span<const TopicKind> kinds, std::function<void()> callback) {
+  const std::vector<EndpointId> ids = callback ? of_kinds(readers_, kinds) : std::vector<EndpointId>{};
+  return transport_->on_data(ids, std::move(callback));
 }
 
 bool Bus::flush(std::chrono::milliseconds timeout) {

@@ -8,7 +8,9 @@
 #include <algorithm>
 #include <array>
 #include <filesystem>
+#include <functional>
 #include <map>
+#include <memory>
 #include <string>
 #include <utility>
 #include <vector>
@@ -80,6 +82,7 @@ class CycloneTransport final : public Transport {
   explicit CycloneTransport(const BusOptions& o) : opt_(o), pace_(o.liveliness_lease) { create_participant(); }
 
   ~CycloneTransport() override {
+    // Deleting a reader waits for a call of its listener under way too.
     dds_delete(participant_);
     if (domain_ > 0) dds_delete(domain_);
   }
@@ -119,6 +122,7 @@ class CycloneTransport final : public Transport {
     participants_.clear();
     create_participant();
     for (Entry& e : entries_) create(e);
+    listen();
     return true;
   }
 
@@ -158,6 +162,18 @@ class CycloneTransport final : public Transport {
       it = waitsets_.emplace(std::move(key), ws).first;
     }
     return dds_waitset_wait(it->second, nullptr, 0, left.count()) > 0;
+  }
+
+  bool on_data(std::span<const EndpointId> readers, std::function<void()> callback) override {
+    // dds_set_listener returns once no call of the reader's listener is
+    // under way: after this loop the old callback runs no more.
+    for (const EndpointId id : listened_) PHM_DDS(dds_set_listener(entry(id).entity, nullptr));
+    listened_.clear();
+    on_data_ = std::move(callback);
+    if (!on_data_) return true;
+    listened_.assign(readers.begin(), readers.end());
+    listen();
+    return true;
   }
 
   bool flush(std::span<const EndpointId> writers, std::chrono::milliseconds timeout) override {
@@ -254,6 +270,18 @@ class CycloneTransport final : public Transport {
     e.condition = PHM_DDS(dds_create_readcondition(e.entity, DDS_NOT_READ_SAMPLE_STATE));
   }
 
+  // The data-available listener of the readers on_data names: Cyclone calls
+  // it in the thread that stored the sample (its receive thread, or the
+  // delivery queue's).
+  void listen() {
+    if (!on_data_ || listened_.empty()) return;
+    const std::unique_ptr<dds_listener_t, decltype(&dds_delete_listener)> l(dds_create_listener(this),
+                                                                            &dds_delete_listener);
+    dds_lset_data_available(
+        l.get(), [](dds_entity_t /*reader*/, void* self) { static_cast<CycloneTransport*>(self)->on_data_(); });
+    for (const EndpointId id : listened_) PHM_DDS(dds_set_listener(entry(id).entity, l.get()));
+  }
+
   EndpointId add(const Entry& e) {
     entries_.push_back(e);
     if (e.endpoint == Endpoint::Writer && manual_liveliness(e.kind)) manual_writers_.push_back(entries_.size() - 1);
@@ -312,6 +340,8 @@ class CycloneTransport final : public Transport {
   std::map<TopicKind, dds_entity_t> topics_;
   std::vector<Entry> entries_;
   std::map<std::vector<EndpointId>, dds_entity_t> waitsets_;  // readers -> their wait set
+  std::function<void()> on_data_;                             // on_data's callback
+  std::vector<EndpointId> listened_;                          // the readers it listens to
   // Remote writers' participants by publication handle (participant_of):
   // one entry per writer matched in the process's life.
   std::unordered_map<dds_instance_handle_t, uint64_t> participants_;

@@ -44,6 +44,7 @@
 #include <array>
 #include <cstdlib>
 #include <filesystem>
+#include <functional>
 #include <map>
 #include <mutex>
 #include <set>
@@ -199,9 +200,22 @@ uint64_t writer_id(const fdds::InstanceHandle_t& h) {
 }
 
 // A DataReader listener that reports writers whose liveliness was lost (the
-// process died or hung) by their publication handle. Runs on a Fast DDS thread.
+// process died or hung) by their publication handle, and calls on_data's
+// callback when a sample arrived. Runs on a Fast DDS thread.
 class LivelinessWatch final : public fdds::DataReaderListener {
  public:
+  void on_data_available(fdds::DataReader* /*reader*/) override {
+    // Recursive: a callback whose write Fast DDS delivers to a reader of its
+    // own process within the write comes back here on the same thread.
+    std::lock_guard<std::recursive_mutex> lock(call_mutex_);
+    if (on_data_) on_data_();
+  }
+  // Returns once no call of the old callback is under way.
+  void set_on_data(std::function<void()> callback) {
+    std::lock_guard<std::recursive_mutex> lock(call_mutex_);
+    on_data_ = std::move(callback);
+  }
+
   void on_liveliness_changed(fdds::DataReader* reader, const fdds::LivelinessChangedStatus& status) override {
     spdlog::debug("{}: liveliness changed: alive {} ({:+}), not alive {} ({:+})",
                   reader->get_topicdescription()->get_name(), status.alive_count, status.alive_count_change,
@@ -218,6 +232,8 @@ class LivelinessWatch final : public fdds::DataReaderListener {
  private:
   std::mutex mutex_;
   std::vector<fdds::InstanceHandle_t> lost_;
+  std::recursive_mutex call_mutex_;
+  std::function<void()> on_data_;
 };
 
 // Fast DDS refuses (loudly) to load a profile twice into one process, which
@@ -351,6 +367,24 @@ class FastDdsTransport final : public Transport {
     return rc == ReturnCode_t::RETCODE_OK && !active.empty();
   }
 
+  bool on_data(std::span<const EndpointId> readers, std::function<void()> callback) override {
+    for (Entry& e : entries_) {
+      if (!e.on_data) continue;
+      e.watch->set_on_data({});  // waits for a call under way
+      e.on_data = false;
+      listen(e);
+    }
+    if (!callback) return true;
+    for (const EndpointId id : readers) {
+      Entry& e = entry(id);
+      if (!e.watch) e.watch = std::make_unique<LivelinessWatch>();  // lives as long as the reader
+      e.watch->set_on_data(callback);
+      e.on_data = true;
+      listen(e);
+    }
+    return true;
+  }
+
   bool flush(std::span<const EndpointId> writers, std::chrono::milliseconds timeout) override {
     const auto deadline = std::chrono::steady_clock::now() + timeout;
     bool all = true;
@@ -399,6 +433,7 @@ class FastDdsTransport final : public Transport {
     // The reader's listener: the destructor's body deletes the participant
     // (and its readers) before any member is destroyed.
     std::unique_ptr<LivelinessWatch> watch;
+    bool on_data = false;  // its listener calls on_data's callback
   };
 
   void create_participant() {
@@ -463,13 +498,24 @@ class FastDdsTransport final : public Transport {
     fdds::SubscriberQos sq = fdds::SUBSCRIBER_QOS_DEFAULT;
     for (const auto& p : e.partitions) sq.partition().push_back(p.c_str());
     fdds::Subscriber* subscriber = PHM_FASTDDS(participant_->create_subscriber(sq), "cannot create a subscriber");
-    const fdds::StatusMask mask = e.watch ? fdds::StatusMask::liveliness_changed() : fdds::StatusMask::none();
     const fdds::DataReaderQos q = to_fastdds_reader(reader_qos_for(
         endpoint_qos(e.kind, Endpoint::Reader, opt_.liveliness_lease, opt_.replication, opt_.pacing), e.watch_kind));
-    e.reader = PHM_FASTDDS(subscriber->create_datareader(topic(e.kind), q, e.watch.get(), mask),
+    e.reader = PHM_FASTDDS(subscriber->create_datareader(topic(e.kind), q, e.watch.get(), listener_mask(e)),
                            std::string("cannot create a reader of ") + to_string(e.kind) + permissions_hint());
     // Every reader can wake wait(): its data-available status condition.
     PHM_FASTDDS(e.reader->get_statuscondition().set_enabled_statuses(fdds::StatusMask::data_available()));
+  }
+
+  // What a reader's listener hears: departures (readers that watch them)
+  // and samples (readers on_data names).
+  [[nodiscard]] static fdds::StatusMask listener_mask(const Entry& e) {
+    fdds::StatusMask mask = fdds::StatusMask::none();
+    if (watches_departures(e.watch_kind)) mask << fdds::StatusMask::liveliness_changed();
+    if (e.on_data) mask << fdds::StatusMask::data_available();
+    return mask;
+  }
+  static void listen(Entry& e) {
+    if (e.reader != nullptr) PHM_FASTDDS(e.reader->set_listener(e.watch.get(), listener_mask(e)));
   }
 
   void delete_participant() {

@@ -9,6 +9,7 @@
 #include <array>
 #include <condition_variable>
 #include <deque>
+#include <functional>
 #include <list>
 #include <map>
 #include <mutex>
@@ -70,6 +71,13 @@ class MemoryDomain {
     std::map<uint64_t, std::deque<std::shared_ptr<const void>>> history;  // per instance
     uint64_t participant = 0;  // its transport's (SampleInfo::participant)
   };
+  // A transport's on_data callback. Called in the writer's thread, after
+  // the domain's mutex is released; `mutex` keeps a call and its removal
+  // apart (Transport::on_data returns once no call is under way).
+  struct Listener {
+    std::mutex mutex;
+    std::function<void()> callback;
+  };
   struct ReaderRec {
     const void* owner;
     TopicKind kind;
@@ -77,6 +85,7 @@ class MemoryDomain {
     QosSpec qos;
     Watch watch;
     std::deque<Item> queue;
+    std::shared_ptr<Listener> listener{};  // on_data's, if it names this reader
   };
 
   static bool matches(const WriterRec& w, const ReaderRec& r) {
@@ -121,6 +130,10 @@ class MemoryTransport final : public Transport {
   }
 
   ~MemoryTransport() override {
+    if (listener_) {
+      std::lock_guard<std::mutex> lock(listener_->mutex);  // no call under way, and none after
+      listener_->callback = nullptr;
+    }
     auto& d = *domain_;
     {
       std::lock_guard<std::mutex> lock(d.mutex);
@@ -173,6 +186,7 @@ class MemoryTransport final : public Transport {
   }
 
   bool write(EndpointId writer, const void* message) override {
+    std::vector<std::shared_ptr<MemoryDomain::Listener>> to_call;
     {
       std::lock_guard<std::mutex> lock(domain_->mutex);
       auto& w = *endpoint(writer).writer;
@@ -183,10 +197,47 @@ class MemoryTransport final : public Transport {
       kept.push_back(copy);
       while (w.qos.history == QosSpec::History::KeepLast && std::ssize(kept) > w.qos.depth) kept.pop_front();
       for (auto& r : domain_->readers) {
-        if (MemoryDomain::matches(w, r)) MemoryDomain::deliver(r, {copy, w.id, key, false, w.participant});
+        if (!MemoryDomain::matches(w, r)) continue;
+        MemoryDomain::deliver(r, {copy, w.id, key, false, w.participant});
+        if (r.listener && std::find(to_call.begin(), to_call.end(), r.listener) == to_call.end()) {
+          to_call.push_back(r.listener);
+        }
       }
     }
     domain_->changed.notify_all();
+    // A callback that writes to a reader of its own transport is not called
+    // again inside itself (a vendor's receive thread does not nest either):
+    // the sample waits in the queue.
+    thread_local std::vector<const MemoryDomain::Listener*> calling;
+    for (const auto& l : to_call) {
+      if (std::find(calling.begin(), calling.end(), l.get()) != calling.end()) continue;
+      std::lock_guard<std::mutex> lock(l->mutex);
+      if (!l->callback) continue;
+      calling.push_back(l.get());
+      l->callback();
+      calling.pop_back();
+    }
+    return true;
+  }
+
+  bool on_data(std::span<const EndpointId> readers, std::function<void()> callback) override {
+    // The writers' threads stand in for a vendor's receive thread.
+    if (listener_) {
+      std::lock_guard<std::mutex> lock(listener_->mutex);  // waits for a call under way
+      listener_->callback = nullptr;
+    }
+    {
+      std::lock_guard<std::mutex> lock(domain_->mutex);
+      for (const auto& ref : endpoints_) {
+        if (ref.reader != nullptr) ref.reader->listener.reset();
+      }
+      listener_.reset();
+      if (callback) {
+        listener_ = std::make_shared<MemoryDomain::Listener>();
+        listener_->callback = std::move(callback);
+        for (const EndpointId id : readers) endpoint(id).reader->listener = listener_;
+      }
+    }
     return true;
   }
 
@@ -242,6 +293,7 @@ class MemoryTransport final : public Transport {
   BusOptions opt_;
   uint64_t participant_ = 0;  // this transport's participant id in the domain
   std::vector<Ref> endpoints_;
+  std::shared_ptr<MemoryDomain::Listener> listener_;  // on_data's
 };
 
 }  // namespace

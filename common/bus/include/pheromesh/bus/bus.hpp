@@ -37,6 +37,7 @@
 
 #include <chrono>
 #include <cstdint>
+#include <functional>
 #include <initializer_list>
 #include <memory>
 #include <optional>
@@ -286,6 +287,11 @@ class Bus {
   // does. Backed by the vendor's own wait set, so no process polls. Wait only
   // on kinds the caller then takes, or the wait returns at once.
   bool wait(std::initializer_list<TopicKind> kinds, std::chrono::steady_clock::time_point deadline);
+  // Call `callback` in the vendor's receive thread whenever one of this
+  // process's readers of `kinds` gets a sample (Transport::on_data); an
+  // empty callback removes it, once no call is under way. False where the
+  // transport has no receive thread (then only wait() wakes).
+  bool on_data(std::span<const TopicKind> kinds, std::function<void()> callback);
 
   // Block until every reliable sample written so far is acknowledged by the
   // matched readers, or the timeout passes. Returns true if all were acked.

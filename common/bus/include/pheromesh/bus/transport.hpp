@@ -9,6 +9,7 @@
 
 #include <chrono>
 #include <cstdint>
+#include <functional>
 #include <span>
 #include <stdexcept>
 #include <string>
@@ -137,6 +138,14 @@ class Transport {
   // Block until one of `readers` holds a sample not yet taken (or a
   // departure notice) or `deadline` passes; true if one does.
   virtual bool wait(std::span<const EndpointId> readers, std::chrono::steady_clock::time_point deadline) = 0;
+  // From now on call `callback` in the thread that delivers a sample (or a
+  // departure notice) to one of `readers`, once it is stored, instead of
+  // only waking wait(); an empty callback (or other readers) replaces the
+  // registration. Replacing or removing it returns only once no call of the
+  // old one is under way, so the caller may then destroy what it uses. The
+  // callback must not block: the thread that runs it delivers the samples.
+  // False, with nothing registered, where the transport has no such thread.
+  virtual bool on_data(std::span<const EndpointId> /*readers*/, std::function<void()> /*callback*/) { return false; }
   // Block until the matched readers acknowledged every sample `writers` wrote,
   // or `timeout` passes; true if all were.
   virtual bool flush(std::span<const EndpointId> writers, std::chrono::milliseconds timeout) = 0;

@@ -26,6 +26,7 @@
 #include <deque>
 #include <map>
 #include <optional>
+#include <utility>
 #include <vector>
 
 #include "pheromesh/core/conductor.hpp"
@@ -51,6 +52,9 @@ class LockstepFollower {
   // The next phase of this process's kind to run, oldest first, or nothing.
   // A Stop among the samples before it ends the run (stopped()).
   std::optional<ClockMsg> next_phase();
+  // Gives back the phase next_phase() just returned, not run yet: it comes
+  // first again (a process that may not run it now without waiting).
+  void put_back(ClockMsg c) { pending_.push_front(std::move(c)); }
   // Marks the phase of `tick` done: later clocks of it or of older ticks are re-sends.
   void done(uint32_t tick) { done_ = tick; }
   [[nodiscard]] std::optional<uint32_t> last_done() const { return done_; }

@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <vector>
 
 #include "pheromesh/bus/bus.hpp"
 #include "pheromesh/bus/resend.hpp"
@@ -51,9 +52,28 @@ struct LockstepLoop {
   // relays them).
   std::function<void(const core::ClockMsg&)> relay{};
   bool wake_on_reports = false;
+  // A process whose phase answers samples (a UAV: its view in, its state
+  // out) may run it in the thread that received them, a wake-up and a
+  // context switch less per phase (docs/architecture.md, "Answering in the
+  // receive thread"). `ready(c)` says whether the phase of clock `c` can
+  // run now without waiting for any sample (it may take what the bus holds);
+  // `inputs` are the topics whose samples can make it so. Where the bus
+  // has a receive thread (bus::Bus::on_data), each of their samples runs a
+  // round there: the ready phases, never one that would wait. The main
+  // thread keeps watch between them (the conductor's death, a shutdown,
+  // re-sends after a quiet spell) and runs, as without `ready`, whatever
+  // the receive thread left.
+  std::function<bool(const core::ClockMsg&)> ready{};
+  std::vector<bus::TopicKind> inputs{};
 
   // Logs the conductor's death ("the conductor (ground station) is gone: ...").
   LockstepEnd run();
+
+ private:
+  struct Receiving;
+  LockstepEnd run_on_main(Receiving* receiving);
+  void round_in_receive_thread(Receiving& r);
+  LockstepEnd conductor_gone();
 };
 
 }  // namespace pheromesh::runtime
