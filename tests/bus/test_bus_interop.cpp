@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <condition_variable>
 #include <functional>
 #include <memory>
 #include <mutex>
@@ -659,27 +660,25 @@ TEST_P(Departure, OnDataCallsBackInTheVendorsThreadForTheNamedKindsOnlyUntilRemo
   r->subscribe_fields();
   r->subscribe_broadcasts();
   std::mutex m;
+  std::condition_variable called;
   std::vector<core::FieldMsg> taken;
   std::vector<std::thread::id> threads;
   const std::vector<bus::TopicKind> kinds{bus::TopicKind::Field};
   ASSERT_TRUE(r->on_data(kinds, [&] {
-    std::lock_guard<std::mutex> lock(m);
-    threads.push_back(std::this_thread::get_id());
-    r->take_fields(taken);
+    {
+      std::lock_guard<std::mutex> lock(m);
+      threads.push_back(std::this_thread::get_id());
+      r->take_fields(taken);
+    }
+    called.notify_all();
   }));
   ASSERT_TRUE(w->publish_broadcast({1, 2, 0, {1.0}}));
   ASSERT_TRUE(w->publish_field({0, 0, 1, 7, {}, {}}));
-  const auto deadline = Clock::now() + std::chrono::seconds(20);
-  for (;;) {
-    {
-      std::lock_guard<std::mutex> lock(m);
-      if (!taken.empty() || Clock::now() > deadline) break;
-    }
-    std::this_thread::sleep_for(std::chrono::milliseconds(10));
-  }
   {
-    std::lock_guard<std::mutex> lock(m);
-    ASSERT_EQ(taken.size(), 1U) << "the callback took the field in 20 s";
+    std::unique_lock<std::mutex> lock(m);
+    ASSERT_TRUE(called.wait_for(lock, std::chrono::seconds(20), [&] { return !taken.empty(); }))
+        << "the callback took no field in 20 s";
+    ASSERT_EQ(taken.size(), 1U);
     EXPECT_EQ(taken[0].tick, 7U);
     // Across vendors the sample came over UDP: a receive thread of the
     // reader's vendor. (One vendor delivers to a reader of the same process
@@ -688,12 +687,7 @@ TEST_P(Departure, OnDataCallsBackInTheVendorsThreadForTheNamedKindsOnlyUntilRemo
       for (const auto& t : threads) EXPECT_NE(t, std::this_thread::get_id());
     }
   }
-  std::vector<core::BroadcastMsg> broadcasts;
-  const auto until = Clock::now() + std::chrono::seconds(20);
-  while (broadcasts.empty() && Clock::now() < until) {
-    r->wait({bus::TopicKind::Broadcast}, until);
-    r->take_broadcasts(broadcasts);
-  }
+  const auto broadcasts = wait_for<core::BroadcastMsg>([&](auto& v) { r->take_broadcasts(v); });
   EXPECT_EQ(broadcasts.size(), 1U) << "a kind not named stays for take";
   ASSERT_TRUE(r->on_data({}, {}));
   std::size_t calls = 0;
@@ -702,12 +696,7 @@ TEST_P(Departure, OnDataCallsBackInTheVendorsThreadForTheNamedKindsOnlyUntilRemo
     calls = threads.size();
   }
   ASSERT_TRUE(w->publish_field({0, 0, 1, 8, {}, {}}));
-  std::vector<core::FieldMsg> later;
-  const auto again = Clock::now() + std::chrono::seconds(20);
-  while (later.empty() && Clock::now() < again) {
-    r->wait({bus::TopicKind::Field}, again);
-    r->take_fields(later);
-  }
+  const auto later = wait_for<core::FieldMsg>([&](auto& v) { r->take_fields(v); });
   ASSERT_EQ(later.size(), 1U);
   EXPECT_EQ(later[0].tick, 8U);
   std::lock_guard<std::mutex> lock(m);
