@@ -56,6 +56,7 @@ package: build
 
 bench: build
 	$(BUILD)/bin/pheromesh_bench_layers
+	$(BUILD)/bin/pheromesh_bench_views
 	$(BUILD)/bin/pheromesh-bench-latency
 	bench/console_bench.sh $(BUILD)
 	bench/console_limits.sh $(BUILD)

@@ -215,6 +215,53 @@ TEST(ViewServer, NeededTilesAreTheUnionOfTheServedUavsNeighbourhoods) {
   EXPECT_EQ(vs.needed_tiles(c, 2), (std::vector<TileCoord>{{2, 0}, {3, 0}}));
 }
 
+TEST(ViewServer, AViewComposedIntoAReusedMessageHoldsExactlyItsOwnTiles) {
+  // compose overwrites the tiles a reused message held in place: a smaller
+  // view after a larger one keeps none of the larger one's, and the values
+  // are this view's.
+  ViewServer vs(geo(), 1, 3.0);
+  for (int32_t tx = 0; tx < 4; ++tx) {
+    for (int32_t ty = 0; ty < 4; ++ty) vs.update_tile(tile(0, {tx, ty}, 5, static_cast<float>(tx * 10 + ty)), 5);
+  }
+  vs.update_state(uav(1, 5, 11, 11));  // tiles (0..1, 0..1)
+  vs.update_state(uav(2, 5, 35, 35));  // tile (3, 3) only
+  ViewMsg v;
+  ASSERT_TRUE(vs.compose(1, 5, 0, 5, v));
+  ASSERT_EQ(v.tiles.size(), 4U);
+  ASSERT_TRUE(vs.compose(2, 5, 0, 5, v));
+  ASSERT_EQ(v.tiles.size(), 1U);
+  EXPECT_EQ(v.tiles[0].tile, (TileCoord{3, 3}));
+  EXPECT_EQ(v.tiles[0].values, std::vector<float>(100, 33.0F));
+  ASSERT_TRUE(vs.compose(1, 5, 0, 5, v));
+  ASSERT_EQ(v.tiles.size(), 4U);
+  EXPECT_EQ(v.tiles[3].tile, (TileCoord{1, 1}));
+  EXPECT_EQ(v.tiles[3].values, std::vector<float>(100, 11.0F));
+}
+
+TEST(ViewServer, TheTileJoinFollowsTheNeededTilesWhateverTheOrderOfTheOwnersTiles) {
+  // The owner's tiles in any order: what goes to a home is in the order of
+  // needed_tiles, each tile's layers in their order among the owner's.
+  ViewServer vs(geo(), 2, 3.0);
+  FieldMsg served;
+  served.region = 0;
+  served.tick = 5;
+  served.uavs.push_back(uav(1, 5, 11, 11));  // tiles (0..1, 0..1)
+  vs.update_served(served, 5);
+  std::vector<TileMsg> own;
+  for (const TileCoord t : {TileCoord{1, 1}, TileCoord{3, 3}, TileCoord{0, 1}, TileCoord{1, 0}, TileCoord{0, 0}}) {
+    own.push_back(tile(1, t, 5, 1.0F));
+    own.push_back(tile(0, t, 5, 0.0F));
+  }
+  std::vector<TileMsg> out;
+  vs.tiles_for(0, 0, 0, own, out);
+  ASSERT_EQ(out.size(), 8U) << "four tiles, two layers each, not (3,3)";
+  const std::vector<TileCoord> order{{0, 0}, {0, 1}, {1, 0}, {1, 1}};
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    EXPECT_EQ(out[i].tile, order[i / 2]) << i;
+    EXPECT_EQ(out[i].layer, i % 2 == 0 ? 1 : 0) << i << ": layer 1 came first among the owner's";
+  }
+}
+
 TEST(ViewServer, ATileThatStoppedArrivingIsLeftOutOfViews) {
   // A dead owner sends nothing: its last tiles are not shown (dark, not frozen).
   ViewServer vs(geo(), 1, 3.0);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <set>
 
 #include "pheromesh/core/uav_core.hpp"
 
@@ -11,36 +12,64 @@ ViewServer::ViewServer(const MapGeometry& geo, int layers, double view_radius, b
     : geo_(geo), layers_(layers), radius_(static_cast<int32_t>(std::ceil(view_radius))), neighbours_(neighbours) {}
 
 void ViewServer::update_tile(const TileMsg& t, uint32_t arrived) {
-  auto [it, fresh] = tiles_.try_emplace({t.tile.tx, t.tile.ty, static_cast<int>(t.layer)}, Held{t, arrived});
-  if (!fresh && t.tick >= it->second.tile.tick) it->second = Held{t, std::max(arrived, it->second.arrived)};
+  // A tile no view reads (off the map, or a layer the policy has not) is
+  // not kept: compose looks only at the map's tiles and the policy's layers.
+  if (!geo_.valid_tile(t.tile) || t.layer >= layers_) return;
+  auto& layers = tiles_[tile_key(t.tile)];
+  if (layers.empty()) layers.resize(static_cast<std::size_t>(layers_));
+  Held& h = layers[t.layer];
+  if (!h.held) {
+    h.tile = t;
+    h.arrived = arrived;
+    h.held = true;
+  } else if (t.tick >= h.tile.tick) {
+    h.tile = t;  // in place: the values' storage is reused
+    h.arrived = std::max(arrived, h.arrived);
+  }
 }
 
 void ViewServer::update_state(const UavStateMsg& s) {
   auto it = states_.find(s.uav);
   if (it != states_.end()) {
     if (s.tick < it->second.tick) return;
-    const TileCoord before = geo_.tile_of(state_cell(it->second));
-    over_[{before.tx, before.ty}].erase(s.uav);
+    if (neighbours_) {
+      auto o = over_.find(tile_key(geo_.tile_of(state_cell(it->second))));
+      if (o != over_.end()) {
+        auto at = std::lower_bound(o->second.begin(), o->second.end(), s.uav);
+        if (at != o->second.end() && *at == s.uav) o->second.erase(at);
+      }
+    }
     it->second = s;
   } else {
     states_.emplace(s.uav, s);
   }
-  const TileCoord now = geo_.tile_of(state_cell(s));
-  over_[{now.tx, now.ty}].insert(s.uav);
+  if (neighbours_) {
+    auto& over = over_[tile_key(geo_.tile_of(state_cell(s)))];
+    auto at = std::lower_bound(over.begin(), over.end(), s.uav);
+    if (at == over.end() || *at != s.uav) over.insert(at, s.uav);
+  }
 }
 
-bool ViewServer::arrive(std::map<RegionId, Arrived>& to, const FieldMsg& f) {
-  Arrived& a = to[f.region];
-  if (f.tick != a.tick || a.chunks != f.chunks) {
-    if (f.tick < a.tick) return false;
-    a = Arrived{f.tick, f.chunks, {}, {}, std::move(a.served), a.heard};
+bool ViewServer::arrive(std::map<RegionId, Arrived>& to, RegionId region, uint32_t tick, uint16_t chunk,
+                        uint16_t chunks) {
+  Arrived& a = to[region];
+  if (tick != a.tick || a.chunks != chunks) {
+    if (tick < a.tick) return false;
+    // A new tick (or a new split of it): what arrived of the last one goes,
+    // its storage stays; the newest complete list stays served.
+    a.tick = tick;
+    a.chunks = chunks;
+    a.seen.clear();
+    a.uavs.clear();
   }
-  return a.seen.insert(f.chunk).second;
+  if (std::find(a.seen.begin(), a.seen.end(), chunk) != a.seen.end()) return false;
+  a.seen.push_back(chunk);
+  return true;
 }
 
 void ViewServer::update_served(const FieldMsg& f, uint32_t arrived) {
   for (const auto& s : f.uavs) update_state(s);
-  if (!arrive(served_, f)) return;
+  if (!arrive(served_, f.region, f.tick, f.chunk, f.chunks)) return;
   Arrived& a = served_[f.region];
   a.heard = std::max(a.heard, arrived);
   for (const auto& s : f.uavs) a.uavs.push_back(s.uav);
@@ -49,27 +78,40 @@ void ViewServer::update_served(const FieldMsg& f, uint32_t arrived) {
 
 void ViewServer::update_served(std::span<const ServedUav> served, uint32_t tick, std::span<const RegionId> regions,
                                uint32_t swarm, std::vector<std::string>& malformed) {
-  std::map<RegionId, FieldMsg> by_region;
-  for (RegionId r : regions) by_region[r] = FieldMsg{r, 0, 1, tick, {}, {}, 0, {}, 0};
-  for (const ServedUav& u : served) {
-    auto it = by_region.find(u.region);
-    if (it == by_region.end()) continue;
-    UavStateMsg s = neighbour_state(u, tick);
+  // Each listed region, in ascending order and once, as one whole chunk of
+  // its served UAVs of `tick` in the order of the list.
+  regions_.assign(regions.begin(), regions.end());
+  std::sort(regions_.begin(), regions_.end());
+  regions_.erase(std::unique(regions_.begin(), regions_.end()), regions_.end());
+  listed_.clear();
+  for (std::size_t i = 0; i < served.size(); ++i) {
+    const ServedUav& u = served[i];
+    if (!std::binary_search(regions_.begin(), regions_.end(), u.region)) continue;
     if (u.uav >= swarm) {
       malformed.push_back("served uav " + std::to_string(u.uav) + ": not a UAV of the swarm of " +
                           std::to_string(swarm));
-    } else if (auto reason = check_uav_state(s, geo_)) {
+    } else if (auto reason = check_uav_state(neighbour_state(u, tick), geo_)) {
       malformed.push_back("served uav " + std::to_string(u.uav) + ": " + *reason);
     } else {
-      it->second.uavs.push_back(std::move(s));
+      listed_.emplace_back(u.region, i);
     }
   }
-  for (const auto& [r, f] : by_region) update_served(f, tick);
+  std::stable_sort(listed_.begin(), listed_.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  auto next = listed_.begin();
+  for (RegionId r : regions_) {
+    const auto first = next;
+    for (; next != listed_.end() && next->first == r; ++next) update_state(neighbour_state(served[next->second], tick));
+    if (!arrive(served_, r, tick, 0, 1)) continue;
+    Arrived& a = served_[r];
+    a.heard = std::max(a.heard, tick);
+    for (auto it = first; it != next; ++it) a.uavs.push_back(served[it->second].uav);
+    if (a.complete(a.tick)) a.served = a.uavs;
+  }
 }
 
 void ViewServer::update_tiles(const FieldMsg& f, uint32_t arrived) {
   for (const auto& t : f.tiles) update_tile(t, arrived);
-  arrive(tiles_from_, f);
+  arrive(tiles_from_, f.region, f.tick, f.chunk, f.chunks);
 }
 
 bool ViewServer::holds_served(uint32_t tick, std::span<const RegionId> regions) const {
@@ -120,29 +162,40 @@ std::vector<uint32_t> ViewServer::served_by(RegionId region, uint32_t heard_sinc
 Cell ViewServer::view_centre(const UavStateMsg& s) const { return geo_.in_map(s.view) ? s.view : state_cell(s); }
 
 std::vector<TileCoord> ViewServer::needed_tiles(std::span<const uint32_t> uavs, int32_t margin) const {
-  std::set<std::pair<int32_t, int32_t>> seen;
+  // Each tile once (neighbourhoods overlap: many UAVs over few tiles), then sorted.
+  std::vector<bool> seen(static_cast<std::size_t>(geo_.tiles_x()) * static_cast<std::size_t>(geo_.tiles_y()));
   std::vector<TileCoord> out;
   for (uint32_t u : uavs) {
     const UavStateMsg* s = state(u);
     if (s == nullptr) continue;
     for (const TileCoord t : geo_.tiles_within(view_centre(*s), radius_ + margin)) {
-      if (seen.insert({t.tx, t.ty}).second) out.push_back(t);
+      const std::size_t i =
+          static_cast<std::size_t>(t.ty) * static_cast<std::size_t>(geo_.tiles_x()) + static_cast<std::size_t>(t.tx);
+      if (seen[i]) continue;
+      seen[i] = true;
+      out.push_back(t);
     }
   }
-  std::sort(out.begin(), out.end(), [](TileCoord a, TileCoord b) { return std::pair(a.tx, a.ty) < std::pair(b.tx, b.ty); });
+  const auto before = [](TileCoord a, TileCoord b) { return std::pair(a.tx, a.ty) < std::pair(b.tx, b.ty); };
+  std::sort(out.begin(), out.end(), before);
   return out;
 }
 
 void ViewServer::tiles_for(RegionId home, uint32_t heard_since, int32_t margin, std::span<const TileMsg> own,
                            std::vector<TileMsg>& out) const {
-  const std::vector<uint32_t> uavs = served_by(home, heard_since);
-  if (uavs.empty()) return;
-  std::map<std::pair<int32_t, int32_t>, std::vector<std::size_t>> by_tile;
-  for (std::size_t i = 0; i < own.size(); ++i) by_tile[{own[i].tile.tx, own[i].tile.ty}].push_back(i);
-  for (const TileCoord t : needed_tiles(uavs, margin)) {
-    auto it = by_tile.find({t.tx, t.ty});
-    if (it == by_tile.end()) continue;  // another region's tile
-    for (std::size_t i : it->second) out.push_back(own[i]);
+  auto it = served_.find(home);
+  if (it == served_.end() || it->second.heard < heard_since || it->second.served.empty()) return;
+  // A merge of the needed tiles with `own` sorted by tile (stable: each
+  // tile's layers keep their order in `own`).
+  std::vector<std::size_t> order(own.size());
+  for (std::size_t i = 0; i < own.size(); ++i) order[i] = i;
+  const auto key = [&](std::size_t i) { return std::pair(own[i].tile.tx, own[i].tile.ty); };
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return key(a) < key(b); });
+  auto at = order.begin();
+  for (const TileCoord t : needed_tiles(it->second.served, margin)) {
+    const std::pair want(t.tx, t.ty);
+    at = std::lower_bound(at, order.end(), want, [&](std::size_t i, const auto& w) { return key(i) < w; });
+    for (; at != order.end() && key(*at) == want; ++at) out.push_back(own[*at]);
   }
 }
 
@@ -167,17 +220,25 @@ bool ViewServer::compose(uint32_t uav, uint32_t tick, uint32_t max_age, uint32_t
   if (self == nullptr) return false;
   out.uav = uav;
   out.tick = tick;
-  out.tiles.clear();
   out.uavs.clear();
+  std::size_t shown = 0;  // out.tiles' first `shown` are this view's: the others' storage is reused
   for (const TileCoord t : neighbourhood(view_centre(*self))) {
-    for (int l = 0; l < layers_; ++l) {
-      // An older tile is one its owner no longer sends: the owner is gone
-      // (its region is dark) or this UAV's view did not need it last tick.
-      auto it = tiles_.find({t.tx, t.ty, l});
-      if (it != tiles_.end() && it->second.arrived >= min_tile_tick) out.tiles.push_back(it->second.tile);
+    const uint64_t key = tile_key(t);
+    if (auto it = tiles_.find(key); it != tiles_.end()) {
+      for (const Held& h : it->second) {
+        // An older tile is one its owner no longer sends: the owner is gone
+        // (its region is dark) or this UAV's view did not need it last tick.
+        if (!h.held || h.arrived < min_tile_tick) continue;
+        if (shown < out.tiles.size()) {
+          out.tiles[shown] = h.tile;
+        } else {
+          out.tiles.push_back(h.tile);
+        }
+        ++shown;
+      }
     }
     if (!neighbours_) continue;
-    auto o = over_.find({t.tx, t.ty});
+    auto o = over_.find(key);
     if (o == over_.end()) continue;
     for (uint32_t other : o->second) {
       if (other == uav) continue;
@@ -186,6 +247,7 @@ bool ViewServer::compose(uint32_t uav, uint32_t tick, uint32_t max_age, uint32_t
       out.uavs.push_back(s);
     }
   }
+  out.tiles.resize(shown);
   // At most kMaxViewUavs (the IDL bound; only a swarm of more UAVs can
   // crowd a view so): the nearest, ties by id.
   if (out.uavs.size() > kMaxViewUavs) {

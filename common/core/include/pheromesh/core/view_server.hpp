@@ -18,10 +18,10 @@
 
 #include <cstdint>
 #include <map>
-#include <set>
 #include <span>
 #include <string>
-#include <tuple>
+#include <unordered_map>
+#include <utility>
 #include <vector>
 
 #include "pheromesh/core/grid.hpp"
@@ -105,30 +105,46 @@ class ViewServer {
   struct Arrived {
     uint32_t tick = 0;
     uint16_t chunks = 0;
-    std::set<uint16_t> seen;
+    std::vector<uint16_t> seen;    // the chunks of `tick` that arrived, each once
     std::vector<uint32_t> uavs;    // served states: the UAVs in the chunks of `tick`
     std::vector<uint32_t> served;  // the UAVs of the newest tick whose every chunk arrived
     uint32_t heard = 0;            // the receiver's tick its newest chunk arrived at (update_served)
     [[nodiscard]] bool complete(uint32_t t) const { return tick == t && seen.size() >= chunks; }
   };
-  // Records chunk f in `to`; false if it is older than what `to` holds.
-  static bool arrive(std::map<RegionId, Arrived>& to, const FieldMsg& f);
+  // Records chunk `chunk` of `chunks` of `region`'s tick `tick` in `to`;
+  // false if it is older than what `to` holds, or arrived before.
+  static bool arrive(std::map<RegionId, Arrived>& to, RegionId region, uint32_t tick, uint16_t chunk, uint16_t chunks);
   static std::string missing(const std::map<RegionId, Arrived>& from, uint32_t tick, std::span<const RegionId> regions);
   [[nodiscard]] Cell view_centre(const UavStateMsg& s) const;
+  // A tile's key in tiles_ and over_ (tx, ty of a valid tile fit in 32 bits each).
+  [[nodiscard]] static uint64_t tile_key(TileCoord t) {
+    return (uint64_t{static_cast<uint32_t>(t.ty)} << 32U) | static_cast<uint32_t>(t.tx);
+  }
 
   MapGeometry geo_;
   int layers_;
   int32_t radius_;
   bool neighbours_;
+  // The newest value of each tile layer that arrived, by tile_key: layer l
+  // of a tile at index l of its slots. Hash maps whose entries are
+  // overwritten in place, so that a tick allocates nothing once every tile
+  // and UAV was seen (a place agent runs this for every tick of the swarm).
   struct Held {
     TileMsg tile;
     uint32_t arrived = 0;
+    bool held = false;
   };
-  std::map<std::tuple<int32_t, int32_t, int>, Held> tiles_;  // (tx, ty, layer)
-  std::map<uint32_t, UavStateMsg> states_;
-  // UAVs by the tile they are over (for the neighbours of a view).
-  std::map<std::pair<int32_t, int32_t>, std::set<uint32_t>> over_;
+  std::unordered_map<uint64_t, std::vector<Held>> tiles_;
+  std::unordered_map<uint32_t, UavStateMsg> states_;  // references stay valid as it grows
+  // The UAVs over each tile, by tile_key, ascending (only for a policy that
+  // reads neighbours: nothing else asks).
+  std::unordered_map<uint64_t, std::vector<uint32_t>> over_;
   std::map<RegionId, Arrived> served_, tiles_from_;
+  // update_served (the place clock's list): the listed regions, and the
+  // region and index in the list of each well-formed entry of one of them,
+  // kept between ticks for their storage.
+  std::vector<RegionId> regions_;
+  std::vector<std::pair<RegionId, std::size_t>> listed_;
 };
 
 // Splits a region's tiles and home UAV states of one tick into RegionField
