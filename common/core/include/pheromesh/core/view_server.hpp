@@ -127,8 +127,9 @@ class ViewServer {
   bool neighbours_;
   // The newest value of each tile layer that arrived, by tile_key: layer l
   // of a tile at index l of its slots. Hash maps whose entries are
-  // overwritten in place, so that a tick allocates nothing once every tile
-  // and UAV was seen (a place agent runs this for every tick of the swarm).
+  // overwritten in place: a new tick of a tile or a UAV already seen
+  // reuses its entry's storage (a place agent runs this for every tick of
+  // the swarm's served UAVs and of its views' tiles).
   struct Held {
     TileMsg tile;
     uint32_t arrived = 0;
