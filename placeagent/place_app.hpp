@@ -83,24 +83,50 @@ class PlaceApp {
   // Every other region's place agent reads the deposits this one forwards
   // (sticky once true; health carries it, and the realtime Start waits for it).
   bool note_linked();
+  // Lockstep: runs the place phase of clock `c` as far as the samples held
+  // let it (Pending until it holds what each stage needs).
   runtime::PhaseOutcome run_place_phase(const core::ClockMsg& c);
-  // One tick. With a demand (lockstep) it waits (bounded) for exactly the
-  // deposits and home states announced, every neighbour's ring of this tick
-  // and every region's field of this tick; without (realtime) it uses the
-  // latest received.
-  void step(uint32_t tick, std::optional<TickDemand> demand);
-  void take_inputs(uint32_t tick);
-  void exchange_halos(uint32_t tick);
+  // The stages of a tick; each ends when it holds what it needs (lockstep:
+  // exactly as announced) or its bound passed (stage_end).
+  enum class Stage : uint8_t {
+    Inputs,  // the home UAVs' states and the deposits for this region
+    Rings,   // the neighbours' rings of this tick
+    Tiles,   // the tiles its served UAVs' views need from other regions
+    Done,
+  };
+  enum class StageEnd : uint8_t { Wait, Held, Late };
+  // Realtime: one tick, every stage on what arrived.
+  void step(uint32_t tick);
+  // Starts a tick: with a demand (lockstep) advance_step waits (bounded)
+  // for exactly the deposits and home states announced, every neighbour's
+  // ring of this tick and the tiles of this tick its views need; without
+  // (realtime) it uses the latest received.
+  void begin_step(uint32_t tick, std::optional<TickDemand> demand);
+  // Takes what the bus holds and runs the stages it completes; true once
+  // the tick is done (its views sent). Never waits.
+  bool advance_step();
+  [[nodiscard]] StageEnd stage_end(bool held) const;
+  void next_stage(Stage s);
+  [[nodiscard]] uint32_t deposits_of(uint32_t tick) const;  // of `tick`, taken for this region
+  [[nodiscard]] bool inputs_held(uint32_t tick) const;
+  void log_inputs_late(uint32_t tick) const;
+  // The deposits applied, the ring sent to each neighbour.
+  void apply_inputs(uint32_t tick);
+  void take_rings(uint32_t tick);
+  // The rings taken, the field updated; its field to the ground station and
+  // its tiles to the other place agents.
+  void update_field(uint32_t tick);
   // The home UAVs served this tick (served_) and their states, to the other place agents.
   void publish_served(uint32_t tick);
-  // Publishes this region's field of `tick` to the ground station, exchanges
-  // tiles for views with the other place agents and sends the served home
-  // UAVs their views.
-  void serve_views(uint32_t tick);
+  // Publishes this region's field of `tick` to the ground station and sends
+  // the other place agents the tiles their UAVs' views need.
+  void send_field_and_tiles(uint32_t tick);
+  // The served home UAVs' views.
+  void send_views(uint32_t tick);
   // To each other place agent the tiles of this region its UAVs' views need.
   void send_tiles(uint32_t tick);
   // The tiles the served UAVs' views need from the other regions.
-  void receive_tiles(uint32_t tick);
+  void take_tiles(uint32_t tick);
   [[nodiscard]] std::vector<core::RegionId> owners_for_views() const;
   // Realtime: owners send the tiles within one more cell, as a UAV has moved
   // since the state they used; lockstep: exactly the view's tiles.
@@ -145,8 +171,8 @@ class PlaceApp {
   void adopt(uint32_t uav, const core::UavStateMsg* state_before);
   [[nodiscard]] uint32_t tick_ceiling() const;
   // The lockstep tree: relays every clock this place agent accepted to the
-  // UAVs it serves, and their reports to the conductor. Called from every
-  // lockstep wait, so neither waits while this place agent runs a phase.
+  // UAVs it serves (and, relay_uplinks, their reports to the conductor) in
+  // every round of the lockstep loop, also while a place phase is pending.
   void relay_clock(const core::ClockMsg& c);
   void relay_one_clock(const core::ClockMsg& c);
   // Writes `c` on the relay writer to the UAVs `to` names.
@@ -156,11 +182,10 @@ class PlaceApp {
   // here (nullptr: none), decided once per clock (core::UavClockRelay).
   const core::ClockMsg* clock_for_views(uint32_t tick);
   void relay_reports();
-  void keep_tree();
   // Relays (docs/architecture.md, "Relays"): its UAVs' reports, detections
   // and broadcasts up, the swarm's broadcasts and the ground station's
   // commands down (their states and departures go up in take_home_states).
-  // Realtime: once a tick; lockstep: in every wait, with keep_tree.
+  // Realtime: once a tick; lockstep: in every round of the lockstep loop.
   void relay_uplinks();
   // Lockstep, between phases and after the Stop: also takes (and relays) the
   // states of the UAVs it serves.
@@ -212,6 +237,14 @@ class PlaceApp {
   std::vector<core::BroadcastMsg> broadcasts_;
   uint32_t current_tick_ = 0;
   std::optional<TickDemand> demand_;       // the tick under way's (lockstep)
+  // Lockstep: the clock of the latest place phase (demand_.served points
+  // into it), and where its step stands (Done: no phase under way).
+  std::optional<core::ClockMsg> phase_clock_;
+  Stage stage_ = Stage::Done;
+  std::chrono::steady_clock::time_point stage_deadline_{};
+  std::set<core::RegionId> fresh_rings_;     // the neighbours whose ring of the tick was taken
+  std::size_t rings_awaited_ = 0;            // present neighbours
+  std::vector<core::RegionId> tile_owners_;  // lockstep: the regions whose tiles the views need
   std::optional<uint32_t> served_listed_;  // lockstep: the tick whose clock's served UAVs views_ holds
   std::map<uint32_t, uint32_t> heard_at_;  // home UAV -> place tick of its newest state
   // The judgement of every received sample (core::PlaceIntake): each UAV's

@@ -9,7 +9,6 @@
 #include <algorithm>
 #include <chrono>
 
-#include "pheromesh/runtime/await.hpp"
 #include "place_app.hpp"
 
 namespace pheromesh::placeagent {
@@ -229,39 +228,29 @@ bool PlaceApp::holds_home_deposits(uint32_t tick) const {
   });
 }
 
-void PlaceApp::take_inputs(uint32_t tick) {
-  inbox_.clear();
-  take_home_states(tick);  // first: the states carry their UAVs' deposits
-  take_deposits();
-  if (!demand_) return;
+uint32_t PlaceApp::deposits_of(uint32_t tick) const {
+  return static_cast<uint32_t>(std::count_if(inbox_.begin(), inbox_.end(),
+                                             [&](const auto& d) { return d.tick == tick && !core_.refuses(d, tick); }));
+}
+
+bool PlaceApp::inputs_held(uint32_t tick) const {
   // Lockstep: exactly the deposits the UAVs reported for this region and the
   // states of the home UAVs that took part in the UAV phase, as the clock
   // announced, and every deposit those home UAVs wrote (some to forward,
   // holds_home_deposits). Waiting for these exact samples replaces the UAVs' wait for
   // acknowledgements. Forged deposits carrying this tick must not stand in
   // for real ones (the place would apply the tick before all of them arrived).
-  // Meanwhile the deposits forwarded so far go out again after a quiet spell:
-  // two place agents each waiting for the other's lost forward would
-  // otherwise wait for each other.
-  const auto deposits = [&] {
-    return static_cast<uint32_t>(std::count_if(
-        inbox_.begin(), inbox_.end(), [&](const auto& d) { return d.tick == tick && !core_.refuses(d, tick); }));
-  };
-  const auto r = runtime::await_samples(
-      *bus_, {bus::TopicKind::Deposit, bus::TopicKind::UavHome}, {}, &resend_,
-      [&] {
-        keep_tree();  // the lockstep tree goes on while this phase waits
-        take_home_states(tick);
-        take_deposits();
-      },
-      [&] {
-        return deposits() >= demand_->deposits && home_states_of(tick) >= demand_->states && holds_home_deposits(tick);
-      });
-  if (r != runtime::Awaited::Done) {
-    log_->error("tick {}: {} of {} announced deposits and {} of {} home UAV states arrived{}; applying those", tick,
-                deposits(), demand_->deposits, home_states_of(tick), demand_->states,
-                holds_home_deposits(tick) ? "" : ", not every deposit of the home UAVs to forward");
-  }
+  // Meanwhile the deposits forwarded so far go out again after a quiet spell
+  // (the lockstep loop's re-sender): two place agents each waiting for the
+  // other's lost forward would otherwise wait for each other.
+  return !demand_ || (deposits_of(tick) >= demand_->deposits && home_states_of(tick) >= demand_->states &&
+                      holds_home_deposits(tick));
+}
+
+void PlaceApp::log_inputs_late(uint32_t tick) const {
+  log_->error("tick {}: {} of {} announced deposits and {} of {} home UAV states arrived{}; applying those", tick,
+              deposits_of(tick), demand_->deposits, home_states_of(tick), demand_->states,
+              holds_home_deposits(tick) ? "" : ", not every deposit of the home UAVs to forward");
 }
 
 }  // namespace pheromesh::placeagent

@@ -119,14 +119,6 @@ void PlaceApp::relay_reports() {
   }
 }
 
-void PlaceApp::keep_tree() {
-  if (!cfg_.common.lockstep()) return;
-  std::vector<core::ClockMsg> accepted;
-  runtime::take_clock(*bus_, follower_, audit_, &accepted);
-  for (const auto& c : accepted) relay_clock(c);
-  relay_uplinks();
-}
-
 void PlaceApp::relay_idle() {
   // Between phases: the states of the UAV phase under way go to the ground
   // station now (its conductor waits for them), and are this place agent's

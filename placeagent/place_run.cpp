@@ -29,7 +29,7 @@ int PlaceApp::run_realtime() {
     // Paused from the console: no evaporation, no diffusion, deposits wait
     // in the reader; health still goes out.
     if (!commands_->paused()) {
-      step(tick++, std::nullopt);
+      step(tick++);
     } else {
       take_home_states(tick);  // the ground station still hears the UAVs
     }
@@ -47,7 +47,7 @@ int PlaceApp::run_realtime() {
   // rejected) and counted before the final health; the whole field goes to
   // the ground station.
   last_tick_ = true;
-  step(tick, std::nullopt);
+  step(tick);
   relay_uplinks();
   finish(tick);
   return 0;
@@ -88,29 +88,35 @@ void PlaceApp::report_ready_once() {
 }
 
 runtime::PhaseOutcome PlaceApp::run_place_phase(const core::ClockMsg& c) {
-  if (replicated_ && follower_.skips(c.tick)) {
-    // The swarm went on without this replica (it was stopped or cut off
-    // longer than a lease and another replica served the region): its field
-    // missed ticks and must not be served again.
-    log_->error(
-        "region {} replica {}: the lockstep clock is at tick {} but this replica finished tick {} last; it missed "
-        "ticks while it was stopped or cut off and leaves (another replica serves the region)",
-        cfg_.region, cfg_.replica, c.tick, *follower_.last_done());
-    return runtime::PhaseOutcome::Leave;
+  if (stage_ == Stage::Done || !phase_clock_ || phase_clock_->tick != c.tick) {
+    if (replicated_ && follower_.skips(c.tick)) {
+      // The swarm went on without this replica (it was stopped or cut off
+      // longer than a lease and another replica served the region): its field
+      // missed ticks and must not be served again.
+      log_->error(
+          "region {} replica {}: the lockstep clock is at tick {} but this replica finished tick {} last; it missed "
+          "ticks while it was stopped or cut off and leaves (another replica serves the region)",
+          cfg_.region, cfg_.replica, c.tick, *follower_.last_done());
+      return runtime::PhaseOutcome::Leave;
+    }
+    note_absent();
+    if (!ready_) {
+      log_->warn(
+          "tick {} starts before every other region's place agent was matched: forwarded deposits may be rejected",
+          c.tick);
+      ready_ = true;
+    }
+    // Every tile, every tick: a UAV waits for tiles of exactly this tick.
+    phase_clock_ = c;
+    TickDemand demand;
+    for (const auto& rc : c.deposits) demand.deposits += rc.region == cfg_.region ? rc.count : 0;
+    for (const auto& rc : c.states) demand.states += rc.region == cfg_.region ? rc.count : 0;
+    demand.served = &phase_clock_->served;
+    log_->debug("tick {}: the clock asks for {} deposits and {} home UAV states", c.tick, demand.deposits,
+                demand.states);
+    begin_step(c.tick, demand);
   }
-  note_absent();
-  if (!ready_) {
-    log_->warn("tick {} starts before every other region's place agent was matched: forwarded deposits may be rejected",
-               c.tick);
-    ready_ = true;
-  }
-  // Every tile, every tick: a UAV waits for tiles of exactly this tick.
-  TickDemand demand;
-  for (const auto& rc : c.deposits) demand.deposits += rc.region == cfg_.region ? rc.count : 0;
-  for (const auto& rc : c.states) demand.states += rc.region == cfg_.region ? rc.count : 0;
-  demand.served = &c.served;
-  log_->debug("tick {}: the clock asks for {} deposits and {} home UAV states", c.tick, demand.deposits, demand.states);
-  step(c.tick, demand);
+  if (!advance_step()) return runtime::PhaseOutcome::Pending;
   publish_health(c.tick, HealthKind::Running);
   // No flush here: every reader of what this phase wrote waits for exactly
   // this tick's samples (fields, halos, views, forwarded deposits by count),
@@ -136,7 +142,12 @@ int PlaceApp::run_lockstep() {
                              },
                              [&](const core::ClockMsg& c) { return run_place_phase(c); }};
   loop.relay = [&](const core::ClockMsg& c) { relay_clock(c); };
-  loop.wake_on_reports = true;
+  // Its place phase answers samples (docs/architecture.md, "Answering in the
+  // receive thread"): each of these runs a round where it arrived, which
+  // relays what came (before_round) and advances the phase under way.
+  loop.inputs = {bus::TopicKind::Clock,     bus::TopicKind::PhaseDone, bus::TopicKind::UavHome,
+                 bus::TopicKind::Detection, bus::TopicKind::Broadcast, bus::TopicKind::Command,
+                 bus::TopicKind::Deposit,   bus::TopicKind::Halo,      bus::TopicKind::PlaceField};
   const auto end = loop.run();
   log_->debug("lockstep tree: relayed {} clocks to the UAVs served and {} of their reports", clocks_relayed_,
               reports_relayed_);
@@ -187,6 +198,7 @@ int PlaceApp::run() {
   bus_->offer_deposits(other_regions_);
   bus_->offer_place_exchange(other_regions_, /*served=*/!cfg_.common.lockstep());
   bus_->offer_views(home_uavs_);
+  bus_->offer_place_reports();
   commands_ = std::make_unique<runtime::SwarmCommands>(*bus_, log_);
   // The run, for monitors that attach with only the domain id.
   if (auto m = runtime::scenario_message(cfg_.common, scenario_, core::place_id(cfg_.region, cfg_.replica)); !m) {

@@ -8,7 +8,6 @@
 #include <algorithm>
 #include <chrono>
 
-#include "pheromesh/runtime/await.hpp"
 #include "place_app.hpp"
 
 namespace pheromesh::placeagent {
@@ -72,24 +71,16 @@ void PlaceApp::take_served(uint32_t tick) {
     for (auto& why : malformed_) (void)audit_.admit(core::IntakeVerdict::drop("the place clock's " + why));
     return;
   }
-  const auto take = [&] {
-    keep_tree();  // the lockstep tree goes on while this phase waits
-    field_inbox_.clear();
-    bus_->take_served(field_inbox_);
-    const uint32_t ceiling = tick_ceiling();
-    const auto now = std::chrono::steady_clock::now();
-    for (const auto& f : field_inbox_) {
-      if (f.region == cfg_.region || !audit_.admit(core::check_field_chunk(f, ceiling, rules_))) continue;
-      // What only that place agent writes, judged by who wrote it; it
-      // vouches for its process as a forwarder of deposits (judge_forwarded).
-      if (audit_.admit(intake_.judge_served_chunk(f, now))) views_.update_served(f, tick);
-    }
-  };
-  const auto r = runtime::await_samples(*bus_, {bus::TopicKind::PlaceField}, {}, &resend_, take,
-                                        [&] { return !demand_ || views_.holds_served(tick, present_others_); });
-  if (r != runtime::Awaited::Done) {
-    log_->error("tick {}: the served UAVs of some regions did not arrive ({}); sending tiles for the latest", tick,
-                views_.missing_served(tick, present_others_));
+  // Realtime: the chunks that came since the last tick.
+  field_inbox_.clear();
+  bus_->take_served(field_inbox_);
+  const uint32_t ceiling = tick_ceiling();
+  const auto now = std::chrono::steady_clock::now();
+  for (const auto& f : field_inbox_) {
+    if (f.region == cfg_.region || !audit_.admit(core::check_field_chunk(f, ceiling, rules_))) continue;
+    // What only that place agent writes, judged by who wrote it; it
+    // vouches for its process as a forwarder of deposits (judge_forwarded).
+    if (audit_.admit(intake_.judge_served_chunk(f, now))) views_.update_served(f, tick);
   }
 }
 
@@ -118,29 +109,20 @@ std::vector<core::RegionId> PlaceApp::owners_for_views() const {
   return owners;
 }
 
-void PlaceApp::receive_tiles(uint32_t tick) {
-  // Lockstep waits for exactly these owners; realtime takes what arrived.
-  const std::vector<core::RegionId> owners = demand_ ? owners_for_views() : std::vector<core::RegionId>{};
-  const auto take = [&] {
-    keep_tree();  // the lockstep tree goes on while this phase waits
-    field_inbox_.clear();
-    bus_->take_tiles_for_views(field_inbox_);
-    const uint32_t ceiling = tick_ceiling();
-    for (const auto& f : field_inbox_) {
-      if (f.region == cfg_.region || !audit_.admit(core::check_field_chunk(f, ceiling, rules_))) continue;
-      // Lockstep shows a tile of this tick only; realtime one that arrived lately.
-      views_.update_tiles(f, demand_ ? f.tick : tick);
-    }
-  };
-  const auto r = runtime::await_samples(*bus_, {bus::TopicKind::PlaceField}, {}, &resend_, take,
-                                        [&] { return !demand_ || views_.holds_tiles(tick, owners); });
-  if (r != runtime::Awaited::Done) {
-    log_->error("tick {}: the tiles of some regions did not arrive ({}); views go without them", tick,
-                views_.missing_tiles(tick, owners));
+void PlaceApp::take_tiles(uint32_t tick) {
+  // The tiles its served UAVs' views need from the other regions (lockstep:
+  // of this tick, from exactly tile_owners_; realtime: what arrived).
+  field_inbox_.clear();
+  bus_->take_tiles_for_views(field_inbox_);
+  const uint32_t ceiling = tick_ceiling();
+  for (const auto& f : field_inbox_) {
+    if (f.region == cfg_.region || !audit_.admit(core::check_field_chunk(f, ceiling, rules_))) continue;
+    // Lockstep shows a tile of this tick only; realtime one that arrived lately.
+    views_.update_tiles(f, demand_ ? f.tick : tick);
   }
 }
 
-void PlaceApp::serve_views(uint32_t tick) {
+void PlaceApp::send_field_and_tiles(uint32_t tick) {
   for (const auto& t : tiles_out_) views_.update_tile(t, tick);
   // This region's field (core::FieldToGround: lockstep all of it every tick,
   // realtime what changed at the console's rate) and its home UAVs' latest
@@ -158,7 +140,9 @@ void PlaceApp::serve_views(uint32_t tick) {
     }
   }
   send_tiles(tick);
-  receive_tiles(tick);
+}
+
+void PlaceApp::send_views(uint32_t tick) {
   // Lockstep: tiles of this tick only; realtime: tiles an owner sent lately
   // (a dead owner's region goes dark after that).
   const uint32_t min_tile_tick = demand_ ? tick : (tick > tiles_stale_after_ ? tick - tiles_stale_after_ : 0);

@@ -8,6 +8,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <exception>
@@ -235,6 +236,87 @@ TEST(LockstepLoop, WhatAPhaseThrowsInTheDeliveringThreadIsThrownByRunInItsOwn) {
   } catch (const std::runtime_error& e) {
     EXPECT_STREQ(e.what(), "phase 1 failed");
   }
+}
+
+// A place agent's phase waits for samples several times: it runs as far as
+// the samples held let it and says Pending; the sample that completes it
+// runs it on in the thread that delivered it, and only then is it done.
+TEST(LockstepLoop, APendingPhaseIsRunOnByTheSampleThatCompletesItAndIsDoneOnlyThen) {
+  auto domain = bus::make_memory_domain();
+  auto conductor = bus::make_memory_bus(domain);
+  auto neighbour = bus::make_memory_bus(domain);
+  auto place = bus::make_memory_bus(domain);
+  conductor->subscribe_phase_done();
+  place->subscribe_clock();
+  place->subscribe_ground();  // stands in for a place agent's inputs: health samples
+  auto log = quiet_logger();
+  bus::LatestResender resend(*place, true);
+  SampleAudit audit(log);
+  core::LockstepFollower follower(core::ClockPhase::Place, core::ConductorWatch(6s, 300s, Clock::now()));
+  std::mutex m;
+  std::vector<uint32_t> held;  // ticks of the health samples the phases took
+  std::vector<std::pair<uint32_t, std::thread::id>> finished;
+  std::atomic<int> calls{0};
+  std::atomic<bool> started{false};
+  std::atomic<int> end{-1};
+  std::thread::id loop_thread;
+  std::thread t([&] {
+    loop_thread = std::this_thread::get_id();
+    LockstepLoop loop{*place,
+                      follower,
+                      resend,
+                      audit,
+                      *log,
+                      1000,
+                      [&] { started = true; },
+                      [&](const core::ClockMsg& c) {
+                        ++calls;
+                        std::vector<core::HealthMsg> h;
+                        place->take_health(h);
+                        std::lock_guard<std::mutex> lock(m);
+                        for (const auto& x : h) held.push_back(x.tick);
+                        if (std::find(held.begin(), held.end(), c.tick) == held.end()) return PhaseOutcome::Pending;
+                        finished.emplace_back(c.tick, std::this_thread::get_id());
+                        resend.phase_done({core::process_key(core::kRolePlace, 0), c.tick, c.phase, 0, {}});
+                        return PhaseOutcome::Continue;
+                      }};
+    loop.inputs = {bus::TopicKind::Clock, bus::TopicKind::Health};
+    end = static_cast<int>(loop.run());
+  });
+  const auto deadline = Clock::now() + 5s;
+  while (!started && Clock::now() < deadline) std::this_thread::sleep_for(1ms);
+  for (uint32_t k = 0; k < 3; ++k) {
+    ASSERT_TRUE(conductor->publish_clock(clock_of(k, core::ClockPhase::Place)));
+    std::this_thread::sleep_for(100ms);
+    {
+      std::lock_guard<std::mutex> lock(m);
+      EXPECT_EQ(finished.size(), k) << "tick " << k << " finished before its sample came";
+    }
+    std::vector<core::PhaseDoneMsg> early;
+    conductor->take_phase_done(early);
+    EXPECT_TRUE(std::none_of(early.begin(), early.end(), [&](const auto& d) { return d.tick == k; }))
+        << "tick " << k << " reported done while pending";
+    core::HealthMsg h;
+    h.tick = k;
+    ASSERT_TRUE(neighbour->publish_health(h));
+    ASSERT_TRUE(done_of(*conductor, k)) << "tick " << k;
+  }
+  ASSERT_TRUE(conductor->publish_clock(core::LockstepConductor::stop(3)));
+  t.join();
+  EXPECT_EQ(end.load(), static_cast<int>(LockstepEnd::Stopped));
+  EXPECT_EQ(follower.last_done(), 2U);
+  std::lock_guard<std::mutex> lock(m);
+  ASSERT_EQ(finished.size(), 3U);
+  for (uint32_t k = 0; k < 3; ++k) {
+    EXPECT_EQ(finished[k].first, k);
+    // The health sample's writer, the test, delivered it (unless the main
+    // thread's round happened to hold the loop then).
+    EXPECT_TRUE(finished[k].second == std::this_thread::get_id() || finished[k].second == loop_thread);
+  }
+  EXPECT_GT(calls.load(), 3) << "a pending phase is run again";
+  const auto here = std::count_if(finished.begin(), finished.end(),
+                                  [](const auto& f) { return f.second == std::this_thread::get_id(); });
+  EXPECT_GE(here, 2) << "of 3 phases, finished in the delivering thread";
 }
 
 TEST(LockstepFollower, APhaseGivenBackComesFirstAgain) {

@@ -317,6 +317,7 @@ void Bus::join_clock_tree(std::span<const core::RegionId> gateways) {
   roles_->clock_in.emplace(*this, parts, TopicKind::RelayedClock);
 }
 void Bus::subscribe_uav_reports(core::RegionId own) {
+  roles_->phase_done.offer(kClockPartition);  // its own reports and those it relays
   roles_->relayed_clock.offer(uav_clock_partition(own));
   roles_->relayed_clock.offer(uav_backup_clock_partition(own));
   roles_->reports_in.emplace(*this, std::vector<std::string>{uav_report_partition(own)});
@@ -492,6 +493,10 @@ bool Bus::wait(std::initializer_list<TopicKind> kinds, std::chrono::steady_clock
   return transport_->wait(of_kinds(readers_, kinds), deadline);
 }
 
+bool Bus::wait_any(std::span<const TopicKind> kinds, std::chrono::steady_clock::time_point deadline) {
+  return transport_->wait(of_kinds(readers_, kinds), deadline);
+}
+
 bool Bus::on_data(std::span<const TopicKind> kinds, std::function<void()> callback) {
   const std::vector<EndpointId> ids = callback ? of_kinds(readers_, kinds) : std::vector<EndpointId>{};
   return transport_->on_data(ids, std::move(callback));
@@ -521,6 +526,12 @@ uint32_t Bus::matched_halo_readers(core::RegionId own, core::RegionId neighbour)
 
 void Bus::offer_halos(std::span<const core::RegionId> neighbours, core::RegionId own) {
   for (core::RegionId n : neighbours) roles_->halos.offer(halo_partition(own, n));
+}
+
+void Bus::offer_place_reports() {
+  roles_->health.offer(kGroundPartition);
+  roles_->fields.offer(kFieldPartition);
+  roles_->events.offer(kGroundPartition);
 }
 
 void Bus::offer_deposits(std::span<const core::RegionId> regions) {

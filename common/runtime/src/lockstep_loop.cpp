@@ -44,8 +44,8 @@ struct LockstepLoop::Receiving {
   bool missed = false;             // under note
   std::optional<LockstepEnd> end;  // under note: how a receive-thread round ended the run
   std::exception_ptr failed;       // under note: what a receive-thread round threw
-  uint64_t phases_here = 0;        // under work: phases the receive thread ran
-  uint64_t phases_main = 0;        // under work: phases the main thread ran
+  uint64_t phases_here = 0;        // under work: phases the receive thread ran (a pending one: finished)
+  uint64_t phases_main = 0;        // under work: phases the main thread ran (a pending one: finished)
 };
 
 namespace {
@@ -92,7 +92,7 @@ LockstepEnd LockstepLoop::conductor_gone() {
 }
 
 LockstepEnd LockstepLoop::run() {
-  if (!ready || inputs.empty()) return run_on_main(nullptr);
+  if (inputs.empty()) return run_on_main(nullptr);
   Receiving receiving;
   if (!bus.on_data(inputs, [this, &receiving] { round_in_receive_thread(receiving); })) return run_on_main(nullptr);
   LockstepEnd end = LockstepEnd::Stopped;
@@ -132,15 +132,20 @@ void LockstepLoop::round_in_receive_thread(Receiving& r) {
     take_clock(bus, follower, audit, relay ? &accepted : nullptr);
     for (const auto& c : accepted) relay(c);
     while (auto c = follower.next_phase()) {
-      if (!ready(*c)) {
+      if (ready && !ready(*c)) {
         follower.put_back(std::move(*c));  // its main thread waits for what it lacks, or its next sample brings it
         break;
       }
-      ++r.phases_here;
-      if (run_phase(*c) == PhaseOutcome::Leave) {
+      const PhaseOutcome o = run_phase(*c);
+      if (o == PhaseOutcome::Leave) {
         note([&] { r.end = LockstepEnd::Left; });
         return;
       }
+      if (o == PhaseOutcome::Pending) {
+        follower.put_back(std::move(*c));  // the sample it lacks runs it on
+        break;
+      }
+      ++r.phases_here;
       follower.done(c->tick);
     }
     if (follower.stopped()) note([&] { r.end = LockstepEnd::Stopped; });
@@ -176,8 +181,13 @@ LockstepEnd LockstepLoop::run_on_main(Receiving* receiving) {
     for (const auto& c : accepted) relay(c);
     bool ran = false;
     while (auto c = follower.next_phase()) {
+      const PhaseOutcome o = run_phase(*c);
+      if (o == PhaseOutcome::Leave) return LockstepEnd::Left;
+      if (o == PhaseOutcome::Pending) {
+        follower.put_back(std::move(*c));
+        break;
+      }
       if (receiving != nullptr) ++receiving->phases_main;
-      if (run_phase(*c) == PhaseOutcome::Leave) return LockstepEnd::Left;
       follower.done(c->tick);
       ran = true;
     }
@@ -202,11 +212,8 @@ LockstepEnd LockstepLoop::run_on_main(Receiving* receiving) {
       }
       work.lock();
       here.enter();
-    } else if (wake_on_reports) {
-      // A place agent: whatever it relays (before_round takes it all).
-      bus.wait({bus::TopicKind::Clock, bus::TopicKind::PhaseDone, bus::TopicKind::UavHome, bus::TopicKind::Detection,
-                bus::TopicKind::Broadcast, bus::TopicKind::Command},
-               until);
+    } else if (!inputs.empty()) {
+      bus.wait_any(inputs, until);  // a bus without a receive thread
     } else {
       // A UAV: its clock comes relayed or in its view (bus::Bus::take_clock).
       bus.wait({bus::TopicKind::Clock, bus::TopicKind::RelayedClock, bus::TopicKind::View}, until);

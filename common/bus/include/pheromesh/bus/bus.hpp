@@ -167,8 +167,9 @@ class Bus {
   // to the UAVs homed there; the others: its backups, to the UAVs they back
   // up, so that it hears the tick at which its home is listed absent).
   void join_clock_tree(std::span<const core::RegionId> gateways);
-  // A place agent of `own`: its clock writer to the UAVs it serves and its
-  // reader of their reports, opened now.
+  // A place agent of `own`: its clock writer to the UAVs it serves, its
+  // reader of their reports and its writer of reports to the conductor,
+  // opened now.
   void subscribe_uav_reports(core::RegionId own);
   bool relay_clock(const core::ClockMsg& m, core::RegionId own);             // to the UAVs homed on `own`
   bool relay_clock_to_backups(const core::ClockMsg& m, core::RegionId own);  // to those `own` backs up
@@ -287,6 +288,7 @@ class Bus {
   // does. Backed by the vendor's own wait set, so no process polls. Wait only
   // on kinds the caller then takes, or the wait returns at once.
   bool wait(std::initializer_list<TopicKind> kinds, std::chrono::steady_clock::time_point deadline);
+  bool wait_any(std::span<const TopicKind> kinds, std::chrono::steady_clock::time_point deadline);
   // Call `callback` in the vendor's receive thread whenever one of this
   // process's readers of `kinds` gets a sample (Transport::on_data); an
   // empty callback removes it, once no call is under way. False where the
@@ -310,6 +312,11 @@ class Bus {
   // (offer_halos).
   [[nodiscard]] uint32_t matched_tile_readers(core::RegionId home) const;
   [[nodiscard]] uint32_t matched_halo_readers(core::RegionId own, core::RegionId neighbour) const;
+  // Opens the writers of a place agent's health, field and target events
+  // (to the ground station) before flying: a lockstep place agent writes in
+  // its vendor's receive thread, which must not create endpoints (Fast DDS
+  // 2.9 deadlocks there: the new writer waits for the receive thread's lock).
+  void offer_place_reports();
   // Opens the writers of its rings to its neighbours before flying.
   void offer_halos(std::span<const core::RegionId> neighbours, core::RegionId own);
   // Readers matched by this UAV's state writer to its gateway (the gateway

@@ -32,7 +32,11 @@ enum class LockstepEnd : uint8_t { Stopped, ConductorLost, ShutDown, Left };
 // The exit code of a UAV or place agent whose conductor vanished
 // (runtime::run_process uses 2-4; the launcher names it).
 inline constexpr int kExitConductorLost = 7;
-enum class PhaseOutcome : uint8_t { Continue, Leave };
+// Continue: the phase is done. Leave: the process leaves the run. Pending:
+// the phase waits for samples that are not here yet; the loop runs it again
+// (the same clock) when one of `inputs` arrives, or at the latest after a
+// slice, so that the phase can give up at its own deadline.
+enum class PhaseOutcome : uint8_t { Continue, Leave, Pending };
 
 struct LockstepLoop {
   bus::Bus& bus;
@@ -46,23 +50,21 @@ struct LockstepLoop {
   std::function<void()> before_round;
   // Runs one phase; the loop marks it done unless it returns Leave.
   std::function<PhaseOutcome(const core::ClockMsg&)> run_phase;
-  // A place agent relays every clock it accepts to the UAVs it serves, and
-  // wakes for everything else it relays too (their reports, states,
-  // detections, broadcasts, the ground station's commands: before_round
-  // relays them).
+  // A place agent relays every clock it accepts to the UAVs it serves.
   std::function<void(const core::ClockMsg&)> relay{};
-  bool wake_on_reports = false;
   // A process whose phase answers samples (a UAV: its view in, its state
-  // out) may run it in the thread that received them, a wake-up and a
-  // context switch less per phase (docs/architecture.md, "Answering in the
-  // receive thread"). `ready(c)` says whether the phase of clock `c` can
-  // run now without waiting for any sample (it may take what the bus holds);
-  // `inputs` are the topics whose samples can make it so. Where the bus
-  // has a receive thread (bus::Bus::on_data), each of their samples runs a
-  // round there: the ready phases, never one that would wait. The main
-  // thread keeps watch between them (the conductor's death, a shutdown,
-  // re-sends after a quiet spell) and runs, as without `ready`, whatever
-  // the receive thread left.
+  // out; a place agent: its inputs, rings and tiles in, its views out) runs
+  // it in the thread that received them, a wake-up and a context switch
+  // less per sample (docs/architecture.md, "Answering in the receive
+  // thread"). `inputs` are the topics whose samples the rounds and phases
+  // take (a place agent's: also whatever before_round relays). Where the
+  // bus has a receive thread (bus::Bus::on_data), each of their samples
+  // runs a round there; elsewhere the main thread sleeps on them. A round
+  // never waits: a phase either runs whole if `ready(c)` (unset: always)
+  // says it can without waiting, or it runs as far as the samples held let
+  // it and says Pending. The main thread keeps watch between rounds (the
+  // conductor's death, a shutdown, re-sends after a quiet spell) and runs
+  // whatever the receive thread left, a phase that is not ready whole.
   std::function<bool(const core::ClockMsg&)> ready{};
   std::vector<bus::TopicKind> inputs{};
 
