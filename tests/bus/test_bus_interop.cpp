@@ -648,12 +648,14 @@ TEST_P(Departure, AWaitReturnsWhenDataArrivesAndNotBefore) {
   EXPECT_EQ(got[0].tick, 7U);
 }
 
-TEST_P(Departure, OnDataCallsBackInTheVendorsThreadForTheNamedKindsOnlyUntilRemoved) {
-  // bus::Bus::on_data, as a lockstep UAV answers in the receive thread:
-  // the callback runs in the thread that delivers the sample, for a
-  // sample of a kind it names, and the reader still holds the sample for a
-  // take there; a kind it does not name calls nothing; once removed,
-  // nothing calls it any more.
+TEST_P(Departure, OnDataCallsBackInTheVendorsThreadForTheNamedKindsOnlyUntilRemovedAndCreatesNoEndpoint) {
+  // bus::Bus::on_data, as a lockstep UAV and place agent answer in the
+  // receive thread: the callback runs in the thread that delivers the
+  // sample, for a sample of a kind it names, and the reader still holds the
+  // sample for a take there; a kind it does not name calls nothing; once
+  // removed, nothing calls it any more. A writer not opened before is
+  // refused there (Fast DDS 2.9 deadlocked creating it), and opened
+  // outside.
   auto w = make(GetParam().writer, "writer");
   auto r = make(GetParam().reader, "reader");
   ASSERT_TRUE(w && r);
@@ -663,12 +665,18 @@ TEST_P(Departure, OnDataCallsBackInTheVendorsThreadForTheNamedKindsOnlyUntilRemo
   std::condition_variable called;
   std::vector<core::FieldMsg> taken;
   std::vector<std::thread::id> threads;
+  std::size_t refused = 0;  // health writers refused in the callback
   const std::vector<bus::TopicKind> kinds{bus::TopicKind::Field};
   ASSERT_TRUE(r->on_data(kinds, [&] {
     {
       std::lock_guard<std::mutex> lock(m);
       threads.push_back(std::this_thread::get_id());
       r->take_fields(taken);
+      try {
+        r->publish_health({});
+      } catch (const bus::BusMisuse&) {
+        ++refused;
+      }
     }
     called.notify_all();
   }));
@@ -701,6 +709,8 @@ TEST_P(Departure, OnDataCallsBackInTheVendorsThreadForTheNamedKindsOnlyUntilRemo
   EXPECT_EQ(later[0].tick, 8U);
   std::lock_guard<std::mutex> lock(m);
   EXPECT_EQ(threads.size(), calls) << "called after it was removed";
+  EXPECT_EQ(refused, calls) << "a writer created in the callback";
+  EXPECT_TRUE(r->publish_health({})) << "outside a callback it is opened";
 }
 
 TEST_P(Departure, LockstepResenderWritesTheTicksSamplesAgainAfterAQuietSpellOnly) {

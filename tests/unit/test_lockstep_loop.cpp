@@ -117,6 +117,7 @@ struct ReceivingUav {
   ReceivingUav(std::function<bool(const core::ClockMsg&)> ready, std::function<void(const core::ClockMsg&)> phase) {
     conductor->subscribe_phase_done();
     uav->subscribe_clock();
+    uav->offer_phase_done();  // no endpoint is created in a delivering thread
     t = std::thread([this, ready, phase] {
       loop_thread = std::this_thread::get_id();
       LockstepLoop loop{*uav,
@@ -249,6 +250,7 @@ TEST(LockstepLoop, APendingPhaseIsRunOnByTheSampleThatCompletesItAndIsDoneOnlyTh
   conductor->subscribe_phase_done();
   place->subscribe_clock();
   place->subscribe_ground();  // stands in for a place agent's inputs: health samples
+  place->offer_phase_done();
   auto log = quiet_logger();
   bus::LatestResender resend(*place, true);
   SampleAudit audit(log);

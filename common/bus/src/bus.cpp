@@ -317,11 +317,12 @@ void Bus::join_clock_tree(std::span<const core::RegionId> gateways) {
   roles_->clock_in.emplace(*this, parts, TopicKind::RelayedClock);
 }
 void Bus::subscribe_uav_reports(core::RegionId own) {
-  roles_->phase_done.offer(kClockPartition);  // its own reports and those it relays
+  offer_phase_done();  // its own reports and those it relays
   roles_->relayed_clock.offer(uav_clock_partition(own));
   roles_->relayed_clock.offer(uav_backup_clock_partition(own));
   roles_->reports_in.emplace(*this, std::vector<std::string>{uav_report_partition(own)});
 }
+void Bus::offer_phase_done() { roles_->phase_done.offer(kClockPartition); }
 void Bus::subscribe_phase_done() { roles_->done_in.emplace(*this, std::vector<std::string>{kClockPartition}); }
 void Bus::subscribe_commands() {
   if (!roles_->gateways.empty()) {
@@ -497,9 +498,25 @@ bool Bus::wait_any(std::span<const TopicKind> kinds, std::chrono::steady_clock::
   return transport_->wait(of_kinds(readers_, kinds), deadline);
 }
 
+namespace {
+thread_local uint32_t data_callbacks = 0;  // on_data callbacks under way on this thread (nested: a write delivered)
+}  // namespace
+
+bool Bus::in_data_callback() { return data_callbacks > 0; }
+
 bool Bus::on_data(std::span<const TopicKind> kinds, std::function<void()> callback) {
   const std::vector<EndpointId> ids = callback ? of_kinds(readers_, kinds) : std::vector<EndpointId>{};
-  return transport_->on_data(ids, std::move(callback));
+  if (!callback) return transport_->on_data(ids, {});
+  return transport_->on_data(ids, [callback = std::move(callback)] {
+    ++data_callbacks;
+    struct Leave {
+      Leave() = default;
+      Leave(const Leave&) = delete;
+      Leave& operator=(const Leave&) = delete;
+      ~Leave() { --data_callbacks; }
+    } leave;
+    callback();
+  });
 }
 
 bool Bus::flush(std::chrono::milliseconds timeout) {

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <condition_variable>
 #include <deque>
 #include <functional>
@@ -77,6 +78,9 @@ class MemoryDomain {
   struct Listener {
     std::mutex mutex;
     std::function<void()> callback;
+    // A sample came while another thread (or this one, further up) called
+    // the callback: the caller calls it once more when it is done.
+    std::atomic<bool> again{false};
   };
   struct ReaderRec {
     const void* owner;
@@ -205,17 +209,26 @@ class MemoryTransport final : public Transport {
       }
     }
     domain_->changed.notify_all();
-    // A callback that writes to a reader of its own transport is not called
-    // again inside itself (a vendor's receive thread does not nest either):
-    // the sample waits in the queue.
+    // One call of a listener at a time, as a vendor's receive thread makes
+    // them, and no writer waits for another thread's call: two processes'
+    // callbacks that write to each other would otherwise wait for each
+    // other. A sample that comes while a call is under way (in another
+    // thread, or in this one further up: a callback that writes to a reader
+    // of its own transport) is left to that call's thread, which calls once
+    // more when it is done.
     thread_local std::vector<const MemoryDomain::Listener*> calling;
     for (const auto& l : to_call) {
+      l->again = true;
       if (std::find(calling.begin(), calling.end(), l.get()) != calling.end()) continue;
-      std::lock_guard<std::mutex> lock(l->mutex);
-      if (!l->callback) continue;
-      calling.push_back(l.get());
-      l->callback();
-      calling.pop_back();
+      while (l->again.load()) {
+        std::unique_lock<std::mutex> lock(l->mutex, std::try_to_lock);
+        if (!lock) break;  // its caller sees `again` once it is done
+        l->again = false;
+        if (!l->callback) break;
+        calling.push_back(l.get());
+        l->callback();
+        calling.pop_back();
+      }
     }
     return true;
   }

@@ -171,6 +171,10 @@ class Bus {
   // reader of their reports and its writer of reports to the conductor,
   // opened now.
   void subscribe_uav_reports(core::RegionId own);
+  // The writer of this process's lockstep reports to the conductor (`c`;
+  // a UAV in the clock tree writes to its gateway, join_clock_tree), opened
+  // now.
+  void offer_phase_done();
   bool relay_clock(const core::ClockMsg& m, core::RegionId own);             // to the UAVs homed on `own`
   bool relay_clock_to_backups(const core::ClockMsg& m, core::RegionId own);  // to those `own` backs up
   void take_uav_reports(std::vector<core::PhaseDoneMsg>& out);
@@ -292,8 +296,13 @@ class Bus {
   // Call `callback` in the vendor's receive thread whenever one of this
   // process's readers of `kinds` gets a sample (Transport::on_data); an
   // empty callback removes it, once no call is under way. False where the
-  // transport has no receive thread (then only wait() wakes).
+  // transport has no receive thread (then only wait() wakes). The callback
+  // must create no endpoint (Writer::offer throws BusMisuse there): a
+  // vendor's receive thread that creates one can deadlock (Fast DDS 2.9:
+  // the new writer waits for the lock the receive thread holds).
   bool on_data(std::span<const TopicKind> kinds, std::function<void()> callback);
+  // Whether this thread is in an on_data callback now.
+  [[nodiscard]] static bool in_data_callback();
 
   // Block until every reliable sample written so far is acknowledged by the
   // matched readers, or the timeout passes. Returns true if all were acked.

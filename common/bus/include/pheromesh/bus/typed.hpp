@@ -28,6 +28,10 @@ class Writer {
   // created while a swarm flies, docs/architecture.md "Views").
   EndpointId offer(const std::string& partition) {
     if (auto it = ids_.find(partition); it != ids_.end()) return it->second;
+    if (Bus::in_data_callback()) {
+      throw BusMisuse("a " + std::string(topic_name(kind_)) + " writer into partition '" + partition +
+                      "' would be created in a receive thread's callback (Bus::on_data); offer it before flying");
+    }
     const EndpointId id = bus_->transport().open_writer(kind_, partition);
     ids_.emplace(partition, id);
     bus_->opened(kind_, Endpoint::Writer, id);
