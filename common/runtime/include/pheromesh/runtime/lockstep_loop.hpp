@@ -48,7 +48,7 @@ struct LockstepLoop {
   // Called before every round, e.g. to report Ready once the process matched
   // its peers, or (a place agent) to relay the clock and its UAVs' reports.
   std::function<void()> before_round;
-  // Runs one phase; the loop marks it done unless it returns Leave.
+  // Runs one phase; the loop marks it done unless it returns Leave or Pending.
   std::function<PhaseOutcome(const core::ClockMsg&)> run_phase;
   // A place agent relays every clock it accepts to the UAVs it serves.
   std::function<void(const core::ClockMsg&)> relay{};
