@@ -256,11 +256,11 @@ class PlaceApp {
   // takes seconds); the one plausibility rule (core::StateGate): a refused
   // state of a UAV it serves is answered - relayed to the ground station as
   // such, and an empty view of its tick to the UAV (answer_refused,
-  // serve_views); the other place agents' processes, which forward deposits.
+  // send_views); the other place agents' processes, which forward deposits.
   core::PlaceIntake intake_;
   core::UplinkReports uplink_reports_;         // lockstep: its UAVs' reports, made from their states
   std::vector<core::PhaseDoneMsg> reports_out_;  // lockstep: those of a take, published after its states
-  std::vector<uint32_t> refused_views_;        // UAVs owed an empty view at the next serve_views
+  std::vector<uint32_t> refused_views_;          // UAVs owed an empty view at the next send_views
   std::vector<core::IntakeVerdict> verdicts_;  // judge_forwarded's refusals
   // Reusable inboxes and outboxes.
   // uplinked_: deposits the UAVs' states carried, not yet routed (take_deposits).

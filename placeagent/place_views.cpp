@@ -41,7 +41,7 @@ void PlaceApp::publish_served(uint32_t tick) {
     const core::UavStateMsg* st = views_.state(u);
     if (st == nullptr || st->finished) continue;
     if (demand_ ? st->tick != tick : tick - heard_at_[u] > kViewsAfterSilence) continue;
-    // Its newest state was refused: it gets an empty view (serve_views), not
+    // Its newest state was refused: it gets an empty view (send_views), not
     // one around a position it has left.
     if (const auto refused = intake_.refused_tick(u); refused && *refused > st->tick) continue;
     if (from_clock && !std::binary_search(listed_.begin(), listed_.end(), u)) {
