@@ -36,7 +36,11 @@ PlaceApp::PlaceApp(PlaceConfig cfg, core::ScenarioConfig scenario, std::unique_p
                std::max<core::PlaceVouch::Clock::duration>(std::chrono::seconds(1),
                                                            std::chrono::milliseconds(cfg_.common.lease_ms))}) {
   for (uint32_t u = 0; u < scenario_.uavs; ++u) {
-    if (core::home_region(u, geo_.region_count()) == cfg_.region) home_uavs_.push_back(u);
+    if (core::home_region(u, geo_.region_count()) == cfg_.region) {
+      home_uavs_.push_back(u);
+    } else if (core::backup_region(u, geo_.region_count()) == cfg_.region) {
+      backed_up_.push_back(u);
+    }
   }
   gateway_uavs_ = home_uavs_;
   for (core::RegionId r = 0; r < geo_.region_count(); ++r) {
@@ -63,11 +67,8 @@ void PlaceApp::note_absent() {
     log_->warn("tick {}: the place agent of region {} is gone (no standby); its field and ring stay as they were", tick,
                r);
     // Its UAVs whose backup this region is talk to this place agent now.
-    for (uint32_t u = 0; u < scenario_.uavs; ++u) {
-      if (core::home_region(u, geo_.region_count()) == r &&
-          core::backup_region(u, geo_.region_count()) == cfg_.region) {
-        adopt(u, views_.state(u));
-      }
+    for (uint32_t u : backed_up_) {
+      if (core::home_region(u, geo_.region_count()) == r) adopt(u, views_.state(u));
     }
   }
   present_others_.clear();

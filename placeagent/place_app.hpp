@@ -218,6 +218,7 @@ class PlaceApp {
   core::DepositDesk desk_;   // where each taken deposit goes; what the home UAVs' views confirm
   std::unique_ptr<runtime::SwarmCommands> commands_;  // pause / resume
   std::vector<uint32_t> home_uavs_;
+  std::vector<uint32_t> backed_up_;  // the UAVs homed elsewhere whose backup gateway this region is
   // The UAVs whose gateway this place agent is: its home UAVs, and those it
   // adopted as their backup (adopt); their deposits-sent count and this
   // place agent's taken count when adopted.

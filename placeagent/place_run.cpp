@@ -202,14 +202,7 @@ int PlaceApp::run() {
     // And to the UAVs it backs up, which it adopts once their home is
     // listed absent (adopt): in the receive thread, where no endpoint may
     // be created. A lockstep UAV discovers its backup from the start.
-    std::vector<uint32_t> backed_up;
-    for (uint32_t u = 0; u < scenario_.uavs; ++u) {
-      if (core::backup_region(u, geo_.region_count()) == cfg_.region &&
-          core::home_region(u, geo_.region_count()) != cfg_.region) {
-        backed_up.push_back(u);
-      }
-    }
-    bus_->offer_views(backed_up);
+    bus_->offer_views(backed_up_);
   }
   bus_->offer_place_reports();
   commands_ = std::make_unique<runtime::SwarmCommands>(*bus_, log_);
