@@ -185,7 +185,13 @@ cleanup() {
     if P volume exists "$v" 2> /dev/null; then P volume rm "$v" > /dev/null || true; fi
   done
   if P secret inspect "$SECRET" > /dev/null 2>&1; then P secret rm "$SECRET" > /dev/null || true; fi
-  if P network exists "$NET" 2> /dev/null; then P network rm "$NET" > /dev/null || true; fi
+  # A run killed before its cleanup (its OUT may be another build's, with no
+  # pods.yaml to kube down) left pods on the network: removed by name.
+  local pod
+  for pod in $(P pod ls --filter "name=^$PREFIX" --format '{{.Name}}' 2> /dev/null); do
+    P pod rm -f "$pod" > /dev/null 2>&1 || true
+  done
+  if P network exists "$NET" 2> /dev/null; then P network rm -f "$NET" > /dev/null || true; fi
   nft delete table bridge "$NFT" > /dev/null 2>&1 || true
 }
 trap cleanup EXIT
