@@ -121,8 +121,8 @@ if [ "$MODE" = compose ]; then
   cleanup() {
     save_logs "${containers[@]}"
     compose down -v > "$OUT/down.log" 2>&1 || true
-    # podman-compose 1.0.3 leaves its network behind.
-    if P network exists "${NAME}_swarm" 2> /dev/null; then P network rm "${NAME}_swarm" > /dev/null 2>&1 || true; fi
+    # podman-compose 1.0.3 leaves its network behind (-f: with any container still on it).
+    if P network exists "${NAME}_swarm" 2> /dev/null; then P network rm -f "${NAME}_swarm" > /dev/null 2>&1 || true; fi
   }
   trap cleanup EXIT
   cleanup > /dev/null 2>&1 # a run killed before its cleanup
