@@ -26,6 +26,7 @@
 #include "pheromesh/core/place_core.hpp"
 #include "pheromesh/core/place_intake.hpp"
 #include "pheromesh/core/receipts.hpp"
+#include "pheromesh/core/relay_batch.hpp"
 #include "pheromesh/core/scenario.hpp"
 #include "pheromesh/core/sender_judge.hpp"
 #include "pheromesh/core/tick_gaps.hpp"
@@ -137,7 +138,9 @@ class PlaceApp {
   void forward(const core::DepositMsg& d);  // into to_forward_
   void flush_forwards();                    // to_forward_ out, a batch per owner
   void forward_failed(const core::DepositMsg& d, const char* why);
-  void take_home_states(uint32_t tick);
+  // `batch` (lockstep, between phases): the relays to the ground station
+  // wait for the rest of the UAV phase's reports (core::RelayBatch).
+  void take_home_states(uint32_t tick, bool batch = false);
   // The departures of UAVs' state writers: told to the ground station (in relayed_).
   void take_departures();
   // A state of a UAV this place agent serves that check_home_state refused
@@ -260,7 +263,8 @@ class PlaceApp {
   // send_views); the other place agents' processes, which forward deposits.
   core::PlaceIntake intake_;
   core::UplinkReports uplink_reports_;         // lockstep: its UAVs' reports, made from their states
-  std::vector<core::PhaseDoneMsg> reports_out_;  // lockstep: those of a take, published after its states
+  std::vector<core::PhaseDoneMsg> reports_out_;  // lockstep: those held, published after their states
+  core::RelayBatch relay_batch_;                 // lockstep: when relayed_ and reports_out_ go
   std::vector<uint32_t> refused_views_;          // UAVs owed an empty view at the next send_views
   std::vector<core::IntakeVerdict> verdicts_;  // judge_forwarded's refusals
   // Reusable inboxes and outboxes.
@@ -268,7 +272,7 @@ class PlaceApp {
   // carried_: those of the state take_home_states is judging.
   // refused_carried_: those of states refused for their motion (reject_carried).
   std::vector<core::DepositMsg> taken_, inbox_, uplinked_, carried_, refused_carried_, rejected_carried_;
-  // relayed_: the states and departures one take_home_states relays to the ground station.
+  // relayed_: the states and departures take_home_states relays to the ground station.
   std::vector<core::UavStateMsg> state_inbox_, home_states_, served_states_, relayed_;
   std::vector<uint32_t> served_;  // home UAVs that get a view this tick
   std::vector<uint32_t> listed_;  // lockstep: the UAVs the place clock lists as this region's (sorted)

@@ -97,12 +97,11 @@ void PlaceApp::forward_failed(const core::DepositMsg& d, const char* why) {
   }
 }
 
-void PlaceApp::take_home_states(uint32_t tick) {
+void PlaceApp::take_home_states(uint32_t tick, bool batch) {
   state_inbox_.clear();
   bus_->take_uav_states(state_inbox_);
   const uint32_t ceiling = tick_ceiling();
   const auto now = std::chrono::steady_clock::now();
-  relayed_.clear();
   intake_.heard_states(state_inbox_, now);
   for (auto& st : state_inbox_) {
     // The deposits a state carries wait for take_deposits, which routes them
@@ -128,24 +127,32 @@ void PlaceApp::take_home_states(uint32_t tick) {
     if (call.carried) route_carried(*call.carried);
     const bool taken = audit_.admit(call.verdict);
     if (call.answer) answer_refused(st);
-    if (done) reports_out_.push_back(std::move(*done));
+    if (done) {
+      relay_batch_.add_report(st.uav, done->tick, now);
+      reports_out_.push_back(std::move(*done));
+    }
     if (!taken || !call.accept) continue;
     intake_.accept_state(st, now);
     if (before == nullptr || st.tick > before->tick) heard_at_[st.uav] = tick;
     views_.update_state(st);
     // The ground station hears the UAVs through their gateways (relays),
-    // all those of this take in one sample (below).
+    // all those of a batch in one sample (below).
     relayed_.push_back(st);
     ++states_relayed_;
   }
   take_departures();
   // The reports with the states, in one sample: the conductor's UAV phase
   // is complete when the last report is here, and it has the states by then.
+  // Lockstep, between phases: one sample per UAV phase, not per state
+  // (core::RelayBatch); realtime and the place phase: those of this take.
+  if (batch && cfg_.common.lockstep() && !relay_batch_.due(gateway_uavs_, now)) return;
   if (!relayed_.empty() || !reports_out_.empty()) {
     bus_->relay_states(relayed_, cfg_.region, cfg_.replica, tick, reports_out_);
   }
   reports_relayed_ += reports_out_.size();
   reports_out_.clear();
+  relayed_.clear();
+  relay_batch_.sent();
 }
 
 void PlaceApp::take_departures() {
@@ -160,6 +167,7 @@ void PlaceApp::take_departures() {
     if (const core::UavStateMsg* last = views_.state(u)) gone = *last;
     gone.departed = true;
     relayed_.push_back(gone);
+    relay_batch_.add_departure();
     log_->info(
         "uav {} departed (its state writer's liveliness lapsed: it died, hangs or its packets were lost); told "
         "the ground station",

@@ -125,7 +125,7 @@ void PlaceApp::relay_idle() {
   // for the place phase that follows. A UAV whose home the clock lists
   // absent from this tick on sends its state here already: adopt it first.
   note_absent();
-  take_home_states(current_tick_);
+  take_home_states(current_tick_, /*batch=*/true);
   relay_uplinks();
 }
 

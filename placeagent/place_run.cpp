@@ -170,6 +170,7 @@ int PlaceApp::run_lockstep() {
     relay_idle();  // the UAVs' last states and departures, the commands among them
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
+  take_home_states(current_tick_);  // and what relay_idle's batch still holds
   inbox_.clear();
   take_deposits();
   if (!inbox_.empty()) log_->warn("{} deposits arrived after the last tick; rejected", inbox_.size());
