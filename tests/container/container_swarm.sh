@@ -180,17 +180,18 @@ cleanup() {
   save_logs "${PREFIX}ground-ground" "$MONITOR"
   if [ -f "$MON" ]; then P kube down "$MON" >> "$OUT/down.log" 2>&1 || true; fi
   if [ -f "$PLAY" ]; then P kube down "$PLAY" >> "$OUT/down.log" 2>&1 || true; fi
+  # A run killed before its cleanup (its OUT may be another build's, with no
+  # pods.yaml to kube down) left pods on the network, holding the volumes:
+  # removed by name.
+  local pod
+  for pod in $(P pod ls --filter "name=^$PREFIX" --format '{{.Name}}' 2> /dev/null); do
+    P pod rm -f "$pod" > /dev/null 2>&1 || true
+  done
   local v
   for v in "${PREFIX}pheromesh-out" "${PREFIX}pheromesh-monitor-out"; do
     if P volume exists "$v" 2> /dev/null; then P volume rm "$v" > /dev/null || true; fi
   done
   if P secret inspect "$SECRET" > /dev/null 2>&1; then P secret rm "$SECRET" > /dev/null || true; fi
-  # A run killed before its cleanup (its OUT may be another build's, with no
-  # pods.yaml to kube down) left pods on the network: removed by name.
-  local pod
-  for pod in $(P pod ls --filter "name=^$PREFIX" --format '{{.Name}}' 2> /dev/null); do
-    P pod rm -f "$pod" > /dev/null 2>&1 || true
-  done
   if P network exists "$NET" 2> /dev/null; then P network rm -f "$NET" > /dev/null || true; fi
   nft delete table bridge "$NFT" > /dev/null 2>&1 || true
 }
