@@ -42,6 +42,9 @@ struct ChildProcess {
   // Its CPU at the start and the end of the steady window of a realtime
   // flight (Supervisor::sample_window; metrics.json "steady").
   std::optional<CpuSample> window_cpu[2];
+  // Whether the window reads its threads (CpuDetail::Threads), chosen at the
+  // window's opening pass and kept for the closing one.
+  bool window_threads = true;
   // Ended by itself with an error, or by a signal nobody sent on purpose
   // (the SIGKILL after an ignored SIGTERM is killed_at_stop instead).
   [[nodiscard]] bool crashed() const;

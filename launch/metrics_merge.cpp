@@ -101,6 +101,7 @@ void add_udp(nlohmann::json& m, const std::optional<UdpCounters>& start, const s
 struct SteadySums {
   std::map<std::string, double> cpu_ns, ctx_voluntary, ctx_involuntary, threads;
   uint32_t uavs = 0;
+  uint32_t uavs_threads = 0;  // of them, those whose threads were read at both ends
 
   void add(const ChildProcess& c) {
     const auto& a = c.window_cpu[0];
@@ -111,6 +112,8 @@ struct SteadySums {
     ctx_voluntary[c.role] += static_cast<double>(b->ctx_voluntary - std::min(a->ctx_voluntary, b->ctx_voluntary));
     ctx_involuntary[c.role] +=
         static_cast<double>(b->ctx_involuntary - std::min(a->ctx_involuntary, b->ctx_involuntary));
+    if (!a->per_thread || !b->per_thread) return;
+    if (c.role == "uav") ++uavs_threads;
     for (const auto& [group, ns] : b->thread_ns) {
       const auto it = a->thread_ns.find(group);
       const uint64_t before = it == a->thread_ns.end() ? 0 : it->second;
@@ -141,8 +144,17 @@ nlohmann::json steady_json(std::span<const ChildProcess> processes, const std::o
   const double uav_ticks = static_cast<double>(sums.uavs) * w->rate_hz * w->seconds;
   if (uav_ticks <= 0) return nullptr;
   const double ms = 1e-6 / uav_ticks;
+  // The UAVs whose threads were read stand for all of them (every place
+  // agent's and ground station's threads were read).
+  if (sums.uavs_threads > 0 && sums.uavs_threads < sums.uavs) {
+    const double all = static_cast<double>(sums.uavs) / static_cast<double>(sums.uavs_threads);
+    for (auto& [key, ns] : sums.threads) {
+      if (key.starts_with("uav/")) ns *= all;
+    }
+  }
   nlohmann::json j = {{"window_s", round3(w->seconds)},
                       {"uavs", sums.uavs},
+                      {"uavs_threads_read", sums.uavs_threads},
                       {"uav_ticks", round3(uav_ticks)},
                       {"cpu_ms_per_uav_tick", per_tick(sums.cpu_ns, ms, true)},
                       {"ctx_voluntary_per_uav_tick", per_tick(sums.ctx_voluntary, 1.0 / uav_ticks, true)},

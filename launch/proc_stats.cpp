@@ -52,7 +52,7 @@ std::optional<ProcessSample> sample_process(pid_t pid) {
   return s;
 }
 
-std::optional<CpuSample> sample_cpu(pid_t pid) {
+std::optional<CpuSample> sample_cpu(pid_t pid, CpuDetail detail) {
   char path[96];
   std::snprintf(path, sizeof path, "/proc/%d/status", static_cast<int>(pid));
   const auto status = read_small_file(path);
@@ -60,6 +60,16 @@ std::optional<CpuSample> sample_cpu(pid_t pid) {
   CpuSample s;
   s.ctx_voluntary = detail::field_after(*status, "voluntary_ctxt_switches").value_or(0);
   s.ctx_involuntary = detail::field_after(*status, "nonvoluntary_ctxt_switches").value_or(0);
+  if (detail == CpuDetail::Process) {
+    std::snprintf(path, sizeof path, "/proc/%d/stat", static_cast<int>(pid));
+    const auto stat = read_small_file(path);
+    const auto cpu = stat ? parse_stat_cpu(*stat) : std::nullopt;
+    if (!cpu) return std::nullopt;
+    static const long ticks_per_s = sysconf(_SC_CLK_TCK);
+    s.cpu_ns = clock_ticks_ns(cpu->ticks, ticks_per_s > 0 ? static_cast<uint64_t>(ticks_per_s) : 0);
+    s.per_thread = false;
+    return s;
+  }
   std::snprintf(path, sizeof path, "/proc/%d/task", static_cast<int>(pid));
   DIR* dir = opendir(path);
   if (dir == nullptr) return std::nullopt;

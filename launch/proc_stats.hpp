@@ -202,16 +202,28 @@ struct ProcessSample {
 // waiting to be reaped.
 std::optional<ProcessSample> sample_process(pid_t pid);
 
-// The CPU a running process's live threads used so far, and how often it
-// was switched out: /proc/PID/status and each thread's task/TID/stat (its
-// name) and schedstat (its time).
+// The CPU a running process used so far, and how often it was switched
+// out: /proc/PID/status, and either each thread's task/TID/stat (its name)
+// and schedstat (its time, exact), or only /proc/PID/stat (the process's
+// utime + stime, which the kernel scales to its exact run time, in clock
+// ticks). The second is two files a process instead of two per thread: a
+// pass over 2000 UAV processes of 6 threads each took 21.7 s on a host the
+// swarm kept busy (docs/benchmarks.md, "Where a UAV tick goes").
+enum class CpuDetail { Threads, Process };
 struct CpuSample {
   uint64_t cpu_ns = 0;                        // the threads' run time, summed [ns]
   uint64_t ctx_voluntary = 0;                 // status: voluntary_ctxt_switches (it waited)
   uint64_t ctx_involuntary = 0;               // status: nonvoluntary_ctxt_switches (it was preempted)
   std::map<std::string, uint64_t> thread_ns;  // thread_group(name) -> run time of those threads [ns]
+  bool per_thread = true;                     // thread_ns was read (CpuDetail::Threads)
 };
-std::optional<CpuSample> sample_cpu(pid_t pid);
+std::optional<CpuSample> sample_cpu(pid_t pid, CpuDetail detail = CpuDetail::Threads);
+
+// Clock ticks (utime, stime) to nanoseconds at `ticks_per_s` (sysconf
+// _SC_CLK_TCK, 100 on Linux).
+inline uint64_t clock_ticks_ns(uint64_t ticks, uint64_t ticks_per_s) {
+  return ticks_per_s == 0 ? 0 : ticks * (1'000'000'000ULL / ticks_per_s);
+}
 
 // This network namespace's IPv4 UDP counters (/proc/net/snmp): every socket
 // of every process on the host (in this namespace), not only ours.

@@ -465,6 +465,10 @@ ChildProcess* Supervisor::find(const std::string& name) {
   return latest;
 }
 
+// The UAVs the resource sample looks at, and whose threads the steady
+// window reads, at most: spread evenly over the running ones.
+constexpr std::size_t kSampledUavs = 200;
+
 void Supervisor::sample_resources() {
   // Once per run, mid-flight: smaps_rollup (Rss and Pss: shared pages such as
   // the DDS libraries counted once per sharer) and the thread count of every
@@ -474,7 +478,6 @@ void Supervisor::sample_resources() {
   // simply left out. On a host a swarm keeps busy, smaps_rollup took ~10 ms
   // a process: all of 1517 took 16 s, longer than the flight of a 100-tick
   // bench, and the window's closing pass came after the UAVs had ended.
-  constexpr std::size_t kSampledUavs = 200;
   const auto start = Clock::now();
   const auto uavs = static_cast<std::size_t>(
       std::count_if(children_.begin(), children_.end(), [](const auto& c) { return c.role == "uav" && c.running; }));
@@ -550,10 +553,22 @@ void Supervisor::sample_window(int end) {
   // process that ended or restarted between the two ends is left out. On a
   // host the swarm keeps busy one pass over a thousand processes takes
   // seconds (measured: 6.6 s at 1000 UAVs): the window's ends are the
-  // middles of the passes.
+  // middles of the passes. Each thread (its time, exact, and its group) of
+  // every place agent and ground station and of at most kSampledUavs UAVs
+  // spread evenly over them, chosen at the opening pass; of the other UAVs
+  // the process's time only, two files each rather than two per thread
+  // (metrics_merge scales the sampled UAVs' threads to all of them).
   const auto t = Clock::now();
+  if (end == 0) {
+    const auto uavs = static_cast<std::size_t>(
+        std::count_if(children_.begin(), children_.end(), [](const auto& c) { return c.role == "uav" && c.running; }));
+    std::size_t uav_index = 0;
+    for (auto& c : children_) {
+      if (c.running) c.window_threads = c.role != "uav" || evenly_taken(uav_index++, uavs, kSampledUavs);
+    }
+  }
   for (auto& c : children_) {
-    if (c.running) c.window_cpu[end] = sample_cpu(c.pid);
+    if (c.running) c.window_cpu[end] = sample_cpu(c.pid, c.window_threads ? CpuDetail::Threads : CpuDetail::Process);
   }
   const auto done = Clock::now();
   if (end == 0) passes_ += done - t;

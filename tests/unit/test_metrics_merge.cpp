@@ -350,6 +350,37 @@ TEST(MetricsMerge, TheSteadyWindowGivesCpuContextSwitchesThreadsAndDatagramsPerU
   EXPECT_FALSE(merge_metrics(ground_metrics(), r, "m.json").metrics.contains("steady"));
 }
 
+TEST(MetricsMerge, TheSteadyWindowsUavsWhoseThreadsWereReadStandForAllUavs) {
+  // Four UAVs at both ends of a 1 s window at 5 Hz (20 UAV ticks due); the
+  // threads of two were read, of the other two only the process's time.
+  std::vector<ChildProcess> ps{ended("uav-0", "uav", 0), ended("uav-1", "uav", 0), ended("uav-2", "uav", 0),
+                               ended("uav-3", "uav", 0), ended("place-0", "place", 0)};
+  ps[0].window_cpu[0] = CpuSample{0, 0, 0, {{"recv", 0}, {"pheromesh-uav", 0}}};
+  ps[0].window_cpu[1] = CpuSample{3'000'000, 0, 0, {{"recv", 1'000'000}, {"pheromesh-uav", 2'000'000}}};
+  ps[1].window_cpu[0] = CpuSample{0, 0, 0, {{"recv", 0}, {"pheromesh-uav", 0}}};
+  ps[1].window_cpu[1] = CpuSample{1'000'000, 0, 0, {{"recv", 1'000'000}, {"pheromesh-uav", 0}}};
+  for (int i : {2, 3}) {
+    ps[i].window_cpu[0] = CpuSample{10'000'000, 0, 0, {}, false};
+    ps[i].window_cpu[1] = CpuSample{20'000'000, 0, 0, {}, false};
+  }
+  ps[4].window_cpu[0] = CpuSample{0, 0, 0, {{"recv", 0}}};
+  ps[4].window_cpu[1] = CpuSample{4'000'000, 0, 0, {{"recv", 4'000'000}}};
+  RunRecord r = record_of(ps);
+  r.steady = SteadyWindow{1.0, 5.0, std::nullopt, std::nullopt};
+  const nlohmann::json s = merge_metrics(ground_metrics(), r, "m.json").metrics["steady"];
+  ASSERT_TRUE(s.is_object());
+  EXPECT_EQ(s["uavs"], 4);
+  EXPECT_EQ(s["uavs_threads_read"], 2);
+  // The UAVs' CPU counts every UAV: 3 + 1 + 10 + 10 ms over 20 ticks.
+  EXPECT_DOUBLE_EQ(s["cpu_ms_per_uav_tick"]["uav"].get<double>(), 1.2);
+  // Their threads: the two read, times 4 / 2. recv (1 + 1) x 2 = 4 ms,
+  // the main thread (2 + 0) x 2 = 4 ms, each over 20 ticks.
+  EXPECT_DOUBLE_EQ(s["threads_cpu_ms_per_uav_tick"]["uav/recv"].get<double>(), 0.2);
+  EXPECT_DOUBLE_EQ(s["threads_cpu_ms_per_uav_tick"]["uav/pheromesh-uav"].get<double>(), 0.2);
+  // The place agent's threads are all read and not scaled: 4 ms / 20.
+  EXPECT_DOUBLE_EQ(s["threads_cpu_ms_per_uav_tick"]["place/recv"].get<double>(), 0.2);
+}
+
 // What `pheromesh run` writes: a ground station's metrics (from a
 // simulated recorder, through the function the ground station calls) merged
 // with the launcher's processes, faults and resources.

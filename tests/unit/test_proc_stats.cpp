@@ -2,6 +2,8 @@
 // header-only for these tests), on texts copied from a Linux 6.x host.
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+#include <ctime>
 #include <vector>
 
 #include "launch/proc_stats.hpp"
@@ -87,6 +89,42 @@ TEST(ProcStats, SchedstatGivesTheRunTimeInNanoseconds) {
   EXPECT_EQ(parse_schedstat_run_ns("145489 3129691 2\n"), 145489U);
   EXPECT_FALSE(parse_schedstat_run_ns("").has_value());
   EXPECT_FALSE(parse_schedstat_run_ns("12x 3 4").has_value());
+}
+
+TEST(ProcStats, ClockTicksBecomeNanoseconds) {
+  EXPECT_EQ(clock_ticks_ns(22, 100), 220'000'000U);  // 22 ticks of 10 ms
+  EXPECT_EQ(clock_ticks_ns(3, 1000), 3'000'000U);
+  EXPECT_EQ(clock_ticks_ns(5, 0), 0U);  // no clock rate: no figure, not a division by zero
+}
+
+TEST(ProcStats, AProcessesCpuFromItsStatAgreesWithItsThreadsWithinTheClockTicks) {
+  // This process burns 100 ms of CPU in this thread between two looks of
+  // each kind: /proc/PID/stat counts it in 10 ms clock ticks (up to one tick
+  // lost at each look), the threads' schedstat exactly.
+  const pid_t self = getpid();
+  const auto p0 = sample_cpu(self, CpuDetail::Process);
+  const auto t0 = sample_cpu(self, CpuDetail::Threads);
+  ASSERT_TRUE(p0 && t0);
+  EXPECT_FALSE(p0->per_thread);
+  EXPECT_TRUE(p0->thread_ns.empty());
+  EXPECT_TRUE(t0->per_thread);
+  EXPECT_FALSE(t0->thread_ns.empty());
+  const auto thread_cpu_ns = [] {
+    timespec ts{};
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+    return static_cast<uint64_t>(ts.tv_sec) * 1'000'000'000ULL + static_cast<uint64_t>(ts.tv_nsec);
+  };
+  const uint64_t start = thread_cpu_ns();
+  volatile uint64_t sink = 0;
+  while (thread_cpu_ns() - start < 100'000'000ULL) sink = sink + 1;
+  const auto p1 = sample_cpu(self, CpuDetail::Process);
+  const auto t1 = sample_cpu(self, CpuDetail::Threads);
+  ASSERT_TRUE(p1 && t1);
+  const auto dp = static_cast<int64_t>(p1->cpu_ns - p0->cpu_ns);
+  const auto dt = static_cast<int64_t>(t1->cpu_ns - t0->cpu_ns);
+  EXPECT_GE(dt, 100'000'000);
+  EXPECT_NEAR(static_cast<double>(dp), static_cast<double>(dt), 25e6)
+      << "stat " << dp << " ns, threads " << dt << " ns";
 }
 
 TEST(ProcStats, AThreadsGroupIsItsNameWithoutATrailingNumber) {
