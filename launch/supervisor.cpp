@@ -119,6 +119,24 @@ pid_t fork_patiently() {
   _exit(127);
 }
 
+// The UAVs the resource sample looks at, and whose threads the steady
+// window reads, at most: spread evenly over the running ones.
+constexpr std::size_t kSampledUavs = 200;
+
+// Per child, whether a pass looks at it closely: every running place agent
+// and ground station, and at most kSampledUavs of the running UAVs.
+std::vector<bool> looked_at_closely(const std::vector<ChildProcess>& children) {
+  const auto uavs = static_cast<std::size_t>(
+      std::count_if(children.begin(), children.end(), [](const auto& c) { return c.role == "uav" && c.running; }));
+  std::vector<bool> closely(children.size(), false);
+  std::size_t uav_index = 0;
+  for (std::size_t i = 0; i < children.size(); ++i) {
+    const auto& c = children[i];
+    if (c.running) closely[i] = c.role != "uav" || evenly_taken(uav_index++, uavs, kSampledUavs);
+  }
+  return closely;
+}
+
 }  // namespace
 
 Supervisor::Supervisor(RunPlan plan) : plan_(std::move(plan)) {
@@ -465,10 +483,6 @@ ChildProcess* Supervisor::find(const std::string& name) {
   return latest;
 }
 
-// The UAVs the resource sample looks at, and whose threads the steady
-// window reads, at most: spread evenly over the running ones.
-constexpr std::size_t kSampledUavs = 200;
-
 void Supervisor::sample_resources() {
   // Once per run, mid-flight: smaps_rollup (Rss and Pss: shared pages such as
   // the DDS libraries counted once per sharer) and the thread count of every
@@ -479,13 +493,12 @@ void Supervisor::sample_resources() {
   // a process: all of 1517 took 16 s, longer than the flight of a 100-tick
   // bench, and the window's closing pass came after the UAVs had ended.
   const auto start = Clock::now();
-  const auto uavs = static_cast<std::size_t>(
-      std::count_if(children_.begin(), children_.end(), [](const auto& c) { return c.role == "uav" && c.running; }));
-  std::size_t sampled = 0, running = 0, uav_index = 0;
-  for (auto& c : children_) {
-    if (!c.running) continue;
-    ++running;
-    if (c.role == "uav" && !evenly_taken(uav_index++, uavs, kSampledUavs)) continue;
+  const auto closely = looked_at_closely(children_);
+  std::size_t sampled = 0, running = 0;
+  for (std::size_t i = 0; i < children_.size(); ++i) {
+    auto& c = children_[i];
+    running += c.running ? 1 : 0;
+    if (!closely[i]) continue;
     c.sample = sample_process(c.pid);
     sampled += c.sample ? 1 : 0;
   }
@@ -560,12 +573,8 @@ void Supervisor::sample_window(int end) {
   // (metrics_merge scales the sampled UAVs' threads to all of them).
   const auto t = Clock::now();
   if (end == 0) {
-    const auto uavs = static_cast<std::size_t>(
-        std::count_if(children_.begin(), children_.end(), [](const auto& c) { return c.role == "uav" && c.running; }));
-    std::size_t uav_index = 0;
-    for (auto& c : children_) {
-      if (c.running) c.window_threads = c.role != "uav" || evenly_taken(uav_index++, uavs, kSampledUavs);
-    }
+    const auto closely = looked_at_closely(children_);
+    for (std::size_t i = 0; i < children_.size(); ++i) children_[i].window_threads = closely[i];
   }
   for (auto& c : children_) {
     if (c.running) c.window_cpu[end] = sample_cpu(c.pid, c.window_threads ? CpuDetail::Threads : CpuDetail::Process);
