@@ -10,7 +10,7 @@ packages=(
   libfastrtps-dev libfastcdr-dev fastddsgen fastdds-tools  # Fast DDS (C++ API, fastddsgen, fastdds shm clean)
   libprotobuf-dev protobuf-compiler      # scenario schema
   libeigen3-dev libspdlog-dev libfmt-dev libcli11-dev nlohmann-json3-dev
-  libgoogle-perftools-dev                # tcmalloc_minimal, the swarm processes' heap (PHEROMESH_ALLOCATOR, cmake/Allocator.cmake)
+  libgoogle-perftools-dev                # tcmalloc_minimal, the place agents' and ground station's heap (PHEROMESH_ALLOCATOR, cmake/Allocator.cmake)
   python3-dev python3-pybind11 pybind11-dev python3-numpy  # the Python package (python/, docs/python.md)
   python3-pandas python3-matplotlib python3-pytest jupyter-nbconvert python3-ipykernel  # its tests and the notebook (examples/python)
   libgtest-dev libgmock-dev libbenchmark-dev
