@@ -236,7 +236,7 @@ int GroundApp::run() {
     wait_for_data(Clock::now() + std::chrono::milliseconds(20));
   }
   const int rc = finish();
-  return rc != 0 ? rc : (ok ? 0 : 6);
+  return rc != 0 ? rc : (ok || interrupted_ ? 0 : 6);
 }
 
 }  // namespace pheromesh::groundstation

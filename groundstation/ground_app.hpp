@@ -211,6 +211,7 @@ class GroundApp {
   bool paused_ = false;
   bool recording_failed_ = false;
   bool ended_ = false;  // --until-done: the End went out
+  bool interrupted_ = false;  // lockstep: a phase ended by a stop (SIGINT, SIGTERM), not by a timeout
 
   // --- MAVLink
   std::unique_ptr<MavlinkLink> mavlink_;

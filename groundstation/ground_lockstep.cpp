@@ -61,6 +61,10 @@ bool GroundApp::conduct() {
     progress_if_due();
     service();
   }
+  if (ok && runtime::shutdown_requested() && !interrupted_) {
+    log_->warn("lockstep: interrupted between two phases; stopping");
+    interrupted_ = true;
+  }
   // Before the place agents are let go.
   ok = ok && await_last_fields(ticks);
   // Stop: re-sent like every clock (run() keeps the re-sender going), not
@@ -135,7 +139,15 @@ bool GroundApp::run_phase(uint32_t tick, core::ClockPhase phase, bool next_uav_p
           start_timeout(cfg_, cfg_.expect_uavs + geo_.region_count() * (cfg_.standby ? 2 : 1)), not_ready_list(st));
       return false;
     }
-    if (st.timed_out || runtime::shutdown_requested()) {
+    if (runtime::shutdown_requested()) {
+      // Stopped (Ctrl-C, the launcher's stop): not a failure of the run's
+      // processes, so not exit 6; the launcher reports the interruption.
+      log_->warn("lockstep tick {} {} phase: interrupted while waiting for {} process(es); stopping", tick,
+                 phase_name(phase), st.waiting);
+      interrupted_ = true;
+      return false;
+    }
+    if (st.timed_out) {
       log_->error("lockstep tick {} {} phase: {} process(es) did not finish within {} s ({})", tick,
                   phase == core::ClockPhase::Uav ? "uav" : "place", st.waiting, cfg_.phase_timeout_s,
                   not_ready_list(st));

@@ -293,6 +293,33 @@ TEST(LockstepFaults, WhenTheConductorDiesEveryProcessStopsWithAnErrorNamingIt) {
   EXPECT_EQ(ended, 3U + 4U);
 }
 
+// Ctrl-C (SIGINT to the whole process group) while a lockstep swarm flies:
+// the run is interrupted (130), not failed. Before, the conductor took the
+// stop for a phase that timed out ("did not finish within 60 s" right
+// away), exited 6, and the launcher counted it as crashed.
+TEST(LockstepFaults, ALockstepRunStoppedByCtrlCIsInterruptedNotFailed) {
+  const std::string out = out_dir("lockstep-interrupted");
+  const int domain = 65;
+  LauncherGroup launcher("small-test.textproto", out, domain,
+                         "--clock lockstep --uavs 3 --ticks 100000" + backend_args());
+  const auto conducting = Clock::now() + std::chrono::seconds(90);
+  while (progress_tick(out + ".txt") < 5 && Clock::now() < conducting)
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  ASSERT_GE(progress_tick(out + ".txt"), 5U) << slurp(out + ".txt");
+  ASSERT_EQ(kill(-launcher.pid, SIGINT), 0);
+  const int rc = wait_exit(launcher.pid, std::chrono::seconds(90));
+  if (rc != -1) launcher.pid = -1;
+  EXPECT_EQ(rc, 130) << slurp(launcher.out_path);
+  const json m = read_metrics(out);
+  ASSERT_FALSE(m.is_null()) << slurp(launcher.out_path);
+  EXPECT_EQ(m["processes_crashed"], 0) << slurp(launcher.out_path);
+  for (const auto& p : m["processes"]) EXPECT_EQ(p["crashed"], false) << p.dump();
+  const std::string ground = slurp(out + "/logs/ground.log");
+  EXPECT_NE(ground.find("interrupted"), std::string::npos) << ground;
+  EXPECT_EQ(ground.find("did not finish within"), std::string::npos) << ground;
+  EXPECT_EQ(slurp(launcher.out_path).find("the run failed"), std::string::npos) << slurp(launcher.out_path);
+}
+
 TEST(LockstepFaults, AConductorThatDiesBeforeItsFirstClockHasTheSwarmStoppedWithinSeconds) {
   const std::string out = out_dir("lockstep-conductor-death-at-start");
   const int domain = 64;
