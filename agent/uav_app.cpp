@@ -1,5 +1,7 @@
 #include "uav_app.hpp"
 
+#include "pheromesh/core/view_pacing.hpp"
+
 #include <spdlog/spdlog.h>
 
 #include "pheromesh/runtime/await.hpp"
@@ -8,6 +10,7 @@
 #include <algorithm>
 #include <array>
 #include <chrono>
+#include <mutex>
 #include <thread>
 
 namespace pheromesh::agent {
@@ -134,31 +137,67 @@ void UavApp::switch_gateway(core::RegionId gateway, uint32_t tick) {
 
 int UavApp::run_realtime(uint32_t ticks) {
   step(0, StepKind::Fly);
-  runtime::TickClock clock(scenario_.tick_rate_hz);
+  // Each tick runs as the view arrives, in the receive thread, or, without
+  // a view, on the main thread's timer (core::ViewPacing); under `mutex`
+  // either way.
+  const auto period = std::chrono::nanoseconds(static_cast<int64_t>(1e9 / scenario_.tick_rate_hz));
+  core::ViewPacing pacing(period, Clock::now());
+  runtime::WakeTimer timer;
+  std::mutex mutex;
   uint32_t tick = 0;
   last_view_at_ = Clock::now();
-  while (tick < ticks && clock.wait_next()) {
-    ticks_late_ = clock.late_ticks();
+  const auto run_tick = [&](Clock::time_point now, bool by_view) {
+    pacing.ran(now, by_view);
+    ticks_late_ = pacing.late_ticks();
     runtime::note_tick_start(gaps_, *log_, tick + 1);
+    ++tick;
+    receive();
+    step(tick, StepKind::Fly);
+  };
+  const std::array<bus::TopicKind, 1> views{bus::TopicKind::View};
+  const bool in_receive_thread = bus_->on_data(views, [&] {
+    const std::lock_guard<std::mutex> lock(mutex);
+    const auto now = Clock::now();
+    if (tick >= ticks || !pacing.view_runs_tick(now)) return;
+    handle_commands();
+    // Paused, or a gateway to change (which may make endpoints): the timer's.
+    if (commands_->paused() || gateway_ != home_) return;
+    run_tick(now, /*by_view=*/true);
+    timer.set(pacing.timer_at());
+  });
+  timer.set(pacing.timer_at());
+  while (timer.wait()) {
+    const std::lock_guard<std::mutex> lock(mutex);
+    if (tick >= ticks) break;
+    const auto now = Clock::now();
+    if (!pacing.timer_runs_tick(now)) {  // a view ran the tick meanwhile
+      timer.set(pacing.timer_at());
+      continue;
+    }
     handle_commands();
     if (commands_->paused()) {
       receive();                     // keeps the inboxes drained and the liveliness asserted
       last_view_at_ = Clock::now();  // a paused swarm sends no views
+      pacing.restart(now);
+      gaps_.restart();
+      timer.set(pacing.timer_at());
       continue;
     }
-    ++tick;
-    receive();
     // No view from the home for 2 s (at least two leases; four with a hot
     // standby, which takes over within 1.5): it is gone; the backup gateway
     // serves this UAV from now on (core/faults.hpp).
     const bool standby = cfg_.common.standby || scenario_.standby;
     const auto silence = std::max(std::chrono::milliseconds(2000),
                                   std::chrono::milliseconds((standby ? 4 : 2) * int64_t{cfg_.common.lease_ms}));
-    if (gateway_ == home_ && geo_.region_count() > 1 && Clock::now() - last_view_at_ > silence) {
-      switch_gateway(core::backup_region(cfg_.id, geo_.region_count()), tick);
+    if (gateway_ == home_ && geo_.region_count() > 1 && now - last_view_at_ > silence) {
+      switch_gateway(core::backup_region(cfg_.id, geo_.region_count()), tick + 1);
     }
-    step(tick, StepKind::Fly);
+    run_tick(now, /*by_view=*/false);
+    timer.set(pacing.timer_at());
   }
+  if (in_receive_thread) bus_->on_data(views, {});
+  const std::lock_guard<std::mutex> lock(mutex);
+  log_->info("{} ticks ran as their view arrived, {} on the timer", pacing.ticks_by_view(), pacing.ticks_by_timer());
   return static_cast<int>(tick);
 }
 

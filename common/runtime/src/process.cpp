@@ -18,9 +18,16 @@
 #include <sstream>
 #include <thread>
 
+#include <poll.h>
+#include <sys/eventfd.h>
+#include <sys/timerfd.h>
 #include <unistd.h>
-#include <ctime>
+
+#include <array>
+#include <cerrno>
 #include <cstdio>
+#include <ctime>
+#include <system_error>
 
 #include "pheromesh/cliutil/command_line.hpp"
 #include "pheromesh/cliutil/scenario_paths.hpp"
@@ -32,7 +39,18 @@ namespace {
 std::atomic<bool> g_shutdown{false};
 static_assert(std::atomic<bool>::is_always_lock_free);
 
-extern "C" void on_signal(int /*sig*/) { g_shutdown.store(true); }
+// Written (an eventfd) at every shutdown request: it wakes a WakeTimer.
+std::atomic<int> g_wake_fd{-1};
+void wake_sleepers() {
+  const int fd = g_wake_fd.load();
+  if (fd < 0) return;
+  const uint64_t one = 1;
+  (void)!::write(fd, &one, sizeof one);  // async-signal-safe
+}
+extern "C" void on_signal(int /*sig*/) {
+  g_shutdown.store(true);
+  wake_sleepers();
+}
 
 std::string env_or(const char* name, const std::string& fallback) {
   const char* v = std::getenv(name);
@@ -188,6 +206,7 @@ uint32_t realtime_tick_ceiling(double rate_hz) {
 }
 
 void install_shutdown_handlers() {
+  if (g_wake_fd.load() < 0) g_wake_fd.store(::eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC));
   struct sigaction sa {};
   sa.sa_handler = on_signal;
   sigemptyset(&sa.sa_mask);
@@ -196,7 +215,41 @@ void install_shutdown_handlers() {
 }
 
 bool shutdown_requested() { return g_shutdown.load(); }
-void request_shutdown() { g_shutdown.store(true); }
+void request_shutdown() {
+  g_shutdown.store(true);
+  wake_sleepers();
+}
+
+WakeTimer::WakeTimer() : fd_(::timerfd_create(CLOCK_MONOTONIC, TFD_CLOEXEC)) {
+  if (fd_ < 0) throw std::system_error(errno, std::generic_category(), "timerfd_create");
+}
+
+WakeTimer::~WakeTimer() { ::close(fd_); }
+
+void WakeTimer::set(std::chrono::steady_clock::time_point at) {
+  // steady_clock is CLOCK_MONOTONIC (libstdc++ on Linux); 0 would disarm.
+  const auto ns =
+      std::max<int64_t>(1, std::chrono::duration_cast<std::chrono::nanoseconds>(at.time_since_epoch()).count());
+  itimerspec spec{};
+  spec.it_value.tv_sec = static_cast<time_t>(ns / 1'000'000'000);
+  spec.it_value.tv_nsec = static_cast<long>(ns % 1'000'000'000);
+  (void)::timerfd_settime(fd_, TFD_TIMER_ABSTIME, &spec, nullptr);
+}
+
+bool WakeTimer::wait(std::chrono::milliseconds slice) {
+  const int wake = g_wake_fd.load();
+  std::array<pollfd, 2> fds{pollfd{fd_, POLLIN, 0}, pollfd{wake, POLLIN, 0}};
+  while (!shutdown_requested()) {
+    const int n = ::poll(fds.data(), wake >= 0 ? 2 : 1, wake >= 0 ? -1 : static_cast<int>(slice.count()));
+    if (n > 0 && (fds[0].revents & POLLIN) != 0) {
+      uint64_t expirations = 0;
+      (void)!::read(fd_, &expirations, sizeof expirations);
+      return !shutdown_requested();
+    }
+    if (n == 0) return !shutdown_requested();  // the slice, without a wake-up descriptor
+  }
+  return false;
+}
 
 core::ScenarioOverrides overrides_of(const CommonOptions& o) {
   core::ScenarioOverrides out;

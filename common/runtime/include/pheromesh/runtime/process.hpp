@@ -127,6 +127,27 @@ inline constexpr int32_t kPrimaryStrength = 1000;
 using AppBody = std::function<int(core::ScenarioConfig, std::unique_ptr<bus::Bus>)>;
 int run_process(const std::string& name, const CommonOptions& o, const AppBody& app);
 
+// A deadline that any thread may move without waking the thread that sleeps
+// on it (a Linux timerfd): a realtime UAV's receive thread runs its ticks as
+// the views arrive and moves the timer of its main thread, which wakes only
+// when no view came (core::ViewPacing), or at a shutdown request (SIGINT,
+// SIGTERM, request_shutdown: install_shutdown_handlers' wake-up descriptor).
+class WakeTimer {
+ public:
+  WakeTimer();  // throws std::system_error if the kernel gives no timer
+  ~WakeTimer();
+  WakeTimer(const WakeTimer&) = delete;
+  WakeTimer& operator=(const WakeTimer&) = delete;
+  void set(std::chrono::steady_clock::time_point at);
+  // Sleeps until the last deadline set has passed (at once if it has), or at
+  // most `slice` without a shutdown handler's descriptor to wake it. False
+  // once a shutdown is requested.
+  bool wait(std::chrono::milliseconds slice = kShutdownSlice);
+
+ private:
+  int fd_ = -1;
+};
+
 // Called with an app's exit code once its work is done and sent, before its
 // bus is torn down (`return bound_teardown(app.run());`): if the process has
 // not ended kTeardownGrace later, it logs so and exits with `code` without

@@ -1,0 +1,117 @@
+// When a realtime UAV runs its next tick (core/view_pacing.hpp): as its view
+// arrives, or on its timer without one; time driven by hand. And the timer
+// the main thread sleeps on (runtime::WakeTimer), moved from another thread.
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <thread>
+
+#include "pheromesh/core/view_pacing.hpp"
+#include "pheromesh/runtime/process.hpp"
+
+namespace pheromesh::core {
+namespace {
+
+using namespace std::chrono_literals;
+using TimePoint = ViewPacing::Clock::time_point;
+
+TEST(ViewPacing, AViewHalfAPeriodBeforeTheTickIsDueRunsItAnEarlierOneWaits) {
+  const TimePoint t0 = TimePoint{} + 10s;
+  ViewPacing p(200ms, t0);
+  EXPECT_EQ(p.due(), t0 + 200ms);
+  EXPECT_FALSE(p.view_runs_tick(t0 + 99ms)) << "101 ms before due: a copy or a burst";
+  EXPECT_TRUE(p.view_runs_tick(t0 + 100ms)) << "100 ms before due: runs";
+  EXPECT_TRUE(p.view_runs_tick(t0 + 250ms)) << "after due: runs";
+  EXPECT_EQ(p.timer_at(), t0 + 300ms) << "without a view: half a period after due";
+  EXPECT_FALSE(p.timer_runs_tick(t0 + 299ms));
+  EXPECT_TRUE(p.timer_runs_tick(t0 + 300ms));
+}
+
+TEST(ViewPacing, TicksRunByViewsFollowTheViewsAndTheNextIsDueOnePeriodAfterEach) {
+  const TimePoint t0 = TimePoint{} + 10s;
+  ViewPacing p(200ms, t0);
+  // The place agent's views arrive every 200 ms, 30 ms after the UAV's own
+  // schedule: the UAV follows them.
+  TimePoint v = t0 + 230ms;
+  for (int i = 0; i < 10; ++i, v += 200ms) {
+    ASSERT_TRUE(p.view_runs_tick(v)) << i;
+    p.ran(v, /*by_view=*/true);
+    EXPECT_EQ(p.due(), v + 200ms);
+    EXPECT_EQ(p.timer_at(), v + 300ms);
+  }
+  EXPECT_EQ(p.ticks_by_view(), 10U);
+  EXPECT_EQ(p.ticks_by_timer(), 0U);
+  EXPECT_EQ(p.late_ticks(), 0U);
+  // A second copy of the last view 5 ms later runs nothing.
+  EXPECT_FALSE(p.view_runs_tick(v - 200ms + 5ms));
+}
+
+TEST(ViewPacing, WithoutViewsTheTimerKeepsThePeriodAndAViewTakesOverAgain) {
+  const TimePoint t0 = TimePoint{} + 10s;
+  ViewPacing p(200ms, t0);
+  // No views (the gateway is gone): ticks at 300, 500, 700, ... ms.
+  for (int i = 0; i < 5; ++i) {
+    const TimePoint at = t0 + 300ms + i * 200ms;
+    EXPECT_EQ(p.timer_at(), at) << i;
+    p.ran(at, /*by_view=*/false);
+  }
+  EXPECT_EQ(p.ticks_by_timer(), 5U);
+  EXPECT_EQ(p.late_ticks(), 0U) << "half a period after due is not late";
+  // Views again (a backup gateway): the next arrives 120 ms before the next
+  // timer tick (at 1300 ms) and runs it.
+  const TimePoint v = t0 + 1180ms;
+  EXPECT_TRUE(p.view_runs_tick(v));
+  p.ran(v, /*by_view=*/true);
+  EXPECT_EQ(p.due(), v + 200ms);
+}
+
+TEST(ViewPacing, ATickMoreThanAPeriodAfterItsTimerIsLateAndTheScheduleRestartsFromIt) {
+  const TimePoint t0 = TimePoint{} + 10s;
+  ViewPacing p(200ms, t0);
+  // Due at 200 ms, its timer at 300 ms: up to 500 ms is not late.
+  p.ran(t0 + 500ms, /*by_view=*/true);
+  EXPECT_EQ(p.late_ticks(), 0U);
+  EXPECT_EQ(p.due(), t0 + 700ms);
+  p.ran(t0 + 1001ms, /*by_view=*/false);  // due 700, timer 800: 201 ms after the timer
+  EXPECT_EQ(p.late_ticks(), 1U);
+  EXPECT_EQ(p.due(), t0 + 1201ms) << "no burst to catch up";
+  p.restart(t0 + 5s);  // a pause
+  EXPECT_EQ(p.due(), t0 + 5200ms);
+  EXPECT_EQ(p.late_ticks(), 1U);
+}
+
+TEST(ViewPacing, RefusesAPeriodThatIsNotPositive) { EXPECT_THROW(ViewPacing(0ms, TimePoint{}), std::invalid_argument); }
+
+}  // namespace
+}  // namespace pheromesh::core
+
+namespace pheromesh::runtime {
+namespace {
+
+using namespace std::chrono_literals;
+using SteadyClock = std::chrono::steady_clock;
+
+TEST(WakeTimer, WakesAtItsDeadlineAndAnotherThreadMovesItLaterWithoutWakingIt) {
+  WakeTimer timer;
+  const auto t0 = SteadyClock::now();
+  timer.set(t0 + 50ms);
+  std::atomic<bool> moved{false};
+  std::thread mover([&] {
+    std::this_thread::sleep_for(20ms);
+    timer.set(t0 + 150ms);  // before the first deadline passes
+    moved = true;
+  });
+  ASSERT_TRUE(timer.wait());
+  const auto woke = SteadyClock::now();
+  mover.join();
+  ASSERT_TRUE(moved);
+  EXPECT_GE(woke - t0, 150ms) << "woke at the deadline it was moved to, not the first";
+  // A deadline already past returns at once.
+  timer.set(SteadyClock::now() - 1ms);
+  const auto t1 = SteadyClock::now();
+  ASSERT_TRUE(timer.wait());
+  EXPECT_LT(SteadyClock::now() - t1, 100ms);
+}
+
+}  // namespace
+}  // namespace pheromesh::runtime
