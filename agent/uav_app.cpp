@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <chrono>
 #include <mutex>
 #include <thread>
@@ -154,9 +155,8 @@ int UavApp::run_realtime(uint32_t ticks) {
     receive();
     step(tick, StepKind::Fly);
   };
-  const std::array<bus::TopicKind, 1> views{bus::TopicKind::View};
-  const bool in_receive_thread = bus_->on_data(views, [&] {
-    const std::lock_guard<std::mutex> lock(mutex);
+  // A view arrived: the tick it runs, if any (`mutex` held).
+  const auto view_came = [&] {
     const auto now = Clock::now();
     if (tick >= ticks || !pacing.view_runs_tick(now)) return;
     handle_commands();
@@ -164,10 +164,26 @@ int UavApp::run_realtime(uint32_t ticks) {
     if (commands_->paused() || gateway_ != home_) return;
     run_tick(now, /*by_view=*/true);
     timer.set(pacing.timer_at());
+  };
+  // The receive thread never waits for the main thread: the main thread may
+  // hold `mutex` while it makes endpoints (a move to the backup gateway),
+  // and a Fast DDS 2.9 receive thread held in a listener then deadlocks
+  // with it (measured: a partitioned UAV hung, deaf to SIGTERM). It leaves
+  // a note, which the main thread reads before it lets go of the mutex.
+  std::atomic<bool> view_waiting{false};
+  const std::array<bus::TopicKind, 1> views{bus::TopicKind::View};
+  const bool in_receive_thread = bus_->on_data(views, [&] {
+    std::unique_lock<std::mutex> lock(mutex, std::try_to_lock);
+    if (!lock.owns_lock()) {
+      view_waiting = true;
+      return;
+    }
+    view_came();
   });
   timer.set(pacing.timer_at());
   while (timer.wait()) {
     const std::lock_guard<std::mutex> lock(mutex);
+    if (view_waiting.exchange(false)) view_came();
     if (tick >= ticks) break;
     const auto now = Clock::now();
     if (!pacing.timer_runs_tick(now)) {  // a view ran the tick meanwhile
@@ -194,6 +210,7 @@ int UavApp::run_realtime(uint32_t ticks) {
     }
     run_tick(now, /*by_view=*/false);
     timer.set(pacing.timer_at());
+    if (view_waiting.exchange(false)) view_came();
   }
   if (in_receive_thread) bus_->on_data(views, {});
   const std::lock_guard<std::mutex> lock(mutex);
