@@ -11,7 +11,9 @@
 #include <array>
 #include <atomic>
 #include <chrono>
+#include <exception>
 #include <mutex>
+#include <span>
 #include <thread>
 
 namespace pheromesh::agent {
@@ -156,21 +158,25 @@ int UavApp::run_realtime(uint32_t ticks) {
     step(tick, StepKind::Fly);
   };
   // A view arrived: the tick it runs, if any (`mutex` held).
+  bool stopping = false;  // the loop has ended: no tick more
   const auto view_came = [&] {
     const auto now = Clock::now();
-    if (tick >= ticks || !pacing.view_runs_tick(now)) return;
+    if (stopping || tick >= ticks || !pacing.view_runs_tick(now)) return;
     handle_commands();
     // Paused, or a gateway to change (which may make endpoints): the timer's.
     if (commands_->paused() || gateway_ != home_) return;
     run_tick(now, /*by_view=*/true);
-    timer.set(pacing.timer_at());
+    timer.set(tick >= ticks ? now : pacing.timer_at());  // the last: the main thread ends the loop
   };
   // The receive thread never waits for the main thread: the main thread may
   // hold `mutex` while it makes endpoints (a move to the backup gateway),
   // and a Fast DDS 2.9 receive thread held in a listener then deadlocks
   // with it (measured: a partitioned UAV hung, deaf to SIGTERM). It leaves
   // a note, which the main thread reads before it lets go of the mutex.
+  // What a tick throws there (a plugin policy's step) is thrown again by the
+  // main thread, never through the vendor's C frames.
   std::atomic<bool> view_waiting{false};
+  std::exception_ptr failed;
   const std::array<bus::TopicKind, 1> views{bus::TopicKind::View};
   const bool in_receive_thread = bus_->on_data(views, [&] {
     std::unique_lock<std::mutex> lock(mutex, std::try_to_lock);
@@ -178,11 +184,27 @@ int UavApp::run_realtime(uint32_t ticks) {
       view_waiting = true;
       return;
     }
-    view_came();
+    if (failed) return;
+    try {
+      view_came();
+    } catch (...) {
+      failed = std::current_exception();
+      timer.set(Clock::now());
+    }
   });
+  // No callback outlives what it uses, however this function ends.
+  struct Unhook {
+    bus::Bus& bus;
+    std::span<const bus::TopicKind> kinds;
+    bool hooked;
+    ~Unhook() {
+      if (hooked) bus.on_data(kinds, {});
+    }
+  } unhook{*bus_, views, in_receive_thread};
   timer.set(pacing.timer_at());
   while (timer.wait()) {
     const std::lock_guard<std::mutex> lock(mutex);
+    if (failed) std::rethrow_exception(failed);
     if (view_waiting.exchange(false)) view_came();
     if (tick >= ticks) break;
     const auto now = Clock::now();
@@ -212,8 +234,9 @@ int UavApp::run_realtime(uint32_t ticks) {
     timer.set(pacing.timer_at());
     if (view_waiting.exchange(false)) view_came();
   }
-  if (in_receive_thread) bus_->on_data(views, {});
   const std::lock_guard<std::mutex> lock(mutex);
+  stopping = true;
+  if (failed) std::rethrow_exception(failed);
   log_->info("{} ticks ran as their view arrived, {} on the timer", pacing.ticks_by_view(), pacing.ticks_by_timer());
   return static_cast<int>(tick);
 }
