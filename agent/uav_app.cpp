@@ -1,7 +1,5 @@
 #include "uav_app.hpp"
 
-#include "pheromesh/core/view_pacing.hpp"
-
 #include <spdlog/spdlog.h>
 
 #include "pheromesh/runtime/await.hpp"
@@ -149,14 +147,6 @@ int UavApp::run_realtime(uint32_t ticks) {
   std::mutex mutex;
   uint32_t tick = 0;
   last_view_at_ = Clock::now();
-  const auto run_tick = [&](Clock::time_point now, bool by_view) {
-    pacing.ran(now, by_view);
-    ticks_late_ = pacing.late_ticks();
-    runtime::note_tick_start(gaps_, *log_, tick + 1);
-    ++tick;
-    receive();
-    step(tick, StepKind::Fly);
-  };
   // A view arrived: the tick it runs, if any (`mutex` held).
   bool stopping = false;  // the loop has ended: no tick more
   const auto view_came = [&] {
@@ -165,7 +155,7 @@ int UavApp::run_realtime(uint32_t ticks) {
     handle_commands();
     // Paused, or a gateway to change (which may make endpoints): the timer's.
     if (commands_->paused() || gateway_ != home_) return;
-    run_tick(now, /*by_view=*/true);
+    run_paced_tick(tick, pacing, now, /*by_view=*/true);
     timer.set(tick >= ticks ? now : pacing.timer_at());  // the last: the main thread ends the loop
   };
   // The receive thread never waits for the main thread: the main thread may
@@ -212,25 +202,7 @@ int UavApp::run_realtime(uint32_t ticks) {
       timer.set(pacing.timer_at());
       continue;
     }
-    handle_commands();
-    if (commands_->paused()) {
-      receive();                     // keeps the inboxes drained and the liveliness asserted
-      last_view_at_ = Clock::now();  // a paused swarm sends no views
-      pacing.restart(now);
-      gaps_.restart();
-      timer.set(pacing.timer_at());
-      continue;
-    }
-    // No view from the home for 2 s (at least two leases; four with a hot
-    // standby, which takes over within 1.5): it is gone; the backup gateway
-    // serves this UAV from now on (core/faults.hpp).
-    const bool standby = cfg_.common.standby || scenario_.standby;
-    const auto silence = std::max(std::chrono::milliseconds(2000),
-                                  std::chrono::milliseconds((standby ? 4 : 2) * int64_t{cfg_.common.lease_ms}));
-    if (gateway_ == home_ && geo_.region_count() > 1 && now - last_view_at_ > silence) {
-      switch_gateway(core::backup_region(cfg_.id, geo_.region_count()), tick + 1);
-    }
-    run_tick(now, /*by_view=*/false);
+    timer_came(tick, pacing, now);
     timer.set(pacing.timer_at());
     if (view_waiting.exchange(false)) view_came();
   }
@@ -239,6 +211,36 @@ int UavApp::run_realtime(uint32_t ticks) {
   if (failed) std::rethrow_exception(failed);
   log_->info("{} ticks ran as their view arrived, {} on the timer", pacing.ticks_by_view(), pacing.ticks_by_timer());
   return static_cast<int>(tick);
+}
+
+void UavApp::run_paced_tick(uint32_t& tick, core::ViewPacing& pacing, Clock::time_point now, bool by_view) {
+  pacing.ran(now, by_view);
+  ticks_late_ = pacing.late_ticks();
+  runtime::note_tick_start(gaps_, *log_, tick + 1);
+  ++tick;
+  receive();
+  step(tick, StepKind::Fly);
+}
+
+void UavApp::timer_came(uint32_t& tick, core::ViewPacing& pacing, Clock::time_point now) {
+  handle_commands();
+  if (commands_->paused()) {
+    receive();                     // keeps the inboxes drained and the liveliness asserted
+    last_view_at_ = Clock::now();  // a paused swarm sends no views
+    pacing.restart(now);
+    gaps_.restart();
+    return;
+  }
+  // No view from the home for 2 s (at least two leases; four with a hot
+  // standby, which takes over within 1.5): it is gone; the backup gateway
+  // serves this UAV from now on (core/faults.hpp).
+  const bool standby = cfg_.common.standby || scenario_.standby;
+  const auto silence = std::max(std::chrono::milliseconds(2000),
+                                std::chrono::milliseconds((standby ? 4 : 2) * int64_t{cfg_.common.lease_ms}));
+  if (gateway_ == home_ && geo_.region_count() > 1 && now - last_view_at_ > silence) {
+    switch_gateway(core::backup_region(cfg_.id, geo_.region_count()), tick + 1);
+  }
+  run_paced_tick(tick, pacing, now, /*by_view=*/false);
 }
 
 void UavApp::report_ready_once() {

@@ -22,6 +22,7 @@
 #include "pheromesh/core/scenario.hpp"
 #include "pheromesh/core/tick_gaps.hpp"
 #include "pheromesh/core/uav_core.hpp"
+#include "pheromesh/core/view_pacing.hpp"
 #include "pheromesh/core/world.hpp"
 #include "pheromesh/runtime/commands.hpp"
 #include "pheromesh/runtime/process.hpp"
@@ -68,6 +69,13 @@ class UavApp {
   // Ground-station commands: pop-ups change this UAV's world; pause is kept by commands_.
   void handle_commands();
   int run_realtime(uint32_t ticks);
+  // Realtime: run the next tick now, started by a view (receive thread) or
+  // by the timer (core::ViewPacing); the caller holds the loop's mutex.
+  void run_paced_tick(uint32_t& tick, core::ViewPacing& pacing, std::chrono::steady_clock::time_point now,
+                      bool by_view);
+  // Realtime, the main thread's timer: the tick no view ran, or the pause,
+  // or the move to the backup gateway after the home's silence.
+  void timer_came(uint32_t& tick, core::ViewPacing& pacing, std::chrono::steady_clock::time_point now);
   int run_lockstep(uint32_t ticks);
 
   UavConfig cfg_;
