@@ -220,7 +220,9 @@ void request_shutdown() {
   wake_sleepers();
 }
 
-WakeTimer::WakeTimer() : fd_(::timerfd_create(CLOCK_MONOTONIC, TFD_CLOEXEC)) {
+// Non-blocking: another thread may move the deadline between poll and read
+// (the read then finds nothing, and the caller looks again).
+WakeTimer::WakeTimer() : fd_(::timerfd_create(CLOCK_MONOTONIC, TFD_CLOEXEC | TFD_NONBLOCK)) {
   if (fd_ < 0) throw std::system_error(errno, std::generic_category(), "timerfd_create");
 }
 
