@@ -91,26 +91,59 @@ namespace {
 using namespace std::chrono_literals;
 using SteadyClock = std::chrono::steady_clock;
 
-TEST(WakeTimer, WakesAtItsDeadlineAndAnotherThreadMovesItLaterWithoutWakingIt) {
+TEST(WakeTimer, TheLastDeadlineSetWinsAndAnotherThreadCanMoveItWhileItSleeps) {
+  // As in every process (run_process): the shutdown handlers' wake-up
+  // descriptor, without which a wait would also end after a slice.
+  install_shutdown_handlers();
   WakeTimer timer;
-  const auto t0 = SteadyClock::now();
+  // The last deadline set wins, earlier or later than the one before.
+  auto t0 = SteadyClock::now();
+  timer.set(t0 + 300ms);
+  timer.set(t0 + 60s);
+  timer.set(t0 + 100ms);
+  ASSERT_TRUE(timer.wait());
+  EXPECT_GE(SteadyClock::now() - t0, 100ms);
+  EXPECT_LT(SteadyClock::now() - t0, 30s);
+  t0 = SteadyClock::now();
   timer.set(t0 + 50ms);
-  std::atomic<bool> moved{false};
+  timer.set(t0 + 250ms);
+  ASSERT_TRUE(timer.wait());
+  EXPECT_GE(SteadyClock::now() - t0, 250ms) << "a deadline moved later does not wake at the earlier one";
+  // Moved by another thread while this one sleeps (on a deadline a minute
+  // away): it wakes at the new deadline.
+  t0 = SteadyClock::now();
+  timer.set(t0 + 60s);
+  std::atomic<int64_t> moved_to{0};
   std::thread mover([&] {
     std::this_thread::sleep_for(20ms);
-    timer.set(t0 + 150ms);  // before the first deadline passes
-    moved = true;
+    const auto at = SteadyClock::now() + 50ms;
+    moved_to = at.time_since_epoch().count();
+    timer.set(at);
   });
   ASSERT_TRUE(timer.wait());
   const auto woke = SteadyClock::now();
   mover.join();
-  ASSERT_TRUE(moved);
-  EXPECT_GE(woke - t0, 150ms) << "woke at the deadline it was moved to, not the first";
+  EXPECT_GE(woke.time_since_epoch().count(), moved_to.load());
+  EXPECT_LT(woke - t0, 30s);
   // A deadline already past returns at once.
   timer.set(SteadyClock::now() - 1ms);
   const auto t1 = SteadyClock::now();
   ASSERT_TRUE(timer.wait());
-  EXPECT_LT(SteadyClock::now() - t1, 100ms);
+  EXPECT_LT(SteadyClock::now() - t1, 5s);
+}
+
+TEST(WakeTimer, AShutdownRequestWakesItAtOnceAndItSaysSo) {
+  install_shutdown_handlers();
+  WakeTimer timer;
+  const auto t0 = SteadyClock::now();
+  timer.set(t0 + 60s);
+  std::thread stopper([] {
+    std::this_thread::sleep_for(20ms);
+    request_shutdown();  // what SIGINT and SIGTERM do
+  });
+  EXPECT_FALSE(timer.wait());
+  stopper.join();
+  EXPECT_LT(SteadyClock::now() - t0, 30s);
 }
 
 }  // namespace
