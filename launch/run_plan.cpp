@@ -142,6 +142,7 @@ PlannedProcess planned(const RunPlan& p, const std::string& role, uint32_t index
   }
   c.env.push_back(std::string(bus::kSwarmProcessesEnv) + "=" + std::to_string(p.host_processes));
   c.log_path = (fs::path(p.options.out_dir) / "logs" / (c.name + ".log")).string();
+  c.scheduling = role == "uav" ? Scheduling::LauncherSession : Scheduling::OwnSession;
   return c;
 }
 

@@ -80,11 +80,13 @@ pid_t fork_patiently() {
   return pid;
 }
 
-// In the forked child: own process group (the launcher orders the shutdown),
-// die with the launcher, output to its log file (the ground station's errors
-// also to ours), then the planned program.
+// In the forked child: own process group (the launcher orders the shutdown;
+// a hub's in a session of its own, Scheduling), die with the launcher, output to its log file (the ground station's
+// errors also to ours), then the planned program.
 [[noreturn]] void exec_child(PlannedProcess& p, pid_t parent, int netns_fd, int ctl_fd) {
-  setpgid(0, 0);
+  // setsid also makes the child the leader of a process group of its own;
+  // it cannot fail in a child just forked (not a group leader yet).
+  if (p.scheduling != Scheduling::OwnSession || setsid() < 0) setpgid(0, 0);
   prctl(PR_SET_PDEATHSIG, SIGTERM);
   for (auto& e : p.env) putenv(e.data());  // single-threaded launcher: safe after fork
   if (getppid() != parent) _exit(127);

@@ -148,6 +148,10 @@ TEST(RunPlan, ParticipantIdsLogFilesAndStandardErrorFollowTheStartOrder) {
   EXPECT_EQ(uav7.log_path, "/tmp/r/logs/uav-7.log");
   EXPECT_EQ(uav7.stderr_to, StderrTo::Log);
   EXPECT_EQ(process(p, "ground").stderr_to, StderrTo::Launcher);
+  // The hubs weigh as much as the herd of UAVs on the host's scheduler.
+  EXPECT_EQ(uav7.scheduling, Scheduling::LauncherSession);
+  EXPECT_EQ(process(p, "place-2").scheduling, Scheduling::OwnSession);
+  EXPECT_EQ(process(p, "ground").scheduling, Scheduling::OwnSession);
   // Realtime: the ground station tells the launcher when it started the
   // swarm (the steady window of metrics.json); lockstep without faults,
   // a console or MAVLink has no control line.
