@@ -21,6 +21,10 @@ void close_descriptors_from(int first) noexcept {
   for (long fd = first; fd < (limit > 0 && limit < 65536 ? limit : 65536); ++fd) close(static_cast<int>(fd));
 }
 
+void enter_process_group(Scheduling scheduling) noexcept {
+  if (scheduling != Scheduling::OwnSession || setsid() < 0) setpgid(0, 0);
+}
+
 pid_t spawn_logged_child(const std::string& exe, std::vector<std::string> args, int log_fd, bool default_signals) {
   const pid_t parent = getpid();
   const pid_t pid = fork();

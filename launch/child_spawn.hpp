@@ -4,10 +4,32 @@
 
 #include <sys/types.h>
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
 namespace pheromesh::cli {
+
+// How the kernel weighs the process against the others on the host. A place
+// agent serves a hundred UAVs or more and the ground station hears them all:
+// while hundreds of UAV processes are runnable at once (the swarm's start,
+// a burst of views), a hub that waits its turn among them as one process of
+// thousands stalls for seconds, its UAVs go without views, take it for dead
+// and move to their backup gateway, whose discovery loads the host further
+// (measured: docs/benchmarks.md, "Hubs in sessions of their own"). So a
+// hub starts a session of its own (setsid), and with the kernel's automatic
+// grouping (Linux autogroup, on by default) it weighs as much as the whole
+// herd of UAVs, which share the launcher's session; it still takes only
+// the CPU it uses. Where autogroup is off or the processes run in a cgroup
+// of their own (a container), a session changes nothing but the session.
+enum class Scheduling : uint8_t { LauncherSession, OwnSession };
+
+// In a forked child, before exec: a process group of its own (the launcher
+// signals each child by its pid and orders the shutdown itself; Ctrl-C at
+// the terminal reaches the launcher only), and with OwnSession a session of
+// its own too (setsid; a child just forked is no group leader yet, so it
+// cannot fail). Async-signal-safe.
+void enter_process_group(Scheduling scheduling) noexcept;
 
 // In a forked child, just before exec: closes every descriptor from `first`
 // up, so the program gets stdin, stdout, stderr (and whatever the caller put

@@ -14,11 +14,12 @@
 #include <vector>
 
 #include "cell_layout.hpp"
+#include "child_spawn.hpp"
+#include "cli/scenario_overrides.hpp"
 #include "dds_plan.hpp"
 #include "pheromesh/core/faults.hpp"
 #include "pheromesh/core/result.hpp"
 #include "pheromesh/core/scenario.hpp"
-#include "cli/scenario_overrides.hpp"
 
 namespace pheromesh::cli {
 
@@ -127,20 +128,6 @@ enum class StderrTo : uint8_t { Log, Launcher };
 // ground station: the console's requests, the conductor's `faults K`).
 enum class ControlLine : uint8_t { None, Fd3 };
 
-// How the kernel weighs the process against the others on the host. A place
-// agent serves a hundred UAVs or more and the ground station hears them all:
-// while hundreds of UAV processes are runnable at once (the swarm's start,
-// a burst of views), a hub that waits its turn among them as one process of
-// thousands stalls for seconds, its UAVs go without views, take it for dead
-// and move to their backup gateway, whose discovery loads the host further
-// (measured: docs/benchmarks.md, "Hubs in sessions of their own"). So a
-// hub starts a session of its own (setsid), and with the kernel's automatic
-// grouping (Linux autogroup, on by default) it weighs as much as the whole
-// herd of UAVs, which share the launcher's session; it still takes only
-// the CPU it uses. Where autogroup is off or the processes run in a cgroup
-// of their own (a container), a session changes nothing but the session.
-enum class Scheduling : uint8_t { LauncherSession, OwnSession };
-
 struct PlannedProcess {
   std::string role;  // "uav", "place", "ground"
   uint32_t index = 0;
@@ -155,6 +142,8 @@ struct PlannedProcess {
   uint32_t life = 0;             // 0 its first start; 1.. started again (Supervisor::spawn): the log is appended to
   StderrTo stderr_to = StderrTo::Log;
   ControlLine control = ControlLine::None;
+  // How the kernel weighs it (child_spawn.hpp): place agents and the ground
+  // station in sessions of their own, the UAVs in the launcher's.
   Scheduling scheduling = Scheduling::LauncherSession;
   [[nodiscard]] const std::string& executable() const { return argv.front(); }
 };

@@ -84,9 +84,7 @@ pid_t fork_patiently() {
 // a hub's in a session of its own, Scheduling), die with the launcher, output to its log file (the ground station's
 // errors also to ours), then the planned program.
 [[noreturn]] void exec_child(PlannedProcess& p, pid_t parent, int netns_fd, int ctl_fd) {
-  // setsid also makes the child the leader of a process group of its own;
-  // it cannot fail in a child just forked (not a group leader yet).
-  if (p.scheduling != Scheduling::OwnSession || setsid() < 0) setpgid(0, 0);
+  enter_process_group(p.scheduling);
   prctl(PR_SET_PDEATHSIG, SIGTERM);
   for (auto& e : p.env) putenv(e.data());  // single-threaded launcher: safe after fork
   if (getppid() != parent) _exit(127);

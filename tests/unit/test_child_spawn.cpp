@@ -79,5 +79,29 @@ TEST_F(ChildSpawn, ABoundedRunHasItsLogAndTheStandardStreamsOnly) {
   EXPECT_LE(fds.size(), 4u);
 }
 
+// What a child forked from this test and put in its group reports, as its
+// exit code: 0 when it leads a process group of its own and its session is
+// `own_session ? its own : ours`.
+int group_of_a_child(Scheduling scheduling, bool own_session) {
+  const pid_t ours = getsid(0);
+  const pid_t pid = fork();
+  if (pid == 0) {
+    enter_process_group(scheduling);
+    const bool group = getpgid(0) == getpid();
+    const bool session = own_session ? getsid(0) == getpid() : getsid(0) == ours;
+    _exit(group && session ? 0 : 1);
+  }
+  int st = 0;
+  if (pid < 0 || waitpid(pid, &st, 0) != pid || !WIFEXITED(st)) return -1;
+  return WEXITSTATUS(st);
+}
+
+TEST(ChildGroup, AHubLeadsASessionAndAGroupOfItsOwnAndAUavAGroupInTheLaunchersSession) {
+  EXPECT_EQ(group_of_a_child(Scheduling::OwnSession, /*own_session=*/true), 0);
+  EXPECT_EQ(group_of_a_child(Scheduling::LauncherSession, /*own_session=*/false), 0);
+  // The checks can fail: a UAV's child is not in a session of its own.
+  EXPECT_EQ(group_of_a_child(Scheduling::LauncherSession, /*own_session=*/true), 1);
+}
+
 }  // namespace
 }  // namespace pheromesh::cli
