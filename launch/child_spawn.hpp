@@ -20,7 +20,8 @@ namespace pheromesh::cli {
 // hub starts a session of its own (setsid), and with the kernel's automatic
 // grouping (Linux autogroup, on by default) it weighs as much as the whole
 // herd of UAVs, which share the launcher's session; it still takes only
-// the CPU it uses. Where autogroup is off or the processes run in a cgroup
+// the CPU it uses. Realtime swarms only (run_plan.cpp): in lockstep it made
+// the UAV phase slower. Where autogroup is off or the processes run in a cgroup
 // of their own (a container), a session changes nothing but the session.
 enum class Scheduling : uint8_t { LauncherSession, OwnSession };
 

@@ -142,7 +142,11 @@ PlannedProcess planned(const RunPlan& p, const std::string& role, uint32_t index
   }
   c.env.push_back(std::string(bus::kSwarmProcessesEnv) + "=" + std::to_string(p.host_processes));
   c.log_path = (fs::path(p.options.out_dir) / "logs" / (c.name + ".log")).string();
-  c.scheduling = role == "uav" ? Scheduling::LauncherSession : Scheduling::OwnSession;
+  // Realtime only: in lockstep the UAVs and the place agents take turns (the
+  // phases), so the herd never holds up a hub, and a session of its own
+  // made the UAV phase slower (measured: docs/benchmarks.md, "Hubs in
+  // sessions of their own").
+  c.scheduling = role != "uav" && !p.lockstep() ? Scheduling::OwnSession : Scheduling::LauncherSession;
   return c;
 }
 

@@ -158,7 +158,10 @@ TEST(RunPlan, ParticipantIdsLogFilesAndStandardErrorFollowTheStartOrder) {
   EXPECT_EQ(process(p, "ground").control, ControlLine::Fd3);
   EXPECT_EQ(value_of(process(p, "ground"), "--launcher-fd"), "3");
   o.clock = "lockstep";
-  EXPECT_EQ(process(plan_of(o, small_test_with(10)), "ground").control, ControlLine::None);
+  const RunPlan lockstep = plan_of(o, small_test_with(10));
+  EXPECT_EQ(process(lockstep, "ground").control, ControlLine::None);
+  // Lockstep: the phases take turns; every process stays in the launcher's session.
+  for (const auto& c : lockstep.processes) EXPECT_EQ(c.scheduling, Scheduling::LauncherSession) << c.name;
 }
 
 TEST(RunPlan, OptionsGivenArePassedOnAndOptionsLeftOutAreNot) {
