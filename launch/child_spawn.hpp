@@ -16,7 +16,7 @@ namespace pheromesh::cli {
 // a burst of views), a hub that waits its turn among them as one process of
 // thousands stalls for seconds, its UAVs go without views, take it for dead
 // and move to their backup gateway, whose discovery loads the host further
-// (measured: docs/benchmarks.md, "Hubs in sessions of their own"). So a
+// (measured: docs/benchmarks.md, "2000 UAV processes on two cores"). So a
 // hub starts a session of its own (setsid), and with the kernel's automatic
 // grouping (Linux autogroup, on by default) it weighs as much as the whole
 // herd of UAVs, which share the launcher's session; it still takes only

@@ -144,8 +144,8 @@ PlannedProcess planned(const RunPlan& p, const std::string& role, uint32_t index
   c.log_path = (fs::path(p.options.out_dir) / "logs" / (c.name + ".log")).string();
   // Realtime only: in lockstep the UAVs and the place agents take turns (the
   // phases), so the herd never holds up a hub, and a session of its own
-  // made the UAV phase slower (measured: docs/benchmarks.md, "Hubs in
-  // sessions of their own").
+  // made the UAV phase slower (measured: docs/benchmarks.md, "2000 UAV
+  // processes on two cores").
   c.scheduling = role != "uav" && !p.lockstep() ? Scheduling::OwnSession : Scheduling::LauncherSession;
   return c;
 }
