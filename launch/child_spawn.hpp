@@ -1,5 +1,7 @@
 // Starting `pheromesh run` as the child of a bench (bench scale, bench soak):
-// its output goes to a log file, and it dies with the bench.
+// its output goes to a log file, and it dies with the bench. And what every
+// child of the CLI does between fork and exec: the descriptors it keeps, the
+// process group and session it goes into.
 #pragma once
 
 #include <sys/types.h>

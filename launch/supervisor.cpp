@@ -81,8 +81,9 @@ pid_t fork_patiently() {
 }
 
 // In the forked child: own process group (the launcher orders the shutdown;
-// a hub's in a session of its own, Scheduling), die with the launcher, output to its log file (the ground station's
-// errors also to ours), then the planned program.
+// a hub in a realtime swarm also leads a session of its own: Scheduling),
+// die with the launcher, output to its log file (the ground station's errors
+// also to ours), then the planned program.
 [[noreturn]] void exec_child(PlannedProcess& p, pid_t parent, int netns_fd, int ctl_fd) {
   enter_process_group(p.scheduling);
   prctl(PR_SET_PDEATHSIG, SIGTERM);
