@@ -23,8 +23,9 @@ namespace pheromesh::cli {
 // grouping (Linux autogroup, on by default) it weighs as much as the whole
 // herd of UAVs, which share the launcher's session; it still takes only
 // the CPU it uses. Realtime swarms only (run_plan.cpp): in lockstep it made
-// the UAV phase slower. Where autogroup is off or the processes run in a cgroup
-// of their own (a container), a session changes nothing but the session.
+// the UAV phase slower. Where autogroup is off, or the processes run in a CPU
+// cgroup other than the root (a container, a systemd login session), a
+// session changes nothing but the session.
 enum class Scheduling : uint8_t { LauncherSession, OwnSession };
 
 // In a forked child, before exec: a process group of its own (the launcher
