@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <optional>
 #include <string>
+#include <string_view>
 
 namespace pheromesh::cli {
 
@@ -74,5 +75,55 @@ inline std::optional<std::string> host_fit_warning(uint32_t uavs, double rate_hz
   return why + " (README, \"Scale\")";
 }
 
+// Whether the kernel groups this process's session for the scheduler
+// (autogroup), so that a place agent in a session of its own weighs as much
+// as the herd of UAVs (launch/child_spawn.hpp, Scheduling): autogroup is on
+// (`autogroup_enabled`, /proc/sys/kernel/sched_autogroup_enabled, "1") and
+// the process is in the root CPU cgroup (`self_cgroup`, /proc/self/cgroup:
+// the cgroup v1 hierarchy with the cpu controller, else the v2 one).
+inline bool autogroup_applies(std::string_view autogroup_enabled, std::string_view self_cgroup) {
+  if (autogroup_enabled.substr(0, 1) != "1") return false;
+  std::optional<std::string_view> v1_cpu, v2;
+  while (!self_cgroup.empty()) {
+    const auto end = self_cgroup.find('\n');
+    const std::string_view line = self_cgroup.substr(0, end);
+    self_cgroup = end == std::string_view::npos ? std::string_view{} : self_cgroup.substr(end + 1);
+    // ID:CONTROLLERS:PATH
+    const auto a = line.find(':');
+    const auto b = a == std::string_view::npos ? a : line.find(':', a + 1);
+    if (b == std::string_view::npos) continue;
+    const std::string_view controllers = line.substr(a + 1, b - a - 1);
+    const std::string_view path = line.substr(b + 1);
+    if (controllers.empty()) {
+      v2 = path;
+      continue;
+    }
+    for (std::string_view rest = controllers; !rest.empty();) {
+      const auto comma = rest.find(',');
+      if (rest.substr(0, comma) == "cpu") v1_cpu = path;
+      rest = comma == std::string_view::npos ? std::string_view{} : rest.substr(comma + 1);
+    }
+  }
+  const auto path = v1_cpu ? v1_cpu : v2;
+  return path && *path == "/";
+}
+
+// Above this many UAV processes on one host the place agents' weight on the
+// scheduler decided whether a realtime swarm flew at all (2000 Cyclone UAVs
+// collapsed without sessions of their own; docs/benchmarks.md, "2000 UAV
+// processes on two cores").
+inline constexpr uint32_t kHubsStarveAbove = 1000;
+
+// A warning for a realtime swarm of `uavs` UAV processes on this host when
+// the place agents' sessions cannot lift them above the UAVs, or nothing.
+inline std::optional<std::string> hub_weight_warning(uint32_t uavs, bool realtime, std::string_view autogroup_enabled,
+                                                     std::string_view self_cgroup) {
+  if (!realtime || uavs <= kHubsStarveAbove || autogroup_applies(autogroup_enabled, self_cgroup)) return std::nullopt;
+  return std::to_string(uavs) +
+         " UAV processes, and the kernel does not group sessions for this launcher (autogroup off, or a CPU cgroup "
+         "other than the root, as a systemd login session's): the place agents compete with the UAVs as single "
+         "processes and may stall while the UAVs are runnable; give them CPU of their own (docs/deployment.md, "
+         "\"One host\")";
+}
 
 }  // namespace pheromesh::cli

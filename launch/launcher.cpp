@@ -28,6 +28,7 @@
 #include "pheromesh/core/scenario_warnings.hpp"
 #include "pheromesh/report/report.hpp"
 #include "pheromesh/runtime/process.hpp"
+#include "proc_stats.hpp"
 #include "supervisor.hpp"
 
 namespace pheromesh::cli {
@@ -215,6 +216,11 @@ void announce(const RunPlan& plan, const core::ScenarioConfig& s) {
                                   o.discovery_server, o.dds_profile == "cells")) {
       spdlog::warn("this swarm may not keep time on this host: {}", *w);
     }
+  }
+  if (auto w = hub_weight_warning(uavs_here, !plan.lockstep(),
+                                  read_small_file("/proc/sys/kernel/sched_autogroup_enabled").value_or(""),
+                                  read_small_file("/proc/self/cgroup").value_or(""))) {
+    spdlog::warn("{}", *w);
   }
   spdlog::info(
       "run '{}' ({}): {} place agents, {} uavs, {} ticks, {} clock{}, over {} (domain {}, profile {}{}); logs in "

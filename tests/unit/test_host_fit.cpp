@@ -52,5 +52,33 @@ TEST(HostFit, ACellsSwarmAboveItsCountIsToldToAddHostsNotToSlowDown) {
   EXPECT_FALSE(host_fit_warning(300, 5.0, 2, "cyclone", false, /*cells=*/true).has_value());
 }
 
+// /proc/self/cgroup as this machine, a systemd host on cgroup v2 and a
+// container on cgroup v1 print it.
+constexpr const char* kRootV1 = "9:name=systemd:/\n4:memory:/process_api/49e1\n2:cpuacct:/\n1:cpu:/\n0::/\n";
+constexpr const char* kSystemdV2 = "0::/user.slice/user-1000.slice/session-3.scope\n";
+constexpr const char* kContainerV1 = "3:cpu,cpuacct:/machine.slice/libpod-4f2a.scope\n1:name=systemd:/\n";
+
+TEST(HubWeight, AutogroupAppliesOnlyWhenOnAndInTheRootCpuCgroup) {
+  EXPECT_TRUE(autogroup_applies("1\n", kRootV1));
+  EXPECT_TRUE(autogroup_applies("1", "0::/\n"));
+  EXPECT_FALSE(autogroup_applies("0\n", kRootV1));
+  EXPECT_FALSE(autogroup_applies("", kRootV1));  // a kernel without it: no such file
+  EXPECT_FALSE(autogroup_applies("1\n", kSystemdV2));
+  // The v1 hierarchy with the cpu controller decides, not the v2 line.
+  EXPECT_FALSE(autogroup_applies("1\n", std::string(kContainerV1) + "0::/\n"));
+  EXPECT_FALSE(autogroup_applies("1\n", ""));
+}
+
+TEST(HubWeight, ABigRealtimeSwarmIsWarnedWhereThePlaceAgentsCannotWeighMore) {
+  const auto w = hub_weight_warning(2000, /*realtime=*/true, "1\n", kSystemdV2);
+  ASSERT_TRUE(w.has_value());
+  EXPECT_NE(w->find("2000 UAV processes"), std::string::npos) << *w;
+  EXPECT_NE(w->find("docs/deployment.md"), std::string::npos) << *w;
+  EXPECT_FALSE(hub_weight_warning(2000, true, "1\n", kRootV1).has_value());
+  EXPECT_FALSE(hub_weight_warning(2000, /*realtime=*/false, "0\n", kSystemdV2).has_value());  // lockstep takes turns
+  EXPECT_FALSE(hub_weight_warning(kHubsStarveAbove, true, "0\n", kSystemdV2).has_value());
+  EXPECT_TRUE(hub_weight_warning(kHubsStarveAbove + 1, true, "0\n", kRootV1).has_value());
+}
+
 }  // namespace
 }  // namespace pheromesh::cli
