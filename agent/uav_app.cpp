@@ -44,7 +44,9 @@ UavApp::UavApp(UavConfig cfg, core::ScenarioConfig scenario, std::unique_ptr<bus
       gaps_(std::chrono::nanoseconds(static_cast<int64_t>(1e9 / scenario_.tick_rate_hz))),
       layers_(static_cast<int>(core::policy_traits(scenario_).layers.size())),
       home_(core::home_region(cfg_.id, geo_.region_count())),
-      gateway_(home_) {
+      gateway_(home_),
+      home_watch_(core::HomeWatch::silence_for(cfg_.common.lease_ms, cfg_.common.standby || scenario_.standby),
+                  geo_.region_count() > 1) {
   layer_ranges_ = core::policy_traits(scenario_).layer_ranges;
 }
 
@@ -146,7 +148,7 @@ int UavApp::run_realtime(uint32_t ticks) {
   runtime::WakeTimer timer;
   std::mutex mutex;
   uint32_t tick = 0;
-  last_view_at_ = Clock::now();
+  home_watch_.start(Clock::now());
   // A view arrived: the tick it runs, if any (`mutex` held).
   bool stopping = false;  // the loop has ended: no tick more
   const auto view_came = [&] {
@@ -219,26 +221,22 @@ void UavApp::run_paced_tick(uint32_t& tick, core::ViewPacing& pacing, Clock::tim
   runtime::note_tick_start(gaps_, *log_, tick + 1);
   ++tick;
   receive();
+  // The home's silence is judged after the views that were waiting were
+  // taken (core::HomeWatch): the backup serves this UAV from this tick on.
+  if (!by_view && home_watch_.move_to_backup(Clock::now())) {
+    switch_gateway(core::backup_region(cfg_.id, geo_.region_count()), tick);
+  }
   step(tick, StepKind::Fly);
 }
 
 void UavApp::timer_came(uint32_t& tick, core::ViewPacing& pacing, Clock::time_point now) {
   handle_commands();
   if (commands_->paused()) {
-    receive();                     // keeps the inboxes drained and the liveliness asserted
-    last_view_at_ = Clock::now();  // a paused swarm sends no views
+    receive();                        // keeps the inboxes drained and the liveliness asserted
+    home_watch_.start(Clock::now());  // a paused swarm sends no views
     pacing.restart(now);
     gaps_.restart();
     return;
-  }
-  // No view from the home for 2 s (at least two leases; four with a hot
-  // standby, which takes over within 1.5): it is gone; the backup gateway
-  // serves this UAV from now on (core/faults.hpp).
-  const bool standby = cfg_.common.standby || scenario_.standby;
-  const auto silence = std::max(std::chrono::milliseconds(2000),
-                                std::chrono::milliseconds((standby ? 4 : 2) * int64_t{cfg_.common.lease_ms}));
-  if (gateway_ == home_ && geo_.region_count() > 1 && now - last_view_at_ > silence) {
-    switch_gateway(core::backup_region(cfg_.id, geo_.region_count()), tick + 1);
   }
   run_paced_tick(tick, pacing, now, /*by_view=*/false);
 }

@@ -16,6 +16,7 @@
 #include "pheromesh/bus/bus.hpp"
 #include "pheromesh/bus/resend.hpp"
 #include "pheromesh/core/conductor.hpp"
+#include "pheromesh/core/home_watch.hpp"
 #include "pheromesh/core/lockstep_follower.hpp"
 #include "pheromesh/core/plausibility.hpp"
 #include "pheromesh/core/receipts.hpp"
@@ -73,8 +74,8 @@ class UavApp {
   // by the timer (core::ViewPacing); the caller holds the loop's mutex.
   void run_paced_tick(uint32_t& tick, core::ViewPacing& pacing, std::chrono::steady_clock::time_point now,
                       bool by_view);
-  // Realtime, the main thread's timer: the tick no view ran, or the pause,
-  // or the move to the backup gateway after the home's silence.
+  // Realtime, the main thread's timer: the tick no view ran (with, after
+  // the home's silence, the move to the backup gateway), or the pause.
   void timer_came(uint32_t& tick, core::ViewPacing& pacing, std::chrono::steady_clock::time_point now);
   int run_lockstep(uint32_t ticks);
 
@@ -112,8 +113,9 @@ class UavApp {
   // Moves the state and deposit writers to `gateway` (bounded wait for its
   // readers in lockstep).
   void switch_gateway(core::RegionId gateway, uint32_t tick);
-  // Realtime: when the last view arrived; no view for 2 s means a dead home.
-  std::chrono::steady_clock::time_point last_view_at_{};
+  // Realtime: whether the home is gone (its views silent), after which the
+  // backup serves this UAV.
+  core::HomeWatch home_watch_;
   // What the last step wrote (lockstep reports it with PhaseDone).
   std::map<core::RegionId, uint32_t> written_;
   bool broadcast_written_ = false;

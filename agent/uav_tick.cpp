@@ -21,7 +21,7 @@ void UavApp::receive() {
   const uint32_t ceiling = tick_ceiling();
   for (const auto& v : view_inbox_) {
     if (!audit_.admit(core::check_view(v, cfg_.id, ceiling, rules))) continue;
-    last_view_at_ = std::chrono::steady_clock::now();
+    home_watch_.heard(std::chrono::steady_clock::now());
     receipts_.confirmed(v.deposit_ack_from, v.deposit_ack);
     if (view_tick_ && v.tick <= *view_tick_) continue;  // an older view, or a copy re-sent
     view_tick_ = v.tick;

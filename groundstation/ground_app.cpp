@@ -121,8 +121,11 @@ void GroundApp::note_discovery(Clock::time_point now) {
 }
 
 void GroundApp::poll() {
-  const auto now = Clock::now();
+  // The ceiling of what a realtime tick may be is read after the take: a
+  // take on a busy host can last seconds, and a `now` from before it judged
+  // samples written meanwhile against an old ceiling (tick_far_ahead).
   take_samples();
+  const auto now = Clock::now();
   log_notes(intake_.take(samples_, book_.tick_ceiling(now), now));
   note_discovery(now);
 }
