@@ -1,6 +1,7 @@
 #include "bench_lockstep.hpp"
 
 #include "bench_floor.hpp"
+#include "host_capacity.hpp"
 
 #include <fcntl.h>
 #include <spdlog/spdlog.h>
@@ -269,9 +270,12 @@ std::string repeat_report(const std::vector<Row>& rows, const BenchLockstepOptio
   return md;
 }
 
-std::string report(const std::vector<Floor>& floors, const std::vector<Row>& rows, const BenchLockstepOptions& o) {
-  std::string md =
-      fmt::format("# pheromesh bench lockstep\n\n{} ticks per run, {} round trips per pairing.\n\n", o.ticks, o.pings);
+std::string report(const HostCapacity& host, const std::vector<Floor>& floors, const std::vector<Row>& rows,
+                   const BenchLockstepOptions& o) {
+  std::string md = fmt::format(
+      "# pheromesh bench lockstep\n\n{} ticks per run, {} round trips per pairing. Host: {} (a CPU-bound "
+      "loop; near the number of threads when each has a core of its own).\n\n",
+      o.ticks, o.pings, host.describe());
   md += "## Floor: one pheromesh sample there and back between two processes\n\n";
   md +=
       "| pairing | RTT p50 [ms] | RTT p99 [ms] | lost | floor per tick (7 hops) [ms] | floor [ticks/s] "
@@ -332,9 +336,13 @@ nlohmann::json summary_json(const core::SampleSummary& s) {
   return {{"n", s.n}, {"mean", s.mean}, {"p50", s.p50}, {"p90", s.p90}, {"p99", s.p99}, {"max", s.max}};
 }
 
-nlohmann::json results_json(const std::vector<Floor>& floors, const std::vector<Row>& rows,
+nlohmann::json results_json(const HostCapacity& host, const std::vector<Floor>& floors, const std::vector<Row>& rows,
                             const BenchLockstepOptions& o) {
-  nlohmann::json j{{"ticks", o.ticks}, {"pings", o.pings}, {"hops_per_tick", kHopsPerTick}, {"repeat", o.repeat}};
+  nlohmann::json j{{"ticks", o.ticks},
+                   {"pings", o.pings},
+                   {"hops_per_tick", kHopsPerTick},
+                   {"repeat", o.repeat},
+                   {"host_capacity", {{"threads", host.threads}, {"ratio", host.ratio()}}}};
   for (const auto& f : floors) {
     j["floor"].push_back(
         {{"pairing", f.pairing}, {"rtt_ms", summary_json(f.rtt_ms)}, {"lost", f.lost}, {"error", f.error}});
@@ -364,6 +372,18 @@ nlohmann::json results_json(const std::vector<Floor>& floors, const std::vector<
     }
   }
   return j;
+}
+
+// The floor of each vendor pairing, until a stop is asked for.
+std::vector<Floor> measure_floors(const std::vector<std::string>& vendors, const BenchLockstepOptions& o) {
+  std::vector<Floor> floors;
+  for (const auto& v : vendors) {
+    std::printf("floor %s: %u round trips ...\n", v.c_str(), o.pings);
+    std::fflush(stdout);
+    floors.push_back(measure_floor({v, o.domain + 1, o.pings, o.out_dir}));
+    if (runtime::shutdown_requested()) break;
+  }
+  return floors;
 }
 
 }  // namespace
@@ -397,13 +417,12 @@ int run_bench_lockstep(const BenchLockstepOptions& o) {
   }
   std::error_code ec;
   fs::create_directories(o.out_dir, ec);
-  std::vector<Floor> floors;
-  for (const auto& v : vendors) {
-    std::printf("floor %s: %u round trips ...\n", v.c_str(), o.pings);
-    std::fflush(stdout);
-    floors.push_back(measure_floor({v, o.domain + 1, o.pings, o.out_dir}));
-    if (runtime::shutdown_requested()) return 130;
-  }
+  // What the host's threads give together today (host_capacity.hpp): one
+  // second alone, one all at once.
+  const HostCapacity host = measure_host_capacity(std::chrono::seconds(1));
+  std::printf("host: %s\n", host.describe().c_str());
+  const std::vector<Floor> floors = measure_floors(vendors, o);
+  if (runtime::shutdown_requested()) return 130;
   std::vector<Row> rows;
   bool all_equal = true;
   for (const auto& s : swarms) {
@@ -430,15 +449,15 @@ int run_bench_lockstep(const BenchLockstepOptions& o) {
       }
     }
   }
-  const std::string md = report(floors, rows, o);
+  const std::string md = report(host, floors, rows, o);
   std::printf("\n%s", md.c_str());
   const fs::path dir(o.out_dir);
   if (auto w = core::write_file_atomically((dir / "lockstep.md").string(), md); !w) {
     std::fprintf(stderr, "%s\n", w.error().message.c_str());
     return 5;
   }
-  if (auto w =
-          core::write_file_atomically((dir / "lockstep.json").string(), results_json(floors, rows, o).dump(2) + "\n");
+  if (auto w = core::write_file_atomically((dir / "lockstep.json").string(),
+                                           results_json(host, floors, rows, o).dump(2) + "\n");
       !w) {
     std::fprintf(stderr, "%s\n", w.error().message.c_str());
     return 5;

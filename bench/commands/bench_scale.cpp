@@ -1,6 +1,7 @@
 #include "bench_scale.hpp"
 
 #include "bench_floor.hpp"
+#include "host_capacity.hpp"
 
 #include <fcntl.h>
 #include <sys/utsname.h>
@@ -54,6 +55,9 @@ const char* const kBenchScaleFooter =
     "               ground station), by thread (/proc/PID/task/*/schedstat, grouped by name: every place agent's\n"
     "               and the ground station's, and at most 200 UAVs' standing for all; the other UAVs from\n"
     "               /proc/PID/stat) and context switches (/proc/PID/status: waits and preemptions). Realtime only\n"
+    "  host         before the runs: a CPU-bound loop for 1 s on one thread, then on every hardware thread at\n"
+    "               once, and their work together as a multiple of one's: near 2 on two cores of their own, less\n"
+    "               on hyper-threads or busy virtual CPUs, where a CPU-second does less work while all are busy\n"
     "  floor        per vendor, before the runs: --floor-pings round trips between this process and a child\n"
     "               (`pheromesh bench lockstep-echo`) of a sample of --floor-view-bytes down and one of\n"
     "               --floor-uplink-bytes up, and the CPU both spent per round trip (/proc/PID/task/*/schedstat):\n"
@@ -313,6 +317,7 @@ struct Plan {
   std::vector<std::string> extra;
   std::string host;
   std::vector<Floor> floors;  // per vendor (--floor-pings)
+  HostCapacity capacity;      // what the hardware threads give together (host_capacity.hpp)
 };
 
 // The floor per vendor, and each size's flying swarm CPU per UAV tick as a
@@ -355,7 +360,8 @@ std::string scale_markdown(const Plan& p, const std::vector<ScaleRow>& rows, con
   md << "# pheromesh bench scale\n\n"
      << "*Scenario:* " << p.o.scenario << "  \n*Per run:* " << p.o.ticks << " ticks at " << p.o.rate_hz << " Hz, lease "
      << p.o.lease_ms << " ms, domain " << p.o.domain
-     << (p.extra.empty() ? std::string() : ", extra `" + p.o.extra + "`") << "  \n*Host:* " << p.host << "\n\n"
+     << (p.extra.empty() ? std::string() : ", extra `" + p.o.extra + "`") << "  \n*Host:* " << p.host << "; "
+     << p.capacity.describe() << " (a CPU-bound loop; near the number of threads when each has a core of its own)\n\n"
      << markdown_table(rows) << "\n";
   for (const auto& l : lines) md << "* " << l << "\n";
   for (const auto& s : skipped) md << "* " << s << "\n";
@@ -472,17 +478,18 @@ bool write_results(const Plan& p, const std::vector<ScaleRow>& rows, const std::
   files.emplace_back("scale.md", scale_markdown(p, rows, lines, skipped));
   files.emplace_back("scale.csv", scale_csv(rows));
   const Json j_rows = scale_rows_json(rows);
-  const Json j = {{"scenario", p.o.scenario},
-                  {"ticks", p.o.ticks},
-                  {"rate_hz", p.o.rate_hz},
-                  {"lease_ms", p.o.lease_ms},
-                  {"domain", p.o.domain},
-                  {"extra", p.o.extra},
-                  {"host", p.host},
-                  {"rows", j_rows},
-                  {"summary", summary},
-                  {"skipped", skipped},
-                  {"floors", floors_json(p.floors)}};
+  Json j = {{"scenario", p.o.scenario},
+            {"ticks", p.o.ticks},
+            {"rate_hz", p.o.rate_hz},
+            {"lease_ms", p.o.lease_ms},
+            {"domain", p.o.domain},
+            {"extra", p.o.extra},
+            {"host", p.host},
+            {"rows", j_rows},
+            {"summary", summary},
+            {"skipped", skipped},
+            {"floors", floors_json(p.floors)}};
+  j["host_capacity"] = {{"threads", p.capacity.threads}, {"ratio", p.capacity.ratio()}};
   files.emplace_back("scale.json", report::json_text(j, 2) + "\n");
   for (const ScalePlot& sp : kScalePlots) files.emplace_back(sp.file, scale_plot_svg(p, rows, sp));
   for (const auto& [name, text] : files) {
@@ -669,7 +676,7 @@ void print_results(const Plan& p, const std::vector<ScaleRow>& rows, const std::
 }  // namespace
 
 int run_bench_scale(const BenchScaleOptions& o) {
-  Plan p{o, {}, {}, split(o.extra, " \t"), host_description(), {}};
+  Plan p{o, {}, {}, split(o.extra, " \t"), host_description(), {}, {}};
   if (const auto refused = plan_bench(o, p)) return *refused;
   std::error_code ec;
   fs::create_directories(o.out_dir, ec);
@@ -683,6 +690,8 @@ int run_bench_scale(const BenchScaleOptions& o) {
   for (auto n : p.sizes) std::fprintf(stderr, " %u", n);
   std::fprintf(stderr, ", vendors %s, %u ticks at %.1f Hz (%.0f s of flight per run); results in %s\n", o.dds.c_str(),
                o.ticks, o.rate_hz, o.ticks / o.rate_hz, o.out_dir.c_str());
+  p.capacity = measure_host_capacity(std::chrono::seconds(1));
+  std::fprintf(stderr, "host: %s\n", p.capacity.describe().c_str());
   for (const auto& vendor : p.vendors) {
     if (o.floor_pings == 0 || runtime::shutdown_requested()) break;
     std::fprintf(stderr, "floor %s: %u round trips of %u B down and %u B up ...\n", vendor.c_str(), o.floor_pings,

@@ -1,0 +1,79 @@
+#include "host_capacity.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <atomic>
+#include <thread>
+
+namespace pheromesh::cli {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// A round: a few thousand steps of a xorshift generator, all in registers,
+// so that the loop measures the thread's share of a core, not the memory.
+uint64_t one_round(uint64_t x) {
+  for (int i = 0; i < 4096; ++i) {
+    x ^= x << 13;
+    x ^= x >> 7;
+    x ^= x << 17;
+  }
+  return x;
+}
+
+LoopRun run_loop(std::chrono::milliseconds each, std::atomic<uint64_t>& sink) {
+  LoopRun r;
+  uint64_t x = 0x9E3779B97F4A7C15ULL;
+  const auto t0 = Clock::now();
+  const auto end = t0 + each;
+  auto now = t0;
+  while (now < end) {
+    x = one_round(x);
+    ++r.rounds;
+    now = Clock::now();
+  }
+  r.seconds = std::chrono::duration<double>(now - t0).count();
+  sink.fetch_xor(x, std::memory_order_relaxed);  // the result is used: the loop stays
+  return r;
+}
+
+double rate(const LoopRun& r) { return r.seconds > 0 ? static_cast<double>(r.rounds) / r.seconds : 0.0; }
+
+}  // namespace
+
+std::string HostCapacity::describe() const {
+  if (ratio() <= 0) return "host capacity not measured";
+  return fmt::format("{} hardware thread{} busy at once did {:.2f} times the work of one", threads,
+                     threads == 1 ? "" : "s", ratio());
+}
+
+HostCapacity host_capacity_from(const LoopRun& alone, const std::vector<LoopRun>& together) {
+  HostCapacity c;
+  c.threads = static_cast<unsigned>(together.size());
+  c.one_rate = rate(alone);
+  for (const auto& r : together) c.all_rate += rate(r);
+  return c;
+}
+
+HostCapacity measure_host_capacity(std::chrono::milliseconds each, unsigned threads) {
+  if (threads == 0) threads = std::max(1U, std::thread::hardware_concurrency());
+  std::atomic<uint64_t> sink{0};
+  const LoopRun alone = run_loop(each, sink);
+  std::vector<LoopRun> together(threads);
+  std::atomic<unsigned> ready{0};
+  std::vector<std::thread> workers;
+  workers.reserve(threads);
+  for (unsigned i = 0; i < threads; ++i) {
+    workers.emplace_back([&, i] {
+      // Every thread starts its loop once all exist, so that they overlap.
+      ready.fetch_add(1);
+      while (ready.load() < threads) std::this_thread::yield();
+      together[i] = run_loop(each, sink);
+    });
+  }
+  for (auto& w : workers) w.join();
+  return host_capacity_from(alone, together);
+}
+
+}  // namespace pheromesh::cli
