@@ -57,7 +57,8 @@ const char* const kBenchScaleFooter =
     "               /proc/PID/stat) and context switches (/proc/PID/status: waits and preemptions). Realtime only\n"
     "  host         before the runs: a CPU-bound loop for 1 s on one thread, then on every hardware thread at\n"
     "               once, and their work together as a multiple of one's: near 2 on two cores of their own, less\n"
-    "               on hyper-threads or busy virtual CPUs, where a CPU-second does less work while all are busy\n"
+    "               on hyper-threads or busy virtual CPUs, where a CPU-second does less work while all are busy;\n"
+    "               and what a wake-up costs (a thread and another over two pipes, 20 000 round trips or 2 s)\n"
     "  floor        per vendor, before the runs: --floor-pings round trips between this process and a child\n"
     "               (`pheromesh bench lockstep-echo`) of a sample of --floor-view-bytes down and one of\n"
     "               --floor-uplink-bytes up, and the CPU both spent per round trip (/proc/PID/task/*/schedstat):\n"
@@ -489,7 +490,8 @@ bool write_results(const Plan& p, const std::vector<ScaleRow>& rows, const std::
             {"summary", summary},
             {"skipped", skipped},
             {"floors", floors_json(p.floors)}};
-  j["host_capacity"] = {{"threads", p.capacity.threads}, {"ratio", p.capacity.ratio()}};
+  j["host_capacity"] = {{"threads", p.capacity.threads}, {"ratio", p.capacity.ratio()}, {"wake_us", nullptr}};
+  if (p.capacity.wake_us) j["host_capacity"]["wake_us"] = *p.capacity.wake_us;
   files.emplace_back("scale.json", report::json_text(j, 2) + "\n");
   for (const ScalePlot& sp : kScalePlots) files.emplace_back(sp.file, scale_plot_svg(p, rows, sp));
   for (const auto& [name, text] : files) {

@@ -1,6 +1,7 @@
 #include "host_capacity.hpp"
 
 #include <fmt/format.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <atomic>
@@ -44,8 +45,43 @@ double rate(const LoopRun& r) { return r.seconds > 0 ? static_cast<double>(r.rou
 
 std::string HostCapacity::describe() const {
   if (ratio() <= 0) return "host capacity not measured";
-  return fmt::format("{} hardware thread{} busy at once did {:.2f} times the work of one", threads,
-                     threads == 1 ? "" : "s", ratio());
+  return fmt::format("{} hardware thread{} busy at once did {:.2f} times the work of one{}", threads,
+                     threads == 1 ? "" : "s", ratio(),
+                     wake_us ? fmt::format("; a wake-up of another thread over a pipe took {:.1f} µs", *wake_us) : "");
+}
+
+std::optional<double> measure_wake_us(uint32_t round_trips, std::chrono::milliseconds bound) {
+  int there[2];
+  int back[2];
+  if (pipe(there) != 0) return std::nullopt;
+  if (pipe(back) != 0) {
+    close(there[0]);
+    close(there[1]);
+    return std::nullopt;
+  }
+  // The other thread answers each byte until its pipe closes.
+  std::thread echo([&] {
+    char c = 0;
+    while (read(there[0], &c, 1) == 1) {
+      if (write(back[1], &c, 1) != 1) break;
+    }
+  });
+  uint32_t done = 0;
+  const auto t0 = Clock::now();
+  const auto end = t0 + bound;
+  char c = 'w';
+  while (done < round_trips && Clock::now() < end) {
+    if (write(there[1], &c, 1) != 1 || read(back[0], &c, 1) != 1) break;
+    ++done;
+  }
+  const double us = std::chrono::duration<double, std::micro>(Clock::now() - t0).count();
+  close(there[1]);  // the echo's read ends
+  echo.join();
+  close(there[0]);
+  close(back[0]);
+  close(back[1]);
+  if (done == 0) return std::nullopt;
+  return us / (2.0 * done);
 }
 
 HostCapacity host_capacity_from(const LoopRun& alone, const std::vector<LoopRun>& together) {
@@ -73,7 +109,9 @@ HostCapacity measure_host_capacity(std::chrono::milliseconds each, unsigned thre
     });
   }
   for (auto& w : workers) w.join();
-  return host_capacity_from(alone, together);
+  HostCapacity c = host_capacity_from(alone, together);
+  c.wake_us = measure_wake_us(20000, std::chrono::seconds(2));
+  return c;
 }
 
 }  // namespace pheromesh::cli

@@ -4,12 +4,17 @@
 // two cores of their own the figure is near 2; on two hyper-threads of one
 // core, or on virtual CPUs that a busy hypervisor shares out, it is less:
 // a CPU-second does less work while all are busy, and a benchmark that
-// keeps them busy counts more CPU for the same work. `bench scale` and `bench lockstep` print it beside their
-// results, so that runs made on different days can be read side by side.
+// keeps them busy counts more CPU for the same work. Beside it, what a
+// wake-up costs: one thread waking another over a pipe and being woken
+// back, which a swarm of processes does at every sample; a virtual machine
+// can pay several times a bare host's there while its loop runs as fast.
+// `bench scale` and `bench lockstep` print both beside their results, so
+// that runs made on different days can be read side by side.
 #pragma once
 
 #include <chrono>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -21,7 +26,10 @@ struct HostCapacity {
   double all_rate = 0;   // loop rounds a second, summed over `threads` threads at once
   // The work of `threads` threads at once as a multiple of one's (0: not measured).
   [[nodiscard]] double ratio() const { return one_rate > 0 ? all_rate / one_rate : 0.0; }
-  // "2 hardware threads busy at once did 1.25 times the work of one"
+  // A wake-up of another thread over a pipe, the mean of a ping-pong [µs].
+  std::optional<double> wake_us;
+  // "2 hardware threads busy at once did 1.25 times the work of one; a
+  // wake-up of another thread over a pipe took 6.2 µs"
   [[nodiscard]] std::string describe() const;
 };
 
@@ -35,8 +43,13 @@ struct LoopRun {
 // at once. Runs of no time count as nothing.
 [[nodiscard]] HostCapacity host_capacity_from(const LoopRun& alone, const std::vector<LoopRun>& together);
 
+// The mean time of one wake-up [µs] over `round_trips` ping-pongs between
+// this thread and another over two pipes (two wake-ups each), or over those
+// done within `bound`; nothing if the pipes or the thread could not be made.
+[[nodiscard]] std::optional<double> measure_wake_us(uint32_t round_trips, std::chrono::milliseconds bound);
+
 // Runs the loop for `each` on one thread, then on `threads` threads at once
-// (std::thread::hardware_concurrency() when 0).
+// (std::thread::hardware_concurrency() when 0), then the ping-pong.
 [[nodiscard]] HostCapacity measure_host_capacity(std::chrono::milliseconds each, unsigned threads = 0);
 
 }  // namespace pheromesh::cli

@@ -27,6 +27,22 @@ TEST(HostCapacity, TheWorkOfAllAtOnceIsAMultipleOfOnesRate) {
   EXPECT_EQ(d.describe(), "2 hardware threads busy at once did 1.00 times the work of one");
 }
 
+TEST(HostCapacity, TheWakeUpIsNamedWhenMeasured) {
+  auto c = host_capacity_from({5'600'000, 1.0}, {{3'500'000, 1.0}, {3'500'000, 1.0}});
+  c.wake_us = 6.24;
+  EXPECT_EQ(c.describe(),
+            "2 hardware threads busy at once did 1.25 times the work of one; a wake-up of another thread over a pipe "
+            "took 6.2 µs");
+}
+
+TEST(HostCapacity, APingPongCountsTwoWakeUpsARoundTripAndEndsWithinItsBound) {
+  const auto us = measure_wake_us(200, std::chrono::seconds(5));
+  ASSERT_TRUE(us.has_value());
+  EXPECT_GT(*us, 0.0);
+  // A bound of nothing ends before the first round trip: nothing measured.
+  EXPECT_FALSE(measure_wake_us(200, std::chrono::milliseconds(0)).has_value());
+}
+
 TEST(HostCapacity, NothingMeasuredSaysSoRatherThanAFigure) {
   const auto c = host_capacity_from({0, 0.0}, {{100, 1.0}});
   EXPECT_EQ(c.ratio(), 0.0);
@@ -41,6 +57,7 @@ TEST(HostCapacity, TheProbeRunsEveryThreadAndMeasuresSomething) {
   EXPECT_EQ(c.threads, 2U);
   EXPECT_GT(c.one_rate, 0.0);
   EXPECT_GT(c.all_rate, 0.0);
+  EXPECT_TRUE(c.wake_us.has_value());
   const auto d = measure_host_capacity(std::chrono::milliseconds(5));
   EXPECT_EQ(d.threads, std::max(1U, std::thread::hardware_concurrency()));
 }
