@@ -272,10 +272,9 @@ std::string repeat_report(const std::vector<Row>& rows, const BenchLockstepOptio
 
 std::string report(const HostCapacity& host, const std::vector<Floor>& floors, const std::vector<Row>& rows,
                    const BenchLockstepOptions& o) {
-  std::string md = fmt::format(
-      "# pheromesh bench lockstep\n\n{} ticks per run, {} round trips per pairing. Host: {} (a CPU-bound "
-      "loop; near the number of threads when each has a core of its own).\n\n",
-      o.ticks, o.pings, host.describe());
+  std::string md =
+      fmt::format("# pheromesh bench lockstep\n\n{} ticks per run, {} round trips per pairing. Host: {}.\n\n", o.ticks,
+                  o.pings, host.describe());
   md += "## Floor: one pheromesh sample there and back between two processes\n\n";
   md +=
       "| pairing | RTT p50 [ms] | RTT p99 [ms] | lost | floor per tick (7 hops) [ms] | floor [ticks/s] "

@@ -362,7 +362,7 @@ std::string scale_markdown(const Plan& p, const std::vector<ScaleRow>& rows, con
      << "*Scenario:* " << p.o.scenario << "  \n*Per run:* " << p.o.ticks << " ticks at " << p.o.rate_hz << " Hz, lease "
      << p.o.lease_ms << " ms, domain " << p.o.domain
      << (p.extra.empty() ? std::string() : ", extra `" + p.o.extra + "`") << "  \n*Host:* " << p.host << "; "
-     << p.capacity.describe() << " (a CPU-bound loop; near the number of threads when each has a core of its own)\n\n"
+     << p.capacity.describe() << "\n\n"
      << markdown_table(rows) << "\n";
   for (const auto& l : lines) md << "* " << l << "\n";
   for (const auto& s : skipped) md << "* " << s << "\n";

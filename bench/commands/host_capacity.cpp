@@ -45,9 +45,11 @@ double rate(const LoopRun& r) { return r.seconds > 0 ? static_cast<double>(r.rou
 
 std::string HostCapacity::describe() const {
   if (ratio() <= 0) return "host capacity not measured";
-  return fmt::format("{} hardware thread{} busy at once did {:.2f} times the work of one{}", threads,
-                     threads == 1 ? "" : "s", ratio(),
-                     wake_us ? fmt::format("; a wake-up of another thread over a pipe took {:.1f} µs", *wake_us) : "");
+  return fmt::format(
+      "{} hardware thread{} busy at once did {:.2f} times the work of one (a CPU-bound loop; near {} where each has a "
+      "core of its own){}",
+      threads, threads == 1 ? "" : "s", ratio(), threads,
+      wake_us ? fmt::format("; a wake-up of another thread over a pipe took {:.1f} µs", *wake_us) : "");
 }
 
 std::optional<double> measure_wake_us(uint32_t round_trips, std::chrono::milliseconds bound) {

@@ -28,8 +28,8 @@ struct HostCapacity {
   [[nodiscard]] double ratio() const { return one_rate > 0 ? all_rate / one_rate : 0.0; }
   // A wake-up of another thread over a pipe, the mean of a ping-pong [µs].
   std::optional<double> wake_us;
-  // "2 hardware threads busy at once did 1.25 times the work of one; a
-  // wake-up of another thread over a pipe took 6.2 µs"
+  // "2 hardware threads busy at once did 1.25 times the work of one (a
+  // CPU-bound loop; ...); a wake-up of another thread over a pipe took 6.2 µs"
   [[nodiscard]] std::string describe() const;
 };
 

@@ -20,19 +20,23 @@ TEST(HostCapacity, TheWorkOfAllAtOnceIsAMultipleOfOnesRate) {
   EXPECT_DOUBLE_EQ(c.one_rate, 5.6e6);
   EXPECT_DOUBLE_EQ(c.all_rate, 7.0e6);
   EXPECT_DOUBLE_EQ(c.ratio(), 1.25);
-  EXPECT_EQ(c.describe(), "2 hardware threads busy at once did 1.25 times the work of one");
+  EXPECT_EQ(c.describe(),
+            "2 hardware threads busy at once did 1.25 times the work of one (a CPU-bound loop; near 2 where each has "
+            "a core of its own)");
   // Rates, not rounds: a thread that ran 2 s counts its rounds per second.
   const auto d = host_capacity_from({1000, 0.5}, {{2000, 2.0}, {1000, 1.0}});
   EXPECT_DOUBLE_EQ(d.ratio(), 1.0);
-  EXPECT_EQ(d.describe(), "2 hardware threads busy at once did 1.00 times the work of one");
+  EXPECT_EQ(d.describe(),
+            "2 hardware threads busy at once did 1.00 times the work of one (a CPU-bound loop; near 2 where each has "
+            "a core of its own)");
 }
 
 TEST(HostCapacity, TheWakeUpIsNamedWhenMeasured) {
   auto c = host_capacity_from({5'600'000, 1.0}, {{3'500'000, 1.0}, {3'500'000, 1.0}});
   c.wake_us = 6.24;
   EXPECT_EQ(c.describe(),
-            "2 hardware threads busy at once did 1.25 times the work of one; a wake-up of another thread over a pipe "
-            "took 6.2 µs");
+            "2 hardware threads busy at once did 1.25 times the work of one (a CPU-bound loop; near 2 where each has "
+            "a core of its own); a wake-up of another thread over a pipe took 6.2 µs");
 }
 
 TEST(HostCapacity, APingPongCountsTwoWakeUpsARoundTripAndEndsWithinItsBound) {
@@ -48,7 +52,9 @@ TEST(HostCapacity, NothingMeasuredSaysSoRatherThanAFigure) {
   EXPECT_EQ(c.ratio(), 0.0);
   EXPECT_EQ(c.describe(), "host capacity not measured");
   const auto one = host_capacity_from({100, 1.0}, {{100, 1.0}});
-  EXPECT_EQ(one.describe(), "1 hardware thread busy at once did 1.00 times the work of one");
+  EXPECT_EQ(one.describe(),
+            "1 hardware thread busy at once did 1.00 times the work of one (a CPU-bound loop; near 1 where each has a "
+            "core of its own)");
 }
 
 TEST(HostCapacity, TheProbeRunsEveryThreadAndMeasuresSomething) {
