@@ -323,6 +323,7 @@ int UavApp::run() {
   // lockstep clock) as its home and its backup relay them. It talks to no
   // one else (docs/architecture.md, "Relays").
   const std::array<core::RegionId, 2> gateways{home_, core::backup_region(cfg_.id, geo_.region_count())};
+  const auto joining = Clock::now();
   bus_->join_uav(cfg_.id, home_, core::policy_traits(scenario_).broadcasts);
   bus_->join_gateways(gateways);
   bus_->subscribe_broadcasts();
@@ -330,8 +331,12 @@ int UavApp::run() {
   if (cfg_.common.lockstep()) bus_->join_clock_tree(gateways);
   if (cfg_.seq_base > 0) core_.set_first_seq(cfg_.seq_base);
   if (!cfg_.common.lockstep()) wait_for_home();  // lockstep: the conductor waits for every process's Ready
-  log_->info("uav {} ({}) starts at ({},{}) for {} ticks, {} clock, home place agent {}, over {}", cfg_.id,
-             scenario_.policy, core_.cell().x, core_.cell().y, ticks, cfg_.common.clock, home_, bus_->vendor());
+  // How long the endpoints and, in realtime, the match of the home took: a
+  // big swarm's discovery shows here, UAV by UAV.
+  log_->info("uav {} ({}) starts at ({},{}) for {} ticks, {} clock, home place agent {}, over {} ({:.1f} s after {})",
+             cfg_.id, scenario_.policy, core_.cell().x, core_.cell().y, ticks, cfg_.common.clock, home_, bus_->vendor(),
+             std::chrono::duration<double>(Clock::now() - joining).count(),
+             cfg_.common.lockstep() ? "joining" : "joining, its home matched");
   if (!cfg_.common.lockstep()) wait_for_start();
   const int last = cfg_.common.lockstep() ? run_lockstep(ticks) : run_realtime(ticks);
   if (conductor_lost_) return runtime::kExitConductorLost;  // nobody to report a last state to
