@@ -19,7 +19,7 @@ struct FieldFlagInfo {
 };
 
 constexpr FieldFlagInfo kFieldFlags[] = {
-    {FieldFlag::Uavs, "--uavs", "swarm.uavs", "N", "Number of UAVs, 1..1000"},
+    {FieldFlag::Uavs, "--uavs", "swarm.uavs", "N", "Number of UAVs, 1..5000"},
     {FieldFlag::Ticks, "--ticks", "run.ticks", "N", "Ticks to run, >= 1"},
     {FieldFlag::Seed, "--seed", "run.seed", "N", "Run seed"},
     {FieldFlag::Rate, "--rate", "run.tick_rate_hz", "HZ", "Tick rate of every process [Hz], (0, 1000]"},

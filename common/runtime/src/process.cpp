@@ -102,7 +102,7 @@ void add_common_options(CLI::App& app, CommonOptions& o) {
       ->check(CLI::IsMember({"realtime", "lockstep"}))
       ->capture_default_str();
   app.add_option("--uavs", o.uavs,
-                 "Number of UAVs in the swarm, 1..1000 (default: the scenario's swarm.uavs; validated like the file: "
+                 "Number of UAVs in the swarm, 1..5000 (default: the scenario's swarm.uavs; validated like the file: "
                  "the start area must hold them)")
       ->type_name("N");
   app.add_option("--lease-ms", o.lease_ms, "Liveliness lease [ms]")->check(CLI::Range(50, 60000))->capture_default_str();
