@@ -341,8 +341,7 @@ nlohmann::json results_json(const HostCapacity& host, const std::vector<Floor>& 
                    {"pings", o.pings},
                    {"hops_per_tick", kHopsPerTick},
                    {"repeat", o.repeat},
-                   {"host_capacity", {{"threads", host.threads}, {"ratio", host.ratio()}, {"wake_us", nullptr}}}};
-  if (host.wake_us) j["host_capacity"]["wake_us"] = *host.wake_us;
+                   {"host_capacity", host.to_json()}};
   for (const auto& f : floors) {
     j["floor"].push_back(
         {{"pairing", f.pairing}, {"rtt_ms", summary_json(f.rtt_ms)}, {"lost", f.lost}, {"error", f.error}});

@@ -490,8 +490,7 @@ bool write_results(const Plan& p, const std::vector<ScaleRow>& rows, const std::
             {"summary", summary},
             {"skipped", skipped},
             {"floors", floors_json(p.floors)}};
-  j["host_capacity"] = {{"threads", p.capacity.threads}, {"ratio", p.capacity.ratio()}, {"wake_us", nullptr}};
-  if (p.capacity.wake_us) j["host_capacity"]["wake_us"] = *p.capacity.wake_us;
+  j["host_capacity"] = p.capacity.to_json();
   files.emplace_back("scale.json", report::json_text(j, 2) + "\n");
   for (const ScalePlot& sp : kScalePlots) files.emplace_back(sp.file, scale_plot_svg(p, rows, sp));
   for (const auto& [name, text] : files) {

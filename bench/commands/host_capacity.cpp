@@ -52,6 +52,12 @@ std::string HostCapacity::describe() const {
       wake_us ? fmt::format("; a wake-up of another thread over a pipe took {:.1f} µs", *wake_us) : "");
 }
 
+nlohmann::json HostCapacity::to_json() const {
+  nlohmann::json j{{"threads", threads}, {"ratio", ratio()}, {"wake_us", nullptr}};
+  if (wake_us) j["wake_us"] = *wake_us;
+  return j;
+}
+
 std::optional<double> measure_wake_us(uint32_t round_trips, std::chrono::milliseconds bound) {
   int there[2];
   int back[2];

@@ -14,6 +14,7 @@
 
 #include <chrono>
 #include <cstdint>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <vector>
@@ -31,6 +32,9 @@ struct HostCapacity {
   // "2 hardware threads busy at once did 1.25 times the work of one (a
   // CPU-bound loop; ...); a wake-up of another thread over a pipe took 6.2 µs"
   [[nodiscard]] std::string describe() const;
+  // As scale.json and lockstep.json carry it: threads, ratio, wake_us (null
+  // when not measured).
+  [[nodiscard]] nlohmann::json to_json() const;
 };
 
 // One thread's loop: the rounds it ran and the seconds they took.

@@ -39,6 +39,13 @@ TEST(HostCapacity, TheWakeUpIsNamedWhenMeasured) {
             "a core of its own); a wake-up of another thread over a pipe took 6.2 µs");
 }
 
+TEST(HostCapacity, ItsJsonNamesTheThreadsTheRatioAndTheWakeUpOrNull) {
+  auto c = host_capacity_from({5'600'000, 1.0}, {{3'500'000, 1.0}, {3'500'000, 1.0}});
+  EXPECT_EQ(c.to_json().dump(), R"({"ratio":1.25,"threads":2,"wake_us":null})");
+  c.wake_us = 6.5;
+  EXPECT_EQ(c.to_json().dump(), R"({"ratio":1.25,"threads":2,"wake_us":6.5})");
+}
+
 TEST(HostCapacity, APingPongCountsTwoWakeUpsARoundTripAndEndsWithinItsBound) {
   const auto us = measure_wake_us(200, std::chrono::seconds(5));
   ASSERT_TRUE(us.has_value());
