@@ -9,6 +9,7 @@
 #include "bench/commands/bench_lockstep.hpp"
 #include "bench/commands/bench_scale.hpp"
 #include "bench/commands/bench_soak.hpp"
+#include "bench/commands/bench_start.hpp"
 #include "launch/attach_command.hpp"
 #include "launch/cell_command.hpp"
 #include "launch/launcher.hpp"
@@ -138,6 +139,10 @@ class FullCommands final : public ProcessCommands {
       return bl->parsed() ? run_bench_lockstep(blo) : run_lockstep_echo(leo);
     }
     if (bk->parsed()) return run_bench_soak(bko);
+    if (bt->parsed()) {
+      bto.programs_dir = executable_dir();
+      return run_bench_start(bto);
+    }
     if (!r->parsed()) return std::nullopt;
     // A hosts file refuses --hosts and --dds-peers beside it and picks the index itself.
     ro.hosts_given = r->count("--hosts") > 0;
@@ -158,11 +163,12 @@ class FullCommands final : public ProcessCommands {
   BenchLockstepOptions blo;
   LockstepEchoOptions leo;
   BenchSoakOptions bko;
+  BenchStartOptions bto;
   AttachOptions ao;
   SecurityInitOptions sio;
   CellCommandOptions co;
-  CLI::App *r = nullptr, *rp = nullptr, *bs = nullptr, *bl = nullptr, *le = nullptr, *bk = nullptr, *at = nullptr,
-           *si = nullptr, *ce = nullptr;
+  CLI::App *r = nullptr, *rp = nullptr, *bs = nullptr, *bl = nullptr, *le = nullptr, *bk = nullptr, *bt = nullptr,
+           *at = nullptr, *si = nullptr, *ce = nullptr;
 
   void add(CLI::App& app) {
     add_run(app);
@@ -334,6 +340,29 @@ class FullCommands final : public ProcessCommands {
     add_bench_scale(*bench);
     add_bench_lockstep(*bench);
     add_bench_soak(*bench);
+    add_bench_start(*bench);
+  }
+
+  void add_bench_start(CLI::App& bench) {
+    bt = bench.add_subcommand("start",
+                              "What a UAV process costs to start: CPU and peak memory of this build's pheromesh-uav "
+                              "started alone, again and again, against a process that does nothing");
+    bt->add_option("SCENARIO", bto.scenario, "Scenario of the UAVs started alone, e.g. scale-100x100")
+        ->required()
+        ->transform(CLI::Validator(cli::resolve_scenario_argument, "FILE|NAME"));
+    bt->add_option("--dds", bto.dds, "Vendors, comma-separated among cyclone, fastdds: one row each")
+        ->delimiter(',')
+        ->check(CLI::IsMember({"cyclone", "fastdds"}))
+        ->capture_default_str();
+    bt->add_option("--runs", bto.runs, "Starts of each kind")->check(CLI::Range(1U, 10000U))->capture_default_str();
+    bt->add_option("--domain", bto.domain, "DDS domain of the UAVs started alone")
+        ->check(CLI::Range(0, 232))
+        ->capture_default_str();
+    bt->add_option("--baseline", bto.baseline,
+                   "Another build's bin folder (e.g. of the commit before a change): its pheromesh-uav runs too, "
+                   "alternating with this build's")
+        ->check(CLI::ExistingDirectory);
+    bt->footer(cli::kBenchStartFooter);
   }
 
   void add_bench_scale(CLI::App& bench) {

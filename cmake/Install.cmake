@@ -14,6 +14,10 @@ if(NOT PHEROMESH_CORE_ONLY)
   # probe is a test program and stays out.
   install(TARGETS pheromesh pheromesh-uav pheromesh-place pheromesh-ground
     RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR} COMPONENT runtime)
+  # The DDS modules: each program loads its vendor's from lib/pheromesh, found
+  # relative to bin/ (common/bus/src/vendors.hpp), so a moved prefix works.
+  install(TARGETS pheromesh_dds_cyclone pheromesh_dds_fastdds
+    LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}/pheromesh COMPONENT runtime)
   # Compiled into the bus as well; installed to read, copy and edit
   # (--dds-profile FILE[,FILE]).
   install(DIRECTORY ${PROJECT_SOURCE_DIR}/deploy/dds/ DESTINATION ${PHEROMESH_INSTALL_DATADIR}/dds

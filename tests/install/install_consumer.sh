@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Install.*: `cmake --install` into a temporary prefix, move the prefix
 # elsewhere (a relocated install must still work), then
-#   - the layout of docs/install.md is there (and no test program);
+#   - the layout of docs/install.md is there (and no test program), with the
+#     DDS modules in lib/pheromesh and no program linking a vendor itself;
 #   - the installed `pheromesh` finds a shipped scenario by name from another
 #     directory, and an unknown name lists the shipped ones;
 #   - the installed Python package (when built) imports from the moved
@@ -42,6 +43,15 @@ for f in bin/pheromesh bin/pheromesh-uav bin/pheromesh-place bin/pheromesh-groun
 done
 [ -x "$prefix/bin/pheromesh-uav" ] || fail "pheromesh-uav is not executable"
 [ ! -e "$prefix/bin/pheromesh-test-probe" ] || fail "the test probe is installed"
+# The DDS modules beside the CMake package's libdir, and no program linking a
+# vendor: each process loads the one it uses (docs/install.md).
+libdir="$(dirname "$(dirname "$cmakedir")")"
+for v in cyclone fastdds; do
+  [ -f "$libdir/pheromesh/libpheromesh_dds_$v.so" ] || fail "lib/pheromesh/libpheromesh_dds_$v.so is not installed"
+done
+for p in pheromesh pheromesh-uav pheromesh-place pheromesh-ground; do
+  if ldd "$prefix/bin/$p" | grep -E 'libddsc|libfastrtps'; then fail "$p links a DDS vendor itself"; fi
+done
 # Nothing of the build or source tree leaks into the installed package files.
 if grep -rlF -e "$build" -e "$src" "$cmakedir"; then fail "the CMake package names the build or source tree"; fi
 # No header that would need generated code or a vendor header.

@@ -362,9 +362,16 @@ class Bus {
 std::vector<std::string> available_vendors();
 // The vendor chosen by --dds, else $PHEROMESH_DDS, else "cyclone".
 std::string default_vendor();
-core::Result<std::unique_ptr<Bus>> make_bus(const std::string& vendor, const BusOptions& options);
-// The vendor's transport alone (make_bus wraps it in a Bus).
+// The vendor's transport. pheromesh::bus links both vendors in; the
+// pheromesh programs load the one they use from its DDS module
+// (libpheromesh_dds_<vendor>.so in lib/pheromesh).
 core::Result<std::unique_ptr<Transport>> make_transport(const std::string& vendor, const BusOptions& options);
+// The vendor's transport in a Bus.
+inline core::Result<std::unique_ptr<Bus>> make_bus(const std::string& vendor, const BusOptions& options) {
+  auto t = make_transport(vendor, options);
+  if (!t) return t.error();
+  return std::make_unique<Bus>(std::move(t).value());
+}
 
 // The lan profiles' discovery peers from a comma-separated list of IPv4
 // addresses and host names (--dds-peers, $PHEROMESH_DDS_PEERS): every IPv4
