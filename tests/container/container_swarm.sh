@@ -63,12 +63,13 @@ if [ "$MODE" = image ]; then
   record "image build: $(since "$t") s ($(grep -c '^--> Using cache' "$OUT/build.log") steps from the cache)"
   record "$(tail -n 1 "$OUT/build.log")"
   step "what the image holds"
-  out=$(P run --rm "$IMAGE" bash -c 'ls /opt/pheromesh/bin; id -u; ls /opt/pheromesh/share/pheromesh/scenarios/small-test.textproto')
-  for b in pheromesh pheromesh-uav pheromesh-place pheromesh-ground pheromesh-entrypoint 10001 small-test.textproto; do
+  out=$(P run --rm "$IMAGE" bash -c 'ls /opt/pheromesh/bin /opt/pheromesh/lib/pheromesh; id -u; ls /opt/pheromesh/share/pheromesh/scenarios/small-test.textproto')
+  for b in pheromesh pheromesh-uav pheromesh-place pheromesh-ground pheromesh-entrypoint libpheromesh_dds_cyclone.so \
+           libpheromesh_dds_fastdds.so 10001 small-test.textproto; do
     grep -q "$b" <<< "$out" || fail "the image lacks $b: $out"
   done
-  # Every shared library the programs load is in the runtime image.
-  missing=$(P run --rm "$IMAGE" bash -c 'ldd /opt/pheromesh/bin/pheromesh* 2>/dev/null | grep "not found" || true')
+  # Every shared library the programs and their DDS modules load is in the runtime image.
+  missing=$(P run --rm "$IMAGE" bash -c 'ldd /opt/pheromesh/bin/pheromesh* /opt/pheromesh/lib/pheromesh/*.so 2>/dev/null | grep "not found" || true')
   [ -z "$missing" ] || fail "libraries missing in the image: $missing"
   P run --rm "$IMAGE" pheromesh validate small-test > /dev/null ||
     fail "pheromesh validate small-test (a shipped scenario by name) did not run in the image"
