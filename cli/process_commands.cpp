@@ -345,7 +345,7 @@ class FullCommands final : public ProcessCommands {
 
   void add_bench_start(CLI::App& bench) {
     bt = bench.add_subcommand("start",
-                              "What a UAV process costs to start: CPU and peak memory of this build's pheromesh-uav "
+                              "What a UAV process costs to start: the CPU of this build's pheromesh-uav "
                               "started alone, again and again, against a process that does nothing");
     bt->add_option("SCENARIO", bto.scenario, "Scenario of the UAVs started alone, e.g. scale-100x100")
         ->required()

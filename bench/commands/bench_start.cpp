@@ -22,7 +22,7 @@ const char* const kBenchStartFooter =
     "libraries, its static initialisers); the vendor rows add a DDS participant, the scenario and one tick, "
     "with no place agent and no ground station. With --baseline BIN (another build's bin folder) its "
     "pheromesh-uav runs too, alternating with this build's, and the last column compares the medians.\n"
-    "Example: pheromesh bench start scenarios/scale-100x100.textproto --runs 30 --baseline /tmp/old/bin";
+    "Example: pheromesh bench start scenarios/scale-100x100.textproto --runs 30 --baseline ../build-before/bin";
 
 std::vector<StartCommand> start_commands(const std::string& uav, const BenchStartOptions& o) {
   std::vector<StartCommand> out{{"the UAV program loaded (--help)", {uav, "--help"}}};
