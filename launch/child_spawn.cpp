@@ -10,6 +10,7 @@
 #include <csignal>
 #include <cstdio>
 #include <cstring>
+#include <optional>
 #include <thread>
 
 namespace pheromesh::cli {
@@ -21,20 +22,35 @@ void close_descriptors_from(int first) noexcept {
   for (long fd = first; fd < (limit > 0 && limit < 65536 ? limit : 65536); ++fd) close(static_cast<int>(fd));
 }
 
+StopSignalsHeld::StopSignalsHeld() noexcept {
+  sigset_t stop;
+  sigemptyset(&stop);
+  sigaddset(&stop, SIGINT);
+  sigaddset(&stop, SIGTERM);
+  pthread_sigmask(SIG_BLOCK, &stop, &old_);
+}
+
+StopSignalsHeld::~StopSignalsHeld() { pthread_sigmask(SIG_SETMASK, &old_, nullptr); }
+
+void StopSignalsHeld::release_in_child() const noexcept {
+  signal(SIGINT, SIG_DFL);
+  signal(SIGTERM, SIG_DFL);
+  pthread_sigmask(SIG_SETMASK, &old_, nullptr);
+}
+
 void enter_process_group(Scheduling scheduling) noexcept {
   if (scheduling != Scheduling::OwnSession || setsid() < 0) setpgid(0, 0);
 }
 
 pid_t spawn_logged_child(const std::string& exe, std::vector<std::string> args, int log_fd, bool default_signals) {
   const pid_t parent = getpid();
+  std::optional<StopSignalsHeld> held;
+  if (default_signals) held.emplace();
   const pid_t pid = fork();
   if (pid != 0) return pid;             // the parent: the child's pid, or -1
   prctl(PR_SET_PDEATHSIG, SIGTERM);     // never outlives the bench
   if (getppid() != parent) _exit(127);  // the bench ended before prctl took effect
-  if (default_signals) {
-    signal(SIGINT, SIG_DFL);
-    signal(SIGTERM, SIG_DFL);
-  }
+  if (held) held->release_in_child();
   dup2(log_fd, STDOUT_FILENO);
   dup2(log_fd, STDERR_FILENO);
   close_descriptors_from(3);

@@ -6,6 +6,8 @@
 
 #include <sys/types.h>
 
+#include <csignal>
+
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -35,6 +37,29 @@ enum class Scheduling : uint8_t { LauncherSession, OwnSession };
 // cannot fail). Async-signal-safe.
 void enter_process_group(Scheduling scheduling) noexcept;
 
+// Between fork and exec a child still has its parent's signal handlers. A
+// SIGINT or SIGTERM that reaches it there runs the parent's handler in the
+// child (the launcher's only sets a flag), and exec forgets it: the program
+// then starts as if it had never been told to stop, and is SIGKILLed 10 s
+// later (seen when a swarm is stopped while it starts). So the parent holds
+// both signals (blocked) across the fork, and the child sets them to their
+// default action before it lets them through: one sent in between ends it.
+class StopSignalsHeld {
+ public:
+  // Blocks SIGINT and SIGTERM in the calling thread.
+  StopSignalsHeld() noexcept;
+  // The parent: its mask as it was; a signal held meanwhile is handled now.
+  ~StopSignalsHeld();
+  StopSignalsHeld(const StopSignalsHeld&) = delete;
+  StopSignalsHeld& operator=(const StopSignalsHeld&) = delete;
+  // In the forked child: SIGINT and SIGTERM to their default action, then
+  // the parent's mask. Async-signal-safe.
+  void release_in_child() const noexcept;
+
+ private:
+  sigset_t old_{};
+};
+
 // In a forked child, just before exec: closes every descriptor from `first`
 // up, so the program gets stdin, stdout, stderr (and whatever the caller put
 // below `first`) and nothing else its parent had open without close-on-exec
@@ -45,7 +70,8 @@ void close_descriptors_from(int first) noexcept;
 // stdout and stderr on `log_fd` and no other descriptor of the caller's. The child gets SIGTERM when the calling
 // process ends (PR_SET_PDEATHSIG) and stays in the caller's process group.
 // With `default_signals`, SIGINT and SIGTERM are reset to their default
-// action in the child (for a caller that installed handlers of its own).
+// action in the child (for a caller that installed handlers of its own),
+// held across the fork (StopSignalsHeld).
 // Returns the child's pid, or -1 (errno set) when fork failed. The caller
 // still owns `log_fd`.
 pid_t spawn_logged_child(const std::string& exe, std::vector<std::string> args, int log_fd, bool default_signals);

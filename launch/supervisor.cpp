@@ -243,8 +243,12 @@ void Supervisor::spawn(PlannedProcess p) {
     p.argv.push_back(std::to_string(p.life + 1));
   }
   const pid_t parent = getpid();
+  const StopSignalsHeld held;  // a stop sent while it forks is never lost in the child
   const pid_t pid = fork_patiently();
-  if (pid == 0) exec_child(p, parent, netns_fd, child_ctl_fd_);
+  if (pid == 0) {
+    held.release_in_child();
+    exec_child(p, parent, netns_fd, child_ctl_fd_);
+  }
   ChildProcess c;
   c.name = p.name;
   c.role = p.role;

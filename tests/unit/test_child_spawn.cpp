@@ -7,6 +7,8 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <atomic>
+#include <csignal>
 #include <filesystem>
 #include <fstream>
 #include <set>
@@ -104,4 +106,49 @@ TEST(ChildGroup, AHubLeadsASessionAndAGroupOfItsOwnAndAUavAGroupInTheLaunchersSe
 }
 
 }  // namespace
+namespace {
+std::atomic<int> g_stop_signals_caught{0};
+extern "C" void count_stop_signal(int /*sig*/) { g_stop_signals_caught.fetch_add(1); }
+}  // namespace
+
+// The launcher's handlers, and a SIGTERM that reaches a child between fork
+// and exec (a swarm stopped while it starts): without StopSignalsHeld the
+// parent's handler runs in the child and the stop is lost; with it, the
+// child dies of it, and the parent's own signals still reach its handler.
+TEST(StopSignalsHeld, AStopThatReachesAChildBeforeItsExecEndsItInsteadOfRunningTheParentsHandler) {
+  struct sigaction sa {};
+  struct sigaction old_int {};
+  struct sigaction old_term {};
+  sa.sa_handler = count_stop_signal;
+  sigemptyset(&sa.sa_mask);
+  sigaction(SIGTERM, &sa, &old_term);
+  sigaction(SIGINT, &sa, &old_int);
+  g_stop_signals_caught = 0;
+  int st = 0;
+  const pid_t bare = fork();
+  if (bare == 0) {
+    raise(SIGTERM);
+    _exit(g_stop_signals_caught.load() == 1 ? 0 : 3);
+  }
+  ASSERT_EQ(waitpid(bare, &st, 0), bare);
+  EXPECT_TRUE(WIFEXITED(st) && WEXITSTATUS(st) == 0) << "unheld, the parent's handler swallows the stop in the child";
+  {
+    const StopSignalsHeld held;
+    const pid_t pid = fork();
+    if (pid == 0) {
+      raise(SIGTERM);  // sent between fork and exec: held
+      held.release_in_child();
+      _exit(0);  // not reached: the held SIGTERM ends the child at its default action
+    }
+    ASSERT_EQ(waitpid(pid, &st, 0), pid);
+  }
+  ASSERT_TRUE(WIFSIGNALED(st)) << "the child went on: status " << st;
+  EXPECT_EQ(WTERMSIG(st), SIGTERM);
+  EXPECT_EQ(g_stop_signals_caught.load(), 0) << "no handler ran in the parent";
+  raise(SIGTERM);  // the parent's mask is as it was
+  EXPECT_EQ(g_stop_signals_caught.load(), 1);
+  sigaction(SIGTERM, &old_term, nullptr);
+  sigaction(SIGINT, &old_int, nullptr);
+}
+
 }  // namespace pheromesh::cli
