@@ -21,6 +21,7 @@
 #include <thread>
 
 #include "child_spawn.hpp"
+#include "hub_gate.hpp"
 #include "pheromesh/auth/control.hpp"
 #include "pheromesh/console/server.hpp"
 #include "pheromesh/runtime/process.hpp"
@@ -270,6 +271,7 @@ bool Supervisor::spawn_swarm() {
   for (const auto& p : plan_.processes) {
     if (p.role == "place") spawn(p);
   }
+  if (!await_hubs()) return false;
   if (plan_.stagger) {
     spdlog::info("{} processes: starting the uavs {} at a time, {} ms apart ({:.0f} per second, --start-rate)",
                  1 + plan_.regions + plan_.uavs, plan_.stagger->batch, plan_.stagger->pause.count(),
@@ -283,6 +285,47 @@ bool Supervisor::spawn_swarm() {
     if (next != plan_.processes.end() && next->index == u) spawn(*next++);
   }
   return true;
+}
+
+bool Supervisor::await_hubs() {
+  const bool uavs_here =
+      std::any_of(plan_.processes.begin(), plan_.processes.end(), [](const auto& p) { return p.role == "uav"; });
+  if (!plan_.cells || !uavs_here) return true;
+  std::vector<AwaitedHub> hubs;
+  for (const auto& c : children_) {
+    if (!c.running || (c.role != "ground" && c.role != "place")) continue;
+    const uint32_t index = plan_.cells->hub(c.role, c.index, c.replica).index;
+    hubs.push_back(
+        {c.name, c.pid, static_cast<uint16_t>(bus::unicast_discovery_port(plan_.cells->shape().domain, index))});
+  }
+  // Generous: a hub of a big swarm on a loaded host may take seconds, and a
+  // member that goes before it is only heard at its next announcement (5 s).
+  constexpr auto kBound = std::chrono::seconds(20);
+  const auto t0 = Clock::now();
+  HubGate gate(std::move(hubs), t0, kBound);
+  for (;;) {
+    const auto verdict = gate.look(Clock::now(), udp_ports_of);
+    const double waited = std::chrono::duration<double>(Clock::now() - t0).count();
+    if (verdict == HubGate::Verdict::Open) {
+      spdlog::info("{} hubs listening after {:.2f} s: starting the uavs", gate.hubs() - gate.gone().size(), waited);
+      return true;
+    }
+    if (verdict == HubGate::Verdict::GaveUp) {
+      std::string names;
+      for (const auto& h : gate.waiting()) names += (names.empty() ? "" : ", ") + h.name;
+      spdlog::warn(
+          "{} of {} hubs not listening after {:.0f} s ({}): starting the uavs anyway; they are heard at "
+          "their next announcement",
+          gate.waiting().size(), gate.hubs(), waited, names);
+      return true;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    reap();
+    if (runtime::shutdown_requested()) {
+      spdlog::warn("interrupted while the hubs start, before any uav");
+      return false;
+    }
+  }
 }
 
 bool Supervisor::pause_before_batch(uint32_t uav) {

@@ -74,6 +74,8 @@ class Supervisor {
   // Starts the place agents and then the UAVs, in batches when the plan
   // staggers them. Returns false if interrupted before all were started.
   bool spawn_swarm();
+  // Cells: until this host's hubs listen (hub_gate.hpp); false if interrupted.
+  bool await_hubs();
   bool pause_before_batch(uint32_t uav);
   // Starts an ended process again (console restart, restart fault): a UAV for
   // its remaining ticks, its deposits numbered above its earlier lives'; a
