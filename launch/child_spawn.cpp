@@ -66,9 +66,11 @@ pid_t spawn_logged_child(const std::string& exe, std::vector<std::string> args, 
 int run_bounded(const std::vector<std::string>& args, const std::string& log, double timeout_s, bool& timed_out) {
   using Clock = std::chrono::steady_clock;
   timed_out = false;
+  std::optional<StopSignalsHeld> held(std::in_place);  // as spawn_logged_child's
   const pid_t pid = fork();
   if (pid < 0) return -1;
   if (pid == 0) {
+    held->release_in_child();
     setpgid(0, 0);
     const int fd = open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
     if (fd >= 0) {
@@ -83,6 +85,7 @@ int run_bounded(const std::vector<std::string>& args, const std::string& log, do
     _exit(127);
   }
   setpgid(pid, pid);
+  held.reset();
   const auto deadline = Clock::now() + std::chrono::duration<double>(timeout_s);
   int st = 0;
   for (;;) {

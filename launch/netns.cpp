@@ -15,7 +15,10 @@
 #include <cstring>
 #include <filesystem>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <sstream>
+
+#include "child_spawn.hpp"
 
 namespace pheromesh::cli {
 
@@ -133,8 +136,10 @@ ToolResult run_tool(const std::vector<std::string>& argv, const std::string& inp
   std::vector<char*> args;
   for (auto& a : copy) args.push_back(a.data());
   args.push_back(nullptr);
+  std::optional<StopSignalsHeld> held(std::in_place);  // a stop sent while it forks is the helper's, not lost
   const pid_t pid = fork();
   if (pid == 0) {
+    held->release_in_child();
     if (netns_fd >= 0 && setns(netns_fd, CLONE_NEWNET) != 0) {
       dprintf(out_fd, "setns: %s\n", std::strerror(errno));
       _exit(126);
@@ -146,6 +151,7 @@ ToolResult run_tool(const std::vector<std::string>& argv, const std::string& inp
     dprintf(STDERR_FILENO, "cannot run %s: %s\n", args[0], std::strerror(errno));
     _exit(127);
   }
+  held.reset();
   close(in[1]);
   if (pid < 0) {
     close(in[0]);

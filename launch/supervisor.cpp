@@ -386,9 +386,11 @@ bool Supervisor::start_discovery_server() {
   }
   const std::string port = std::to_string(kDiscoveryServerPort + static_cast<int>(plan_.options.domain));
   const std::string log_path = (fs::path(plan_.options.out_dir) / "logs" / "discovery-server.log").string();
+  const StopSignalsHeld held;  // a stop sent while it forks reaches the server, not a copy of the launcher
   const pid_t pid = fork();
   if (pid < 0) throw std::runtime_error(std::string("fork failed: ") + std::strerror(errno));
   if (pid == 0) {
+    held.release_in_child();
     setpgid(0, 0);
     prctl(PR_SET_PDEATHSIG, SIGTERM);
     const int fd = open(log_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
