@@ -1,7 +1,5 @@
 #include "hub_gate.hpp"
 
-#include <algorithm>
-#include <cstdio>
 #include <fstream>
 #include <sstream>
 #include <utility>
@@ -44,21 +42,15 @@ std::optional<std::string> read_whole(const std::string& path) {
 std::set<uint16_t> udp_local_ports(std::string_view text) {
   // "  12: 0100007F:1CE9 00000000:0000 07 ...": slot, local ADDRESS:PORT (hex).
   std::set<uint16_t> ports;
-  std::size_t pos = 0;
-  while (pos < text.size()) {
-    std::size_t eol = text.find('\n', pos);
-    if (eol == std::string_view::npos) eol = text.size();
-    const std::string_view line = text.substr(pos, eol - pos);
-    pos = eol + 1;
-    const std::size_t slot_end = line.find(':');
-    if (slot_end == std::string_view::npos) continue;
-    std::size_t begin = line.find_first_not_of(' ', slot_end + 1);
-    if (begin == std::string_view::npos) continue;
-    const std::size_t end = std::min(line.find(' ', begin), line.size());
-    const std::string_view local = line.substr(begin, end - begin);
+  std::istringstream lines{std::string(text)};
+  std::string slot;
+  std::string local;
+  for (std::string line; std::getline(lines, line);) {
+    std::istringstream fields(line);
+    if (!(fields >> slot >> local) || slot.empty() || slot.back() != ':') continue;
     const std::size_t colon = local.rfind(':');
-    if (colon == std::string_view::npos) continue;
-    if (const auto port = hex_port(local.substr(colon + 1))) ports.insert(*port);
+    if (colon == std::string::npos) continue;
+    if (const auto port = hex_port(std::string_view(local).substr(colon + 1))) ports.insert(*port);
   }
   return ports;
 }
