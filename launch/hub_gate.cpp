@@ -1,6 +1,10 @@
 #include "hub_gate.hpp"
 
+#include <unistd.h>
+
 #include <fstream>
+#include <map>
+#include <memory>
 #include <sstream>
 #include <utility>
 
@@ -62,6 +66,25 @@ std::optional<std::set<uint16_t>> udp_ports_of(pid_t pid) {
   std::set<uint16_t> ports = udp_local_ports(*v4);
   if (const auto v6 = read_whole(base + "udp6")) ports.merge(udp_local_ports(*v6));
   return ports;
+}
+
+std::optional<std::string> net_namespace_of(pid_t pid) {
+  const std::string link = "/proc/" + std::to_string(pid) + "/ns/net";
+  char target[128];
+  const ssize_t n = readlink(link.c_str(), target, sizeof target);
+  if (n <= 0 || static_cast<std::size_t>(n) >= sizeof target) return std::nullopt;
+  return std::string(target, static_cast<std::size_t>(n));
+}
+
+HubGate::PortsOf HubGate::ports_once_per_namespace() {
+  auto read = std::make_shared<std::map<std::string, std::optional<std::set<uint16_t>>>>();
+  return [read](pid_t pid) -> std::optional<std::set<uint16_t>> {
+    const auto ns = net_namespace_of(pid);
+    if (!ns) return std::nullopt;
+    auto [it, fresh] = read->try_emplace(*ns);
+    if (fresh) it->second = udp_ports_of(pid);
+    return it->second;
+  };
 }
 
 HubGate::HubGate(std::vector<AwaitedHub> hubs, Clock::time_point start, Clock::duration bound)

@@ -38,6 +38,10 @@ std::set<uint16_t> udp_local_ports(std::string_view proc_net_udp);
 // and udp6), or nothing if the process is gone.
 std::optional<std::set<uint16_t>> udp_ports_of(pid_t pid);
 
+// The network namespace of process `pid` (the link /proc/PID/ns/net, as
+// "net:[4026531840]"), or nothing if it is gone.
+std::optional<std::string> net_namespace_of(pid_t pid);
+
 struct AwaitedHub {
   std::string name;   // its process name, for the log
   pid_t pid = 0;      // a process of this host
@@ -61,6 +65,11 @@ class HubGate {
   // Hubs that ended before they were seen listening, by name.
   [[nodiscard]] const std::vector<std::string>& gone() const { return gone_; }
   [[nodiscard]] std::size_t hubs() const { return hubs_; }
+
+  // udp_ports_of for one look: every hub of one network namespace sees the
+  // same table, so each namespace is read once (a hundred place agents on
+  // one host: one read, not a hundred).
+  [[nodiscard]] static PortsOf ports_once_per_namespace();
 
  private:
   std::vector<AwaitedHub> waiting_;

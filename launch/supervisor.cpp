@@ -304,7 +304,7 @@ bool Supervisor::await_hubs() {
   const auto t0 = Clock::now();
   HubGate gate(std::move(hubs), t0, kBound);
   for (;;) {
-    const auto verdict = gate.look(Clock::now(), udp_ports_of);
+    const auto verdict = gate.look(Clock::now(), HubGate::ports_once_per_namespace());
     const double waited = std::chrono::duration<double>(Clock::now() - t0).count();
     if (verdict == HubGate::Verdict::Open) {
       spdlog::info("{} hubs listening after {:.2f} s: starting the uavs", gate.hubs() - gate.gone().size(), waited);
@@ -319,7 +319,7 @@ bool Supervisor::await_hubs() {
           gate.waiting().size(), gate.hubs(), waited, names);
       return true;
     }
-    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
     reap();
     if (runtime::shutdown_requested()) {
       spdlog::warn("interrupted while the hubs start, before any uav");

@@ -59,6 +59,32 @@ TEST(HubGate, ThisProcesssBoundSocketIsSeenAndNotOnceClosed) {
   EXPECT_FALSE(udp_ports_of(0x3fffffff).has_value());
 }
 
+TEST(HubGate, PortsAreReadOncePerNetworkNamespaceAndAGoneProcessHasNone) {
+  const auto own = net_namespace_of(getpid());
+  ASSERT_TRUE(own.has_value());
+  EXPECT_EQ(own->rfind("net:[", 0), 0U) << *own;
+  EXPECT_EQ(net_namespace_of(getppid()), own) << "the test runner shares this namespace";
+  EXPECT_FALSE(net_namespace_of(0x3fffffff).has_value());
+  // Within one look a socket bound after the namespace was read is not seen:
+  // the table was read once; the next look's reader reads it again.
+  const auto look = HubGate::ports_once_per_namespace();
+  const auto before = look(getpid());
+  ASSERT_TRUE(before.has_value());
+  const int fd = socket(AF_INET, SOCK_DGRAM | SOCK_CLOEXEC, 0);
+  ASSERT_GE(fd, 0);
+  sockaddr_in a{};
+  a.sin_family = AF_INET;
+  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  ASSERT_EQ(bind(fd, reinterpret_cast<sockaddr*>(&a), sizeof a), 0);
+  socklen_t len = sizeof a;
+  ASSERT_EQ(getsockname(fd, reinterpret_cast<sockaddr*>(&a), &len), 0);
+  const auto port = ntohs(a.sin_port);
+  EXPECT_FALSE(look(getppid())->contains(port)) << "the same namespace: the table read for the first pid";
+  EXPECT_TRUE(HubGate::ports_once_per_namespace()(getppid())->contains(port));
+  EXPECT_FALSE(look(0x3fffffff).has_value());
+  close(fd);
+}
+
 // The ports each pid has bound, as the test sets them; a pid not in the map is gone.
 struct HubGatePorts {
   std::map<pid_t, std::set<uint16_t>> bound;
