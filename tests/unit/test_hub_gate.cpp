@@ -40,20 +40,47 @@ TEST(HubGate, TheLocalPortsOfAProcNetUdpTextAreReadInHex) {
   EXPECT_TRUE(udp_local_ports("   1: 0100007F:1G00 00000000:0000 07\n").empty());
 }
 
+// A UDP socket on loopback at a port the kernel chose; closed at the end of
+// its scope or by close().
+class HubGateSocket {
+ public:
+  HubGateSocket() {
+    fd_ = socket(AF_INET, SOCK_DGRAM | SOCK_CLOEXEC, 0);
+    if (fd_ < 0) return;
+    sockaddr_in a{};
+    a.sin_family = AF_INET;
+    a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    socklen_t len = sizeof a;
+    if (bind(fd_, reinterpret_cast<sockaddr*>(&a), sizeof a) == 0 &&
+        getsockname(fd_, reinterpret_cast<sockaddr*>(&a), &len) == 0) {
+      port_ = ntohs(a.sin_port);
+    }
+  }
+  ~HubGateSocket() { close(); }
+  HubGateSocket(const HubGateSocket&) = delete;
+  HubGateSocket& operator=(const HubGateSocket&) = delete;
+  HubGateSocket(HubGateSocket&&) = delete;
+  HubGateSocket& operator=(HubGateSocket&&) = delete;
+  void close() {
+    if (fd_ >= 0) ::close(fd_);
+    fd_ = -1;
+  }
+  // 0 if it could not be bound.
+  [[nodiscard]] uint16_t port() const { return port_; }
+
+ private:
+  int fd_ = -1;
+  uint16_t port_ = 0;
+};
+
 TEST(HubGate, ThisProcesssBoundSocketIsSeenAndNotOnceClosed) {
-  const int fd = socket(AF_INET, SOCK_DGRAM | SOCK_CLOEXEC, 0);
-  ASSERT_GE(fd, 0);
-  sockaddr_in a{};
-  a.sin_family = AF_INET;
-  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  ASSERT_EQ(bind(fd, reinterpret_cast<sockaddr*>(&a), sizeof a), 0);
-  socklen_t len = sizeof a;
-  ASSERT_EQ(getsockname(fd, reinterpret_cast<sockaddr*>(&a), &len), 0);
-  const auto port = ntohs(a.sin_port);
+  HubGateSocket sock;
+  const auto port = sock.port();
+  ASSERT_NE(port, 0);
   const auto bound = udp_ports_of(getpid());
   ASSERT_TRUE(bound.has_value());
   EXPECT_TRUE(bound->contains(port)) << port;
-  close(fd);
+  sock.close();
   EXPECT_FALSE(udp_ports_of(getpid())->contains(port)) << port;
   // A process that does not exist has no ports to read.
   EXPECT_FALSE(udp_ports_of(0x3fffffff).has_value());
@@ -70,19 +97,12 @@ TEST(HubGate, PortsAreReadOncePerNetworkNamespaceAndAGoneProcessHasNone) {
   const auto look = HubGate::ports_once_per_namespace();
   const auto before = look(getpid());
   ASSERT_TRUE(before.has_value());
-  const int fd = socket(AF_INET, SOCK_DGRAM | SOCK_CLOEXEC, 0);
-  ASSERT_GE(fd, 0);
-  sockaddr_in a{};
-  a.sin_family = AF_INET;
-  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  ASSERT_EQ(bind(fd, reinterpret_cast<sockaddr*>(&a), sizeof a), 0);
-  socklen_t len = sizeof a;
-  ASSERT_EQ(getsockname(fd, reinterpret_cast<sockaddr*>(&a), &len), 0);
-  const auto port = ntohs(a.sin_port);
+  HubGateSocket sock;
+  const auto port = sock.port();
+  ASSERT_NE(port, 0);
   EXPECT_FALSE(look(getppid())->contains(port)) << "the same namespace: the table read for the first pid";
   EXPECT_TRUE(HubGate::ports_once_per_namespace()(getppid())->contains(port));
   EXPECT_FALSE(look(0x3fffffff).has_value());
-  close(fd);
 }
 
 // The ports each pid has bound, as the test sets them; a pid not in the map is gone.
