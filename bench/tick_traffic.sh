@@ -7,6 +7,11 @@
 #   bench/tick_traffic.sh [UAVS] [TICKS] [SKIP_S] [WINDOW_S] [more pheromesh run arguments]
 #   bench/tick_traffic.sh 100 100 8 10
 #   BIN=/path/to/other/build/bin bench/tick_traffic.sh 100 100 8 10 --dds fastdds
+#   RATE=30 bench/tick_traffic.sh 100 900 10 6 --clock lockstep
+# RATE (default 5, the scenario's rate) is the swarm's ticks per second in
+# the window, which the counts are divided by: a lockstep swarm's is its
+# conductor's pace (`pheromesh bench lockstep`, or the run's ticks over its
+# flight); pheromesh_uav_state DATA near 1.00 per UAV tick checks it.
 # SKIP_S must leave discovery and the start out (the run prints when
 # discovery completed, in seconds after the launch; the capture starts about
 # a second before the launch) and SKIP_S + WINDOW_S must end before the last
@@ -19,6 +24,7 @@ skip=${3:-8}
 window=${4:-10}
 shift $(($# < 4 ? $# : 4))
 bin=${BIN:-$root/build/bin}
+rate=${RATE:-5}
 command -v tcpdump >/dev/null || { echo "tick_traffic: needs tcpdump (apt-get install tcpdump)" >&2; exit 2; }
 out=$(mktemp -d /tmp/pheromesh-tick-traffic.XXXXXX)
 trap 'rm -rf "$out"' EXIT
@@ -30,4 +36,4 @@ sleep 1
 kill -INT "$dump"
 wait "$dump" || true
 grep -E "captured|dropped by kernel" "$out/tcpdump.txt" || true
-python3 "$root/bench/lib/rtps_topics.py" "$out/run.pcap" "$skip" "$window" "$uavs" 5
+python3 "$root/bench/lib/rtps_topics.py" "$out/run.pcap" "$skip" "$window" "$uavs" "$rate"
