@@ -8,12 +8,16 @@
 #include "uav_app.hpp"
 #ifdef PHEROMESH_WITH_PYTHON
 #include "pheromesh/pypolicy/enable.hpp"  // policies written in Python (docs/python.md)
+#elif defined(PHEROMESH_UAV_PYTHON_SIBLING)
+#include "python_sibling.hpp"  // they run in pheromesh-uav-python
 #endif
 
 int main(int argc, char** argv) {
   using namespace pheromesh;
 #ifdef PHEROMESH_WITH_PYTHON
   pypolicy::enable_python_policies();
+#elif defined(PHEROMESH_UAV_PYTHON_SIBLING)
+  agent::run_python_policies_in(PHEROMESH_UAV_PYTHON_SIBLING, argv);
 #endif
   agent::UavConfig cfg;
   CLI::App app{

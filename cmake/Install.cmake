@@ -14,6 +14,10 @@ if(NOT PHEROMESH_CORE_ONLY)
   # probe is a test program and stays out.
   install(TARGETS pheromesh pheromesh-uav pheromesh-place pheromesh-ground
     RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR} COMPONENT runtime)
+  # pheromesh-uav runs a Python policy in this sibling (agent/python_sibling.hpp).
+  if(PHEROMESH_PYTHON)
+    install(TARGETS pheromesh-uav-python RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR} COMPONENT runtime)
+  endif()
   # The DDS modules: each program loads its vendor's from lib/pheromesh, found
   # relative to bin/ (common/bus/src/vendors.hpp), so a moved prefix works.
   install(TARGETS pheromesh_dds_cyclone pheromesh_dds_fastdds
