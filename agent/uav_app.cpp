@@ -95,17 +95,20 @@ void UavApp::wait_for_start() {
   if (!commands_->can_start()) return;  // no control key: nobody can sign a start
   core::UavStateMsg ready = core_.last_state();
   ready.view = core_.cell();
+  // Awake once a period (core::start_wait_period), or at once for the start.
+  const auto period = core::start_wait_period(std::chrono::milliseconds(cfg_.common.lease_ms));
   auto next_state = Clock::now();
   const auto take = [&] {
     handle_commands();
     receive();  // drains the view and keeps the state writer's liveliness asserted
-    if (Clock::now() < next_state) return;
-    bus_->publish_uav_state(ready);  // again every second: the ground station may have joined late
-    next_state = Clock::now() + std::chrono::seconds(1);
+    const auto now = Clock::now();
+    if (now + period / 8 < next_state) return;  // woken early by a command (a timed wake-up may come a hair early)
+    bus_->publish_uav_state(ready);             // again each period: the ground station may have joined late
+    next_state = now + period;
   };
   const auto bound = std::chrono::milliseconds(static_cast<int64_t>(cfg_.wait_for_start_s * 1000));
-  const auto r = runtime::await_samples(*bus_, {bus::TopicKind::Command}, {bound, std::chrono::milliseconds(200)},
-                                        nullptr, take, [&] { return commands_->started(); });
+  const auto r = runtime::await_samples(*bus_, {bus::TopicKind::Command}, {bound, period}, nullptr, take,
+                                        [&] { return commands_->started(); });
   if (r == runtime::Awaited::TimedOut) {
     log_->warn("no start from the ground station within {} s; flying without it", cfg_.wait_for_start_s);
   }

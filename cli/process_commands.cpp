@@ -362,6 +362,16 @@ class FullCommands final : public ProcessCommands {
                    "Another build's bin folder (e.g. of the commit before a change): its pheromesh-uav runs too, "
                    "alternating with this build's")
         ->check(CLI::ExistingDirectory);
+    bt->add_option("--wait", bto.wait_s,
+                   "Seconds a UAV of the waiting rows waits for a start that does not come (0: no waiting rows, else "
+                   "at least 3: the CPU is read from 1.5 s to 0.5 s before the end); each such start takes this long")
+        ->check(CLI::Validator(
+            [](const std::string& v) -> std::string {
+              const double w = std::stod(v);
+              return w == 0 || (w >= 3 && w <= 600) ? std::string() : "0 (no waiting rows) or 3 to 600 s, got " + v;
+            },
+            "0 or 3..600"))
+        ->capture_default_str();
     bt->footer(cli::kBenchStartFooter);
   }
 

@@ -8,6 +8,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -22,6 +23,7 @@ struct BenchStartOptions {
   uint32_t domain = 47;      // DDS domain of the UAVs started alone
   std::string programs_dir;  // this build's bin folder (its pheromesh-uav)
   std::string baseline;      // another build's bin folder (its pheromesh-uav), or empty
+  double wait_s = 4;         // a UAV waiting this long for a start that does not come (0: no such row; else >= 3)
 };
 
 // One kind of start, `runs` times.
@@ -35,20 +37,34 @@ struct StartCost {
 
 // The command lines of one build's UAV program (`uav` its path): loaded and
 // gone (--help), and per vendor started alone for one tick with no place
-// agent and no ground station.
+// agent and no ground station, and (with `wait_s` > 0) started with a control
+// key, so that it waits `wait_s` for a ground station's start that does not
+// come, with a big swarm's lease (5 s), before its tick.
 struct StartCommand {
   std::string what;
   std::vector<std::string> argv;
+  std::vector<std::string> env = {};  // added to this process's environment, NAME=VALUE
+  std::string waits_beside = {};      // a waiting row: the `what` of the same start without the wait
 };
 std::vector<StartCommand> start_commands(const std::string& uav, const BenchStartOptions& o);
 
 // Runs `argv` with its output to /dev/null and waits: the CPU [ms] of the
 // child, and whether it exited 0.
+// With a `window` [from, to) in seconds after the spawn, also what the child's
+// threads ran in it (/proc/PID/task/*/schedstat, read at both ends).
 struct ChildCost {
   double cpu_ms = 0;
   bool ok = false;
+  std::optional<double> window_cpu_ms;
 };
-ChildCost run_child(const std::vector<std::string>& argv);
+struct Window {
+  double from_s = 0, to_s = 0;
+};
+ChildCost run_child(const std::vector<std::string>& argv, const std::vector<std::string>& env = {},
+                    std::optional<Window> window = std::nullopt);
+// The waiting rows' window: from 1.5 s after the spawn (the UAV has started
+// and waits) to 0.5 s before its wait ends; nothing if `wait_s` < 3.
+std::optional<Window> waiting_window(double wait_s);
 
 int run_bench_start(const BenchStartOptions& o);
 

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <stdexcept>
 #include <thread>
 
 #include "pheromesh/core/view_pacing.hpp"
@@ -148,3 +149,16 @@ TEST(WakeTimer, AShutdownRequestWakesItAtOnceAndItSaysSo) {
 
 }  // namespace
 }  // namespace pheromesh::runtime
+
+TEST(StartWaitPeriod, AWaitingUavWakesFourTimesALeaseAndAtMostOnceASecond) {
+  using std::chrono::milliseconds;
+  EXPECT_EQ(pheromesh::core::start_wait_period(milliseconds(1000)),
+            milliseconds(250));  // pheromesh-uav's default lease
+  EXPECT_EQ(pheromesh::core::start_wait_period(milliseconds(200)), milliseconds(50));
+  EXPECT_EQ(pheromesh::core::start_wait_period(milliseconds(4000)), milliseconds(1000));
+  EXPECT_EQ(pheromesh::core::start_wait_period(milliseconds(5000)),
+            milliseconds(1000));  // a big swarm's (pheromesh run)
+  EXPECT_EQ(pheromesh::core::start_wait_period(milliseconds(60000)), milliseconds(1000));
+  EXPECT_EQ(pheromesh::core::start_wait_period(milliseconds(2)), milliseconds(1));
+  EXPECT_THROW((void)pheromesh::core::start_wait_period(milliseconds(0)), std::invalid_argument);
+}

@@ -1,5 +1,6 @@
 #include "pheromesh/core/view_pacing.hpp"
 
+#include <algorithm>
 #include <stdexcept>
 
 namespace pheromesh::core {
@@ -21,6 +22,11 @@ void ViewPacing::ran(Clock::time_point now, bool by_view) {
     due_ += period_;
   }
   ++(by_view ? by_view_ : by_timer_);
+}
+
+std::chrono::milliseconds start_wait_period(std::chrono::milliseconds lease) {
+  if (lease.count() <= 0) throw std::invalid_argument("start_wait_period: the lease must be positive");
+  return std::clamp(lease / 4, std::chrono::milliseconds(1), std::chrono::milliseconds(1000));
 }
 
 }  // namespace pheromesh::core

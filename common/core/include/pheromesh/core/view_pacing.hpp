@@ -58,4 +58,13 @@ class ViewPacing {
   uint64_t by_timer_ = 0;
 };
 
+// How often a realtime UAV that waits for the ground station's start wakes
+// on its own: to announce itself again (its state, so that a ground station
+// that joined late hears it) and so keep its state writer's liveliness
+// asserted, four times a lease; the start, or a command, wakes it at once.
+// At most once a second: before the start a UAV does nothing else, each
+// wake-up is most of what it costs, and a swarm of thousands waits minutes
+// for its last UAVs (docs/benchmarks.md, "Waiting for the start"). `lease` > 0.
+[[nodiscard]] std::chrono::milliseconds start_wait_period(std::chrono::milliseconds lease);
+
 }  // namespace pheromesh::core
