@@ -367,8 +367,15 @@ class FullCommands final : public ProcessCommands {
                    "at least 3: the CPU is read from 1.5 s to 0.5 s before the end); each such start takes this long")
         ->check(CLI::Validator(
             [](const std::string& v) -> std::string {
-              const double w = std::stod(v);
-              return w == 0 || (w >= 3 && w <= 600) ? std::string() : "0 (no waiting rows) or 3 to 600 s, got " + v;
+              double w = -1;
+              std::size_t used = 0;
+              try {
+                w = std::stod(v, &used);
+              } catch (const std::exception&) {
+                used = 0;
+              }
+              const bool ok = used == v.size() && (w == 0 || (w >= 3 && w <= 600));
+              return ok ? std::string() : "0 (no waiting rows) or 3 to 600 s, got '" + v + "'";
             },
             "0 or 3..600"))
         ->capture_default_str();

@@ -37,16 +37,29 @@ std::vector<StartCommand> start_commands(const std::string& uav, const BenchStar
   std::vector<StartCommand> out{{"the UAV program loaded (--help)", {uav, "--help"}}};
   for (const auto& v : o.dds) {
     const std::string who = v == "fastdds" ? "a Fast DDS UAV" : "a Cyclone UAV";
-    StartCommand alone{who + " started alone for one tick",
-                       {uav, "--scenario", o.scenario, "--id", "0", "--dds", v, "--domain", std::to_string(o.domain),
-                        "--wait-for-places", "0", "--wait-for-start", "0.1", "--ticks", "1"}};
+    const auto argv = [&](const std::string& wait_for_start) {
+      return std::vector<std::string>{uav,
+                                      "--scenario",
+                                      o.scenario,
+                                      "--id",
+                                      "0",
+                                      "--dds",
+                                      v,
+                                      "--domain",
+                                      std::to_string(o.domain),
+                                      "--wait-for-places",
+                                      "0",
+                                      "--wait-for-start",
+                                      wait_for_start,
+                                      "--ticks",
+                                      "1"};
+    };
+    StartCommand alone{who + " started alone for one tick", argv("0.1")};
     out.push_back(alone);
     if (o.wait_s <= 0) continue;
     char wait[32];
     std::snprintf(wait, sizeof wait, "%g", o.wait_s);
-    StartCommand waiting = alone;
-    waiting.what = who + " waiting " + wait + " s for a start, then one tick";
-    waiting.argv[12] = wait;  // --wait-for-start
+    StartCommand waiting{who + " waiting " + wait + " s for a start, then one tick", argv(wait)};
     waiting.argv.insert(waiting.argv.end(), {"--lease-ms", "5000"});
     // Any key will do: no ground station signs a start with it.
     waiting.env = {"PHEROMESH_CONTROL_KEY=" + std::string(64, '7')};

@@ -48,10 +48,10 @@ struct StartCommand {
 };
 std::vector<StartCommand> start_commands(const std::string& uav, const BenchStartOptions& o);
 
-// Runs `argv` with its output to /dev/null and waits: the CPU [ms] of the
-// child, and whether it exited 0.
-// With a `window` [from, to) in seconds after the spawn, also what the child's
-// threads ran in it (/proc/PID/task/*/schedstat, read at both ends).
+// Runs `argv` (its environment this process's, with `env` over it) with its
+// output to /dev/null and waits: the CPU [ms] of the child, and whether it
+// exited 0; with a `window` [from, to) in seconds after the spawn, also what
+// the child's threads ran in it (/proc/PID/task/*/schedstat, read at both ends).
 struct ChildCost {
   double cpu_ms = 0;
   bool ok = false;
